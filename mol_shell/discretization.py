@@ -1,0 +1,197 @@
+"""Method-of-lines discretisation: the semi-discrete Hamiltonian system as CasADi graphs.
+
+The continuum Lagrangian ``2 pi r0 int (T - What) ds`` (section 7) is discretised
+on ``n`` equally spaced nodes of ``[0, L]`` with a staggered (cell-centred) energy:
+
+* nodal unknowns ``q_i = (z, r, chi, theta, psi)(s_i)`` and their momenta ``p_i``;
+* stored energy ``V = 2 pi r0 sum_cells ds What(q_s, q_mid)`` with the strains of cell
+  ``[s_i, s_{i+1}]`` taken as ``(q_{i+1} - q_i)/ds`` and the values as the midpoint
+  averages (one-point rule: second order, and free of shear locking);
+* kinetic energy lumped at nodes with trapezoidal weights ``ds`` (``ds/2`` at the ends).
+
+Hamilton's equations ``q_t = M(q)^{-1} p``, ``p_t = dT/dq|_v - dV/dq`` are an
+equivalent first-order form of the paper's (6.5)-(6.7): energy ``T + V`` is
+conserved by the semi-discrete system and the axial angular momentum ``sum p_chi``
+is conserved exactly (``V`` depends on ``chi`` only through differences).
+Boundary conditions: ``z = s`` and ``theta = 0`` at both ends are imposed (those
+rates and momenta stay zero); ``n.a2 = n.a3 = m.c1 = 0`` are the natural ones.
+
+State layout is node-major: ``y[10 i + k]`` is field ``k`` of node ``i`` for
+``k < 5`` and its momentum for ``k >= 5``; this keeps the Jacobian banded.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import cached_property
+
+import casadi as ca
+import numpy as np
+
+from .model.kinematics import delta, kinetic_energy_density
+from .model.material import Thickness, centroidal_offset, inertias, lame, shell_energy
+
+NF = 5  # fields per node
+NY = 2 * NF  # state entries per node
+FIXED_AT_ENDS = (0, 3)  # z and theta are prescribed at s = 0 and s = L
+
+
+class ShellSystem:
+    """Discretised shell for one scene and grid; owns every CasADi object.
+
+    Parameters
+    ----------
+    scene : TwistedCylinder
+        Physical parameters (``R`` is not used here; it only enters initial data).
+    n : int
+        Number of nodes (``n >= 3``).
+
+    Attributes
+    ----------
+    rhs : casadi.Function
+        ``(t, y) -> y_t``, SX.
+    """
+
+    def __init__(self, scene, n=40):
+        if not isinstance(n, (int, np.integer)) or n < 3:
+            from .errors import ParameterError
+
+            raise ParameterError("n", n, "integers >= 3")
+        self.scene, self.n = scene, int(n)
+        self.ds = scene.L / (self.n - 1)
+        self.s = np.linspace(0.0, scene.L, self.n)
+        self.r0 = 1.0
+        self.lam, self.mu = lame(scene.E, scene.nu)
+        zeta1 = centroidal_offset(scene.h, self.r0) if scene.zeta1 is None else scene.zeta1
+        self.thickness = Thickness(zeta1, scene.h, scene.n_quad)
+        self.rho_a, self.rho_i, self.rho_j = inertias(scene.rho, self.thickness, self.r0)
+        if abs(self.rho_i) < 1e-14 * self.rho_a:
+            self.rho_i = 0  # exact zero: the rhoI terms are left out of the graph
+        self.weights = np.full(self.n, self.ds)
+        self.weights[[0, -1]] = self.ds / 2
+        self.fixed = np.zeros((self.n, NF), dtype=bool)
+        for k in FIXED_AT_ENDS:
+            self.fixed[[0, -1], k] = True
+        self._build()
+
+    # -- kernels -------------------------------------------------------------------------
+    def _cell_kernel(self):
+        """``(q_left, q_right) -> (V_cell, dV/dq_left, dV/dq_right, delta_cell)``."""
+        ql, qr = ca.SX.sym("ql", NF), ca.SX.sym("qr", NF)
+        grad = (qr - ql) / self.ds
+        mid = (qr + ql) / 2
+        strains = (grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], mid[4])
+        energy = 2 * math.pi * self.r0 * self.ds * shell_energy(strains, self.lam, self.mu, self.thickness, self.r0)
+        d_cell = delta(grad[0], grad[1], mid[1], mid[3], mid[4])
+        return ca.Function(
+            "cell", [ql, qr], [energy, ca.gradient(energy, ql), ca.gradient(energy, qr), d_cell]
+        )
+
+    def _node_kernel(self, free):
+        """``(q, p, w) -> (v, dT/dq at fixed v, T)`` for a node whose free rates are ``free``."""
+        q, p, w = ca.SX.sym("q", NF), ca.SX.sym("p", NF), ca.SX.sym("w")
+        vf = ca.SX.sym("v", len(free))
+        v = [vf[free.index(k)] if k in free else 0 for k in range(NF)]
+        dens = kinetic_energy_density(ca.vertsplit(q), v, self.rho_a, self.rho_i, self.rho_j)
+        T = 2 * math.pi * self.r0 * w * dens
+        M = ca.hessian(T, vf)[0]
+        lin = ca.substitute(ca.gradient(T, vf), vf, ca.DM.zeros(len(free)))  # zero: T is quadratic
+        v_of_p = ca.solve(M, p[free] - lin)
+        dTdq = ca.substitute(ca.gradient(T, q), vf, v_of_p)
+        T_p = ca.substitute(T, vf, v_of_p)
+        v_full = ca.SX.zeros(NF)
+        v_full[free] = v_of_p
+        return ca.Function("node", [q, p, w], [v_full, dTdq, T_p])
+
+    # -- assembly ------------------------------------------------------------------------
+    def _build(self):
+        n = self.n
+        y = ca.SX.sym("y", NY * n)
+        Y = ca.reshape(y, NY, n)
+        Q, P = Y[:NF, :], Y[NF:, :]
+        cell = self._cell_kernel()
+        interior = self._node_kernel([0, 1, 2, 3, 4])
+        end = self._node_kernel([k for k in range(NF) if k not in FIXED_AT_ENDS])
+        V = 0
+        dVdq = [ca.SX.zeros(NF) for _ in range(n)]
+        deltas = []
+        for i in range(n - 1):
+            e, gl, gr, dc = cell(Q[:, i], Q[:, i + 1])
+            V += e
+            dVdq[i] += gl
+            dVdq[i + 1] += gr
+            deltas.append(dc)
+        rates, T = [], 0
+        for i in range(n):
+            kernel = end if i in (0, n - 1) else interior
+            v, dTdq, Ti = kernel(Q[:, i], P[:, i], self.weights[i])
+            pdot = dTdq - dVdq[i]
+            for k in range(NF):
+                if self.fixed[i, k]:
+                    pdot[k] = 0
+            rates.append(ca.vertcat(v, pdot))
+            T += Ti
+        ydot = ca.vertcat(*rates)
+        V_sym, T_sym = V, T
+        t = ca.SX.sym("t")
+        velocities = ca.horzcat(*[r[:NF] for r in rates])
+        self._y, self._ydot = y, ydot
+        self.rhs = ca.Function("rhs", [t, y], [ydot], ["t", "y"], ["ydot"])
+        self.observables = ca.Function(
+            "observables",
+            [y],
+            [velocities, T_sym, V_sym, ca.sum2(P[2, :]), ca.vertcat(*deltas)],
+            ["y"],
+            ["v", "kinetic", "stored", "angular_momentum", "delta"],
+        )
+
+    @cached_property
+    def jac(self):
+        """``(t, y) -> d y_t / d y``: exact sparse Jacobian (SX)."""
+        t = self.rhs.sx_in(0)
+        J = ca.jacobian(self._ydot, self._y)
+        return ca.Function("jacobian", [t, self._y], [J], ["t", "y"], ["J"])
+
+    @property
+    def size(self):
+        return NY * self.n
+
+    def graph_stats(self):
+        """Size of the graphs: SX instructions of the RHS, Jacobian non-zeros and bandwidths."""
+        sp = self.jac.sparsity_out(0)
+        return {
+            "rhs_instructions": int(self.rhs.n_instructions()),
+            "jacobian_nnz": int(sp.nnz()),
+            "jacobian_bw_lower": int(sp.bw_lower()),
+            "jacobian_bw_upper": int(sp.bw_upper()),
+        }
+
+    # -- data ----------------------------------------------------------------------------
+    def initial_state(self, sc):
+        """Initial data (6.9) of scene ``sc`` (``R`` resolved), with spin ``omega`` and shear ``psi0``.
+
+        Returns the node-major state vector.
+        """
+        Q = np.zeros((NF, self.n))
+        Q[0] = self.s
+        Q[1] = sc.R
+        Q[2] = sc.gamma * (self.s - sc.L / 2)
+        Q[4] = sc.psi0
+        V = np.zeros((NF, self.n))
+        V[2] = sc.omega
+        V[:, [0, -1]] *= ~self.fixed[[0, -1]].T
+        return np.concatenate([Q, self.momenta(Q, V)]).T.reshape(-1)
+
+    def momenta(self, Q, V):
+        """Nodal momenta ``p = M(q) v`` for fields ``Q`` and rates ``V`` (each ``5 x n``)."""
+        q, v, w = ca.SX.sym("q", NF), ca.SX.sym("v", NF), ca.SX.sym("w")
+        dens = kinetic_energy_density(ca.vertsplit(q), ca.vertsplit(v), self.rho_a, self.rho_i, self.rho_j)
+        f = ca.Function("p", [q, v, w], [ca.gradient(2 * math.pi * self.r0 * w * dens, v)])
+        P = np.array(f.map(self.n)(Q, V, self.weights[None, :]))
+        P[self.fixed.T] = 0.0
+        return P
+
+    def unpack(self, y):
+        """Fields ``(5, n)`` from one state vector (or ``(..., 5, n)`` from a stack)."""
+        y = np.asarray(y)
+        return np.swapaxes(y.reshape(*y.shape[:-1], self.n, NY)[..., :NF], -1, -2)

@@ -1,0 +1,47 @@
+"""Uniform equilibria: the radius of the uniformly twisted cylinder, and the stable step of leap-frog."""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+import scipy.sparse.linalg
+
+from .errors import ParameterError
+from .model.material import Thickness, centroidal_offset, lame, shell_energy
+
+
+def equilibrium_radius(scene, tol=1e-14, max_iter=50):
+    """Radius ``R`` at which the uniformly twisted cylinder is in radial equilibrium.
+
+    Solves ``dWhat/dr (z_s = 1, r_s = 0, chi_s = gamma, theta = theta_s = psi = psi_s = 0; r = R) = 0``
+    by Newton's method on the CasADi graph of ``What`` (the paper's "(R, gamma) is an
+    equilibrium state of the material"). For ``gamma = 0`` the root is the natural radius 1.
+    """
+    lam, mu = lame(scene.E, scene.nu)
+    zeta1 = centroidal_offset(scene.h) if scene.zeta1 is None else scene.zeta1
+    thickness = Thickness(zeta1, scene.h, scene.n_quad)
+    r = ca.SX.sym("r")
+    energy = shell_energy((1.0, 0.0, scene.gamma, 0.0, 0.0, r, 0.0, 0.0), lam, mu, thickness)
+    force = ca.gradient(energy, r)
+    newton = ca.Function("newton", [r], [force, ca.jacobian(force, r)])
+    R = 1.0
+    for _ in range(max_iter):
+        g, dg = (float(x) for x in newton(R))
+        if dg <= 0:
+            break
+        step = g / dg
+        R -= step
+        if abs(step) < tol * R:
+            return R
+    raise ParameterError("gamma", scene.gamma, "twists for which a twisted cylinder has a radial equilibrium")
+
+
+def max_frequency(jac, y):
+    """Largest ``|eigenvalue|`` of the Jacobian ``jac(0, y)`` (rad/s): dense below 2000 states, else ARPACK."""
+    J = jac(0, y)
+    if J.size1() <= 2000:
+        return float(np.abs(np.linalg.eigvals(np.array(J))).max())
+    sp = J.sparsity()
+    mat = scipy.sparse.csc_matrix((np.array(J.nonzeros()), sp.row(), sp.colind()), shape=J.shape)
+    val = scipy.sparse.linalg.eigs(mat, k=1, which="LM", return_eigenvectors=False, tol=1e-6)
+    return float(np.abs(val).max())

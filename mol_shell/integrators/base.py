@@ -1,0 +1,71 @@
+"""What every integrator returns, and the checks every integrator shares."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ModelLimitError
+
+
+@dataclass
+class Trajectory:
+    """States at the saved times that were reached.
+
+    Attributes
+    ----------
+    t : ndarray
+        Saved times reached, shape ``(k,)``.
+    y : ndarray
+        States, shape ``(k, size)``.
+    status : str
+        ``"complete"``, ``"limit"`` (a model limit was reached) or ``"interrupted"`` (Ctrl-C).
+    message : str
+        Human-readable account of how the run ended.
+    stats : dict
+        Integrator statistics (``n_steps``, ``n_rhs``, ...).
+    failure_time : float
+        Time of the failure (NaN when complete).
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    status: str = "complete"
+    message: str = "completed"
+    stats: dict = field(default_factory=dict)
+    failure_time: float = float("nan")
+
+
+class Monitor:
+    """Checks a state against the model's limits: finite values, ``r > 0``, ``delta > 0``.
+
+    Parameters
+    ----------
+    system : ShellSystem
+        Supplies the ``delta`` of each cell and the node positions.
+    """
+
+    def __init__(self, system):
+        self.system = system
+        self._delta = system.observables
+        self._cells = (system.s[:-1] + system.s[1:]) / 2
+
+    def check(self, y, t):
+        """Raise :class:`ModelLimitError` naming time and place if ``y`` breaks a limit."""
+        if not np.all(np.isfinite(y)):
+            bad = np.flatnonzero(~np.isfinite(y))[0] // 10
+            raise ModelLimitError(
+                f"non-finite state at t = {t:.9g} s, s = {self.system.s[bad]:.6g} m", t, f"s = {self.system.s[bad]:.6g} m"
+            )
+        fields = self.system.unpack(y)
+        r = fields[1]
+        if r.min() <= 0:
+            i = int(np.argmin(r))
+            where = f"s = {self.system.s[i]:.6g} m"
+            raise ModelLimitError(f"r = {r[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
+        delta = np.asarray(self._delta(y)[4]).ravel()
+        if delta.min() <= 0:
+            i = int(np.argmin(delta))
+            where = f"s = {self._cells[i]:.6g} m"
+            raise ModelLimitError(f"delta = {delta[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)

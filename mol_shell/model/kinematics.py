@@ -1,0 +1,113 @@
+"""Kinematics of rotationally symmetric motions of a special Cosserat shell.
+
+Every function takes scalars that may be Python floats or CasADi ``SX``/``MX``
+expressions (``casadi.sin`` and friends accept both), so the same code is
+evaluated numerically in tests and traced into graphs by the model.
+
+Notation (Antman & Bourne 2010, section 2): the unknowns are ``z, r, chi,
+theta, psi`` of ``(s, t)``; ``a1 = k``, ``a2 = cos(chi) j2 + sin(chi) j3``,
+``a3 = k x a2``; ``b1 = cos(theta) a1 + sin(theta) a2``, ``b2 = -sin(theta) a1
++ cos(theta) a2``, ``b3 = a3``; the director ``d = c2 = cos(psi) b2 + sin(psi)
+b3``, ``c1 = b1``, ``c3 = b1 x d``.
+"""
+
+from __future__ import annotations
+
+from casadi import cos, sin
+
+# Field order used throughout the package (node-major state: these five, then
+# their momenta, for node 0, then node 1, ...).
+FIELDS = ("z", "r", "chi", "theta", "psi")
+
+
+def betas(z_s, r_s, chi_s, r, theta):
+    """Components of ``r_s`` in the ``b`` basis, eq. (2.18).
+
+    ``beta1 = z_s cos(theta) + r_s sin(theta)``,
+    ``beta2 = -z_s sin(theta) + r_s cos(theta)``, ``beta3 = r chi_s``.
+    """
+    return (
+        z_s * cos(theta) + r_s * sin(theta),
+        -z_s * sin(theta) + r_s * cos(theta),
+        r * chi_s,
+    )
+
+
+def delta(z_s, r_s, r, theta, psi):
+    """``delta = r beta1 cos(psi)``, eq. (2.20); the model requires ``delta > 0``."""
+    beta1 = z_s * cos(theta) + r_s * sin(theta)
+    return r * beta1 * cos(psi)
+
+
+def deformation_gradient(strains, zeta, r0=1.0, theta0=0.0, theta0_s=0.0):
+    """Components ``F[k][l]`` of ``F = sum F_kl b_k b0_l`` at depth ``zeta``, eq. (7.4) repaired.
+
+    Parameters
+    ----------
+    strains : tuple
+        ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)``.
+    zeta : float
+        Thickness coordinate along the reference director.
+    r0, theta0, theta0_s : float
+        Reference radius, reference tangent angle and its derivative. The
+        cylinder of section 6 has ``r0 = 1, theta0 = 0`` (the tangent is ``k``).
+
+    Notes
+    -----
+    Column 1 is ``p_s = r_s + zeta d_s`` divided by ``1 - zeta theta0_s``;
+    column 2 is ``p_zeta = d``; column 3 is ``p_phi = k x (r + zeta d)``
+    divided by ``r0 + zeta cos(theta0)``. The extracted paper lost the first
+    term of ``F31`` (it is ``beta3 = r chi_s``); see MODEL_NOTES.
+    """
+    z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi = strains
+    beta1, beta2, beta3 = betas(z_s, r_s, chi_s, r, theta)
+    cs, sn = cos(psi), sin(psi)
+    ct, st = cos(theta), sin(theta)
+    twist = psi_s + chi_s * ct
+    j1 = 1.0 / (1.0 - zeta * theta0_s)
+    j3 = 1.0 / (r0 + zeta * cos(theta0))
+    return (
+        ((beta1 - zeta * (chi_s * sn * st + theta_s * cs)) * j1, 0.0, -zeta * sn * st * j3),
+        ((beta2 - zeta * sn * twist) * j1, cs, -zeta * sn * ct * j3),
+        ((beta3 + zeta * cs * twist) * j1, sn, (r + zeta * cs * ct) * j3),
+    )
+
+
+def director_velocity_c(chi_t, theta_t, psi_t, theta, psi):
+    """Components of ``d_t`` in the ``c`` basis, eq. (2.17): ``(c1, c2, c3)``."""
+    return (
+        -(chi_t * sin(psi) * sin(theta) + theta_t * cos(psi)),
+        0.0,
+        psi_t + chi_t * cos(theta),
+    )
+
+
+def position_velocity_c(z_t, r_t, chi_t, r, theta, psi):
+    """Components of ``r_t = z_t a1 + r_t a2 + r chi_t a3`` in the ``c`` basis, eq. (2.17)."""
+    along = r_t * sin(theta) + z_t * cos(theta)
+    across = r_t * cos(theta) - z_t * sin(theta)
+    spin = r * chi_t
+    return (
+        along,
+        across * cos(psi) + spin * sin(psi),
+        -across * sin(psi) + spin * cos(psi),
+    )
+
+
+def kinetic_energy_density(q, v, rho_a, rho_i, rho_j):
+    """Kinetic energy per unit reference area (section 7).
+
+    ``rhoA |r_t|^2 / 2 + rhoI r_t . d_t + rhoJ |d_t|^2 / 2`` with
+    ``q = (z, r, chi, theta, psi)`` and ``v`` their rates. The ``rhoI`` term is
+    left out of the expression when ``rho_i == 0`` (a plain number), so graphs
+    for the usual base-surface placement do not carry it.
+    """
+    _, r, _, theta, psi = q
+    z_t, r_t, chi_t, theta_t, psi_t = v
+    dt1, _, dt3 = director_velocity_c(chi_t, theta_t, psi_t, theta, psi)
+    energy = 0.5 * rho_a * (z_t**2 + r_t**2 + (r * chi_t) ** 2)
+    energy = energy + 0.5 * rho_j * (dt1**2 + dt3**2)
+    if not (isinstance(rho_i, (int, float)) and rho_i == 0):
+        rt1, _, rt3 = position_velocity_c(z_t, r_t, chi_t, r, theta, psi)
+        energy = energy + rho_i * (rt1 * dt1 + rt3 * dt3)
+    return energy

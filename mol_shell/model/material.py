@@ -1,0 +1,109 @@
+"""St Venant-Kirchhoff material integrated through the thickness (section 7).
+
+The shell's stored energy per unit reference area is
+
+    What = (1/r0) int_{zeta1}^{zeta2} W_SVK(F(zeta)) (1 - zeta theta0_s)(r0 + zeta cos theta0) dzeta,
+
+evaluated by Gauss-Legendre quadrature; ``W_SVK = lambda/2 (tr E)^2 + mu tr(E^2)``
+with ``E = (F^T F - I)/2`` (eq. 7.9). Scalars may be floats or CasADi symbols.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .kinematics import deformation_gradient
+
+
+def lame(young, poisson):
+    """Lame coefficients ``(lambda, mu)`` from Young's modulus and Poisson's ratio."""
+    lam = young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson))
+    mu = young / (2.0 * (1.0 + poisson))
+    return lam, mu
+
+
+def green_strain(F):
+    """``E = (F^T F - I)/2`` for ``F`` given as nested 3x3 tuples of scalars."""
+    return tuple(
+        tuple(0.5 * (sum(F[k][i] * F[k][j] for k in range(3)) - (1.0 if i == j else 0.0)) for j in range(3))
+        for i in range(3)
+    )
+
+
+def svk_energy(F, lam, mu):
+    """St Venant-Kirchhoff stored energy ``lambda/2 (tr E)^2 + mu E:E`` per unit reference volume."""
+    E = green_strain(F)
+    trace = E[0][0] + E[1][1] + E[2][2]
+    return 0.5 * lam * trace**2 + mu * sum(E[i][j] ** 2 for i in range(3) for j in range(3))
+
+
+def svk_stress(F, lam, mu):
+    """First Piola-Kirchhoff stress ``T = F S`` with ``S = lambda tr(E) I + 2 mu E`` (eq. 7.9)."""
+    E = green_strain(F)
+    trace = E[0][0] + E[1][1] + E[2][2]
+    S = tuple(tuple(lam * trace * (i == j) + 2.0 * mu * E[i][j] for j in range(3)) for i in range(3))
+    return tuple(tuple(sum(F[i][k] * S[k][j] for k in range(3)) for j in range(3)) for i in range(3))
+
+
+@dataclass(frozen=True)
+class Thickness:
+    """Gauss-Legendre rule on the thickness interval ``[zeta1, zeta1 + 2h]``.
+
+    ``zeta1`` places the base surface; :func:`centroidal_offset` chooses it so
+    that ``rhoI = 0`` for the cylinder of section 6.
+    """
+
+    zeta1: float
+    h: float
+    n_quad: int
+
+    @property
+    def nodes_weights(self):
+        x, w = np.polynomial.legendre.leggauss(self.n_quad)
+        mid = self.zeta1 + self.h
+        return tuple(mid + self.h * x), tuple(self.h * w)
+
+
+def centroidal_offset(h, r0=1.0):
+    """Lower face ``zeta1`` such that ``int zeta (r0 + zeta) dzeta = 0`` over ``[zeta1, zeta1 + 2h]``.
+
+    The midsurface offset ``m = zeta1 + h`` solves ``m r0 + m^2 + h^2/3 = 0``, whose
+    root near zero is ``m = (-r0 + sqrt(r0^2 - 4 h^2/3)) / 2`` (about ``-h^2/(3 r0)``).
+    """
+    m = (-r0 + math.sqrt(r0 * r0 - 4.0 * h * h / 3.0)) / 2.0
+    return m - h
+
+
+def inertias(rho, thickness, r0=1.0, theta0=0.0, theta0_s=0.0):
+    """``(rhoA, rhoI, rhoJ)`` of eq. (7.8) for uniform density, by the same quadrature."""
+    nodes, weights = thickness.nodes_weights
+    out = [0.0, 0.0, 0.0]
+    for zeta, w in zip(nodes, weights):
+        jac = (1.0 - zeta * theta0_s) * (r0 + zeta * math.cos(theta0)) / r0
+        for k in range(3):
+            out[k] += rho * w * jac * zeta**k
+    return tuple(out)
+
+
+def shell_energy(strains, lam, mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0):
+    """Stored energy per unit reference area ``What`` (section 7), by Gauss-Legendre quadrature.
+
+    Parameters
+    ----------
+    strains : tuple
+        ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)``, floats or CasADi scalars.
+    lam, mu : float
+        Lame coefficients.
+    thickness : Thickness
+        Quadrature rule on the thickness interval.
+    """
+    nodes, weights = thickness.nodes_weights
+    total = 0.0
+    for zeta, w in zip(nodes, weights):
+        F = deformation_gradient(strains, zeta, r0, theta0, theta0_s)
+        jac = (1.0 - zeta * theta0_s) * (r0 + zeta * math.cos(theta0)) / r0
+        total = total + w * jac * svk_energy(F, lam, mu)
+    return total

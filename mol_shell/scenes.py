@@ -1,0 +1,127 @@
+"""Scenes: frozen dataclasses holding every physical parameter of a run.
+
+Vary a scene with :func:`dataclasses.replace` (or :func:`with_params` from
+strings, as the CLI does); a bad value raises :class:`~mol_shell.errors.ParameterError`
+naming the parameter and its allowed range.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+from .errors import ParameterError
+
+UNITS = {
+    "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
+    "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
+}
+
+
+def _check(name, value, ok, allowed):
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and ok(value)):
+        raise ParameterError(name, value, allowed)
+
+
+@dataclass(frozen=True)
+class TwistedCylinder:
+    """The initial-boundary-value problem of section 6 (and, with ``gamma = 0``, section 5).
+
+    Natural state: a circular cylinder of radius 1 m and length ``L``. Ends welded to
+    lubricated magnets a fixed distance ``L`` apart (``z = s``, ``theta = 0``,
+    ``n.a2 = n.a3 = m.c1 = 0``). Initial data (6.9), extended: ``r = R``, ``z = s``,
+    ``chi = gamma (s - L/2)``, ``theta = 0``, ``psi = psi0``, ``chi_t = omega``, the
+    other rates zero.
+
+    Parameters
+    ----------
+    L : float
+        Length, m (paper: 4).
+    h : float
+        Half-thickness, m (paper: 2 pi 1e-3).
+    E, nu : float
+        Young's modulus (Pa) and Poisson's ratio (paper: 1e6 Pa = 1e-3 GPa, 0.49).
+    rho : float
+        Density, kg/m^3. Lost from the paper; 1000 is our assumption (it only rescales time).
+    R : float or None
+        Initial radius, m. ``None`` (default) computes the radius at which the uniformly
+        twisted cylinder is in radial equilibrium (:func:`mol_shell.equilibrium.equilibrium_radius`).
+    gamma : float
+        Initial twist ``chi_s``, rad/m (paper value lost; 0.1 fits its figures).
+    omega : float
+        Initial uniform spin rate ``chi_t``, rad/s.
+    psi0 : float
+        Initial uniform shear angle ``psi``, rad, in (-pi/2, pi/2).
+    n_quad : int
+        Gauss-Legendre points through the thickness.
+    zeta1 : float or None
+        Lower face of the thickness interval, measured from the base surface along the
+        director. ``None`` places the base surface so that ``rhoI = 0`` (as the paper).
+    """
+
+    L: float = 4.0
+    h: float = 2.0 * math.pi * 1e-3
+    E: float = 1.0e6
+    nu: float = 0.49
+    rho: float = 1000.0
+    R: float | None = None
+    gamma: float = 0.1
+    omega: float = 0.0
+    psi0: float = 0.0
+    n_quad: int = 4
+    zeta1: float | None = None
+
+    name = "twisted-cylinder"
+
+    def __post_init__(self):
+        _check("L", self.L, lambda v: v > 0, "(0, inf) m")
+        _check("h", self.h, lambda v: 0 < v < 0.5, "(0, 0.5) m: 2h must be below the natural radius 1 m")
+        _check("E", self.E, lambda v: v > 0, "(0, inf) Pa")
+        _check("nu", self.nu, lambda v: -1 < v < 0.5, "(-1, 0.5)")
+        _check("rho", self.rho, lambda v: v > 0, "(0, inf) kg/m^3")
+        if self.R is not None:
+            _check("R", self.R, lambda v: v > 0, "(0, inf) m")
+        _check("gamma", self.gamma, lambda v: True, "finite values (rad/m)")
+        _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
+        _check("psi0", self.psi0, lambda v: abs(v) < math.pi / 2, "(-pi/2, pi/2) rad")
+        if not isinstance(self.n_quad, int) or isinstance(self.n_quad, bool) or not 1 <= self.n_quad <= 64:
+            raise ParameterError("n_quad", self.n_quad, "integers 1..64")
+        if self.zeta1 is not None:
+            _check("zeta1", self.zeta1, lambda v: -2 * self.h <= v <= 0, f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m")
+
+    def params(self):
+        """All parameters as a plain dict (``R`` and ``zeta1`` may be ``None``)."""
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
+
+
+SCENES = {TwistedCylinder.name: TwistedCylinder}
+
+
+def get_scene(name, **params):
+    """The scene registered as ``name`` with parameters replaced by ``params``."""
+    if name not in SCENES:
+        raise ParameterError("scene", name, "{" + ", ".join(sorted(SCENES)) + "}")
+    return with_params(SCENES[name](), params)
+
+
+def with_params(scene, params):
+    """``dataclasses.replace`` that accepts strings (as from ``--set NAME=VALUE``) and names unknown parameters."""
+    fields = {f.name: f for f in dataclasses.fields(scene)}
+    changes = {}
+    for name, value in params.items():
+        if name not in fields:
+            raise ParameterError("parameter", name, "{" + ", ".join(fields) + "}", hint=f"for scene {scene.name}")
+        changes[name] = _coerce(name, value, fields[name].type)
+    return dataclasses.replace(scene, **changes)
+
+
+def _coerce(name, value, annotation):
+    if not isinstance(value, str):
+        return value
+    if value.lower() in ("none", "auto") and "None" in str(annotation):
+        return None
+    try:
+        return int(value) if "int" in str(annotation) else float(value)
+    except ValueError:
+        raise ParameterError(name, value, "numbers") from None
