@@ -104,23 +104,31 @@ class ShellSystem:
         return ca.Function("node", [q, p, w], [v_full, dTdq, T_p])
 
     # -- assembly ------------------------------------------------------------------------
-    def _build(self):
-        n = self.n
-        y = ca.SX.sym("y", NY * n)
-        Y = ca.reshape(y, NY, n)
-        Q, P = Y[:NF, :], Y[NF:, :]
+    def potential(self, Q):
+        """Stored energy of nodal fields ``Q`` (SX, ``5 x n``).
+
+        Returns ``(V, dV/dq per node (list of 5-vectors), delta per cell (list))``.
+        """
         cell = self._cell_kernel()
-        interior = self._node_kernel([0, 1, 2, 3, 4])
-        end = self._node_kernel([k for k in range(NF) if k not in FIXED_AT_ENDS])
         V = 0
-        dVdq = [ca.SX.zeros(NF) for _ in range(n)]
+        dVdq = [ca.SX.zeros(NF) for _ in range(self.n)]
         deltas = []
-        for i in range(n - 1):
+        for i in range(self.n - 1):
             e, gl, gr, dc = cell(Q[:, i], Q[:, i + 1])
             V += e
             dVdq[i] += gl
             dVdq[i + 1] += gr
             deltas.append(dc)
+        return V, dVdq, deltas
+
+    def _build(self):
+        n = self.n
+        y = ca.SX.sym("y", NY * n)
+        Y = ca.reshape(y, NY, n)
+        Q, P = Y[:NF, :], Y[NF:, :]
+        interior = self._node_kernel([0, 1, 2, 3, 4])
+        end = self._node_kernel([k for k in range(NF) if k not in FIXED_AT_ENDS])
+        V, dVdq, deltas = self.potential(Q)
         rates, T = [], 0
         for i in range(n):
             kernel = end if i in (0, n - 1) else interior
