@@ -78,8 +78,11 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=1
         Saved times (s), starting at 0.
     dt : float
         Leap-frog step (s); refused beyond the stability bound ``1 / max |eig J(y0)|``.
+        Ignored by adaptive integrators.
     progress : bool, optional
         Progress bar over simulated time; default: only when stderr is a terminal.
+    **options
+        Passed to the integrator's dataclass (e.g. ``rtol``, ``atol``, ``max_step``).
 
     Returns
     -------
@@ -94,7 +97,14 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=1
     if integrator not in INTEGRATORS:
         raise ParameterError("integrator", integrator, "{" + ", ".join(INTEGRATORS) + "}")
     scene = resolve(scene)
-    method = INTEGRATORS[integrator](dt=dt, **options)
+    if integrator == "leapfrog":
+        options["dt"] = dt
+    cls = INTEGRATORS[integrator]
+    allowed = {f.name for f in dataclasses.fields(cls)}
+    for name in options:
+        if name not in allowed:
+            raise ParameterError("option", name, "{" + ", ".join(sorted(allowed)) + "}", hint=f"for integrator {integrator}")
+    method = cls(**options)
     snap = times is None and integrator == "leapfrog"
     times = parse_times(times, t_end)
     if snap:
