@@ -134,7 +134,10 @@ def make_parser():
 
 def main(argv=None):
     parser = make_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # usage errors (code 2) and --help (code 0)
+        return exc.code
     try:
         return args.func(args)
     except ParameterError as exc:

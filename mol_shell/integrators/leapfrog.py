@@ -85,6 +85,7 @@ class Leapfrog:
                 reached.append(k)
         except ModelLimitError as exc:
             status, message, failure = "limit", str(exc), exc.time
+            k = int(round(exc.time / dt))
         except KeyboardInterrupt:
             status, message, failure = "interrupted", f"interrupted by the user at t = {k * dt:.9g} s", k * dt
         wall = time.perf_counter() - start

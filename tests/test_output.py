@@ -1,0 +1,73 @@
+"""Datasets: labels, units, attrs, netCDF round trip; runs that stop keep their data."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import mol_shell
+from mol_shell.integrators import Leapfrog
+from mol_shell.simulate import build, resolve
+
+
+@pytest.fixture(scope="module")
+def short_run():
+    return mol_shell.simulate("twisted-cylinder", times=[0, 0.001, 0.002], progress=False)
+
+
+def test_every_variable_has_units_and_long_name(short_run):
+    for name, var in {**short_run.data_vars, **short_run.coords}.items():
+        assert var.attrs.get("units"), name
+        assert var.attrs.get("long_name"), name
+    assert set(short_run.dims) == {"time", "s"}
+    for field in ("z", "r", "chi", "theta", "psi"):
+        assert short_run[field].dims == ("time", "s")
+        assert short_run[field + "_t"].dims == ("time", "s")
+
+
+def test_attrs_hold_every_scene_parameter(short_run):
+    scene = mol_shell.TwistedCylinder()
+    for field in dataclasses.fields(scene):
+        assert field.name in short_run.attrs
+    # R is stored as computed, not as "None"
+    assert short_run.attrs["R"] == pytest.approx(resolve(scene).R, rel=1e-15)
+    for key in ("integrator", "dt", "n_steps", "n_rhs", "wall_time_s", "mol_shell_version", "rhs_instructions"):
+        assert key in short_run.attrs
+    assert short_run.attrs["n_steps"] == 2000
+    assert short_run.attrs["n_rhs"] == 2001  # one extra evaluation for the midpoint start
+
+
+def test_netcdf_round_trip_is_identical(short_run, tmp_path):
+    path = tmp_path / "run.nc"
+    mol_shell.write_netcdf(short_run, path)
+    back = mol_shell.read_netcdf(path)
+    xr.testing.assert_identical(short_run, back)
+
+
+def test_energy_is_kinetic_plus_stored(short_run):
+    np.testing.assert_allclose(short_run.energy, short_run.kinetic_energy + short_run.stored_energy, rtol=1e-15)
+    assert short_run.kinetic_energy[0] == 0.0  # initial data at rest
+
+
+class _InterruptAfter:
+    def __init__(self, calls):
+        self.calls = calls
+
+    def update(self, _):
+        self.calls -= 1
+        if self.calls == 0:
+            raise KeyboardInterrupt
+
+
+def test_ctrl_c_keeps_the_saved_times():
+    scene = resolve(mol_shell.TwistedCylinder())
+    system, compiled = build(scene, 40)
+    times = np.arange(0, 0.011, 0.001)
+    traj = Leapfrog(dt=1e-5, chunk=50).integrate(
+        system, compiled, system.initial_state(scene), times, progress=_InterruptAfter(9)
+    )
+    assert traj.status == "interrupted"
+    assert len(traj.t) == 5  # 9 chunks of 50 steps of 1e-5 s: saved 0 .. 0.004 s
+    assert traj.failure_time == pytest.approx(0.0045)
+    assert np.all(np.isfinite(traj.y))
