@@ -29,7 +29,7 @@ import casadi as ca
 import numpy as np
 
 from .model.kinematics import delta, kinetic_energy_density
-from .model.material import Thickness, centroidal_offset, inertias, lame, shell_energy
+from .model.material import Thickness, centroidal_offset, effective_lame, inertias, shell_dissipation, shell_energy
 
 NF = 5  # fields per node
 NY = 2 * NF  # state entries per node
@@ -61,7 +61,8 @@ class ShellSystem:
         self.ds = scene.L / (self.n - 1)
         self.s = np.linspace(0.0, scene.L, self.n)
         self.r0 = 1.0
-        self.lam, self.mu = lame(scene.E, scene.nu)
+        self.lam, self.mu = effective_lame(scene.E, scene.nu, scene.material)
+        self.viscous = scene.eta_lambda > 0 or scene.eta_mu > 0
         zeta1 = centroidal_offset(scene.h, self.r0) if scene.zeta1 is None else scene.zeta1
         self.thickness = Thickness(zeta1, scene.h, scene.n_quad)
         self.rho_a, self.rho_i, self.rho_j = inertias(scene.rho, self.thickness, self.r0)
@@ -78,14 +79,27 @@ class ShellSystem:
     def _cell_kernel(self):
         """``(q_left, q_right) -> (V_cell, dV/dq_left, dV/dq_right, delta_cell)``."""
         ql, qr = ca.SX.sym("ql", NF), ca.SX.sym("qr", NF)
-        grad = (qr - ql) / self.ds
-        mid = (qr + ql) / 2
-        strains = (grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], mid[4])
+        strains = self._cell_strains(ql, qr)
         energy = 2 * math.pi * self.r0 * self.ds * shell_energy(strains, self.lam, self.mu, self.thickness, self.r0)
-        d_cell = delta(grad[0], grad[1], mid[1], mid[3], mid[4])
+        z_s, r_s, _, _, _, r, theta, psi = strains
+        d_cell = delta(z_s, r_s, r, theta, psi)
         return ca.Function(
             "cell", [ql, qr], [energy, ca.gradient(energy, ql), ca.gradient(energy, qr), d_cell]
         )
+
+    def _cell_strains(self, ql, qr):
+        grad = (qr - ql) / self.ds
+        mid = (qr + ql) / 2
+        return (grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], mid[4])
+
+    def _viscous_kernel(self):
+        """``(q_left, q_right, v_left, v_right) -> (D_cell, dD/dv_left, dD/dv_right)``: Kelvin-Voigt."""
+        ql, qr, vl, vr = (ca.SX.sym(name, NF) for name in ("ql", "qr", "vl", "vr"))
+        sc = self.scene
+        D = 2 * math.pi * self.r0 * self.ds * shell_dissipation(
+            self._cell_strains(ql, qr), self._cell_strains(vl, vr), sc.eta_lambda, sc.eta_mu, self.thickness, self.r0
+        )
+        return ca.Function("viscous", [ql, qr, vl, vr], [D, ca.gradient(D, vl), ca.gradient(D, vr)])
 
     def _node_kernel(self, free):
         """``(q, p, w) -> (v, dT/dq at fixed v, T)`` for a node whose free rates are ``free``."""
@@ -129,16 +143,28 @@ class ShellSystem:
         interior = self._node_kernel([0, 1, 2, 3, 4])
         end = self._node_kernel([k for k in range(NF) if k not in FIXED_AT_ENDS])
         V, dVdq, deltas = self.potential(Q)
-        rates, T = [], 0
+        vs, forces, T = [], [], 0
         for i in range(n):
             kernel = end if i in (0, n - 1) else interior
             v, dTdq, Ti = kernel(Q[:, i], P[:, i], self.weights[i])
-            pdot = dTdq - dVdq[i]
+            vs.append(v)
+            forces.append(dTdq - dVdq[i])
+            T += Ti
+        D = 0
+        if self.viscous:
+            viscous = self._viscous_kernel()
+            for i in range(n - 1):
+                Dc, fl, fr = viscous(Q[:, i], Q[:, i + 1], vs[i], vs[i + 1])
+                D += Dc
+                forces[i] -= fl
+                forces[i + 1] -= fr
+        rates = []
+        for i in range(n):
+            pdot = forces[i]
             for k in range(NF):
                 if self.fixed[i, k]:
                     pdot[k] = 0
-            rates.append(ca.vertcat(v, pdot))
-            T += Ti
+            rates.append(ca.vertcat(vs[i], pdot))
         ydot = ca.vertcat(*rates)
         V_sym, T_sym = V, T
         t = ca.SX.sym("t")
@@ -148,9 +174,9 @@ class ShellSystem:
         self.observables = ca.Function(
             "observables",
             [y],
-            [velocities, T_sym, V_sym, ca.sum2(P[2, :]), ca.vertcat(*deltas)],
+            [velocities, T_sym, V_sym, ca.sum2(P[2, :]), ca.vertcat(*deltas), 2 * D],
             ["y"],
-            ["v", "kinetic", "stored", "angular_momentum", "delta"],
+            ["v", "kinetic", "stored", "angular_momentum", "delta", "dissipation"],
         )
 
     @cached_property

@@ -7,7 +7,7 @@ import numpy as np
 import scipy.sparse.linalg
 
 from .errors import ParameterError
-from .model.material import Thickness, centroidal_offset, lame, shell_energy
+from .model.material import Thickness, centroidal_offset, effective_lame, shell_energy
 
 
 def equilibrium_radius(scene, tol=1e-14, max_iter=50):
@@ -17,7 +17,7 @@ def equilibrium_radius(scene, tol=1e-14, max_iter=50):
     by Newton's method on the CasADi graph of ``What`` (the paper's "(R, gamma) is an
     equilibrium state of the material"). For ``gamma = 0`` the root is the natural radius 1.
     """
-    lam, mu = lame(scene.E, scene.nu)
+    lam, mu = effective_lame(scene.E, scene.nu, scene.material)
     zeta1 = centroidal_offset(scene.h) if scene.zeta1 is None else scene.zeta1
     thickness = Thickness(zeta1, scene.h, scene.n_quad)
     r = ca.SX.sym("r")
@@ -36,12 +36,20 @@ def equilibrium_radius(scene, tol=1e-14, max_iter=50):
     raise ParameterError("gamma", scene.gamma, "twists for which a twisted cylinder has a radial equilibrium")
 
 
-def max_frequency(jac, y):
-    """Largest ``|eigenvalue|`` of the Jacobian ``jac(0, y)`` (rad/s): dense below 2000 states, else ARPACK."""
+def spectrum_bounds(jac, y):
+    """``(max |lambda|, max(-Re lambda))`` over the eigenvalues of the Jacobian ``jac(0, y)`` (1/s).
+
+    The first bounds the leap-frog step (``dt max|lambda| < 1`` for the imaginary-axis
+    spectrum of an elastic shell); the second is the fastest damping rate, which
+    leap-frog's parasitic root turns into growth ``exp(max(-Re lambda) t)``.
+    Dense below 2000 states, else ARPACK.
+    """
     J = jac(0, y)
     if J.size1() <= 2000:
-        return float(np.abs(np.linalg.eigvals(np.array(J))).max())
+        ev = np.linalg.eigvals(np.array(J))
+        return float(np.abs(ev).max()), float(max(0.0, (-ev.real).max()))
     sp = J.sparsity()
-    mat = scipy.sparse.csc_matrix((np.array(J.nonzeros()), sp.row(), sp.colind()), shape=J.shape)
-    val = scipy.sparse.linalg.eigs(mat, k=1, which="LM", return_eigenvectors=False, tol=1e-6)
-    return float(np.abs(val).max())
+    mat = scipy.sparse.csc_matrix((np.array(J.nonzeros()).ravel(), sp.row(), sp.colind()), shape=J.shape)
+    big = scipy.sparse.linalg.eigs(mat, k=2, which="LM", return_eigenvectors=False, tol=1e-6)
+    damped = scipy.sparse.linalg.eigs(mat, k=2, which="SR", return_eigenvectors=False, tol=1e-6, maxiter=5000)
+    return float(np.abs(big).max()), float(max(0.0, (-damped.real).max()))

@@ -27,6 +27,14 @@ class ModelLimitError(RuntimeError):
         Which quantity, and the arc length ``s`` where it failed.
     """
 
+    status = "limit"
+
     def __init__(self, message, time, where):
         self.time, self.where = time, where
         super().__init__(message)
+
+
+class NumericalInstabilityError(ModelLimitError):
+    """The energy of an unloaded shell grew: the time step or the method is unstable."""
+
+    status = "unstable"

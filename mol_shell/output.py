@@ -76,6 +76,12 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
         totals["delta_min"],
         {"units": "m", "long_name": "minimum over s of delta = r beta1 cos(psi) (must stay positive)"},
     )
+    if system.viscous:
+        data["dissipation"] = (
+            ("time",),
+            totals["dissipation"],
+            {"units": "W", "long_name": "power dissipated by the Kelvin-Voigt stress (= -d energy/dt)"},
+        )
     coords = {
         "time": ("time", traj.t, {"units": "s", "long_name": "time"}),
         "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"}),

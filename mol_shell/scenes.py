@@ -12,10 +12,12 @@ import math
 from dataclasses import dataclass
 
 from .errors import ParameterError
+from .model.material import MATERIALS
 
 UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
     "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
+    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1",
 }
 
 
@@ -58,6 +60,13 @@ class TwistedCylinder:
     zeta1 : float or None
         Lower face of the thickness interval, measured from the base surface along the
         director. ``None`` places the base surface so that ``rhoI = 0`` (as the paper).
+    eta_lambda, eta_mu : float
+        Kelvin-Voigt viscosities, Pa s (``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t``);
+        0 (default) is the elastic shell, and leaves the viscous terms out of the graph.
+    material : str
+        ``"svk"`` (the paper: 3-D St Venant-Kirchhoff with the inextensible director) or
+        ``"svk-plane-stress"`` (thickness stress condensed out; see
+        :func:`mol_shell.model.material.effective_lame`).
     """
 
     L: float = 4.0
@@ -71,6 +80,9 @@ class TwistedCylinder:
     psi0: float = 0.0
     n_quad: int = 4
     zeta1: float | None = None
+    eta_lambda: float = 0.0
+    eta_mu: float = 0.0
+    material: str = "svk"
 
     name = "twisted-cylinder"
 
@@ -87,6 +99,10 @@ class TwistedCylinder:
         _check("psi0", self.psi0, lambda v: abs(v) < math.pi / 2, "(-pi/2, pi/2) rad")
         if not isinstance(self.n_quad, int) or isinstance(self.n_quad, bool) or not 1 <= self.n_quad <= 64:
             raise ParameterError("n_quad", self.n_quad, "integers 1..64")
+        _check("eta_lambda", self.eta_lambda, lambda v: v >= 0, "[0, inf) Pa s")
+        _check("eta_mu", self.eta_mu, lambda v: v >= 0, "[0, inf) Pa s")
+        if self.material not in MATERIALS:
+            raise ParameterError("material", self.material, "{" + ", ".join(MATERIALS) + "}")
         if self.zeta1 is not None:
             _check("zeta1", self.zeta1, lambda v: -2 * self.h <= v <= 0, f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m")
 
@@ -117,7 +133,7 @@ def with_params(scene, params):
 
 
 def _coerce(name, value, annotation):
-    if not isinstance(value, str):
+    if not isinstance(value, str) or annotation in (str, "str"):
         return value
     if value.lower() in ("none", "auto") and "None" in str(annotation):
         return None

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ModelLimitError
+from ..errors import ModelLimitError, NumericalInstabilityError
 
 
 @dataclass
@@ -20,7 +20,8 @@ class Trajectory:
     y : ndarray
         States, shape ``(k, size)``.
     status : str
-        ``"complete"``, ``"limit"`` (a model limit was reached) or ``"interrupted"`` (Ctrl-C).
+        ``"complete"``, ``"limit"`` (a model limit was reached), ``"unstable"`` (the energy
+        grew: numerical instability) or ``"interrupted"`` (Ctrl-C).
     message : str
         Human-readable account of how the run ended.
     stats : dict
@@ -46,10 +47,20 @@ class Monitor:
         Supplies the ``delta`` of each cell and the node positions.
     """
 
-    def __init__(self, system):
+    #: relative growth of the total energy that counts as a numerical instability
+    ENERGY_GROWTH = 1e-2
+
+    def __init__(self, system, y0=None):
         self.system = system
-        self._delta = system.observables
+        self._observe = system.observables
         self._cells = (system.s[:-1] + system.s[1:]) / 2
+        sc = system.scene
+        scale = 2 * np.pi * sc.L * 2 * sc.h * (system.lam + 2 * system.mu)  # energy of a unit strain
+        self.energy_limit = None
+        if y0 is not None:
+            out = self._observe(y0)
+            e0 = float(out[1]) + float(out[2])
+            self.energy_limit = e0 + self.ENERGY_GROWTH * abs(e0) + 1e-9 * scale
 
     def check(self, y, t):
         """Raise :class:`ModelLimitError` naming time and place if ``y`` breaks a limit."""
@@ -64,8 +75,17 @@ class Monitor:
             i = int(np.argmin(r))
             where = f"s = {self.system.s[i]:.6g} m"
             raise ModelLimitError(f"r = {r[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
-        delta = np.asarray(self._delta(y)[4]).ravel()
+        out = self._observe(y)
+        delta = np.asarray(out[4]).ravel()
         if delta.min() <= 0:
             i = int(np.argmin(delta))
             where = f"s = {self._cells[i]:.6g} m"
             raise ModelLimitError(f"delta = {delta[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
+        energy = float(out[1]) + float(out[2])
+        if self.energy_limit is not None and energy > self.energy_limit:
+            raise NumericalInstabilityError(
+                f"numerical instability: the total energy grew to {energy:.6g} J (limit {self.energy_limit:.6g} J; "
+                f"with no loads it cannot grow) at t = {t:.9g} s",
+                t,
+                "whole shell",
+            )

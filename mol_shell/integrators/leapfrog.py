@@ -57,7 +57,7 @@ class Leapfrog:
         steps = self.step_counts(times)
         if steps[0] != 0:
             raise ParameterError("times", float(times[0]), "first saved time must be 0")
-        monitor = Monitor(system)
+        monitor = Monitor(system, y0)
         f = compiled.evaluator()
         dt = self.dt
         ya = np.array(y0, dtype=float)
@@ -84,7 +84,7 @@ class Leapfrog:
                 saved.append(yb.copy())
                 reached.append(k)
         except ModelLimitError as exc:
-            status, message, failure = "limit", str(exc), exc.time
+            status, message, failure = exc.status, str(exc), exc.time
             k = int(round(exc.time / dt))
         except KeyboardInterrupt:
             status, message, failure = "interrupted", f"interrupted by the user at t = {k * dt:.9g} s", k * dt

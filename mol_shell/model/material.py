@@ -25,6 +25,26 @@ def lame(young, poisson):
     return lam, mu
 
 
+MATERIALS = ("svk", "svk-plane-stress")
+
+
+def effective_lame(young, poisson, material="svk"):
+    """Lame pair used in ``W_SVK`` for the chosen thickness treatment.
+
+    ``"svk"`` is the paper's: 3-D St Venant-Kirchhoff under the inextensible-director
+    constraint (``E22 = 0``), so the hoop and axial stiffness is ``lambda + 2 mu``, which
+    locks as ``nu -> 0.5``. ``"svk-plane-stress"`` condenses the thickness stress out
+    (``S22 = 0`` minimises ``W`` over ``E22``): ``lambda* = 2 lambda mu / (lambda + 2 mu)``,
+    giving the classical ``lambda* + 2 mu = E / (1 - nu^2)``.
+    """
+    lam, mu = lame(young, poisson)
+    if material == "svk":
+        return lam, mu
+    if material == "svk-plane-stress":
+        return 2.0 * lam * mu / (lam + 2.0 * mu), mu
+    raise ValueError(f"material = {material!r} is outside {{{', '.join(MATERIALS)}}}")
+
+
 def green_strain(F):
     """``E = (F^T F - I)/2`` for ``F`` given as nested 3x3 tuples of scalars."""
     return tuple(
@@ -86,6 +106,33 @@ def inertias(rho, thickness, r0=1.0, theta0=0.0, theta0_s=0.0):
         for k in range(3):
             out[k] += rho * w * jac * zeta**k
     return tuple(out)
+
+
+def shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0):
+    """Rayleigh function of the Kelvin-Voigt stress per unit reference area (section 3, strain-rate type).
+
+    With ``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t`` the stress power is ``S_visc : E_t = 2 D`` where
+
+        D = (1/r0) int [eta_lambda/2 (tr E_t)^2 + eta_mu E_t : E_t] (1 - zeta theta0_s)(r0 + zeta cos theta0) dzeta,
+
+    ``E_t = dE/dstrains . rates`` and ``rates`` are the time derivatives of ``strains``.
+    The generalised viscous forces are ``-dD/d(rates)``; the energy decays at the rate ``2 D``.
+    Needs CasADi symbols for ``strains``/``rates`` (it differentiates ``E``).
+    """
+    import casadi as ca
+
+    e_sym, r_sym = ca.SX.sym("e", 8), ca.SX.sym("edot", 8)
+    nodes, weights = thickness.nodes_weights
+    total = 0.0
+    for zeta, w in zip(nodes, weights):
+        E = green_strain(deformation_gradient(ca.vertsplit(e_sym), zeta, r0, theta0, theta0_s))
+        flat = ca.vertcat(*[E[i][j] for i in range(3) for j in range(3)])
+        Et = ca.reshape(ca.jtimes(flat, e_sym, r_sym), 3, 3)
+        trace = Et[0, 0] + Et[1, 1] + Et[2, 2]
+        jac = (1.0 - zeta * theta0_s) * (r0 + zeta * math.cos(theta0)) / r0
+        total = total + w * jac * (0.5 * eta_lambda * trace**2 + eta_mu * ca.sumsqr(Et))
+    fn = ca.Function("dissipation", [e_sym, r_sym], [total])
+    return fn(ca.vertcat(*strains), ca.vertcat(*rates))
 
 
 def shell_energy(strains, lam, mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0):
