@@ -16,8 +16,10 @@ is conserved exactly (``V`` depends on ``chi`` only through differences).
 Boundary conditions: ``z = s`` and ``theta = 0`` at both ends are imposed (those
 rates and momenta stay zero); ``n.a2 = n.a3 = m.c1 = 0`` are the natural ones.
 
-State layout is node-major: ``y[10 i + k]`` is field ``k`` of node ``i`` for
-``k < 5`` and its momentum for ``k >= 5``; this keeps the Jacobian banded.
+State layout is node-major: with the scene's ``nf`` active fields (all five, or e.g.
+``z, r, theta`` for axisymmetric motions), ``y[2 nf i + k]`` is active field ``k`` of node
+``i`` for ``k < nf`` and its momentum for ``k >= nf``; this keeps the Jacobian banded.
+Inactive fields are identically zero and are not in the graph.
 """
 
 from __future__ import annotations
@@ -28,11 +30,11 @@ from functools import cached_property
 import casadi as ca
 import numpy as np
 
+from .model.kinematics import FIELDS as FIELD_NAMES
 from .model.kinematics import delta, kinetic_energy_density
 from .model.material import Thickness, centroidal_offset, effective_lame, inertias, shell_dissipation, shell_energy
 
-NF = 5  # fields per node
-NY = 2 * NF  # state entries per node
+NF = 5  # fields of the model (z, r, chi, theta, psi)
 FIXED_AT_ENDS = (0, 3)  # z and theta are prescribed at s = 0 and s = L
 
 
@@ -58,6 +60,9 @@ class ShellSystem:
 
             raise ParameterError("n", n, "integers >= 3")
         self.scene, self.n = scene, int(n)
+        self.active = tuple(getattr(scene, "fields", range(NF)))
+        self.nf = len(self.active)
+        self.ny = 2 * self.nf
         self.ds = scene.L / (self.n - 1)
         self.s = np.linspace(0.0, scene.L, self.n)
         self.r0 = 1.0
@@ -136,12 +141,14 @@ class ShellSystem:
         return V, dVdq, deltas
 
     def _build(self):
-        n = self.n
-        y = ca.SX.sym("y", NY * n)
-        Y = ca.reshape(y, NY, n)
-        Q, P = Y[:NF, :], Y[NF:, :]
-        interior = self._node_kernel([0, 1, 2, 3, 4])
-        end = self._node_kernel([k for k in range(NF) if k not in FIXED_AT_ENDS])
+        n, nf, active = self.n, self.nf, list(self.active)
+        y = ca.SX.sym("y", self.ny * n)
+        Y = ca.reshape(y, self.ny, n)
+        Q, P = ca.SX.zeros(NF, n), ca.SX.zeros(NF, n)  # inactive rows stay constant zeros
+        Q[active, :] = Y[:nf, :]
+        P[active, :] = Y[nf:, :]
+        interior = self._node_kernel(list(self.active))
+        end = self._node_kernel([k for k in self.active if k not in FIXED_AT_ENDS])
         V, dVdq, deltas = self.potential(Q)
         vs, forces, T = [], [], 0
         for i in range(n):
@@ -164,11 +171,11 @@ class ShellSystem:
             for k in range(NF):
                 if self.fixed[i, k]:
                     pdot[k] = 0
-            rates.append(ca.vertcat(vs[i], pdot))
+            rates.append(ca.vertcat(vs[i][active], pdot[active]))
         ydot = ca.vertcat(*rates)
         V_sym, T_sym = V, T
         t = ca.SX.sym("t")
-        velocities = ca.horzcat(*[r[:NF] for r in rates])
+        velocities = ca.horzcat(*vs)
         self._y, self._ydot = y, ydot
         self.rhs = ca.Function("rhs", [t, y], [ydot], ["t", "y"], ["ydot"])
         self.observables = ca.Function(
@@ -188,7 +195,7 @@ class ShellSystem:
 
     @property
     def size(self):
-        return NY * self.n
+        return self.ny * self.n
 
     def graph_stats(self):
         """Size of the graphs: SX instructions of the RHS, Jacobian non-zeros and bandwidths."""
@@ -209,12 +216,20 @@ class ShellSystem:
         Q = np.zeros((NF, self.n))
         Q[0] = self.s
         Q[1] = sc.R
-        Q[2] = sc.gamma * (self.s - sc.L / 2)
-        Q[4] = sc.psi0
+        Q[2] = getattr(sc, "gamma", 0.0) * (self.s - sc.L / 2)
+        Q[4] = getattr(sc, "psi0", 0.0)
         V = np.zeros((NF, self.n))
-        V[2] = sc.omega
+        V[2] = getattr(sc, "omega", 0.0)
         V[:, [0, -1]] *= ~self.fixed[[0, -1]].T
-        return np.concatenate([Q, self.momenta(Q, V)]).T.reshape(-1)
+        return self.pack(Q, self.momenta(Q, V))
+
+    def pack(self, Q, P):
+        """Node-major state vector from full fields ``Q`` and momenta ``P`` (each ``5 x n``)."""
+        Q, P = np.asarray(Q), np.asarray(P)
+        inactive = [k for k in range(NF) if k not in self.active]
+        if np.any(Q[inactive]) or np.any(P[inactive]):
+            raise ValueError(f"fields {[FIELD_NAMES[k] for k in inactive]} must vanish for this scene")
+        return np.concatenate([Q[list(self.active)], P[list(self.active)]]).T.reshape(-1)
 
     def momenta(self, Q, V):
         """Nodal momenta ``p = M(q) v`` for fields ``Q`` and rates ``V`` (each ``5 x n``)."""
@@ -226,6 +241,8 @@ class ShellSystem:
         return P
 
     def unpack(self, y):
-        """Fields ``(5, n)`` from one state vector (or ``(..., 5, n)`` from a stack)."""
+        """Fields ``(5, n)`` from one state vector (or ``(..., 5, n)`` from a stack); inactive ones are 0."""
         y = np.asarray(y)
-        return np.swapaxes(y.reshape(*y.shape[:-1], self.n, NY)[..., :NF], -1, -2)
+        out = np.zeros((*y.shape[:-1], NF, self.n))
+        out[..., list(self.active), :] = np.swapaxes(y.reshape(*y.shape[:-1], self.n, self.ny)[..., : self.nf], -1, -2)
+        return out

@@ -21,7 +21,7 @@ def equilibrium_radius(scene, tol=1e-14, max_iter=50):
     zeta1 = centroidal_offset(scene.h) if scene.zeta1 is None else scene.zeta1
     thickness = Thickness(zeta1, scene.h, scene.n_quad)
     r = ca.SX.sym("r")
-    energy = shell_energy((1.0, 0.0, scene.gamma, 0.0, 0.0, r, 0.0, 0.0), lam, mu, thickness)
+    energy = shell_energy((1.0, 0.0, getattr(scene, "gamma", 0.0), 0.0, 0.0, r, 0.0, 0.0), lam, mu, thickness)
     force = ca.gradient(energy, r)
     newton = ca.Function("newton", [r], [force, ca.jacobian(force, r)])
     R = 1.0

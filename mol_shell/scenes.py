@@ -27,14 +27,8 @@ def _check(name, value, ok, allowed):
 
 
 @dataclass(frozen=True)
-class TwistedCylinder:
-    """The initial-boundary-value problem of section 6 (and, with ``gamma = 0``, section 5).
-
-    Natural state: a circular cylinder of radius 1 m and length ``L``. Ends welded to
-    lubricated magnets a fixed distance ``L`` apart (``z = s``, ``theta = 0``,
-    ``n.a2 = n.a3 = m.c1 = 0``). Initial data (6.9), extended: ``r = R``, ``z = s``,
-    ``chi = gamma (s - L/2)``, ``theta = 0``, ``psi = psi0``, ``chi_t = omega``, the
-    other rates zero.
+class ShellScene:
+    """Parameters shared by every scene: a cylinder of natural radius 1 m (section 6).
 
     Parameters
     ----------
@@ -47,14 +41,8 @@ class TwistedCylinder:
     rho : float
         Density, kg/m^3. Lost from the paper; 1000 is our assumption (it only rescales time).
     R : float or None
-        Initial radius, m. ``None`` (default) computes the radius at which the uniformly
-        twisted cylinder is in radial equilibrium (:func:`mol_shell.equilibrium.equilibrium_radius`).
-    gamma : float
-        Initial twist ``chi_s``, rad/m (paper value lost; 0.1 fits its figures).
-    omega : float
-        Initial uniform spin rate ``chi_t``, rad/s.
-    psi0 : float
-        Initial uniform shear angle ``psi``, rad, in (-pi/2, pi/2).
+        Initial radius, m. ``None`` computes the radius at which the uniformly twisted
+        cylinder is in radial equilibrium (:func:`mol_shell.equilibrium.equilibrium_radius`).
     n_quad : int
         Gauss-Legendre points through the thickness.
     zeta1 : float or None
@@ -75,16 +63,17 @@ class TwistedCylinder:
     nu: float = 0.49
     rho: float = 1000.0
     R: float | None = None
-    gamma: float = 0.1
-    omega: float = 0.0
-    psi0: float = 0.0
     n_quad: int = 4
     zeta1: float | None = None
     eta_lambda: float = 0.0
     eta_mu: float = 0.0
     material: str = "svk"
 
-    name = "twisted-cylinder"
+    name = "shell"
+    #: indices into ``mol_shell.model.FIELDS`` of the fields this scene moves
+    fields = (0, 1, 2, 3, 4)
+    #: initial data not present as parameters are zero
+    gamma = omega = psi0 = 0.0
 
     def __post_init__(self):
         _check("L", self.L, lambda v: v > 0, "(0, inf) m")
@@ -94,9 +83,6 @@ class TwistedCylinder:
         _check("rho", self.rho, lambda v: v > 0, "(0, inf) kg/m^3")
         if self.R is not None:
             _check("R", self.R, lambda v: v > 0, "(0, inf) m")
-        _check("gamma", self.gamma, lambda v: True, "finite values (rad/m)")
-        _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
-        _check("psi0", self.psi0, lambda v: abs(v) < math.pi / 2, "(-pi/2, pi/2) rad")
         if not isinstance(self.n_quad, int) or isinstance(self.n_quad, bool) or not 1 <= self.n_quad <= 64:
             raise ParameterError("n_quad", self.n_quad, "integers 1..64")
         _check("eta_lambda", self.eta_lambda, lambda v: v >= 0, "[0, inf) Pa s")
@@ -111,7 +97,70 @@ class TwistedCylinder:
         return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
 
 
-SCENES = {TwistedCylinder.name: TwistedCylinder}
+@dataclass(frozen=True)
+class TwistedCylinder(ShellScene):
+    """The initial-boundary-value problem of section 6 (and, with ``gamma = 0``, section 5).
+
+    Ends welded to lubricated magnets a fixed distance ``L`` apart (``z = s``,
+    ``theta = 0``, ``n.a2 = n.a3 = m.c1 = 0``). Initial data (6.9), extended: ``r = R``,
+    ``z = s``, ``chi = gamma (s - L/2)``, ``theta = 0``, ``psi = psi0``, ``chi_t = omega``,
+    the other rates zero. See :class:`ShellScene` for the material parameters.
+
+    Parameters
+    ----------
+    gamma : float
+        Initial twist ``chi_s``, rad/m (paper value lost; 0.1 fits its figures).
+    omega : float
+        Initial uniform spin rate ``chi_t``, rad/s.
+    psi0 : float
+        Initial uniform shear angle ``psi``, rad, in (-pi/2, pi/2).
+    """
+
+    gamma: float = 0.1
+    omega: float = 0.0
+    psi0: float = 0.0
+
+    name = "twisted-cylinder"
+
+    def __post_init__(self):
+        super().__post_init__()
+        _check("gamma", self.gamma, lambda v: True, "finite values (rad/m)")
+        _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
+        _check("psi0", self.psi0, lambda v: abs(v) < math.pi / 2, "(-pi/2, pi/2) rad")
+
+
+@dataclass(frozen=True)
+class SpinningRing(TwistedCylinder):
+    """Section 5: spatially uniform breathing, spinning and shearing (``gamma = 0``).
+
+    The same boundary-value problem as :class:`TwistedCylinder` with uniform initial data
+    ``r = R``, ``chi_t = omega``, ``psi = psi0``; the motion stays uniform in ``s`` and
+    follows the ODEs of section 5.
+    """
+
+    R: float | None = 1.01
+    gamma: float = 0.0
+    omega: float = 20.0
+    psi0: float = 0.05
+
+    name = "spinning-ring"
+
+
+@dataclass(frozen=True)
+class Axisymmetric(ShellScene):
+    """Axisymmetric motions: no twist and no shear (``chi = psi = 0`` identically).
+
+    Only ``z, r, theta`` are unknowns; the graph holds nothing of ``chi`` and ``psi``.
+    Initial data: ``r = R`` (default 1.01 m, a breathing cylinder), ``z = s``, at rest.
+    """
+
+    R: float | None = 1.01
+
+    name = "axisymmetric"
+    fields = (0, 1, 3)
+
+
+SCENES = {cls.name: cls for cls in (TwistedCylinder, SpinningRing, Axisymmetric)}
 
 
 def get_scene(name, **params):

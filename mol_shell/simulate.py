@@ -25,7 +25,8 @@ LEAPFROG_MAX_LOG_GROWTH = float(np.log(1e6))
 
 def _graph_key(scene):
     """The parameters the equations depend on (initial data left out), so graphs are shared."""
-    return dataclasses.replace(scene, R=1.0, gamma=0.0, omega=0.0, psi0=0.0)
+    initial = {"R": 1.0, **{k: 0.0 for k in ("gamma", "omega", "psi0") if k in scene.params()}}
+    return dataclasses.replace(scene, **initial)
 
 
 @functools.lru_cache(maxsize=16)

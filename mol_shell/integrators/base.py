@@ -65,7 +65,7 @@ class Monitor:
     def check(self, y, t):
         """Raise :class:`ModelLimitError` naming time and place if ``y`` breaks a limit."""
         if not np.all(np.isfinite(y)):
-            bad = np.flatnonzero(~np.isfinite(y))[0] // 10
+            bad = np.flatnonzero(~np.isfinite(y))[0] // self.system.ny
             raise ModelLimitError(
                 f"non-finite state at t = {t:.9g} s, s = {self.system.s[bad]:.6g} m", t, f"s = {self.system.s[bad]:.6g} m"
             )
