@@ -55,7 +55,9 @@ def cache_dir():
 
 
 def with_cse(f):
-    """The same SX Function with common subexpressions eliminated (``casadi.cse``)."""
+    """The same SX Function with common subexpressions eliminated (``casadi.cse``); MX as it is."""
+    if not f.is_a("SXFunction"):
+        return f
     args = f.sx_in()
     return ca.Function(f.name(), args, ca.cse(f.call(args)), f.name_in(), f.name_out())
 

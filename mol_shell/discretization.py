@@ -54,6 +54,9 @@ class ShellSystem:
         ``(t, y) -> y_t``, SX.
     """
 
+    #: largest grid assembled as one flat SX graph; larger grids keep mapped kernels
+    FLAT_MAX_NODES = 400
+
     def __init__(self, scene, n=40):
         if not isinstance(n, (int, np.integer)) or n < 3:
             from .errors import ParameterError
@@ -141,67 +144,79 @@ class ShellSystem:
         return V, dVdq, deltas
 
     def _build(self):
+        """Assemble the RHS from per-cell and per-node kernels mapped over the grid (MX).
+
+        Up to :attr:`FLAT_MAX_NODES` nodes :attr:`rhs` is expanded into one flat SX graph
+        (fast in CasADi's virtual machine, exact sparse Jacobian in SX); above, it stays a
+        map of small kernels. :attr:`rhs_mapped` is always the mapped form: generated C for
+        it compiles in well under a second whatever ``n``, and runs as fast as the flat
+        graph's (measured: 9.7 vs 9.3 us per evaluation at n = 40).
+        """
         n, nf, active = self.n, self.nf, list(self.active)
-        y = ca.SX.sym("y", self.ny * n)
+        y = ca.MX.sym("y", self.ny * n)
         Y = ca.reshape(y, self.ny, n)
-        Q, P = ca.SX.zeros(NF, n), ca.SX.zeros(NF, n)  # inactive rows stay constant zeros
-        Q[active, :] = Y[:nf, :]
-        P[active, :] = Y[nf:, :]
-        interior = self._node_kernel(list(self.active))
-        end = self._node_kernel([k for k in self.active if k not in FIXED_AT_ENDS])
-        V, dVdq, deltas = self.potential(Q)
-        vs, forces, T = [], [], 0
-        for i in range(n):
-            kernel = end if i in (0, n - 1) else interior
-            v, dTdq, Ti = kernel(Q[:, i], P[:, i], self.weights[i])
-            vs.append(v)
-            forces.append(dTdq - dVdq[i])
-            T += Ti
-        D = 0
+        zero_row = ca.MX.zeros(1, n)
+        Q = ca.vertcat(*[Y[active.index(k), :] if k in active else zero_row for k in range(NF)])
+        P = ca.vertcat(*[Y[nf + active.index(k), :] if k in active else zero_row for k in range(NF)])
+        cell = self._cell_kernel()
+        energies, gl, gr, deltas = cell.map(n - 1)(Q[:, :-1], Q[:, 1:])
+        pad = ca.MX.zeros(NF, 1)
+        dVdq = ca.horzcat(gl, pad) + ca.horzcat(pad, gr)
+        interior = self._node_kernel(active)
+        end = self._node_kernel([k for k in active if k not in FIXED_AT_ENDS])
+        vi, fi, ti = interior.map(n - 2)(Q[:, 1:-1], P[:, 1:-1], self.weights[None, 1:-1])
+        v0, f0, t0 = end(Q[:, 0], P[:, 0], self.weights[0])
+        vn, fn, tn = end(Q[:, -1], P[:, -1], self.weights[-1])
+        V = ca.horzcat(v0, vi, vn)
+        forces = ca.horzcat(f0, fi, fn) - dVdq
+        dissipation = 0
         if self.viscous:
-            viscous = self._viscous_kernel()
-            for i in range(n - 1):
-                Dc, fl, fr = viscous(Q[:, i], Q[:, i + 1], vs[i], vs[i + 1])
-                D += Dc
-                forces[i] -= fl
-                forces[i + 1] -= fr
-        rates = []
-        for i in range(n):
-            pdot = forces[i]
-            for k in range(NF):
-                if self.fixed[i, k]:
-                    pdot[k] = 0
-            rates.append(ca.vertcat(vs[i][active], pdot[active]))
-        ydot = ca.vertcat(*rates)
-        V_sym, T_sym = V, T
-        t = ca.SX.sym("t")
-        velocities = ca.horzcat(*vs)
-        self._y, self._ydot = y, ydot
-        self.rhs = ca.Function("rhs", [t, y], [ydot], ["t", "y"], ["ydot"])
-        self.observables = ca.Function(
+            D, fl, fr = self._viscous_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:])
+            forces = forces - ca.horzcat(fl, pad) - ca.horzcat(pad, fr)
+            dissipation = 2 * ca.sum2(D)
+        forces = forces * ca.DM((~self.fixed.T).astype(float))
+        ydot = ca.vec(ca.vertcat(V[active, :], forces[active, :]))
+        kinetic = ca.sum2(ti) + t0 + tn
+        stored = ca.sum2(energies)
+        t = ca.MX.sym("t")
+        rhs = ca.Function("rhs", [t, y], [ydot], ["t", "y"], ["ydot"])
+        observables = ca.Function(
             "observables",
             [y],
-            [velocities, T_sym, V_sym, ca.sum2(P[2, :]), ca.vertcat(*deltas), 2 * D],
+            [V, kinetic, stored, ca.sum2(P[2, :]), deltas.T, dissipation],
             ["y"],
             ["v", "kinetic", "stored", "angular_momentum", "delta", "dissipation"],
         )
+        self.rhs_mapped = rhs
+        self.kernel_instructions = {
+            "cell": cell.n_instructions(),
+            "node": interior.n_instructions(),
+        }
+        self.mapped = n > self.FLAT_MAX_NODES
+        if self.mapped:
+            self.rhs, self.observables = rhs, observables
+        else:
+            self.rhs, self.observables = rhs.expand(), observables.expand()
 
     @cached_property
     def jac(self):
-        """``(t, y) -> d y_t / d y``: exact sparse Jacobian (SX)."""
-        t = self.rhs.sx_in(0)
-        J = ca.jacobian(self._ydot, self._y)
-        return ca.Function("jacobian", [t, self._y], [J], ["t", "y"], ["J"])
+        """``(t, y) -> d y_t / d y``: exact sparse Jacobian (SX when the RHS is flat, else MX)."""
+        t, y = (self.rhs.mx_in if self.mapped else self.rhs.sx_in)()
+        J = ca.jacobian(self.rhs(t, y), y)
+        return ca.Function("jacobian", [t, y], [J], ["t", "y"], ["J"])
 
     @property
     def size(self):
         return self.ny * self.n
 
     def graph_stats(self):
-        """Size of the graphs: SX instructions of the RHS, Jacobian non-zeros and bandwidths."""
+        """Size of the graphs: instructions of the RHS and its kernels, Jacobian non-zeros and bandwidths."""
         sp = self.jac.sparsity_out(0)
         return {
+            "cell_kernel_instructions": int(self.kernel_instructions["cell"]),
+            "node_kernel_instructions": int(self.kernel_instructions["node"]),
             "rhs_instructions": int(self.rhs.n_instructions()),
+            "assembly": "mapped" if self.mapped else "flat",
             "jacobian_nnz": int(sp.nnz()),
             "jacobian_bw_lower": int(sp.bw_lower()),
             "jacobian_bw_upper": int(sp.bw_upper()),
