@@ -117,7 +117,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=1
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
     y0 = system.initial_state(scene)
-    omega_max, damping = spectrum_bounds(system.jac, y0)
+    omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
     if integrator == "leapfrog":
         if dt * omega_max >= 1.0:
             raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound 1/max|eig J(y0)|")

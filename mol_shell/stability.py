@@ -1,0 +1,187 @@
+"""Stability report: where each integrator stays stable on stiff and extreme cases, and what it costs.
+
+For each case: the spectrum of the exact Jacobian at the initial state (largest
+``|lambda|``, fastest damping rate, stiffness ratio), the leap-frog step bound it
+predicts (``1 / max |lambda|``), the largest stable leap-frog step found by
+bisection, and runs of the other integrators (steps, failures, wall time,
+whether they finish, energy error). ``mol-shell stability SCENE`` runs it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import numpy as np
+import xarray as xr
+
+from .equilibrium import spectrum_bounds
+from .errors import ModelLimitError, ParameterError
+from .integrators import INTEGRATORS, Leapfrog
+from .scenes import TwistedCylinder, get_scene
+from .simulate import build, resolve, simulate
+
+
+@dataclasses.dataclass(frozen=True)
+class Case:
+    """One row of the report: a labelled scene on ``n`` nodes, run to ``t_end``."""
+
+    label: str
+    scene: object
+    n: int = 40
+    t_end: float = 0.01
+
+
+def default_cases(base=None, quick=False):
+    """The issue's set: paper scene, viscosity, near-incompressibility, thin shells, large twist, spin, fine grids."""
+    base = base or TwistedCylinder()
+    rep = dataclasses.replace
+    cases = [Case("paper", base)]
+    cases += [Case(f"viscous eta_mu={eta:g}", rep(base, eta_mu=eta, eta_lambda=2 * eta)) for eta in (0.01, 1.0, 100.0)]
+    cases += [Case(f"nu={nu:g}", rep(base, nu=nu)) for nu in (0.3, 0.49, 0.499, 0.4999)]
+    cases += [Case(f"nu={nu:g} plane-stress", rep(base, nu=nu, material="svk-plane-stress")) for nu in (0.499, 0.4999)]
+    cases += [Case(f"h={h:g}", rep(base, h=h)) for h in (1e-2, 1e-3, 1e-4)]
+    cases += [Case(f"gamma={g:g}", rep(base, gamma=g)) for g in (0.5, 1.0, 1.5)]
+    cases += [Case(f"omega={w:g}", rep(base, omega=w)) for w in (50.0, 200.0)]
+    sizes = (160, 640) if quick else (160, 640, 2560, 10240)
+    cases += [Case(f"n={n}", base, n=n, t_end=0.002) for n in sizes]
+    return cases
+
+
+def stable_leapfrog_step(system, compiled, y0, bound, steps=3000, iterations=8):
+    """Largest stable leap-frog step by bisection in ``[bound/2, 2 bound]``.
+
+    A step counts as stable when ``steps`` steps run without the energy growing by 1 %
+    (the :class:`~mol_shell.integrators.Monitor` check) and without a model limit.
+    Returns ``(dt, bisection_iterations)``; ``nan`` if even ``bound/2`` is unstable.
+    """
+
+    def stable(dt):
+        traj = Leapfrog(dt=dt, chunk=100).integrate(system, compiled, y0, np.array([0.0, steps * dt]))
+        return traj.status == "complete"
+
+    lo, hi = 0.5 * bound, 2.0 * bound
+    if not stable(lo):
+        return float("nan")
+    if stable(hi):
+        return hi
+    for _ in range(iterations):
+        mid = math.sqrt(lo * hi)
+        lo, hi = (mid, hi) if stable(mid) else (lo, mid)
+    return lo
+
+
+def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, atol=1e-9):
+    """Measure one case; returns a dict of numbers (NaN where not applicable)."""
+    scene = resolve(case.scene)
+    system, compiled = build(scene, case.n)
+    y0 = system.initial_state(scene)
+    jac = np.array(system.jac(0, y0)) if system.size <= 2000 else None
+    omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
+    row = {"label": case.label, "n": case.n, "t_end": case.t_end, "omega_max": omega_max, "damping_max": damping}
+    if jac is not None:
+        mags = np.abs(np.linalg.eigvals(jac))
+        floor = 1e-9 * mags.max()
+        row["stiffness_ratio"] = float(mags.max() / mags[mags > floor].min())
+    else:
+        row["stiffness_ratio"] = float("nan")
+    bound = 1.0 / omega_max
+    row["leapfrog_dt_bound"] = bound
+    row["leapfrog_dt_stable"] = stable_leapfrog_step(system, compiled, y0, bound) if bisect else float("nan")
+    for name in ("leapfrog", *integrators):
+        if name not in INTEGRATORS:
+            continue
+        key = name.replace("-", "_")
+        options = {"dt": 0.5 * bound} if name == "leapfrog" else {"rtol": rtol, "atol": atol}
+        start = time.perf_counter()
+        try:
+            ds = simulate(scene, name, n=case.n, times=_times(case, options), progress=False, **options)
+            row[f"{key}_status"] = ds.attrs["status"]
+            row[f"{key}_steps"] = ds.attrs.get("n_steps", -1)
+            row[f"{key}_failures"] = ds.attrs.get("n_error_test_failures", 0) + ds.attrs.get("n_nonlinear_failures", 0)
+            row[f"{key}_wall_s"] = ds.attrs["wall_time_s"]
+            e = ds.energy.values + _dissipated(ds)
+            row[f"{key}_energy_error"] = float(np.abs(e - e[0]).max() / abs(e[0])) if e[0] else float("nan")
+        except (ParameterError, ModelLimitError) as exc:
+            row[f"{key}_status"] = f"refused: {exc}"
+            row[f"{key}_wall_s"] = time.perf_counter() - start
+    return row
+
+
+def _times(case, options):
+    if "dt" in options:
+        k = max(1, int(round(case.t_end / options["dt"])))
+        return [0.0, k * options["dt"]]
+    return [0.0, case.t_end]
+
+
+def _dissipated(ds):
+    """Energy dissipated up to each saved time (trapezoid on the saved times); 0 for elastic shells."""
+    if "dissipation" not in ds:
+        return np.zeros(ds.sizes["time"])
+    p, t = ds.dissipation.values, ds.time.values
+    return np.concatenate([[0.0], np.cumsum(np.diff(t) * 0.5 * (p[1:] + p[:-1]))])
+
+
+def report(cases, **kwargs):
+    """Run every case; one Dataset with a ``case`` dimension (strings for statuses)."""
+    rows = []
+    for case in cases:
+        start = time.perf_counter()
+        rows.append(run_case(case, **kwargs))
+        print(f"{case.label:28s} done in {time.perf_counter() - start:6.1f} s", flush=True)
+    keys = sorted({k for row in rows for k in row if k != "label"})
+    data = {}
+    for key in keys:
+        values = [row.get(key, float("nan")) for row in rows]
+        if any(isinstance(v, str) for v in values):
+            values = [str(v) if not isinstance(v, float) or not math.isnan(v) else "" for v in values]
+        data[key] = ("case", values)
+    return xr.Dataset(data, coords={"case": [row["label"] for row in rows]})
+
+
+def markdown_table(ds):
+    """The report as a markdown table (columns that exist)."""
+    cols = [
+        ("n", "n", "{:d}"), ("omega_max", "max abs(eig) [1/s]", "{:.3g}"), ("damping_max", "max damping [1/s]", "{:.3g}"),
+        ("stiffness_ratio", "stiffness ratio", "{:.3g}"), ("leapfrog_dt_bound", "LF dt bound [s]", "{:.3g}"),
+        ("leapfrog_dt_stable", "LF dt stable (bisection) [s]", "{:.3g}"),
+    ]
+    for name in ("leapfrog", "cvode_bdf", "ida"):
+        cols += [(f"{name}_status", f"{name} status", "{}"), (f"{name}_steps", f"{name} steps", "{}"),
+                 (f"{name}_wall_s", f"{name} wall [s]", "{:.3g}"), (f"{name}_energy_error", f"{name} energy err", "{:.2g}")]
+    cols = [c for c in cols if c[0] in ds]
+    lines = ["| case | " + " | ".join(c[1] for c in cols) + " |", "|---" * (len(cols) + 1) + "|"]
+    for i, label in enumerate(ds.case.values):
+        cells = []
+        for key, _, fmt in cols:
+            v = ds[key].values[i]
+            try:
+                cells.append(fmt.format(int(v) if fmt == "{:d}" else v) if not (isinstance(v, float) and math.isnan(v)) else "")
+            except (ValueError, TypeError):
+                cells.append(str(v))
+        lines.append(f"| {label} | " + " | ".join(c[:60] for c in cells) + " |")
+    return "\n".join(lines)
+
+
+def register(subparsers):
+    parser = subparsers.add_parser("stability", help="stability report on stiff and extreme cases")
+    parser.add_argument("scene", help="base scene for the cases")
+    parser.add_argument("--quick", action="store_true", help="grids up to n = 640 only")
+    parser.add_argument("--no-bisect", action="store_true", help="skip the leap-frog step bisection")
+    parser.add_argument("-o", "--output", required=True, help="netCDF file; a .md table and .png plot beside it")
+    parser.set_defaults(func=_cli)
+
+
+def _cli(args):
+    from .stability_plot import plot_report
+
+    ds = report(default_cases(get_scene(args.scene), quick=args.quick), bisect=not args.no_bisect)
+    ds.to_netcdf(args.output)
+    stem = str(args.output).rsplit(".", 1)[0]
+    with open(stem + ".md", "w") as fh:
+        fh.write(markdown_table(ds) + "\n")
+    plot_report(ds, stem + ".png")
+    print(markdown_table(ds))
+    return 0
