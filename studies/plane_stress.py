@@ -1,0 +1,85 @@
+"""Inextensible-director SVK vs the plane-stress (condensed) law, on the paper scene and a nu sweep.
+
+With the director inextensible the thickness strain vanishes, and the hoop/axial
+stiffness of 3-D St Venant-Kirchhoff is lambda + 2 mu, which grows without bound as
+nu -> 0.5 (locking). Condensing the thickness stress out gives E / (1 - nu^2).
+Writes out/plane_stress.nc and out/plane_stress.png; prints a markdown table.
+Usage: python studies/plane_stress.py [--dt 1e-5]
+"""
+
+import argparse
+import os
+
+import numpy as np
+import xarray as xr
+
+import mol_shell
+from mol_shell.equilibrium import spectrum_bounds
+from mol_shell.simulate import build, resolve
+
+TIMES = [0.0, 0.02, 0.07, 0.106, 0.143]
+NUS = (0.3, 0.45, 0.49, 0.499, 0.4999)
+MATERIALS = ("svk", "svk-plane-stress")
+
+
+def measure(nu, material, dt):
+    scene = resolve(mol_shell.TwistedCylinder(nu=nu, material=material))
+    system, _ = build(scene, 40)
+    top = spectrum_bounds(system.jac, system.initial_state(scene), False)[0]
+    step = min(dt, 0.5 / top)
+    step = 1e-3 / np.ceil(1e-3 / step)  # divides the saved times (multiples of 1 ms)
+    ds = mol_shell.simulate(scene, times=TIMES, dt=step, progress=False)
+    return {
+        "R": scene.R,
+        "omega_max": top,
+        "dt": step,
+        "r_min": float(ds.r.min()),
+        "r_max": float(ds.r.max()),
+        "theta_max": float(abs(ds.theta).max()),
+        "chi_at_end_max": float(abs(ds.chi.isel(time=-1)).max()),
+        "psi_max": float(abs(ds.psi).max()),
+    }, ds
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--dt", type=float, default=1e-5)
+    args = parser.parse_args()
+    os.makedirs("out", exist_ok=True)
+    rows, finals = {}, {}
+    for material in MATERIALS:
+        for nu in NUS:
+            rows[material, nu], ds = measure(nu, material, args.dt)
+            finals[material, nu] = ds.r.isel(time=-1)
+    keys = list(next(iter(rows.values())))
+    data = {k: (("material", "nu"), [[rows[m, nu][k] for nu in NUS] for m in MATERIALS]) for k in keys}
+    data["r_final"] = (("material", "nu", "s"), [[finals[m, nu].values for nu in NUS] for m in MATERIALS])
+    out = xr.Dataset(data, coords={"material": list(MATERIALS), "nu": list(NUS), "s": finals["svk", 0.3].s.values})
+    out.to_netcdf("out/plane_stress.nc")
+    print("| material | nu | R [m] | max abs(eig) [1/s] | r range over the run [m] | max abs(theta) | max abs(psi) |")
+    print("|---|---|---|---|---|---|---|")
+    for (m, nu), row in rows.items():
+        print(f"| {m} | {nu:g} | {row['R']:.6f} | {row['omega_max']:.4g} | {row['r_min']:.5f} .. {row['r_max']:.5f} "
+              f"| {row['theta_max']:.4f} | {row['psi_max']:.2e} |")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.6))
+    for m, style in zip(MATERIALS, ("o-", "s--")):
+        axes[0].semilogx([0.5 - nu for nu in NUS], [rows[m, nu]["omega_max"] for nu in NUS], style, label=m)
+        axes[1].plot(out.s, out.r_final.sel(material=m, nu=0.49), style, ms=3, label=f"{m}, nu = 0.49")
+    axes[0].set_xlabel("0.5 - nu")
+    axes[0].set_ylabel("max |eig J| at t = 0 [1/s]")
+    axes[0].legend(fontsize=8)
+    axes[1].set_xlabel("s [m]")
+    axes[1].set_ylabel("r at t = 0.143 s [m]")
+    axes[1].legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig("out/plane_stress.png", dpi=110)
+    print("wrote out/plane_stress.nc, out/plane_stress.png")
+
+
+if __name__ == "__main__":
+    main()
