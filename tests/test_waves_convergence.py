@@ -1,0 +1,189 @@
+"""Small twists travel at the shear speed sqrt(mu/rho); the semi-discrete solution converges at order 2 in s.
+
+Torsion of the natural cylinder (``r = 1``, ``z = s``, ``theta = psi = 0``) in the model:
+the table gives ``F31 = (1 + zeta) chi_s`` (``beta3 = r chi_s`` plus ``zeta (psi_s + chi_s)``),
+``F33 = 1``, so the stored energy of a small twist is ``mu/2 chi_s^2 int (1 + zeta)^3 dzeta``
+and the kinetic energy is ``(rhoA + rhoJ) chi_t^2 / 2 = rho/2 chi_t^2 int (1 + zeta)(1 + zeta^2) dzeta``
+(``|r_t|^2 = chi_t^2``, ``|d_t|^2 = chi_t^2``). Since
+``int (1 + zeta)^3 = int (1 + zeta)(1 + zeta^2) + 2 int zeta (1 + zeta)``, the two moments are equal
+exactly when ``rhoI = rho int zeta (1 + zeta) dzeta = 0``: then ``chi_tt = (mu/rho) chi_ss`` for
+every thickness ``h``, the 3-D torsional wave of a hollow cylinder (whose lateral faces are
+traction-free under pure torsion). With ``rhoI != 0`` the ``rhoI r_t . d_t`` term would have
+to supply the missing ``2 rhoI``. The psi-equation is satisfied by ``psi = 0`` for the same
+reason: its flux ``mu chi_s int zeta (1 + zeta)^2`` over its inertia ``rhoJ`` is again ``mu/rho``.
+Free ends (``m^s . c1 = 0``, ``n^s . a3 = 0``) make ``chi_s = 0`` there, so the modes are
+``chi = eps cos(k pi s / L)`` with ``omega_k = sqrt(mu/rho) k pi / L``.
+
+The discretisation (cell energy with differences, nodal masses with half weights at the
+ends) turns this into the Neumann second difference, for which ``cos(k pi s_i / L)`` is an
+exact eigenvector (mirror-symmetric ghost node), with the discrete frequency
+``omega_k,h = (2 c / ds) sin(k pi ds / (2 L))`` = ``omega_k (1 - (k pi ds / L)^2 / 24 + ...)``.
+"""
+
+import math
+
+import numpy as np
+import scipy.sparse
+import scipy.sparse.linalg
+from scipy.integrate import solve_ivp
+from scipy.interpolate import CubicSpline
+
+import mol_shell
+import reference_ring as ref
+from mol_shell.discretization import ShellSystem
+from mol_shell.integrators import Leapfrog
+
+EPS = np.finfo(float).eps
+NATURAL = mol_shell.TwistedCylinder(gamma=0.0, R=1.0, omega=0.0, psi0=0.0)
+LAM, MU = ref.lame(NATURAL.E, NATURAL.nu)
+C_SHEAR = math.sqrt(MU / NATURAL.rho)  # 18.3 m/s
+
+
+def exact_frequency(k, L=NATURAL.L):
+    return C_SHEAR * k * math.pi / L
+
+
+def discrete_frequency(k, n, L=NATURAL.L):
+    ds = L / (n - 1)
+    return 2 * C_SHEAR / ds * math.sin(k * math.pi * ds / (2 * L))
+
+
+def _sparse_jacobian(system, y):
+    J = system.jac(0, y)
+    sp = J.sparsity()
+    return scipy.sparse.csc_matrix((np.array(J.nonzeros()).ravel(), sp.row(), sp.colind()), shape=J.shape)
+
+
+def torsional_eigenfrequency(system, A, k):
+    """Frequency of the eigenpair of ``A`` (the Jacobian at the natural state) whose eigenvector is the k-th torsional mode.
+
+    Shift-invert Arnoldi around ``i omega_k`` returns the nearby eigenpairs; the one whose
+    ``chi``-part is closest to ``cos(k pi s/L)`` is picked. Returns the frequency, that
+    overlap (1 for the exact mode) and the size of the ``psi``-part relative to the ``chi``-part.
+    """
+    values, vectors = scipy.sparse.linalg.eigs(A, k=6, sigma=1j * exact_frequency(k))
+    fields = vectors.reshape(system.n, 10, -1)
+    chi, psi = fields[:, 2, :], fields[:, 4, :]
+    mode = np.cos(k * math.pi * system.s / NATURAL.L)
+    overlap = np.abs(mode @ chi) / (np.linalg.norm(chi, axis=0) * np.linalg.norm(mode))
+    j = int(np.argmax(overlap))
+    return abs(values[j].imag), overlap[j], np.linalg.norm(psi[:, j]) / np.linalg.norm(chi[:, j])
+
+
+def test_torsional_modes_converge_to_the_shear_wave_at_order_two():
+    """Eigenvalues of ``system.jac`` on ``n = 20, 40, 80, 160`` for the k = 1 and k = 2 torsional modes.
+
+    * the eigenvector is the torsional mode: overlap with ``cos(k pi s/L)`` is 1, ``psi``-part 0;
+    * the frequency equals the discrete prediction ``(2c/ds) sin(k pi ds/(2L))``. Accuracy
+      of a computed eigenvalue: the linear Hamiltonian system is normal in the energy inner
+      product, so shift-invert Arnoldi gets ``omega`` to ~EPS times the spectral radius
+      (~5e3 .. 1e4 1/s here, i.e. ~1e-12 1/s) times a modest scaling factor: 1e-10 relative
+      on ``omega ~ 14`` 1/s allows a factor ~1000;
+    * the error against ``sqrt(mu/rho) k pi/L`` decays as ``ds^2``: it is ``omega_k x^2/6 (1 - x^2/20 ...)``
+      with ``x = k pi ds/(2L) <= 0.17``, so the fitted slope is 2 to within ``x^2/10 < 0.003``; we allow 0.05.
+    """
+    ns = np.array([20, 40, 80, 160])
+    errors = {1: [], 2: []}
+    for n in ns:
+        system = ShellSystem(NATURAL, int(n))
+        A = _sparse_jacobian(system, system.initial_state(NATURAL))
+        for k in errors:
+            omega, overlap, psi_part = torsional_eigenfrequency(system, A, k)
+            assert overlap > 1 - 1e-10 and psi_part < 1e-10, (n, k, overlap, psi_part)
+            assert abs(omega - discrete_frequency(k, n)) <= 1e-10 * omega, (n, k, omega, discrete_frequency(k, n))
+            errors[k].append(abs(omega - exact_frequency(k)) / exact_frequency(k))
+    ds = NATURAL.L / (ns - 1)
+    for k in errors:
+        slope = np.polyfit(np.log(ds), np.log(errors[k]), 1)[0]
+        assert abs(slope - 2.0) <= 0.05, (k, slope, errors[k])
+        assert errors[k][-1] < 1e-4  # n = 160: within 0.01 % of the 3-D shear wave
+
+
+def test_small_twist_period_in_a_nonlinear_leapfrog_run():
+    """``chi = 1e-4 cos(pi s/L)`` at rest on n = 40: the period of ``chi(0, t)`` is the discrete prediction.
+
+    Prediction: leap-frog advances a linear oscillation of frequency ``w`` with frequency
+    ``arcsin(w dt)/dt``; with ``w = omega_1,h`` (discrete Neumann torsion, n = 40) the period
+    is ``T = 2 pi dt / arcsin(w dt)``. Remaining differences: the nonlinear shift, at most
+    ``O(twist^2 lambda/mu) ~ (1e-4 pi/4)^2 x 50 ~ 3e-7`` relative; the cubic-spline crossing
+    times (samples every 1e-3 s, ``(w Delta)^4 / 384 ~ 1e-10``). We assert 1e-6 (3x the
+    first), which is 270x smaller than the gap (2.7e-4) between the discrete and the
+    continuum period, so the measurement resolves the discretisation.
+    """
+    n, eps, dt = 40, 1e-4, 5e-5
+    system, compiled = mol_shell.build(NATURAL, n)
+    Q = np.zeros((5, n))
+    Q[0] = system.s
+    Q[1] = 1.0
+    Q[2] = eps * np.cos(math.pi * system.s / NATURAL.L)
+    y0 = system.pack(Q, np.zeros((5, n)))
+    w = discrete_frequency(1, n)
+    period = 2 * math.pi * dt / math.asin(w * dt)
+    times = np.arange(0.0, 3.2 * period, 1e-3)
+    times = np.rint(times / dt) * dt
+    traj = Leapfrog(dt=dt).integrate(system, compiled, y0, times)
+    assert traj.status == "complete"
+    chi0 = system.unpack(traj.y)[:, 2, 0]
+    crossings = CubicSpline(traj.t, chi0).roots(extrapolate=False)
+    assert len(crossings) >= 6
+    half_periods = np.polyfit(np.arange(len(crossings)), crossings, 1)[0]
+    measured = 2 * half_periods
+    assert abs(measured - period) <= 1e-6 * period, (measured, period)
+    continuum = 2 * math.pi / exact_frequency(1)
+    assert abs(measured - continuum) > 100 * 1e-6 * continuum
+    # a nonlinear run that stayed linear-sized: amplitude preserved, no other field excited
+    assert np.abs(chi0).max() <= eps * (1 + 1e-6)
+    assert np.abs(system.unpack(traj.y)[:, 4]).max() < 1e-6 * eps
+
+
+# ---------------------------------------------------------------------------------------
+# 6. spatial order of the nonlinear semi-discrete solution
+# ---------------------------------------------------------------------------------------
+A_Z, A_R, A_CHI = 0.002, 0.005, 0.2  # m, m, rad: a nonlinear-sized twist (the paper's chi spans +-0.2)
+
+
+def smooth_state(system):
+    """Smooth data compatible with the boundary conditions, at rest.
+
+    ``z = s + A_Z sin(2 pi s/L)`` (z fixed at the ends), ``r = 1 + A_R cos(pi s/L)`` and
+    ``chi = A_CHI cos(pi s/L)`` (zero slope at the free ends), ``theta = atan(r_s/z_s)``
+    (shear-free: ``beta2 = 0``; vanishes at the ends), ``psi = 0``.
+    """
+    s, L = system.s, system.scene.L
+    z = s + A_Z * np.sin(2 * np.pi * s / L)
+    z_s = 1 + A_Z * 2 * np.pi / L * np.cos(2 * np.pi * s / L)
+    r = 1 + A_R * np.cos(np.pi * s / L)
+    r_s = -A_R * np.pi / L * np.sin(np.pi * s / L)
+    Q = np.array([z, r, A_CHI * np.cos(np.pi * s / L), np.arctan2(r_s, z_s), 0 * s])
+    return system.pack(Q, system.momenta(Q, np.zeros_like(Q)))
+
+
+def test_nonlinear_solution_converges_at_second_order_in_s():
+    """``n = 11, 21, 41, 81`` (nested: ``ds`` halves), DOP853 at rtol 1e-10 on ``system.rhs`` to ``t = 0.02`` s.
+
+    The cell strains are centred differences and the cell values midpoint averages (second
+    order), the nodal masses trapezoidal; the half cells at the free ends make a first-order
+    local error at one node, which costs ``O(ds) x ds`` globally: the error is ``C ds^2``.
+    Successive differences at the 11 common nodes then shrink 4x per halving; the order
+    ``log2(e(ds)/e(ds/2))`` deviates from 2 by the ``O(ds^2)`` relative correction, largest
+    at ``ds = 0.4`` m where the bending/shear dynamics in ``theta`` is coarsely resolved
+    (and by the grid-scale ``theta, psi`` content the midpoint rule admits), so the band
+    is 1.7 .. 2.3. The time error (rtol 1e-10) is < 1e-4 of the finest difference.
+    """
+    t_end = 0.02
+    solutions = {}
+    for n in (11, 21, 41, 81):
+        system = ShellSystem(NATURAL, n)
+
+        def fun(t, y, f=system.rhs):
+            return np.array(f(t, y)).ravel()
+
+        sol = solve_ivp(fun, (0.0, t_end), smooth_state(system), method="DOP853", rtol=1e-10, atol=1e-12,
+                        t_eval=[t_end])
+        assert sol.success, sol.message
+        solutions[n] = system.unpack(sol.y[:, -1])[:, :: (n - 1) // 10]  # the 11 nodes of the coarsest grid
+    for k, name in ((1, "r"), (3, "theta"), (2, "chi")):
+        diffs = [np.abs(solutions[a][k] - solutions[b][k]).max() for a, b in ((11, 21), (21, 41), (41, 81))]
+        orders = np.log2(np.array(diffs[:-1]) / np.array(diffs[1:]))
+        assert np.all((1.7 <= orders) & (orders <= 2.3)), (name, orders, diffs)
+        assert diffs[-1] > 1e3 * 1e-10 * np.abs(solutions[81][k]).max()  # spatial, not temporal, error
