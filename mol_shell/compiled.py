@@ -54,6 +54,20 @@ def cache_dir():
     return path
 
 
+def compile_cached(source, prefix, flags=CFLAGS):
+    """Path of a shared object built from C ``source`` with gcc ``flags``, cached on disk by hash."""
+    key = hashlib.sha256((source + " ".join(flags) + ca.__version__).encode()).hexdigest()[:20]
+    lib = cache_dir() / f"{prefix}_{key}.so"
+    if not lib.exists():
+        with tempfile.TemporaryDirectory(dir=cache_dir()) as tmp:
+            src = Path(tmp, f"{prefix}.c")
+            src.write_text(source)
+            out = Path(tmp, lib.name)
+            subprocess.run(["gcc", *flags, str(src), "-o", str(out), "-lm"], check=True, capture_output=True)
+            os.replace(out, lib)  # atomic: concurrent builders cannot see half a file
+    return lib
+
+
 def with_cse(f):
     """The same SX Function with common subexpressions eliminated (``casadi.cse``); MX as it is."""
     if not f.is_a("SXFunction"):
@@ -86,16 +100,8 @@ class CompiledRHS:
         source += _DRIVER.format(
             n=self.size, name=rhs.name(), sz_iw=rhs.sz_iw(), sz_w=rhs.sz_w(), sz_arg=rhs.sz_arg(), sz_res=rhs.sz_res()
         )
-        key = hashlib.sha256((source + " ".join(CFLAGS) + ca.__version__).encode()).hexdigest()[:20]
-        lib = cache_dir() / f"rhs_{key}.so"
         start = time.perf_counter()
-        if not lib.exists():
-            with tempfile.TemporaryDirectory(dir=cache_dir()) as tmp:
-                src = Path(tmp, "ms_rhs.c")
-                src.write_text(source)
-                out = Path(tmp, lib.name)
-                subprocess.run(["gcc", *CFLAGS, str(src), "-o", str(out), "-lm"], check=True, capture_output=True)
-                os.replace(out, lib)  # atomic: concurrent builders cannot see half a file
+        lib = compile_cached(source, "rhs", CFLAGS)
         self.compile_time_s = time.perf_counter() - start
         self.path = lib
         self.function = ca.external(rhs.name(), str(lib))
@@ -128,3 +134,75 @@ class CompiledRHS:
 
         evaluate.buffer = (buf, t, y, out)
         return evaluate
+
+
+class CompiledFunctions:
+    """Several CasADi Functions generated into one C file, compiled once with gcc and cached.
+
+    Parameters
+    ----------
+    functions : sequence of casadi.Function
+        Distinct names; SX ones get common subexpressions eliminated first.
+    flags : tuple of str
+        gcc flags. ``-O1`` by default: the large derivative graphs (exact Jacobians)
+        compile about twice as fast as at ``-O2`` (measured 6.8 s against 15 s for the
+        n = 40 Jacobian) and run 4.4x faster than at ``-O0``.
+
+    Attributes
+    ----------
+    functions : dict
+        Name to external (compiled) CasADi Function.
+    compile_time_s : float
+        Seconds spent in code generation and gcc (about 0 when the cache had it).
+    """
+
+    FLAGS = ("-O1", "-fPIC", "-shared")
+
+    def __init__(self, functions, flags=FLAGS):
+        import time
+
+        start = time.perf_counter()
+        functions = [with_cse(f) for f in functions]
+        gen = ca.CodeGenerator("ms_funcs.c")
+        for f in functions:
+            gen.add(f)
+        with tempfile.TemporaryDirectory() as tmp:
+            gen.generate(tmp + os.sep)
+            source = Path(tmp, "ms_funcs.c").read_text()
+        self.path = compile_cached(source, "funcs", tuple(flags))
+        self.functions = {f.name(): ca.external(f.name(), str(self.path)) for f in functions}
+        self.compile_time_s = time.perf_counter() - start
+
+    def evaluator(self, name):
+        """``(*inputs) -> nonzeros of output 0`` through a preallocated buffer.
+
+        The returned array is reused by the next call: copy it to keep it. Inputs are
+        copied into the buffer's arrays (dense inputs only).
+        """
+        return buffered(self.functions[name])
+
+
+def buffered(f):
+    """A fast callable for any CasADi Function with dense inputs: ``(*inputs) -> nonzeros of output 0``.
+
+    Works for SX/MX (virtual machine) and external Functions alike; the buffer and its
+    arrays live in the closure (CasADi segfaults if they are collected).
+    """
+    buf, trigger = f.buffer()
+    ins = [np.zeros(f.nnz_in(i)) for i in range(f.n_in())]
+    outs = [np.zeros(f.nnz_out(i)) for i in range(f.n_out())]
+    for i, a in enumerate(ins):
+        buf.set_arg(i, memoryview(a))
+    for i, a in enumerate(outs):
+        buf.set_res(i, memoryview(a))
+    out0 = outs[0]
+
+    def evaluate(*args):
+        for a, x in zip(ins, args):
+            a[:] = x
+        trigger()
+        return out0
+
+    evaluate.buffer = (buf, ins, outs)
+    evaluate.outputs = outs
+    return evaluate

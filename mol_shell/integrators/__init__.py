@@ -2,7 +2,15 @@
 
 from .base import Monitor, Trajectory
 from .leapfrog import Leapfrog
+from .sundials import IDA, CVODEAdams, CVODEBDF
 
-INTEGRATORS = {Leapfrog.name: Leapfrog}
+INTEGRATORS = {cls.name: cls for cls in (Leapfrog, CVODEBDF, CVODEAdams, IDA)}
 
-__all__ = ["INTEGRATORS", "Leapfrog", "Monitor", "Trajectory"]
+try:  # the comparison's peers (scipy, CasADi's SUNDIALS plugins)
+    from .peers import PEERS
+
+    INTEGRATORS.update(PEERS)
+except ImportError:  # pragma: no cover - peers are optional
+    PEERS = {}
+
+__all__ = ["INTEGRATORS", "CVODEAdams", "CVODEBDF", "IDA", "Leapfrog", "Monitor", "PEERS", "Trajectory"]

@@ -1,0 +1,137 @@
+"""The semi-discrete shell in linearly implicit form, for IDA: ``F(t, x, x_t) = 0``.
+
+State ``x`` is node-major like the Hamiltonian state of :class:`~mol_shell.discretization.ShellSystem`,
+with the momenta replaced by the rates: per node the active fields ``q`` then their rates ``v``.
+The residual is the balance of momentum as it stands, without inverting the mass matrix:
+
+* ``q_t - v = 0``;
+* ``d/dt p(q, v) - dT/dq + dV/dq (+ dD/dv) = M(q) v_t + (dp/dq) q_t - dT/dq + dV/dq (+ dD/dv) = 0``
+  with ``p = dT/dv = M(q) v``: Lagrange's equations of the discrete Lagrangian ``T - V``
+  (the first-order form of the paper's (6.5)-(6.7)); ``D`` is the Kelvin-Voigt dissipation
+  potential (section 3) when the scene is viscous.
+
+``T`` is the lumped kinetic energy built from :func:`~mol_shell.model.kinematics.kinetic_energy_density`
+and ``V`` the stored energy of :meth:`ShellSystem.potential`; both come from the same cell and node
+kernels as the ODE right-hand side (here mapped over the grid, as in ``ShellSystem._build``, so the
+graph and its compiled Jacobian stay small whatever ``n``). At the ends ``z`` and ``theta`` are fixed:
+their rows read ``q_t - v = 0`` and ``m v_t = 0`` (``v`` stays 0).
+"""
+
+from __future__ import annotations
+
+import math
+
+import casadi as ca
+import numpy as np
+
+from .discretization import NF
+from .model.kinematics import kinetic_energy_density
+
+
+class ShellDAE:
+    """Residual, its iteration matrix and the state conversions for one :class:`ShellSystem`.
+
+    Attributes
+    ----------
+    residual : casadi.Function
+        ``(t, x, xp) -> F`` (MX of mapped kernels).
+    jacobian : casadi.Function
+        ``(t, x, xp, cj) -> dF/dx + cj dF/dxp`` (sparse), the matrix IDA's Newton iteration needs.
+    to_momenta : casadi.Function
+        ``x -> y``: rates to momenta ``p = M(q) v`` (the Hamiltonian state the rest of the package uses).
+    """
+
+    def __init__(self, system):
+        self.system = system
+        self.size = system.size
+        self._build()
+
+    def _node_residual(self, free):
+        """``(q, v, q_t, v_t, w) -> M(q) v_t + (dp/dq) q_t - dT/dq`` at a node whose free rates are ``free``."""
+        sy = self.system
+        q, v, qt, vt = (ca.SX.sym(name, NF) for name in ("q", "v", "qt", "vt"))
+        w = ca.SX.sym("w")
+        vf = [v[k] if k in free else 0 for k in range(NF)]
+        T = 2 * math.pi * sy.r0 * w * kinetic_energy_density(ca.vertsplit(q), vf, sy.rho_a, sy.rho_i, sy.rho_j)
+        p = ca.gradient(T, v)
+        inertial = ca.jtimes(p, q, qt) + ca.jtimes(p, v, vt) - ca.gradient(T, q)
+        mass = 2 * math.pi * sy.r0 * w * sy.rho_a  # scale of the rows of fixed rates: m v_t = 0
+        rows = [inertial[k] if k in free else mass * vt[k] for k in range(NF)]
+        return ca.Function("node_residual", [q, v, qt, vt, w], [ca.vertcat(*rows)])
+
+    def _build(self):
+        sy = self.system
+        n, nf, active = sy.n, sy.nf, list(sy.active)
+        from .discretization import FIXED_AT_ENDS
+
+        x, xp = ca.MX.sym("x", self.size), ca.MX.sym("xp", self.size)
+        t, cj = ca.MX.sym("t"), ca.MX.sym("cj")
+        zero_row = ca.MX.zeros(1, n)
+
+        def fields(X, offset):
+            return ca.vertcat(*[X[offset + active.index(k), :] if k in active else zero_row for k in range(NF)])
+
+        X, XP = ca.reshape(x, sy.ny, n), ca.reshape(xp, sy.ny, n)
+        Q, V, QT, VT = fields(X, 0), fields(X, nf), fields(XP, 0), fields(XP, nf)
+        free = ca.DM((~sy.fixed.T).astype(float))
+        V = V * free  # fixed rates enter nowhere (they stay 0)
+        _, gl, gr, _ = sy._cell_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:])  # the kernel of ShellSystem.potential
+        pad = ca.MX.zeros(NF, 1)
+        forces = ca.horzcat(gl, pad) + ca.horzcat(pad, gr)  # dV/dq
+        if sy.viscous:
+            _, fl, fr = sy._viscous_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:])
+            forces = forces + ca.horzcat(fl, pad) + ca.horzcat(pad, fr)  # dD/dv
+        interior = self._node_residual(active)
+        end = self._node_residual([k for k in active if k not in FIXED_AT_ENDS])
+        ri = interior.map(n - 2)(Q[:, 1:-1], V[:, 1:-1], QT[:, 1:-1], VT[:, 1:-1], sy.weights[None, 1:-1])
+        r0 = end(Q[:, 0], V[:, 0], QT[:, 0], VT[:, 0], sy.weights[0])
+        rn = end(Q[:, -1], V[:, -1], QT[:, -1], VT[:, -1], sy.weights[-1])
+        momentum = ca.horzcat(r0, ri, rn) + forces * free
+        kinematic = QT - fields(X, nf)
+        F = ca.vec(ca.vertcat(kinematic[active, :], momentum[active, :]))
+        self.residual = ca.Function("dae_residual", [t, x, xp], [F], ["t", "x", "xp"], ["F"])
+        J = ca.jacobian(F, x) + cj * ca.jacobian(F, xp)
+        self.jacobian = ca.Function("dae_jacobian", [t, x, xp, cj], [J], ["t", "x", "xp", "cj"], ["J"])
+        # conversions between the Hamiltonian state y = (q, p) and x = (q, v), node by node
+        y = ca.MX.sym("y", self.size)
+        ydot = sy.rhs_mapped(0, y)
+        mask_q = np.tile(np.r_[np.ones(nf), np.zeros(nf)], n).astype(bool)
+        x_of_y = y * ca.DM(mask_q.astype(float)) + self._shift_rates(ydot, nf, n)
+        self.from_momenta = ca.Function("from_momenta", [y], [x_of_y], ["y"], ["x"])
+        P = ca.vertcat(*[self._momentum(Q, V, k) for k in range(NF)])
+        Yq = ca.vertcat(*[Q[k, :] for k in active])
+        Yp = ca.vertcat(*[P[k, :] for k in active])
+        self.to_momenta = ca.Function("to_momenta", [x], [ca.vec(ca.vertcat(Yq, Yp))], ["x"], ["y"])
+        self._mask_q = mask_q
+
+    @staticmethod
+    def _shift_rates(ydot, nf, n):
+        """``x``'s rate entries from ``y_t``: the rate of field ``k`` of node ``i`` is ``y_t[2 nf i + k]``."""
+        Yd = ca.reshape(ydot, 2 * nf, n)
+        return ca.vec(ca.vertcat(ca.MX.zeros(nf, n), Yd[:nf, :]))
+
+    def _momentum(self, Q, V, k):
+        """Row ``k`` of the nodal momenta ``p = dT/dv`` (0 for fixed rates, as in the Hamiltonian state)."""
+        sy = self.system
+        q, v, w = ca.SX.sym("q", NF), ca.SX.sym("v", NF), ca.SX.sym("w")
+        dens = kinetic_energy_density(ca.vertsplit(q), ca.vertsplit(v), sy.rho_a, sy.rho_i, sy.rho_j)
+        T = 2 * math.pi * sy.r0 * w * dens
+        f = ca.Function("p", [q, v, w], [ca.gradient(T, v)])
+        P = f.map(sy.n)(Q, V, sy.weights[None, :])
+        return P[k, :]
+
+    def consistent_rates(self, y):
+        """``(x, x_t)`` at a Hamiltonian state ``y``: ``x_t = (v, v_t)`` with ``v_t = (dv/dy) y_t`` (exact, no solve).
+
+        ``v(q, p)`` is the rate part of the ODE right-hand side; its time derivative along the
+        motion is the rate rows of ``J(y) y_t``, so ``F(t, x, x_t) = 0`` holds to rounding.
+        """
+        sy = self.system
+        y = np.asarray(y, dtype=float)
+        ydot = np.array(sy.rhs(0, y)).ravel()
+        jv = np.array(sy.jac(0, y) @ ca.DM(ydot)).ravel()
+        x = np.array(self.from_momenta(y)).ravel()
+        nf = sy.nf
+        Yd, Jv = ydot.reshape(sy.n, 2 * nf), jv.reshape(sy.n, 2 * nf)
+        XP = np.concatenate([Yd[:, :nf], Jv[:, :nf]], axis=1)
+        return x, XP.ravel()

@@ -1,0 +1,279 @@
+"""The alternatives a user would try, for the work-precision comparison.
+
+* ``scipy-rk45``, ``scipy-dop853``: explicit Runge-Kutta (orders 5(4) and 8(5,3)) of
+  :mod:`scipy.integrate`, on the compiled right-hand side.
+* ``scipy-radau``, ``scipy-bdf``: implicit, given the exact Jacobian as a scipy CSC matrix
+  (the compiled CasADi Jacobian of :mod:`mol_shell.integrators.sundials`).
+* ``casadi-cvodes``: CasADi's own CVODES plugin on the ODE graph (CasADi's virtual machine,
+  its own AD Jacobian and sparse LU); ``casadi-idas``: its IDAS plugin on the semi-explicit DAE
+  ``q_t = v, v_t = a, 0 = M(q) a + (dp/dq) v - dT/dq + dV/dq`` (no mass-matrix inverse either).
+
+The scipy solvers are stepped one step at a time (as ``solve_ivp`` does) so that steps are
+counted exactly; saved states come from their dense output. The model's limits are checked at
+the saved times only (:class:`~mol_shell.integrators.Monitor`); none of these has constraints.
+"""
+
+from __future__ import annotations
+
+import time
+import weakref
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+import scipy.integrate
+import scipy.sparse as sp
+
+from ..errors import ModelLimitError
+from .base import Monitor, Trajectory
+from .sundials import _Sundials, pieces
+
+
+@dataclass(frozen=True)
+class _Peer(_Sundials):
+    """Tolerances as for CVODE (``rtol``, ``atol`` per field, momenta scaled by their mass)."""
+
+    def settings(self):
+        return {"rtol": self.rtol, "atol": str(self.atol), "max_step": self.max_step}
+
+    def _finish(self, saved, reached, status, message, failure, stats):
+        return Trajectory(np.array(reached), np.array(saved), status=status, message=message, stats=stats,
+                          failure_time=failure)
+
+
+@dataclass(frozen=True)
+class ScipyRK45(_Peer):
+    """``scipy.integrate.RK45`` (Dormand-Prince 5(4)), stepped in Python."""
+
+    name = "scipy-rk45"
+    solver = "RK45"
+    order = 5
+    implicit = False
+
+    def integrate(self, system, compiled, y0, times, *, progress=None):
+        f = compiled.evaluator()
+        options = {"rtol": self.rtol, "atol": self.atol_vector(system, y0, momenta=True)}
+        if self.max_step:
+            options["max_step"] = self.max_step
+        if self.implicit:
+            parts = pieces(system, "cvode", self.jacobian)
+            jac, pattern = parts["jac"], parts["pattern"]
+            indices, indptr = pattern.indices, pattern.indptr
+
+            def jacobian(t, y):
+                return sp.csc_matrix((jac(t, y).copy(), indices, indptr), shape=pattern.shape)
+
+            options["jac"] = jacobian
+        solver_cls = getattr(scipy.integrate, self.solver)
+        monitor = Monitor(system, y0)
+        saved, reached = [np.array(y0, dtype=float)], [0.0]
+        status, message, failure = "complete", "completed", float("nan")
+        start = time.perf_counter()
+        solver = solver_cls(lambda t, y: f(y).copy(), 0.0, np.array(y0, dtype=float), float(times[-1]), **options)
+        steps, k = 0, 1
+        try:
+            while k < len(times):
+                t_old = solver.t
+                message = solver.step()
+                steps += 1
+                if solver.status == "failed":
+                    raise ModelLimitError(f"{self.name} failed at t = {solver.t:.9g} s: {message}", solver.t,
+                                          "whole shell")
+                if progress is not None:
+                    progress.update(solver.t - t_old)
+                if k < len(times) and times[k] <= solver.t:
+                    dense = solver.dense_output()
+                    while k < len(times) and times[k] <= solver.t:
+                        y = solver.y.copy() if times[k] == solver.t else dense(times[k])
+                        monitor.check(y, times[k])
+                        saved.append(y)
+                        reached.append(times[k])
+                        k += 1
+            message = "completed"
+        except ModelLimitError as exc:
+            status, message, failure = exc.status, str(exc), exc.time
+        except KeyboardInterrupt:
+            status, message, failure = "interrupted", f"interrupted by the user at t = {solver.t:.9g} s", solver.t
+        stats = {"n_steps": steps, "n_rhs": int(solver.nfev), "n_jac": int(getattr(solver, "njev", 0)),
+                 "n_lu": int(getattr(solver, "nlu", 0)), "wall_time_s": time.perf_counter() - start}
+        return self._finish(saved, reached, status, message, failure, stats)
+
+
+@dataclass(frozen=True)
+class ScipyDOP853(ScipyRK45):
+    """``scipy.integrate.DOP853`` (Dormand-Prince 8(5,3))."""
+
+    name = "scipy-dop853"
+    solver = "DOP853"
+    order = 8
+
+
+@dataclass(frozen=True)
+class ScipyRadau(ScipyRK45):
+    """``scipy.integrate.Radau`` (implicit Radau IIA, order 5) with the exact sparse Jacobian."""
+
+    name = "scipy-radau"
+    solver = "Radau"
+    implicit = True
+
+
+@dataclass(frozen=True)
+class ScipyBDF(ScipyRK45):
+    """``scipy.integrate.BDF`` (variable order 1-5, NDF) with the exact sparse Jacobian."""
+
+    name = "scipy-bdf"
+    solver = "BDF"
+    order = None
+    implicit = True
+
+
+_CASADI_GRAPHS = weakref.WeakKeyDictionary()  # system -> {key: integrator or ShellDAE}
+
+
+@dataclass(frozen=True)
+class CasadiCVODES(_Peer):
+    """CasADi's ``integrator(..., 'cvodes')`` on the ODE graph (scalar ``abstol``: the smallest field atol)."""
+
+    name = "casadi-cvodes"
+    plugin = "cvodes"
+    plugin_options = {}
+
+    def _dae(self, system):
+        y = ca.SX.sym("y", system.size) if not system.mapped else ca.MX.sym("y", system.size)
+        return {"x": y, "ode": system.rhs(0, y)}
+
+    def _initial(self, system, y0):
+        return {"x0": y0}
+
+    def _states(self, system, xf):
+        return np.array(xf).T
+
+    def integrate(self, system, compiled, y0, times, *, progress=None):
+        times = np.asarray(times, dtype=float)
+        opts = {"abstol": float(self.field_atol().min()), "reltol": self.rtol, "max_num_steps": 10**7}
+        if self.max_step:
+            opts["max_step_size"] = self.max_step
+        opts.update(self.plugin_options)
+        store = _CASADI_GRAPHS.setdefault(system, {})
+        key = (self.plugin, tuple(times), tuple(sorted(opts.items())))
+        if key not in store:  # the graph is built once, outside the timing
+            store[key] = ca.integrator("F", self.plugin, self._dae(system), 0.0, list(times[1:]), opts)
+        F = store[key]
+        status, message, failure = "complete", "completed", float("nan")
+        start = time.perf_counter()
+        try:
+            out = F(**self._initial(system, np.array(y0, dtype=float)))
+            states = self._states(system, out["xf"])
+        except RuntimeError as exc:  # CasADi raises when SUNDIALS fails
+            states = np.zeros((0, system.size))
+            status, message, failure = "failed", f"{self.name} failed: {str(exc).splitlines()[-1]}", float("nan")
+        wall = time.perf_counter() - start
+        monitor = Monitor(system, y0)
+        saved, reached = [np.array(y0, dtype=float)], [0.0]
+        try:
+            for t, y in zip(times[1:], states):
+                monitor.check(y, t)
+                saved.append(y)
+                reached.append(t)
+        except ModelLimitError as exc:
+            status, message, failure = exc.status, str(exc), exc.time
+        st = F.stats()
+        stats = {"n_steps": int(st.get("nsteps", -1)), "n_rhs": int(st.get("nfevals", -1)),
+                 "n_jac": int(st.get("n_call_jacF", -1)), "n_linear_setups": int(st.get("nlinsetups", -1)),
+                 "n_error_test_failures": int(st.get("netfails", -1)),
+                 "n_nonlinear_failures": int(st.get("nncfails", -1)), "wall_time_s": wall}
+        return self._finish(saved, reached, status, message, failure, stats)
+
+
+@dataclass(frozen=True)
+class CasadiIDAS(CasadiCVODES):
+    """CasADi's ``integrator(..., 'idas')`` on the semi-explicit DAE in ``(q, v)`` with accelerations as ``z``."""
+
+    name = "casadi-idas"
+    plugin = "idas"
+    #: the accelerations are algebraic: keep them out of the error test (as for any index-1 DAE)
+    plugin_options = {"suppress_algebraic": True}
+
+    def _dae(self, system):
+        from ..dae import ShellDAE
+
+        dae = ShellDAE(system)
+        nf, n = system.nf, system.n
+        x, a = ca.MX.sym("x", system.size), ca.MX.sym("a", nf * n)
+        X = ca.reshape(x, 2 * nf, n)
+        xp = ca.vec(ca.vertcat(X[nf:, :], ca.reshape(a, nf, n)))
+        F = ca.reshape(dae.residual(0, x, xp), 2 * nf, n)
+        graph = {"x": x, "z": a, "ode": xp, "alg": ca.vec(F[nf:, :])}
+        if not system.mapped:
+            f = ca.Function("dae", [x, a], [xp, graph["alg"]]).expand()
+            xs, zs = ca.SX.sym("x", system.size), ca.SX.sym("a", nf * n)
+            ode, alg = f(xs, zs)
+            graph = {"x": xs, "z": zs, "ode": ode, "alg": alg}
+        self._store(system, dae)
+        return graph
+
+    @staticmethod
+    def _store(system, dae):
+        _CASADI_GRAPHS.setdefault(system, {})["dae"] = dae
+
+    def _initial(self, system, y0):
+        dae = _CASADI_GRAPHS[system]["dae"]
+        x, xp = dae.consistent_rates(y0)
+        nf = system.nf
+        return {"x0": x, "z0": xp.reshape(system.n, 2 * nf)[:, nf:].ravel()}
+
+    def _states(self, system, xf):
+        dae = _CASADI_GRAPHS[system]["dae"]
+        return np.array([np.array(dae.to_momenta(col)).ravel() for col in np.array(xf).T])
+
+
+@dataclass(frozen=True)
+class CasadiCVODESCompiled(CasadiCVODES):
+    """CasADi's CVODES, Adams with fixed-point (functional) iteration, on the *compiled* right-hand side.
+
+    No Jacobian, no linear solves, no Python per step: the configuration for this non-stiff problem
+    that scikit-sundae cannot express (it always uses Newton iterations). Per-entry absolute
+    tolerances (as for CVODE above) by a diagonal change of variables ``u = y / d``: a scalar
+    ``abstol`` on ``u`` is ``abstol d_i`` on ``y_i``, and the relative test is unchanged.
+    """
+
+    name = "casadi-cvodes-c"
+    plugin_options = {"linear_multistep_method": "adams", "nonlinear_solver_iteration": "functional"}
+
+    def _dae(self, system):
+        from ..compiled import CompiledFunctions
+
+        t, y = system.rhs_mapped.mx_in()
+        ode = ca.Function("ode", [t, y], [system.rhs_mapped(t, y)], ["t", "y"], ["ydot"])
+        # CasADi asks for derivatives when it builds the plugin: give it the compiled Jacobian (jac_ode)
+        lib = CompiledFunctions([ode, ode.jacobian()])
+        u, d = ca.MX.sym("u", system.size), ca.MX.sym("d", system.size)
+        return {"x": u, "p": d, "ode": lib.functions["ode"](0, u * d) / d}
+
+    def _scale(self, system, y0):
+        """``d = atol_vector / abstol``, cached per system, tolerance and initial state."""
+        store = _CASADI_GRAPHS.setdefault(system, {})
+        key = ("scale", str(self.atol), np.asarray(y0).tobytes())
+        if key not in store:
+            store[key] = self.atol_vector(system, y0, momenta=True) / self.field_atol().min()
+        return store[key]
+
+    def _initial(self, system, y0):
+        d = self._scale(system, y0)
+        self._last_scale[id(system)] = d
+        return {"x0": np.asarray(y0) / d, "p": d}
+
+    def _states(self, system, xf):
+        return np.array(xf).T * self._last_scale[id(system)]
+
+    def integrate(self, system, compiled, y0, times, *, progress=None):
+        self._scale(system, y0)  # outside the timing, like the graph
+        return super().integrate(system, compiled, y0, times, progress=progress)
+
+    _last_scale = {}
+
+
+PEERS = {cls.name: cls for cls in (ScipyRK45, ScipyDOP853, ScipyRadau, ScipyBDF, CasadiCVODES, CasadiIDAS,
+                                   CasadiCVODESCompiled)}
+
+__all__ = ["PEERS"]

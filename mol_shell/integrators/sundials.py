@@ -1,0 +1,456 @@
+"""SUNDIALS CVODE (BDF and Adams) and IDA through scikit-sundae, fed by the CasADi graphs.
+
+* CVODE integrates the Hamiltonian ODE ``y_t = f(y)`` of :class:`~mol_shell.discretization.ShellSystem`;
+  IDA the linearly implicit residual of :class:`~mol_shell.dae.ShellDAE` in ``x = (q, v)``
+  (the mass matrix is never inverted). Saved states are returned as ``y = (q, p)`` either way.
+* The exact Jacobian comes from CasADi (``dF/dx + cj dF/dxp`` for IDA), compiled to C once per graph
+  and cached on disk (:class:`~mol_shell.compiled.CompiledFunctions`); dense, banded or sparse
+  linear algebra by size (``linsolver="auto"``).
+* Model limits: ``r > 0`` is a SUNDIALS inequality constraint on the ``r`` entries; ``delta > 0``
+  (per cell) and ``|psi| < pi/2`` (per node) are root-finding events. A breach ends the run with
+  status ``"limit"``, a message naming time, place and limit, and the saved times reached.
+* scikit-sundae 1.2.0 leaves the constraint entries that ``constraints_idx`` does not list
+  uninitialised (malloc garbage: "Illegal values in constraints vector", or spurious sign
+  constraints on other entries). Types must be in ``{-2, -1, 1, 2}``, so "no constraint" (0)
+  cannot be listed. Workaround: list *every* entry; unconstrained ones get :data:`UNCONSTRAINED`,
+  which passes the type check (it compares equal to 1) and is stored as 0.0 (its ``__float__``).
+  ``tests/test_constraints.py`` reproduces the defect and checks the workaround over many solves.
+* Statistics: ``n_steps`` counts ``onestep`` calls; ``n_rhs``/``n_jac`` are SUNDIALS' counters;
+  scikit-sundae exposes no failure counters, so ``n_failed_steps`` (error-test plus nonlinear
+  failures together) is inferred from the trial times of the right-hand side calls: a step attempt
+  followed by one at an earlier time was rejected.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+import warnings
+import weakref
+from dataclasses import dataclass
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")  # SuperLU_MT spins otherwise (70x slower on 2 cores)
+
+import casadi as ca  # noqa: E402
+import numpy as np  # noqa: E402
+import scipy.sparse as sp  # noqa: E402
+import sksundae  # noqa: E402
+
+from ..errors import ModelLimitError, ParameterError  # noqa: E402
+from ..model.kinematics import FIELDS, delta  # noqa: E402
+from .base import Monitor, Trajectory  # noqa: E402
+
+#: the scikit-sundae version whose constraint defect the workaround targets (and that passes the tests)
+SKSUNDAE_TESTED = "1.2.0"
+ROOT_RETURN, CONSTRAINT_FAIL = 2, {"cvode": -15, "ida": -11}
+
+
+class _Unconstrained:
+    """A constraint type that passes scikit-sundae's check ``x in (-2, -1, 1, 2)`` and is stored as 0.0."""
+
+    def __eq__(self, other):
+        return other == 1
+
+    def __hash__(self):
+        return hash(1)
+
+    def __float__(self):
+        return 0.0
+
+    def __repr__(self):
+        return "UNCONSTRAINED"
+
+
+UNCONSTRAINED = _Unconstrained()
+
+
+def full_constraints(size, entries):
+    """``(constraints_idx, constraints_type)`` listing all ``size`` entries; ``entries`` maps index -> type."""
+    return list(range(size)), [entries.get(i, UNCONSTRAINED) for i in range(size)]
+
+
+# -- per-system pieces, built once (compiled code cached on disk) ------------------------------
+_PIECES = weakref.WeakKeyDictionary()
+
+
+def pieces(system, kind, jacobian="compiled"):
+    """Compiled Jacobian (and for IDA the residual) plus the events function of ``system``; cached."""
+    store = _PIECES.setdefault(system, {})
+    key = (kind, jacobian)
+    if key not in store:
+        start = time.perf_counter()
+        store[key] = _build_pieces(system, kind, jacobian)
+        store[key]["build_time_s"] = time.perf_counter() - start
+    return store[key]
+
+
+def _build_pieces(system, kind, jacobian):
+    from ..compiled import CompiledFunctions, buffered
+
+    out = {"events": buffered(events_function(system))}
+    if kind == "ida":
+        from ..dae import ShellDAE
+
+        dae = ShellDAE(system)
+        funcs = [dae.residual, dae.jacobian]
+        out["dae"] = dae
+    else:
+        t, y = system.rhs_mapped.mx_in()
+        funcs = [ca.Function("ode_jacobian", [t, y], [ca.jacobian(system.rhs_mapped(t, y), y)])]
+    jac = funcs[-1]
+    if jacobian == "compiled":
+        lib = CompiledFunctions(funcs)
+        out["jac"] = lib.evaluator(jac.name())
+        out["residual"] = lib.evaluator(funcs[0].name()) if kind == "ida" else None
+    elif jacobian == "vm":
+        out["jac"] = buffered(system.jac if kind != "ida" else jac)
+        out["residual"] = buffered(funcs[0]) if kind == "ida" else None
+    else:
+        raise ParameterError("jacobian", jacobian, "{compiled, vm}")
+    pattern = (system.jac if (kind != "ida" and jacobian == "vm") else jac).sparsity_out(0)
+    rows, cols = (np.asarray(a) for a in pattern.get_triplet())
+    out["pattern"] = sp.csc_matrix((np.ones(len(rows)), (rows, cols)), shape=pattern.shape)
+    out["rows"], out["cols"] = rows, cols
+    out["bw"] = (int(pattern.bw_lower()), int(pattern.bw_upper()))
+    return out
+
+
+def events_function(system):
+    """``y -> [delta per cell; r per node; (pi/2)^2 - psi^2 per node]``: all must stay positive.
+
+    ``r > 0`` is also a SUNDIALS constraint, so ``r`` itself never crosses 0: its event is set at
+    ``r = atol_r`` instead (the caller subtracts it), where ``r`` is 0 to the accuracy asked for;
+    without it the solver crawls towards ``r = 0`` in ever smaller steps.
+
+    Depends on the field entries only, which sit at the same places in ``y = (q, p)`` and ``x = (q, v)``.
+    """
+    n, active = system.n, list(system.active)
+    y = ca.MX.sym("y", system.size)
+    Y = ca.reshape(y, system.ny, n)
+    Q = ca.vertcat(*[Y[active.index(k), :] if k in active else ca.MX.zeros(1, n) for k in range(len(FIELDS))])
+    ql, qr = ca.SX.sym("ql", len(FIELDS)), ca.SX.sym("qr", len(FIELDS))
+    z_s, r_s, _, _, _, r, theta, psi = system._cell_strains(ql, qr)
+    cell = ca.Function("cell_delta", [ql, qr], [delta(z_s, r_s, r, theta, psi)])
+    g = [cell.map(n - 1)(Q[:, :-1], Q[:, 1:]).T, Q[1, :].T]
+    if 4 in active:
+        g.append((np.pi / 2) ** 2 - Q[4, :].T ** 2)
+    f = ca.Function("events", [y], [ca.vertcat(*g)])
+    return f.expand() if n <= system.FLAT_MAX_NODES else f
+
+
+def event_names(system):
+    cells = (system.s[:-1] + system.s[1:]) / 2
+    names = [("delta = r beta1 cos(psi) reached 0", f"s = {s:.6g} m (cell centre)") for s in cells]
+    names += [("r reached 0 (to within atol)", f"s = {s:.6g} m") for s in system.s]
+    if 4 in system.active:
+        names += [("|psi| reached pi/2", f"s = {s:.6g} m") for s in system.s]
+    return names
+
+
+# -- the integrators ---------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _Sundials:
+    """Options shared by CVODE and IDA.
+
+    Parameters
+    ----------
+    rtol : float
+        Relative tolerance.
+    atol : float or dict or sequence
+        Absolute tolerance of the fields (m or rad): one number, ``{field: value}`` or five values
+        (``z, r, chi, theta, psi``). Rates get the same number (per second); momenta that number
+        times the lumped mass of their entry, so CVODE and IDA control comparable quantities.
+    max_step : float
+        Largest step, s (0: unbounded).
+    linsolver : str
+        ``"auto"`` (dense up to 100 states, banded up to 2000, sparse above), ``"dense"``,
+        ``"band"`` or ``"sparse"``.
+    jacobian : str
+        ``"compiled"`` (generated C, cached) or ``"vm"`` (CasADi's virtual machine, no compiler).
+    constraints, events : bool
+        Enforce ``r > 0`` (SUNDIALS constraints) and ``delta > 0``, ``|psi| < pi/2`` (events).
+    max_order : int or None
+        Largest order (BDF and IDA <= 5, Adams <= 12).
+    first_step : float
+        First step, s (0: SUNDIALS estimates it).
+    max_steps : int
+        Steps after which the run stops with status ``"failed"`` (scikit-sundae's ``max_num_steps``
+        counts per call, and in one-step mode every call is one step).
+    """
+
+    rtol: float = 1e-6
+    atol: object = 1e-9
+    max_step: float = 0.0
+    linsolver: str = "auto"
+    jacobian: str = "compiled"
+    constraints: bool = True
+    events: bool = True
+    max_order: int | None = None
+    first_step: float = 0.0
+    max_steps: int = 1_000_000
+
+    order = None  # variable order: tests check that the tolerance is reached instead
+    kind = "cvode"
+
+    def __post_init__(self):
+        if not (isinstance(self.rtol, (int, float)) and np.isfinite(self.rtol) and self.rtol > 0):
+            raise ParameterError("rtol", self.rtol, "(0, inf)")
+        if self.max_step is None or not (np.isfinite(self.max_step) and self.max_step >= 0):
+            raise ParameterError("max_step", self.max_step, "[0, inf) s (0: unbounded)")
+        if self.linsolver not in ("auto", "dense", "band", "sparse"):
+            raise ParameterError("linsolver", self.linsolver, "{auto, dense, band, sparse}")
+        if self.jacobian not in ("compiled", "vm"):
+            raise ParameterError("jacobian", self.jacobian, "{compiled, vm}")
+        self.field_atol()
+
+    def settings(self):
+        atol = self.atol if isinstance(self.atol, (int, float)) else ",".join(f"{a:g}" for a in self.field_atol())
+        return {"rtol": self.rtol, "atol": atol, "max_step": self.max_step, "linsolver_option": self.linsolver,
+                "jacobian": self.jacobian, "sksundae_version": sksundae.__version__}
+
+    def field_atol(self):
+        """Absolute tolerance per field ``(z, r, chi, theta, psi)``."""
+        a = self.atol
+        if isinstance(a, dict):
+            bad = set(a) - set(FIELDS)
+            if bad:
+                raise ParameterError("atol", a, "{field: value} with fields in " + ", ".join(FIELDS))
+            values = [a.get(name, 1e-9) for name in FIELDS]
+        elif isinstance(a, (int, float)):
+            values = [a] * len(FIELDS)
+        else:
+            values = list(a)
+            if len(values) != len(FIELDS):
+                raise ParameterError("atol", a, "one value, {field: value}, or five values (z, r, chi, theta, psi)")
+        if not all(isinstance(v, (int, float)) and np.isfinite(v) and v > 0 for v in values):
+            raise ParameterError("atol", a, "(0, inf)")
+        return np.array(values, dtype=float)
+
+    def atol_vector(self, system, y0, momenta):
+        """Per-entry absolute tolerances of the node-major state."""
+        fa = self.field_atol()[list(system.active)]
+        nf = system.nf
+        vec = np.tile(np.r_[fa, fa], system.n)
+        if momenta:  # p = M v: scale by the lumped diagonal mass of each entry (interior value where fixed)
+            Q = system.unpack(y0)
+            for j, k in enumerate(system.active):
+                V = np.zeros_like(Q)
+                V[k] = 1.0
+                m = np.array(system.momenta(Q, V))[k]
+                m[m <= 0] = m.max()
+                vec[nf + j :: 2 * nf] *= m
+        return vec
+
+    def choose_linsolver(self, size):
+        if self.linsolver != "auto":
+            return self.linsolver
+        return "dense" if size <= 100 else "band" if size <= 2000 else "sparse"
+
+    # -- running -----------------------------------------------------------------------------
+    def integrate(self, system, compiled, y0, times, *, progress=None):
+        """Run from ``times[0]`` through ``times``; returns a :class:`Trajectory` of ``(q, p)`` states."""
+        times = np.asarray(times, dtype=float)
+        parts = pieces(system, self.kind, self.jacobian)
+        run = _Run(self, system, compiled, parts, y0)
+        return run.go(times, progress)
+
+    def solver_options(self, system, parts, y0, run):
+        size = system.size
+        linsolver = self.choose_linsolver(size)
+        opts = {"rtol": self.rtol, "atol": self.atol_vector(system, y0, momenta=self.kind == "cvode"),
+                "max_step": float(self.max_step), "first_step": float(self.first_step),
+                "linsolver": linsolver, "max_num_steps": 100000, "jacfn": run.jacfn}
+        if linsolver == "band":
+            opts["lband"], opts["uband"] = parts["bw"]
+        elif linsolver == "sparse":
+            opts["sparsity"] = parts["pattern"]
+        if self.max_order is not None:
+            opts["max_order"] = int(self.max_order)
+        if self.constraints:
+            r = list(system.active).index(1)
+            opts["constraints_idx"], opts["constraints_type"] = full_constraints(
+                size, {system.ny * i + r: 2 for i in range(system.n)}
+            )
+        if self.events:
+            run.eventsfn.terminal = [True] * run.n_events
+            run.eventsfn.direction = [-1] * run.n_events
+            opts["eventsfn"], opts["num_events"] = run.eventsfn, run.n_events
+        return opts
+
+
+@dataclass(frozen=True)
+class CVODEBDF(_Sundials):
+    """CVODE, variable-order BDF (1-5) with Newton iterations on the exact Jacobian."""
+
+    name = "cvode-bdf"
+    method = "BDF"
+
+    def make_solver(self, system, parts, y0, run):
+        from sksundae.cvode import CVODE
+
+        with warnings.catch_warnings():  # 'sparse' needs the pattern; scikit-sundae warns it is not used for DQ
+            warnings.filterwarnings("ignore", "Custom sparse Jacobian approximation")
+            return CVODE(run.rhsfn, method=self.method, **self.solver_options(system, parts, y0, run))
+
+
+@dataclass(frozen=True)
+class CVODEAdams(CVODEBDF):
+    """CVODE, variable-order Adams-Moulton (1-12) with Newton iterations on the exact Jacobian."""
+
+    name = "cvode-adams"
+    method = "Adams"
+
+
+@dataclass(frozen=True)
+class IDA(_Sundials):
+    """IDA, variable-order BDF on the linearly implicit residual (no inverse of the mass matrix)."""
+
+    name = "ida"
+    kind = "ida"
+
+    def make_solver(self, system, parts, y0, run):
+        from sksundae.ida import IDA as _IDA
+
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", "Custom sparse Jacobian approximation")
+            return _IDA(run.resfn, **self.solver_options(system, parts, y0, run))
+
+
+class _Run:
+    """One solve: the callbacks SUNDIALS calls, trial-time bookkeeping and the stepping loop."""
+
+    def __init__(self, method, system, compiled, parts, y0):
+        self.method, self.system, self.parts = method, system, parts
+        self.ida = method.kind == "ida"
+        self.y0 = np.array(y0, dtype=float)
+        self.names = event_names(system)
+        self.n_events = len(self.names)
+        self.last_t, self.failures, self.counting = -np.inf, 0, False
+        rows, cols, size = parts["rows"], parts["cols"], system.size
+        jac, events = parts["jac"], parts["events"]
+        sparse = method.choose_linsolver(size) == "sparse"
+        if self.ida:
+            res = parts["residual"]
+
+            def resfn(t, x, xp, out):
+                self._trial(t)
+                out[:] = res(t, x, xp)
+
+            def jacfn(t, x, xp, res_, cj, JJ):
+                if sparse:
+                    JJ[:] = jac(t, x, xp, cj)
+                else:
+                    JJ[rows, cols] = jac(t, x, xp, cj)
+
+            self.resfn, self.jacfn = resfn, jacfn
+        else:
+            f = compiled.evaluator()
+
+            def rhsfn(t, y, yp):
+                self._trial(t)
+                yp[:] = f(y)
+
+            def jacfn(t, y, yp, JJ):
+                if sparse:
+                    JJ[:] = jac(t, y)
+                else:
+                    JJ[rows, cols] = jac(t, y)
+
+            self.rhsfn, self.jacfn = rhsfn, jacfn
+
+        floor = np.zeros(self.n_events)
+        floor[system.n - 1 : 2 * system.n - 1] = method.field_atol()[1]  # the r events sit at r = atol_r
+
+        if self.ida:
+            def eventsfn(t, x, xp, g):
+                g[:] = events(x) - floor
+        else:
+            def eventsfn(t, y, g):
+                g[:] = events(y) - floor
+
+        self.eventsfn = eventsfn
+
+    def _trial(self, t):
+        if t != self.last_t:
+            if t < self.last_t and self.counting:
+                self.failures += 1
+            self.last_t = t
+
+    def to_hamiltonian(self, state):
+        if not self.ida:
+            return np.array(state, dtype=float)
+        return np.array(self.parts["dae"].to_momenta(state)).ravel()
+
+    def go(self, times, progress):
+        method, system = self.method, self.system
+        if times[0] != 0:
+            raise ParameterError("times", float(times[0]), "first saved time must be 0")
+        start = time.perf_counter()  # solver set-up is part of the run's cost; graph building is not
+        monitor = Monitor(system, self.y0)
+        solver = method.make_solver(system, self.parts, self.y0, self)
+        if self.ida:
+            x0, xp0 = self.parts["dae"].consistent_rates(self.y0)
+            init = solver.init_step(0.0, x0, xp0)
+        else:
+            init = solver.init_step(0.0, self.y0)
+        if not init.success:
+            raise RuntimeError(f"{method.name} could not start: {init.message}")
+        saved, reached = [self.y0.copy()], [0.0]
+        status, message, failure = "complete", "completed", float("nan")
+        t, steps, res = 0.0, 0, init
+        try:
+            for target in times[1:]:
+                while t < target:
+                    res = solver.step(float(target), method="onestep", tstop=float(target))
+                    steps += 1
+                    self.counting = True
+                    if steps >= method.max_steps:
+                        err = ModelLimitError(f"{method.name} took max_steps = {method.max_steps} steps by "
+                                              f"t = {float(res.t):.9g} s", float(res.t), "whole shell")
+                        err.status = "failed"
+                        raise err
+                    if res.status == ROOT_RETURN:
+                        raise self._event_error(res)
+                    if not res.success:
+                        raise self._failure(res, t)
+                    if progress is not None:
+                        progress.update(float(res.t) - t)
+                    t = float(res.t)
+                y = self.to_hamiltonian(res.y)
+                monitor.check(y, t)
+                saved.append(y)
+                reached.append(t)
+        except ModelLimitError as exc:
+            status, message, failure = exc.status, str(exc), exc.time
+        except KeyboardInterrupt:
+            status, message, failure = "interrupted", f"interrupted by the user at t = {t:.9g} s", t
+        wall = time.perf_counter() - start
+        stats = {
+            "n_steps": int(steps), "n_rhs": int(res.nfev), "n_jac": int(res.njev),
+            "n_failed_steps": int(self.failures), "wall_time_s": wall,
+            "linsolver": method.choose_linsolver(system.size),
+            "jacobian_build_s": float(self.parts.get("build_time_s", 0.0)),
+        }
+        return Trajectory(np.array(reached), np.array(saved), status=status, message=message, stats=stats,
+                          failure_time=failure)
+
+    def _event_error(self, res):
+        t = float(res.t_events[-1]) if res.t_events is not None else float(res.t)
+        which = np.flatnonzero(res.i_events[-1])
+        limit, where = self.names[int(which[0])]
+        return ModelLimitError(f"{limit} at t = {t:.9g} s, {where}: a limit of the model "
+                               f"(root found by {self.method.name})", t, where)
+
+    def _failure(self, res, t_prev):
+        t = float(res.t) if np.isfinite(res.t) else t_prev
+        if res.status == CONSTRAINT_FAIL[self.method.kind]:
+            r = self.system.unpack(self.to_hamiltonian(res.y))[1]
+            i = int(np.argmin(r))
+            where = f"s = {self.system.s[i]:.6g} m"
+            return ModelLimitError(
+                f"r -> 0 (r > 0 is a constraint of the model; {self.method.name} could not keep it, "
+                f"r = {r[i]:.3g} m) at t = {t:.9g} s, {where}", t, where)
+        err = ModelLimitError(f"{self.method.name} failed at t = {t:.9g} s: {res.message} (status {res.status})",
+                              t, "whole shell")
+        err.status = "failed"
+        return err
