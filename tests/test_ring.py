@@ -1,0 +1,63 @@
+"""Section 5: the PDE started from uniform data stays uniform and follows the reduced ODE."""
+
+import numpy as np
+import pytest
+
+import mol_shell
+from mol_shell.errors import ParameterError
+from mol_shell.ring import ring_system, simulate_ring
+
+TIMES = np.linspace(0.0, 0.02, 5)
+FIELDS = ("r", "chi", "psi", "r_t", "chi_t", "psi_t")
+
+
+@pytest.fixture(scope="module")
+def ring():
+    return simulate_ring(mol_shell.SpinningRing(), TIMES)
+
+
+@pytest.fixture(scope="module")
+def pde_runs():
+    scene = mol_shell.SpinningRing()
+    return {dt: mol_shell.simulate(scene, n=10, times=TIMES, dt=dt, progress=False) for dt in (4e-6, 2e-6)}
+
+
+def test_the_ode_conserves_energy_and_angular_momentum(ring):
+    assert ring.attrs["complete"] == 1
+    e = ring.energy.values
+    assert np.abs(e - e[0]).max() < 1e-11 * e[0]
+    L = ring.angular_momentum.values
+    assert L[0] > 1000 and np.abs(L - L[0]).max() < 1e-12 * L[0]
+    assert float(abs(ring.r - ring.r[0]).max()) > 0.01 and float(abs(ring.psi - ring.psi[0]).max()) > 0.05  # it moves
+
+
+def test_pde_stays_uniform_in_s(pde_runs):
+    for ds in pde_runs.values():
+        for name in ("r", "chi", "psi", "r_t", "chi_t", "psi_t", "z_t", "theta", "theta_t"):
+            spread = float(abs(ds[name] - ds[name].isel(s=4)).max())
+            assert spread < 1e-11 * max(1.0, float(abs(ds[name]).max())), name
+
+
+def test_pde_converges_to_the_ode_as_dt_squared(ring, pde_runs):
+    """Every node follows the ODE exactly; what is left is leap-frog's O(dt^2) error (the ODE is solved to 1e-12)."""
+    errors = {dt: {k: float(abs(ds[k] - ring[k]).max()) for k in FIELDS} for dt, ds in pde_runs.items()}
+    for name in FIELDS:
+        coarse, fine = errors[4e-6][name], errors[2e-6][name]
+        assert 3.6 < coarse / fine < 4.4, (name, coarse, fine)
+    assert errors[2e-6]["r"] < 1e-9 and errors[2e-6]["psi"] < 1e-4
+    # the totals agree too (same energy, same angular momentum: both are whole-shell quantities)
+    np.testing.assert_allclose(pde_runs[2e-6].angular_momentum, ring.angular_momentum, rtol=1e-12)
+    np.testing.assert_allclose(pde_runs[2e-6].energy, ring.energy, rtol=1e-6)
+
+
+def test_broadcast_onto_the_pde_grid():
+    ds = simulate_ring(mol_shell.SpinningRing(), [0.0, 0.001], n=10)
+    assert ds.r.dims == ("time", "s") and ds.sizes["s"] == 10
+    np.testing.assert_allclose(ds.z.isel(time=1), np.linspace(0, 4, 10))
+
+
+def test_ode_is_a_casadi_function_of_three_fields_and_momenta():
+    system = ring_system(mol_shell.SpinningRing())
+    assert system.rhs.size1_in(1) == 6 and system.rhs.is_a("SXFunction")
+    with pytest.raises(ParameterError, match="gamma"):
+        simulate_ring(mol_shell.TwistedCylinder(), [0.0, 0.001])
