@@ -228,13 +228,16 @@ class ShellSystem:
 
         Returns the node-major state vector.
         """
-        Q = np.zeros((NF, self.n))
-        Q[0] = self.s
-        Q[1] = sc.R
-        Q[2] = getattr(sc, "gamma", 0.0) * (self.s - sc.L / 2)
-        Q[4] = getattr(sc, "psi0", 0.0)
-        V = np.zeros((NF, self.n))
-        V[2] = getattr(sc, "omega", 0.0)
+        if hasattr(sc, "initial_fields"):  # a scene with its own initial data
+            Q, V = sc.initial_fields(self.s)
+        else:
+            Q = np.zeros((NF, self.n))
+            Q[0] = self.s
+            Q[1] = sc.R
+            Q[2] = getattr(sc, "gamma", 0.0) * (self.s - sc.L / 2)
+            Q[4] = getattr(sc, "psi0", 0.0)
+            V = np.zeros((NF, self.n))
+            V[2] = getattr(sc, "omega", 0.0)
         V[:, [0, -1]] *= ~self.fixed[[0, -1]].T
         return self.pack(Q, self.momenta(Q, V))
 

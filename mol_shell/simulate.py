@@ -99,6 +99,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=1
     """
     if isinstance(scene, str):
         scene = get_scene(scene)
+    if hasattr(scene, "run"):  # a scene with its own formulation (the unshearable DAE)
+        return scene.run(integrator, n=n, times=times, t_end=t_end, progress=progress, **({"dt": dt} if integrator == "leapfrog" else {}), **options)
     if integrator not in INTEGRATORS:
         raise ParameterError("integrator", integrator, "{" + ", ".join(INTEGRATORS) + "}")
     scene = resolve(scene)
