@@ -19,7 +19,7 @@ EXIT_USAGE, EXIT_INCOMPLETE = 2, 3
 
 # Subcommands contributed by other modules: each module has ``register(subparsers)``
 # that adds its parser with ``set_defaults(func=...)``.
-EXTENSIONS = ("mol_shell.workprecision", "mol_shell.stability")
+EXTENSIONS = ("mol_shell.workprecision", "mol_shell.stability", "mol_shell.study")
 
 
 class _Parser(argparse.ArgumentParser):

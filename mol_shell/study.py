@@ -1,0 +1,408 @@
+"""Parameter studies: the product of varied parameters, run on local processes or a dask cluster.
+
+``study(scene, vary={"gamma": [...], "nu": [...]})`` runs every case in its own task (each
+task builds its own CasADi graphs and compiled code; nothing CasADi crosses a process
+boundary) and returns one :class:`xarray.Dataset` with a dimension per varied parameter
+(a ``case`` dimension for a list of cases), plus ``status``, ``message`` and statistics per
+case. A case that fails (a refused parameter, a model limit, a solver failure) is recorded
+and the others go on. With ``output`` every finished case is stored as its own netCDF file
+in ``<output stem>.cases/``, named by a hash of everything that defines it; running the same
+study again loads those and runs only what is missing (an interrupted study resumes).
+``mol-shell study`` is the command line.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import itertools
+import json
+import os
+import socket
+import sys
+import time
+import warnings
+
+import numpy as np
+
+from .errors import ParameterError
+from .study_data import Store, assemble
+
+#: statuses that are final: stored, and skipped on resume ("interrupted" and "lost" are run again)
+FINAL = ("complete", "limit", "unstable", "refused", "error")
+
+
+@dataclasses.dataclass(frozen=True)
+class Task:
+    """One case: everything a worker needs (plain data; CasADi objects are built in the worker)."""
+
+    index: tuple
+    label: str
+    scene: object
+    integrator: str
+    n: int
+    times: tuple
+    options: dict
+
+    @property
+    def key(self):
+        """Hash of the scene class and parameters, integrator, grid, saved times and options."""
+        spec = {"scene": type(self.scene).__name__, "params": self.scene.params(), "integrator": self.integrator,
+                "n": self.n, "times": list(self.times), "options": self.options}
+        return hashlib.sha256(json.dumps(spec, sort_keys=True, default=repr).encode()).hexdigest()[:20]
+
+
+def run_scene(scene, integrator, *, n, times, **options):
+    """Run one scene through :func:`mol_shell.simulate` (which hands a DAE scene to its own ``run``)."""
+    from .simulate import simulate
+
+    return simulate(scene, integrator, n=n, times=np.asarray(times), progress=False, **options)
+
+
+def run_task(task):
+    """Worker entry point: run a :class:`Task`; never raises for a failing case.
+
+    Returns ``(index, dataset or None, info)`` with ``info`` holding ``status``, ``message``,
+    ``case_wall_time_s`` and ``worker``.
+    """
+    start = time.perf_counter()
+    ds = None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            ds = run_scene(task.scene, task.integrator, n=task.n, times=task.times, **task.options)
+        status, message = str(ds.attrs.get("status", "complete")), str(ds.attrs.get("message", ""))
+    except ParameterError as exc:
+        status, message = "refused", str(exc)
+    except KeyboardInterrupt:
+        status, message = "interrupted", "interrupted by the user"
+    except Exception as exc:  # noqa: BLE001 - a failing case is data, not a crash
+        status, message = "error", f"{type(exc).__name__}: {exc}"
+    info = {"status": status, "message": message, "case_wall_time_s": time.perf_counter() - start,
+            "worker": f"{socket.gethostname()}:{os.getpid()}"}
+    return task.index, ds, info
+
+
+def resolve_scene(scene):
+    """A scene object from an object or a registered name."""
+    from .scenes import get_scene
+
+    return get_scene(scene) if isinstance(scene, str) else scene
+
+
+def design(scene, vary, integrator="leapfrog"):
+    """``(dims, coords, cases)`` of a study: a grid for a dict of lists, a ``case`` dim for a list of dicts.
+
+    Each case is ``(index, {name: value})``; names are scene parameters or integrator options.
+    """
+    allowed = set(_scene_fields(scene)) | _option_names(integrator)
+    if isinstance(vary, dict):
+        if not vary:
+            raise ParameterError("vary", vary, "at least one parameter with values")
+        names = list(vary)
+        values = [[_typed(scene, k, v) for v in np.atleast_1d(np.asarray(vary[k], dtype=object)).tolist()] for k in names]
+        for name, vals in zip(names, values):
+            _check_name(name, allowed, scene)
+            if not vals or len(set(map(repr, vals))) != len(vals):
+                raise ParameterError(f"vary[{name!r}]", vals, "distinct values, at least one")
+        cases = [(idx, dict(zip(names, (values[d][i] for d, i in enumerate(idx)))))
+                 for idx in itertools.product(*(range(len(v)) for v in values))]
+        return names, {k: v for k, v in zip(names, values)}, cases
+    cases = [dict(c) for c in vary]
+    if not cases:
+        raise ParameterError("vary", vary, "at least one case")
+    names = sorted({k for c in cases for k in c})
+    for name in names:
+        _check_name(name, allowed, scene)
+    coords = {k: [_typed(scene, k, c.get(k, _default(scene, k))) for c in cases] for k in names}
+    return ["case"], coords, [((i,), {k: coords[k][i] for k in names}) for i in range(len(cases))]
+
+
+def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, scheduler=None, workers=None,
+          output=None, progress=None, **options):
+    """Run every case of a parameter study and return one Dataset.
+
+    Parameters
+    ----------
+    scene : ShellScene or str
+        The base scene (object or registered name); each case replaces the varied parameters.
+    vary : dict or list of dict
+        ``{"gamma": [...], "nu": [...]}``: the product of the values, one dimension per name
+        (in this order). A list of dicts is an irregular design along a ``case`` dimension
+        (parameters missing from a case keep the base scene's value). Names are scene
+        parameters or integrator options (``dt``, ``rtol``, ...).
+    integrator : str
+        As for :func:`mol_shell.simulate`; ``"ida"`` for the unshearable scene.
+    n : int
+        Nodes in ``s`` (the same for every case).
+    times, t_end : optional
+        Saved times, the same for every case (``t_end`` alone: 11 times, snapped to ``dt``
+        for leap-frog).
+    scheduler : None, "serial", str or distributed.Client
+        ``None``: local processes (``workers`` of them, default the number of cores);
+        ``"serial"``: in this process; an address such as ``"tcp://host:8786"`` or a
+        ``Client``: that dask.distributed cluster.
+    workers : int, optional
+        Local processes (``scheduler=None`` only).
+    output : path, optional
+        Write the combined Dataset here (netCDF) and keep every finished case in
+        ``<output stem>.cases/`` so a rerun skips them.
+    progress : bool, optional
+        Progress bar over cases; default only when stderr is a terminal.
+    **options
+        Passed to every run (``dt``, ``rtol``, ``atol``, ...).
+
+    Notes
+    -----
+    Local processes are started with ``spawn`` (safe with threads and CasADi): a script that
+    calls ``study`` must guard its entry point with ``if __name__ == "__main__":``. A dask
+    cluster's workers need ``mol_shell`` importable and gcc (each compiles its right-hand side
+    once into its own cache). Stored cases are keyed by their settings, not by the code: after
+    changing the model, delete ``<output stem>.cases/``.
+
+    Returns
+    -------
+    xarray.Dataset
+        Every variable of a single run with the study's dims in front; per case
+        ``status``, ``message``, ``worker`` and statistics (``n_steps``, ``wall_time_s``,
+        ``case_wall_time_s``, ``R``, ...); attrs ``n_cases``, ``n_executed`` (run by this
+        call), ``n_reused`` (loaded from ``output``), ``n_failed``.
+    """
+    from .simulate import parse_times
+
+    start = time.perf_counter()
+    scene = resolve_scene(scene)
+    dims, coords, cases = design(scene, vary, integrator)
+    snap = times is None and integrator == "leapfrog"
+    times = parse_times(times, t_end)
+    if snap:
+        dt = options.get("dt", 1e-6)
+        times = np.rint(times / dt) * dt
+    results, tasks = {}, []
+    for index, changes in cases:
+        label = ", ".join(f"{k}={v}" for k, v in changes.items())
+        try:
+            task = _task(scene, index, label, changes, integrator, n, times, options)
+        except ParameterError as exc:  # a case whose parameters are out of range: refused, recorded
+            results[index] = (None, {"status": "refused", "message": str(exc), "case_wall_time_s": 0.0, "worker": ""})
+            continue
+        tasks.append(task)
+    store = Store(output) if output is not None else None
+    pending, reused = [], 0
+    for task in tasks:
+        loaded = store.load(task) if store else None
+        if loaded is not None:
+            results[task.index] = loaded
+            reused += 1
+        else:
+            pending.append(task)
+    if progress is None:
+        progress = sys.stderr.isatty()
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(cases), initial=len(cases) - len(pending), desc="study", unit="case")
+    by_index = {task.index: task for task in pending}
+    finished = _execute(pending, scheduler, workers)
+    try:
+        for index, ds, info in finished:
+            results[index] = (ds, info)
+            if store and info["status"] in FINAL:
+                store.save(by_index[index], ds, info)
+            if bar is not None:
+                bar.set_postfix_str(f"{info['status']}")
+                bar.update(1)
+            if info["status"] == "interrupted":  # Ctrl-C reached a case (serial, or a worker): stop the study
+                raise KeyboardInterrupt
+    finally:
+        finished.close()  # on Ctrl-C: cancel what has not started, shut the workers down
+        if bar is not None:
+            bar.close()
+    out = assemble(dims, coords, cases, results, times)
+    failed = sum(1 for ds, info in results.values() if info["status"] != "complete")
+    out.attrs.update({
+        "title": f"mol_shell parameter study of scene {scene.name}", "study_vary": ", ".join(coords),
+        "study_integrator": integrator, "n_cases": len(cases), "n_executed": len(pending), "n_reused": reused,
+        "n_failed": failed, "scheduler": _scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - start,
+    })
+    if output is not None:
+        from .output import write_netcdf
+
+        write_netcdf(out, output)
+    return out
+
+
+def _task(scene, index, label, changes, integrator, n, times, options):
+    from .scenes import with_params
+
+    fields = set(_scene_fields(scene))
+    scene_changes = {k: v for k, v in changes.items() if k in fields}
+    opts = {**options, **{k: v for k, v in changes.items() if k not in fields}}
+    case_scene = with_params(scene, scene_changes)
+    return Task(index, label, case_scene, integrator, int(n), tuple(float(t) for t in times), opts)
+
+
+def _execute(tasks, scheduler, workers):
+    """Yield ``(index, ds, info)`` as cases finish, on the chosen back end."""
+    if not tasks:
+        return
+    if scheduler == "serial":
+        for task in tasks:
+            yield run_task(task)
+        return
+    if scheduler is None:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+
+        count = max(1, min(workers or os.cpu_count() or 1, len(tasks)))
+        pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
+        futures = {pool.submit(run_task, task): task for task in tasks}
+        try:
+            for future in as_completed(futures):
+                yield _collect(future, futures[future])
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+        return
+    from distributed import Client, as_completed
+
+    client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+    try:
+        futures = client.map(run_task, tasks, pure=False)
+        owner = {f.key: t for f, t in zip(futures, tasks)}
+        try:
+            for future in as_completed(futures):
+                yield _collect(future, owner[future.key])
+        finally:
+            client.cancel(futures)
+    finally:
+        if client is not scheduler:
+            client.close()
+
+
+def _collect(future, task):
+    """The result of a finished future; a task that died outside our code is recorded as ``lost``."""
+    try:
+        return future.result()
+    except Exception as exc:  # noqa: BLE001 - e.g. a killed worker
+        return task.index, None, {"status": "lost", "message": f"{type(exc).__name__}: {exc}",
+                                  "case_wall_time_s": float("nan"), "worker": ""}
+
+
+def _scene_fields(scene):
+    return [f.name for f in dataclasses.fields(scene)]
+
+
+def _option_names(integrator):
+    from .integrators import INTEGRATORS
+
+    names = {"dt", "rtol", "atol", "max_step"}
+    if integrator in INTEGRATORS:
+        names |= {f.name for f in dataclasses.fields(INTEGRATORS[integrator])}
+    return names
+
+
+def _check_name(name, allowed, scene):
+    if name not in allowed:
+        raise ParameterError("vary", name, "{" + ", ".join(sorted(allowed)) + "}", hint=f"for scene {scene.name}")
+
+
+def _default(scene, name):
+    return getattr(scene, name, None)
+
+
+def _typed(scene, name, value):
+    """A value as the scene field's type wants it (strings from the command line are converted)."""
+    from .scenes import _coerce
+
+    if isinstance(value, np.generic):
+        value = value.item()
+    fields = {f.name: f for f in dataclasses.fields(scene)}
+    if name not in fields:
+        return float(value) if isinstance(value, str) else value
+    annotation = str(fields[name].type)
+    value = _coerce(name, value, fields[name].type)
+    if "int" in annotation and isinstance(value, float) and value.is_integer():
+        return int(value)
+    return value
+
+
+def _scheduler_name(scheduler):
+    if scheduler is None:
+        return "local processes"
+    return scheduler if isinstance(scheduler, str) else type(scheduler).__name__
+
+
+# -- command line ------------------------------------------------------------------------------
+def parse_vary(items):
+    """``["gamma=0.02:0.2:0.02", "nu=0.3,0.45,0.49"]`` -> ``{"gamma": [...], "nu": [...]}`` (ranges include the stop)."""
+    from .cli import parse_times_arg
+
+    vary = {}
+    for item in items or []:
+        if "=" not in item:
+            raise ParameterError("--vary", item, "NAME=START:STOP:STEP or NAME=V1,V2,...")
+        name, spec = (x.strip() for x in item.split("=", 1))
+        if ":" in spec:
+            values = [float(f"{v:.12g}") for v in parse_times_arg(spec)]
+        else:
+            values = [_number_or_text(v.strip()) for v in spec.split(",") if v.strip()]
+        if not values:
+            raise ParameterError("--vary", item, "at least one value")
+        vary[name] = values
+    if not vary:
+        raise ParameterError("--vary", None, "NAME=VALUES, at least one")
+    return vary
+
+
+def _number_or_text(text):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def cmd_study(args):
+    from .cli import EXIT_INCOMPLETE, parse_sets, parse_times_arg
+    from .scenes import with_params
+
+    scene = with_params(resolve_scene(args.scene), parse_sets(args.set))
+    times = parse_times_arg(args.times) if args.times else None
+    options = {k: getattr(args, k) for k in ("dt", "rtol", "atol", "max_step") if getattr(args, k) is not None}
+    if args.integrator != "leapfrog":
+        options.pop("dt", None)
+    try:
+        ds = study(scene, parse_vary(args.vary), args.integrator, n=args.n, times=times, t_end=args.t_end,
+                   scheduler=args.scheduler, workers=args.workers, output=args.output, progress=None, **options)
+    except KeyboardInterrupt:
+        print(f"mol-shell: study interrupted; finished cases are kept in {Store(args.output).folder}; "
+              "run the same command again to resume", file=sys.stderr)
+        return 130
+    statuses = ds.status.values.ravel().tolist()
+    counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
+    print(f"wrote {args.output}: {ds.attrs['n_cases']} cases ({counts}); ran {ds.attrs['n_executed']}, "
+          f"reused {ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s")
+    return 0 if ds.attrs["n_failed"] == 0 else EXIT_INCOMPLETE
+
+
+def register(subparsers):
+    """Add ``mol-shell study`` to the command line."""
+    from .cli import _positive_float
+
+    p = subparsers.add_parser("study", help="run a parameter study (product of --vary values) and write one netCDF")
+    p.add_argument("scene", help="a registered scene, or unshearable")
+    p.add_argument("--vary", action="append", required=True, metavar="NAME=VALUES",
+                   help="START:STOP:STEP (stop included) or V1,V2,...; repeat for more dimensions")
+    p.add_argument("--integrator", default="leapfrog", help="leapfrog, ... (ida for unshearable)")
+    p.add_argument("--n", type=int, default=40, help="nodes in s (default 40)")
+    p.add_argument("--t-end", type=_positive_float("--t-end"), default=None, help="final time, s")
+    p.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
+    p.add_argument("--dt", type=_positive_float("--dt"), default=None, help="leap-frog step, s (default 1e-6)")
+    p.add_argument("--rtol", type=_positive_float("--rtol"), default=None)
+    p.add_argument("--atol", type=_positive_float("--atol"), default=None)
+    p.add_argument("--max-step", type=_positive_float("--max-step"), default=None)
+    p.add_argument("--set", action="append", metavar="NAME=VALUE", help="base scene parameter, repeatable")
+    p.add_argument("--scheduler", default=None, help="dask.distributed scheduler address (default: local processes)")
+    p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
+    p.add_argument("-o", "--output", required=True, help="netCDF file; finished cases kept next to it in <stem>.cases/")
+    p.set_defaults(func=cmd_study)

@@ -1,0 +1,159 @@
+"""The data side of parameter studies: one Dataset from many cases, finished cases on disk, summaries."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+#: per-case numbers kept as variables even when every case has the same value
+STATS = ("n_steps", "n_rhs", "wall_time_s", "build_time_s", "case_wall_time_s", "failure_time", "complete", "R")
+
+
+def assemble(dims, coords, cases, results, times):
+    """One Dataset from per-case results; runs that stopped early are NaN after their last saved time."""
+    shape = tuple(len(coords[d]) for d in dims) if dims != ["case"] else (len(cases),)
+    grid = {d: (d, list(coords[d])) for d in dims} if dims != ["case"] else {
+        k: ("case", list(v)) for k, v in coords.items()}
+    if dims == ["case"]:
+        grid["case"] = ("case", np.arange(len(cases)))
+    done = [ds for ds, _ in results.values() if ds is not None and ds.data_vars]
+    ref = done[0] if done else None
+    data = {}
+    if ref is not None:
+        names = list(dict.fromkeys(k for ds in done for k in ds.data_vars))
+        for name in names:
+            var = next(ds[name] for ds in done if name in ds)
+            if var.dtype.kind != "f":
+                continue
+            sizes = [len(times) if d == "time" else var.sizes[d] for d in var.dims]
+            arr = np.full(shape + tuple(sizes), np.nan)
+            for index, _ in cases:
+                ds = results.get(index, (None, None))[0]
+                if ds is not None and name in ds:
+                    vals = ds[name].values
+                    arr[index][tuple(slice(0, k) for k in vals.shape)] = vals
+            data[name] = (tuple(dims) + var.dims, arr, dict(var.attrs))
+    per_case = {"status": [], "message": [], "worker": []}
+    numbers = {}
+    for index, _ in cases:
+        ds, info = results.get(index, (None, {"status": "lost", "message": "not run", "worker": ""}))
+        for key in per_case:
+            per_case[key].append(str(info.get(key, "")))
+        attrs = dict(ds.attrs) if ds is not None else {}
+        attrs["case_wall_time_s"] = info.get("case_wall_time_s", np.nan)
+        for key, value in attrs.items():
+            if key in coords:
+                continue
+            if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+                numbers.setdefault(key, {})[index] = value.item() if isinstance(value, np.generic) else value
+    constant = {}
+    for key, vals in numbers.items():
+        distinct = set(vals.values())
+        if key in STATS or len(distinct) > 1:
+            arr = np.full(shape, np.nan)
+            for index, v in vals.items():
+                arr[index] = v
+            data[key] = (tuple(dims), arr, {"units": _units(ref, key), "long_name": f"{key} of each case"})
+        else:
+            constant[key] = distinct.pop()
+    long = {"status": "how the case ended: complete, limit, unstable, refused, error, lost or interrupted",
+            "message": "account of how the case ended", "worker": "host:pid of the process that ran the case"}
+    for key, values in per_case.items():
+        data[key] = (tuple(dims), np.array(values, dtype=object).reshape(shape), {"long_name": long[key]})
+    coords_out = dict(grid)
+    coords_out["time"] = ("time", np.asarray(times), {"units": "s", "long_name": "time"})
+    if ref is not None:
+        for name, c in ref.coords.items():
+            if name != "time" and name not in coords_out:
+                coords_out[name] = c
+    attrs = {k: v for k, v in (ref.attrs if ref is not None else {}).items()
+             if k not in coords and (not isinstance(v, (int, float, np.integer, np.floating)) or k in constant)}
+    attrs.update(constant)
+    for key in ("status", "message", "complete", "title", "history"):
+        attrs.pop(key, None)
+    return xr.Dataset(data, coords=coords_out, attrs=attrs)
+
+
+def _units(ref, key):
+    if key.endswith("_s") or key in ("failure_time",):
+        return "s"
+    if ref is not None and f"units_{key}" in ref.attrs:
+        return str(ref.attrs[f"units_{key}"])
+    return "1"
+
+
+class Store:
+    """Finished cases as ``<output stem>.cases/<key>.nc`` (the key hashes the whole case)."""
+
+    def __init__(self, output):
+        path = Path(output)
+        self.folder = path.with_name(path.stem + ".cases")
+        self.folder.mkdir(parents=True, exist_ok=True)
+
+    def path(self, task):
+        return self.folder / f"{task.key}.nc"
+
+    def load(self, task):
+        from .output import read_netcdf
+
+        path = self.path(task)
+        if not path.exists():
+            return None
+        try:
+            ds = read_netcdf(path)
+        except (OSError, ValueError):  # unreadable: run the case again
+            return None
+        if "case_status" not in ds.attrs:
+            return None
+        info = {k: ds.attrs.pop(f"case_{k}") for k in ("status", "message", "worker", "wall_time_s")}
+        info["case_wall_time_s"] = info.pop("wall_time_s")
+        return (ds if ds.data_vars else None), info
+
+    def save(self, task, ds, info):
+        from .output import write_netcdf
+
+        ds = xr.Dataset() if ds is None else ds.copy()
+        ds.attrs.update({"case_label": task.label, "case_status": info["status"], "case_message": info["message"],
+                         "case_worker": info["worker"], "case_wall_time_s": info["case_wall_time_s"]})
+        tmp = self.path(task).with_suffix(".tmp")
+        write_netcdf(ds, tmp)
+        os.replace(tmp, self.path(task))  # atomic: a killed study never leaves half a case behind
+
+
+def grid_mode(da, dim="s"):
+    """Split ``da`` into its ``(-1)^i`` node-to-node component along ``dim`` and the rest.
+
+    The cell energy takes ``psi`` and ``theta`` at cell midpoints (one-point rule), where the
+    ``(-1)^i`` pattern vanishes; only its differences (bending-like terms, O(h^2)) resist it, so
+    it is a soft spurious mode of frequency about ``(2/ds) sqrt(mu/rho)``. Returns
+    ``(amplitude without dim, remainder)``.
+    """
+    sign = xr.DataArray((-1.0) ** np.arange(da.sizes[dim]), dims=dim)
+    amplitude = (da * sign).mean(dim)
+    return amplitude, da - amplitude * sign
+
+
+def summarize(ds):
+    """Amplitudes of a run or study Dataset, reduced over ``time`` and ``s`` (NaN after a stop is skipped).
+
+    Returns a Dataset with ``dr_max`` (max ``|r - R|``), ``theta_max``, ``psi_max`` and its split
+    into ``psi_grid_mode_max`` and ``psi_smooth_max`` (see :func:`grid_mode`), ``chi_s_max``,
+    and ``energy_drift`` (max relative change of the total energy).
+    """
+    R = ds["R"] if "R" in ds.data_vars else float(ds.attrs["R"])
+    both = ("time", "s")
+    mode, rest = grid_mode(ds.psi)
+    e0 = ds.energy.isel(time=0, drop=True)
+    out = {
+        "dr_max": (abs(ds.r - R).max(both), "m", "largest change of the radius from R"),
+        "theta_max": (abs(ds.theta).max(both), "rad", "largest |theta|"),
+        "psi_max": (abs(ds.psi).max(both), "rad", "largest |psi|"),
+        "psi_grid_mode_max": (abs(mode).max("time"), "rad", "largest amplitude of the (-1)^i node pattern of psi"),
+        "psi_smooth_max": (abs(rest).max(both), "rad", "largest |psi| without its (-1)^i node pattern"),
+        "chi_s_max": (abs(ds.chi.diff("s") / ds.s.diff("s")).max(both), "rad m-1", "largest |chi_s|"),
+        "energy_drift": (abs(ds.energy - e0).max("time") / abs(e0), "1", "largest relative change of the energy"),
+    }
+    return xr.Dataset({k: v.assign_attrs(units=u, long_name=n) for k, (v, u, n) in out.items()})

@@ -1,0 +1,108 @@
+"""Parameter studies: dims per varied parameter, failing cases recorded, resume, dask cluster, CLI."""
+
+import importlib
+import os
+
+import numpy as np
+import pytest
+
+import mol_shell
+from mol_shell.study import parse_vary, study
+
+study_module = importlib.import_module("mol_shell.study")  # the module, even if mol_shell exports a function study
+
+BASE = mol_shell.TwistedCylinder(gamma=0.0)
+SMALL = {"n": 10, "t_end": 0.002}
+
+
+def test_grid_on_local_processes_with_a_refused_and_a_stopped_case():
+    """2 x 3 cases on this machine's cores: nu = 0.5 is refused, R = 3 hits r <= 0 (at nu = 0.49); the others run."""
+    ds = study(BASE, {"R": [0.99, 3.0], "nu": [0.3, 0.49, 0.5]}, n=10, t_end=0.01, workers=2)
+    assert dict(ds.sizes) == {"R": 2, "nu": 3, "time": 11, "s": 10}
+    assert ds.r.dims == ("R", "nu", "time", "s") and ds.energy.dims == ("R", "nu", "time")
+    status = ds.status.values
+    assert list(status[:, 2]) == ["refused", "refused"] and "nu = 0.5 is outside" in ds.message.values[0, 2]
+    assert list(status[0, :2]) == ["complete", "complete"]
+    assert status[1, 1] == "limit" and "r = " in ds.message.values[1, 1]
+    assert ds.attrs["n_cases"] == 6 and ds.attrs["n_executed"] == 4
+    assert ds.attrs["n_failed"] == int((status != "complete").sum()) >= 3
+    # a stopped case keeps what it computed and is NaN afterwards
+    r = ds.r.sel(R=3.0, nu=0.49).values
+    assert np.isfinite(r[:3]).all() and np.isnan(r[-1]).all()
+    assert float(ds.n_steps.sel(R=0.99, nu=0.3)) == 10000 and float(ds.wall_time_s.sel(R=0.99, nu=0.3)) > 0
+    assert len({w.split(":")[1] for w in ds.worker.values[:, :2].ravel()} - {str(os.getpid())}) >= 1
+    # a case equals the single run
+    one = mol_shell.simulate(mol_shell.TwistedCylinder(gamma=0.0, R=0.99, nu=0.49), n=10, t_end=0.01, progress=False)
+    np.testing.assert_array_equal(ds.r.sel(R=0.99, nu=0.49).values, one.r.values)
+
+
+def test_interrupted_study_resumes_and_skips_finished_cases(tmp_path, monkeypatch):
+    out = tmp_path / "study.nc"
+    vary = {"gamma": [0.05, 0.1], "psi0": [0.0, 0.02]}
+    calls = []
+    real = study_module.run_scene
+
+    def interrupt_third(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 3:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(study_module, "run_scene", interrupt_third)
+    with pytest.raises(KeyboardInterrupt):
+        study("twisted-cylinder", vary, **SMALL, scheduler="serial", output=out)
+    assert len(list((tmp_path / "study.cases").glob("*.nc"))) == 2 and not out.exists()
+    monkeypatch.setattr(study_module, "run_scene", real)
+    resumed = study("twisted-cylinder", vary, **SMALL, scheduler="serial", output=out)
+    assert (resumed.attrs["n_executed"], resumed.attrs["n_reused"]) == (2, 2)
+    assert (resumed.status == "complete").all()
+    again = study("twisted-cylinder", vary, **SMALL, scheduler="serial", output=out)
+    assert (again.attrs["n_executed"], again.attrs["n_reused"]) == (0, 4)
+    np.testing.assert_array_equal(again.chi.values, resumed.chi.values)
+    back = mol_shell.read_netcdf(out)
+    np.testing.assert_array_equal(back.chi.values, again.chi.values)
+    # a changed setting is a different case: nothing is reused
+    other = study("twisted-cylinder", vary, n=10, t_end=0.001, scheduler="serial", output=out)
+    assert other.attrs["n_executed"] == 4
+
+
+def test_on_an_explicit_dask_cluster():
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        ds = study("spinning-ring", {"omega": [5.0, 10.0], "psi0": [0.0, 0.05]}, **SMALL,
+                   scheduler=cluster.scheduler_address)
+    assert (ds.status == "complete").all() and ds.attrs["scheduler"].startswith("tcp://")
+    assert str(os.getpid()) not in {w.split(":")[1] for w in ds.worker.values.ravel()}
+    L = ds.angular_momentum.isel(time=0)
+    assert float(L.sel(omega=10.0, psi0=0.0)) == pytest.approx(2 * float(L.sel(omega=5.0, psi0=0.0)), rel=1e-12)
+
+
+def test_irregular_design_has_a_case_dimension():
+    ds = study(BASE, [{"nu": 0.3}, {"h": 0.004}, {"nu": 0.45, "h": 0.004}], **SMALL, scheduler="serial")
+    assert ds.r.dims == ("case", "time", "s")
+    np.testing.assert_allclose(ds.nu, [0.3, BASE.nu, 0.45])
+    np.testing.assert_allclose(ds.h, [BASE.h, 0.004, 0.004])
+
+
+def test_vary_ranges_include_the_stop():
+    vary = parse_vary(["gamma=0.02:0.2:0.02", "nu=0.3,0.45,0.49", "material=svk,svk-plane-stress"])
+    assert vary["gamma"] == pytest.approx(np.arange(1, 11) * 0.02) and vary["gamma"][2] == 0.06
+    assert vary["nu"] == [0.3, 0.45, 0.49] and vary["material"] == ["svk", "svk-plane-stress"]
+
+
+def test_command_line(tmp_path, monkeypatch, capsys):
+    from mol_shell import cli
+
+    out = tmp_path / "u.nc"
+    code = cli.main(["study", "unshearable", "--vary", "omega=0,20", "--integrator", "ida", "--n", "8",
+                     "--t-end", "0.005", "--scheduler", "serial", "-o", str(out)])
+    assert code == 0 and "2 cases (2 complete)" in capsys.readouterr().out
+    ds = mol_shell.read_netcdf(out)
+    assert ds.lambda_chi.dims == ("omega", "time", "s_cell")
+    assert float(abs(ds.lambda_chi.sel(omega=0.0)).max()) == 0.0 < float(abs(ds.lambda_chi.sel(omega=20.0)).max())
+    assert float(ds.chi_s_max.max()) < 1e-12 and float(ds.psi_max.max()) == 0.0
+    code = cli.main(["study", "twisted-cylinder", "--vary", "colour=1,2", "--t-end", "0.001", "-o", str(tmp_path / "x.nc")])
+    assert code == 2 and "vary = 'colour' is outside" in capsys.readouterr().err
+    code = cli.main(["study", "twisted-cylinder", "--vary", "nu=0.3,0.6", "--n", "8", "--t-end", "0.001",
+                     "--scheduler", "serial", "-o", str(tmp_path / "f.nc")])
+    assert code == 3 and "1 refused" in capsys.readouterr().out
