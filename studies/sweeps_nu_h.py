@@ -1,0 +1,99 @@
+"""Poisson's ratio and thickness sweeps of the paper's scene (section 6), with mol_shell.study.
+
+nu in {0.3, 0.4, 0.45, 0.49, 0.499} at the paper's h, and h in {1/4, 1/2, 1, 2, 4} x 2 pi 1e-3 m
+at nu = 0.49; gamma = 0.1 rad/m, R(gamma) computed per case, leap-frog with dt = 1e-6 s to
+t = 0.143 s, on N = 40 and N = 160 nodes. Writes out/sweeps_nu_h.nc (amplitudes, dims grid x nu
+and grid x h), the full fields in out/sweep_{nu,h}_n<N>.nc (cases kept for resuming) and
+out/sweeps_nu_h.png; prints markdown tables.
+Usage: python studies/sweeps_nu_h.py [--grids 40,160] [--dt 1e-6]
+"""
+
+import argparse
+import math
+import os
+
+import numpy as np
+import xarray as xr
+
+import mol_shell
+from mol_shell.study import study
+from mol_shell.study_data import summarize
+
+TIMES = np.round(np.arange(0.0, 0.1435, 0.001), 9)
+H0 = 2 * math.pi * 1e-3
+SWEEPS = {"nu": [0.3, 0.4, 0.45, 0.49, 0.499], "h": [H0 * f for f in (0.25, 0.5, 1.0, 2.0, 4.0)]}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--grids", default="40,160")
+    parser.add_argument("--dt", type=float, default=1e-6)
+    args = parser.parse_args()
+    os.makedirs("out", exist_ok=True)
+    grids = [int(n) for n in args.grids.split(",")]
+    summaries = {}
+    for name, values in SWEEPS.items():
+        per_grid = []
+        for n in grids:
+            ds = study(mol_shell.TwistedCylinder(), {name: values}, n=n, times=TIMES, dt=args.dt,
+                       output=f"out/sweep_{name}_n{n}.nc")
+            m = summarize(ds)
+            for extra in ("R", "status", "wall_time_s", "leapfrog_dt_bound_s"):
+                m[extra] = ds[extra]
+            m["chi_end"] = ds.chi.isel(time=-1, s=0)  # chi at s = 0 (an end) at t = 0.143 s
+            per_grid.append(m.expand_dims(grid=[n]))
+            print(f"{name} sweep, N = {n}: {ds.attrs['n_executed']} run, {ds.attrs['n_reused']} reused, "
+                  f"{ds.attrs['study_wall_time_s']:.1f} s")
+        summaries[name] = xr.concat(per_grid, "grid")
+    out = xr.merge([summaries["nu"].rename({k: f"{k}_nu_sweep" for k in summaries["nu"].data_vars}),
+                    summaries["h"].rename({k: f"{k}_h_sweep" for k in summaries["h"].data_vars})],
+                   compat="no_conflicts", join="outer")
+    out.attrs.update(title="mol_shell: nu and h sweeps of the twisted cylinder", gamma=0.1,
+                     source=f"mol_shell {mol_shell.__version__}", t_end=float(TIMES[-1]), dt=args.dt)
+    out.to_netcdf("out/sweeps_nu_h.nc")
+    for name, m in summaries.items():
+        print(f"\n| {name} | N | R [m] | max abs(r - R) [m] | max abs(theta) [rad] | max abs(psi) [rad] "
+              "| psi without node pattern | chi(s=0) at 0.143 s | leap-frog dt bound [s] | status |")
+        print("|---|---|---|---|---|---|---|---|---|---|")
+        for value in SWEEPS[name]:
+            for n in grids:
+                x = m.sel(grid=n, **{name: value})
+                print(f"| {value:.4g} | {n} | {float(x.R):.6f} | {float(x.dr_max):.3e} | {float(x.theta_max):.4f} "
+                      f"| {float(x.psi_max):.2e} | {float(x.psi_smooth_max):.2e} | {float(x.chi_end):+.4f} "
+                      f"| {float(x.leapfrog_dt_bound_s):.3g} | {str(x.status.values)} |")
+    _plot(summaries, grids, "out/sweeps_nu_h.png")
+    print("\nwrote out/sweeps_nu_h.nc, out/sweep_*_n*.nc, out/sweeps_nu_h.png")
+
+
+def _plot(summaries, grids, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.ticker
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 3, figsize=(12, 6.4))
+    for row, (name, m) in enumerate(summaries.items()):
+        x = np.asarray(m[name])
+        for n, style in zip(grids, ("o-", "s--")):
+            sel = m.sel(grid=n)
+            axes[row, 0].plot(x, sel.dr_max, style, label=f"N = {n}")
+            axes[row, 1].plot(x, sel.theta_max, style, label=f"N = {n}")
+            axes[row, 2].plot(x, sel.psi_max, style, label=f"max |psi|, N = {n}")
+            axes[row, 2].plot(x, sel.psi_smooth_max, style, alpha=0.5, label=f"without node pattern, N = {n}")
+        label = "nu" if name == "nu" else "h [m]"
+        for col, ylabel in enumerate(("max |r - R| [m]", "max |theta| [rad]", "max |psi| [rad]")):
+            axes[row, col].set_xlabel(label)
+            axes[row, col].set_ylabel(ylabel)
+            axes[row, col].legend(fontsize=7)
+            if name == "h":
+                axes[row, col].set_xscale("log")
+                axes[row, col].xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    fig.suptitle("twisted cylinder, gamma = 0.1 rad/m, t <= 0.143 s", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()

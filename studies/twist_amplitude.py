@@ -1,0 +1,102 @@
+"""Twist amplitude: gamma against the largest radius change and the psi amplitude (section 6 scene).
+
+A study over gamma = 0.02 .. 0.2 rad/m (the paper's figures fit 0.1) with mol_shell.study, on
+the paper's grid (N = 40) and a finer one (N = 160, which resolves psi; at N = 40 psi is mostly a
+(-1)^i node pattern, see mol_shell.study_data.grid_mode). Every case starts from its own
+equilibrium radius R(gamma) and runs to t = 0.143 s with leap-frog, dt = 1e-6 s. Log-log slopes
+are fitted. Writes out/twist_amplitude.nc (amplitudes; dims grid, gamma), the full fields in
+out/twist_amplitude_n<N>.nc (finished cases kept in out/twist_amplitude_n<N>.cases/, so a rerun
+resumes) and out/twist_amplitude.png.
+Usage: python studies/twist_amplitude.py [--grids 40,160] [--gammas 0.02:0.2:0.02] [--dt 1e-6]
+"""
+
+import argparse
+import os
+
+import numpy as np
+import xarray as xr
+
+import mol_shell
+from mol_shell.study import parse_vary, study
+from mol_shell.study_data import summarize
+
+TIMES = np.round(np.arange(0.0, 0.1435, 0.001), 9)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--grids", default="40,160")
+    parser.add_argument("--gammas", default="0.02:0.2:0.02")
+    parser.add_argument("--dt", type=float, default=1e-6)
+    args = parser.parse_args()
+    os.makedirs("out", exist_ok=True)
+    gammas = parse_vary([f"gamma={args.gammas}"])["gamma"]
+    grids = [int(n) for n in args.grids.split(",")]
+    summaries = []
+    for n in grids:
+        ds = study(mol_shell.TwistedCylinder(), {"gamma": gammas}, n=n, times=TIMES, dt=args.dt,
+                   output=f"out/twist_amplitude_n{n}.nc")
+        m = summarize(ds)
+        m["R"] = ds.R
+        m["status"] = ds.status
+        m["wall_time_s"] = ds.wall_time_s
+        summaries.append(m.expand_dims(grid=[n]))
+        print(f"N = {n}: {ds.attrs['n_executed']} cases run, {ds.attrs['n_reused']} reused, "
+              f"{ds.attrs['study_wall_time_s']:.1f} s")
+    out = xr.concat(summaries, "grid")
+    out.grid.attrs.update(long_name="nodes in s", units="1")
+    out.attrs.update(title="mol_shell: twist amplitude gamma against radius change and psi amplitude",
+                     source=f"mol_shell {mol_shell.__version__}", t_end=float(TIMES[-1]), dt=args.dt)
+    out.to_netcdf("out/twist_amplitude.nc")
+    slopes = {}
+    g = np.log(np.asarray(gammas))
+    for n in grids:
+        for name in ("dr_max", "theta_max", "psi_max", "psi_smooth_max"):
+            slopes[n, name] = np.polyfit(g, np.log(out[name].sel(grid=n).values), 1)[0]
+    print("| gamma [rad/m] | R [m] | " + " | ".join(f"max abs(r - R), N = {n} [m] | max abs(psi), N = {n} [rad] "
+                                                   f"| psi without node pattern, N = {n}" for n in grids) + " |")
+    print("|---|---|" + "---|---|---|" * len(grids))
+    for i, gamma in enumerate(gammas):
+        row = f"| {gamma:g} | {float(out.R.isel(grid=0, gamma=i)):.6f} |"
+        for n in grids:
+            x = out.sel(grid=n).isel(gamma=i)
+            row += f" {float(x.dr_max):.3e} | {float(x.psi_max):.3e} | {float(x.psi_smooth_max):.3e} |"
+        print(row)
+    for n in grids:
+        print(f"N = {n}: log-log slopes against gamma: max|r - R| {slopes[n, 'dr_max']:.2f}, max|theta| "
+              f"{slopes[n, 'theta_max']:.2f}, max|psi| {slopes[n, 'psi_max']:.2f}, psi without node pattern "
+              f"{slopes[n, 'psi_smooth_max']:.2f}")
+    _plot(out, gammas, grids, "out/twist_amplitude.png")
+    print("wrote out/twist_amplitude.nc, out/twist_amplitude_n*.nc, out/twist_amplitude.png")
+
+
+def _plot(out, gammas, grids, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.ticker
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+    g = np.asarray(gammas)
+    for n, style in zip(grids, ("o-", "s--", "^:")):
+        axes[0].loglog(g, out.dr_max.sel(grid=n), style, label=f"N = {n}")
+        axes[1].loglog(g, out.psi_max.sel(grid=n), style, label=f"max |psi|, N = {n}")
+        axes[1].loglog(g, out.psi_smooth_max.sel(grid=n), style, alpha=0.5, label=f"without node pattern, N = {n}")
+    ref = out.dr_max.sel(grid=grids[-1]).values[-1] * (g / g[-1]) ** 2
+    axes[0].loglog(g, ref, "k:", lw=0.8, label=r"$\propto\gamma^2$")
+    axes[0].set_xlabel(r"$\gamma$ [rad/m]")
+    axes[0].set_ylabel(r"max $|r - R|$ over s and t [m]")
+    axes[1].set_xlabel(r"$\gamma$ [rad/m]")
+    axes[1].set_ylabel(r"max $|\psi|$ [rad]")
+    for ax in axes:
+        ax.legend(fontsize=7)
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    fig.suptitle("twisted cylinder, t <= 0.143 s", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()
