@@ -1,0 +1,138 @@
+"""Cost of the implicit integrators against the grid size n, up to n = 10,240.
+
+Two cases of the paper scene, saved at [0, t_end]:
+
+* ``viscous`` (eta_mu = 1000 Pa s, eta_lambda = 2000 Pa s, t_end = 0.01 s): the twist front is
+  smoothed by viscosity, so the number of BDF steps hardly depends on n, while the explicit bound
+  shrinks like ds^2 (leap-frog is refused: its parasitic root grows the damped modes);
+* ``elastic`` (the paper's material, t_end = 0.002 s): the front released at the free ends stays
+  as sharp as the grid, so accuracy asks for steps ~ 1/ds, as for leap-frog's CFL bound.
+
+For each: steps, Jacobian evaluations, wall time of the integration (graph built, compiled code
+cached), time per step and per simulated second, the fitted exponent of cost against n, and
+leap-frog at half its stability bound (elastic case) for comparison. Writes out/implicit_scaling.nc,
+.png and .md.
+Usage: python studies/implicit_scaling.py [--sizes 40,160,640,2560,10240] [--integrators cvode-bdf,ida]
+"""
+
+import argparse
+import os
+import time
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+import mol_shell  # noqa: E402
+
+CASES = {
+    "viscous": (mol_shell.TwistedCylinder(eta_mu=1000.0, eta_lambda=2000.0), 0.01),
+    "elastic": (mol_shell.TwistedCylinder(), 0.002),
+}
+STATS = ("n_steps", "n_jac", "wall_time_s", "wall_per_step_s", "wall_per_sim_second_s", "dt_bound_s")
+
+
+def measure(scene, integrator, n, t_end):
+    options = {"rtol": 1e-6, "atol": 1e-9} if integrator != "leapfrog" else {}
+    if integrator == "leapfrog":  # half the bound, the step count rounded up
+        ds0 = mol_shell.simulate(scene, "cvode-bdf", n=n, times=[0.0, 1e-9], progress=False)
+        dt = 0.5 * ds0.attrs["leapfrog_dt_bound_s"]
+        options["dt"] = t_end / np.ceil(t_end / dt)
+    ds = mol_shell.simulate(scene, integrator, n=n, times=[0.0, t_end], progress=False, **options)
+    a = ds.attrs
+    if a["status"] != "complete":
+        raise RuntimeError(f"{integrator} n={n}: {a['message']}")
+    return {"n_steps": a["n_steps"], "n_jac": a.get("n_jac", 0), "wall_time_s": a["wall_time_s"],
+            "wall_per_step_s": a["wall_time_s"] / a["n_steps"], "wall_per_sim_second_s": a["wall_time_s"] / t_end,
+            "dt_bound_s": a["leapfrog_dt_bound_s"]}
+
+
+def slope(n, cost):
+    ok = np.isfinite(cost)
+    return float(np.polyfit(np.log(n[ok]), np.log(cost[ok]), 1)[0]) if ok.sum() >= 2 else float("nan")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--sizes", default="40,160,640,2560,10240")
+    parser.add_argument("--integrators", default="cvode-bdf,ida")
+    parser.add_argument("--output", default=os.path.join("out", "implicit_scaling.nc"))
+    args = parser.parse_args()
+    sizes = [int(v) for v in args.sizes.split(",")]
+    runs = {"viscous": args.integrators.split(","), "elastic": args.integrators.split(",") + ["leapfrog"]}
+    methods = list(dict.fromkeys(m for ms in runs.values() for m in ms))
+    data = {k: np.full((len(CASES), len(methods), len(sizes)), np.nan) for k in STATS}
+    for c, (case, (scene, t_end)) in enumerate(CASES.items()):
+        for m, method in enumerate(methods):
+            if method not in runs[case]:
+                continue
+            for k, n in enumerate(sizes):
+                start = time.perf_counter()
+                row = measure(scene, method, n, t_end)
+                for key, value in row.items():
+                    data[key][c, m, k] = value
+                print(f"{case:8s} {method:10s} n={n:6d} steps={row['n_steps']:7d} wall={row['wall_time_s']:8.3f} s "
+                      f"({1e3 * row['wall_per_step_s']:.3f} ms/step; {time.perf_counter() - start:.1f} s with set-up)", flush=True)
+    units = {"n_steps": "1", "n_jac": "1", "wall_time_s": "s", "wall_per_step_s": "s", "wall_per_sim_second_s": "s",
+             "dt_bound_s": "s"}
+    ds = xr.Dataset({k: (("case", "integrator", "n"), v, {"units": units[k]}) for k, v in data.items()},
+                    coords={"case": list(CASES), "integrator": methods, "n": sizes})
+    ds.attrs.update({"title": "mol_shell: cost of the integrators against n", "t_end_viscous": CASES["viscous"][1],
+                     "t_end_elastic": CASES["elastic"][1], "rtol": 1e-6, "atol": 1e-9,
+                     "source": f"mol_shell {mol_shell.__version__}, studies/implicit_scaling.py"})
+    os.makedirs(os.path.dirname(args.output) or ".", exist_ok=True)
+    ds.to_netcdf(args.output)
+    stem = args.output.rsplit(".", 1)[0]
+    table = markdown(ds)
+    with open(stem + ".md", "w") as fh:
+        fh.write(table + "\n")
+    plot(ds, stem + ".png")
+    print(table)
+    return ds
+
+
+def markdown(ds):
+    n = ds.n.values
+    lines = ["| case | integrator | " + " | ".join(f"n={v}" for v in n) + " | exponent of cost per sim. s | exponent of cost per step |",
+             "|---|---|" + "---|" * len(n) + "---|---|"]
+    for case in ds.case.values:
+        for method in ds.integrator.values:
+            x = ds.sel(case=case, integrator=method)
+            cost = x.wall_per_sim_second_s.values
+            if np.all(np.isnan(cost)):
+                continue
+            cells = [f"{c:.3g} s ({int(s)} steps)" if np.isfinite(c) else "" for c, s in zip(cost, x.n_steps.values)]
+            lines.append(f"| {case} | {method} | " + " | ".join(cells)
+                         + f" | {slope(n, cost):.2f} | {slope(n, x.wall_per_step_s.values):.2f} |")
+    lines.append("")
+    lines.append("Cells: wall time per simulated second (steps taken). Exponent: least-squares slope of log cost against log n.")
+    return "\n".join(lines)
+
+
+def plot(ds, path):
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), sharey=True)
+    n = ds.n.values.astype(float)
+    for ax, case in zip(axes, ds.case.values):
+        for method in ds.integrator.values:
+            cost = ds.wall_per_sim_second_s.sel(case=case, integrator=method).values
+            if np.any(np.isfinite(cost)):
+                ax.loglog(n, cost, "o-", label=method)
+        ref = ds.wall_per_sim_second_s.sel(case=case).values
+        base = np.nanmin(ref[:, 0]) if np.any(np.isfinite(ref[:, 0])) else 1.0
+        ax.loglog(n, base * n / n[0], "k:", label="~ n")
+        ax.loglog(n, base * (n / n[0]) ** 2, "k--", label="~ n^2")
+        ax.set_title(f"{case} (t_end = {ds.attrs['t_end_' + str(case)]} s)")
+        ax.set_xlabel("nodes n")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("wall time per simulated second [s]")
+    axes[0].legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+if __name__ == "__main__":
+    main()
