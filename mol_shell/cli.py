@@ -100,6 +100,30 @@ def _positive_float(name):
     return convert
 
 
+def parse_atol(text):
+    """``--atol``: one number, or ``FIELD=VALUE,...`` per field (the others keep the default 1e-9)."""
+    from .model.kinematics import FIELDS
+
+    allowed = f"(0, inf), or FIELD=VALUE,... with FIELD in {{{', '.join(FIELDS)}}}"
+    if "=" not in text:
+        try:
+            return _positive_float("--atol")(text)
+        except argparse.ArgumentTypeError:
+            raise argparse.ArgumentTypeError(f"--atol = {text!r} is outside {allowed}") from None
+    out = {}
+    for item in text.split(","):
+        name, _, value = item.partition("=")
+        name = name.strip()
+        try:
+            number = float(value)
+        except ValueError:
+            number = float("nan")
+        if name not in FIELDS or not (np.isfinite(number) and number > 0):
+            raise argparse.ArgumentTypeError(f"--atol = {text!r} is outside {allowed}")
+        out[name] = number
+    return out
+
+
 def make_parser():
     from .integrators import INTEGRATORS
     from .scenes import SCENES
@@ -115,7 +139,8 @@ def make_parser():
     run.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
     run.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
     run.add_argument("--rtol", type=_positive_float("--rtol"), default=None, help="relative tolerance (adaptive integrators)")
-    run.add_argument("--atol", type=_positive_float("--atol"), default=None, help="absolute tolerance (adaptive integrators)")
+    run.add_argument("--atol", type=parse_atol, default=None,
+                     help="absolute tolerance (adaptive integrators): one value, or per field as r=1e-9,theta=1e-10")
     run.add_argument("--max-step", type=_positive_float("--max-step"), default=None, help="largest step, s (adaptive)")
     run.add_argument("-o", "--output", required=True, help="netCDF file to write")
     run.set_defaults(func=cmd_run)

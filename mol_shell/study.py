@@ -387,7 +387,7 @@ def cmd_study(args):
 
 def register(subparsers):
     """Add ``mol-shell study`` to the command line."""
-    from .cli import _positive_float
+    from .cli import _positive_float, parse_atol
 
     p = subparsers.add_parser("study", help="run a parameter study (product of --vary values) and write one netCDF")
     p.add_argument("scene", help="a registered scene, or unshearable")
@@ -399,7 +399,7 @@ def register(subparsers):
     p.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
     p.add_argument("--dt", type=_positive_float("--dt"), default=None, help="leap-frog step, s (default 1e-6)")
     p.add_argument("--rtol", type=_positive_float("--rtol"), default=None)
-    p.add_argument("--atol", type=_positive_float("--atol"), default=None)
+    p.add_argument("--atol", type=parse_atol, default=None, help="one value, or per field as r=1e-9,theta=1e-10")
     p.add_argument("--max-step", type=_positive_float("--max-step"), default=None)
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="base scene parameter, repeatable")
     p.add_argument("--scheduler", default=None, help="dask.distributed scheduler address (default: local processes)")

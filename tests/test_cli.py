@@ -28,6 +28,9 @@ BAD = [
     (["run", "twisted-cylinder", "--times", "0.01,0"], "times"),
     (["run", "twisted-cylinder", "--times", "0,0.0000015"], "times"),
     (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "euler"], "integrator"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "cvode-bdf", "--atol", "0"], "--atol"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "cvode-bdf", "--atol", "q=1e-9"], "--atol"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "cvode-bdf", "--atol", "r=-1"], "--atol"),
 ]
 
 
@@ -40,6 +43,15 @@ def test_bad_input_names_the_parameter(argv, name, tmp_path, capsys):
     assert f"{name} = " in err or f"argument {name}" in err
     assert "outside" in err
     assert not (tmp_path / "x.nc").exists()
+
+
+def test_per_field_atol_reaches_the_integrator(tmp_path):
+    out = tmp_path / "a.nc"
+    code = main(["run", "twisted-cylinder", "--t-end", "0.002", "--integrator", "cvode-bdf", "--rtol", "1e-6",
+                 "--atol", "r=1e-8,theta=1e-10", "-o", str(out)])
+    assert code == 0
+    atol = [float(v) for v in read_netcdf(out).attrs["atol"].split(",")]  # stored per field as text
+    np.testing.assert_allclose(atol, [1e-9, 1e-8, 1e-9, 1e-10, 1e-9])  # z, r, chi, theta, psi
 
 
 def test_times_ranges_include_the_end():
