@@ -33,6 +33,10 @@ class Case:
     t_end: float = 0.01
 
 
+#: saved times per run (the energy balance of viscous runs is integrated on them)
+SAVED = 100
+
+
 def default_cases(base=None, quick=False):
     """The issue's set: paper scene, viscosity, near-incompressibility, thin shells, large twist, spin, fine grids."""
     base = base or TwistedCylinder()
@@ -96,7 +100,7 @@ def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, ato
         if name not in INTEGRATORS:
             continue
         key = name.replace("-", "_")
-        options = {"dt": 0.5 * bound} if name == "leapfrog" else {"rtol": rtol, "atol": atol}
+        options = {"dt": _leapfrog_step(case, 0.5 * bound)} if name == "leapfrog" else {"rtol": rtol, "atol": atol}
         start = time.perf_counter()
         try:
             ds = simulate(scene, name, n=case.n, times=_times(case, options), progress=False, **options)
@@ -112,13 +116,14 @@ def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, ato
     return row
 
 
-def _times(case, options, saved=100):
-    """``saved + 1`` times to ``t_end`` (on leap-frog's step grid): the dissipated energy is integrated on them."""
-    if "dt" in options:
-        k = max(saved, int(round(case.t_end / options["dt"])))
-        k -= k % saved
-        return np.linspace(0.0, k * options["dt"], saved + 1)
+def _times(case, options, saved=SAVED):
+    """``saved + 1`` times to ``t_end``: the dissipated energy is integrated on them."""
     return np.linspace(0.0, case.t_end, saved + 1)
+
+
+def _leapfrog_step(case, dt_max, saved=SAVED):
+    """The largest step <= ``dt_max`` that puts every saved time on the step grid."""
+    return case.t_end / (saved * math.ceil(case.t_end / (saved * dt_max)))
 
 
 def _dissipated(ds):
