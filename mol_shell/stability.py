@@ -153,14 +153,16 @@ def report(cases, **kwargs):
     return ds
 
 
-def markdown_table(ds):
-    """The report as a markdown table (columns that exist)."""
-    cols = [
-        ("n", "n", "{:d}"), ("omega_max", "max abs(eig) [1/s]", "{:.3g}"), ("damping_max", "max damping [1/s]", "{:.3g}"),
-        ("stiffness_ratio", "stiffness ratio", "{:.3g}"), ("leapfrog_dt_bound", "LF dt bound [s]", "{:.3g}"),
-        ("leapfrog_dt_stable", "LF dt stable (bisection) [s]", "{:.3g}"),
-    ]
-    for name in ("leapfrog", "cvode_bdf", "ida"):
+def markdown_table(ds, integrators=("leapfrog", "cvode_bdf", "ida"), spectrum=True):
+    """The report as a markdown table (columns that exist): the spectrum and each integrator's run."""
+    cols = [("n", "n", "{:d}")]
+    if spectrum:
+        cols += [
+            ("omega_max", "max abs(eig) [1/s]", "{:.3g}"), ("damping_max", "max damping [1/s]", "{:.3g}"),
+            ("stiffness_ratio", "stiffness ratio", "{:.3g}"), ("leapfrog_dt_bound", "LF dt bound [s]", "{:.3g}"),
+            ("leapfrog_dt_stable", "LF dt stable (bisection) [s]", "{:.3g}"),
+        ]
+    for name in integrators:
         cols += [(f"{name}_status", f"{name} status", "{}"), (f"{name}_steps", f"{name} steps", "{:.0f}"),
                  *([(f"{name}_failures", f"{name} failed steps", "{:.0f}")] if name != "leapfrog" else []),
                  (f"{name}_wall_s", f"{name} wall [s]", "{:.3g}"), (f"{name}_energy_error", f"{name} energy err", "{:.2g}")]
