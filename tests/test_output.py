@@ -71,3 +71,29 @@ def test_ctrl_c_keeps_the_saved_times():
     assert len(traj.t) == 5  # 9 chunks of 50 steps of 1e-5 s: saved 0 .. 0.004 s
     assert traj.failure_time == pytest.approx(0.0045)
     assert np.all(np.isfinite(traj.y))
+
+
+def test_overflow_inside_a_chunk_never_reaches_the_file(tmp_path):
+    """A step 3x beyond the bound: the fastest mode grows ~5.8x per step, so by the end of the first
+    1,000-step chunk the state has overflowed to inf/NaN. The chunk is redone step by step, the
+    first step whose energy grew is named, and the file holds only finite saved states."""
+    from mol_shell.output import build_dataset
+    from mol_shell.simulate import observe
+
+    scene = resolve(mol_shell.TwistedCylinder())
+    system, compiled = build(scene, 20)
+    y0 = system.initial_state(scene)
+    dt = 3.0 / np.abs(np.linalg.eigvals(np.array(system.jac(0, y0)))).max()
+    times = dt * np.arange(0, 20001, 1000)
+    chunk_end = y0.copy(), y0 + dt * np.array(compiled.evaluator()(y0))
+    compiled.leapfrog(*chunk_end, 1000, dt)
+    assert not np.all(np.isfinite(chunk_end[1]))  # what an unchecked run would have saved
+    traj = Leapfrog(dt=dt, chunk=2000).integrate(system, compiled, y0, times)
+    assert traj.status in ("unstable", "limit") and ("non-finite" in traj.message or "energy grew" in traj.message)
+    velocities, totals = observe(system, traj.y)
+    ds = build_dataset(system, scene, traj, velocities, totals, {"integrator": "leapfrog", "dt": dt})
+    mol_shell.write_netcdf(ds, tmp_path / "blown.nc")
+    back = mol_shell.read_netcdf(tmp_path / "blown.nc")
+    assert back.attrs["complete"] == 0 and back.attrs["status"] == traj.status
+    for name in ("r", "chi", "energy"):
+        assert np.all(np.isfinite(back[name].values))
