@@ -11,7 +11,7 @@ The residual is the balance of momentum as it stands, without inverting the mass
   potential (section 3) when the scene is viscous.
 
 ``T`` is the lumped kinetic energy built from :func:`~mol_shell.model.kinematics.kinetic_energy_density`
-and ``V`` the stored energy of :meth:`ShellSystem.potential`; both come from the same cell and node
+and ``V`` the stored energy of :class:`ShellSystem`; both come from the same cell and node
 kernels as the ODE right-hand side (here mapped over the grid, as in ``ShellSystem._build``, so the
 graph and its compiled Jacobian stay small whatever ``n``). At the ends ``z`` and ``theta`` are fixed:
 their rows read ``q_t - v = 0`` and ``m v_t = 0`` (``v`` stays 0).
@@ -57,7 +57,7 @@ class ShellDAE:
         inertial = ca.jtimes(p, q, qt) + ca.jtimes(p, v, vt) - ca.gradient(T, q)
         mass = 2 * math.pi * sy.r0 * w * sy.rho_a  # scale of the rows of fixed rates: m v_t = 0
         rows = [inertial[k] if k in free else mass * vt[k] for k in range(NF)]
-        return ca.Function("node_residual", [q, v, qt, vt, w], [ca.vertcat(*rows)])
+        return ca.Function("node_residual", [q, v, qt, vt, w], [ca.vertcat(*rows)], self.system.KERNEL_OPTIONS)
 
     def _build(self):
         sy = self.system
@@ -75,11 +75,11 @@ class ShellDAE:
         Q, V, QT, VT = fields(X, 0), fields(X, nf), fields(XP, 0), fields(XP, nf)
         free = ca.DM((~sy.fixed.T).astype(float))
         V = V * free  # fixed rates enter nowhere (they stay 0)
-        _, gl, gr, _ = sy._cell_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:])  # the kernel of ShellSystem.potential
+        gl, gr = sy.cell_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:])  # the stored energy of ShellSystem
         pad = ca.MX.zeros(NF, 1)
         forces = ca.horzcat(gl, pad) + ca.horzcat(pad, gr)  # dV/dq
         if sy.viscous:
-            _, fl, fr = sy._viscous_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:])
+            fl, fr = sy.viscous_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:])
             forces = forces + ca.horzcat(fl, pad) + ca.horzcat(pad, fr)  # dD/dv
         interior = self._node_residual(active)
         end = self._node_residual([k for k in active if k not in FIXED_AT_ENDS])

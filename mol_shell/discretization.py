@@ -4,9 +4,16 @@ The continuum Lagrangian ``2 pi r0 int (T - What) ds`` (section 7) is discretise
 on ``n`` equally spaced nodes of ``[0, L]`` with a staggered (cell-centred) energy:
 
 * nodal unknowns ``q_i = (z, r, chi, theta, psi)(s_i)`` and their momenta ``p_i``;
-* stored energy ``V = 2 pi r0 sum_cells ds What(q_s, q_mid)`` with the strains of cell
-  ``[s_i, s_{i+1}]`` taken as ``(q_{i+1} - q_i)/ds`` and the values as the midpoint
-  averages (one-point rule: second order, and free of shear locking);
+* stored energy ``V = 2 pi r0 sum_cells ds/2 [What(q_s, r_mid, theta_mid, psi_i) + What(q_s, r_mid,
+  theta_mid, psi_{i+1})]``: the strains of cell ``[s_i, s_{i+1}]`` are the differences
+  ``(q_{i+1} - q_i)/ds``, ``r`` and ``theta`` their midpoint averages (one-point rule: second order,
+  and free of shear locking in ``theta``), and ``psi`` is sampled at the two nodes (trapezoidal
+  rule, also second order). A midpoint ``psi`` would leave the node-to-node pattern
+  ``psi_i = (-1)^i eps`` without its zero-order (transverse-shear) stiffness: a spurious mode of
+  frequency ``(2/ds) sqrt(mu/rho)`` (357 rad/s at n = 40), degenerate with the shortest torsional
+  waves and strongly excited by them. Sampled at the nodes it sits above the physical shear
+  frequency (5,063 against 5,050 rad/s). ``psi -> 0`` is a pointwise constraint in the thin limit,
+  so the nodal rule adds no locking;
 * kinetic energy lumped at nodes with trapezoidal weights ``ds`` (``ds/2`` at the ends).
 
 Hamilton's equations ``q_t = M(q)^{-1} p``, ``p_t = dT/dq|_v - dV/dq`` are an
@@ -32,7 +39,9 @@ import numpy as np
 
 from .model.kinematics import FIELDS as FIELD_NAMES
 from .model.kinematics import delta, kinetic_energy_density
-from .model.material import Thickness, centroidal_offset, effective_lame, inertias, shell_dissipation, shell_energy
+from .model.material import (
+    Thickness, centroidal_offset, condensed, effective_lame, inertias, shell_dissipation, shell_energy,
+)
 
 NF = 5  # fields of the model (z, r, chi, theta, psi)
 FIXED_AT_ENDS = (0, 3)  # z and theta are prescribed at s = 0 and s = L
@@ -70,6 +79,7 @@ class ShellSystem:
         self.s = np.linspace(0.0, scene.L, self.n)
         self.r0 = 1.0
         self.lam, self.mu = effective_lame(scene.E, scene.nu, scene.material)
+        self.eta_lambda, self.eta_mu = condensed(scene.eta_lambda, scene.eta_mu, scene.material)
         self.viscous = scene.eta_lambda > 0 or scene.eta_mu > 0
         zeta1 = centroidal_offset(scene.h, self.r0) if scene.zeta1 is None else scene.zeta1
         self.thickness = Thickness(zeta1, scene.h, scene.n_quad)
@@ -84,30 +94,61 @@ class ShellSystem:
         self._build()
 
     # -- kernels -------------------------------------------------------------------------
-    def _cell_kernel(self):
-        """``(q_left, q_right) -> (V_cell, dV/dq_left, dV/dq_right, delta_cell)``."""
-        ql, qr = ca.SX.sym("ql", NF), ca.SX.sym("qr", NF)
-        strains = self._cell_strains(ql, qr)
-        energy = 2 * math.pi * self.r0 * self.ds * shell_energy(strains, self.lam, self.mu, self.thickness, self.r0)
-        z_s, r_s, _, _, _, r, theta, psi = strains
-        d_cell = delta(z_s, r_s, r, theta, psi)
-        return ca.Function(
-            "cell", [ql, qr], [energy, ca.gradient(energy, ql), ca.gradient(energy, qr), d_cell]
-        )
+    #: CasADi differentiates a mapped kernel through the kernel's own Jacobian instead of one
+    #: forward sweep per colour of the whole Jacobian (15-18 at n = 40): the generated C of the
+    #: exact Jacobian is 2.5x smaller and gcc needs 3.2 s instead of 10.8 s for the cell part
+    KERNEL_OPTIONS = {"enable_forward": False}
 
-    def _cell_strains(self, ql, qr):
+    def cell_energy(self, ql, qr):
+        """Stored energy of the cell ``[s_i, s_{i+1}]``: ``2 pi r0 ds`` times the mean of ``What`` at its samples."""
+        samples = self.cell_samples(ql, qr)
+        area = 2 * math.pi * self.r0 * self.ds / len(samples)
+        return sum(area * shell_energy(e, self.lam, self.mu, self.thickness, self.r0) for e in samples)
+
+    def cell_samples(self, ql, qr):
+        """Strains ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)`` at the two samples of a cell.
+
+        Differences for the derivatives, midpoint averages for ``r`` and ``theta``, and ``psi``
+        at the left and at the right node (see the module's docstring). Linear in ``(ql, qr)``,
+        so the same map turns nodal rates into the samples' strain rates.
+        """
         grad = (qr - ql) / self.ds
         mid = (qr + ql) / 2
-        return (grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], mid[4])
+        return tuple((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], node[4]) for node in (ql, qr))
 
-    def _viscous_kernel(self):
-        """``(q_left, q_right, v_left, v_right) -> (D_cell, dD/dv_left, dD/dv_right)``: Kelvin-Voigt."""
+    def cell_forces_kernel(self):
+        """``(q_left, q_right) -> (dV/dq_left, dV/dq_right)``: the cell's elastic forces on its nodes."""
+        ql, qr = ca.SX.sym("ql", NF), ca.SX.sym("qr", NF)
+        energy = self.cell_energy(ql, qr)
+        return ca.Function("cell", [ql, qr], [ca.gradient(energy, ql), ca.gradient(energy, qr)], self.KERNEL_OPTIONS)
+
+    def _cell_observables(self):
+        """``(q_left, q_right) -> (V_cell, delta at the cell's two samples)``."""
+        ql, qr = ca.SX.sym("ql", NF), ca.SX.sym("qr", NF)
+        deltas = [delta(z_s, r_s, r, theta, psi) for z_s, r_s, _, _, _, r, theta, psi in self.cell_samples(ql, qr)]
+        return ca.Function("cell_observables", [ql, qr], [self.cell_energy(ql, qr), ca.vertcat(*deltas)])
+
+    def cell_delta(self):
+        """``(q_left, q_right) -> delta = r beta1 cos(psi)`` at the cell's two samples (the model needs it > 0)."""
+        ql, qr = ca.SX.sym("ql", NF), ca.SX.sym("qr", NF)
+        return ca.Function("cell_delta", [ql, qr], [self._cell_observables()(ql, qr)[1]])
+
+    def cell_dissipation(self, ql, qr, vl, vr):
+        """Rayleigh function of the cell (Kelvin-Voigt), sampled like :meth:`cell_energy`; ``2 D`` is its power."""
+        pairs = zip(self.cell_samples(ql, qr), self.cell_samples(vl, vr))
+        area = 2 * math.pi * self.r0 * self.ds / 2
+        return sum(area * shell_dissipation(e, e_t, self.eta_lambda, self.eta_mu, self.thickness, self.r0)
+                   for e, e_t in pairs)
+
+    def viscous_forces_kernel(self):
+        """``(q_left, q_right, v_left, v_right) -> (dD/dv_left, dD/dv_right)``: the cell's viscous forces."""
         ql, qr, vl, vr = (ca.SX.sym(name, NF) for name in ("ql", "qr", "vl", "vr"))
-        sc = self.scene
-        D = 2 * math.pi * self.r0 * self.ds * shell_dissipation(
-            self._cell_strains(ql, qr), self._cell_strains(vl, vr), sc.eta_lambda, sc.eta_mu, self.thickness, self.r0
-        )
-        return ca.Function("viscous", [ql, qr, vl, vr], [D, ca.gradient(D, vl), ca.gradient(D, vr)])
+        D = self.cell_dissipation(ql, qr, vl, vr)
+        return ca.Function("viscous", [ql, qr, vl, vr], [ca.gradient(D, vl), ca.gradient(D, vr)], self.KERNEL_OPTIONS)
+
+    def _viscous_power(self):
+        ql, qr, vl, vr = (ca.SX.sym(name, NF) for name in ("ql", "qr", "vl", "vr"))
+        return ca.Function("viscous_power", [ql, qr, vl, vr], [2 * self.cell_dissipation(ql, qr, vl, vr)])
 
     def _node_kernel(self, free):
         """``(q, p, w) -> (v, dT/dq at fixed v, T)`` for a node whose free rates are ``free``."""
@@ -123,26 +164,9 @@ class ShellSystem:
         T_p = ca.substitute(T, vf, v_of_p)
         v_full = ca.SX.zeros(NF)
         v_full[free] = v_of_p
-        return ca.Function("node", [q, p, w], [v_full, dTdq, T_p])
+        return ca.Function("node", [q, p, w], [v_full, dTdq, T_p], self.KERNEL_OPTIONS)
 
     # -- assembly ------------------------------------------------------------------------
-    def potential(self, Q):
-        """Stored energy of nodal fields ``Q`` (SX, ``5 x n``).
-
-        Returns ``(V, dV/dq per node (list of 5-vectors), delta per cell (list))``.
-        """
-        cell = self._cell_kernel()
-        V = 0
-        dVdq = [ca.SX.zeros(NF) for _ in range(self.n)]
-        deltas = []
-        for i in range(self.n - 1):
-            e, gl, gr, dc = cell(Q[:, i], Q[:, i + 1])
-            V += e
-            dVdq[i] += gl
-            dVdq[i + 1] += gr
-            deltas.append(dc)
-        return V, dVdq, deltas
-
     def _build(self):
         """Assemble the RHS from per-cell and per-node kernels mapped over the grid (MX).
 
@@ -158,8 +182,8 @@ class ShellSystem:
         zero_row = ca.MX.zeros(1, n)
         Q = ca.vertcat(*[Y[active.index(k), :] if k in active else zero_row for k in range(NF)])
         P = ca.vertcat(*[Y[nf + active.index(k), :] if k in active else zero_row for k in range(NF)])
-        cell = self._cell_kernel()
-        energies, gl, gr, deltas = cell.map(n - 1)(Q[:, :-1], Q[:, 1:])
+        cell = self.cell_forces_kernel()
+        gl, gr = cell.map(n - 1)(Q[:, :-1], Q[:, 1:])
         pad = ca.MX.zeros(NF, 1)
         dVdq = ca.horzcat(gl, pad) + ca.horzcat(pad, gr)
         interior = self._node_kernel(active)
@@ -171,19 +195,20 @@ class ShellSystem:
         forces = ca.horzcat(f0, fi, fn) - dVdq
         dissipation = 0
         if self.viscous:
-            D, fl, fr = self._viscous_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:])
+            fl, fr = self.viscous_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:])
             forces = forces - ca.horzcat(fl, pad) - ca.horzcat(pad, fr)
-            dissipation = 2 * ca.sum2(D)
+            dissipation = ca.sum2(self._viscous_power().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:]))
         forces = forces * ca.DM((~self.fixed.T).astype(float))
         ydot = ca.vec(ca.vertcat(V[active, :], forces[active, :]))
         kinetic = ca.sum2(ti) + t0 + tn
+        energies, deltas = self._cell_observables().map(n - 1)(Q[:, :-1], Q[:, 1:])
         stored = ca.sum2(energies)
         t = ca.MX.sym("t")
         rhs = ca.Function("rhs", [t, y], [ydot], ["t", "y"], ["ydot"])
         observables = ca.Function(
             "observables",
             [y],
-            [V, kinetic, stored, ca.sum2(P[2, :]), deltas.T, dissipation],
+            [V, kinetic, stored, ca.sum2(P[2, :]), ca.vec(deltas), dissipation],
             ["y"],
             ["v", "kinetic", "stored", "angular_momentum", "delta", "dissipation"],
         )

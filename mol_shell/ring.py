@@ -34,7 +34,9 @@ from scipy.integrate import solve_ivp
 
 from . import __version__
 from .model.kinematics import delta, kinetic_energy_density
-from .model.material import Thickness, centroidal_offset, effective_lame, inertias, shell_dissipation, shell_energy
+from .model.material import (
+    Thickness, centroidal_offset, condensed, effective_lame, inertias, shell_dissipation, shell_energy,
+)
 from .output import FIELD_META, RATE_UNITS, REFERENCE, _attr
 from .scenes import UNITS
 
@@ -104,7 +106,8 @@ def ring_system(scene):
     dissipation = ca.SX(0)
     if viscous:
         rates = (0.0, 0.0, 0.0, 0.0, 0.0, r_t, 0.0, psi_t)
-        D = shell_dissipation(strains, rates, scene.eta_lambda, scene.eta_mu, thickness, r0)
+        eta_lambda, eta_mu = condensed(scene.eta_lambda, scene.eta_mu, scene.material)
+        D = shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0)
         forces -= ca.substitute(ca.gradient(D, v), v, v_of_p)
         dissipation = ca.substitute(2 * D, v, v_of_p)
     t, y = ca.SX.sym("t"), ca.SX.sym("y", 6)

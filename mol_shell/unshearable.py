@@ -125,11 +125,11 @@ class UnshearableDAE:
         Q, V, Lc, Lp = Y[:5, :], Y[5:10, :], Y[10, : n - 1], Y[11, :]
         Qp, Vp = YP[:5, :], YP[5:10, :]
         inertial = self._node_kernel().map(n)(Q, V, Qp, Vp, shell.weights[None, :])
-        _, gl, gr, _ = shell._cell_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:])
+        gl, gr = shell.cell_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:])
         pad = ca.SX.zeros(NF, 1)
         generalized = inertial + ca.horzcat(gl, pad) + ca.horzcat(pad, gr)
         if shell.viscous:
-            _, fl, fr = shell._viscous_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:])
+            fl, fr = shell.viscous_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:])
             generalized += ca.horzcat(fl, pad) + ca.horzcat(pad, fr)
         zero = ca.SX.zeros(1, 1)
         constraint = ca.SX.zeros(NF, n)

@@ -39,7 +39,7 @@ class Trajectory:
 
 
 class Monitor:
-    """Checks a state against the model's limits: finite values, ``r > 0``, ``delta > 0``.
+    """Checks a state against the model's limits: finite values, ``|psi| < pi/2``, ``r > 0``, ``delta > 0``.
 
     Parameters
     ----------
@@ -70,15 +70,20 @@ class Monitor:
                 f"non-finite state at t = {t:.9g} s, s = {self.system.s[bad]:.6g} m", t, f"s = {self.system.s[bad]:.6g} m"
             )
         fields = self.system.unpack(y)
+        psi = np.abs(fields[4])
+        if psi.max() >= np.pi / 2:
+            i = int(np.argmax(psi))
+            where = f"s = {self.system.s[i]:.6g} m"
+            raise ModelLimitError(f"|psi| = {psi[i]:.4g} reached pi/2 at t = {t:.9g} s, {where}", t, where)
         r = fields[1]
         if r.min() <= 0:
             i = int(np.argmin(r))
             where = f"s = {self.system.s[i]:.6g} m"
             raise ModelLimitError(f"r = {r[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
         out = self._observe(y)
-        delta = np.asarray(out[4]).ravel()
+        delta = np.asarray(out[4]).ravel()  # two samples per cell, cell by cell
         if delta.min() <= 0:
-            i = int(np.argmin(delta))
+            i = int(np.argmin(delta)) // 2
             where = f"s = {self._cells[i]:.6g} m"
             raise ModelLimitError(f"delta = {delta[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
         energy = float(out[1]) + float(out[2])

@@ -37,7 +37,7 @@ import scipy.sparse as sp  # noqa: E402
 import sksundae  # noqa: E402
 
 from ..errors import ModelLimitError, ParameterError  # noqa: E402
-from ..model.kinematics import FIELDS, delta  # noqa: E402
+from ..model.kinematics import FIELDS  # noqa: E402
 from .base import Monitor, Trajectory  # noqa: E402
 
 #: the scikit-sundae version whose constraint defect the workaround targets (and that passes the tests)
@@ -116,7 +116,7 @@ def _build_pieces(system, kind, jacobian):
 
 
 def events_function(system):
-    """``y -> [delta per cell; r per node; (pi/2)^2 - psi^2 per node]``: all must stay positive.
+    """``y -> [delta at the two samples of each cell; r per node; (pi/2)^2 - psi^2 per node]``: all must stay positive.
 
     ``r > 0`` is also a SUNDIALS constraint, so ``r`` itself never crosses 0: its event is set at
     ``r = atol_r`` instead (the caller subtracts it), where ``r`` is 0 to the accuracy asked for;
@@ -128,10 +128,7 @@ def events_function(system):
     y = ca.MX.sym("y", system.size)
     Y = ca.reshape(y, system.ny, n)
     Q = ca.vertcat(*[Y[active.index(k), :] if k in active else ca.MX.zeros(1, n) for k in range(len(FIELDS))])
-    ql, qr = ca.SX.sym("ql", len(FIELDS)), ca.SX.sym("qr", len(FIELDS))
-    z_s, r_s, _, _, _, r, theta, psi = system._cell_strains(ql, qr)
-    cell = ca.Function("cell_delta", [ql, qr], [delta(z_s, r_s, r, theta, psi)])
-    g = [cell.map(n - 1)(Q[:, :-1], Q[:, 1:]).T, Q[1, :].T]
+    g = [ca.vec(system.cell_delta().map(n - 1)(Q[:, :-1], Q[:, 1:])), Q[1, :].T]
     if 4 in active:
         g.append((np.pi / 2) ** 2 - Q[4, :].T ** 2)
     f = ca.Function("events", [y], [ca.vertcat(*g)])
@@ -140,7 +137,7 @@ def events_function(system):
 
 def event_names(system):
     cells = (system.s[:-1] + system.s[1:]) / 2
-    names = [("delta = r beta1 cos(psi) reached 0", f"s = {s:.6g} m (cell centre)") for s in cells]
+    names = [("delta = r beta1 cos(psi) reached 0", f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, 2)]
     names += [("r reached 0 (to within atol)", f"s = {s:.6g} m") for s in system.s]
     if 4 in system.active:
         names += [("|psi| reached pi/2", f"s = {s:.6g} m") for s in system.s]
@@ -359,7 +356,7 @@ class _Run:
             self.rhsfn, self.jacfn = rhsfn, jacfn
 
         floor = np.zeros(self.n_events)
-        floor[system.n - 1 : 2 * system.n - 1] = method.field_atol()[1]  # the r events sit at r = atol_r
+        floor[2 * (system.n - 1) : 3 * system.n - 2] = method.field_atol()[1]  # the r events sit at r = atol_r
 
         if self.ida:
             def eventsfn(t, x, xp, g):

@@ -37,11 +37,23 @@ def effective_lame(young, poisson, material="svk"):
     (``S22 = 0`` minimises ``W`` over ``E22``): ``lambda* = 2 lambda mu / (lambda + 2 mu)``,
     giving the classical ``lambda* + 2 mu = E / (1 - nu^2)``.
     """
-    lam, mu = lame(young, poisson)
+    return condensed(*lame(young, poisson), material)
+
+
+def condensed(first, second, material="svk"):
+    """A pair ``(lambda, mu)`` of an isotropic law ``lambda tr(X) I + 2 mu X``, condensed for ``material``.
+
+    ``"svk"``: unchanged. ``"svk-plane-stress"``: ``(2 lambda mu / (lambda + 2 mu), mu)``, the law
+    with its ``22`` (thickness) stress eliminated. Applied to the elastic moduli and, separately, to
+    the Kelvin-Voigt viscosities (``S22 = 0`` for each part). For the sum of the two this is exact
+    under proportional damping (``eta_lambda / eta_mu = lambda / mu``); otherwise the thickness
+    stress of the sum relaxes instead of vanishing, and condensing each part is our modelling choice.
+    """
     if material == "svk":
-        return lam, mu
+        return first, second
     if material == "svk-plane-stress":
-        return 2.0 * lam * mu / (lam + 2.0 * mu), mu
+        total = first + 2.0 * second
+        return (2.0 * first * second / total if total else 0.0), second
     raise ValueError(f"material = {material!r} is outside {{{', '.join(MATERIALS)}}}")
 
 
