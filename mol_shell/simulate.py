@@ -66,6 +66,20 @@ def parse_times(times=None, t_end=None):
     return times
 
 
+def leapfrog_times(t_end, dt, count=10):
+    """Default saved times of a fixed-step run: ``count`` intervals to ``t_end``, each a whole number of steps.
+
+    ``t_end`` must be a multiple of ``dt``. The times are as even as the step grid allows and are
+    rounded to 12 significant digits, so ``ds.sel(time=...)`` finds the values a user would type.
+    """
+    parse_times(None, t_end)  # validates t_end
+    steps = round(t_end / dt)
+    if steps < 1 or abs(steps * dt - t_end) > 1e-9 * t_end:
+        raise ParameterError("t_end", t_end, f"positive multiples of dt = {dt:g} s (leap-frog has a fixed step)")
+    marks = np.unique(np.rint(np.linspace(0, steps, min(count, steps) + 1)).astype(np.int64))
+    return np.array([float(f"{k * dt:.12g}") for k in marks])
+
+
 def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=1e-6, progress=None, **options):
     """Run ``scene`` and return its motion as an :class:`xarray.Dataset`.
 
@@ -112,10 +126,9 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=1
         if name not in allowed:
             raise ParameterError("option", name, "{" + ", ".join(sorted(allowed)) + "}", hint=f"for integrator {integrator}")
     method = cls(**options)
-    snap = times is None and integrator == "leapfrog"
+    if times is None and integrator == "leapfrog":
+        times = leapfrog_times(t_end, dt)
     times = parse_times(times, t_end)
-    if snap:
-        times = np.rint(times / dt) * dt  # default saved times snapped to the fixed step
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
     y0 = system.initial_state(scene)

@@ -62,7 +62,7 @@ class Leapfrog:
         dt = self.dt
         ya = np.array(y0, dtype=float)
         yb = ya + dt * f(ya + 0.5 * dt * f(ya))
-        saved, reached = [ya.copy()], [0]
+        saved = [ya.copy()]
         k, n_rhs = 1, 2
         status, message, failure = "complete", "completed", float("nan")
         start = time.perf_counter()
@@ -82,7 +82,6 @@ class Leapfrog:
                     if progress is not None:
                         progress.update(m * dt)
                 saved.append(yb.copy())
-                reached.append(k)
         except ModelLimitError as exc:
             status, message, failure = exc.status, str(exc), exc.time
             k = int(round(exc.time / dt))
@@ -90,8 +89,10 @@ class Leapfrog:
             status, message, failure = "interrupted", f"interrupted by the user at t = {k * dt:.9g} s", k * dt
         wall = time.perf_counter() - start
         stats = {"n_steps": int(k), "n_rhs": int(n_rhs), "wall_time_s": wall}
+        # the saved times as asked for (they are multiples of dt to round-off), so ds.sel(time=...) finds them
         return Trajectory(
-            np.array(reached) * dt, np.array(saved), status=status, message=message, stats=stats, failure_time=failure
+            np.asarray(times, dtype=float)[: len(saved)], np.array(saved), status=status, message=message,
+            stats=stats, failure_time=failure,
         )
 
     @staticmethod
