@@ -1,4 +1,17 @@
-"""Every integrator on the paper scene: agreement, orders, exact Jacobians, statistics, the compare command."""
+"""Every integrator on the paper scene: agreement, orders, exact Jacobians, statistics, the compare command.
+
+The horizon is the paper's first snapshot (t = 0.02 s): the torsional fronts released at the free
+ends have travelled 0.37 m and every field moves. The reference is CVODE-Adams at rtol = 1e-12 on
+the Hamiltonian ODE, checked against IDA at rtol = 1e-12 on the DAE in rates (another method on
+another formulation); their difference (~2e-10) bounds what the tests below can resolve.
+
+Error measure (:func:`mol_shell.workprecision.relative_error`): the largest over ``r, theta, chi``
+of ``max |u - u_ref| / max |u_ref|``. The adaptive integrators control the local error of each
+step to ``rtol |y| + atol`` (``atol = 1e-3 rtol``); over the few hundred steps to 0.02 s the global
+error of this non-dissipative problem stays within a small multiple of that (measured 0.002 to 1.6
+rtol for every method at rtol = 1e-5 .. 1e-9; casadi-cvodes, with one scalar abstol, up to 13). We
+assert ``error < 10 rtol`` (100 for casadi-cvodes), and that the error falls as the tolerance does.
+"""
 
 import numpy as np
 import pytest
@@ -9,7 +22,8 @@ from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.sundials import pieces
 from mol_shell.simulate import build, resolve
 
-TIMES = np.array([0.0, 0.0025, 0.005])  # short horizon: a few hundred adaptive steps
+TIMES = np.array([0.0, 0.005, 0.01, 0.015, 0.02])
+REFERENCE_AGREEMENT = 1e-9  # the reference and its check must agree to this, 10x below the tightest rtol used
 
 
 @pytest.fixture(scope="module")
@@ -17,7 +31,8 @@ def paper():
     scene = resolve(mol_shell.TwistedCylinder())
     system, compiled = build(scene, 40)
     y0 = system.initial_state(scene)
-    ref = wp.fields_of(system, wp.run_once(system, compiled, y0, TIMES, "cvode-adams", 1e-11).y)
+    ref, disagreement, _ = wp.reference(system, compiled, y0, TIMES)
+    assert disagreement < REFERENCE_AGREEMENT, disagreement
     return system, compiled, y0, ref
 
 
@@ -31,25 +46,34 @@ def _error(paper, name, value):
 @pytest.mark.parametrize("name", [n for n in INTEGRATORS if n != "leapfrog"])
 def test_all_integrators_agree_to_their_tolerance(paper, name):
     err, traj = _error(paper, name, 1e-6)
-    # casadi-cvodes takes one scalar abstol (1e-9 on momenta too) and runs BDF: looser than its rtol
+    # casadi-cvodes takes one scalar abstol (1e-9 on momenta of ~1e-2 kg m/s too) and runs BDF: it is
+    # held to its looser absolute control, 1e-9 over the smallest field scale (theta, ~1e-2 rad)
     assert err < (100 if name == "casadi-cvodes" else 10) * 1e-6, (name, err)
     assert traj.stats["n_steps"] > 0 and traj.stats["n_rhs"] >= traj.stats["n_steps"]
 
 
 def test_leapfrog_is_second_order(paper):
-    dts = np.array([5e-6, 2.5e-6, 1.25e-6])
+    dts = np.array([1e-5, 5e-6, 2.5e-6])
     errors = np.array([_error(paper, "leapfrog", dt)[0] for dt in dts])
+    assert errors[-1] > 100 * REFERENCE_AGREEMENT  # the errors are leap-frog's, not the reference's
     slope = np.polyfit(np.log(dts), np.log(errors), 1)[0]
     assert abs(slope - INTEGRATORS["leapfrog"].order) < 0.1, (errors, slope)
 
 
-@pytest.mark.parametrize("name", ["cvode-bdf", "cvode-adams", "ida"])
-def test_sundials_reach_their_tolerance(paper, name):
-    rtols = [1e-5, 1e-7, 1e-9]
-    errors = [_error(paper, name, rtol)[0] for rtol in rtols]
-    assert all(e < 10 * rtol for e, rtol in zip(errors, rtols)), errors
-    assert errors[0] > errors[1] > errors[2]
-    assert INTEGRATORS[name].order is None  # variable order: the tolerance is the contract
+@pytest.mark.parametrize("name", [n for n in INTEGRATORS if n != "leapfrog"])
+def test_adaptive_integrators_reach_their_tolerance(paper, name):
+    """Error below 10 rtol at rtol = 1e-5, 1e-7, 1e-9, falling at least 10x per 100x in rtol.
+
+    The peers that cannot reach 1e-9 in reasonable time (implicit scipy methods, CasADi's IDAS) stop
+    at 1e-7; casadi-cvodes has one scalar abstol (see above) and is held to 100 rtol.
+    """
+    rtols = [1e-5, 1e-7] if name in ("scipy-radau", "scipy-bdf", "casadi-idas") else [1e-5, 1e-7, 1e-9]
+    errors = np.array([_error(paper, name, rtol)[0] for rtol in rtols])
+    factor = 100 if name == "casadi-cvodes" else 10
+    assert np.all(errors < factor * np.array(rtols)), errors
+    assert np.all(errors[1:] < errors[:-1] / 10), errors
+    declared = INTEGRATORS[name].order
+    assert declared is None or declared >= 5  # variable order (SUNDIALS) or a high-order Runge-Kutta pair
 
 
 def test_compiled_jacobian_equals_finite_differences(paper):
@@ -101,11 +125,19 @@ def test_statistics_reach_the_dataset():
 
 
 def test_linear_solvers_agree(paper):
-    base = _error(paper, "cvode-bdf", 1e-7)[1].y
-    system, compiled, y0, _ = paper
-    for linsolver in ("dense", "sparse"):
-        traj = INTEGRATORS["cvode-bdf"](rtol=1e-7, atol=1e-10, linsolver=linsolver).integrate(system, compiled, y0, TIMES)
-        np.testing.assert_allclose(traj.y, base, rtol=0, atol=1e-9)
+    """Dense, banded and sparse linear algebra: the same Newton matrix, solutions that agree to the tolerance.
+
+    The three solvers factorise the same matrix in different orders, so round-off differs and with
+    it, eventually, the step sequence: the runs are different approximations of one solution, each
+    within 10 rtol of the reference.
+    """
+    system, compiled, y0, ref = paper
+    rtol = 1e-7
+    for linsolver in ("dense", "band", "sparse"):
+        method = INTEGRATORS["cvode-bdf"](rtol=rtol, atol=1e-3 * rtol, linsolver=linsolver)
+        traj = method.integrate(system, compiled, y0, TIMES)
+        assert traj.status == "complete" and traj.stats["linsolver"] == linsolver
+        assert wp.relative_error(wp.fields_of(system, traj.y), ref) < 10 * rtol, linsolver
 
 
 def test_compare_command_writes_netcdf_png_and_table(tmp_path):
