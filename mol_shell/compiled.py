@@ -24,28 +24,51 @@ CFLAGS = ("-O2", "-fPIC", "-shared")
 _DRIVER = r"""
 /* ---- mol_shell leap-frog driver: y(k+1) = y(k-1) + 2 dt f(y(k)) ---- */
 #define MS_N {n}
-CASADI_SYMBOL_EXPORT int ms_leapfrog(casadi_real* ya, casadi_real* yb, casadi_real* f,
-                                     long long nsteps, casadi_real dt) {{
+#define MS_NG {ng}
+static int ms_call(int (*fn)(const casadi_real**, casadi_real**, casadi_int*, casadi_real*, int),
+                   const casadi_real* in, casadi_real* out) {{
   casadi_int iw[{sz_iw} + 1];
   casadi_real w[{sz_w} + 1];
   const casadi_real* arg[{sz_arg} + 1];
   casadi_real* res[{sz_res} + 1];
   casadi_real t = 0;
-  long long k; int i;
+  int i;
   for (i = 0; i < {sz_arg}; ++i) arg[i] = 0;
   for (i = 0; i < {sz_res}; ++i) res[i] = 0;
-  arg[0] = &t; arg[1] = yb; res[0] = f;
+  arg[0] = &t; arg[1] = in; res[0] = out;
+  return fn(arg, res, iw, w, 0);
+}}
+static int ms_limits_call(const casadi_real* y, casadi_real* g) {{
+  {limits_call}
+}}
+/* Returns 0 after nsteps steps, j > 0 if step j left a limit function <= 0 or not finite
+   (the pair then holds steps j-1 and j), -1 if the right-hand side failed. */
+CASADI_SYMBOL_EXPORT long long ms_leapfrog(casadi_real* ya, casadi_real* yb, casadi_real* f, casadi_real* g,
+                                           long long nsteps, casadi_real dt) {{
+  long long k; int i;
   for (k = 0; k < nsteps; ++k) {{
-    if ({name}(arg, res, iw, w, 0)) return -1;
+    if (ms_call({name}, yb, f)) return -1;
     for (i = 0; i < MS_N; ++i) {{
       casadi_real next = ya[i] + 2.0 * dt * f[i];
       ya[i] = yb[i];
       yb[i] = next;
     }}
+    if (MS_NG > 0) {{
+      if (ms_limits_call(yb, g)) return -1;
+      for (i = 0; i < MS_NG; ++i) if (!(g[i] > 0)) return k + 1;
+    }}
   }}
   return 0;
 }}
 """
+
+_LIMITS_CALL = """const casadi_real* arg[{sz_arg} + 1]; casadi_real* res[{sz_res} + 1];
+  casadi_int iw[{sz_iw} + 1]; casadi_real w[{sz_w} + 1];
+  int i;
+  for (i = 0; i < {sz_arg}; ++i) arg[i] = 0;
+  for (i = 0; i < {sz_res}; ++i) res[i] = 0;
+  arg[0] = y; res[0] = g;
+  return {name}(arg, res, iw, w, 0);"""
 
 
 def cache_dir():
@@ -79,6 +102,14 @@ def with_cse(f):
 class CompiledRHS:
     """A right-hand side ``(t, y) -> y_t`` compiled to C, with the leap-frog driver.
 
+    Parameters
+    ----------
+    rhs : casadi.Function
+        ``(t, y) -> y_t``.
+    limits : casadi.Function, optional
+        ``y -> g``; the leap-frog driver stops at the first step that leaves an entry of ``g``
+        ``<= 0`` or not finite (the model's limits, :attr:`ShellSystem.limits`).
+
     Attributes
     ----------
     function : casadi.Function
@@ -87,18 +118,27 @@ class CompiledRHS:
         Seconds spent in gcc (0 when the cache had it).
     """
 
-    def __init__(self, rhs):
+    def __init__(self, rhs, limits=None):
         import time
 
         rhs = with_cse(rhs)
         self.size = rhs.size1_in(1)
         gen = ca.CodeGenerator("ms_rhs.c")
         gen.add(rhs)
+        self.n_limits = 0
+        limits_call = "(void)y; (void)g; return 0;"
+        if limits is not None:
+            limits = with_cse(limits)
+            gen.add(limits)
+            self.n_limits = limits.nnz_out(0)
+            limits_call = _LIMITS_CALL.format(name=limits.name(), sz_arg=limits.sz_arg(), sz_res=limits.sz_res(),
+                                              sz_iw=limits.sz_iw(), sz_w=limits.sz_w())
         with tempfile.TemporaryDirectory() as tmp:
             gen.generate(tmp + os.sep)
             source = Path(tmp, "ms_rhs.c").read_text()
         source += _DRIVER.format(
-            n=self.size, name=rhs.name(), sz_iw=rhs.sz_iw(), sz_w=rhs.sz_w(), sz_arg=rhs.sz_arg(), sz_res=rhs.sz_res()
+            n=self.size, ng=self.n_limits, name=rhs.name(), sz_iw=rhs.sz_iw(), sz_w=rhs.sz_w(), sz_arg=rhs.sz_arg(),
+            sz_res=rhs.sz_res(), limits_call=limits_call,
         )
         start = time.perf_counter()
         lib = compile_cached(source, "rhs", CFLAGS)
@@ -106,15 +146,22 @@ class CompiledRHS:
         self.path = lib
         self.function = ca.external(rhs.name(), str(lib))
         self._lib = ctypes.CDLL(str(lib))
-        self._lib.ms_leapfrog.restype = ctypes.c_int
+        self._lib.ms_leapfrog.restype = ctypes.c_longlong
         dptr = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
-        self._lib.ms_leapfrog.argtypes = [dptr, dptr, dptr, ctypes.c_longlong, ctypes.c_double]
+        self._lib.ms_leapfrog.argtypes = [dptr, dptr, dptr, dptr, ctypes.c_longlong, ctypes.c_double]
         self._f = np.zeros(self.size)
+        self._g = np.zeros(max(self.n_limits, 1))
 
     def leapfrog(self, ya, yb, nsteps, dt):
-        """Advance the pair ``(y_{k-1}, y_k)`` in place by ``nsteps`` leap-frog steps."""
-        if self._lib.ms_leapfrog(ya, yb, self._f, int(nsteps), float(dt)) != 0:
+        """Advance the pair ``(y_{k-1}, y_k)`` in place by up to ``nsteps`` leap-frog steps.
+
+        Returns the number of steps taken: ``nsteps``, or fewer if a step left the limits
+        (``yb`` is then the first state outside them).
+        """
+        code = self._lib.ms_leapfrog(ya, yb, self._f, self._g, int(nsteps), float(dt))
+        if code < 0:
             raise RuntimeError("compiled right-hand side failed")
+        return int(code) if code > 0 else int(nsteps)
 
     def evaluator(self):
         """``y -> y_t`` through a preallocated CasADi buffer (about 0.2 us of call overhead).

@@ -224,6 +224,34 @@ class ShellSystem:
             self.rhs, self.observables = rhs.expand(), observables.expand()
 
     @cached_property
+    def limits(self):
+        """``y -> g``: the model's limits as functions that must stay positive (:meth:`limit_names` says which).
+
+        ``g = [delta at the two samples of each cell; r per node; (pi/2)^2 - psi^2 per node]``
+        (the last only when ``psi`` is a field). Leap-frog checks them after every step (in C),
+        CVODE and IDA find their roots. Depends on the field entries only, which sit at the same
+        places in ``y = (q, p)`` and in IDA's ``x = (q, v)``.
+        """
+        n, active = self.n, list(self.active)
+        y = ca.MX.sym("y", self.size)
+        Y = ca.reshape(y, self.ny, n)
+        Q = ca.vertcat(*[Y[active.index(k), :] if k in active else ca.MX.zeros(1, n) for k in range(NF)])
+        g = [ca.vec(self.cell_delta().map(n - 1)(Q[:, :-1], Q[:, 1:])), Q[1, :].T]
+        if 4 in active:
+            g.append((math.pi / 2) ** 2 - Q[4, :].T ** 2)
+        f = ca.Function("limits", [y], [ca.vertcat(*g)], ["y"], ["g"])
+        return f.expand() if n <= self.FLAT_MAX_NODES else f
+
+    def limit_names(self):
+        """``(what, where)`` for each entry of :attr:`limits`."""
+        cells = (self.s[:-1] + self.s[1:]) / 2
+        names = [("delta = r beta1 cos(psi) reached 0", f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, 2)]
+        names += [("r reached 0", f"s = {s:.6g} m") for s in self.s]
+        if 4 in self.active:
+            names += [("|psi| reached pi/2", f"s = {s:.6g} m") for s in self.s]
+        return names
+
+    @cached_property
     def jac(self):
         """``(t, y) -> d y_t / d y``: exact sparse Jacobian (SX when the RHS is flat, else MX)."""
         t, y = (self.rhs.mx_in if self.mapped else self.rhs.sx_in)()

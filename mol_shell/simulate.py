@@ -33,7 +33,7 @@ def _graph_key(scene):
 def _built(key, n):
     start = time.perf_counter()
     system = ShellSystem(key, n)
-    compiled = CompiledRHS(system.rhs_mapped)
+    compiled = CompiledRHS(system.rhs_mapped, system.limits)
     return system, compiled, time.perf_counter() - start
 
 

@@ -75,8 +75,10 @@ def test_ctrl_c_keeps_the_saved_times():
 
 def test_overflow_inside_a_chunk_never_reaches_the_file(tmp_path):
     """A step 3x beyond the bound: the fastest mode grows ~5.8x per step, so by the end of the first
-    1,000-step chunk the state has overflowed to inf/NaN. The chunk is redone step by step, the
-    first step whose energy grew is named, and the file holds only finite saved states."""
+    1,000-step chunk an unchecked state has overflowed to inf/NaN. The run stops at the first step
+    that leaves the model's limits (checked every step in C) or whose energy grew (checked once a
+    chunk, then located by redoing the chunk step by step), and the file holds only finite states."""
+    from mol_shell.compiled import CompiledRHS
     from mol_shell.output import build_dataset
     from mol_shell.simulate import observe
 
@@ -85,11 +87,14 @@ def test_overflow_inside_a_chunk_never_reaches_the_file(tmp_path):
     y0 = system.initial_state(scene)
     dt = 3.0 / np.abs(np.linalg.eigvals(np.array(system.jac(0, y0)))).max()
     times = dt * np.arange(0, 20001, 1000)
-    chunk_end = y0.copy(), y0 + dt * np.array(compiled.evaluator()(y0))
-    compiled.leapfrog(*chunk_end, 1000, dt)
-    assert not np.all(np.isfinite(chunk_end[1]))  # what an unchecked run would have saved
+    unchecked = CompiledRHS(system.rhs_mapped)  # no limits: what a run without checks would have saved
+    chunk_end = y0.copy(), y0 + dt * np.array(unchecked.evaluator()(y0))
+    assert unchecked.leapfrog(*chunk_end, 1000, dt) == 1000
+    assert not np.all(np.isfinite(chunk_end[1]))
     traj = Leapfrog(dt=dt, chunk=2000).integrate(system, compiled, y0, times)
-    assert traj.status in ("unstable", "limit") and ("non-finite" in traj.message or "energy grew" in traj.message)
+    assert traj.status in ("unstable", "limit"), traj.message
+    assert any(word in traj.message for word in ("non-finite", "energy grew", "<= 0", "pi/2")), traj.message
+    assert traj.failure_time < 1000 * dt  # within the first chunk: at the first bad step, not at its end
     velocities, totals = observe(system, traj.y)
     ds = build_dataset(system, scene, traj, velocities, totals, {"integrator": "leapfrog", "dt": dt})
     mol_shell.write_netcdf(ds, tmp_path / "blown.nc")

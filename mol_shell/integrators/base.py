@@ -63,11 +63,25 @@ class Monitor:
             self.energy_limit = e0 + self.ENERGY_GROWTH * abs(e0) + 1e-9 * scale
 
     def check(self, y, t):
-        """Raise :class:`ModelLimitError` naming time and place if ``y`` breaks a limit."""
+        """Raise :class:`ModelLimitError` naming time and place if ``y`` breaks a limit.
+
+        The energy comes first: an unloaded shell cannot gain energy, so a state whose energy grew
+        is a numerical instability (:class:`NumericalInstabilityError`, status ``"unstable"``) even
+        when the blow-up has also carried it past a limit of the model.
+        """
         if not np.all(np.isfinite(y)):
             bad = np.flatnonzero(~np.isfinite(y))[0] // self.system.ny
             raise ModelLimitError(
                 f"non-finite state at t = {t:.9g} s, s = {self.system.s[bad]:.6g} m", t, f"s = {self.system.s[bad]:.6g} m"
+            )
+        out = self._observe(y)
+        energy = float(out[1]) + float(out[2])
+        if self.energy_limit is not None and not energy <= self.energy_limit:
+            raise NumericalInstabilityError(
+                f"numerical instability: the total energy grew to {energy:.6g} J (limit {self.energy_limit:.6g} J; "
+                f"with no loads it cannot grow) at t = {t:.9g} s",
+                t,
+                "whole shell",
             )
         fields = self.system.unpack(y)
         psi = np.abs(fields[4])
@@ -80,17 +94,8 @@ class Monitor:
             i = int(np.argmin(r))
             where = f"s = {self.system.s[i]:.6g} m"
             raise ModelLimitError(f"r = {r[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
-        out = self._observe(y)
         delta = np.asarray(out[4]).ravel()  # two samples per cell, cell by cell
         if delta.min() <= 0:
-            i = int(np.argmin(delta)) // 2
-            where = f"s = {self._cells[i]:.6g} m"
+            i = int(np.argmin(delta))
+            where = f"s = {self._cells[i // 2]:.6g} m"
             raise ModelLimitError(f"delta = {delta[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
-        energy = float(out[1]) + float(out[2])
-        if self.energy_limit is not None and energy > self.energy_limit:
-            raise NumericalInstabilityError(
-                f"numerical instability: the total energy grew to {energy:.6g} J (limit {self.energy_limit:.6g} J; "
-                f"with no loads it cannot grow) at t = {t:.9g} s",
-                t,
-                "whole shell",
-            )

@@ -3,8 +3,10 @@
 ``y_{k+1} = y_{k-1} + 2 dt f(y_k)``, started by one explicit midpoint step
 ``y_1 = y_0 + dt f(y_0 + dt/2 f(y_0))`` so the start is second order too. For the
 linear test equation ``y' = i w y`` it is stable for ``|w dt| < 1``; it neither damps
-nor amplifies. The loop runs in generated C (:mod:`mol_shell.compiled`); Python
-only sees chunks of steps, where it checks the model's limits and shows progress.
+nor amplifies. The loop runs in generated C (:mod:`mol_shell.compiled`), which also checks
+the model's limits (:attr:`ShellSystem.limits`) after every step and stops at the first step
+outside them; Python only sees chunks of steps, where it checks the energy (numerical
+instability) and shows progress.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ class Leapfrog:
     dt : float
         Time step (paper: 1e-6 s).
     chunk : int
-        Steps run in C between two checks of the model's limits (and progress updates).
+        Steps run in C between two checks of the energy (and progress updates); the limits are checked every step.
     """
 
     dt: float = 1e-6
@@ -67,15 +69,20 @@ class Leapfrog:
         status, message, failure = "complete", "completed", float("nan")
         start = time.perf_counter()
         try:
+            monitor.check(yb, dt)
             for target in steps[1:]:
                 while k < target:
                     m = int(min(self.chunk, target - k))
                     chunk_start = (ya.copy(), yb.copy(), k)
-                    compiled.leapfrog(ya, yb, m, dt)
-                    k += m
-                    n_rhs += m
+                    taken = compiled.leapfrog(ya, yb, m, dt)  # stops at the first step outside the limits
+                    k += taken
+                    n_rhs += taken
+                    if taken < m:
+                        monitor.check(yb, k * dt)  # raises, naming the limit and the place
+                        raise ModelLimitError(f"a limit of the model was reached at t = {k * dt:.9g} s", k * dt,
+                                              "whole shell")
                     try:
-                        monitor.check(yb, k * dt)
+                        monitor.check(yb, k * dt)  # the energy (instability) and finiteness, once a chunk
                     except ModelLimitError:
                         ya, yb, k = chunk_start
                         self._locate(compiled, monitor, ya, yb, k, m, dt)  # raises at the first bad step

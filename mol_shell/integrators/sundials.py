@@ -87,7 +87,7 @@ def pieces(system, kind, jacobian="compiled"):
 def _build_pieces(system, kind, jacobian):
     from ..compiled import CompiledFunctions, buffered
 
-    out = {"events": buffered(events_function(system))}
+    out = {"events": buffered(system.limits)}
     if kind == "ida":
         from ..dae import ShellDAE
 
@@ -113,35 +113,6 @@ def _build_pieces(system, kind, jacobian):
     out["rows"], out["cols"] = rows, cols
     out["bw"] = (int(pattern.bw_lower()), int(pattern.bw_upper()))
     return out
-
-
-def events_function(system):
-    """``y -> [delta at the two samples of each cell; r per node; (pi/2)^2 - psi^2 per node]``: all must stay positive.
-
-    ``r > 0`` is also a SUNDIALS constraint, so ``r`` itself never crosses 0: its event is set at
-    ``r = atol_r`` instead (the caller subtracts it), where ``r`` is 0 to the accuracy asked for;
-    without it the solver crawls towards ``r = 0`` in ever smaller steps.
-
-    Depends on the field entries only, which sit at the same places in ``y = (q, p)`` and ``x = (q, v)``.
-    """
-    n, active = system.n, list(system.active)
-    y = ca.MX.sym("y", system.size)
-    Y = ca.reshape(y, system.ny, n)
-    Q = ca.vertcat(*[Y[active.index(k), :] if k in active else ca.MX.zeros(1, n) for k in range(len(FIELDS))])
-    g = [ca.vec(system.cell_delta().map(n - 1)(Q[:, :-1], Q[:, 1:])), Q[1, :].T]
-    if 4 in active:
-        g.append((np.pi / 2) ** 2 - Q[4, :].T ** 2)
-    f = ca.Function("events", [y], [ca.vertcat(*g)])
-    return f.expand() if n <= system.FLAT_MAX_NODES else f
-
-
-def event_names(system):
-    cells = (system.s[:-1] + system.s[1:]) / 2
-    names = [("delta = r beta1 cos(psi) reached 0", f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, 2)]
-    names += [("r reached 0 (to within atol)", f"s = {s:.6g} m") for s in system.s]
-    if 4 in system.active:
-        names += [("|psi| reached pi/2", f"s = {s:.6g} m") for s in system.s]
-    return names
 
 
 # -- the integrators ---------------------------------------------------------------------------
@@ -320,7 +291,7 @@ class _Run:
         self.method, self.system, self.parts = method, system, parts
         self.ida = method.kind == "ida"
         self.y0 = np.array(y0, dtype=float)
-        self.names = event_names(system)
+        self.names = system.limit_names()
         self.n_events = len(self.names)
         self.last_t, self.failures, self.counting = -np.inf, 0, False
         rows, cols, size = parts["rows"], parts["cols"], system.size
@@ -435,6 +406,8 @@ class _Run:
         t = float(res.t_events[-1]) if res.t_events is not None else float(res.t)
         which = np.flatnonzero(res.i_events[-1])
         limit, where = self.names[int(which[0])]
+        if limit.startswith("r reached"):
+            limit += " (to within atol)"  # the event sits at r = atol_r: r > 0 is also a constraint
         return ModelLimitError(f"{limit} at t = {t:.9g} s, {where}: a limit of the model "
                                f"(root found by {self.method.name})", t, where)
 
