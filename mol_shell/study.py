@@ -281,9 +281,10 @@ def _connect(scheduler):
         return Client(scheduler, timeout=SCHEDULER_TIMEOUT)
     except ValueError as exc:
         raise ParameterError.invalid("scheduler", scheduler, "is not a scheduler address", allowed, hint=str(exc)) from None
-    except (OSError, TimeoutError) as exc:
+    except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, or distributed's own failures to start
+        text = str(exc).splitlines()[0] if str(exc) else ""
         raise ParameterError.invalid("scheduler", scheduler, f"does not answer within {SCHEDULER_TIMEOUT:g} s",
-                                     allowed, hint=f"{type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}") from None
+                                     allowed, hint=f"{type(exc).__name__}: {text}".rstrip(": ")) from None
 
 
 def _execute(tasks, scheduler, workers, client=None):
