@@ -112,6 +112,8 @@ def snapshot_figure(ds, fields=("r", "theta", "chi"), max_times=MAX_TIMES, colum
         block, col = divmod(k, ncols)
         for row in range(len(fields)):
             axes[block * len(fields) + row, col].set_visible(False)
-    fig.suptitle(title_of(ds.attrs, len(idx), ds.sizes["time"]), fontsize=10)
-    fig.tight_layout()
+    title = title_of(ds.attrs, len(idx), ds.sizes["time"])
+    fig.suptitle(title, fontsize=10)
+    top = (0.2 * (title.count("\n") + 1) + 0.15) / fig.get_figheight()  # room for the title's lines
+    fig.tight_layout(rect=(0, 0, 1, 1 - top))
     return fig
