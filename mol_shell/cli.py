@@ -118,10 +118,6 @@ def number_arg(name, low=0.0, high=np.inf, *, low_closed=False, high_closed=Fals
     return convert
 
 
-def _positive_float(name, unit=""):
-    return number_arg(name, unit=unit)
-
-
 def integer_arg(name, low=1):
     """An argparse ``type``: an integer ``>= low``."""
     allowed = f"integers >= {low}"
