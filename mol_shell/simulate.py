@@ -87,6 +87,12 @@ def check_options(scene, integrator, options, offered=None):
     for name in options:
         if name not in allowed:
             raise ParameterError.not_an_option(name, integrator, allowed & offered if offered else allowed)
+    if hasattr(scene, "run") and "atol" in options:  # the unshearable DAE takes one number
+        atol = options["atol"]
+        if not is_number(atol):
+            raise ParameterError.not_a("atol", atol, "a number", f"(0, inf), one value for the {scene.name} scene")
+        if not (np.isfinite(atol) and atol > 0):
+            raise ParameterError("atol", atol, "(0, inf)")
     if "rtol" in options:
         lo, hi = RTOL_RANGE
         value = options["rtol"]

@@ -102,6 +102,7 @@ def test_simulate_refuses_bad_arguments_before_computing():
         (dict(scene=scene, integrator="cvode-bdf", t_end=0.01, rtol=1.0), r"^rtol = 1.0 is outside \[1e-14, 1\)$"),
         (dict(scene=scene, integrator="cvode-bdf", t_end=0.01, rtol=1e-20), r"^rtol = 1e-20 is outside \[1e-14, 1\)$"),
         (dict(scene="unshearable", integrator="ida", t_end=0.01, dt=1e-6), r"^dt is not an option of ida"),
+        (dict(scene="unshearable", integrator="ida", t_end=0.01, atol={"r": 1e-9}), r"^atol = \{'r': 1e-09\} is not a number"),
     ]
     for kwargs, message in cases:
         with pytest.raises(ParameterError, match=message):
