@@ -1,19 +1,24 @@
 """Command line: ``mol-shell run | plot | ...`` (also ``python -m mol_shell``).
 
 Errors in the user's input print one line naming the parameter and its allowed
-range, and exit with code 2 (no traceback). A run that stops at a model limit
-writes what it computed and exits with code 3.
+range, and exit with code 2 (no traceback); they are found before anything is
+computed where they can be. ``-o FILE`` of every subcommand is checked first: missing
+directories are created, and a place that cannot be written is refused. A run that
+stops at a model limit writes what it computed and exits with code 3.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import re
 import sys
+import warnings
 
 import numpy as np
 
-from .errors import ParameterError
+from . import __version__
+from .errors import ParameterError, show
 
 EXIT_USAGE, EXIT_INCOMPLETE = 2, 3
 
@@ -21,80 +26,109 @@ EXIT_USAGE, EXIT_INCOMPLETE = 2, 3
 # that adds its parser with ``set_defaults(func=...)``.
 EXTENSIONS = ("mol_shell.workprecision", "mol_shell.stability", "mol_shell.study")
 
+#: integrator options the command line offers (as --dt, --rtol, --atol, --max-step)
+CLI_OPTIONS = {"dt", "rtol", "atol", "max_step"}
+
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
+        # "argument --dt: --dt = 0 is outside ..." names the option twice: keep our own message
+        found = re.match(r"argument (\S+?): (.*)", message, flags=re.S)
+        if found and any(found.group(2).startswith(opt + " ") for opt in found.group(1).split("/")):
+            message = found.group(2)
         self.exit(EXIT_USAGE, f"mol-shell: error: {message}\n")
 
 
-def parse_times_arg(text):
-    """``T0:T1:DT`` (T1 included) or ``t1,t2,...`` into an array of times."""
-    try:
-        if ":" in text:
-            parts = [float(x) for x in text.split(":")]
-            if len(parts) != 3 or parts[2] <= 0 or parts[1] < parts[0]:
+def parse_range_or_list(text, name, words=("T0", "T1", "DT"), item="t"):
+    """``A:B:STEP`` (``B`` included; ``(B - A)/STEP`` a whole number) or ``v1,v2,...`` into a list of floats.
+
+    Generated values are rounded to 12 significant digits, so ``0:0.009:0.003`` gives values that
+    ``ds.sel`` finds as typed. Empty entries are refused.
+    """
+    a, b, d = words
+    form = f"{a}:{b}:{d} ({b} included, {d} > 0, ({b} - {a})/{d} whole) or {item}1,{item}2,..."
+    text = str(text).strip()
+    if ":" in text:
+        parts = text.split(":")
+        try:
+            if len(parts) != 3:
                 raise ValueError
-            t0, t1, step = parts
-            count = int(np.floor((t1 - t0) / step + 1e-9)) + 1
-            return t0 + step * np.arange(count)
-        return np.array([float(x) for x in text.split(",") if x.strip()])
+            start, stop, step = (float(x) for x in parts)
+        except ValueError:
+            raise ParameterError(name, text, form) from None
+        if not (np.isfinite([start, stop, step]).all() and step > 0 and stop > start):
+            raise ParameterError(name, text, form)
+        count = (stop - start) / step
+        whole = round(count)
+        if abs(count - whole) > 1e-9 * max(1.0, count):
+            raise ParameterError.invalid(name, text, f"does not end on its grid: ({b} - {a})/{d} = {count:.4g} "
+                                         f"is not whole ({b} is included)", form)
+        return [float(f"{start + k * step:.12g}") for k in range(whole + 1)]
+    items = [x.strip() for x in text.split(",")]
+    if not text or any(not x for x in items):
+        raise ParameterError.invalid(name, text, "has an empty entry" if text else "is empty", form)
+    try:
+        return [float(x) for x in items]
     except ValueError:
-        raise ParameterError("--times", text, "T0:T1:DT with DT > 0 and T1 >= T0, or a list t1,t2,...") from None
+        raise ParameterError(name, text, form) from None
 
 
-def parse_sets(items):
+def parse_times_arg(text, name="--times"):
+    """``T0:T1:DT`` (T1 included) or ``t1,t2,...`` into an array of times."""
+    return np.array(parse_range_or_list(text, name))
+
+
+def parse_sets(items, name="--set"):
     params = {}
     for item in items or []:
-        if "=" not in item:
-            raise ParameterError("--set", item, "NAME=VALUE")
-        name, value = item.split("=", 1)
-        params[name.strip()] = value.strip()
+        key, sep, value = item.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise ParameterError(name, item, "NAME=VALUE")
+        if key in params:
+            raise ParameterError.invalid(name, item, f"sets {key} a second time", "each parameter once")
+        params[key] = value.strip()
     return params
 
 
-def cmd_run(args):
-    from .output import write_netcdf
-    from .scenes import get_scene
-    from .simulate import simulate
-
-    scene = get_scene(args.scene, **parse_sets(args.set))
-    times = parse_times_arg(args.times) if args.times else None
-    options = {}
-    for name in ("rtol", "atol", "max_step"):
-        value = getattr(args, name)
-        if value is not None:
-            options[name] = value
-    ds = simulate(
-        scene, args.integrator, n=args.n, t_end=args.t_end, times=times, dt=args.dt, progress=None, **options
-    )
-    write_netcdf(ds, args.output)
-    if not ds.attrs["complete"]:
-        print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {ds.sizes['time']} saved times to {args.output}",
-              file=sys.stderr)
-        return EXIT_INCOMPLETE
-    print(f"wrote {args.output}: {ds.sizes['time']} times x {ds.sizes['s']} nodes, "
-          f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s, R = {ds.attrs['R']:.10g} m")
-    return 0
+def _number_text(text):
+    """A number as typed, for messages (``0``, not ``'0'``); anything else quoted."""
+    try:
+        float(text)
+        return str(text).strip()
+    except ValueError:
+        return show(text)
 
 
-def cmd_plot(args):
-    from .output import read_netcdf
-    from .plotting import plot_snapshots
+def number_arg(name, low=0.0, high=np.inf, *, low_closed=False, high_closed=False, unit=""):
+    """An argparse ``type``: a float in the interval, or a one-line error naming ``name`` and the interval."""
+    allowed = f"{'[' if low_closed else '('}{low:g}, {high:g}{']' if high_closed else ')'}" + (f" {unit}" if unit else "")
 
-    ds = read_netcdf(args.file)
-    plot_snapshots(ds, args.output)
-    print(f"wrote {args.output}")
-    return 0
-
-
-def _positive_float(name):
     def convert(text):
         try:
             value = float(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"{name} = {text!r} is outside (0, inf)") from None
-        if not (np.isfinite(value) and value > 0):
-            raise argparse.ArgumentTypeError(f"{name} = {text!r} is outside (0, inf)")
+            raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is not a number; allowed: {allowed}") from None
+        above = value >= low if low_closed else value > low
+        below = value <= high if high_closed else value < high
+        if not (np.isfinite(value) and above and below):
+            raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is outside {allowed}")
+        return value
+
+    return convert
+
+
+def integer_arg(name, low=1):
+    """An argparse ``type``: an integer ``>= low``."""
+    allowed = f"integers >= {low}"
+
+    def convert(text):
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is not an integer; allowed: {allowed}") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"{name} = {value} is outside {allowed}")
         return value
 
     return convert
@@ -107,9 +141,9 @@ def parse_atol(text):
     allowed = f"(0, inf), or FIELD=VALUE,... with FIELD in {{{', '.join(FIELDS)}}}"
     if "=" not in text:
         try:
-            return _positive_float("--atol")(text)
+            return number_arg("--atol")(text)
         except argparse.ArgumentTypeError:
-            raise argparse.ArgumentTypeError(f"--atol = {text!r} is outside {allowed}") from None
+            raise argparse.ArgumentTypeError(f"--atol = {_number_text(text)} is outside {allowed}") from None
     out = {}
     for item in text.split(","):
         name, _, value = item.partition("=")
@@ -118,10 +152,51 @@ def parse_atol(text):
             number = float(value)
         except ValueError:
             number = float("nan")
-        if name not in FIELDS or not (np.isfinite(number) and number > 0):
-            raise argparse.ArgumentTypeError(f"--atol = {text!r} is outside {allowed}")
+        if name not in FIELDS or name in out or not (np.isfinite(number) and number > 0):
+            raise argparse.ArgumentTypeError(f"--atol = {text!r} is outside {allowed}, each field once")
         out[name] = number
     return out
+
+
+def integrator_option_args(args):
+    """``--dt/--rtol/--atol/--max-step`` given on the command line, as options."""
+    return {k: getattr(args, k) for k in ("dt", "rtol", "atol", "max_step") if getattr(args, k, None) is not None}
+
+
+def cmd_run(args):
+    from .output import write_netcdf
+    from .scenes import get_scene
+    from .simulate import check_options, simulate
+
+    scene = get_scene(args.scene, **parse_sets(args.set))
+    times = parse_times_arg(args.times) if args.times else None
+    options = integrator_option_args(args)
+    check_options(scene, args.integrator, options, offered=CLI_OPTIONS)
+    ds = simulate(scene, args.integrator, n=args.n, t_end=args.t_end, times=times, progress=None, **options)
+    write_netcdf(ds, args.output)
+    if not ds.attrs["complete"]:
+        print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {ds.sizes['time']} saved times to {args.output}",
+              file=sys.stderr)
+        return EXIT_INCOMPLETE
+    print(f"wrote {args.output}: {ds.sizes['time']} times x {ds.sizes['s']} nodes, "
+          f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s, R = {ds.attrs['R']:.10g} m")
+    return 0
+
+
+def cmd_plot(args):
+    from .output import read_run
+    from .plotting import plot_snapshots
+
+    ds = read_run(args.file)
+    plot_snapshots(ds, args.output)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def _image_formats():
+    from .plotting import image_formats
+
+    return image_formats()
 
 
 def make_parser():
@@ -129,25 +204,28 @@ def make_parser():
     from .scenes import SCENES
 
     parser = _Parser(prog="mol-shell", description="Rotationally symmetric motions of Cosserat shells (Antman & Bourne 2010).")
+    parser.add_argument("--version", action="version", version=f"mol-shell {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     run = sub.add_parser("run", help="run a scene and write netCDF")
     run.add_argument("scene", help="one of: " + ", ".join(SCENES))
     run.add_argument("--integrator", default="leapfrog", help="one of: " + ", ".join(INTEGRATORS))
-    run.add_argument("--n", type=int, default=40, help="nodes in s (default 40)")
-    run.add_argument("--t-end", type=_positive_float("--t-end"), default=None, help="final time, s")
-    run.add_argument("--dt", type=_positive_float("--dt"), default=1e-6, help="leap-frog step, s (default 1e-6)")
+    run.add_argument("--n", type=integer_arg("--n", 3), default=40, help="nodes in s (default 40)")
+    run.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="final time, s")
+    run.add_argument("--dt", type=number_arg("--dt", unit="s"), default=None,
+                     help="leap-frog step, s (default 1e-6); adaptive integrators refuse it")
     run.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
     run.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
-    run.add_argument("--rtol", type=_positive_float("--rtol"), default=None, help="relative tolerance (adaptive integrators)")
+    run.add_argument("--rtol", type=number_arg("--rtol", 1e-14, 1.0, low_closed=True), default=None,
+                     help="relative tolerance in [1e-14, 1) (adaptive integrators)")
     run.add_argument("--atol", type=parse_atol, default=None,
                      help="absolute tolerance (adaptive integrators): one value, or per field as r=1e-9,theta=1e-10")
-    run.add_argument("--max-step", type=_positive_float("--max-step"), default=None, help="largest step, s (adaptive)")
-    run.add_argument("-o", "--output", required=True, help="netCDF file to write")
+    run.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
+    run.add_argument("-o", "--output", required=True, help="netCDF file to write (missing directories are created)")
     run.set_defaults(func=cmd_run)
     plot = sub.add_parser("plot", help="the paper's figures 4-8 from a run's netCDF file")
-    plot.add_argument("file")
-    plot.add_argument("-o", "--output", required=True, help="PNG to write")
-    plot.set_defaults(func=cmd_plot)
+    plot.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run")
+    plot.add_argument("-o", "--output", required=True, help="image to write (.png, .pdf, .svg, ...)")
+    plot.set_defaults(func=cmd_plot, output_suffixes=_image_formats)
     for module in EXTENSIONS:
         try:
             importlib.import_module(module).register(sub)
@@ -157,15 +235,36 @@ def make_parser():
     return parser
 
 
+def _remove_empty(folders):
+    """Remove the directories this command created, deepest first, if nothing was written into them."""
+    import os
+
+    for folder in reversed(folders):
+        try:
+            os.rmdir(folder)
+        except OSError:
+            return
+
+
 def main(argv=None):
     parser = make_parser()
     try:
         args = parser.parse_args(argv)
-    except SystemExit as exc:  # usage errors (code 2) and --help (code 0)
+    except SystemExit as exc:  # usage errors (code 2), --help and --version (code 0)
         return exc.code
+    created = []  # directories made for -o: removed again if the command is refused
     try:
-        return args.func(args)
+        with warnings.catch_warnings():
+            # the command line reports a stopped run in its own one line (and in the file's attrs)
+            warnings.simplefilter("ignore", RuntimeWarning)
+            if getattr(args, "output", None) is not None:  # every subcommand: before anything is computed
+                from .output import writable_path
+
+                suffixes = getattr(args, "output_suffixes", None)
+                writable_path(args.output, "-o", suffixes=suffixes() if callable(suffixes) else suffixes, created=created)
+            return args.func(args)
     except ParameterError as exc:
+        _remove_empty(created)
         print(f"mol-shell: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:

@@ -2,18 +2,67 @@
 
 from __future__ import annotations
 
+import numbers
+import reprlib
+
+import numpy as np
+
+_REPR = reprlib.Repr()
+_REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = _REPR.maxset = 6
+_REPR.maxstring = _REPR.maxother = 80
+
+
+def show(value):
+    """A value as an error message shows it: ``repr``, NumPy scalars as Python numbers, long arrays cut short."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, np.ndarray):
+        if value.size > 6:
+            return f"<array of {value.size} values, {_REPR.repr(value.ravel()[:3].tolist())[:-1]}, ...]>"
+        value = value.tolist()
+    return _REPR.repr(value)
+
+
+def is_number(value):
+    """A real number (``int``, ``float`` or a NumPy scalar), not a ``bool``."""
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+
 
 class ParameterError(ValueError):
-    """A parameter is outside its allowed range.
+    """A parameter is outside its allowed range (or of the wrong kind, or missing).
 
-    The message always names the parameter, its value and the allowed range,
-    e.g. ``nu = 0.7 is outside (-1, 0.5)``.
+    The message always names the parameter and the allowed range, and the value when there is
+    one, e.g. ``nu = 0.7 is outside (-1, 0.5)``. The alternative phrasings, for values that are
+    not even of the right kind, are the class methods :meth:`not_a`, :meth:`missing` and
+    :meth:`not_an_option`.
     """
 
-    def __init__(self, name, value, allowed, hint=""):
+    def __init__(self, name, value, allowed, hint="", *, message=None):
         self.name, self.value, self.allowed = name, value, allowed
-        message = f"{name} = {value!r} is outside {allowed}"
+        if message is None:
+            message = f"{name} = {show(value)} is outside {allowed}"
         super().__init__(message + (f" ({hint})" if hint else ""))
+
+    @classmethod
+    def invalid(cls, name, value, problem, allowed, hint=""):
+        """``-o = 'out' is a directory; allowed: a file path``: a value that is wrong in a way a range cannot say."""
+        return cls(name, value, allowed, hint, message=f"{name} = {show(value)} {problem}; allowed: {allowed}")
+
+    @classmethod
+    def not_a(cls, name, value, kind, allowed, hint=""):
+        """``L = 'abc' is not a number; allowed: (0, inf) m``."""
+        return cls.invalid(name, value, f"is not {kind}", allowed, hint)
+
+    @classmethod
+    def missing(cls, name, allowed, hint=""):
+        """``t_end is missing: give t_end in (0, inf) s, or times``."""
+        return cls(name, None, allowed, hint, message=f"{name} is missing: {allowed}")
+
+    @classmethod
+    def not_an_option(cls, name, integrator, options):
+        """``rtol is not an option of leapfrog (its options: dt)``."""
+        listed = ", ".join(sorted(options))
+        return cls(name, name, listed, message=f"{name} is not an option of {integrator} (its options: {listed})")
 
 
 class ModelLimitError(RuntimeError):

@@ -3,11 +3,14 @@
 from __future__ import annotations
 
 import datetime
+import os
+from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from . import __version__
+from .errors import ParameterError
 from .model.kinematics import FIELDS
 from .scenes import UNITS
 
@@ -114,8 +117,73 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
     return ds
 
 
+def writable_path(path, name="path", suffixes=None, created=None):
+    """Check, before anything is computed, that ``path`` can be written; create its missing directories.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to be written (an existing file is replaced).
+    name : str
+        How the message names the parameter (``-o`` on the command line).
+    suffixes : collection of str, optional
+        Allowed file name suffixes without the dot (e.g. image formats).
+    created : list, optional
+        Directories made here are appended (outermost first), so a caller can remove them again.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    ParameterError
+        Empty path, an existing directory, a suffix outside ``suffixes``, a directory that cannot
+        be created, or a place without write permission.
+    """
+    allowed = "a file path in a writable place (missing directories are created)"
+    if path is None or not str(path).strip():
+        raise ParameterError.invalid(name, "" if path is None else str(path), "is empty", allowed)
+    path = Path(os.fspath(path)).expanduser()
+    if suffixes is not None:
+        suffix = path.suffix.lower().lstrip(".")
+        if suffix not in suffixes:
+            raise ParameterError.invalid(name, str(path), "has no known file type" if suffix else "has no suffix",
+                                         "a file ending in one of ." + ", .".join(sorted(suffixes)))
+    if path.is_dir():
+        raise ParameterError.invalid(name, str(path), "is a directory", allowed)
+    folder = path.parent
+    missing = [p for p in [folder, *folder.parents] if not p.exists()][::-1]
+    try:
+        for p in missing:
+            p.mkdir()
+            if created is not None:
+                created.append(p)
+    except OSError as exc:
+        raise ParameterError.invalid(name, str(path), f"cannot be written: cannot create directory {str(folder)!r} "
+                                     f"({exc.strerror or exc})", allowed) from None
+    if not folder.is_dir():
+        raise ParameterError.invalid(name, str(path), f"cannot be written: {str(folder)!r} is not a directory", allowed)
+    try:  # a probe: permission bits do not tell (root, read-only mounts, /proc)
+        if path.exists():
+            with open(path, "ab"):
+                pass
+        else:
+            with open(path, "xb"):
+                pass
+            path.unlink()
+    except OSError as exc:
+        raise ParameterError.invalid(name, str(path), f"cannot be written ({exc.strerror or exc})", allowed) from None
+    return path
+
+
 def write_netcdf(ds, path):
-    """Write a run as netCDF4 (model time in plain seconds, no CF calendar decoding)."""
+    """Write a run as netCDF4 (model time in plain seconds, no CF calendar decoding).
+
+    Missing directories of ``path`` are created; a path that cannot be written raises
+    :class:`~mol_shell.errors.ParameterError`.
+    """
+    path = writable_path(path)
     ds.to_netcdf(path, engine="netcdf4", format="NETCDF4")
 
 
@@ -123,3 +191,33 @@ def read_netcdf(path):
     """Read a run back into memory (times stay float seconds)."""
     with xr.open_dataset(path, engine="netcdf4", decode_times=False) as ds:
         return ds.load()
+
+
+def read_run(path, name="FILE"):
+    """Read a file written by ``mol-shell run`` (or :func:`write_netcdf` of a run); refuse anything else by name.
+
+    A run file holds ``r``, ``theta`` and ``chi`` on ``(time, s)``. Parameter studies, work-precision
+    comparisons and stability reports are netCDF files too, but not runs.
+    """
+    allowed = "a netCDF file written by mol-shell run"
+    path = Path(os.fspath(path)) if path is not None and str(path) else None
+    if path is None:
+        raise ParameterError.invalid(name, "", "is empty", allowed)
+    if not path.exists():
+        raise ParameterError.invalid(name, str(path), "does not exist", allowed)
+    if path.is_dir():
+        raise ParameterError.invalid(name, str(path), "is a directory", allowed)
+    try:
+        ds = read_netcdf(path)
+    except (OSError, ValueError, RuntimeError) as exc:
+        reason = "not a netCDF file" if "Unknown file format" in str(exc) or "HDF" in str(exc) else str(exc)
+        raise ParameterError.invalid(name, str(path), "is not a mol_shell run file", allowed, hint=reason) from None
+    is_run = all(v in ds and ds[v].dims == ("time", "s") for v in ("r", "theta", "chi"))
+    if not is_run:
+        title = str(ds.attrs.get("title", ""))
+        kind = ("a parameter study (mol-shell study)" if "parameter study" in title else
+                "a work-precision comparison (mol-shell compare)" if "work-precision" in title else
+                "a stability report (mol-shell stability)" if "leapfrog_dt_bound" in ds else
+                f"dims {', '.join(map(str, ds.dims)) or 'none'}")
+        raise ParameterError.invalid(name, str(path), "is not a mol_shell run file", allowed, hint=f"it holds {kind}")
+    return ds

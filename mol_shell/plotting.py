@@ -1,12 +1,25 @@
-"""Figures: the paper's figures 4-8 (r, theta, chi against s, one column per saved time)."""
+"""Figures: the paper's figures 4-8 (r, theta, chi against s, one panel per saved time)."""
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
 # Axis ranges of the paper's figures 4-8; used when the data fit inside them.
 PAPER_LIMITS = {"r": (0.985, 1.005), "theta": (-0.02, 0.02), "chi": (-0.2, 0.2)}
 LABELS = {"r": "r [m]", "theta": r"$\theta$ [rad]", "chi": r"$\chi$ [rad]"}
+#: saved times per row of panels
+COLUMNS = 6
+#: saved times drawn at most (evenly picked beyond that, and the figure says so)
+MAX_TIMES = 24
+
+
+def image_formats():
+    """File suffixes matplotlib can write (``png``, ``pdf``, ``svg``, ...)."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    return set(FigureCanvasBase.get_supported_filetypes())
 
 
 def _limits(values, name):
@@ -18,41 +31,89 @@ def _limits(values, name):
     return vmin - pad, vmax + pad
 
 
-def plot_snapshots(ds, path, fields=("r", "theta", "chi"), max_times=8):
-    """Plot ``fields`` against ``s`` at the saved times (at most ``max_times``, evenly picked).
+def shown_times(count, max_times=MAX_TIMES):
+    """Indices of the saved times drawn: all of them up to ``max_times``, else ``max_times`` evenly picked."""
+    if count <= max_times:
+        return np.arange(count)
+    return np.unique(np.linspace(0, count - 1, max_times).round().astype(int))
 
-    One column per time and one row per field, with the paper's axis ranges where the
-    data fit them. Incomplete runs say so in the title.
+
+def title_of(attrs, shown, count):
+    """The figure's title: scene, the parameters it has, grid, integrator, and which times are drawn."""
+    parts = [str(attrs.get("scene", "run"))]
+    if "gamma" in attrs:
+        parts.append(f"gamma = {float(attrs['gamma']):g} rad/m")
+    for name, unit in (("omega", "rad/s"), ("psi0", "rad")):
+        if name in attrs and float(attrs[name]) != 0.0:
+            parts.append(f"{name} = {float(attrs[name]):g} {unit}")
+    if "R" in attrs:
+        parts.append(f"R = {float(attrs['R']):.6f} m")
+    if "n" in attrs:
+        parts.append(f"n = {attrs['n']}")
+    if "integrator" in attrs:
+        parts.append(str(attrs["integrator"]))
+    title = ", ".join(parts[1:])
+    title = f"{parts[0]}: {title}" if title else parts[0]
+    if shown < count:
+        title += f"\n{shown} of {count} saved times shown (evenly picked)"
+    if not attrs.get("complete", 1):
+        title += f"\n[INCOMPLETE: {attrs.get('message', '')}]"
+    return title
+
+
+def plot_snapshots(ds, path, fields=("r", "theta", "chi"), max_times=MAX_TIMES, columns=COLUMNS):
+    """Plot ``fields`` against ``s``, one panel per saved time (up to ``max_times``; beyond, evenly picked).
+
+    Panels are laid out ``columns`` times to a row, one row per field, with the paper's axis
+    ranges where the data fit them. The title says when not every saved time is drawn, and
+    when the run is incomplete.
     """
+    import matplotlib.pyplot as plt
+
+    fig = snapshot_figure(ds, fields, max_times, columns)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def snapshot_figure(ds, fields=("r", "theta", "chi"), max_times=MAX_TIMES, columns=COLUMNS):
+    """The figure of :func:`plot_snapshots` (a matplotlib ``Figure``, not saved)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    idx = np.unique(np.linspace(0, ds.sizes["time"] - 1, min(max_times, ds.sizes["time"])).round().astype(int))
-    fig, axes = plt.subplots(len(fields), len(idx), figsize=(2.6 * len(idx) + 0.8, 1.9 * len(fields) + 0.9),
-                             sharex=True, sharey="row", squeeze=False)
+    idx = shown_times(ds.sizes["time"], max_times)
+    ncols = min(columns, len(idx))
+    blocks = math.ceil(len(idx) / ncols)
+    nrows = blocks * len(fields)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(2.6 * ncols + 0.8, 1.9 * nrows + 1.2), squeeze=False)
     s = ds["s"].values
     for row, name in enumerate(fields):
         limits = _limits(ds[name].values, name)
-        for col, i in enumerate(idx):
-            ax = axes[row, col]
+        for k, i in enumerate(idx):
+            block, col = divmod(k, ncols)
+            ax = axes[block * len(fields) + row, col]
             ax.plot(s, ds[name].values[i], "k.-", lw=1, ms=3)
+            ax.set_xlim(s[0], s[-1])
             ax.set_ylim(*limits)
             ax.axhline(0.0 if name != "r" else 1.0, color="0.8", lw=0.6, zorder=0)
             if row == 0:
                 ax.set_title(f"t = {float(ds['time'][i]):.4g} s", fontsize=10)
             if col == 0:
                 ax.set_ylabel(LABELS[name])
+            else:
+                ax.tick_params(labelleft=False)
             if row == len(fields) - 1:
                 ax.set_xlabel("s [m]")
-    attrs = ds.attrs
-    title = (f"{attrs.get('scene', '')}: gamma = {attrs.get('gamma', float('nan')):g} rad/m, "
-             f"R = {attrs.get('R', float('nan')):.6f} m, n = {attrs.get('n', '')}, {attrs.get('integrator', '')}")
-    if not attrs.get("complete", 1):
-        title += f"  [INCOMPLETE: {attrs.get('message', '')}]"
+            else:
+                ax.tick_params(labelbottom=False)
+    for k in range(len(idx), blocks * ncols):  # the empty places of the last row of panels
+        block, col = divmod(k, ncols)
+        for row in range(len(fields)):
+            axes[block * len(fields) + row, col].set_visible(False)
+    title = title_of(ds.attrs, len(idx), ds.sizes["time"])
     fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    top = (0.2 * (title.count("\n") + 1) + 0.15) / fig.get_figheight()  # room for the title's lines
+    fig.tight_layout(rect=(0, 0, 1, 1 - top))
+    return fig

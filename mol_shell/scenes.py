@@ -9,21 +9,56 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from dataclasses import dataclass
 
-from .errors import ParameterError
-from .model.material import MATERIALS
+import numpy as np
+
+from .errors import ParameterError, is_number
+from .model.material import MATERIALS, centroidal_offset
 
 UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
     "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
-    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1",
+    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "dR": "m",
+    # integrator options (varied in studies)
+    "dt": "s", "rtol": "1", "atol": "1", "max_step": "s",
+}
+#: what each parameter is (long_name of a study's coordinates)
+DESCRIPTIONS = {
+    "L": "length of the shell", "h": "half-thickness", "E": "Young's modulus", "nu": "Poisson's ratio",
+    "rho": "density", "R": "initial radius", "gamma": "initial twist chi_s", "omega": "initial spin rate chi_t",
+    "psi0": "initial shear angle psi", "n_quad": "Gauss-Legendre points through the thickness",
+    "zeta1": "lower face of the thickness interval from the base surface", "eta_lambda": "Kelvin-Voigt viscosity eta_lambda",
+    "eta_mu": "Kelvin-Voigt viscosity eta_mu", "material": "material law", "dR": "amplitude of the initial radius variation",
+    "dt": "leap-frog time step", "rtol": "relative tolerance", "atol": "absolute tolerance (m or rad per field)",
+    "max_step": "largest step of the adaptive integrator",
 }
 
 
+#: Gauss-Legendre points through the thickness: one point makes the director's inertia rhoJ = rhoI^2/rhoA,
+#: a singular mass matrix; more than 64 adds nothing but cost
+N_QUAD_RANGE = (2, 64)
+
+
 def _check(name, value, ok, allowed):
-    if not (isinstance(value, (int, float)) and math.isfinite(value) and ok(value)):
+    if not is_number(value):
+        raise ParameterError.not_a(name, value, "a number", allowed)
+    if not (math.isfinite(value) and ok(value)):
         raise ParameterError(name, value, allowed)
+
+
+def zeta1_used(h, zeta1=None):
+    """The lower face of the thickness interval as the model uses it (``zeta1``, or the centroidal offset)."""
+    return centroidal_offset(h) if zeta1 is None else zeta1
+
+
+def check_radius(R, h, zeta1=None, hint=""):
+    """``R > -zeta1_used``: the inner face ``r + zeta1`` of the initial cylinder at a positive radius."""
+    low = -zeta1_used(h, zeta1)
+    _check("R", R, lambda v: v > low,
+           f"({low:.4g}, inf) m: the inner face r + zeta1 must be at a positive radius (zeta1 = {-low:.4g} m)"
+           + (f"; {hint}" if hint else ""))
 
 
 @dataclass(frozen=True)
@@ -41,10 +76,11 @@ class ShellScene:
     rho : float
         Density, kg/m^3. Lost from the paper; 1000 is our assumption (it only rescales time).
     R : float or None
-        Initial radius, m. ``None`` computes the radius at which the uniformly twisted
-        cylinder is in radial equilibrium (:func:`mol_shell.equilibrium.equilibrium_radius`).
+        Initial radius, m, above ``-zeta1`` (the inner face at a positive radius). ``None`` (or
+        ``"auto"``) computes the radius at which the uniformly twisted cylinder is in radial
+        equilibrium (:func:`mol_shell.equilibrium.equilibrium_radius`).
     n_quad : int
-        Gauss-Legendre points through the thickness.
+        Gauss-Legendre points through the thickness, 2..64.
     zeta1 : float or None
         Lower face of the thickness interval, measured from the base surface along the
         director. ``None`` places the base surface so that ``rhoI = 0`` (as the paper).
@@ -81,16 +117,24 @@ class ShellScene:
         _check("E", self.E, lambda v: v > 0, "(0, inf) Pa")
         _check("nu", self.nu, lambda v: -1 < v < 0.5, "(-1, 0.5)")
         _check("rho", self.rho, lambda v: v > 0, "(0, inf) kg/m^3")
-        if self.R is not None:
-            _check("R", self.R, lambda v: v > 0, "(0, inf) m")
-        if not isinstance(self.n_quad, int) or isinstance(self.n_quad, bool) or not 1 <= self.n_quad <= 64:
-            raise ParameterError("n_quad", self.n_quad, "integers 1..64")
+        lo, hi = N_QUAD_RANGE
+        allowed = f"integers {lo}..{hi}"
+        if not isinstance(self.n_quad, numbers.Integral) or isinstance(self.n_quad, (bool, np.bool_)):
+            raise ParameterError.not_a("n_quad", self.n_quad, "an integer", allowed)
+        if not lo <= self.n_quad <= hi:
+            raise ParameterError("n_quad", self.n_quad, allowed,
+                                 hint="one point makes the director's inertia singular" if self.n_quad == 1 else "")
+        object.__setattr__(self, "n_quad", int(self.n_quad))
         _check("eta_lambda", self.eta_lambda, lambda v: v >= 0, "[0, inf) Pa s")
         _check("eta_mu", self.eta_mu, lambda v: v >= 0, "[0, inf) Pa s")
         if self.material not in MATERIALS:
             raise ParameterError("material", self.material, "{" + ", ".join(MATERIALS) + "}")
         if self.zeta1 is not None:
             _check("zeta1", self.zeta1, lambda v: -2 * self.h <= v <= 0, f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m")
+        if isinstance(self.R, str) and self.R.strip().lower() in ("auto", "none"):
+            object.__setattr__(self, "R", None)  # as from the command line: computed
+        if self.R is not None:
+            check_radius(self.R, self.h, self.zeta1)
 
     def params(self):
         """All parameters as a plain dict (``R`` and ``zeta1`` may be ``None``)."""
@@ -182,11 +226,17 @@ def with_params(scene, params):
 
 
 def _coerce(name, value, annotation):
+    """A string from the command line as the field wants it; what does not convert is passed on unchanged,
+    so the scene's own check names the parameter and its allowed range."""
     if not isinstance(value, str) or annotation in (str, "str"):
         return value
-    if value.lower() in ("none", "auto") and "None" in str(annotation):
+    text = value.strip()
+    if text.lower() in ("none", "auto") and "None" in str(annotation):
         return None
     try:
-        return int(value) if "int" in str(annotation) else float(value)
+        number = float(text)
     except ValueError:
-        raise ParameterError(name, value, "numbers") from None
+        return value
+    if "int" in str(annotation) and number.is_integer():
+        return int(number)
+    return number

@@ -13,14 +13,19 @@ import numpy as np
 from .compiled import CompiledRHS
 from .discretization import ShellSystem
 from .equilibrium import equilibrium_radius, spectrum_bounds
-from .errors import ParameterError
+from .errors import ParameterError, is_number
 from .integrators import INTEGRATORS
+from .model.kinematics import FIELDS
 from .output import build_dataset
-from .scenes import get_scene
+from .scenes import SCENES, ShellScene, check_radius, get_scene
 
 
 #: leap-frog is refused when damped modes could grow by more than exp(this) (1e6) over the run
 LEAPFROG_MAX_LOG_GROWTH = float(np.log(1e6))
+#: leap-frog's step when none is given (the paper's), s
+DEFAULT_DT = 1e-6
+#: relative tolerances accepted: below 1e-14 is under round-off, 1 and above controls nothing
+RTOL_RANGE = (1e-14, 1.0)
 
 
 def _graph_key(scene):
@@ -46,21 +51,77 @@ def build(scene, n=40):
 def resolve(scene):
     """The scene with ``R`` computed when it was left to the code."""
     if scene.R is None:
-        return dataclasses.replace(scene, R=equilibrium_radius(scene))
+        R = equilibrium_radius(scene)
+        check_radius(R, scene.h, scene.zeta1, hint="the computed equilibrium radius; set R")
+        return dataclasses.replace(scene, R=R)
     return scene
+
+
+def as_scene(scene):
+    """A scene object from an object or a registered name; anything else is refused by name."""
+    if isinstance(scene, str):
+        return get_scene(scene)
+    if not isinstance(scene, ShellScene):
+        raise ParameterError.not_a("scene", scene, "a scene",
+                                   "a scene object such as mol_shell.TwistedCylinder(), or one of {"
+                                   + ", ".join(sorted(SCENES)) + "}")
+    return scene
+
+
+def integrator_options(scene, integrator):
+    """Names of the options ``integrator`` takes for ``scene`` (keyword arguments of :func:`simulate`)."""
+    if hasattr(scene, "run"):  # the unshearable scene: its own formulation
+        return {"dt"} if integrator == "leapfrog" else {"rtol", "atol", "max_step"}
+    if integrator not in INTEGRATORS:
+        raise ParameterError("integrator", integrator, "{" + ", ".join(INTEGRATORS) + "}")
+    return {f.name for f in dataclasses.fields(INTEGRATORS[integrator])}
+
+
+def check_options(scene, integrator, options, offered=None):
+    """Refuse options ``integrator`` does not take, and an ``rtol`` outside :data:`RTOL_RANGE`.
+
+    ``offered`` (a set of names) limits the options listed in the message to those a caller
+    offers (the command line offers ``dt, rtol, atol, max_step``).
+    """
+    allowed = integrator_options(scene, integrator)
+    for name in options:
+        if name not in allowed:
+            raise ParameterError.not_an_option(name, integrator, allowed & offered if offered else allowed)
+    if hasattr(scene, "run") and "atol" in options:  # the unshearable DAE takes one number
+        atol = options["atol"]
+        if not is_number(atol):
+            raise ParameterError.not_a("atol", atol, "a number", f"(0, inf), one value for the {scene.name} scene")
+        if not (np.isfinite(atol) and atol > 0):
+            raise ParameterError("atol", atol, "(0, inf)")
+    if "rtol" in options:
+        lo, hi = RTOL_RANGE
+        value = options["rtol"]
+        if not is_number(value):
+            raise ParameterError.not_a("rtol", value, "a number", f"[{lo:g}, {hi:g})")
+        if not (lo <= value < hi):
+            raise ParameterError("rtol", value, f"[{lo:g}, {hi:g})")
 
 
 def parse_times(times=None, t_end=None):
     """Saved times as an array starting at 0; ``t_end`` alone gives 11 evenly spaced times."""
-    if times is None:
-        if t_end is None:
-            raise ParameterError("t_end", None, "(0, inf) s", hint="give t_end or times")
+    if t_end is not None:
+        if not is_number(t_end):
+            raise ParameterError.not_a("t_end", t_end, "a number", "(0, inf) s")
         if not (np.isfinite(t_end) and t_end > 0):
             raise ParameterError("t_end", t_end, "(0, inf) s")
+    if times is None:
+        if t_end is None:
+            raise ParameterError.missing("t_end", "give t_end in (0, inf) s, or times")
         return np.linspace(0.0, float(t_end), 11)
-    times = np.asarray(times, dtype=float).ravel()
+    allowed = "increasing finite times starting at 0, at least two"
+    try:
+        if isinstance(times, str):
+            raise TypeError
+        times = np.asarray(times, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise ParameterError.not_a("times", times, "a list of numbers", allowed) from None
     if times.size < 2 or not np.all(np.isfinite(times)) or times[0] != 0 or np.any(np.diff(times) <= 0):
-        raise ParameterError("times", times.tolist() if times.size < 8 else "[...]", "increasing finite times starting at 0, at least two")
+        raise ParameterError("times", times, allowed)
     if t_end is not None and not np.isclose(times[-1], t_end):
         raise ParameterError("t_end", t_end, f"the last saved time {times[-1]:g} s (or leave t_end out)")
     return times
@@ -80,7 +141,7 @@ def leapfrog_times(t_end, dt, count=10):
     return np.array([float(f"{k * dt:.12g}") for k in marks])
 
 
-def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=1e-6, progress=None, **options):
+def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=None, progress=None, **options):
     """Run ``scene`` and return its motion as an :class:`xarray.Dataset`.
 
     Parameters
@@ -95,13 +156,15 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=1
         Final time (s); with ``times`` omitted, 11 evenly spaced saved times.
     times : array_like, optional
         Saved times (s), starting at 0.
-    dt : float
-        Leap-frog step (s); refused beyond the stability bound ``1 / max |eig J(y0)|``.
-        Ignored by adaptive integrators.
+    dt : float, optional
+        Leap-frog step (s), default :data:`DEFAULT_DT` (1e-6, the paper's); refused beyond the
+        stability bound ``1 / max |eig J(y0)|``. Adaptive integrators choose their own steps and
+        refuse ``dt`` (bound them with ``max_step``).
     progress : bool, optional
         Progress bar over simulated time; default: only when stderr is a terminal.
     **options
-        Passed to the integrator's dataclass (e.g. ``rtol``, ``atol``, ``max_step``).
+        Passed to the integrator's dataclass (e.g. ``rtol`` in [1e-14, 1), ``atol``, ``max_step``);
+        an option the integrator does not take is refused by name.
 
     Returns
     -------
@@ -111,29 +174,25 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=1
         statistics in attrs. If the run hit a model limit or was interrupted, the
         Dataset holds what was computed and ``attrs["complete"] == 0``.
     """
-    if isinstance(scene, str):
-        scene = get_scene(scene)
-    if hasattr(scene, "run"):  # a scene with its own formulation (the unshearable DAE)
-        return scene.run(integrator, n=n, times=times, t_end=t_end, progress=progress, **({"dt": dt} if integrator == "leapfrog" else {}), **options)
-    if integrator not in INTEGRATORS:
-        raise ParameterError("integrator", integrator, "{" + ", ".join(INTEGRATORS) + "}")
-    scene = resolve(scene)
-    if integrator == "leapfrog":
+    scene = as_scene(scene)
+    if dt is not None:
         options["dt"] = dt
-    cls = INTEGRATORS[integrator]
-    allowed = {f.name for f in dataclasses.fields(cls)}
-    for name in options:
-        if name not in allowed:
-            raise ParameterError("option", name, "{" + ", ".join(sorted(allowed)) + "}", hint=f"for integrator {integrator}")
-    method = cls(**options)
+    check_options(scene, integrator, options)
+    if integrator == "leapfrog":
+        options.setdefault("dt", DEFAULT_DT)
+    if hasattr(scene, "run"):  # a scene with its own formulation (the unshearable DAE)
+        return scene.run(integrator, n=n, times=times, t_end=t_end, progress=progress, **options)
+    method = INTEGRATORS[integrator](**options)
     if times is None and integrator == "leapfrog":
-        times = leapfrog_times(t_end, dt)
+        times = leapfrog_times(t_end, method.dt)
     times = parse_times(times, t_end)
+    scene = resolve(scene)
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
     y0 = system.initial_state(scene)
     omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
     if integrator == "leapfrog":
+        dt = method.dt
         if dt * omega_max >= 1.0:
             raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound 1/max|eig J(y0)|")
         if damping * times[-1] > LEAPFROG_MAX_LOG_GROWTH:
@@ -154,13 +213,21 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=1
         warnings.warn(f"run incomplete: {traj.message}; keeping {len(traj.t)} saved times", RuntimeWarning, stacklevel=2)
     velocities, totals = observe(system, traj.y)
     attrs = {"integrator": integrator, **method.settings(), **system.graph_stats()}
+    if "atol" in attrs and hasattr(method, "field_atol") and not is_number(method.atol):
+        attrs["atol"] = format_atol(method.field_atol())
     attrs.update({
         "build_time_s": build_time,
         "omega_max_rad_s": omega_max,
-        "max_damping_rate_s-1": damping,
+        "max_damping_rate": damping,
+        "units_max_damping_rate": "s-1",
         "leapfrog_dt_bound_s": 1.0 / omega_max,
     })
     return build_dataset(system, scene, traj, velocities, totals, attrs)
+
+
+def format_atol(values):
+    """Per-field absolute tolerances as an attribute: ``"z=1e-09,r=1e-08,chi=1e-09,theta=1e-10,psi=1e-09"``."""
+    return ",".join(f"{name}={float(v):g}" for name, v in zip(FIELDS, values))
 
 
 def observe(system, states):

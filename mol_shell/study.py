@@ -85,9 +85,9 @@ def run_task(task):
 
 def resolve_scene(scene):
     """A scene object from an object or a registered name."""
-    from .scenes import get_scene
+    from .simulate import as_scene
 
-    return get_scene(scene) if isinstance(scene, str) else scene
+    return as_scene(scene)
 
 
 def design(scene, vary, integrator="leapfrog"):
@@ -95,14 +95,14 @@ def design(scene, vary, integrator="leapfrog"):
 
     Each case is ``(index, {name: value})``; names are scene parameters or integrator options.
     """
-    allowed = set(_scene_fields(scene)) | _option_names(integrator)
+    allowed = set(_scene_fields(scene)) | _option_names(scene, integrator)
     if isinstance(vary, dict):
         if not vary:
             raise ParameterError("vary", vary, "at least one parameter with values")
         names = list(vary)
         values = [[_typed(scene, k, v) for v in np.atleast_1d(np.asarray(vary[k], dtype=object)).tolist()] for k in names]
         for name, vals in zip(names, values):
-            _check_name(name, allowed, scene)
+            _check_name(name, allowed, scene, integrator)
             if not vals or len(set(map(repr, vals))) != len(vals):
                 raise ParameterError(f"vary[{name!r}]", vals, "distinct values, at least one")
         cases = [(idx, dict(zip(names, (values[d][i] for d, i in enumerate(idx)))))
@@ -113,7 +113,7 @@ def design(scene, vary, integrator="leapfrog"):
         raise ParameterError("vary", vary, "at least one case")
     names = sorted({k for c in cases for k in c})
     for name in names:
-        _check_name(name, allowed, scene)
+        _check_name(name, allowed, scene, integrator)
     coords = {k: [_typed(scene, k, c.get(k, _default(scene, k))) for c in cases] for k in names}
     return ["case"], coords, [((i,), {k: coords[k][i] for k in names}) for i in range(len(cases))]
 
@@ -168,16 +168,24 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         ``case_wall_time_s``, ``R``, ...); attrs ``n_cases``, ``n_executed`` (run by this
         call), ``n_reused`` (loaded from ``output``), ``n_failed``.
     """
-    from .simulate import parse_times
+    from .simulate import DEFAULT_DT, check_options, parse_times
 
     start = time.perf_counter()
     scene = resolve_scene(scene)
+    check_options(scene, integrator, options)  # also refuses an unknown integrator
+    if workers is not None and not (isinstance(workers, (int, np.integer)) and not isinstance(workers, bool)
+                                    and workers >= 1):
+        raise ParameterError("workers", workers, "integers >= 1")
+    if output is not None:
+        from .output import writable_path
+
+        writable_path(output, "output")
     dims, coords, cases = design(scene, vary, integrator)
     snap = times is None and integrator == "leapfrog"
     times = parse_times(times, t_end)
     if snap:
-        dt = options.get("dt", 1e-6)
-        times = np.rint(times / dt) * dt
+        dt = options.get("dt", DEFAULT_DT)
+        times = np.array([float(f"{t:.12g}") for t in np.rint(times / dt) * dt])
     results, tasks = {}, []
     for index, changes in cases:
         label = ", ".join(f"{k}={v}" for k, v in changes.items())
@@ -187,6 +195,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
             results[index] = (None, {"status": "refused", "message": str(exc), "case_wall_time_s": 0.0, "worker": ""})
             continue
         tasks.append(task)
+    client = _connect(scheduler) if tasks else None  # an unreachable cluster is refused before anything runs
     store = Store(output) if output is not None else None
     pending, reused = [], 0
     for task in tasks:
@@ -204,7 +213,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
 
         bar = tqdm(total=len(cases), initial=len(cases) - len(pending), desc="study", unit="case")
     by_index = {task.index: task for task in pending}
-    finished = _execute(pending, scheduler, workers)
+    finished = _execute(pending, scheduler, workers, client)
     try:
         for index, ds, info in finished:
             results[index] = (ds, info)
@@ -219,7 +228,10 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         finished.close()  # on Ctrl-C: cancel what has not started, shut the workers down
         if bar is not None:
             bar.close()
+        if client is not None and client is not scheduler:
+            client.close()
     out = assemble(dims, coords, cases, results, times)
+    _label_coords(out, coords, dims)
     failed = sum(1 for ds, info in results.values() if info["status"] != "complete")
     out.attrs.update({
         "title": f"mol_shell parameter study of scene {scene.name}", "study_vary": ", ".join(coords),
@@ -243,8 +255,40 @@ def _task(scene, index, label, changes, integrator, n, times, options):
     return Task(index, label, case_scene, integrator, int(n), tuple(float(t) for t in times), opts)
 
 
-def _execute(tasks, scheduler, workers):
-    """Yield ``(index, ds, info)`` as cases finish, on the chosen back end."""
+#: seconds to wait for a dask scheduler to answer before the study is refused
+SCHEDULER_TIMEOUT = 10.0
+
+
+def _connect(scheduler):
+    """A ``distributed.Client`` for a scheduler address (``None`` for local processes or ``"serial"``).
+
+    Raises :class:`ParameterError` for an address that is malformed or does not answer within
+    :data:`SCHEDULER_TIMEOUT` seconds, so a study never starts on a cluster it cannot reach.
+    """
+    if scheduler is None or scheduler == "serial":
+        return None
+    allowed = "'serial', or the address of a running dask scheduler such as tcp://host:8786, or a distributed.Client"
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ParameterError.invalid("scheduler", scheduler, "needs dask.distributed, which is not installed",
+                                     allowed, hint="pip install 'mol_shell[dask]'") from None
+    if isinstance(scheduler, Client):
+        return scheduler
+    if not isinstance(scheduler, str) or not scheduler.strip():
+        raise ParameterError.not_a("scheduler", scheduler, "a scheduler address", allowed)
+    try:
+        return Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+    except ValueError as exc:
+        raise ParameterError.invalid("scheduler", scheduler, "is not a scheduler address", allowed, hint=str(exc)) from None
+    except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, or distributed's own failures to start
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        raise ParameterError.invalid("scheduler", scheduler, f"does not answer within {SCHEDULER_TIMEOUT:g} s",
+                                     allowed, hint=f"{type(exc).__name__}: {text}".rstrip(": ")) from None
+
+
+def _execute(tasks, scheduler, workers, client=None):
+    """Yield ``(index, ds, info)`` as cases finish, on the chosen back end (``client``: a connected cluster)."""
     if not tasks:
         return
     if scheduler == "serial":
@@ -264,20 +308,17 @@ def _execute(tasks, scheduler, workers):
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
         return
-    from distributed import Client, as_completed
+    from distributed import as_completed
 
-    client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+    if client is None:
+        client = _connect(scheduler)
+    futures = client.map(run_task, tasks, pure=False)
+    owner = {f.key: t for f, t in zip(futures, tasks)}
     try:
-        futures = client.map(run_task, tasks, pure=False)
-        owner = {f.key: t for f, t in zip(futures, tasks)}
-        try:
-            for future in as_completed(futures):
-                yield _collect(future, owner[future.key])
-        finally:
-            client.cancel(futures)
+        for future in as_completed(futures):
+            yield _collect(future, owner[future.key])
     finally:
-        if client is not scheduler:
-            client.close()
+        client.cancel(futures)
 
 
 def _collect(future, task):
@@ -293,18 +334,31 @@ def _scene_fields(scene):
     return [f.name for f in dataclasses.fields(scene)]
 
 
-def _option_names(integrator):
-    from .integrators import INTEGRATORS
+def _option_names(scene, integrator):
+    from .simulate import integrator_options
 
-    names = {"dt", "rtol", "atol", "max_step"}
-    if integrator in INTEGRATORS:
-        names |= {f.name for f in dataclasses.fields(INTEGRATORS[integrator])}
-    return names
+    return integrator_options(scene, integrator)
 
 
-def _check_name(name, allowed, scene):
+def _label_coords(ds, coords, dims):
+    """Units and long names of the varied parameters (and of the ``case`` index)."""
+    from .scenes import DESCRIPTIONS, UNITS
+
+    for name in coords:
+        if name not in ds.coords:
+            continue
+        attrs = {"long_name": f"{DESCRIPTIONS.get(name, name)} (varied)"}
+        if ds[name].dtype.kind in "iuf":
+            attrs["units"] = UNITS.get(name, "1")
+        ds[name].attrs.update(attrs)
+    if "case" in dims and "case" in ds.coords:
+        ds["case"].attrs.update({"units": "1", "long_name": "index of the case in the list of cases"})
+
+
+def _check_name(name, allowed, scene, integrator=None):
     if name not in allowed:
-        raise ParameterError("vary", name, "{" + ", ".join(sorted(allowed)) + "}", hint=f"for scene {scene.name}")
+        raise ParameterError("vary", name, "{" + ", ".join(sorted(allowed)) + "}",
+                             hint=f"parameters of scene {scene.name}" + (f" and options of {integrator}" if integrator else ""))
 
 
 def _default(scene, name):
@@ -312,16 +366,26 @@ def _default(scene, name):
 
 
 def _typed(scene, name, value):
-    """A value as the scene field's type wants it (strings from the command line are converted)."""
+    """A value as the scene field's type wants it (strings from the command line are converted).
+
+    A string that is not a number, for a numeric parameter, is refused here (for every case at once).
+    """
     from .scenes import _coerce
 
     if isinstance(value, np.generic):
         value = value.item()
     fields = {f.name: f for f in dataclasses.fields(scene)}
     if name not in fields:
-        return float(value) if isinstance(value, str) else value
+        if isinstance(value, str):
+            try:
+                return float(value)
+            except ValueError:
+                raise ParameterError.not_a(f"--vary {name}", value, "a number", "numbers") from None
+        return value
     annotation = str(fields[name].type)
     value = _coerce(name, value, fields[name].type)
+    if isinstance(value, str) and annotation != "str":
+        dataclasses.replace(scene, **{name: value})  # raises: "gamma = 'abc' is not a number; allowed: ..."
     if "int" in annotation and isinstance(value, float) and value.is_integer():
         return int(value)
     return value
@@ -336,22 +400,26 @@ def _scheduler_name(scheduler):
 # -- command line ------------------------------------------------------------------------------
 def parse_vary(items):
     """``["gamma=0.02:0.2:0.02", "nu=0.3,0.45,0.49"]`` -> ``{"gamma": [...], "nu": [...]}`` (ranges include the stop)."""
-    from .cli import parse_times_arg
+    from .cli import parse_range_or_list
 
+    form = "NAME=START:STOP:STEP or NAME=V1,V2,..."
     vary = {}
     for item in items or []:
-        if "=" not in item:
-            raise ParameterError("--vary", item, "NAME=START:STOP:STEP or NAME=V1,V2,...")
-        name, spec = (x.strip() for x in item.split("=", 1))
+        name, sep, spec = (x.strip() for x in item.partition("="))
+        if not sep or not name:
+            raise ParameterError("--vary", item, form)
+        if name in vary:
+            raise ParameterError.invalid("--vary", item, f"varies {name} a second time", "each parameter once")
         if ":" in spec:
-            values = [float(f"{v:.12g}") for v in parse_times_arg(spec)]
+            values = parse_range_or_list(spec, f"--vary {name}", words=("START", "STOP", "STEP"), item="V")
         else:
-            values = [_number_or_text(v.strip()) for v in spec.split(",") if v.strip()]
-        if not values:
-            raise ParameterError("--vary", item, "at least one value")
+            entries = [v.strip() for v in spec.split(",")]
+            if not spec or any(not v for v in entries):
+                raise ParameterError.invalid("--vary", item, "has an empty entry" if spec else "has no values", form)
+            values = [_number_or_text(v) for v in entries]
         vary[name] = values
     if not vary:
-        raise ParameterError("--vary", None, "NAME=VALUES, at least one")
+        raise ParameterError.missing("--vary", f"give {form}, at least one")
     return vary
 
 
@@ -363,16 +431,22 @@ def _number_or_text(text):
 
 
 def cmd_study(args):
-    from .cli import EXIT_INCOMPLETE, parse_sets, parse_times_arg
+    from .cli import CLI_OPTIONS, EXIT_INCOMPLETE, integrator_option_args, parse_sets, parse_times_arg
     from .scenes import with_params
 
-    scene = with_params(resolve_scene(args.scene), parse_sets(args.set))
+    from .simulate import check_options
+
+    sets, vary = parse_sets(args.set), parse_vary(args.vary)
+    both = [name for name in vary if name in sets]
+    if both:
+        raise ParameterError.invalid("--set", f"{both[0]}={sets[both[0]]}", f"sets {both[0]}, which --vary varies",
+                                     "parameters not in --vary")
+    scene = with_params(resolve_scene(args.scene), sets)
     times = parse_times_arg(args.times) if args.times else None
-    options = {k: getattr(args, k) for k in ("dt", "rtol", "atol", "max_step") if getattr(args, k) is not None}
-    if args.integrator != "leapfrog":
-        options.pop("dt", None)
+    options = integrator_option_args(args)
+    check_options(scene, args.integrator, options, offered=CLI_OPTIONS)
     try:
-        ds = study(scene, parse_vary(args.vary), args.integrator, n=args.n, times=times, t_end=args.t_end,
+        ds = study(scene, vary, args.integrator, n=args.n, times=times, t_end=args.t_end,
                    scheduler=args.scheduler, workers=args.workers, output=args.output, progress=None, **options)
     except KeyboardInterrupt:
         print(f"mol-shell: study interrupted; finished cases are kept in {Store(args.output).folder}; "
@@ -387,22 +461,27 @@ def cmd_study(args):
 
 def register(subparsers):
     """Add ``mol-shell study`` to the command line."""
-    from .cli import _positive_float, parse_atol
+    from .cli import integer_arg, number_arg, parse_atol
 
     p = subparsers.add_parser("study", help="run a parameter study (product of --vary values) and write one netCDF")
     p.add_argument("scene", help="a registered scene, or unshearable")
     p.add_argument("--vary", action="append", required=True, metavar="NAME=VALUES",
                    help="START:STOP:STEP (stop included) or V1,V2,...; repeat for more dimensions")
     p.add_argument("--integrator", default="leapfrog", help="leapfrog, ... (ida for unshearable)")
-    p.add_argument("--n", type=int, default=40, help="nodes in s (default 40)")
-    p.add_argument("--t-end", type=_positive_float("--t-end"), default=None, help="final time, s")
+    p.add_argument("--n", type=integer_arg("--n", 3), default=40, help="nodes in s (default 40)")
+    p.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="final time, s")
     p.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
-    p.add_argument("--dt", type=_positive_float("--dt"), default=None, help="leap-frog step, s (default 1e-6)")
-    p.add_argument("--rtol", type=_positive_float("--rtol"), default=None)
+    p.add_argument("--dt", type=number_arg("--dt", unit="s"), default=None,
+                   help="leap-frog step, s (default 1e-6); adaptive integrators refuse it")
+    p.add_argument("--rtol", type=number_arg("--rtol", 1e-14, 1.0, low_closed=True), default=None,
+                   help="relative tolerance in [1e-14, 1) (adaptive integrators)")
     p.add_argument("--atol", type=parse_atol, default=None, help="one value, or per field as r=1e-9,theta=1e-10")
-    p.add_argument("--max-step", type=_positive_float("--max-step"), default=None)
+    p.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="base scene parameter, repeatable")
-    p.add_argument("--scheduler", default=None, help="dask.distributed scheduler address (default: local processes)")
-    p.add_argument("--workers", type=int, default=None, help="local processes (default: all cores)")
-    p.add_argument("-o", "--output", required=True, help="netCDF file; finished cases kept next to it in <stem>.cases/")
+    p.add_argument("--scheduler", default=None,
+                   help="dask.distributed scheduler address, or serial (default: local processes); "
+                   f"refused if it does not answer within {SCHEDULER_TIMEOUT:g} s")
+    p.add_argument("--workers", type=integer_arg("--workers", 1), default=None, help="local processes (default: all cores)")
+    p.add_argument("-o", "--output", required=True,
+                   help="netCDF file; finished cases kept next to it in <stem>.cases/ (missing directories are created)")
     p.set_defaults(func=cmd_study)

@@ -41,7 +41,7 @@ import numpy as np
 from .errors import ModelLimitError, ParameterError
 from .integrators.base import Monitor, Trajectory
 from .model.kinematics import kinetic_energy_density
-from .scenes import SCENES, ShellScene, _check
+from .scenes import SCENES, ShellScene, _check, zeta1_used
 
 NF = 5
 #: DAE unknowns per node: q (5), v (5), lambda_chi of the cell to the right (a dummy at the last node), lambda_psi
@@ -77,6 +77,10 @@ class Unshearable(ShellScene):
     def __post_init__(self):
         super().__post_init__()
         _check("dR", self.dR, lambda v: abs(v) < 0.2, "(-0.2, 0.2) m")
+        if self.R is not None:  # the thinnest section, R - |dR|, keeps its inner face at a positive radius
+            low = -zeta1_used(self.h, self.zeta1) + abs(self.dR)
+            _check("R", self.R, lambda v: v > low, f"({low:.4g}, inf) m: the inner face R - |dR| + zeta1 "
+                   f"must be at a positive radius (dR = {self.dR:g} m)")
         _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
 
     def initial_fields(self, s):

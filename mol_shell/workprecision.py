@@ -27,7 +27,6 @@ import xarray as xr
 from . import __version__
 from .errors import ParameterError
 from .integrators import INTEGRATORS
-from .scenes import get_scene
 from .simulate import build, resolve
 
 #: the paper's snapshot times (s)
@@ -88,34 +87,79 @@ def reference(system, compiled, y0, times, method=("cvode-adams", 1e-12), check=
                                      "reference_wall_s": ref.stats["wall_time_s"]}
 
 
+def check_integrators(integrators, name="integrators"):
+    """A non-empty list of distinct registered integrator names, or a named error."""
+    allowed = "a comma-separated list of {" + ", ".join(INTEGRATORS) + "}"
+    names = list(integrators)
+    if not names:
+        raise ParameterError.invalid(name, ",".join(names), "is empty", allowed)
+    if any(not str(item).strip() for item in names):
+        raise ParameterError.invalid(name, ",".join(map(str, names)), "has an empty entry", allowed)
+    for item in names:
+        if item not in INTEGRATORS:
+            raise ParameterError(name, item, allowed)
+        if names.count(item) > 1:
+            raise ParameterError.invalid(name, ",".join(names), f"names {item} twice", allowed)
+    return names
+
+
+def skip_reason(name, value, times):
+    """Why a sweep point cannot run on ``times`` (``""`` when it can): a leap-frog step that misses a saved time."""
+    method = INTEGRATORS[name](**options(name, value))
+    if hasattr(method, "step_counts"):
+        try:
+            method.step_counts(np.asarray(times))
+        except ParameterError as exc:
+            return f"skipped: {exc}"
+    return ""
+
+
 def study(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_TIMES, repeats=3, sweeps=None, log=print):
-    """Measure every sweep point; returns a Dataset with dims ``(integrator, level)``."""
+    """Measure every sweep point; returns a Dataset with dims ``(integrator, level)``.
+
+    Everything that can be checked is checked before the (expensive) reference runs. A leap-frog
+    step whose grid misses a saved time is not run: its point is NaN with status ``skipped`` and
+    the reason in ``note``.
+    """
+    from .simulate import as_scene
+
     sweeps = {**SWEEPS, **(sweeps or {})}
-    for name in integrators:
-        if name not in INTEGRATORS:
-            raise ParameterError("integrators", name, "{" + ", ".join(INTEGRATORS) + "}")
-    scene = resolve(get_scene(scene) if isinstance(scene, str) else scene)
+    integrators = check_integrators(integrators)
+    if not (isinstance(repeats, (int, np.integer)) and repeats >= 1):
+        raise ParameterError("repeats", repeats, "integers >= 1")
+    times = np.asarray(times, dtype=float)
+    plan = {name: [(value, skip_reason(name, value, times)) for value in next(iter(sweeps[name].values()))]
+            for name in integrators}
+    if all(reason for points in plan.values() for _, reason in points):
+        raise ParameterError("times", times.tolist(), "saved times on the step grid of at least one sweep point",
+                             hint="every point would be skipped")
+    scene = resolve(as_scene(scene))
     system, compiled = build(scene, n)
     y0 = system.initial_state(scene)
-    times = np.asarray(times, dtype=float)
     ref, ref_err, ref_info = reference(system, compiled, y0, times)
     log(f"reference {ref_info['reference']}: converged to {ref_err:.2g} (against {ref_info['reference_check']})")
-    levels = max(len(next(iter(sweeps[name].values()))) for name in integrators)
+    levels = max(len(points) for points in plan.values())
     keys = ("setting", "error", "wall_time_s", "n_steps", "n_rhs", "n_jac")
     data = {k: np.full((len(integrators), levels), np.nan) for k in keys}
     status = np.full((len(integrators), levels), "", dtype=object)
+    note = np.full((len(integrators), levels), "", dtype=object)
     for i, name in enumerate(integrators):
-        values = next(iter(sweeps[name].values()))
-        for j, value in enumerate(values):
+        for j, (value, reason) in enumerate(plan[name]):
+            data["setting"][i, j] = value
+            if reason:
+                status[i, j], note[i, j] = "skipped", reason
+                log(f"{name:14s} {value:8.1e}  {reason}")
+                continue
             run_once(system, compiled, y0, times, name, value)  # warm-up: compiled pieces, caches
             runs = [run_once(system, compiled, y0, times, name, value) for _ in range(repeats)]
             traj = runs[-1]
-            data["setting"][i, j] = value
             data["error"][i, j] = relative_error(fields_of(system, traj.y), ref)
             data["wall_time_s"][i, j] = statistics.median(r.stats["wall_time_s"] for r in runs)
             for k in ("n_steps", "n_rhs", "n_jac"):
                 data[k][i, j] = traj.stats.get(k, np.nan)
             status[i, j] = traj.status
+            if traj.status != "complete":
+                note[i, j] = traj.message
             log(f"{name:14s} {value:8.1e}  error {data['error'][i, j]:9.3g}  wall {data['wall_time_s'][i, j]:8.4f} s  "
                 f"steps {traj.stats.get('n_steps', -1):>7}  {traj.status}")
     units = {"setting": "1", "error": "1", "wall_time_s": "s", "n_steps": "1", "n_rhs": "1", "n_jac": "1"}
@@ -124,9 +168,12 @@ def study(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_TIMES, re
             "wall_time_s": f"median wall time of {repeats} runs", "n_steps": "steps", "n_rhs": "right-hand side evaluations",
             "n_jac": "Jacobian evaluations"}
     dims = ("integrator", "level")
-    ds = xr.Dataset({k: (dims, v, {"units": units[k], "long_name": long[k]}) for k, v in data.items()},
-                    coords={"integrator": list(integrators), "level": np.arange(levels)})
-    ds["status"] = (dims, status.astype(str))
+    coords = {"integrator": ("integrator", list(integrators), {"long_name": "integrator (mol-shell run --integrator)"}),
+              "level": ("level", np.arange(levels), {"units": "1", "long_name": "index of the point in the integrator's sweep"})}
+    ds = xr.Dataset({k: (dims, v, {"units": units[k], "long_name": long[k]}) for k, v in data.items()}, coords=coords)
+    ds["status"] = (dims, status.astype(str), {"long_name": "how the run ended: complete, limit, unstable, failed, "
+                                                            "interrupted, or skipped (not run; see note); empty: no point"})
+    ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
     now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     ds.attrs.update({"Conventions": "CF-1.8", "title": f"work-precision of mol_shell integrators, scene {scene.name}",
                      "source": f"mol_shell {__version__}", "history": f"{now} created by mol_shell {__version__}",
@@ -223,26 +270,29 @@ def write_outputs(ds, path, target=1e-6):
 
 
 def register(subparsers):
+    from .cli import integer_arg, number_arg
+
     parser = subparsers.add_parser("compare", help="work-precision: error against run time for integrators")
     parser.add_argument("scene", help="scene name (default parameters, as in run)")
     parser.add_argument("--integrators", default=",".join(DEFAULT_INTEGRATORS),
                         help="comma-separated list (default: all)")
-    parser.add_argument("--n", type=int, default=40, help="nodes in s (default 40)")
-    parser.add_argument("--t-end", type=float, default=None,
-                        help="final time, s; saved times then 0, t_end/4, ..., t_end (default: the paper's snapshots)")
-    parser.add_argument("--repeats", type=int, default=3, help="timed repeats per point (median; default 3)")
-    parser.add_argument("--target", type=float, default=1e-6, help="error of the summary table (default 1e-6)")
-    parser.add_argument("-o", "--output", required=True, help="netCDF file; .png and .md written beside it")
+    parser.add_argument("--n", type=integer_arg("--n", 3), default=40, help="nodes in s (default 40)")
+    parser.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None,
+                        help="final time, s; saved times then 0, t_end/4, ..., t_end (default: the paper's snapshots); "
+                        "leap-frog steps whose grid misses them are skipped")
+    parser.add_argument("--repeats", type=integer_arg("--repeats", 1), default=3,
+                        help="timed repeats per point (median; default 3)")
+    parser.add_argument("--target", type=number_arg("--target"), default=1e-6,
+                        help="error of the summary table (default 1e-6)")
+    parser.add_argument("-o", "--output", required=True,
+                        help="netCDF file; .png and .md written beside it (missing directories are created)")
     parser.set_defaults(func=_cli)
 
 
 def _cli(args):
-    names = [s.strip() for s in args.integrators.split(",") if s.strip()]
-    times = PAPER_TIMES if args.t_end is None else np.linspace(0.0, args.t_end, 5)
-    if args.t_end is not None and not (np.isfinite(args.t_end) and args.t_end > 0):
-        raise ParameterError("--t-end", args.t_end, "(0, inf) s")
-    if args.repeats < 1:
-        raise ParameterError("--repeats", args.repeats, "integers >= 1")
+    text = args.integrators.strip()
+    names = check_integrators([s.strip() for s in text.split(",")] if text else [], "--integrators")
+    times = PAPER_TIMES if args.t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, args.t_end, 5)]
     start = time.perf_counter()
     ds = study(args.scene, names, n=args.n, times=times, repeats=args.repeats)
     png, md = write_outputs(ds, args.output, args.target)

@@ -31,6 +31,17 @@ BAD = [
     (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "cvode-bdf", "--atol", "0"], "--atol"),
     (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "cvode-bdf", "--atol", "q=1e-9"], "--atol"),
     (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "cvode-bdf", "--atol", "r=-1"], "--atol"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--set", "n_quad=1"], "n_quad"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--set", "n_quad=2.5"], "n_quad"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--set", "R=0.005"], "R"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--set", "L=abc"], "L"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--set", "gamma="], "gamma"),
+    (["run", "twisted-cylinder", "--times", "0:0.01:0.003"], "--times"),
+    (["run", "twisted-cylinder", "--times", "0,,0.002"], "--times"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "cvode-bdf", "--rtol", "1"], "--rtol"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "cvode-bdf", "--rtol", "2"], "--rtol"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "cvode-bdf", "--rtol", "1e-20"], "--rtol"),
+    (["run", "twisted-cylinder", "--t-end", "0.01", "--n", "abc"], "--n"),
 ]
 
 
@@ -40,8 +51,9 @@ def test_bad_input_names_the_parameter(argv, name, tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert code == 2
     assert len(err.splitlines()) == 1 and "Traceback" not in err
-    assert f"{name} = " in err or f"argument {name}" in err
-    assert "outside" in err
+    assert f"{name} = " in err or f"{name} is missing" in err
+    assert "outside" in err or "allowed:" in err or "missing: give" in err  # the allowed range is named
+    assert "argument" not in err  # argparse's "argument --dt: --dt = ..." named the option twice
     assert not (tmp_path / "x.nc").exists()
 
 
@@ -50,8 +62,7 @@ def test_per_field_atol_reaches_the_integrator(tmp_path):
     code = main(["run", "twisted-cylinder", "--t-end", "0.002", "--integrator", "cvode-bdf", "--rtol", "1e-6",
                  "--atol", "r=1e-8,theta=1e-10", "-o", str(out)])
     assert code == 0
-    atol = [float(v) for v in read_netcdf(out).attrs["atol"].split(",")]  # stored per field as text
-    np.testing.assert_allclose(atol, [1e-9, 1e-8, 1e-9, 1e-10, 1e-9])  # z, r, chi, theta, psi
+    assert read_netcdf(out).attrs["atol"] == "z=1e-09,r=1e-08,chi=1e-09,theta=1e-10,psi=1e-09"  # per field, named
 
 
 def test_times_ranges_include_the_end():
@@ -73,11 +84,188 @@ def test_run_and_plot_through_python_m(tmp_path):
     assert png.stat().st_size > 10_000
 
 
-def test_model_limit_writes_data_and_exits_3(tmp_path, capsys):
+def test_model_limit_writes_data_and_exits_3(tmp_path):
     nc = tmp_path / "limit.nc"
-    code = main(["run", "twisted-cylinder", "--set", "R=3", "--set", "gamma=0", "--times", "0:0.05:0.005", "-o", str(nc)])
-    assert code == 3
-    assert "r = " in capsys.readouterr().err
+    cmd = [sys.executable, "-m", "mol_shell", "run", "twisted-cylinder", "--set", "R=3", "--set", "gamma=0",
+           "--times", "0:0.05:0.005", "-o", str(nc)]
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    assert done.returncode == 3
+    # only the command's own line: no Python RuntimeWarning with its source line before it
+    assert done.stderr.startswith("mol-shell: run stopped: r = ") and len(done.stderr.splitlines()) == 1
     ds = read_netcdf(nc)
     assert ds.attrs["complete"] == 0 and ds.attrs["status"] == "limit"
     assert ds.sizes["time"] >= 2 and np.all(np.isfinite(ds.r.values))
+
+
+# -- error wording --------------------------------------------------------------------------------------
+WORDING = [
+    (["--set", "L=abc", "--t-end", "0.01"], "L = 'abc' is not a number; allowed: (0, inf) m"),
+    (["--set", "n_quad=2.5", "--t-end", "0.01"], "n_quad = 2.5 is not an integer; allowed: integers 2..64"),
+    (["--set", "n_quad=1", "--t-end", "0.01"], "n_quad = 1 is outside integers 2..64"),
+    ([], "t_end is missing: give t_end in (0, inf) s, or times"),
+    (["--dt", "0", "--t-end", "0.01"], "--dt = 0 is outside (0, inf) s"),
+    (["--t-end", "abc"], "--t-end = 'abc' is not a number; allowed: (0, inf) s"),
+    (["--t-end", "0.01", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: dt)"),
+    (["--t-end", "0.01", "--atol", "1e-9"], "atol is not an option of leapfrog (its options: dt)"),
+    (["--t-end", "0.01", "--max-step", "1e-3"], "max_step is not an option of leapfrog (its options: dt)"),
+    (["--t-end", "0.01", "--integrator", "cvode-bdf", "--dt", "1e-6"],
+     "dt is not an option of cvode-bdf (its options: atol, max_step, rtol)"),
+    (["--t-end", "0.01", "--integrator", "cvode-bdf", "--rtol", "1"], "--rtol = 1 is outside [1e-14, 1)"),
+    (["--times", "0:0.01:0.003"], "--times = '0:0.01:0.003' does not end on its grid: (T1 - T0)/DT = 3.333 is not whole"),
+    (["--times", "0,,0.002"], "--times = '0,,0.002' has an empty entry"),
+    (["--t-end", "0.01", "--set", "R=0.005"], "R = 0.005 is outside (0.006296, inf) m: the inner face r + zeta1"),
+]
+
+
+@pytest.mark.parametrize("extra,message", WORDING)
+def test_messages_read_naturally(extra, message, tmp_path, capsys):
+    code = main(["run", "twisted-cylinder", *extra, "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("mol-shell: error: " + message), err
+    assert len(err.splitlines()) == 1
+
+
+def test_times_are_rounded_and_must_end_on_the_grid():
+    assert parse_times_arg("0:0.009:0.003").tolist() == [0.0, 0.003, 0.006, 0.009]  # ds.sel(time=0.009) finds it
+    assert parse_times_arg("0:0.3:0.1").tolist() == [0.0, 0.1, 0.2, 0.3]
+    for bad in ("0:0.01:0.003", "0:0.01", "0,,0.002", ",0.1", "", "0:0:0.1", "0:0.1:0"):
+        with pytest.raises(ParameterError, match="--times"):
+            parse_times_arg(bad)
+
+
+def test_version(capsys):
+    import mol_shell
+
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"mol-shell {mol_shell.__version__}"
+
+
+# -- output paths: checked before anything is computed; missing directories are created ---------------
+@pytest.fixture
+def no_compute(monkeypatch):
+    """Fail the test if a run or a comparison starts."""
+    import importlib
+
+    sim = importlib.import_module("mol_shell.simulate")  # the module (mol_shell.simulate is also a function)
+    wp = importlib.import_module("mol_shell.workprecision")
+
+    def boom(*args, **kwargs):
+        raise AssertionError("computed before the output path was checked")
+
+    monkeypatch.setattr(sim, "simulate", boom)
+    monkeypatch.setattr(wp, "reference", boom)
+
+
+@pytest.mark.parametrize("command", [["run", "twisted-cylinder", "--t-end", "0.01"],
+                                     ["compare", "twisted-cylinder", "--integrators", "leapfrog"],
+                                     ["study", "twisted-cylinder", "--vary", "gamma=0.1,0.2", "--t-end", "0.01"]])
+def test_unwritable_output_is_refused_before_computing(command, tmp_path, capsys, no_compute):
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    for output, problem in (("", "is empty"), (str(tmp_path), "is a directory"),
+                            (str(afile / "x.nc"), "is not a directory")):
+        code = main([*command, "-o", output])
+        err = capsys.readouterr().err
+        assert code == 2 and err.startswith("mol-shell: error: -o = ") and problem in err, err
+        assert len(err.splitlines()) == 1
+
+
+def test_missing_directories_are_created_and_removed_after_a_refusal(tmp_path, capsys):
+    out = tmp_path / "new" / "deeper" / "x.nc"
+    assert main(["run", "nope", "--t-end", "0.01", "-o", str(out)]) == 2  # refused: nothing left behind
+    assert not (tmp_path / "new").exists()
+    assert main(["run", "twisted-cylinder", "--n", "10", "--t-end", "0.0002", "-o", str(out)]) == 0
+    assert out.exists()
+
+
+# -- plot ------------------------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def run_file(tmp_path_factory):
+    import mol_shell
+
+    path = tmp_path_factory.mktemp("plot") / "run.nc"
+    ds = mol_shell.simulate("axisymmetric", n=10, times=np.linspace(0, 0.001, 11).round(12), progress=False)
+    mol_shell.write_netcdf(ds, path)
+    return path
+
+
+def test_plot_refuses_files_that_are_not_runs(run_file, tmp_path, capsys):
+    import xarray as xr
+
+    text = tmp_path / "notes.txt"
+    text.write_text("not netCDF")
+    study_like = tmp_path / "study.nc"
+    xr.Dataset({"r": (("gamma", "time", "s"), np.zeros((2, 3, 4)))},
+               attrs={"title": "mol_shell parameter study of scene twisted-cylinder"}).to_netcdf(study_like)
+    compare_like = tmp_path / "wp.nc"
+    xr.Dataset({"error": (("integrator", "level"), np.zeros((2, 3)))},
+               attrs={"title": "work-precision of mol_shell integrators"}).to_netcdf(compare_like)
+    cases = [(tmp_path / "missing.nc", "does not exist"), (text, "is not a mol_shell run file"),
+             (study_like, "is not a mol_shell run file"), (compare_like, "is not a mol_shell run file")]
+    for path, problem in cases:
+        code = main(["plot", str(path), "-o", str(tmp_path / "p.png")])
+        err = capsys.readouterr().err
+        assert code == 2 and err.startswith(f"mol-shell: error: FILE = '{path}' {problem}"), err
+        assert len(err.splitlines()) == 1
+    assert "parameter study" in err.replace("work-precision", "") or "work-precision" in err
+    code = main(["plot", str(run_file), "-o", str(tmp_path / "p.xyz")])
+    assert code == 2 and "-o = " in capsys.readouterr().err and not (tmp_path / "p.xyz").exists()
+
+
+def test_plot_shows_every_saved_time_and_only_the_scene_s_parameters(run_file, tmp_path):
+    from mol_shell.output import read_netcdf
+    from mol_shell.plotting import snapshot_figure, title_of
+
+    png = tmp_path / "new" / "p.png"
+    assert main(["plot", str(run_file), "-o", str(png)]) == 0 and png.stat().st_size > 10_000
+    ds = read_netcdf(run_file)
+    fig = snapshot_figure(ds)
+    panels = [ax for ax in fig.axes if ax.get_visible() and ax.lines]
+    assert len(panels) == 3 * 11  # r, theta, chi at each of the 11 saved times
+    title = fig._suptitle.get_text()
+    assert "gamma" not in title and "nan" not in title and "axisymmetric" in title
+    assert "shown" in title_of(dict(ds.attrs), 24, 30) and "shown" not in title
+
+
+# -- compare -----------------------------------------------------------------------------------------
+def test_compare_checks_its_input_before_the_references(tmp_path, capsys, no_compute):
+    for names in ("", "leapfrog,,ida", "leapfrog,euler", "ida,ida"):
+        code = main(["compare", "twisted-cylinder", "--integrators", names, "-o", str(tmp_path / "wp.nc")])
+        err = capsys.readouterr().err
+        assert code == 2 and err.startswith("mol-shell: error: --integrators = ") and len(err.splitlines()) == 1
+    from mol_shell.workprecision import study as wp_study
+
+    with pytest.raises(ParameterError, match="times"):  # every point would be skipped: refused up front
+        wp_study("twisted-cylinder", ["leapfrog"], times=[0, 0.00125], sweeps={"leapfrog": {"dt": (1e-4,)}})
+
+
+def test_compare_skips_leapfrog_steps_that_miss_the_saved_times(tmp_path):
+    from mol_shell.workprecision import study as wp_study, write_outputs
+
+    ds = wp_study("twisted-cylinder", ["leapfrog"], n=10, times=[0, 0.00125, 0.0025], repeats=1,
+                  sweeps={"leapfrog": {"dt": (1e-4, 5e-5)}}, log=lambda *a: None)
+    row = ds.sel(integrator="leapfrog")
+    assert list(row.status.values) == ["skipped", "complete"]
+    assert np.isnan(float(row.error[0])) and float(row.error[1]) < 0.05
+    assert "multiples of dt = 0.0001" in str(row.note.values[0]) and float(row.setting[0]) == 1e-4
+    for name, var in {**ds.data_vars, **ds.coords}.items():
+        assert var.attrs.get("long_name"), name
+        if var.dtype.kind in "iuf":
+            assert var.attrs.get("units"), name
+    write_outputs(ds, tmp_path / "wp.nc")
+
+
+# -- casadi-cvodes at a singularity ----------------------------------------------------------------------
+def test_casadi_cvodes_fails_cleanly_at_a_singularity(tmp_path, capsys):
+    """r -> 0 near t = 7.22 ms: the step collapses; it used to run for minutes (1e7 steps per interval)."""
+    import time
+
+    out = tmp_path / "c.nc"
+    start = time.perf_counter()
+    code = main(["run", "twisted-cylinder", "--integrator", "casadi-cvodes", "--set", "R=3",
+                 "--times", "0,0.0072,0.0073", "-o", str(out)])
+    assert time.perf_counter() - start < 60
+    err = capsys.readouterr().err
+    assert code == 3 and err.startswith("mol-shell: run stopped: casadi-cvodes failed") and len(err.splitlines()) == 1
+    ds = read_netcdf(out)
+    assert ds.attrs["status"] == "failed" and ds.attrs["complete"] == 0 and ds.sizes["time"] == 1

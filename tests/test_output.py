@@ -102,3 +102,23 @@ def test_overflow_inside_a_chunk_never_reaches_the_file(tmp_path):
     assert back.attrs["complete"] == 0 and back.attrs["status"] == traj.status
     for name in ("r", "chi", "energy"):
         assert np.all(np.isfinite(back[name].values))
+
+
+def test_attribute_names_are_plain_and_rates_carry_their_units(short_run):
+    """netCDF/CF names: letters, digits, underscores (``max_damping_rate_s-1`` was not); units in ``units_*``."""
+    import re
+
+    for key in short_run.attrs:
+        assert re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", key), key
+    assert short_run.attrs["max_damping_rate"] == 0.0 and short_run.attrs["units_max_damping_rate"] == "s-1"
+
+
+def test_write_netcdf_creates_directories_and_names_an_unwritable_path(short_run, tmp_path):
+    from mol_shell.errors import ParameterError
+
+    mol_shell.write_netcdf(short_run, tmp_path / "a" / "b" / "run.nc")
+    assert (tmp_path / "a" / "b" / "run.nc").exists()
+    with pytest.raises(ParameterError, match="^path = .* is a directory"):
+        mol_shell.write_netcdf(short_run, tmp_path / "a")
+    with pytest.raises(ParameterError, match="^path = '' is empty"):
+        mol_shell.write_netcdf(short_run, "")

@@ -43,3 +43,71 @@ def test_axisymmetric_equals_full_model_without_twist_spin_shear():
     for name in ("z", "r", "theta", "chi", "psi", "energy"):
         np.testing.assert_allclose(axi[name], full[name], rtol=0, atol=1e-13 * max(1.0, float(abs(full[name]).max())))
     assert float(abs(axi.r - 1.01).max()) > 1e-3  # it does move
+
+
+def test_n_quad_needs_two_points():
+    """One Gauss point makes the director inertia rhoJ = rhoI^2/rhoA: a singular mass matrix (LinAlgError)."""
+    with pytest.raises(ParameterError, match=r"^n_quad = 1 is outside integers 2\.\.64"):
+        mol_shell.TwistedCylinder(n_quad=1)
+    with pytest.raises(ParameterError, match=r"^n_quad = 65 is outside integers 2\.\.64"):
+        mol_shell.TwistedCylinder(n_quad=65)
+    with pytest.raises(ParameterError, match=r"^n_quad = 2\.5 is not an integer; allowed: integers 2\.\.64"):
+        get_scene("twisted-cylinder", n_quad="2.5")
+    assert mol_shell.TwistedCylinder(n_quad=2).n_quad == 2
+    assert type(mol_shell.TwistedCylinder(n_quad=np.int64(6)).n_quad) is int
+    assert get_scene("twisted-cylinder", n_quad="8.0").n_quad == 8
+
+
+def test_initial_radius_keeps_the_inner_face_at_a_positive_radius():
+    from mol_shell.model.material import centroidal_offset
+
+    scene = mol_shell.TwistedCylinder()
+    low = -centroidal_offset(scene.h)  # zeta1 when left to the code (rhoI = 0), about -h
+    assert low == pytest.approx(scene.h, rel=1e-2)  # h + h^2/3 + ...
+    for R in (0.005, low, -1.0):
+        with pytest.raises(ParameterError, match=rf"^R = .* is outside \({low:.4g}, inf\) m: the inner face"):
+            dataclasses.replace(scene, R=R)
+    assert dataclasses.replace(scene, R=1.001 * low).R == 1.001 * low
+    # a given zeta1 moves the bound: the whole thickness above the base surface allows any R > 0
+    assert mol_shell.TwistedCylinder(zeta1=0.0, R=0.001).R == 0.001
+    with pytest.raises(ParameterError, match=r"^R = 0.01 is outside \(0.01257, inf\) m"):
+        mol_shell.TwistedCylinder(zeta1=-2 * scene.h, R=0.01)
+    # the unshearable bulge: its thinnest section, R - |dR|
+    with pytest.raises(ParameterError, match=r"^R = 0.01 is outside .*R - \|dR\|"):
+        mol_shell.Unshearable(R=0.01, dR=0.005)
+
+
+def test_python_values_of_the_wrong_kind_are_parameter_errors():
+    with pytest.raises(ParameterError, match=r"^L = 'abc' is not a number; allowed: \(0, inf\) m$"):
+        mol_shell.TwistedCylinder(L="abc")
+    with pytest.raises(ParameterError, match=r"^gamma = '' is not a number"):
+        get_scene("twisted-cylinder", gamma="")
+    with pytest.raises(ParameterError, match=r"^nu = True is not a number"):
+        mol_shell.TwistedCylinder(nu=True)
+    assert mol_shell.TwistedCylinder(R="auto").R is None  # as --set R=auto: computed
+    assert dataclasses.replace(mol_shell.TwistedCylinder(R=1.0), R="auto").R is None
+    assert mol_shell.TwistedCylinder(E=np.float32(2e6)).E == 2e6
+
+
+def test_simulate_refuses_bad_arguments_before_computing():
+    scene = mol_shell.TwistedCylinder()
+    cases = [
+        (dict(scene=scene, t_end="0.01"), r"^t_end = '0.01' is not a number; allowed: \(0, inf\) s$"),
+        (dict(scene=None, t_end=0.01), r"^scene = None is not a scene; allowed: .*twisted-cylinder"),
+        (dict(scene=scene), r"^t_end is missing: give t_end in \(0, inf\) s, or times$"),
+        (dict(scene=scene, times="0,0.01"), r"^times = '0,0.01' is not a list of numbers"),
+        (dict(scene=scene, t_end=0.01, dt="1e-6"), r"^dt = '1e-6' is not a number"),
+        (dict(scene=scene, integrator="cvode-bdf", t_end=0.01, dt=1e-6), r"^dt is not an option of cvode-bdf \(its options: "),
+        (dict(scene=scene, t_end=0.01, rtol=1e-6), r"^rtol is not an option of leapfrog \(its options: chunk, dt\)$"),
+        (dict(scene=scene, integrator="cvode-bdf", t_end=0.01, rtol=1.0), r"^rtol = 1.0 is outside \[1e-14, 1\)$"),
+        (dict(scene=scene, integrator="cvode-bdf", t_end=0.01, rtol=1e-20), r"^rtol = 1e-20 is outside \[1e-14, 1\)$"),
+        (dict(scene="unshearable", integrator="ida", t_end=0.01, dt=1e-6), r"^dt is not an option of ida"),
+        (dict(scene="unshearable", integrator="ida", t_end=0.01, atol={"r": 1e-9}), r"^atol = \{'r': 1e-09\} is not a number"),
+    ]
+    for kwargs, message in cases:
+        with pytest.raises(ParameterError, match=message):
+            mol_shell.simulate(**kwargs, progress=False)
+    # an atol array is not printed in full
+    with pytest.raises(ParameterError) as info:
+        mol_shell.simulate(scene, "cvode-bdf", t_end=0.01, atol=np.full(400, 1e-9), progress=False)
+    assert str(info.value).startswith("atol = <array of 400 values") and len(str(info.value)) < 200

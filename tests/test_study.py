@@ -106,3 +106,70 @@ def test_command_line(tmp_path, monkeypatch, capsys):
     code = cli.main(["study", "twisted-cylinder", "--vary", "nu=0.3,0.6", "--n", "8", "--t-end", "0.001",
                      "--scheduler", "serial", "-o", str(tmp_path / "f.nc")])
     assert code == 3 and "1 refused" in capsys.readouterr().out
+
+
+STUDY_BAD = [
+    (["--vary", "gamma=0.1,0.2", "--vary", "gamma=0.3"], "--vary = 'gamma=0.3' varies gamma a second time"),
+    (["--vary", "gamma=0.1,0.2", "--set", "gamma=0.3"], "--set = 'gamma=0.3' sets gamma, which --vary varies"),
+    (["--vary", "gamma=0.1,0.2", "--workers", "0"], "--workers = 0 is outside integers >= 1"),
+    (["--vary", "gamma=0.1,0.2", "--workers", "-3"], "--workers = -3 is outside integers >= 1"),
+    (["--vary", "gamma=0.1,0.2", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: dt)"),
+    (["--vary", "gamma=0.1,0.2", "--integrator", "cvode-bdf", "--dt", "1e-6"], "dt is not an option of cvode-bdf"),
+    (["--vary", "rtol=1e-6,1e-7"], "vary = 'rtol' is outside {"),
+    (["--vary", "gamma=0.1:0.05:0.01"], "--vary gamma = '0.1:0.05:0.01' is outside START:STOP:STEP"),
+    (["--vary", "gamma=0:0.1:0.03"], "--vary gamma = '0:0.1:0.03' does not end on its grid"),
+    (["--vary", "gamma=1,,2"], "--vary = 'gamma=1,,2' has an empty entry"),
+    (["--vary", "gamma=1,abc"], "gamma = 'abc' is not a number"),
+    (["--vary", "gamma=0.1,0.2", "--scheduler", "garbage"], "scheduler = 'garbage' is not a scheduler address"),
+]
+
+
+@pytest.mark.parametrize("extra,message", STUDY_BAD)
+def test_command_line_refuses_bad_studies_up_front(extra, message, tmp_path, capsys, monkeypatch):
+    from mol_shell import cli
+
+    monkeypatch.setattr(study_module, "run_task", None)  # nothing may run
+    code = cli.main(["study", "twisted-cylinder", *extra, "--t-end", "0.001", "-o", str(tmp_path / "s.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("mol-shell: error: " + message), err
+    assert len(err.splitlines()) == 1 and "--times" not in err
+    assert not (tmp_path / "s.cases").exists() and not (tmp_path / "s.nc").exists()
+
+
+def test_unreachable_scheduler_is_refused_quickly(monkeypatch):
+    import socket
+    import time
+
+    pytest.importorskip("distributed")
+    from mol_shell.errors import ParameterError
+
+    with socket.socket() as sock:  # a port nobody listens on
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    monkeypatch.setattr(study_module, "SCHEDULER_TIMEOUT", 1.0)
+    start = time.perf_counter()
+    with pytest.raises(ParameterError, match=rf"^scheduler = 'tcp://127.0.0.1:{port}' does not answer within 1 s"):
+        study(BASE, {"gamma": [0.1, 0.2]}, **SMALL, scheduler=f"tcp://127.0.0.1:{port}")
+    assert time.perf_counter() - start < 30
+
+
+def test_python_study_refuses_bad_workers_and_options():
+    from mol_shell.errors import ParameterError
+
+    for workers in (0, -3, 1.5, True):
+        with pytest.raises(ParameterError, match="^workers = "):
+            study(BASE, {"gamma": [0.1]}, **SMALL, workers=workers)
+    with pytest.raises(ParameterError, match=r"^rtol is not an option of leapfrog"):
+        study(BASE, {"gamma": [0.1]}, **SMALL, rtol=1e-6)
+
+
+def test_coordinates_have_units_and_long_names():
+    ds = study(BASE, {"gamma": [0.0, 0.05], "material": ["svk", "svk-plane-stress"]}, n=10, t_end=0.0005,
+               scheduler="serial")
+    assert ds.gamma.attrs == {"long_name": "initial twist chi_s (varied)", "units": "rad m-1"}
+    assert ds.material.attrs["long_name"] == "material law (varied)"
+    listed = study(BASE, [{"nu": 0.3}, {"h": 0.004}], n=10, t_end=0.0005, scheduler="serial")
+    for name in ("nu", "h", "case"):
+        assert listed[name].attrs.get("units") and listed[name].attrs.get("long_name"), name
+    assert listed.h.attrs["units"] == "m"
+    assert "max_damping_rate" in listed.attrs or "max_damping_rate" in listed  # renamed from max_damping_rate_s-1

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelLimitError, ParameterError
+from ..errors import ModelLimitError, ParameterError, is_number
 from .base import Monitor, Trajectory
 
 
@@ -39,8 +39,12 @@ class Leapfrog:
     order = 2
 
     def __post_init__(self):
-        if not (isinstance(self.dt, (int, float)) and np.isfinite(self.dt) and self.dt > 0):
+        if not is_number(self.dt):
+            raise ParameterError.not_a("dt", self.dt, "a number", "(0, inf) s")
+        if not (np.isfinite(self.dt) and self.dt > 0):
             raise ParameterError("dt", self.dt, "(0, inf) s")
+        if not (isinstance(self.chunk, (int, np.integer)) and not isinstance(self.chunk, bool) and self.chunk >= 1):
+            raise ParameterError("chunk", self.chunk, "integers >= 1")
 
     def settings(self):
         return {"dt": self.dt}

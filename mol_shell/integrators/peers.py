@@ -15,6 +15,7 @@ the saved times only (:class:`~mol_shell.integrators.Monitor`); none of these ha
 
 from __future__ import annotations
 
+import re
 import time
 import weakref
 from dataclasses import dataclass
@@ -24,7 +25,8 @@ import numpy as np
 import scipy.integrate
 import scipy.sparse as sp
 
-from ..errors import ModelLimitError
+from ..errors import ModelLimitError, is_number
+from ..model.kinematics import FIELDS
 from .base import Monitor, Trajectory
 from .sundials import _Sundials, pieces
 
@@ -34,7 +36,9 @@ class _Peer(_Sundials):
     """Tolerances as for CVODE (``rtol``, ``atol`` per field, momenta scaled by their mass)."""
 
     def settings(self):
-        return {"rtol": self.rtol, "atol": str(self.atol), "max_step": self.max_step}
+        atol = self.atol if is_number(self.atol) else ",".join(
+            f"{name}={value:g}" for name, value in zip(FIELDS, self.field_atol()))
+        return {"rtol": self.rtol, "atol": atol, "max_step": self.max_step}
 
     def _finish(self, saved, reached, status, message, failure, stats):
         return Trajectory(np.array(reached), np.array(saved), status=status, message=message, stats=stats,
@@ -128,6 +132,12 @@ class ScipyBDF(ScipyRK45):
 
 
 _CASADI_GRAPHS = weakref.WeakKeyDictionary()  # system -> {key: integrator or ShellDAE}
+#: steps per output interval after which CasADi's SUNDIALS plugins give up (as the scikit-sundae path's
+#: ``max_num_steps``): near a singularity the step size collapses and 1e7 steps would run for minutes
+MAX_NUM_STEPS = 100_000
+#: smallest step, as a fraction of the run's length: approaching a singularity (r -> 0, delta -> 0) the step
+#: collapses towards round-off, each step costing a Jacobian and a factorisation; this makes it fail in seconds
+MIN_STEP_FRACTION = 1e-12
 
 
 @dataclass(frozen=True)
@@ -148,9 +158,29 @@ class CasadiCVODES(_Peer):
     def _states(self, system, xf):
         return np.array(xf).T
 
+    def _failure_message(self, exc, opts):
+        """CasADi's exception (``... returned "CV_ERR_FAILURE" ...``) as a sentence."""
+        found = re.search(r'returned "(\w+)"', str(exc))
+        code = found.group(1) if found else str(exc).strip().splitlines()[-1]
+        if code.endswith(("ERR_FAILURE", "ERR_FAIL")):
+            floor = f" or at the minimum step {opts['min_step_size']:.3g} s" if "min_step_size" in opts else ""
+            what = (f"error test failed repeatedly{floor}: near a "
+                    "singularity of the model (r or delta -> 0, |psi| -> pi/2)? cvode-bdf, cvode-adams and ida stop "
+                    "there and name the limit")
+        elif code.endswith("TOO_MUCH_WORK"):
+            what = f"max_num_steps = {opts['max_num_steps']} steps between two saved times"
+        elif code.endswith(("CONV_FAILURE", "CONV_FAIL")):
+            what = "the corrector iteration failed repeatedly"
+        else:
+            what = "SUNDIALS failed"
+        return f"{self.name} failed ({code}): {what}; only t = 0 is kept (all saved times come from one call)"
+
     def integrate(self, system, compiled, y0, times, *, progress=None):
         times = np.asarray(times, dtype=float)
-        opts = {"abstol": float(self.field_atol().min()), "reltol": self.rtol, "max_num_steps": 10**7}
+        opts = {"abstol": float(self.field_atol().min()), "reltol": self.rtol, "max_num_steps": MAX_NUM_STEPS,
+                "disable_internal_warnings": True}  # failures are reported in the Trajectory's message
+        if self.plugin == "cvodes":  # CasADi's IDAS plugin has no such option
+            opts["min_step_size"] = MIN_STEP_FRACTION * float(times[-1])
         if self.max_step:
             opts["max_step_size"] = self.max_step
         opts.update(self.plugin_options)
@@ -166,7 +196,7 @@ class CasadiCVODES(_Peer):
             states = self._states(system, out["xf"])
         except RuntimeError as exc:  # CasADi raises when SUNDIALS fails
             states = np.zeros((0, system.size))
-            status, message, failure = "failed", f"{self.name} failed: {str(exc).splitlines()[-1]}", float("nan")
+            status, message, failure = "failed", self._failure_message(exc, opts), float("nan")
         wall = time.perf_counter() - start
         monitor = Monitor(system, y0)
         saved, reached = [np.array(y0, dtype=float)], [0.0]
