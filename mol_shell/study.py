@@ -278,7 +278,9 @@ def _connect(scheduler):
     if not isinstance(scheduler, str) or not scheduler.strip():
         raise ParameterError.not_a("scheduler", scheduler, "a scheduler address", allowed)
     try:
-        return Client(scheduler, timeout=SCHEDULER_TIMEOUT)
+        # not the default client: a failed connection would otherwise leave dask (and xarray's netCDF locks)
+        # pointing at the unreachable scheduler for the rest of the process
+        return Client(scheduler, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
     except ValueError as exc:
         raise ParameterError.invalid("scheduler", scheduler, "is not a scheduler address", allowed, hint=str(exc)) from None
     except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, or distributed's own failures to start
@@ -315,8 +317,9 @@ def _execute(tasks, scheduler, workers, client=None):
     futures = client.map(run_task, tasks, pure=False)
     owner = {f.key: t for f, t in zip(futures, tasks)}
     try:
-        for future in as_completed(futures):
-            yield _collect(future, owner[future.key])
+        with client.as_current():  # the client is not the process-wide default (see _connect)
+            for future in as_completed(futures):
+                yield _collect(future, owner[future.key])
     finally:
         client.cancel(futures)
 
