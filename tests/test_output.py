@@ -1,12 +1,15 @@
 """Datasets: labels, units, attrs, netCDF round trip; runs that stop keep their data."""
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
 import xarray as xr
+from scipy.integrate import quad
 
 import mol_shell
+import reference_ring as ref
 from mol_shell.integrators import Leapfrog
 from mol_shell.simulate import build, resolve
 
@@ -45,9 +48,105 @@ def test_netcdf_round_trip_is_identical(short_run, tmp_path):
     xr.testing.assert_identical(short_run, back)
 
 
-def test_energy_is_kinetic_plus_stored(short_run):
-    np.testing.assert_allclose(short_run.energy, short_run.kinetic_energy + short_run.stored_energy, rtol=1e-15)
-    assert short_run.kinetic_energy[0] == 0.0  # initial data at rest
+EPS = np.finfo(float).eps
+
+
+def _what(F_of_zeta, lam, mu, zeta1, h):
+    """``What = int W_SVK(F) (1 + zeta) dzeta`` by ``scipy.integrate.quad``; returns the value, quad's error
+    estimate and ``|E|`` (Frobenius) at mid-thickness."""
+    def integrand(zeta):
+        F = F_of_zeta(zeta)
+        E = 0.5 * (F.T @ F - np.eye(3))
+        return (0.5 * lam * np.trace(E) ** 2 + mu * np.sum(E * E)) * (1 + zeta)
+
+    value, error = quad(integrand, zeta1, zeta1 + 2 * h, epsabs=0.0, epsrel=1e-13, limit=100)
+    F = F_of_zeta(zeta1 + h)
+    return value, error, np.linalg.norm(0.5 * (F.T @ F - np.eye(3)))
+
+
+def _energy_rtol(n, what, what_error, strain):
+    """Relative tolerance of a stored energy ``2 pi L What`` against the Dataset's.
+
+    Both sides form ``E = (F^T F - I)/2`` from ``F`` close to ``I``: an absolute rounding of a few
+    ``EPS`` per component, i.e. ``~ 2 x 3 EPS / |E|`` relative in ``W`` (quadratic in ``E``), 10 EPS / |E|
+    allowed; plus quad's own error estimate; plus ``n EPS`` for the sum over the cells. The
+    cells' strains are the nodal differences: rounded nodes perturb them, but every cell has
+    the same stress, so to first order the perturbations add up to the rounding of the end
+    values (``z_n - z_0 = L``): no end effect beyond round-off, and the 4-point Gauss rule of the
+    package is exact to ``(h/(1 + zeta))^8 ~ 1e-18`` for these rational integrands.
+    """
+    return 10 * EPS / strain + what_error / what + n * EPS
+
+
+def test_stored_energy_of_the_twisted_cylinder_is_the_closed_form(short_run):
+    """The paper's initial state: every cell has ``z_s = 1``, ``chi_s = gamma``, ``r = R``, ``theta = psi = 0``.
+
+    The F table of MODEL_NOTES in the ``b`` basis: ``F = [[1, 0, 0], [0, 1, 0], [a, 0, l3]]`` with
+    ``a = (R + zeta) gamma`` (``beta3 + zeta chi_s``) and ``l3 = (R + zeta)/(1 + zeta)``; the cells
+    span ``L``, so ``V = 2 pi L What`` with ``What`` integrated by quad through the thickness
+    ``[zeta1, zeta1 + 2h]`` (``zeta1`` from ``rhoI = 0`` by brentq). At rest: no kinetic energy,
+    and the total is the stored energy.
+    """
+    scene = mol_shell.TwistedCylinder()
+    R, gamma, L = float(short_run.r[0, 0]), scene.gamma, scene.L
+    assert np.all(short_run.r[0] == R)  # the uniform initial radius (R as computed)
+    lam, mu = ref.lame(scene.E, scene.nu)
+    zeta1 = ref.zeta1_centroidal(scene.h)
+
+    def F(zeta):
+        return np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [(R + zeta) * gamma, 0.0, (R + zeta) / (1 + zeta)]])
+
+    what, error, strain = _what(F, lam, mu, zeta1, scene.h)
+    expected = 2 * math.pi * L * what
+    rtol = _energy_rtol(short_run.sizes["s"], what, error, strain)
+    assert float(short_run.stored_energy[0]) == pytest.approx(expected, rel=rtol)
+    assert float(short_run.kinetic_energy[0]) == 0.0  # p = 0 gives v = M^-1 p = 0 exactly
+    assert float(short_run.energy[0]) == pytest.approx(expected, rel=rtol)
+    # the tolerance resolves the thickness integral: a thin-shell What (integrand at mid-thickness
+    # times 2h) differs by ~h^2 relative
+    zm = zeta1 + scene.h
+    E = 0.5 * (F(zm).T @ F(zm) - np.eye(3))
+    thin = 2 * scene.h * (0.5 * lam * np.trace(E) ** 2 + mu * np.sum(E * E)) * (1 + zm)
+    assert abs(thin - what) > 1e3 * rtol * what
+
+
+@pytest.mark.parametrize("zeta1,psi0", [(None, 0.05), ("outer", 0.3)])
+def test_kinetic_and_stored_energy_of_a_spinning_shell(zeta1, psi0):
+    """Uniform spin ``chi_t = omega`` of the sheared cylinder ``r = R``, ``psi = psi0``, ``gamma = 0``.
+
+    ``r_t = R omega a3`` and ``d_t = omega c3`` (``psi_t = 0``, ``theta = 0``), ``a3 . c3 = cos psi0``, so
+    the kinetic energy per unit area is ``(rhoA R^2 + 2 rhoI R cos psi0 + rhoJ) omega^2 / 2``; the
+    lumped nodal weights sum to ``L``: ``T = pi L (rhoA R^2 + 2 rhoI R cos psi0 + rhoJ) omega^2``
+    (with ``rhoI = 0`` for the centroidal base surface; ``zeta1 = -2h`` checks the ``rhoI`` term).
+    Stored: ``F = [[1, 0, 0], [0, cos psi0, -zeta sin psi0/(1 + zeta)],
+    [0, sin psi0, (R + zeta cos psi0)/(1 + zeta)]]`` from the table, ``V = 2 pi L What`` as above. Tolerance of ``T``: a sum of ``n`` nodal terms with ~20
+    roundings each, including the round trip ``v -> p -> v`` through the nodal mass matrix, whose
+    first-order effect on ``T`` is ``v . dp`` (well conditioned): ``(n + 20) EPS``.
+    """
+    base = mol_shell.TwistedCylinder()
+    zeta1 = -2 * base.h if zeta1 == "outer" else None
+    R, omega, n = 1.01, 5.0, 20
+    scene = mol_shell.TwistedCylinder(gamma=0.0, R=R, omega=omega, psi0=psi0, zeta1=zeta1)
+    ds = mol_shell.simulate(scene, n=n, times=[0, 1e-3], progress=False)
+    lam, mu = ref.lame(scene.E, scene.nu)
+    z1 = ref.zeta1_centroidal(scene.h) if zeta1 is None else zeta1
+    rho_a, rho_i, rho_j = ref.inertias(scene.rho, scene.h, z1)
+    if zeta1 is None:
+        rho_i = 0.0  # brentq's root leaves ~1e-18 of round-off
+    T = math.pi * scene.L * (rho_a * R**2 + 2 * rho_i * R * math.cos(psi0) + rho_j) * omega**2
+    assert float(ds.kinetic_energy[0]) == pytest.approx(T, rel=(n + 20) * EPS)
+    c, s = math.cos(psi0), math.sin(psi0)
+
+    def F(zeta):
+        return np.array([[1.0, 0.0, 0.0], [0.0, c, -zeta * s / (1 + zeta)], [0.0, s, (R + zeta * c) / (1 + zeta)]])
+
+    what, error, strain = _what(F, lam, mu, z1, scene.h)
+    V = 2 * math.pi * scene.L * what
+    rtol = _energy_rtol(n, what, error, strain)
+    assert float(ds.stored_energy[0]) == pytest.approx(V, rel=rtol)
+    assert float(ds.energy[0]) == pytest.approx(T + V, rel=rtol + (n + 20) * EPS)
+    if zeta1 is not None:  # the rhoI term is resolved: it is ~1 % of T here
+        assert abs(2 * rho_i * R * c) / (rho_a * R**2 + rho_j) > 1e3 * (n + 20) * EPS
 
 
 class _InterruptAfter:

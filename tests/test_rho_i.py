@@ -1,4 +1,9 @@
-"""rhoI != 0 (base surface off the centroidal placement) is supported and conserves what it must."""
+"""rhoI != 0 (base surface off the centroidal placement) is supported and conserves what it must.
+
+Its dynamics in closed form: the torsional modes stay exact for every base surface (the ``rhoI``
+kinetic term supplies the missing moments) and the shear and breathing frequencies follow the
+general mass matrix, in ``test_linear_modes.py``; the kinetic energy with ``rhoI`` in ``test_output.py``.
+"""
 
 import numpy as np
 import pytest

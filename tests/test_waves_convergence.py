@@ -158,32 +158,55 @@ def smooth_state(system):
     return system.pack(Q, system.momenta(Q, np.zeros_like(Q)))
 
 
+def _solve_smooth(n, t_end, rtol, atol):
+    """``smooth_state`` on ``n`` nodes advanced to ``t_end`` by DOP853 on the compiled RHS; fields ``(5, n)``."""
+    system, compiled = mol_shell.build(NATURAL, n)
+    f = compiled.evaluator()
+    sol = solve_ivp(lambda t, y: f(y).copy(), (0.0, t_end), smooth_state(system), method="DOP853",
+                    rtol=rtol, atol=atol, t_eval=[t_end])
+    assert sol.success, sol.message
+    return system.unpack(sol.y[:, -1])
+
+
 def test_nonlinear_solution_converges_at_second_order_in_s():
-    """``n = 11, 21, 41, 81`` (nested: ``ds`` halves), DOP853 at rtol 1e-10 on ``system.rhs`` to ``t = 0.02`` s.
+    """All five fields, ``n = 81, 161, 321, 641`` (nested: ``ds`` halves from 0.05 m), DOP853 at rtol 1e-10 to 0.02 s.
 
-    The cell strains are centred differences and the cell values midpoint averages (second
-    order), the nodal masses trapezoidal; the half cells at the free ends make a first-order
-    local error at one node, which costs ``O(ds) x ds`` globally: the error is ``C ds^2``.
-    Successive differences at the 11 common nodes then shrink 4x per halving; the order
-    ``log2(e(ds)/e(ds/2))`` deviates from 2 by the ``O(ds^2)`` relative correction, largest
-    at ``ds = 0.4`` m where the bending/shear dynamics in ``theta`` is coarsely resolved
-    (and by the grid-scale ``theta, psi`` content the midpoint rule admits), so the band
-    is 1.7 .. 2.3. The time error (rtol 1e-10) is < 1e-4 of the finest difference.
+    The cell strains are centred differences, ``r`` and ``theta`` midpoint averages, ``psi``
+    sampled at the nodes (trapezoid), the nodal masses trapezoidal: all second order. The half
+    cells at the free ends make a first-order local error at one node, which costs
+    ``O(ds) x ds`` globally, so the error is ``C ds^2 (1 + D ds^2 + ...)`` and the order measured
+    from successive differences at the 81 common nodes, ``log2(e(ds)/e(ds/2))``, is
+    ``2 + (3/(4 ln 2)) D ds^2 + ...``: its deviation from 2 is the relative ``O(ds^2)`` correction,
+    and it shrinks 4x per halving.
+
+    * ``z, r, chi`` carry the data's own scales (wavelengths ``L`` and ``2L``, and what a
+      0.37 m travel of the twist wave makes of them in 0.02 s). A correction ``D ~ k^2/12``
+      moves the order by ``~0.09 (k ds)^2``; the band ``|order - 2| <= 0.01`` at ``ds = 0.05``
+      admits wave numbers up to ``k ~ 6.7`` 1/m (wavelength ``~L/4``), well above the data's.
+    * ``theta`` (``~3e-3`` rad) and ``psi`` (``~4e-6`` rad) are small fields slaved to
+      derivatives of the others through the transverse shear and bending, with lengths
+      ``h sqrt((lambda + 2 mu)/(3 mu)) = 0.026`` m and ``h/sqrt(3) = 0.004`` m below the grid
+      spacing: their error takes more derivatives of the data, and the relative correction is
+      larger. Wider bands, ``|order - 2| <= 0.3`` for the first pair and ``<= 0.1`` for the
+      second, and the ``O(ds^2)`` signature itself: the deviation must shrink at least 2x per
+      halving (4x expected). (Before the nodal ``psi`` rule, ``psi`` did not converge at order 2.)
+
+    Time error: the tolerance is per step; at ``n = 81`` the rtol 1e-10 solution is checked
+    against one at rtol 1e-12. An error ``e_t`` in the differences moves a measured order by at
+    most ``2 e_t / (ln 2 x finest difference)``; that must stay below a tenth of the field's band
+    (measured: ``1e-7`` of it for ``z, r, chi``, 0.26 of it for ``psi``). The finer grids take more,
+    stability-limited, steps at the same rtol.
     """
-    t_end = 0.02
-    solutions = {}
-    for n in (11, 21, 41, 81):
-        system = ShellSystem(NATURAL, n)
-
-        def fun(t, y, f=system.rhs):
-            return np.array(f(t, y)).ravel()
-
-        sol = solve_ivp(fun, (0.0, t_end), smooth_state(system), method="DOP853", rtol=1e-10, atol=1e-12,
-                        t_eval=[t_end])
-        assert sol.success, sol.message
-        solutions[n] = system.unpack(sol.y[:, -1])[:, :: (n - 1) // 10]  # the 11 nodes of the coarsest grid
-    for k, name in ((1, "r"), (3, "theta"), (2, "chi")):
-        diffs = [np.abs(solutions[a][k] - solutions[b][k]).max() for a, b in ((11, 21), (21, 41), (41, 81))]
-        orders = np.log2(np.array(diffs[:-1]) / np.array(diffs[1:]))
-        assert np.all((1.7 <= orders) & (orders <= 2.3)), (name, orders, diffs)
-        assert diffs[-1] > 1e3 * 1e-10 * np.abs(solutions[81][k]).max()  # spatial, not temporal, error
+    t_end, ns = 0.02, (81, 161, 321, 641)
+    solutions = {n: _solve_smooth(n, t_end, 1e-10, 1e-12) for n in ns}
+    common = {n: solutions[n][:, :: (n - 1) // 80] for n in ns}
+    tighter = _solve_smooth(81, t_end, 1e-12, 1e-14)
+    bands = {"z": (0.01, 0.01), "r": (0.01, 0.01), "chi": (0.01, 0.01), "theta": (0.3, 0.1), "psi": (0.3, 0.1)}
+    for k, name in enumerate(("z", "r", "chi", "theta", "psi")):
+        diffs = np.array([np.abs(common[a][k] - common[b][k]).max() for a, b in zip(ns, ns[1:])])
+        deviation = np.log2(diffs[:-1] / diffs[1:]) - 2.0
+        assert np.all(np.abs(deviation) <= bands[name]), (name, deviation + 2, diffs)
+        if name in ("theta", "psi"):
+            assert abs(deviation[1]) <= abs(deviation[0]) / 2, (name, deviation + 2)
+        time_error = np.abs(solutions[81][k] - tighter[k]).max()
+        assert 2 * time_error / (math.log(2) * diffs[-1]) <= bands[name][1] / 10, (name, time_error, diffs[-1])
