@@ -9,8 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 import sksundae
+from scipy.integrate import solve_ivp
 from sksundae.cvode import CVODE
 
+import reference_ring as ref
 import sksundae_defect as defect
 
 import mol_shell
@@ -57,11 +59,54 @@ def test_workaround_keeps_constraints_active_and_others_free():
 # -- model limits on the shell ------------------------------------------------------------------
 # A ring released at twice its natural radius collapses through the axis: the St Venant-Kirchhoff
 # hoop energy ~ (lambda^2 - 1)^2 is bounded at lambda = 0 (1 against 9 at lambda = 2), so r reaches
-# 0 at t = 0.01266 s. A ring sheared uniformly to psi0 = 1.5 rad at rest reaches |psi| = pi/2 (and with it
-# delta = 0) at t = 0.008568 s. (With spin, omega = 20 rad/s, that breach is sensitive to rounding: the
-# uniform motion goes unstable near the limit and the place and time differ between integrators.)
+# 0, at about 185 m/s. A ring sheared uniformly to psi0 = 1.5 rad at rest swings to |psi| = pi/2 (and
+# with it delta = 0), at about 173 rad/s. The times come from the independent ring ODE of
+# tests/reference_ring.py (see limit_times). (With spin, omega = 20 rad/s, the shear breach is
+# sensitive to rounding: the uniform motion goes unstable near the limit and the place and time
+# differ between integrators.)
 COLLAPSE = mol_shell.SpinningRing(R=2.0, omega=0.0, psi0=0.0)
+SHEAR = mol_shell.SpinningRing(psi0=1.5, omega=0.0)
 TIMES = np.linspace(0.0, 0.02, 11)
+
+
+def _reference_breach(scene, limit, rtol, t_after=None):
+    """First time the ring ODE of ``reference_ring`` reaches ``limit`` ("r": r = 0, "psi": |psi| = pi/2).
+
+    DOP853 with event location (``atol`` scaled per component as in :meth:`reference_ring.Ring.solve`),
+    the thickness quadrature of the scene (``n_quad``). With ``t_after``, also ``r`` there: the ODE
+    itself goes on through the axis (``What`` is a polynomial in ``r``).
+    """
+    model = ref.Ring(scene.E, scene.nu, scene.rho, scene.h, n_quad=scene.n_quad)
+    y0 = model.initial(scene.R, scene.omega, scene.psi0)
+
+    def event(t, y):
+        return y[0] if limit == "r" else (np.pi / 2) ** 2 - y[2] ** 2
+
+    event.direction = -1
+    scale = np.array([scene.R, 1.0, 1.0, model.rho_a, abs(y0[4]) + model.rho_a, abs(y0[5]) + model.rho_j])
+    sol = solve_ivp(model.rhs, (0.0, t_after or TIMES[-1]), y0, method="DOP853", rtol=rtol,
+                    atol=1e-3 * rtol * scale, events=event, t_eval=None if t_after is None else [t_after])
+    assert sol.success and len(sol.t_events[0]) >= 1, sol.message
+    return float(sol.t_events[0][0]), (None if t_after is None else float(sol.y[0, -1]))
+
+
+@pytest.fixture(scope="module")
+def limit_times():
+    """``{"r": t, "psi": t, "r_after": r at TIMES[7]}`` from the reference ODE, shown converged.
+
+    Solved at rtol 1e-9 and 1e-10: the two agree to 1.2e-12 s (r) and 2.8e-10 s (psi) (measured;
+    rtol 1e-11 moves them by 1.4e-13 s and 3.5e-11 s), asserted below 1e-9 s, three orders under
+    the tolerances the shell runs are held to (1e-6 s and more). Values: 0.0126629592 s and
+    0.0085681827 s (n_quad 4, 8 and 16 agree to 1e-14 s); r(0.014 s) = -0.24799 m.
+    """
+    coarse, _ = _reference_breach(COLLAPSE, "r", 1e-9)
+    t_r, r_after = _reference_breach(COLLAPSE, "r", 1e-10, t_after=TIMES[7])
+    assert abs(t_r - coarse) < 1e-9, (t_r, coarse)
+    coarse, _ = _reference_breach(SHEAR, "psi", 1e-9)
+    t_psi, _ = _reference_breach(SHEAR, "psi", 1e-10)
+    assert abs(t_psi - coarse) < 1e-9, (t_psi, coarse)
+    assert TIMES[6] < t_r < TIMES[7]  # the collapse falls between saved times 6 and 7
+    return {"r": t_r, "psi": t_psi, "r_after": r_after}
 
 
 def _run(scene, integrator, **options):
@@ -69,24 +114,37 @@ def _run(scene, integrator, **options):
         return mol_shell.simulate(scene, integrator, n=10, times=TIMES, progress=False, **options)
 
 
+@pytest.mark.timeout(60)
 @pytest.mark.parametrize("integrator,options", [
     ("cvode-bdf", {"jacobian": "vm"}), ("cvode-adams", {"jacobian": "vm", "constraints": False}),
     ("ida", {"jacobian": "vm"}), ("leapfrog", {"dt": 1e-5}),
 ])
-def test_collapse_stops_cleanly_and_keeps_data(integrator, options):
+def test_collapse_stops_cleanly_and_keeps_data(integrator, options, limit_times):
     ds = _run(COLLAPSE, integrator, **options)
     assert ds.attrs["status"] == "limit" and ds.attrs["complete"] == 0
     assert "r" in ds.attrs["message"] and "t = 0.0126" in ds.attrs["message"] and "s = " in ds.attrs["message"]
-    assert ds.attrs["failure_time"] == pytest.approx(0.012663, abs=1e-5 if integrator != "leapfrog" else 2e-5)
+    t_fail, t_ref = ds.attrs["failure_time"], limit_times["r"]
+    if integrator == "leapfrog":
+        # Checked after every step: the first step past the axis, t_ref < t_fail <= t_ref + dt (measured
+        # +7.04e-6 s). 1e-8 s of slack either side is 1.9e-6 m of r at 185 m/s, for leap-frog's own
+        # O(dt^2) error (test_ring: < 1e-9 m in r at dt = 2e-6 s over 0.02 s; x 25 at dt = 1e-5 s).
+        assert t_ref - 1e-8 < t_fail <= t_ref + options["dt"] + 1e-8
+    else:
+        # Root found at r = atol_r (1e-9 m: 5e-12 s before r = 0 at 185 m/s) on an rtol = 1e-6 solution;
+        # measured errors -4.8e-8 s (BDF), -6.4e-9 s (Adams), -7.9e-9 s (IDA); 1e-6 s is 20x the worst.
+        assert t_fail == pytest.approx(t_ref, abs=1e-6)
     np.testing.assert_allclose(ds.time, TIMES[:7])  # every saved time before the breach
     assert np.all(ds.r.values > 0) and np.all(np.isfinite(ds.r.values))
 
 
-def test_shear_limit_is_a_root_found_event():
-    ds = _run(mol_shell.SpinningRing(psi0=1.5, omega=0.0), "cvode-adams", jacobian="vm")
+@pytest.mark.timeout(60)
+def test_shear_limit_is_a_root_found_event(limit_times):
+    ds = _run(SHEAR, "cvode-adams", jacobian="vm")
     assert ds.attrs["status"] == "limit"
     assert "|psi| reached pi/2" in ds.attrs["message"] or "delta" in ds.attrs["message"]
-    assert ds.attrs["failure_time"] == pytest.approx(0.008568, abs=1e-5)
+    # Measured error +3.7e-6 s at rtol = 1e-6 (+1.4e-7 s at rtol = 1e-8): near the limit psi moves at
+    # 173 rad/s and the swing is sensitive to the solution's error. 1e-5 s is 2.7x the measured error.
+    assert ds.attrs["failure_time"] == pytest.approx(limit_times["psi"], abs=1e-5)
 
 
 def test_constraint_path_over_repeated_shell_solves():
