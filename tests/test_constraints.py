@@ -1,6 +1,8 @@
 """The constraint path: the scikit-sundae 1.2.0 defect, its workaround, and model-limit breaches that stop cleanly."""
 
+import functools
 import os
+import re
 import subprocess
 import sys
 import warnings
@@ -145,6 +147,120 @@ def test_shear_limit_is_a_root_found_event(limit_times):
     # Measured error +3.7e-6 s at rtol = 1e-6 (+1.4e-7 s at rtol = 1e-8): near the limit psi moves at
     # 173 rad/s and the swing is sensitive to the solution's error. 1e-5 s is 2.7x the measured error.
     assert ds.attrs["failure_time"] == pytest.approx(limit_times["psi"], abs=1e-5)
+
+
+# -- the r > 0 constraint on its own ------------------------------------------------------------
+# With events=False no root-finding event watches r: only the SUNDIALS inequality constraint on the
+# r entries (through the full_constraints workaround) stands between the collapse and r < 0. What it
+# does (measured, scikit-sundae 1.2.0 / SUNDIALS 7.9.0): a step that would take r below 0 is cut back
+# and r is set to 0.2 (atol_r + rtol |r|) = 2e-10 m; then the solver crawls along the axis, about
+# 4e-12 s per step (SUNDIALS warns "t + h = t"). It never passes the axis, and nothing ends the run
+# but max_steps (10^6 by default: about 9 minutes for CVODE, 28 for IDA), with status "failed".
+# So these runs are given CRAWL_STEPS; the runs reach the axis in 60 (Adams), 66 (BDF), 99 (IDA) steps.
+SUNDIALS_NAMES = ("cvode-bdf", "cvode-adams", "ida")
+CRAWL_STEPS = 400
+CRAWL_LIMIT = (
+    "package issue: with events=False the r > 0 constraint holds r at ~2e-10 m and CVODE/IDA crawl "
+    "along the axis until max_steps; the run ends 'failed' (\"took max_steps\"), not 'limit' naming r"
+)
+
+
+@functools.lru_cache(maxsize=None)
+def _constraint_only(integrator):
+    """The collapse with the r > 0 constraint and no events, bounded by CRAWL_STEPS (shared by two tests)."""
+    return _run(COLLAPSE, integrator, jacobian="vm", events=False, max_steps=CRAWL_STEPS)
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("integrator", SUNDIALS_NAMES)
+def test_r_constraint_alone_holds_the_collapse_at_the_axis(integrator, limit_times):
+    ds = _constraint_only(integrator)
+    assert ds.attrs["complete"] == 0
+    # The run stops where the ring reaches the axis and never gets past it (measured: -4.4e-8 s BDF,
+    # -3.0e-8 s Adams, -1.4e-8 s IDA from the reference; the crawl adds ~1.4e-9 s). Without the
+    # constraint it reaches the next saved time, 1.3e-3 s later (control below). 1e-6 s as above.
+    assert ds.attrs["failure_time"] == pytest.approx(limit_times["r"], abs=1e-6)
+    np.testing.assert_allclose(ds.time, TIMES[:7])  # the saved data before the axis are kept ...
+    assert np.all(np.isfinite(ds.r.values)) and np.all(ds.r.values > 0)  # ... finite, r > 0 (min 0.1227 m)
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason=CRAWL_LIMIT)
+@pytest.mark.parametrize("integrator", SUNDIALS_NAMES)
+def test_r_constraint_alone_ends_the_run_as_a_model_limit(integrator, limit_times):
+    ds = _constraint_only(integrator)
+    message = ds.attrs["message"]
+    assert ds.attrs["status"] == "limit", message
+    assert re.search(r"\br\b", message) and "t = 0.0126" in message and "s = " in message, message
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("integrator", SUNDIALS_NAMES)
+def test_without_the_constraint_the_collapse_goes_through_the_axis(integrator, limit_times):
+    """Control: constraints and events off, nothing stops the solver at r = 0.
+
+    It carries on to the next saved time, 0.014 s, where the package's state check finds r < 0 and
+    keeps the 7 states before. That r agrees with the reference ODE, which goes on through the axis
+    (-0.24799 m): 1e-3 m covers the message's 3 digits (5e-4 m) and the rtol = 1e-6 solution.
+    """
+    ds = _run(COLLAPSE, integrator, jacobian="vm", events=False, constraints=False)
+    assert ds.attrs["status"] == "limit" and ds.attrs["failure_time"] == TIMES[7]
+    found = re.fullmatch(r"r = (\S+) <= 0 at t = (\S+) s, s = \S+ m", ds.attrs["message"])
+    assert found, ds.attrs["message"]
+    assert float(found.group(1)) == pytest.approx(limit_times["r_after"], abs=1e-3)
+    np.testing.assert_allclose(ds.time, TIMES[:7])
+
+
+def _step_through_collapse(integrator, constraints, steps):
+    """``(r_min, t)`` after each accepted step of the package's own solver set-up, events off.
+
+    Steps one at a time (as :meth:`_Run.go` does) to see the states between saved times; stops at
+    the first unsuccessful step, or after the first step past the axis without constraints.
+    """
+    from mol_shell.integrators import INTEGRATORS
+    from mol_shell.integrators.sundials import _Run, pieces
+    from mol_shell.simulate import build, resolve
+
+    scene = resolve(COLLAPSE)
+    system, compiled = build(scene, 10)
+    y0 = system.initial_state(scene)
+    method = INTEGRATORS[integrator](jacobian="vm", events=False, constraints=constraints)
+    parts = pieces(system, method.kind, method.jacobian)
+    run = _Run(method, system, compiled, parts, y0)
+    solver = method.make_solver(system, parts, y0, run)
+    init = solver.init_step(0.0, *parts["dae"].consistent_rates(y0)) if run.ida else solver.init_step(0.0, y0)
+    assert init.success, init.message
+    r_min, t = [], []
+    for _ in range(steps):
+        res = solver.step(TIMES[-1], method="onestep", tstop=TIMES[-1])
+        if not res.success:
+            break
+        r_min.append(system.unpack(res.y)[1].min())  # r sits at the same places in (q, p) and IDA's (q, v)
+        t.append(float(res.t))
+        if not constraints and r_min[-1] < 0:
+            break
+    return np.array(r_min), np.array(t)
+
+
+@pytest.mark.timeout(60)
+@pytest.mark.parametrize("integrator", SUNDIALS_NAMES)
+def test_r_constraint_holds_at_every_step(integrator, limit_times):
+    """Every accepted step, not only the saved times: r stays >= 0 and t never passes the axis.
+
+    CVODE corrects a violating step to r = 0.2 tol_r > 0 (measured min 2.0e-11 m BDF, 1.4e-11 m
+    Adams). IDA applies that correction to its history but returns the uncorrected state, accepted
+    when the weighted RMS norm of the correction over the 100 entries is <= 0.33: one entry can then be
+    3.3 tol_r - 0.2 tol_r = 3.1 tol_r below 0 (tol_r = atol_r + rtol |r| = 1e-9 m); measured -7.95e-10 m
+    at the step that reaches the axis. Control: without the constraint an accepted step has r < 0
+    (measured -0.047, -0.033, -0.029 m) and t passes the axis.
+    """
+    atol_r = 1e-9
+    r_min, t = _step_through_collapse(integrator, True, 300)
+    assert r_min.min() <= atol_r  # it did reach the axis ...
+    assert t.max() <= limit_times["r"] + 1e-6  # ... and stayed there
+    assert r_min.min() > (-3.1 * atol_r if integrator == "ida" else 0.0), r_min.min()
+    r_min, t = _step_through_collapse(integrator, False, 300)
+    assert r_min[-1] < 0 and t[-1] > limit_times["r"]
 
 
 def test_constraint_path_over_repeated_shell_solves():
