@@ -156,16 +156,12 @@ def test_shear_limit_is_a_root_found_event(limit_times):
 # With events=False no root-finding event watches r: only the SUNDIALS inequality constraint on the
 # r entries (through the full_constraints workaround) stands between the collapse and r < 0. What it
 # does (measured, scikit-sundae 1.2.0 / SUNDIALS 7.9.0): a step that would take r below 0 is cut back
-# and r is set to 0.2 (atol_r + rtol |r|) = 2e-10 m; then the solver crawls along the axis, about
-# 4e-12 s per step (SUNDIALS warns "t + h = t"). It never passes the axis, and nothing ends the run
-# but max_steps (10^6 by default: about 9 minutes for CVODE, 28 for IDA), with status "failed".
-# So these runs are given CRAWL_STEPS; the runs reach the axis in 60 (Adams), 66 (BDF), 99 (IDA) steps.
+# and r is set to 0.2 (atol_r + rtol |r|) = 2e-10 m; left alone, the solver would then crawl along the
+# axis, about 4e-12 s per step, until max_steps (10^6: about 9 minutes for CVODE, 28 for IDA). The
+# package stops a step that ends with r <= atol_r as the model limit. The runs reach the axis in 60
+# (Adams), 66 (BDF), 99 (IDA) steps; CRAWL_STEPS bounds them in case that check breaks.
 SUNDIALS_NAMES = ("cvode-bdf", "cvode-adams", "ida")
 CRAWL_STEPS = 400
-CRAWL_LIMIT = (
-    "package issue: with events=False the r > 0 constraint holds r at ~2e-10 m and CVODE/IDA crawl "
-    "along the axis until max_steps; the run ends 'failed' (\"took max_steps\"), not 'limit' naming r"
-)
 
 
 @functools.lru_cache(maxsize=None)
@@ -188,7 +184,6 @@ def test_r_constraint_alone_holds_the_collapse_at_the_axis(integrator, limit_tim
 
 
 @pytest.mark.timeout(60)
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason=CRAWL_LIMIT)
 @pytest.mark.parametrize("integrator", SUNDIALS_NAMES)
 def test_r_constraint_alone_ends_the_run_as_a_model_limit(integrator, limit_times):
     ds = _constraint_only(integrator)

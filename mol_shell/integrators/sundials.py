@@ -328,6 +328,12 @@ class _Run:
 
         floor = np.zeros(self.n_events)
         floor[2 * (system.n - 1) : 3 * system.n - 2] = method.field_atol()[1]  # the r events sit at r = atol_r
+        # the r entries (same places in y and x): with the constraint alone, SUNDIALS cuts a step that
+        # would cross r = 0 back to r ~ 2e-10 m and then crawls along the axis (~4e-12 s a step) until
+        # max_steps; IDA may also return an accepted state a little below 0. A step that ends with
+        # r <= atol_r has reached the limit to the accuracy asked for: stop there.
+        self.r_entries = system.ny * np.arange(system.n) + list(system.active).index(1)
+        self.r_floor = float(method.field_atol()[1])
 
         if self.ida:
             def eventsfn(t, x, xp, g):
@@ -372,15 +378,17 @@ class _Run:
                     res = solver.step(float(target), method="onestep", tstop=float(target))
                     steps += 1
                     self.counting = True
+                    if res.status == ROOT_RETURN:
+                        raise self._event_error(res)
+                    if not res.success:
+                        raise self._failure(res, t)
+                    if method.constraints and np.min(np.asarray(res.y)[self.r_entries]) <= self.r_floor:
+                        raise self._constraint_limit(res)
                     if steps >= method.max_steps:
                         err = ModelLimitError(f"{method.name} took max_steps = {method.max_steps} steps by "
                                               f"t = {float(res.t):.9g} s", float(res.t), "whole shell")
                         err.status = "failed"
                         raise err
-                    if res.status == ROOT_RETURN:
-                        raise self._event_error(res)
-                    if not res.success:
-                        raise self._failure(res, t)
                     if progress is not None:
                         progress.update(float(res.t) - t)
                     t = float(res.t)
@@ -410,6 +418,14 @@ class _Run:
             limit += " (to within atol)"  # the event sits at r = atol_r: r > 0 is also a constraint
         return ModelLimitError(f"{limit} at t = {t:.9g} s, {where}: a limit of the model "
                                f"(root found by {self.method.name})", t, where)
+
+    def _constraint_limit(self, res):
+        r = np.asarray(res.y)[self.r_entries]
+        i, t = int(np.argmin(r)), float(res.t)
+        where = f"s = {self.system.s[i]:.6g} m"
+        return ModelLimitError(
+            f"r reached 0 (to within atol; r > 0 is a constraint of the model, held by {self.method.name}, "
+            f"r = {r[i]:.3g} m) at t = {t:.9g} s, {where}", t, where)
 
     def _failure(self, res, t_prev):
         t = float(res.t) if np.isfinite(res.t) else t_prev
