@@ -126,9 +126,12 @@ class Store:
 def grid_mode(da, dim="s"):
     """Split ``da`` into its ``(-1)^i`` node-to-node component along ``dim`` and the rest.
 
-    The cell energy takes ``psi`` and ``theta`` at cell midpoints (one-point rule), where the
-    ``(-1)^i`` pattern vanishes; only its differences (bending-like terms, O(h^2)) resist it, so
-    it is a soft spurious mode of frequency about ``(2/ds) sqrt(mu/rho)``. Returns
+    A diagnostic for grid-scale content. With ``psi`` taken at cell midpoints the ``(-1)^i``
+    pattern of ``psi`` vanished from the transverse shear and was a soft spurious mode (about
+    ``(2/ds) sqrt(mu/rho)``, 357 rad/s on 40 nodes); the cell energy now samples ``psi`` at the
+    cell's two nodes, so the pattern has the full shear stiffness (5,063 rad/s on 40 nodes, just
+    above the uniform shear mode's 5,050 rad/s) and stays small (3e-6 .. 5e-6 rad in the paper
+    scene on 40 .. 320 nodes, against max ``|psi|`` of 5.8e-5 .. 1.6e-4 rad). Returns
     ``(amplitude without dim, remainder)``.
     """
     sign = xr.DataArray((-1.0) ** np.arange(da.sizes[dim]), dims=dim)

@@ -10,9 +10,11 @@ Two cases of the paper scene, saved at [0, t_end]:
 
 For each: steps, Jacobian evaluations, wall time of the integration (graph built, compiled code
 cached), time per step and per simulated second, the fitted exponent of cost against n, and
-leap-frog at half its stability bound (elastic case) for comparison. Writes out/implicit_scaling.nc,
-.png and .md.
+leap-frog at half its stability bound (elastic case) for comparison. Writes OUT/implicit_scaling.nc,
+.png and .md. ``main`` returns the Dataset.
 Usage: python studies/implicit_scaling.py [--sizes 40,160,640,2560,10240] [--integrators cvode-bdf,ida]
+                                          [--quick] [--out out] [--output FILE.nc]
+(--quick: n = 40, 80 and CVODE-BDF only; about 20 s once the Jacobians are compiled and cached.)
 """
 
 import argparse
@@ -32,6 +34,7 @@ CASES = {
     "viscous": (mol_shell.TwistedCylinder(eta_mu=1000.0, eta_lambda=2000.0), 0.01),
     "elastic": (mol_shell.TwistedCylinder(), 0.002),
 }
+QUICK = {"sizes": "40,80", "integrators": "cvode-bdf"}
 STATS = ("n_steps", "n_jac", "wall_time_s", "wall_per_step_s", "wall_per_sim_second_s", "dt_bound_s")
 
 
@@ -55,12 +58,19 @@ def slope(n, cost):
     return float(np.polyfit(np.log(n[ok]), np.log(cost[ok]), 1)[0]) if ok.sum() >= 2 else float("nan")
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--sizes", default="40,160,640,2560,10240")
-    parser.add_argument("--integrators", default="cvode-bdf,ida")
-    parser.add_argument("--output", default=os.path.join("out", "implicit_scaling.nc"))
-    args = parser.parse_args()
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--sizes", default=None, help="default 40,160,640,2560,10240")
+    parser.add_argument("--integrators", default=None,
+                        help="default cvode-bdf,ida (leap-frog is added on the elastic case)")
+    parser.add_argument("--quick", action="store_true",
+                        help="small settings: " + ", ".join(f"{k} = {v}" for k, v in QUICK.items()))
+    parser.add_argument("--out", default="out", help="output directory (default: out)")
+    parser.add_argument("--output", default=None, help="netCDF file (default: OUT/implicit_scaling.nc)")
+    args = parser.parse_args(argv)
+    args.sizes = args.sizes or (QUICK["sizes"] if args.quick else "40,160,640,2560,10240")
+    args.integrators = args.integrators or (QUICK["integrators"] if args.quick else "cvode-bdf,ida")
+    args.output = args.output or os.path.join(args.out, "implicit_scaling.nc")
     sizes = [int(v) for v in args.sizes.split(",")]
     runs = {"viscous": args.integrators.split(","), "elastic": args.integrators.split(",") + ["leapfrog"]}
     methods = list(dict.fromkeys(m for ms in runs.values() for m in ms))

@@ -2,9 +2,10 @@
 
 Uniform data r = 1.01 m, chi_t = 20 rad/s, psi = 0.05 rad (mol_shell.SpinningRing) stay uniform in
 the PDE, and every node follows the ODE of mol_shell.ring; the discrepancy is leap-frog's error
-and falls as dt^2. Writes out/ring_vs_pde.nc (the ODE on a fine time grid, and the discrepancies)
-and out/ring_vs_pde.png; prints a table.
-Usage: python studies/ring_vs_pde.py [--n 10] [--t-end 0.1]
+and falls as dt^2. Writes OUT/ring_vs_pde.nc (the ODE on a fine time grid, and the discrepancies)
+and OUT/ring_vs_pde.png; prints a table. ``main`` returns the netCDF's Dataset.
+Usage: python studies/ring_vs_pde.py [--n 10] [--t-end 0.1] [--quick] [--out out]
+(--quick: t_end = 0.04 s and dt = 8, 4, 2 us, a few seconds.)
 """
 
 import argparse
@@ -17,29 +18,35 @@ from mol_shell.ring import simulate_ring
 
 FIELDS = ("r", "chi", "psi", "r_t", "chi_t", "psi_t")
 STEPS = (8e-6, 4e-6, 2e-6, 1e-6)
+QUICK = {"t_end": 0.04, "steps": STEPS[:3]}  # t_end / 100 on every step grid
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__)
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--n", type=int, default=10)
-    parser.add_argument("--t-end", type=float, default=0.1)
-    args = parser.parse_args()
-    os.makedirs("out", exist_ok=True)
+    parser.add_argument("--t-end", type=float, default=None, help=f"default 0.1 s ({QUICK['t_end']} s with --quick)")
+    parser.add_argument("--quick", action="store_true",
+                        help="small settings: " + ", ".join(f"{k} = {v}" for k, v in QUICK.items()))
+    parser.add_argument("--out", default="out", help="output directory (default: out)")
+    args = parser.parse_args(argv)
+    t_end = args.t_end if args.t_end is not None else (QUICK["t_end"] if args.quick else 0.1)
+    steps = QUICK["steps"] if args.quick else STEPS
+    os.makedirs(args.out, exist_ok=True)
     scene = mol_shell.SpinningRing()
-    times = np.round(np.linspace(0.0, args.t_end, 101), 9)
+    times = np.round(np.linspace(0.0, t_end, 101), 9)
     ring = simulate_ring(scene, times)
     errors, uniform = {}, {}
-    for dt in STEPS:
+    for dt in steps:
         pde = mol_shell.simulate(scene, n=args.n, times=times, dt=dt, progress=False)
         errors[dt] = [float(abs(pde[k] - ring[k]).max()) for k in FIELDS]
         uniform[dt] = max(float(abs(pde[k] - pde[k].mean("s")).max()) / max(1.0, float(abs(pde[k]).max()))
                           for k in FIELDS)
     out = ring.copy()
-    out["discrepancy"] = (("dt", "field"), np.array([errors[dt] for dt in STEPS]),
+    out["discrepancy"] = (("dt", "field"), np.array([errors[dt] for dt in steps]),
                           {"long_name": "max over s and t of |PDE - ODE|", "units": "1 (field units)"})
-    out["nonuniformity"] = (("dt",), [uniform[dt] for dt in STEPS], {"long_name": "max over fields of max |x - mean_s x| / max(1, max |x|)", "units": "1"})
-    out = out.assign_coords(dt=("dt", list(STEPS), {"units": "s"}), field=("field", list(FIELDS)))
-    out.to_netcdf("out/ring_vs_pde.nc")
+    out["nonuniformity"] = (("dt",), [uniform[dt] for dt in steps], {"long_name": "max over fields of max |x - mean_s x| / max(1, max |x|)", "units": "1"})
+    out = out.assign_coords(dt=("dt", list(steps), {"units": "s"}), field=("field", list(FIELDS)))
+    out.to_netcdf(os.path.join(args.out, "ring_vs_pde.nc"))
     e = ring.energy.values
     print(f"ODE: {ring.attrs['n_rhs']} RHS evaluations, {ring.attrs['wall_time_s']:.2f} s; relative energy change "
           f"{np.abs(e - e[0]).max() / e[0]:.1e}; r in {float(ring.r.min()):.5f} .. {float(ring.r.max()):.5f} m, "
@@ -47,11 +54,12 @@ def main():
           f"{float(ring.chi_t.min()):.3f} .. {float(ring.chi_t.max()):.3f} rad/s")
     print("| dt [s] | " + " | ".join(f"max abs(d{k})" for k in FIELDS) + " | ratio to the next larger dt (r) | max relative non-uniformity in s |")
     print("|---|" + "---|" * (len(FIELDS) + 2))
-    for i, dt in enumerate(STEPS):
-        ratio = f"{errors[STEPS[i - 1]][0] / errors[dt][0]:.3f}" if i else ""
+    for i, dt in enumerate(steps):
+        ratio = f"{errors[steps[i - 1]][0] / errors[dt][0]:.3f}" if i else ""
         print(f"| {dt:g} | " + " | ".join(f"{x:.2e}" for x in errors[dt]) + f" | {ratio} | {uniform[dt]:.1e} |")
-    _plot(ring, "out/ring_vs_pde.png")
-    print("wrote out/ring_vs_pde.nc, out/ring_vs_pde.png")
+    _plot(ring, os.path.join(args.out, "ring_vs_pde.png"))
+    print(f"wrote {args.out}/ring_vs_pde.nc, {args.out}/ring_vs_pde.png")
+    return out
 
 
 def _plot(ring, path):

@@ -8,8 +8,10 @@ Jacobian at t = 0 (max |lambda|, fastest damping, stiffness ratio), the leap-fro
 1/max|lambda| against the largest stable step found by bisection, and runs of leap-frog (at half
 the bound), CVODE-BDF and IDA (rtol 1e-6): status, steps, failed steps, wall time, energy error
 (with the dissipated energy added back for viscous shells). About 10 minutes on 2 cores.
-Writes out/stability.nc, .md and .png.
-Usage: python studies/stability_report.py [--quick] [--output out/stability.nc]
+Writes OUT/stability.nc, .md and .png. ``main`` returns the report's Dataset.
+Usage: python studies/stability_report.py [--max-n 10240] [--quick] [--out out] [--output FILE.nc]
+(--max-n 640 is `mol-shell stability --quick`; --quick here: two cases on n = 40, the paper scene
+and the stiff viscous eta_mu = 100 Pa s, in about 10 s.)
 """
 
 import argparse
@@ -19,20 +21,35 @@ import mol_shell
 from mol_shell.stability import default_cases, markdown_table, report
 from mol_shell.stability_plot import plot_report
 
+QUICK_CASES = ("paper", "viscous eta_mu=100")
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--quick", action="store_true", help="grids up to n = 640 only")
-    parser.add_argument("--output", default=os.path.join("out", "stability.nc"))
-    args = parser.parse_args()
-    os.makedirs(os.path.dirname(args.output) or ".", exist_ok=True)
-    ds = report(default_cases(mol_shell.TwistedCylinder(), quick=args.quick))
-    ds.to_netcdf(args.output)
-    stem = args.output.rsplit(".", 1)[0]
+
+def cases(max_n=None, quick=False):
+    """The report's cases: all of them with grids up to ``max_n``, or the two of ``--quick``."""
+    every = default_cases(mol_shell.TwistedCylinder())
+    if quick:
+        return [case for case in every if case.label in QUICK_CASES]
+    return [case for case in every if max_n is None or case.n <= max_n]
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--max-n", type=int, default=None,
+                        help="grid cases up to this n only (default: all, to 10,240)")
+    parser.add_argument("--quick", action="store_true", help="two cases: the paper scene and viscous eta_mu = 100 Pa s")
+    parser.add_argument("--out", default="out", help="output directory (default: out)")
+    parser.add_argument("--output", default=None, help="netCDF file (default: OUT/stability.nc)")
+    args = parser.parse_args(argv)
+    output = args.output or os.path.join(args.out, "stability.nc")
+    os.makedirs(os.path.dirname(output) or ".", exist_ok=True)
+    ds = report(cases(args.max_n, args.quick))
+    ds.to_netcdf(output)
+    stem = output.rsplit(".", 1)[0]
     with open(stem + ".md", "w") as fh:
         fh.write(markdown_table(ds) + "\n")
     plot_report(ds, stem + ".png")
     print(markdown_table(ds))
+    return ds
 
 
 if __name__ == "__main__":

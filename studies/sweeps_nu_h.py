@@ -2,10 +2,19 @@
 
 nu in {0.3, 0.4, 0.45, 0.49, 0.499} at the paper's h, and h in {1/4, 1/2, 1, 2, 4} x 2 pi 1e-3 m
 at nu = 0.49; gamma = 0.1 rad/m, R(gamma) computed per case, leap-frog with dt = 1e-6 s to
-t = 0.143 s, on N = 40 and N = 160 nodes. Writes out/sweeps_nu_h.nc (amplitudes, dims grid x nu
-and grid x h), the full fields in out/sweep_{nu,h}_n<N>.nc (cases kept for resuming) and
-out/sweeps_nu_h.png; prints markdown tables.
-Usage: python studies/sweeps_nu_h.py [--grids 40,160] [--dt 1e-6]
+t = 0.143 s, on N = 40 and N = 160 nodes. max |r - R| falls as nu grows (the radial shift of the
+twisted cylinder, 1 - R, is proportional to (lambda + 4 mu) / (lambda + 2 mu) for thin shells).
+The leap-frog bound 1/max|eig| is set by the transverse-shear mode, whose frequency goes like
+sqrt(mu/rho)/h (sqrt(3 mu/rho)/h = 5,050 rad/s for the natural cylinder at the paper's h), so
+the bound is proportional to h up to the paper's h; at 4x that h the grid's axial wave, of
+frequency about 2 sqrt((lambda + 2 mu)/rho)/ds, is the faster one. psi is tabulated with its
+(-1)^i node pattern split off (mol_shell.study_data.grid_mode); psi is not pointwise converged
+in N (see studies/paper_figures.py). Writes OUT/sweeps_nu_h.nc (amplitudes, dims grid x nu and grid x h),
+the full fields in OUT/sweep_{nu,h}_n<N>.nc (cases kept for resuming) and OUT/sweeps_nu_h.png;
+prints markdown tables. ``main`` returns the summaries of the two sweeps.
+Usage: python studies/sweeps_nu_h.py [--grids 40,160] [--dt 1e-6] [--scheduler ADDRESS|serial] [--quick] [--out out]
+(--quick: nu = 0.3, 0.45, 0.499 and h = 1/4, 1/2, 1 x 2 pi 1e-3 m on N = 40 with dt = 4e-6 s,
+in this process; 10-20 s.)
 """
 
 import argparse
@@ -22,21 +31,34 @@ from mol_shell.study_data import summarize
 TIMES = np.round(np.arange(0.0, 0.1435, 0.001), 9)
 H0 = 2 * math.pi * 1e-3
 SWEEPS = {"nu": [0.3, 0.4, 0.45, 0.49, 0.499], "h": [H0 * f for f in (0.25, 0.5, 1.0, 2.0, 4.0)]}
+DEFAULTS = {"grids": "40,160", "dt": 1e-6, "scheduler": None}
+QUICK = {"grids": "40", "dt": 4e-6, "scheduler": "serial"}
+QUICK_SWEEPS = {"nu": [0.3, 0.45, 0.499], "h": [H0 * f for f in (0.25, 0.5, 1.0)]}
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--grids", default="40,160")
-    parser.add_argument("--dt", type=float, default=1e-6)
-    args = parser.parse_args()
-    os.makedirs("out", exist_ok=True)
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--grids", help=f"default {DEFAULTS['grids']}")
+    parser.add_argument("--dt", type=float, help=f"leap-frog step, s (default {DEFAULTS['dt']:g})")
+    parser.add_argument("--scheduler", help="dask scheduler address, or serial (default: local processes)")
+    parser.add_argument("--quick", action="store_true",
+                        help="small settings: " + ", ".join(f"{k} = {v}" for k, v in QUICK.items())
+                        + "; nu = 0.3, 0.45, 0.499 and h = 1/4, 1/2, 1 x 2 pi 1e-3 m")
+    parser.add_argument("--out", default="out", help="output directory (default: out)")
+    args = parser.parse_args(argv)
+    for key, value in (QUICK if args.quick else DEFAULTS).items():
+        if getattr(args, key) is None:
+            setattr(args, key, value)
+    sweeps = QUICK_SWEEPS if args.quick else SWEEPS
+    out_dir = args.out
+    os.makedirs(out_dir, exist_ok=True)
     grids = [int(n) for n in args.grids.split(",")]
     summaries = {}
-    for name, values in SWEEPS.items():
+    for name, values in sweeps.items():
         per_grid = []
         for n in grids:
             ds = study(mol_shell.TwistedCylinder(), {name: values}, n=n, times=TIMES, dt=args.dt,
-                       output=f"out/sweep_{name}_n{n}.nc")
+                       scheduler=args.scheduler, output=os.path.join(out_dir, f"sweep_{name}_n{n}.nc"))
             m = summarize(ds)
             for extra in ("R", "status", "wall_time_s", "leapfrog_dt_bound_s"):
                 m[extra] = ds[extra]
@@ -50,19 +72,20 @@ def main():
                    compat="no_conflicts", join="outer")
     out.attrs.update(title="mol_shell: nu and h sweeps of the twisted cylinder", gamma=0.1,
                      source=f"mol_shell {mol_shell.__version__}", t_end=float(TIMES[-1]), dt=args.dt)
-    out.to_netcdf("out/sweeps_nu_h.nc")
+    out.to_netcdf(os.path.join(out_dir, "sweeps_nu_h.nc"))
     for name, m in summaries.items():
         print(f"\n| {name} | N | R [m] | max abs(r - R) [m] | max abs(theta) [rad] | max abs(psi) [rad] "
               "| psi without node pattern | chi(s=0) at 0.143 s | leap-frog dt bound [s] | status |")
         print("|---|---|---|---|---|---|---|---|---|---|")
-        for value in SWEEPS[name]:
+        for value in sweeps[name]:
             for n in grids:
                 x = m.sel(grid=n, **{name: value})
                 print(f"| {value:.4g} | {n} | {float(x.R):.6f} | {float(x.dr_max):.3e} | {float(x.theta_max):.4f} "
                       f"| {float(x.psi_max):.2e} | {float(x.psi_smooth_max):.2e} | {float(x.chi_end):+.4f} "
                       f"| {float(x.leapfrog_dt_bound_s):.3g} | {str(x.status.values)} |")
-    _plot(summaries, grids, "out/sweeps_nu_h.png")
-    print("\nwrote out/sweeps_nu_h.nc, out/sweep_*_n*.nc, out/sweeps_nu_h.png")
+    _plot(summaries, grids, os.path.join(out_dir, "sweeps_nu_h.png"))
+    print(f"\nwrote {out_dir}/sweeps_nu_h.nc, {out_dir}/sweep_*_n*.nc, {out_dir}/sweeps_nu_h.png")
+    return summaries
 
 
 def _plot(summaries, grids, path):

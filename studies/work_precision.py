@@ -2,10 +2,12 @@
 
 The paper's scene (n = 40) to its last snapshot t = 0.143 s, saved at the paper's snapshot
 times; a tolerance sweep per integrator (dt for leap-frog); error and reference as in
-:mod:`mol_shell.workprecision`. Writes out/work_precision.nc, .png and .md, and prints the
+:mod:`mol_shell.workprecision`. Writes OUT/work_precision.nc, .png and .md, and prints the
 table (the cheapest run of each integrator with error <= 1e-6, speed-up against the paper's
-leap-frog at dt = 1e-6).
-Usage: python studies/work_precision.py [--repeats 3] [--t-end 0.143] [--integrators a,b,...]
+leap-frog at dt = 1e-6). ``main`` returns the Dataset.
+Usage: python studies/work_precision.py [--repeats 3] [--t-end 0.143] [--integrators a,b,...] [--quick] [--out out]
+(--quick: leap-frog at dt = 1e-5, 5e-6 s and CVODE-Adams at rtol = 1e-5, 1e-7, to t = 0.02 s,
+one repeat; about 10 s.)
 """
 
 import argparse
@@ -17,21 +19,32 @@ import numpy as np
 import mol_shell
 from mol_shell import workprecision as wp
 
+QUICK = {"t_end": 0.02, "repeats": 1, "integrators": "leapfrog,cvode-adams",
+         "sweeps": {"leapfrog": {"dt": (1e-5, 5e-6)}, "cvode-adams": {"rtol": (1e-5, 1e-7)}}}
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--repeats", type=int, default=3)
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--repeats", type=int, default=None, help="timed repeats per point (default 3)")
     parser.add_argument("--t-end", type=float, default=None, help="default: the paper's snapshots up to 0.143 s")
-    parser.add_argument("--integrators", default=",".join(wp.DEFAULT_INTEGRATORS))
-    parser.add_argument("--output", default=os.path.join("out", "work_precision.nc"))
-    args = parser.parse_args()
-    times = wp.PAPER_TIMES if args.t_end is None else np.linspace(0.0, args.t_end, 5)
-    os.makedirs(os.path.dirname(args.output) or ".", exist_ok=True)
+    parser.add_argument("--integrators", default=None, help="default: all")
+    parser.add_argument("--quick", action="store_true", help="a tiny sweep of two integrators to t = 0.02 s")
+    parser.add_argument("--out", default="out", help="output directory (default: out)")
+    parser.add_argument("--output", default=None, help="netCDF file (default: OUT/work_precision.nc)")
+    args = parser.parse_args(argv)
+    quick = QUICK if args.quick else {}
+    repeats = args.repeats if args.repeats is not None else quick.get("repeats", 3)
+    t_end = args.t_end if args.t_end is not None else quick.get("t_end")
+    integrators = args.integrators or quick.get("integrators") or ",".join(wp.DEFAULT_INTEGRATORS)
+    output = args.output or os.path.join(args.out, "work_precision.nc")
+    times = wp.PAPER_TIMES if t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, t_end, 5)]
+    os.makedirs(os.path.dirname(output) or ".", exist_ok=True)
     start = time.perf_counter()
-    ds = wp.study(mol_shell.TwistedCylinder(), args.integrators.split(","), times=times, repeats=args.repeats)
-    png, md = wp.write_outputs(ds, args.output)
+    ds = wp.study(mol_shell.TwistedCylinder(), integrators.split(","), times=times, repeats=repeats,
+                  sweeps=quick.get("sweeps"))
+    png, md = wp.write_outputs(ds, output)
     print(wp.markdown_table(ds))
-    print(f"wrote {args.output}, {png}, {md} in {time.perf_counter() - start:.0f} s")
+    print(f"wrote {output}, {png}, {md} in {time.perf_counter() - start:.0f} s")
     return ds
 
 
