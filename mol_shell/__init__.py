@@ -1,6 +1,6 @@
 """mol_shell: rotationally symmetric motions of Cosserat shells of revolution (Antman & Bourne 2010)."""
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 from .scenes import SCENES, Axisymmetric, SpinningRing, TwistedCylinder, get_scene  # noqa: E402
 from .simulate import build, simulate  # noqa: E402

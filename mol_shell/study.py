@@ -46,9 +46,11 @@ class Task:
 
     @property
     def key(self):
-        """Hash of the scene class and parameters, integrator, grid, saved times and options."""
-        spec = {"scene": type(self.scene).__name__, "params": self.scene.params(), "integrator": self.integrator,
-                "n": self.n, "times": list(self.times), "options": self.options}
+        """Hash of the package version, scene class and parameters, integrator, grid, saved times and options."""
+        from . import __version__
+
+        spec = {"version": __version__, "scene": type(self.scene).__name__, "params": self.scene.params(),
+                "integrator": self.integrator, "n": self.n, "times": list(self.times), "options": self.options}
         return hashlib.sha256(json.dumps(spec, sort_keys=True, default=repr).encode()).hexdigest()[:20]
 
 
@@ -157,8 +159,9 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     Local processes are started with ``spawn`` (safe with threads and CasADi): a script that
     calls ``study`` must guard its entry point with ``if __name__ == "__main__":``. A dask
     cluster's workers need ``mol_shell`` importable and gcc (each compiles its right-hand side
-    once into its own cache). Stored cases are keyed by their settings, not by the code: after
-    changing the model, delete ``<output stem>.cases/``.
+    once into its own cache). Stored cases are keyed by their settings and the package version
+    (a new version computes every case again); a model changed in place without a new version
+    needs ``<output stem>.cases/`` deleted by hand.
 
     Returns
     -------
