@@ -102,11 +102,16 @@ class ShellSystem:
     def cell_energy(self, ql, qr):
         """Stored energy of the cell ``[s_i, s_{i+1}]``: ``2 pi r0 ds`` times the mean of ``What`` at its samples."""
         samples = self.cell_samples(ql, qr)
-        area = 2 * math.pi * self.r0 * self.ds / len(samples)
+        area = 2 * math.pi * self.r0 * self.ds / self.samples_per_cell
         return sum(area * shell_energy(e, self.lam, self.mu, self.thickness, self.r0) for e in samples)
 
+    @property
+    def samples_per_cell(self):
+        """Where ``What`` is sampled in a cell: 2 (``psi`` at each node), 1 when ``psi`` is not a field."""
+        return 2 if 4 in self.active else 1
+
     def cell_samples(self, ql, qr):
-        """Strains ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)`` at the two samples of a cell.
+        """Strains ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)`` at the samples of a cell (two; one without psi).
 
         Differences for the derivatives, midpoint averages for ``r`` and ``theta``, and ``psi``
         at the left and at the right node (see the module's docstring). Linear in ``(ql, qr)``,
@@ -114,6 +119,8 @@ class ShellSystem:
         """
         grad = (qr - ql) / self.ds
         mid = (qr + ql) / 2
+        if 4 not in self.active:  # psi = 0 identically (axisymmetric scenes): the two samples coincide
+            return ((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], mid[4]),)
         return tuple((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], node[4]) for node in (ql, qr))
 
     def cell_forces_kernel(self):
@@ -123,20 +130,20 @@ class ShellSystem:
         return ca.Function("cell", [ql, qr], [ca.gradient(energy, ql), ca.gradient(energy, qr)], self.KERNEL_OPTIONS)
 
     def _cell_observables(self):
-        """``(q_left, q_right) -> (V_cell, delta at the cell's two samples)``."""
+        """``(q_left, q_right) -> (V_cell, delta at the cell's samples)``."""
         ql, qr = ca.SX.sym("ql", NF), ca.SX.sym("qr", NF)
         deltas = [delta(z_s, r_s, r, theta, psi) for z_s, r_s, _, _, _, r, theta, psi in self.cell_samples(ql, qr)]
         return ca.Function("cell_observables", [ql, qr], [self.cell_energy(ql, qr), ca.vertcat(*deltas)])
 
     def cell_delta(self):
-        """``(q_left, q_right) -> delta = r beta1 cos(psi)`` at the cell's two samples (the model needs it > 0)."""
+        """``(q_left, q_right) -> delta = r beta1 cos(psi)`` at the cell's samples (the model needs it > 0)."""
         ql, qr = ca.SX.sym("ql", NF), ca.SX.sym("qr", NF)
         return ca.Function("cell_delta", [ql, qr], [self._cell_observables()(ql, qr)[1]])
 
     def cell_dissipation(self, ql, qr, vl, vr):
         """Rayleigh function of the cell (Kelvin-Voigt), sampled like :meth:`cell_energy`; ``2 D`` is its power."""
         pairs = zip(self.cell_samples(ql, qr), self.cell_samples(vl, vr))
-        area = 2 * math.pi * self.r0 * self.ds / 2
+        area = 2 * math.pi * self.r0 * self.ds / self.samples_per_cell
         return sum(area * shell_dissipation(e, e_t, self.eta_lambda, self.eta_mu, self.thickness, self.r0)
                    for e, e_t in pairs)
 
@@ -227,7 +234,7 @@ class ShellSystem:
     def limits(self):
         """``y -> g``: the model's limits as functions that must stay positive (:meth:`limit_names` says which).
 
-        ``g = [delta at the two samples of each cell; r per node; (pi/2)^2 - psi^2 per node]``
+        ``g = [delta at the samples of each cell; r per node; (pi/2)^2 - psi^2 per node]``
         (the last only when ``psi`` is a field). Leap-frog checks them after every step (in C),
         CVODE and IDA find their roots. Depends on the field entries only, which sit at the same
         places in ``y = (q, p)`` and in IDA's ``x = (q, v)``.
@@ -245,7 +252,7 @@ class ShellSystem:
     def limit_names(self):
         """``(what, where)`` for each entry of :attr:`limits`."""
         cells = (self.s[:-1] + self.s[1:]) / 2
-        names = [("delta = r beta1 cos(psi) reached 0", f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, 2)]
+        names = [("delta = r beta1 cos(psi) reached 0", f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, self.samples_per_cell)]
         names += [("r reached 0", f"s = {s:.6g} m") for s in self.s]
         if 4 in self.active:
             names += [("|psi| reached pi/2", f"s = {s:.6g} m") for s in self.s]

@@ -94,8 +94,8 @@ class Monitor:
             i = int(np.argmin(r))
             where = f"s = {self.system.s[i]:.6g} m"
             raise ModelLimitError(f"r = {r[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
-        delta = np.asarray(out[4]).ravel()  # two samples per cell, cell by cell
+        delta = np.asarray(out[4]).ravel()  # samples_per_cell values per cell, cell by cell
         if delta.min() <= 0:
             i = int(np.argmin(delta))
-            where = f"s = {self._cells[i // 2]:.6g} m"
+            where = f"s = {self._cells[i // self.system.samples_per_cell]:.6g} m"
             raise ModelLimitError(f"delta = {delta[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)

@@ -327,7 +327,8 @@ class _Run:
             self.rhsfn, self.jacfn = rhsfn, jacfn
 
         floor = np.zeros(self.n_events)
-        floor[2 * (system.n - 1) : 3 * system.n - 2] = method.field_atol()[1]  # the r events sit at r = atol_r
+        first_r = system.samples_per_cell * (system.n - 1)  # the deltas come first, then r per node
+        floor[first_r : first_r + system.n] = method.field_atol()[1]  # the r events sit at r = atol_r
         # the r entries (same places in y and x): with the constraint alone, SUNDIALS cuts a step that
         # would cross r = 0 back to r ~ 2e-10 m and then crawls along the axis (~4e-12 s a step) until
         # max_steps; IDA may also return an accepted state a little below 0. A step that ends with
