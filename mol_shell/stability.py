@@ -20,7 +20,7 @@ from .equilibrium import spectrum_bounds
 from .errors import ModelLimitError, ParameterError
 from .integrators import INTEGRATORS, Leapfrog
 from .scenes import TwistedCylinder, get_scene
-from .simulate import build, resolve, simulate
+from .simulate import LEAPFROG_MAX_LOG_GROWTH, build, resolve, simulate
 
 
 @dataclasses.dataclass(frozen=True)
@@ -54,27 +54,45 @@ def default_cases(base=None, quick=False):
     return cases
 
 
-def stable_leapfrog_step(system, compiled, y0, bound, steps=3000, iterations=8):
-    """Largest stable leap-frog step by bisection in ``[bound/2, 2 bound]``.
+def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, iterations=8):
+    """Largest stable leap-frog step by bisection in ``[bound/2, 2 bound]``; returns ``(dt, horizon)``.
 
-    A step counts as stable when ``steps`` steps run without the energy growing by 1 %
+    A step counts as stable when the run to ``horizon`` ends without the energy growing by 1 %
     (the :class:`~mol_shell.integrators.Monitor` check); reaching a model limit is not held against it.
-    Returns ``(dt, bisection_iterations)``; ``nan`` if even ``bound/2`` is unstable.
+    The horizon is ``steps`` steps of ``bound/2``, cut to where the step is what is being judged:
+
+    * with damping, to where leap-frog's parasitic root has grown by ``exp(LEAPFROG_MAX_LOG_GROWTH)``
+      (beyond it :func:`~mol_shell.simulate` refuses leap-frog at any step);
+    * when a run at ``bound/10`` also fails (the shell itself folds or collapses, as at large twist),
+      to 0.9 of its failure time.
+
+    ``dt`` is ``nan`` if even ``bound/2`` is unstable on that horizon.
     """
 
-    def stable(dt):
-        traj = Leapfrog(dt=dt, chunk=100).integrate(system, compiled, y0, np.array([0.0, steps * dt]))
-        return traj.status != "unstable"  # a model limit (e.g. the fold) reached by a stable step is no verdict on dt
+    def run(dt, horizon):
+        end = math.ceil(horizon / dt) * dt  # on the step grid
+        return Leapfrog(dt=dt, chunk=100).integrate(system, compiled, y0, np.array([0.0, end]))
 
+    def stable(dt):
+        return run(dt, horizon).status != "unstable"
+
+    horizon = steps * 0.5 * bound
+    if damping > 0:
+        horizon = min(horizon, LEAPFROG_MAX_LOG_GROWTH / damping)
     lo, hi = 0.5 * bound, 2.0 * bound
     if not stable(lo):
-        return float("nan")
+        small = run(0.1 * bound, horizon)
+        if small.status == "complete":
+            return float("nan"), horizon
+        horizon = 0.9 * small.failure_time  # the physics ends the run, whatever the step
+        if not stable(lo):
+            return float("nan"), horizon
     if stable(hi):
-        return hi
+        return hi, horizon
     for _ in range(iterations):
         mid = math.sqrt(lo * hi)
         lo, hi = (mid, hi) if stable(mid) else (lo, mid)
-    return lo
+    return lo, horizon
 
 
 def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, atol=1e-9):
@@ -95,7 +113,8 @@ def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, ato
         row["stiffness_ratio"] = float("nan")
     bound = 1.0 / omega_max
     row["leapfrog_dt_bound"] = bound
-    row["leapfrog_dt_stable"] = stable_leapfrog_step(system, compiled, y0, bound) if bisect else float("nan")
+    row["leapfrog_dt_stable"], row["bisection_horizon_s"] = (
+        stable_leapfrog_step(system, compiled, y0, bound, damping) if bisect else (float("nan"), float("nan")))
     for name in ("leapfrog", *integrators):
         if name not in INTEGRATORS:
             continue
@@ -161,6 +180,7 @@ def markdown_table(ds, integrators=("leapfrog", "cvode_bdf", "ida"), spectrum=Tr
             ("omega_max", "max abs(eig) [1/s]", "{:.3g}"), ("damping_max", "max damping [1/s]", "{:.3g}"),
             ("stiffness_ratio", "stiffness ratio", "{:.3g}"), ("leapfrog_dt_bound", "LF dt bound [s]", "{:.3g}"),
             ("leapfrog_dt_stable", "LF dt stable (bisection) [s]", "{:.3g}"),
+            ("bisection_horizon_s", "bisection horizon [s]", "{:.3g}"),
         ]
     for name in integrators:
         cols += [(f"{name}_status", f"{name} status", "{}"), (f"{name}_steps", f"{name} steps", "{:.0f}"),
