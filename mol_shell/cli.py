@@ -4,7 +4,8 @@ Errors in the user's input print one line naming the parameter and its allowed
 range, and exit with code 2 (no traceback); they are found before anything is
 computed where they can be. ``-o FILE`` of every subcommand is checked first: missing
 directories are created, and a place that cannot be written is refused. A run that
-stops at a model limit writes what it computed and exits with code 3.
+stops at a model limit writes what it computed and exits with code 3; one interrupted by
+Ctrl-C writes what it computed too and exits with code 130.
 """
 
 from __future__ import annotations
@@ -20,7 +21,7 @@ import numpy as np
 from . import __version__
 from .errors import ParameterError, show
 
-EXIT_USAGE, EXIT_INCOMPLETE = 2, 3
+EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED = 2, 3, 130
 
 # Subcommands contributed by other modules: each module has ``register(subparsers)``
 # that adds its parser with ``set_defaults(func=...)``.
@@ -177,7 +178,7 @@ def cmd_run(args):
     if not ds.attrs["complete"]:
         print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {ds.sizes['time']} saved times to {args.output}",
               file=sys.stderr)
-        return EXIT_INCOMPLETE
+        return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {ds.sizes['time']} times x {ds.sizes['s']} nodes, "
           f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s, R = {ds.attrs['R']:.10g} m")
     return 0
@@ -269,7 +270,7 @@ def main(argv=None):
         return EXIT_USAGE
     except KeyboardInterrupt:
         print("mol-shell: interrupted", file=sys.stderr)
-        return 130
+        return EXIT_INTERRUPTED
 
 
 if __name__ == "__main__":

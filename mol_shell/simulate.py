@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import cmath
 import dataclasses
 import functools
 import math
@@ -26,14 +27,21 @@ LEAPFROG_MAX_LOG_GROWTH = float(np.log(1e6))
 
 
 def parasitic_growth_rate(damping, omega_max, dt):
-    """Bound on the growth rate (1/s) of leap-frog's parasitic root over a spectrum with ``-Re lambda <= damping``.
+    """Growth rate (1/s) of leap-frog's parasitic root for the worst mode the spectrum's bounds allow.
 
-    For ``y' = lambda y`` with ``lambda dt = -e + i x`` the roots of ``z^2 - 2 lambda dt z - 1 = 0``
-    have ``|z_parasitic|^2 = 1 + 2 e / sqrt(1 - x^2) + O(e^2)``: the mode grows at
-    ``a / sqrt(1 - (w dt)^2)``, faster than its damping rate ``a`` near the step bound.
+    For ``y' = lambda y`` the scheme's roots solve ``z^2 - 2 lambda dt z - 1 = 0``; the parasitic one
+    has ``|z| > 1`` when ``Re lambda < 0``. With ``lambda = -a + i w`` and ``x = w dt``,
+    ``|z|^2 = 1 + 2 a dt / sqrt(1 - x^2) + O((a dt)^2)``: the mode grows at about
+    ``a / sqrt(1 - x^2)``, faster than its damping rate near the step bound. Evaluated exactly at
+    ``a = damping`` (the largest ``-Re lambda``) and ``w = omega_max`` (the largest ``|lambda|``).
     """
-    x = min(dt * omega_max, 1.0 - 1e-12)
-    return damping / math.sqrt(1.0 - x * x)
+    if damping <= 0:
+        return 0.0
+    lam_dt = complex(-damping, math.sqrt(max(omega_max**2 - damping**2, 0.0))) * dt
+    root = cmath.sqrt(1.0 + lam_dt * lam_dt)
+    return max(math.log(abs(lam_dt + root)), math.log(abs(lam_dt - root))) / dt
+
+
 #: leap-frog's step when none is given (the paper's), s
 DEFAULT_DT = 1e-6
 #: relative tolerances accepted: below 1e-14 is under round-off, 1 and above controls nothing

@@ -54,19 +54,22 @@ def default_cases(base=None, quick=False):
     return cases
 
 
-def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, iterations=8):
+def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, iterations=8, min_steps=100):
     """Largest stable leap-frog step by bisection in ``[bound/2, 2 bound]``; returns ``(dt, horizon)``.
 
-    A step counts as stable when the run to ``horizon`` ends without the energy growing by 1 %
-    (the :class:`~mol_shell.integrators.Monitor` check); reaching a model limit is not held against it.
-    The horizon is ``steps`` steps of ``bound/2``, cut to where the step is what is being judged:
+    A step counts as stable when its run reaches ``horizon`` (status ``complete``). The horizon is
+    ``steps`` steps of ``bound/2``, cut to where the step is what is being judged:
 
     * with damping, to where leap-frog's parasitic root has grown by ``exp(LEAPFROG_MAX_LOG_GROWTH)``
-      (beyond it :func:`~mol_shell.simulate` refuses leap-frog at any step);
-    * when a run at ``bound/10`` also fails (the shell itself folds or collapses, as at large twist),
-      to 0.9 of its failure time.
+      at small steps (near the bound it grows faster, by ``1/sqrt(1 - (w dt)^2)``: that is part of
+      what the bisection measures);
+    * when a run at ``bound/10`` fails too (the shell itself folds or collapses, as at large twist),
+      to 0.9 of its failure time. Within that horizon a run that ends early, by energy growth or at a
+      limit, does so because of its step: an unstable step can cross ``delta = 0`` before the
+      energy check sees it grow.
 
-    ``dt`` is ``nan`` if even ``bound/2`` is unstable on that horizon.
+    ``dt`` is ``nan`` if ``bound/2`` is unstable on that horizon, or if the horizon is shorter than
+    ``min_steps`` steps of ``2 bound`` (the shell folds too soon for a step to be judged).
     """
 
     def run(dt, horizon):
@@ -74,7 +77,7 @@ def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, i
         return Leapfrog(dt=dt, chunk=100).integrate(system, compiled, y0, np.array([0.0, end]))
 
     def stable(dt):
-        return run(dt, horizon).status != "unstable"
+        return run(dt, horizon).status == "complete"
 
     horizon = steps * 0.5 * bound
     if damping > 0:
@@ -85,7 +88,7 @@ def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, i
         if small.status == "complete":
             return float("nan"), horizon
         horizon = 0.9 * small.failure_time  # the physics ends the run, whatever the step
-        if not stable(lo):
+        if horizon < min_steps * hi or not stable(lo):
             return float("nan"), horizon
     if stable(hi):
         return hi, horizon

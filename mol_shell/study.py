@@ -171,7 +171,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         ``case_wall_time_s``, ``R``, ...); attrs ``n_cases``, ``n_executed`` (run by this
         call), ``n_reused`` (loaded from ``output``), ``n_failed``.
     """
-    from .simulate import DEFAULT_DT, check_options, parse_times
+    from .simulate import DEFAULT_DT, check_options, leapfrog_times, parse_times
 
     start = time.perf_counter()
     scene = resolve_scene(scene)
@@ -184,11 +184,9 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
 
         writable_path(output, "output")
     dims, coords, cases = design(scene, vary, integrator)
-    snap = times is None and integrator == "leapfrog"
+    if times is None and integrator == "leapfrog":  # as simulate: on the step grid, t_end a multiple of dt
+        times = leapfrog_times(t_end, options.get("dt", DEFAULT_DT))
     times = parse_times(times, t_end)
-    if snap:
-        dt = options.get("dt", DEFAULT_DT)
-        times = np.array([float(f"{t:.12g}") for t in np.rint(times / dt) * dt])
     results, tasks = {}, []
     for index, changes in cases:
         label = ", ".join(f"{k}={v}" for k, v in changes.items())

@@ -1,12 +1,14 @@
 """Stability: the leap-frog bound predicted from the Jacobian's spectrum matches bisection."""
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
 
 import mol_shell
 from mol_shell.equilibrium import spectrum_bounds
+from mol_shell.integrators import Leapfrog
 from mol_shell.model.material import lame
 from mol_shell.simulate import build, resolve
 from mol_shell.stability import Case, markdown_table, report, stable_leapfrog_step
@@ -73,3 +75,23 @@ def test_bisection_judges_the_step_not_a_fold_of_the_shell():
     ds = mol_shell.simulate(scene, "cvode-bdf", n=20, times=[0.0, 1500 / omega_max], rtol=1e-8, atol=1e-10, progress=False)
     assert ds.attrs["status"] == "limit" and "delta" in ds.attrs["message"]
     assert ds.attrs["failure_time"] < 1500 / omega_max  # the shell folds within the uncut horizon
+
+
+def test_a_limit_reached_by_an_unstable_step_is_not_a_stable_step():
+    """psi0 = 1.55 rad (delta0 = 0.02 m, N = 20): the shell folds at s = 0.32 m after 1.71 ms (runs at
+    bound/10 and bound/50 agree to the step). At 2 bound the first step already crosses delta = 0 at the
+    other end (s = 3.7 m), before the energy check can see any growth: a run that ends at a limit is
+    no evidence of a stable step. Within the horizon before the fold (0.9 x 1.71 ms, ~17 steps of
+    2 bound) no step can be judged: the bisection says so (nan) instead of reporting 2 bound."""
+    scene = resolve(dataclasses.replace(mol_shell.TwistedCylinder(), psi0=1.55))
+    system, compiled = build(scene, 20)
+    y0 = system.initial_state(scene)
+    omega_max, _ = spectrum_bounds(system.jac, y0, system.viscous)
+    bound = 1.0 / omega_max
+    big = Leapfrog(dt=2 * bound).integrate(system, compiled, y0, np.array([0.0, 10 * 2 * bound]))
+    fine = Leapfrog(dt=bound / 50).integrate(system, compiled, y0, np.array([0.0, 2000 * bound / 50]))  # 40 bounds: ~6 ms
+    assert big.status == "limit" and big.failure_time < 0.2 * fine.failure_time
+    assert fine.status == "limit" and "s = 0.315789" in fine.message and "s = 0.315789" not in big.message
+    dt, horizon = stable_leapfrog_step(system, compiled, y0, bound)
+    assert math.isnan(dt)
+    assert horizon == pytest.approx(0.9 * fine.failure_time, rel=0.02) and horizon < 100 * 2 * bound

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import mol_shell
+from mol_shell.errors import ParameterError
 from mol_shell.study import parse_vary, study
 
 study_module = importlib.import_module("mol_shell.study")  # the module, even if mol_shell exports a function study
@@ -173,3 +174,12 @@ def test_coordinates_have_units_and_long_names():
         assert listed[name].attrs.get("units") and listed[name].attrs.get("long_name"), name
     assert listed.h.attrs["units"] == "m"
     assert "max_damping_rate" in listed.attrs or "max_damping_rate" in listed  # renamed from max_damping_rate_s-1
+
+
+def test_leapfrog_study_times_follow_simulate():
+    """Without saved times a leap-frog study takes simulate's: on the step grid, ``t_end`` a multiple of ``dt``
+    (refused otherwise, as simulate refuses it, instead of silently stopping at another time)."""
+    with pytest.raises(ParameterError, match="t_end"):
+        study(BASE, {"gamma": [0.0, 0.05]}, n=10, t_end=1.05e-5, scheduler="serial")
+    ds = study(BASE, {"gamma": [0.0]}, n=10, t_end=1e-5, scheduler="serial")
+    assert float(ds.time[-1]) == 1e-5 and ds.sizes["time"] == 11
