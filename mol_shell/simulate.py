@@ -17,7 +17,6 @@ from .discretization import ShellSystem
 from .equilibrium import equilibrium_radius, spectrum_bounds
 from .errors import ParameterError, is_number
 from .integrators import INTEGRATORS
-from .model.kinematics import FIELDS
 from .output import build_dataset
 from .scenes import SCENES, ShellScene, check_radius, get_scene
 
@@ -234,8 +233,6 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         warnings.warn(f"run incomplete: {traj.message}; keeping {len(traj.t)} saved times", RuntimeWarning, stacklevel=2)
     velocities, totals = observe(system, traj.y)
     attrs = {"integrator": integrator, **method.settings(), **system.graph_stats()}
-    if "atol" in attrs and hasattr(method, "field_atol") and not is_number(method.atol):
-        attrs["atol"] = format_atol(method.field_atol())
     attrs.update({
         "build_time_s": build_time,
         "omega_max_rad_s": omega_max,
@@ -244,11 +241,6 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         "leapfrog_dt_bound_s": 1.0 / omega_max,
     })
     return build_dataset(system, scene, traj, velocities, totals, attrs)
-
-
-def format_atol(values):
-    """Per-field absolute tolerances as an attribute: ``"z=1e-09,r=1e-08,chi=1e-09,theta=1e-10,psi=1e-09"``."""
-    return ",".join(f"{name}={float(v):g}" for name, v in zip(FIELDS, values))
 
 
 def observe(system, states):

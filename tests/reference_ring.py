@@ -133,7 +133,7 @@ class Ring:
         return p_r / self.rho_a, chi_t, p_psi / self.rho_j - chi_t
 
     def rhs(self, t, y):
-        r, psi, p_r = y[0], y[2], y[3]
+        r, psi = y[0], y[2]
         r_t, chi_t, psi_t = self.rates(y)
         f_r, f_psi = ring_forces(r, psi, self.lam, self.mu, self.h, self.zeta1, self.n_quad)
         return np.array([r_t, chi_t, psi_t, self.rho_a * r * chi_t**2 - f_r, 0.0, -f_psi])

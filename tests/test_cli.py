@@ -202,14 +202,15 @@ def test_plot_refuses_files_that_are_not_runs(run_file, tmp_path, capsys):
     compare_like = tmp_path / "wp.nc"
     xr.Dataset({"error": (("integrator", "level"), np.zeros((2, 3)))},
                attrs={"title": "work-precision of mol_shell integrators"}).to_netcdf(compare_like)
-    cases = [(tmp_path / "missing.nc", "does not exist"), (text, "is not a mol_shell run file"),
-             (study_like, "is not a mol_shell run file"), (compare_like, "is not a mol_shell run file")]
-    for path, problem in cases:
+    cases = [(tmp_path / "missing.nc", "does not exist", ""),
+             (text, "is not a mol_shell run file", "not a netCDF file"),
+             (study_like, "is not a mol_shell run file", "it holds a parameter study (mol-shell study)"),
+             (compare_like, "is not a mol_shell run file", "it holds a work-precision comparison (mol-shell compare)")]
+    for path, problem, what in cases:
         code = main(["plot", str(path), "-o", str(tmp_path / "p.png")])
         err = capsys.readouterr().err
         assert code == 2 and err.startswith(f"mol-shell: error: FILE = '{path}' {problem}"), err
-        assert len(err.splitlines()) == 1
-    assert "parameter study" in err.replace("work-precision", "") or "work-precision" in err
+        assert len(err.splitlines()) == 1 and what in err, err
     code = main(["plot", str(run_file), "-o", str(tmp_path / "p.xyz")])
     assert code == 2 and "-o = " in capsys.readouterr().err and not (tmp_path / "p.xyz").exists()
 

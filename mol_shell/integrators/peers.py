@@ -25,8 +25,7 @@ import numpy as np
 import scipy.integrate
 import scipy.sparse as sp
 
-from ..errors import ModelLimitError, is_number
-from ..model.kinematics import FIELDS
+from ..errors import ModelLimitError
 from .base import Monitor, Trajectory
 from .sundials import _Sundials, pieces
 
@@ -36,9 +35,7 @@ class _Peer(_Sundials):
     """Tolerances as for CVODE (``rtol``, ``atol`` per field, momenta scaled by their mass)."""
 
     def settings(self):
-        atol = self.atol if is_number(self.atol) else ",".join(
-            f"{name}={value:g}" for name, value in zip(FIELDS, self.field_atol()))
-        return {"rtol": self.rtol, "atol": atol, "max_step": self.max_step}
+        return self.tolerances()
 
     def _finish(self, saved, reached, status, message, failure, stats):
         return Trajectory(np.array(reached), np.array(saved), status=status, message=message, stats=stats,

@@ -36,7 +36,7 @@ import numpy as np  # noqa: E402
 import scipy.sparse as sp  # noqa: E402
 import sksundae  # noqa: E402
 
-from ..errors import ModelLimitError, ParameterError  # noqa: E402
+from ..errors import ModelLimitError, ParameterError, is_number  # noqa: E402
 from ..model.kinematics import FIELDS  # noqa: E402
 from .base import Monitor, Trajectory  # noqa: E402
 
@@ -172,9 +172,14 @@ class _Sundials:
         self.field_atol()
 
     def settings(self):
-        atol = self.atol if isinstance(self.atol, (int, float)) else ",".join(f"{a:g}" for a in self.field_atol())
-        return {"rtol": self.rtol, "atol": atol, "max_step": self.max_step, "linsolver_option": self.linsolver,
-                "jacobian": self.jacobian, "sksundae_version": sksundae.__version__}
+        return {**self.tolerances(), "linsolver_option": self.linsolver, "jacobian": self.jacobian,
+                "sksundae_version": sksundae.__version__}
+
+    def tolerances(self):
+        """``rtol``, ``atol`` (a number, or per field as ``"z=1e-09,r=1e-08,..."``) and ``max_step`` as attributes."""
+        atol = self.atol if is_number(self.atol) else ",".join(
+            f"{name}={float(value):g}" for name, value in zip(FIELDS, self.field_atol()))
+        return {"rtol": self.rtol, "atol": atol, "max_step": self.max_step}
 
     def field_atol(self):
         """Absolute tolerance per field ``(z, r, chi, theta, psi)``."""
