@@ -196,7 +196,8 @@ def markdown_table(ds, integrators=("leapfrog", "cvode_bdf", "ida"), spectrum=Tr
         for key, _, fmt in cols:
             v = ds[key].values[i]
             if key == "leapfrog_dt_stable" and isinstance(v, float) and math.isnan(v) and ds.attrs.get("bisected", 1):
-                cells.append("< bound/2")
+                short = float(ds["bisection_horizon_s"].values[i]) < 200 * float(ds["leapfrog_dt_bound"].values[i])
+                cells.append("n/a: folds within 100 steps" if short else "< bound/2")
                 continue
             try:
                 cells.append(fmt.format(int(v) if fmt == "{:d}" else v) if not (isinstance(v, float) and math.isnan(v)) else "")
