@@ -155,13 +155,13 @@ class CompiledRHS:
     def leapfrog(self, ya, yb, nsteps, dt):
         """Advance the pair ``(y_{k-1}, y_k)`` in place by up to ``nsteps`` leap-frog steps.
 
-        Returns the number of steps taken: ``nsteps``, or fewer if a step left the limits
-        (``yb`` is then the first state outside them).
+        Returns ``(steps taken, stopped)``: ``stopped`` is true if the last step taken left the
+        limits (``yb`` is then the first state outside them), which may be step ``nsteps`` itself.
         """
         code = self._lib.ms_leapfrog(ya, yb, self._f, self._g, int(nsteps), float(dt))
         if code < 0:
             raise RuntimeError("compiled right-hand side failed")
-        return int(code) if code > 0 else int(nsteps)
+        return (int(code), True) if code > 0 else (int(nsteps), False)
 
     def evaluator(self):
         """``y -> y_t`` through a preallocated CasADi buffer (about 0.2 us of call overhead).

@@ -56,3 +56,25 @@ def test_data_before_the_crossing_are_kept_and_finite(runs):
         assert ds.attrs["complete"] == 0
         assert list(ds.time.values) == [t for t in TIMES if t < ds.attrs["failure_time"]], name
         assert np.all(np.isfinite(ds.psi.values)) and np.abs(ds.psi.values).max() < np.pi / 2
+
+
+def test_a_limit_at_the_last_step_of_a_chunk_is_reported_as_a_limit():
+    """The C loop stops at the first step outside the limits; when that is the chunk's last step the
+    step count alone cannot tell, so the driver says so too. The fold above is crossed at step k
+    (found by single steps); a chunk of exactly k steps reports (k, stopped), one of k - 1 not."""
+    from mol_shell.simulate import build, resolve
+
+    scene = resolve(SCENE)
+    system, compiled = build(scene, 40)
+    y0 = system.initial_state(scene)
+    start = y0.copy(), y0 + DT * np.array(compiled.evaluator()(y0 + 0.5 * DT * np.array(compiled.evaluator()(y0))))
+    ya, yb = (a.copy() for a in start)
+    k, stopped = 0, False
+    while not stopped:
+        taken, stopped = compiled.leapfrog(ya, yb, 1, DT)
+        assert taken == 1
+        k += 1
+    assert 4000 < k < 6000  # the crossing of the tests above, ~4.9 ms after the first step
+    for chunk, expected in ((k, True), (k - 1, False)):
+        ya, yb = (a.copy() for a in start)
+        assert compiled.leapfrog(ya, yb, chunk, DT) == (chunk, expected)

@@ -188,7 +188,7 @@ def test_overflow_inside_a_chunk_never_reaches_the_file(tmp_path):
     times = dt * np.arange(0, 20001, 1000)
     unchecked = CompiledRHS(system.rhs_mapped)  # no limits: what a run without checks would have saved
     chunk_end = y0.copy(), y0 + dt * np.array(unchecked.evaluator()(y0))
-    assert unchecked.leapfrog(*chunk_end, 1000, dt) == 1000
+    assert unchecked.leapfrog(*chunk_end, 1000, dt) == (1000, False)  # no limits to stop it
     assert not np.all(np.isfinite(chunk_end[1]))
     traj = Leapfrog(dt=dt, chunk=2000).integrate(system, compiled, y0, times)
     assert traj.status in ("unstable", "limit"), traj.message

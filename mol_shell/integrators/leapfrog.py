@@ -78,10 +78,10 @@ class Leapfrog:
                 while k < target:
                     m = int(min(self.chunk, target - k))
                     chunk_start = (ya.copy(), yb.copy(), k)
-                    taken = compiled.leapfrog(ya, yb, m, dt)  # stops at the first step outside the limits
+                    taken, stopped = compiled.leapfrog(ya, yb, m, dt)  # stops at the first step outside the limits
                     k += taken
                     n_rhs += taken
-                    if taken < m:
+                    if stopped:
                         monitor.check(yb, k * dt)  # raises, naming the limit and the place
                         raise ModelLimitError(f"a limit of the model was reached at t = {k * dt:.9g} s", k * dt,
                                               "whole shell")
