@@ -23,6 +23,10 @@ from .scenes import SCENES, ShellScene, check_radius, get_scene
 
 #: leap-frog is refused when damped modes could grow by more than exp(this) (1e6) over the run
 LEAPFROG_MAX_LOG_GROWTH = float(np.log(1e6))
+#: leap-frog's step when none is given (the paper's), s
+DEFAULT_DT = 1e-6
+#: relative tolerances accepted: below 1e-14 is under round-off, 1 and above controls nothing
+RTOL_RANGE = (1e-14, 1.0)
 
 
 def parasitic_growth_rate(damping, omega_max, dt):
@@ -31,20 +35,14 @@ def parasitic_growth_rate(damping, omega_max, dt):
     For ``y' = lambda y`` the scheme's roots solve ``z^2 - 2 lambda dt z - 1 = 0``; the parasitic one
     has ``|z| > 1`` when ``Re lambda < 0``. With ``lambda = -a + i w`` and ``x = w dt``,
     ``|z|^2 = 1 + 2 a dt / sqrt(1 - x^2) + O((a dt)^2)``: the mode grows at about
-    ``a / sqrt(1 - x^2)``, faster than its damping rate near the step bound. Evaluated exactly at
-    ``a = damping`` (the largest ``-Re lambda``) and ``w = omega_max`` (the largest ``|lambda|``).
+    ``a / sqrt(1 - x^2)``, faster than its damping rate near the step bound. Evaluated exactly for
+    the eigenvalue with ``a = damping`` (the largest ``-Re lambda``) and ``|lambda| = omega_max``.
     """
     if damping <= 0:
         return 0.0
     lam_dt = complex(-damping, math.sqrt(max(omega_max**2 - damping**2, 0.0))) * dt
     root = cmath.sqrt(1.0 + lam_dt * lam_dt)
     return max(math.log(abs(lam_dt + root)), math.log(abs(lam_dt - root))) / dt
-
-
-#: leap-frog's step when none is given (the paper's), s
-DEFAULT_DT = 1e-6
-#: relative tolerances accepted: below 1e-14 is under round-off, 1 and above controls nothing
-RTOL_RANGE = (1e-14, 1.0)
 
 
 def _graph_key(scene):
