@@ -39,7 +39,7 @@ def delta(z_s, r_s, r, theta, psi):
     return r * beta1 * cos(psi)
 
 
-def deformation_gradient(strains, zeta, r0=1.0, theta0=0.0, theta0_s=0.0):
+def deformation_gradient(strains, zeta, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0, beta2_0=0.0):
     """Components ``F[k][l]`` of ``F = sum F_kl b_k b0_l`` at depth ``zeta``, eq. (7.4) repaired.
 
     Parameters
@@ -51,6 +51,11 @@ def deformation_gradient(strains, zeta, r0=1.0, theta0=0.0, theta0_s=0.0):
     r0, theta0, theta0_s : float
         Reference radius, reference tangent angle and its derivative. The
         cylinder of section 6 has ``r0 = 1, theta0 = 0`` (the tangent is ``k``).
+    beta1_0, beta2_0 : float
+        ``r0_s`` of the reference configuration in its own ``b0`` basis: ``(1, 0)`` for the exact
+        meridian (``dz0/ds = cos theta0``, ``dr0/ds = sin theta0``); the discrete system passes
+        the values of its difference formulas applied to the nodal reference coordinates, so the
+        discrete natural state has ``F = I`` exactly.
 
     Notes
     -----
@@ -58,19 +63,31 @@ def deformation_gradient(strains, zeta, r0=1.0, theta0=0.0, theta0_s=0.0):
     column 2 is ``p_zeta = d``; column 3 is ``p_phi = k x (r + zeta d)``
     divided by ``r0 + zeta cos(theta0)``. The extracted paper lost the first
     term of ``F31`` (it is ``beta3 = r chi_s``); see MODEL_NOTES.
+
+    In general ``F = G G0^-1`` with ``G = [p_s, p_zeta, p_phi]`` in the ``b`` basis and ``G0`` the
+    same for the reference configuration in the ``b0`` basis,
+    ``G0 = [[beta1_0 - zeta theta0_s, 0, 0], [beta2_0, 1, 0], [0, 0, r0 + zeta cos theta0]]``;
+    with ``beta1_0 = 1, beta2_0 = 0`` this is the table of (7.4). Its determinant
+    :func:`reference_volume_factor` is the reference volume element.
     """
     z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi = strains
     beta1, beta2, beta3 = betas(z_s, r_s, chi_s, r, theta)
     cs, sn = cos(psi), sin(psi)
     ct, st = cos(theta), sin(theta)
     twist = psi_s + chi_s * ct
-    j1 = 1.0 / (1.0 - zeta * theta0_s)
+    j1 = 1.0 / (beta1_0 - zeta * theta0_s)
     j3 = 1.0 / (r0 + zeta * cos(theta0))
-    return (
-        ((beta1 - zeta * (chi_s * sn * st + theta_s * cs)) * j1, 0.0, -zeta * sn * st * j3),
-        ((beta2 - zeta * sn * twist) * j1, cs, -zeta * sn * ct * j3),
-        ((beta3 + zeta * cs * twist) * j1, sn, (r + zeta * cs * ct) * j3),
-    )
+    col2 = (0.0, cs, sn)
+    col1 = (beta1 - zeta * (chi_s * sn * st + theta_s * cs), beta2 - zeta * sn * twist, beta3 + zeta * cs * twist)
+    if not (isinstance(beta2_0, (int, float)) and beta2_0 == 0):
+        col1 = tuple(a - beta2_0 * b for a, b in zip(col1, col2))
+    col3 = (-zeta * sn * st, -zeta * sn * ct, r + zeta * cs * ct)
+    return tuple((col1[k] * j1, col2[k], col3[k] * j3) for k in range(3))
+
+
+def reference_volume_factor(zeta, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0):
+    """``det G0 = (beta1_0 - zeta theta0_s)(r0 + zeta cos theta0)``: reference volume per ``ds dzeta dphi``."""
+    return (beta1_0 - zeta * theta0_s) * (r0 + zeta * cos(theta0))
 
 
 def director_velocity_c(chi_t, theta_t, psi_t, theta, psi):

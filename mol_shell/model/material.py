@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import deformation_gradient
+from .kinematics import deformation_gradient, reference_volume_factor
 
 
 def lame(young, poisson):
@@ -120,7 +120,8 @@ def inertias(rho, thickness, r0=1.0, theta0=0.0, theta0_s=0.0):
     return tuple(out)
 
 
-def shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0):
+def shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0,
+                      beta2_0=0.0):
     """Rayleigh function of the Kelvin-Voigt stress per unit reference area (section 3, strain-rate type).
 
     With ``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t`` the stress power is ``S_visc : E_t = 2 D`` where
@@ -128,6 +129,7 @@ def shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0=1.0, the
         D = (1/r0) int [eta_lambda/2 (tr E_t)^2 + eta_mu E_t : E_t] (1 - zeta theta0_s)(r0 + zeta cos theta0) dzeta,
 
     ``E_t = dE/dstrains . rates`` and ``rates`` are the time derivatives of ``strains``.
+    ``beta1_0, beta2_0``: the reference configuration's strains, as in :func:`shell_energy`.
     The generalised viscous forces are ``-dD/d(rates)``; the energy decays at the rate ``2 D``.
     Needs CasADi symbols for ``strains``/``rates`` (it differentiates ``E``).
     """
@@ -137,17 +139,17 @@ def shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0=1.0, the
     nodes, weights = thickness.nodes_weights
     total = 0.0
     for zeta, w in zip(nodes, weights):
-        E = green_strain(deformation_gradient(ca.vertsplit(e_sym), zeta, r0, theta0, theta0_s))
+        E = green_strain(deformation_gradient(ca.vertsplit(e_sym), zeta, r0, theta0, theta0_s, beta1_0, beta2_0))
         flat = ca.vertcat(*[E[i][j] for i in range(3) for j in range(3)])
         Et = ca.reshape(ca.jtimes(flat, e_sym, r_sym), 3, 3)
         trace = Et[0, 0] + Et[1, 1] + Et[2, 2]
-        jac = (1.0 - zeta * theta0_s) * (r0 + zeta * math.cos(theta0)) / r0
+        jac = reference_volume_factor(zeta, r0, theta0, theta0_s, beta1_0) / r0
         total = total + w * jac * (0.5 * eta_lambda * trace**2 + eta_mu * ca.sumsqr(Et))
     fn = ca.Function("dissipation", [e_sym, r_sym], [total])
     return fn(ca.vertcat(*strains), ca.vertcat(*rates))
 
 
-def shell_energy(strains, lam, mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0):
+def shell_energy(strains, lam, mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0, beta2_0=0.0):
     """Stored energy per unit reference area ``What`` (section 7), by Gauss-Legendre quadrature.
 
     Parameters
@@ -158,11 +160,19 @@ def shell_energy(strains, lam, mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0):
         Lame coefficients.
     thickness : Thickness
         Quadrature rule on the thickness interval.
+    r0, theta0, theta0_s : float or casadi.SX
+        Reference radius, tangent angle and its derivative at the point.
+    beta1_0, beta2_0 : float or casadi.SX
+        The reference configuration's ``r0_s`` in its ``b0`` basis (``1, 0`` for the exact meridian;
+        the discrete system passes its difference values so its natural state has ``F = I``).
+
+    The integrand carries ``det G0 / r0 = (beta1_0 - zeta theta0_s)(r0 + zeta cos theta0) / r0``:
+    energy per unit reference area of the base surface (per unit ``s`` when ``beta1_0 != 1``).
     """
     nodes, weights = thickness.nodes_weights
     total = 0.0
     for zeta, w in zip(nodes, weights):
-        F = deformation_gradient(strains, zeta, r0, theta0, theta0_s)
-        jac = (1.0 - zeta * theta0_s) * (r0 + zeta * math.cos(theta0)) / r0
+        F = deformation_gradient(strains, zeta, r0, theta0, theta0_s, beta1_0, beta2_0)
+        jac = reference_volume_factor(zeta, r0, theta0, theta0_s, beta1_0) / r0
         total = total + w * jac * svk_energy(F, lam, mu)
     return total
