@@ -13,19 +13,17 @@ The residual is the balance of momentum as it stands, without inverting the mass
 ``T`` is the lumped kinetic energy built from :func:`~mol_shell.model.kinematics.kinetic_energy_density`
 and ``V`` the stored energy of :class:`ShellSystem`; both come from the same cell and node
 kernels as the ODE right-hand side (here mapped over the grid, as in ``ShellSystem._build``, so the
-graph and its compiled Jacobian stay small whatever ``n``). At the ends ``z`` and ``theta`` are fixed:
-their rows read ``q_t - v = 0`` and ``m v_t = 0`` (``v`` stays 0).
+graph and its compiled Jacobian stay small whatever ``n``). Imposed fields at the edges
+(:mod:`mol_shell.ends`) have the rows ``q_t - v = 0`` and ``m v_t = 0`` (``v`` stays 0); a pole's tied
+``chi`` has ``q_t = v`` of its neighbour.
 """
 
 from __future__ import annotations
-
-import math
 
 import casadi as ca
 import numpy as np
 
 from .discretization import NF
-from .model.kinematics import kinetic_energy_density
 
 
 class ShellDAE:
@@ -47,47 +45,37 @@ class ShellDAE:
         self._build()
 
     def _node_residual(self, free):
-        """``(q, v, q_t, v_t, w) -> M(q) v_t + (dp/dq) q_t - dT/dq`` at a node whose free rates are ``free``."""
+        """``(q, v, q_t, v_t, m) -> M(q) v_t + (dp/dq) q_t - dT/dq`` at a node whose free rates are ``free``."""
         sy = self.system
         q, v, qt, vt = (ca.SX.sym(name, NF) for name in ("q", "v", "qt", "vt"))
-        w = ca.SX.sym("w")
+        m = ca.SX.sym("m", 3)
         vf = [v[k] if k in free else 0 for k in range(NF)]
-        T = 2 * math.pi * sy.r0 * w * kinetic_energy_density(ca.vertsplit(q), vf, sy.rho_a, sy.rho_i, sy.rho_j)
+        T = sy.kinetic_energy(ca.vertsplit(q), vf, ca.vertsplit(m))
         p = ca.gradient(T, v)
         inertial = ca.jtimes(p, q, qt) + ca.jtimes(p, v, vt) - ca.gradient(T, q)
-        mass = 2 * math.pi * sy.r0 * w * sy.rho_a  # scale of the rows of fixed rates: m v_t = 0
+        mass = m[0]  # scale of the rows of fixed rates: m v_t = 0
         rows = [inertial[k] if k in free else mass * vt[k] for k in range(NF)]
-        return ca.Function("node_residual", [q, v, qt, vt, w], [ca.vertcat(*rows)], self.system.KERNEL_OPTIONS)
+        return ca.Function("node_residual", [q, v, qt, vt, m], [ca.vertcat(*rows)], self.system.KERNEL_OPTIONS)
 
     def _build(self):
         sy = self.system
         n, nf, active = sy.n, sy.nf, list(sy.active)
-        from .discretization import FIXED_AT_ENDS
-
         x, xp = ca.MX.sym("x", self.size), ca.MX.sym("xp", self.size)
         t, cj = ca.MX.sym("t"), ca.MX.sym("cj")
-        zero_row = ca.MX.zeros(1, n)
-
-        def fields(X, offset):
-            return ca.vertcat(*[X[offset + active.index(k), :] if k in active else zero_row for k in range(NF)])
-
         X, XP = ca.reshape(x, sy.ny, n), ca.reshape(xp, sy.ny, n)
-        Q, V, QT, VT = fields(X, 0), fields(X, nf), fields(XP, 0), fields(XP, nf)
+        Q, V, QT, VT = sy._fields(X), sy._fields(X, nf), sy._fields(XP), sy._fields(XP, nf)
         free = ca.DM((~sy.fixed.T).astype(float))
         V = V * free  # fixed rates enter nowhere (they stay 0)
-        gl, gr = sy.cell_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:])  # the stored energy of ShellSystem
-        pad = ca.MX.zeros(NF, 1)
-        forces = ca.horzcat(gl, pad) + ca.horzcat(pad, gr)  # dV/dq
+        forces = sy.elastic_forces(Q)  # dV/dq, the stored energy of ShellSystem
         if sy.viscous:
-            fl, fr = sy.viscous_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:])
-            forces = forces + ca.horzcat(fl, pad) + ca.horzcat(pad, fr)  # dD/dv
-        interior = self._node_residual(active)
-        end = self._node_residual([k for k in active if k not in FIXED_AT_ENDS])
-        ri = interior.map(n - 2)(Q[:, 1:-1], V[:, 1:-1], QT[:, 1:-1], VT[:, 1:-1], sy.weights[None, 1:-1])
-        r0 = end(Q[:, 0], V[:, 0], QT[:, 0], VT[:, 0], sy.weights[0])
-        rn = end(Q[:, -1], V[:, -1], QT[:, -1], VT[:, -1], sy.weights[-1])
+            forces = forces + sy.viscous_forces(Q, sy.tie(V))  # dD/dv
+        first, inner, last = sy.free_sets()
+        m = sy.inertia
+        ri = self._node_residual(inner).map(n - 2)(Q[:, 1:-1], V[:, 1:-1], QT[:, 1:-1], VT[:, 1:-1], m[:, 1:-1])
+        r0 = self._node_residual(first)(Q[:, 0], V[:, 0], QT[:, 0], VT[:, 0], m[:, 0])
+        rn = self._node_residual(last)(Q[:, -1], V[:, -1], QT[:, -1], VT[:, -1], m[:, -1])
         momentum = ca.horzcat(r0, ri, rn) + forces * free
-        kinematic = QT - fields(X, nf)
+        kinematic = QT - sy.tie(V)  # a pole's chi follows its neighbour's rate
         F = ca.vec(ca.vertcat(kinematic[active, :], momentum[active, :]))
         self.residual = ca.Function("dae_residual", [t, x, xp], [F], ["t", "x", "xp"], ["F"])
         J = ca.jacobian(F, x) + cj * ca.jacobian(F, xp)
@@ -96,13 +84,15 @@ class ShellDAE:
         y = ca.MX.sym("y", self.size)
         ydot = sy.rhs_mapped(0, y)
         mask_q = np.tile(np.r_[np.ones(nf), np.zeros(nf)], n).astype(bool)
-        x_of_y = y * ca.DM(mask_q.astype(float)) + self._shift_rates(ydot, nf, n)
+        free_x = np.concatenate([np.ones((n, nf)), (~sy.fixed[:, active]).astype(float)], axis=1).ravel()
+        x_of_y = y * ca.DM(mask_q.astype(float)) + self._shift_rates(ydot, nf, n) * ca.DM(free_x)
         self.from_momenta = ca.Function("from_momenta", [y], [x_of_y], ["y"], ["x"])
         P = ca.vertcat(*[self._momentum(Q, V, k) for k in range(NF)])
         Yq = ca.vertcat(*[Q[k, :] for k in active])
         Yp = ca.vertcat(*[P[k, :] for k in active])
         self.to_momenta = ca.Function("to_momenta", [x], [ca.vec(ca.vertcat(Yq, Yp))], ["x"], ["y"])
         self._mask_q = mask_q
+        self._free_x = free_x
 
     @staticmethod
     def _shift_rates(ydot, nf, n):
@@ -113,11 +103,10 @@ class ShellDAE:
     def _momentum(self, Q, V, k):
         """Row ``k`` of the nodal momenta ``p = dT/dv`` (0 for fixed rates, as in the Hamiltonian state)."""
         sy = self.system
-        q, v, w = ca.SX.sym("q", NF), ca.SX.sym("v", NF), ca.SX.sym("w")
-        dens = kinetic_energy_density(ca.vertsplit(q), ca.vertsplit(v), sy.rho_a, sy.rho_i, sy.rho_j)
-        T = 2 * math.pi * sy.r0 * w * dens
-        f = ca.Function("p", [q, v, w], [ca.gradient(T, v)])
-        P = f.map(sy.n)(Q, V, sy.weights[None, :])
+        q, v, m = ca.SX.sym("q", NF), ca.SX.sym("v", NF), ca.SX.sym("m", 3)
+        T = sy.kinetic_energy(ca.vertsplit(q), ca.vertsplit(v), ca.vertsplit(m))
+        f = ca.Function("p", [q, v, m], [ca.gradient(T, v)])
+        P = f.map(sy.n)(Q, V, sy.inertia) * ca.DM((~sy.fixed.T).astype(float))
         return P[k, :]
 
     def consistent_rates(self, y):
@@ -134,4 +123,5 @@ class ShellDAE:
         nf = sy.nf
         Yd, Jv = ydot.reshape(sy.n, 2 * nf), jv.reshape(sy.n, 2 * nf)
         XP = np.concatenate([Yd[:, :nf], Jv[:, :nf]], axis=1)
+        XP[:, nf:] *= self._free_x.reshape(sy.n, 2 * nf)[:, nf:]
         return x, XP.ravel()

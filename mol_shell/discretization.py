@@ -1,27 +1,38 @@
 """Method-of-lines discretisation: the semi-discrete Hamiltonian system as CasADi graphs.
 
-The continuum Lagrangian ``2 pi r0 int (T - What) ds`` (section 7) is discretised
-on ``n`` equally spaced nodes of ``[0, L]`` with a staggered (cell-centred) energy:
+The continuum Lagrangian ``2 pi int r0 (T - What) ds`` (section 7) of a shell of revolution with
+reference meridian ``(r0, z0, theta0)(s)`` (:mod:`mol_shell.model.geometry`) is discretised on ``n``
+equally spaced nodes of ``[0, L]`` with a staggered (cell-centred) energy:
 
 * nodal unknowns ``q_i = (z, r, chi, theta, psi)(s_i)`` and their momenta ``p_i``;
-* stored energy ``V = 2 pi r0 sum_cells ds/2 [What(q_s, r_mid, theta_mid, psi_i) + What(q_s, r_mid,
-  theta_mid, psi_{i+1})]``: the strains of cell ``[s_i, s_{i+1}]`` are the differences
-  ``(q_{i+1} - q_i)/ds``, ``r`` and ``theta`` their midpoint averages (one-point rule: second order,
-  and free of shear locking in ``theta``), and ``psi`` is sampled at the two nodes (trapezoidal
-  rule, also second order). A midpoint ``psi`` would leave the node-to-node pattern
-  ``psi_i = (-1)^i eps`` without its zero-order (transverse-shear) stiffness: a spurious mode of
-  frequency ``(2/ds) sqrt(mu/rho)`` (357 rad/s at n = 40), degenerate with the shortest torsional
-  waves and strongly excited by them. Sampled at the nodes it sits above the physical shear
-  frequency (5,063 against 5,050 rad/s). ``psi -> 0`` is a pointwise constraint in the thin limit,
-  so the nodal rule adds no locking;
-* kinetic energy lumped at nodes with trapezoidal weights ``ds`` (``ds/2`` at the ends).
+* stored energy ``V = sum_cells 2 pi int W_SVK(F) det G0 dzeta ds``, sampled twice per cell: the strains
+  of cell ``[s_i, s_{i+1}]`` are the differences ``(q_{i+1} - q_i)/ds``, ``r`` and ``theta`` their
+  midpoint averages (one-point rule: second order, and free of shear locking in ``theta``), and
+  ``psi`` is sampled at the two nodes (trapezoidal rule, also second order). A midpoint ``psi``
+  would leave the node-to-node pattern ``psi_i = (-1)^i eps`` without its zero-order
+  (transverse-shear) stiffness: a spurious mode of frequency ``(2/ds) sqrt(mu/rho)`` (357 rad/s at
+  n = 40 on the paper's cylinder). ``psi -> 0`` is a pointwise constraint in the thin limit, so the
+  nodal rule adds no locking;
+* the reference configuration is the discrete one: ``F = G G0^-1`` (:func:`~mol_shell.model.kinematics.
+  deformation_gradient`) with ``G0`` from the same difference and midpoint formulas applied to the
+  nodal reference coordinates ``(z0, r0, theta0)_i``, so the natural state has ``F = I`` exactly at
+  every sample and is an exact equilibrium on every meridian (exact midpoint values of the meridian
+  would leave an ``O(ds^2)`` residual stress);
+* the geometry enters the cell kernel as per-cell data (the factors ``j1, j3, vol`` of
+  :func:`~mol_shell.model.material.quadrature_factors` at each thickness point, and ``beta2_0`` when the
+  meridian is curved), so one kernel serves every meridian and grid of a material. The kernel works
+  with differences, not derivatives (``ds = 1``): ``F`` is unchanged and ``det G0`` carries ``ds``;
+* kinetic energy lumped at nodes: the exact inertia of each node's dual cell
+  (:func:`~mol_shell.model.geometry.node_inertias`; the trapezoidal weights on a cylinder, and a
+  positive mass at a pole).
 
-Hamilton's equations ``q_t = M(q)^{-1} p``, ``p_t = dT/dq|_v - dV/dq`` are an
-equivalent first-order form of the paper's (6.5)-(6.7): energy ``T + V`` is
-conserved by the semi-discrete system and the axial angular momentum ``sum p_chi``
-is conserved exactly (``V`` depends on ``chi`` only through differences).
-Boundary conditions: ``z = s`` and ``theta = 0`` at both ends are imposed (those
-rates and momenta stay zero); ``n.a2 = n.a3 = m.c1 = 0`` are the natural ones.
+Hamilton's equations ``q_t = M(q)^{-1} p``, ``p_t = dT/dq|_v - dV/dq`` are an equivalent first-order
+form of the paper's (6.5)-(6.7): energy ``T + V`` is conserved by the semi-discrete system and the
+axial angular momentum ``sum p_chi`` is conserved exactly when both edges leave ``chi`` free (``V``
+depends on ``chi`` only through differences). Edge conditions (:mod:`mol_shell.ends`): imposed fields
+keep their initial values (those rates and momenta stay zero); the others get the natural conditions
+of the variational form. At a pole ``r = 0``, ``theta = theta0``, ``psi = 0`` are imposed and the
+massless ``chi`` of the pole node is tied to its neighbour's (its force is added there).
 
 State layout is node-major: with the scene's ``nf`` active fields (all five, or e.g.
 ``z, r, theta`` for axisymmetric motions), ``y[2 nf i + k]`` is active field ``k`` of node
@@ -37,14 +48,18 @@ from functools import cached_property
 import casadi as ca
 import numpy as np
 
+from .ends import free_rates, imposed_mask, resolve_edges, tied_chi
+from .errors import ParameterError
+from .model.geometry import node_inertias
 from .model.kinematics import FIELDS as FIELD_NAMES
 from .model.kinematics import delta, kinetic_energy_density
 from .model.material import (
-    Thickness, centroidal_offset, condensed, effective_lame, inertias, shell_dissipation, shell_energy,
+    Thickness, condensed, effective_lame, inertias, thickness_dissipation, thickness_energy,
 )
 
 NF = 5  # fields of the model (z, r, chi, theta, psi)
-FIXED_AT_ENDS = (0, 3)  # z and theta are prescribed at s = 0 and s = L
+#: |beta2_0| below this (relative to beta1_0) is an exact zero: straight generators leave it out of the kernel
+BETA2_ZERO = 1e-13
 
 
 class ShellSystem:
@@ -52,8 +67,9 @@ class ShellSystem:
 
     Parameters
     ----------
-    scene : TwistedCylinder
-        Physical parameters (``R`` is not used here; it only enters initial data).
+    scene : ShellScene
+        Physical parameters; ``scene.meridian()`` gives the reference meridian (initial data are
+        not used here).
     n : int
         Number of nodes (``n >= 3``).
 
@@ -61,37 +77,91 @@ class ShellSystem:
     ----------
     rhs : casadi.Function
         ``(t, y) -> y_t``, SX.
+    s : ndarray
+        Node arc lengths; ``reference`` the nodal ``(z0, r0, theta0)`` (``3 x n``).
+    edges : tuple of str
+        Edge kinds at ``s = 0`` and ``s = L`` (:mod:`mol_shell.ends`).
+    inertia : ndarray
+        ``(mA, mI, mJ)`` per node (``3 x n``), kg, kg m, kg m^2.
+    fixed : ndarray
+        ``(n, 5)``: fields whose momenta stay zero (imposed ones and a pole's tied ``chi``).
     """
 
     #: largest grid assembled as one flat SX graph; larger grids keep mapped kernels
     FLAT_MAX_NODES = 400
 
     def __init__(self, scene, n=40):
-        if not isinstance(n, (int, np.integer)) or n < 3:
-            from .errors import ParameterError
-
+        if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 3:
             raise ParameterError("n", n, "integers >= 3")
         self.scene, self.n = scene, int(n)
         self.active = tuple(getattr(scene, "fields", range(NF)))
         self.nf = len(self.active)
         self.ny = 2 * self.nf
-        self.ds = scene.L / (self.n - 1)
-        self.s = np.linspace(0.0, scene.L, self.n)
-        self.r0 = 1.0
+        self.meridian = scene.meridian()
+        self.L = self.meridian.length
+        self.ds = self.L / (self.n - 1)
+        self.s = np.linspace(0.0, self.L, self.n)
+        r0, z0, th0, _ = self.meridian.at(self.s)
+        self.reference = np.array([z0, r0, th0])
+        self.edges = resolve_edges(getattr(scene, "end1", None), getattr(scene, "end2", None), self.meridian.poles)
         self.lam, self.mu = effective_lame(scene.E, scene.nu, scene.material)
         self.eta_lambda, self.eta_mu = condensed(scene.eta_lambda, scene.eta_mu, scene.material)
         self.viscous = scene.eta_lambda > 0 or scene.eta_mu > 0
-        zeta1 = centroidal_offset(scene.h, self.r0) if scene.zeta1 is None else scene.zeta1
+        zeta1 = scene.zeta1_used()
         self.thickness = Thickness(zeta1, scene.h, scene.n_quad)
-        self.rho_a, self.rho_i, self.rho_j = inertias(scene.rho, self.thickness, self.r0)
-        if abs(self.rho_i) < 1e-14 * self.rho_a:
-            self.rho_i = 0  # exact zero: the rhoI terms are left out of the graph
-        self.weights = np.full(self.n, self.ds)
+        self.inertia = node_inertias(self.meridian, self.s, scene.rho, self.thickness)
+        self.has_rho_i = bool(np.any(np.abs(self.inertia[1]) > 1e-14 * self.inertia[0] * scene.h))
+        if not self.has_rho_i:
+            self.inertia[1] = 0.0  # exact zero: the rhoI terms are left out of the graph
+        # per unit reference area at mid-length (constant on a cylinder; for the record on other shells)
+        mid = self.meridian.at(np.array([self.L / 2]))
+        self.r0 = float(mid[0][0])
+        self.rho_a, self.rho_i, self.rho_j = inertias(scene.rho, self.thickness, self.r0, float(mid[2][0]), float(mid[3][0]))
+        if not self.has_rho_i:
+            self.rho_i = 0
+        self.weights = np.full(self.n, self.ds)  # lengths of the dual cells
         self.weights[[0, -1]] = self.ds / 2
-        self.fixed = np.zeros((self.n, NF), dtype=bool)
-        for k in FIXED_AT_ENDS:
-            self.fixed[[0, -1], k] = True
+        self.imposed = imposed_mask(self.n, self.edges, self.active)
+        self.ties = tied_chi(self.n, self.edges, self.active)
+        self.fixed = self.imposed.copy()
+        for pole, _ in self.ties:
+            self.fixed[pole, 2] = True
+        self.cell_data = self._cell_data()
         self._build()
+
+    # -- geometry per cell -----------------------------------------------------------------
+    def _cell_data(self):
+        """Per-cell kernel data (columns): ``(j1, j3, vol)`` at each thickness point, then ``beta2_0`` if curved.
+
+        From the nodal reference coordinates by the cell's own difference and midpoint formulas, in
+        difference form (``ds = 1``); ``vol`` includes the factor ``2 pi``. Refuses a thickness
+        interval that reaches the axis or a centre of curvature (``det G0 <= 0``).
+        """
+        z0, r0, th0 = self.reference
+        dz, dr, dth = np.diff(z0), np.diff(r0), np.diff(th0)
+        thm, r0m = (th0[1:] + th0[:-1]) / 2, (r0[1:] + r0[:-1]) / 2
+        beta1 = dz * np.cos(thm) + dr * np.sin(thm)
+        beta2 = -dz * np.sin(thm) + dr * np.cos(thm)
+        rows = []
+        for zeta, w in zip(*self.thickness.nodes_weights):
+            a, c = beta1 - zeta * dth, r0m + zeta * np.cos(thm)
+            if np.any(a <= 0) or np.any(c <= 0):
+                h, z1 = self.scene.h, self.thickness.zeta1
+                raise ParameterError("h", h, "values whose thickness interval stays off the axis and inside every "
+                                     "centre of curvature", hint=f"zeta1 = {z1:.4g} m: the face at zeta = {zeta:.4g} m "
+                                     "has a non-positive volume element")
+            rows += [1.0 / a, 1.0 / c, 2 * math.pi * w * a * c]
+        self.curved = bool(np.any(np.abs(beta2) > BETA2_ZERO * np.abs(beta1)))
+        if self.curved:
+            rows.append(beta2)
+        return np.array(rows)
+
+    def _factors(self, data):
+        """``quadrature_factors``-like tuples from a symbolic per-cell data column, and ``beta2_0``."""
+        nq = self.thickness.n_quad
+        zetas = self.thickness.nodes_weights[0]
+        factors = [(zetas[q], data[3 * q], data[3 * q + 1], data[3 * q + 2]) for q in range(nq)]
+        return factors, (data[3 * nq] if self.curved else 0.0)
 
     # -- kernels -------------------------------------------------------------------------
     #: CasADi differentiates a mapped kernel through the kernel's own Jacobian instead of one
@@ -99,11 +169,15 @@ class ShellSystem:
     #: exact Jacobian is 2.5x smaller and gcc needs 3.2 s instead of 10.8 s for the cell part
     KERNEL_OPTIONS = {"enable_forward": False}
 
-    def cell_energy(self, ql, qr):
-        """Stored energy of the cell ``[s_i, s_{i+1}]``: ``2 pi r0 ds`` times the mean of ``What`` at its samples."""
+    @property
+    def n_cell_data(self):
+        return self.cell_data.shape[0]
+
+    def cell_energy(self, ql, qr, data):
+        """Stored energy of the cell ``[s_i, s_{i+1}]``: the mean over its samples of ``2 pi int W det G0 dzeta``."""
+        factors, beta2_0 = self._factors(data)
         samples = self.cell_samples(ql, qr)
-        area = 2 * math.pi * self.r0 * self.ds / self.samples_per_cell
-        return sum(area * shell_energy(e, self.lam, self.mu, self.thickness, self.r0) for e in samples)
+        return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
 
     @property
     def samples_per_cell(self):
@@ -111,59 +185,71 @@ class ShellSystem:
         return 2 if 4 in self.active else 1
 
     def cell_samples(self, ql, qr):
-        """Strains ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)`` at the samples of a cell (two; one without psi).
+        """Strains ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)`` at the samples of a cell, in difference form.
 
-        Differences for the derivatives, midpoint averages for ``r`` and ``theta``, and ``psi``
-        at the left and at the right node (see the module's docstring). Linear in ``(ql, qr)``,
-        so the same map turns nodal rates into the samples' strain rates.
+        Differences ``q_{i+1} - q_i`` for the derivatives (``ds`` times them: the kernel works with
+        ``ds = 1``), midpoint averages for ``r`` and ``theta``, and ``psi`` at the left and at the
+        right node (see the module's docstring). Linear in ``(ql, qr)``, so the same map turns nodal
+        rates into the samples' strain rates.
         """
-        grad = (qr - ql) / self.ds
+        grad = qr - ql
         mid = (qr + ql) / 2
         if 4 not in self.active:  # psi = 0 identically (axisymmetric scenes): the two samples coincide
             return ((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], mid[4]),)
         return tuple((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], node[4]) for node in (ql, qr))
 
+    def _cell_symbols(self):
+        return ca.SX.sym("ql", NF), ca.SX.sym("qr", NF), ca.SX.sym("geo", self.n_cell_data)
+
     def cell_forces_kernel(self):
-        """``(q_left, q_right) -> (dV/dq_left, dV/dq_right)``: the cell's elastic forces on its nodes."""
-        ql, qr = ca.SX.sym("ql", NF), ca.SX.sym("qr", NF)
-        energy = self.cell_energy(ql, qr)
-        return ca.Function("cell", [ql, qr], [ca.gradient(energy, ql), ca.gradient(energy, qr)], self.KERNEL_OPTIONS)
+        """``(q_left, q_right, geo) -> (dV/dq_left, dV/dq_right)``: the cell's elastic forces on its nodes."""
+        ql, qr, geo = self._cell_symbols()
+        energy = self.cell_energy(ql, qr, geo)
+        return ca.Function("cell", [ql, qr, geo], [ca.gradient(energy, ql), ca.gradient(energy, qr)],
+                           self.KERNEL_OPTIONS)
 
     def _cell_observables(self):
-        """``(q_left, q_right) -> (V_cell, delta at the cell's samples)``."""
-        ql, qr = ca.SX.sym("ql", NF), ca.SX.sym("qr", NF)
+        """``(q_left, q_right, geo) -> (V_cell, ds x delta at the cell's samples)``."""
+        ql, qr, geo = self._cell_symbols()
         deltas = [delta(z_s, r_s, r, theta, psi) for z_s, r_s, _, _, _, r, theta, psi in self.cell_samples(ql, qr)]
-        return ca.Function("cell_observables", [ql, qr], [self.cell_energy(ql, qr), ca.vertcat(*deltas)])
+        return ca.Function("cell_observables", [ql, qr, geo], [self.cell_energy(ql, qr, geo), ca.vertcat(*deltas)])
 
     def cell_delta(self):
-        """``(q_left, q_right) -> delta = r beta1 cos(psi)`` at the cell's samples (the model needs it > 0)."""
-        ql, qr = ca.SX.sym("ql", NF), ca.SX.sym("qr", NF)
-        return ca.Function("cell_delta", [ql, qr], [self._cell_observables()(ql, qr)[1]])
+        """``(q_left, q_right, geo) -> ds x delta``, ``delta = r beta1 cos(psi)`` at the cell's samples (must stay > 0)."""
+        ql, qr, geo = self._cell_symbols()
+        return ca.Function("cell_delta", [ql, qr, geo], [self._cell_observables()(ql, qr, geo)[1]])
 
-    def cell_dissipation(self, ql, qr, vl, vr):
+    def cell_dissipation(self, ql, qr, vl, vr, data):
         """Rayleigh function of the cell (Kelvin-Voigt), sampled like :meth:`cell_energy`; ``2 D`` is its power."""
-        pairs = zip(self.cell_samples(ql, qr), self.cell_samples(vl, vr))
-        area = 2 * math.pi * self.r0 * self.ds / self.samples_per_cell
-        return sum(area * shell_dissipation(e, e_t, self.eta_lambda, self.eta_mu, self.thickness, self.r0)
-                   for e, e_t in pairs)
+        factors, beta2_0 = self._factors(data)
+        pairs = list(zip(self.cell_samples(ql, qr), self.cell_samples(vl, vr)))
+        return sum(thickness_dissipation(e, e_t, self.eta_lambda, self.eta_mu, factors, beta2_0)
+                   for e, e_t in pairs) / len(pairs)
 
     def viscous_forces_kernel(self):
-        """``(q_left, q_right, v_left, v_right) -> (dD/dv_left, dD/dv_right)``: the cell's viscous forces."""
-        ql, qr, vl, vr = (ca.SX.sym(name, NF) for name in ("ql", "qr", "vl", "vr"))
-        D = self.cell_dissipation(ql, qr, vl, vr)
-        return ca.Function("viscous", [ql, qr, vl, vr], [ca.gradient(D, vl), ca.gradient(D, vr)], self.KERNEL_OPTIONS)
+        """``(q_left, q_right, v_left, v_right, geo) -> (dD/dv_left, dD/dv_right)``: the cell's viscous forces."""
+        ql, qr, geo = self._cell_symbols()
+        vl, vr = ca.SX.sym("vl", NF), ca.SX.sym("vr", NF)
+        D = self.cell_dissipation(ql, qr, vl, vr, geo)
+        return ca.Function("viscous", [ql, qr, vl, vr, geo], [ca.gradient(D, vl), ca.gradient(D, vr)],
+                           self.KERNEL_OPTIONS)
 
     def _viscous_power(self):
-        ql, qr, vl, vr = (ca.SX.sym(name, NF) for name in ("ql", "qr", "vl", "vr"))
-        return ca.Function("viscous_power", [ql, qr, vl, vr], [2 * self.cell_dissipation(ql, qr, vl, vr)])
+        ql, qr, geo = self._cell_symbols()
+        vl, vr = ca.SX.sym("vl", NF), ca.SX.sym("vr", NF)
+        return ca.Function("viscous_power", [ql, qr, vl, vr, geo], [2 * self.cell_dissipation(ql, qr, vl, vr, geo)])
+
+    def kinetic_energy(self, q, v, m):
+        """Lumped kinetic energy of a node: ``mA |r_t|^2/2 + mI r_t.d_t + mJ |d_t|^2/2`` (``m`` its inertias)."""
+        m_i = m[1] if self.has_rho_i else 0
+        return kinetic_energy_density(q, v, m[0], m_i, m[2])
 
     def _node_kernel(self, free):
-        """``(q, p, w) -> (v, dT/dq at fixed v, T)`` for a node whose free rates are ``free``."""
-        q, p, w = ca.SX.sym("q", NF), ca.SX.sym("p", NF), ca.SX.sym("w")
+        """``(q, p, m) -> (v, dT/dq at fixed v, T)`` for a node whose free rates are ``free``."""
+        q, p, m = ca.SX.sym("q", NF), ca.SX.sym("p", NF), ca.SX.sym("m", 3)
         vf = ca.SX.sym("v", len(free))
         v = [vf[free.index(k)] if k in free else 0 for k in range(NF)]
-        dens = kinetic_energy_density(ca.vertsplit(q), v, self.rho_a, self.rho_i, self.rho_j)
-        T = 2 * math.pi * self.r0 * w * dens
+        T = self.kinetic_energy(ca.vertsplit(q), v, ca.vertsplit(m))
         M = ca.hessian(T, vf)[0]
         lin = ca.substitute(ca.gradient(T, vf), vf, ca.DM.zeros(len(free)))  # zero: T is quadratic
         v_of_p = ca.solve(M, p[free] - lin)
@@ -171,9 +257,59 @@ class ShellSystem:
         T_p = ca.substitute(T, vf, v_of_p)
         v_full = ca.SX.zeros(NF)
         v_full[free] = v_of_p
-        return ca.Function("node", [q, p, w], [v_full, dTdq, T_p], self.KERNEL_OPTIONS)
+        return ca.Function("node", [q, p, m], [v_full, dTdq, T_p], self.KERNEL_OPTIONS)
+
+    def free_sets(self):
+        """Free rates at node 0, at interior nodes and at node ``n - 1``."""
+        return (free_rates(self.edges[0], self.active), list(self.active), free_rates(self.edges[1], self.active))
 
     # -- assembly ------------------------------------------------------------------------
+    def _fields(self, Y, offset=0):
+        """The ``5 x n`` field rows of a node-major matrix (inactive rows zero)."""
+        active, n = list(self.active), self.n
+        zero_row = ca.MX.zeros(1, n)
+        return ca.vertcat(*[Y[offset + active.index(k), :] if k in active else zero_row for k in range(NF)])
+
+    def tie(self, Q):
+        """``Q`` with each pole's ``chi`` replaced by its neighbour's (rows ``5 x n``; MX or NumPy)."""
+        if not self.ties:
+            return Q
+        index = np.arange(self.n)
+        for pole, nb in self.ties:
+            index[pole] = nb
+        if isinstance(Q, np.ndarray):
+            Q = Q.copy()
+            Q[2] = Q[2][..., index] if Q.ndim == 2 else Q[2]
+            return Q
+        return ca.vertcat(Q[:2, :], Q[2, list(index)], Q[3:, :])
+
+    def gather_ties(self, F):
+        """Forces on the tied ``chi`` added to the neighbours' (the transpose of :meth:`tie`), the poles' set to 0."""
+        if not self.ties:
+            return F
+        row = F[2, :]
+        extra = ca.MX.zeros(1, self.n)
+        for pole, nb in self.ties:
+            extra[0, nb] = row[0, pole]
+            extra[0, pole] = -row[0, pole]
+        return ca.vertcat(F[:2, :], row + extra, F[3:, :])
+
+    def elastic_forces(self, Q):
+        """``dV/dq`` (``5 x n``, MX) of the fields ``Q`` (ties applied inside)."""
+        n = self.n
+        Qt = self.tie(Q)
+        gl, gr = self.cell_forces_kernel().map(n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
+        pad = ca.MX.zeros(NF, 1)
+        return self.gather_ties(ca.horzcat(gl, pad) + ca.horzcat(pad, gr))
+
+    def viscous_forces(self, Q, V):
+        """``dD/dv`` (``5 x n``, MX) at fields ``Q`` and rates ``V`` (ties applied inside)."""
+        n = self.n
+        Qt, Vt = self.tie(Q), self.tie(V)
+        fl, fr = self.viscous_forces_kernel().map(n - 1)(Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:], self.cell_data)
+        pad = ca.MX.zeros(NF, 1)
+        return self.gather_ties(ca.horzcat(fl, pad) + ca.horzcat(pad, fr))
+
     def _build(self):
         """Assemble the RHS from per-cell and per-node kernels mapped over the grid (MX).
 
@@ -186,42 +322,38 @@ class ShellSystem:
         n, nf, active = self.n, self.nf, list(self.active)
         y = ca.MX.sym("y", self.ny * n)
         Y = ca.reshape(y, self.ny, n)
-        zero_row = ca.MX.zeros(1, n)
-        Q = ca.vertcat(*[Y[active.index(k), :] if k in active else zero_row for k in range(NF)])
-        P = ca.vertcat(*[Y[nf + active.index(k), :] if k in active else zero_row for k in range(NF)])
-        cell = self.cell_forces_kernel()
-        gl, gr = cell.map(n - 1)(Q[:, :-1], Q[:, 1:])
-        pad = ca.MX.zeros(NF, 1)
-        dVdq = ca.horzcat(gl, pad) + ca.horzcat(pad, gr)
-        interior = self._node_kernel(active)
-        end = self._node_kernel([k for k in active if k not in FIXED_AT_ENDS])
-        vi, fi, ti = interior.map(n - 2)(Q[:, 1:-1], P[:, 1:-1], self.weights[None, 1:-1])
-        v0, f0, t0 = end(Q[:, 0], P[:, 0], self.weights[0])
-        vn, fn, tn = end(Q[:, -1], P[:, -1], self.weights[-1])
-        V = ca.horzcat(v0, vi, vn)
-        forces = ca.horzcat(f0, fi, fn) - dVdq
+        Q, P = self._fields(Y), self._fields(Y, nf)
+        first, inner, last = self.free_sets()
+        interior = self._node_kernel(inner)
+        vi, fi, ti = interior.map(n - 2)(Q[:, 1:-1], P[:, 1:-1], self.inertia[:, 1:-1])
+        v0, f0, t0 = self._node_kernel(first)(Q[:, 0], P[:, 0], self.inertia[:, 0])
+        vn, fn, tn = self._node_kernel(last)(Q[:, -1], P[:, -1], self.inertia[:, -1])
+        V = self.tie(ca.horzcat(v0, vi, vn))
+        forces = ca.horzcat(f0, fi, fn) - self.elastic_forces(Q)
         dissipation = 0
         if self.viscous:
-            fl, fr = self.viscous_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:])
-            forces = forces - ca.horzcat(fl, pad) - ca.horzcat(pad, fr)
-            dissipation = ca.sum2(self._viscous_power().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:]))
+            forces = forces - self.viscous_forces(Q, V)
+            Qt = self.tie(Q)
+            dissipation = ca.sum2(self._viscous_power().map(n - 1)(Qt[:, :-1], Qt[:, 1:], V[:, :-1], V[:, 1:],
+                                                                  self.cell_data))
         forces = forces * ca.DM((~self.fixed.T).astype(float))
         ydot = ca.vec(ca.vertcat(V[active, :], forces[active, :]))
         kinetic = ca.sum2(ti) + t0 + tn
-        energies, deltas = self._cell_observables().map(n - 1)(Q[:, :-1], Q[:, 1:])
+        Qt = self.tie(Q)
+        energies, deltas = self._cell_observables().map(n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
         stored = ca.sum2(energies)
         t = ca.MX.sym("t")
         rhs = ca.Function("rhs", [t, y], [ydot], ["t", "y"], ["ydot"])
         observables = ca.Function(
             "observables",
             [y],
-            [V, kinetic, stored, ca.sum2(P[2, :]), ca.vec(deltas), dissipation],
+            [V, kinetic, stored, ca.sum2(P[2, :]), ca.vec(deltas) / self.ds, dissipation],
             ["y"],
             ["v", "kinetic", "stored", "angular_momentum", "delta", "dissipation"],
         )
         self.rhs_mapped = rhs
         self.kernel_instructions = {
-            "cell": cell.n_instructions(),
+            "cell": self.cell_forces_kernel().n_instructions(),
             "node": interior.n_instructions(),
         }
         self.mapped = n > self.FLAT_MAX_NODES
@@ -239,12 +371,12 @@ class ShellSystem:
         CVODE and IDA find their roots. Depends on the field entries only, which sit at the same
         places in ``y = (q, p)`` and in IDA's ``x = (q, v)``.
         """
-        n, active = self.n, list(self.active)
+        n = self.n
         y = ca.MX.sym("y", self.size)
-        Y = ca.reshape(y, self.ny, n)
-        Q = ca.vertcat(*[Y[active.index(k), :] if k in active else ca.MX.zeros(1, n) for k in range(NF)])
-        g = [ca.vec(self.cell_delta().map(n - 1)(Q[:, :-1], Q[:, 1:])), Q[1, :].T]
-        if 4 in active:
+        Q = self.tie(self._fields(ca.reshape(y, self.ny, n)))
+        radii = [i for i in range(n) if not self.imposed[i, 1] or self.reference[1, i] > 0]  # not at a pole
+        g = [ca.vec(self.cell_delta().map(n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)), Q[1, radii].T]
+        if 4 in self.active:
             g.append((math.pi / 2) ** 2 - Q[4, :].T ** 2)
         f = ca.Function("limits", [y], [ca.vertcat(*g)], ["y"], ["g"])
         return f.expand() if n <= self.FLAT_MAX_NODES else f
@@ -253,7 +385,8 @@ class ShellSystem:
         """``(what, where)`` for each entry of :attr:`limits`."""
         cells = (self.s[:-1] + self.s[1:]) / 2
         names = [("delta = r beta1 cos(psi) reached 0", f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, self.samples_per_cell)]
-        names += [("r reached 0", f"s = {s:.6g} m") for s in self.s]
+        names += [("r reached 0", f"s = {self.s[i]:.6g} m") for i in range(self.n)
+                  if not self.imposed[i, 1] or self.reference[1, i] > 0]
         if 4 in self.active:
             names += [("|psi| reached pi/2", f"s = {s:.6g} m") for s in self.s]
         return names
@@ -284,21 +417,16 @@ class ShellSystem:
 
     # -- data ----------------------------------------------------------------------------
     def initial_state(self, sc):
-        """Initial data (6.9) of scene ``sc`` (``R`` resolved), with spin ``omega`` and shear ``psi0``.
+        """The node-major state vector of scene ``sc``'s initial data (``R`` and the like resolved).
 
-        Returns the node-major state vector.
+        The scene gives the fields and rates at the nodes from the reference coordinates
+        (``sc.initial_fields(s, reference)``); imposed rates are zeroed, a pole's ``chi`` takes its
+        neighbour's value, and the momenta follow from ``p = M(q) v``.
         """
-        if hasattr(sc, "initial_fields"):  # a scene with its own initial data
-            Q, V = sc.initial_fields(self.s)
-        else:
-            Q = np.zeros((NF, self.n))
-            Q[0] = self.s
-            Q[1] = sc.R
-            Q[2] = getattr(sc, "gamma", 0.0) * (self.s - sc.L / 2)
-            Q[4] = getattr(sc, "psi0", 0.0)
-            V = np.zeros((NF, self.n))
-            V[2] = getattr(sc, "omega", 0.0)
-        V[:, [0, -1]] *= ~self.fixed[[0, -1]].T
+        Q, V = sc.initial_fields(self.s, self.reference)
+        Q, V = np.array(Q, dtype=float), np.array(V, dtype=float)
+        Q = self.tie(Q)
+        V = V * ~self.fixed.T
         return self.pack(Q, self.momenta(Q, V))
 
     def pack(self, Q, P):
@@ -311,10 +439,10 @@ class ShellSystem:
 
     def momenta(self, Q, V):
         """Nodal momenta ``p = M(q) v`` for fields ``Q`` and rates ``V`` (each ``5 x n``)."""
-        q, v, w = ca.SX.sym("q", NF), ca.SX.sym("v", NF), ca.SX.sym("w")
-        dens = kinetic_energy_density(ca.vertsplit(q), ca.vertsplit(v), self.rho_a, self.rho_i, self.rho_j)
-        f = ca.Function("p", [q, v, w], [ca.gradient(2 * math.pi * self.r0 * w * dens, v)])
-        P = np.array(f.map(self.n)(Q, V, self.weights[None, :]))
+        q, v, m = ca.SX.sym("q", NF), ca.SX.sym("v", NF), ca.SX.sym("m", 3)
+        f = ca.Function("p", [q, v, m], [ca.gradient(self.kinetic_energy(ca.vertsplit(q), ca.vertsplit(v),
+                                                                          ca.vertsplit(m)), v)])
+        P = np.array(f.map(self.n)(Q, V, self.inertia))
         P[self.fixed.T] = 0.0
         return P
 

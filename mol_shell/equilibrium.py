@@ -7,7 +7,7 @@ import numpy as np
 import scipy.sparse.linalg
 
 from .errors import ParameterError
-from .model.material import Thickness, centroidal_offset, effective_lame, shell_energy
+from .model.material import Thickness, effective_lame, shell_energy
 
 
 def equilibrium_radius(scene, tol=1e-14, max_iter=50):
@@ -15,16 +15,16 @@ def equilibrium_radius(scene, tol=1e-14, max_iter=50):
 
     Solves ``dWhat/dr (z_s = 1, r_s = 0, chi_s = gamma, theta = theta_s = psi = psi_s = 0; r = R) = 0``
     by Newton's method on the CasADi graph of ``What`` (the paper's "(R, gamma) is an
-    equilibrium state of the material"). For ``gamma = 0`` the root is the natural radius 1.
+    equilibrium state of the material"). For ``gamma = 0`` the root is the natural radius ``a``.
     """
     lam, mu = effective_lame(scene.E, scene.nu, scene.material)
-    zeta1 = centroidal_offset(scene.h) if scene.zeta1 is None else scene.zeta1
-    thickness = Thickness(zeta1, scene.h, scene.n_quad)
+    a = getattr(scene, "a", 1.0)
+    thickness = Thickness(scene.zeta1_used(), scene.h, scene.n_quad)
     r = ca.SX.sym("r")
-    energy = shell_energy((1.0, 0.0, getattr(scene, "gamma", 0.0), 0.0, 0.0, r, 0.0, 0.0), lam, mu, thickness)
+    energy = shell_energy((1.0, 0.0, getattr(scene, "gamma", 0.0), 0.0, 0.0, r, 0.0, 0.0), lam, mu, thickness, a)
     force = ca.gradient(energy, r)
     newton = ca.Function("newton", [r], [force, ca.jacobian(force, r)])
-    R = 1.0
+    R = a
     for _ in range(max_iter):
         g, dg = (float(x) for x in newton(R))
         if dg <= 0:

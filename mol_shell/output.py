@@ -85,6 +85,10 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
             totals["dissipation"],
             {"units": "W", "long_name": "power dissipated by the Kelvin-Voigt stress (= -d energy/dt)"},
         )
+    z0, r0, theta0 = system.reference
+    data["z0"] = (("s",), z0, {"units": "m", "long_name": "axial position of the reference base surface"})
+    data["r0"] = (("s",), r0, {"units": "m", "long_name": "radius of the reference base surface"})
+    data["theta0"] = (("s",), theta0, {"units": "rad", "long_name": "angle of the reference generator tangent from the axis"})
     coords = {
         "time": ("time", traj.t, {"units": "s", "long_name": "time"}),
         "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"}),
@@ -107,6 +111,10 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
         "rho_I": float(system.rho_i),
         "rho_J": system.rho_j,
         "zeta1_used": system.thickness.zeta1,
+        "edge_s0": system.edges[0],
+        "edge_sL": system.edges[1],
+        "meridian": system.meridian.describe(),
+        "meridian_length": system.L,
     }
     for name, value in scene.params().items():
         meta[name] = value

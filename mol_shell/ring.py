@@ -80,13 +80,13 @@ def ring_system(scene):
     Parameters
     ----------
     scene : ShellScene
-        Any scene; only material, thickness, density and ``L`` enter the equations.
+        A cylinder scene; only material, thickness, density, ``a`` and ``L`` enter the equations.
 
     Returns
     -------
     RingSystem
     """
-    r0 = 1.0
+    r0 = getattr(scene, "a", 1.0)
     lam, mu = effective_lame(scene.E, scene.nu, scene.material)
     zeta1 = centroidal_offset(scene.h, r0) if scene.zeta1 is None else scene.zeta1
     thickness = Thickness(zeta1, scene.h, scene.n_quad)

@@ -18,7 +18,7 @@ from .equilibrium import equilibrium_radius, spectrum_bounds
 from .errors import ParameterError, is_number
 from .integrators import INTEGRATORS
 from .output import build_dataset
-from .scenes import SCENES, ShellScene, check_radius, get_scene
+from .scenes import SCENES, CylinderScene, ShellScene, check_radius, get_scene
 
 
 #: leap-frog is refused when damped modes could grow by more than exp(this) (1e6) over the run
@@ -46,8 +46,9 @@ def parasitic_growth_rate(damping, omega_max, dt):
 
 
 def _graph_key(scene):
-    """The parameters the equations depend on (initial data left out), so graphs are shared."""
-    initial = {"R": 1.0, **{k: 0.0 for k in ("gamma", "omega", "psi0") if k in scene.params()}}
+    """The parameters the equations depend on (initial data at their defaults), so graphs are shared."""
+    fields = {f.name: f for f in dataclasses.fields(scene)}
+    initial = {k: fields[k].default for k in getattr(scene, "initial", ()) if k in fields}
     return dataclasses.replace(scene, **initial)
 
 
@@ -67,9 +68,9 @@ def build(scene, n=40):
 
 def resolve(scene):
     """The scene with ``R`` computed when it was left to the code."""
-    if scene.R is None:
+    if isinstance(scene, CylinderScene) and scene.R is None:
         R = equilibrium_radius(scene)
-        check_radius(R, scene.h, scene.zeta1, hint="the computed equilibrium radius; set R")
+        check_radius(R, scene.h, scene.zeta1, hint="the computed equilibrium radius; set R", a=scene.a)
         return dataclasses.replace(scene, R=R)
     return scene
 

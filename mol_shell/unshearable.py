@@ -40,8 +40,7 @@ import numpy as np
 
 from .errors import ModelLimitError, ParameterError
 from .integrators.base import Monitor, Trajectory
-from .model.kinematics import kinetic_energy_density
-from .scenes import SCENES, ShellScene, _check, zeta1_used
+from .scenes import SCENES, CylinderScene, _check, zeta1_used
 
 NF = 5
 #: DAE unknowns per node: q (5), v (5), lambda_chi of the cell to the right (a dummy at the last node), lambda_psi
@@ -49,7 +48,7 @@ NODE = 12
 
 
 @dataclass(frozen=True)
-class Unshearable(ShellScene):
+class Unshearable(CylinderScene):
     """A spinning shell with a bulge: the initial state that tells unshearable from free shells.
 
     Initial data: ``z = s``, ``r = R + dR cos(2 pi s / L)``, ``theta = arctan(r_s)`` (the
@@ -73,21 +72,22 @@ class Unshearable(ShellScene):
 
     name = "unshearable"
     gamma = psi0 = 0.0
+    initial = ("R", "dR", "omega")
 
-    def __post_init__(self):
-        super().__post_init__()
+    def _validate(self):
+        super()._validate()
         _check("dR", self.dR, lambda v: abs(v) < 0.2, "(-0.2, 0.2) m")
         if self.R is not None:  # the thinnest section, R - |dR|, keeps its inner face at a positive radius
-            low = -zeta1_used(self.h, self.zeta1) + abs(self.dR)
+            low = -zeta1_used(self.h, self.zeta1, self.a) + abs(self.dR)
             _check("R", self.R, lambda v: v > low, f"({low:.4g}, inf) m: the inner face R - |dR| + zeta1 "
                    f"must be at a positive radius (dR = {self.dR:g} m)")
         _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
 
-    def initial_fields(self, s):
+    def initial_fields(self, s, reference=None):
         """``(Q, V)``, each ``5 x len(s)``: fields and rates of the initial data at nodes ``s``."""
         s = np.asarray(s, dtype=float)
         k = 2 * math.pi / self.L
-        R = 1.0 if self.R is None else self.R
+        R = self.a if self.R is None else self.R
         Q, V = np.zeros((NF, s.size)), np.zeros((NF, s.size))
         Q[0] = s
         Q[1] = R + self.dR * np.cos(k * s)
@@ -128,12 +128,12 @@ class UnshearableDAE:
         Y, YP = ca.reshape(y, NODE, n), ca.reshape(yp, NODE, n)
         Q, V, Lc, Lp = Y[:5, :], Y[5:10, :], Y[10, : n - 1], Y[11, :]
         Qp, Vp = YP[:5, :], YP[5:10, :]
-        inertial = self._node_kernel().map(n)(Q, V, Qp, Vp, shell.weights[None, :])
-        gl, gr = shell.cell_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:])
+        inertial = self._node_kernel().map(n)(Q, V, Qp, Vp, shell.inertia)
+        gl, gr = shell.cell_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], shell.cell_data)
         pad = ca.SX.zeros(NF, 1)
         generalized = inertial + ca.horzcat(gl, pad) + ca.horzcat(pad, gr)
         if shell.viscous:
-            fl, fr = shell.viscous_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:])
+            fl, fr = shell.viscous_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:], shell.cell_data)
             generalized += ca.horzcat(fl, pad) + ca.horzcat(pad, fr)
         zero = ca.SX.zeros(1, 1)
         constraint = ca.SX.zeros(NF, n)
@@ -155,13 +155,13 @@ class UnshearableDAE:
         self.algebraic = np.array([NODE * i + k for i in range(n) for k in (10, 11)])
 
     def _node_kernel(self):
-        """``(q, v, q_t, v_t, w) -> d/dt dT/dv - dT/dq`` for the lumped kinetic energy of one node."""
+        """``(q, v, q_t, v_t, m) -> d/dt dT/dv - dT/dq`` for the lumped kinetic energy of one node (inertias ``m``)."""
         sh = self.shell
-        q, v, qp, vp, w = ca.SX.sym("q", NF), ca.SX.sym("v", NF), ca.SX.sym("qp", NF), ca.SX.sym("vp", NF), ca.SX.sym("w")
-        T = 2 * math.pi * sh.r0 * w * kinetic_energy_density(ca.vertsplit(q), ca.vertsplit(v), sh.rho_a, sh.rho_i, sh.rho_j)
+        q, v, qp, vp, m = ca.SX.sym("q", NF), ca.SX.sym("v", NF), ca.SX.sym("qp", NF), ca.SX.sym("vp", NF), ca.SX.sym("m", 3)
+        T = sh.kinetic_energy(ca.vertsplit(q), ca.vertsplit(v), ca.vertsplit(m))
         gv = ca.gradient(T, v)
         rate = ca.jtimes(gv, ca.vertcat(q, v), ca.vertcat(qp, vp))
-        return ca.Function("lagrange", [q, v, qp, vp, w], [rate - ca.gradient(T, q)])
+        return ca.Function("lagrange", [q, v, qp, vp, m], [rate - ca.gradient(T, q)])
 
     def pack(self, Q, V, Lc=None, Lp=None):
         """DAE vector from fields ``Q``, rates ``V`` (``5 x n``) and multipliers (``n - 1``, ``n``)."""

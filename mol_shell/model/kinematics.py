@@ -70,13 +70,24 @@ def deformation_gradient(strains, zeta, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_
     with ``beta1_0 = 1, beta2_0 = 0`` this is the table of (7.4). Its determinant
     :func:`reference_volume_factor` is the reference volume element.
     """
+    return scaled_deformation_gradient(strains, zeta, 1.0 / (beta1_0 - zeta * theta0_s),
+                                       1.0 / (r0 + zeta * cos(theta0)), beta2_0)
+
+
+def scaled_deformation_gradient(strains, zeta, j1, j3, beta2_0=0.0):
+    """:func:`deformation_gradient` with the reference factors given: ``F = G G0^-1``.
+
+    ``j1 = 1/(beta1_0 - zeta theta0_s)`` and ``j3 = 1/(r0 + zeta cos theta0)`` scale columns 1 and 3;
+    ``beta2_0`` removes the reference's own shear from column 1 (left out of the expression when it
+    is the number 0). The discrete system passes per-cell factors as kernel inputs. ``strains`` and
+    ``1/j1`` may both be multiplied by the same length (the cell kernel uses differences, not
+    derivatives): ``F`` does not change.
+    """
     z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi = strains
     beta1, beta2, beta3 = betas(z_s, r_s, chi_s, r, theta)
     cs, sn = cos(psi), sin(psi)
     ct, st = cos(theta), sin(theta)
     twist = psi_s + chi_s * ct
-    j1 = 1.0 / (beta1_0 - zeta * theta0_s)
-    j3 = 1.0 / (r0 + zeta * cos(theta0))
     col2 = (0.0, cs, sn)
     col1 = (beta1 - zeta * (chi_s * sn * st + theta_s * cs), beta2 - zeta * sn * twist, beta3 + zeta * cs * twist)
     if not (isinstance(beta2_0, (int, float)) and beta2_0 == 0):

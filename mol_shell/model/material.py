@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import deformation_gradient, reference_volume_factor
+from .kinematics import scaled_deformation_gradient
 
 
 def lame(young, poisson):
@@ -120,6 +120,50 @@ def inertias(rho, thickness, r0=1.0, theta0=0.0, theta0_s=0.0):
     return tuple(out)
 
 
+def quadrature_factors(thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0):
+    """Per thickness point ``(zeta, j1, j3, vol)``: the column factors of ``F`` and ``weight x det G0``.
+
+    ``j1 = 1/(beta1_0 - zeta theta0_s)``, ``j3 = 1/(r0 + zeta cos theta0)``,
+    ``vol = w (beta1_0 - zeta theta0_s)(r0 + zeta cos theta0)`` (see
+    :func:`~mol_shell.model.kinematics.deformation_gradient`). Numbers or CasADi expressions.
+    """
+    from casadi import cos
+
+    out = []
+    for zeta, w in zip(*thickness.nodes_weights):
+        a, c = beta1_0 - zeta * theta0_s, r0 + zeta * cos(theta0)
+        out.append((zeta, 1.0 / a, 1.0 / c, w * a * c))
+    return out
+
+
+def thickness_energy(strains, lam, mu, factors, beta2_0=0.0):
+    """``sum_q vol_q W_SVK(F_q)``: the thickness integral of the stored energy for :func:`quadrature_factors`."""
+    total = 0.0
+    for zeta, j1, j3, vol in factors:
+        total = total + vol * svk_energy(scaled_deformation_gradient(strains, zeta, j1, j3, beta2_0), lam, mu)
+    return total
+
+
+def thickness_dissipation(strains, rates, eta_lambda, eta_mu, factors, beta2_0=0.0):
+    """``sum_q vol_q [eta_lambda/2 (tr E_t)^2 + eta_mu E_t : E_t]`` (CasADi ``strains``/``rates``)."""
+    import casadi as ca
+
+    e_sym, r_sym = ca.SX.sym("e", 8), ca.SX.sym("edot", 8)
+    f_sym = [ca.SX.sym(f"f{i}", 3) for i in range(len(factors))]
+    b_sym = ca.SX.sym("beta2_0")
+    b = 0.0 if isinstance(beta2_0, (int, float)) and beta2_0 == 0 else b_sym  # left out when it is 0
+    total = 0.0
+    for (zeta, _, _, _), f in zip(factors, f_sym):
+        E = green_strain(scaled_deformation_gradient(ca.vertsplit(e_sym), zeta, f[0], f[1], b))
+        flat = ca.vertcat(*[E[i][j] for i in range(3) for j in range(3)])
+        Et = ca.reshape(ca.jtimes(flat, e_sym, r_sym), 3, 3)
+        trace = Et[0, 0] + Et[1, 1] + Et[2, 2]
+        total = total + f[2] * (0.5 * eta_lambda * trace**2 + eta_mu * ca.sumsqr(Et))
+    fn = ca.Function("dissipation", [e_sym, r_sym, b_sym, *f_sym], [total])
+    values = [ca.vertcat(j1, j3, vol) for _, j1, j3, vol in factors]
+    return fn(ca.vertcat(*strains), ca.vertcat(*rates), beta2_0, *values)
+
+
 def shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0,
                       beta2_0=0.0):
     """Rayleigh function of the Kelvin-Voigt stress per unit reference area (section 3, strain-rate type).
@@ -133,20 +177,8 @@ def shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0=1.0, the
     The generalised viscous forces are ``-dD/d(rates)``; the energy decays at the rate ``2 D``.
     Needs CasADi symbols for ``strains``/``rates`` (it differentiates ``E``).
     """
-    import casadi as ca
-
-    e_sym, r_sym = ca.SX.sym("e", 8), ca.SX.sym("edot", 8)
-    nodes, weights = thickness.nodes_weights
-    total = 0.0
-    for zeta, w in zip(nodes, weights):
-        E = green_strain(deformation_gradient(ca.vertsplit(e_sym), zeta, r0, theta0, theta0_s, beta1_0, beta2_0))
-        flat = ca.vertcat(*[E[i][j] for i in range(3) for j in range(3)])
-        Et = ca.reshape(ca.jtimes(flat, e_sym, r_sym), 3, 3)
-        trace = Et[0, 0] + Et[1, 1] + Et[2, 2]
-        jac = reference_volume_factor(zeta, r0, theta0, theta0_s, beta1_0) / r0
-        total = total + w * jac * (0.5 * eta_lambda * trace**2 + eta_mu * ca.sumsqr(Et))
-    fn = ca.Function("dissipation", [e_sym, r_sym], [total])
-    return fn(ca.vertcat(*strains), ca.vertcat(*rates))
+    factors = quadrature_factors(thickness, r0, theta0, theta0_s, beta1_0)
+    return thickness_dissipation(strains, rates, eta_lambda, eta_mu, factors, beta2_0) / r0
 
 
 def shell_energy(strains, lam, mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0, beta2_0=0.0):
@@ -169,10 +201,5 @@ def shell_energy(strains, lam, mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0, 
     The integrand carries ``det G0 / r0 = (beta1_0 - zeta theta0_s)(r0 + zeta cos theta0) / r0``:
     energy per unit reference area of the base surface (per unit ``s`` when ``beta1_0 != 1``).
     """
-    nodes, weights = thickness.nodes_weights
-    total = 0.0
-    for zeta, w in zip(nodes, weights):
-        F = deformation_gradient(strains, zeta, r0, theta0, theta0_s, beta1_0, beta2_0)
-        jac = reference_volume_factor(zeta, r0, theta0, theta0_s, beta1_0) / r0
-        total = total + w * jac * svk_energy(F, lam, mu)
-    return total
+    factors = quadrature_factors(thickness, r0, theta0, theta0_s, beta1_0)
+    return thickness_energy(strains, lam, mu, factors, beta2_0) / r0

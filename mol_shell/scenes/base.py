@@ -1,4 +1,4 @@
-"""Scenes: frozen dataclasses holding every physical parameter of a run.
+"""The scene base class: material, thickness and edges, and the checks every parameter goes through.
 
 Vary a scene with :func:`dataclasses.replace` (or :func:`with_params` from
 strings, as the CLI does); a bad value raises :class:`~mol_shell.errors.ParameterError`
@@ -14,13 +14,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ParameterError, is_number
-from .model.material import MATERIALS, centroidal_offset
+from ..ends import check_edge
+from ..errors import ParameterError, is_number
+from ..model.geometry import base_offset, thickness_volume_factor
+from ..model.material import MATERIALS, centroidal_offset
 
 UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
     "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
-    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "dR": "m",
+    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "dR": "m", "a": "m", "b": "m",
+    "alpha1": "rad", "alpha2": "rad", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
+    "points": "1",
     # integrator options (varied in studies)
     "dt": "s", "rtol": "1", "atol": "1", "max_step": "s",
 }
@@ -33,6 +37,11 @@ DESCRIPTIONS = {
     "eta_mu": "Kelvin-Voigt viscosity eta_mu", "material": "material law", "dR": "amplitude of the initial radius variation",
     "dt": "leap-frog time step", "rtol": "relative tolerance", "atol": "absolute tolerance (m or rad per field)",
     "max_step": "largest step of the adaptive integrator",
+    "a": "natural radius (cylinder, sphere) or tube radius (torus)", "b": "radius of the torus' centre circle",
+    "alpha1": "polar angle of the edge at s = 0", "alpha2": "polar angle of the edge at s = L",
+    "r1": "radius of the cone's edge at s = 0", "r2": "radius of the cone's edge at s = L",
+    "H": "axial length of the cone", "dilation": "initial uniform dilation of the natural shell",
+    "end1": "edge condition at s = 0", "end2": "edge condition at s = L", "points": "file of meridian points (r, z)",
 }
 
 
@@ -48,14 +57,14 @@ def _check(name, value, ok, allowed):
         raise ParameterError(name, value, allowed)
 
 
-def zeta1_used(h, zeta1=None):
-    """The lower face of the thickness interval as the model uses it (``zeta1``, or the centroidal offset)."""
-    return centroidal_offset(h) if zeta1 is None else zeta1
+def zeta1_used(h, zeta1=None, a=1.0):
+    """The lower face of a cylinder's thickness interval as the model uses it (``zeta1``, or the centroidal offset)."""
+    return centroidal_offset(h, a) if zeta1 is None else zeta1
 
 
-def check_radius(R, h, zeta1=None, hint=""):
+def check_radius(R, h, zeta1=None, hint="", a=1.0):
     """``R > -zeta1_used``: the inner face ``r + zeta1`` of the initial cylinder at a positive radius."""
-    low = -zeta1_used(h, zeta1)
+    low = -zeta1_used(h, zeta1, a)
     _check("R", R, lambda v: v > low,
            f"({low:.4g}, inf) m: the inner face r + zeta1 must be at a positive radius (zeta1 = {-low:.4g} m)"
            + (f"; {hint}" if hint else ""))
@@ -63,27 +72,24 @@ def check_radius(R, h, zeta1=None, hint=""):
 
 @dataclass(frozen=True)
 class ShellScene:
-    """Parameters shared by every scene: a cylinder of natural radius 1 m (section 6).
+    """Material, thickness and edges shared by every scene; subclasses add a meridian and initial data.
 
     Parameters
     ----------
-    L : float
-        Length, m (paper: 4).
     h : float
-        Half-thickness, m (paper: 2 pi 1e-3).
+        Half-thickness, m (paper: 2 pi 1e-3). The thickness interval must stay off the axis and inside
+        every centre of curvature of the meridian.
     E, nu : float
         Young's modulus (Pa) and Poisson's ratio (paper: 1e6 Pa = 1e-3 GPa, 0.49).
     rho : float
         Density, kg/m^3. Lost from the paper; 1000 is our assumption (it only rescales time).
-    R : float or None
-        Initial radius, m, above ``-zeta1`` (the inner face at a positive radius). ``None`` (or
-        ``"auto"``) computes the radius at which the uniformly twisted cylinder is in radial
-        equilibrium (:func:`mol_shell.equilibrium.equilibrium_radius`).
     n_quad : int
         Gauss-Legendre points through the thickness, 2..64.
     zeta1 : float or None
         Lower face of the thickness interval, measured from the base surface along the
-        director. ``None`` places the base surface so that ``rhoI = 0`` (as the paper).
+        director (:mod:`mol_shell.model.geometry` says which way it points). ``None`` places the
+        base surface at the shell's centroid: ``rhoI = 0`` at every ``s`` on a cylinder or sphere, on
+        average elsewhere (:func:`~mol_shell.model.geometry.base_offset`).
     eta_lambda, eta_mu : float
         Kelvin-Voigt viscosities, Pa s (``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t``);
         0 (default) is the elastic shell, and leaves the viscous terms out of the graph.
@@ -91,29 +97,33 @@ class ShellScene:
         ``"svk"`` (the paper: 3-D St Venant-Kirchhoff with the inextensible director) or
         ``"svk-plane-stress"`` (thickness stress condensed out; see
         :func:`mol_shell.model.material.effective_lame`).
+    end1, end2 : str or None
+        Edge conditions at ``s = 0`` and ``s = L``: ``magnet``, ``clamped``, ``pinned``, ``free``
+        (:mod:`mol_shell.ends`); ``None`` (``auto``): a pole on the axis, ``magnet`` elsewhere.
     """
 
-    L: float = 4.0
     h: float = 2.0 * math.pi * 1e-3
     E: float = 1.0e6
     nu: float = 0.49
     rho: float = 1000.0
-    R: float | None = None
     n_quad: int = 4
     zeta1: float | None = None
     eta_lambda: float = 0.0
     eta_mu: float = 0.0
     material: str = "svk"
+    end1: str | None = None
+    end2: str | None = None
 
     name = "shell"
     #: indices into ``mol_shell.model.FIELDS`` of the fields this scene moves
     fields = (0, 1, 2, 3, 4)
+    #: parameters that only set the initial data (the equations do not depend on them)
+    initial = ()
     #: initial data not present as parameters are zero
     gamma = omega = psi0 = 0.0
 
     def __post_init__(self):
-        _check("L", self.L, lambda v: v > 0, "(0, inf) m")
-        _check("h", self.h, lambda v: 0 < v < 0.5, "(0, 0.5) m: 2h must be below the natural radius 1 m")
+        _check("h", self.h, lambda v: v > 0, "(0, inf) m, and the thickness off the axis")
         _check("E", self.E, lambda v: v > 0, "(0, inf) Pa")
         _check("nu", self.nu, lambda v: -1 < v < 0.5, "(-1, 0.5)")
         _check("rho", self.rho, lambda v: v > 0, "(0, inf) kg/m^3")
@@ -131,87 +141,48 @@ class ShellScene:
             raise ParameterError("material", self.material, "{" + ", ".join(MATERIALS) + "}")
         if self.zeta1 is not None:
             _check("zeta1", self.zeta1, lambda v: -2 * self.h <= v <= 0, f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m")
-        if isinstance(self.R, str) and self.R.strip().lower() in ("auto", "none"):
-            object.__setattr__(self, "R", None)  # as from the command line: computed
-        if self.R is not None:
-            check_radius(self.R, self.h, self.zeta1)
+        for end in ("end1", "end2"):
+            object.__setattr__(self, end, check_edge(end, getattr(self, end)))
+        self._validate()
+        self._check_thickness()
+
+    def _validate(self):
+        """Checks of the subclass's own parameters (geometry and initial data)."""
+
+    def meridian(self):
+        """The reference meridian (:mod:`mol_shell.model.geometry`)."""
+        raise NotImplementedError
+
+    def zeta1_used(self):
+        """The lower face of the thickness interval as the model uses it (``zeta1``, or the centroidal placement)."""
+        return base_offset(self.meridian(), self.h) if self.zeta1 is None else self.zeta1
+
+    def _check_thickness(self):
+        """The thickness interval stays off the axis and inside every centre of curvature (``det G0 > 0``)."""
+        mer = self.meridian()
+        s = np.linspace(0.0, mer.length, 401)
+        s = np.concatenate([s, (s[:-1] + s[1:]) / 2])
+        r0 = mer.at(s)[0]
+        keep = r0 > 1e-9 * max(1.0, float(np.max(np.abs(r0))))  # off the poles (their factor is 0 by geometry)
+        z1 = self.zeta1_used()
+        vol = thickness_volume_factor(mer, np.array([z1, z1 + 2 * self.h]), s[keep])
+        if not np.all(vol > 0):
+            raise ParameterError("h", self.h, "values whose thickness interval stays off the axis and inside every "
+                                 "centre of curvature of the meridian",
+                                 hint=f"zeta1 = {z1:.4g} m; a face reaches the axis or a centre of curvature")
+
+    def initial_fields(self, s, reference):
+        """``(Q, V)``, each ``5 x n``: the fields and rates of the initial data at nodes ``s``.
+
+        ``reference`` is the nodal ``(z0, r0, theta0)``. The default: the natural state at rest.
+        """
+        z0, r0, th0 = reference
+        Q = np.array([z0, r0, np.zeros_like(s), th0, np.zeros_like(s)])
+        return Q, np.zeros_like(Q)
 
     def params(self):
         """All parameters as a plain dict (``R`` and ``zeta1`` may be ``None``)."""
         return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
-
-
-@dataclass(frozen=True)
-class TwistedCylinder(ShellScene):
-    """The initial-boundary-value problem of section 6 (and, with ``gamma = 0``, section 5).
-
-    Ends welded to lubricated magnets a fixed distance ``L`` apart (``z = s``,
-    ``theta = 0``, ``n.a2 = n.a3 = m.c1 = 0``). Initial data (6.9), extended: ``r = R``,
-    ``z = s``, ``chi = gamma (s - L/2)``, ``theta = 0``, ``psi = psi0``, ``chi_t = omega``,
-    the other rates zero. See :class:`ShellScene` for the material parameters.
-
-    Parameters
-    ----------
-    gamma : float
-        Initial twist ``chi_s``, rad/m (paper value lost; 0.1 fits its figures).
-    omega : float
-        Initial uniform spin rate ``chi_t``, rad/s.
-    psi0 : float
-        Initial uniform shear angle ``psi``, rad, in (-pi/2, pi/2).
-    """
-
-    gamma: float = 0.1
-    omega: float = 0.0
-    psi0: float = 0.0
-
-    name = "twisted-cylinder"
-
-    def __post_init__(self):
-        super().__post_init__()
-        _check("gamma", self.gamma, lambda v: True, "finite values (rad/m)")
-        _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
-        _check("psi0", self.psi0, lambda v: abs(v) < math.pi / 2, "(-pi/2, pi/2) rad")
-
-
-@dataclass(frozen=True)
-class SpinningRing(TwistedCylinder):
-    """Section 5: spatially uniform breathing, spinning and shearing (``gamma = 0``).
-
-    The same boundary-value problem as :class:`TwistedCylinder` with uniform initial data
-    ``r = R``, ``chi_t = omega``, ``psi = psi0``; the motion stays uniform in ``s`` and
-    follows the ODEs of section 5.
-    """
-
-    R: float | None = 1.01
-    gamma: float = 0.0
-    omega: float = 20.0
-    psi0: float = 0.05
-
-    name = "spinning-ring"
-
-
-@dataclass(frozen=True)
-class Axisymmetric(ShellScene):
-    """Axisymmetric motions: no twist and no shear (``chi = psi = 0`` identically).
-
-    Only ``z, r, theta`` are unknowns; the graph holds nothing of ``chi`` and ``psi``.
-    Initial data: ``r = R`` (default 1.01 m, a breathing cylinder), ``z = s``, at rest.
-    """
-
-    R: float | None = 1.01
-
-    name = "axisymmetric"
-    fields = (0, 1, 3)
-
-
-SCENES = {cls.name: cls for cls in (TwistedCylinder, SpinningRing, Axisymmetric)}
-
-
-def get_scene(name, **params):
-    """The scene registered as ``name`` with parameters replaced by ``params``."""
-    if name not in SCENES:
-        raise ParameterError("scene", name, "{" + ", ".join(sorted(SCENES)) + "}")
-    return with_params(SCENES[name](), params)
 
 
 def with_params(scene, params):

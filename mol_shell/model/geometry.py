@@ -1,0 +1,320 @@
+"""Reference meridians of shells of revolution, parametrised by arc length (paper, section 2).
+
+A meridian gives, at arc length ``s`` in ``[0, length]``, the reference radius ``r0``, height ``z0``,
+tangent angle ``theta0`` and curvature ``theta0_s`` of the base surface, with
+
+    dz0/ds = cos(theta0),   dr0/ds = sin(theta0),
+
+so the reference tangent is ``b0_1 = cos(theta0) k + sin(theta0) j2`` and the reference director
+``d0 = b0_2 = -sin(theta0) k + cos(theta0) j2`` (section 2). ``zeta > 0`` lies on the side ``d0``
+points to; the body point at depth ``zeta`` sits at radius ``r0 + zeta cos(theta0)`` and its
+meridional line element is ``(1 - zeta theta0_s) ds``.
+
+Directors of the built-in meridians (which way ``zeta`` counts):
+
+* cylinder and cone: ``theta0`` is the angle of the generator from the axis; ``d0`` points away from
+  the axis (outward) when ``z0`` increases along ``s``;
+* sphere and torus segment: the arc is traced from its lowest point upwards
+  (``r0 = b + a sin(alpha)``, ``z0 = -a cos(alpha)``, ``alpha`` the polar angle from the bottom), so
+  ``theta0 = pi/2 - alpha``, ``theta0_s = -1/a`` and ``d0`` is the outward normal
+  (away from the centre of the sphere, or of the tube);
+* meridian from points: ``d0`` is the tangent turned by +90 degrees in the ``(z, r)`` plane, which is
+  outward for points ordered with ``z`` increasing.
+
+Physics (frequencies, radii, stresses) does not depend on the direction; ``zeta1`` (the lower face of
+the thickness interval) does: ``zeta1 = 0`` puts the base surface on the inner face of an outward
+director, ``zeta1 = -2h`` on the outer one.
+
+All built-ins are exact formulas; :class:`PointsMeridian` interpolates a table with a cubic spline
+(curvature continuous) and re-parametrises it by arc length.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ParameterError
+
+
+class Meridian:
+    """Interface of a reference meridian; subclasses define :meth:`at` and :attr:`length`."""
+
+    length: float
+
+    def at(self, s):
+        """``(r0, z0, theta0, theta0_s)`` at arc lengths ``s`` (arrays)."""
+        raise NotImplementedError
+
+    @property
+    def poles(self):
+        """``(start, end)``: whether the meridian meets the axis (``r0 = 0``) at ``s = 0`` / ``s = length``."""
+        r0, _, _, _ = self.at(np.array([0.0, self.length]))
+        scale = max(1.0, float(np.max(np.abs(self.at(np.linspace(0, self.length, 9))[0]))))
+        return bool(abs(r0[0]) <= 1e-12 * scale), bool(abs(r0[1]) <= 1e-12 * scale)
+
+    def describe(self):
+        """One line naming the meridian and its parameters (for a run's attrs)."""
+        import dataclasses
+
+        if isinstance(self, PointsMeridian):
+            return f"PointsMeridian({len(self.points)} points, length {self.length:.6g} m)"
+        args = ", ".join(f"{f.name}={getattr(self, f.name):.10g}" for f in dataclasses.fields(self))
+        return f"{type(self).__name__}({args})"
+
+
+@dataclass(frozen=True)
+class CylinderMeridian(Meridian):
+    """Cylinder of radius ``a`` and length ``L``: ``r0 = a``, ``z0 = s``, ``theta0 = 0`` (director outward)."""
+
+    a: float
+    L: float
+
+    @property
+    def length(self):
+        return self.L
+
+    def at(self, s):
+        s = np.asarray(s, dtype=float)
+        return np.full_like(s, self.a), s.copy(), np.zeros_like(s), np.zeros_like(s)
+
+
+@dataclass(frozen=True)
+class ConeMeridian(Meridian):
+    """Straight generator from ``(r1, 0)`` to ``(r2, H)``: a frustum (``r1, r2 > 0``), a cylinder when ``r1 = r2``.
+
+    ``theta0 = atan2(r2 - r1, H)`` is constant, ``theta0_s = 0``; the director is outward.
+    """
+
+    r1: float
+    r2: float
+    H: float
+
+    @property
+    def length(self):
+        return math.hypot(self.H, self.r2 - self.r1)
+
+    @property
+    def half_angle(self):
+        return math.atan2(self.r2 - self.r1, self.H)
+
+    def at(self, s):
+        s = np.asarray(s, dtype=float)
+        t = self.half_angle
+        return self.r1 + s * math.sin(t), s * math.cos(t), np.full_like(s, t), np.zeros_like(s)
+
+
+@dataclass(frozen=True)
+class ArcMeridian(Meridian):
+    """Circular arc of radius ``a`` about the point ``(b, 0)``: a torus segment, a sphere when ``b = 0``.
+
+    ``r0 = b + a sin(alpha)``, ``z0 = -a cos(alpha)``, ``alpha = alpha1 + s/a`` in ``[alpha1, alpha2]``;
+    ``theta0 = pi/2 - alpha``, ``theta0_s = -1/a``; the director is the outward normal of the arc.
+    A sphere (``b = 0``) has poles where ``alpha`` is 0 or pi.
+    """
+
+    a: float
+    b: float
+    alpha1: float
+    alpha2: float
+
+    @property
+    def length(self):
+        return self.a * (self.alpha2 - self.alpha1)
+
+    def at(self, s):
+        s = np.asarray(s, dtype=float)
+        alpha = self.alpha1 + s / self.a
+        r0 = self.b + self.a * np.sin(alpha)
+        if self.b == 0:  # exact zeros at the poles
+            r0 = np.where(np.isclose(alpha, 0.0, atol=1e-15) | np.isclose(alpha, math.pi, rtol=0, atol=1e-15), 0.0, r0)
+        return r0, -self.a * np.cos(alpha), math.pi / 2 - alpha, np.full_like(s, -1.0 / self.a)
+
+
+@dataclass(frozen=True, eq=False)
+class PointsMeridian(Meridian):
+    """A meridian through a table of points ``(r, z)``, re-parametrised by arc length.
+
+    A parametric cubic spline through the points (chord-length parameter, not-a-knot ends, or the
+    tangent clamped perpendicular to the axis at an end with ``r = 0``) has continuous curvature;
+    arc length is integrated by Gauss-Legendre per spline segment and inverted by Newton's method.
+
+    Refused (ParameterError naming ``name``): fewer than 4 points, non-finite values, repeated
+    consecutive points, ``r < 0``, ``r = 0`` anywhere but at an end, a curve that crosses itself or
+    the axis.
+    """
+
+    points: np.ndarray
+    name: str = "points"
+    _spline: object = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        from scipy.interpolate import CubicSpline
+
+        pts = np.asarray(self.points, dtype=float)
+        allowed = "a table of at least 4 points (r, z), r >= 0, r = 0 only at an end, a curve that does not cross itself"
+        if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 4:
+            raise ParameterError.invalid(self.name, f"{pts.shape[0] if pts.ndim == 2 else pts.size} values",
+                                         "is not a table of 4 or more (r, z) rows", allowed)
+        if not np.all(np.isfinite(pts)):
+            raise ParameterError.invalid(self.name, "table", "has non-finite values", allowed)
+        r, z = pts[:, 0], pts[:, 1]
+        if np.any(r < 0):
+            i = int(np.argmax(r < 0))
+            raise ParameterError.invalid(self.name, f"row {i}", f"has r = {r[i]:g} < 0", allowed)
+        chord = np.hypot(np.diff(r), np.diff(z))
+        scale = float(np.max(np.abs(pts)))
+        if np.any(chord <= 1e-12 * max(scale, 1e-300)):
+            i = int(np.argmax(chord <= 1e-12 * scale))
+            raise ParameterError.invalid(self.name, f"rows {i}, {i + 1}", "repeat a point", allowed)
+        if np.any(r[1:-1] == 0):
+            raise ParameterError.invalid(self.name, "table", "touches the axis between its ends", allowed)
+        u = np.concatenate([[0.0], np.cumsum(chord)])
+        bc = ["not-a-knot", "not-a-knot"]
+        if r[0] == 0:
+            bc[0] = (1, [1.0, 0.0])  # (dr/du, dz/du): leave the axis at a right angle
+        if r[-1] == 0:
+            bc[1] = (1, [-1.0, 0.0])
+        if r[0] == 0 or r[-1] == 0:
+            bc = [b if b != "not-a-knot" else (2, [0.0, 0.0]) for b in bc]  # natural where not clamped
+        spline = CubicSpline(u, pts, bc_type=tuple(bc))
+        object.__setattr__(self, "_spline", spline)
+        # arc length per segment by 8-point Gauss-Legendre (the speed is smooth within a segment)
+        x, w = np.polynomial.legendre.leggauss(8)
+        lengths = []
+        for a, b in zip(u[:-1], u[1:]):
+            uu = (a + b) / 2 + (b - a) / 2 * x
+            lengths.append((b - a) / 2 * np.sum(w * np.linalg.norm(spline(uu, 1), axis=1)))
+        object.__setattr__(self, "_u", u)
+        object.__setattr__(self, "_s", np.concatenate([[0.0], np.cumsum(lengths)]))
+        dense = spline(np.linspace(0, u[-1], 40 * len(u)))
+        if np.any(dense[1:-1, 0] <= 0):
+            raise ParameterError.invalid(self.name, "table", "gives a curve that crosses the axis", allowed)
+        if _self_intersects(dense):
+            raise ParameterError.invalid(self.name, "table", "gives a curve that crosses itself", allowed)
+
+    @property
+    def length(self):
+        return float(self._s[-1])
+
+    def _param(self, s):
+        """Spline parameter ``u`` at arc length ``s`` (Newton on the arc length, from the linear guess)."""
+        s = np.clip(np.asarray(s, dtype=float), 0.0, self.length)
+        u = np.interp(s, self._s, self._u)
+        for _ in range(30):
+            seg = np.clip(np.searchsorted(self._u, u, side="right") - 1, 0, len(self._u) - 2)
+            x, w = np.polynomial.legendre.leggauss(8)
+            a = self._u[seg]
+            uu = a[..., None] + (u - a)[..., None] / 2 * (1 + x)
+            speed = np.linalg.norm(self._spline(uu, 1), axis=-1)
+            arc = self._s[seg] + (u - a) / 2 * np.sum(w * speed, axis=-1)
+            step = (arc - s) / np.linalg.norm(self._spline(u, 1), axis=-1)
+            u = u - step
+            if np.all(np.abs(step) < 1e-14 * max(1.0, self._u[-1])):
+                break
+        return u
+
+    def at(self, s):
+        u = self._param(s)
+        p, d1, d2 = self._spline(u), self._spline(u, 1), self._spline(u, 2)
+        speed = np.hypot(d1[..., 0], d1[..., 1])
+        theta0 = np.arctan2(d1[..., 0], d1[..., 1])
+        theta0 = np.unwrap(theta0) if theta0.ndim else theta0
+        curvature = (d1[..., 1] * d2[..., 0] - d1[..., 0] * d2[..., 1]) / speed**3
+        return p[..., 0], p[..., 1], theta0, curvature
+
+
+def _self_intersects(points):
+    """Whether the polyline through ``points`` crosses itself (non-adjacent segments intersect)."""
+    a, b = points[:-1], points[1:]
+    n = len(a)
+    for i in range(n - 2):
+        p, r = a[i], b[i] - a[i]
+        q, s = a[i + 2:], b[i + 2:] - a[i + 2:]
+        if i == 0 and np.allclose(points[0], points[-1]):
+            q, s = q[:-1], s[:-1]
+        denom = r[0] * s[:, 1] - r[1] * s[:, 0]
+        ok = np.abs(denom) > 0
+        qp = q - p
+        t = np.where(ok, (qp[:, 0] * s[:, 1] - qp[:, 1] * s[:, 0]) / np.where(ok, denom, 1), -1)
+        u = np.where(ok, (qp[:, 0] * r[1] - qp[:, 1] * r[0]) / np.where(ok, denom, 1), -1)
+        if np.any(ok & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)):
+            return True
+    return False
+
+
+def read_points(path, name="points"):
+    """A meridian table from a text file: two columns ``r z`` (m), whitespace or comma separated, ``#`` comments."""
+    from pathlib import Path
+
+    allowed = "a text file with two columns r z (m), at least 4 rows"
+    p = Path(str(path)).expanduser()
+    if not p.is_file():
+        raise ParameterError.invalid(name, str(path), "is not a readable file", allowed)
+    try:
+        text = p.read_text().replace(",", " ")
+        rows = [line.split("#")[0].split() for line in text.splitlines()]
+        table = np.array([[float(x) for x in row] for row in rows if row])
+    except (ValueError, UnicodeDecodeError, OSError) as exc:
+        raise ParameterError.invalid(name, str(path), "cannot be read as numbers", allowed, hint=str(exc)[:80]) from None
+    if table.ndim != 2 or table.shape[1] != 2:
+        raise ParameterError.invalid(name, str(path), "does not have two columns in every row", allowed)
+    return table
+
+
+def thickness_volume_factor(meridian, zeta, s):
+    """``(1 - zeta theta0_s)(r0 + zeta cos theta0)`` at arc lengths ``s`` (rows) and depths ``zeta`` (columns)."""
+    r0, _, th0, th0s = meridian.at(np.asarray(s, dtype=float))
+    zeta = np.asarray(zeta, dtype=float)[None, :]
+    return (1 - zeta * th0s[:, None]) * (r0[:, None] + zeta * np.cos(th0)[:, None])
+
+
+def base_offset(meridian, h, samples=400):
+    """Lower face ``zeta1`` of the thickness interval ``[zeta1, zeta1 + 2h]`` that puts the base surface at the centroid.
+
+    The mid-surface offset ``m = zeta1 + h`` solves ``int ds int zeta (1 - zeta theta0_s)(r0 + zeta cos theta0)
+    dzeta = 0`` over the whole shell, i.e. ``A m + B (m^2 + h^2/3) - C (m^3 + m h^2) = 0`` with
+    ``A = int r0 ds``, ``B = int (cos theta0 - r0 theta0_s) ds``, ``C = int theta0_s cos theta0 ds``.
+    For a cylinder and a sphere the integrand's dependence on ``s`` factors out, so ``rhoI = 0`` at every
+    ``s`` (the paper's placement); for a cone or a torus ``rhoI(s)`` only vanishes on average and the
+    model carries it (it is ``O(h^3)``). Returns the root nearest 0.
+    """
+    x, w = np.polynomial.legendre.leggauss(8)
+    edges = np.linspace(0.0, meridian.length, samples + 1)
+    mid, half = (edges[:-1] + edges[1:]) / 2, np.diff(edges) / 2
+    s = (mid[:, None] + half[:, None] * x[None, :]).ravel()
+    ws = (half[:, None] * w[None, :]).ravel()
+    r0, _, th0, th0s = meridian.at(s)
+    A, B, C = (float(np.sum(ws * f)) for f in (r0, np.cos(th0) - r0 * th0s, th0s * np.cos(th0)))
+    coeffs = [-C, B, A - C * h * h, B * h * h / 3]  # -C m^3 + B m^2 + (A - C h^2) m + B h^2 / 3
+    roots = np.roots(coeffs) if C != 0 else np.roots(coeffs[1:])
+    real = roots[np.abs(roots.imag) <= 1e-12 * max(1.0, h)].real
+    m = real[np.argmin(np.abs(real))]
+    return float(m - h)
+
+
+def node_inertias(meridian, s_nodes, rho, thickness, gauss=6):
+    """Lumped nodal inertias ``(mA, mI, mJ)`` (``3 x n``): exact integrals over each node's dual cell.
+
+    ``m_k,i = 2 pi int_{dual cell of node i} int rho zeta^k (1 - zeta theta0_s)(r0 + zeta cos theta0) dzeta ds``,
+    the dual cell running from the midpoint of the cell on the left to that on the right (half a cell at
+    an edge). ``zeta`` by the thickness rule (exact for these polynomials), ``s`` by ``gauss``-point
+    Gauss-Legendre per half cell. On a cylinder this is the trapezoidal lumping ``2 pi r0 w_i rho{A,I,J}``;
+    at a pole (``r0 = 0``) it stays positive, so the pole's axial motion has mass.
+    """
+    s_nodes = np.asarray(s_nodes, dtype=float)
+    zeta, wz = (np.asarray(a) for a in thickness.nodes_weights)
+    x, w = np.polynomial.legendre.leggauss(gauss)
+    mids = (s_nodes[:-1] + s_nodes[1:]) / 2
+    left = np.concatenate([[s_nodes[0]], mids])
+    right = np.concatenate([mids, [s_nodes[-1]]])
+    out = np.zeros((3, s_nodes.size))
+    for lo, hi in ((left, s_nodes), (s_nodes, right)):
+        half = (hi - lo) / 2
+        s = ((lo + hi) / 2)[:, None] + half[:, None] * x[None, :]
+        vol = thickness_volume_factor(meridian, zeta, s.ravel()).reshape(s.shape + (zeta.size,))
+        for k in range(3):
+            out[k] += 2 * math.pi * rho * np.einsum("ij,ijq,q->i", half[:, None] * w[None, :], vol, wz * zeta**k)
+    return out

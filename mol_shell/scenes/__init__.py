@@ -1,0 +1,36 @@
+"""Scenes: frozen dataclasses holding every physical parameter of a run, and their registry.
+
+Vary a scene with :func:`dataclasses.replace` (or :func:`with_params` from strings, as the CLI
+does); a bad value raises :class:`~mol_shell.errors.ParameterError` naming the parameter and its
+allowed range.
+"""
+
+from __future__ import annotations
+
+from ..errors import ParameterError
+from .base import DESCRIPTIONS, N_QUAD_RANGE, UNITS, ShellScene, _check, _coerce, check_radius, with_params, zeta1_used
+from .cylinder import Axisymmetric, CylinderScene, SpinningRing, TwistedCylinder
+from .shells import Cone, MeridianShell, Sphere, Torus
+
+SCENES = {cls.name: cls for cls in (TwistedCylinder, SpinningRing, Axisymmetric, Sphere, Cone, Torus, MeridianShell)}
+
+
+def get_scene(name, **params):
+    """The scene registered as ``name`` with parameters replaced by ``params``."""
+    if name not in SCENES:
+        raise ParameterError("scene", name, "{" + ", ".join(sorted(SCENES)) + "}")
+    cls = SCENES[name]
+    if cls is MeridianShell:  # no default table: the scene is made with its file first
+        params = dict(params)
+        if "points" not in params:
+            raise ParameterError.missing("points", "a file with two columns r z (m), at least 4 rows",
+                                         hint="--set points=FILE")
+        return with_params(MeridianShell(points=params.pop("points")), params)
+    return with_params(cls(), params)
+
+
+__all__ = [
+    "DESCRIPTIONS", "N_QUAD_RANGE", "SCENES", "UNITS", "Axisymmetric", "Cone", "CylinderScene", "MeridianShell",
+    "ShellScene", "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "check_radius", "get_scene", "with_params",
+    "zeta1_used", "_check", "_coerce",
+]

@@ -1,0 +1,130 @@
+"""Cylinder scenes: the paper's twisted cylinder (section 6), the spinning ring (section 5), axisymmetric motion."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..model.geometry import CylinderMeridian
+from .base import ShellScene, _check, check_radius, zeta1_used
+
+
+@dataclass(frozen=True)
+class CylinderScene(ShellScene):
+    """A circular cylinder of natural radius ``a`` and length ``L``, its ends magnets by default.
+
+    Parameters
+    ----------
+    L : float
+        Length, m (paper: 4).
+    a : float
+        Natural radius of the base surface, m (paper: 1). The director points outward.
+    R : float or None
+        Initial radius, m, above ``-zeta1`` (the inner face at a positive radius). ``None`` (or
+        ``"auto"``) computes the radius at which the uniformly twisted cylinder is in radial
+        equilibrium (:func:`mol_shell.equilibrium.equilibrium_radius`).
+    """
+
+    L: float = 4.0
+    a: float = 1.0
+    R: float | None = None
+
+    initial = ("R",)
+
+    def _validate(self):
+        _check("L", self.L, lambda v: v > 0, "(0, inf) m")
+        _check("a", self.a, lambda v: v > 0, "(0, inf) m")
+        if self.h >= self.a / 2:
+            raise ParameterError("h", self.h, f"(0, a/2) = (0, {self.a / 2:.4g}) m",
+                                 hint="the thickness 2h must stay below the natural radius a")
+        if isinstance(self.R, str) and self.R.strip().lower() in ("auto", "none"):
+            object.__setattr__(self, "R", None)  # as from the command line: computed
+        if self.R is not None:
+            check_radius(self.R, self.h, self.zeta1, a=self.a)
+
+    def meridian(self):
+        return CylinderMeridian(self.a, self.L)
+
+    def zeta1_used(self):
+        """``zeta1``, or the offset with ``int zeta (a + zeta) dzeta = 0`` (``rhoI = 0``, as the paper)."""
+        return zeta1_used(self.h, self.zeta1, self.a)
+
+
+@dataclass(frozen=True)
+class TwistedCylinder(CylinderScene):
+    """The initial-boundary-value problem of section 6 (and, with ``gamma = 0``, section 5).
+
+    Ends welded to lubricated magnets a fixed distance ``L`` apart (``z = s``,
+    ``theta = 0``, ``n.a2 = n.a3 = m.c1 = 0``; ``end1``/``end2`` choose others). Initial data (6.9),
+    extended: ``r = R``, ``z = s``, ``chi = gamma (s - L/2)``, ``theta = 0``, ``psi = psi0``,
+    ``chi_t = omega``, the other rates zero. See :class:`ShellScene` for the material parameters.
+
+    Parameters
+    ----------
+    gamma : float
+        Initial twist ``chi_s``, rad/m (paper value lost; 0.1 fits its figures).
+    omega : float
+        Initial uniform spin rate ``chi_t``, rad/s.
+    psi0 : float
+        Initial uniform shear angle ``psi``, rad, in (-pi/2, pi/2).
+    """
+
+    gamma: float = 0.1
+    omega: float = 0.0
+    psi0: float = 0.0
+
+    name = "twisted-cylinder"
+    initial = ("R", "gamma", "omega", "psi0")
+
+    def _validate(self):
+        super()._validate()
+        _check("gamma", self.gamma, lambda v: True, "finite values (rad/m)")
+        _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
+        _check("psi0", self.psi0, lambda v: abs(v) < math.pi / 2, "(-pi/2, pi/2) rad")
+
+    def initial_fields(self, s, reference):
+        Q, V = super().initial_fields(s, reference)
+        Q[1] = self.R
+        Q[2] = self.gamma * (np.asarray(s) - self.L / 2)
+        Q[4] = self.psi0
+        V[2] = self.omega
+        return Q, V
+
+
+@dataclass(frozen=True)
+class SpinningRing(TwistedCylinder):
+    """Section 5: spatially uniform breathing, spinning and shearing (``gamma = 0``).
+
+    The same boundary-value problem as :class:`TwistedCylinder` with uniform initial data
+    ``r = R``, ``chi_t = omega``, ``psi = psi0``; the motion stays uniform in ``s`` and
+    follows the ODEs of section 5.
+    """
+
+    R: float | None = 1.01
+    gamma: float = 0.0
+    omega: float = 20.0
+    psi0: float = 0.05
+
+    name = "spinning-ring"
+
+
+@dataclass(frozen=True)
+class Axisymmetric(CylinderScene):
+    """Axisymmetric motions: no twist and no shear (``chi = psi = 0`` identically).
+
+    Only ``z, r, theta`` are unknowns; the graph holds nothing of ``chi`` and ``psi``.
+    Initial data: ``r = R`` (default 1.01 m, a breathing cylinder), ``z = s``, at rest.
+    """
+
+    R: float | None = 1.01
+
+    name = "axisymmetric"
+    fields = (0, 1, 3)
+
+    def initial_fields(self, s, reference):
+        Q, V = super().initial_fields(s, reference)
+        Q[1] = self.R
+        return Q, V

@@ -1,0 +1,193 @@
+"""Shells of revolution beyond the cylinder: sphere (closed, cap, zone), cone or frustum, torus segment, a meridian from points.
+
+Each scene starts from its natural shell, dilated (``R`` for the sphere, ``dilation`` elsewhere), twisted
+(``gamma``: ``chi = gamma (s - L/2)``) and spun (``omega``: rigid ``chi_t``); the default is the
+natural state at rest (an equilibrium, so ``mol-shell modes`` takes it as it is).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from ..errors import ParameterError
+from ..model.geometry import ArcMeridian, ConeMeridian, PointsMeridian, read_points
+from .base import ShellScene, _check
+
+
+@dataclass(frozen=True)
+class _Excited(ShellScene):
+    """Initial data shared by the general shells: a uniform dilation, a twist and a rigid spin."""
+
+    gamma: float = 0.0
+    omega: float = 0.0
+
+    initial = ("gamma", "omega")
+
+    def _validate(self):
+        _check("gamma", self.gamma, lambda v: True, "finite values (rad/m)")
+        _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
+
+    def scale(self):
+        """Factor applied to the natural ``(z0, r0)`` at ``t = 0``."""
+        return 1.0
+
+    def initial_fields(self, s, reference):
+        Q, V = super().initial_fields(s, reference)
+        Q[:2] *= self.scale()
+        Q[2] = self.gamma * (np.asarray(s) - self.meridian().length / 2)
+        V[2] = self.omega
+        return Q, V
+
+
+@dataclass(frozen=True)
+class _Dilated(_Excited):
+    dilation: float = 1.0
+
+    initial = ("gamma", "omega", "dilation")
+
+    def _validate(self):
+        super()._validate()
+        _check("dilation", self.dilation, lambda v: 0.5 < v < 2, "(0.5, 2)")
+
+    def scale(self):
+        return self.dilation
+
+
+@dataclass(frozen=True)
+class Sphere(_Excited):
+    """A spherical shell of natural radius ``a``: closed (default), a cap or a zone.
+
+    The meridian runs from the polar angle ``alpha1`` to ``alpha2``, measured from the pole at the
+    bottom (``z = -a``) where ``s = 0``; an edge at polar angle 0 or pi is a pole. The director is the
+    outward normal (``zeta > 0`` outside). Initial data: the natural sphere dilated to radius ``R``
+    (default ``a``: the natural state), at rest, optionally twisted and spun.
+
+    Parameters
+    ----------
+    a : float
+        Natural radius of the base surface, m.
+    alpha1, alpha2 : float
+        Polar angles of the edges, rad, ``0 <= alpha1 < alpha2 <= pi``.
+    R : float or None
+        Initial radius of the base surface, m (``None``: ``a``).
+    """
+
+    a: float = 1.0
+    alpha1: float = 0.0
+    alpha2: float = math.pi
+    R: float | None = None
+
+    name = "sphere"
+    initial = ("gamma", "omega", "R")
+
+    def _validate(self):
+        super()._validate()
+        _check("a", self.a, lambda v: v > 0, "(0, inf) m")
+        _check("alpha1", self.alpha1, lambda v: 0 <= v < math.pi, "[0, pi) rad")
+        _check("alpha2", self.alpha2, lambda v: self.alpha1 < v <= math.pi, f"({self.alpha1:.4g}, pi] rad")
+        if isinstance(self.R, str) and self.R.strip().lower() in ("auto", "none"):
+            object.__setattr__(self, "R", None)
+        if self.R is not None:
+            _check("R", self.R, lambda v: 0.5 * self.a < v < 2 * self.a, f"(a/2, 2a) = ({self.a / 2:.4g}, {2 * self.a:.4g}) m")
+
+    def meridian(self):
+        return ArcMeridian(self.a, 0.0, self.alpha1, self.alpha2)
+
+    def scale(self):
+        return 1.0 if self.R is None else self.R / self.a
+
+
+@dataclass(frozen=True)
+class Cone(_Dilated):
+    """A conical shell (frustum) from radius ``r1`` at ``z = 0`` to ``r2`` at ``z = H``; a cylinder when ``r1 = r2``.
+
+    Straight generator at the half-angle ``atan2(r2 - r1, H)`` from the axis; the director points away
+    from the axis. Both radii must be positive (an apex is not a smooth shell), ``H >= 0`` (``H = 0``:
+    an annular plate).
+    """
+
+    r1: float = 1.0
+    r2: float = 0.5
+    H: float = 1.0
+
+    name = "cone"
+
+    def _validate(self):
+        super()._validate()
+        _check("r1", self.r1, lambda v: v > 0, "(0, inf) m (an apex is not a smooth shell)")
+        _check("r2", self.r2, lambda v: v > 0, "(0, inf) m (an apex is not a smooth shell)")
+        _check("H", self.H, lambda v: v >= 0 and (v > 0 or self.r1 != self.r2), "[0, inf) m, with a meridian of positive length")
+
+    def meridian(self):
+        return ConeMeridian(self.r1, self.r2, self.H)
+
+
+@dataclass(frozen=True)
+class Torus(_Dilated):
+    """A toroidal shell segment: tube radius ``a`` about a centre circle of radius ``b``.
+
+    ``r0 = b + a sin(alpha)``, ``z0 = -a cos(alpha)`` for ``alpha`` from ``alpha1`` to ``alpha2``
+    (polar angle in the tube from its lowest point; ``pi/2`` is the outer equator). Default: the
+    outer half of the tube. The director is the tube's outward normal. The segment must stay off the
+    axis (``r0 > 0``).
+    """
+
+    a: float = 0.25
+    b: float = 1.0
+    alpha1: float = 0.0
+    alpha2: float = math.pi
+
+    name = "torus"
+
+    def _validate(self):
+        super()._validate()
+        _check("a", self.a, lambda v: v > 0, "(0, inf) m")
+        _check("b", self.b, lambda v: v > 0, "(0, inf) m")
+        _check("alpha1", self.alpha1, lambda v: -math.pi <= v < math.pi, "[-pi, pi) rad")
+        _check("alpha2", self.alpha2, lambda v: self.alpha1 < v <= self.alpha1 + 2 * math.pi,
+               f"({self.alpha1:.4g}, alpha1 + 2 pi] rad")
+        alpha = np.linspace(self.alpha1, self.alpha2, 2001)
+        if np.min(self.b + self.a * np.sin(alpha)) <= 0:
+            raise ParameterError("b", self.b, f"values above a = {self.a:g} m for this segment",
+                                 hint="the segment reaches the axis")
+
+    def meridian(self):
+        return ArcMeridian(self.a, self.b, self.alpha1, self.alpha2)
+
+
+@lru_cache(maxsize=8)
+def _points_meridian(path, stamp):
+    return PointsMeridian(read_points(path), name="points")
+
+
+@dataclass(frozen=True)
+class MeridianShell(_Dilated):
+    """A shell whose meridian is a table of points ``(r, z)`` read from a file (two columns, metres).
+
+    The points are interpolated by a cubic spline with continuous curvature and re-parametrised by
+    arc length (:class:`~mol_shell.model.geometry.PointsMeridian`); ``s = 0`` is the first row.
+    An end with ``r = 0`` is a pole (the curve leaves the axis at a right angle there). The director is
+    the tangent turned by +90 degrees in the ``(z, r)`` plane: outward for rows ordered by increasing ``z``.
+    """
+
+    points: str = ""
+
+    name = "meridian"
+
+    def _validate(self):
+        super()._validate()
+        if not isinstance(self.points, str) or not self.points.strip():
+            raise ParameterError.missing("points", "a file with two columns r z (m), at least 4 rows",
+                                         hint="--set points=FILE")
+        self.meridian()
+
+    def meridian(self):
+        from pathlib import Path
+
+        p = Path(self.points).expanduser()
+        stamp = p.stat().st_mtime_ns if p.is_file() else 0
+        return _points_meridian(str(p), stamp)
