@@ -25,7 +25,7 @@ EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED = 2, 3, 130
 
 # Subcommands contributed by other modules: each module has ``register(subparsers)``
 # that adds its parser with ``set_defaults(func=...)``.
-EXTENSIONS = ("mol_shell.workprecision", "mol_shell.stability", "mol_shell.study")
+EXTENSIONS = ("mol_shell.workprecision", "mol_shell.stability", "mol_shell.study", "mol_shell.analysis.modes")
 
 #: integrator options the command line offers (as --dt, --rtol, --atol, --max-step)
 CLI_OPTIONS = {"dt", "rtol", "atol", "max_step"}

@@ -374,8 +374,7 @@ class ShellSystem:
         n = self.n
         y = ca.MX.sym("y", self.size)
         Q = self.tie(self._fields(ca.reshape(y, self.ny, n)))
-        radii = [i for i in range(n) if not self.imposed[i, 1] or self.reference[1, i] > 0]  # not at a pole
-        g = [ca.vec(self.cell_delta().map(n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)), Q[1, radii].T]
+        g = [ca.vec(self.cell_delta().map(n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)), Q[1, list(self.radial_nodes)].T]
         if 4 in self.active:
             g.append((math.pi / 2) ** 2 - Q[4, :].T ** 2)
         f = ca.Function("limits", [y], [ca.vertcat(*g)], ["y"], ["g"])
@@ -385,11 +384,16 @@ class ShellSystem:
         """``(what, where)`` for each entry of :attr:`limits`."""
         cells = (self.s[:-1] + self.s[1:]) / 2
         names = [("delta = r beta1 cos(psi) reached 0", f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, self.samples_per_cell)]
-        names += [("r reached 0", f"s = {self.s[i]:.6g} m") for i in range(self.n)
-                  if not self.imposed[i, 1] or self.reference[1, i] > 0]
+        names += [("r reached 0", f"s = {self.s[i]:.6g} m") for i in self.radial_nodes]
         if 4 in self.active:
             names += [("|psi| reached pi/2", f"s = {s:.6g} m") for s in self.s]
         return names
+
+    @property
+    def radial_nodes(self):
+        """Nodes where ``r > 0`` is a limit of the model: all but the poles (where ``r = 0`` is imposed)."""
+        poles = {0 if self.edges[0] == "pole" else -1, self.n - 1 if self.edges[1] == "pole" else -1}
+        return np.array([i for i in range(self.n) if i not in poles], dtype=int)
 
     @cached_property
     def jac(self):

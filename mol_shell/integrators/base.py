@@ -55,7 +55,8 @@ class Monitor:
         self._observe = system.observables
         self._cells = (system.s[:-1] + system.s[1:]) / 2
         sc = system.scene
-        scale = 2 * np.pi * sc.L * 2 * sc.h * (system.lam + 2 * system.mu)  # energy of a unit strain
+        area = 2 * np.pi * float(np.sum(system.weights * system.reference[1]))  # of the reference base surface
+        scale = area * 2 * sc.h * (system.lam + 2 * system.mu)  # energy of a unit strain
         self.energy_limit = None
         if y0 is not None:
             out = self._observe(y0)
@@ -89,11 +90,11 @@ class Monitor:
             i = int(np.argmax(psi))
             where = f"s = {self.system.s[i]:.6g} m"
             raise ModelLimitError(f"|psi| = {psi[i]:.4g} reached pi/2 at t = {t:.9g} s, {where}", t, where)
-        r = fields[1]
+        r = fields[1][self.system.radial_nodes]
         if r.min() <= 0:
-            i = int(np.argmin(r))
+            i = int(self.system.radial_nodes[np.argmin(r)])
             where = f"s = {self.system.s[i]:.6g} m"
-            raise ModelLimitError(f"r = {r[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
+            raise ModelLimitError(f"r = {r.min():.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
         delta = np.asarray(out[4]).ravel()  # samples_per_cell values per cell, cell by cell
         if delta.min() <= 0:
             i = int(np.argmin(delta))

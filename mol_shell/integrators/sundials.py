@@ -242,7 +242,7 @@ class _Sundials:
         if self.constraints:
             r = list(system.active).index(1)
             opts["constraints_idx"], opts["constraints_type"] = full_constraints(
-                size, {system.ny * i + r: 2 for i in range(system.n)}
+                size, {system.ny * i + r: 2 for i in system.radial_nodes}
             )
         if self.events:
             run.eventsfn.terminal = [True] * run.n_events
@@ -333,12 +333,12 @@ class _Run:
 
         floor = np.zeros(self.n_events)
         first_r = system.samples_per_cell * (system.n - 1)  # the deltas come first, then r per node
-        floor[first_r : first_r + system.n] = method.field_atol()[1]  # the r events sit at r = atol_r
+        floor[first_r : first_r + len(system.radial_nodes)] = method.field_atol()[1]  # r events sit at r = atol_r
         # the r entries (same places in y and x): with the constraint alone, SUNDIALS cuts a step that
         # would cross r = 0 back to r ~ 2e-10 m and then crawls along the axis (~4e-12 s a step) until
         # max_steps; IDA may also return an accepted state a little below 0. A step that ends with
         # r <= atol_r has reached the limit to the accuracy asked for: stop there.
-        self.r_entries = system.ny * np.arange(system.n) + list(system.active).index(1)
+        self.r_entries = system.ny * system.radial_nodes + list(system.active).index(1)
         self.r_floor = float(method.field_atol()[1])
 
         if self.ida:
@@ -427,7 +427,7 @@ class _Run:
 
     def _constraint_limit(self, res):
         r = np.asarray(res.y)[self.r_entries]
-        i, t = int(np.argmin(r)), float(res.t)
+        i, t = int(self.system.radial_nodes[np.argmin(r)]), float(res.t)
         where = f"s = {self.system.s[i]:.6g} m"
         return ModelLimitError(
             f"r reached 0 (to within atol; r > 0 is a constraint of the model, held by {self.method.name}, "
@@ -436,12 +436,12 @@ class _Run:
     def _failure(self, res, t_prev):
         t = float(res.t) if np.isfinite(res.t) else t_prev
         if res.status == CONSTRAINT_FAIL[self.method.kind]:
-            r = self.system.unpack(self.to_hamiltonian(res.y))[1]
-            i = int(np.argmin(r))
+            r = self.system.unpack(self.to_hamiltonian(res.y))[1][self.system.radial_nodes]
+            i = int(self.system.radial_nodes[np.argmin(r)])
             where = f"s = {self.system.s[i]:.6g} m"
             return ModelLimitError(
                 f"r -> 0 (r > 0 is a constraint of the model; {self.method.name} could not keep it, "
-                f"r = {r[i]:.3g} m) at t = {t:.9g} s, {where}", t, where)
+                f"r = {r.min():.3g} m) at t = {t:.9g} s, {where}", t, where)
         err = ModelLimitError(f"{self.method.name} failed at t = {t:.9g} s: {res.message} (status {res.status})",
                               t, "whole shell")
         err.status = "failed"

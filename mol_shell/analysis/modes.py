@@ -1,0 +1,241 @@
+"""Natural modes: frequencies and shapes of the linearisation about a scene's initial state at rest.
+
+At a state at rest the exact Jacobian of Hamilton's equations is ``J = [[0, M^-1], [-K, 0]]`` on the free
+coordinates (``q_t = M^-1 p``; ``p_t = -dV/dq``, ``dT/dq`` being quadratic in ``p``), so its eigenvalues
+are ``+-i omega`` with ``K phi = omega^2 M phi``. We read ``M^-1`` and ``K`` off the exact sparse
+Jacobian of :class:`~mol_shell.discretization.ShellSystem` and solve the symmetric generalised problem:
+dense (LAPACK) up to :data:`DENSE_MAX` free coordinates, else sparse shift-invert (ARPACK) about a
+negative shift (``K + M`` is positive definite even with rigid motions).
+
+Rigid motions (``omega = 0``: rotation about the axis where both edges leave ``chi`` free, axial
+translation where they leave ``z`` free) are counted in ``attrs["zero_modes"]``, not listed.
+
+``energy_fraction(mode, field)`` is each field's share of the mode's kinetic energy
+``phi^T M phi / 2``; the mass matrix couples fields of a node (``chi`` and ``psi`` through the
+director's rate, ``z, r`` and ``theta`` through ``rhoI``), and each cross term ``M_kl phi_k phi_l`` is
+shared half and half between fields ``k`` and ``l``, so the shares sum to 1 (a share can be slightly
+negative when a cross term dominates it).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.linalg
+import scipy.sparse
+import scipy.sparse.linalg
+import xarray as xr
+
+from ..errors import ParameterError
+from ..model.kinematics import FIELDS
+
+#: above this many free coordinates the sparse shift-invert solver is used
+DENSE_MAX = 3000
+#: the initial state counts as an equilibrium when its generalised forces are below this fraction of
+#: the forces of a unit strain of each cell (``max diag K`` times the meridian's scale)
+EQUILIBRIUM_TOL = 1e-8
+#: eigenvalues below this fraction of the largest are rigid motions
+ZERO_TOL = 1e-9
+
+
+def _blocks(system, y0):
+    """``(free, Minv, K)`` on the free coordinates, from the exact Jacobian at ``y0`` (sparse CSC)."""
+    J = system.jac(0, y0)
+    sp = J.sparsity()
+    Js = scipy.sparse.csc_matrix((np.array(J.nonzeros()).ravel(), sp.row(), sp.colind()), shape=J.shape)
+    nf, n = system.nf, system.n
+    fixed = system.fixed[:, list(system.active)]  # (n, nf)
+    free = [system.ny * i + k for i in range(n) for k in range(nf) if not fixed[i, k]]
+    q_idx = np.array(free)
+    p_idx = q_idx + nf
+    Js = Js.tocsr()
+    Minv = Js[q_idx][:, p_idx]
+    K = -Js[p_idx][:, q_idx]
+    return q_idx, Minv.tocsc(), K.tocsc()
+
+
+def check_equilibrium(system, y0, scene_name):
+    """Refuse (ParameterError) a state that is moving or out of equilibrium, saying how far and where."""
+    f = np.array(system.rhs(0, y0)).ravel().reshape(system.n, system.ny)
+    nf = system.nf
+    rates, forces = np.abs(f[:, :nf]), np.abs(f[:, nf:])
+    if rates.max() > 0:
+        i = int(np.argmax(rates.max(axis=1)))
+        raise ParameterError("scene", scene_name, "a scene whose initial state is at rest (omega = 0)",
+                             hint=f"the initial state moves at s = {system.s[i]:.4g} m; modes of a moving state "
+                             "are not computed")
+    _, _, K = _blocks(system, y0)
+    scale = float(np.abs(K.diagonal()).max()) * max(1.0, float(np.abs(system.reference[:2]).max()))
+    if forces.max() > EQUILIBRIUM_TOL * scale:
+        i, k = np.unravel_index(int(np.argmax(forces)), forces.shape)
+        field = FIELDS[system.active[k]]
+        raise ParameterError("scene", scene_name, "a scene whose initial state is an equilibrium",
+                             hint=f"residual force {forces.max():.3g} on {field} at s = {system.s[i]:.4g} m "
+                             f"({forces.max() / scale:.2g} of a unit strain's); e.g. a twisted cylinder needs "
+                             "end1=clamped, end2=clamped to hold its twist")
+
+
+def modes(scene, n=40, count=10):
+    """Natural frequencies and mode shapes of ``scene`` about its initial state (at rest, in equilibrium).
+
+    Parameters
+    ----------
+    scene : ShellScene or str
+        A scene object or a registered name (its initial state must be an equilibrium at rest: the
+        natural state, the twisted cylinder at its equilibrium radius between clamped ends, ...).
+    n : int
+        Nodes in ``s``.
+    count : int
+        How many of the lowest nonzero frequencies to return.
+
+    Returns
+    -------
+    xarray.Dataset
+        ``frequency(mode)`` (rad s-1, ascending), shapes ``z, r, chi, theta, psi (mode, s)`` (scaled so
+        the largest entry of each mode is 1, unit of each field), ``energy_fraction(mode, field)``;
+        attrs ``zero_modes``, ``method``, the scene's parameters.
+    """
+    from ..simulate import as_scene, build, resolve
+
+    scene = resolve(as_scene(scene))
+    if not isinstance(count, (int, np.integer)) or isinstance(count, bool) or count < 1:
+        raise ParameterError("count", count, "integers >= 1")
+    system, _ = build(scene, n)
+    y0 = system.initial_state(scene)
+    check_equilibrium(system, y0, scene.name)
+    q_idx, Minv, K = _blocks(system, y0)
+    size = len(q_idx)
+    if size <= DENSE_MAX:
+        M = np.linalg.inv(Minv.toarray())
+        M = (M + M.T) / 2
+        Kd = K.toarray()
+        w2, phi = scipy.linalg.eigh((Kd + Kd.T) / 2, M)
+        method = "dense"
+    else:
+        M = scipy.sparse.csc_matrix(scipy.sparse.linalg.inv(Minv))
+        M = (M + M.T) / 2
+        Ks = (K + K.T) / 2
+        k = min(size - 2, count + 8)
+        shift = -1e-6 * abs(Ks.diagonal()).max()
+        w2, phi = scipy.sparse.linalg.eigsh(Ks, k=k, M=M, sigma=shift, which="LM")
+        order = np.argsort(w2)
+        w2, phi = w2[order], phi[:, order]
+        M = M.toarray() if size <= DENSE_MAX else M
+        method = "sparse shift-invert"
+    top = max(abs(w2).max(), 1e-300)
+    zero = np.abs(w2) <= ZERO_TOL * (top if method == "dense" else abs(K.diagonal()).max())
+    n_zero = int(zero.sum())
+    keep = np.flatnonzero(~zero)[:count]
+    if len(keep) < count:
+        raise ParameterError("count", count, f"integers 1..{len(np.flatnonzero(~zero))} for n = {system.n}")
+    return _dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method)
+
+
+def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method):
+    from ..output import FIELD_META, _attr
+
+    nf, n = system.nf, system.n
+    modes_count = phi.shape[1]
+    shapes = np.zeros((modes_count, 5, n))
+    fractions = np.zeros((modes_count, 5))
+    Mphi = M @ phi
+    kinetic = np.einsum("im,im->m", phi, Mphi)
+    node, local = np.divmod(q_idx, system.ny)
+    field = np.array(system.active)[local]
+    for m in range(modes_count):
+        shapes[m][field, node] = phi[:, m]
+        shapes[m] = system.tie(shapes[m])
+        shapes[m] /= np.abs(shapes[m]).max()
+        for k in range(5):
+            sel = field == k
+            fractions[m, k] = float(np.sum(phi[sel, m] * Mphi[sel, m]) / kinetic[m])
+    data = {
+        "frequency": (("mode",), np.sqrt(np.maximum(w2, 0.0)), {"units": "rad s-1", "long_name": "natural angular frequency"}),
+        "energy_fraction": (("mode", "field"), fractions, {"units": "1", "long_name":
+                            "share of the mode's kinetic energy per field (cross terms shared half and half)"}),
+    }
+    for k, name in enumerate(FIELDS):
+        units, long_name = FIELD_META[name]
+        data[name] = (("mode", "s"), shapes[:, k], {"units": units, "long_name": f"mode shape: {long_name} "
+                                                    "(each mode scaled to a largest entry of 1)"})
+    z0, r0, theta0 = system.reference
+    data["z0"] = (("s",), z0, {"units": "m", "long_name": "axial position of the reference base surface"})
+    data["r0"] = (("s",), r0, {"units": "m", "long_name": "radius of the reference base surface"})
+    data["theta0"] = (("s",), theta0, {"units": "rad", "long_name": "angle of the reference generator tangent"})
+    coords = {"mode": ("mode", np.arange(1, modes_count + 1), {"long_name": "mode number (ascending frequency)"}),
+              "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"}),
+              "field": ("field", list(FIELDS), {"long_name": "field"})}
+    from .. import __version__
+
+    attrs = {"Conventions": "CF-1.8", "title": f"mol_shell natural modes of scene {scene.name}",
+             "source": f"mol_shell {__version__}", "scene": scene.name, "n": n, "zero_modes": n_zero,
+             "method": method, "edge_s0": system.edges[0], "edge_sL": system.edges[1],
+             "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
+    for name, value in scene.params().items():
+        attrs[name] = value
+    return xr.Dataset(data, coords=coords, attrs={k: _attr(v) for k, v in attrs.items()})
+
+
+def plot_modes(ds, path, count=6):
+    """The lowest ``count`` mode shapes against ``s``, one panel each, with frequency and dominant field."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    count = min(count, ds.sizes["mode"])
+    cols = 3 if count > 4 else count
+    rows = -(-count // cols)
+    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 2.8 * rows), squeeze=False, sharex=True)
+    colors = dict(zip(FIELDS, ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple")))
+    for m, ax in enumerate(axes.ravel()):
+        if m >= count:
+            ax.axis("off")
+            continue
+        mode = ds.isel(mode=m)
+        share = mode.energy_fraction.values
+        for k, name in enumerate(FIELDS):
+            if np.abs(mode[name]).max() > 1e-3:
+                ax.plot(ds.s, mode[name], color=colors[name], label=f"{name} ({share[k]:.0%})")
+        dom = FIELDS[int(np.argmax(share))]
+        ax.set_title(f"mode {m + 1}: {float(mode.frequency):.5g} rad/s ({dom})", fontsize=9)
+        ax.axhline(0, color="0.8", lw=0.5)
+        ax.legend(fontsize=7, loc="best")
+    for ax in axes[-1]:
+        ax.set_xlabel("s (m)")
+    fig.suptitle(f"{ds.attrs['scene']}: lowest modes (n = {ds.attrs['n']}, {ds.attrs['zero_modes']} rigid motions "
+                 "not shown); shapes scaled to 1, share of kinetic energy per field", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def cmd_modes(args):
+    from ..cli import parse_sets
+    from ..output import writable_path
+    from ..scenes import get_scene
+
+    scene = get_scene(args.scene, **parse_sets(args.set))
+    png = writable_path(args.png or str(args.output).rsplit(".", 1)[0] + ".png", "--png")
+    ds = modes(scene, n=args.n, count=args.count)
+    ds.to_netcdf(args.output, engine="netcdf4")
+    plot_modes(ds, png)
+    print(f"wrote {args.output} and {png}: {ds.sizes['mode']} modes, {ds.attrs['zero_modes']} rigid motions; "
+          f"lowest {float(ds.frequency[0]):.6g} rad/s")
+    for m in range(min(ds.sizes["mode"], 10)):
+        share = ds.energy_fraction.isel(mode=m).values
+        print(f"  mode {m + 1:2d}: {float(ds.frequency[m]):14.6f} rad/s  ({FIELDS[int(np.argmax(share))]}, "
+              f"{share.max():.0%} of the kinetic energy)")
+    return 0
+
+
+def register(sub):
+    from ..cli import integer_arg
+
+    p = sub.add_parser("modes", help="natural frequencies and mode shapes about a scene's initial state")
+    p.add_argument("scene", help="a registered scene (its initial state must be at rest and in equilibrium)")
+    p.add_argument("--n", type=integer_arg("--n", 3), default=40, help="nodes in s (default 40)")
+    p.add_argument("--count", type=integer_arg("--count", 1), default=10, help="lowest nonzero modes (default 10)")
+    p.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
+    p.add_argument("--png", default=None, help="figure of the lowest shapes (default: beside -o, .png)")
+    p.add_argument("-o", "--output", required=True, help="netCDF file to write")
+    p.set_defaults(func=cmd_modes)
