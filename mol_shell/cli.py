@@ -186,11 +186,32 @@ def cmd_run(args):
 
 def cmd_plot(args):
     from .output import read_run
-    from .plotting import plot_snapshots
+    from .plotting import is_cylinder, plot_meridian, plot_snapshots
 
     ds = read_run(args.file)
-    plot_snapshots(ds, args.output)
+    (plot_snapshots if is_cylinder(ds) else plot_meridian)(ds, args.output)
     print(f"wrote {args.output}")
+    return 0
+
+
+def cmd_scenes(args):
+    import dataclasses
+
+    from .scenes import DESCRIPTIONS, SCENES, UNITS
+
+    if args.name is None:
+        for name, cls in SCENES.items():
+            print(f"{name:18s} {(cls.__doc__ or '').strip().splitlines()[0]}")
+        print("mol-shell scenes NAME lists a scene's parameters; set them with --set NAME=VALUE")
+        return 0
+    if args.name not in SCENES:
+        raise ParameterError("scene", args.name, "{" + ", ".join(sorted(SCENES)) + "}")
+    cls = SCENES[args.name]
+    print(f"{args.name}: {(cls.__doc__ or '').strip().splitlines()[0]}")
+    for f in dataclasses.fields(cls):
+        default = f.default if f.default is not dataclasses.MISSING else "(required)"
+        default = "auto" if default is None else default
+        print(f"  {f.name:11s} {str(default):>22s}  {UNITS.get(f.name, '1'):8s} {DESCRIPTIONS.get(f.name, '')}")
     return 0
 
 
@@ -223,7 +244,10 @@ def make_parser():
     run.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
     run.add_argument("-o", "--output", required=True, help="netCDF file to write (missing directories are created)")
     run.set_defaults(func=cmd_run)
-    plot = sub.add_parser("plot", help="the paper's figures 4-8 from a run's netCDF file")
+    scenes = sub.add_parser("scenes", help="the built-in scenes, or one scene's parameters with units and defaults")
+    scenes.add_argument("name", nargs="?", default=None, help="a scene to describe")
+    scenes.set_defaults(func=cmd_scenes)
+    plot = sub.add_parser("plot", help="the paper's figures 4-8 (cylinders) or the deformed meridian from a run")
     plot.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run")
     plot.add_argument("-o", "--output", required=True, help="image to write (.png, .pdf, .svg, ...)")
     plot.set_defaults(func=cmd_plot, output_suffixes=_image_formats)

@@ -117,3 +117,49 @@ def snapshot_figure(ds, fields=("r", "theta", "chi"), max_times=MAX_TIMES, colum
     top = (0.2 * (title.count("\n") + 1) + 0.15) / fig.get_figheight()  # room for the title's lines
     fig.tight_layout(rect=(0, 0, 1, 1 - top))
     return fig
+
+
+def is_cylinder(ds):
+    """Whether a run's reference meridian is a cylinder (constant ``r0``, ``theta0 = 0``); runs without it are."""
+    if "r0" not in ds:
+        return True
+    r0, th0 = ds.r0.values, ds.theta0.values
+    return bool(np.ptp(r0) <= 1e-12 * np.abs(r0).max() and np.abs(th0).max() == 0)
+
+
+def plot_meridian(ds, path, max_times=8):
+    """The deformed meridian ``(r, z)`` at saved times over the reference one, and ``chi`` and ``psi`` against ``s``.
+
+    For shells that are not cylinders, where r, theta, chi against s say less than the shape does.
+    Displacements are drawn to scale (the title gives the largest one).
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    idx = shown_times(ds.sizes["time"], max_times)
+    fig, (ax, bx, cx) = plt.subplots(1, 3, figsize=(13, 4.6), gridspec_kw={"width_ratios": [1.2, 1, 1]})
+    ax.plot(ds.r0, ds.z0, color="0.6", lw=3, label="reference")
+    cmap = plt.get_cmap("viridis")
+    for j, i in enumerate(idx):
+        c = cmap(j / max(1, len(idx) - 1))
+        t = float(ds.time[i])
+        ax.plot(ds.r.isel(time=i), ds.z.isel(time=i), color=c, lw=1, label=f"t = {t:.4g} s")
+        bx.plot(ds.s, ds.chi.isel(time=i), color=c, lw=1)
+        cx.plot(ds.s, ds.psi.isel(time=i), color=c, lw=1)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("r [m]")
+    ax.set_ylabel("z [m]")
+    ax.legend(fontsize=7)
+    bx.set_xlabel("s [m]")
+    bx.set_ylabel(r"$\chi$ [rad]")
+    cx.set_xlabel("s [m]")
+    cx.set_ylabel(r"$\psi$ [rad]")
+    move = float(np.hypot(ds.r - ds.r0, ds.z - ds.z0).max())
+    fig.suptitle(title_of(ds.attrs, len(idx), ds.sizes["time"]) + f"\nmeridian to scale; largest displacement {move:.3g} m",
+                 fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
