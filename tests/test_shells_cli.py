@@ -1,0 +1,50 @@
+"""Command line for shells of revolution: scenes listing, runs and plots of a sphere, modes and their refusals."""
+
+import xarray as xr
+
+from mol_shell.cli import main
+
+
+def test_scenes_lists_every_registered_scene_and_a_scenes_parameters(capsys):
+    from mol_shell.scenes import SCENES
+
+    assert main(["scenes"]) == 0
+    out = capsys.readouterr().out
+    assert all(name in out for name in SCENES)
+    assert main(["scenes", "torus"]) == 0
+    out = capsys.readouterr().out
+    for name in ("a ", "b ", "alpha1", "alpha2", "dilation", "end1", "h "):
+        assert name in out
+    assert main(["scenes", "drum"]) == 2
+    assert "scene = 'drum' is outside" in capsys.readouterr().err
+
+
+def test_sphere_run_plot_and_modes(tmp_path, capsys):
+    run = tmp_path / "sphere.nc"
+    assert main(["run", "sphere", "--set", "R=1.01", "--n", "21", "--t-end", "0.002", "-o", str(run)]) == 0
+    ds = xr.open_dataset(run, decode_times=False)
+    assert ds.attrs["edge_s0"] == "pole" and ds.attrs["edge_sL"] == "pole"
+    assert float(abs(ds.r.isel(s=0)).max()) == 0.0 and float(abs(ds.r.isel(s=-1)).max()) == 0.0  # poles stay on the axis
+    assert float(ds.r0.isel(s=10)) == 1.0  # the equator of the unit sphere (s = pi/2 at n = 21)
+    ds.close()
+    png = tmp_path / "sphere.png"
+    assert main(["plot", str(run), "-o", str(png)]) == 0 and png.stat().st_size > 10_000
+    out = tmp_path / "modes.nc"
+    assert main(["modes", "sphere", "--n", "21", "--count", "4", "-o", str(out)]) == 0
+    modes = xr.open_dataset(out)
+    assert modes.attrs["zero_modes"] == 2 and modes.sizes["mode"] == 4
+    assert (modes.frequency.diff("mode") >= 0).all()
+    modes.close()
+    assert (tmp_path / "modes.png").stat().st_size > 10_000
+
+
+def test_modes_and_edges_refuse_with_one_line(tmp_path, capsys):
+    # the paper's twisted cylinder between magnets untwists: not an equilibrium
+    assert main(["modes", "twisted-cylinder", "--n", "11", "-o", str(tmp_path / "m.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "equilibrium" in err and "chi" in err
+    # a pole cannot be clamped; an open edge cannot be a pole
+    assert main(["run", "sphere", "--set", "end1=clamped", "--t-end", "1e-5", "-o", str(tmp_path / "x.nc")]) == 2
+    assert "end1 = 'clamped' is outside {pole, auto}" in capsys.readouterr().err
+    assert main(["run", "cone", "--set", "end2=pole", "--t-end", "1e-5", "-o", str(tmp_path / "x.nc")]) == 2
+    assert "end2 = 'pole' is outside" in capsys.readouterr().err
