@@ -25,7 +25,8 @@ EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED = 2, 3, 130
 
 # Subcommands contributed by other modules: each module has ``register(subparsers)``
 # that adds its parser with ``set_defaults(func=...)``.
-EXTENSIONS = ("mol_shell.workprecision", "mol_shell.stability", "mol_shell.study")
+EXTENSIONS = ("mol_shell.workprecision", "mol_shell.stability", "mol_shell.study", "mol_shell.io.export",
+              "mol_shell.io.animate")
 
 #: integrator options the command line offers (as --dt, --rtol, --atol, --max-step)
 CLI_OPTIONS = {"dt", "rtol", "atol", "max_step"}
@@ -174,6 +175,10 @@ def cmd_run(args):
     options = integrator_option_args(args)
     check_options(scene, args.integrator, options, offered=CLI_OPTIONS)
     ds = simulate(scene, args.integrator, n=args.n, t_end=args.t_end, times=times, progress=None, **options)
+    if args.stresses is not False:  # default: up to MAX_SAMPLES; --stresses: always
+        from .stresses import MAX_SAMPLES, add_stresses
+
+        ds = add_stresses(ds, limit=None if args.stresses else MAX_SAMPLES)
     write_netcdf(ds, args.output)
     if not ds.attrs["complete"]:
         print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {ds.sizes['time']} saved times to {args.output}",
@@ -181,6 +186,8 @@ def cmd_run(args):
         return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {ds.sizes['time']} times x {ds.sizes['s']} nodes, "
           f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s, R = {ds.attrs['R']:.10g} m")
+    if str(ds.attrs.get("stresses", "")).startswith("skipped"):
+        print(f"stresses {ds.attrs['stresses']} (or run with --stresses)")
     return 0
 
 
@@ -221,6 +228,9 @@ def make_parser():
     run.add_argument("--atol", type=parse_atol, default=None,
                      help="absolute tolerance (adaptive integrators): one value, or per field as r=1e-9,theta=1e-10")
     run.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
+    run.add_argument("--stresses", action=argparse.BooleanOptionalAction, default=None,
+                     help="resultants and face stresses after the run (default: when cell samples x saved times "
+                     "<= 4e6; --stresses always, --no-stresses never)")
     run.add_argument("-o", "--output", required=True, help="netCDF file to write (missing directories are created)")
     run.set_defaults(func=cmd_run)
     plot = sub.add_parser("plot", help="the paper's figures 4-8 from a run's netCDF file")

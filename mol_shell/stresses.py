@@ -388,9 +388,12 @@ def _face_values(sigma):
     for face in range(2):
         for c, (i, j) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))):
             tensor[..., face, i, j] = tensor[..., face, j, i] = sigma[6 * face + c]
-    principal = principal_stresses(tensor)
+    bad = ~np.isfinite(tensor).all(axis=(-2, -1))  # det F = 0 at a face: left NaN (and said in attrs)
+    tensor[bad] = 0.0
+    principal, mises = principal_stresses(tensor), von_mises(tensor)
+    principal[bad], mises[bad] = np.nan, np.nan
     return {"principal_stress_max": principal[..., 0], "principal_stress_mid": principal[..., 1],
-            "principal_stress_min": principal[..., 2], "von_mises_stress": von_mises(tensor)}
+            "principal_stress_min": principal[..., 2], "von_mises_stress": mises}
 
 
 def _block(outs, viscous):
@@ -411,7 +414,9 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     the principal Cauchy stresses and the von Mises stress at the faces ``zeta1`` (``inner``) and
     ``zeta1 + 2h`` (``outer``): the Cauchy stress of the cell's two samples averaged, then its
     principal values. For a viscous run every variable includes the Kelvin-Voigt stress and its
-    viscous part is added as ``NAME_viscous``. ``simulate(..., stresses=...)`` calls this.
+    viscous part is added as ``NAME_viscous``. ``mol-shell run`` calls this (``--no-stresses`` to
+    skip); ``simulate(..., stresses=None|True|False)`` is to call it the same way (the keyword is
+    added to :func:`~mol_shell.simulate.simulate` with the geometry work: ``None`` = up to ``limit``).
 
     Parameters
     ----------
@@ -484,4 +489,6 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
         variables[name] = xr.Variable(dims, value, {"units": units, "long_name": long_name})
     out = ds.assign_coords({k: xr.Variable(*v) for k, v in coords.items()}).assign(variables)
     out.attrs["stresses"] = "included (mol_shell.stresses.add_stresses)"
+    if not all(np.isfinite(v).all() for v in data.values()):
+        out.attrs["stresses"] += "; NaN where det F <= 0 at a face or the state is not finite"
     return out

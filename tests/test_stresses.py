@@ -266,3 +266,15 @@ def test_large_runs_are_skipped_with_a_note_and_non_runs_refused(twisted):
     assert "axial_torque" in add_stresses(twisted, limit=None)
     with pytest.raises(ParameterError, match="is not a mol_shell run"):
         add_stresses(twisted[["r", "chi"]])
+
+
+def test_run_writes_the_stresses_unless_told_not_to(tmp_path):
+    """``mol-shell run`` adds the stresses by default and leaves them out with ``--no-stresses``."""
+    from mol_shell.cli import main
+
+    base = ["run", "twisted-cylinder", "--n", "8", "--t-end", "1e-5", "-o"]
+    assert main([*base, str(tmp_path / "a.nc")]) == 0
+    assert main([*base, str(tmp_path / "b.nc"), "--no-stresses"]) == 0
+    a, b = mol_shell.read_netcdf(tmp_path / "a.nc"), mol_shell.read_netcdf(tmp_path / "b.nc")
+    assert a.axial_torque.dims == ("time", "s_cell") and a.attrs["stresses"].startswith("included")
+    assert "axial_torque" not in b and "s_cell" not in b.dims
