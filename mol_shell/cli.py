@@ -136,6 +136,17 @@ def integer_arg(name, low=1):
     return convert
 
 
+def choice_arg(name, options):
+    """An argparse ``type``: one of ``options``, or a one-line error naming ``name`` and the options."""
+
+    def convert(text):
+        if text not in options:
+            raise argparse.ArgumentTypeError(f"{name} = {show(text)} is outside {{{', '.join(options)}}}")
+        return text
+
+    return convert
+
+
 def parse_atol(text):
     """``--atol``: one number, or ``FIELD=VALUE,...`` per field (the others keep the default 1e-9)."""
     from .model.kinematics import FIELDS
@@ -191,12 +202,29 @@ def cmd_run(args):
     return 0
 
 
+#: options of ``plot --figure fibres`` only
+FIBRE_OPTIONS = ("time", "at_s", "fibres", "thickness_scale")
+
+
 def cmd_plot(args):
     from .output import read_run
-    from .plotting import plot_snapshots
 
+    given = [name for name in FIBRE_OPTIONS if getattr(args, name) is not None]
+    if args.figure != "fibres" and given:
+        option = "--" + given[0].replace("_", "-")
+        raise ParameterError(option, getattr(args, given[0]), "options of --figure fibres only",
+                             message=f"{option} is an option of --figure fibres only (its options: --time, --at-s, "
+                             "--fibres, --thickness-scale)")
     ds = read_run(args.file)
-    plot_snapshots(ds, args.output)
+    if args.figure == "fibres":
+        from .io.figures import plot_fibres
+
+        options = {"time": args.time, "s": args.at_s, "thickness_scale": args.thickness_scale}
+        plot_fibres(ds, args.output, count=24 if args.fibres is None else args.fibres, **options)
+    else:
+        from .plotting import plot_snapshots
+
+        plot_snapshots(ds, args.output)
     print(f"wrote {args.output}")
     return 0
 
@@ -233,8 +261,18 @@ def make_parser():
                      "<= 4e6; --stresses always, --no-stresses never)")
     run.add_argument("-o", "--output", required=True, help="netCDF file to write (missing directories are created)")
     run.set_defaults(func=cmd_run)
-    plot = sub.add_parser("plot", help="the paper's figures 4-8 from a run's netCDF file")
+    plot = sub.add_parser("plot", help="the paper's figures 4-8 (or its figure 1) from a run's netCDF file")
     plot.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run")
+    plot.add_argument("--figure", type=choice_arg("--figure", ("snapshots", "fibres")), default="snapshots",
+                      help="snapshots: r, theta, chi against s (figures 4-8, default); fibres: a section with its "
+                      "material fibres in the reference state and at --time (figure 1)")
+    plot.add_argument("--time", type=number_arg("--time", 0.0, low_closed=True, unit="s"), default=None,
+                      help="fibres: the saved time nearest to this (default the last)")
+    plot.add_argument("--at-s", type=number_arg("--at-s", -np.inf, unit="m"), default=None,
+                      help="fibres: the section at the node nearest to this s (default the first node)")
+    plot.add_argument("--fibres", type=integer_arg("--fibres", 1), default=None, help="fibres: how many (default 24)")
+    plot.add_argument("--thickness-scale", type=number_arg("--thickness-scale"), default=None,
+                      help="fibres: magnification of the drawn thickness (default: 0.2 of the radius)")
     plot.add_argument("-o", "--output", required=True, help="image to write (.png, .pdf, .svg, ...)")
     plot.set_defaults(func=cmd_plot, output_suffixes=_image_formats)
     for module in EXTENSIONS:

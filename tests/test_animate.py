@@ -75,3 +75,48 @@ def test_bad_input_is_refused_in_one_line(run_file, tmp_path, capsys):
         assert code == 2 and err.startswith("mol-shell: error: ") and len(err.splitlines()) == 1, (argv, err)
         assert words in err, (argv, err)
     assert not (tmp_path / "a.gif").exists()
+
+
+def test_fibre_figure_draws_the_fibres_where_the_map_puts_them(tmp_path):
+    """Panel (b)'s red fibre (reference azimuth 0) runs from ``p(zeta1)`` to ``p(zeta2)`` projected onto the
+    section's plane, ``p = r + M zeta d`` with ``r, d`` from the balance-law module's Cartesian configuration
+    (an independent route) and ``M`` the drawn magnification; panel (a)'s is radial from ``1 + M zeta1`` to
+    ``1 + M zeta2``. A sheared state (psi0 = 0.3) so that the tilt matters; to round-off."""
+    import casadi as ca
+
+    from mol_shell.io.figures import fibres_figure
+    from mol_shell.model.balance import configuration
+
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(psi0=0.3), n=8, t_end=1e-5, progress=False)
+    fig = fibres_figure(ds, time=1e-5, s=0.0, count=8, thickness_scale=10.0)
+    zeta1, h = float(ds.attrs["zeta1_used"]), float(ds.attrs["h"])
+    q = [float(ds[f].values[-1, 0]) for f in ("z", "r", "chi", "theta", "psi")]
+    pos, d, _ = configuration([ca.SX(x) for x in q], ca.SX(0.0))
+    expected = np.array([[float(pos[i] + 10 * z * d[i]) for i in (1, 2)] for z in (zeta1, zeta1 + 2 * h)])
+    red = [[line for line in ax.get_lines() if line.get_color() == "tab:red"] for ax in fig.axes]
+    assert [len(x) for x in red] == [1, 1]
+    np.testing.assert_allclose(red[1][0].get_xydata(), expected, rtol=0, atol=4e-16)
+    np.testing.assert_allclose(red[0][0].get_xydata(), [[1 + 10 * zeta1, 0], [1 + 10 * (zeta1 + 2 * h), 0]], atol=4e-16)
+    assert abs(q[4]) > 0.25 and abs(q[2]) > 0.19  # really sheared and turned
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+
+
+def test_fibre_figure_from_the_command_line(run_file, tmp_path, capsys):
+    out = tmp_path / "fig1.png"
+    assert main(["plot", str(run_file[0]), "--figure", "fibres", "--time", "5e-6", "--at-s", "2", "-o", str(out)]) == 0
+    with Image.open(out) as png:
+        rgb = np.asarray(png.convert("RGB"), dtype=float)
+    dark = (rgb.max(axis=-1) < 80).mean()
+    red = ((rgb[..., 0] > 150) & (rgb[..., 1] < 90) & (rgb[..., 2] < 90)).sum()
+    shell = (np.abs(rgb - [219, 230, 243]).max(axis=-1) < 8).mean()  # the annulus' fill
+    assert dark > 0.01 and red > 20 and shell > 0.05, (dark, red, shell)
+    for argv, words in [(["--figure", "fibres", "--time", "1"], "--time = 1 is outside [0, 1e-05] s"),
+                        (["--figure", "fibres", "--at-s", "5"], "--at-s = 5 is outside [0, 4] m"),
+                        (["--figure", "fibres", "--fibres", "0"], "--fibres = 0 is outside"),
+                        (["--time", "0"], "--time is an option of --figure fibres only"),
+                        (["--figure", "fibre"], "--figure = 'fibre' is outside {snapshots, fibres}")]:
+        code = main(["plot", str(run_file[0]), *argv, "-o", str(tmp_path / "x.png")])
+        err = capsys.readouterr().err
+        assert code == 2 and len(err.splitlines()) == 1 and words in err, (argv, err)
