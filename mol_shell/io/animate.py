@@ -98,7 +98,7 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
     cax = fig.add_axes((0.8, 0.15, 0.035, 0.62))
     fig.colorbar(ScalarMappable(norm, cmap), cax=cax).set_label(_short_label(field_name, units), fontsize=9)
     cax.tick_params(labelsize=8)
-    title = fig.text(0.03, 0.95, "", fontsize=10, va="top")
+    title = fig.text(0.03, 0.96, "", fontsize=9, va="top")
 
     def front(points):
         """Points whose outward radial direction faces the viewer; the others NaN (hidden behind the shell)."""
@@ -127,7 +127,7 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
         ax.view_init(elev=elev, azim=azim)
         ax.set_axis_off()
         title.set_text(f"{ds.attrs.get('scene', 'run')}   t = {float(ds['time'][k]):.4g} s\n"
-                       "black: material fibres; dashed: the same fibres in the reference state")
+                       "material fibres: black; in the reference state: dashed")
 
     count = ds.sizes["time"]
     try:
