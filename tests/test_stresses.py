@@ -278,3 +278,54 @@ def test_run_writes_the_stresses_unless_told_not_to(tmp_path):
     a, b = mol_shell.read_netcdf(tmp_path / "a.nc"), mol_shell.read_netcdf(tmp_path / "b.nc")
     assert a.axial_torque.dims == ("time", "s_cell") and a.attrs["stresses"].startswith("included")
     assert "axial_torque" not in b and "s_cell" not in b.dims
+
+
+def sphere_dataset(Q_extra, n=7, a=1.0):
+    """A run-like Dataset on a spherical zone ``s in [0.3, 2.8]`` (``r0 = a sin(s/a)``, ``z0 = a cos(s/a)``,
+    ``theta0 = pi/2 + s/a``; MODEL_NOTES), carrying the reference meridian as the geometry work will, with
+    fields = reference + ``Q_extra`` (a function of ``s`` giving ``5 x n``)."""
+    scene = mol_shell.TwistedCylinder()
+    s = np.linspace(0.3, 2.8, n)
+    ref = np.array([a * np.cos(s / a), a * np.sin(s / a), 0 * s, np.pi / 2 + s / a, 0 * s])
+    ds = run_dataset(ref + Q_extra(s), np.zeros((5, n)), scene, s)
+    return ds.assign(r0=("s", ref[1]), z0=("s", ref[0]), theta0=("s", ref[3])), scene, s, ref
+
+
+def test_a_curved_reference_is_stress_free_and_its_torque_is_the_energy_derivative():
+    """With ``r0, z0, theta0`` in the run (a spherical zone), the natural state has no stress (to the rounding
+    of ``F = I``: NumPy's and C's cosines may differ by an ulp), and a twist ``chi = 0.1 (s - 1.55)`` transmits
+    in each cell the mean over its two samples of ``2 pi r0 dWhat/dchi_s`` with the cell's reference data
+    from the difference formulas (``theta0, r0`` at the midpoint, ``theta0_s`` and
+    ``(beta1_0, beta2_0) = ((dz0 cos + dr0 sin), (-dz0 sin + dr0 cos))(theta0_mid) / ds``), evaluated here
+    with ``shell_energy``. Allowed: 1e-12 relative."""
+    natural, scene, s, ref = sphere_dataset(lambda s: 0 * s[None, :] * np.ones((5, 1)))
+    out = add_stresses(natural)
+    lam, mu = lame(scene.E, scene.nu)
+    for name in ("axial_force", "axial_torque", "membrane_force_hoop", "von_mises_stress"):
+        scale = (3 * lam + 2 * mu) * 8 * EPS * (1 if "stress" in name else 2 * math.pi * 2 * scene.h * 2)
+        assert float(abs(out[name]).max()) <= scale, name
+
+    def twist(s):
+        extra = np.zeros((5, len(s)))
+        extra[2] = 0.1 * (s - 1.55)
+        return extra
+
+    twisted, scene, s, ref = sphere_dataset(twist)
+    out = add_stresses(twisted)
+    lam, mu = effective_lame(scene.E, scene.nu)
+    thickness = Thickness(centroidal_offset(scene.h), scene.h, scene.n_quad)
+    e, refs = ca.SX.sym("e", 8), ca.SX.sym("ref", 5)
+    W = shell_energy(ca.vertsplit(e), lam, mu, thickness, *ca.vertsplit(refs))
+    grad = ca.Function("g", [e, refs], [ca.gradient(W, e)])
+    Q = np.array([twisted[f].values[0] for f in FIELDS])
+    ds = (s[-1] - s[0]) / (len(s) - 1)
+    for i in range(len(s) - 1):
+        th = (ref[3, i] + ref[3, i + 1]) / 2
+        dz0, dr0 = ref[0, i + 1] - ref[0, i], ref[1, i + 1] - ref[1, i]
+        cell_ref = [(ref[1, i] + ref[1, i + 1]) / 2, th, (ref[3, i + 1] - ref[3, i]) / ds,
+                    (dz0 * math.cos(th) + dr0 * math.sin(th)) / ds, (-dz0 * math.sin(th) + dr0 * math.cos(th)) / ds]
+        d, mid = (Q[:, i + 1] - Q[:, i]) / ds, (Q[:, i + 1] + Q[:, i]) / 2
+        torque = np.mean([2 * math.pi * cell_ref[0] * float(grad([*d, mid[1], mid[3], Q[4, j]], cell_ref)[2])
+                          for j in (i, i + 1)])
+        assert float(out.axial_torque[0, i]) == pytest.approx(torque, rel=1e-12)
+    assert float(abs(out.axial_torque).min()) > 100
