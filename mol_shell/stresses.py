@@ -39,6 +39,13 @@ name                           component                              units
 ``axial_force`` and ``axial_torque`` are ``d(2 pi r0 What)/dz_s`` and ``d(2 pi r0 What)/dchi_s``
 (the flux of axial momentum and of axial angular momentum; MODEL_NOTES, last section): an axial
 force is positive in tension. A cell's value is the mean over its two samples, as its energy.
+Signs of the moments: ``m^s . c3 = -(1/r0) int zeta (T e1 . c1) c dzeta`` is negative and
+``m^phi . c1 = int zeta (T e3 . c3) a dzeta`` positive when the fibres at ``zeta > 0`` (outside,
+on the cylinder) are pulled harder than those at ``zeta < 0``.
+
+Face stresses: the Cauchy stress at ``zeta1`` (inner face) and ``zeta1 + 2h`` (outer face),
+averaged over the cell's two samples, then its principal values and von Mises stress. With
+``material = "svk-plane-stress"`` the stress ``S22`` along the director is 0 (the condensation).
 With Kelvin-Voigt viscosity the stresses include ``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t``
 and the viscous part is also given alone (``*_viscous``).
 """
@@ -351,20 +358,6 @@ class Evaluator:
             x[M:] = source[M - 1]  # padding: a valid sample, discarded
         self._trigger()
         return [x[:M] for x in self._outs]
-
-
-def evaluate(e, et, ref, par, n_quad, viscous=False, compiled=True):
-    """The kernel over any number of samples (arrays as :class:`Evaluator`'s), in chunks of :data:`CHUNK`."""
-    M = e.shape[0]
-    run = Evaluator(n_quad, viscous, min(CHUNK, M), compiled)
-    results = None
-    for start in range(0, M, run.size):
-        stop = min(start + run.size, M)
-        outs = run(e[start:stop], et[start:stop], ref[start:stop], par)
-        results = results or [np.empty((M, x.shape[1])) for x in outs]
-        for r, x in zip(results, outs):
-            r[start:stop] = x
-    return results
 
 
 def _material(attrs):
