@@ -40,31 +40,32 @@ def quads(n, n_phi, surfaces=1):
 
 
 def mesh_series(ds, n_phi=N_PHI, faces=False):
-    """Points, quads and data of every saved time.
+    """Quads, and the points and data of each saved time (a generator, so one step is in memory at a time).
 
     Returns
     -------
-    points : ndarray ``(time, points, 3)``
     cells : ndarray ``(cells, 4)``
-    point_data : dict of ``(time, points)`` arrays
-    cell_data : dict of ``(time, cells)`` arrays
+    steps : generator of ``(points (P, 3), point_data {name: (P,)}, cell_data {name: (cells,)})``
     """
     n = ds.sizes["s"]
     depths = (0.0, *face_depths(ds)) if faces else (0.0,)
-    points = np.concatenate([surface_points(ds, n_phi, zeta).reshape(ds.sizes["time"], -1, 3) for zeta in depths],
-                            axis=1)
-    per_surface = len(depths)
-    point_data, cell_data = {}, {}
-    for name in field_names(ds):
-        values, _, _ = field(ds, name, "nodes")
-        point_data[name] = np.tile(np.repeat(values, n_phi, axis=1), (1, per_surface))
-        if name not in ds or ds[name].dims != ("time", "s"):
-            cells, _, _ = field(ds, name, "cells")
-            cell_data[name] = np.tile(np.repeat(cells, n_phi, axis=1), (1, per_surface))
-    ones = np.ones((ds.sizes["time"], n * n_phi))
-    point_data["phi"] = np.tile(np.tile(azimuths(n_phi), n), (ds.sizes["time"], per_surface))
-    point_data["zeta"] = np.concatenate([zeta * ones for zeta in depths], axis=1)
-    return points, quads(n, n_phi, per_surface), point_data, cell_data
+    surfaces = len(depths)
+    nodal = {name: field(ds, name, "nodes")[0] for name in field_names(ds)}
+    cellwise = {name: field(ds, name, "cells")[0] for name in field_names(ds)
+                if name not in ds or ds[name].dims != ("time", "s")}
+    constant = {"phi": np.tile(azimuths(n_phi), n * surfaces),
+                "zeta": np.repeat(np.asarray(depths, dtype=float), n * n_phi)}
+
+    def spread(values):  # per node (or cell) -> per point (or quad) of every surface
+        return np.tile(np.repeat(values, n_phi), surfaces)
+
+    def steps():
+        for k in range(ds.sizes["time"]):
+            points = np.concatenate([surface_points(ds, n_phi, zeta, times=[k])[0].reshape(-1, 3) for zeta in depths])
+            point_data = {name: spread(v[k]) for name, v in nodal.items()} | constant
+            yield points, point_data, {name: spread(v[k]) for name, v in cellwise.items()}
+
+    return quads(n, n_phi, surfaces), steps()
 
 
 @contextmanager
@@ -78,11 +79,7 @@ def _working_directory(folder):
         os.chdir(here)
 
 
-def _select(data, k):
-    return {name: np.ascontiguousarray(values[k]) for name, values in data.items()}
-
-
-def write_xdmf(path, times, points, cells, point_data, cell_data):
+def write_xdmf(path, times, cells, steps):
     """XDMF 3 temporal collection with the mesh of each step in its own grid; data in ``<stem>.h5``.
 
     meshio's :class:`meshio.xdmf.TimeSeriesWriter` writes every element (geometry, topology,
@@ -94,17 +91,17 @@ def write_xdmf(path, times, points, cells, point_data, cell_data):
     path = Path(path).resolve()
     with _working_directory(path.parent):
         with meshio.xdmf.TimeSeriesWriter(path.name) as writer:
-            for k, t in enumerate(times):
+            for k, (t, (points, point_data, cell_data)) in enumerate(zip(times, steps)):
                 grid = ET.SubElement(writer.collection, "Grid", Name=f"step{k}", GridType="Uniform")
                 writer.cells([("quad", cells)], grid)
-                writer.points(grid, np.ascontiguousarray(points[k]))
+                writer.points(grid, points)
                 ET.SubElement(grid, "Time", Value=repr(float(t)))
-                writer.point_data(_select(point_data, k), grid)
-                writer.cell_data({name: [v] for name, v in _select(cell_data, k).items()}, grid)
+                writer.point_data(point_data, grid)
+                writer.cell_data({name: [v] for name, v in cell_data.items()}, grid)
     return [path, path.with_suffix(".h5")]
 
 
-def write_pvd(path, times, points, cells, point_data, cell_data):
+def write_pvd(path, times, cells, steps):
     """One ``<stem>_NNNN.vtu`` per step (meshio) beside ``path``, and the ``.pvd`` collection that lists them."""
     import meshio
 
@@ -112,10 +109,10 @@ def write_pvd(path, times, points, cells, point_data, cell_data):
     root = ET.Element("VTKFile", type="Collection", version="0.1")
     collection = ET.SubElement(root, "Collection")
     written = []
-    for k, t in enumerate(times):
+    for k, (t, (points, point_data, cell_data)) in enumerate(zip(times, steps)):
         vtu = path.with_name(f"{path.stem}_{k:04d}.vtu")
-        mesh = meshio.Mesh(np.ascontiguousarray(points[k]), [("quad", cells)], point_data=_select(point_data, k),
-                           cell_data={name: [v] for name, v in _select(cell_data, k).items()})
+        mesh = meshio.Mesh(points, [("quad", cells)], point_data=point_data,
+                           cell_data={name: [v] for name, v in cell_data.items()})
         meshio.write(vtu, mesh, file_format="vtu")
         ET.SubElement(collection, "DataSet", timestep=repr(float(t)), part="0", file=vtu.name)
         written.append(vtu)
@@ -149,9 +146,9 @@ def export(ds, path, n_phi=N_PHI, faces=False):
     suffix = Path(path).suffix.lower().lstrip(".")
     if suffix not in FORMATS:
         raise ParameterError.invalid("-o", str(path), "has no known file type", "a file ending in .xdmf or .pvd")
-    data = mesh_series(ds, n_phi, faces)
+    cells, steps = mesh_series(ds, n_phi, faces)
     writer = write_xdmf if suffix == "xdmf" else write_pvd
-    return writer(path, ds["time"].values, *data)
+    return writer(path, ds["time"].values, cells, steps)
 
 
 def register(subparsers):
