@@ -43,6 +43,7 @@ def checker_report(path, out):
     return items
 
 
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")  # the checker's own (its ioos_sos plugin)
 def test_compliance_checker_reports_only_the_epoch_less_time(run_file, tmp_path):
     items = checker_report(run_file, tmp_path / "report.json")
     assert items == CALENDAR_ITEMS
