@@ -25,7 +25,8 @@ EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED = 2, 3, 130
 
 # Subcommands contributed by other modules: each module has ``register(subparsers)``
 # that adds its parser with ``set_defaults(func=...)``.
-EXTENSIONS = ("mol_shell.workprecision", "mol_shell.stability", "mol_shell.study", "mol_shell.analysis.modes")
+EXTENSIONS = ("mol_shell.workprecision", "mol_shell.stability", "mol_shell.study", "mol_shell.analysis.modes",
+              "mol_shell.io.export", "mol_shell.io.animate")
 
 #: integrator options the command line offers (as --dt, --rtol, --atol, --max-step)
 CLI_OPTIONS = {"dt", "rtol", "atol", "max_step"}
@@ -135,6 +136,17 @@ def integer_arg(name, low=1):
     return convert
 
 
+def choice_arg(name, options):
+    """An argparse ``type``: one of ``options``, or a one-line error naming ``name`` and the options."""
+
+    def convert(text):
+        if text not in options:
+            raise argparse.ArgumentTypeError(f"{name} = {show(text)} is outside {{{', '.join(options)}}}")
+        return text
+
+    return convert
+
+
 def parse_atol(text):
     """``--atol``: one number, or ``FIELD=VALUE,...`` per field (the others keep the default 1e-9)."""
     from .model.kinematics import FIELDS
@@ -174,6 +186,10 @@ def cmd_run(args):
     options = integrator_option_args(args)
     check_options(scene, args.integrator, options, offered=CLI_OPTIONS)
     ds = simulate(scene, args.integrator, n=args.n, t_end=args.t_end, times=times, progress=None, **options)
+    if args.stresses is not False:  # default: up to MAX_SAMPLES; --stresses: always
+        from .stresses import MAX_SAMPLES, add_stresses
+
+        ds = add_stresses(ds, limit=None if args.stresses else MAX_SAMPLES)
     write_netcdf(ds, args.output)
     if not ds.attrs["complete"]:
         print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {ds.sizes['time']} saved times to {args.output}",
@@ -181,15 +197,34 @@ def cmd_run(args):
         return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {ds.sizes['time']} times x {ds.sizes['s']} nodes, "
           f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s, R = {ds.attrs['R']:.10g} m")
+    if str(ds.attrs.get("stresses", "")).startswith("skipped"):
+        print(f"stresses {ds.attrs['stresses']} (or run with --stresses)")
     return 0
+
+
+#: options of ``plot --figure fibres`` only
+FIBRE_OPTIONS = ("time", "at_s", "fibres", "thickness_scale")
 
 
 def cmd_plot(args):
     from .output import read_run
-    from .plotting import is_cylinder, plot_meridian, plot_snapshots
 
+    given = [name for name in FIBRE_OPTIONS if getattr(args, name) is not None]
+    if args.figure != "fibres" and given:
+        option = "--" + given[0].replace("_", "-")
+        raise ParameterError(option, getattr(args, given[0]), "options of --figure fibres only",
+                             message=f"{option} is an option of --figure fibres only (its options: --time, --at-s, "
+                             "--fibres, --thickness-scale)")
     ds = read_run(args.file)
-    (plot_snapshots if is_cylinder(ds) else plot_meridian)(ds, args.output)
+    if args.figure == "fibres":
+        from .io.figures import plot_fibres
+
+        options = {"time": args.time, "s": args.at_s, "thickness_scale": args.thickness_scale}
+        plot_fibres(ds, args.output, count=24 if args.fibres is None else args.fibres, **options)
+    else:
+        from .plotting import is_cylinder, plot_meridian, plot_snapshots
+
+        (plot_snapshots if is_cylinder(ds) else plot_meridian)(ds, args.output)
     print(f"wrote {args.output}")
     return 0
 
@@ -242,13 +277,27 @@ def make_parser():
     run.add_argument("--atol", type=parse_atol, default=None,
                      help="absolute tolerance (adaptive integrators): one value, or per field as r=1e-9,theta=1e-10")
     run.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
+    run.add_argument("--stresses", action=argparse.BooleanOptionalAction, default=None,
+                     help="resultants and face stresses after the run (default: when cell samples x saved times "
+                     "<= 4e6; --stresses always, --no-stresses never)")
     run.add_argument("-o", "--output", required=True, help="netCDF file to write (missing directories are created)")
     run.set_defaults(func=cmd_run)
     scenes = sub.add_parser("scenes", help="the built-in scenes, or one scene's parameters with units and defaults")
     scenes.add_argument("name", nargs="?", default=None, help="a scene to describe")
     scenes.set_defaults(func=cmd_scenes)
-    plot = sub.add_parser("plot", help="the paper's figures 4-8 (cylinders) or the deformed meridian from a run")
+    plot = sub.add_parser("plot", help="the paper's figures 4-8 (cylinders), the deformed meridian (other shells) "
+                          "or figure 1 (--figure fibres) from a run")
     plot.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run")
+    plot.add_argument("--figure", type=choice_arg("--figure", ("snapshots", "fibres")), default="snapshots",
+                      help="snapshots: r, theta, chi against s (figures 4-8, default); fibres: a section with its "
+                      "material fibres in the reference state and at --time (figure 1)")
+    plot.add_argument("--time", type=number_arg("--time", 0.0, low_closed=True, unit="s"), default=None,
+                      help="fibres: the saved time nearest to this (default the last)")
+    plot.add_argument("--at-s", type=number_arg("--at-s", -np.inf, unit="m"), default=None,
+                      help="fibres: the section at the node nearest to this s (default the first node)")
+    plot.add_argument("--fibres", type=integer_arg("--fibres", 1), default=None, help="fibres: how many (default 24)")
+    plot.add_argument("--thickness-scale", type=number_arg("--thickness-scale"), default=None,
+                      help="fibres: magnification of the drawn thickness (default: 0.2 of the radius)")
     plot.add_argument("-o", "--output", required=True, help="image to write (.png, .pdf, .svg, ...)")
     plot.set_defaults(func=cmd_plot, output_suffixes=_image_formats)
     for module in EXTENSIONS:

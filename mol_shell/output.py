@@ -23,6 +23,9 @@ FIELD_META = {
 }
 RATE_UNITS = {"m": "m s-1", "rad": "rad s-1"}
 REFERENCE = "S. S. Antman and D. Bourne, Rotational symmetry vs. axisymmetry in shell theory, CASA-report 10-46 (2010)"
+#: why ``time`` has no CF epoch (the one departure from CF 1.8; docs/netcdf.md)
+TIME_COMMENT = ("model time in seconds from the start of the run, without a calendar epoch (deliberately: "
+                "readers keep it as numbers, not dates); see docs/netcdf.md")
 
 
 def _attr(value):
@@ -90,7 +93,8 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
     data["r0"] = (("s",), r0, {"units": "m", "long_name": "radius of the reference base surface"})
     data["theta0"] = (("s",), theta0, {"units": "rad", "long_name": "angle of the reference generator tangent from the axis"})
     coords = {
-        "time": ("time", traj.t, {"units": "s", "long_name": "time"}),
+        "time": ("time", traj.t, {"units": "s", "long_name": "time", "standard_name": "time", "axis": "T",
+                                  "comment": TIME_COMMENT}),
         "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"}),
     }
     now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
@@ -101,6 +105,7 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
         "mol_shell_version": __version__,
         "history": f"{now} created by mol_shell {__version__}",
         "references": REFERENCE,
+        "comment": "time: " + TIME_COMMENT,
         "scene": scene.name,
         "n": system.n,
         "status": traj.status,
@@ -188,11 +193,22 @@ def writable_path(path, name="path", suffixes=None, created=None):
 def write_netcdf(ds, path):
     """Write a run as netCDF4 (model time in plain seconds, no CF calendar decoding).
 
+    Coordinate variables get no ``_FillValue`` (CF 2.5.1; xarray would write NaN for floats).
+    ``time`` is the unlimited (record) dimension, so it may come first (CF 2.4 asks other
+    dimensions to stand left of T "whenever possible"); variables along it are chunked in blocks
+    of about 1 MB (netCDF's default chunk of one record made large runs 10x slower to write).
     Missing directories of ``path`` are created; a path that cannot be written raises
     :class:`~mol_shell.errors.ParameterError`.
     """
     path = writable_path(path)
-    ds.to_netcdf(path, engine="netcdf4", format="NETCDF4")
+    encoding = {name: {"_FillValue": None} for name, var in ds.coords.items() if var.dtype.kind == "f"}
+    unlimited = ["time"] if "time" in ds.dims else []
+    for name, var in ds.variables.items():
+        if "time" in var.dims and var.dtype.kind in "fiu":
+            other = int(np.prod([ds.sizes[d] for d in var.dims if d != "time"], dtype=np.int64))
+            block = max(1, min(ds.sizes["time"], 2**17 // max(other, 1)))
+            encoding.setdefault(name, {})["chunksizes"] = tuple(block if d == "time" else ds.sizes[d] for d in var.dims)
+    ds.to_netcdf(path, engine="netcdf4", format="NETCDF4", encoding=encoding, unlimited_dims=unlimited)
 
 
 def read_netcdf(path):
