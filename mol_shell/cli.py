@@ -185,11 +185,8 @@ def cmd_run(args):
     times = parse_times_arg(args.times) if args.times else None
     options = integrator_option_args(args)
     check_options(scene, args.integrator, options, offered=CLI_OPTIONS)
-    ds = simulate(scene, args.integrator, n=args.n, t_end=args.t_end, times=times, progress=None, **options)
-    if args.stresses is not False:  # default: up to MAX_SAMPLES; --stresses: always
-        from .stresses import MAX_SAMPLES, add_stresses
-
-        ds = add_stresses(ds, limit=None if args.stresses else MAX_SAMPLES)
+    ds = simulate(scene, args.integrator, n=args.n, t_end=args.t_end, times=times, progress=None,
+                  stresses=args.stresses, **options)
     write_netcdf(ds, args.output)
     if not ds.attrs["complete"]:
         print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {ds.sizes['time']} saved times to {args.output}",

@@ -159,7 +159,8 @@ def leapfrog_times(t_end, dt, count=10):
     return np.array([float(f"{k * dt:.12g}") for k in marks])
 
 
-def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=None, progress=None, **options):
+def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=None, progress=None, stresses=None,
+             **options):
     """Run ``scene`` and return its motion as an :class:`xarray.Dataset`.
 
     Parameters
@@ -180,6 +181,10 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         refuse ``dt`` (bound them with ``max_step``).
     progress : bool, optional
         Progress bar over simulated time; default: only when stderr is a terminal.
+    stresses : bool, optional
+        Resultants and face stresses after the run (:func:`mol_shell.stresses.add_stresses`): ``None``
+        (default) up to :data:`mol_shell.stresses.MAX_SAMPLES` cell samples x saved times, ``True``
+        always, ``False`` never.
     **options
         Passed to the integrator's dataclass (e.g. ``rtol`` in [1e-14, 1), ``atol``, ``max_step``);
         an option the integrator does not take is refused by name.
@@ -198,6 +203,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     check_options(scene, integrator, options)
     if integrator == "leapfrog":
         options.setdefault("dt", DEFAULT_DT)
+    if stresses is not None and not isinstance(stresses, (bool, np.bool_)):
+        raise ParameterError.not_a("stresses", stresses, "a bool", "True, False or None (cheap runs only)")
     if hasattr(scene, "run"):  # a scene with its own formulation (the unshearable DAE)
         return scene.run(integrator, n=n, times=times, t_end=t_end, progress=progress, **options)
     method = INTEGRATORS[integrator](**options)
@@ -239,7 +246,12 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         "units_max_damping_rate": "s-1",
         "leapfrog_dt_bound_s": 1.0 / omega_max,
     })
-    return build_dataset(system, scene, traj, velocities, totals, attrs)
+    ds = build_dataset(system, scene, traj, velocities, totals, attrs)
+    if stresses is not False:
+        from .stresses import MAX_SAMPLES, add_stresses
+
+        ds = add_stresses(ds, limit=None if stresses else MAX_SAMPLES)
+    return ds
 
 
 def observe(system, states):

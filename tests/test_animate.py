@@ -15,7 +15,7 @@ SMALL = ["--n-phi", "12", "--fibres", "4", "--width", "200"]
 @pytest.fixture(scope="module")
 def run_file(tmp_path_factory):
     """The paper's scene on 8 nodes over 10 us (11 saved times) with stresses, and the same without."""
-    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), n=8, t_end=1e-5, progress=False)
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), n=8, t_end=1e-5, progress=False, stresses=False)
     folder = tmp_path_factory.mktemp("animate")
     mol_shell.write_netcdf(add_stresses(ds), folder / "run.nc")
     mol_shell.write_netcdf(ds, folder / "bare.nc")

@@ -21,7 +21,7 @@ N_PHI = 6
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
     """The paper's scene on 8 nodes over 10 us (11 saved times, twist chi = +-0.2 rad), with stresses."""
-    ds = add_stresses(mol_shell.simulate(mol_shell.TwistedCylinder(), n=8, t_end=1e-5, progress=False))
+    ds = add_stresses(mol_shell.simulate(mol_shell.TwistedCylinder(), n=8, t_end=1e-5, progress=False, stresses=False))
     path = tmp_path_factory.mktemp("export") / "run.nc"
     mol_shell.write_netcdf(ds, path)
     return ds, path

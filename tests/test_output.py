@@ -23,7 +23,7 @@ def test_every_variable_has_units_and_long_name(short_run):
     for name, var in {**short_run.data_vars, **short_run.coords}.items():
         assert var.attrs.get("units"), name
         assert var.attrs.get("long_name"), name
-    assert set(short_run.dims) == {"time", "s"}
+    assert set(short_run.dims) == {"time", "s", "s_cell", "zeta"}  # stresses on cell centres and the faces
     for field in ("z", "r", "chi", "theta", "psi"):
         assert short_run[field].dims == ("time", "s")
         assert short_run[field + "_t"].dims == ("time", "s")

@@ -26,7 +26,7 @@ FIELDS = ("z", "r", "chi", "theta", "psi")
 @pytest.fixture(scope="module")
 def twisted():
     """The paper's scene on 8 nodes, saved over 10 us: at t = 0 the uniformly twisted cylinder at ``R``."""
-    return mol_shell.simulate(mol_shell.TwistedCylinder(), n=8, t_end=1e-5, progress=False)
+    return mol_shell.simulate(mol_shell.TwistedCylinder(), n=8, t_end=1e-5, progress=False, stresses=False)
 
 
 def run_dataset(Q, V, scene, s):
@@ -80,7 +80,7 @@ def test_natural_state_has_no_stress():
     differences, so ``F = I`` up to one rounding of ``x (1/x)`` per entry: ``|S| <= (3 lambda + 2 mu) 2 EPS``,
     and every resultant is below that stress times ``2 pi x 2h`` (measured: 1e-61 N and below)."""
     scene = mol_shell.TwistedCylinder(gamma=0.0, R=1.0)
-    ds = mol_shell.simulate(scene, n=8, t_end=1e-5, progress=False)
+    ds = mol_shell.simulate(scene, n=8, t_end=1e-5, progress=False, stresses=False)
     out = add_stresses(ds)
     lam, mu = lame(scene.E, scene.nu)
     bound = (3 * lam + 2 * mu) * 2 * EPS
@@ -329,3 +329,11 @@ def test_a_curved_reference_is_stress_free_and_its_torque_is_the_energy_derivati
                           for j in (i, i + 1)])
         assert float(out.axial_torque[0, i]) == pytest.approx(torque, rel=1e-12)
     assert float(abs(out.axial_torque).min()) > 100
+
+
+def test_simulate_adds_the_stresses_unless_told_not_to(twisted):
+    with_default = mol_shell.simulate(mol_shell.TwistedCylinder(), n=8, t_end=1e-5, progress=False)
+    assert "axial_torque" in with_default and "axial_torque" not in twisted
+    np.testing.assert_array_equal(with_default.axial_torque, add_stresses(twisted).axial_torque)
+    with pytest.raises(ParameterError, match="stresses"):
+        mol_shell.simulate(mol_shell.TwistedCylinder(), n=8, t_end=1e-5, stresses="yes")
