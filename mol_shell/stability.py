@@ -19,7 +19,7 @@ import xarray as xr
 from .equilibrium import spectrum_bounds
 from .errors import ModelLimitError, ParameterError
 from .integrators import INTEGRATORS, Leapfrog
-from .scenes import TwistedCylinder, get_scene
+from .scenes import Cone, Sphere, Torus, TwistedCylinder, get_scene
 from .simulate import LEAPFROG_MAX_LOG_GROWTH, build, resolve, simulate
 
 
@@ -37,11 +37,24 @@ class Case:
 SAVED = 100
 
 
+def shell_cases():
+    """Shells that are not cylinders: a closed sphere (cells next to the poles are short in the hoop
+    direction), a thin cone and a torus segment, each breathing or twisting a little."""
+    return [Case("sphere, closed (R = 1.01a, gamma = 0.05)", Sphere(R=1.01, gamma=0.05)),
+            Case("cone h=0.001 (gamma = 0.1)", Cone(h=1e-3, gamma=0.1)),
+            Case("torus (dilation 1.01, gamma = 0.1)", Torus(dilation=1.01, gamma=0.1))]
+
+
 def default_cases(base=None, quick=False):
-    """The issue's set: paper scene, viscosity, near-incompressibility, thin shells, large twist, spin, fine grids."""
+    """The issue's set: paper scene, viscosity, near-incompressibility, thin shells, large twist, spin, fine grids,
+    and the shells of :func:`shell_cases`. Variations a base scene has no parameter for are left out."""
     base = base or TwistedCylinder()
-    rep = dataclasses.replace
-    cases = [Case("paper", base)]
+    names = {f.name for f in dataclasses.fields(base)}
+
+    def rep(scene, **changes):
+        return dataclasses.replace(scene, **changes) if set(changes) <= names else None
+
+    cases = [Case("paper" if isinstance(base, TwistedCylinder) else base.name, base)]
     cases += [Case(f"viscous eta_mu={eta:g}", rep(base, eta_mu=eta, eta_lambda=2 * eta)) for eta in (0.01, 1.0, 100.0)]
     cases += [Case(f"nu={nu:g}", rep(base, nu=nu)) for nu in (0.3, 0.49, 0.499, 0.4999)]
     cases += [Case(f"nu={nu:g} plane-stress", rep(base, nu=nu, material="svk-plane-stress")) for nu in (0.499, 0.4999)]
@@ -51,7 +64,8 @@ def default_cases(base=None, quick=False):
     cases += [Case(f"omega={w:g}", rep(base, omega=w)) for w in (50.0, 200.0)]
     sizes = (160, 640) if quick else (160, 640, 2560, 10240)
     cases += [Case(f"n={n}", base, n=n, t_end=0.002) for n in sizes]
-    return cases
+    cases += shell_cases()
+    return [case for case in cases if case.scene is not None]
 
 
 def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, iterations=8, min_steps=100):
