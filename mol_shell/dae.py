@@ -62,13 +62,26 @@ class ShellDAE:
         n, nf, active = sy.n, sy.nf, list(sy.active)
         x, xp = ca.MX.sym("x", self.size), ca.MX.sym("xp", self.size)
         t, cj = ca.MX.sym("t"), ca.MX.sym("cj")
-        X, XP = ca.reshape(x, sy.ny, n), ca.reshape(xp, sy.ny, n)
+        body = sy.ny * n
+        X, XP = ca.reshape(x[:body], sy.ny, n), ca.reshape(xp[:body], sy.ny, n)
         Q, V, QT, VT = sy._fields(X), sy._fields(X, nf), sy._fields(XP), sy._fields(XP, nf)
         free = ca.DM((~sy.fixed.T).astype(float))
         V = V * free  # fixed rates enter nowhere (they stay 0)
         forces = sy.elastic_forces(Q)  # dV/dq, the stored energy of ShellSystem
+        dissipation = 0
         if sy.viscous:
             forces = forces + sy.viscous_forces(Q, sy.tie(V))  # dD/dv
+            Qt, Vt = sy.tie(Q), sy.tie(V)
+            dissipation = ca.sum2(sy._viscous_power().map(n - 1)(Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:],
+                                                                sy.cell_data))
+        extra_rows, extra_newton = [], []
+        if sy.n_extra:
+            from .loading import load_terms
+
+            load_forces, power, drag_power = load_terms(sy, sy.scene, t, Q, sy.tie(V))
+            forces = forces - load_forces
+            extra_rows = [xp[body] - power, xp[body + 1] - dissipation - drag_power]
+            extra_newton = [xp[body], xp[body + 1]]  # the accumulators do not feed back: cj on the diagonal only
         first, inner, last = sy.free_sets()
         m = sy.inertia
         ri = self._node_residual(inner).map(n - 2)(Q[:, 1:-1], V[:, 1:-1], QT[:, 1:-1], VT[:, 1:-1], m[:, 1:-1])
@@ -76,29 +89,34 @@ class ShellDAE:
         rn = self._node_residual(last)(Q[:, -1], V[:, -1], QT[:, -1], VT[:, -1], m[:, -1])
         momentum = ca.horzcat(r0, ri, rn) + forces * free
         kinematic = QT - sy.tie(V)  # a pole's chi follows its neighbour's rate
-        F = ca.vec(ca.vertcat(kinematic[active, :], momentum[active, :]))
+        motion = ca.vec(ca.vertcat(kinematic[active, :], momentum[active, :]))
+        F = ca.vertcat(motion, *extra_rows)
         self.residual = ca.Function("dae_residual", [t, x, xp], [F], ["t", "x", "xp"], ["F"])
-        J = ca.jacobian(F, x) + cj * ca.jacobian(F, xp)
+        Fn = ca.vertcat(motion, *extra_newton)
+        J = ca.jacobian(Fn, x) + cj * ca.jacobian(Fn, xp)
         self.jacobian = ca.Function("dae_jacobian", [t, x, xp, cj], [J], ["t", "x", "xp", "cj"], ["J"])
         # conversions between the Hamiltonian state y = (q, p) and x = (q, v), node by node
         y = ca.MX.sym("y", self.size)
         ydot = sy.rhs_mapped(0, y)
         mask_q = np.tile(np.r_[np.ones(nf), np.zeros(nf)], n).astype(bool)
         free_x = np.concatenate([np.ones((n, nf)), (~sy.fixed[:, active]).astype(float)], axis=1).ravel()
-        x_of_y = y * ca.DM(mask_q.astype(float)) + self._shift_rates(ydot, nf, n) * ca.DM(free_x)
+        mask_q = np.concatenate([mask_q, np.ones(sy.n_extra, dtype=bool)])  # the accumulators are the same in x and y
+        free_x = np.concatenate([free_x, np.zeros(sy.n_extra)])
+        x_of_y = y * ca.DM(mask_q.astype(float)) + self._shift_rates(ydot[: sy.ny * n], nf, n, sy.n_extra) * ca.DM(free_x)
         self.from_momenta = ca.Function("from_momenta", [y], [x_of_y], ["y"], ["x"])
         P = ca.vertcat(*[self._momentum(Q, V, k) for k in range(NF)])
         Yq = ca.vertcat(*[Q[k, :] for k in active])
         Yp = ca.vertcat(*[P[k, :] for k in active])
-        self.to_momenta = ca.Function("to_momenta", [x], [ca.vec(ca.vertcat(Yq, Yp))], ["x"], ["y"])
+        self.to_momenta = ca.Function("to_momenta", [x], [ca.vertcat(ca.vec(ca.vertcat(Yq, Yp)), x[sy.ny * n:])],
+                                      ["x"], ["y"])
         self._mask_q = mask_q
         self._free_x = free_x
 
     @staticmethod
-    def _shift_rates(ydot, nf, n):
+    def _shift_rates(ydot, nf, n, n_extra=0):
         """``x``'s rate entries from ``y_t``: the rate of field ``k`` of node ``i`` is ``y_t[2 nf i + k]``."""
         Yd = ca.reshape(ydot, 2 * nf, n)
-        return ca.vec(ca.vertcat(ca.MX.zeros(nf, n), Yd[:nf, :]))
+        return ca.vertcat(ca.vec(ca.vertcat(ca.MX.zeros(nf, n), Yd[:nf, :])), ca.MX.zeros(n_extra))
 
     def _momentum(self, Q, V, k):
         """Row ``k`` of the nodal momenta ``p = dT/dv`` (0 for fixed rates, as in the Hamiltonian state)."""
@@ -120,8 +138,8 @@ class ShellDAE:
         ydot = np.array(sy.rhs(0, y)).ravel()
         jv = np.array(sy.jac(0, y) @ ca.DM(ydot)).ravel()
         x = np.array(self.from_momenta(y)).ravel()
-        nf = sy.nf
-        Yd, Jv = ydot.reshape(sy.n, 2 * nf), jv.reshape(sy.n, 2 * nf)
+        nf, body = sy.nf, sy.ny * sy.n
+        Yd, Jv = ydot[:body].reshape(sy.n, 2 * nf), jv[:body].reshape(sy.n, 2 * nf)
         XP = np.concatenate([Yd[:, :nf], Jv[:, :nf]], axis=1)
-        XP[:, nf:] *= self._free_x.reshape(sy.n, 2 * nf)[:, nf:]
-        return x, XP.ravel()
+        XP[:, nf:] *= self._free_x[:body].reshape(sy.n, 2 * nf)[:, nf:]
+        return x, np.concatenate([XP.ravel(), ydot[body:]])

@@ -127,6 +127,11 @@ class ShellSystem:
         for pole, _ in self.ties:
             self.fixed[pole, 2] = True
         self.cell_data = self._cell_data()
+        self.n_extra = 2 if getattr(scene, "loaded", False) else 0  # work and dissipated, integrated with the motion
+        if self.n_extra:
+            from .loading import check_end_loads
+
+            check_end_loads(self, scene)
         self._build()
 
     # -- geometry per cell -----------------------------------------------------------------
@@ -320,8 +325,8 @@ class ShellSystem:
         graph's (measured: 9.7 vs 9.3 us per evaluation at n = 40).
         """
         n, nf, active = self.n, self.nf, list(self.active)
-        y = ca.MX.sym("y", self.ny * n)
-        Y = ca.reshape(y, self.ny, n)
+        y = ca.MX.sym("y", self.size)
+        Y = ca.reshape(y[: self.ny * n], self.ny, n)
         Q, P = self._fields(Y), self._fields(Y, nf)
         first, inner, last = self.free_sets()
         interior = self._node_kernel(inner)
@@ -336,31 +341,46 @@ class ShellSystem:
             Qt = self.tie(Q)
             dissipation = ca.sum2(self._viscous_power().map(n - 1)(Qt[:, :-1], Qt[:, 1:], V[:, :-1], V[:, 1:],
                                                                   self.cell_data))
+        t = ca.MX.sym("t")
+        rates = []
+        work, dissipated = 0, 0
+        if self.n_extra:
+            from .loading import load_terms
+
+            load_forces, power, drag_power = load_terms(self, self.scene, t, Q, V)
+            forces = forces + load_forces
+            rates = [power, dissipation + drag_power]
+            work, dissipated = y[self.ny * n], y[self.ny * n + 1]
         forces = forces * ca.DM((~self.fixed.T).astype(float))
-        ydot = ca.vec(ca.vertcat(V[active, :], forces[active, :]))
+        motion = ca.vec(ca.vertcat(V[active, :], forces[active, :]))
+        ydot = ca.vertcat(motion, *rates)
         kinetic = ca.sum2(ti) + t0 + tn
         Qt = self.tie(Q)
         energies, deltas = self._cell_observables().map(n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
         stored = ca.sum2(energies)
-        t = ca.MX.sym("t")
         rhs = ca.Function("rhs", [t, y], [ydot], ["t", "y"], ["ydot"])
+        # the same without the accumulators' dependence on the motion: what Newton iterations and spectra use
+        # (the accumulators do not feed back, and their rows would break the Jacobian's band)
+        newton = ca.Function("rhs_newton", [t, y], [ca.vertcat(motion, ca.MX.zeros(self.n_extra))], ["t", "y"],
+                             ["ydot"])
         observables = ca.Function(
             "observables",
             [y],
-            [V, kinetic, stored, ca.sum2(P[2, :]), ca.vec(deltas) / self.ds, dissipation],
+            [V, kinetic, stored, ca.sum2(P[2, :]), ca.vec(deltas) / self.ds, dissipation, work, dissipated],
             ["y"],
-            ["v", "kinetic", "stored", "angular_momentum", "delta", "dissipation"],
+            ["v", "kinetic", "stored", "angular_momentum", "delta", "dissipation", "work", "dissipated"],
         )
         self.rhs_mapped = rhs
+        self.rhs_newton_mapped = newton
         self.kernel_instructions = {
             "cell": self.cell_forces_kernel().n_instructions(),
             "node": interior.n_instructions(),
         }
         self.mapped = n > self.FLAT_MAX_NODES
         if self.mapped:
-            self.rhs, self.observables = rhs, observables
+            self.rhs, self.observables, self.rhs_newton = rhs, observables, newton
         else:
-            self.rhs, self.observables = rhs.expand(), observables.expand()
+            self.rhs, self.observables, self.rhs_newton = rhs.expand(), observables.expand(), newton.expand()
 
     @cached_property
     def limits(self):
@@ -373,7 +393,7 @@ class ShellSystem:
         """
         n = self.n
         y = ca.MX.sym("y", self.size)
-        Q = self.tie(self._fields(ca.reshape(y, self.ny, n)))
+        Q = self.tie(self._fields(ca.reshape(y[: self.ny * n], self.ny, n)))
         g = [ca.vec(self.cell_delta().map(n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)), Q[1, list(self.radial_nodes)].T]
         if 4 in self.active:
             g.append((math.pi / 2) ** 2 - Q[4, :].T ** 2)
@@ -399,12 +419,13 @@ class ShellSystem:
     def jac(self):
         """``(t, y) -> d y_t / d y``: exact sparse Jacobian (SX when the RHS is flat, else MX)."""
         t, y = (self.rhs.mx_in if self.mapped else self.rhs.sx_in)()
-        J = ca.jacobian(self.rhs(t, y), y)
+        J = ca.jacobian(self.rhs_newton(t, y), y)
         return ca.Function("jacobian", [t, y], [J], ["t", "y"], ["J"])
 
     @property
     def size(self):
-        return self.ny * self.n
+        """Length of the state: ``2 nf n``, plus the accumulators ``work, dissipated`` when the scene has loads."""
+        return self.ny * self.n + self.n_extra
 
     def graph_stats(self):
         """Size of the graphs: instructions of the RHS and its kernels, Jacobian non-zeros and bandwidths."""
@@ -439,7 +460,8 @@ class ShellSystem:
         inactive = [k for k in range(NF) if k not in self.active]
         if np.any(Q[inactive]) or np.any(P[inactive]):
             raise ValueError(f"fields {[FIELD_NAMES[k] for k in inactive]} must vanish for this scene")
-        return np.concatenate([Q[list(self.active)], P[list(self.active)]]).T.reshape(-1)
+        motion = np.concatenate([Q[list(self.active)], P[list(self.active)]]).T.reshape(-1)
+        return np.concatenate([motion, np.zeros(self.n_extra)])
 
     def momenta(self, Q, V):
         """Nodal momenta ``p = M(q) v`` for fields ``Q`` and rates ``V`` (each ``5 x n``)."""
@@ -454,5 +476,6 @@ class ShellSystem:
         """Fields ``(5, n)`` from one state vector (or ``(..., 5, n)`` from a stack); inactive ones are 0."""
         y = np.asarray(y)
         out = np.zeros((*y.shape[:-1], NF, self.n))
-        out[..., list(self.active), :] = np.swapaxes(y.reshape(*y.shape[:-1], self.n, self.ny)[..., : self.nf], -1, -2)
+        motion = y[..., : self.ny * self.n]
+        out[..., list(self.active), :] = np.swapaxes(motion.reshape(*y.shape[:-1], self.n, self.ny)[..., : self.nf], -1, -2)
         return out

@@ -15,13 +15,20 @@ def equilibrium_radius(scene, tol=1e-14, max_iter=50):
 
     Solves ``dWhat/dr (z_s = 1, r_s = 0, chi_s = gamma, theta = theta_s = psi = psi_s = 0; r = R) = 0``
     by Newton's method on the CasADi graph of ``What`` (the paper's "(R, gamma) is an
-    equilibrium state of the material"). For ``gamma = 0`` the root is the natural radius ``a``.
+    equilibrium state of the material"). For ``gamma = 0`` the root is the natural radius ``a``. A
+    pressure ``p`` (its value at ``t = 0``) adds ``-p r^2/(2a)`` per unit reference area (``-p V``, ``V = pi r^2 L``).
     """
     lam, mu = effective_lame(scene.E, scene.nu, scene.material)
     a = getattr(scene, "a", 1.0)
     thickness = Thickness(scene.zeta1_used(), scene.h, scene.n_quad)
     r = ca.SX.sym("r")
     energy = shell_energy((1.0, 0.0, getattr(scene, "gamma", 0.0), 0.0, 0.0, r, 0.0, 0.0), lam, mu, thickness, a)
+    # pressure: -p V with V = pi r^2 L, per unit reference area 2 pi a L: -p r^2 / (2a) (follower, at t = 0)
+    p0 = getattr(scene, "pressure", 0.0)
+    if p0:
+        from .model.loads import history
+
+        energy = energy - p0 * history(scene.load_histories()["pressure"], 0.0) * r * r / (2 * a)
     force = ca.gradient(energy, r)
     newton = ca.Function("newton", [r], [force, ca.jacobian(force, r)])
     R = a

@@ -82,6 +82,17 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
         totals["delta_min"],
         {"units": "m", "long_name": "minimum over s of delta = r beta1 cos(psi) (must stay positive)"},
     )
+    balance = None
+    if system.n_extra:
+        data["work"] = (("time",), totals["work"], {"units": "J", "long_name":
+                        "work done on the shell so far by the loads (pressure, gravity, end forces and torques)"})
+        data["dissipated"] = (("time",), totals["dissipated"], {"units": "J", "long_name":
+                              "energy dissipated so far by viscosity and drag"})
+        energy = totals["kinetic"] + totals["stored"]
+        defect = energy - energy[0] - totals["work"] + totals["dissipated"]
+        exchange = max(float(np.max(np.abs(totals["work"]))), float(np.max(np.abs(totals["dissipated"]))),
+                       float(np.max(np.abs(energy - energy[0]))), 1e-300)
+        balance = float(np.max(np.abs(defect)) / exchange)
     if system.viscous:
         data["dissipation"] = (
             ("time",),
@@ -116,6 +127,7 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
         "rho_I": float(system.rho_i),
         "rho_J": system.rho_j,
         "zeta1_used": system.thickness.zeta1,
+        "energy_balance_error": "n/a (no loads)" if balance is None else balance,
         "edge_s0": system.edges[0],
         "edge_sL": system.edges[1],
         "meridian": system.meridian.describe(),

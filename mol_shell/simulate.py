@@ -214,7 +214,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     scene = resolve(scene)
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
-    y0 = system.initial_state(scene)
+    y0, start_info = initial_state(scene, system, n)
     omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
     if integrator == "leapfrog":
         dt = method.dt
@@ -245,6 +245,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         "max_damping_rate": damping,
         "units_max_damping_rate": "s-1",
         "leapfrog_dt_bound_s": 1.0 / omega_max,
+        "initial_state": start_info,
     })
     ds = build_dataset(system, scene, traj, velocities, totals, attrs)
     if stresses is not False:
@@ -254,10 +255,20 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     return ds
 
 
+def initial_state(scene, system, n):
+    """``(y0, how)``: the scene's initial state, or the static equilibrium under its loads when it asks for one."""
+    y0 = system.initial_state(scene)
+    if scene.at_equilibrium() and getattr(scene, "loaded", False):
+        from .analysis.statics import static_equilibrium
+
+        return static_equilibrium(scene, n, y0)
+    return y0, "as given by the scene's parameters"
+
+
 def observe(system, states):
     """Rates and per-time totals (energies, angular momentum, min delta) of saved states."""
     out = system.observables.map(len(states))(np.asarray(states).T)
-    v, kinetic, stored, angular, delta, dissipation = (np.array(x) for x in out)
+    v, kinetic, stored, angular, delta, dissipation, work, dissipated = (np.array(x) for x in out)
     velocities = np.stack([v[:, i * system.n : (i + 1) * system.n] for i in range(len(states))])
     totals = {
         "kinetic": kinetic.ravel(),
@@ -265,6 +276,8 @@ def observe(system, states):
         "angular_momentum": angular.ravel(),
         "delta_min": delta.min(axis=0),
         "dissipation": dissipation.ravel(),
+        "work": work.ravel(),
+        "dissipated": dissipated.ravel(),
     }
     return velocities, totals
 

@@ -55,7 +55,7 @@ def _blocks(system, y0):
 
 def check_equilibrium(system, y0, scene_name):
     """Refuse (ParameterError) a state that is moving or out of equilibrium, saying how far and where."""
-    f = np.array(system.rhs(0, y0)).ravel().reshape(system.n, system.ny)
+    f = np.array(system.rhs_newton(0, y0)).ravel()[: system.ny * system.n].reshape(system.n, system.ny)
     nf = system.nf
     rates, forces = np.abs(f[:, :nf]), np.abs(f[:, nf:])
     if rates.max() > 0:
@@ -99,8 +99,10 @@ def modes(scene, n=40, count=10):
     scene = resolve(as_scene(scene))
     if not isinstance(count, (int, np.integer)) or isinstance(count, bool) or count < 1:
         raise ParameterError("count", count, "integers >= 1")
+    from ..simulate import initial_state
+
     system, _ = build(scene, n)
-    y0 = system.initial_state(scene)
+    y0, _ = initial_state(scene, system, n)
     check_equilibrium(system, y0, scene.name)
     q_idx, Minv, K = _blocks(system, y0)
     size = len(q_idx)

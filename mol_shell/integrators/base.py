@@ -60,8 +60,13 @@ class Monitor:
         self.energy_limit = None
         if y0 is not None:
             out = self._observe(y0)
-            e0 = float(out[1]) + float(out[2])
+            e0 = self._balance(out)
             self.energy_limit = e0 + self.ENERGY_GROWTH * abs(e0) + 1e-9 * scale
+
+    @staticmethod
+    def _balance(out):
+        """``E - work + dissipated``: constant for the exact motion (``E`` alone without loads)."""
+        return float(out[1]) + float(out[2]) - float(out[6]) + float(out[7])
 
     def check(self, y, t):
         """Raise :class:`ModelLimitError` naming time and place if ``y`` breaks a limit.
@@ -76,11 +81,11 @@ class Monitor:
                 f"non-finite state at t = {t:.9g} s, s = {self.system.s[bad]:.6g} m", t, f"s = {self.system.s[bad]:.6g} m"
             )
         out = self._observe(y)
-        energy = float(out[1]) + float(out[2])
+        energy = self._balance(out)
         if self.energy_limit is not None and not energy <= self.energy_limit:
             raise NumericalInstabilityError(
                 f"numerical instability: the total energy grew to {energy:.6g} J (limit {self.energy_limit:.6g} J; "
-                f"with no loads it cannot grow) at t = {t:.9g} s",
+                f"less the work of any loads, it cannot grow) at t = {t:.9g} s",
                 t,
                 "whole shell",
             )

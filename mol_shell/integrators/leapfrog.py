@@ -67,7 +67,7 @@ class Leapfrog:
         f = compiled.evaluator()
         dt = self.dt
         ya = np.array(y0, dtype=float)
-        yb = ya + dt * f(ya + 0.5 * dt * f(ya))
+        yb = ya + dt * f(ya + 0.5 * dt * f(ya, 0.0), 0.5 * dt)
         saved = [ya.copy()]
         k, n_rhs = 1, 2
         status, message, failure = "complete", "completed", float("nan")
@@ -78,7 +78,7 @@ class Leapfrog:
                 while k < target:
                     m = int(min(self.chunk, target - k))
                     chunk_start = (ya.copy(), yb.copy(), k)
-                    taken, stopped = compiled.leapfrog(ya, yb, m, dt)  # stops at the first step outside the limits
+                    taken, stopped = compiled.leapfrog(ya, yb, m, dt, k * dt)  # stops at the first step outside the limits
                     k += taken
                     n_rhs += taken
                     if stopped:
@@ -110,5 +110,5 @@ class Leapfrog:
     def _locate(compiled, monitor, ya, yb, k, m, dt):
         """Redo a chunk one step at a time; raises at the first step that breaks a limit."""
         for j in range(1, m + 1):
-            compiled.leapfrog(ya, yb, 1, dt)
+            compiled.leapfrog(ya, yb, 1, dt, (k + j - 1) * dt)
             monitor.check(yb, (k + j) * dt)

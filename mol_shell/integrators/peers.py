@@ -25,7 +25,7 @@ import numpy as np
 import scipy.integrate
 import scipy.sparse as sp
 
-from ..errors import ModelLimitError
+from ..errors import ModelLimitError, ParameterError
 from .base import Monitor, Trajectory
 from .sundials import _Sundials, pieces
 
@@ -70,7 +70,7 @@ class ScipyRK45(_Peer):
         saved, reached = [np.array(y0, dtype=float)], [0.0]
         status, message, failure = "complete", "completed", float("nan")
         start = time.perf_counter()
-        solver = solver_cls(lambda t, y: f(y).copy(), 0.0, np.array(y0, dtype=float), float(times[-1]), **options)
+        solver = solver_cls(lambda t, y: f(y, t).copy(), 0.0, np.array(y0, dtype=float), float(times[-1]), **options)
         steps, k = 0, 1
         try:
             while k < len(times):
@@ -146,8 +146,9 @@ class CasadiCVODES(_Peer):
     plugin_options = {}
 
     def _dae(self, system):
-        y = ca.SX.sym("y", system.size) if not system.mapped else ca.MX.sym("y", system.size)
-        return {"x": y, "ode": system.rhs(0, y)}
+        sym = ca.SX if not system.mapped else ca.MX
+        t, y = sym.sym("t"), sym.sym("y", system.size)
+        return {"t": t, "x": y, "ode": system.rhs(t, y)}
 
     def _initial(self, system, y0):
         return {"x0": y0}
@@ -224,6 +225,9 @@ class CasadiIDAS(CasadiCVODES):
     def _dae(self, system):
         from ..dae import ShellDAE
 
+        if system.n_extra:
+            raise ParameterError("integrator", self.name, "leapfrog, cvode-bdf, cvode-adams, ida, the scipy peers or "
+                                 "casadi-cvodes for a scene with loads", hint="its semi-explicit DAE form takes no loads")
         dae = ShellDAE(system)
         nf, n = system.nf, system.n
         x, a = ca.MX.sym("x", system.size), ca.MX.sym("a", nf * n)
@@ -274,8 +278,8 @@ class CasadiCVODESCompiled(CasadiCVODES):
         ode = ca.Function("ode", [t, y], [system.rhs_mapped(t, y)], ["t", "y"], ["ydot"])
         # CasADi asks for derivatives when it builds the plugin: give it the compiled Jacobian (jac_ode)
         lib = CompiledFunctions([ode, ode.jacobian()])
-        u, d = ca.MX.sym("u", system.size), ca.MX.sym("d", system.size)
-        return {"x": u, "p": d, "ode": lib.functions["ode"](0, u * d) / d}
+        tt, u, d = ca.MX.sym("t"), ca.MX.sym("u", system.size), ca.MX.sym("d", system.size)
+        return {"t": tt, "x": u, "p": d, "ode": lib.functions["ode"](tt, u * d) / d}
 
     def _scale(self, system, y0):
         """``d = atol_vector / abstol``, cached per system, tolerance and initial state."""

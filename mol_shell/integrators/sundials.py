@@ -96,7 +96,7 @@ def _build_pieces(system, kind, jacobian):
         out["dae"] = dae
     else:
         t, y = system.rhs_mapped.mx_in()
-        funcs = [ca.Function("ode_jacobian", [t, y], [ca.jacobian(system.rhs_mapped(t, y), y)])]
+        funcs = [ca.Function("ode_jacobian", [t, y], [ca.jacobian(system.rhs_newton_mapped(t, y), y)])]
     jac = funcs[-1]
     if jacobian == "compiled":
         lib = CompiledFunctions(funcs)
@@ -211,7 +211,11 @@ class _Sundials:
                 V[k] = 1.0
                 m = np.array(system.momenta(Q, V))[k]
                 m[m <= 0] = m.max()
-                vec[nf + j :: 2 * nf] *= m
+                vec[nf + j : system.ny * system.n : 2 * nf] *= m
+        if system.n_extra:  # work and dissipated (J): atol times the energy of a unit strain of the shell
+            area = 2 * np.pi * float(np.sum(system.weights * system.reference[1]))
+            scale = area * 2 * system.scene.h * (system.lam + 2 * system.mu)
+            vec = np.concatenate([vec, np.full(system.n_extra, float(fa.min()) * scale)])
         return vec
 
     def choose_linsolver(self, size):
@@ -321,7 +325,7 @@ class _Run:
 
             def rhsfn(t, y, yp):
                 self._trial(t)
-                yp[:] = f(y)
+                yp[:] = f(y, t)
 
             def jacfn(t, y, yp, JJ):
                 if sparse:

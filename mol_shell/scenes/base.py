@@ -17,6 +17,7 @@ import numpy as np
 from ..ends import check_edge
 from ..errors import ParameterError, is_number
 from ..model.geometry import base_offset, thickness_volume_factor
+from ..model.loads import parse_history
 from ..model.material import MATERIALS, centroidal_offset
 
 UNITS = {
@@ -24,7 +25,8 @@ UNITS = {
     "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
     "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "dR": "m", "a": "m", "b": "m",
     "alpha1": "rad", "alpha2": "rad", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
-    "points": "1",
+    "points": "1", "pressure": "Pa", "gravity": "m s-2", "drag": "N s m-3", "end1_force": "N", "end2_force": "N",
+    "end1_torque": "N m", "end2_torque": "N m",
     # integrator options (varied in studies)
     "dt": "s", "rtol": "1", "atol": "1", "max_step": "s",
 }
@@ -42,8 +44,15 @@ DESCRIPTIONS = {
     "r1": "radius of the cone's edge at s = 0", "r2": "radius of the cone's edge at s = L",
     "H": "axial length of the cone", "dilation": "initial uniform dilation of the natural shell",
     "end1": "edge condition at s = 0", "end2": "edge condition at s = L", "points": "file of meridian points (r, z)",
+    "pressure": "pressure on the base surface (follower, positive inflating)", "gravity": "gravity along -k",
+    "drag": "drag coefficient of the ambient fluid", "end1_force": "axial force on the edge at s = 0",
+    "end2_force": "axial force on the edge at s = L", "end1_torque": "axial torque on the edge at s = 0",
+    "end2_torque": "axial torque on the edge at s = L",
 }
 
+
+#: the loads a scene can carry (each with a ``NAME_history`` but drag)
+LOADS = ("pressure", "gravity", "drag", "end1_force", "end2_force", "end1_torque", "end2_torque")
 
 #: Gauss-Legendre points through the thickness: one point makes the director's inertia rhoJ = rhoI^2/rhoA,
 #: a singular mass matrix; more than 64 adds nothing but cost
@@ -100,6 +109,20 @@ class ShellScene:
     end1, end2 : str or None
         Edge conditions at ``s = 0`` and ``s = L``: ``magnet``, ``clamped``, ``pinned``, ``free``
         (:mod:`mol_shell.ends`); ``None`` (``auto``): a pole on the axis, ``magnet`` elsewhere.
+    pressure : float
+        Pressure on the base surface, Pa, a follower load, positive inflating (edges closed by lids in
+        their planes); ``pressure_history`` its time history (:mod:`mol_shell.model.loads`).
+    gravity : float
+        Gravitational acceleration along ``-k``, m s-2; ``gravity_history``.
+    drag : float
+        Ambient viscous fluid, N s m-3: force ``-drag x (velocity of the base surface)`` per unit reference area.
+    end1_force, end2_force : float
+        Axial force (along ``k``) on an edge, N; the edge's ``z`` must be free (``free`` edge); ``*_history``.
+    end1_torque, end2_torque : float
+        Axial torque (about ``k``) on an edge, N m; the edge's ``chi`` must be free (``magnet`` or ``free``); ``*_history``.
+
+    Every load is 0 (off) by default and then has no term in the graph. Histories: ``constant``,
+    ``step T0``, ``ramp T1``, ``sine F`` or ``table t0:h0 t1:h1 ...`` (a factor on the load).
     """
 
     h: float = 2.0 * math.pi * 1e-3
@@ -113,6 +136,19 @@ class ShellScene:
     material: str = "svk"
     end1: str | None = None
     end2: str | None = None
+    pressure: float = 0.0
+    pressure_history: str = "constant"
+    gravity: float = 0.0
+    gravity_history: str = "constant"
+    drag: float = 0.0
+    end1_force: float = 0.0
+    end1_force_history: str = "constant"
+    end2_force: float = 0.0
+    end2_force_history: str = "constant"
+    end1_torque: float = 0.0
+    end1_torque_history: str = "constant"
+    end2_torque: float = 0.0
+    end2_torque_history: str = "constant"
 
     name = "shell"
     #: indices into ``mol_shell.model.FIELDS`` of the fields this scene moves
@@ -143,8 +179,27 @@ class ShellScene:
             _check("zeta1", self.zeta1, lambda v: -2 * self.h <= v <= 0, f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m")
         for end in ("end1", "end2"):
             object.__setattr__(self, end, check_edge(end, getattr(self, end)))
+        for load in LOADS:
+            _check(load, getattr(self, load), lambda v: v >= 0 if load == "drag" else True,
+                   "[0, inf) N s m-3" if load == "drag" else f"finite values ({UNITS[load]})")
+            if load != "drag":
+                parse_history(load + "_history", getattr(self, load + "_history"))
         self._validate()
         self._check_thickness()
+
+    def at_equilibrium(self):
+        """Whether the run starts from the static equilibrium under the loads at ``t = 0`` (``R``/``dilation`` auto)."""
+        return False
+
+    @property
+    def loaded(self):
+        """Whether any load is on (then the run accounts the work done on the shell and the energy dissipated)."""
+        return any(getattr(self, load) != 0 for load in LOADS)
+
+    def load_histories(self):
+        """``{load: parsed history}`` of the loads that are on."""
+        return {load: parse_history(load + "_history", getattr(self, load + "_history", None)) if load != "drag"
+                else ("constant", ()) for load in LOADS if getattr(self, load) != 0}
 
     def _validate(self):
         """Checks of the subclass's own parameters (geometry and initial data)."""

@@ -1,8 +1,9 @@
 """Shells of revolution beyond the cylinder: sphere (closed, cap, zone), cone or frustum, torus segment, a meridian from points.
 
 Each scene starts from its natural shell, dilated (``R`` for the sphere, ``dilation`` elsewhere), twisted
-(``gamma``: ``chi = gamma (s - L/2)``) and spun (``omega``: rigid ``chi_t``); the default is the
-natural state at rest (an equilibrium, so ``mol-shell modes`` takes it as it is).
+(``gamma``: ``chi = gamma (s - L/2)``) and spun (``omega``: rigid ``chi_t``). ``R``/``dilation`` = auto
+(the default) is the static equilibrium under the loads at ``t = 0`` (``chi`` kept as given): without
+loads, the natural state at rest (an equilibrium, so ``mol-shell modes`` takes it as it is).
 """
 
 from __future__ import annotations
@@ -45,16 +46,22 @@ class _Excited(ShellScene):
 
 @dataclass(frozen=True)
 class _Dilated(_Excited):
-    dilation: float = 1.0
+    dilation: float | None = None
 
     initial = ("gamma", "omega", "dilation")
 
     def _validate(self):
         super()._validate()
-        _check("dilation", self.dilation, lambda v: 0.5 < v < 2, "(0.5, 2)")
+        if isinstance(self.dilation, str) and self.dilation.strip().lower() in ("auto", "none"):
+            object.__setattr__(self, "dilation", None)
+        if self.dilation is not None:
+            _check("dilation", self.dilation, lambda v: 0.5 < v < 2, "(0.5, 2), or auto")
 
     def scale(self):
-        return self.dilation
+        return 1.0 if self.dilation is None else self.dilation
+
+    def at_equilibrium(self):
+        return self.dilation is None
 
 
 @dataclass(frozen=True)
@@ -73,7 +80,8 @@ class Sphere(_Excited):
     alpha1, alpha2 : float
         Polar angles of the edges, rad, ``0 <= alpha1 < alpha2 <= pi``.
     R : float or None
-        Initial radius of the base surface, m (``None``: ``a``).
+        Initial radius of the base surface, m (``None``/auto: the static equilibrium under the loads at
+        ``t = 0``, the natural radius ``a`` without loads).
     """
 
     a: float = 1.0
@@ -99,6 +107,9 @@ class Sphere(_Excited):
 
     def scale(self):
         return 1.0 if self.R is None else self.R / self.a
+
+    def at_equilibrium(self):
+        return self.R is None
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,105 @@
+"""External loads: pressure, gravity, an ambient viscous fluid, end forces and torques, and their time histories.
+
+Each load is a potential or a Rayleigh function, so the variational form (Hamilton's equations with
+generalised forces) keeps working (paper, section 3: the loads ``f`` and ``l`` of the balance laws):
+
+* pressure ``p`` on the base surface, a follower load: potential ``-p V`` with ``V = pi int r^2 z_s ds``,
+  the volume between the axis and the base surface, bounded by the planes of its edges (signed so that
+  inflation increases it). An open meridian is closed by lids in its end planes: the term
+  ``pi r^2 dz`` at an edge is the lids' axial push. Discretely ``V = pi sum_cells r_mid^2 (z_{i+1} - z_i)``;
+* gravity ``g`` along ``-k``: potential ``g sum_nodes (mA z + mI d.k)`` with the nodal inertias of the
+  lumped kinetic energy (``d.k = -sin(theta) cos(psi)``);
+* drag ``c`` (an ambient viscous fluid): Rayleigh function ``c/2 sum_nodes A_i |r_t|^2`` with ``A_i`` the
+  reference area of node ``i``'s dual cell; its power ``2 R`` is dissipated;
+* end force ``F`` (along ``k``) and torque ``M`` (about ``k``) on an edge: potentials ``-F z_end`` and
+  ``-M chi_end``.
+
+A load's time history multiplies it: ``h(t)`` from :func:`history` (constant, step, ramp, sine or a table).
+Functions take floats or CasADi expressions.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import ParameterError
+
+HISTORIES = ("constant", "step T0", "ramp T1", "sine F", "table t0:h0 t1:h1 ...")
+HISTORY_ALLOWED = ("'constant', 'step T0' (0 before T0 s, then 1), 'ramp T1' (t/T1 up to 1), 'sine F' "
+                   "(sin(2 pi F t), F in Hz) or 'table t0:h0 t1:h1 ...' (linear between, held beyond; times increasing)")
+
+
+def parse_history(name, spec):
+    """``(kind, data)`` of a history string; refuses anything else naming ``name`` and the forms allowed."""
+    if spec is None:
+        return ("constant", ())
+    if not isinstance(spec, str):
+        raise ParameterError.not_a(name, spec, "a string", HISTORY_ALLOWED)
+    words = spec.replace(",", " ").split()
+    if not words:
+        raise ParameterError(name, spec, HISTORY_ALLOWED)
+    kind, rest = words[0].lower(), words[1:]
+    try:
+        if kind == "constant" and not rest:
+            return ("constant", ())
+        if kind in ("step", "ramp", "sine") and len(rest) == 1:
+            value = float(rest[0])
+            ok = math.isfinite(value) and (value >= 0 if kind == "step" else value > 0)
+            if ok:
+                return (kind, (value,))
+        if kind == "table" and len(rest) >= 2:
+            pairs = [tuple(float(x) for x in item.split(":")) for item in rest]
+            if all(len(p) == 2 for p in pairs):
+                t = np.array([p[0] for p in pairs])
+                h = np.array([p[1] for p in pairs])
+                if np.all(np.isfinite(t)) and np.all(np.isfinite(h)) and np.all(np.diff(t) > 0):
+                    return ("table", (tuple(t), tuple(h)))
+    except ValueError:
+        pass
+    raise ParameterError(name, spec, HISTORY_ALLOWED)
+
+
+def history(parsed, t):
+    """``h(t)`` of a parsed history, for a float or a CasADi ``t``."""
+    import casadi as ca
+
+    kind, data = parsed
+    if kind == "constant":
+        return 1.0
+    if kind == "step":
+        return ca.if_else(t >= data[0], 1.0, 0.0) if not isinstance(t, (int, float)) else float(t >= data[0])
+    if kind == "ramp":
+        return ca.fmin(t / data[0], 1.0) if not isinstance(t, (int, float)) else min(t / data[0], 1.0)
+    if kind == "sine":
+        return ca.sin(2 * math.pi * data[0] * t) if not isinstance(t, (int, float)) else math.sin(2 * math.pi * data[0] * t)
+    times, values = data
+    if isinstance(t, (int, float)):
+        return float(np.interp(t, times, values))
+    tt = ca.fmax(ca.fmin(t, times[-1]), times[0])  # held beyond the table
+    return ca.pw_lin(tt, ca.DM(times), ca.DM(values))
+
+
+def cell_volume(zl, zr, rl, rr):
+    """``pi r_mid^2 (z_r - z_l)``: a cell's share of the volume under the base surface (midpoint rule)."""
+    r = (rl + rr) / 2
+    return math.pi * r * r * (zr - zl)
+
+
+def gravity_potential(q, m_a, m_i, g):
+    """``g (mA z + mI d.k)`` of a node with fields ``q = (z, r, chi, theta, psi)`` (``d.k = -sin theta cos psi``)."""
+    from casadi import cos, sin
+
+    z, _, _, theta, psi = q
+    out = g * m_a * z
+    if not (isinstance(m_i, (int, float)) and m_i == 0):
+        out = out - g * m_i * sin(theta) * cos(psi)
+    return out
+
+
+def drag_rayleigh(q, v, area, drag):
+    """``drag/2 area |r_t|^2`` with ``r_t = z_t k + r_t a2 + r chi_t a3``: a node's Rayleigh function."""
+    r = q[1]
+    z_t, r_t, chi_t = v[0], v[1], v[2]
+    return 0.5 * drag * area * (z_t * z_t + r_t * r_t + (r * chi_t) ** 2)
