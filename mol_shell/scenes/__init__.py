@@ -8,7 +8,7 @@ allowed range.
 from __future__ import annotations
 
 from ..errors import ParameterError
-from .base import DESCRIPTIONS, N_QUAD_RANGE, UNITS, ShellScene, _check, _coerce, check_radius, with_params, zeta1_used
+from .base import DESCRIPTIONS, DRIVES, LOADS, N_QUAD_RANGE, UNITS, ShellScene, _check, _coerce, check_radius, with_params, zeta1_used
 from .cylinder import Axisymmetric, CylinderScene, SpinningRing, TwistedCylinder
 from .shells import Cone, MeridianShell, Sphere, Torus
 

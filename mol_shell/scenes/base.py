@@ -26,7 +26,8 @@ UNITS = {
     "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "dR": "m", "a": "m", "b": "m",
     "alpha1": "rad", "alpha2": "rad", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
     "points": "1", "pressure": "Pa", "gravity": "m s-2", "drag": "N s m-3", "end1_force": "N", "end2_force": "N",
-    "end1_torque": "N m", "end2_torque": "N m",
+    "end1_torque": "N m", "end2_torque": "N m", "end1_spin": "rad s-1", "end2_spin": "rad s-1",
+    "end1_axial_speed": "m s-1", "end2_axial_speed": "m s-1", "end_omega": "rad s-1",
     # integrator options (varied in studies)
     "dt": "s", "rtol": "1", "atol": "1", "max_step": "s",
 }
@@ -47,12 +48,16 @@ DESCRIPTIONS = {
     "pressure": "pressure on the base surface (follower, positive inflating)", "gravity": "gravity along -k",
     "drag": "drag coefficient of the ambient fluid", "end1_force": "axial force on the edge at s = 0",
     "end2_force": "axial force on the edge at s = L", "end1_torque": "axial torque on the edge at s = 0",
-    "end2_torque": "axial torque on the edge at s = L",
+    "end2_torque": "axial torque on the edge at s = L", "end1_spin": "prescribed spin rate of the edge at s = 0",
+    "end2_spin": "prescribed spin rate of the edge at s = L", "end1_axial_speed": "prescribed axial speed of the edge at s = 0",
+    "end2_axial_speed": "prescribed axial speed of the edge at s = L", "end_omega": "both ends spun at this rate from t = 0",
 }
 
 
 #: the loads a scene can carry (each with a ``NAME_history`` but drag)
 LOADS = ("pressure", "gravity", "drag", "end1_force", "end2_force", "end1_torque", "end2_torque")
+#: driven edges: prescribed rates of an edge's chi and z (each with a ``NAME_history``)
+DRIVES = ("end1_spin", "end2_spin", "end1_axial_speed", "end2_axial_speed")
 
 #: Gauss-Legendre points through the thickness: one point makes the director's inertia rhoJ = rhoI^2/rhoA,
 #: a singular mass matrix; more than 64 adds nothing but cost
@@ -121,8 +126,14 @@ class ShellScene:
     end1_torque, end2_torque : float
         Axial torque (about ``k``) on an edge, N m; the edge's ``chi`` must be free (``magnet`` or ``free``); ``*_history``.
 
-    Every load is 0 (off) by default and then has no term in the graph. Histories: ``constant``,
-    ``step T0``, ``ramp T1``, ``sine F`` or ``table t0:h0 t1:h1 ...`` (a factor on the load).
+    end1_spin, end2_spin : float
+        Driven edge: its ``chi`` turned at this rate, rad s-1, times ``*_spin_history`` (``chi_t`` prescribed; the
+        reaction torque is in the run's ``reaction_torque``). Not at a pole.
+    end1_axial_speed, end2_axial_speed : float
+        Driven edge: its ``z`` moved at this speed, m s-1, times ``*_axial_speed_history``. Not at a pole.
+
+    Every load and drive is 0 (off) by default and then has no term in the graph. Histories: ``constant``,
+    ``step T0``, ``ramp T1``, ``sine F`` or ``table t0:h0 t1:h1 ...`` (a factor on the load or rate).
     """
 
     h: float = 2.0 * math.pi * 1e-3
@@ -149,6 +160,14 @@ class ShellScene:
     end1_torque_history: str = "constant"
     end2_torque: float = 0.0
     end2_torque_history: str = "constant"
+    end1_spin: float = 0.0
+    end1_spin_history: str = "constant"
+    end2_spin: float = 0.0
+    end2_spin_history: str = "constant"
+    end1_axial_speed: float = 0.0
+    end1_axial_speed_history: str = "constant"
+    end2_axial_speed: float = 0.0
+    end2_axial_speed_history: str = "constant"
 
     name = "shell"
     #: indices into ``mol_shell.model.FIELDS`` of the fields this scene moves
@@ -179,7 +198,7 @@ class ShellScene:
             _check("zeta1", self.zeta1, lambda v: -2 * self.h <= v <= 0, f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m")
         for end in ("end1", "end2"):
             object.__setattr__(self, end, check_edge(end, getattr(self, end)))
-        for load in LOADS:
+        for load in LOADS + DRIVES:
             _check(load, getattr(self, load), lambda v: v >= 0 if load == "drag" else True,
                    "[0, inf) N s m-3" if load == "drag" else f"finite values ({UNITS[load]})")
             if load != "drag":
@@ -193,8 +212,19 @@ class ShellScene:
 
     @property
     def loaded(self):
-        """Whether any load is on (then the run accounts the work done on the shell and the energy dissipated)."""
-        return any(getattr(self, load) != 0 for load in LOADS)
+        """Whether any load or drive is on (then the run accounts the work done on the shell and the energy dissipated)."""
+        return any(getattr(self, load) != 0 for load in LOADS + DRIVES)
+
+    def drives(self):
+        """``{(end node 0 or 1, field 0 = z or 2 = chi): (rate, parsed history)}`` of the driven edges."""
+        out = {}
+        for end in (0, 1):
+            for kind, field in (("axial_speed", 0), ("spin", 2)):
+                name = f"end{end + 1}_{kind}"
+                value = getattr(self, name)
+                if value:
+                    out[(end, field)] = (value, parse_history(name + "_history", getattr(self, name + "_history")))
+        return out
 
     def load_histories(self):
         """``{load: parsed history}`` of the loads that are on."""

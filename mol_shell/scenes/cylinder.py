@@ -70,11 +70,15 @@ class TwistedCylinder(CylinderScene):
         Initial uniform spin rate ``chi_t``, rad/s.
     psi0 : float
         Initial uniform shear angle ``psi``, rad, in (-pi/2, pi/2).
+    end_omega : float
+        Both ends turned at this rate from ``t = 0`` (the magnets spun up), rad s-1: ``end1_spin`` and
+        ``end2_spin`` where those are 0.
     """
 
     gamma: float = 0.1
     omega: float = 0.0
     psi0: float = 0.0
+    end_omega: float = 0.0
 
     name = "twisted-cylinder"
     initial = ("R", "gamma", "omega", "psi0")
@@ -84,6 +88,18 @@ class TwistedCylinder(CylinderScene):
         _check("gamma", self.gamma, lambda v: True, "finite values (rad/m)")
         _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
         _check("psi0", self.psi0, lambda v: abs(v) < math.pi / 2, "(-pi/2, pi/2) rad")
+        _check("end_omega", self.end_omega, lambda v: True, "finite values (rad/s)")
+
+    @property
+    def loaded(self):
+        return super().loaded or self.end_omega != 0
+
+    def drives(self):
+        out = super().drives()
+        if self.end_omega:
+            for end in (0, 1):
+                out.setdefault((end, 2), (float(self.end_omega), ("constant", ())))
+        return out
 
     def initial_fields(self, s, reference):
         Q, V = super().initial_fields(s, reference)
