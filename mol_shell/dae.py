@@ -44,12 +44,16 @@ class ShellDAE:
         self.size = system.size
         self._build()
 
-    def _node_residual(self, free):
-        """``(q, v, q_t, v_t, m) -> M(q) v_t + (dp/dq) q_t - dT/dq`` at a node whose free rates are ``free``."""
+    def _node_residual(self, free, moving=()):
+        """``(q, v, q_t, v_t, m) -> M(q) v_t + (dp/dq) q_t - dT/dq`` at a node whose free rates are ``free``.
+
+        ``moving``: further fields whose (prescribed) rates enter the kinetic energy (driven edges); their
+        rows, like those of imposed fields, read ``m v_t``.
+        """
         sy = self.system
         q, v, qt, vt = (ca.SX.sym(name, NF) for name in ("q", "v", "qt", "vt"))
         m = ca.SX.sym("m", 3)
-        vf = [v[k] if k in free else 0 for k in range(NF)]
+        vf = [v[k] if k in free or k in moving else 0 for k in range(NF)]
         T = sy.kinetic_energy(ca.vertsplit(q), vf, ca.vertsplit(m))
         p = ca.gradient(T, v)
         inertial = ca.jtimes(p, q, qt) + ca.jtimes(p, v, vt) - ca.gradient(T, q)
@@ -67,6 +71,19 @@ class ShellDAE:
         Q, V, QT, VT = sy._fields(X), sy._fields(X, nf), sy._fields(XP), sy._fields(XP, nf)
         free = ca.DM((~sy.fixed.T).astype(float))
         V = V * free  # fixed rates enter nowhere (they stay 0)
+        driven = {e: sy.driven_fields(e) for e in (0, n - 1) if sy.driven_fields(e)}
+        if driven:  # prescribed rates and their derivatives at driven edges
+            mask = np.ones((NF, n))
+            for e, fields in driven.items():
+                mask[fields, e] = 0.0
+            VT_raw = VT
+            VT = VT * ca.DM(mask)  # a driven rate's derivative is prescribed (the x entry stays 0, its row m v_t)
+            cols = {e: sy.driven_rates(e, t) for e in driven}
+            zero = ca.MX.zeros(NF, 1)
+            V = V + ca.horzcat(cols[0][0] if 0 in cols else zero, ca.MX.zeros(NF, n - 2),
+                               cols[n - 1][0] if n - 1 in cols else zero)
+            VT = VT + ca.horzcat(cols[0][1] if 0 in cols else zero, ca.MX.zeros(NF, n - 2),
+                                 cols[n - 1][1] if n - 1 in cols else zero)
         forces = sy.elastic_forces(Q)  # dV/dq, the stored energy of ShellSystem
         dissipation = 0
         if sy.viscous:
@@ -80,14 +97,22 @@ class ShellDAE:
 
             load_forces, power, drag_power = load_terms(sy, sy.scene, t, Q, sy.tie(V))
             forces = forces - load_forces
+            first, _, last = sy.free_sets()
+            for e, fields in driven.items():  # reaction = the driven rows' residual: what the driver supplies
+                whole = (first if e == 0 else last) + fields
+                rows = self._node_residual(whole)(Q[:, e], V[:, e], QT[:, e], VT[:, e], sy.inertia[:, e])
+                for k in fields:
+                    power = power + (rows[k] + forces[k, e]) * V[k, e]
             extra_rows = [xp[body] - power, xp[body + 1] - dissipation - drag_power]
             extra_newton = [xp[body], xp[body + 1]]  # the accumulators do not feed back: cj on the diagonal only
         first, inner, last = sy.free_sets()
         m = sy.inertia
         ri = self._node_residual(inner).map(n - 2)(Q[:, 1:-1], V[:, 1:-1], QT[:, 1:-1], VT[:, 1:-1], m[:, 1:-1])
-        r0 = self._node_residual(first)(Q[:, 0], V[:, 0], QT[:, 0], VT[:, 0], m[:, 0])
-        rn = self._node_residual(last)(Q[:, -1], V[:, -1], QT[:, -1], VT[:, -1], m[:, -1])
+        r0 = self._node_residual(first, driven.get(0, ()))(Q[:, 0], V[:, 0], QT[:, 0], VT[:, 0], m[:, 0])
+        rn = self._node_residual(last, driven.get(n - 1, ()))(Q[:, -1], V[:, -1], QT[:, -1], VT[:, -1], m[:, -1])
         momentum = ca.horzcat(r0, ri, rn) + forces * free
+        if driven:  # the driven fields' own rows: m v_t = 0 on their (unused) x entries
+            momentum = momentum + ca.DM(1.0 - mask) * (VT_raw - VT) * ca.repmat(ca.DM(sy.inertia[0][None, :]), NF, 1)
         kinematic = QT - sy.tie(V)  # a pole's chi follows its neighbour's rate
         motion = ca.vec(ca.vertcat(kinematic[active, :], momentum[active, :]))
         F = ca.vertcat(motion, *extra_rows)

@@ -127,6 +127,14 @@ class ShellSystem:
         for pole, _ in self.ties:
             self.fixed[pole, 2] = True
         self.cell_data = self._cell_data()
+        self.drives = scene.drives() if hasattr(scene, "drives") else {}
+        for (e, k), _ in self.drives.items():
+            node, name = (0, "end1") if e == 0 else (self.n - 1, "end2")
+            if self.edges[e] == "pole" or k not in self.active:
+                what = "spin" if k == 2 else "axial_speed"
+                raise ParameterError(f"{name}_{what}", self.drives[(e, k)][0], "0 for this edge",
+                                     hint=f"{name} is a pole" if self.edges[e] == "pole" else "this scene has no chi")
+            self.fixed[node, k] = True  # driven: the rate is prescribed, the momentum is not a state
         self.n_extra = 2 if getattr(scene, "loaded", False) else 0  # work and dissipated, integrated with the motion
         if self.n_extra:
             from .loading import check_end_loads
@@ -264,9 +272,50 @@ class ShellSystem:
         v_full[free] = v_of_p
         return ca.Function("node", [q, p, m], [v_full, dTdq, T_p], self.KERNEL_OPTIONS)
 
+    def _driven_node_kernel(self, free, driven):
+        """``(q, p, m, vd) -> (v, dT/dq, T, p_d, dp_d/dq, dp_d/dp, dp_d/dvd)`` for an edge node with driven rates.
+
+        ``vd`` holds the prescribed rates (entries ``driven``); ``p_d = dT/dv_d`` are the momenta conjugate to
+        the driven fields (not states: the reaction is ``d p_d/dt`` less the other generalised forces).
+        """
+        q, p, m, vd = ca.SX.sym("q", NF), ca.SX.sym("p", NF), ca.SX.sym("m", 3), ca.SX.sym("vd", NF)
+        vf = ca.SX.sym("v", len(free))
+        v = [vf[free.index(k)] if k in free else (vd[k] if k in driven else 0) for k in range(NF)]
+        T = self.kinetic_energy(ca.vertsplit(q), v, ca.vertsplit(m))
+        M = ca.hessian(T, vf)[0]
+        lin = ca.substitute(ca.gradient(T, vf), vf, ca.DM.zeros(len(free)))  # the driven rates' share of p
+        v_of_p = ca.solve(M, p[free] - lin)
+        dTdq = ca.substitute(ca.gradient(T, q), vf, v_of_p)
+        T_p = ca.substitute(T, vf, v_of_p)
+        v_full = ca.SX.zeros(NF)
+        v_full[free] = v_of_p
+        for k in driven:
+            v_full[k] = vd[k]
+        pd = ca.substitute(ca.vertcat(*[ca.jacobian(T, vd)[k] for k in driven]), vf, v_of_p)  # dT/dv_d
+        outs = [v_full, dTdq, T_p, pd, ca.jacobian(pd, q), ca.jacobian(pd, p), ca.jacobian(pd, vd)]
+        return ca.Function("driven_node", [q, p, m, vd], outs, self.KERNEL_OPTIONS)
+
     def free_sets(self):
-        """Free rates at node 0, at interior nodes and at node ``n - 1``."""
-        return (free_rates(self.edges[0], self.active), list(self.active), free_rates(self.edges[1], self.active))
+        """Free rates at node 0, at interior nodes and at node ``n - 1`` (imposed, tied and driven fields are not)."""
+        ends = [[k for k in free_rates(kind, self.active) if k not in self.driven_fields(e)]
+                for kind, e in zip(self.edges, (0, self.n - 1))]
+        return ends[0], list(self.active), ends[1]
+
+    def driven_fields(self, node):
+        """Fields of edge node ``node`` whose rates are prescribed (driven edges)."""
+        end = 0 if node == 0 else 1 if node == self.n - 1 else None
+        return sorted(k for (e, k) in self.drives if e == end)
+
+    def driven_rates(self, node, t):
+        """``(vd, vd_t)`` (5-vectors, MX) of the prescribed rates at edge node ``node`` and their time derivatives."""
+        from .model.loads import history, history_rate
+
+        end = 0 if node == 0 else 1
+        vd, vd_t = [0] * NF, [0] * NF
+        for (e, k), (rate, hist) in self.drives.items():
+            if e == end:
+                vd[k], vd_t[k] = rate * history(hist, t), rate * history_rate(hist, t)
+        return ca.vertcat(*vd), ca.vertcat(*vd_t)
 
     # -- assembly ------------------------------------------------------------------------
     def _fields(self, Y, offset=0):
@@ -330,9 +379,19 @@ class ShellSystem:
         Q, P = self._fields(Y), self._fields(Y, nf)
         first, inner, last = self.free_sets()
         interior = self._node_kernel(inner)
+        t = ca.MX.sym("t")
         vi, fi, ti = interior.map(n - 2)(Q[:, 1:-1], P[:, 1:-1], self.inertia[:, 1:-1])
-        v0, f0, t0 = self._node_kernel(first)(Q[:, 0], P[:, 0], self.inertia[:, 0])
-        vn, fn, tn = self._node_kernel(last)(Q[:, -1], P[:, -1], self.inertia[:, -1])
+        ends, drive_terms = [], []
+        for e, free in ((0, first), (n - 1, last)):
+            driven = self.driven_fields(e)
+            if driven:
+                vd, vd_rate = self.driven_rates(e, t)
+                out = self._driven_node_kernel(free, driven)(Q[:, e], P[:, e], self.inertia[:, e], vd)
+                ends.append(out[:3])
+                drive_terms.append((e, driven, vd, vd_rate, out[3:]))
+            else:
+                ends.append(self._node_kernel(free)(Q[:, e], P[:, e], self.inertia[:, e]))
+        (v0, f0, t0), (vn, fn, tn) = ends
         V = self.tie(ca.horzcat(v0, vi, vn))
         forces = ca.horzcat(f0, fi, fn) - self.elastic_forces(Q)
         dissipation = 0
@@ -341,20 +400,32 @@ class ShellSystem:
             Qt = self.tie(Q)
             dissipation = ca.sum2(self._viscous_power().map(n - 1)(Qt[:, :-1], Qt[:, 1:], V[:, :-1], V[:, 1:],
                                                                   self.cell_data))
-        t = ca.MX.sym("t")
         rates = []
         work, dissipated = 0, 0
+        self._reactions = []
         if self.n_extra:
             from .loading import load_terms
 
             load_forces, power, drag_power = load_terms(self, self.scene, t, Q, V)
             forces = forces + load_forces
+            masked = forces * ca.DM((~self.fixed.T).astype(float))
+            for e, driven, vd, vd_rate, (pd, dq, dp, dvd) in drive_terms:
+                # reaction = d(p_d)/dt - (generalised forces on the driven fields): what the driver supplies
+                pd_rate = ca.mtimes(dq, V[:, e]) + ca.mtimes(dp, masked[:, e]) + ca.mtimes(dvd, vd_rate)
+                reaction = pd_rate - ca.vertcat(*[forces[k, e] for k in driven])
+                power = power + ca.dot(reaction, ca.vertcat(*[vd[k] for k in driven]))
+                self._reactions += [(e, k, reaction[j]) for j, k in enumerate(driven)]
             rates = [power, dissipation + drag_power]
             work, dissipated = y[self.ny * n], y[self.ny * n + 1]
         forces = forces * ca.DM((~self.fixed.T).astype(float))
         motion = ca.vec(ca.vertcat(V[active, :], forces[active, :]))
         ydot = ca.vertcat(motion, *rates)
         kinetic = ca.sum2(ti) + t0 + tn
+        reactions = ca.vertcat(*[r for _, _, r in self._reactions]) if self._reactions else ca.MX.zeros(0)
+        angular = ca.sum2(P[2, :])  # sum p_chi, with the momenta of driven chi (not states) added
+        for _, driven, _, _, (pd, _, _, _) in drive_terms:
+            angular = angular + sum(pd[j] for j, k in enumerate(driven) if k == 2)
+        self.reaction_names = [(e, k) for e, k, _ in self._reactions]
         Qt = self.tie(Q)
         energies, deltas = self._cell_observables().map(n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
         stored = ca.sum2(energies)
@@ -365,10 +436,10 @@ class ShellSystem:
                              ["ydot"])
         observables = ca.Function(
             "observables",
-            [y],
-            [V, kinetic, stored, ca.sum2(P[2, :]), ca.vec(deltas) / self.ds, dissipation, work, dissipated],
-            ["y"],
-            ["v", "kinetic", "stored", "angular_momentum", "delta", "dissipation", "work", "dissipated"],
+            [y, t],
+            [V, kinetic, stored, angular, ca.vec(deltas) / self.ds, dissipation, work, dissipated, reactions],
+            ["y", "t"],
+            ["v", "kinetic", "stored", "angular_momentum", "delta", "dissipation", "work", "dissipated", "reactions"],
         )
         self.rhs_mapped = rhs
         self.rhs_newton_mapped = newton

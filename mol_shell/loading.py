@@ -64,7 +64,11 @@ def volume_sign(system):
 
 
 def load_terms(system, scene, t, Q, V):
-    """``(forces 5 x n, power, drag dissipation 2R)`` of the scene's loads at time ``t`` (MX)."""
+    """``(forces 5 x n, power, drag dissipation 2R)`` of the scene's loads at time ``t`` (MX).
+
+    The forces are not masked: the caller removes those on imposed and driven fields from the equations
+    (a driven field's share goes into its reaction).
+    """
     n = system.n
     hist = scene.load_histories()
     forces = ca.MX.zeros(NF, n)
@@ -95,14 +99,13 @@ def load_terms(system, scene, t, Q, V):
                 unit = np.zeros((NF, n))
                 unit[row, node] = 1.0
                 forces = forces + value * ca.DM(unit)
-    forces = forces * ca.DM((~system.fixed.T).astype(float))
-    power = ca.sum1(ca.sum2(forces * V))
+    power = ca.sum1(ca.sum2(forces * V))  # imposed fields do not move; driven ones do, and loads work on them
     if "drag" in hist:
         q, v, a = ca.SX.sym("q", NF), ca.SX.sym("v", NF), ca.SX.sym("a")
         R = drag_rayleigh(ca.vertsplit(q), ca.vertsplit(v), a, scene.drag)
         f = ca.Function("drag", [q, v, a], [ca.gradient(R, v), 2 * R])
         dRdv, twice = f.map(n)(system.tie(Q), V, dual_areas(system)[None, :])
-        forces = forces - dRdv * ca.DM((~system.fixed.T).astype(float))
+        forces = forces - dRdv
         dissipation = ca.sum2(twice)
     return forces, power, dissipation
 

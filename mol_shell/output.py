@@ -93,6 +93,17 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
         exchange = max(float(np.max(np.abs(totals["work"]))), float(np.max(np.abs(totals["dissipated"]))),
                        float(np.max(np.abs(energy - energy[0]))), 1e-300)
         balance = float(np.max(np.abs(defect)) / exchange)
+    names = getattr(system, "reaction_names", [])
+    if names:
+        for k, (var, units, what) in {0: ("reaction_force", "N", "axial force"), 2: ("reaction_torque", "N m",
+                                                                                       "axial torque")}.items():
+            cols = [j for j, (_, field) in enumerate(names) if field == k]
+            if cols:
+                values = np.full((len(traj.t), 2), np.nan)
+                for j in cols:
+                    values[:, 0 if names[j][0] == 0 else 1] = totals["reactions"][:, j]
+                data[var] = (("time", "end"), values, {"units": units, "long_name":
+                             f"{what} the driver applies to the driven edge (NaN where the edge is not driven)"})
     if system.viscous:
         data["dissipation"] = (
             ("time",),
@@ -108,6 +119,8 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
                                   "comment": TIME_COMMENT}),
         "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"}),
     }
+    if names:
+        coords["end"] = ("end", ["end1", "end2"], {"long_name": "edge (end1 at s = 0, end2 at s = L)"})
     now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     meta = {
         "Conventions": "CF-1.8",

@@ -161,10 +161,12 @@ def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
         statistics in attrs (``integrator = "ring-ode/<method>"``).
     """
     from .errors import ParameterError
+    from .scenes.base import refuse_loads
     from .simulate import parse_times, resolve
 
     if getattr(scene, "gamma", 0.0) != 0.0:
         raise ParameterError("gamma", scene.gamma, "{0} for the ring ODE", hint="twisted motions are not uniform in s")
+    refuse_loads(scene, "the ring ODE of section 5")
     scene = resolve(scene)
     times = parse_times(times)
     system = ring_system(scene)

@@ -237,7 +237,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
             bar.close()
     if traj.status != "complete":
         warnings.warn(f"run incomplete: {traj.message}; keeping {len(traj.t)} saved times", RuntimeWarning, stacklevel=2)
-    velocities, totals = observe(system, traj.y)
+    velocities, totals = observe(system, traj.y, traj.t)
     attrs = {"integrator": integrator, **method.settings(), **system.graph_stats()}
     attrs.update({
         "build_time_s": build_time,
@@ -265,10 +265,11 @@ def initial_state(scene, system, n):
     return y0, "as given by the scene's parameters"
 
 
-def observe(system, states):
-    """Rates and per-time totals (energies, angular momentum, min delta) of saved states."""
-    out = system.observables.map(len(states))(np.asarray(states).T)
-    v, kinetic, stored, angular, delta, dissipation, work, dissipated = (np.array(x) for x in out)
+def observe(system, states, times=None):
+    """Rates and per-time totals (energies, angular momentum, min delta, reactions) of saved states."""
+    times = np.zeros(len(states)) if times is None else np.asarray(times, dtype=float)
+    out = system.observables.map(len(states))(np.asarray(states).T, times[None, :])
+    v, kinetic, stored, angular, delta, dissipation, work, dissipated, reactions = (np.array(x) for x in out)
     velocities = np.stack([v[:, i * system.n : (i + 1) * system.n] for i in range(len(states))])
     totals = {
         "kinetic": kinetic.ravel(),
@@ -278,6 +279,7 @@ def observe(system, states):
         "dissipation": dissipation.ravel(),
         "work": work.ravel(),
         "dissipated": dissipated.ravel(),
+        "reactions": reactions.T.reshape(len(states), -1),
     }
     return velocities, totals
 

@@ -41,6 +41,7 @@ import numpy as np
 from .errors import ModelLimitError, ParameterError
 from .integrators.base import Monitor, Trajectory
 from .scenes import SCENES, CylinderScene, _check, zeta1_used
+from .scenes.base import refuse_loads
 
 NF = 5
 #: DAE unknowns per node: q (5), v (5), lambda_chi of the cell to the right (a dummy at the last node), lambda_psi
@@ -82,6 +83,7 @@ class Unshearable(CylinderScene):
             _check("R", self.R, lambda v: v > low, f"({low:.4g}, inf) m: the inner face R - |dR| + zeta1 "
                    f"must be at a positive radius (dR = {self.dR:g} m)")
         _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
+        refuse_loads(self, "the unshearable DAE")
 
     def initial_fields(self, s, reference=None):
         """``(Q, V)``, each ``5 x len(s)``: fields and rates of the initial data at nodes ``s``."""

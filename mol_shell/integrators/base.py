@@ -59,7 +59,7 @@ class Monitor:
         scale = area * 2 * sc.h * (system.lam + 2 * system.mu)  # energy of a unit strain
         self.energy_limit = None
         if y0 is not None:
-            out = self._observe(y0)
+            out = self._observe(y0, 0.0)
             e0 = self._balance(out)
             self.energy_limit = e0 + self.ENERGY_GROWTH * abs(e0) + 1e-9 * scale
 
@@ -80,7 +80,7 @@ class Monitor:
             raise ModelLimitError(
                 f"non-finite state at t = {t:.9g} s, s = {self.system.s[bad]:.6g} m", t, f"s = {self.system.s[bad]:.6g} m"
             )
-        out = self._observe(y)
+        out = self._observe(y, t)
         energy = self._balance(out)
         if self.energy_limit is not None and not energy <= self.energy_limit:
             raise NumericalInstabilityError(

@@ -81,6 +81,23 @@ def history(parsed, t):
     return ca.pw_lin(tt, ca.DM(times), ca.DM(values))
 
 
+def history_rate(parsed, t):
+    """``h'(t)`` (CasADi ``t``): 0 for constant and step (a step's impulse is not represented), ``1/T1`` on a
+    ramp, ``2 pi F cos(2 pi F t)`` for a sine, the segment's slope in a table (0 beyond it)."""
+    import casadi as ca
+
+    kind, data = parsed
+    if kind in ("constant", "step"):
+        return 0.0
+    if kind == "ramp":
+        return ca.if_else(t < data[0], 1.0 / data[0], 0.0)
+    if kind == "sine":
+        return 2 * math.pi * data[0] * ca.cos(2 * math.pi * data[0] * t)
+    times, values = data
+    slopes = [0.0] + [(values[i + 1] - values[i]) / (times[i + 1] - times[i]) for i in range(len(times) - 1)] + [0.0]
+    return ca.pw_const(t, ca.DM(times), ca.DM(slopes))
+
+
 def cell_volume(zl, zr, rl, rr):
     """``pi r_mid^2 (z_r - z_l)``: a cell's share of the volume under the base surface (midpoint rule)."""
     r = (rl + rr) / 2

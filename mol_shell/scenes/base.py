@@ -270,6 +270,14 @@ class ShellScene:
         return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
 
 
+def refuse_loads(scene, what):
+    """A ParameterError naming the first load or drive of ``scene`` if it has any: ``what`` takes none."""
+    for name in LOADS + DRIVES + ("end_omega",):
+        value = getattr(scene, name, 0.0)
+        if value:
+            raise ParameterError(name, value, "0", hint=f"{what} takes no loads or driven edges")
+
+
 def with_params(scene, params):
     """``dataclasses.replace`` that accepts strings (as from ``--set NAME=VALUE``) and names unknown parameters."""
     fields = {f.name: f for f in dataclasses.fields(scene)}
