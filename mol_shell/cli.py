@@ -193,7 +193,8 @@ def cmd_run(args):
               file=sys.stderr)
         return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {ds.sizes['time']} times x {ds.sizes['s']} nodes, "
-          f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s, R = {ds.attrs['R']:.10g} m")
+          f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s"
+          + (f", R = {ds.attrs['R']:.10g} m" if isinstance(ds.attrs.get("R"), (int, float, np.number)) else ""))
     if str(ds.attrs.get("stresses", "")).startswith("skipped"):
         print(f"stresses {ds.attrs['stresses']} (or run with --stresses)")
     return 0
