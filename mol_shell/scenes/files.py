@@ -52,11 +52,7 @@ TABLES = ("geometry", "material", "edges", "loads", "initial", "run")
 MATERIAL = ("h", "E", "nu", "rho", "material", "n_quad", "zeta1", "eta_lambda", "eta_mu")
 EDGES = ("end1", "end2") + DRIVES + ("end_omega",)
 #: the keys of ``[run]``: defaults of ``mol-shell run`` (``simulate``'s keywords)
-RUN = {"integrator": "integrator (default leapfrog; mol-shell run --help lists them)", "n": "nodes in s (default 40)",
-       "t_end": "final time, s", "times": "saved times, s (a list starting at 0)", "dt": "leap-frog step, s",
-       "rtol": "relative tolerance (adaptive integrators)",
-       "atol": "absolute tolerance (adaptive): a number, or {r = 1e-9, theta = 1e-10, ...}",
-       "max_step": "largest step, s (adaptive integrators)"}
+RUN = ("integrator", "n", "t_end", "times", "dt", "rtol", "atol", "max_step")
 HISTORY_FORMS = {"constant": (), "step": ("t0",), "ramp": ("t1",), "sine": ("f",), "table": ("t", "h")}
 HISTORY_TABLES = ('{kind = "constant"}, {kind = "step", t0 = T0}, {kind = "ramp", t1 = T1}, {kind = "sine", f = F}, '
                   '{kind = "table", t = [t0, t1, ...], h = [h0, h1, ...]}, or the strings ' + HISTORY_ALLOWED)
@@ -108,7 +104,8 @@ def history_text(name, value):
     """A history as the scenes take it: the string form as it is, an inline table converted to it."""
     if not isinstance(value, dict):
         return value  # the scene's check names anything that is not a valid string
-    bad = ParameterError(name, value, HISTORY_TABLES, message=f"{name} = {toml_value(value)} is outside {HISTORY_TABLES}")
+    bad = ParameterError(name, value, HISTORY_TABLES,
+                         message=f"{name} = {toml_value(value)} is outside {HISTORY_TABLES}")
     kind = value.get("kind")
     if kind not in HISTORY_FORMS or set(value) != {"kind", *HISTORY_FORMS[kind]}:
         raise bad
@@ -297,30 +294,44 @@ def _comment(name):
     return f"{unit}: {text}" if unit != "1" else text
 
 
+#: comments under a table's header in a printed scene file
+NOTES = {
+    "edges": ["# edges: magnet, clamped, pinned, free, or auto; driven edges (*_spin, *_axial_speed) take histories"],
+    "loads": ['# histories (a factor on the load): "constant", "step T0", "ramp T1", "sine F" (Hz),',
+              '# "table t0:h0 t1:h1 ...", or inline tables: {kind = "ramp", t1 = 0.01},',
+              '# {kind = "table", t = [0, 0.01], h = [0, 1]}, {kind = "step", t0 = 0.01}, {kind = "sine", f = 50}'],
+    "run": ["# defaults of mol-shell run (its options win); any of: " + ", ".join(RUN)],
+}
+
+
 def scene_toml(scene):
-    """A scene (an instance, or a class for its defaults) as a commented scene file that :func:`load_scene` reads back."""
+    """A scene (an instance, or a class for its defaults) as a commented scene file that :func:`load_scene` reads back.
+
+    Values are written as TOML (``None`` as ``"auto"``), each with its unit and description as a comment; a
+    ``[run]`` table holds the command line's defaults (leap-frog, 40 nodes) and a commented ``t_end``.
+    """
     cls = scene if isinstance(scene, type) else type(scene)
     fields = dataclasses.fields(cls)
-    value = {f.name: getattr(scene, f.name) if not isinstance(scene, type) else
-             (f.default if f.default is not dataclasses.MISSING else "") for f in fields}
+    if isinstance(scene, type):
+        value = {f.name: f.default if f.default is not dataclasses.MISSING else "" for f in fields}
+    else:
+        value = {f.name: getattr(scene, f.name) for f in fields}
     doc = (cls.__doc__ or "").strip().splitlines()[0].replace("``", "")
-    lines = [f"# {cls.name}: {doc}", "# A mol_shell scene file: mol-shell run THIS.toml -o out.nc (--set NAME=VALUE on top).",
-             '# "auto" is computed (an edge from the geometry, R or dilation: the equilibrium under the loads at t = 0).',
+    lines = [f"# {cls.name}: {doc}",
+             "# A mol_shell scene file: mol-shell run THIS.toml -o out.nc (--set NAME=VALUE on top). Units: SI.",
+             '# "auto" is computed (an edge: from the geometry; R, dilation: the equilibrium under the loads',
+             "# at t = 0).",
              f'scene = "{cls.name}"']
-    notes = {"loads": "# histories (a factor on the load): \"constant\", \"step T0\", \"ramp T1\", \"sine F\" (Hz), "
-                      "\"table t0:h0 t1:h1 ...\",\n# or inline tables: {kind = \"ramp\", t1 = 0.01}, "
-                      "{kind = \"table\", t = [0, 0.01], h = [0, 1]}, ...",
-             "edges": "# edges: magnet, clamped, pinned, free, or auto; driven edges (*_spin, *_axial_speed) take histories too",
-             "geometry": "# points: a file of two columns r z (m), relative to this file" if cls.name == "meridian" else ""}
+    points = ["# points: a file of two columns r z (m), relative to this file"] if "points" in value else []
+    notes = dict(NOTES, geometry=points)
     for table in TABLES[:-1]:
         names = [f.name for f in fields if table_of(cls, f.name) == table]
-        if not names:
-            continue
-        lines += ["", f"[{table}]"] + ([notes[table]] if notes.get(table) else [])
+        if names:
+            lines += ["", f"[{table}]", *notes.get(table, [])]
         for name in names:
             entry = f"{name} = {toml_value(value[name])}"
             note = _comment(name) if not name.endswith("_history") else ""
             lines.append(f"{entry:34s} # {note}" if note else entry)
-    lines += ["", "[run]", "# defaults of mol-shell run (command-line options win)", 'integrator = "leapfrog"', "n = 40",
-              "# t_end = 0.01                    # s: final time (or times = [0, 0.005, 0.01])"]
+    lines += ["", "[run]", *notes["run"], 'integrator = "leapfrog"', "n = 40",
+              f"# {'t_end = 0.01':32s} # s: final time (or times = [0, 0.005, 0.01])"]
     return "\n".join(lines) + "\n"
