@@ -136,6 +136,17 @@ def test_the_torus_sags_under_gravity(tmp_path):
     assert dz[1] == pytest.approx(-0.5 * 9.81 * t[1] ** 2, rel=1e-3) and -0.5 * 9.81 * t[-1] ** 2 < dz[-1] < 0
 
 
+def test_the_readme_file_is_the_pressurised_sphere_example(tmp_path):
+    import re
+
+    blocks = re.findall(r"^```toml\n(.*?)^```", (EXAMPLES.parent / "README.md").read_text(), flags=re.S | re.M)
+    assert len(blocks) == 1
+    (tmp_path / "readme.toml").write_text(blocks[0])
+    scene, run = load_scene(tmp_path / "readme.toml", with_run=True)
+    example, example_run = load_scene(EXAMPLES / "pressurised_sphere.toml", with_run=True)
+    assert scene == example and dict(run, integrator="leapfrog") == example_run
+
+
 # -- refusals -------------------------------------------------------------------------------------------
 BAD = [
     ('scene = "sphere"\n[material]\nnu = 0.7\n', "[material] nu = 0.7 is outside (-1, 0.5)"),
