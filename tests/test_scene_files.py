@@ -151,6 +151,7 @@ def test_the_readme_file_is_the_pressurised_sphere_example(tmp_path):
 BAD = [
     ('scene = "sphere"\n[material]\nnu = 0.7\n', "[material] nu = 0.7 is outside (-1, 0.5)"),
     ('scene = "sphere"\n[geometri]\na = 1\n', "[geometri] is not a table of a scene file; allowed: scene = NAME and"),
+    ('scene = "sphere"\ncolour = 1\n', "colour is not a key of a scene file; allowed: scene = NAME and [geometry]"),
     ('scene = "sphere"\n[geometry]\ncolour = 1\n', "[geometry] colour is not a parameter of scene sphere; allowed: a, alpha1, alpha2"),
     ('scene = "sphere"\n[geometry]\nh = 0.01\n', "[geometry] h belongs in [material], not [geometry]"),
     ('scene = "sphere"\nh = 0.01\n', "h = 0.01 belongs in [material]"),

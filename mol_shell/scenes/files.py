@@ -219,8 +219,8 @@ def scene_from_dict(data, source="<scene file>", folder="."):
         if key in fields and not (key in TABLES and isinstance(table, dict)):  # material is both
             raise _fail(source, None, f"{key} = {toml_value(table)} belongs in [{table_of(cls, key)}]", key, table)
         if key not in TABLES:
-            raise _fail(source, None, f"[{key}] is not a table of a scene file; allowed: scene = NAME and {tables}",
-                        key, table)
+            what = f"[{key}] is not a table" if isinstance(table, dict) else f"{key} is not a key"
+            raise _fail(source, None, f"{what} of a scene file; allowed: scene = NAME and {tables}", key, table)
         if not isinstance(table, dict):
             raise _fail(source, None, f"{key} = {toml_value(table)} is not a table; allowed: [{key}] with its keys",
                         key, table)
