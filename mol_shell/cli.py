@@ -181,11 +181,23 @@ def cmd_run(args):
     from .scenes import get_scene
     from .simulate import check_options, simulate
 
-    scene = get_scene(args.scene, **parse_sets(args.set))
+    run = {}
+    if args.scene.endswith(".toml"):  # a scene file: its [run] table gives defaults, the options win
+        from .scenes import with_params
+        from .scenes.files import load_scene
+
+        scene, run = load_scene(args.scene, with_run=True)
+        scene = with_params(scene, parse_sets(args.set))
+    else:
+        scene = get_scene(args.scene, **parse_sets(args.set))
     times = parse_times_arg(args.times) if args.times else None
-    options = integrator_option_args(args)
-    check_options(scene, args.integrator, options, offered=CLI_OPTIONS)
-    ds = simulate(scene, args.integrator, n=args.n, t_end=args.t_end, times=times, progress=None,
+    if args.t_end is None and times is None:  # --t-end or --times replace both of the file's
+        times = run.get("times")
+    t_end = args.t_end if args.t_end is not None or args.times else run.get("t_end")
+    integrator = args.integrator or run.get("integrator", "leapfrog")
+    options = {k: run[k] for k in ("dt", "rtol", "atol", "max_step") if k in run} | integrator_option_args(args)
+    check_options(scene, integrator, options, offered=CLI_OPTIONS)
+    ds = simulate(scene, integrator, n=args.n or run.get("n", 40), t_end=t_end, times=times, progress=None,
                   stresses=args.stresses, **options)
     write_netcdf(ds, args.output)
     if not ds.attrs["complete"]:
@@ -193,7 +205,8 @@ def cmd_run(args):
               file=sys.stderr)
         return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {ds.sizes['time']} times x {ds.sizes['s']} nodes, "
-          f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s, R = {ds.attrs['R']:.10g} m")
+          f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s"
+          + (f", R = {ds.attrs['R']:.10g} m" if isinstance(ds.attrs.get("R"), (int, float, np.number)) else ""))
     if str(ds.attrs.get("stresses", "")).startswith("skipped"):
         print(f"stresses {ds.attrs['stresses']} (or run with --stresses)")
     return 0
@@ -232,6 +245,8 @@ def cmd_scenes(args):
     from .scenes import DESCRIPTIONS, SCENES, UNITS
 
     if args.name is None:
+        if args.toml:
+            raise ParameterError.missing("NAME", "give mol-shell scenes NAME --toml, NAME in {" + ", ".join(sorted(SCENES)) + "}")
         for name, cls in SCENES.items():
             print(f"{name:18s} {(cls.__doc__ or '').strip().splitlines()[0]}")
         print("mol-shell scenes NAME lists a scene's parameters; set them with --set NAME=VALUE")
@@ -239,6 +254,11 @@ def cmd_scenes(args):
     if args.name not in SCENES:
         raise ParameterError("scene", args.name, "{" + ", ".join(sorted(SCENES)) + "}")
     cls = SCENES[args.name]
+    if args.toml:
+        from .scenes.files import scene_toml
+
+        print(scene_toml(cls), end="")
+        return 0
     print(f"{args.name}: {(cls.__doc__ or '').strip().splitlines()[0]}")
     for f in dataclasses.fields(cls):
         default = f.default if f.default is not dataclasses.MISSING else "(required)"
@@ -261,9 +281,9 @@ def make_parser():
     parser.add_argument("--version", action="version", version=f"mol-shell {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     run = sub.add_parser("run", help="run a scene and write netCDF")
-    run.add_argument("scene", help="one of: " + ", ".join(SCENES))
-    run.add_argument("--integrator", default="leapfrog", help="one of: " + ", ".join(INTEGRATORS))
-    run.add_argument("--n", type=integer_arg("--n", 3), default=40, help="nodes in s (default 40)")
+    run.add_argument("scene", metavar="SCENE_OR_FILE", help="one of: " + ", ".join(SCENES) + "; or a scene file FILE.toml")
+    run.add_argument("--integrator", default=None, help="one of: " + ", ".join(INTEGRATORS) + " (default leapfrog)")
+    run.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")
     run.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="final time, s")
     run.add_argument("--dt", type=number_arg("--dt", unit="s"), default=None,
                      help="leap-frog step, s (default 1e-6); adaptive integrators refuse it")
@@ -281,6 +301,7 @@ def make_parser():
     run.set_defaults(func=cmd_run)
     scenes = sub.add_parser("scenes", help="the built-in scenes, or one scene's parameters with units and defaults")
     scenes.add_argument("name", nargs="?", default=None, help="a scene to describe")
+    scenes.add_argument("--toml", action="store_true", help="print the scene's defaults as a scene file to start from")
     scenes.set_defaults(func=cmd_scenes)
     plot = sub.add_parser("plot", help="the paper's figures 4-8 (cylinders), the deformed meridian (other shells) "
                           "or figure 1 (--figure fibres) from a run")

@@ -1,0 +1,337 @@
+"""Scene files: one TOML file composing a scene and the defaults of its run.
+
+A scene file names a registered scene and sets any of its parameters, each in the table it belongs to::
+
+    scene = "sphere"            # a key of mol_shell.scenes.SCENES
+
+    [geometry]                  # the meridian: L, a, b, alpha1, alpha2, r1, r2, H, points
+    a = 1.0
+    [material]                  # h, E, nu, rho, material, n_quad, zeta1, eta_lambda, eta_mu
+    E = 1e6
+    [edges]                     # end1, end2 and the driven edges (end1_spin, ..., end_omega, with *_history)
+    end1 = "auto"
+    [loads]                     # pressure, gravity, drag, end forces and torques (with *_history)
+    pressure = 1e3
+    pressure_history = {kind = "ramp", t1 = 0.01}     # or "ramp 0.01"
+    [initial]                   # the scene's initial data (its ``initial`` tuple: R, gamma, omega, ...)
+    R = "auto"
+    [run]                       # defaults of ``mol-shell run FILE.toml`` (command-line options win)
+    integrator = "leapfrog"
+    n = 41
+    t_end = 0.01
+
+Which table a parameter belongs to follows from its name (:func:`table_of`), so new scenes and fields
+need no code here. Parameters left out keep the scene's defaults; ``"auto"`` is ``None`` (computed).
+A history is its string form (:mod:`mol_shell.model.loads`) or an inline table ``{kind = "constant"}``,
+``{kind = "step", t0 = T0}``, ``{kind = "ramp", t1 = T1}``, ``{kind = "sine", f = F}``,
+``{kind = "table", t = [...], h = [...]}``. ``points`` is a path relative to the file's folder.
+
+Every refusal is a :class:`~mol_shell.errors.ParameterError` of one line that starts with the file
+(and the table): ``sphere.toml: [material] nu = 0.7 is outside (-1, 0.5)``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import sys
+from pathlib import Path
+
+from ..errors import ParameterError, is_number, show
+from ..model.loads import HISTORY_ALLOWED, parse_history
+from .base import DESCRIPTIONS, DRIVES, LOADS, UNITS
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+#: the tables of a scene file, in the order they are written
+TABLES = ("geometry", "material", "edges", "loads", "initial", "run")
+MATERIAL = ("h", "E", "nu", "rho", "material", "n_quad", "zeta1", "eta_lambda", "eta_mu")
+EDGES = ("end1", "end2") + DRIVES + ("end_omega",)
+#: the keys of ``[run]``: defaults of ``mol-shell run`` (``simulate``'s keywords)
+RUN = ("integrator", "n", "t_end", "times", "dt", "rtol", "atol", "max_step")
+HISTORY_FORMS = {"constant": (), "step": ("t0",), "ramp": ("t1",), "sine": ("f",), "table": ("t", "h")}
+HISTORY_TABLES = ('{kind = "constant"}, {kind = "step", t0 = T0}, {kind = "ramp", t1 = T1}, {kind = "sine", f = F}, '
+                  '{kind = "table", t = [t0, t1, ...], h = [h0, h1, ...]}, or the strings ' + HISTORY_ALLOWED)
+
+
+def table_of(cls, name):
+    """The table of a scene file that parameter ``name`` of scene class ``cls`` belongs to.
+
+    ``NAME_history`` goes with ``NAME``; then material, edges (and driven edges), loads, the scene's
+    ``initial`` parameters, and everything else is geometry.
+    """
+    base = name[: -len("_history")] if name.endswith("_history") else name
+    for table, names in (("material", MATERIAL), ("edges", EDGES), ("loads", LOADS), ("initial", cls.initial)):
+        if base in names:
+            return table
+    return "geometry"
+
+
+def _fail(source, table, exc_or_message, name=None, value=None):
+    """A ParameterError whose message is prefixed with the file and the table."""
+    where = f"{source}: " + (f"[{table}] " if table else "")
+    if isinstance(exc_or_message, ParameterError):
+        exc = exc_or_message
+        return ParameterError(exc.name, exc.value, exc.allowed, message=where + str(exc))
+    return ParameterError(name, value, "", message=where + exc_or_message)
+
+
+def toml_value(value):
+    """``value`` as TOML text: ``"auto"`` for ``None``, strings, booleans, numbers, flat lists and inline tables."""
+    if value is None:
+        return '"auto"'
+    if isinstance(value, str):
+        return json.dumps(value, ensure_ascii=False)
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if is_number(value):
+        value = value.item() if hasattr(value, "item") else value
+        if isinstance(value, float) and not math.isfinite(value):
+            return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+        return repr(value)
+    if isinstance(value, dict):
+        return "{" + ", ".join(f"{k} = {toml_value(v)}" for k, v in value.items()) + "}"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
+    return show(value)
+
+
+def history_text(name, value):
+    """A history as the scenes take it: the string form as it is, an inline table converted to it."""
+    if not isinstance(value, dict):
+        return value  # the scene's check names anything that is not a valid string
+    bad = ParameterError(name, value, HISTORY_TABLES,
+                         message=f"{name} = {toml_value(value)} is outside {HISTORY_TABLES}")
+    kind = value.get("kind")
+    if kind not in HISTORY_FORMS or set(value) != {"kind", *HISTORY_FORMS[kind]}:
+        raise bad
+    args = [value[key] for key in HISTORY_FORMS[kind]]
+    if kind == "table":
+        t, h = args
+        if not (isinstance(t, list) and isinstance(h, list) and len(t) == len(h) and all(map(is_number, t + h))):
+            raise bad
+        text = "table " + " ".join(f"{float(a)!r}:{float(b)!r}" for a, b in zip(t, h))
+    elif all(map(is_number, args)):
+        text = " ".join([kind] + [repr(float(a)) for a in args])
+    else:
+        raise bad
+    try:
+        parse_history(name, text)
+    except ParameterError:
+        raise bad from None
+    return text
+
+
+def _convert(cls, field, value, folder):
+    """A file's value as the scene wants it: ``"auto"`` is None, integers are floats where floats are wanted,
+    histories from inline tables, ``points`` relative to the file's folder."""
+    kind = str(field.type)
+    if isinstance(value, str) and value.strip().lower() in ("auto", "none") and "None" in kind:
+        return None
+    if field.name.endswith("_history"):
+        return history_text(field.name, value)
+    if field.name == "points" and isinstance(value, str) and value.strip():
+        path = Path(value).expanduser()
+        return str(path if path.is_absolute() else folder / path)
+    if "float" in kind and is_number(value) and not isinstance(value, float):
+        return float(value)
+    return value
+
+
+def _type_ok(field, value):
+    """Whether a value the scene accepted has the field's type (a fallback for fields the scene does not check)."""
+    kind = str(field.type)
+    return ((value is None and "None" in kind) or ("float" in kind and is_number(value))
+            or ("int" in kind and is_number(value) and float(value).is_integer())
+            or ("str" in kind and isinstance(value, str)))
+
+
+def _run_options(source, run):
+    """The ``[run]`` table checked: ``{name: value}`` with ``simulate``'s keyword names."""
+    from ..integrators import INTEGRATORS
+    from ..model.kinematics import FIELDS
+
+    out = {}
+
+    def positive(key, value, low=0.0, high=math.inf, closed=False, unit=" s"):
+        allowed = f"{'[' if closed else '('}{low:g}, {high:g}){unit}"
+        if not is_number(value):
+            raise _fail(source, "run", ParameterError.not_a(key, value, "a number", allowed))
+        if not (math.isfinite(value) and (value >= low if closed else value > low) and value < high):
+            raise _fail(source, "run", ParameterError(key, value, allowed))
+        return float(value)
+
+    for key, value in run.items():
+        if key not in RUN:
+            raise _fail(source, "run", f"{key} is not a key of [run]; allowed: {', '.join(RUN)}", key, value)
+        if key == "integrator":
+            if value not in INTEGRATORS:
+                raise _fail(source, "run", ParameterError(key, value, "{" + ", ".join(INTEGRATORS) + "}"))
+        elif key == "n":
+            if not (is_number(value) and isinstance(value, int)):
+                raise _fail(source, "run", ParameterError.not_a(key, value, "an integer", "integers >= 3"))
+            if value < 3:
+                raise _fail(source, "run", ParameterError(key, value, "integers >= 3"))
+        elif key == "times":
+            allowed = "increasing finite times starting at 0 (s), at least two"
+            if not (isinstance(value, list) and all(map(is_number, value))):
+                raise _fail(source, "run", ParameterError.not_a(key, value, "a list of numbers", allowed))
+            value = [float(v) for v in value]
+            if len(value) < 2 or value[0] != 0 or not all(map(math.isfinite, value)) or any(
+                    b <= a for a, b in zip(value, value[1:])):
+                raise _fail(source, "run", ParameterError(key, value, allowed))
+        elif key == "rtol":
+            value = positive(key, value, 1e-14, 1.0, closed=True, unit="")
+        elif key == "atol" and isinstance(value, dict):
+            for name, tol in value.items():
+                if name not in FIELDS:
+                    raise _fail(source, "run", ParameterError("atol", name, "{" + ", ".join(FIELDS) + "}"))
+                positive(f"atol.{name}", tol, unit="")
+            value = {name: float(tol) for name, tol in value.items()}
+        else:  # t_end, dt, max_step, atol
+            value = positive(key, value, unit="" if key == "atol" else " s")
+        out[key] = value
+    return out
+
+
+def scene_from_dict(data, source="<scene file>", folder="."):
+    """The scene (and the ``[run]`` options) of a parsed scene file; see the module's docstring."""
+    from . import SCENES
+
+    folder = Path(folder)
+    names = "{" + ", ".join(sorted(SCENES)) + "}"
+    if "scene" not in data:
+        raise _fail(source, None, ParameterError.missing("scene", f"give scene = NAME with NAME in {names}"))
+    name = data["scene"]
+    if not isinstance(name, str) or name not in SCENES:
+        raise _fail(source, None, ParameterError("scene", name, names))
+    cls = SCENES[name]
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    tables = ", ".join(f"[{t}]" for t in TABLES)
+    given, where = {}, {}
+    for key, table in data.items():
+        if key == "scene":
+            continue
+        if key in fields and not (key in TABLES and isinstance(table, dict)):  # material is both
+            raise _fail(source, None, f"{key} = {toml_value(table)} belongs in [{table_of(cls, key)}]", key, table)
+        if key not in TABLES:
+            what = f"[{key}] is not a table" if isinstance(table, dict) else f"{key} is not a key"
+            raise _fail(source, None, f"{what} of a scene file; allowed: scene = NAME and {tables}", key, table)
+        if not isinstance(table, dict):
+            raise _fail(source, None, f"{key} = {toml_value(table)} is not a table; allowed: [{key}] with its keys",
+                        key, table)
+        if key == "run":
+            continue
+        takes = [f for f in fields if table_of(cls, f) == key]
+        for param, value in table.items():
+            if param not in fields:
+                raise _fail(source, key, f"{param} is not a parameter of scene {name}; allowed: "
+                            + (", ".join(takes) or f"none ([{key}] of {name} is empty)"), param, value)
+            if table_of(cls, param) != key:
+                raise _fail(source, key, f"{param} belongs in [{table_of(cls, param)}], not [{key}]", param, value)
+            try:
+                given[param] = _convert(cls, fields[param], value, folder)
+            except ParameterError as exc:
+                raise _fail(source, key, exc) from None
+            where[param] = key
+    run = _run_options(source, data.get("run", {}))
+    try:
+        scene = cls(**given)
+    except ParameterError as exc:
+        raise _fail(source, where.get(exc.name, table_of(cls, exc.name) if exc.name in fields else None), exc) from None
+    for param, value in given.items():
+        if not _type_ok(fields[param], getattr(scene, param)):
+            raise _fail(source, where[param], ParameterError.not_a(param, value, f"of type {fields[param].type}",
+                                                                    f"values of type {fields[param].type}"))
+    return scene, run
+
+
+def load_scene(path, *, with_run=False):
+    """The scene a TOML scene file describes (see :mod:`mol_shell.scenes.files` for the layout).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file. ``points`` (meridian scene) is read relative to its folder.
+    with_run : bool
+        Also return the ``[run]`` table as checked options: ``{"integrator", "n", "t_end", "times",
+        "dt", "rtol", "atol", "max_step"}`` (those given), so ``simulate(scene, **run)`` runs it as
+        ``mol-shell run FILE.toml`` does.
+
+    Returns
+    -------
+    ShellScene, or ``(ShellScene, dict)`` with ``with_run``
+
+    Raises
+    ------
+    ParameterError
+        One line starting with the file (and ``[table]``): a missing or unreadable file, a TOML syntax
+        error (with its line), ``scene`` missing or unknown, an unknown table or key, a key in the wrong
+        table, a value of the wrong type or outside its range.
+    """
+    path = Path(path)
+    try:
+        text = path.read_bytes().decode("utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise ParameterError("scene file", str(path), "a readable TOML file",
+                             message=f"{path}: cannot read the scene file ({reason})") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ParameterError("scene file", str(path), "TOML", message=f"{path}: not valid TOML: {exc}") from None
+    scene, run = scene_from_dict(data, str(path), path.parent)
+    return (scene, run) if with_run else scene
+
+
+def _comment(name):
+    unit = UNITS.get(name, "1")
+    text = DESCRIPTIONS.get(name, "")
+    return f"{unit}: {text}" if unit != "1" else text
+
+
+#: comments under a table's header in a printed scene file
+NOTES = {
+    "edges": ["# edges: magnet, clamped, pinned, free, or auto; driven edges (*_spin, *_axial_speed) take histories"],
+    "loads": ['# histories (a factor on the load): "constant", "step T0", "ramp T1", "sine F" (Hz),',
+              '# "table t0:h0 t1:h1 ...", or inline tables: {kind = "ramp", t1 = 0.01},',
+              '# {kind = "table", t = [0, 0.01], h = [0, 1]}, {kind = "step", t0 = 0.01}, {kind = "sine", f = 50}'],
+    "run": ["# defaults of mol-shell run (its options win); any of: " + ", ".join(RUN)],
+}
+
+
+def scene_toml(scene):
+    """A scene (an instance, or a class for its defaults) as a commented scene file that :func:`load_scene` reads back.
+
+    Values are written as TOML (``None`` as ``"auto"``), each with its unit and description as a comment; a
+    ``[run]`` table holds the command line's defaults (leap-frog, 40 nodes) and a commented ``t_end``.
+    """
+    cls = scene if isinstance(scene, type) else type(scene)
+    fields = dataclasses.fields(cls)
+    if isinstance(scene, type):
+        value = {f.name: f.default if f.default is not dataclasses.MISSING else "" for f in fields}
+    else:
+        value = {f.name: getattr(scene, f.name) for f in fields}
+    doc = (cls.__doc__ or "").strip().splitlines()[0].replace("``", "")
+    lines = [f"# {cls.name}: {doc}",
+             "# A mol_shell scene file: mol-shell run THIS.toml -o out.nc (--set NAME=VALUE on top). Units: SI.",
+             '# "auto" is computed (an edge: from the geometry; R, dilation: the equilibrium under the loads',
+             "# at t = 0).",
+             f'scene = "{cls.name}"']
+    points = ["# points: a file of two columns r z (m), relative to this file"] if "points" in value else []
+    notes = dict(NOTES, geometry=points)
+    for table in TABLES[:-1]:
+        names = [f.name for f in fields if table_of(cls, f.name) == table]
+        if names:
+            lines += ["", f"[{table}]", *notes.get(table, [])]
+        for name in names:
+            entry = f"{name} = {toml_value(value[name])}"
+            note = _comment(name) if not name.endswith("_history") else ""
+            lines.append(f"{entry:34s} # {note}" if note else entry)
+    lines += ["", "[run]", *notes["run"], 'integrator = "leapfrog"', "n = 40",
+              f"# {'t_end = 0.01':32s} # s: final time (or times = [0, 0.005, 0.01])"]
+    return "\n".join(lines) + "\n"

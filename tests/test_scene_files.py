@@ -1,0 +1,211 @@
+"""Scene files: every parameter in one table, `scenes NAME --toml` round-trips to the same scene and the same run,
+the examples run and do what their comments say, and every refusal is one line naming the file and the key."""
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mol_shell
+from mol_shell.cli import main
+from mol_shell.errors import ParameterError
+from mol_shell.output import read_netcdf
+from mol_shell.scenes import SCENES
+from mol_shell.scenes.base import DRIVES, LOADS
+from mol_shell.scenes.files import EDGES, MATERIAL, TABLES, load_scene, table_of
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+NEEDS_A_FILE = {"meridian"}  # its points have no default
+
+
+def test_every_parameter_of_every_scene_is_in_exactly_one_table():
+    lists = {"material": MATERIAL, "edges": EDGES, "loads": LOADS}
+    assert set(DRIVES) <= set(EDGES)
+    geometry = set()
+    for cls in SCENES.values():
+        names = {f.name for f in dataclasses.fields(cls)}
+        for name in names:
+            base = name.removesuffix("_history")
+            assert base in names, f"{cls.name}: {name} without {base}"
+            claims = [t for t, members in {**lists, "initial": cls.initial}.items() if base in members]
+            assert len(claims) <= 1, f"{cls.name}: {name} claimed by {claims}"
+            table = table_of(cls, name)
+            assert table == (claims[0] if claims else "geometry") and table in TABLES[:-1]
+            if table == "geometry":
+                geometry.add(name)
+    # today's meridian parameters (a new initial-data field left out of a scene's `initial` would land here)
+    assert geometry == {"L", "a", "b", "alpha1", "alpha2", "r1", "r2", "H", "points"}
+
+
+def _printed(name, capsys):
+    assert main(["scenes", name, "--toml"]) == 0
+    return capsys.readouterr().out
+
+
+@pytest.mark.parametrize("name", sorted(set(SCENES) - NEEDS_A_FILE))
+def test_printed_scene_files_load_and_run_as_the_built_in_scene(name, tmp_path, capsys):
+    path = tmp_path / f"{name}.toml"
+    path.write_text(_printed(name, capsys))
+    scene, run = load_scene(path, with_run=True)
+    assert scene == SCENES[name]() and run == {"integrator": "leapfrog", "n": 40}
+    outs = []
+    for what in (name, str(path)):
+        outs.append(tmp_path / f"{len(outs)}.nc")
+        assert main(["run", what, "--n", "8", "--t-end", "1e-5", "-o", str(outs[-1])]) == 0
+    a, b = (read_netcdf(p) for p in outs)
+    assert list(a.data_vars) == list(b.data_vars)
+    for var in a.data_vars:
+        np.testing.assert_array_equal(a[var].values, b[var].values, err_msg=var)
+    for field in dataclasses.fields(SCENES[name]):
+        assert a.attrs[field.name] == b.attrs[field.name]
+
+
+def test_a_meridian_file_reads_its_points_next_to_it(tmp_path, capsys, monkeypatch):
+    folder = tmp_path / "shell"
+    folder.mkdir()
+    np.savetxt(folder / "pts.txt", [[1.0, z] for z in np.linspace(0, 1, 6)])
+    text = _printed("meridian", capsys)
+    assert 'points = ""' in text
+    (folder / "m.toml").write_text(text.replace('points = ""', 'points = "pts.txt"'))
+    monkeypatch.chdir(tmp_path)  # elsewhere: the path is the file's folder's
+    scene = load_scene("shell/m.toml")
+    assert scene == mol_shell.scenes.MeridianShell(points=str(Path("shell") / "pts.txt"))
+
+
+def test_run_defaults_come_from_the_file_and_the_command_line_wins(tmp_path):
+    path = tmp_path / "drum.toml"
+    path.write_text('scene = "twisted-cylinder"\n[initial]\nR = 1.0\nomega = 2\n'
+                    '[loads]\npressure_history = {kind = "table", t = [0, 1e-5], h = [0, 1]}\n'
+                    "[run]\nn = 8\ntimes = [0, 5e-6, 1e-5]\ndt = 5e-7\n")
+    scene, run = mol_shell.load_scene(path, with_run=True)
+    assert scene.omega == 2.0 and isinstance(scene.omega, float) and scene.pressure_history == "table 0.0:0.0 1e-05:1.0"
+    ds = mol_shell.simulate(scene, progress=False, **run)
+    assert ds.sizes["s"] == 8 and list(ds.time.values) == [0, 5e-6, 1e-5] and ds.attrs["n_steps"] == 20
+    out = tmp_path / "a.nc"
+    assert main(["run", str(path), "-o", str(out)]) == 0
+    np.testing.assert_array_equal(read_netcdf(out).r.values, ds.r.values)
+    assert main(["run", str(path), "--n", "9", "--t-end", "2e-5", "--set", "omega=3", "-o", str(out)]) == 0
+    ds = read_netcdf(out)
+    assert ds.sizes["s"] == 9 and ds.time.values[-1] == 2e-5 and ds.attrs["omega"] == 3 and ds.attrs["R"] == 1
+    assert ds.attrs["dt"] == 5e-7  # the file's, as no option replaced it
+
+
+# -- the examples ---------------------------------------------------------------------------------------
+def _run_example(name, tmp_path, t_end="0.005"):
+    out = tmp_path / f"{name}.nc"
+    assert main(["run", str(EXAMPLES / f"{name}.toml"), "--n", "11", "--t-end", t_end, "-o", str(out)]) == 0
+    return read_netcdf(out)
+
+
+def test_every_example_is_tested():
+    assert {p.stem for p in EXAMPLES.glob("*.toml")} == {"pressurised_sphere", "drum_spin_down", "cone_spin_up",
+                                                         "torus_gravity"}
+
+
+def test_the_pressurised_sphere_grows_under_its_ramp(tmp_path):
+    ds = _run_example("pressurised_sphere", tmp_path)
+    r_eq = ds.r.isel(s=ds.sizes["s"] // 2).values  # the equator
+    assert r_eq[0] == pytest.approx(1.0, abs=1e-12)  # R = auto under the ramp's zero load: the natural sphere
+    assert np.all(np.diff(r_eq) > 0) and 1e-5 < r_eq[-1] - 1 < 1e-3
+    assert abs(float(ds.attrs["energy_balance_error"])) < 1e-6
+
+
+def test_the_drum_spins_down_at_the_drag_rate(tmp_path):
+    ds = _run_example("drum_spin_down", tmp_path)
+    H = ds.angular_momentum.values
+    assert np.all(np.diff(H) < 0)
+    # the spin's decay exp(-drag t / rho_A), rho_A = rho 2h the mass per unit area
+    expected = math.exp(-ds.attrs["drag"] * ds.time.values[-1] / ds.attrs["rho_A"])
+    assert H[-1] / H[0] == pytest.approx(expected, rel=1e-3)
+
+
+def test_the_cone_spins_up_from_its_driven_edge(tmp_path):
+    """The driven edge turns by the integral of its ramped rate, 10 rad/s x min(t/0.02, 1):
+    chi = 250 t^2 before 0.02 s, 0.1 + 10 (t - 0.02) after (leap-frog integrates the prescribed rate, second
+    order in dt); the drive's torque has spun the shell up (positive angular momentum and reaction)."""
+    ds = _run_example("cone_spin_up", tmp_path)
+    t = ds.time.values
+    expected = np.where(t < 0.02, 250 * t**2, 0.1 + 10 * (t - 0.02))
+    np.testing.assert_allclose(ds.chi.isel(s=0).values, expected, atol=1e-8)
+    assert ds.angular_momentum.values[-1] > 0 and np.nanmax(ds.reaction_torque.values[:, 0]) > 0
+    assert np.all(np.isnan(ds.reaction_torque.values[:, 1]))  # the free edge is not driven
+
+
+def test_the_torus_sags_under_gravity(tmp_path):
+    ds = _run_example("torus_gravity", tmp_path)
+    dz = ds.z.isel(s=ds.sizes["s"] // 2).values - ds.z.isel(s=ds.sizes["s"] // 2).values[0]
+    t = ds.time.values
+    assert np.all(np.diff(dz) < 0)
+    # the equator falls freely until the edges' waves arrive (and a little slower after)
+    assert dz[1] == pytest.approx(-0.5 * 9.81 * t[1] ** 2, rel=1e-3) and -0.5 * 9.81 * t[-1] ** 2 < dz[-1] < 0
+
+
+def test_the_readme_file_is_the_pressurised_sphere_example(tmp_path):
+    import re
+
+    blocks = re.findall(r"^```toml\n(.*?)^```", (EXAMPLES.parent / "README.md").read_text(), flags=re.S | re.M)
+    assert len(blocks) == 1
+    (tmp_path / "readme.toml").write_text(blocks[0])
+    scene, run = load_scene(tmp_path / "readme.toml", with_run=True)
+    example, example_run = load_scene(EXAMPLES / "pressurised_sphere.toml", with_run=True)
+    assert scene == example and dict(run, integrator="leapfrog") == example_run
+
+
+# -- refusals -------------------------------------------------------------------------------------------
+BAD = [
+    ('scene = "sphere"\n[material]\nnu = 0.7\n', "[material] nu = 0.7 is outside (-1, 0.5)"),
+    ('scene = "sphere"\n[geometri]\na = 1\n', "[geometri] is not a table of a scene file; allowed: scene = NAME and"),
+    ('scene = "sphere"\ncolour = 1\n', "colour is not a key of a scene file; allowed: scene = NAME and [geometry]"),
+    ('scene = "sphere"\n[geometry]\ncolour = 1\n', "[geometry] colour is not a parameter of scene sphere; allowed: a, alpha1, alpha2"),
+    ('scene = "sphere"\n[geometry]\nh = 0.01\n', "[geometry] h belongs in [material], not [geometry]"),
+    ('scene = "sphere"\nh = 0.01\n', "h = 0.01 belongs in [material]"),
+    ('scene = "sphere"\nmaterial = "svk"\n', 'material = "svk" belongs in [material]'),
+    ('scene = "sphere"\n[geometry]\na = "big"\n', "[geometry] a = 'big' is not a number; allowed: (0, inf) m"),
+    ('scene = "sphere"\n[material]\nE = true\n', "[material] E = True is not a number; allowed: (0, inf) Pa"),
+    ('scene = "sphere"\n[material]\nn_quad = 4.0\n', "[material] n_quad = 4.0 is not an integer; allowed: integers 2..64"),
+    ('scene = "sphere"\n[initial]\nR = 5\n', "[initial] R = 5.0 is outside (a/2, 2a) = (0.5, 2) m"),
+    ('scene = "torus"\n[geometry]\nalpha2 = [1, 2]\n', "[geometry] alpha2 = [1, 2] is not a number"),
+    ('scene = "sphere"\n[edges]\nend1 = "glued"\n', "[edges] end1 = 'glued' is outside {magnet, clamped"),
+    ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "ramp", t1 = -1}\n',
+     '[loads] pressure_history = {kind = "ramp", t1 = -1} is outside {kind = "constant"}'),
+    ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "ramp", t = 1}\n',
+     '[loads] pressure_history = {kind = "ramp", t = 1} is outside'),
+    ('scene = "sphere"\n[loads]\npressure_history = "ramp"\n', "[loads] pressure_history = 'ramp' is outside 'constant'"),
+    ('scene = "sphere"\n[run]\nn = 2\n', "[run] n = 2 is outside integers >= 3"),
+    ('scene = "sphere"\n[run]\nt_end = "long"\n', "[run] t_end = 'long' is not a number; allowed: (0, inf) s"),
+    ('scene = "sphere"\n[run]\nsteps = 2\n', "[run] steps is not a key of [run]; allowed: integrator, n, t_end"),
+    ('scene = "sphere"\n[run]\nintegrator = "euler"\n', "[run] integrator = 'euler' is outside {leapfrog"),
+    ('scene = "sphere"\n[run]\ntimes = [0, 1, 1]\n', "[run] times = [0.0, 1.0, 1.0] is outside increasing"),
+    ('scene = "sphere"\n[run]\natol = {q = 1e-9}\n', "[run] atol = 'q' is outside {z, r, chi, theta, psi}"),
+    ('scene = "sphere"\n[geometry\na = 1\n', "not valid TOML: Expected ']' at the end of a table declaration (at line 2"),
+    ('scene = "drum"\n', "scene = 'drum' is outside {axisymmetric, cone, meridian"),
+    ('[geometry]\na = 1\n', "scene is missing: give scene = NAME with NAME in {axisymmetric"),
+    ('scene = "meridian"\n[geometry]\npoints = "nope.txt"\n', "[geometry] points = "),
+    ('scene = "meridian"\n', "[geometry] points is missing"),
+]
+
+
+@pytest.mark.parametrize("text,message", BAD)
+def test_a_bad_file_is_refused_in_one_line_naming_file_and_key(text, message, tmp_path, capsys):
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    out = tmp_path / "out" / "x.nc"
+    assert main(["run", str(path), "--t-end", "1e-5", "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert err.startswith(f"mol-shell: error: {path}: {message}"), err
+    assert not out.exists() and not out.parent.exists()
+    with pytest.raises(ParameterError, match="^" + str(path)):
+        load_scene(path)
+
+
+def test_a_missing_file_and_a_missing_name_are_refused(tmp_path, capsys):
+    path = tmp_path / "none.toml"
+    assert main(["run", str(path), "--t-end", "1e-5", "-o", str(tmp_path / "x.nc")]) == 2
+    assert capsys.readouterr().err == f"mol-shell: error: {path}: cannot read the scene file (No such file or directory)\n"
+    assert main(["run", str(tmp_path), "--t-end", "1e-5", "-o", str(tmp_path / "x.nc")]) == 2  # not a .toml: a scene
+    assert "scene = " in capsys.readouterr().err
+    assert main(["scenes", "--toml"]) == 2
+    assert capsys.readouterr().err.startswith("mol-shell: error: NAME is missing: give mol-shell scenes NAME --toml")
