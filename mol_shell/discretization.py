@@ -273,27 +273,10 @@ class ShellSystem:
         return ca.Function("node", [q, p, m], [v_full, dTdq, T_p], self.KERNEL_OPTIONS)
 
     def _driven_node_kernel(self, free, driven):
-        """``(q, p, m, vd) -> (v, dT/dq, T, p_d, dp_d/dq, dp_d/dp, dp_d/dvd)`` for an edge node with driven rates.
+        """The edge-node kernel with prescribed rates (:func:`mol_shell.ends.driven_node_kernel`)."""
+        from .ends import driven_node_kernel
 
-        ``vd`` holds the prescribed rates (entries ``driven``); ``p_d = dT/dv_d`` are the momenta conjugate to
-        the driven fields (not states: the reaction is ``d p_d/dt`` less the other generalised forces).
-        """
-        q, p, m, vd = ca.SX.sym("q", NF), ca.SX.sym("p", NF), ca.SX.sym("m", 3), ca.SX.sym("vd", NF)
-        vf = ca.SX.sym("v", len(free))
-        v = [vf[free.index(k)] if k in free else (vd[k] if k in driven else 0) for k in range(NF)]
-        T = self.kinetic_energy(ca.vertsplit(q), v, ca.vertsplit(m))
-        M = ca.hessian(T, vf)[0]
-        lin = ca.substitute(ca.gradient(T, vf), vf, ca.DM.zeros(len(free)))  # the driven rates' share of p
-        v_of_p = ca.solve(M, p[free] - lin)
-        dTdq = ca.substitute(ca.gradient(T, q), vf, v_of_p)
-        T_p = ca.substitute(T, vf, v_of_p)
-        v_full = ca.SX.zeros(NF)
-        v_full[free] = v_of_p
-        for k in driven:
-            v_full[k] = vd[k]
-        pd = ca.substitute(ca.vertcat(*[ca.jacobian(T, vd)[k] for k in driven]), vf, v_of_p)  # dT/dv_d
-        outs = [v_full, dTdq, T_p, pd, ca.jacobian(pd, q), ca.jacobian(pd, p), ca.jacobian(pd, vd)]
-        return ca.Function("driven_node", [q, p, m, vd], outs, self.KERNEL_OPTIONS)
+        return driven_node_kernel(self, free, driven)
 
     def free_sets(self):
         """Free rates at node 0, at interior nodes and at node ``n - 1`` (imposed, tied and driven fields are not)."""
@@ -307,15 +290,10 @@ class ShellSystem:
         return sorted(k for (e, k) in self.drives if e == end)
 
     def driven_rates(self, node, t):
-        """``(vd, vd_t)`` (5-vectors, MX) of the prescribed rates at edge node ``node`` and their time derivatives."""
-        from .model.loads import history, history_rate
+        """``(vd, vd_t)`` of the prescribed rates at edge node ``node`` (:func:`mol_shell.ends.driven_rates`)."""
+        from .ends import driven_rates
 
-        end = 0 if node == 0 else 1
-        vd, vd_t = [0] * NF, [0] * NF
-        for (e, k), (rate, hist) in self.drives.items():
-            if e == end:
-                vd[k], vd_t[k] = rate * history(hist, t), rate * history_rate(hist, t)
-        return ca.vertcat(*vd), ca.vertcat(*vd_t)
+        return driven_rates(self, node, t)
 
     # -- assembly ------------------------------------------------------------------------
     def _fields(self, Y, offset=0):

@@ -19,9 +19,12 @@ An edge on the axis (``r0 = 0``) is a pole whatever is asked; an open edge canno
 
 from __future__ import annotations
 
+import casadi as ca
 import numpy as np
 
 from .errors import ParameterError
+
+NF = 5
 
 #: fields imposed at an edge of each kind (indices into FIELDS: z, r, chi, theta, psi)
 IMPOSED = {
@@ -92,3 +95,39 @@ def free_rates(kind, active):
     """Fields whose rates are unknowns at an edge of ``kind`` (imposed ones and a pole's tied ``chi`` are not)."""
     fixed = set(IMPOSED[kind]) | ({2} if kind == "pole" else set())
     return [k for k in active if k not in fixed]
+
+
+def driven_node_kernel(system, free, driven):
+    """``(q, p, m, vd) -> (v, dT/dq, T, p_d, dp_d/dq, dp_d/dp, dp_d/dvd)`` for an edge node with driven rates.
+
+    ``vd`` holds the prescribed rates (entries ``driven``); ``p_d = dT/dv_d`` are the momenta conjugate to
+    the driven fields (not states: the reaction is ``d p_d/dt`` less the other generalised forces).
+    """
+    q, p, m, vd = ca.SX.sym("q", NF), ca.SX.sym("p", NF), ca.SX.sym("m", 3), ca.SX.sym("vd", NF)
+    vf = ca.SX.sym("v", len(free))
+    v = [vf[free.index(k)] if k in free else (vd[k] if k in driven else 0) for k in range(NF)]
+    T = system.kinetic_energy(ca.vertsplit(q), v, ca.vertsplit(m))
+    M = ca.hessian(T, vf)[0]
+    lin = ca.substitute(ca.gradient(T, vf), vf, ca.DM.zeros(len(free)))  # the driven rates' share of p
+    v_of_p = ca.solve(M, p[free] - lin)
+    dTdq = ca.substitute(ca.gradient(T, q), vf, v_of_p)
+    T_p = ca.substitute(T, vf, v_of_p)
+    v_full = ca.SX.zeros(NF)
+    v_full[free] = v_of_p
+    for k in driven:
+        v_full[k] = vd[k]
+    pd = ca.substitute(ca.vertcat(*[ca.jacobian(T, vd)[k] for k in driven]), vf, v_of_p)  # dT/dv_d
+    outs = [v_full, dTdq, T_p, pd, ca.jacobian(pd, q), ca.jacobian(pd, p), ca.jacobian(pd, vd)]
+    return ca.Function("driven_node", [q, p, m, vd], outs, system.KERNEL_OPTIONS)
+
+
+def driven_rates(system, node, t):
+    """``(vd, vd_t)`` (5-vectors, MX) of the prescribed rates at edge node ``node`` and their time derivatives."""
+    from .model.loads import history, history_rate
+
+    end = 0 if node == 0 else 1
+    vd, vd_t = [0] * NF, [0] * NF
+    for (e, k), (rate, hist) in system.drives.items():
+        if e == end:
+            vd[k], vd_t[k] = rate * history(hist, t), rate * history_rate(hist, t)
+    return ca.vertcat(*vd), ca.vertcat(*vd_t)
