@@ -36,7 +36,8 @@ class ShellDAE:
     jacobian : casadi.Function
         ``(t, x, xp, cj) -> dF/dx + cj dF/dxp`` (sparse), the matrix IDA's Newton iteration needs.
     to_momenta : casadi.Function
-        ``x -> y``: rates to momenta ``p = M(q) v`` (the Hamiltonian state the rest of the package uses).
+        ``(x, t) -> y``: rates to momenta ``p = M(q) v`` (the Hamiltonian state the rest of the package uses;
+        ``t`` sets the prescribed rates of driven edges).
     """
 
     def __init__(self, system):
@@ -132,8 +133,8 @@ class ShellDAE:
         P = ca.vertcat(*[self._momentum(Q, V, k) for k in range(NF)])
         Yq = ca.vertcat(*[Q[k, :] for k in active])
         Yp = ca.vertcat(*[P[k, :] for k in active])
-        self.to_momenta = ca.Function("to_momenta", [x], [ca.vertcat(ca.vec(ca.vertcat(Yq, Yp)), x[sy.ny * n:])],
-                                      ["x"], ["y"])
+        self.to_momenta = ca.Function("to_momenta", [x, t], [ca.vertcat(ca.vec(ca.vertcat(Yq, Yp)), x[sy.ny * n:])],
+                                      ["x", "t"], ["y"])
         self._mask_q = mask_q
         self._free_x = free_x
 

@@ -494,13 +494,19 @@ class ShellSystem:
         """The node-major state vector of scene ``sc``'s initial data (``R`` and the like resolved).
 
         The scene gives the fields and rates at the nodes from the reference coordinates
-        (``sc.initial_fields(s, reference)``); imposed rates are zeroed, a pole's ``chi`` takes its
-        neighbour's value, and the momenta follow from ``p = M(q) v``.
+        (``sc.initial_fields(s, reference)``); imposed rates are zeroed, driven ones set to their
+        prescribed values, a pole's ``chi`` takes its neighbour's value, and the momenta follow from
+        ``p = M(q) v`` (those of imposed and driven fields are not states: zero).
         """
         Q, V = sc.initial_fields(self.s, self.reference)
         Q, V = np.array(Q, dtype=float), np.array(V, dtype=float)
         Q = self.tie(Q)
         V = V * ~self.fixed.T
+        if self.drives:  # a driven edge moves at its prescribed rate from t = 0 (its neighbours' momenta see it)
+            from .model.loads import history
+
+            for (e, k), (rate, hist) in self.drives.items():
+                V[k, 0 if e == 0 else self.n - 1] = rate * history(hist, 0.0)
         return self.pack(Q, self.momenta(Q, V))
 
     def pack(self, Q, P):

@@ -34,7 +34,7 @@ def check_end_loads(system, scene):
         kind = system.edges[0 if end == "end1" else 1]
         if getattr(scene, end + "_force", 0.0) and system.imposed[node, 0]:
             raise ParameterError(end + "_force", getattr(scene, end + "_force"), "0 for this edge",
-                                 hint=f"{end} is a {kind} edge: its z is imposed (a force needs end {end}=free)")
+                                 hint=f"{end} is a {kind} edge: its z is imposed (a force needs {end}=free)")
         if getattr(scene, end + "_torque", 0.0) and (system.fixed[node, 2] or 2 not in system.active):
             raise ParameterError(end + "_torque", getattr(scene, end + "_torque"), "0 for this edge",
                                  hint=f"{end} is a {kind} edge: its chi is imposed or tied (a torque needs "

@@ -255,7 +255,7 @@ class CasadiIDAS(CasadiCVODES):
 
     def _states(self, system, xf):
         dae = _CASADI_GRAPHS[system]["dae"]
-        return np.array([np.array(dae.to_momenta(col)).ravel() for col in np.array(xf).T])
+        return np.array([np.array(dae.to_momenta(col, 0.0)).ravel() for col in np.array(xf).T])  # no loads here
 
 
 @dataclass(frozen=True)

@@ -360,10 +360,10 @@ class _Run:
                 self.failures += 1
             self.last_t = t
 
-    def to_hamiltonian(self, state):
+    def to_hamiltonian(self, state, t=0.0):
         if not self.ida:
             return np.array(state, dtype=float)
-        return np.array(self.parts["dae"].to_momenta(state)).ravel()
+        return np.array(self.parts["dae"].to_momenta(state, float(np.ravel(t)[0]))).ravel()
 
     def go(self, times, progress):
         method, system = self.method, self.system
@@ -402,7 +402,7 @@ class _Run:
                     if progress is not None:
                         progress.update(float(res.t) - t)
                     t = float(res.t)
-                y = self.to_hamiltonian(res.y)
+                y = self.to_hamiltonian(res.y, t)
                 monitor.check(y, t)
                 saved.append(y)
                 reached.append(t)
@@ -440,7 +440,7 @@ class _Run:
     def _failure(self, res, t_prev):
         t = float(res.t) if np.isfinite(res.t) else t_prev
         if res.status == CONSTRAINT_FAIL[self.method.kind]:
-            r = self.system.unpack(self.to_hamiltonian(res.y))[1][self.system.radial_nodes]
+            r = self.system.unpack(self.to_hamiltonian(res.y, t))[1][self.system.radial_nodes]
             i = int(self.system.radial_nodes[np.argmin(r)])
             where = f"s = {self.system.s[i]:.6g} m"
             return ModelLimitError(
