@@ -90,8 +90,11 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
                               "energy dissipated so far by viscosity and drag"})
         energy = totals["kinetic"] + totals["stored"]
         defect = energy - energy[0] - totals["work"] + totals["dissipated"]
+        # relative to the energy exchanged, and at least 1e-12 of a unit strain's energy (so a shell at rest,
+        # exchanging round-off, does not report a balance error of order 1)
+        unit = 2 * np.pi * float(np.sum(system.weights * system.reference[1])) * 2 * scene.h * (system.lam + 2 * system.mu)
         exchange = max(float(np.max(np.abs(totals["work"]))), float(np.max(np.abs(totals["dissipated"]))),
-                       float(np.max(np.abs(energy - energy[0]))), 1e-300)
+                       float(np.max(np.abs(energy - energy[0]))), 1e-12 * unit)
         balance = float(np.max(np.abs(defect)) / exchange)
     names = getattr(system, "reaction_names", [])
     if names:
