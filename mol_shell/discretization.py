@@ -42,6 +42,8 @@ Inactive fields are identically zero and are not in the graph.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
 from functools import cached_property
 
@@ -54,7 +56,7 @@ from .model.geometry import node_inertias
 from .model.kinematics import FIELDS as FIELD_NAMES
 from .model.kinematics import delta, kinetic_energy_density
 from .model.material import (
-    Thickness, condensed, effective_lame, inertias, thickness_dissipation, thickness_energy,
+    Thickness, condensed, effective_lame, inertias, thickness_dissipation, thickness_energy, thickness_energy_shared,
 )
 
 NF = 5  # fields of the model (z, r, chi, theta, psi)
@@ -72,6 +74,10 @@ class ShellSystem:
         not used here).
     n : int
         Number of nodes (``n >= 3``).
+    reference : bool
+        Build the cell kernel from the readable reference energy (:func:`~mol_shell.model.material.thickness_energy`:
+        ``F``, ``E`` and ``W`` at each thickness point) instead of the lean one
+        (:func:`~mol_shell.model.material.thickness_energy_shared`, equal to round-off); tests check one against the other.
 
     Attributes
     ----------
@@ -90,7 +96,8 @@ class ShellSystem:
     #: largest grid assembled as one flat SX graph; larger grids keep mapped kernels
     FLAT_MAX_NODES = 400
 
-    def __init__(self, scene, n=40):
+    def __init__(self, scene, n=40, *, reference=False):
+        self.reference_kernel = bool(reference)
         if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 3:
             raise ParameterError("n", n, "integers >= 3")
         self.scene, self.n = scene, int(n)
@@ -190,7 +197,8 @@ class ShellSystem:
         """Stored energy of the cell ``[s_i, s_{i+1}]``: the mean over its samples of ``2 pi int W det G0 dzeta``."""
         factors, beta2_0 = self._factors(data)
         samples = self.cell_samples(ql, qr)
-        return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
+        energy = thickness_energy if self.reference_kernel else thickness_energy_shared
+        return sum(energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
 
     @property
     def samples_per_cell(self):
@@ -218,8 +226,10 @@ class ShellSystem:
         """``(q_left, q_right, geo) -> (dV/dq_left, dV/dq_right)``: the cell's elastic forces on its nodes."""
         ql, qr, geo = self._cell_symbols()
         energy = self.cell_energy(ql, qr, geo)
-        return ca.Function("cell", [ql, qr, geo], [ca.gradient(energy, ql), ca.gradient(energy, qr)],
-                           self.KERNEL_OPTIONS)
+        forces = [ca.gradient(energy, ql), ca.gradient(energy, qr)]
+        if not self.reference_kernel:
+            forces = ca.cse(forces)  # the two samples share their differences, midpoints and trigonometry
+        return ca.Function("cell", [ql, qr, geo], forces, self.KERNEL_OPTIONS)
 
     def _cell_observables(self):
         """``(q_left, q_right, geo) -> (V_cell, ds x delta at the cell's samples)``."""
@@ -352,7 +362,7 @@ class ShellSystem:
         """``dV/dq`` (``5 x n``, MX) of the fields ``Q`` (ties applied inside)."""
         n = self.n
         Qt = self.tie(Q)
-        gl, gr = self.cell_forces_kernel().map(n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
+        gl, gr = self._map(self.cell_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
         pad = ca.MX.zeros(NF, 1)
         return self.gather_ties(ca.horzcat(gl, pad) + ca.horzcat(pad, gr))
 
@@ -360,11 +370,50 @@ class ShellSystem:
         """``dD/dv`` (``5 x n``, MX) at fields ``Q`` and rates ``V`` (ties applied inside)."""
         n = self.n
         Qt, Vt = self.tie(Q), self.tie(V)
-        fl, fr = self.viscous_forces_kernel().map(n - 1)(Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:], self.cell_data)
+        fl, fr = self._map(self.viscous_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:], self.cell_data)
         pad = ca.MX.zeros(NF, 1)
         return self.gather_ties(ca.horzcat(fl, pad) + ca.horzcat(pad, fr))
 
+    #: kernels mapped with CasADi's "openmp" map while :attr:`rhs_parallel` is assembled
+    _parallel = False
+
+    def _map(self, kernel, count):
+        """``kernel.map(count)``; with OpenMP pragmas in generated C while :attr:`rhs_parallel` is assembled."""
+        if not self._parallel:
+            return kernel.map(count)
+        with contextlib.redirect_stderr(io.StringIO()):  # the pip CasADi warns that its own VM runs it serially
+            return kernel.map(count, "openmp")
+
+    @cached_property
+    def rhs_parallel(self):
+        """:attr:`rhs_mapped` with the cell and node kernels in OpenMP maps (``#pragma omp parallel for`` in C).
+
+        The same graph and arithmetic per cell, so its generated C gives the serial results to the last
+        bit whatever the thread count (each cell and node is computed by one thread, and sums over
+        cells stay in the serial order outside the parallel loops). CasADi's own virtual machine
+        evaluates it serially; :class:`~mol_shell.compiled.CompiledRHS` builds it with ``-fopenmp``.
+        """
+        self._parallel = True
+        try:
+            return self._assemble()[0]
+        finally:
+            self._parallel = False
+
     def _build(self):
+        rhs, newton, observables, interior = self._assemble()
+        self.rhs_mapped = rhs
+        self.rhs_newton_mapped = newton
+        self.kernel_instructions = {
+            "cell": self.cell_forces_kernel().n_instructions(),
+            "node": interior.n_instructions(),
+        }
+        self.mapped = self.n > self.FLAT_MAX_NODES
+        if self.mapped:
+            self.rhs, self.observables, self.rhs_newton = rhs, observables, newton
+        else:
+            self.rhs, self.observables, self.rhs_newton = rhs.expand(), observables.expand(), newton.expand()
+
+    def _assemble(self):
         """Assemble the RHS from per-cell and per-node kernels mapped over the grid (MX).
 
         Up to :attr:`FLAT_MAX_NODES` nodes :attr:`rhs` is expanded into one flat SX graph
@@ -380,7 +429,7 @@ class ShellSystem:
         first, inner, last = self.free_sets()
         interior = self._node_kernel(inner)
         t = ca.MX.sym("t")
-        vi, fi, ti = interior.map(n - 2)(Q[:, 1:-1], P[:, 1:-1], self.inertia[:, 1:-1])
+        vi, fi, ti = self._map(interior, n - 2)(Q[:, 1:-1], P[:, 1:-1], self.inertia[:, 1:-1])
         ends, drive_terms = [], []
         for e, free in ((0, first), (n - 1, last)):
             driven = self.driven_fields(e)
@@ -398,7 +447,7 @@ class ShellSystem:
         if self.viscous:
             forces = forces - self.viscous_forces(Q, V)
             Qt = self.tie(Q)
-            dissipation = ca.sum2(self._viscous_power().map(n - 1)(Qt[:, :-1], Qt[:, 1:], V[:, :-1], V[:, 1:],
+            dissipation = ca.sum2(self._map(self._viscous_power(), n - 1)(Qt[:, :-1], Qt[:, 1:], V[:, :-1], V[:, 1:],
                                                                   self.cell_data))
         rates = []
         work, dissipated = 0, 0
@@ -441,17 +490,7 @@ class ShellSystem:
             ["y", "t"],
             ["v", "kinetic", "stored", "angular_momentum", "delta", "dissipation", "work", "dissipated", "reactions"],
         )
-        self.rhs_mapped = rhs
-        self.rhs_newton_mapped = newton
-        self.kernel_instructions = {
-            "cell": self.cell_forces_kernel().n_instructions(),
-            "node": interior.n_instructions(),
-        }
-        self.mapped = n > self.FLAT_MAX_NODES
-        if self.mapped:
-            self.rhs, self.observables, self.rhs_newton = rhs, observables, newton
-        else:
-            self.rhs, self.observables, self.rhs_newton = rhs.expand(), observables.expand(), newton.expand()
+        return rhs, newton, observables, interior
 
     @cached_property
     def limits(self):

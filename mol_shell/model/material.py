@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import scaled_deformation_gradient
+from .kinematics import column_polynomials, scaled_deformation_gradient
 
 
 def lame(young, poisson):
@@ -141,6 +141,41 @@ def thickness_energy(strains, lam, mu, factors, beta2_0=0.0):
     total = 0.0
     for zeta, j1, j3, vol in factors:
         total = total + vol * svk_energy(scaled_deformation_gradient(strains, zeta, j1, j3, beta2_0), lam, mu)
+    return total
+
+
+def thickness_energy_shared(strains, lam, mu, factors, beta2_0=0.0):
+    """:func:`thickness_energy` with everything that does not depend on ``zeta`` computed once.
+
+    With ``F = [(a + zeta b) j1, c2, (c + zeta d) j3]`` (:func:`~mol_shell.model.kinematics.column_polynomials`)
+    the Green strain ``E = (F^T F - I)/2`` at thickness point ``zeta`` is
+
+        E11 = ((|a|^2 + 2 zeta a.b + zeta^2 |b|^2) j1^2 - 1)/2,   E33 = ((r^2 + 2 zeta r d3 + zeta^2 |d|^2) j3^2 - 1)/2,
+        E13 = (a.c + zeta (a.d + b.c) + zeta^2 b.d) j1 j3 / 2,     E12 = (a.c2) j1 / 2,   E23 = (c.c2) j3 / 2,
+
+    and ``E22 = 0`` (``|c2| = 1``; ``b.c2 = d.c2 = 0`` identically). Eleven dot products per sample, then a
+    few operations per thickness point instead of a 3x3 product: the same quadrature of the same
+    ``W_SVK`` (eq. 7.9), equal to :func:`thickness_energy` up to round-off.
+    """
+    a, b, c, d, c2 = column_polynomials(strains, beta2_0)
+
+    def dot(u, v):
+        return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+    r = c[2]
+    aa, ab2, bb = dot(a, a), 2 * dot(a, b), dot(b, b)
+    cc, cd2, dd = r * r, 2 * r * d[2], dot(d, d)
+    ac, adbc, bd = a[2] * r, dot(a, d) + b[2] * r, dot(b, d)
+    e12, e23 = a[1] * c2[1] + a[2] * c2[2], r * c2[2]  # twice E12 / j1, twice E23 / j3
+    total = 0.0
+    for zeta, j1, j3, vol in factors:
+        j11, j33 = j1 * j1, j3 * j3
+        e11 = 0.5 * ((aa + zeta * (ab2 + zeta * bb)) * j11 - 1.0)
+        e33 = 0.5 * ((cc + zeta * (cd2 + zeta * dd)) * j33 - 1.0)
+        e13 = 0.5 * (ac + zeta * (adbc + zeta * bd)) * (j1 * j3)
+        shear = 0.5 * (e12 * e12 * j11 + e23 * e23 * j33) + 2.0 * e13 * e13  # 2 (E12^2 + E23^2 + E13^2)
+        trace = e11 + e33
+        total = total + vol * (0.5 * lam * trace * trace + mu * (e11 * e11 + e33 * e33 + shear))
     return total
 
 
