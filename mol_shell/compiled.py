@@ -107,16 +107,35 @@ def cache_dir():
 
 
 def compile_cached(source, prefix, flags=CFLAGS):
-    """Path of a shared object built from C ``source`` with gcc ``flags``, cached on disk by hash."""
+    """Path of a shared object built from C ``source`` with gcc ``flags``, cached on disk by hash.
+
+    Concurrent processes that need the same object (the workers of a study) wait on a lock file for
+    the first one's build instead of compiling it again. Each gcc build appends a line (object, pid,
+    seconds) to ``builds.log`` in the cache: how a study shows that no case recompiled a kernel.
+    """
     key = hashlib.sha256((source + " ".join(flags) + ca.__version__).encode()).hexdigest()[:20]
     lib = cache_dir() / f"{prefix}_{key}.so"
-    if not lib.exists():
-        with tempfile.TemporaryDirectory(dir=cache_dir()) as tmp:
-            src = Path(tmp, f"{prefix}.c")
-            src.write_text(source)
-            out = Path(tmp, lib.name)
-            subprocess.run(["gcc", *flags, str(src), "-o", str(out), "-lm"], check=True, capture_output=True)
-            os.replace(out, lib)  # atomic: concurrent builders cannot see half a file
+    if lib.exists():
+        return lib
+    with open(cache_dir() / f".{prefix}_{key}.lock", "w") as lock:
+        try:
+            import fcntl
+
+            fcntl.flock(lock, fcntl.LOCK_EX)
+        except ImportError:  # no fcntl (Windows): concurrent builders may both compile; os.replace keeps it safe
+            pass
+        if not lib.exists():
+            import time
+
+            start = time.perf_counter()
+            with tempfile.TemporaryDirectory(dir=cache_dir()) as tmp:
+                src = Path(tmp, f"{prefix}.c")
+                src.write_text(source)
+                out = Path(tmp, lib.name)
+                subprocess.run(["gcc", *flags, str(src), "-o", str(out), "-lm"], check=True, capture_output=True)
+                os.replace(out, lib)  # atomic: readers that do not lock cannot see half a file
+            with open(cache_dir() / "builds.log", "a") as log:
+                log.write(f"{lib.name} {os.getpid()} {time.perf_counter() - start:.2f}\n")
     return lib
 
 
