@@ -66,12 +66,15 @@ if hasattr(compiled, "set_threads"):
 y0 = system.initial_state(scene)
 dt = 1.43e-6
 f = compiled.evaluator()
-ya, yb = y0.copy(), y0 + dt * f(y0, 0.0)
-compiled.leapfrog(ya, yb, 5, dt, dt)  # warm-up (pages, threads)
+ya, yb = y0.copy(), y0 + dt * f(y0)  # release 0.2.0: no time argument
+import inspect
+timed = "t" in inspect.signature(compiled.leapfrog).parameters
+run = (lambda m: compiled.leapfrog(ya, yb, m, dt, dt)) if timed else (lambda m: compiled.leapfrog(ya, yb, m, dt))
+run(5)  # warm-up (pages, threads)
 best = float("inf")
 for _ in range(3):
     start = time.perf_counter()
-    compiled.leapfrog(ya, yb, steps, dt, dt)
+    run(steps)
     best = min(best, (time.perf_counter() - start) / steps)
 print(json.dumps({"per_step_s": best, "build_s": build_s, "finite": bool(np.all(np.isfinite(yb)))}))
 """

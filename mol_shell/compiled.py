@@ -20,9 +20,10 @@ import casadi as ca
 import numpy as np
 
 CFLAGS = ("-O2", "-fPIC", "-shared")
-#: what CasADi writes for an "openmp" map, and what we make of it: a thread count set at run time
+#: what CasADi writes for an "openmp" map, and what we make of it: a thread count set at run time, and chunks
+#: of 32 cells handed out as threads get free (a core busy with another process then slows the run less)
 _OMP_PRAGMA = "#pragma omp parallel for private("
-_OMP_THREADS = "#pragma omp parallel for num_threads(ms_threads) if(ms_threads > 1) private("
+_OMP_THREADS = "#pragma omp parallel for num_threads(ms_threads) if(ms_threads > 1) schedule(dynamic, 32) private("
 _THREADS_HEAD = "#include <stdlib.h>\nstatic int ms_threads = 1; /* threads of the OpenMP maps (ms_set_threads) */\n"
 _THREADS_API = r"""
 CASADI_SYMBOL_EXPORT void ms_set_threads(int k) { ms_threads = k > 0 ? k : 1; }

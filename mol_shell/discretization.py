@@ -56,7 +56,8 @@ from .model.geometry import node_inertias
 from .model.kinematics import FIELDS as FIELD_NAMES
 from .model.kinematics import delta, kinetic_energy_density
 from .model.material import (
-    Thickness, condensed, effective_lame, inertias, thickness_dissipation, thickness_energy, thickness_energy_shared,
+    Thickness, condensed, effective_lame, inertias, thickness_dissipation, thickness_energy, thickness_energy_moments,
+    thickness_moments,
 )
 
 NF = 5  # fields of the model (z, r, chi, theta, psi)
@@ -77,7 +78,8 @@ class ShellSystem:
     reference : bool
         Build the cell kernel from the readable reference energy (:func:`~mol_shell.model.material.thickness_energy`:
         ``F``, ``E`` and ``W`` at each thickness point) instead of the lean one
-        (:func:`~mol_shell.model.material.thickness_energy_shared`, equal to round-off); tests check one against the other.
+        (:func:`~mol_shell.model.material.thickness_energy_moments`: per-sample dot products against per-cell
+        thickness moments of the same quadrature, equal to round-off); tests check one against the other.
 
     Attributes
     ----------
@@ -174,14 +176,22 @@ class ShellSystem:
         self.curved = bool(np.any(np.abs(beta2) > BETA2_ZERO * np.abs(beta1)))
         if self.curved:
             rows.append(beta2)
+        nq = self.thickness.n_quad
+        zetas = self.thickness.nodes_weights[0]
+        rows += thickness_moments([(zetas[q], rows[3 * q], rows[3 * q + 1], rows[3 * q + 2]) for q in range(nq)])
         return np.array(rows)
 
     def _factors(self, data):
         """``quadrature_factors``-like tuples from a symbolic per-cell data column, and ``beta2_0``."""
+        return self._factors_and_moments(data)[:2]
+
+    def _factors_and_moments(self, data):
+        """:meth:`_factors` and the thickness moments (:func:`~mol_shell.model.material.thickness_moments`) of a cell."""
         nq = self.thickness.n_quad
         zetas = self.thickness.nodes_weights[0]
         factors = [(zetas[q], data[3 * q], data[3 * q + 1], data[3 * q + 2]) for q in range(nq)]
-        return factors, (data[3 * nq] if self.curved else 0.0)
+        start = 3 * nq + int(self.curved)
+        return factors, (data[3 * nq] if self.curved else 0.0), [data[k] for k in range(start, self.n_cell_data)]
 
     # -- kernels -------------------------------------------------------------------------
     #: CasADi differentiates a mapped kernel through the kernel's own Jacobian instead of one
@@ -195,10 +205,11 @@ class ShellSystem:
 
     def cell_energy(self, ql, qr, data):
         """Stored energy of the cell ``[s_i, s_{i+1}]``: the mean over its samples of ``2 pi int W det G0 dzeta``."""
-        factors, beta2_0 = self._factors(data)
+        factors, beta2_0, moments = self._factors_and_moments(data)
         samples = self.cell_samples(ql, qr)
-        energy = thickness_energy if self.reference_kernel else thickness_energy_shared
-        return sum(energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
+        if self.reference_kernel:
+            return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
+        return sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) for e in samples) / len(samples)
 
     @property
     def samples_per_cell(self):
