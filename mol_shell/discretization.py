@@ -203,11 +203,16 @@ class ShellSystem:
     def n_cell_data(self):
         return self.cell_data.shape[0]
 
-    def cell_energy(self, ql, qr, data):
-        """Stored energy of the cell ``[s_i, s_{i+1}]``: the mean over its samples of ``2 pi int W det G0 dzeta``."""
+    def cell_energy(self, ql, qr, data, reference=None):
+        """Stored energy of the cell ``[s_i, s_{i+1}]``: the mean over its samples of ``2 pi int W det G0 dzeta``.
+
+        ``reference`` (default: the system's choice) selects the readable per-point form. The moments form
+        is for the forces: its value sums O(1) terms to an O(strain^2) energy and keeps ~1e-12 relative
+        accuracy, its gradient ~1e-14; the observables' stored energy uses the per-point form.
+        """
         factors, beta2_0, moments = self._factors_and_moments(data)
         samples = self.cell_samples(ql, qr)
-        if self.reference_kernel:
+        if self.reference_kernel if reference is None else reference:
             return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
         return sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) for e in samples) / len(samples)
 
@@ -246,7 +251,8 @@ class ShellSystem:
         """``(q_left, q_right, geo) -> (V_cell, ds x delta at the cell's samples)``."""
         ql, qr, geo = self._cell_symbols()
         deltas = [delta(z_s, r_s, r, theta, psi) for z_s, r_s, _, _, _, r, theta, psi in self.cell_samples(ql, qr)]
-        return ca.Function("cell_observables", [ql, qr, geo], [self.cell_energy(ql, qr, geo), ca.vertcat(*deltas)])
+        return ca.Function("cell_observables", [ql, qr, geo], [self.cell_energy(ql, qr, geo, reference=True),
+                                                               ca.vertcat(*deltas)])
 
     def cell_delta(self):
         """``(q_left, q_right, geo) -> ds x delta``, ``delta = r beta1 cos(psi)`` at the cell's samples (must stay > 0)."""
