@@ -20,6 +20,31 @@ import casadi as ca
 import numpy as np
 
 CFLAGS = ("-O2", "-fPIC", "-shared")
+#: what CasADi writes for an "openmp" map, and what we make of it: a thread count set at run time, and chunks
+#: of 32 cells handed out as threads get free (a core busy with another process then slows the run less)
+_OMP_PRAGMA = "#pragma omp parallel for private("
+_OMP_THREADS = "#pragma omp parallel for num_threads(ms_threads) if(ms_threads > 1) schedule(dynamic, 32) private("
+_THREADS_HEAD = "#include <stdlib.h>\nstatic int ms_threads = 1; /* threads of the OpenMP maps (ms_set_threads) */\n"
+_THREADS_API = r"""
+CASADI_SYMBOL_EXPORT void ms_set_threads(int k) { ms_threads = k > 0 ? k : 1; }
+CASADI_SYMBOL_EXPORT int ms_get_threads(void) { return ms_threads; }
+"""
+
+
+def default_threads():
+    """Threads for the compiled right-hand side: ``$MOL_SHELL_THREADS``, else all cores."""
+    text = os.environ.get("MOL_SHELL_THREADS", "").strip()
+    if text:
+        try:
+            value = int(text)
+        except ValueError:
+            value = 0
+        if value < 1:
+            from .errors import ParameterError
+
+            raise ParameterError("MOL_SHELL_THREADS", text, "integers >= 1")
+        return value
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 _DRIVER = r"""
 /* ---- mol_shell leap-frog driver: y(k+1) = y(k-1) + 2 dt f(y(k)) ---- */
@@ -27,11 +52,17 @@ _DRIVER = r"""
 #define MS_NG {ng}
 static int ms_call(int (*fn)(const casadi_real**, casadi_real**, casadi_int*, casadi_real*, int),
                    casadi_real t, const casadi_real* in, casadi_real* out) {{
-  casadi_int iw[{sz_iw} + 1];
-  casadi_real w[{sz_w} + 1];
+  /* work on the heap, allocated once: OpenMP maps hold one work vector per cell (MBs at large n) */
+  static casadi_int* iw = 0;
+  static casadi_real* w = 0;
   const casadi_real* arg[{sz_arg} + 1];
   casadi_real* res[{sz_res} + 1];
   int i;
+  if (!w) {{
+    iw = (casadi_int*) malloc(sizeof(casadi_int) * ({sz_iw} + 1));
+    w = (casadi_real*) malloc(sizeof(casadi_real) * ({sz_w} + 1));
+    if (!iw || !w) return 1;
+  }}
   for (i = 0; i < {sz_arg}; ++i) arg[i] = 0;
   for (i = 0; i < {sz_res}; ++i) res[i] = 0;
   arg[0] = &t; arg[1] = in; res[0] = out;
@@ -77,16 +108,35 @@ def cache_dir():
 
 
 def compile_cached(source, prefix, flags=CFLAGS):
-    """Path of a shared object built from C ``source`` with gcc ``flags``, cached on disk by hash."""
+    """Path of a shared object built from C ``source`` with gcc ``flags``, cached on disk by hash.
+
+    Concurrent processes that need the same object (the workers of a study) wait on a lock file for
+    the first one's build instead of compiling it again. Each gcc build appends a line (object, pid,
+    seconds) to ``builds.log`` in the cache: how a study shows that no case recompiled a kernel.
+    """
     key = hashlib.sha256((source + " ".join(flags) + ca.__version__).encode()).hexdigest()[:20]
     lib = cache_dir() / f"{prefix}_{key}.so"
-    if not lib.exists():
-        with tempfile.TemporaryDirectory(dir=cache_dir()) as tmp:
-            src = Path(tmp, f"{prefix}.c")
-            src.write_text(source)
-            out = Path(tmp, lib.name)
-            subprocess.run(["gcc", *flags, str(src), "-o", str(out), "-lm"], check=True, capture_output=True)
-            os.replace(out, lib)  # atomic: concurrent builders cannot see half a file
+    if lib.exists():
+        return lib
+    with open(cache_dir() / f".{prefix}_{key}.lock", "w") as lock:
+        try:
+            import fcntl
+
+            fcntl.flock(lock, fcntl.LOCK_EX)
+        except ImportError:  # no fcntl (Windows): concurrent builders may both compile; os.replace keeps it safe
+            pass
+        if not lib.exists():
+            import time
+
+            start = time.perf_counter()
+            with tempfile.TemporaryDirectory(dir=cache_dir()) as tmp:
+                src = Path(tmp, f"{prefix}.c")
+                src.write_text(source)
+                out = Path(tmp, lib.name)
+                subprocess.run(["gcc", *flags, str(src), "-o", str(out), "-lm"], check=True, capture_output=True)
+                os.replace(out, lib)  # atomic: readers that do not lock cannot see half a file
+            with open(cache_dir() / "builds.log", "a") as log:
+                log.write(f"{lib.name} {os.getpid()} {time.perf_counter() - start:.2f}\n")
     return lib
 
 
@@ -108,6 +158,9 @@ class CompiledRHS:
     limits : casadi.Function, optional
         ``y -> g``; the leap-frog driver stops at the first step that leaves an entry of ``g``
         ``<= 0`` or not finite (the model's limits, :attr:`ShellSystem.limits`).
+    threads : int, optional
+        Threads for the OpenMP maps of a parallel RHS (:attr:`ShellSystem.rhs_parallel`); default
+        :func:`default_threads`. Ignored (1) for a serial RHS. Changed later by :meth:`set_threads`.
 
     Attributes
     ----------
@@ -117,7 +170,7 @@ class CompiledRHS:
         Seconds spent in gcc (0 when the cache had it).
     """
 
-    def __init__(self, rhs, limits=None):
+    def __init__(self, rhs, limits=None, threads=None):
         import time
 
         rhs = with_cse(rhs)
@@ -135,21 +188,42 @@ class CompiledRHS:
         with tempfile.TemporaryDirectory() as tmp:
             gen.generate(tmp + os.sep)
             source = Path(tmp, "ms_rhs.c").read_text()
+        #: the RHS has OpenMP maps (:attr:`ShellSystem.rhs_parallel`): built with -fopenmp, threads set at run time
+        self.parallel = _OMP_PRAGMA in source
+        source = _THREADS_HEAD + source.replace(_OMP_PRAGMA, _OMP_THREADS) + _THREADS_API
         source += _DRIVER.format(
             n=self.size, ng=self.n_limits, name=rhs.name(), sz_iw=rhs.sz_iw(), sz_w=rhs.sz_w(), sz_arg=rhs.sz_arg(),
             sz_res=rhs.sz_res(), limits_call=limits_call,
         )
         start = time.perf_counter()
-        lib = compile_cached(source, "rhs", CFLAGS)
+        lib = compile_cached(source, "rhs", CFLAGS + (("-fopenmp",) if self.parallel else ()))
         self.compile_time_s = time.perf_counter() - start
         self.path = lib
+        self._lib = ctypes.CDLL(str(lib))  # the same handle as CasADi's below: ms_threads is shared
         self.function = ca.external(rhs.name(), str(lib))
-        self._lib = ctypes.CDLL(str(lib))
         self._lib.ms_leapfrog.restype = ctypes.c_longlong
         dptr = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
         self._lib.ms_leapfrog.argtypes = [dptr, dptr, dptr, dptr, ctypes.c_longlong, ctypes.c_double, ctypes.c_double]
+        self._lib.ms_set_threads.argtypes = [ctypes.c_int]
+        self._lib.ms_get_threads.restype = ctypes.c_int
         self._f = np.zeros(self.size)
         self._g = np.zeros(max(self.n_limits, 1))
+        self.set_threads(threads)
+
+    def set_threads(self, threads=None):
+        """Threads for the cell and node kernels (``None``: :func:`default_threads`); 1 when the RHS is serial."""
+        if threads is None:
+            threads = default_threads()
+        if not (isinstance(threads, (int, np.integer)) and not isinstance(threads, bool) and threads >= 1):
+            from .errors import ParameterError
+
+            raise ParameterError("threads", threads, "integers >= 1")
+        self._lib.ms_set_threads(int(threads) if self.parallel else 1)
+
+    @property
+    def threads(self):
+        """Threads the compiled RHS uses now."""
+        return int(self._lib.ms_get_threads())
 
     def leapfrog(self, ya, yb, nsteps, dt, t=0.0):
         """Advance the pair ``(y_{k-1}, y_k)`` in place by up to ``nsteps`` leap-frog steps (``t``: the time of ``y_k``).

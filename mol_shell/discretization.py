@@ -42,6 +42,8 @@ Inactive fields are identically zero and are not in the graph.
 
 from __future__ import annotations
 
+import contextlib
+import io
 import math
 from functools import cached_property
 
@@ -54,7 +56,8 @@ from .model.geometry import node_inertias
 from .model.kinematics import FIELDS as FIELD_NAMES
 from .model.kinematics import delta, kinetic_energy_density
 from .model.material import (
-    Thickness, condensed, effective_lame, inertias, thickness_dissipation, thickness_energy,
+    Thickness, condensed, effective_lame, inertias, thickness_dissipation, thickness_energy, thickness_energy_moments,
+    thickness_moments,
 )
 
 NF = 5  # fields of the model (z, r, chi, theta, psi)
@@ -72,6 +75,11 @@ class ShellSystem:
         not used here).
     n : int
         Number of nodes (``n >= 3``).
+    reference : bool
+        Build the cell kernel from the readable reference energy (:func:`~mol_shell.model.material.thickness_energy`:
+        ``F``, ``E`` and ``W`` at each thickness point) instead of the lean one
+        (:func:`~mol_shell.model.material.thickness_energy_moments`: per-sample dot products against per-cell
+        thickness moments of the same quadrature, equal to round-off); tests check one against the other.
 
     Attributes
     ----------
@@ -90,7 +98,8 @@ class ShellSystem:
     #: largest grid assembled as one flat SX graph; larger grids keep mapped kernels
     FLAT_MAX_NODES = 400
 
-    def __init__(self, scene, n=40):
+    def __init__(self, scene, n=40, *, reference=False):
+        self.reference_kernel = bool(reference)
         if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 3:
             raise ParameterError("n", n, "integers >= 3")
         self.scene, self.n = scene, int(n)
@@ -167,14 +176,22 @@ class ShellSystem:
         self.curved = bool(np.any(np.abs(beta2) > BETA2_ZERO * np.abs(beta1)))
         if self.curved:
             rows.append(beta2)
+        nq = self.thickness.n_quad
+        zetas = self.thickness.nodes_weights[0]
+        rows += thickness_moments([(zetas[q], rows[3 * q], rows[3 * q + 1], rows[3 * q + 2]) for q in range(nq)])
         return np.array(rows)
 
     def _factors(self, data):
         """``quadrature_factors``-like tuples from a symbolic per-cell data column, and ``beta2_0``."""
+        return self._factors_and_moments(data)[:2]
+
+    def _factors_and_moments(self, data):
+        """:meth:`_factors` and the thickness moments (:func:`~mol_shell.model.material.thickness_moments`) of a cell."""
         nq = self.thickness.n_quad
         zetas = self.thickness.nodes_weights[0]
         factors = [(zetas[q], data[3 * q], data[3 * q + 1], data[3 * q + 2]) for q in range(nq)]
-        return factors, (data[3 * nq] if self.curved else 0.0)
+        start = 3 * nq + int(self.curved)
+        return factors, (data[3 * nq] if self.curved else 0.0), [data[k] for k in range(start, self.n_cell_data)]
 
     # -- kernels -------------------------------------------------------------------------
     #: CasADi differentiates a mapped kernel through the kernel's own Jacobian instead of one
@@ -186,11 +203,18 @@ class ShellSystem:
     def n_cell_data(self):
         return self.cell_data.shape[0]
 
-    def cell_energy(self, ql, qr, data):
-        """Stored energy of the cell ``[s_i, s_{i+1}]``: the mean over its samples of ``2 pi int W det G0 dzeta``."""
-        factors, beta2_0 = self._factors(data)
+    def cell_energy(self, ql, qr, data, reference=None):
+        """Stored energy of the cell ``[s_i, s_{i+1}]``: the mean over its samples of ``2 pi int W det G0 dzeta``.
+
+        ``reference`` (default: the system's choice) selects the readable per-point form. The moments form
+        is for the forces: its value sums O(1) terms to an O(strain^2) energy and keeps ~1e-12 relative
+        accuracy, its gradient ~1e-14; the observables' stored energy uses the per-point form.
+        """
+        factors, beta2_0, moments = self._factors_and_moments(data)
         samples = self.cell_samples(ql, qr)
-        return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
+        if self.reference_kernel if reference is None else reference:
+            return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
+        return sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) for e in samples) / len(samples)
 
     @property
     def samples_per_cell(self):
@@ -218,14 +242,17 @@ class ShellSystem:
         """``(q_left, q_right, geo) -> (dV/dq_left, dV/dq_right)``: the cell's elastic forces on its nodes."""
         ql, qr, geo = self._cell_symbols()
         energy = self.cell_energy(ql, qr, geo)
-        return ca.Function("cell", [ql, qr, geo], [ca.gradient(energy, ql), ca.gradient(energy, qr)],
-                           self.KERNEL_OPTIONS)
+        forces = [ca.gradient(energy, ql), ca.gradient(energy, qr)]
+        if not self.reference_kernel:
+            forces = ca.cse(forces)  # the two samples share their differences, midpoints and trigonometry
+        return ca.Function("cell", [ql, qr, geo], forces, self.KERNEL_OPTIONS)
 
     def _cell_observables(self):
         """``(q_left, q_right, geo) -> (V_cell, ds x delta at the cell's samples)``."""
         ql, qr, geo = self._cell_symbols()
         deltas = [delta(z_s, r_s, r, theta, psi) for z_s, r_s, _, _, _, r, theta, psi in self.cell_samples(ql, qr)]
-        return ca.Function("cell_observables", [ql, qr, geo], [self.cell_energy(ql, qr, geo), ca.vertcat(*deltas)])
+        return ca.Function("cell_observables", [ql, qr, geo], [self.cell_energy(ql, qr, geo, reference=True),
+                                                               ca.vertcat(*deltas)])
 
     def cell_delta(self):
         """``(q_left, q_right, geo) -> ds x delta``, ``delta = r beta1 cos(psi)`` at the cell's samples (must stay > 0)."""
@@ -330,7 +357,7 @@ class ShellSystem:
         """``dV/dq`` (``5 x n``, MX) of the fields ``Q`` (ties applied inside)."""
         n = self.n
         Qt = self.tie(Q)
-        gl, gr = self.cell_forces_kernel().map(n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
+        gl, gr = self._map(self.cell_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
         pad = ca.MX.zeros(NF, 1)
         return self.gather_ties(ca.horzcat(gl, pad) + ca.horzcat(pad, gr))
 
@@ -338,11 +365,50 @@ class ShellSystem:
         """``dD/dv`` (``5 x n``, MX) at fields ``Q`` and rates ``V`` (ties applied inside)."""
         n = self.n
         Qt, Vt = self.tie(Q), self.tie(V)
-        fl, fr = self.viscous_forces_kernel().map(n - 1)(Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:], self.cell_data)
+        fl, fr = self._map(self.viscous_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:], self.cell_data)
         pad = ca.MX.zeros(NF, 1)
         return self.gather_ties(ca.horzcat(fl, pad) + ca.horzcat(pad, fr))
 
+    #: kernels mapped with CasADi's "openmp" map while :attr:`rhs_parallel` is assembled
+    _parallel = False
+
+    def _map(self, kernel, count):
+        """``kernel.map(count)``; with OpenMP pragmas in generated C while :attr:`rhs_parallel` is assembled."""
+        if not self._parallel:
+            return kernel.map(count)
+        with contextlib.redirect_stderr(io.StringIO()):  # the pip CasADi warns that its own VM runs it serially
+            return kernel.map(count, "openmp")
+
+    @cached_property
+    def rhs_parallel(self):
+        """:attr:`rhs_mapped` with the cell and node kernels in OpenMP maps (``#pragma omp parallel for`` in C).
+
+        The same graph and arithmetic per cell, so its generated C gives the serial results to the last
+        bit whatever the thread count (each cell and node is computed by one thread, and sums over
+        cells stay in the serial order outside the parallel loops). CasADi's own virtual machine
+        evaluates it serially; :class:`~mol_shell.compiled.CompiledRHS` builds it with ``-fopenmp``.
+        """
+        self._parallel = True
+        try:
+            return self._assemble()[0]
+        finally:
+            self._parallel = False
+
     def _build(self):
+        rhs, newton, observables, interior = self._assemble()
+        self.rhs_mapped = rhs
+        self.rhs_newton_mapped = newton
+        self.kernel_instructions = {
+            "cell": self.cell_forces_kernel().n_instructions(),
+            "node": interior.n_instructions(),
+        }
+        self.mapped = self.n > self.FLAT_MAX_NODES
+        if self.mapped:
+            self.rhs, self.observables, self.rhs_newton = rhs, observables, newton
+        else:
+            self.rhs, self.observables, self.rhs_newton = rhs.expand(), observables.expand(), newton.expand()
+
+    def _assemble(self):
         """Assemble the RHS from per-cell and per-node kernels mapped over the grid (MX).
 
         Up to :attr:`FLAT_MAX_NODES` nodes :attr:`rhs` is expanded into one flat SX graph
@@ -358,7 +424,7 @@ class ShellSystem:
         first, inner, last = self.free_sets()
         interior = self._node_kernel(inner)
         t = ca.MX.sym("t")
-        vi, fi, ti = interior.map(n - 2)(Q[:, 1:-1], P[:, 1:-1], self.inertia[:, 1:-1])
+        vi, fi, ti = self._map(interior, n - 2)(Q[:, 1:-1], P[:, 1:-1], self.inertia[:, 1:-1])
         ends, drive_terms = [], []
         for e, free in ((0, first), (n - 1, last)):
             driven = self.driven_fields(e)
@@ -376,7 +442,7 @@ class ShellSystem:
         if self.viscous:
             forces = forces - self.viscous_forces(Q, V)
             Qt = self.tie(Q)
-            dissipation = ca.sum2(self._viscous_power().map(n - 1)(Qt[:, :-1], Qt[:, 1:], V[:, :-1], V[:, 1:],
+            dissipation = ca.sum2(self._map(self._viscous_power(), n - 1)(Qt[:, :-1], Qt[:, 1:], V[:, :-1], V[:, 1:],
                                                                   self.cell_data))
         rates = []
         work, dissipated = 0, 0
@@ -419,17 +485,7 @@ class ShellSystem:
             ["y", "t"],
             ["v", "kinetic", "stored", "angular_momentum", "delta", "dissipation", "work", "dissipated", "reactions"],
         )
-        self.rhs_mapped = rhs
-        self.rhs_newton_mapped = newton
-        self.kernel_instructions = {
-            "cell": self.cell_forces_kernel().n_instructions(),
-            "node": interior.n_instructions(),
-        }
-        self.mapped = n > self.FLAT_MAX_NODES
-        if self.mapped:
-            self.rhs, self.observables, self.rhs_newton = rhs, observables, newton
-        else:
-            self.rhs, self.observables, self.rhs_newton = rhs.expand(), observables.expand(), newton.expand()
+        return rhs, newton, observables, interior
 
     @cached_property
     def limits(self):

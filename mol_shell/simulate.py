@@ -52,11 +52,17 @@ def _graph_key(scene):
     return dataclasses.replace(scene, **initial)
 
 
+#: from this many nodes the compiled RHS runs its cell and node kernels on threads (OpenMP maps); below,
+#: a parallel region costs more than it saves (measured: see README, Performance)
+PARALLEL_MIN_NODES = 1000
+
+
 @functools.lru_cache(maxsize=16)
 def _built(key, n):
     start = time.perf_counter()
     system = ShellSystem(key, n)
-    compiled = CompiledRHS(system.rhs_mapped, system.limits)
+    rhs = system.rhs_parallel if n >= PARALLEL_MIN_NODES else system.rhs_mapped
+    compiled = CompiledRHS(rhs, system.limits)
     return system, compiled, time.perf_counter() - start
 
 
@@ -160,7 +166,7 @@ def leapfrog_times(t_end, dt, count=10):
 
 
 def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=None, progress=None, stresses=None,
-             **options):
+             threads=None, **options):
     """Run ``scene`` and return its motion as an :class:`xarray.Dataset`.
 
     Parameters
@@ -185,6 +191,10 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         Resultants and face stresses after the run (:func:`mol_shell.stresses.add_stresses`): ``None``
         (default) up to :data:`mol_shell.stresses.MAX_SAMPLES` cell samples x saved times, ``True``
         always, ``False`` never.
+    threads : int, optional
+        Threads for the compiled right-hand side's cell and node kernels (every integrator uses it);
+        default ``$MOL_SHELL_THREADS`` or all cores. Grids below :data:`PARALLEL_MIN_NODES` nodes run
+        serially whatever it says. Results do not depend on it (each cell is one thread's work).
     **options
         Passed to the integrator's dataclass (e.g. ``rtol`` in [1e-14, 1), ``atol``, ``max_step``);
         an option the integrator does not take is refused by name.
@@ -214,6 +224,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     scene = resolve(scene)
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
+    compiled.set_threads(threads)
     y0, start_info = initial_state(scene, system, n)
     omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
     if integrator == "leapfrog":

@@ -303,7 +303,8 @@ def _execute(tasks, scheduler, workers, client=None):
         from concurrent.futures import ProcessPoolExecutor, as_completed
 
         count = max(1, min(workers or os.cpu_count() or 1, len(tasks)))
-        pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
+        pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=_one_thread_each)
         futures = {pool.submit(run_task, task): task for task in tasks}
         try:
             for future in as_completed(futures):
@@ -323,6 +324,11 @@ def _execute(tasks, scheduler, workers, client=None):
                 yield _collect(future, owner[future.key])
     finally:
         client.cancel(futures)
+
+
+def _one_thread_each():
+    """Local workers share the cores between them: each runs its compiled RHS on one thread (unless set)."""
+    os.environ.setdefault("MOL_SHELL_THREADS", "1")
 
 
 def _collect(future, task):

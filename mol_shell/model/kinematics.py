@@ -96,6 +96,27 @@ def scaled_deformation_gradient(strains, zeta, j1, j3, beta2_0=0.0):
     return tuple((col1[k] * j1, col2[k], col3[k] * j3) for k in range(3))
 
 
+def column_polynomials(strains, beta2_0=0.0):
+    """``F``'s columns as polynomials in ``zeta``: ``F = [(a + zeta b) j1, c2, (c + zeta d) j3]``.
+
+    The same ``F`` as :func:`scaled_deformation_gradient` (eq. 7.4): column 1 is ``a + zeta b``
+    (``a = beta - beta2_0 c2``, ``b = -zeta``-coefficient of ``d_s``), column 2 the director
+    ``c2 = (0, cos psi, sin psi)`` and column 3 ``c + zeta d`` with ``c = (0, 0, r)``, all in the
+    ``b`` basis. Nothing here depends on ``zeta``, so a thickness integral computes them once.
+    Returns ``(a, b, c, d, c2)``, each a 3-tuple.
+    """
+    z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi = strains
+    beta1, beta2, beta3 = betas(z_s, r_s, chi_s, r, theta)
+    cs, sn = cos(psi), sin(psi)
+    ct, st = cos(theta), sin(theta)
+    twist = psi_s + chi_s * ct
+    a = (beta1, beta2, beta3)
+    if not (isinstance(beta2_0, (int, float)) and beta2_0 == 0):
+        a = (beta1, beta2 - beta2_0 * cs, beta3 - beta2_0 * sn)
+    b = (-(chi_s * sn * st + theta_s * cs), -sn * twist, cs * twist)
+    return a, b, (0.0, 0.0, r), (-sn * st, -sn * ct, cs * ct), (0.0, cs, sn)
+
+
 def reference_volume_factor(zeta, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0):
     """``det G0 = (beta1_0 - zeta theta0_s)(r0 + zeta cos theta0)``: reference volume per ``ds dzeta dphi``."""
     return (beta1_0 - zeta * theta0_s) * (r0 + zeta * cos(theta0))

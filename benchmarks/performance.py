@@ -1,0 +1,199 @@
+"""Benchmark: the targets of issue 14 as ratios, each measured in one run, against a baseline tree (release 0.2.0).
+
+  1. rhs     one compiled RHS evaluation, paper scene, n = 40: this tree / baseline (and lean / reference kernel)
+  2. large   leap-frog per step at n = 10,240 (the paper scene's grid for its stability study): baseline,
+             this tree on 1 thread and on all threads; projected to the run to t = 0.143 s at dt = 1.43 us
+  4. study   100 cases of the paper scene (gamma varied) at n = 40 to t = 0.02 s: serial against 2 local
+             workers, and the gcc builds each run made (cache ``builds.log``)
+
+Every measurement runs in its own process with ``PYTHONPATH`` set to its tree, baseline and this tree
+alternating ``--rounds`` times; the minimum per configuration is reported (other load only adds time).
+The load average is printed before and after: on a shared 2-core machine a busy second core slows the
+threaded runs most. Usage:
+
+    python benchmarks/performance.py --baseline /tmp/base020 [--targets rhs,large,study] [--rounds 3]
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parents[1]
+
+RHS_PROBE = r"""
+import json, sys, time
+import numpy as np
+import mol_shell
+from mol_shell.simulate import build, resolve
+reference = sys.argv[1] == "reference"
+scene = resolve(mol_shell.TwistedCylinder())
+if reference:
+    from mol_shell.compiled import CompiledRHS
+    from mol_shell.discretization import ShellSystem
+    system = ShellSystem(scene, 40, reference=True)
+    compiled = CompiledRHS(system.rhs_mapped, system.limits)
+else:
+    system, compiled = build(scene, 40)
+y = system.initial_state(scene)
+y = y + 1e-3 * np.sin(np.arange(y.size))  # a deformed state (round-off at rest makes slow subnormals)
+f = compiled.evaluator()
+f(y)
+best = float("inf")
+for _ in range(9):
+    start = time.perf_counter()
+    for _ in range(20000):
+        f(y)
+    best = min(best, (time.perf_counter() - start) / 20000)
+print(json.dumps({"us": best * 1e6, "instructions": int(system.rhs.n_instructions())}))
+"""
+
+LARGE_PROBE = r"""
+import json, sys, time
+import numpy as np
+import mol_shell
+from mol_shell.simulate import build, resolve
+n, steps, threads = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3])
+scene = resolve(mol_shell.TwistedCylinder())
+start = time.perf_counter()
+system, compiled = build(scene, n)
+build_s = time.perf_counter() - start
+if hasattr(compiled, "set_threads"):
+    compiled.set_threads(threads)
+y0 = system.initial_state(scene)
+dt = 1.43e-6
+f = compiled.evaluator()
+ya, yb = y0.copy(), y0 + dt * f(y0)  # release 0.2.0: no time argument
+import inspect
+timed = "t" in inspect.signature(compiled.leapfrog).parameters
+run = (lambda m: compiled.leapfrog(ya, yb, m, dt, dt)) if timed else (lambda m: compiled.leapfrog(ya, yb, m, dt))
+run(5)  # warm-up (pages, threads)
+best = float("inf")
+for _ in range(3):
+    start = time.perf_counter()
+    run(steps)
+    best = min(best, (time.perf_counter() - start) / steps)
+print(json.dumps({"per_step_s": best, "build_s": build_s, "finite": bool(np.all(np.isfinite(yb)))}))
+"""
+
+STUDY_PROBE = r"""
+import json, sys, time
+import numpy as np
+import mol_shell
+scheduler, workers = sys.argv[1], int(sys.argv[2])
+gammas = list(np.linspace(0.5, 1.5, 100) * mol_shell.TwistedCylinder().gamma)
+start = time.perf_counter()
+ds = mol_shell.study(mol_shell.TwistedCylinder(), {"gamma": gammas}, n=40, t_end=0.02,
+                     scheduler=None if scheduler == "local" else scheduler, workers=workers, progress=None)
+wall = time.perf_counter() - start
+print(json.dumps({"wall_s": wall, "complete": int((ds.status == "complete").sum())}))
+"""
+
+
+def probe(tree, code, *args, env=None):
+    env = dict(os.environ, PYTHONPATH=str(tree), **(env or {}))
+    out = subprocess.run([sys.executable, "-c", code, *map(str, args)], env=env, capture_output=True, text=True,
+                         cwd=str(tree))
+    if out.returncode:
+        raise RuntimeError(f"probe failed in {tree}:\n{out.stderr[-3000:]}")
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def load():
+    return "load average %.2f %.2f %.2f" % os.getloadavg()
+
+
+def target_rhs(base, rounds):
+    rows = {"baseline": [], "this tree": [], "this tree, reference kernel": []}
+    for _ in range(rounds):
+        rows["baseline"].append(probe(base, RHS_PROBE, "lean"))
+        rows["this tree"].append(probe(HERE, RHS_PROBE, "lean"))
+        rows["this tree, reference kernel"].append(probe(HERE, RHS_PROBE, "reference"))
+    best = {k: min(r["us"] for r in v) for k, v in rows.items()}
+    print("\n## 1. RHS cost, paper scene, n = 40 (one evaluation through a CasADi buffer)\n")
+    print("| RHS | us per evaluation | graph instructions | ratio to baseline |")
+    print("|---|---|---|---|")
+    for k, v in rows.items():
+        print(f"| {k} | {best[k]:.2f} | {v[0]['instructions']:,} | {best[k] / best['baseline']:.3f} |")
+    return {"rhs_us": best, "ratio": best["this tree"] / best["baseline"]}
+
+
+def target_large(base, rounds, n, steps, threads):
+    rows = {"baseline": [], "this tree, 1 thread": [], f"this tree, {threads} threads": []}
+    for _ in range(rounds):
+        rows["baseline"].append(probe(base, LARGE_PROBE, n, steps, 1))
+        rows["this tree, 1 thread"].append(probe(HERE, LARGE_PROBE, n, steps, 1))
+        rows[f"this tree, {threads} threads"].append(probe(HERE, LARGE_PROBE, n, steps, threads))
+    best = {k: min(r["per_step_s"] for r in v) for k, v in rows.items()}
+    total = round(0.143 / 1.43e-6)
+    print(f"\n## 2. Leap-frog at n = {n:,}, paper scene ({steps} steps timed, best of {rounds} processes x 3)\n")
+    print(f"| configuration | ms per step | us per node and step | projected run to t = 0.143 s ({total:,} steps) "
+          "| speed-up over baseline |")
+    print("|---|---|---|---|---|")
+    for k in rows:
+        print(f"| {k} | {best[k] * 1e3:.3f} | {best[k] / n * 1e6:.3f} | {best[k] * total:.0f} s | "
+              f"{best['baseline'] / best[k]:.2f} |")
+    return {"per_step_s": best, "speedup": best["baseline"] / best[f"this tree, {threads} threads"]}
+
+
+def target_study(rounds):
+    with tempfile.TemporaryDirectory() as cache:
+        env = {"MOL_SHELL_CACHE": cache}
+        log = Path(cache, "builds.log")
+        runs = {"serial": [], "2 local workers": []}
+        builds = []
+        for _ in range(rounds):
+            runs["2 local workers"].append(probe(HERE, STUDY_PROBE, "local", 2, env=env))
+            builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
+            runs["serial"].append(probe(HERE, STUDY_PROBE, "serial", 1, env=env))
+            builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
+    best = {k: min(r["wall_s"] for r in v) for k, v in runs.items()}
+    print("\n## 4. Study: 100 cases of the paper scene (gamma varied), n = 40, t = 0.02 s, fresh compile cache\n")
+    print("| scheduler | wall [s] | cases per second | complete | throughput ratio |")
+    print("|---|---|---|---|---|")
+    for k, v in runs.items():
+        print(f"| {k} | {best[k]:.2f} | {100 / best[k]:.2f} | {v[0]['complete']} | {best['serial'] / best[k]:.2f} |")
+    print(f"\ngcc builds in the cache's builds.log after each run (first run first): {builds} "
+          "(a build is never repeated: every later run and every other case found the objects on disk)")
+    return {"wall_s": best, "ratio": best["serial"] / best["2 local workers"], "builds": builds}
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--baseline", required=True, help="a checkout of release 0.2.0")
+    parser.add_argument("--targets", default="rhs,large,study")
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--n-large", type=int, default=10240)
+    parser.add_argument("--steps", type=int, default=40, help="leap-frog steps timed at the large n")
+    parser.add_argument("--threads", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--json", default=None)
+    args = parser.parse_args(argv)
+    out = {"load_before": os.getloadavg()}
+    print(load(), "(before)")
+    targets = args.targets.split(",")
+    if "rhs" in targets:
+        out["rhs"] = target_rhs(args.baseline, args.rounds)
+    if "large" in targets:
+        out["large"] = target_large(args.baseline, args.rounds, args.n_large, args.steps, args.threads)
+    if "study" in targets:
+        out["study"] = target_study(max(1, args.rounds - 1))
+    print()
+    print(load(), "(after)")
+    summary = []
+    if "rhs" in out:
+        summary.append(f"1. RHS cost ratio to baseline {out['rhs']['ratio']:.3f} (target <= 0.5)")
+    if "large" in out:
+        summary.append(f"2. n = {args.n_large} leap-frog speed-up over baseline {out['large']['speedup']:.2f}x "
+                       "(target >= 8)")
+    if "study" in out:
+        summary.append(f"4. study throughput ratio {out['study']['ratio']:.2f} (target >= 1.8)")
+    print("\n".join(summary))
+    if args.json:
+        Path(args.json).write_text(json.dumps(out, indent=1))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,128 @@
+"""The fast paths against the plain ones: the lean cell kernel against the readable reference kernel, the
+threaded (OpenMP) compiled RHS and leap-frog against the serial ones, and the parallel graph's build cache."""
+
+import numpy as np
+import pytest
+
+import mol_shell
+from mol_shell.compiled import CompiledRHS, default_threads
+from mol_shell.discretization import ShellSystem
+from mol_shell.scenes import Cone, MeridianShell, Sphere, TwistedCylinder
+from mol_shell.simulate import resolve
+
+
+def ellipse_points(path):
+    """An ellipse's quarter (r from 0.4 to 1): curvature changes along it, so ``beta2_0 != 0`` in the cells."""
+    phi = np.linspace(0.3, 1.4, 31)
+    np.savetxt(path, np.column_stack([np.sin(phi), 0.6 * np.cos(phi)]), header="r z (m)")
+    return str(path)
+
+
+def disturbed(system, scene, amplitude=1e-3):
+    y = system.initial_state(scene)
+    return y + amplitude * np.sin(1.7 * np.arange(y.size)) * (np.arange(y.size) < system.ny * system.n)
+
+
+def scenes(tmp_path):
+    return {
+        "paper": TwistedCylinder(),
+        "viscous-loaded": TwistedCylinder(eta_lambda=30.0, eta_mu=20.0, pressure=1e4),
+        "axisymmetric": mol_shell.scenes.SCENES["axisymmetric"](),
+        "sphere": Sphere(gamma=0.05, R=1.01),
+        "cone": Cone(gamma=0.05, dilation=1.01),
+        "curved-points": MeridianShell(points=ellipse_points(tmp_path / "ellipse.txt"), dilation=1.01),
+    }
+
+
+@pytest.mark.parametrize("name", ["paper", "viscous-loaded", "axisymmetric", "sphere", "cone", "curved-points"])
+def test_lean_rhs_equals_the_reference_rhs(name, tmp_path):
+    """thickness_energy_shared is the same quadrature of the same W as thickness_energy: equal to round-off."""
+    scene = resolve(scenes(tmp_path)[name])
+    fast, ref = ShellSystem(scene, 17), ShellSystem(scene, 17, reference=True)
+    if name == "curved-points":
+        assert fast.curved  # the beta2_0 path is exercised
+    assert fast.cell_forces_kernel().n_instructions() < 0.4 * ref.cell_forces_kernel().n_instructions()
+    for t in (0.0, 0.003):
+        y = disturbed(fast, scene)
+        a = np.array(fast.rhs(t, y)).ravel()
+        b = np.array(ref.rhs(t, y)).ravel()
+        assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b))
+
+
+def test_thickness_energy_shared_equals_the_reference_pointwise():
+    """Every strain non-zero, a curved reference (beta2_0 != 0) and five thickness points."""
+    from mol_shell.model.material import Thickness, quadrature_factors, thickness_energy, thickness_energy_shared
+
+    strains = (0.93, 0.21, 0.05, -0.4, 0.07, 1.1, 0.25, 0.12)
+    factors = quadrature_factors(Thickness(-0.03, 0.03, 5), r0=0.9, theta0=0.3, theta0_s=0.2, beta1_0=1.01)
+    a = thickness_energy(strains, 3e9, 1e9, factors, 0.02)
+    b = thickness_energy_shared(strains, 3e9, 1e9, factors, 0.02)
+    assert abs(a - b) <= 1e-13 * abs(a)
+
+
+@pytest.mark.parametrize("name", ["paper", "viscous-loaded", "curved-points"])
+def test_parallel_rhs_equals_the_serial_rhs(name, tmp_path):
+    """The OpenMP maps compute each cell and node on one thread: the serial result to the last bit."""
+    scene = resolve(scenes(tmp_path)[name])
+    system = ShellSystem(scene, 64)
+    serial = CompiledRHS(system.rhs_mapped, system.limits)
+    parallel = CompiledRHS(system.rhs_parallel, system.limits, threads=2)
+    assert parallel.parallel and not serial.parallel and serial.threads == 1
+    y = disturbed(system, scene)
+    a = serial.evaluator()(y, 0.002).copy()
+    for k in (1, 2, 3):
+        parallel.set_threads(k)
+        assert parallel.threads == k
+        b = parallel.evaluator()(y, 0.002)
+        np.testing.assert_array_equal(a, b)
+    # and CasADi's own evaluation of the graph (serial VM) agrees to round-off
+    c = np.array(system.rhs_parallel(0.002, y)).ravel()
+    assert np.max(np.abs(c - a)) <= 1e-12 * np.max(np.abs(a))
+
+
+def test_parallel_leapfrog_equals_the_serial_leapfrog():
+    scene = resolve(TwistedCylinder())
+    system = ShellSystem(scene, 64)
+    serial = CompiledRHS(system.rhs_mapped, system.limits)
+    parallel = CompiledRHS(system.rhs_parallel, system.limits, threads=2)
+    y0 = system.initial_state(scene)
+    out = []
+    for c in (serial, parallel):
+        ya, yb = y0.copy(), y0 + 1e-7 * c.evaluator()(y0, 0.0)
+        assert c.leapfrog(ya, yb, 300, 1e-7, 1e-7) == (300, False)
+        out.append(yb)
+    np.testing.assert_array_equal(out[0], out[1])
+
+
+def test_simulate_threads_option_gives_identical_runs(monkeypatch):
+    import importlib
+
+    sim = importlib.import_module("mol_shell.simulate")
+
+    monkeypatch.setattr(sim, "PARALLEL_MIN_NODES", 30)
+    sim._built.cache_clear()
+    try:
+        runs = [mol_shell.simulate(TwistedCylinder(), n=31, t_end=2e-4, threads=k, progress=False, stresses=False)
+                for k in (1, 2)]
+        assert sim.build(resolve(TwistedCylinder()), 31)[1].parallel
+    finally:
+        sim._built.cache_clear()
+    np.testing.assert_array_equal(runs[0].z.values, runs[1].z.values)
+    np.testing.assert_array_equal(runs[0].psi.values, runs[1].psi.values)
+
+
+def test_threads_default_and_refusals(monkeypatch):
+    from mol_shell.errors import ParameterError
+
+    monkeypatch.setenv("MOL_SHELL_THREADS", "3")
+    assert default_threads() == 3
+    monkeypatch.setenv("MOL_SHELL_THREADS", "zero")
+    with pytest.raises(ParameterError, match="MOL_SHELL_THREADS"):
+        default_threads()
+    monkeypatch.delenv("MOL_SHELL_THREADS")
+    assert default_threads() >= 1
+    system = ShellSystem(resolve(TwistedCylinder()), 8)
+    compiled = CompiledRHS(system.rhs_parallel, system.limits, threads=1)
+    for bad in (0, 1.5, True):
+        with pytest.raises(ParameterError, match="threads"):
+            compiled.set_threads(bad)
