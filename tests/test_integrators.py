@@ -103,7 +103,7 @@ def test_dae_residual_and_iteration_matrix(paper):
     x, xp = dae.consistent_rates(y)
     F = parts["residual"](0.0, x, xp).copy()
     assert np.abs(F).max() < 1e-9 * np.abs(xp).max()  # the ODE's motion solves the DAE as it stands
-    np.testing.assert_allclose(np.array(dae.to_momenta(x)).ravel(), y, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.array(dae.to_momenta(x, 0.0)).ravel(), y, rtol=0, atol=1e-12)
     cj = 1e3
     J = np.zeros((system.size, system.size))
     J[parts["rows"], parts["cols"]] = parts["jac"](0.0, x, xp, cj)

