@@ -181,10 +181,15 @@ def write_netcdf(ds, path):
     """Write a run as netCDF4 (model time in plain seconds, no CF calendar decoding).
 
     Missing directories of ``path`` are created; a path that cannot be written raises
-    :class:`~mol_shell.errors.ParameterError`.
+    :class:`~mol_shell.errors.ParameterError`. The file is written under a temporary name and
+    renamed onto ``path`` (:mod:`mol_shell.atomic`): a process killed while writing leaves the
+    previous file intact.
     """
+    from .atomic import atomic_path
+
     path = writable_path(path)
-    ds.to_netcdf(path, engine="netcdf4", format="NETCDF4")
+    with atomic_path(path) as tmp:
+        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4")
 
 
 def read_netcdf(path):
