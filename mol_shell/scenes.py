@@ -37,8 +37,11 @@ DESCRIPTIONS = {
 
 
 #: Gauss-Legendre points through the thickness: one point makes the director's inertia rhoJ = rhoI^2/rhoA,
-#: a singular mass matrix; more than 64 adds nothing but cost
-N_QUAD_RANGE = (2, 64)
+#: a singular mass matrix. Above 32 nothing is gained and the kernels grow too large to compile in
+#: reasonable time: with the base surface centroidal, 12-16 points integrate What to round-off for every
+#: h < 0.5 m (32 with the inner face at r = 0.1 m); at n = 40 the exact Jacobian of cvode-bdf compiled in
+#: 3.8, 13, 54, 108 and 767 s at 4, 8, 16, 32, 64 points (docs/reliability.md)
+N_QUAD_RANGE = (2, 32)
 
 
 def _check(name, value, ok, allowed):
@@ -80,7 +83,8 @@ class ShellScene:
         ``"auto"``) computes the radius at which the uniformly twisted cylinder is in radial
         equilibrium (:func:`mol_shell.equilibrium.equilibrium_radius`).
     n_quad : int
-        Gauss-Legendre points through the thickness, 2..64.
+        Gauss-Legendre points through the thickness, 2..32 (beyond, nothing is gained and the kernels take
+        minutes to compile).
     zeta1 : float or None
         Lower face of the thickness interval, measured from the base surface along the
         director. ``None`` places the base surface so that ``rhoI = 0`` (as the paper).
