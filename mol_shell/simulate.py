@@ -12,9 +12,11 @@ import warnings
 
 import numpy as np
 
+from . import resources
 from .compiled import CompiledRHS
+from .degenerate import check_system, checked_spectrum
 from .discretization import ShellSystem
-from .equilibrium import equilibrium_radius, spectrum_bounds
+from .equilibrium import equilibrium_radius
 from .errors import ParameterError, is_number
 from .integrators import INTEGRATORS
 from .output import build_dataset
@@ -55,6 +57,7 @@ def _graph_key(scene):
 def _built(key, n):
     start = time.perf_counter()
     system = ShellSystem(key, n)
+    check_system(key, system)  # values whose numbers are not finite are refused before anything is compiled
     compiled = CompiledRHS(system.rhs_mapped, system.limits)
     return system, compiled, time.perf_counter() - start
 
@@ -203,11 +206,12 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     if times is None and integrator == "leapfrog":
         times = leapfrog_times(t_end, method.dt)
     times = parse_times(times, t_end)
+    est = resources.check_before_build(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None))
     scene = resolve(scene)
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
     y0 = system.initial_state(scene)
-    omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
+    omega_max, damping = checked_spectrum(scene, system, y0)
     if integrator == "leapfrog":
         dt = method.dt
         if dt * omega_max >= 1.0:
@@ -219,6 +223,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
                 hint=f"leap-frog's parasitic root grows damped modes like exp({growth:.4g}/s * t) at dt = {dt:g} s; "
                 f"up to t = {times[-1]:g} s that is exp({growth * times[-1]:.3g}); viscosity makes the system stiff",
             )
+    resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
+                               omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)
     if progress is None:
         progress = sys.stderr.isatty()
     bar = _progress_bar(times[-1]) if progress else None
