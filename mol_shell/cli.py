@@ -61,6 +61,9 @@ def parse_range_or_list(text, name, words=("T0", "T1", "DT"), item="t", count_ch
         if not (np.isfinite([start, stop, step]).all() and step > 0 and stop > start):
             raise ParameterError(name, text, form)
         count = (stop - start) / step
+        if not np.isfinite(count):
+            raise ParameterError.invalid(name, text, f"has more values than can be counted (({b} - {a})/{d} = "
+                                         f"{count:g})", form)
         whole = round(count)
         if abs(count - whole) > 1e-9 * max(1.0, count):
             raise ParameterError.invalid(name, text, f"does not end on its grid: ({b} - {a})/{d} = {count:.4g} "

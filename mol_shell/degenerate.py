@@ -13,6 +13,7 @@ that parameter over which they are finite with the other parameters as given.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 
 import casadi as ca
@@ -22,19 +23,29 @@ from .errors import ParameterError, is_number, show
 
 #: nodes of the small systems used to find the responsible parameter and its threshold
 PROBE_NODES = 5
-#: bisection steps for the threshold (in log10 of the value between it and the default)
+#: bisection steps for a threshold between values of opposite signs (linear)
 BISECTION_STEPS = 12
 
 
-def problem(system, y0):
-    """``None`` if the state, the right-hand side and the Jacobian at ``(0, y0)`` are finite, else what is not."""
+#: the checks of :func:`problem`, in order; a bisection repeats only the one that failed (and those before it)
+LEVELS = ("state", "rhs", "jacobian")
+
+
+def problem(system, y0, upto="jacobian"):
+    """``None`` if the state, the right-hand side and the Jacobian at ``(0, y0)`` are finite, else what is not.
+
+    ``upto`` stops after that check (:data:`LEVELS`): the Jacobian costs most.
+    """
     y0 = np.asarray(y0, dtype=float)
     if not np.all(np.isfinite(y0)):
         return "the initial state is not finite in double precision"
     with np.errstate(all="ignore"):
         f = np.asarray(system.rhs(0, y0)).ravel()
-        if not np.all(np.isfinite(f)):
-            return "the right-hand side at t = 0 is not finite in double precision"
+    if not np.all(np.isfinite(f)):
+        return "the right-hand side at t = 0 is not finite in double precision"
+    if upto in ("state", "rhs"):
+        return None
+    with np.errstate(all="ignore"):
         J = system.jac(0, y0)
         values = np.asarray(J.nonzeros(), dtype=float)
     if not np.all(np.isfinite(values)):
@@ -46,6 +57,12 @@ def problem(system, y0):
     if not np.all(np.isfinite(accel)):
         return "the second derivative y'' = J f at t = 0 is not finite in double precision (motions too fast)"
     return None
+
+
+def _level(reason):
+    """How much of the check a bisection repeats: everything but the eigenvalues, unless they were the problem
+    (so the range found is the range where state, right-hand side and Jacobian are all finite)."""
+    return "spectrum" if "eig" in reason else "jacobian"
 
 
 def spectrum_problem(omega_max, damping):
@@ -84,8 +101,10 @@ def check_system(scene, system, y0=None):
         refuse(scene, system.n, found)
 
 
-def _is_bad(scene, n):
-    """True if ``scene`` (with ``R`` resolved) has non-finite numbers or spectrum on ``n`` nodes; None if it cannot be built."""
+@functools.lru_cache(maxsize=256)
+def _is_bad(scene, n, level="spectrum"):
+    """True if ``scene`` (with ``R`` resolved) has non-finite numbers on ``n`` nodes, checked up to ``level``
+    (``"state"``, ``"rhs"``, ``"jacobian"`` or ``"spectrum"``: also its eigenvalues); None if it cannot be built."""
     from .discretization import ShellSystem
     from .equilibrium import spectrum_bounds
     from .simulate import resolve
@@ -94,8 +113,10 @@ def _is_bad(scene, n):
         scene = resolve(scene)
         system = ShellSystem(scene, n)
         y0 = system.initial_state(scene)
-        if problem(system, y0) is not None:
+        if problem(system, y0, upto="jacobian" if level == "spectrum" else level) is not None:
             return True
+        if level != "spectrum":
+            return False
         with np.errstate(all="ignore"):
             return spectrum_problem(*spectrum_bounds(system.jac, y0, system.viscous)) is not None
     except ParameterError:
@@ -122,7 +143,7 @@ def _changed(scene):
     return out
 
 
-def responsible(scene, n=PROBE_NODES):
+def responsible(scene, n=PROBE_NODES, level="spectrum"):
     """Parameters that, each set back to its default, make the numbers of ``scene`` finite again."""
     names = []
     for name, (_, base) in _changed(scene).items():
@@ -130,14 +151,14 @@ def responsible(scene, n=PROBE_NODES):
             candidate = dataclasses.replace(scene, **{name: base})
         except ParameterError:
             continue
-        if _is_bad(candidate, n) is False:
+        if _is_bad(candidate, n, level) is False:
             names.append(name)
     return names
 
 
-def threshold(scene, name, n=PROBE_NODES, steps=BISECTION_STEPS):
-    """The value of ``name`` closest to the given one for which the numbers are still finite (by bisection
-    towards the default: geometric between values of one sign, linear otherwise)."""
+def threshold(scene, name, n=PROBE_NODES, level="spectrum", decades=0.5):
+    """The value of ``name`` closest to the given one for which the numbers are still finite: bisection towards
+    the default (geometric between values of one sign, to ``decades``; linear otherwise, 12 halvings)."""
     bad, good = _changed(scene)[name]
     if good == 0 and bad != 0:  # a default of 0 (spin, twist, viscosity): search the magnitudes of bad's sign
         good = math.copysign(1e-300, bad)
@@ -148,6 +169,8 @@ def threshold(scene, name, n=PROBE_NODES, steps=BISECTION_STEPS):
             return math.copysign(math.exp((1 - t) * math.log(abs(bad)) + t * math.log(abs(good))), good)
         return (1 - t) * bad + t * good
 
+    span = abs(math.log10(abs(bad)) - math.log10(abs(good))) if geometric else 0.0
+    steps = max(1, math.ceil(math.log2(span / decades))) if geometric and span > decades else BISECTION_STEPS
     lo, hi = 0.0, 1.0  # at(lo) bad, at(hi) good
     for _ in range(steps):
         mid = 0.5 * (lo + hi)
@@ -156,7 +179,7 @@ def threshold(scene, name, n=PROBE_NODES, steps=BISECTION_STEPS):
         except ParameterError:
             lo = mid
             continue
-        if _is_bad(candidate, n) is False:
+        if _is_bad(candidate, n, level) is False:
             hi = mid
         else:
             lo = mid
@@ -165,26 +188,39 @@ def threshold(scene, name, n=PROBE_NODES, steps=BISECTION_STEPS):
 
 def refuse(scene, n, reason):
     """Raise the :class:`ParameterError` for a scene whose numbers are not finite, naming who and the range."""
+    name, value, allowed, hint, message = _refusal(scene, reason)
+    raise ParameterError(name, value, allowed, hint, message=message)
+
+
+@functools.lru_cache(maxsize=64)
+def _refusal(scene, reason):
+    """``(name, value, allowed, hint, message)`` of the refusal (cached: the bisection costs a second or two)."""
+    error = _diagnose(scene, reason)
+    return error.name, error.value, error.allowed, "", str(error)
+
+
+def _diagnose(scene, reason):
     from .ranges import Interval, parameter_range
 
-    names = responsible(scene)
+    level = _level(reason)
+    names = responsible(scene, level=level)
     if len(names) == 1:
         name = names[0]
         value = getattr(scene, name)
-        edge = threshold(scene, name)
+        edge = threshold(scene, name, level=level)
         allowed = parameter_range(scene, name)
         if not isinstance(allowed, Interval):
             allowed = Interval(-math.inf, math.inf)
         allowed = allowed.with_high(edge) if edge < value else allowed.with_low(edge)
-        raise ParameterError(name, value, f"about {allowed.text()}",
-                             hint=f"with the other parameters as given: beyond it {reason}")
+        return ParameterError(name, value, f"about {allowed.text()}",
+                              hint=f"with the other parameters as given: beyond it {reason}")
     changed = _changed(scene)
     names = names or sorted(changed, key=lambda k: -abs(math.log10(abs(changed[k][0]) + 1e-300)
                                                          - math.log10(abs(changed[k][1]) + 1e-300)))
     if not names:
-        raise ParameterError.invalid("scene", getattr(scene, "name", type(scene).__name__), f"has {reason}",
-                                     "parameters whose discretised numbers are finite in double precision")
+        return ParameterError.invalid("scene", getattr(scene, "name", type(scene).__name__), f"has {reason}",
+                                      "parameters whose discretised numbers are finite in double precision")
     listed = ", ".join(f"{k} = {show(getattr(scene, k))}" for k in names)
-    raise ParameterError(names[0], getattr(scene, names[0]), "values for which the model's numbers are finite",
-                         message=f"{listed} together leave the model's numbers outside double precision ({reason}); "
-                         "allowed: values closer to the defaults")
+    return ParameterError(names[0], getattr(scene, names[0]), "values for which the model's numbers are finite",
+                          message=f"{listed} together leave the model's numbers outside double precision ({reason}); "
+                          "allowed: values closer to the defaults")

@@ -154,6 +154,8 @@ def leapfrog_times(t_end, dt, count=10):
     rounded to 12 significant digits, so ``ds.sel(time=...)`` finds the values a user would type.
     """
     parse_times(None, t_end)  # validates t_end
+    if not t_end / dt <= INTEGRATORS["leapfrog"].MAX_STEPS:  # beyond it steps cannot be counted in double precision
+        raise ParameterError("t_end", t_end, f"(0, {INTEGRATORS['leapfrog'].MAX_STEPS * dt:.4g}] s at dt = {dt:g} s")
     steps = round(t_end / dt)
     if steps < 1 or abs(steps * dt - t_end) > 1e-9 * t_end:
         raise ParameterError("t_end", t_end, f"positive multiples of dt = {dt:g} s (leap-frog has a fixed step)")
