@@ -306,17 +306,7 @@ def _execute(tasks, scheduler, workers, client=None):
             yield run_task(task)
         return
     if scheduler is None:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-
-        count = max(1, min(workers or os.cpu_count() or 1, len(tasks)))
-        pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
-        futures = {pool.submit(run_task, task): task for task in tasks}
-        try:
-            for future in as_completed(futures):
-                yield _collect(future, futures[future])
-        finally:
-            pool.shutdown(wait=True, cancel_futures=True)
+        yield from _execute_local(tasks, workers)
         return
     from distributed import as_completed
 
@@ -330,6 +320,39 @@ def _execute(tasks, scheduler, workers, client=None):
                 yield _collect(future, owner[future.key])
     finally:
         client.cancel(futures)
+
+
+#: times a case whose local worker process died (killed, out of memory) is run again before it is recorded ``lost``
+LOST_RETRIES = 2
+
+
+def _execute_local(tasks, workers):
+    """Cases on local processes. A worker that dies breaks the whole pool: its unfinished cases (the one that
+    was running and those queued behind it) run again in a new pool, up to :data:`LOST_RETRIES` times each."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
+
+    attempts = {task.index: 0 for task in tasks}
+    pending = list(tasks)
+    while pending:
+        count = max(1, min(workers or os.cpu_count() or 1, len(pending)))
+        pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"))
+        futures = {pool.submit(run_task, task): task for task in pending}
+        pending = []
+        try:
+            for future in as_completed(futures):
+                task = futures[future]
+                if isinstance(future.exception(), BrokenProcessPool) and attempts[task.index] < LOST_RETRIES:
+                    attempts[task.index] += 1
+                    pending.append(task)
+                    continue
+                index, ds, info = _collect(future, task)
+                if attempts[task.index]:
+                    info["message"] += f" (run {attempts[task.index] + 1} times: a worker process died)"
+                yield index, ds, info
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _collect(future, task):
