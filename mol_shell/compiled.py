@@ -89,12 +89,17 @@ COMPILE_PROGRESS_EVERY = 30.0
 def estimated_compile_seconds(source_bytes, flags=CFLAGS):
     """gcc's time for ``source_bytes`` of CasADi-generated C, from measurements on a 2-core machine.
 
-    A power law fitted to the right-hand sides (``-O2``) and exact Jacobians (``-O1``) of the
-    twisted cylinder at n = 40, n_quad = 4 .. 64 (docs/reliability.md): gcc's time grows faster than
-    the size of the source. An order of magnitude, for the progress line.
+    Power laws fitted to the twisted cylinder at n = 40, n_quad = 4 .. 32 (docs/reliability.md): right-hand
+    sides at ``-O2`` (108 .. 607 kB of C: 0.6 .. 4.3 s) and exact Jacobians at ``-O1`` (1.1 .. 4.6 MB:
+    3 .. 106 s; gcc's time grows faster than the source). An order of magnitude, for the progress line.
     """
-    scale = 1.0 if "-O2" in flags else 0.6
-    return scale * 0.5 * (source_bytes / 1e5) ** 1.3
+    size = source_bytes / 1e5
+    return 0.58 * size**1.12 if "-O2" in flags else 0.0105 * size**2.49
+
+
+def show_seconds(value):
+    """``3 s``, ``1.8 min``."""
+    return f"{value:.2g} s" if value < 60 else f"{value / 60:.2g} min"
 
 
 def _announce(line):
@@ -120,16 +125,16 @@ def run_compiler(command, what, source_bytes, flags):
                     announced = True
                     expect = estimated_compile_seconds(source_bytes, flags)
                     _announce(f"compiling {what} ({source_bytes / 1e3:.0f} kB of C; gcc {' '.join(flags)}; about "
-                              f"{max(expect, elapsed):.0g} s expected, cached in {cache_dir()} for later runs)")
+                              f"{show_seconds(max(expect, elapsed))} expected, cached in {cache_dir()} for later runs)")
                     wait = COMPILE_PROGRESS_EVERY
                 else:
-                    _announce(f"still compiling {what}: {elapsed:.0f} s so far")
+                    _announce(f"still compiling {what}: {show_seconds(elapsed)} so far")
     except BaseException:
         proc.kill()
         proc.wait()
         raise
     if announced:
-        _announce(f"compiled {what} in {time.perf_counter() - start:.0f} s")
+        _announce(f"compiled {what} in {show_seconds(time.perf_counter() - start)}")
     if proc.returncode:
         raise subprocess.CalledProcessError(proc.returncode, command, out, err)
 

@@ -36,8 +36,10 @@ BYTES = 8
 OUTPUT_PER_NODE = 10
 #: per saved time: energies, angular momentum, delta_min, dissipation
 OUTPUT_PER_TIME = 6
-#: copies of a saved state alive while the Dataset is assembled (states, observables, velocities, fields, Dataset)
-ASSEMBLY_COPIES = 3.5
+#: peak memory while a run's saved states become its Dataset, in multiples of the output (the saved states, the
+#: observables evaluated over all of them at once, velocities, fields, the Dataset): measured 10.6x at n = 10 and
+#: 40 (flat graphs), 5.3x at n = 400 (mapped), 20,000-80,000 saved times
+ASSEMBLY_COPIES = 11.0
 #: memory of graph building, spectrum and compiled code per node (bytes; measured 37-41 kB per node at
 #: n = 1,000 .. 16,000, the twisted cylinder) and a fixed part (the imported libraries, ~150 MB, and margin)
 BUILD_BYTES_PER_NODE = 40e3
@@ -209,11 +211,11 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n"):
             f"{show_bytes(available)} available ({source})")
     if fits >= 2:
         value = times_value if times_value is not None else f"<{est.n_times} saved times>"
-        raise ParameterError(times_name, value, f"at most {fits:.4g} saved times at n = {est.n}",
+        raise ParameterError(times_name, value, f"at most {fits:,} saved times at n = {est.n}",
                              hint=f"the run {need}; save fewer times (--times) or use fewer nodes (--n)")
     per_node = (est.memory_bytes - BUILD_BYTES_FIXED) / est.n
     max_n = int((available - BUILD_BYTES_FIXED) / per_node) if available > BUILD_BYTES_FIXED else 0
-    raise ParameterError(n_name, est.n, f"integers 3..{max(max_n, 3)} on this machine with {est.n_times} saved times",
+    raise ParameterError(n_name, est.n, f"integers 3..{max(max_n, 3):,} on this machine with {est.n_times:,} saved times",
                          hint=f"the run {need}; use fewer nodes (--n) or save fewer times (--times)")
 
 
@@ -281,7 +283,7 @@ def check_cases(count, n, n_times=2, *, name="vary", value=None):
     if count * per_case + BUILD_BYTES_FIXED > available:
         fits = int(max(available - BUILD_BYTES_FIXED, 0) / per_case)
         raise ParameterError(name, value if value is not None else f"<{count:.4g} cases>",
-                             f"at most {fits:.4g} cases at n = {n} with {n_times} saved times",
+                             f"at most {fits:,} cases at n = {n} with {n_times} saved times",
                              hint=f"the study's Dataset would need about {show_bytes(count * per_case)}, "
                              f"{show_bytes(available)} available ({source}); vary fewer values (--vary)")
 
