@@ -334,3 +334,40 @@ def test_any_value_of_any_run_option(option, data):
             assert read_netcdf(path).attrs["complete"] == 1
     COUNTS["examples"] += 1
     COUNTS["cli"][code] = COUNTS["cli"].get(code, 0) + 1
+
+
+# -- the ranges the checks state, and the ranges the degenerate-value check reports -----------------------------
+def test_ranges_are_read_from_every_scene_s_checks():
+    """Every numeric field of every registered scene states a range its check enforces (NaN is outside all)."""
+    from mol_shell.ranges import parse_allowed
+
+    assert parse_allowed("(0, 0.5) m: 2h must be below") == Interval(0.0, 0.5, unit="m")
+    assert parse_allowed("integers 2..32") == Interval(2, 32, True, True, integer=True)
+    assert parse_allowed("(-pi/2, pi/2) rad").high == pytest.approx(math.pi / 2)
+    assert parse_allowed("[-2h, 0] = [-0.01257, 0] m") == Interval(-0.01257, 0.0, True, True, unit="m")
+    assert parse_allowed("{svk, svk-plane-stress}") == Choice(("svk", "svk-plane-stress"))
+    for name, cls in mol_shell.SCENES.items():
+        ranges = scene_ranges(cls)
+        for f in dataclasses.fields(cls):
+            assert ranges[f.name] is not None, f"{name}.{f.name}: its check states no range that can be read"
+            default = getattr(cls(), f.name)
+            assert default is None or default in ranges[f.name], f"{name}.{f.name} = {default!r} outside its range"
+
+
+@pytest.mark.parametrize("name,bad", [("h", 1e-300), ("rho", 1e300), ("omega", -1e300), ("L", 1e-300)])
+def test_a_degenerate_value_is_refused_with_the_range_where_the_numbers_are_finite(name, bad):
+    """The refusal names the parameter and a range found by bisection: 3x inside its edge the numbers are
+    finite, 10x beyond it they are not (with the other parameters at their defaults, on 5 nodes)."""
+    from mol_shell import degenerate
+
+    scene = mol_shell.TwistedCylinder(**{name: bad})
+    with pytest.raises(ParameterError) as info:
+        mol_shell.simulate(scene, n=5, times=[0, 1e-6])
+    text = str(info.value)
+    assert info.value.name == name and "is outside about " in text and "double precision" in text, text
+    low_side = bad < getattr(mol_shell.TwistedCylinder(), name)  # the edge between the value and the default
+    edge = float(re.search(r"about [\[(](\S+), (\S+)[\])]", text).group(1 if low_side else 2).rstrip(","))
+    toward_zero = low_side != (edge > 0)  # inside the range lies towards smaller magnitudes than the edge
+    inside, beyond = (edge * 3, edge / 10) if not toward_zero else (edge / 3, edge * 10)
+    assert degenerate._is_bad(dataclasses.replace(scene, **{name: inside}), 5) is False
+    assert degenerate._is_bad(dataclasses.replace(scene, **{name: beyond}), 5) is True
