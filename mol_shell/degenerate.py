@@ -93,9 +93,19 @@ def checked_spectrum(scene, system, y0):
     refuse(scene, system.n, found)
 
 
+def initial_state(scene, system):
+    """``system.initial_state(scene)``; a state that cannot be formed in double precision (the momenta of
+    fields a scene leaves out come out NaN, not 0, when masses overflow) is refused by :func:`refuse`."""
+    try:
+        with np.errstate(all="ignore"):
+            return system.initial_state(scene)
+    except (ValueError, ArithmeticError):
+        refuse(scene, system.n, "the initial state is not finite in double precision (its momenta overflow)")
+
+
 def check_system(scene, system, y0=None):
     """Refuse ``scene`` (see :func:`refuse`) if its discretised numbers at ``y0`` (default: its initial state) are not finite."""
-    y0 = system.initial_state(scene) if y0 is None else y0
+    y0 = initial_state(scene, system) if y0 is None else y0
     found = problem(system, y0)
     if found is not None:
         refuse(scene, system.n, found)

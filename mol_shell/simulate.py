@@ -14,7 +14,7 @@ import numpy as np
 
 from . import resources
 from .compiled import CompiledRHS
-from .degenerate import check_system, checked_spectrum
+from .degenerate import check_system, checked_spectrum, initial_state
 from .discretization import ShellSystem
 from .equilibrium import equilibrium_radius
 from .errors import ParameterError, is_number
@@ -212,7 +212,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     scene = resolve(scene)
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
-    y0 = system.initial_state(scene)
+    y0 = initial_state(scene, system)  # refused by name if it cannot be formed in double precision
     omega_max, damping = checked_spectrum(scene, system, y0)
     if integrator == "leapfrog":
         dt = method.dt
