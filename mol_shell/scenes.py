@@ -127,7 +127,8 @@ class ShellScene:
             raise ParameterError.not_a("n_quad", self.n_quad, "an integer", allowed)
         if not lo <= self.n_quad <= hi:
             raise ParameterError("n_quad", self.n_quad, allowed,
-                                 hint="one point makes the director's inertia singular" if self.n_quad == 1 else "")
+                                 hint="one point makes the director's inertia singular" if self.n_quad == 1 else
+                                 "more points gain nothing and take minutes to compile" if self.n_quad > hi else "")
         object.__setattr__(self, "n_quad", int(self.n_quad))
         _check("eta_lambda", self.eta_lambda, lambda v: v >= 0, "[0, inf) Pa s")
         _check("eta_mu", self.eta_mu, lambda v: v >= 0, "[0, inf) Pa s")
