@@ -59,12 +59,6 @@ def problem(system, y0, upto="jacobian"):
     return None
 
 
-def _level(reason):
-    """How much of the check a bisection repeats: all of it (state, right-hand side, Jacobian and its
-    eigenvalues, on :data:`PROBE_NODES` nodes), so a value inside the range reported passes every check."""
-    return "spectrum"
-
-
 def spectrum_problem(omega_max, damping):
     """``None`` for a usable spectrum bound, else why it is not (0, denormal or not finite)."""
     if not (math.isfinite(omega_max) and math.isfinite(damping)):
@@ -153,33 +147,37 @@ def _changed(scene):
     return out
 
 
-def responsible(scene, n=PROBE_NODES, level="spectrum"):
-    """Parameters that, each set back to its default, make the numbers of ``scene`` finite again."""
+def _bad_numbers(scene):
+    return _is_bad(scene, PROBE_NODES, "spectrum")
+
+
+def responsible(scene, bad=_bad_numbers):
+    """Parameters that, each set back to its default, make ``bad(scene)`` false (the numbers finite) again."""
     names = []
     for name, (_, base) in _changed(scene).items():
         try:
             candidate = dataclasses.replace(scene, **{name: base})
         except ParameterError:
             continue
-        if _is_bad(candidate, n, level) is False:
+        if bad(candidate) is False:
             names.append(name)
     return names
 
 
-def threshold(scene, name, n=PROBE_NODES, level="spectrum", decades=0.5):
+def threshold(scene, name, bad=_bad_numbers, decades=0.5):
     """The value of ``name`` closest to the given one for which the numbers are still finite: bisection towards
     the default (geometric between values of one sign, to ``decades``; linear otherwise, 12 halvings)."""
-    bad, good = _changed(scene)[name]
-    if good == 0 and bad != 0:  # a default of 0 (spin, twist, viscosity): search the magnitudes of bad's sign
-        good = math.copysign(1e-300, bad)
-    geometric = bad != 0 and good != 0 and (bad > 0) == (good > 0)
+    given, good = _changed(scene)[name]
+    if good == 0 and given != 0:  # a default of 0 (spin, twist, viscosity): search the magnitudes of the value's sign
+        good = math.copysign(1e-300, given)
+    geometric = given != 0 and good != 0 and (given > 0) == (good > 0)
 
     def at(t):
         if geometric:
-            return math.copysign(math.exp((1 - t) * math.log(abs(bad)) + t * math.log(abs(good))), good)
-        return (1 - t) * bad + t * good
+            return math.copysign(math.exp((1 - t) * math.log(abs(given)) + t * math.log(abs(good))), good)
+        return (1 - t) * given + t * good
 
-    span = abs(math.log10(abs(bad)) - math.log10(abs(good))) if geometric else 0.0
+    span = abs(math.log10(abs(given)) - math.log10(abs(good))) if geometric else 0.0
     steps = max(1, math.ceil(math.log2(span / decades))) if geometric and span > decades else BISECTION_STEPS
     lo, hi = 0.0, 1.0  # at(lo) bad, at(hi) good
     for _ in range(steps):
@@ -189,7 +187,7 @@ def threshold(scene, name, n=PROBE_NODES, level="spectrum", decades=0.5):
         except ParameterError:
             lo = mid
             continue
-        if _is_bad(candidate, n, level) is False:
+        if bad(candidate) is False:
             hi = mid
         else:
             lo = mid
@@ -203,27 +201,28 @@ def refuse(scene, n, reason):
 
 
 @functools.lru_cache(maxsize=64)
-def _refusal(scene, reason):
+def _refusal(scene, reason, bad=_bad_numbers):
     """``(name, value, allowed, hint, message)`` of the refusal (cached: the bisection costs a second or two)."""
-    error = _diagnose(scene, reason)
+    error = _diagnose(scene, reason, bad)
     return error.name, error.value, error.allowed, "", str(error)
 
 
-def _diagnose(scene, reason):
+def _diagnose(scene, reason, bad=_bad_numbers, exclude=()):
     from .ranges import Interval, parameter_range
 
-    level = _level(reason)
-    names = responsible(scene, level=level)
+    names = [k for k in responsible(scene, bad) if k not in exclude]
     if len(names) == 1:
         name = names[0]
         value = getattr(scene, name)
-        edge = threshold(scene, name, level=level)
+        edge = threshold(scene, name, bad)
         allowed = parameter_range(scene, name)
         if not isinstance(allowed, Interval):
             allowed = Interval(-math.inf, math.inf)
         allowed = allowed.with_high(edge) if edge < value else allowed.with_low(edge)
         return ParameterError(name, value, f"about {allowed.text()}",
                               hint=f"with the other parameters as given: beyond it {reason}")
+    if exclude:
+        return None
     changed = _changed(scene)
     names = names or sorted(changed, key=lambda k: -abs(math.log10(abs(changed[k][0]) + 1e-300)
                                                          - math.log10(abs(changed[k][1]) + 1e-300)))
@@ -234,3 +233,32 @@ def _diagnose(scene, reason):
     return ParameterError(names[0], getattr(scene, names[0]), "values for which the model's numbers are finite",
                           message=f"{listed} together leave the model's numbers outside double precision ({reason}); "
                           "allowed: values closer to the defaults")
+
+
+@functools.lru_cache(maxsize=256)
+def _no_equilibrium(scene):
+    from .equilibrium import equilibrium_radius as solve
+
+    try:
+        with np.errstate(all="ignore"):
+            R = solve(scene)
+        return not math.isfinite(R)
+    except (ParameterError, ArithmeticError, ValueError, RuntimeError):
+        return True
+
+
+def equilibrium_radius(scene):
+    """:func:`mol_shell.equilibrium.equilibrium_radius`, but a failure caused by another parameter than the one the
+    solver names (``E = 1e308`` overflows the energy, and the solver can only blame the twist) names that
+    parameter and the range over which the equilibrium can be computed."""
+    from .equilibrium import equilibrium_radius as solve
+
+    try:
+        with np.errstate(all="ignore"):
+            return solve(scene)
+    except ParameterError as exc:
+        error = _diagnose(scene, "the radial equilibrium cannot be computed in double precision", _no_equilibrium,
+                          exclude=(exc.name,))
+        if error is None:
+            raise
+        raise error from None

@@ -14,9 +14,8 @@ import numpy as np
 
 from . import resources
 from .compiled import CompiledRHS
-from .degenerate import check_system, checked_spectrum, initial_state
+from .degenerate import check_system, checked_spectrum, equilibrium_radius, initial_state
 from .discretization import ShellSystem
-from .equilibrium import equilibrium_radius
 from .errors import ParameterError, is_number
 from .integrators import INTEGRATORS
 from .output import build_dataset

@@ -58,7 +58,7 @@ API_RUN = {"n": 5, "times": [0.0, 1e-6]}
 EXAMPLE_LIMIT_S = 120.0 if PROFILE == "ci" else 400.0
 #: names a refusal may give besides the fuzzed parameter, for a value inside its stated range (a step
 #: outside the stability bound it implies, a computed radius, ...)
-DERIVED = {"dt", "integrator", "times", "--times", "t_end", "n", "R", "gamma", "scene"}
+DERIVED = {"dt", "integrator", "times", "--times", "t_end", "n", "R", "scene"}
 #: the integrators tried for each scene (the unshearable scene takes ida and leapfrog only)
 INTEGRATORS = {"unshearable": ("leapfrog", "ida")}
 
