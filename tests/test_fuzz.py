@@ -45,7 +45,7 @@ from mol_shell.ranges import Choice, Interval, scene_ranges
 
 settings.register_profile("ci", max_examples=3, derandomize=True, deadline=None, database=None,
                           suppress_health_check=[HealthCheck.too_slow], print_blob=True)
-settings.register_profile("long", max_examples=40, deadline=None, database=None,
+settings.register_profile("long", max_examples=30, deadline=None, database=None,
                           suppress_health_check=[HealthCheck.too_slow], print_blob=True)
 PROFILE = os.environ.get("HYPOTHESIS_PROFILE", "ci")
 settings.load_profile(PROFILE)
