@@ -95,6 +95,13 @@ class ShellScene:
         ``"svk"`` (the paper: 3-D St Venant-Kirchhoff with the inextensible director) or
         ``"svk-plane-stress"`` (thickness stress condensed out; see
         :func:`mol_shell.model.material.effective_lame`).
+
+    Notes
+    -----
+    Values inside these ranges can still leave the discretised shell's numbers outside double
+    precision (``h = 1e-300``: ``rho_J ~ h^3`` underflows; ``rho = 1e300``: the mass matrix's products
+    overflow). A run refuses them when it starts, naming the parameter and the range over which the
+    numbers are finite with the others as given (:mod:`mol_shell.degenerate`, docs/reliability.md).
     """
 
     L: float = 4.0
