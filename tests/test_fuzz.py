@@ -371,3 +371,21 @@ def test_a_degenerate_value_is_refused_with_the_range_where_the_numbers_are_fini
     inside, beyond = (edge * 3, edge / 10) if not toward_zero else (edge / 3, edge * 10)
     assert degenerate._is_bad(dataclasses.replace(scene, **{name: inside}), 5) is False
     assert degenerate._is_bad(dataclasses.replace(scene, **{name: beyond}), 5) is True
+
+
+@pytest.mark.parametrize("scene", sorted(mol_shell.SCENES))
+def test_every_wrong_type_and_special_value_is_refused_or_stored_as_a_plain_number(scene):
+    """Every value of WRONG_TYPES and SPECIAL for every field (cheap: no run): the scene refuses it naming the
+    field, or stores something the model can compute with (a real number, a known name, or None where the
+    code computes the value). A ``Fraction`` once passed the checks and failed inside CasADi."""
+    cls = mol_shell.SCENES[scene]
+    for f in dataclasses.fields(cls):
+        for value in [*WRONG_TYPES, *SPECIAL]:
+            try:
+                stored = getattr(dataclasses.replace(cls(), **{f.name: value}), f.name)
+            except ParameterError as exc:
+                assert exc.name == f.name and "\n" not in str(exc), (f.name, value, str(exc))
+                continue
+            plain = isinstance(stored, (int, float, np.integer, np.floating)) and not isinstance(stored, bool)
+            assert plain and math.isfinite(stored) or stored is None or isinstance(stored, str) and \
+                stored in scene_ranges(cls)[f.name], (f.name, value, stored)
