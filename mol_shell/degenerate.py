@@ -8,6 +8,8 @@ by a table of thresholds, so every scene is covered. :func:`check_system` refuse
 :class:`~mol_shell.errors.ParameterError` that names the parameter responsible (the one that,
 set back to its default, makes the numbers finite again) and, found by bisection, the range of
 that parameter over which they are finite with the other parameters as given.
+:func:`equilibrium_radius` does the same for a radial equilibrium that cannot be computed
+(``E = 1e308`` overflows the energy; the solver itself can only blame the twist).
 """
 
 from __future__ import annotations
@@ -27,15 +29,9 @@ PROBE_NODES = 5
 BISECTION_STEPS = 12
 
 
-#: the checks of :func:`problem`, in order; a bisection repeats only the one that failed (and those before it)
-LEVELS = ("state", "rhs", "jacobian")
-
-
-def problem(system, y0, upto="jacobian"):
-    """``None`` if the state, the right-hand side and the Jacobian at ``(0, y0)`` are finite, else what is not.
-
-    ``upto`` stops after that check (:data:`LEVELS`): the Jacobian costs most.
-    """
+def problem(system, y0):
+    """``None`` if the state, the right-hand side, the Jacobian and ``J f`` at ``(0, y0)`` are finite (and the
+    Jacobian not zero), else what is not."""
     y0 = np.asarray(y0, dtype=float)
     if not np.all(np.isfinite(y0)):
         return "the initial state is not finite in double precision"
@@ -43,8 +39,6 @@ def problem(system, y0, upto="jacobian"):
         f = np.asarray(system.rhs(0, y0)).ravel()
     if not np.all(np.isfinite(f)):
         return "the right-hand side at t = 0 is not finite in double precision"
-    if upto in ("state", "rhs"):
-        return None
     with np.errstate(all="ignore"):
         J = system.jac(0, y0)
         values = np.asarray(J.nonzeros(), dtype=float)
@@ -106,9 +100,9 @@ def check_system(scene, system, y0=None):
 
 
 @functools.lru_cache(maxsize=256)
-def _is_bad(scene, n, level="spectrum"):
-    """True if ``scene`` (with ``R`` resolved) has non-finite numbers on ``n`` nodes, checked up to ``level``
-    (``"state"``, ``"rhs"``, ``"jacobian"`` or ``"spectrum"``: also its eigenvalues); None if it cannot be built."""
+def _is_bad(scene, n):
+    """True if ``scene`` (with ``R`` resolved) has non-finite numbers (:func:`problem`) or spectrum on ``n`` nodes;
+    None if it cannot be built (a parameter refused on the way)."""
     from .discretization import ShellSystem
     from .equilibrium import spectrum_bounds
     from .simulate import resolve
@@ -117,10 +111,8 @@ def _is_bad(scene, n, level="spectrum"):
         scene = resolve(scene)
         system = ShellSystem(scene, n)
         y0 = system.initial_state(scene)
-        if problem(system, y0, upto="jacobian" if level == "spectrum" else level) is not None:
+        if problem(system, y0) is not None:
             return True
-        if level != "spectrum":
-            return False
         with np.errstate(all="ignore"):
             return spectrum_problem(*spectrum_bounds(system.jac, y0, system.viscous)) is not None
     except ParameterError:
@@ -148,7 +140,7 @@ def _changed(scene):
 
 
 def _bad_numbers(scene):
-    return _is_bad(scene, PROBE_NODES, "spectrum")
+    return _is_bad(scene, PROBE_NODES)
 
 
 def responsible(scene, bad=_bad_numbers):
