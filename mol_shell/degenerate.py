@@ -92,7 +92,8 @@ def initial_state(scene, system):
 
 
 def check_system(scene, system, y0=None):
-    """Refuse ``scene`` (see :func:`refuse`) if its discretised numbers at ``y0`` (default: its initial state) are not finite."""
+    """Refuse ``scene`` (see :func:`refuse`) if its discretised numbers at ``y0`` (default: its initial state)
+    are not finite."""
     y0 = initial_state(scene, system) if y0 is None else y0
     found = problem(system, y0)
     if found is not None:

@@ -17,7 +17,8 @@ from dataclasses import dataclass
 
 from .errors import ParameterError
 
-_NUMBER = r"[-+]?(?:inf|(?:(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)?\s*\*?\s*pi(?:\s*/\s*\d+)?|(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?)"
+_DECIMAL = r"(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?"
+_NUMBER = rf"[-+]?(?:inf|(?:{_DECIMAL})?\s*\*?\s*pi(?:\s*/\s*\d+)?|{_DECIMAL})"
 _INTERVAL = re.compile(rf"([\[(])\s*({_NUMBER})\s*,\s*({_NUMBER})\s*([\])])", flags=re.I)
 _INTEGERS = re.compile(r"integers\s+([-+]?\d+)\s*\.\.\s*([-+]?\d+)", flags=re.I)
 _AT_LEAST = re.compile(r"integers\s*>=\s*([-+]?\d+)", flags=re.I)

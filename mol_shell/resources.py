@@ -215,7 +215,8 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n"):
                              hint=f"the run {need}; save fewer times (--times) or use fewer nodes (--n)")
     per_node = (est.memory_bytes - BUILD_BYTES_FIXED) / est.n
     max_n = int((available - BUILD_BYTES_FIXED) / per_node) if available > BUILD_BYTES_FIXED else 0
-    raise ParameterError(n_name, est.n, f"integers 3..{max(max_n, 3):,} on this machine with {est.n_times:,} saved times",
+    raise ParameterError(n_name, est.n,
+                         f"integers 3..{max(max_n, 3):,} on this machine with {est.n_times:,} saved times",
                          hint=f"the run {need}; use fewer nodes (--n) or save fewer times (--times)")
 
 

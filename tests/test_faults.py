@@ -156,8 +156,8 @@ def test_dask_worker_killed_during_a_case(allowed_failures):
     import dask
 
     with dask.config.set({"distributed.scheduler.allowed-failures": allowed_failures}):
-        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
-                distributed.Client(cluster) as client:
+        cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+        with cluster, distributed.Client(cluster) as client:
             pids = client.run(os.getpid)
 
             def busy():

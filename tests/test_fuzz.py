@@ -132,7 +132,13 @@ def changes_graph(cls, name, value):
     from mol_shell.simulate import _graph_key
 
     changed = False
-    for make in (lambda: dataclasses.replace(cls(), **{name: value}), lambda: with_params(cls(), {name: as_text(value)})):
+    def api():
+        return dataclasses.replace(cls(), **{name: value})
+
+    def cli():
+        return with_params(cls(), {name: as_text(value)})
+
+    for make in (api, cli):
         try:  # as the API takes it, and as the command line reads its text
             changed = changed or _graph_key(make()) != _graph_key(cls())
         except Exception:  # noqa: BLE001 - refused values build nothing

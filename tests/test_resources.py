@@ -39,7 +39,8 @@ def no_build(monkeypatch):
 def test_output_estimate_is_the_dataset_s_size():
     """``times x (10 n + 6) x 8`` bytes bounds the variables of a run's Dataset (5 fields, 5 rates per node; 5 totals
     per time for an elastic shell, 6 with dissipation) to within the coordinates."""
-    for scene, n, times in ((mol_shell.TwistedCylinder(), 7, [0, 1e-6, 2e-6]), (mol_shell.Axisymmetric(), 9, [0, 1e-6])):
+    for scene, n, times in ((mol_shell.TwistedCylinder(), 7, [0, 1e-6, 2e-6]),
+                            (mol_shell.Axisymmetric(), 9, [0, 1e-6])):
         ds = mol_shell.simulate(scene, n=n, times=times, progress=False)
         data = sum(v.nbytes for v in ds.data_vars.values())
         estimate = resources.output_bytes(len(times), n)
@@ -153,11 +154,12 @@ def test_compilation_that_takes_a_while_says_so(tmp_path, monkeypatch, capsys):
     monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path))
     monkeypatch.setattr(compiled, "COMPILE_PROGRESS_AFTER", 0.05)
     body = "\n".join(f"  x += {k} * 0.5;" for k in range(3000))
-    compiled.compile_cached(f"double slow(void) {{ double x = 0;\n{body}\n  return x; }}\n", "slow", what="a test kernel")
+    source = f"double slow(void) {{ double x = 0;\n{body}\n  return x; }}\n"
+    compiled.compile_cached(source, "slow", what="a test kernel")
     err = capsys.readouterr().err.splitlines()
     assert err[0].startswith("mol-shell: compiling a test kernel (") and "s expected" in err[0], err
     assert err[-1].startswith("mol-shell: compiled a test kernel in "), err
-    compiled.compile_cached(f"double slow(void) {{ double x = 0;\n{body}\n  return x; }}\n", "slow", what="a test kernel")
+    compiled.compile_cached(source, "slow", what="a test kernel")
     assert capsys.readouterr().err == ""  # from the cache: nothing to say
 
 

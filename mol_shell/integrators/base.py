@@ -126,7 +126,7 @@ class StepBudget:
         return err
 
     def step(self, t):
-        """Count one step that ended at ``t``; raises :class:`ModelLimitError` (status ``"failed"``) when over budget."""
+        """Count a step that ended at ``t``; raise :class:`ModelLimitError` (status ``"failed"``) when over budget."""
         self.steps += 1
         if self.steps >= self.max_steps:
             raise self._fail(f"{self.name} took max_steps = {self.max_steps} steps by t = {t:.9g} s", t)
