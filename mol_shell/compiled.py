@@ -81,7 +81,7 @@ def cache_dir():
 
 
 #: a compilation still running after this many seconds is announced on stderr (None: never)
-COMPILE_PROGRESS_AFTER = 3.0
+COMPILE_PROGRESS_AFTER = 5.0
 #: seconds between "still compiling" lines when stderr is not a terminal
 COMPILE_PROGRESS_EVERY = 30.0
 
