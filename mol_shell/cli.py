@@ -21,7 +21,7 @@ import numpy as np
 from . import __version__
 from .errors import ParameterError, show
 
-EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED = 2, 3, 130
+EXIT_INTERNAL, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED = 1, 2, 3, 130
 
 # Subcommands contributed by other modules: each module has ``register(subparsers)``
 # that adds its parser with ``set_defaults(func=...)``.
@@ -41,11 +41,12 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"mol-shell: error: {message}\n")
 
 
-def parse_range_or_list(text, name, words=("T0", "T1", "DT"), item="t"):
+def parse_range_or_list(text, name, words=("T0", "T1", "DT"), item="t", count_check=None):
     """``A:B:STEP`` (``B`` included; ``(B - A)/STEP`` a whole number) or ``v1,v2,...`` into a list of floats.
 
     Generated values are rounded to 12 significant digits, so ``0:0.009:0.003`` gives values that
-    ``ds.sel`` finds as typed. Empty entries are refused.
+    ``ds.sel`` finds as typed. Empty entries are refused. ``count_check(count)``, if given, is called
+    with the number of values before a range is expanded (``0:1:1e-12`` would be 1e12 of them).
     """
     a, b, d = words
     form = f"{a}:{b}:{d} ({b} included, {d} > 0, ({b} - {a})/{d} whole) or {item}1,{item}2,..."
@@ -61,10 +62,15 @@ def parse_range_or_list(text, name, words=("T0", "T1", "DT"), item="t"):
         if not (np.isfinite([start, stop, step]).all() and step > 0 and stop > start):
             raise ParameterError(name, text, form)
         count = (stop - start) / step
+        if not np.isfinite(count):
+            raise ParameterError.invalid(name, text, f"has more values than can be counted (({b} - {a})/{d} = "
+                                         f"{count:g})", form)
         whole = round(count)
         if abs(count - whole) > 1e-9 * max(1.0, count):
             raise ParameterError.invalid(name, text, f"does not end on its grid: ({b} - {a})/{d} = {count:.4g} "
                                          f"is not whole ({b} is included)", form)
+        if count_check is not None:
+            count_check(whole + 1)
         return [float(f"{start + k * step:.12g}") for k in range(whole + 1)]
     items = [x.strip() for x in text.split(",")]
     if not text or any(not x for x in items):
@@ -75,9 +81,15 @@ def parse_range_or_list(text, name, words=("T0", "T1", "DT"), item="t"):
         raise ParameterError(name, text, form) from None
 
 
-def parse_times_arg(text, name="--times"):
-    """``T0:T1:DT`` (T1 included) or ``t1,t2,...`` into an array of times."""
-    return np.array(parse_range_or_list(text, name))
+def parse_times_arg(text, name="--times", n=None):
+    """``T0:T1:DT`` (T1 included) or ``t1,t2,...`` into an array of times.
+
+    With ``n`` (nodes), a range whose output would not fit in memory is refused before it is expanded.
+    """
+    from .resources import check_saved_times
+
+    check = (lambda count: check_saved_times(count, n, name=name, value=str(text))) if n is not None else None
+    return np.array(parse_range_or_list(text, name, count_check=check))
 
 
 def parse_sets(items, name="--set"):
@@ -190,7 +202,7 @@ def cmd_run(args):
         scene = with_params(scene, parse_sets(args.set))
     else:
         scene = get_scene(args.scene, **parse_sets(args.set))
-    times = parse_times_arg(args.times) if args.times else None
+    times = parse_times_arg(args.times, n=args.n or run.get("n", 40)) if args.times else None
     if args.t_end is None and times is None:  # --t-end or --times replace both of the file's
         times = run.get("times")
     t_end = args.t_end if args.t_end is not None or args.times else run.get("t_end")
@@ -347,8 +359,13 @@ def main(argv=None):
     created = []  # directories made for -o: removed again if the command is refused
     try:
         with warnings.catch_warnings():
-            # the command line reports a stopped run in its own one line (and in the file's attrs)
+            from .resources import LongRunWarning
+
+            # the command line reports a stopped run in its own one line (and in the file's attrs); warnings
+            # about a run's projected time are one line each, as errors are
             warnings.simplefilter("ignore", RuntimeWarning)
+            warnings.simplefilter("always", LongRunWarning)
+            warnings.showwarning = _one_line_warning
             if getattr(args, "output", None) is not None:  # every subcommand: before anything is computed
                 from .output import writable_path
 
@@ -362,6 +379,19 @@ def main(argv=None):
     except KeyboardInterrupt:
         print("mol-shell: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except Exception as exc:  # noqa: BLE001 - the last resort: one line, never a traceback (unless asked for)
+        import os
+
+        if os.environ.get("MOL_SHELL_TRACEBACK"):
+            raise
+        text = " ".join(str(exc).split())[:300]
+        print(f"mol-shell: internal error: {type(exc).__name__}: {text} (a bug of mol_shell: please report it with "
+              "the command; MOL_SHELL_TRACEBACK=1 shows where it happened)", file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"mol-shell: warning: {message}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -9,11 +9,14 @@ shared object is cached under ``$MOL_SHELL_CACHE`` (default
 
 from __future__ import annotations
 
+import contextlib
 import ctypes
 import hashlib
 import os
 import subprocess
+import sys
 import tempfile
+import time
 from pathlib import Path
 
 import casadi as ca
@@ -107,13 +110,76 @@ def cache_dir():
     return path
 
 
-def compile_cached(source, prefix, flags=CFLAGS):
+#: a compilation still running after this many seconds is announced on stderr (None: never)
+COMPILE_PROGRESS_AFTER = 5.0
+#: seconds between "still compiling" lines when stderr is not a terminal
+COMPILE_PROGRESS_EVERY = 30.0
+
+
+def estimated_compile_seconds(source_bytes, flags=CFLAGS):
+    """gcc's time for ``source_bytes`` of CasADi-generated C, from measurements on a 2-core machine.
+
+    Power laws fitted to the twisted cylinder at n = 40, n_quad = 4 .. 32 (docs/reliability.md): right-hand
+    sides at ``-O2`` (108 .. 607 kB of C: 0.6 .. 4.3 s) and exact Jacobians at ``-O1`` (1.1 .. 4.6 MB:
+    3 .. 106 s; gcc's time grows faster than the source). An order of magnitude, for the progress line.
+    """
+    size = source_bytes / 1e5
+    return 0.58 * size**1.12 if "-O2" in flags else 0.0105 * size**2.49
+
+
+def show_seconds(value):
+    """``3 s``, ``1.8 min``."""
+    return f"{value:.2g} s" if value < 60 else f"{value / 60:.2g} min"
+
+
+def _announce(line):
+    print(f"mol-shell: {line}", file=sys.stderr, flush=True)
+
+
+def run_compiler(command, what, source_bytes, flags):
+    """Run gcc; when it takes longer than :data:`COMPILE_PROGRESS_AFTER` s, say so on stderr, with progress."""
+    proc = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    start = time.perf_counter()
+    announced = False
+    try:
+        wait = COMPILE_PROGRESS_AFTER
+        while True:
+            try:
+                out, err = proc.communicate(timeout=wait)
+                break
+            except subprocess.TimeoutExpired:
+                if wait is None:
+                    continue
+                elapsed = time.perf_counter() - start
+                if not announced:
+                    announced = True
+                    expect = estimated_compile_seconds(source_bytes, flags)
+                    _announce(f"compiling {what} ({source_bytes / 1e3:.0f} kB of C; gcc {' '.join(flags)}; about "
+                              f"{show_seconds(max(expect, elapsed))} expected, cached in {cache_dir()} for later runs)")
+                    wait = COMPILE_PROGRESS_EVERY
+                else:
+                    _announce(f"still compiling {what}: {show_seconds(elapsed)} so far")
+    except BaseException:
+        proc.kill()
+        proc.wait()
+        raise
+    if announced:
+        _announce(f"compiled {what} in {show_seconds(time.perf_counter() - start)}")
+    if proc.returncode:
+        raise subprocess.CalledProcessError(proc.returncode, command, out, err)
+
+
+def compile_cached(source, prefix, flags=CFLAGS, what=None):
     """Path of a shared object built from C ``source`` with gcc ``flags``, cached on disk by hash.
 
-    Concurrent processes that need the same object (the workers of a study) wait on a lock file for
-    the first one's build instead of compiling it again. Each gcc build appends a line (object, pid,
-    seconds) to ``builds.log`` in the cache: how a study shows that no case recompiled a kernel.
+    Concurrent processes that need the same object (the workers of a study) wait on a lock file for the
+    first one's build instead of compiling it again. gcc writes into a private temporary directory and the
+    library is renamed onto its cache name (:func:`mol_shell.atomic.atomic_path`), so a process that does
+    not lock never loads a half-written file. Each gcc build appends a line (object, pid, seconds) to
+    ``builds.log`` in the cache: how a study shows that no case recompiled a kernel.
     """
+    from .atomic import atomic_path
+
     key = hashlib.sha256((source + " ".join(flags) + ca.__version__).encode()).hexdigest()[:20]
     lib = cache_dir() / f"{prefix}_{key}.so"
     if lib.exists():
@@ -123,21 +189,35 @@ def compile_cached(source, prefix, flags=CFLAGS):
             import fcntl
 
             fcntl.flock(lock, fcntl.LOCK_EX)
-        except ImportError:  # no fcntl (Windows): concurrent builders may both compile; os.replace keeps it safe
+        except ImportError:  # no fcntl (Windows): concurrent builders may both compile; the rename keeps it safe
             pass
         if not lib.exists():
-            import time
-
             start = time.perf_counter()
-            with tempfile.TemporaryDirectory(dir=cache_dir()) as tmp:
+            with tempfile.TemporaryDirectory(prefix=f".{prefix}_{key}.", dir=cache_dir()) as tmp:
                 src = Path(tmp, f"{prefix}.c")
                 src.write_text(source)
-                out = Path(tmp, lib.name)
-                subprocess.run(["gcc", *flags, str(src), "-o", str(out), "-lm"], check=True, capture_output=True)
-                os.replace(out, lib)  # atomic: readers that do not lock cannot see half a file
+                with atomic_path(lib) as out:
+                    run_compiler(["gcc", *flags, str(src), "-o", str(out), "-lm"], what or f"the {prefix} kernels",
+                                 len(source), flags)
             with open(cache_dir() / "builds.log", "a") as log:
                 log.write(f"{lib.name} {os.getpid()} {time.perf_counter() - start:.2f}\n")
     return lib
+
+
+def load_cached(source, prefix, flags, load, what=None):
+    """``load(path)`` of the cached library of ``source``; a cached file that does not load is rebuilt once.
+
+    A library left damaged in the cache (a disk error, a copy cut short, a file of an older
+    version written in place) fails in ``dlopen``; it is removed and compiled again.
+    """
+    lib = compile_cached(source, prefix, flags, what)
+    try:
+        return lib, load(lib)
+    except (OSError, RuntimeError):
+        with contextlib.suppress(OSError):
+            lib.unlink()
+        lib = compile_cached(source, prefix, flags, what)
+        return lib, load(lib)
 
 
 def with_cse(f):
@@ -171,8 +251,6 @@ class CompiledRHS:
     """
 
     def __init__(self, rhs, limits=None, threads=None):
-        import time
-
         rhs = with_cse(rhs)
         self.size = rhs.size1_in(1)
         gen = ca.CodeGenerator("ms_rhs.c")
@@ -196,11 +274,13 @@ class CompiledRHS:
             sz_res=rhs.sz_res(), limits_call=limits_call,
         )
         start = time.perf_counter()
-        lib = compile_cached(source, "rhs", CFLAGS + (("-fopenmp",) if self.parallel else ()))
+        flags = CFLAGS + (("-fopenmp",) if self.parallel else ())
+        # one handle for CasADi's external and ctypes (the same path): ms_threads is shared
+        lib, (self.function, self._lib) = load_cached(
+            source, "rhs", flags, lambda path: (ca.external(rhs.name(), str(path)), ctypes.CDLL(str(path))),
+            what="the right-hand side")
         self.compile_time_s = time.perf_counter() - start
         self.path = lib
-        self._lib = ctypes.CDLL(str(lib))  # the same handle as CasADi's below: ms_threads is shared
-        self.function = ca.external(rhs.name(), str(lib))
         self._lib.ms_leapfrog.restype = ctypes.c_longlong
         dptr = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
         self._lib.ms_leapfrog.argtypes = [dptr, dptr, dptr, dptr, ctypes.c_longlong, ctypes.c_double, ctypes.c_double]
@@ -280,8 +360,6 @@ class CompiledFunctions:
     FLAGS = ("-O1", "-fPIC", "-shared")
 
     def __init__(self, functions, flags=FLAGS):
-        import time
-
         start = time.perf_counter()
         functions = [with_cse(f) for f in functions]
         gen = ca.CodeGenerator("ms_funcs.c")
@@ -290,8 +368,9 @@ class CompiledFunctions:
         with tempfile.TemporaryDirectory() as tmp:
             gen.generate(tmp + os.sep)
             source = Path(tmp, "ms_funcs.c").read_text()
-        self.path = compile_cached(source, "funcs", tuple(flags))
-        self.functions = {f.name(): ca.external(f.name(), str(self.path)) for f in functions}
+        self.path, self.functions = load_cached(
+            source, "funcs", tuple(flags), lambda path: {f.name(): ca.external(f.name(), str(path)) for f in functions},
+            what="functions " + ", ".join(f.name() for f in functions))
         self.compile_time_s = time.perf_counter() - start
 
     def evaluator(self, name):

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import numbers
 import reprlib
 
 import numpy as np
@@ -24,8 +23,11 @@ def show(value):
 
 
 def is_number(value):
-    """A real number (``int``, ``float`` or a NumPy scalar), not a ``bool``."""
-    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+    """A real number (``int``, ``float`` or a NumPy scalar), not a ``bool``.
+
+    Other ``numbers.Real`` types (``fractions.Fraction``) are not: CasADi cannot compute with them.
+    """
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
 
 
 class ParameterError(ValueError):

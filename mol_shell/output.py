@@ -226,8 +226,12 @@ def write_netcdf(ds, path):
     dimensions to stand left of T "whenever possible"); variables along it are chunked in blocks
     of about 1 MB (netCDF's default chunk of one record made large runs 10x slower to write).
     Missing directories of ``path`` are created; a path that cannot be written raises
-    :class:`~mol_shell.errors.ParameterError`.
+    :class:`~mol_shell.errors.ParameterError`. The file is written under a temporary name and
+    renamed onto ``path`` (:mod:`mol_shell.atomic`): a process killed while writing leaves the
+    previous file intact.
     """
+    from .atomic import atomic_path
+
     path = writable_path(path)
     encoding = {name: {"_FillValue": None} for name, var in ds.coords.items() if var.dtype.kind == "f"}
     unlimited = ["time"] if "time" in ds.dims else []
@@ -236,7 +240,8 @@ def write_netcdf(ds, path):
             other = int(np.prod([ds.sizes[d] for d in var.dims if d != "time"], dtype=np.int64))
             block = max(1, min(ds.sizes["time"], 2**17 // max(other, 1)))
             encoding.setdefault(name, {})["chunksizes"] = tuple(block if d == "time" else ds.sizes[d] for d in var.dims)
-    ds.to_netcdf(path, engine="netcdf4", format="NETCDF4", encoding=encoding, unlimited_dims=unlimited)
+    with atomic_path(path) as tmp:  # a run killed while writing leaves the previous file intact
+        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding, unlimited_dims=unlimited)
 
 
 def read_netcdf(path):

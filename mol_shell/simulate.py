@@ -12,9 +12,10 @@ import warnings
 
 import numpy as np
 
+from . import resources
 from .compiled import CompiledRHS
+from .degenerate import check_system, checked_spectrum, equilibrium_radius, initial_state
 from .discretization import ShellSystem
-from .equilibrium import equilibrium_radius, spectrum_bounds
 from .errors import ParameterError, is_number
 from .integrators import INTEGRATORS
 from .output import build_dataset
@@ -49,6 +50,8 @@ def _graph_key(scene):
     """The parameters the equations depend on (initial data at their defaults), so graphs are shared."""
     fields = {f.name: f for f in dataclasses.fields(scene)}
     initial = {k: fields[k].default for k in getattr(scene, "initial", ()) if k in fields}
+    if isinstance(scene, CylinderScene):
+        initial["R"] = scene.a  # the natural radius: a finite initial state for the checks of the graph
     return dataclasses.replace(scene, **initial)
 
 
@@ -61,6 +64,7 @@ PARALLEL_MIN_NODES = 1000
 def _built(key, n):
     start = time.perf_counter()
     system = ShellSystem(key, n)
+    check_system(key, system)  # values whose numbers are not finite are refused before anything is compiled
     rhs = system.rhs_parallel if n >= PARALLEL_MIN_NODES else system.rhs_mapped
     compiled = CompiledRHS(rhs, system.limits)
     return system, compiled, time.perf_counter() - start
@@ -158,6 +162,8 @@ def leapfrog_times(t_end, dt, count=10):
     rounded to 12 significant digits, so ``ds.sel(time=...)`` finds the values a user would type.
     """
     parse_times(None, t_end)  # validates t_end
+    if not t_end / dt <= INTEGRATORS["leapfrog"].MAX_STEPS:  # beyond it steps cannot be counted in double precision
+        raise ParameterError("t_end", t_end, f"(0, {INTEGRATORS['leapfrog'].MAX_STEPS * dt:.4g}] s at dt = {dt:g} s")
     steps = round(t_end / dt)
     if steps < 1 or abs(steps * dt - t_end) > 1e-9 * t_end:
         raise ParameterError("t_end", t_end, f"positive multiples of dt = {dt:g} s (leap-frog has a fixed step)")
@@ -221,12 +227,13 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     if times is None and integrator == "leapfrog":
         times = leapfrog_times(t_end, method.dt)
     times = parse_times(times, t_end)
+    est = resources.check_before_build(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None))
     scene = resolve(scene)
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
     compiled.set_threads(threads)
-    y0, start_info = initial_state(scene, system, n)
-    omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
+    y0, start_info = starting_state(scene, system, n)  # refused by name if it cannot be formed in double precision
+    omega_max, damping = checked_spectrum(scene, system, y0)
     if integrator == "leapfrog":
         dt = method.dt
         if dt * omega_max >= 1.0:
@@ -238,6 +245,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
                 hint=f"leap-frog's parasitic root grows damped modes like exp({growth:.4g}/s * t) at dt = {dt:g} s; "
                 f"up to t = {times[-1]:g} s that is exp({growth * times[-1]:.3g}); viscosity makes the system stiff",
             )
+    resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
+                               omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)
     if progress is None:
         progress = sys.stderr.isatty()
     bar = _progress_bar(times[-1]) if progress else None
@@ -266,9 +275,9 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     return ds
 
 
-def initial_state(scene, system, n):
+def starting_state(scene, system, n):
     """``(y0, how)``: the scene's initial state, or the static equilibrium under its loads when it asks for one."""
-    y0 = system.initial_state(scene)
+    y0 = initial_state(scene, system)
     if scene.at_equilibrium() and getattr(scene, "loaded", False):
         from .analysis.statics import static_equilibrium
 

@@ -25,6 +25,7 @@ import warnings
 
 import numpy as np
 
+from . import resources
 from .errors import ParameterError
 from .study_data import Store, assemble
 
@@ -183,10 +184,16 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         from .output import writable_path
 
         writable_path(output, "output")
+    if isinstance(vary, dict):  # the product's size, before its cases are made
+        resources.check_cases(int(np.prod([len(np.atleast_1d(np.asarray(v, dtype=object))) for v in vary.values()],
+                                          dtype=float)), n)
     dims, coords, cases = design(scene, vary, integrator)
     if times is None and integrator == "leapfrog":  # as simulate: on the step grid, t_end a multiple of dt
         times = leapfrog_times(t_end, options.get("dt", DEFAULT_DT))
     times = parse_times(times, t_end)
+    resources.check_study(len(cases), n, times, integrator, fields=len(getattr(scene, "fields", range(5))),
+                          dt=options.get("dt", DEFAULT_DT) if integrator == "leapfrog" else None,
+                          workers=1 if scheduler == "serial" else (workers or os.cpu_count() or 1))
     results, tasks = {}, []
     for index, changes in cases:
         label = ", ".join(f"{k}={v}" for k, v in changes.items())
@@ -299,18 +306,7 @@ def _execute(tasks, scheduler, workers, client=None):
             yield run_task(task)
         return
     if scheduler is None:
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor, as_completed
-
-        count = max(1, min(workers or os.cpu_count() or 1, len(tasks)))
-        pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"),
-                                   initializer=_one_thread_each)
-        futures = {pool.submit(run_task, task): task for task in tasks}
-        try:
-            for future in as_completed(futures):
-                yield _collect(future, futures[future])
-        finally:
-            pool.shutdown(wait=True, cancel_futures=True)
+        yield from _execute_local(tasks, workers)
         return
     from distributed import as_completed
 
@@ -329,6 +325,40 @@ def _execute(tasks, scheduler, workers, client=None):
 def _one_thread_each():
     """Local workers share the cores between them: each runs its compiled RHS on one thread (unless set)."""
     os.environ.setdefault("MOL_SHELL_THREADS", "1")
+
+
+#: times a case whose local worker process died (killed, out of memory) is run again before it is recorded ``lost``
+LOST_RETRIES = 2
+
+
+def _execute_local(tasks, workers):
+    """Cases on local processes. A worker that dies breaks the whole pool: its unfinished cases (the one that
+    was running and those queued behind it) run again in a new pool, up to :data:`LOST_RETRIES` times each."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
+
+    attempts = {task.index: 0 for task in tasks}
+    pending = list(tasks)
+    while pending:
+        count = max(1, min(workers or os.cpu_count() or 1, len(pending)))
+        pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=_one_thread_each)
+        futures = {pool.submit(run_task, task): task for task in pending}
+        pending = []
+        try:
+            for future in as_completed(futures):
+                task = futures[future]
+                if isinstance(future.exception(), BrokenProcessPool) and attempts[task.index] < LOST_RETRIES:
+                    attempts[task.index] += 1
+                    pending.append(task)
+                    continue
+                index, ds, info = _collect(future, task)
+                if attempts[task.index]:
+                    info["message"] += f" (run {attempts[task.index] + 1} times: a worker process died)"
+                yield index, ds, info
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _collect(future, task):
@@ -408,8 +438,11 @@ def _scheduler_name(scheduler):
 
 
 # -- command line ------------------------------------------------------------------------------
-def parse_vary(items):
-    """``["gamma=0.02:0.2:0.02", "nu=0.3,0.45,0.49"]`` -> ``{"gamma": [...], "nu": [...]}`` (ranges include the stop)."""
+def parse_vary(items, n=40):
+    """``["gamma=0.02:0.2:0.02", "nu=0.3,0.45,0.49"]`` -> ``{"gamma": [...], "nu": [...]}`` (ranges include the stop).
+
+    A range with more cases than a study on ``n`` nodes could hold in memory is refused before it is expanded.
+    """
     from .cli import parse_range_or_list
 
     form = "NAME=START:STOP:STEP or NAME=V1,V2,..."
@@ -421,7 +454,9 @@ def parse_vary(items):
         if name in vary:
             raise ParameterError.invalid("--vary", item, f"varies {name} a second time", "each parameter once")
         if ":" in spec:
-            values = parse_range_or_list(spec, f"--vary {name}", words=("START", "STOP", "STEP"), item="V")
+            values = parse_range_or_list(spec, f"--vary {name}", words=("START", "STOP", "STEP"), item="V",
+                                         count_check=lambda count: resources.check_cases(
+                                             count, n, name=f"--vary {name}", value=spec))
         else:
             entries = [v.strip() for v in spec.split(",")]
             if not spec or any(not v for v in entries):
@@ -446,13 +481,13 @@ def cmd_study(args):
 
     from .simulate import check_options
 
-    sets, vary = parse_sets(args.set), parse_vary(args.vary)
+    sets, vary = parse_sets(args.set), parse_vary(args.vary, args.n)
     both = [name for name in vary if name in sets]
     if both:
         raise ParameterError.invalid("--set", f"{both[0]}={sets[both[0]]}", f"sets {both[0]}, which --vary varies",
                                      "parameters not in --vary")
     scene = with_params(resolve_scene(args.scene), sets)
-    times = parse_times_arg(args.times) if args.times else None
+    times = parse_times_arg(args.times, n=args.n) if args.times else None
     options = integrator_option_args(args)
     check_options(scene, args.integrator, options, offered=CLI_OPTIONS)
     try:

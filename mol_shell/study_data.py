@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-import os
+import hashlib
 from pathlib import Path
 
 import numpy as np
@@ -86,17 +86,27 @@ def _units(ref, key):
 
 
 class Store:
-    """Finished cases as ``<output stem>.cases/<key>.nc`` (the key hashes the whole case)."""
+    """Finished cases as ``<output stem>.cases/<key>.nc`` (the key hashes the whole case).
+
+    Each file is written atomically (:func:`mol_shell.output.write_netcdf`) and carries a checksum
+    of its values and of the case's record (``case_checksum``); a file that cannot be read, or
+    whose values no longer match it (truncated or corrupted), is not reused: the case runs again.
+    """
+
+    #: the attrs of a case record, stored as ``case_<name>``
+    RECORD = ("label", "status", "message", "worker", "wall_time_s")
 
     def __init__(self, output):
         path = Path(output)
         self.folder = path.with_name(path.stem + ".cases")
         self.folder.mkdir(parents=True, exist_ok=True)
+        self.rejected = []  # (path, reason) of case files found unusable by load
 
     def path(self, task):
         return self.folder / f"{task.key}.nc"
 
     def load(self, task):
+        """``(dataset or None, info)`` of a stored case, or ``None`` if there is no usable file."""
         from .output import read_netcdf
 
         path = self.path(task)
@@ -104,11 +114,15 @@ class Store:
             return None
         try:
             ds = read_netcdf(path)
-        except (OSError, ValueError):  # unreadable: run the case again
+        except Exception as exc:  # noqa: BLE001 - any unreadable file (HDF5 raises many kinds): run again
+            self.rejected.append((path, f"unreadable: {type(exc).__name__}"))
             return None
-        if "case_status" not in ds.attrs:
+        stored = ds.attrs.pop("case_checksum", None)
+        if "case_status" not in ds.attrs or stored != checksum(ds):
+            self.rejected.append((path, "checksum mismatch" if stored else "no case record"))
             return None
-        info = {k: ds.attrs.pop(f"case_{k}") for k in ("status", "message", "worker", "wall_time_s")}
+        info = {k: ds.attrs.pop(f"case_{k}") for k in self.RECORD}
+        info.pop("label")
         info["case_wall_time_s"] = info.pop("wall_time_s")
         return (ds if ds.data_vars else None), info
 
@@ -118,9 +132,31 @@ class Store:
         ds = xr.Dataset() if ds is None else ds.copy()
         ds.attrs.update({"case_label": task.label, "case_status": info["status"], "case_message": info["message"],
                          "case_worker": info["worker"], "case_wall_time_s": info["case_wall_time_s"]})
-        tmp = self.path(task).with_suffix(".tmp")
-        write_netcdf(ds, tmp)
-        os.replace(tmp, self.path(task))  # atomic: a killed study never leaves half a case behind
+        ds.attrs["case_checksum"] = checksum(ds)
+        write_netcdf(ds, self.path(task))  # atomic: a killed study never leaves half a case behind
+
+
+def checksum(ds):
+    """SHA-256 of a case's values (every variable and coordinate) and of its ``case_*`` record.
+
+    NaN payloads are normalised, so the value survives a netCDF round trip; any changed byte of
+    data, a missing variable or a changed record changes it.
+    """
+    digest = hashlib.sha256()
+    for name in sorted(map(str, ds.variables)):
+        var = ds.variables[name]
+        values = np.asarray(var.values)
+        digest.update(f"{name}|{','.join(map(str, var.dims))}|{values.shape}|".encode())
+        if values.dtype.kind in "fiub":
+            values = values.astype(np.float64)
+            digest.update(np.where(np.isnan(values), np.nan, values).tobytes())
+        else:
+            digest.update(repr(values.tolist()).encode())
+    for key in sorted(k for k in ds.attrs if k.startswith("case_") and k != "case_checksum"):
+        value = ds.attrs[key]
+        value = value.item() if isinstance(value, np.generic) else value  # as netCDF gives it back
+        digest.update(f"{key}={value!r};".encode())
+    return digest.hexdigest()
 
 
 def grid_mode(da, dim="s"):

@@ -39,13 +39,17 @@ import casadi as ca
 import numpy as np
 
 from .errors import ModelLimitError, ParameterError
-from .integrators.base import Monitor, Trajectory
+from . import resources
+from .degenerate import check_system, checked_spectrum
+from .integrators.base import Monitor, StepBudget, Trajectory
 from .scenes import SCENES, CylinderScene, _check, zeta1_used
 from .scenes.base import refuse_loads
 
 NF = 5
 #: DAE unknowns per node: q (5), v (5), lambda_chi of the cell to the right (a dummy at the last node), lambda_psi
 NODE = 12
+#: IDA steps after which a constrained run is given up (as max_steps of the shell's SUNDIALS integrators)
+STEP_LIMIT = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -208,6 +212,8 @@ class UnshearableDAE:
 
         def resfn(t, y, yp, res):
             self.n_res += 1
+            if not np.isfinite(t):  # IDA's step underflowed: motions too fast for double precision
+                raise RuntimeError(f"IDA asked for the residual at t = {t} (its step size underflowed)")
             res[:] = res_buf(y, yp)
 
         def jacfn(t, y, yp, res, cj, JJ):
@@ -278,17 +284,17 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
     if not isinstance(scene, Unshearable):
         raise ParameterError("scene", getattr(scene, "name", scene), "{unshearable}")
     times = parse_times(times, t_end)
+    resources.check_before_build(n, times, "ida" if constrained else "leapfrog", dt=None if constrained else dt)
     shell, compiled = build(scene, n)
     Q0, V0 = scene.initial_fields(shell.s)
+    check_system(scene, shell, shell.pack(Q0, shell.momenta(Q0, V0)))  # numbers finite in double precision
     start = time.perf_counter()
     if constrained:
         traj, V, multipliers, stats = _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step)
         attrs = {"integrator": "ida", "rtol": rtol, "atol": atol, "constrained": 1, **stats}
     else:
-        from .equilibrium import spectrum_bounds
-
         y0 = shell.pack(Q0, shell.momenta(Q0, V0))
-        omega_max, _ = spectrum_bounds(shell.jac, y0, False)
+        omega_max, _ = checked_spectrum(scene, shell, y0)
         if dt * omega_max >= 1.0:
             raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound")
         method = Leapfrog(dt=dt)
@@ -314,6 +320,7 @@ def _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step):
     status, message, failure = "complete", "completed", float("nan")
     start = time.perf_counter()
     result = solver.init_step(times[0], y0, yp0)
+    budget = StepBudget("ida", times[-1], STEP_LIMIT)
     try:
         for target in times[1:]:
             while True:
@@ -321,6 +328,7 @@ def _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step):
                 if not result.success:
                     raise RuntimeError(f"IDA failed at t = {float(np.ravel(result.t)[0]):.9g} s: {result.message}")
                 steps += 1
+                budget.step(float(np.ravel(result.t)[0]))  # stops a run that cannot reach its end
                 if float(np.ravel(result.t)[0]) >= target:
                     break
             y = np.array(result.y).ravel()

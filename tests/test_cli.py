@@ -102,8 +102,8 @@ def test_model_limit_writes_data_and_exits_3(tmp_path):
 # -- error wording --------------------------------------------------------------------------------------
 WORDING = [
     (["--set", "L=abc", "--t-end", "0.01"], "L = 'abc' is not a number; allowed: (0, inf) m"),
-    (["--set", "n_quad=2.5", "--t-end", "0.01"], "n_quad = 2.5 is not an integer; allowed: integers 2..64"),
-    (["--set", "n_quad=1", "--t-end", "0.01"], "n_quad = 1 is outside integers 2..64"),
+    (["--set", "n_quad=2.5", "--t-end", "0.01"], "n_quad = 2.5 is not an integer; allowed: integers 2..32"),
+    (["--set", "n_quad=1", "--t-end", "0.01"], "n_quad = 1 is outside integers 2..32"),
     ([], "t_end is missing: give t_end in (0, inf) s, or times"),
     (["--dt", "0", "--t-end", "0.01"], "--dt = 0 is outside (0, inf) s"),
     (["--t-end", "abc"], "--t-end = 'abc' is not a number; allowed: (0, inf) s"),

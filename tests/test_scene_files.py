@@ -164,7 +164,7 @@ BAD = [
     ('scene = "sphere"\nmaterial = "svk"\n', 'material = "svk" belongs in [material]'),
     ('scene = "sphere"\n[geometry]\na = "big"\n', "[geometry] a = 'big' is not a number; allowed: (0, inf) m"),
     ('scene = "sphere"\n[material]\nE = true\n', "[material] E = True is not a number; allowed: (0, inf) Pa"),
-    ('scene = "sphere"\n[material]\nn_quad = 4.0\n', "[material] n_quad = 4.0 is not an integer; allowed: integers 2..64"),
+    ('scene = "sphere"\n[material]\nn_quad = 4.0\n', "[material] n_quad = 4.0 is not an integer; allowed: integers 2..32"),
     ('scene = "sphere"\n[initial]\nR = 5\n', "[initial] R = 5.0 is outside (a/2, 2a) = (0.5, 2) m"),
     ('scene = "torus"\n[geometry]\nalpha2 = [1, 2]\n', "[geometry] alpha2 = [1, 2] is not a number"),
     ('scene = "sphere"\n[edges]\nend1 = "glued"\n', "[edges] end1 = 'glued' is outside {magnet, clamped"),

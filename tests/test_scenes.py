@@ -50,11 +50,11 @@ def test_axisymmetric_equals_full_model_without_twist_spin_shear():
 
 def test_n_quad_needs_two_points():
     """One Gauss point makes the director inertia rhoJ = rhoI^2/rhoA: a singular mass matrix (LinAlgError)."""
-    with pytest.raises(ParameterError, match=r"^n_quad = 1 is outside integers 2\.\.64"):
+    with pytest.raises(ParameterError, match=r"^n_quad = 1 is outside integers 2\.\.32"):
         mol_shell.TwistedCylinder(n_quad=1)
-    with pytest.raises(ParameterError, match=r"^n_quad = 65 is outside integers 2\.\.64"):
-        mol_shell.TwistedCylinder(n_quad=65)
-    with pytest.raises(ParameterError, match=r"^n_quad = 2\.5 is not an integer; allowed: integers 2\.\.64"):
+    with pytest.raises(ParameterError, match=r"^n_quad = 33 is outside integers 2\.\.32"):
+        mol_shell.TwistedCylinder(n_quad=33)
+    with pytest.raises(ParameterError, match=r"^n_quad = 2\.5 is not an integer; allowed: integers 2\.\.32"):
         get_scene("twisted-cylinder", n_quad="2.5")
     assert mol_shell.TwistedCylinder(n_quad=2).n_quad == 2
     assert type(mol_shell.TwistedCylinder(n_quad=np.int64(6)).n_quad) is int

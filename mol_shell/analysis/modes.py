@@ -99,10 +99,10 @@ def modes(scene, n=40, count=10):
     scene = resolve(as_scene(scene))
     if not isinstance(count, (int, np.integer)) or isinstance(count, bool) or count < 1:
         raise ParameterError("count", count, "integers >= 1")
-    from ..simulate import initial_state
+    from ..simulate import starting_state
 
     system, _ = build(scene, n)
-    y0, _ = initial_state(scene, system, n)
+    y0, _ = starting_state(scene, system, n)
     check_equilibrium(system, y0, scene.name)
     q_idx, Minv, K = _blocks(system, y0)
     size = len(q_idx)

@@ -105,3 +105,43 @@ class Monitor:
             i = int(np.argmin(delta))
             where = f"s = {self._cells[i // self.system.samples_per_cell]:.6g} m"
             raise ModelLimitError(f"delta = {delta[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
+
+
+class StepBudget:
+    """Stops an adaptive run that cannot reach its end in ``max_steps`` steps, before it spends them.
+
+    Every :attr:`EVERY` steps the steps still needed are projected from the mean step size of the
+    last :attr:`EVERY` steps; a projection above :attr:`MARGIN` x ``max_steps`` (or a step size that
+    no longer advances ``t``) ends the run as ``"failed"`` with a message naming the projection, as
+    reaching ``max_steps`` does. Motions far too fast for the horizon (a stiffness or density at the
+    edge of double precision, or a collapsing step near a singularity) thus end in seconds instead
+    of minutes of steps that could not reach ``t_end``.
+    """
+
+    EVERY = 1000
+    #: the step size may still grow this much before the projection is trusted
+    MARGIN = 10.0
+
+    def __init__(self, name, t_end, max_steps):
+        self.name, self.t_end, self.max_steps = name, float(t_end), int(max_steps)
+        self.steps, self.t_mark = 0, 0.0
+
+    def _fail(self, message, t):
+        err = ModelLimitError(message, t, "whole shell")
+        err.status = "failed"
+        return err
+
+    def step(self, t):
+        """Count a step that ended at ``t``; raise :class:`ModelLimitError` (status ``"failed"``) when over budget."""
+        self.steps += 1
+        if self.steps >= self.max_steps:
+            raise self._fail(f"{self.name} took max_steps = {self.max_steps} steps by t = {t:.9g} s", t)
+        if self.steps % self.EVERY:
+            return
+        h = (t - self.t_mark) / self.EVERY
+        self.t_mark = t
+        needed = self.steps + (self.t_end - t) / h if h > 0 else float("inf")
+        if needed > self.MARGIN * self.max_steps:
+            raise self._fail(f"{self.name} would need about {needed:.3g} steps to reach t = {self.t_end:.6g} s at the "
+                             f"mean step of its last {self.EVERY} steps ({h:.3g} s), more than max_steps = "
+                             f"{self.max_steps}: the motion is too fast for this horizon (stopped at t = {t:.9g} s)", t)

@@ -49,8 +49,15 @@ class Leapfrog:
     def settings(self):
         return {"dt": self.dt}
 
+    #: steps leap-frog can count exactly (the step index k and the time k dt in double precision): 2^53
+    MAX_STEPS = 2**53
+
     def step_counts(self, times):
         """Whole numbers of steps to each saved time; refuses times that are not multiples of ``dt``."""
+        last = float(np.max(times)) if len(times) else 0.0
+        if not last / self.dt <= self.MAX_STEPS:
+            raise ParameterError("times", last, f"[0, {self.MAX_STEPS * self.dt:.4g}] s at dt = {self.dt:g} s",
+                                 hint=f"leap-frog counts at most 2^53 = {self.MAX_STEPS:.3g} steps")
         steps = np.rint(np.asarray(times) / self.dt).astype(np.int64)
         bad = np.abs(steps * self.dt - times) > 1e-6 * self.dt + 1e-12 * np.abs(times)
         if bad.any():

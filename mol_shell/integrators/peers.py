@@ -26,7 +26,7 @@ import scipy.integrate
 import scipy.sparse as sp
 
 from ..errors import ModelLimitError, ParameterError
-from .base import Monitor, Trajectory
+from .base import Monitor, StepBudget, Trajectory
 from .sundials import _Sundials, pieces
 
 
@@ -72,11 +72,13 @@ class ScipyRK45(_Peer):
         start = time.perf_counter()
         solver = solver_cls(lambda t, y: f(y, t).copy(), 0.0, np.array(y0, dtype=float), float(times[-1]), **options)
         steps, k = 0, 1
+        budget = StepBudget(self.name, times[-1], self.max_steps)
         try:
             while k < len(times):
                 t_old = solver.t
                 message = solver.step()
                 steps += 1
+                budget.step(solver.t)  # max_steps, or a projection far beyond it, ends the run
                 if solver.status == "failed":
                     raise ModelLimitError(f"{self.name} failed at t = {solver.t:.9g} s: {message}", solver.t,
                                           "whole shell")

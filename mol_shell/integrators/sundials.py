@@ -38,7 +38,7 @@ import sksundae  # noqa: E402
 
 from ..errors import ModelLimitError, ParameterError, is_number  # noqa: E402
 from ..model.kinematics import FIELDS  # noqa: E402
-from .base import Monitor, Trajectory  # noqa: E402
+from .base import Monitor, StepBudget, Trajectory  # noqa: E402
 
 #: the scikit-sundae version whose constraint defect the workaround targets (and that passes the tests)
 SKSUNDAE_TESTED = "1.2.0"
@@ -302,7 +302,7 @@ class _Run:
         self.y0 = np.array(y0, dtype=float)
         self.names = system.limit_names()
         self.n_events = len(self.names)
-        self.last_t, self.failures, self.counting = -np.inf, 0, False
+        self.last_t, self.failures, self.counting, self.calls_in_step, self.t_reached = -np.inf, 0, False, 0, 0.0
         rows, cols, size = parts["rows"], parts["cols"], system.size
         jac, events = parts["jac"], parts["events"]
         sparse = method.choose_linsolver(size) == "sparse"
@@ -354,7 +354,21 @@ class _Run:
 
         self.eventsfn = eventsfn
 
+    #: right-hand side (or residual) evaluations within one ``onestep`` call after which the step is given up:
+    #: a step takes a few, a few hundred with failed attempts; SUNDIALS can loop forever on a step size that
+    #: underflowed to 0 ("t + h = t") when the model's motions are too fast for double precision
+    MAX_CALLS_PER_STEP = 20_000
+
     def _trial(self, t):
+        self.calls_in_step += 1
+        if self.calls_in_step > self.MAX_CALLS_PER_STEP or not np.isfinite(t):
+            what = (f"asked for the right-hand side at t = {t}" if not np.isfinite(t) else
+                    f"evaluated the right-hand side {self.MAX_CALLS_PER_STEP} times without completing a step")
+            err = ModelLimitError(f"{self.method.name} {what} after t = {self.t_reached:.9g} s (its step size "
+                                  "underflowed): the motion is too fast for double precision", self.t_reached,
+                                  "whole shell")
+            err.status = "failed"
+            raise err
         if t != self.last_t:
             if t < self.last_t and self.counting:
                 self.failures += 1
@@ -382,9 +396,11 @@ class _Run:
         saved, reached = [self.y0.copy()], [0.0]
         status, message, failure = "complete", "completed", float("nan")
         t, steps, res = 0.0, 0, init
+        budget = StepBudget(method.name, times[-1], method.max_steps)
         try:
             for target in times[1:]:
                 while t < target:
+                    self.calls_in_step = 0
                     res = solver.step(float(target), method="onestep", tstop=float(target))
                     steps += 1
                     self.counting = True
@@ -394,14 +410,10 @@ class _Run:
                         raise self._failure(res, t)
                     if method.constraints and np.min(np.asarray(res.y)[self.r_entries]) <= self.r_floor:
                         raise self._constraint_limit(res)
-                    if steps >= method.max_steps:
-                        err = ModelLimitError(f"{method.name} took max_steps = {method.max_steps} steps by "
-                                              f"t = {float(res.t):.9g} s", float(res.t), "whole shell")
-                        err.status = "failed"
-                        raise err
+                    budget.step(float(res.t))  # max_steps, or a projection far beyond it, ends the run
                     if progress is not None:
                         progress.update(float(res.t) - t)
-                    t = float(res.t)
+                    t = self.t_reached = float(res.t)
                 y = self.to_hamiltonian(res.y, t)
                 monitor.check(y, t)
                 saved.append(y)

@@ -60,8 +60,11 @@ LOADS = ("pressure", "gravity", "drag", "end1_force", "end2_force", "end1_torque
 DRIVES = ("end1_spin", "end2_spin", "end1_axial_speed", "end2_axial_speed")
 
 #: Gauss-Legendre points through the thickness: one point makes the director's inertia rhoJ = rhoI^2/rhoA,
-#: a singular mass matrix; more than 64 adds nothing but cost
-N_QUAD_RANGE = (2, 64)
+#: a singular mass matrix. Above 32 nothing is gained and the kernels grow too large to compile in
+#: reasonable time: with the base surface centroidal, 12-16 points integrate What to round-off for every
+#: h < 0.5 m (32 with the inner face at r = 0.1 m); at n = 40 the exact Jacobian of cvode-bdf compiled in
+#: 3.8, 13, 54, 108 and 767 s at 4, 8, 16, 32, 64 points (docs/reliability.md)
+N_QUAD_RANGE = (2, 32)
 
 
 def _check(name, value, ok, allowed):
@@ -98,7 +101,8 @@ class ShellScene:
     rho : float
         Density, kg/m^3. Lost from the paper; 1000 is our assumption (it only rescales time).
     n_quad : int
-        Gauss-Legendre points through the thickness, 2..64.
+        Gauss-Legendre points through the thickness, 2..32 (beyond, nothing is gained and the kernels take
+        minutes to compile).
     zeta1 : float or None
         Lower face of the thickness interval, measured from the base surface along the
         director (:mod:`mol_shell.model.geometry` says which way it points). ``None`` places the
@@ -134,6 +138,13 @@ class ShellScene:
 
     Every load and drive is 0 (off) by default and then has no term in the graph. Histories: ``constant``,
     ``step T0``, ``ramp T1``, ``sine F`` or ``table t0:h0 t1:h1 ...`` (a factor on the load or rate).
+
+    Notes
+    -----
+    Values inside these ranges can still leave the discretised shell's numbers outside double
+    precision (``h = 1e-300``: ``rho_J ~ h^3`` underflows; ``rho = 1e300``: the mass matrix's products
+    overflow). A run refuses them when it starts, naming the parameter and the range over which the
+    numbers are finite with the others as given (:mod:`mol_shell.degenerate`, docs/reliability.md).
     """
 
     h: float = 2.0 * math.pi * 1e-3
@@ -188,7 +199,8 @@ class ShellScene:
             raise ParameterError.not_a("n_quad", self.n_quad, "an integer", allowed)
         if not lo <= self.n_quad <= hi:
             raise ParameterError("n_quad", self.n_quad, allowed,
-                                 hint="one point makes the director's inertia singular" if self.n_quad == 1 else "")
+                                 hint="one point makes the director's inertia singular" if self.n_quad == 1 else
+                                 "more points gain nothing and take minutes to compile" if self.n_quad > hi else "")
         object.__setattr__(self, "n_quad", int(self.n_quad))
         _check("eta_lambda", self.eta_lambda, lambda v: v >= 0, "[0, inf) Pa s")
         _check("eta_mu", self.eta_mu, lambda v: v >= 0, "[0, inf) Pa s")

@@ -1,0 +1,75 @@
+"""Files that are either the previous version or the new one, never half of either.
+
+Every file mol_shell writes for later use (run and study netCDF files, finished study cases,
+compiled libraries in the cache) is written under a temporary name in the same directory,
+flushed to disk (``fsync``) and then renamed onto its name with :func:`os.replace`, which is
+atomic on POSIX file systems. A process killed while writing leaves the previous file intact
+(and a hidden ``.NAME.*.part`` file behind, which nothing reads); a reader never sees a
+half-written file, even while several processes write the same name at once.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import secrets
+from pathlib import Path
+
+#: temporary files are ``.<name>.<pid>.<random>.part`` next to the target
+PART_SUFFIX = ".part"
+
+
+def temporary_name(path):
+    """A fresh hidden name next to ``path`` (same directory, so the rename stays on one file system)."""
+    path = Path(path)
+    return path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}{PART_SUFFIX}")
+
+
+def fsync_path(path, directory=False):
+    """Flush a file (or a directory's entries) to disk; file systems that cannot are skipped."""
+    flags = os.O_RDONLY | (getattr(os, "O_DIRECTORY", 0) if directory else 0)
+    try:
+        fd = os.open(path, flags)
+    except OSError:
+        return
+    try:
+        os.fsync(fd)
+    except OSError:  # e.g. directories on some network file systems
+        pass
+    finally:
+        os.close(fd)
+
+
+@contextlib.contextmanager
+def atomic_path(path):
+    """Yield a temporary path to write ``path`` through; on success it replaces ``path`` atomically.
+
+    The writer creates the temporary file itself (so it gets the usual permissions). When the
+    ``with`` block raises (or the writer never created the file), the temporary file is removed
+    and ``path`` is left as it was.
+
+    Examples
+    --------
+    >>> with atomic_path("run.nc") as tmp:          # doctest: +SKIP
+    ...     ds.to_netcdf(tmp)
+    """
+    path = Path(path)
+    tmp = temporary_name(path)
+    try:
+        yield tmp
+        if not tmp.exists():
+            raise FileNotFoundError(f"{tmp} was not written")
+        fsync_path(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp.unlink()
+        raise
+    fsync_path(path.parent, directory=True)
+
+
+def write_bytes(path, data):
+    """``Path(path).write_bytes(data)``, atomically."""
+    with atomic_path(path) as tmp:
+        Path(tmp).write_bytes(data)
+    return Path(path)

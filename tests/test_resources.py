@@ -1,0 +1,190 @@
+"""Resource limits named before work starts: memory refused with the estimate, long runs warned about, progress
+while compiling, adaptive runs that cannot reach their end stopped early."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import textwrap
+import time
+import warnings
+
+import numpy as np
+import pytest
+
+import mol_shell
+from mol_shell import resources
+from mol_shell.cli import main
+from mol_shell.errors import ModelLimitError, ParameterError
+from mol_shell.resources import LongRunWarning
+
+simulate_module = sys.modules["mol_shell.simulate"]
+
+
+class Built(Exception):
+    """Raised where a graph would be built: the run got past every check made before building."""
+
+
+@pytest.fixture
+def no_build(monkeypatch):
+    def fail(*args, **kwargs):
+        raise Built
+
+    monkeypatch.setattr(simulate_module, "ShellSystem", fail)
+    simulate_module._built.cache_clear()
+    yield
+    simulate_module._built.cache_clear()
+
+
+def test_output_estimate_is_the_dataset_s_size():
+    """``times x (10 n + 6) x 8`` bytes bounds the variables of a run's Dataset (5 fields, 5 rates per node; 5 totals
+    per time for an elastic shell, 6 with dissipation) to within the coordinates."""
+    for scene, n, times in ((mol_shell.TwistedCylinder(), 7, [0, 1e-6, 2e-6]),
+                            (mol_shell.Axisymmetric(), 9, [0, 1e-6])):
+        ds = mol_shell.simulate(scene, n=n, times=times, progress=False)
+        data = sum(v.nbytes for v in ds.data_vars.values())
+        estimate = resources.output_bytes(len(times), n)
+        assert data <= estimate <= data + 8 * len(times)
+
+
+def test_too_many_saved_times_are_refused_before_they_are_made(monkeypatch, capsys, tmp_path, no_build):
+    """``--times 0:0.001:1e-12`` is a billion saved times (3.3 TB of output at n = 40): refused at once, in one
+    line naming --times, the estimate and what to change; the list of times is never expanded."""
+    start = time.perf_counter()
+    code = main(["run", "twisted-cylinder", "--times", "0:0.001:1e-12", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert time.perf_counter() - start < 5
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert err.startswith("mol-shell: error: --times = '0:0.001:1e-12' is outside at most ")
+    assert "saved times at n = 40" in err and "the output alone 3.25 TB" in err and "--times" in err and "--n" in err
+
+
+def test_memory_limit_follows_the_environment(monkeypatch, capsys, tmp_path, no_build):
+    """With MOL_SHELL_MEMORY = 1G, 2e6 saved times of 40 nodes (640 MB of output, about 2.5 GB at the peak) are
+    refused; 2,000 are not (the run then gets as far as building its graph)."""
+    monkeypatch.setenv(resources.MEMORY_ENV, "1G")
+    assert resources.available_memory() == (1024**3, "$MOL_SHELL_MEMORY")
+    code = main(["run", "twisted-cylinder", "--times", "0:2:1e-6", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and "1.07 GB available ($MOL_SHELL_MEMORY)" in err, err
+    with pytest.raises(Built):
+        mol_shell.simulate("twisted-cylinder", times=np.arange(2001) * 1e-6)
+    with pytest.raises(ParameterError, match=r"^times = .* is outside at most [\d,]+ saved times at n = 40"):
+        mol_shell.simulate("twisted-cylinder", times=np.arange(2_000_001) * 1e-6)
+
+
+def test_millions_of_nodes_are_refused_before_any_graph(capsys, tmp_path, no_build):
+    """``--n 5000000``: about 200 GB for graphs and spectrum (40 kB per node, measured): refused before building."""
+    start = time.perf_counter()
+    code = main(["run", "twisted-cylinder", "--n", "5000000", "--t-end", "1e-3", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert time.perf_counter() - start < 5
+    assert code == 2 and err.startswith("mol-shell: error: n = 5000000 is outside integers 3..") and "GB" in err, err
+    assert len(err.splitlines()) == 1
+
+
+def test_a_study_too_large_for_memory_is_refused_before_its_cases_exist(capsys, tmp_path, monkeypatch):
+    monkeypatch.setattr(mol_shell.study.__module__ and sys.modules["mol_shell.study"], "run_task", None)
+    code = main(["study", "twisted-cylinder", "--vary", "gamma=0:1:1e-12", "--t-end", "1e-3", "-o",
+                 str(tmp_path / "s.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("mol-shell: error: --vary gamma = '0:1:1e-12' is outside at most "), err
+
+
+def test_a_run_of_more_than_an_hour_is_announced_before_it_starts(capsys, tmp_path, no_build):
+    """Leap-frog to 10^4 s at the paper's dt: 10^10 steps at ~18 us, two days: one warning line (a
+    LongRunWarning from Python), before the graph is built."""
+    with pytest.warns(LongRunWarning, match=r"^this run will take about 2\.\d+ days \(1e\+10 steps at n = 40\)"):
+        with pytest.raises(Built):
+            mol_shell.simulate("twisted-cylinder", t_end=1e4)
+    code = main(["run", "twisted-cylinder", "--t-end", "1e4", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err.splitlines()
+    assert code == 1 and err[0].startswith("mol-shell: warning: this run will take about 2."), err  # then Built
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LongRunWarning)
+        with pytest.raises(Built):
+            mol_shell.simulate("twisted-cylinder", t_end=0.1)  # 100,000 steps: no warning
+
+
+def test_an_explicit_method_s_lower_bound_is_announced_once_the_spectrum_is_known(monkeypatch):
+    """scipy-rk45 over 10^5 s of the paper scene: its stability interval (3.5 on the imaginary axis) and
+    max|eig J| = 5,290 /s need at least 1.5e8 steps of 6 evaluations: over an hour, warned before stepping."""
+
+    class Stop(Exception):
+        pass
+
+    def integrate(self, *args, **kwargs):
+        raise Stop
+
+    monkeypatch.setattr(mol_shell.integrators.INTEGRATORS["scipy-rk45"], "integrate", integrate)
+    with pytest.warns(LongRunWarning, match=r"will take at least about .* \(at least 1\.5\de\+08 steps at n = 40\)"):
+        with pytest.raises(Stop):
+            mol_shell.simulate("twisted-cylinder", "scipy-rk45", times=[0, 1e5])
+
+
+_PEAK = textwrap.dedent("""
+    import resource, sys
+    import numpy as np
+    import mol_shell
+    from mol_shell import resources
+    mol_shell.simulate("twisted-cylinder", n=40, times=[0, 1e-6], progress=False)  # imports and build, cached
+    base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    times = np.arange(20001) * 1e-6
+    mol_shell.simulate("twisted-cylinder", n=40, times=times, progress=False)
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
+    est = resources.estimate(40, len(times), times[-1], "leapfrog", dt=1e-6)
+    print(base, peak, est.output_bytes, est.memory_bytes)
+""")
+
+
+@pytest.mark.timeout(300)
+def test_memory_estimate_bounds_a_measured_run():
+    """20,001 saved times at n = 40 (65 MB of output): the process's peak grows by more than the output, by
+    at most the factor the estimate assumes, and stays below the estimate."""
+    out = subprocess.run([sys.executable, "-c", _PEAK], capture_output=True, text=True, timeout=240, check=True)
+    base, peak, output, estimate = (float(x) for x in out.stdout.split())
+    assert output == pytest.approx(20001 * (400 + 6) * 8)
+    assert output <= peak - base <= resources.ASSEMBLY_COPIES * output
+    assert peak <= estimate
+
+
+def test_compilation_that_takes_a_while_says_so(tmp_path, monkeypatch, capsys):
+    from mol_shell import compiled
+
+    monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path))
+    monkeypatch.setattr(compiled, "COMPILE_PROGRESS_AFTER", 0.05)
+    body = "\n".join(f"  x += {k} * 0.5;" for k in range(3000))
+    source = f"double slow(void) {{ double x = 0;\n{body}\n  return x; }}\n"
+    compiled.compile_cached(source, "slow", what="a test kernel")
+    err = capsys.readouterr().err.splitlines()
+    assert err[0].startswith("mol-shell: compiling a test kernel (") and "s expected" in err[0], err
+    assert err[-1].startswith("mol-shell: compiled a test kernel in "), err
+    compiled.compile_cached(source, "slow", what="a test kernel")
+    assert capsys.readouterr().err == ""  # from the cache: nothing to say
+
+
+def test_step_budget_stops_what_cannot_reach_the_end():
+    from mol_shell.integrators.base import StepBudget
+
+    budget = StepBudget("test", t_end=1.0, max_steps=10_000)
+    t = 0.0
+    with pytest.raises(ModelLimitError, match=r"would need about 1e\+08 steps"):
+        for _ in range(10_000):
+            t += 1e-8
+            budget.step(t)
+    assert budget.steps == StepBudget.EVERY
+    stuck = StepBudget("test", t_end=1.0, max_steps=10**9)
+    with pytest.raises(ModelLimitError, match="would need about inf steps") as info:
+        for _ in range(StepBudget.EVERY):
+            stuck.step(0.0)
+    assert info.value.status == "failed"
+    fine = StepBudget("test", t_end=1.0, max_steps=10_000)
+    for k in range(1, 2001):
+        fine.step(k * 1e-3)  # 1000 steps per unit: reaches the end well within max_steps
+
+
+def test_memory_sizes_parse():
+    assert resources.parse_bytes("8G") == 8 * 1024**3 and resources.parse_bytes("512M") == 512 * 1024**2
+    assert resources.parse_bytes("1e9") == 1e9
+    with pytest.raises(ParameterError, match="MOL_SHELL_MEMORY = 'lots' is not a size"):
+        resources.parse_bytes("lots")
