@@ -289,8 +289,15 @@ def base_offset(meridian, h, samples=400):
     r0, _, th0, th0s = meridian.at(s)
     A, B, C = (float(np.sum(ws * f)) for f in (r0, np.cos(th0) - r0 * th0s, th0s * np.cos(th0)))
     coeffs = [-C, B, A - C * h * h, B * h * h / 3]  # -C m^3 + B m^2 + (A - C h^2) m + B h^2 / 3
-    roots = np.roots(coeffs) if C != 0 else np.roots(coeffs[1:])
+    allowed = "values for which the base surface can be placed at the shell's centroid (or give zeta1)"
+    if not np.all(np.isfinite(coeffs)):
+        raise ParameterError("h", h, allowed, hint="the centroid's equation overflows for these dimensions")
+    with np.errstate(all="ignore"):
+        roots = np.roots(coeffs) if C != 0 else np.roots(coeffs[1:])
     real = roots[np.abs(roots.imag) <= 1e-12 * max(1.0, h)].real
+    real = real[np.abs(real) <= h]  # the base surface inside the shell
+    if real.size == 0:
+        raise ParameterError("h", h, allowed, hint="no centroidal placement inside the thickness")
     m = real[np.argmin(np.abs(real))]
     return float(m - h)
 

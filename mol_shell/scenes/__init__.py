@@ -20,11 +20,8 @@ def get_scene(name, **params):
     if name not in SCENES:
         raise ParameterError("scene", name, "{" + ", ".join(sorted(SCENES)) + "}")
     cls = SCENES[name]
-    if cls is MeridianShell:  # no default table: the scene is made with its file first
+    if cls is MeridianShell and "points" in params:  # the scene is made with its file first
         params = dict(params)
-        if "points" not in params:
-            raise ParameterError.missing("points", "a file with two columns r z (m), at least 4 rows",
-                                         hint="--set points=FILE")
         return with_params(MeridianShell(points=params.pop("points")), params)
     return with_params(cls(), params)
 

@@ -215,8 +215,22 @@ class ShellScene:
                    "[0, inf) N s m-3" if load == "drag" else f"finite values ({UNITS[load]})")
             if load != "drag":
                 parse_history(load + "_history", getattr(self, load + "_history"))
-        self._validate()
-        self._check_thickness()
+        try:
+            self._validate()
+            self._check_thickness()
+        except ParameterError as exc:
+            raise self._blame(exc) from None
+
+    def _blame(self, exc):
+        """A refusal of ``h`` caused by a changed geometry parameter (``a = 5e-324``) names that parameter."""
+        if exc.name != "h" or self.h != type(self).h:
+            return exc
+        skip = set(LOADS + DRIVES) | set(getattr(self, "initial", ())) | {"h", "zeta1", "end1", "end2"}
+        for f in dataclasses.fields(self):
+            if f.name not in skip and not f.name.endswith("_history") and getattr(self, f.name) != f.default:
+                return ParameterError(f.name, getattr(self, f.name), f"values for which h = {self.h:.4g} m fits: "
+                                      + str(exc))
+        return exc
 
     def at_equilibrium(self):
         """Whether the run starts from the static equilibrium under the loads at ``t = 0`` (``R``/``dilation`` auto)."""

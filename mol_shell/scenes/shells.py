@@ -160,7 +160,7 @@ class Torus(_Dilated):
         _check("b", self.b, lambda v: v > 0, "(0, inf) m")
         _check("alpha1", self.alpha1, lambda v: -math.pi <= v < math.pi, "[-pi, pi) rad")
         _check("alpha2", self.alpha2, lambda v: self.alpha1 < v <= self.alpha1 + 2 * math.pi,
-               f"({self.alpha1:.4g}, alpha1 + 2 pi] rad")
+               f"({self.alpha1:.6g}, {self.alpha1 + 2 * math.pi:.6g}] rad (alpha1 + 2 pi)")
         alpha = np.linspace(self.alpha1, self.alpha2, 2001)
         if np.min(self.b + self.a * np.sin(alpha)) <= 0:
             raise ParameterError("b", self.b, f"values above a = {self.a:g} m for this segment",
@@ -183,6 +183,7 @@ class MeridianShell(_Dilated):
     arc length (:class:`~mol_shell.model.geometry.PointsMeridian`); ``s = 0`` is the first row.
     An end with ``r = 0`` is a pole (the curve leaves the axis at a right angle there). The director is
     the tangent turned by +90 degrees in the ``(z, r)`` plane: outward for rows ordered by increasing ``z``.
+    ``points = ''`` (the default) is a built-in half ellipsoid (equatorial radius 1 m, height 0.6 m).
     """
 
     points: str = ""
@@ -191,14 +192,24 @@ class MeridianShell(_Dilated):
 
     def _validate(self):
         super()._validate()
-        if not isinstance(self.points, str) or not self.points.strip():
-            raise ParameterError.missing("points", "a file with two columns r z (m), at least 4 rows",
-                                         hint="--set points=FILE")
+        if not isinstance(self.points, str):
+            raise ParameterError.not_a("points", self.points, "a file name",
+                                       "a file with two columns r z (m), at least 4 rows, or '' (a built-in dome)")
         self.meridian()
 
     def meridian(self):
         from pathlib import Path
 
+        if not self.points.strip():
+            return _default_dome()
         p = Path(self.points).expanduser()
         stamp = p.stat().st_mtime_ns if p.is_file() else 0
         return _points_meridian(str(p), stamp)
+
+
+@lru_cache(maxsize=1)
+def _default_dome():
+    """The meridian scene's default table: a half ellipsoid of equatorial radius 1 m and height 0.6 m, 17 points
+    from the equator (z = 0) to the pole, so the scene runs as it is (``points = ''``)."""
+    t = np.linspace(0.0, np.pi / 2, 17)
+    return PointsMeridian(np.column_stack([np.cos(t), 0.6 * np.sin(t)]), name="points")
