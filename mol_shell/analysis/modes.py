@@ -135,7 +135,7 @@ def modes(scene, n=40, count=10):
 def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method):
     from ..output import FIELD_META, _attr
 
-    nf, n = system.nf, system.n
+    n = system.n
     modes_count = phi.shape[1]
     shapes = np.zeros((modes_count, 5, n))
     fractions = np.zeros((modes_count, 5))

@@ -27,7 +27,7 @@ def get_scene(name, **params):
 
 
 __all__ = [
-    "DESCRIPTIONS", "N_QUAD_RANGE", "SCENES", "UNITS", "Axisymmetric", "Cone", "CylinderScene", "MeridianShell",
+    "DESCRIPTIONS", "DRIVES", "LOADS", "N_QUAD_RANGE", "SCENES", "UNITS", "Axisymmetric", "Cone", "CylinderScene", "MeridianShell",
     "ShellScene", "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "check_radius", "get_scene", "with_params",
     "zeta1_used", "_check", "_coerce",
 ]
