@@ -156,8 +156,20 @@ class Estimate:
                 f"about {show_seconds(self.seconds)}")
 
 
-def output_bytes(n_times, n):
-    return float(n_times) * (OUTPUT_PER_NODE * n + OUTPUT_PER_TIME) * BYTES
+#: stress and resultant values per cell and saved time (:mod:`mol_shell.stresses`), when they are computed
+STRESS_PER_CELL = 17
+
+
+def output_bytes(n_times, n, stresses=True):
+    """Bytes of a run's Dataset: fields and rates per node, totals per time, the stresses per cell and time
+    when they are computed (up to :data:`mol_shell.stresses.MAX_SAMPLES` cell samples x times), and the
+    reference meridian (3 values per node)."""
+    from .stresses import MAX_SAMPLES
+
+    per_time = OUTPUT_PER_NODE * n + OUTPUT_PER_TIME
+    if stresses and float(n_times) * 2 * (n - 1) <= MAX_SAMPLES:
+        per_time += STRESS_PER_CELL * (n - 1)
+    return (float(n_times) * per_time + 3 * n) * BYTES
 
 
 def solver_bytes(integrator, size, n):
