@@ -54,6 +54,7 @@ from .cells import BETA2_ZERO, CellKernels  # noqa: F401  (BETA2_ZERO: where it 
 from .ends import free_rates, imposed_mask, resolve_edges, tied_chi
 from .errors import ParameterError
 from .model.geometry import node_inertias
+from .model.linalg import spd_solve
 from .model.kinematics import FIELDS as FIELD_NAMES
 from .model.kinematics import kinetic_energy_density
 from .model.material import (
@@ -163,12 +164,15 @@ class ShellSystem(CellKernels):
         T = self.kinetic_energy(ca.vertsplit(q), v, ca.vertsplit(m))
         M = ca.hessian(T, vf)[0]
         lin = ca.substitute(ca.gradient(T, vf), vf, ca.DM.zeros(len(free)))  # zero: T is quadratic
-        v_of_p = ca.solve(M, p[free] - lin)
+        v_of_p = (ca.solve if self.reference_kernel else spd_solve)(M, p[free] - lin)  # the reference keeps QR
         dTdq = ca.substitute(ca.gradient(T, q), vf, v_of_p)
         T_p = ca.substitute(T, vf, v_of_p)
         v_full = ca.SX.zeros(NF)
         v_full[free] = v_of_p
-        return ca.Function("node", [q, p, m], [v_full, dTdq, T_p], self.KERNEL_OPTIONS)
+        outs = [v_full, dTdq, T_p]
+        if not self.reference_kernel:
+            outs = ca.cse(outs)  # the trigonometry of theta and psi, once
+        return ca.Function("node", [q, p, m], outs, self.KERNEL_OPTIONS)
 
     def _driven_node_kernel(self, free, driven):
         """The edge-node kernel with prescribed rates (:func:`mol_shell.ends.driven_node_kernel`)."""

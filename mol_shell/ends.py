@@ -23,6 +23,7 @@ import casadi as ca
 import numpy as np
 
 from .errors import ParameterError
+from .model.linalg import spd_solve
 
 NF = 5
 
@@ -109,7 +110,7 @@ def driven_node_kernel(system, free, driven):
     T = system.kinetic_energy(ca.vertsplit(q), v, ca.vertsplit(m))
     M = ca.hessian(T, vf)[0]
     lin = ca.substitute(ca.gradient(T, vf), vf, ca.DM.zeros(len(free)))  # the driven rates' share of p
-    v_of_p = ca.solve(M, p[free] - lin)
+    v_of_p = (ca.solve if system.reference_kernel else spd_solve)(M, p[free] - lin)
     dTdq = ca.substitute(ca.gradient(T, q), vf, v_of_p)
     T_p = ca.substitute(T, vf, v_of_p)
     v_full = ca.SX.zeros(NF)

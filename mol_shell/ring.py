@@ -33,6 +33,7 @@ import xarray as xr
 from scipy.integrate import solve_ivp
 
 from . import __version__
+from .model.linalg import spd_solve
 from .model.kinematics import delta, kinetic_energy_density
 from .model.material import (
     Thickness, centroidal_offset, condensed, effective_lame, inertias, shell_dissipation, shell_energy,
@@ -100,7 +101,7 @@ def ring_system(scene):
     strains = (1.0, 0.0, 0.0, 0.0, 0.0, r, 0.0, psi)
     stored = shell_energy(strains, lam, mu, thickness, r0)
     mass = ca.hessian(kinetic, v)[0]
-    v_of_p = ca.solve(mass, p)
+    v_of_p = spd_solve(mass, p)
     forces = ca.substitute(ca.gradient(kinetic, q), v, v_of_p) - ca.gradient(stored, q)
     viscous = scene.eta_lambda > 0 or scene.eta_mu > 0
     dissipation = ca.SX(0)

@@ -30,13 +30,16 @@ def scenes(tmp_path):
         "axisymmetric": mol_shell.scenes.SCENES["axisymmetric"](),
         "sphere": Sphere(gamma=0.05, R=1.01),
         "cone": Cone(gamma=0.05, dilation=1.01),
+        "driven-cylinder": TwistedCylinder(end_omega=2.0, gravity=9.81),
         "curved-points": MeridianShell(points=ellipse_points(tmp_path / "ellipse.txt"), dilation=1.01),
     }
 
 
-@pytest.mark.parametrize("name", ["paper", "viscous-loaded", "axisymmetric", "sphere", "cone", "curved-points"])
+@pytest.mark.parametrize("name", ["paper", "viscous-loaded", "axisymmetric", "sphere", "cone", "curved-points",
+                                  "driven-cylinder"])
 def test_lean_rhs_equals_the_reference_rhs(name, tmp_path):
-    """thickness_energy_shared is the same quadrature of the same W as thickness_energy: equal to round-off."""
+    """thickness_energy_shared is the same quadrature of the same W as thickness_energy, and the node kernels'
+    LDL^T solve the same as CasADi's QR (poles, rhoI != 0 on the cone, driven edges): equal to round-off."""
     scene = resolve(scenes(tmp_path)[name])
     fast, ref = ShellSystem(scene, 17), ShellSystem(scene, 17, reference=True)
     if name == "curved-points":
@@ -47,6 +50,29 @@ def test_lean_rhs_equals_the_reference_rhs(name, tmp_path):
         a = np.array(fast.rhs(t, y)).ravel()
         b = np.array(ref.rhs(t, y)).ravel()
         assert np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b))
+
+
+def test_spd_solve_equals_a_dense_solve():
+    """LDL^T in a minimum-degree order: dense and structured SPD matrices (decoupled rows, an arrow like the
+    shell's mass matrix), against NumPy."""
+    import casadi as ca
+
+    from mol_shell.model.linalg import spd_solve
+
+    rng = np.random.default_rng(7)
+    for k in (1, 2, 3, 5, 8):
+        A = rng.standard_normal((k, k))
+        dense = A @ A.T + k * np.eye(k)
+        arrow = np.diag(rng.uniform(1, 2, k))
+        arrow[0, 1:] = arrow[1:, 0] = 0.3 * rng.uniform(-1, 1, k - 1)  # row 0 couples to all: eliminated last
+        for M in (dense, arrow):
+            S = ca.SX(ca.DM(M))  # numeric entries: structural zeros where M has zeros
+            x = np.array(ca.evalf(spd_solve(S, ca.SX(ca.DM(np.arange(1.0, k + 1)))))).ravel()
+            np.testing.assert_allclose(x, np.linalg.solve(M, np.arange(1.0, k + 1)), rtol=1e-12)
+    M, b = ca.SX.sym("M", 3, 3), ca.SX.sym("b", 3)  # symbolic and dense: no square root, three reciprocals
+    solve = ca.Function("solve", [M, b], [spd_solve(M, b)])
+    ops = [solve.instruction_id(k) for k in range(solve.n_instructions())]
+    assert ca.OP_SQRT not in ops and ops.count(ca.OP_DIV) <= 3 + 3
 
 
 def test_thickness_energy_shared_equals_the_reference_pointwise():
