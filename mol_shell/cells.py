@@ -24,6 +24,14 @@ NF = 5
 BETA2_ZERO = 1e-13
 
 
+def trig_chain(t, g):
+    """``dV/dq`` contributed through a node's trigonometric values ``t`` (:meth:`CellKernels.node_trig_kernel`).
+
+    ``g = dV/dt``; ``t = (cos psi, sin psi, cos theta/2, sin theta/2)``, so only ``theta`` and ``psi`` receive.
+    """
+    return ca.vertcat(0, 0, 0, 0.5 * (t[2] * g[3] - t[3] * g[2]), t[0] * g[1] - t[1] * g[0])
+
+
 class CellKernels:
     """Cell-level kernels of :class:`~mol_shell.discretization.ShellSystem` (a mixin)."""
 
@@ -121,6 +129,34 @@ class CellKernels:
         if not self.reference_kernel:
             forces = ca.cse(forces)  # the two samples share their differences, midpoints and trigonometry
         return ca.Function("cell", [ql, qr, geo], forces, self.KERNEL_OPTIONS)
+
+    def node_trig_kernel(self):
+        """``q -> (cos psi, sin psi, cos theta/2, sin theta/2)`` of a node, computed once per node and evaluation.
+
+        The lean RHS passes them to the node's kernel and to both of its cells (whose midpoint angle
+        ``(theta_l + theta_r)/2`` has its cosine and sine as products of the half angles'): two ``sincos``
+        per node instead of two per node kernel and three per cell.
+        """
+        q = ca.SX.sym("q", NF)
+        return ca.Function("node_trig", [q], [ca.vertcat(ca.cos(q[4]), ca.sin(q[4]), ca.cos(q[3] / 2),
+                                                         ca.sin(q[3] / 2))])
+
+    def cell_forces_shared_kernel(self):
+        """:meth:`cell_forces_kernel` taking the nodes' :meth:`node_trig_kernel` values: ``(ql, qr, tl, tr, geo)``.
+
+        The energy is built on the trigonometric values as inputs; the chain rule back to ``theta`` and
+        ``psi`` is applied inside, so the outputs are the same forces ``dV/dq`` to round-off.
+        """
+        ql, qr, geo = self._cell_symbols()
+        tl, tr = ca.SX.sym("tl", 4), ca.SX.sym("tr", 4)
+        _, beta2_0, moments = self._factors_and_moments(geo)
+        cos_mid, sin_mid = tl[2] * tr[2] - tl[3] * tr[3], tl[3] * tr[2] + tl[2] * tr[3]
+        samples = self.cell_samples(ql, qr)  # psi at the left node, then the right (one sample: psi = 0)
+        trigs = [(cos_mid, sin_mid, t[0], t[1]) for t in (tl, tr)]
+        energy = sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0, trig)
+                     for e, trig in zip(samples, trigs)) / len(samples)
+        forces = [ca.gradient(energy, q) + trig_chain(t, ca.gradient(energy, t)) for q, t in ((ql, tl), (qr, tr))]
+        return ca.Function("cell", [ql, qr, tl, tr, geo], ca.cse(forces), self.KERNEL_OPTIONS)
 
     def _cell_observables(self):
         """``(q_left, q_right, geo) -> (V_cell, ds x delta at the cell's samples)``."""

@@ -50,7 +50,7 @@ from functools import cached_property
 import casadi as ca
 import numpy as np
 
-from .cells import BETA2_ZERO, CellKernels  # noqa: F401  (BETA2_ZERO: where it is defined)
+from .cells import BETA2_ZERO, CellKernels, trig_chain  # noqa: F401  (BETA2_ZERO: where it is defined)
 from .ends import free_rates, imposed_mask, resolve_edges, tied_chi
 from .errors import ParameterError
 from .model.geometry import node_inertias
@@ -151,28 +151,34 @@ class ShellSystem(CellKernels):
         self._build()
 
     # -- geometry per cell -----------------------------------------------------------------
-    def kinetic_energy(self, q, v, m):
+    def kinetic_energy(self, q, v, m, trig=None):
         """Lumped kinetic energy of a node: ``mA |r_t|^2/2 + mI r_t.d_t + mJ |d_t|^2/2`` (``m`` its inertias)."""
         m_i = m[1] if self.has_rho_i else 0
-        return kinetic_energy_density(q, v, m[0], m_i, m[2])
+        return kinetic_energy_density(q, v, m[0], m_i, m[2], trig)
 
-    def _node_kernel(self, free):
-        """``(q, p, m) -> (v, dT/dq at fixed v, T)`` for a node whose free rates are ``free``."""
+    def _node_kernel(self, free, shared=False):
+        """``(q, p, m) -> (v, dT/dq at fixed v, T)`` for a node whose free rates are ``free``.
+
+        ``shared``: a fourth input takes the node's :meth:`node_trig_kernel` values (the lean RHS).
+        """
         q, p, m = ca.SX.sym("q", NF), ca.SX.sym("p", NF), ca.SX.sym("m", 3)
+        t = ca.SX.sym("t", 4)
         vf = ca.SX.sym("v", len(free))
         v = [vf[free.index(k)] if k in free else 0 for k in range(NF)]
-        T = self.kinetic_energy(ca.vertsplit(q), v, ca.vertsplit(m))
+        trig = (t[2] * t[2] - t[3] * t[3], 2 * t[2] * t[3], t[0], t[1]) if shared else None
+        T = self.kinetic_energy(ca.vertsplit(q), v, ca.vertsplit(m), trig)
         M = ca.hessian(T, vf)[0]
         lin = ca.substitute(ca.gradient(T, vf), vf, ca.DM.zeros(len(free)))  # zero: T is quadratic
         v_of_p = (ca.solve if self.reference_kernel else spd_solve)(M, p[free] - lin)  # the reference keeps QR
-        dTdq = ca.substitute(ca.gradient(T, q), vf, v_of_p)
+        dTdq = ca.gradient(T, q) + (trig_chain(t, ca.gradient(T, t)) if shared else 0)
+        dTdq = ca.substitute(dTdq, vf, v_of_p)
         T_p = ca.substitute(T, vf, v_of_p)
         v_full = ca.SX.zeros(NF)
         v_full[free] = v_of_p
         outs = [v_full, dTdq, T_p]
         if not self.reference_kernel:
-            outs = ca.cse(outs)  # the trigonometry of theta and psi, once
-        return ca.Function("node", [q, p, m], outs, self.KERNEL_OPTIONS)
+            outs = ca.cse(outs)
+        return ca.Function("node", [q, p, m] + ([t] if shared else []), outs, self.KERNEL_OPTIONS)
 
     def _driven_node_kernel(self, free, driven):
         """The edge-node kernel with prescribed rates (:func:`mol_shell.ends.driven_node_kernel`)."""
@@ -201,6 +207,8 @@ class ShellSystem(CellKernels):
     def _fields(self, Y, offset=0):
         """The ``5 x n`` field rows of a node-major matrix (inactive rows zero)."""
         active, n = list(self.active), self.n
+        if active == list(range(NF)):  # one block of rows: no gathers row by row
+            return Y[offset:offset + NF, :]
         zero_row = ca.MX.zeros(1, n)
         return ca.vertcat(*[Y[offset + active.index(k), :] if k in active else zero_row for k in range(NF)])
 
@@ -228,11 +236,16 @@ class ShellSystem(CellKernels):
             extra[0, pole] = -row[0, pole]
         return ca.vertcat(F[:2, :], row + extra, F[3:, :])
 
-    def elastic_forces(self, Q):
-        """``dV/dq`` (``5 x n``, MX) of the fields ``Q`` (ties applied inside)."""
+    def elastic_forces(self, Q, trig=None):
+        """``dV/dq`` (``5 x n``, MX) of the fields ``Q`` (ties applied inside); ``trig``: the nodes' trigonometry
+        (:meth:`node_trig_kernel`, ``4 x n``) for the shared cell kernel."""
         n = self.n
         Qt = self.tie(Q)
-        gl, gr = self._map(self.cell_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
+        if trig is None:
+            gl, gr = self._map(self.cell_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
+        else:  # a pole's tied chi does not enter the trigonometry
+            gl, gr = self._map(self.cell_forces_shared_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], trig[:, :-1],
+                                                                        trig[:, 1:], self.cell_data)
         pad = ca.MX.zeros(NF, 1)
         return self.gather_ties(ca.horzcat(gl, pad) + ca.horzcat(pad, gr))
 
@@ -274,7 +287,8 @@ class ShellSystem(CellKernels):
         self.rhs_mapped = rhs
         self.rhs_newton_mapped = newton
         self.kernel_instructions = {
-            "cell": self.cell_forces_kernel().n_instructions(),
+            "cell": (self.cell_forces_kernel() if self.reference_kernel else self.cell_forces_shared_kernel()
+                     ).n_instructions(),
             "node": interior.n_instructions(),
         }
         self.mapped = self.n > self.FLAT_MAX_NODES
@@ -297,9 +311,15 @@ class ShellSystem(CellKernels):
         Y = ca.reshape(y[: self.ny * n], self.ny, n)
         Q, P = self._fields(Y), self._fields(Y, nf)
         first, inner, last = self.free_sets()
-        interior = self._node_kernel(inner)
+        shared = not self.reference_kernel  # trigonometry once per node (node_trig_kernel)
+        trig = self._map(self.node_trig_kernel(), n)(Q) if shared else None
+
+        def node_inputs(nodes):
+            return (Q[:, nodes], P[:, nodes], self.inertia[:, nodes]) + ((trig[:, nodes],) if shared else ())
+
+        interior = self._node_kernel(inner, shared)
         t = ca.MX.sym("t")
-        vi, fi, ti = self._map(interior, n - 2)(Q[:, 1:-1], P[:, 1:-1], self.inertia[:, 1:-1])
+        vi, fi, ti = self._map(interior, n - 2)(*node_inputs(slice(1, -1)))
         ends, drive_terms = [], []
         for e, free in ((0, first), (n - 1, last)):
             driven = self.driven_fields(e)
@@ -309,10 +329,10 @@ class ShellSystem(CellKernels):
                 ends.append(out[:3])
                 drive_terms.append((e, driven, vd, vd_rate, out[3:]))
             else:
-                ends.append(self._node_kernel(free)(Q[:, e], P[:, e], self.inertia[:, e]))
+                ends.append(self._node_kernel(free, shared)(*node_inputs(e)))
         (v0, f0, t0), (vn, fn, tn) = ends
         V = self.tie(ca.horzcat(v0, vi, vn))
-        forces = ca.horzcat(f0, fi, fn) - self.elastic_forces(Q)
+        forces = ca.horzcat(f0, fi, fn) - self.elastic_forces(Q, trig)
         dissipation = 0
         if self.viscous:
             forces = forces - self.viscous_forces(Q, V)

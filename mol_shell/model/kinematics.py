@@ -20,15 +20,26 @@ from casadi import cos, sin
 FIELDS = ("z", "r", "chi", "theta", "psi")
 
 
-def betas(z_s, r_s, chi_s, r, theta):
+def trigonometry(theta, psi, trig=None):
+    """``(cos theta, sin theta, cos psi, sin psi)``, or ``trig`` when the caller has them already.
+
+    The compiled kernels compute the trigonometry of a node's angles once and pass it to every cell and
+    node kernel that needs it (``trig``); everything else leaves ``trig`` out.
+    """
+    return trig if trig is not None else (cos(theta), sin(theta), cos(psi), sin(psi))
+
+
+def betas(z_s, r_s, chi_s, r, theta, trig=None):
     """Components of ``r_s`` in the ``b`` basis, eq. (2.18).
 
     ``beta1 = z_s cos(theta) + r_s sin(theta)``,
     ``beta2 = -z_s sin(theta) + r_s cos(theta)``, ``beta3 = r chi_s``.
+    ``trig``: ``(cos theta, sin theta)`` if known.
     """
+    ct, st = trig if trig is not None else (cos(theta), sin(theta))
     return (
-        z_s * cos(theta) + r_s * sin(theta),
-        -z_s * sin(theta) + r_s * cos(theta),
+        z_s * ct + r_s * st,
+        -z_s * st + r_s * ct,
         r * chi_s,
     )
 
@@ -96,19 +107,18 @@ def scaled_deformation_gradient(strains, zeta, j1, j3, beta2_0=0.0):
     return tuple((col1[k] * j1, col2[k], col3[k] * j3) for k in range(3))
 
 
-def column_polynomials(strains, beta2_0=0.0):
+def column_polynomials(strains, beta2_0=0.0, trig=None):
     """``F``'s columns as polynomials in ``zeta``: ``F = [(a + zeta b) j1, c2, (c + zeta d) j3]``.
 
     The same ``F`` as :func:`scaled_deformation_gradient` (eq. 7.4): column 1 is ``a + zeta b``
     (``a = beta - beta2_0 c2``, ``b = -zeta``-coefficient of ``d_s``), column 2 the director
     ``c2 = (0, cos psi, sin psi)`` and column 3 ``c + zeta d`` with ``c = (0, 0, r)``, all in the
     ``b`` basis. Nothing here depends on ``zeta``, so a thickness integral computes them once.
-    Returns ``(a, b, c, d, c2)``, each a 3-tuple.
+    Returns ``(a, b, c, d, c2)``, each a 3-tuple. ``trig``: see :func:`trigonometry`.
     """
     z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi = strains
-    beta1, beta2, beta3 = betas(z_s, r_s, chi_s, r, theta)
-    cs, sn = cos(psi), sin(psi)
-    ct, st = cos(theta), sin(theta)
+    ct, st, cs, sn = trigonometry(theta, psi, trig)
+    beta1, beta2, beta3 = betas(z_s, r_s, chi_s, r, theta, (ct, st))
     twist = psi_s + chi_s * ct
     a = (beta1, beta2, beta3)
     if not (isinstance(beta2_0, (int, float)) and beta2_0 == 0):
@@ -122,28 +132,30 @@ def reference_volume_factor(zeta, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0)
     return (beta1_0 - zeta * theta0_s) * (r0 + zeta * cos(theta0))
 
 
-def director_velocity_c(chi_t, theta_t, psi_t, theta, psi):
-    """Components of ``d_t`` in the ``c`` basis, eq. (2.17): ``(c1, c2, c3)``."""
+def director_velocity_c(chi_t, theta_t, psi_t, theta, psi, trig=None):
+    """Components of ``d_t`` in the ``c`` basis, eq. (2.17): ``(c1, c2, c3)``. ``trig``: :func:`trigonometry`."""
+    ct, st, cs, sn = trigonometry(theta, psi, trig)
     return (
-        -(chi_t * sin(psi) * sin(theta) + theta_t * cos(psi)),
+        -(chi_t * sn * st + theta_t * cs),
         0.0,
-        psi_t + chi_t * cos(theta),
+        psi_t + chi_t * ct,
     )
 
 
-def position_velocity_c(z_t, r_t, chi_t, r, theta, psi):
+def position_velocity_c(z_t, r_t, chi_t, r, theta, psi, trig=None):
     """Components of ``r_t = z_t a1 + r_t a2 + r chi_t a3`` in the ``c`` basis, eq. (2.17)."""
-    along = r_t * sin(theta) + z_t * cos(theta)
-    across = r_t * cos(theta) - z_t * sin(theta)
+    ct, st, cs, sn = trigonometry(theta, psi, trig)
+    along = r_t * st + z_t * ct
+    across = r_t * ct - z_t * st
     spin = r * chi_t
     return (
         along,
-        across * cos(psi) + spin * sin(psi),
-        -across * sin(psi) + spin * cos(psi),
+        across * cs + spin * sn,
+        -across * sn + spin * cs,
     )
 
 
-def kinetic_energy_density(q, v, rho_a, rho_i, rho_j):
+def kinetic_energy_density(q, v, rho_a, rho_i, rho_j, trig=None):
     """Kinetic energy per unit reference area (section 7).
 
     ``rhoA |r_t|^2 / 2 + rhoI r_t . d_t + rhoJ |d_t|^2 / 2`` with
@@ -153,10 +165,10 @@ def kinetic_energy_density(q, v, rho_a, rho_i, rho_j):
     """
     _, r, _, theta, psi = q
     z_t, r_t, chi_t, theta_t, psi_t = v
-    dt1, _, dt3 = director_velocity_c(chi_t, theta_t, psi_t, theta, psi)
+    dt1, _, dt3 = director_velocity_c(chi_t, theta_t, psi_t, theta, psi, trig)
     energy = 0.5 * rho_a * (z_t**2 + r_t**2 + (r * chi_t) ** 2)
     energy = energy + 0.5 * rho_j * (dt1**2 + dt3**2)
     if not (isinstance(rho_i, (int, float)) and rho_i == 0):
-        rt1, _, rt3 = position_velocity_c(z_t, r_t, chi_t, r, theta, psi)
+        rt1, _, rt3 = position_velocity_c(z_t, r_t, chi_t, r, theta, psi, trig)
         energy = energy + rho_i * (rt1 * dt1 + rt3 * dt3)
     return energy

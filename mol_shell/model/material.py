@@ -194,7 +194,7 @@ def thickness_moments(factors):
     return out
 
 
-def thickness_energy_moments(strains, lam, mu, moments, beta2_0=0.0):
+def thickness_energy_moments(strains, lam, mu, moments, beta2_0=0.0, trig=None):
     """:func:`thickness_energy_shared` with the thickness sums done beforehand (:func:`thickness_moments`).
 
     ``W_SVK`` is a polynomial in ``zeta`` and ``j1^2, j3^2`` with coefficients from the eleven dot products
@@ -202,8 +202,9 @@ def thickness_energy_moments(strains, lam, mu, moments, beta2_0=0.0):
     and ``R = a.c + ...``, ``sum vol W = (lambda/2 + mu) sum vol (E11^2 + E33^2) + lambda sum vol E11 E33
     + mu sum vol 2 (E12^2 + E13^2 + E23^2)``, and each sum is a dot product of a polynomial's coefficients
     with a row of moments. Equal to the quadrature up to round-off, at a cost independent of ``n_quad``.
+    ``trig``: the sample's ``(cos theta, sin theta, cos psi, sin psi)`` if known.
     """
-    a, b, c, d, c2 = column_polynomials(strains, beta2_0)
+    a, b, c, d, c2 = column_polynomials(strains, beta2_0, trig)
 
     def dot(u, v):
         return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
