@@ -245,7 +245,7 @@ class ShellSystem(CellKernels):
             gl, gr = self._map(self.cell_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
         else:  # a pole's tied chi does not enter the trigonometry
             gl, gr = self._map(self.cell_forces_shared_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], trig[:, :-1],
-                                                                        trig[:, 1:], self.cell_data)
+                                                                        trig[:, 1:], self.shared_cell_data)
         pad = ca.MX.zeros(NF, 1)
         return self.gather_ties(ca.horzcat(gl, pad) + ca.horzcat(pad, gr))
 
@@ -315,7 +315,10 @@ class ShellSystem(CellKernels):
         trig = self._map(self.node_trig_kernel(), n)(Q) if shared else None
 
         def node_inputs(nodes):
-            return (Q[:, nodes], P[:, nodes], self.inertia[:, nodes]) + ((trig[:, nodes],) if shared else ())
+            inertia = self.inertia[:, nodes]
+            if inertia.ndim == 2 and np.all(inertia == inertia[:, :1]):
+                inertia = inertia[:, :1]  # the same for every node (a cylinder): broadcast by the map
+            return (Q[:, nodes], P[:, nodes], inertia) + ((trig[:, nodes],) if shared else ())
 
         interior = self._node_kernel(inner, shared)
         t = ca.MX.sym("t")
