@@ -22,6 +22,8 @@ from pathlib import Path
 import casadi as ca
 import numpy as np
 
+from .rk_driver import RK_DRIVER
+
 #: -fno-semantic-interposition lets gcc inline CasADi's exported helpers (``casadi_sq``; calls through the PLT
 #: otherwise): 10 % of an RHS evaluation, the same arithmetic
 CFLAGS = ("-O2", "-fno-semantic-interposition", "-fPIC", "-shared")
@@ -274,7 +276,7 @@ class CompiledRHS:
         source += _DRIVER.format(
             n=self.size, ng=self.n_limits, name=rhs.name(), sz_iw=rhs.sz_iw(), sz_w=rhs.sz_w(), sz_arg=rhs.sz_arg(),
             sz_res=rhs.sz_res(), limits_call=limits_call,
-        )
+        ) + RK_DRIVER.replace("{name}", rhs.name())
         start = time.perf_counter()
         flags = CFLAGS + (("-fopenmp",) if self.parallel else ())
         # one handle for CasADi's external and ctypes (the same path): ms_threads is shared
@@ -286,6 +288,11 @@ class CompiledRHS:
         self._lib.ms_leapfrog.restype = ctypes.c_longlong
         dptr = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
         self._lib.ms_leapfrog.argtypes = [dptr, dptr, dptr, dptr, ctypes.c_longlong, ctypes.c_double, ctypes.c_double]
+        real, ptr = ctypes.c_double, ctypes.POINTER(ctypes.c_double)
+        self._lib.ms_rk.restype = ctypes.c_int
+        self._lib.ms_rk.argtypes = [dptr, dptr, dptr, dptr, real, real, dptr, real, ctypes.c_int, dptr, dptr, dptr,
+                                    dptr, ptr, ctypes.c_int, real, dptr, dptr, ctypes.c_longlong,
+                                    np.ctypeslib.ndpointer(dtype=np.int64, flags="C_CONTIGUOUS")]
         self._lib.ms_set_threads.argtypes = [ctypes.c_int]
         self._lib.ms_get_threads.restype = ctypes.c_int
         self._f = np.zeros(self.size)
@@ -317,6 +324,21 @@ class CompiledRHS:
         if code < 0:
             raise RuntimeError("compiled right-hand side failed")
         return (int(code), True) if code > 0 else (int(nsteps), False)
+
+    def runge_kutta(self, state, t_end, rtol, atol, max_step, tableau, max_steps, stats):
+        """Advance ``state = [t, y, f, h]`` (arrays, updated in place) towards ``t_end`` in C (:mod:`mol_shell.rk_driver`).
+
+        ``tableau``: ``(A, B, C, E, E3 or None, error exponent)``; ``stats``: int64 ``[accepted, rejected,
+        RHS evaluations]``, added to. Returns the driver's code: 0 at ``t_end``, 1 at a limit, 2 after
+        ``max_steps`` steps, -1 RHS failure, -2 step below the minimum.
+        """
+        t, y, f, h = state
+        A, B, C, E, E3, exponent = tableau
+        s = len(B)
+        work = np.empty((s + 4) * self.size)
+        e3 = E3.ctypes.data_as(ctypes.POINTER(ctypes.c_double)) if E3 is not None else None
+        return int(self._lib.ms_rk(t, y, f, h, float(t_end), float(rtol), atol, float(max_step), s, A, B, C, E, e3,
+                                   int(E3 is not None), float(exponent), work, self._g, int(max_steps), stats))
 
     def evaluator(self):
         """``(y, t=0) -> y_t`` through a preallocated CasADi buffer (about 0.2 us of call overhead).

@@ -44,6 +44,8 @@ SWEEPS = {
     "casadi-cvodes": {"rtol": RTOLS[:9]},
     "casadi-idas": {"rtol": RTOLS[:7]},
     "casadi-cvodes-c": {"rtol": RTOLS},
+    "dop853-c": {"rtol": RTOLS},
+    "rk45-c": {"rtol": RTOLS[:8]},
 }
 DEFAULT_INTEGRATORS = tuple(SWEEPS)
 COMPARED = ("r", "theta", "chi")

@@ -28,7 +28,7 @@ def runs():
 
 def _runs():
     out = {"leapfrog": mol_shell.simulate(SCENE, "leapfrog", times=TIMES, dt=DT, progress=False)}
-    for name in ("cvode-bdf", "ida"):
+    for name in ("cvode-bdf", "ida", "dop853-c"):
         out[name] = mol_shell.simulate(SCENE, name, times=TIMES, rtol=1e-9, atol=1e-12, progress=False)
     return out
 
@@ -49,6 +49,12 @@ def test_every_integrator_stops_at_the_first_crossing(runs):
     # phase error over ~5,000 steps of a 5,000 rad/s oscillation (~1e-8 s)
     assert 0 <= lf.attrs["failure_time"] - t_root < 2 * DT
     assert _where(lf) == _where(root) == _where(runs["ida"])
+    # dop853-c checks the limits in C after every accepted step: it stops at the first step past the root
+    rk = runs["dop853-c"]
+    assert rk.attrs["status"] == "limit", rk.attrs["message"]
+    mean_step = rk.attrs["failure_time"] / rk.attrs["n_steps"]
+    assert 0 <= rk.attrs["failure_time"] - t_root < 2 * mean_step, (rk.attrs["failure_time"], t_root, mean_step)
+    assert _where(rk) == _where(root)
 
 
 def test_data_before_the_crossing_are_kept_and_finite(runs):
