@@ -1,6 +1,6 @@
 """mol_shell: rotationally symmetric motions of Cosserat shells of revolution (Antman & Bourne 2010)."""
 
-__version__ = "0.3.0"
+from .version import __version__  # noqa: F401
 
 from .scenes import SCENES, Axisymmetric, SpinningRing, TwistedCylinder, get_scene  # noqa: E402
 from .scenes.files import load_scene  # noqa: E402

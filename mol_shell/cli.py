@@ -18,7 +18,7 @@ import warnings
 
 import numpy as np
 
-from . import __version__
+from .version import __version__
 from .errors import ParameterError, show
 
 EXIT_INTERNAL, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED = 1, 2, 3, 130

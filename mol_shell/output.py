@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from . import __version__
+from .version import __version__
 from .errors import ParameterError
 from .model.kinematics import FIELDS
 from .scenes import UNITS

@@ -32,7 +32,7 @@ import numpy as np
 import xarray as xr
 from scipy.integrate import solve_ivp
 
-from . import __version__
+from .version import __version__
 from .model.linalg import spd_solve
 from .model.kinematics import delta, kinetic_energy_density
 from .model.material import (

@@ -48,7 +48,7 @@ class Task:
     @property
     def key(self):
         """Hash of the package version, scene class and parameters, integrator, grid, saved times and options."""
-        from . import __version__
+        from .version import __version__
 
         spec = {"version": __version__, "scene": type(self.scene).__name__, "params": self.scene.params(),
                 "integrator": self.integrator, "n": self.n, "times": list(self.times), "options": self.options}

@@ -24,7 +24,7 @@ import time
 import numpy as np
 import xarray as xr
 
-from . import __version__
+from .version import __version__
 from .errors import ParameterError
 from .integrators import INTEGRATORS
 from .simulate import build, resolve

@@ -166,7 +166,7 @@ def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method):
     coords = {"mode": ("mode", np.arange(1, modes_count + 1), {"long_name": "mode number (ascending frequency)"}),
               "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"}),
               "field": ("field", list(FIELDS), {"long_name": "field"})}
-    from .. import __version__
+    from ..version import __version__
 
     attrs = {"Conventions": "CF-1.8", "title": f"mol_shell natural modes of scene {scene.name}",
              "source": f"mol_shell {__version__}", "scene": scene.name, "n": n, "zero_modes": n_zero,
