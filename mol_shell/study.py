@@ -27,6 +27,7 @@ import numpy as np
 
 from . import resources
 from .errors import ParameterError
+from .scheduling import SCHEDULER_TIMEOUT, connect, execute, scheduler_name
 from .study_data import Store, assemble
 
 #: statuses that are final: stored, and skipped on resume ("interrupted" and "lost" are run again)
@@ -203,7 +204,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
             results[index] = (None, {"status": "refused", "message": str(exc), "case_wall_time_s": 0.0, "worker": ""})
             continue
         tasks.append(task)
-    client = _connect(scheduler) if tasks else None  # an unreachable cluster is refused before anything runs
+    client = connect(scheduler) if tasks else None  # an unreachable cluster is refused before anything runs
     store = Store(output) if output is not None else None
     pending, reused = [], 0
     for task in tasks:
@@ -221,7 +222,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
 
         bar = tqdm(total=len(cases), initial=len(cases) - len(pending), desc="study", unit="case")
     by_index = {task.index: task for task in pending}
-    finished = _execute(pending, scheduler, workers, client)
+    finished = execute(run_task, pending, scheduler, workers, client)
     try:
         for index, ds, info in finished:
             results[index] = (ds, info)
@@ -244,7 +245,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     out.attrs.update({
         "title": f"mol_shell parameter study of scene {scene.name}", "study_vary": ", ".join(coords),
         "study_integrator": integrator, "n_cases": len(cases), "n_executed": len(pending), "n_reused": reused,
-        "n_failed": failed, "scheduler": _scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - start,
+        "n_failed": failed, "scheduler": scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - start,
     })
     if output is not None:
         from .output import write_netcdf
@@ -261,113 +262,6 @@ def _task(scene, index, label, changes, integrator, n, times, options):
     opts = {**options, **{k: v for k, v in changes.items() if k not in fields}}
     case_scene = with_params(scene, scene_changes)
     return Task(index, label, case_scene, integrator, int(n), tuple(float(t) for t in times), opts)
-
-
-#: seconds to wait for a dask scheduler to answer before the study is refused
-SCHEDULER_TIMEOUT = 10.0
-
-
-def _connect(scheduler):
-    """A ``distributed.Client`` for a scheduler address (``None`` for local processes or ``"serial"``).
-
-    Raises :class:`ParameterError` for an address that is malformed or does not answer within
-    :data:`SCHEDULER_TIMEOUT` seconds, so a study never starts on a cluster it cannot reach.
-    """
-    if scheduler is None or scheduler == "serial":
-        return None
-    allowed = "'serial', or the address of a running dask scheduler such as tcp://host:8786, or a distributed.Client"
-    try:
-        from distributed import Client
-    except ImportError:
-        raise ParameterError.invalid("scheduler", scheduler, "needs dask.distributed, which is not installed",
-                                     allowed, hint="pip install 'mol_shell[dask]'") from None
-    if isinstance(scheduler, Client):
-        return scheduler
-    if not isinstance(scheduler, str) or not scheduler.strip():
-        raise ParameterError.not_a("scheduler", scheduler, "a scheduler address", allowed)
-    try:
-        # not the default client: a failed connection would otherwise leave dask (and xarray's netCDF locks)
-        # pointing at the unreachable scheduler for the rest of the process
-        return Client(scheduler, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
-    except ValueError as exc:
-        raise ParameterError.invalid("scheduler", scheduler, "is not a scheduler address", allowed, hint=str(exc)) from None
-    except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, or distributed's own failures to start
-        text = str(exc).splitlines()[0] if str(exc) else ""
-        raise ParameterError.invalid("scheduler", scheduler, f"does not answer within {SCHEDULER_TIMEOUT:g} s",
-                                     allowed, hint=f"{type(exc).__name__}: {text}".rstrip(": ")) from None
-
-
-def _execute(tasks, scheduler, workers, client=None):
-    """Yield ``(index, ds, info)`` as cases finish, on the chosen back end (``client``: a connected cluster)."""
-    if not tasks:
-        return
-    if scheduler == "serial":
-        for task in tasks:
-            yield run_task(task)
-        return
-    if scheduler is None:
-        yield from _execute_local(tasks, workers)
-        return
-    from distributed import as_completed
-
-    if client is None:
-        client = _connect(scheduler)
-    futures = client.map(run_task, tasks, pure=False)
-    owner = {f.key: t for f, t in zip(futures, tasks)}
-    try:
-        with client.as_current():  # the client is not the process-wide default (see _connect)
-            for future in as_completed(futures):
-                yield _collect(future, owner[future.key])
-    finally:
-        client.cancel(futures)
-
-
-def _one_thread_each():
-    """Local workers share the cores between them: each runs its compiled RHS on one thread (unless set)."""
-    os.environ.setdefault("MOL_SHELL_THREADS", "1")
-
-
-#: times a case whose local worker process died (killed, out of memory) is run again before it is recorded ``lost``
-LOST_RETRIES = 2
-
-
-def _execute_local(tasks, workers):
-    """Cases on local processes. A worker that dies breaks the whole pool: its unfinished cases (the one that
-    was running and those queued behind it) run again in a new pool, up to :data:`LOST_RETRIES` times each."""
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
-    from concurrent.futures.process import BrokenProcessPool
-
-    attempts = {task.index: 0 for task in tasks}
-    pending = list(tasks)
-    while pending:
-        count = max(1, min(workers or os.cpu_count() or 1, len(pending)))
-        pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"),
-                                   initializer=_one_thread_each)
-        futures = {pool.submit(run_task, task): task for task in pending}
-        pending = []
-        try:
-            for future in as_completed(futures):
-                task = futures[future]
-                if isinstance(future.exception(), BrokenProcessPool) and attempts[task.index] < LOST_RETRIES:
-                    attempts[task.index] += 1
-                    pending.append(task)
-                    continue
-                index, ds, info = _collect(future, task)
-                if attempts[task.index]:
-                    info["message"] += f" (run {attempts[task.index] + 1} times: a worker process died)"
-                yield index, ds, info
-        finally:
-            pool.shutdown(wait=True, cancel_futures=True)
-
-
-def _collect(future, task):
-    """The result of a finished future; a task that died outside our code is recorded as ``lost``."""
-    try:
-        return future.result()
-    except Exception as exc:  # noqa: BLE001 - e.g. a killed worker
-        return task.index, None, {"status": "lost", "message": f"{type(exc).__name__}: {exc}",
-                                  "case_wall_time_s": float("nan"), "worker": ""}
 
 
 def _scene_fields(scene):
@@ -429,12 +323,6 @@ def _typed(scene, name, value):
     if "int" in annotation and isinstance(value, float) and value.is_integer():
         return int(value)
     return value
-
-
-def _scheduler_name(scheduler):
-    if scheduler is None:
-        return "local processes"
-    return scheduler if isinstance(scheduler, str) else type(scheduler).__name__
 
 
 # -- command line ------------------------------------------------------------------------------

@@ -8,6 +8,7 @@ import pytest
 
 import mol_shell
 from mol_shell.errors import ParameterError
+from mol_shell import scheduling
 from mol_shell.study import parse_vary, study
 
 study_module = importlib.import_module("mol_shell.study")  # the module, even if mol_shell exports a function study
@@ -147,7 +148,7 @@ def test_unreachable_scheduler_is_refused_quickly(monkeypatch):
     with socket.socket() as sock:  # a port nobody listens on
         sock.bind(("127.0.0.1", 0))
         port = sock.getsockname()[1]
-    monkeypatch.setattr(study_module, "SCHEDULER_TIMEOUT", 1.0)
+    monkeypatch.setattr(scheduling, "SCHEDULER_TIMEOUT", 1.0)
     start = time.perf_counter()
     with pytest.raises(ParameterError, match=rf"^scheduler = 'tcp://127.0.0.1:{port}' does not answer within 1 s"):
         study(BASE, {"gamma": [0.1, 0.2]}, **SMALL, scheduler=f"tcp://127.0.0.1:{port}")

@@ -1,0 +1,125 @@
+"""Where the cases of a study run: in this process, on local worker processes, or on a dask cluster.
+
+:func:`execute` yields each case's result as it finishes; a local worker that dies has its unfinished cases
+run again in a new pool, a dask worker's are retried by dask (or recorded as ``lost``). :func:`connect` refuses
+an address that does not answer before anything runs. Used by :func:`mol_shell.study.study`.
+"""
+
+from __future__ import annotations
+
+import os
+
+from .errors import ParameterError
+
+#: seconds to wait for a dask scheduler to answer before the study is refused
+SCHEDULER_TIMEOUT = 10.0
+
+
+def connect(scheduler):
+    """A ``distributed.Client`` for a scheduler address (``None`` for local processes or ``"serial"``).
+
+    Raises :class:`ParameterError` for an address that is malformed or does not answer within
+    :data:`SCHEDULER_TIMEOUT` seconds, so a study never starts on a cluster it cannot reach.
+    """
+    if scheduler is None or scheduler == "serial":
+        return None
+    allowed = "'serial', or the address of a running dask scheduler such as tcp://host:8786, or a distributed.Client"
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ParameterError.invalid("scheduler", scheduler, "needs dask.distributed, which is not installed",
+                                     allowed, hint="pip install 'mol_shell[dask]'") from None
+    if isinstance(scheduler, Client):
+        return scheduler
+    if not isinstance(scheduler, str) or not scheduler.strip():
+        raise ParameterError.not_a("scheduler", scheduler, "a scheduler address", allowed)
+    try:
+        # not the default client: a failed connection would otherwise leave dask (and xarray's netCDF locks)
+        # pointing at the unreachable scheduler for the rest of the process
+        return Client(scheduler, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
+    except ValueError as exc:
+        raise ParameterError.invalid("scheduler", scheduler, "is not a scheduler address", allowed, hint=str(exc)) from None
+    except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, or distributed's own failures to start
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        raise ParameterError.invalid("scheduler", scheduler, f"does not answer within {SCHEDULER_TIMEOUT:g} s",
+                                     allowed, hint=f"{type(exc).__name__}: {text}".rstrip(": ")) from None
+
+
+def execute(run_task, tasks, scheduler, workers, client=None):
+    """Yield ``run_task(task)``, i.e. ``(index, ds, info)``, as cases finish, on the chosen back end (``client``: a
+    connected cluster). ``run_task`` must be importable by name (it is sent to other processes)."""
+    if not tasks:
+        return
+    if scheduler == "serial":
+        for task in tasks:
+            yield run_task(task)
+        return
+    if scheduler is None:
+        yield from _execute_local(run_task, tasks, workers)
+        return
+    from distributed import as_completed
+
+    if client is None:
+        client = connect(scheduler)
+    futures = client.map(run_task, tasks, pure=False)
+    owner = {f.key: t for f, t in zip(futures, tasks)}
+    try:
+        with client.as_current():  # the client is not the process-wide default (see connect)
+            for future in as_completed(futures):
+                yield _collect(future, owner[future.key])
+    finally:
+        client.cancel(futures)
+
+
+def _one_thread_each():
+    """Local workers share the cores between them: each runs its compiled RHS on one thread (unless set)."""
+    os.environ.setdefault("MOL_SHELL_THREADS", "1")
+
+
+#: times a case whose local worker process died (killed, out of memory) is run again before it is recorded ``lost``
+LOST_RETRIES = 2
+
+
+def _execute_local(run_task, tasks, workers):
+    """Cases on local processes. A worker that dies breaks the whole pool: its unfinished cases (the one that
+    was running and those queued behind it) run again in a new pool, up to :data:`LOST_RETRIES` times each."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures.process import BrokenProcessPool
+
+    attempts = {task.index: 0 for task in tasks}
+    pending = list(tasks)
+    while pending:
+        count = max(1, min(workers or os.cpu_count() or 1, len(pending)))
+        pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=_one_thread_each)
+        futures = {pool.submit(run_task, task): task for task in pending}
+        pending = []
+        try:
+            for future in as_completed(futures):
+                task = futures[future]
+                if isinstance(future.exception(), BrokenProcessPool) and attempts[task.index] < LOST_RETRIES:
+                    attempts[task.index] += 1
+                    pending.append(task)
+                    continue
+                index, ds, info = _collect(future, task)
+                if attempts[task.index]:
+                    info["message"] += f" (run {attempts[task.index] + 1} times: a worker process died)"
+                yield index, ds, info
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _collect(future, task):
+    """The result of a finished future; a task that died outside our code is recorded as ``lost``."""
+    try:
+        return future.result()
+    except Exception as exc:  # noqa: BLE001 - e.g. a killed worker
+        return task.index, None, {"status": "lost", "message": f"{type(exc).__name__}: {exc}",
+                                  "case_wall_time_s": float("nan"), "worker": ""}
+
+
+def scheduler_name(scheduler):
+    if scheduler is None:
+        return "local processes"
+    return scheduler if isinstance(scheduler, str) else type(scheduler).__name__
