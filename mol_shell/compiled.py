@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
+import functools
 import hashlib
 import os
 import subprocess
@@ -25,8 +26,10 @@ import numpy as np
 from .rk_driver import RK_DRIVER
 
 #: -fno-semantic-interposition lets gcc inline CasADi's exported helpers (``casadi_sq``; calls through the PLT
-#: otherwise): 10 % of an RHS evaluation, the same arithmetic
-CFLAGS = ("-O2", "-fno-semantic-interposition", "-fPIC", "-shared")
+#: otherwise): 10 % of an RHS evaluation. -O3 -march=native (this machine's vector units and fused
+#: multiply-adds, so the last bits differ from CasADi's virtual machine) another ~20 % of a dop853-c run, with
+#: the cache keyed by the processor (:func:`machine_key`)
+CFLAGS = ("-O3", "-march=native", "-ffp-contract=off", "-fno-semantic-interposition", "-fPIC", "-shared")
 #: what CasADi writes for an "openmp" map, and what we make of it: a thread count set at run time, and chunks
 #: of 32 cells handed out as threads get free (a core busy with another process then slows the run less)
 _OMP_PRAGMA = "#pragma omp parallel for private("
@@ -124,11 +127,11 @@ def estimated_compile_seconds(source_bytes, flags=CFLAGS):
     """gcc's time for ``source_bytes`` of CasADi-generated C, from measurements on a 2-core machine.
 
     Power laws fitted to the twisted cylinder at n = 40, n_quad = 4 .. 32 (docs/reliability.md): right-hand
-    sides at ``-O2`` (108 .. 607 kB of C: 0.6 .. 4.3 s) and exact Jacobians at ``-O1`` (1.1 .. 4.6 MB:
+    sides at ``-O2``/``-O3`` (108 .. 607 kB of C: 0.6 .. 4.3 s) and exact Jacobians at ``-O1`` (1.1 .. 4.6 MB:
     3 .. 106 s; gcc's time grows faster than the source). An order of magnitude, for the progress line.
     """
     size = source_bytes / 1e5
-    return 0.58 * size**1.12 if "-O2" in flags else 0.0105 * size**2.49
+    return 0.0105 * size**2.49 if "-O1" in flags else 0.58 * size**1.12
 
 
 def show_seconds(value):
@@ -173,6 +176,24 @@ def run_compiler(command, what, source_bytes, flags):
         raise subprocess.CalledProcessError(proc.returncode, command, out, err)
 
 
+@functools.lru_cache(maxsize=None)
+def machine_key(flags=CFLAGS):
+    """What a library built with ``-march=native`` depends on: the processor's model and instruction sets.
+
+    Part of the cache key, so that a cache shared between machines (a network home directory) never hands
+    one processor code for another's instructions; empty for portable flags.
+    """
+    if "-march=native" not in flags:
+        return ""
+    import platform
+
+    text = platform.machine() + platform.processor()
+    with contextlib.suppress(OSError):
+        lines = Path("/proc/cpuinfo").read_text().splitlines()
+        text += "".join(sorted({line for line in lines if line.startswith(("model name", "flags", "Features"))}))
+    return text
+
+
 def compile_cached(source, prefix, flags=CFLAGS, what=None):
     """Path of a shared object built from C ``source`` with gcc ``flags``, cached on disk by hash.
 
@@ -184,7 +205,7 @@ def compile_cached(source, prefix, flags=CFLAGS, what=None):
     """
     from .atomic import atomic_path
 
-    key = hashlib.sha256((source + " ".join(flags) + ca.__version__).encode()).hexdigest()[:20]
+    key = hashlib.sha256((source + " ".join(flags) + ca.__version__ + machine_key(flags)).encode()).hexdigest()[:20]
     lib = cache_dir() / f"{prefix}_{key}.so"
     if lib.exists():
         return lib
