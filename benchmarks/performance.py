@@ -85,10 +85,10 @@ STUDY_PROBE = r"""
 import json, sys, time
 import numpy as np
 import mol_shell
-scheduler, workers = sys.argv[1], int(sys.argv[2])
+scheduler, workers, t_end = sys.argv[1], int(sys.argv[2]), float(sys.argv[3])
 gammas = list(np.linspace(0.5, 1.5, 100) * mol_shell.TwistedCylinder().gamma)
 start = time.perf_counter()
-ds = mol_shell.study(mol_shell.TwistedCylinder(), {"gamma": gammas}, n=40, t_end=0.02,
+ds = mol_shell.study(mol_shell.TwistedCylinder(), {"gamma": gammas}, n=40, t_end=t_end,
                      scheduler=None if scheduler == "local" else scheduler, workers=workers, progress=None)
 wall = time.perf_counter() - start
 print(json.dumps({"wall_s": wall, "complete": int((ds.status == "complete").sum())}))
@@ -179,19 +179,19 @@ def target_peers(rounds):
     return {"found": found, "ratio": ratios}
 
 
-def target_study(rounds):
+def target_study(rounds, t_end=0.02):
     with tempfile.TemporaryDirectory() as cache:
         env = {"MOL_SHELL_CACHE": cache}
         log = Path(cache, "builds.log")
         runs = {"serial": [], "2 local workers": []}
         builds = []
         for _ in range(rounds):
-            runs["2 local workers"].append(probe(HERE, STUDY_PROBE, "local", 2, env=env))
+            runs["2 local workers"].append(probe(HERE, STUDY_PROBE, "local", 2, t_end, env=env))
             builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
-            runs["serial"].append(probe(HERE, STUDY_PROBE, "serial", 1, env=env))
+            runs["serial"].append(probe(HERE, STUDY_PROBE, "serial", 1, t_end, env=env))
             builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
     best = {k: min(r["wall_s"] for r in v) for k, v in runs.items()}
-    print("\n## 4. Study: 100 cases of the paper scene (gamma varied), n = 40, t = 0.02 s, fresh compile cache\n")
+    print(f"\n## 4. Study: 100 cases of the paper scene (gamma varied), n = 40, t = {t_end:g} s, fresh compile cache\n")
     print("| scheduler | wall [s] | cases per second | complete | throughput ratio |")
     print("|---|---|---|---|---|")
     for k, v in runs.items():
@@ -209,6 +209,7 @@ def main(argv=None):
     parser.add_argument("--n-large", type=int, default=10240)
     parser.add_argument("--steps", type=int, default=40, help="leap-frog steps timed at the large n")
     parser.add_argument("--threads", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--study-t-end", type=float, default=0.02, help="simulated time of each study case (s)")
     parser.add_argument("--json", default=None)
     args = parser.parse_args(argv)
     out = {"load_before": os.getloadavg()}
@@ -221,7 +222,7 @@ def main(argv=None):
     if "peers" in targets:
         out["peers"] = target_peers(args.rounds)
     if "study" in targets:
-        out["study"] = target_study(max(1, args.rounds - 1))
+        out["study"] = target_study(max(1, args.rounds - 1), args.study_t_end)
     print()
     print(load(), "(after)")
     summary = []

@@ -7,6 +7,7 @@ an address that does not answer before anything runs. Used by :func:`mol_shell.s
 
 from __future__ import annotations
 
+import contextlib
 import os
 
 from .errors import ParameterError
@@ -76,6 +77,28 @@ def _one_thread_each():
     os.environ.setdefault("MOL_SHELL_THREADS", "1")
 
 
+#: thread pools of the numerical libraries, which size themselves when a worker imports them (before any
+#: initializer runs): one thread each, as for the compiled RHS, unless the user set them
+LIBRARY_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+@contextlib.contextmanager
+def _single_threaded_children():
+    """Environment that spawned workers inherit: one BLAS/OpenMP thread each (two workers with two BLAS threads
+    each on two cores made the spectrum of every case contend); this process's own is restored afterwards."""
+    saved = {name: os.environ.get(name) for name in LIBRARY_THREADS}
+    for name in LIBRARY_THREADS:
+        os.environ.setdefault(name, "1")
+    try:
+        yield
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+
+
 #: times a case whose local worker process died (killed, out of memory) is run again before it is recorded ``lost``
 LOST_RETRIES = 2
 
@@ -89,25 +112,26 @@ def _execute_local(run_task, tasks, workers):
 
     attempts = {task.index: 0 for task in tasks}
     pending = list(tasks)
-    while pending:
-        count = max(1, min(workers or os.cpu_count() or 1, len(pending)))
-        pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"),
-                                   initializer=_one_thread_each)
-        futures = {pool.submit(run_task, task): task for task in pending}
-        pending = []
-        try:
-            for future in as_completed(futures):
-                task = futures[future]
-                if isinstance(future.exception(), BrokenProcessPool) and attempts[task.index] < LOST_RETRIES:
-                    attempts[task.index] += 1
-                    pending.append(task)
-                    continue
-                index, ds, info = _collect(future, task)
-                if attempts[task.index]:
-                    info["message"] += f" (run {attempts[task.index] + 1} times: a worker process died)"
-                yield index, ds, info
-        finally:
-            pool.shutdown(wait=True, cancel_futures=True)
+    with _single_threaded_children():
+        while pending:
+            count = max(1, min(workers or os.cpu_count() or 1, len(pending)))
+            pool = ProcessPoolExecutor(max_workers=count, mp_context=multiprocessing.get_context("spawn"),
+                                       initializer=_one_thread_each)
+            futures = {pool.submit(run_task, task): task for task in pending}
+            pending = []
+            try:
+                for future in as_completed(futures):
+                    task = futures[future]
+                    if isinstance(future.exception(), BrokenProcessPool) and attempts[task.index] < LOST_RETRIES:
+                        attempts[task.index] += 1
+                        pending.append(task)
+                        continue
+                    index, ds, info = _collect(future, task)
+                    if attempts[task.index]:
+                        info["message"] += f" (run {attempts[task.index] + 1} times: a worker process died)"
+                    yield index, ds, info
+            finally:
+                pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _collect(future, task):
