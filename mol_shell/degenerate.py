@@ -1,8 +1,8 @@
 """Values that pass every range check but leave the model's numbers meaningless: refused with the reason.
 
 A half-thickness of 1e-300 m is inside ``(0, 0.5) m``, but the director's inertia ``rho_J ~ rho h^3``
-underflows to 0 and the Jacobian of the discretised shell is no longer finite; a density of 1e300
-overflows the products in the mass matrix's inverse. Such values are found by evaluating the
+underflows to 0 and the Jacobian of the discretised shell is no longer finite; a length of 1e-300 m
+makes the differences of the right-hand side overflow. Such values are found by evaluating the
 discretised system itself (state, right-hand side and Jacobian at t = 0 and their spectrum), not
 by a table of thresholds, so every scene is covered. :func:`check_system` refuses them with a
 :class:`~mol_shell.errors.ParameterError` that names the parameter responsible (the one that,
