@@ -128,9 +128,12 @@ def estimated_compile_seconds(source_bytes, flags=CFLAGS):
 
     Power laws fitted to the twisted cylinder at n = 40, n_quad = 4 .. 32 (docs/reliability.md): right-hand
     sides at ``-O2``/``-O3`` (108 .. 607 kB of C: 0.6 .. 4.3 s) and exact Jacobians at ``-O1`` (1.1 .. 4.6 MB:
-    3 .. 106 s; gcc's time grows faster than the source). An order of magnitude, for the progress line.
+    3 .. 106 s; gcc's time grows faster than the source). An order of magnitude, for the progress line;
+    ``None`` beyond the measured sizes, where the power law says nothing (far too long for large grids).
     """
     size = source_bytes / 1e5
+    if source_bytes > (4.6e6 if "-O1" in flags else 6.1e5):
+        return None  # beyond the measured sizes (a Jacobian at n = 10,240 is 300 MB of mostly data: 1.1 min)
     return 0.0105 * size**2.49 if "-O1" in flags else 0.58 * size**1.12
 
 
@@ -161,8 +164,9 @@ def run_compiler(command, what, source_bytes, flags):
                 if not announced:
                     announced = True
                     expect = estimated_compile_seconds(source_bytes, flags)
-                    _announce(f"compiling {what} ({source_bytes / 1e3:.0f} kB of C; gcc {' '.join(flags)}; about "
-                              f"{show_seconds(max(expect, elapsed))} expected, cached in {cache_dir()} for later runs)")
+                    when = "time not known" if expect is None else f"about {show_seconds(max(expect, elapsed))} expected"
+                    _announce(f"compiling {what} ({source_bytes / 1e3:.0f} kB of C; gcc {' '.join(flags)}; {when}, "
+                              f"cached in {cache_dir()} for later runs)")
                     wait = COMPILE_PROGRESS_EVERY
                 else:
                     _announce(f"still compiling {what}: {show_seconds(elapsed)} so far")

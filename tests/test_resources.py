@@ -169,6 +169,14 @@ def test_compilation_that_takes_a_while_says_so(tmp_path, monkeypatch, capsys):
     assert capsys.readouterr().err == ""  # from the cache: nothing to say
 
 
+def test_compile_time_is_estimated_only_within_the_measured_sizes():
+    from mol_shell.compiled import CompiledFunctions, estimated_compile_seconds
+
+    assert 0.5 < estimated_compile_seconds(1e5) < 1.0  # a right-hand side at n = 40: ~0.6 s measured
+    assert 2 < estimated_compile_seconds(1.1e6, CompiledFunctions.FLAGS) < 5  # a Jacobian at n = 40: ~3 s
+    assert estimated_compile_seconds(3.2e8, CompiledFunctions.FLAGS) is None  # n = 10,240: compiled in 1.1 min
+
+
 def test_step_budget_stops_what_cannot_reach_the_end():
     from mol_shell.integrators.base import StepBudget
 
