@@ -15,6 +15,7 @@ from scipy.optimize import brentq
 
 import mol_shell
 import reference_ring as ref
+from reference_sphere import dilated_sphere, zeta1_centroidal
 from mol_shell.analysis.statics import static_equilibrium
 from mol_shell.discretization import ShellSystem
 from mol_shell.errors import ParameterError
@@ -33,34 +34,13 @@ LAM, MU = ref.lame(SPHERE.E, SPHERE.nu)
 SPHERE_GRIDS = (21, 41, 81)  # ds = pi a/20, /40, /80; odd: the equator is a node
 
 
-def layer(k, zeta1, h=H, a=A):
-    """``int (a + zeta)^k dzeta`` over ``[zeta1, zeta1 + 2h]``."""
-    return ((a + zeta1 + 2 * h) ** (k + 1) - (a + zeta1) ** (k + 1)) / (k + 1)
-
-
-#: base surface with ``rhoI = 0``: ``int zeta (a + zeta)^2 dzeta = int (a + zeta)^3 - a (a + zeta)^2 = 0``
-SPHERE_ZETA1 = brentq(lambda z1: layer(3, z1) - A * layer(2, z1), -2 * H, 0.0, xtol=1e-18)
+#: base surface with ``rhoI = 0`` (the package's own is checked against it below)
+SPHERE_ZETA1 = zeta1_centroidal(H, A)
 
 
 def dilated_sphere_stress(R, points=16):
-    """``(zeta, w, W, P)`` of the uniformly dilated sphere of base radius ``R``: Gauss points through the wall,
-    the SVK energy density ``W`` and the first Piola stress ``P`` (NumPy, from the F table).
-
-    Dilation ``a -> R`` with the director the outward normal, inextensible: the point at depth ``zeta`` goes from
-    radius ``a + zeta`` to ``R + zeta``. In the F table (``r = (R/a) r0``, ``z = (R/a) z0``, ``theta = theta0``,
-    ``psi = 0``, ``theta0_s = -1/a``) ``F11 = (R/a)(1 + zeta/a)^-1 ... = (R + zeta)/(a + zeta) = F33``, ``F22 = 1``,
-    no shear: ``F = diag(Lambda, 1, Lambda)``, ``Lambda = (R + zeta)/(a + zeta)``.
-    """
-    x, w = np.polynomial.legendre.leggauss(points)
-    zeta = SPHERE_ZETA1 + H * (1 + x)
-    stretch = (R + zeta) / (A + zeta)
-    F = np.zeros((points, 3, 3))
-    F[:, 0, 0], F[:, 1, 1], F[:, 2, 2] = stretch, 1.0, stretch
-    E = 0.5 * (np.einsum("qki,qkj->qij", F, F) - np.eye(3))
-    tr = np.trace(E, axis1=1, axis2=2)
-    W = 0.5 * LAM * tr**2 + MU * np.einsum("qij,qij->q", E, E)
-    S = LAM * tr[:, None, None] * np.eye(3) + 2 * MU * E
-    return zeta, H * w, W, F @ S
+    """``(zeta, w, W, P)`` of the uniformly dilated sphere of base radius ``R`` (tests/reference_sphere.py)."""
+    return dilated_sphere(R, A, H, SPHERE_ZETA1, LAM, MU, points)
 
 
 def sphere_energy(R):

@@ -10,7 +10,7 @@ spherical layer at depth ``zeta`` has area ``4 pi (a + zeta)^2``.
 
 Base surface: ``zeta1`` is placed so that ``rhoI = 0``, i.e. ``int zeta (a + zeta)^2 dzeta = 0`` over
 ``[zeta1, zeta1 + 2h]`` (one cubic for the whole sphere: the volume factor separates in ``s`` and ``zeta``).
-:func:`zeta1_centroidal` solves it here by Brent's method; ``a`` below is the radius of that surface.
+`reference_sphere.zeta1_centroidal` solves it by Brent's method; ``a`` below is the radius of that surface.
 
 Material of every test: the paper's (``h = 2 pi 1e-3`` m, ``E = 1e6`` Pa, ``nu = 0.49``, ``rho = 1000``),
 ``a = 1`` m, so ``h/a = 6.3e-3``.
@@ -22,9 +22,10 @@ from functools import lru_cache
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
-from scipy.optimize import brentq
 
 import mol_shell
+import reference_sphere as ref_sphere
+from reference_ring import lame
 from mol_shell.analysis.modes import modes
 from mol_shell.scenes import Sphere
 
@@ -35,29 +36,17 @@ GRIDS = (21, 41, 81)  # ds halves: pi/20, pi/40, pi/80
 CHI = 2  # index of chi in the fields (z, r, chi, theta, psi)
 
 
-def lame(E, nu):
-    return E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
-
-
 LAM, MU = lame(SPHERE.E, SPHERE.nu)
 #: the plane-stress law condenses the thickness stress out: lambda* = 2 lambda mu / (lambda + 2 mu)
 LAM_PS = 2 * LAM * MU / (LAM + 2 * MU)
 
 
 def layer_moment(k, zeta1, h=H, a=A):
-    """``int (a + zeta)^k dzeta`` over ``[zeta1, zeta1 + 2h]``, in closed form."""
-    return ((a + zeta1 + 2 * h) ** (k + 1) - (a + zeta1) ** (k + 1)) / (k + 1)
+    """``int (a + zeta)^k dzeta`` over ``[zeta1, zeta1 + 2h]`` (tests/reference_sphere.py)."""
+    return ref_sphere.layer_moment(k, zeta1, h, a)
 
 
-def zeta1_centroidal(h=H, a=A):
-    """``zeta1`` with ``int zeta (a + zeta)^2 dzeta = int (a + zeta)^3 - a (a + zeta)^2 = 0`` (``rhoI = 0``).
-
-    The moment is negative at ``zeta1 = -2h`` and positive at ``0``: a bracketed root.
-    """
-    return brentq(lambda z1: layer_moment(3, z1, h, a) - a * layer_moment(2, z1, h, a), -2 * h, 0.0, xtol=1e-18)
-
-
-ZETA1 = zeta1_centroidal()
+ZETA1 = ref_sphere.zeta1_centroidal(H, A)
 
 
 @lru_cache(maxsize=None)
@@ -272,14 +261,8 @@ def sphere_force(R):
 
 def sphere_energy_quadrature(R, points=24):
     """``V(R)`` by Gauss-Legendre through the wall from ``F = diag(Lambda, 1, Lambda)`` and ``W_SVK`` (NumPy)."""
-    x, w = np.polynomial.legendre.leggauss(points)
-    zeta = ZETA1 + H * (1 + x)
-    stretch = (R + zeta) / (A + zeta)
-    F = np.zeros((points, 3, 3))
-    F[:, 0, 0], F[:, 1, 1], F[:, 2, 2] = stretch, 1.0, stretch
-    E = 0.5 * (np.einsum("qki,qkj->qij", F, F) - np.eye(3))
-    W = 0.5 * LAM * np.trace(E, axis1=1, axis2=2) ** 2 + MU * np.einsum("qij,qij->q", E, E)
-    return 4 * math.pi * np.sum(H * w * W * (A + zeta) ** 2)
+    zeta, w, W, _ = ref_sphere.dilated_sphere(R, A, H, ZETA1, LAM, MU, points)
+    return 4 * math.pi * np.sum(w * W * (A + zeta) ** 2)
 
 
 @lru_cache(maxsize=None)
