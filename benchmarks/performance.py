@@ -24,6 +24,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from rhs_side_by_side import TIMED_EVALUATIONS  # benchmarks/ is this script's folder
+
 HERE = Path(__file__).resolve().parents[1]
 
 RHS_PROBE = r"""
@@ -42,14 +44,7 @@ else:
     system, compiled = build(scene, 40)
 y = system.initial_state(scene)
 y = y + 1e-3 * np.sin(np.arange(y.size))  # a deformed state (round-off at rest makes slow subnormals)
-f = compiled.evaluator()
-f(y)
-best = float("inf")
-for _ in range(9):
-    start = time.perf_counter()
-    for _ in range(20000):
-        f(y)
-    best = min(best, (time.perf_counter() - start) / 20000)
+""" + TIMED_EVALUATIONS + r"""
 print(json.dumps({"us": best * 1e6, "instructions": int(system.rhs.n_instructions())}))
 """
 
