@@ -332,6 +332,8 @@ class CompiledRHS:
             from .errors import ParameterError
 
             raise ParameterError("threads", threads, "integers >= 1")
+        #: the threads asked for (the leap-frog stencil of :mod:`mol_shell.stencil` takes them too)
+        self.requested_threads = int(threads)
         self._lib.ms_set_threads(int(threads) if self.parallel else 1)
 
     @property

@@ -3,7 +3,8 @@
 ``y_{k+1} = y_{k-1} + 2 dt f(y_k)``, started by one explicit midpoint step
 ``y_1 = y_0 + dt f(y_0 + dt/2 f(y_0))`` so the start is second order too. For the
 linear test equation ``y' = i w y`` it is stable for ``|w dt| < 1``; it neither damps
-nor amplifies. The loop runs in generated C (:mod:`mol_shell.compiled`), which also checks
+nor amplifies. The loop runs in generated C (the vectorised stencil of :mod:`mol_shell.stencil` for elastic, unloaded
+shells without poles; :mod:`mol_shell.compiled`'s driver around the compiled RHS otherwise), which also checks
 the model's limits (:attr:`ShellSystem.limits`) after every step and stops at the first step
 outside them; Python only sees chunks of steps, where it checks the energy (numerical
 instability) and shows progress.
@@ -17,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ModelLimitError, ParameterError, is_number
+from ..stencil import leapfrog_stepper
 from .base import Monitor, Trajectory
 
 
@@ -72,6 +74,7 @@ class Leapfrog:
             raise ParameterError("times", float(times[0]), "first saved time must be 0")
         monitor = Monitor(system, y0)
         f = compiled.evaluator()
+        stepper = leapfrog_stepper(system, compiled)  # the vectorised stencil where it covers the scene
         dt = self.dt
         ya = np.array(y0, dtype=float)
         yb = ya + dt * f(ya + 0.5 * dt * f(ya, 0.0), 0.5 * dt)
@@ -85,7 +88,7 @@ class Leapfrog:
                 while k < target:
                     m = int(min(self.chunk, target - k))
                     chunk_start = (ya.copy(), yb.copy(), k)
-                    taken, stopped = compiled.leapfrog(ya, yb, m, dt, k * dt)  # stops at the first step outside the limits
+                    taken, stopped = stepper.leapfrog(ya, yb, m, dt, k * dt)  # stops at the first step outside the limits
                     k += taken
                     n_rhs += taken
                     if stopped:
@@ -96,7 +99,7 @@ class Leapfrog:
                         monitor.check(yb, k * dt)  # the energy (instability) and finiteness, once a chunk
                     except ModelLimitError:
                         ya, yb, k = chunk_start
-                        self._locate(compiled, monitor, ya, yb, k, m, dt)  # raises at the first bad step
+                        self._locate(stepper, monitor, ya, yb, k, m, dt)  # raises at the first bad step
                     if progress is not None:
                         progress.update(m * dt)
                 saved.append(yb.copy())
@@ -114,8 +117,8 @@ class Leapfrog:
         )
 
     @staticmethod
-    def _locate(compiled, monitor, ya, yb, k, m, dt):
+    def _locate(stepper, monitor, ya, yb, k, m, dt):
         """Redo a chunk one step at a time; raises at the first step that breaks a limit."""
         for j in range(1, m + 1):
-            compiled.leapfrog(ya, yb, 1, dt, (k + j - 1) * dt)
+            stepper.leapfrog(ya, yb, 1, dt, (k + j - 1) * dt)
             monitor.check(yb, (k + j) * dt)
