@@ -40,7 +40,7 @@ def problem(system, y0):
     if not np.all(np.isfinite(f)):
         return "the right-hand side at t = 0 is not finite in double precision"
     with np.errstate(all="ignore"):
-        J = system.jac(0, y0)
+        J = system.spectrum_jac(0, y0)
         values = np.asarray(J.nonzeros(), dtype=float)
     if not np.all(np.isfinite(values)):
         return "the Jacobian at t = 0 is not finite in double precision (stiffness and inertia out of its range)"
@@ -71,7 +71,7 @@ def checked_spectrum(scene, system, y0):
     if found is None:
         try:
             with np.errstate(all="ignore"):
-                omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
+                omega_max, damping = spectrum_bounds(system.spectrum_jac, y0, system.viscous)
         except (np.linalg.LinAlgError, ValueError, ArithmeticError) as exc:
             found = f"the eigenvalues of the Jacobian at t = 0 cannot be computed ({type(exc).__name__})"
         else:
@@ -115,7 +115,7 @@ def _is_bad(scene, n):
         if problem(system, y0) is not None:
             return True
         with np.errstate(all="ignore"):
-            return spectrum_problem(*spectrum_bounds(system.jac, y0, system.viscous)) is not None
+            return spectrum_problem(*spectrum_bounds(system.spectrum_jac, y0, system.viscous)) is not None
     except ParameterError:
         return None
     except (np.linalg.LinAlgError, ValueError, ArithmeticError, RuntimeError):

@@ -30,7 +30,6 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 import xarray as xr
-from scipy.integrate import solve_ivp
 
 from .version import __version__
 from .model.linalg import spd_solve
@@ -179,6 +178,8 @@ def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
     if method in ("Radau", "BDF", "LSODA"):
         extra["jac"] = lambda t, y: np.array(system.jac(t, y))
     start = time.perf_counter()
+    from scipy.integrate import solve_ivp
+
     sol = solve_ivp(fun, (times[0], times[-1]), y0, method=method, t_eval=times, rtol=rtol, atol=atol * scale, **extra)
     wall = time.perf_counter() - start
     status = "complete" if sol.success else "error"

@@ -147,7 +147,8 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         ``"serial"``: in this process; an address such as ``"tcp://host:8786"`` or a
         ``Client``: that dask.distributed cluster.
     workers : int, optional
-        Local processes (``scheduler=None`` only).
+        Local processes (``scheduler=None`` only), this one included: it runs cases too, taking them from
+        the back of the queue while ``workers - 1`` spawned processes take them from the front.
     output : path, optional
         Write the combined Dataset here (netCDF) and keep every finished case in
         ``<output stem>.cases/`` so a rerun skips them.
@@ -159,7 +160,9 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     Notes
     -----
     Local processes are started with ``spawn`` (safe with threads and CasADi): a script that
-    calls ``study`` must guard its entry point with ``if __name__ == "__main__":``. A dask
+    calls ``study`` must guard its entry point with ``if __name__ == "__main__":``. The calling process
+    runs its share of the cases on one thread (compiled kernels and BLAS), as the spawned ones do; it
+    computes from the start while a worker spends about a second starting, so short studies gain most. A dask
     cluster's workers need ``mol_shell`` importable and gcc (each compiles its right-hand side
     once into its own cache). Stored cases are keyed by their settings and the package version
     (a new version computes every case again); a model changed in place without a new version

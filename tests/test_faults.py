@@ -102,7 +102,7 @@ def test_truncated_or_corrupted_case_files_are_run_again(tmp_path):
 
 # -- dead workers ---------------------------------------------------------------------------------------
 SLOW_CASES = {"gamma": [0.05, 0.1, 0.15, 0.2]}
-SLOW_RUN = {"n": 40, "t_end": 0.6}  # ~5.5 s of leap-frog per case (0.4.0 kernel), after the worker's imports and build
+SLOW_RUN = {"n": 40, "t_end": 1.5}  # ~5 s of leap-frog per case (the 0.5.0 stencil), after the worker's imports and build
 
 
 def _kill_when_busy(pids_of_busy, killed, settle=2.0, timeout=120):

@@ -33,8 +33,6 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")  # SuperLU_MT spins otherwise (70x
 
 import casadi as ca  # noqa: E402
 import numpy as np  # noqa: E402
-import scipy.sparse as sp  # noqa: E402
-import sksundae  # noqa: E402
 
 from ..errors import ModelLimitError, ParameterError, is_number  # noqa: E402
 from ..model.kinematics import FIELDS  # noqa: E402
@@ -107,6 +105,8 @@ def _build_pieces(system, kind, jacobian):
         out["residual"] = buffered(funcs[0]) if kind == "ida" else None
     else:
         raise ParameterError("jacobian", jacobian, "{compiled, vm}")
+    import scipy.sparse as sp
+
     pattern = (system.jac if (kind != "ida" and jacobian == "vm") else jac).sparsity_out(0)
     rows, cols = (np.asarray(a) for a in pattern.get_triplet())
     out["pattern"] = sp.csc_matrix((np.ones(len(rows)), (rows, cols)), shape=pattern.shape)
@@ -172,6 +172,8 @@ class _Sundials:
         self.field_atol()
 
     def settings(self):
+        import sksundae  # imported when used: with scipy.optimize it is 0.28 s of every process's start
+
         return {**self.tolerances(), "linsolver_option": self.linsolver, "jacobian": self.jacobian,
                 "sksundae_version": sksundae.__version__}
 
