@@ -1,8 +1,11 @@
 """Benchmark: the targets of issue 14 as ratios, each measured in one run, against a baseline tree (release 0.2.0).
 
   1. rhs     one compiled RHS evaluation, paper scene, n = 40: this tree / baseline (and lean / reference kernel)
-  2. large   leap-frog per step at n = 10,240 (the paper scene's grid for its stability study): baseline,
-             this tree on 1 thread and on all threads; projected to the run to t = 0.143 s at dt = 1.43 us
+  2. large   leap-frog per step at n = 10,240 (the paper scene's grid for its stability study): baseline, this
+             tree's generic driver (around the compiled RHS) and its stencil (mol_shell.stencil, what the leap-frog
+             runs for this scene), each on 1 thread and on all threads; projected to the run to t = 0.143 s at
+             dt = 1.43 us. ``full`` (not in the default list) times that whole run once with this tree:
+             ``mol_shell.simulate`` from the build to the Dataset
   3. peers   work-precision on the paper scene (n = 40, the paper's saved times): the fastest mol_shell
              configuration against the fastest scipy peer at errors 1e-6 and 1e-8, in one process
   4. study   100 cases of the paper scene (gamma varied) at n = 40 to t = 0.02 s: serial against 2 local
@@ -53,20 +56,24 @@ import json, sys, time
 import numpy as np
 import mol_shell
 from mol_shell.simulate import build, resolve
-n, steps, threads = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3])
+n, steps, threads, driver = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
 scene = resolve(mol_shell.TwistedCylinder())
 start = time.perf_counter()
 system, compiled = build(scene, n)
 build_s = time.perf_counter() - start
 if hasattr(compiled, "set_threads"):
     compiled.set_threads(threads)
+stepper = compiled  # "generic": the leap-frog driver around the compiled RHS (all that release 0.2.0 has)
+if driver == "stencil":  # what Leapfrog.integrate runs for this scene (mol_shell.stencil)
+    from mol_shell.stencil import StencilLeapfrog
+    stepper = StencilLeapfrog(system, threads=threads)
 y0 = system.initial_state(scene)
 dt = 1.43e-6
 f = compiled.evaluator()
 ya, yb = y0.copy(), y0 + dt * f(y0)  # release 0.2.0: no time argument
 import inspect
-timed = "t" in inspect.signature(compiled.leapfrog).parameters
-run = (lambda m: compiled.leapfrog(ya, yb, m, dt, dt)) if timed else (lambda m: compiled.leapfrog(ya, yb, m, dt))
+timed = "t" in inspect.signature(stepper.leapfrog).parameters
+run = (lambda m: stepper.leapfrog(ya, yb, m, dt, dt)) if timed else (lambda m: stepper.leapfrog(ya, yb, m, dt))
 run(5)  # warm-up (pages, threads)
 best = float("inf")
 for _ in range(3):
@@ -119,11 +126,15 @@ def target_rhs(base, rounds):
 
 
 def target_large(base, rounds, n, steps, threads):
-    rows = {"baseline": [], "this tree, 1 thread": [], f"this tree, {threads} threads": []}
+    configs = {"baseline": (base, 1, "generic"),
+               "this tree, generic driver, 1 thread": (HERE, 1, "generic"),
+               f"this tree, generic driver, {threads} threads": (HERE, threads, "generic"),
+               "this tree, stencil, 1 thread": (HERE, 1, "stencil"),
+               f"this tree, stencil, {threads} threads": (HERE, threads, "stencil")}
+    rows = {k: [] for k in configs}
     for _ in range(rounds):
-        rows["baseline"].append(probe(base, LARGE_PROBE, n, steps, 1))
-        rows["this tree, 1 thread"].append(probe(HERE, LARGE_PROBE, n, steps, 1))
-        rows[f"this tree, {threads} threads"].append(probe(HERE, LARGE_PROBE, n, steps, threads))
+        for k, (tree, k_threads, driver) in configs.items():
+            rows[k].append(probe(tree, LARGE_PROBE, n, steps, k_threads, driver))
     best = {k: min(r["per_step_s"] for r in v) for k, v in rows.items()}
     total = round(0.143 / 1.43e-6)
     print(f"\n## 2. Leap-frog at n = {n:,}, paper scene ({steps} steps timed, best of {rounds} processes x 3)\n")
@@ -133,7 +144,28 @@ def target_large(base, rounds, n, steps, threads):
     for k in rows:
         print(f"| {k} | {best[k] * 1e3:.3f} | {best[k] / n * 1e6:.3f} | {best[k] * total:.0f} s | "
               f"{best['baseline'] / best[k]:.2f} |")
-    return {"per_step_s": best, "speedup": best["baseline"] / best[f"this tree, {threads} threads"]}
+    return {"per_step_s": best, "speedup": best["baseline"] / best[f"this tree, stencil, {threads} threads"]}
+
+
+FULL_PROBE = r"""
+import json, sys, time
+import mol_shell
+n, threads = int(sys.argv[1]), int(sys.argv[2])
+start = time.perf_counter()
+ds = mol_shell.simulate(mol_shell.TwistedCylinder(), "leapfrog", n=n, t_end=0.143, dt=1.43e-6, threads=threads,
+                        progress=False, stresses=False)
+print(json.dumps({"wall_s": time.perf_counter() - start, "steps": int(ds.attrs["n_steps"]),
+                  "stepping_s": float(ds.attrs["wall_time_s"]), "complete": int(ds.attrs["complete"])}))
+"""
+
+
+def target_full(n, threads, baseline_per_step=None):
+    out = probe(HERE, FULL_PROBE, n, threads)
+    print(f"\n## 2b. The whole leap-frog run at n = {n:,} to t = 0.143 s (dt = 1.43 us), this tree, {threads} threads\n")
+    print(f"{out['steps']:,} steps; {out['stepping_s']:.1f} s stepping, {out['wall_s']:.1f} s from build to Dataset"
+          + (f"; release 0.2.0 projected from its per-step time: {baseline_per_step * out['steps']:.0f} s "
+             f"({baseline_per_step * out['steps'] / out['wall_s']:.1f}x)" if baseline_per_step else ""))
+    return out
 
 
 PEERS_PROBE = r"""
@@ -214,6 +246,9 @@ def main(argv=None):
         out["rhs"] = target_rhs(args.baseline, args.rounds)
     if "large" in targets:
         out["large"] = target_large(args.baseline, args.rounds, args.n_large, args.steps, args.threads)
+    if "full" in targets:
+        base = out.get("large", {}).get("per_step_s", {}).get("baseline")
+        out["full"] = target_full(args.n_large, args.threads, base)
     if "peers" in targets:
         out["peers"] = target_peers(args.rounds)
     if "study" in targets:
