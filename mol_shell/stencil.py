@@ -9,11 +9,13 @@ eight nodes (trigonometry, cells, nodes), each block's lanes one ``#pragma omp s
 shared among threads. The state lives in a structure-of-arrays copy for the whole call (a row per field and
 momentum), the update ``y_{k+1} = y_{k-1} + 2 dt f(y_k)`` is done in place and the two levels swap pointers.
 
-Every lane computes a node by the same instructions whatever the thread count, so results do not depend on
-the threads to the last bit; against the generic driver they differ by the vector ``sin``/``cos``
-(glibc's libmvec, within a few ulp of libm's), sums are taken in the generic graph's order. The model's
-limits (``delta`` at each cell's samples, ``r > 0``, ``|psi| < pi/2``) are checked in the same loops: the
-driver stops at the first state outside them, as :meth:`CompiledRHS.leapfrog` does.
+Every lane computes a node by the same instructions as the generic compiled RHS, in the same order (IEEE
+arithmetic, no fused multiply-adds; libm's ``sin`` and ``cos``, called lane by lane: glibc's vector variants
+differ in the last bits), so the states equal the generic driver's to the last bit on any thread count
+(``tests/test_stencil.py``). The model's limits (``delta`` at each cell's samples, ``r > 0``,
+``|psi| < pi/2``) are checked in the same loops: the driver stops at the first state outside them, as
+:meth:`CompiledRHS.leapfrog` does. At n = 10,240 a step costs 0.54 ms on one thread and 0.27-0.37 ms on two,
+against 2.3 and 1.9 ms for the generic driver (``benchmarks/performance.py --targets large``).
 """
 
 from __future__ import annotations
