@@ -152,3 +152,19 @@ def test_threads_default_and_refusals(monkeypatch):
     for bad in (0, 1.5, True):
         with pytest.raises(ParameterError, match="threads"):
             compiled.set_threads(bad)
+
+
+@pytest.mark.parametrize("name", ["paper", "viscous-loaded", "sphere"])
+def test_spectrum_jacobian_equals_the_exact_jacobian(name, tmp_path):
+    """The Jacobian that every run's spectrum and finiteness checks use (built from the mapped kernels' own
+    Jacobians) against the flat graph's exact one: the same values to round-off, the same eigenvalue bound."""
+    from mol_shell.equilibrium import spectrum_bounds
+
+    scene = resolve(scenes(tmp_path)[name])
+    system = ShellSystem(scene, 20)
+    y = disturbed(system, scene, 1e-4)
+    exact, mapped = np.array(system.jac(0.001, y)), np.array(system.spectrum_jac(0.001, y))
+    assert np.max(np.abs(mapped - exact)) <= 1e-13 * np.max(np.abs(exact))
+    bounds = [spectrum_bounds(j, y, system.viscous) for j in (system.jac, system.spectrum_jac)]
+    np.testing.assert_allclose(bounds[0], bounds[1], rtol=1e-10)
+    assert system.graph_stats()["jacobian_nnz"] == system.jac.sparsity_out(0).nnz()
