@@ -80,7 +80,7 @@ def unsupported_reason(system):
     """Why ``system`` cannot run on the stencil driver, or ``None`` when it can."""
     checks = [
         (system.reference_kernel, "the reference kernel"),
-        (system.n_extra > 0, "loads or driven edges"),
+        (system.n_extra > 0 or bool(system.drives), "loads or driven edges"),
         (system.viscous, "viscosity"),
         (bool(system.ties), "a pole"),
         (tuple(system.active) != tuple(range(5)), "a scene without all five fields"),
