@@ -417,7 +417,8 @@ def register(subparsers):
     p.add_argument("--scheduler", default=None,
                    help="dask.distributed scheduler address, or serial (default: local processes); "
                    f"refused if it does not answer within {SCHEDULER_TIMEOUT:g} s")
-    p.add_argument("--workers", type=integer_arg("--workers", 1), default=None, help="local processes (default: all cores)")
+    p.add_argument("--workers", type=integer_arg("--workers", 1), default=None,
+                   help="local processes, this one included (default: all cores)")
     p.add_argument("-o", "--output", required=True,
                    help="netCDF file; finished cases kept next to it in <stem>.cases/ (missing directories are created)")
     p.set_defaults(func=cmd_study)
