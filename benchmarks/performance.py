@@ -161,7 +161,8 @@ print(json.dumps({"wall_s": time.perf_counter() - start, "steps": int(ds.attrs["
 
 def target_full(n, threads, baseline_per_step=None):
     out = probe(HERE, FULL_PROBE, n, threads)
-    print(f"\n## 2b. The whole leap-frog run at n = {n:,} to t = 0.143 s (dt = 1.43 us), this tree, {threads} threads\n")
+    print(f"\n## 2b. The whole leap-frog run at n = {n:,} to t = 0.143 s (dt = 1.43 us), this tree, "
+          f"{threads} threads\n")
     print(f"{out['steps']:,} steps; {out['stepping_s']:.1f} s stepping, {out['wall_s']:.1f} s from build to Dataset"
           + (f"; release 0.2.0 projected from its per-step time: {baseline_per_step * out['steps']:.0f} s "
              f"({baseline_per_step * out['steps'] / out['wall_s']:.1f}x)" if baseline_per_step else ""))

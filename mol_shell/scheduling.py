@@ -39,7 +39,8 @@ def connect(scheduler):
         # pointing at the unreachable scheduler for the rest of the process
         return Client(scheduler, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
     except ValueError as exc:
-        raise ParameterError.invalid("scheduler", scheduler, "is not a scheduler address", allowed, hint=str(exc)) from None
+        raise ParameterError.invalid("scheduler", scheduler, "is not a scheduler address", allowed,
+                                     hint=str(exc)) from None
     except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, or distributed's own failures to start
         text = str(exc).splitlines()[0] if str(exc) else ""
         raise ParameterError.invalid("scheduler", scheduler, f"does not answer within {SCHEDULER_TIMEOUT:g} s",

@@ -214,8 +214,8 @@ long long ms_stencil_leapfrog(double* ya, double* yb, long long nsteps, double d
 
 def _edge_forces(cell_sum, mask_offset):
     """The momentum updates of an edge node: ``(dT/dq - cell forces) x mask`` (the generic graph's order)."""
-    return "\n".join(f"      A[{5 + k} * ld + i] += 2.0 * dt * ((nf{k} - ({cell_sum.format(k=k)})) * mask[{mask_offset + k}]);"
-                     for k in range(5))
+    line = "      A[{row} * ld + i] += 2.0 * dt * ((nf{k} - ({cells})) * mask[{m}]);"
+    return "\n".join(line.format(row=5 + k, k=k, cells=cell_sum.format(k=k), m=mask_offset + k) for k in range(5))
 
 
 def stencil_source(system):
