@@ -131,7 +131,7 @@ long long ms_stencil_leapfrog(double* ya, double* yb, long long nsteps, double d
   }
   memset(GR, 0, sizeof(double) * 5 * (size_t) ld);  /* GR[k][i]: the force of cell i-1 on node i; none on node 0 */
   for (step = 0; step <= nsteps; ++step) {
-    int bad = 0, go;
+    int bad = 0;
     #pragma omp parallel num_threads(threads) if(threads > 1)
     {
       int b;
@@ -158,8 +158,7 @@ long long ms_stencil_leapfrog(double* ya, double* yb, long long nsteps, double d
           bad |= (c < n - 1) & !((cd0 > 0) & (cd1 > 0));
         }
       }
-      go = !(bad && step > 0) && step < nsteps;
-      if (go) {
+      if (!(bad && step > 0) && step < nsteps) {  /* bad: reduced, and seen by every thread after the barrier */
         #pragma omp for schedule(static)
         for (b = 0; b < nb; ++b) {
           int l;
@@ -172,16 +171,7 @@ long long ms_stencil_leapfrog(double* ya, double* yb, long long nsteps, double d
             const double g2 = nf2 - (GL[2 * ld + i] + GR[2 * ld + i]), g3 = nf3 - (GL[3 * ld + i] + GR[3 * ld + i]);
             const double g4 = nf4 - (GL[4 * ld + i] + GR[4 * ld + i]);
             /* every load unconditional (vectorised without masks); the edges and padding keep their values */
-            A[i] += inner ? 2.0 * dt * nv0 : 0.0;
-            A[ld + i] += inner ? 2.0 * dt * nv1 : 0.0;
-            A[2 * ld + i] += inner ? 2.0 * dt * nv2 : 0.0;
-            A[3 * ld + i] += inner ? 2.0 * dt * nv3 : 0.0;
-            A[4 * ld + i] += inner ? 2.0 * dt * nv4 : 0.0;
-            A[5 * ld + i] += inner ? 2.0 * dt * g0 : 0.0;
-            A[6 * ld + i] += inner ? 2.0 * dt * g1 : 0.0;
-            A[7 * ld + i] += inner ? 2.0 * dt * g2 : 0.0;
-            A[8 * ld + i] += inner ? 2.0 * dt * g3 : 0.0;
-            A[9 * ld + i] += inner ? 2.0 * dt * g4 : 0.0;
+%(update_inner)s
           }
         }
       }
@@ -191,15 +181,13 @@ long long ms_stencil_leapfrog(double* ya, double* yb, long long nsteps, double d
     { /* the edge nodes, with their own free rates and fixed forces */
       const int i = 0;
 %(first)s
-      A[i] += 2.0 * dt * nv0; A[ld + i] += 2.0 * dt * nv1; A[2 * ld + i] += 2.0 * dt * nv2;
-      A[3 * ld + i] += 2.0 * dt * nv3; A[4 * ld + i] += 2.0 * dt * nv4;
+%(v_edge)s
 %(f_first)s
     }
     {
       const int i = n - 1;
 %(last)s
-      A[i] += 2.0 * dt * nv0; A[ld + i] += 2.0 * dt * nv1; A[2 * ld + i] += 2.0 * dt * nv2;
-      A[3 * ld + i] += 2.0 * dt * nv3; A[4 * ld + i] += 2.0 * dt * nv4;
+%(v_edge)s
 %(f_last)s
     }
     swap = A; A = B; B = swap;
@@ -212,10 +200,16 @@ long long ms_stencil_leapfrog(double* ya, double* yb, long long nsteps, double d
 """
 
 
+def _updates(rates, indent=6, inner=False):
+    """``A[row] += 2 dt rate`` for the rows and rates given (``y_{k+1} = y_{k-1} + 2 dt f(y_k)`` in the generic
+    driver's order); ``inner``: only at interior nodes (an unconditional load, a select on the increment)."""
+    step = "(inner ? 2.0 * dt * {} : 0.0)" if inner else "2.0 * dt * {}"
+    return "\n".join(" " * indent + f"A[{row} * ld + i] += {step.format(rate)};" for row, rate in rates)
+
+
 def _edge_forces(cell_sum, mask_offset):
     """The momentum updates of an edge node: ``(dT/dq - cell forces) x mask`` (the generic graph's order)."""
-    line = "      A[{row} * ld + i] += 2.0 * dt * ((nf{k} - ({cells})) * mask[{m}]);"
-    return "\n".join(line.format(row=5 + k, k=k, cells=cell_sum.format(k=k), m=mask_offset + k) for k in range(5))
+    return _updates([(5 + k, f"((nf{k} - ({cell_sum.format(k=k)})) * mask[{mask_offset + k}])") for k in range(5)])
 
 
 def stencil_source(system):
@@ -240,16 +234,17 @@ def stencil_source(system):
 
     parts = {
         "lanes": LANES,
-        "psi_max_sq": (math.pi / 2) ** 2,
+        "psi_max_sq": ((math.pi / 2) ** 2).hex(),
         "trig": sx_statements(system.node_trig_kernel(), lambda j, r: f"B[{r} * ld + i]", ["tc"]),
         "cell": sx_statements(cell_limits_kernel(system), cell_read, ["cl", "cr", "cd"]),
         "node": node(inner),
         "first": node(first),
         "last": node(last),
+        "update_inner": _updates([(k, f"nv{k}") for k in range(5)] + [(5 + k, f"g{k}") for k in range(5)], 12, True),
+        "v_edge": _updates([(k, f"nv{k}") for k in range(5)]),
         "f_first": _edge_forces("GL[{k} * ld + i] + GR[{k} * ld + i]", 0),
         "f_last": _edge_forces("0.0 + GR[{k} * ld + i]", 5),
     }
-    parts["psi_max_sq"] = parts["psi_max_sq"].hex()
     return (_HEAD + _DRIVER) % parts, geo_uniform, inertia_uniform
 
 
