@@ -14,8 +14,8 @@ arithmetic, no fused multiply-adds; libm's ``sin`` and ``cos``, called lane by l
 differ in the last bits), so the states equal the generic driver's to the last bit on any thread count
 (``tests/test_stencil.py``). The model's limits (``delta`` at each cell's samples, ``r > 0``,
 ``|psi| < pi/2``) are checked in the same loops: the driver stops at the first state outside them, as
-:meth:`CompiledRHS.leapfrog` does. At n = 10,240 a step costs 0.54 ms on one thread and 0.27-0.37 ms on two,
-against 2.3 and 1.9 ms for the generic driver (``benchmarks/performance.py --targets large``).
+:meth:`CompiledRHS.leapfrog` does. At n = 10,240 a step costs 0.52 ms on one thread and 0.28 ms on two,
+against 2.17 and 1.83 ms for the generic driver (``benchmarks/performance.py --targets large``, docs/performance.md).
 """
 
 from __future__ import annotations
