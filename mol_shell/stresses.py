@@ -57,10 +57,10 @@ import math
 
 import casadi as ca
 import numpy as np
-import xarray as xr
 
 from .model.kinematics import deformation_gradient
 from .model.material import condensed, green_strain, lame
+from .output import variables
 
 #: default limit on cell samples x saved times (2 per cell) above which stresses are skipped unless asked for:
 #: 4e6 samples cost 7 s (11 s viscous) and 270 MB on this machine (measured at n = 401, 5,000 saved times)
@@ -470,7 +470,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
             "units": "m", "long_name": "thickness coordinate of the faces along the reference director from the base "
             "surface: zeta1 (inner face) and zeta1 + 2h (outer face)"}),
     }
-    variables = {}
+    entries = {}
     for name, value in data.items():
         base = name.removesuffix("_viscous")
         units, long_name = (RESULTANT_META if base in RESULTANT_META else FACE_META)[base]
@@ -479,8 +479,8 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
         if name != base:
             long_name = "viscous part of the " + long_name
         dims = ("time", "s_cell") if value.ndim == 2 else ("time", "s_cell", "zeta")
-        variables[name] = xr.Variable(dims, value, {"units": units, "long_name": long_name})
-    out = ds.assign_coords({k: xr.Variable(*v) for k, v in coords.items()}).assign(variables)
+        entries[name] = (dims, value, {"units": units, "long_name": long_name})
+    out = ds.assign_coords(variables(coords)).assign(variables(entries))
     out.attrs["stresses"] = "included (mol_shell.stresses.add_stresses)"
     if not all(np.isfinite(v).all() for v in data.values()):
         out.attrs["stresses"] += "; NaN where det F <= 0 at a face or the state is not finite"
