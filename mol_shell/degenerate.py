@@ -71,7 +71,7 @@ def checked_spectrum(scene, system, y0):
     if found is None:
         try:
             with np.errstate(all="ignore"):
-                omega_max, damping = spectrum_bounds(system.spectrum_jac, y0, system.viscous)
+                omega_max, damping = spectrum_bounds(system.spectrum_jac, y0, system.viscous, positions(system))
         except (np.linalg.LinAlgError, ValueError, ArithmeticError) as exc:
             found = f"the eigenvalues of the Jacobian at t = 0 cannot be computed ({type(exc).__name__})"
         else:
@@ -79,6 +79,14 @@ def checked_spectrum(scene, system, y0):
             if found is None:
                 return omega_max, damping
     refuse(scene, system.n, found)
+
+
+def positions(system):
+    """Mask of the position entries of ``system``'s state (node-major: ``nf`` positions, then ``nf`` momenta per
+    node), or ``None`` when the state also holds accumulators (the work and dissipation of a loaded scene)."""
+    if system.n_extra:
+        return None
+    return np.arange(system.size) % system.ny < system.nf
 
 
 def initial_state(scene, system):
@@ -115,7 +123,8 @@ def _is_bad(scene, n):
         if problem(system, y0) is not None:
             return True
         with np.errstate(all="ignore"):
-            return spectrum_problem(*spectrum_bounds(system.spectrum_jac, y0, system.viscous)) is not None
+            return spectrum_problem(*spectrum_bounds(system.spectrum_jac, y0, system.viscous,
+                                                     positions(system))) is not None
     except ParameterError:
         return None
     except (np.linalg.LinAlgError, ValueError, ArithmeticError, RuntimeError):

@@ -42,7 +42,7 @@ def equilibrium_radius(scene, tol=1e-14, max_iter=50):
     raise ParameterError("gamma", scene.gamma, "twists for which a twisted cylinder has a radial equilibrium")
 
 
-def spectrum_bounds(jac, y, dissipative=True):
+def spectrum_bounds(jac, y, dissipative=True, positions=None):
     """``(max |lambda|, max(-Re lambda))`` over the eigenvalues of the Jacobian ``jac(0, y)`` (1/s).
 
     The first bounds the leap-frog step (``dt max|lambda| < 1`` for the imaginary-axis
@@ -51,11 +51,15 @@ def spectrum_bounds(jac, y, dissipative=True):
     Dense below 2000 states; above, ARPACK's largest-magnitude eigenvalues (relative accuracy
     ~1e-3, enough for a step bound that the energy monitor backs up), whose real
     parts estimate the fastest damping (the most damped modes are the shortest); an
-    elastic system (``dissipative=False``) has none.
+    elastic system (``dissipative=False``) has none. ``positions`` (a mask of the position entries of ``y``, the
+    rest being rates or momenta) lets a state at rest use :func:`rest_spectrum`, from a matrix of half the size.
     """
     J = jac(0, y)
     if J.size1() <= 2000:
-        ev = np.linalg.eigvals(np.array(J))
+        dense = np.array(J)
+        ev = rest_spectrum(dense, positions) if positions is not None else None
+        if ev is None:
+            ev = np.linalg.eigvals(dense)
     else:
         import scipy.sparse.linalg  # large grids only: 0.27 s of a process's start otherwise
 
@@ -72,3 +76,24 @@ def spectrum_bounds(jac, y, dissipative=True):
                 raise
     damping = float(max(0.0, (-ev.real).max())) if dissipative else 0.0
     return float(np.abs(ev).max()), damping
+
+
+def rest_spectrum(J, positions):
+    """The eigenvalues of ``J`` when its position-position and rate-rate blocks vanish; else ``None``.
+
+    That is the Jacobian of a mechanical system whose forces do not depend on the rates (elastic, no viscosity
+    or drag) at rest (the rate terms of the inertia are quadratic), or in any state if its mass matrix is
+    constant (axisymmetric motion). Ordered as positions then rates it reads
+    ``[[0, C], [D, 0]]``, whose square is ``diag(CD, DC)``: its eigenvalues are ``+-sqrt(mu)`` over the
+    eigenvalues ``mu`` of ``CD``, a matrix of half the size (eight times fewer operations than ``J``'s: 5 ms
+    instead of 40 ms at n = 40, where the spectrum was a third of a short run's cost).
+    """
+    q = np.asarray(positions, dtype=bool)
+    if J.shape != (q.size, q.size) or q.sum() * 2 != q.size or J[np.ix_(q, q)].any() or J[np.ix_(~q, ~q)].any():
+        return None
+    with np.errstate(all="ignore"):
+        product = J[np.ix_(q, ~q)] @ J[np.ix_(~q, q)]
+    if not np.isfinite(product).all():  # the squares overflow where J's entries do not: J's own spectrum
+        return None
+    root = np.sqrt(np.linalg.eigvals(product).astype(complex))
+    return np.concatenate([root, -root])

@@ -168,3 +168,66 @@ def test_spectrum_jacobian_equals_the_exact_jacobian(name, tmp_path):
     bounds = [spectrum_bounds(j, y, system.viscous) for j in (system.jac, system.spectrum_jac)]
     np.testing.assert_allclose(bounds[0], bounds[1], rtol=1e-10)
     assert system.graph_stats()["jacobian_nnz"] == system.jac.sparsity_out(0).nnz()
+
+
+def test_rest_spectrum_is_the_spectrum_of_a_block_antidiagonal_matrix():
+    """``[[0, C], [D, 0]]`` (positions and rates interleaved as in a state vector) has the eigenvalues
+    ``+-sqrt(eig(CD))``: checked on random blocks against the eigenvalues of the whole matrix."""
+    from mol_shell.equilibrium import rest_spectrum
+
+    rng = np.random.default_rng(7)
+    m = 30
+    C, D = rng.standard_normal((m, m)), rng.standard_normal((m, m))
+    order = np.arange(2 * m).reshape(-1, 2).T.ravel()  # q0 p0 q1 p1 ... as the node-major state
+    J = np.zeros((2 * m, 2 * m))
+    J[np.ix_(order[:m], order[m:])], J[np.ix_(order[m:], order[:m])] = C, D
+    q = np.isin(np.arange(2 * m), order[:m])
+    ev = rest_spectrum(J, q)
+    full = np.linalg.eigvals(J)
+    assert ev.size == full.size
+    assert np.max(np.min(np.abs(ev[:, None] - full[None, :]), axis=1)) < 1e-10 * np.abs(full).max()
+    assert rest_spectrum(J * 1e160, q) is None  # CD overflows where J does not: J's own eigenvalues are needed
+    J[order[0], order[1]] = 1e-300  # a position-position entry: not at rest, no shortcut
+    assert rest_spectrum(J, q) is None
+
+
+@pytest.mark.parametrize("name", ["paper", "sphere", "cone", "axisymmetric"])
+def test_spectrum_at_rest_equals_the_full_spectrum(name, tmp_path):
+    """A shell at rest takes the half-size spectrum (:func:`rest_spectrum`): its largest |eigenvalue| is the full
+    Jacobian's to round-off; a moving twisted shell and a loaded one keep the full one."""
+    from mol_shell.degenerate import positions
+    from mol_shell.equilibrium import rest_spectrum, spectrum_bounds
+
+    scene = resolve(scenes(tmp_path)[name])
+    system = ShellSystem(scene, 20)
+    y0 = system.initial_state(scene)
+    J = np.array(system.spectrum_jac(0, y0))
+    ev, full = rest_spectrum(J, positions(system)), np.linalg.eigvals(J)
+    assert ev is not None
+    np.testing.assert_allclose(np.abs(ev).max(), np.abs(full).max(), rtol=1e-12)
+    np.testing.assert_allclose(np.sort(np.abs(ev)), np.sort(np.abs(full)), rtol=0, atol=1e-7 * np.abs(full).max())
+    assert spectrum_bounds(system.spectrum_jac, y0, False, positions(system))[0] == np.abs(ev).max()
+    assert rest_spectrum(J, positions(system)) is not None
+    moving = rest_spectrum(np.array(system.spectrum_jac(0, disturbed(system, scene))), positions(system))
+    # moving, the twisting shells' inertia depends on r (angular momentum r^2 chi_t): the rate blocks fill in;
+    # the axisymmetric shell's mass matrix is constant, so its blocks stay empty and the shortcut stays exact
+    assert (moving is None) == (name != "axisymmetric")
+    loaded = ShellSystem(resolve(scenes(tmp_path)["viscous-loaded"]), 20)
+    assert positions(loaded) is None
+
+
+def test_a_run_and_a_study_do_not_import_dask_array():
+    """Datasets are made on xarray's fast path: the general path's duck-array check imports ``dask.array`` (0.3-0.5
+    s of every process's first run, and of each study worker's start). In a fresh interpreter."""
+    import subprocess
+    import sys
+
+    code = ("import sys, mol_shell\n"
+            "ds = mol_shell.simulate('twisted-cylinder', n=10, t_end=0.001)\n"
+            "st = mol_shell.study('twisted-cylinder', {'gamma': [0.5, 0.6]}, n=10, t_end=0.001, scheduler='serial')\n"
+            "assert 'von_mises_stress' in ds and dict(ds.sizes) == {'time': 11, 's': 10, 's_cell': 9, 'zeta': 2}\n"
+            "assert 'von_mises_stress' in st and st.sizes['gamma'] == 2 and set(st.status.values) == {'complete'}\n"
+            "print('dask.array' in sys.modules)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.split()[-1] == "False"
