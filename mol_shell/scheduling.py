@@ -104,14 +104,22 @@ def _single_threaded_children():
 LOST_RETRIES = 2
 
 
+#: cases handed to each spawned worker ahead of time: the one it runs and two waiting, so it never waits for
+#: this process (busy with a case of its own) to hand it the next
+AHEAD = 3
+
+
 def _execute_local(run_task, tasks, workers):
     """Cases on ``workers`` local processes: this one and ``workers - 1`` spawned ones.
 
-    The spawned workers take the cases from the front of the queue, two at a time each (one running, one
-    waiting); this process, which has the package imported and its kernels loaded, takes them from the back, so
-    it computes from the first second while a worker spends about one starting (interpreter, imports, first
-    build), and the two finish within about a case of each other. A worker that dies breaks its pool: its
-    unfinished cases run again in a new pool, up to :data:`LOST_RETRIES` times each.
+    The spawned workers are handed cases from the front of the queue, :data:`AHEAD` each; this process, which has
+    the package imported and its kernels loaded, runs them from the back, so it computes from the first second
+    while a worker spends about one starting (interpreter, imports, first build). Who runs a case is settled in
+    a table shared with the workers (:class:`_Claims`): a worker claims a case as it starts it and skips one this
+    process has claimed, so at the end this process also takes the handed-over cases no worker has started, and
+    the two finish within about a case of each other. A worker that dies breaks its pool: the case it was
+    running (the table says which) runs again in a new pool, up to :data:`LOST_RETRIES` times, and the cases it
+    had not started run there as they were.
     """
     import collections
     import multiprocessing
@@ -127,39 +135,105 @@ def _execute_local(run_task, tasks, workers):
                 for task in pending:
                     yield _retried(_run_here(run_task, task), attempts[task.index])
                 return
-            pool = ProcessPoolExecutor(max_workers=spawned, mp_context=multiprocessing.get_context("spawn"),
-                                       initializer=_one_thread_each)
-            queue, running, broken = collections.deque(pending), {}, False
-            pending = []
+            context = multiprocessing.get_context("spawn")
+            claims = _Claims(context, len(pending))
+            pool = ProcessPoolExecutor(max_workers=spawned, mp_context=context, initializer=_worker_start,
+                                       initargs=(claims,))
+            queue, running, failed, mine = collections.deque(range(len(pending))), {}, [], set()
             try:
                 while queue or running:
                     for future in [f for f in running if f.done()]:
-                        task = running.pop(future)
-                        if isinstance(future.exception(), BrokenProcessPool) and attempts[task.index] < LOST_RETRIES:
-                            attempts[task.index] += 1
-                            pending.append(task)
-                            broken = True
-                            continue
-                        yield _retried(_collect(future, task), attempts[task.index])
-                    while queue and not broken and len(running) < 2 * spawned:
-                        task = queue.popleft()
-                        try:
-                            running[pool.submit(run_task, task)] = task
-                        except BrokenProcessPool:
-                            queue.appendleft(task)
-                            broken = True
-                    if broken and not running:  # a new pool for the cases the dead one left, and the rest
-                        pending += list(queue)
-                        break
-                    if queue:
-                        task = queue.pop()
-                        yield _retried(_run_here(run_task, task), attempts[task.index])
+                        slot = running.pop(future)
+                        if isinstance(future.exception(), BrokenProcessPool):
+                            failed.append(slot)
+                        elif future.result() is not None:  # None: skipped, claimed by this process
+                            yield _retried(_collect(future, pending[slot]), attempts[pending[slot].index])
+                    while queue and not failed and len(running) < AHEAD * spawned:
+                        slot = queue.popleft()
+                        running[pool.submit(_claimed, run_task, pending[slot], slot)] = slot
+                    slot = _next_here(queue, running, claims) if not failed else None
+                    if slot is not None:
+                        mine.add(slot)
+                        yield _retried(_run_here(run_task, pending[slot]), attempts[pending[slot].index])
                     elif running:
                         wait(running, return_when=FIRST_COMPLETED)
+                    elif failed:
+                        break
             finally:
+                claims.close()  # interrupted, or done: a worker starts nothing more
                 # every result in: the workers exit on their own (0.2 s that the study need not wait for); on an
                 # interruption or error, what has not started is cancelled and the workers are waited for
                 pool.shutdown(wait=bool(running), cancel_futures=True)
+            again, lost = [], []
+            for slot in sorted((set(failed) | set(queue)) - mine):
+                task = pending[slot]
+                if claims.owner(slot) > 0:  # the worker that died was running it (or had finished it unread)
+                    if attempts[task.index] >= LOST_RETRIES:
+                        lost.append(task)
+                        continue
+                    attempts[task.index] += 1
+                again.append(task)
+            for task in lost:
+                yield _retried((task.index, None, {"status": "lost", "message": "BrokenProcessPool",
+                                                   "case_wall_time_s": float("nan"), "worker": ""}),
+                               attempts[task.index])
+            pending = again
+
+
+def _next_here(queue, running, claims):
+    """The slot this process runs next, claimed: the back of the queue, else the newest case handed to a worker
+    that no worker has started; ``None`` when every case left is a worker's."""
+    if queue:
+        slot = queue.pop()
+        claims.take(slot)
+        return slot
+    for slot in sorted(running.values(), reverse=True):
+        if claims.take(slot):
+            return slot
+    return None
+
+
+class _Claims:
+    """Who runs each case of a pool: 0 nobody yet, -1 this process, else the pid of the worker that started it.
+
+    Shared memory with a lock, handed to the workers when they start (:func:`_worker_start`)."""
+
+    def __init__(self, context, size):
+        self.table = context.Array("q", size)
+
+    def take(self, slot, owner=-1):
+        """Claim ``slot`` for ``owner``; False if someone has it already."""
+        with self.table.get_lock():
+            if self.table[slot]:
+                return False
+            self.table[slot] = owner
+            return True
+
+    def owner(self, slot):
+        return self.table[slot]
+
+    def close(self):
+        """Claim every free case for this process: the workers skip whatever they have not started."""
+        with self.table.get_lock():
+            for slot in range(len(self.table)):
+                self.table[slot] = self.table[slot] or -1
+
+
+_CLAIMS = None
+
+
+def _worker_start(claims):
+    """A spawned worker's initializer: the claims table, and one thread for its kernels (unless set)."""
+    global _CLAIMS
+    _CLAIMS = claims
+    _one_thread_each()
+
+
+def _claimed(run_task, task, slot):
+    """``run_task(task)`` in a worker if the case is still free (claimed for this worker), else ``None``."""
+    if not _CLAIMS.take(slot, os.getpid()):
+        return None
+    return run_task(task)
 
 
 def _retried(result, attempts):

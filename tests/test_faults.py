@@ -145,6 +145,50 @@ def test_local_worker_killed_during_a_case_is_run_again():
     assert str(killed[0]) not in {w.split(":")[1] for w in ds.worker.values}
 
 
+@pytest.mark.timeout(120)
+def test_local_cases_run_once_each_by_whichever_process_claims_them(tmp_path):
+    """This process takes cases from the back, the worker from the front; the worker skips those this process
+    took (they were handed to its pool too): every case runs exactly once, and both processes ran some."""
+    from mol_shell import scheduling
+
+    from poison_cases import Case, run
+
+    me, log = os.getpid(), str(tmp_path)
+    cases = [Case((k,), me, seconds=0.25, log=log) for k in range(16)]
+    results = list(scheduling.execute(run, cases, None, 2))
+    runs = [int(p.name.split("-")[0]) for p in tmp_path.iterdir()]
+    assert sorted(runs) == list(range(16)) and len(results) == 16
+    ran_here = {index[0] for index, _, info in results if info["worker"] == str(me)}
+    assert ran_here and len(ran_here) < 16  # both took cases
+    assert ran_here == set(range(16 - len(ran_here), 16))  # this process, from the back
+
+
+@pytest.mark.timeout(120)
+def test_a_case_that_kills_every_worker_is_lost_and_no_other_case_is_blamed(tmp_path):
+    """The local scheduler knows which case a dead worker was running (the shared claims table): that case is
+    run again, up to LOST_RETRIES times, then recorded ``lost``; the cases the worker had not started run
+    again without counting an attempt, and none runs twice."""
+    from mol_shell import scheduling
+
+    from poison_cases import Case, run
+
+    me, log = os.getpid(), str(tmp_path)
+    cases = [Case((0,), me, poisoned=True, log=log)] + [Case((k,), me, seconds=0.4, log=log) for k in range(1, 7)]
+    results = list(scheduling.execute(run, cases, None, 2))
+    runs = [int(p.name.split("-")[0]) for p in tmp_path.iterdir()]
+    assert [runs.count(k) for k in range(1, 7)] == [1] * 6
+    by_case = {index: info for index, _, info in results}
+    assert sorted(by_case) == [(k,) for k in range(7)] and len(results) == 7  # each case once
+    poisoned = by_case[(0,)]
+    if poisoned["worker"] == str(me):  # this process took it before a worker started: nothing to test
+        pytest.skip("the poisoned case ran in this process")
+    assert poisoned["status"] == "lost", poisoned
+    assert f"run {scheduling.LOST_RETRIES + 1} times" in poisoned["message"], poisoned["message"]
+    assert runs.count(0) == scheduling.LOST_RETRIES + 1
+    for k in range(1, 7):
+        assert by_case[(k,)]["status"] == "complete" and "times" not in by_case[(k,)]["message"], by_case[(k,)]
+
+
 @pytest.mark.slow
 @pytest.mark.timeout(300)
 @pytest.mark.parametrize("allowed_failures", [3, 0])
