@@ -128,12 +128,12 @@ def _execute_local(run_task, tasks, workers):
 
     attempts = {task.index: 0 for task in tasks}
     pending = list(tasks)
-    with _single_threaded_children():
+    with _single_threaded_children(), _one_thread_here():
         while pending:
             spawned = max(1, min(workers or os.cpu_count() or 1, len(pending))) - 1
             if not spawned:  # this process alone
                 for task in pending:
-                    yield _retried(_run_here(run_task, task), attempts[task.index])
+                    yield _retried(run_task(task), attempts[task.index])
                 return
             context = multiprocessing.get_context("spawn")
             claims = _Claims(context, len(pending))
@@ -154,7 +154,7 @@ def _execute_local(run_task, tasks, workers):
                     slot = _next_here(queue, running, claims) if not failed else None
                     if slot is not None:
                         mine.add(slot)
-                        yield _retried(_run_here(run_task, pending[slot]), attempts[pending[slot].index])
+                        yield _retried(run_task(pending[slot]), attempts[pending[slot].index])
                     elif running:
                         wait(running, return_when=FIRST_COMPLETED)
                     elif failed:
@@ -243,17 +243,19 @@ def _retried(result, attempts):
     return result
 
 
-def _run_here(run_task, task):
-    """``run_task(task)`` in this process on one thread, as a spawned worker runs it: the compiled kernels and the
-    BLAS/OpenMP pools of the numerical libraries (idle BLAS threads spin on the workers' cores otherwise: the
-    study ran 1.5x slower)."""
+@contextlib.contextmanager
+def _one_thread_here():
+    """This process runs its cases on one thread, as a spawned worker does: the compiled kernels and the BLAS/OpenMP
+    pools of the numerical libraries loaded so far (idle BLAS threads spin on the workers' cores otherwise: the
+    study ran 1.5x slower; libraries loaded later read :data:`LIBRARY_THREADS`). Set once for the whole study
+    (threadpoolctl's search of the loaded libraries costs 1 ms a time)."""
     from threadpoolctl import threadpool_limits
 
     saved = os.environ.get("MOL_SHELL_THREADS")
     os.environ.setdefault("MOL_SHELL_THREADS", "1")
     try:
         with threadpool_limits(limits=1):
-            return run_task(task)
+            yield
     finally:
         if saved is None:
             os.environ.pop("MOL_SHELL_THREADS", None)
