@@ -8,7 +8,9 @@ import os
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import xarray as xr
+from xarray.indexes import PandasIndex
 
 from .errors import ParameterError
 from .model.kinematics import FIELDS
@@ -155,12 +157,25 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
         meta[f"units_{name}"] = UNITS.get(name, "1")
     meta.update(traj.stats)
     meta.update(attrs)
-    return xr.Dataset(variables(data), coords=variables(coords), attrs={k: _attr(v) for k, v in meta.items()})
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: _attr(v) for k, v in meta.items()})
 
 
 #: xarray's ``Variable(..., fastpath=True)`` (an internal flag of long standing) takes numpy data as given; were
 #: it ever removed, the general path is taken, slower but the same
 FAST_PATH = {"fastpath": True} if "fastpath" in inspect.signature(xr.Variable).parameters else {}
+
+
+def coordinates(entries, keep=None):
+    """``{name: (dims, values[, attrs])}`` as xarray Coordinates: the Variables of :func:`variables` and a pandas
+    index for each dimension coordinate, made here (xarray's own asks whether the values are a dask collection,
+    which imports dask: 0.1 s of every process's first Dataset); ``keep``: Coordinates to add as they are."""
+    made = variables(entries)
+    indexes = {name: PandasIndex(pd.Index(var.values), name, coord_dtype=var.dtype)
+               for name, var in made.items() if var.dims == (name,)}
+    if keep is not None:
+        made.update({name: var for name, var in keep.variables.items() if name not in made})
+        indexes.update({name: index for name, index in keep.xindexes.items() if name not in indexes})
+    return xr.Coordinates(made, indexes=indexes)
 
 
 def variables(entries):

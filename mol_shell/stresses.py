@@ -60,7 +60,7 @@ import numpy as np
 
 from .model.kinematics import deformation_gradient
 from .model.material import condensed, green_strain, lame
-from .output import variables
+from .output import coordinates, variables
 
 #: default limit on cell samples x saved times (2 per cell) above which stresses are skipped unless asked for:
 #: 4e6 samples cost 7 s (11 s viscous) and 270 MB on this machine (measured at n = 401, 5,000 saved times)
@@ -480,7 +480,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
             long_name = "viscous part of the " + long_name
         dims = ("time", "s_cell") if value.ndim == 2 else ("time", "s_cell", "zeta")
         entries[name] = (dims, value, {"units": units, "long_name": long_name})
-    out = ds.assign_coords(variables(coords)).assign(variables(entries))
+    out = ds.assign_coords(coordinates(coords)).assign(variables(entries))
     out.attrs["stresses"] = "included (mol_shell.stresses.add_stresses)"
     if not all(np.isfinite(v).all() for v in data.values()):
         out.attrs["stresses"] += "; NaN where det F <= 0 at a face or the state is not finite"

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from .output import variables
+from .output import coordinates, variables
 
 #: per-case numbers kept as variables even when every case has the same value
 STATS = ("n_steps", "n_rhs", "wall_time_s", "build_time_s", "case_wall_time_s", "failure_time", "complete", "R")
@@ -66,13 +66,13 @@ def assemble(dims, coords, cases, results, times):
     for key, values in per_case.items():
         data[key] = (tuple(dims), np.array(values, dtype=object).reshape(shape), {"long_name": long[key]})
     coords_out = {**grid, "time": ("time", np.asarray(times), {"units": "s", "long_name": "time"})}
-    from_case = {name: c for name, c in ref.coords.items() if name not in coords_out} if ref is not None else {}
     attrs = {k: v for k, v in (ref.attrs if ref is not None else {}).items()
              if k not in coords and (not isinstance(v, (int, float, np.integer, np.floating)) or k in constant)}
     attrs.update(constant)
     for key in ("status", "message", "complete", "title", "history"):
         attrs.pop(key, None)
-    return xr.Dataset(variables(data), coords={**variables(coords_out), **from_case}, attrs=attrs)
+    return xr.Dataset(variables(data), coords=coordinates(coords_out, keep=ref.coords if ref is not None else None),
+                      attrs=attrs)
 
 
 def _units(ref, key):

@@ -33,8 +33,9 @@ def test_grid_on_local_processes_with_a_refused_and_a_stopped_case():
     assert np.isfinite(r[:3]).all() and np.isnan(r[-1]).all()
     assert float(ds.n_steps.sel(R=0.99, nu=0.3)) == 10000 and float(ds.wall_time_s.sel(R=0.99, nu=0.3)) > 0
     pids = {w.split(":")[1] for w in ds.worker.values[:, :2].ravel()}
-    assert len(pids - {str(os.getpid())}) >= 1  # a spawned worker took cases from the front of the queue
-    assert str(os.getpid()) in pids  # and this process the last ones
+    assert str(os.getpid()) in pids and len(pids) <= 2  # this process from the back, at most one spawned worker
+    # (whether the worker, starting in ~0.5 s, gets one of these four 0.1 s cases depends on the machine:
+    # tests/test_faults.py's 16 cases of 0.25 s check that both take some)
     # a case equals the single run
     one = mol_shell.simulate(mol_shell.TwistedCylinder(gamma=0.0, R=0.99, nu=0.49), n=10, t_end=0.01, progress=False)
     np.testing.assert_array_equal(ds.r.sel(R=0.99, nu=0.49).values, one.r.values)
