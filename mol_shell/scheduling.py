@@ -73,25 +73,26 @@ def execute(run_task, tasks, scheduler, workers, client=None):
         client.cancel(futures)
 
 
-def _one_thread_each():
-    """Local workers share the cores between them: each runs its compiled RHS on one thread (unless set)."""
-    os.environ.setdefault("MOL_SHELL_THREADS", "1")
-
-
-#: thread pools of the numerical libraries, which size themselves when a worker imports them (before any
-#: initializer runs): one thread each, as for the compiled RHS, unless the user set them
-LIBRARY_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+#: thread counts of the compiled kernels and of the numerical libraries' pools (which size themselves when a
+#: process loads them): one each in every process of a local study, unless the user set them
+THREAD_VARIABLES = ("MOL_SHELL_THREADS", "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
 
 
 @contextlib.contextmanager
-def _single_threaded_children():
-    """Environment that spawned workers inherit: one BLAS/OpenMP thread each (two workers with two BLAS threads
-    each on two cores made the spectrum of every case contend); this process's own is restored afterwards."""
-    saved = {name: os.environ.get(name) for name in LIBRARY_THREADS}
-    for name in LIBRARY_THREADS:
+def _one_thread_per_process():
+    """Local processes share the cores: each runs its cases on one thread. Sets :data:`THREAD_VARIABLES` (unless
+    set), which the spawned workers inherit and libraries loaded later read, and limits the pools this process
+    has loaded already (two processes with two BLAS threads each made the spectrum of every case contend; idle
+    BLAS threads spinning here made a study 1.5x slower). Once for the whole study: threadpoolctl's search of
+    the loaded libraries costs 1 ms a time. This process's settings are restored afterwards."""
+    from threadpoolctl import threadpool_limits
+
+    saved = {name: os.environ.get(name) for name in THREAD_VARIABLES}
+    for name in THREAD_VARIABLES:
         os.environ.setdefault(name, "1")
     try:
-        yield
+        with threadpool_limits(limits=1):
+            yield
     finally:
         for name, value in saved.items():
             if value is None:
@@ -128,7 +129,7 @@ def _execute_local(run_task, tasks, workers):
 
     attempts = {task.index: 0 for task in tasks}
     pending = list(tasks)
-    with _single_threaded_children(), _one_thread_here():
+    with _one_thread_per_process():
         while pending:
             spawned = max(1, min(workers or os.cpu_count() or 1, len(pending))) - 1
             if not spawned:  # this process alone
@@ -223,10 +224,9 @@ _CLAIMS = None
 
 
 def _worker_start(claims):
-    """A spawned worker's initializer: the claims table, and one thread for its kernels (unless set)."""
+    """A spawned worker's initializer: the claims table."""
     global _CLAIMS
     _CLAIMS = claims
-    _one_thread_each()
 
 
 def _claimed(run_task, task, slot):
@@ -241,24 +241,6 @@ def _retried(result, attempts):
     if attempts:
         result[2]["message"] += f" (run {attempts + 1} times: a worker process died)"
     return result
-
-
-@contextlib.contextmanager
-def _one_thread_here():
-    """This process runs its cases on one thread, as a spawned worker does: the compiled kernels and the BLAS/OpenMP
-    pools of the numerical libraries loaded so far (idle BLAS threads spin on the workers' cores otherwise: the
-    study ran 1.5x slower; libraries loaded later read :data:`LIBRARY_THREADS`). Set once for the whole study
-    (threadpoolctl's search of the loaded libraries costs 1 ms a time)."""
-    from threadpoolctl import threadpool_limits
-
-    saved = os.environ.get("MOL_SHELL_THREADS")
-    os.environ.setdefault("MOL_SHELL_THREADS", "1")
-    try:
-        with threadpool_limits(limits=1):
-            yield
-    finally:
-        if saved is None:
-            os.environ.pop("MOL_SHELL_THREADS", None)
 
 
 def _collect(future, task):
