@@ -37,7 +37,7 @@ from .model.kinematics import delta, kinetic_energy_density
 from .model.material import (
     Thickness, centroidal_offset, condensed, effective_lame, inertias, shell_dissipation, shell_energy,
 )
-from .output import FIELD_META, RATE_UNITS, REFERENCE, _attr
+from .output import FIELD_META, RATE_UNITS, REFERENCE, _attr, coordinates, variables
 from .scenes import UNITS
 
 #: the ODE's unknowns, indices into :data:`mol_shell.model.FIELDS`
@@ -251,4 +251,4 @@ def _ring_dataset(system, scene, t, y, attrs, n):
         meta[name] = value
         meta[f"units_{name}"] = UNITS.get(name, "1")
     meta.update(attrs)
-    return xr.Dataset(data, coords=coords, attrs={k: _attr(v) for k, v in meta.items()})
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: _attr(v) for k, v in meta.items()})

@@ -133,7 +133,7 @@ def modes(scene, n=40, count=10):
 
 
 def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method):
-    from ..output import FIELD_META, _attr
+    from ..output import FIELD_META, _attr, coordinates, variables
 
     n = system.n
     modes_count = phi.shape[1]
@@ -174,7 +174,7 @@ def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method):
              "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
     for name, value in scene.params().items():
         attrs[name] = value
-    return xr.Dataset(data, coords=coords, attrs={k: _attr(v) for k, v in attrs.items()})
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: _attr(v) for k, v in attrs.items()})
 
 
 def plot_modes(ds, path, count=6):
