@@ -13,7 +13,7 @@ import time
 import numpy as np
 
 import mol_shell
-from mol_shell.simulate import build, resolve
+from mol_shell.runs.simulate import build, resolve
 
 
 def rhs_cost(compiled, y, calls=20000, batches=7):

@@ -35,12 +35,12 @@ RHS_PROBE = r"""
 import json, sys, time
 import numpy as np
 import mol_shell
-from mol_shell.simulate import build, resolve
+from mol_shell.runs.simulate import build, resolve
 reference = sys.argv[1] == "reference"
 scene = resolve(mol_shell.TwistedCylinder())
 if reference:
-    from mol_shell.compiled import CompiledRHS
-    from mol_shell.discretization import ShellSystem
+    from mol_shell.discretization.compiled import CompiledRHS
+    from mol_shell.discretization.system import ShellSystem
     system = ShellSystem(scene, 40, reference=True)
     compiled = CompiledRHS(system.rhs_mapped, system.limits)
 else:
@@ -55,7 +55,7 @@ LARGE_PROBE = r"""
 import json, sys, time
 import numpy as np
 import mol_shell
-from mol_shell.simulate import build, resolve
+from mol_shell.runs.simulate import build, resolve
 n, steps, threads, driver = int(sys.argv[1]), int(sys.argv[2]), int(sys.argv[3]), sys.argv[4]
 scene = resolve(mol_shell.TwistedCylinder())
 start = time.perf_counter()
@@ -65,7 +65,7 @@ if hasattr(compiled, "set_threads"):
     compiled.set_threads(threads)
 stepper = compiled  # "generic": the leap-frog driver around the compiled RHS (all that release 0.2.0 has)
 if driver == "stencil":  # what Leapfrog.integrate runs for this scene (mol_shell.stencil)
-    from mol_shell.stencil import StencilLeapfrog
+    from mol_shell.discretization.stencil import StencilLeapfrog
     stepper = StencilLeapfrog(system, threads=threads)
 y0 = system.initial_state(scene)
 dt = 1.43e-6
@@ -171,7 +171,7 @@ def target_full(n, threads, baseline_per_step=None):
 
 PEERS_PROBE = r"""
 import json, sys
-from mol_shell import workprecision as wp
+from mol_shell.analysis import workprecision as wp
 names, repeats = sys.argv[1].split(","), int(sys.argv[2])
 ds = wp.study("twisted-cylinder", tuple(names), repeats=repeats, log=lambda line: print(line, file=sys.stderr))
 out = {}

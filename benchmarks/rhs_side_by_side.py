@@ -31,7 +31,7 @@ PROBE = r"""
 import json, sys, time
 import numpy as np
 import mol_shell
-from mol_shell.simulate import build, resolve
+from mol_shell.runs.simulate import build, resolve
 name, n = sys.argv[1], int(sys.argv[2])
 if name == "paper":
     scene = mol_shell.TwistedCylinder()

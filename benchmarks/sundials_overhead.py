@@ -18,7 +18,7 @@ import numpy as np
 import mol_shell
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.sundials import _Run, pieces
-from mol_shell.simulate import build, resolve
+from mol_shell.runs.simulate import build, resolve
 
 TIMES = np.array([0.0, 0.02, 0.07, 0.106, 0.143])
 

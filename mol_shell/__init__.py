@@ -1,16 +1,36 @@
-"""mol_shell: rotationally symmetric motions of Cosserat shells of revolution (Antman & Bourne 2010)."""
+"""mol_shell: rotationally symmetric motions of Cosserat shells of revolution (Antman & Bourne 2010).
 
-from .version import __version__  # noqa: F401
+The public face of the package; nothing inside the package imports it. Layers, lowest first (each imports
+only from those before it): ``_core``, ``model``, ``discretization``, ``integrators``, ``scenes``,
+``results``, ``runs``, ``analysis``, ``views``, ``cli``.
+"""
 
-from .scenes import SCENES, Axisymmetric, SpinningRing, TwistedCylinder, get_scene  # noqa: E402
-from .scenes.files import load_scene  # noqa: E402
-from .simulate import build, simulate  # noqa: E402
-from .output import read_netcdf, write_netcdf  # noqa: E402
-from .unshearable import Unshearable, simulate_unshearable  # noqa: E402  (registers the scene)
-from .ring import simulate_ring  # noqa: E402
-from .study import study  # noqa: E402
+from mol_shell._core.version import __version__
+from mol_shell.analysis.modes import modes
+from mol_shell.integrators import INTEGRATORS
+from mol_shell.results.dataset import read_netcdf, write_netcdf
+from mol_shell.runs.building import build
+from mol_shell.runs.ring import simulate_ring
+from mol_shell.runs.simulate import simulate
+from mol_shell.runs.study import study
+from mol_shell.runs.unshearable import simulate_unshearable
+from mol_shell.scenes import (
+                              SCENES,
+                              Axisymmetric,
+                              Cone,
+                              MeridianShell,
+                              ShellScene,
+                              Sphere,
+                              SpinningRing,
+                              Torus,
+                              TwistedCylinder,
+                              Unshearable,
+                              get_scene,
+)
+from mol_shell.scenes.files import load_scene
 
 __all__ = [
-    "SCENES", "Axisymmetric", "SpinningRing", "TwistedCylinder", "Unshearable", "build", "get_scene", "load_scene", "read_netcdf",
+    "INTEGRATORS", "SCENES", "Axisymmetric", "Cone", "MeridianShell", "ShellScene", "SpinningRing", "Sphere", "Torus",
+    "TwistedCylinder", "Unshearable", "__version__", "build", "get_scene", "load_scene", "modes", "read_netcdf",
     "simulate", "simulate_ring", "simulate_unshearable", "study", "write_netcdf",
 ]

@@ -26,8 +26,8 @@ import os
 import numpy as np
 
 import mol_shell
-from mol_shell.plotting import plot_snapshots
-from mol_shell.study_data import summarize
+from mol_shell.views.plotting import plot_snapshots
+from mol_shell.results.study_store import summarize
 
 PAPER_TIMES = (0.0, 0.02, 0.07, 0.106, 0.143)
 QUICK = {"check_n": 0}  # --quick: no finer grid

@@ -21,8 +21,8 @@ import numpy as np
 import xarray as xr
 
 import mol_shell
-from mol_shell.equilibrium import spectrum_bounds
-from mol_shell.simulate import build, resolve
+from mol_shell.model.equilibrium import spectrum_bounds
+from mol_shell.runs.simulate import build, resolve
 
 TIMES = [0.0, 0.02, 0.07, 0.106, 0.143]
 NUS = (0.3, 0.45, 0.49, 0.499, 0.4999)

@@ -14,7 +14,7 @@ import os
 import numpy as np
 
 import mol_shell
-from mol_shell.ring import simulate_ring
+from mol_shell.runs.ring import simulate_ring
 
 FIELDS = ("r", "chi", "psi", "r_t", "chi_t", "psi_t")
 STEPS = (8e-6, 4e-6, 2e-6, 1e-6)

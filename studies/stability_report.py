@@ -18,8 +18,8 @@ import argparse
 import os
 
 import mol_shell
-from mol_shell.stability import default_cases, markdown_table, report
-from mol_shell.stability_plot import plot_report
+from mol_shell.analysis.stability import default_cases, markdown_table, report
+from mol_shell.views.stability_plot import plot_report
 
 QUICK_CASES = ("paper", "viscous eta_mu=100")
 

@@ -25,8 +25,8 @@ import numpy as np
 import xarray as xr
 
 import mol_shell
-from mol_shell.study import study
-from mol_shell.study_data import summarize
+from mol_shell.runs.study import study
+from mol_shell.results.study_store import summarize
 
 TIMES = np.round(np.arange(0.0, 0.1435, 0.001), 9)
 H0 = 2 * math.pi * 1e-3

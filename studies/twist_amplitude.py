@@ -24,8 +24,9 @@ import numpy as np
 import xarray as xr
 
 import mol_shell
-from mol_shell.study import parse_vary, study
-from mol_shell.study_data import summarize
+from mol_shell.cli.study import parse_vary
+from mol_shell.runs.study import study
+from mol_shell.results.study_store import summarize
 
 TIMES = np.round(np.arange(0.0, 0.1435, 0.001), 9)
 DEFAULTS = {"grids": "40,160", "gammas": "0.02:0.2:0.02", "dt": 1e-6, "scheduler": None}

@@ -20,8 +20,9 @@ import os
 import numpy as np
 
 import mol_shell
-from mol_shell.study import study
-from mol_shell.unshearable import Unshearable, defects, simulate_unshearable
+from mol_shell.runs.study import study
+from mol_shell.runs.unshearable import defects, simulate_unshearable
+from mol_shell.scenes import Unshearable
 
 OMEGAS = (0.0, 5.0, 10.0, 20.0)
 DEFAULTS = {"n": 81, "t_end": 0.1, "dt": 1e-6, "omegas": OMEGAS, "scheduler": None}

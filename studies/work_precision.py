@@ -17,7 +17,8 @@ import time
 import numpy as np
 
 import mol_shell
-from mol_shell import workprecision as wp
+from mol_shell.analysis import workprecision as wp
+from mol_shell.views.workprecision import write_outputs
 
 QUICK = {"t_end": 0.02, "repeats": 1, "integrators": "leapfrog,cvode-adams",
          "sweeps": {"leapfrog": {"dt": (1e-5, 5e-6)}, "cvode-adams": {"rtol": (1e-5, 1e-7)}}}
@@ -42,7 +43,7 @@ def main(argv=None):
     start = time.perf_counter()
     ds = wp.study(mol_shell.TwistedCylinder(), integrators.split(","), times=times, repeats=repeats,
                   sweeps=quick.get("sweeps"))
-    png, md = wp.write_outputs(ds, output)
+    png, md = write_outputs(ds, output)
     print(wp.markdown_table(ds))
     print(f"wrote {output}, {png}, {md} in {time.perf_counter() - start:.0f} s")
     return ds

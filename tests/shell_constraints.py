@@ -23,7 +23,7 @@ import numpy as np
 
 import mol_shell
 from mol_shell.integrators import INTEGRATORS, sundials
-from mol_shell.simulate import build, resolve
+from mol_shell.runs.simulate import build, resolve
 
 TIMES = [0.0, 0.002, 0.004]
 

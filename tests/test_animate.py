@@ -6,8 +6,8 @@ import pytest
 from PIL import Image
 
 import mol_shell
-from mol_shell.cli import main
-from mol_shell.stresses import add_stresses
+from mol_shell.cli.main import main
+from mol_shell.results.stresses import add_stresses
 
 SMALL = ["--n-phi", "12", "--fibres", "4", "--width", "200"]
 
@@ -84,7 +84,7 @@ def test_fibre_figure_draws_the_fibres_where_the_map_puts_them(tmp_path):
     ``1 + M zeta2``. A sheared state (psi0 = 0.3) so that the tilt matters; to round-off."""
     import casadi as ca
 
-    from mol_shell.io.figures import fibres_figure
+    from mol_shell.views.fibres import fibres_figure
     from mol_shell.model.balance import configuration
 
     ds = mol_shell.simulate(mol_shell.TwistedCylinder(psi0=0.3), n=8, t_end=1e-5, progress=False)

@@ -8,9 +8,9 @@ import time
 import numpy as np
 import pytest
 
-from mol_shell.cli import main, parse_times_arg
-from mol_shell.errors import ParameterError
-from mol_shell.output import read_netcdf
+from mol_shell.cli.main import main, parse_times_arg
+from mol_shell._core.errors import ParameterError
+from mol_shell.results.dataset import read_netcdf
 
 BAD = [
     (["run", "nope", "--t-end", "0.01"], "scene"),
@@ -148,13 +148,15 @@ def no_compute(monkeypatch):
     """Fail the test if a run or a comparison starts."""
     import importlib
 
-    sim = importlib.import_module("mol_shell.simulate")  # the module (mol_shell.simulate is also a function)
-    wp = importlib.import_module("mol_shell.workprecision")
+    sim = importlib.import_module("mol_shell.runs.simulate")  # the module (mol_shell.simulate is also a function)
+    wp = importlib.import_module("mol_shell.analysis.workprecision")
 
     def boom(*args, **kwargs):
         raise AssertionError("computed before the output path was checked")
 
     monkeypatch.setattr(sim, "simulate", boom)
+    monkeypatch.setattr(importlib.import_module("mol_shell.cli.main"), "simulate", boom)  # the command's own name
+    monkeypatch.setattr(importlib.import_module("mol_shell.runs.study"), "simulate", boom)
     monkeypatch.setattr(wp, "reference", boom)
 
 
@@ -216,8 +218,8 @@ def test_plot_refuses_files_that_are_not_runs(run_file, tmp_path, capsys):
 
 
 def test_plot_shows_every_saved_time_and_only_the_scene_s_parameters(run_file, tmp_path):
-    from mol_shell.output import read_netcdf
-    from mol_shell.plotting import snapshot_figure, title_of
+    from mol_shell.results.dataset import read_netcdf
+    from mol_shell.views.plotting import snapshot_figure, title_of
 
     png = tmp_path / "new" / "p.png"
     assert main(["plot", str(run_file), "-o", str(png)]) == 0 and png.stat().st_size > 10_000
@@ -236,14 +238,15 @@ def test_compare_checks_its_input_before_the_references(tmp_path, capsys, no_com
         code = main(["compare", "twisted-cylinder", "--integrators", names, "-o", str(tmp_path / "wp.nc")])
         err = capsys.readouterr().err
         assert code == 2 and err.startswith("mol-shell: error: --integrators = ") and len(err.splitlines()) == 1
-    from mol_shell.workprecision import study as wp_study
+    from mol_shell.analysis.workprecision import study as wp_study
 
     with pytest.raises(ParameterError, match="times"):  # every point would be skipped: refused up front
         wp_study("twisted-cylinder", ["leapfrog"], times=[0, 0.00125], sweeps={"leapfrog": {"dt": (1e-4,)}})
 
 
 def test_compare_skips_leapfrog_steps_that_miss_the_saved_times(tmp_path):
-    from mol_shell.workprecision import study as wp_study, write_outputs
+    from mol_shell.analysis.workprecision import study as wp_study
+    from mol_shell.views.workprecision import write_outputs
 
     ds = wp_study("twisted-cylinder", ["leapfrog"], n=10, times=[0, 0.00125, 0.0025], repeats=1,
                   sweeps={"leapfrog": {"dt": (1e-4, 5e-5)}}, log=lambda *a: None)

@@ -217,7 +217,7 @@ def _step_through_collapse(integrator, constraints, steps):
     """
     from mol_shell.integrators import INTEGRATORS
     from mol_shell.integrators.sundials import _Run, pieces
-    from mol_shell.simulate import build, resolve
+    from mol_shell.runs.simulate import build, resolve
 
     scene = resolve(COLLAPSE)
     system, compiled = build(scene, 10)

@@ -22,8 +22,8 @@ from scipy.optimize import brentq
 
 import mol_shell
 import reference_ring as ref
-from mol_shell.discretization import ShellSystem
-from mol_shell.equilibrium import equilibrium_radius
+from mol_shell.discretization.system import ShellSystem
+from mol_shell.model.equilibrium import equilibrium_radius
 from mol_shell.model.material import Thickness, centroidal_offset, shell_energy
 
 EPS = np.finfo(float).eps

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.errors import ParameterError
+from mol_shell._core.errors import ParameterError
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.simulate import build, resolve
+from mol_shell.runs.simulate import build, resolve
 
 
 @pytest.fixture(scope="module")

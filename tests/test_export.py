@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.cli import main
+from mol_shell.cli.main import main
 from mol_shell.model.balance import configuration
-from mol_shell.stresses import add_stresses
+from mol_shell.results.stresses import add_stresses
 
 EPS = np.finfo(float).eps
 N_PHI = 6

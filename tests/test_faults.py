@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.output import read_run
-from mol_shell.study import study
+from mol_shell.results.dataset import read_run
+from mol_shell.runs.study import study
 
 ROOT = Path(__file__).resolve().parents[1]
 FIELDS = ("z", "r", "chi", "theta", "psi", "energy", "angular_momentum")
@@ -149,7 +149,7 @@ def test_local_worker_killed_during_a_case_is_run_again():
 def test_local_cases_run_once_each_by_whichever_process_claims_them(tmp_path):
     """This process takes cases from the back, the worker from the front; the worker skips those this process
     took (they were handed to its pool too): every case runs exactly once, and both processes ran some."""
-    from mol_shell import scheduling
+    from mol_shell.runs import scheduling
 
     from poison_cases import Case, run
 
@@ -168,7 +168,7 @@ def test_a_case_that_kills_every_worker_is_lost_and_no_other_case_is_blamed(tmp_
     """The local scheduler knows which case a dead worker was running (the shared claims table): that case is
     run again, up to LOST_RETRIES times, then recorded ``lost``; the cases the worker had not started run
     again without counting an attempt, and none runs twice."""
-    from mol_shell import scheduling
+    from mol_shell.runs import scheduling
 
     from poison_cases import Case, run
 
@@ -226,7 +226,7 @@ def test_dask_worker_killed_during_a_case(allowed_failures):
 _RACE = textwrap.dedent("""
     import ctypes, os, sys, time
     from pathlib import Path
-    from mol_shell.compiled import compile_cached, cache_dir
+    from mol_shell.discretization.compiled import compile_cached, cache_dir
     role, start, source = sys.argv[1], float(sys.argv[2]), Path(sys.argv[3]).read_text()
     while time.time() < start:
         time.sleep(0.001)
@@ -274,7 +274,7 @@ def test_processes_compiling_the_same_kernel_at_once_never_load_half_a_library(t
 def test_a_library_appears_in_the_cache_only_when_complete(tmp_path, monkeypatch):
     """Deterministic: a compiler that writes its output in two halves with a pause between; the cache name
     never exists while the library is incomplete (it is renamed into place when whole)."""
-    from mol_shell import compiled
+    from mol_shell.discretization import compiled
 
     monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path))
     seen = []
@@ -294,7 +294,7 @@ def test_a_library_appears_in_the_cache_only_when_complete(tmp_path, monkeypatch
 
 
 def test_a_damaged_cached_library_is_rebuilt(tmp_path, monkeypatch):
-    from mol_shell import compiled
+    from mol_shell.discretization import compiled
 
     monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path))
     source = "int answer(void) { return 42; }\n"

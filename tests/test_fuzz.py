@@ -38,10 +38,10 @@ from hypothesis import HealthCheck, given, note, settings
 from hypothesis import strategies as st
 
 import mol_shell
-from mol_shell.cli import main
-from mol_shell.errors import ParameterError
-from mol_shell.output import read_netcdf
-from mol_shell.ranges import Choice, Interval, scene_ranges
+from mol_shell.cli.main import main
+from mol_shell._core.errors import ParameterError
+from mol_shell.results.dataset import read_netcdf
+from mol_shell._core.ranges import Choice, Interval, scene_ranges
 
 settings.register_profile("ci", max_examples=3, derandomize=True, deadline=None, database=None,
                           suppress_health_check=[HealthCheck.too_slow], print_blob=True)
@@ -129,7 +129,7 @@ def values_for(scene_cls, name):
 def changes_graph(cls, name, value):
     """True unless ``value`` only changes initial data (the compiled graphs of the default scene are reused)."""
     from mol_shell.scenes import with_params
-    from mol_shell.simulate import _graph_key
+    from mol_shell.runs.simulate import _graph_key
 
     changed = False
     def api():
@@ -363,7 +363,7 @@ def test_any_value_of_any_run_option(option, data):
 # -- the ranges the checks state, and the ranges the degenerate-value check reports -----------------------------
 def test_ranges_are_read_from_every_scene_s_checks():
     """Every numeric field of every registered scene states a range its check enforces (NaN is outside all)."""
-    from mol_shell.ranges import parse_allowed
+    from mol_shell._core.ranges import parse_allowed
 
     assert parse_allowed("(0, 0.5) m: 2h must be below") == Interval(0.0, 0.5, unit="m")
     assert parse_allowed("integers 2..32") == Interval(2, 32, True, True, integer=True)
@@ -384,7 +384,7 @@ def test_ranges_are_read_from_every_scene_s_checks():
 def test_a_degenerate_value_is_refused_with_the_range_where_the_numbers_are_finite(name, bad):
     """The refusal names the parameter and a range found by bisection: 3x inside its edge the numbers are
     finite, 10x beyond it they are not (with the other parameters at their defaults, on 5 nodes)."""
-    from mol_shell import degenerate
+    from mol_shell.runs import checks as degenerate
 
     scene = mol_shell.TwistedCylinder(**{name: bad})
     with pytest.raises(ParameterError) as info:

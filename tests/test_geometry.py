@@ -20,7 +20,7 @@ import pytest
 import mol_shell
 from mol_shell.analysis.modes import modes
 from mol_shell.scenes import Cone, Sphere, Torus, TwistedCylinder
-from mol_shell.simulate import resolve
+from mol_shell.runs.simulate import resolve
 
 EPS = np.finfo(float).eps
 H0 = 2 * math.pi * 1e-3

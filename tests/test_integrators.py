@@ -17,10 +17,10 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell import workprecision as wp
+from mol_shell.analysis import workprecision as wp
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.sundials import pieces
-from mol_shell.simulate import build, resolve
+from mol_shell.runs.simulate import build, resolve
 
 TIMES = np.array([0.0, 0.005, 0.01, 0.015, 0.02])
 REFERENCE_AGREEMENT = 1e-9  # the reference and its check must agree to this, 10x below the tightest rtol used
@@ -141,7 +141,7 @@ def test_linear_solvers_agree(paper):
 
 
 def test_compare_command_writes_netcdf_png_and_table(tmp_path):
-    from mol_shell.cli import main
+    from mol_shell.cli.main import main
 
     out = tmp_path / "wp.nc"
     code = main(["compare", "twisted-cylinder", "--integrators", "leapfrog,cvode-adams", "--t-end", "0.002",

@@ -68,7 +68,7 @@ def test_a_limit_at_the_last_step_of_a_chunk_is_reported_as_a_limit():
     """The C loop stops at the first step outside the limits; when that is the chunk's last step the
     step count alone cannot tell, so the driver says so too. The fold above is crossed at step k
     (found by single steps); a chunk of exactly k steps reports (k, stopped), one of k - 1 not."""
-    from mol_shell.simulate import build, resolve
+    from mol_shell.runs.simulate import build, resolve
 
     scene = resolve(SCENE)
     system, compiled = build(scene, 40)

@@ -54,7 +54,7 @@ import scipy.linalg
 
 import mol_shell
 import reference_ring as ref
-from mol_shell.discretization import ShellSystem
+from mol_shell.discretization.system import ShellSystem
 
 EPS = np.finfo(float).eps
 NATURAL = mol_shell.TwistedCylinder(gamma=0.0, R=1.0, omega=0.0, psi0=0.0)

@@ -16,9 +16,9 @@ from scipy.optimize import brentq
 import mol_shell
 import reference_ring as ref
 from reference_sphere import dilated_sphere, zeta1_centroidal
-from mol_shell.analysis.statics import static_equilibrium
-from mol_shell.discretization import ShellSystem
-from mol_shell.errors import ParameterError
+from mol_shell.runs.statics import static_equilibrium
+from mol_shell.discretization.system import ShellSystem
+from mol_shell._core.errors import ParameterError
 from mol_shell.scenes import Sphere, Torus
 
 EPS = np.finfo(float).eps

@@ -19,8 +19,8 @@ import pytest
 
 import mol_shell
 from mol_shell.analysis.modes import modes
-from mol_shell.discretization import ShellSystem
-from mol_shell.errors import ParameterError
+from mol_shell.discretization.system import ShellSystem
+from mol_shell._core.errors import ParameterError
 from mol_shell.model.balance import balance_laws, end_fluxes, euler_lagrange, virtual_power_projections
 from mol_shell.model.kinematics import kinetic_energy_density
 from mol_shell.model.material import Thickness, shell_energy

@@ -9,7 +9,7 @@ import pytest
 import xarray as xr
 
 import mol_shell
-from mol_shell.stresses import add_stresses
+from mol_shell.results.stresses import add_stresses
 
 #: what CF's time rules say about ``units = "s"`` without ``since <epoch>``: the one departure
 CALENDAR_ITEMS = {

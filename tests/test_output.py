@@ -11,7 +11,7 @@ from scipy.integrate import quad
 import mol_shell
 import reference_ring as ref
 from mol_shell.integrators import Leapfrog
-from mol_shell.simulate import build, resolve
+from mol_shell.runs.simulate import build, resolve
 
 
 @pytest.fixture(scope="module")
@@ -177,9 +177,9 @@ def test_overflow_inside_a_chunk_never_reaches_the_file(tmp_path):
     1,000-step chunk an unchecked state has overflowed to inf/NaN. The run stops at the first step
     that leaves the model's limits (checked every step in C) or whose energy grew (checked once a
     chunk, then located by redoing the chunk step by step), and the file holds only finite states."""
-    from mol_shell.compiled import CompiledRHS
-    from mol_shell.output import build_dataset
-    from mol_shell.simulate import observe
+    from mol_shell.discretization.compiled import CompiledRHS
+    from mol_shell.results.dataset import build_dataset
+    from mol_shell.runs.simulate import observe
 
     scene = resolve(mol_shell.TwistedCylinder())
     system, compiled = build(scene, 20)
@@ -213,7 +213,7 @@ def test_attribute_names_are_plain_and_rates_carry_their_units(short_run):
 
 
 def test_write_netcdf_creates_directories_and_names_an_unwritable_path(short_run, tmp_path):
-    from mol_shell.errors import ParameterError
+    from mol_shell._core.errors import ParameterError
 
     mol_shell.write_netcdf(short_run, tmp_path / "a" / "b" / "run.nc")
     assert (tmp_path / "a" / "b" / "run.nc").exists()

@@ -5,10 +5,10 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.compiled import CompiledRHS, default_threads
-from mol_shell.discretization import ShellSystem
+from mol_shell.discretization.compiled import CompiledRHS, default_threads
+from mol_shell.discretization.system import ShellSystem
 from mol_shell.scenes import Cone, MeridianShell, Sphere, TwistedCylinder
-from mol_shell.simulate import resolve
+from mol_shell.runs.simulate import resolve
 
 
 def ellipse_points(path):
@@ -123,9 +123,9 @@ def test_parallel_leapfrog_equals_the_serial_leapfrog():
 def test_simulate_threads_option_gives_identical_runs(monkeypatch):
     import importlib
 
-    sim = importlib.import_module("mol_shell.simulate")
+    sim = importlib.import_module("mol_shell.runs.simulate")
 
-    monkeypatch.setattr(sim, "PARALLEL_MIN_NODES", 30)
+    monkeypatch.setattr(importlib.import_module("mol_shell.runs.building"), "PARALLEL_MIN_NODES", 30)
     sim._built.cache_clear()
     try:
         runs = [mol_shell.simulate(TwistedCylinder(), n=31, t_end=2e-4, threads=k, progress=False, stresses=False)
@@ -138,7 +138,7 @@ def test_simulate_threads_option_gives_identical_runs(monkeypatch):
 
 
 def test_threads_default_and_refusals(monkeypatch):
-    from mol_shell.errors import ParameterError
+    from mol_shell._core.errors import ParameterError
 
     monkeypatch.setenv("MOL_SHELL_THREADS", "3")
     assert default_threads() == 3
@@ -158,7 +158,7 @@ def test_threads_default_and_refusals(monkeypatch):
 def test_spectrum_jacobian_equals_the_exact_jacobian(name, tmp_path):
     """The Jacobian that every run's spectrum and finiteness checks use (built from the mapped kernels' own
     Jacobians) against the flat graph's exact one: the same values to round-off, the same eigenvalue bound."""
-    from mol_shell.equilibrium import spectrum_bounds
+    from mol_shell.model.equilibrium import spectrum_bounds
 
     scene = resolve(scenes(tmp_path)[name])
     system = ShellSystem(scene, 20)
@@ -173,7 +173,7 @@ def test_spectrum_jacobian_equals_the_exact_jacobian(name, tmp_path):
 def test_rest_spectrum_is_the_spectrum_of_a_block_antidiagonal_matrix():
     """``[[0, C], [D, 0]]`` (positions and rates interleaved as in a state vector) has the eigenvalues
     ``+-sqrt(eig(CD))``: checked on random blocks against the eigenvalues of the whole matrix."""
-    from mol_shell.equilibrium import rest_spectrum
+    from mol_shell.model.equilibrium import rest_spectrum
 
     rng = np.random.default_rng(7)
     m = 30
@@ -195,8 +195,8 @@ def test_rest_spectrum_is_the_spectrum_of_a_block_antidiagonal_matrix():
 def test_spectrum_at_rest_equals_the_full_spectrum(name, tmp_path):
     """A shell at rest takes the half-size spectrum (:func:`rest_spectrum`): its largest |eigenvalue| is the full
     Jacobian's to round-off; a moving twisted shell and a loaded one keep the full one."""
-    from mol_shell.degenerate import positions
-    from mol_shell.equilibrium import rest_spectrum, spectrum_bounds
+    from mol_shell.runs.checks import positions
+    from mol_shell.model.equilibrium import rest_spectrum, spectrum_bounds
 
     scene = resolve(scenes(tmp_path)[name])
     system = ShellSystem(scene, 20)

@@ -13,12 +13,12 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell import resources
-from mol_shell.cli import main
-from mol_shell.errors import ModelLimitError, ParameterError
-from mol_shell.resources import LongRunWarning
+from mol_shell.runs import resources
+from mol_shell.cli.main import main
+from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell.runs.resources import LongRunWarning
 
-simulate_module = sys.modules["mol_shell.simulate"]
+simulate_module = sys.modules["mol_shell.runs.simulate"]
 
 
 class Built(Exception):
@@ -30,7 +30,7 @@ def no_build(monkeypatch):
     def fail(*args, **kwargs):
         raise Built
 
-    monkeypatch.setattr(simulate_module, "ShellSystem", fail)
+    monkeypatch.setattr(sys.modules["mol_shell.runs.building"], "ShellSystem", fail)
     simulate_module._built.cache_clear()
     yield
     simulate_module._built.cache_clear()
@@ -85,7 +85,7 @@ def test_millions_of_nodes_are_refused_before_any_graph(capsys, tmp_path, no_bui
 
 
 def test_a_study_too_large_for_memory_is_refused_before_its_cases_exist(capsys, tmp_path, monkeypatch):
-    monkeypatch.setattr(mol_shell.study.__module__ and sys.modules["mol_shell.study"], "run_task", None)
+    monkeypatch.setattr(mol_shell.study.__module__ and sys.modules["mol_shell.runs.study"], "run_task", None)
     code = main(["study", "twisted-cylinder", "--vary", "gamma=0:1:1e-12", "--t-end", "1e-3", "-o",
                  str(tmp_path / "s.nc")])
     err = capsys.readouterr().err
@@ -126,7 +126,7 @@ def test_an_explicit_method_s_lower_bound_is_announced_once_the_spectrum_is_know
 _PEAK = textwrap.dedent("""
     import numpy as np
     import mol_shell
-    from mol_shell import resources
+    from mol_shell.runs import resources
 
     def peak_rss():  # this process's own high-water mark: getrusage's ru_maxrss also counts the parent's
         # resident set at the fork (Linux keeps it across exec), the whole pytest process here
@@ -155,7 +155,7 @@ def test_memory_estimate_bounds_a_measured_run():
 
 
 def test_compilation_that_takes_a_while_says_so(tmp_path, monkeypatch, capsys):
-    from mol_shell import compiled
+    from mol_shell.discretization import compiled
 
     monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path))
     monkeypatch.setattr(compiled, "COMPILE_PROGRESS_AFTER", 0.001)  # gcc takes 0.04 s on an idle machine
@@ -170,7 +170,7 @@ def test_compilation_that_takes_a_while_says_so(tmp_path, monkeypatch, capsys):
 
 
 def test_compile_time_is_estimated_only_within_the_measured_sizes():
-    from mol_shell.compiled import CompiledFunctions, estimated_compile_seconds
+    from mol_shell.discretization.compiled import CompiledFunctions, estimated_compile_seconds
 
     assert 0.5 < estimated_compile_seconds(1e5) < 1.0  # a right-hand side at n = 40: ~0.6 s measured
     assert 2 < estimated_compile_seconds(1.1e6, CompiledFunctions.FLAGS) < 5  # a Jacobian at n = 40: ~3 s

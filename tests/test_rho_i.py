@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.simulate import build
+from mol_shell.runs.simulate import build
 
 
 def test_rho_i_terms_enter_the_graph_only_when_needed():

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.errors import ParameterError
-from mol_shell.ring import ring_system, simulate_ring
+from mol_shell._core.errors import ParameterError
+from mol_shell.runs.ring import ring_system, simulate_ring
 
 TIMES = np.linspace(0.0, 0.02, 5)
 FIELDS = ("r", "chi", "psi", "r_t", "chi_t", "psi_t")

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.cli import main
-from mol_shell.errors import ParameterError
-from mol_shell.output import read_netcdf
+from mol_shell.cli.main import main
+from mol_shell._core.errors import ParameterError
+from mol_shell.results.dataset import read_netcdf
 from mol_shell.scenes import SCENES
 from mol_shell.scenes.base import DRIVES, LOADS
 from mol_shell.scenes.files import EDGES, MATERIAL, TABLES, load_scene, table_of

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.errors import ParameterError
+from mol_shell._core.errors import ParameterError
 from mol_shell.scenes import get_scene, with_params
-from mol_shell.simulate import build
+from mol_shell.runs.simulate import build
 
 
 def test_registry_and_string_parameters():

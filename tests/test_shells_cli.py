@@ -2,7 +2,7 @@
 
 import xarray as xr
 
-from mol_shell.cli import main
+from mol_shell.cli.main import main
 
 
 def test_scenes_lists_every_registered_scene_and_a_scenes_parameters(capsys):

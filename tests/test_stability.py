@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.equilibrium import spectrum_bounds
+from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.integrators import Leapfrog
 from mol_shell.model.material import lame
-from mol_shell.simulate import build, resolve
-from mol_shell.stability import Case, markdown_table, report, stable_leapfrog_step
+from mol_shell.runs.simulate import build, resolve
+from mol_shell.analysis.stability import Case, markdown_table, report, stable_leapfrog_step
 
 
 @pytest.mark.parametrize("changes", [{}, {"nu": 0.499}, {"h": 1e-3}])

@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.compiled import CompiledRHS
-from mol_shell.discretization import ShellSystem
+from mol_shell.discretization.compiled import CompiledRHS
+from mol_shell.discretization.system import ShellSystem
 from mol_shell.scenes import Cone, Sphere, Torus, TwistedCylinder
-from mol_shell.simulate import build, resolve
-from mol_shell.stencil import StencilLeapfrog, Unsupported, leapfrog_stepper, sx_statements, unsupported_reason
+from mol_shell.runs.simulate import build, resolve
+from mol_shell.discretization.stencil import StencilLeapfrog, Unsupported, leapfrog_stepper, sx_statements, unsupported_reason
 
 from test_performance_paths import disturbed, ellipse_points
 

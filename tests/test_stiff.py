@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.equilibrium import spectrum_bounds
+from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.integrators import Leapfrog
-from mol_shell.simulate import LEAPFROG_MAX_LOG_GROWTH, build, parasitic_growth_rate, resolve
+from mol_shell.runs.simulate import LEAPFROG_MAX_LOG_GROWTH, build, parasitic_growth_rate, resolve
 
 STIFF = mol_shell.TwistedCylinder(eta_mu=1e4, eta_lambda=2e4)
 MILD = mol_shell.TwistedCylinder(eta_mu=1e3, eta_lambda=2e3)

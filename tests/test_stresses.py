@@ -14,10 +14,10 @@ import pytest
 import xarray as xr
 
 import mol_shell
-from mol_shell.errors import ParameterError
+from mol_shell._core.errors import ParameterError
 from mol_shell.model.kinematics import deformation_gradient
 from mol_shell.model.material import Thickness, centroidal_offset, effective_lame, lame, shell_dissipation, shell_energy
-from mol_shell.stresses import RESULTANTS, add_stresses, sample_stresses
+from mol_shell.results.stresses import RESULTANTS, add_stresses, sample_stresses
 
 EPS = np.finfo(float).eps
 FIELDS = ("z", "r", "chi", "theta", "psi")
@@ -270,7 +270,7 @@ def test_large_runs_are_skipped_with_a_note_and_non_runs_refused(twisted):
 
 def test_run_writes_the_stresses_unless_told_not_to(tmp_path):
     """``mol-shell run`` adds the stresses by default and leaves them out with ``--no-stresses``."""
-    from mol_shell.cli import main
+    from mol_shell.cli.main import main
 
     base = ["run", "twisted-cylinder", "--n", "8", "--t-end", "1e-5", "-o"]
     assert main([*base, str(tmp_path / "a.nc")]) == 0

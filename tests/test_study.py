@@ -7,11 +7,12 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.errors import ParameterError
-from mol_shell import scheduling
-from mol_shell.study import parse_vary, study
+from mol_shell._core.errors import ParameterError
+from mol_shell.runs import scheduling
+from mol_shell.cli.study import parse_vary
+from mol_shell.runs.study import study
 
-study_module = importlib.import_module("mol_shell.study")  # the module, even if mol_shell exports a function study
+study_module = importlib.import_module("mol_shell.runs.study")  # the module, even if mol_shell exports a function study
 
 BASE = mol_shell.TwistedCylinder(gamma=0.0)
 SMALL = {"n": 10, "t_end": 0.002}
@@ -96,7 +97,7 @@ def test_vary_ranges_include_the_stop():
 
 
 def test_command_line(tmp_path, monkeypatch, capsys):
-    from mol_shell import cli
+    from mol_shell.cli import main as cli
 
     out = tmp_path / "u.nc"
     code = cli.main(["study", "unshearable", "--vary", "omega=0,20", "--integrator", "ida", "--n", "8",
@@ -131,7 +132,7 @@ STUDY_BAD = [
 
 @pytest.mark.parametrize("extra,message", STUDY_BAD)
 def test_command_line_refuses_bad_studies_up_front(extra, message, tmp_path, capsys, monkeypatch):
-    from mol_shell import cli
+    from mol_shell.cli import main as cli
 
     monkeypatch.setattr(study_module, "run_task", None)  # nothing may run
     code = cli.main(["study", "twisted-cylinder", *extra, "--t-end", "0.001", "-o", str(tmp_path / "s.nc")])
@@ -146,7 +147,7 @@ def test_unreachable_scheduler_is_refused_quickly(monkeypatch):
     import time
 
     pytest.importorskip("distributed")
-    from mol_shell.errors import ParameterError
+    from mol_shell._core.errors import ParameterError
 
     with socket.socket() as sock:  # a port nobody listens on
         sock.bind(("127.0.0.1", 0))
@@ -159,7 +160,7 @@ def test_unreachable_scheduler_is_refused_quickly(monkeypatch):
 
 
 def test_python_study_refuses_bad_workers_and_options():
-    from mol_shell.errors import ParameterError
+    from mol_shell._core.errors import ParameterError
 
     for workers in (0, -3, 1.5, True):
         with pytest.raises(ParameterError, match="^workers = "):

@@ -5,8 +5,9 @@ import pytest
 
 import mol_shell
 
-from mol_shell.errors import ParameterError
-from mol_shell.unshearable import Unshearable, UnshearableDAE, defects, simulate_unshearable
+from mol_shell._core.errors import ParameterError
+from mol_shell.runs.unshearable import UnshearableDAE, defects, simulate_unshearable
+from mol_shell.scenes import Unshearable
 
 TIMES = np.linspace(0.0, 0.03, 7)
 
@@ -58,7 +59,7 @@ def test_the_multipliers_are_the_coriolis_torque_and_couple(spinning):
     the inertia of (3.11)-(3.12), i.e. (4.4)-(4.6) with rhoI = 0 (per unit reference area):
     d(lambda_chi)/ds = rhoA (r^2 chi_t)_t + rhoJ (cos^2(theta) chi_t)_t and
     lambda_psi = -rhoJ (chi_tt cos(theta) - 2 chi_t theta_t sin(theta))."""
-    from mol_shell.simulate import build
+    from mol_shell.runs.simulate import build
 
     constrained, _ = spinning
     shell, _ = build(Unshearable(), 41)
@@ -99,7 +100,7 @@ def test_without_spin_the_multipliers_vanish_and_the_dae_is_the_free_shell():
 
 
 def test_consistent_initial_values_solve_the_residual():
-    from mol_shell.simulate import build
+    from mol_shell.runs.simulate import build
 
     scene = Unshearable()
     shell, _ = build(scene, 8)

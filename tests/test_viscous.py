@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.errors import ParameterError
+from mol_shell._core.errors import ParameterError
 from mol_shell.integrators import Leapfrog
-from mol_shell.simulate import build, resolve
+from mol_shell.runs.simulate import build, resolve
 
 
 def _perturbed_state(system, scene, seed=1, size=1e-2):

@@ -30,7 +30,7 @@ from scipy.interpolate import CubicSpline
 
 import mol_shell
 import reference_ring as ref
-from mol_shell.discretization import ShellSystem
+from mol_shell.discretization.system import ShellSystem
 from mol_shell.integrators import Leapfrog
 
 EPS = np.finfo(float).eps

@@ -1,1 +1,1 @@
-"""Analyses that run many simulations or linearisations: natural modes (more to move here: stability, studies)."""
+"""Layer 7: analyses that run or linearise many systems: natural modes, stability reports, work-precision."""

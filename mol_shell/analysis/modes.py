@@ -25,8 +25,11 @@ import scipy.sparse
 import scipy.sparse.linalg
 import xarray as xr
 
-from ..errors import ParameterError
-from ..model.kinematics import FIELDS
+from mol_shell._core.errors import ParameterError
+from mol_shell._core.version import __version__
+from mol_shell.model.kinematics import FIELDS
+from mol_shell.results.dataset import FIELD_META, _attr, coordinates, variables
+from mol_shell.runs.simulate import as_scene, build, resolve, starting_state
 
 #: above this many free coordinates the sparse shift-invert solver is used
 DENSE_MAX = 3000
@@ -94,12 +97,9 @@ def modes(scene, n=40, count=10):
         the largest entry of each mode is 1, unit of each field), ``energy_fraction(mode, field)``;
         attrs ``zero_modes``, ``method``, the scene's parameters.
     """
-    from ..simulate import as_scene, build, resolve
-
     scene = resolve(as_scene(scene))
     if not isinstance(count, (int, np.integer)) or isinstance(count, bool) or count < 1:
         raise ParameterError("count", count, "integers >= 1")
-    from ..simulate import starting_state
 
     system, _ = build(scene, n)
     y0, _ = starting_state(scene, system, n)
@@ -133,8 +133,6 @@ def modes(scene, n=40, count=10):
 
 
 def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method):
-    from ..output import FIELD_META, _attr, coordinates, variables
-
     n = system.n
     modes_count = phi.shape[1]
     shapes = np.zeros((modes_count, 5, n))
@@ -166,7 +164,6 @@ def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method):
     coords = {"mode": ("mode", np.arange(1, modes_count + 1), {"long_name": "mode number (ascending frequency)"}),
               "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"}),
               "field": ("field", list(FIELDS), {"long_name": "field"})}
-    from ..version import __version__
 
     attrs = {"Conventions": "CF-1.8", "title": f"mol_shell natural modes of scene {scene.name}",
              "source": f"mol_shell {__version__}", "scene": scene.name, "n": n, "zero_modes": n_zero,
@@ -175,69 +172,3 @@ def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method):
     for name, value in scene.params().items():
         attrs[name] = value
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: _attr(v) for k, v in attrs.items()})
-
-
-def plot_modes(ds, path, count=6):
-    """The lowest ``count`` mode shapes against ``s``, one panel each, with frequency and dominant field."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    count = min(count, ds.sizes["mode"])
-    cols = 3 if count > 4 else count
-    rows = -(-count // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 2.8 * rows), squeeze=False, sharex=True)
-    colors = dict(zip(FIELDS, ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple")))
-    for m, ax in enumerate(axes.ravel()):
-        if m >= count:
-            ax.axis("off")
-            continue
-        mode = ds.isel(mode=m)
-        share = mode.energy_fraction.values
-        for k, name in enumerate(FIELDS):
-            if np.abs(mode[name]).max() > 1e-3:
-                ax.plot(ds.s, mode[name], color=colors[name], label=f"{name} ({share[k]:.0%})")
-        dom = FIELDS[int(np.argmax(share))]
-        ax.set_title(f"mode {m + 1}: {float(mode.frequency):.5g} rad/s ({dom})", fontsize=9)
-        ax.axhline(0, color="0.8", lw=0.5)
-        ax.legend(fontsize=7, loc="best")
-    for ax in axes[-1]:
-        ax.set_xlabel("s (m)")
-    fig.suptitle(f"{ds.attrs['scene']}: lowest modes (n = {ds.attrs['n']}, {ds.attrs['zero_modes']} rigid motions "
-                 "not shown); shapes scaled to 1, share of kinetic energy per field", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def cmd_modes(args):
-    from ..cli import parse_sets
-    from ..output import writable_path
-    from ..scenes import get_scene
-
-    scene = get_scene(args.scene, **parse_sets(args.set))
-    png = writable_path(args.png or str(args.output).rsplit(".", 1)[0] + ".png", "--png")
-    ds = modes(scene, n=args.n, count=args.count)
-    ds.to_netcdf(args.output, engine="netcdf4")
-    plot_modes(ds, png)
-    print(f"wrote {args.output} and {png}: {ds.sizes['mode']} modes, {ds.attrs['zero_modes']} rigid motions; "
-          f"lowest {float(ds.frequency[0]):.6g} rad/s")
-    for m in range(min(ds.sizes["mode"], 10)):
-        share = ds.energy_fraction.isel(mode=m).values
-        print(f"  mode {m + 1:2d}: {float(ds.frequency[m]):14.6f} rad/s  ({FIELDS[int(np.argmax(share))]}, "
-              f"{share.max():.0%} of the kinetic energy)")
-    return 0
-
-
-def register(sub):
-    from ..cli import integer_arg
-
-    p = sub.add_parser("modes", help="natural frequencies and mode shapes about a scene's initial state")
-    p.add_argument("scene", help="a registered scene (its initial state must be at rest and in equilibrium)")
-    p.add_argument("--n", type=integer_arg("--n", 3), default=40, help="nodes in s (default 40)")
-    p.add_argument("--count", type=integer_arg("--count", 1), default=10, help="lowest nonzero modes (default 10)")
-    p.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
-    p.add_argument("--png", default=None, help="figure of the lowest shapes (default: beside -o, .png)")
-    p.add_argument("-o", "--output", required=True, help="netCDF file to write")
-    p.set_defaults(func=cmd_modes)

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ModelLimitError, NumericalInstabilityError
+from mol_shell._core.errors import ModelLimitError, NumericalInstabilityError
 
 
 @dataclass

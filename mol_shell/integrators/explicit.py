@@ -15,9 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelLimitError, ParameterError
-from .base import Monitor, StepBudget, Trajectory
-from .sundials import _Sundials
+from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell.integrators.base import Monitor, StepBudget, Trajectory
+from mol_shell.integrators.sundials import _Sundials
 
 
 def failed(message, t):

@@ -17,9 +17,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelLimitError, ParameterError, is_number
-from ..stencil import leapfrog_stepper
-from .base import Monitor, Trajectory
+from mol_shell._core.errors import ModelLimitError, ParameterError, is_number
+from mol_shell.discretization.stencil import leapfrog_stepper
+from mol_shell.integrators.base import Monitor, Trajectory
 
 
 @dataclass(frozen=True)

@@ -23,9 +23,11 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from ..errors import ModelLimitError, ParameterError
-from .base import Monitor, StepBudget, Trajectory
-from .sundials import _Sundials, pieces
+from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell.discretization.compiled import CompiledFunctions
+from mol_shell.discretization.dae import ShellDAE
+from mol_shell.integrators.base import Monitor, StepBudget, Trajectory
+from mol_shell.integrators.sundials import _Sundials, pieces
 
 
 @dataclass(frozen=True)
@@ -226,8 +228,6 @@ class CasadiIDAS(CasadiCVODES):
     plugin_options = {"suppress_algebraic": True}
 
     def _dae(self, system):
-        from ..dae import ShellDAE
-
         if system.n_extra:
             raise ParameterError("integrator", self.name, "leapfrog, cvode-bdf, cvode-adams, ida, the scipy peers or "
                                  "casadi-cvodes for a scene with loads", hint="its semi-explicit DAE form takes no loads")
@@ -275,8 +275,6 @@ class CasadiCVODESCompiled(CasadiCVODES):
     plugin_options = {"linear_multistep_method": "adams", "nonlinear_solver_iteration": "functional"}
 
     def _dae(self, system):
-        from ..compiled import CompiledFunctions
-
         t, y = system.rhs_mapped.mx_in()
         ode = ca.Function("ode", [t, y], [system.rhs_mapped(t, y)], ["t", "y"], ["ydot"])
         # CasADi asks for derivatives when it builds the plugin: give it the compiled Jacobian (jac_ode)

@@ -34,9 +34,12 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")  # SuperLU_MT spins otherwise (70x
 import casadi as ca  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..errors import ModelLimitError, ParameterError, is_number  # noqa: E402
-from ..model.kinematics import FIELDS  # noqa: E402
-from .base import Monitor, StepBudget, Trajectory  # noqa: E402
+from mol_shell._core.constants import DENSE_MAX_STATES
+from mol_shell._core.errors import ModelLimitError, ParameterError, is_number  # noqa: E402
+from mol_shell.discretization.compiled import CompiledFunctions, buffered
+from mol_shell.discretization.dae import ShellDAE
+from mol_shell.integrators.base import Monitor, StepBudget, Trajectory  # noqa: E402
+from mol_shell.model.kinematics import FIELDS  # noqa: E402
 
 #: the scikit-sundae version whose constraint defect the workaround targets (and that passes the tests)
 SKSUNDAE_TESTED = "1.2.0"
@@ -83,12 +86,8 @@ def pieces(system, kind, jacobian="compiled"):
 
 
 def _build_pieces(system, kind, jacobian):
-    from ..compiled import CompiledFunctions, buffered
-
     out = {"events": buffered(system.limits)}
     if kind == "ida":
-        from ..dae import ShellDAE
-
         dae = ShellDAE(system)
         funcs = [dae.residual, dae.jacobian]
         out["dae"] = dae
@@ -131,7 +130,7 @@ class _Sundials:
     max_step : float
         Largest step, s (0: unbounded).
     linsolver : str
-        ``"auto"`` (dense up to 100 states, banded up to 2000, sparse above), ``"dense"``,
+        ``"auto"`` (dense up to 100 states, banded up to DENSE_MAX_STATES, sparse above), ``"dense"``,
         ``"band"`` or ``"sparse"``.
     jacobian : str
         ``"compiled"`` (generated C, cached) or ``"vm"`` (CasADi's virtual machine, no compiler).
@@ -223,7 +222,7 @@ class _Sundials:
     def choose_linsolver(self, size):
         if self.linsolver != "auto":
             return self.linsolver
-        return "dense" if size <= 100 else "band" if size <= 2000 else "sparse"
+        return "dense" if size <= 100 else "band" if size <= DENSE_MAX_STATES else "sparse"
 
     # -- running -----------------------------------------------------------------------------
     def integrate(self, system, compiled, y0, times, *, progress=None):

@@ -1,7 +1,7 @@
 """The shell model: kinematics, material, balance laws. Backend-agnostic scalar physics."""
 
-from .kinematics import FIELDS, betas, deformation_gradient, delta, kinetic_energy_density
-from .material import Thickness, centroidal_offset, inertias, lame, shell_energy, svk_energy, svk_stress
+from mol_shell.model.kinematics import FIELDS, betas, deformation_gradient, delta, kinetic_energy_density
+from mol_shell.model.material import Thickness, centroidal_offset, inertias, lame, shell_energy, svk_energy, svk_stress
 
 __all__ = [
     "FIELDS",

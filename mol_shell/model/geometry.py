@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ParameterError
+from mol_shell._core.errors import ParameterError
 
 
 class Meridian:

@@ -17,7 +17,7 @@ from casadi import cos, sin
 
 # Field order used throughout the package (node-major state: these five, then
 # their momenta, for node 0, then node 1, ...).
-FIELDS = ("z", "r", "chi", "theta", "psi")
+from mol_shell._core.constants import FIELDS  # noqa: F401  (kinematics speaks of these fields)
 
 
 def trigonometry(theta, psi, trig=None):

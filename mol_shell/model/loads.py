@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from ..errors import ParameterError
+from mol_shell._core.errors import ParameterError
 
 HISTORIES = ("constant", "step T0", "ramp T1", "sine F", "table t0:h0 t1:h1 ...")
 HISTORY_ALLOWED = ("'constant', 'step T0' (0 before T0 s, then 1), 'ramp T1' (t/T1 up to 1), 'sine F' "

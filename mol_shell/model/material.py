@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .kinematics import column_polynomials, scaled_deformation_gradient
+from mol_shell.model.kinematics import column_polynomials, scaled_deformation_gradient
 
 
 def lame(young, poisson):

@@ -7,12 +7,26 @@ allowed range.
 
 from __future__ import annotations
 
-from ..errors import ParameterError
-from .base import DESCRIPTIONS, DRIVES, LOADS, N_QUAD_RANGE, UNITS, ShellScene, _check, _coerce, check_radius, with_params, zeta1_used
-from .cylinder import Axisymmetric, CylinderScene, SpinningRing, TwistedCylinder
-from .shells import Cone, MeridianShell, Sphere, Torus
+from mol_shell._core.errors import ParameterError
+from mol_shell.scenes.base import (
+    DESCRIPTIONS,
+    DRIVES,
+    LOADS,
+    N_QUAD_RANGE,
+    UNITS,
+    ShellScene,
+    _check,
+    _coerce,
+    check_radius,
+    with_params,
+    zeta1_used,
+)
+from mol_shell.scenes.cylinder import Axisymmetric, CylinderScene, SpinningRing, TwistedCylinder
+from mol_shell.scenes.shells import Cone, MeridianShell, Sphere, Torus
+from mol_shell.scenes.unshearable import UNSHEARABLE_INTEGRATORS, Unshearable
 
-SCENES = {cls.name: cls for cls in (TwistedCylinder, SpinningRing, Axisymmetric, Sphere, Cone, Torus, MeridianShell)}
+SCENES = {cls.name: cls for cls in (TwistedCylinder, SpinningRing, Axisymmetric, Sphere, Cone, Torus, MeridianShell,
+                                  Unshearable)}
 
 
 def get_scene(name, **params):
@@ -28,6 +42,6 @@ def get_scene(name, **params):
 
 __all__ = [
     "DESCRIPTIONS", "DRIVES", "LOADS", "N_QUAD_RANGE", "SCENES", "UNITS", "Axisymmetric", "Cone", "CylinderScene", "MeridianShell",
-    "ShellScene", "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "check_radius", "get_scene", "with_params",
+    "ShellScene", "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "UNSHEARABLE_INTEGRATORS", "Unshearable", "check_radius", "get_scene", "with_params",
     "zeta1_used", "_check", "_coerce",
 ]

@@ -14,11 +14,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..ends import check_edge
-from ..errors import ParameterError, is_number
-from ..model.geometry import base_offset, thickness_volume_factor
-from ..model.loads import parse_history
-from ..model.material import MATERIALS, centroidal_offset
+from mol_shell._core.errors import ParameterError, is_number
+from mol_shell.model.edges import check_edge
+from mol_shell.model.geometry import base_offset, thickness_volume_factor
+from mol_shell.model.loads import parse_history
+from mol_shell.model.material import MATERIALS, centroidal_offset
 
 UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",

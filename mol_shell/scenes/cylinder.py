@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ParameterError
-from ..model.geometry import CylinderMeridian
-from .base import ShellScene, _check, check_radius, zeta1_used
+from mol_shell._core.errors import ParameterError
+from mol_shell.model.geometry import CylinderMeridian
+from mol_shell.scenes.base import ShellScene, _check, check_radius, zeta1_used
 
 
 @dataclass(frozen=True)

@@ -38,9 +38,12 @@ import math
 import sys
 from pathlib import Path
 
-from ..errors import ParameterError, is_number, show
-from ..model.loads import HISTORY_ALLOWED, parse_history
-from .base import DESCRIPTIONS, DRIVES, LOADS, UNITS
+from mol_shell._core.constants import FIELDS
+from mol_shell._core.errors import ParameterError, is_number, show
+from mol_shell.integrators import INTEGRATORS
+from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
+from mol_shell.scenes import SCENES
+from mol_shell.scenes.base import DESCRIPTIONS, DRIVES, LOADS, UNITS
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -152,9 +155,6 @@ def _type_ok(field, value):
 
 def _run_options(source, run):
     """The ``[run]`` table checked: ``{name: value}`` with ``simulate``'s keyword names."""
-    from ..integrators import INTEGRATORS
-    from ..model.kinematics import FIELDS
-
     out = {}
 
     def positive(key, value, low=0.0, high=math.inf, closed=False, unit=" s"):
@@ -200,8 +200,6 @@ def _run_options(source, run):
 
 def scene_from_dict(data, source="<scene file>", folder="."):
     """The scene (and the ``[run]`` options) of a parsed scene file; see the module's docstring."""
-    from . import SCENES
-
     folder = Path(folder)
     names = "{" + ", ".join(sorted(SCENES)) + "}"
     if "scene" not in data:

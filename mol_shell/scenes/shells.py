@@ -14,9 +14,9 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..errors import ParameterError
-from ..model.geometry import ArcMeridian, ConeMeridian, PointsMeridian, read_points
-from .base import ShellScene, _check
+from mol_shell._core.errors import ParameterError
+from mol_shell.model.geometry import ArcMeridian, ConeMeridian, PointsMeridian, read_points
+from mol_shell.scenes.base import ShellScene, _check
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,222 @@
+"""Stability report: where each integrator stays stable on stiff and extreme cases, and what it costs.
+
+For each case: the spectrum of the exact Jacobian at the initial state (largest
+``|lambda|``, fastest damping rate, stiffness ratio), the leap-frog step bound it
+predicts (``1 / max |lambda|``), the largest stable leap-frog step found by
+bisection, and runs of the other integrators (steps, failures, wall time,
+whether they finish, energy error). ``mol-shell stability SCENE`` runs it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+
+import numpy as np
+import xarray as xr
+
+from mol_shell._core.constants import DENSE_MAX_STATES
+from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell.integrators import INTEGRATORS, Leapfrog
+from mol_shell.model.equilibrium import spectrum_bounds
+from mol_shell.runs.simulate import LEAPFROG_MAX_LOG_GROWTH, build, resolve, simulate
+from mol_shell.scenes import Cone, Sphere, Torus, TwistedCylinder
+
+
+@dataclasses.dataclass(frozen=True)
+class Case:
+    """One row of the report: a labelled scene on ``n`` nodes, run to ``t_end``."""
+
+    label: str
+    scene: object
+    n: int = 40
+    t_end: float = 0.01
+
+
+#: saved times per run (the energy balance of viscous runs is integrated on them)
+SAVED = 100
+
+
+def shell_cases():
+    """Shells that are not cylinders: a closed sphere (cells next to the poles are short in the hoop
+    direction), a thin cone and a torus segment, each breathing or twisting a little."""
+    return [Case("sphere, closed (R = 1.01a, gamma = 0.05)", Sphere(R=1.01, gamma=0.05)),
+            Case("cone h=0.001 (gamma = 0.1)", Cone(h=1e-3, gamma=0.1)),
+            Case("torus (dilation 1.01, gamma = 0.1)", Torus(dilation=1.01, gamma=0.1))]
+
+
+def default_cases(base=None, quick=False):
+    """The issue's set: paper scene, viscosity, near-incompressibility, thin shells, large twist, spin, fine grids,
+    and the shells of :func:`shell_cases`. Variations a base scene has no parameter for are left out."""
+    base = base or TwistedCylinder()
+    names = {f.name for f in dataclasses.fields(base)}
+
+    def rep(scene, **changes):
+        return dataclasses.replace(scene, **changes) if set(changes) <= names else None
+
+    cases = [Case("paper" if isinstance(base, TwistedCylinder) else base.name, base)]
+    cases += [Case(f"viscous eta_mu={eta:g}", rep(base, eta_mu=eta, eta_lambda=2 * eta)) for eta in (0.01, 1.0, 100.0)]
+    cases += [Case(f"nu={nu:g}", rep(base, nu=nu)) for nu in (0.3, 0.49, 0.499, 0.4999)]
+    cases += [Case(f"nu={nu:g} plane-stress", rep(base, nu=nu, material="svk-plane-stress")) for nu in (0.499, 0.4999)]
+    cases += [Case(f"h={h:g}", rep(base, h=h)) for h in (1e-2, 1e-3, 1e-4)]
+    cases += [Case(f"gamma={g:g}", rep(base, gamma=g)) for g in (0.5, 1.5, 3.0)]
+    cases += [Case("psi0=1.5 (delta0 = 0.07)", rep(base, psi0=1.5))]  # sheared to near the fold delta = 0
+    cases += [Case(f"omega={w:g}", rep(base, omega=w)) for w in (50.0, 200.0)]
+    sizes = (160, 640) if quick else (160, 640, 2560, 10240)
+    cases += [Case(f"n={n}", base, n=n, t_end=0.002) for n in sizes]
+    cases += shell_cases()
+    return [case for case in cases if case.scene is not None]
+
+
+def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, iterations=8, min_steps=100):
+    """Largest stable leap-frog step by bisection in ``[bound/2, 2 bound]``; returns ``(dt, horizon)``.
+
+    A step counts as stable when its run reaches ``horizon`` (status ``complete``). The horizon is
+    ``steps`` steps of ``bound/2``, cut to where the step is what is being judged:
+
+    * with damping, to where leap-frog's parasitic root has grown by ``exp(LEAPFROG_MAX_LOG_GROWTH)``
+      at small steps (near the bound it grows faster, by ``1/sqrt(1 - (w dt)^2)``: that is part of
+      what the bisection measures);
+    * when a run at ``bound/10`` fails too (the shell itself folds or collapses, as at large twist),
+      to 0.9 of its failure time. Within that horizon a run that ends early, by energy growth or at a
+      limit, does so because of its step: an unstable step can cross ``delta = 0`` before the
+      energy check sees it grow.
+
+    ``dt`` is ``nan`` if ``bound/2`` is unstable on that horizon, or if the horizon is shorter than
+    ``min_steps`` steps of ``2 bound`` (the shell folds too soon for a step to be judged).
+    """
+
+    def run(dt, horizon):
+        end = math.ceil(horizon / dt) * dt  # on the step grid
+        return Leapfrog(dt=dt, chunk=100).integrate(system, compiled, y0, np.array([0.0, end]))
+
+    def stable(dt):
+        return run(dt, horizon).status == "complete"
+
+    horizon = steps * 0.5 * bound
+    if damping > 0:
+        horizon = min(horizon, LEAPFROG_MAX_LOG_GROWTH / damping)
+    lo, hi = 0.5 * bound, 2.0 * bound
+    if not stable(lo):
+        small = run(0.1 * bound, horizon)
+        if small.status == "complete":
+            return float("nan"), horizon
+        horizon = 0.9 * small.failure_time  # the physics ends the run, whatever the step
+        if horizon < min_steps * hi or not stable(lo):
+            return float("nan"), horizon
+    if stable(hi):
+        return hi, horizon
+    for _ in range(iterations):
+        mid = math.sqrt(lo * hi)
+        lo, hi = (mid, hi) if stable(mid) else (lo, mid)
+    return lo, horizon
+
+
+def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, atol=1e-9):
+    """Measure one case; returns a dict of numbers (NaN where not applicable)."""
+    scene = resolve(case.scene)
+    system, compiled = build(scene, case.n)
+    y0 = system.initial_state(scene)
+    jac = np.array(system.jac(0, y0)) if system.size <= DENSE_MAX_STATES else None
+    omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
+    row = {"label": case.label, "n": case.n, "t_end": case.t_end, "omega_max": omega_max, "damping_max": damping}
+    if jac is not None:
+        mags = np.abs(np.linalg.eigvals(jac))
+        # the rigid rotation chi -> chi + c is a double zero eigenvalue (a Jordan block), which
+        # round-off splits into a pair of size ~sqrt(eps) max|lambda|: exclude it
+        floor = 1e-6 * mags.max()
+        row["stiffness_ratio"] = float(mags.max() / mags[mags > floor].min())
+    else:
+        row["stiffness_ratio"] = float("nan")
+    bound = 1.0 / omega_max
+    row["leapfrog_dt_bound"] = bound
+    row["leapfrog_dt_stable"], row["bisection_horizon_s"] = (
+        stable_leapfrog_step(system, compiled, y0, bound, damping) if bisect else (float("nan"), float("nan")))
+    for name in ("leapfrog", *integrators):
+        if name not in INTEGRATORS:
+            continue
+        key = name.replace("-", "_")
+        options = {"dt": _leapfrog_step(case, 0.5 * bound)} if name == "leapfrog" else {"rtol": rtol, "atol": atol}
+        start = time.perf_counter()
+        try:
+            ds = simulate(scene, name, n=case.n, times=_times(case, options), progress=False, **options)
+            row[f"{key}_status"] = ds.attrs["status"]
+            row[f"{key}_steps"] = int(ds.attrs.get("n_steps", -1))
+            row[f"{key}_failures"] = ds.attrs.get("n_failed_steps", -1)
+            row[f"{key}_wall_s"] = ds.attrs["wall_time_s"]
+            e = ds.energy.values + _dissipated(ds)
+            row[f"{key}_energy_error"] = float(np.abs(e - e[0]).max() / abs(e[0])) if e[0] else float("nan")
+        except (ParameterError, ModelLimitError) as exc:
+            row[f"{key}_status"] = f"refused: {exc}"
+            row[f"{key}_wall_s"] = time.perf_counter() - start
+    return row
+
+
+def _times(case, options, saved=SAVED):
+    """``saved + 1`` times to ``t_end``: the dissipated energy is integrated on them."""
+    return np.linspace(0.0, case.t_end, saved + 1)
+
+
+def _leapfrog_step(case, dt_max, saved=SAVED):
+    """The largest step <= ``dt_max`` that puts every saved time on the step grid."""
+    return case.t_end / (saved * math.ceil(case.t_end / (saved * dt_max)))
+
+
+def _dissipated(ds):
+    """Energy dissipated up to each saved time (trapezoid on the saved times); 0 for elastic shells."""
+    if "dissipation" not in ds:
+        return np.zeros(ds.sizes["time"])
+    p, t = ds.dissipation.values, ds.time.values
+    return np.concatenate([[0.0], np.cumsum(np.diff(t) * 0.5 * (p[1:] + p[:-1]))])
+
+
+def report(cases, **kwargs):
+    """Run every case; one Dataset with a ``case`` dimension (strings for statuses)."""
+    rows = []
+    for case in cases:
+        start = time.perf_counter()
+        rows.append(run_case(case, **kwargs))
+        print(f"{case.label:28s} done in {time.perf_counter() - start:6.1f} s", flush=True)
+    keys = sorted({k for row in rows for k in row if k != "label"})
+    data = {}
+    for key in keys:
+        values = [row.get(key, float("nan")) for row in rows]
+        if any(isinstance(v, str) for v in values):
+            values = [str(v) if not isinstance(v, float) or not math.isnan(v) else "" for v in values]
+        data[key] = ("case", values)
+    ds = xr.Dataset(data, coords={"case": [row["label"] for row in rows]})
+    ds.attrs["bisected"] = int(kwargs.get("bisect", True))
+    return ds
+
+
+def markdown_table(ds, integrators=("leapfrog", "cvode_bdf", "ida"), spectrum=True):
+    """The report as a markdown table (columns that exist): the spectrum and each integrator's run."""
+    cols = [("n", "n", "{:d}")]
+    if spectrum:
+        cols += [
+            ("omega_max", "max abs(eig) [1/s]", "{:.3g}"), ("damping_max", "max damping [1/s]", "{:.3g}"),
+            ("stiffness_ratio", "stiffness ratio", "{:.3g}"), ("leapfrog_dt_bound", "LF dt bound [s]", "{:.3g}"),
+            ("leapfrog_dt_stable", "LF dt stable (bisection) [s]", "{:.3g}"),
+            ("bisection_horizon_s", "bisection horizon [s]", "{:.3g}"),
+        ]
+    for name in integrators:
+        cols += [(f"{name}_status", f"{name} status", "{}"), (f"{name}_steps", f"{name} steps", "{:.0f}"),
+                 *([(f"{name}_failures", f"{name} failed steps", "{:.0f}")] if name != "leapfrog" else []),
+                 (f"{name}_wall_s", f"{name} wall [s]", "{:.3g}"), (f"{name}_energy_error", f"{name} energy err", "{:.2g}")]
+    cols = [c for c in cols if c[0] in ds]
+    lines = ["| case | " + " | ".join(c[1] for c in cols) + " |", "|---" * (len(cols) + 1) + "|"]
+    for i, label in enumerate(ds.case.values):
+        cells = []
+        for key, _, fmt in cols:
+            v = ds[key].values[i]
+            if key == "leapfrog_dt_stable" and isinstance(v, float) and math.isnan(v) and ds.attrs.get("bisected", 1):
+                short = float(ds["bisection_horizon_s"].values[i]) < 200 * float(ds["leapfrog_dt_bound"].values[i])
+                cells.append("n/a: folds within 100 steps" if short else "< bound/2")
+                continue
+            try:
+                cells.append(fmt.format(int(v) if fmt == "{:d}" else v) if not (isinstance(v, float) and math.isnan(v)) else "")
+            except (ValueError, TypeError):
+                cells.append(str(v))
+        lines.append(f"| {label} | " + " | ".join(c[:60] for c in cells) + " |")
+    return "\n".join(lines)

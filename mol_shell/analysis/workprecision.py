@@ -1,0 +1,231 @@
+"""Work-precision: error against run time for every integrator (``mol-shell compare``).
+
+* For each integrator a sweep of tolerances (``rtol``, with ``atol = 1e-3 rtol``), of ``dt`` for leap-frog.
+* Error: the largest relative error of ``r``, ``theta`` and ``chi`` over ``s`` and the saved
+  times, relative meaning divided by that field's largest ``|value|`` over ``s`` and time:
+  ``max_u max_{t,s} |u - u_ref| / max_{t,s} |u_ref|`` for ``u`` in ``(r, theta, chi)`` (the divisor is at
+  least 1e-6 of the largest field's, so a field that stays 0 is compared in absolute terms).
+* Reference: CVODE-Adams at ``rtol = 1e-12`` (ODE in momenta), shown converged against IDA at
+  ``rtol = 1e-12`` (a different method on a different formulation, the DAE in rates); their
+  difference is stored as ``reference_error`` and errors near it are not resolved.
+* Wall time: median of ``repeats`` runs in one process after a warm-up run, graphs and compiled
+  code already built; the integrator's own ``wall_time_s`` (solver set-up and stepping, no
+  error computation).
+
+Outputs: an :class:`xarray.Dataset` (netCDF), a log-log PNG and a markdown table.
+"""
+
+from __future__ import annotations
+
+import datetime
+import statistics
+
+import numpy as np
+import xarray as xr
+
+from mol_shell._core.errors import ParameterError
+from mol_shell._core.version import __version__
+from mol_shell.integrators import INTEGRATORS
+from mol_shell.runs.simulate import as_scene, build, resolve
+
+#: the paper's snapshot times (s)
+PAPER_TIMES = (0.0, 0.02, 0.07, 0.106, 0.143)
+RTOLS = (1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 1e-8, 1e-9, 1e-10)
+SWEEPS = {
+    "leapfrog": {"dt": (1e-4, 5e-5, 2e-5, 1e-5, 5e-6, 4e-6, 2e-6, 1e-6)},
+    "cvode-bdf": {"rtol": RTOLS},
+    "cvode-adams": {"rtol": RTOLS},
+    "ida": {"rtol": RTOLS},
+    "scipy-rk45": {"rtol": RTOLS[:8]},
+    "scipy-dop853": {"rtol": RTOLS},
+    "scipy-radau": {"rtol": RTOLS[:7]},
+    "scipy-bdf": {"rtol": RTOLS[:7]},
+    "casadi-cvodes": {"rtol": RTOLS[:9]},
+    "casadi-idas": {"rtol": RTOLS[:7]},
+    "casadi-cvodes-c": {"rtol": RTOLS},
+    "dop853-c": {"rtol": RTOLS},
+    "rk45-c": {"rtol": RTOLS[:8]},
+}
+DEFAULT_INTEGRATORS = tuple(SWEEPS)
+COMPARED = ("r", "theta", "chi")
+_INDEX = {"r": 1, "chi": 2, "theta": 3}
+
+
+def options(name, value):
+    """Integrator options for one sweep point."""
+    key = next(iter(SWEEPS.get(name, {"rtol": ()})))
+    return {"dt": value} if key == "dt" else {"rtol": value, "atol": 1e-3 * value}
+
+
+def fields_of(system, states):
+    """``(field, time, s)`` array of ``r, theta, chi`` from saved states."""
+    return system.unpack(np.asarray(states))[:, [_INDEX[f] for f in COMPARED], :].transpose(1, 0, 2)
+
+
+def relative_error(fields, ref):
+    """``max`` over fields of ``max |u - u_ref| / max |u_ref|`` (NaN if the run stopped early)."""
+    if fields.shape != ref.shape:
+        return float("nan")
+    scale = np.abs(ref).max(axis=(1, 2))
+    scale = np.maximum(scale, 1e-6 * scale.max())  # a field that stays 0 (theta of a uniform motion): absolute
+    return float((np.abs(fields - ref).max(axis=(1, 2)) / scale).max())
+
+
+def run_once(system, compiled, y0, times, name, value):
+    method = INTEGRATORS[name](**options(name, value))
+    return method.integrate(system, compiled, y0, np.asarray(times))
+
+
+def reference(system, compiled, y0, times, method=("cvode-adams", 1e-12), check=("ida", 1e-12)):
+    """Reference fields and their convergence check (the relative difference of two independent runs)."""
+    ref = run_once(system, compiled, y0, times, *method)
+    other = run_once(system, compiled, y0, times, *check)
+    if ref.status != "complete" or other.status != "complete":
+        raise RuntimeError(f"reference runs did not complete: {ref.message}; {other.message}")
+    r, o = fields_of(system, ref.y), fields_of(system, other.y)
+    return r, relative_error(o, r), {"reference": f"{method[0]} rtol={method[1]:g}",
+                                     "reference_check": f"{check[0]} rtol={check[1]:g}",
+                                     "reference_wall_s": ref.stats["wall_time_s"]}
+
+
+def check_integrators(integrators, name="integrators"):
+    """A non-empty list of distinct registered integrator names, or a named error."""
+    allowed = "a comma-separated list of {" + ", ".join(INTEGRATORS) + "}"
+    names = list(integrators)
+    if not names:
+        raise ParameterError.invalid(name, ",".join(names), "is empty", allowed)
+    if any(not str(item).strip() for item in names):
+        raise ParameterError.invalid(name, ",".join(map(str, names)), "has an empty entry", allowed)
+    for item in names:
+        if item not in INTEGRATORS:
+            raise ParameterError(name, item, allowed)
+        if names.count(item) > 1:
+            raise ParameterError.invalid(name, ",".join(names), f"names {item} twice", allowed)
+    return names
+
+
+def skip_reason(name, value, times):
+    """Why a sweep point cannot run on ``times`` (``""`` when it can): a leap-frog step that misses a saved time."""
+    method = INTEGRATORS[name](**options(name, value))
+    if hasattr(method, "step_counts"):
+        try:
+            method.step_counts(np.asarray(times))
+        except ParameterError as exc:
+            return f"skipped: {exc}"
+    return ""
+
+
+def study(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_TIMES, repeats=3, sweeps=None, log=print):
+    """Measure every sweep point; returns a Dataset with dims ``(integrator, level)``.
+
+    Everything that can be checked is checked before the (expensive) reference runs. A leap-frog
+    step whose grid misses a saved time is not run: its point is NaN with status ``skipped`` and
+    the reason in ``note``.
+    """
+    sweeps = {**SWEEPS, **(sweeps or {})}
+    integrators = check_integrators(integrators)
+    if not (isinstance(repeats, (int, np.integer)) and repeats >= 1):
+        raise ParameterError("repeats", repeats, "integers >= 1")
+    times = np.asarray(times, dtype=float)
+    plan = {name: [(value, skip_reason(name, value, times)) for value in next(iter(sweeps[name].values()))]
+            for name in integrators}
+    if all(reason for points in plan.values() for _, reason in points):
+        raise ParameterError("times", times.tolist(), "saved times on the step grid of at least one sweep point",
+                             hint="every point would be skipped")
+    scene = resolve(as_scene(scene))
+    system, compiled = build(scene, n)
+    y0 = system.initial_state(scene)
+    ref, ref_err, ref_info = reference(system, compiled, y0, times)
+    log(f"reference {ref_info['reference']}: converged to {ref_err:.2g} (against {ref_info['reference_check']})")
+    levels = max(len(points) for points in plan.values())
+    keys = ("setting", "error", "wall_time_s", "n_steps", "n_rhs", "n_jac")
+    data = {k: np.full((len(integrators), levels), np.nan) for k in keys}
+    status = np.full((len(integrators), levels), "", dtype=object)
+    note = np.full((len(integrators), levels), "", dtype=object)
+    for i, name in enumerate(integrators):
+        for j, (value, reason) in enumerate(plan[name]):
+            data["setting"][i, j] = value
+            if reason:
+                status[i, j], note[i, j] = "skipped", reason
+                log(f"{name:14s} {value:8.1e}  {reason}")
+                continue
+            run_once(system, compiled, y0, times, name, value)  # warm-up: compiled pieces, caches
+            runs = [run_once(system, compiled, y0, times, name, value) for _ in range(repeats)]
+            traj = runs[-1]
+            data["error"][i, j] = relative_error(fields_of(system, traj.y), ref)
+            data["wall_time_s"][i, j] = statistics.median(r.stats["wall_time_s"] for r in runs)
+            for k in ("n_steps", "n_rhs", "n_jac"):
+                data[k][i, j] = traj.stats.get(k, np.nan)
+            status[i, j] = traj.status
+            if traj.status != "complete":
+                note[i, j] = traj.message
+            log(f"{name:14s} {value:8.1e}  error {data['error'][i, j]:9.3g}  wall {data['wall_time_s'][i, j]:8.4f} s  "
+                f"steps {traj.stats.get('n_steps', -1):>7}  {traj.status}")
+    units = {"setting": "1", "error": "1", "wall_time_s": "s", "n_steps": "1", "n_rhs": "1", "n_jac": "1"}
+    long = {"setting": "rtol (atol = 1e-3 rtol), or dt in s for leap-frog",
+            "error": "max over r, theta, chi of max|u - u_ref| / max|u_ref| over s and saved times",
+            "wall_time_s": f"median wall time of {repeats} runs", "n_steps": "steps", "n_rhs": "right-hand side evaluations",
+            "n_jac": "Jacobian evaluations"}
+    dims = ("integrator", "level")
+    coords = {"integrator": ("integrator", list(integrators), {"long_name": "integrator (mol-shell run --integrator)"}),
+              "level": ("level", np.arange(levels), {"units": "1", "long_name": "index of the point in the integrator's sweep"})}
+    ds = xr.Dataset({k: (dims, v, {"units": units[k], "long_name": long[k]}) for k, v in data.items()}, coords=coords)
+    ds["status"] = (dims, status.astype(str), {"long_name": "how the run ended: complete, limit, unstable, failed, "
+                                                            "interrupted, or skipped (not run; see note); empty: no point"})
+    ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
+    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    ds.attrs.update({"Conventions": "CF-1.8", "title": f"work-precision of mol_shell integrators, scene {scene.name}",
+                     "source": f"mol_shell {__version__}", "history": f"{now} created by mol_shell {__version__}",
+                     "scene": scene.name, "n": n, "times": ",".join(f"{t:g}" for t in times), "repeats": repeats,
+                     "reference_error": ref_err, **ref_info})
+    return ds
+
+
+def best_at(ds, name, target):
+    """Cheapest sweep point of ``name`` whose error is at most ``target`` (index or None)."""
+    row = ds.sel(integrator=name)
+    ok = np.flatnonzero((row.error.values <= target) & (row.status.values == "complete"))
+    return None if ok.size == 0 else int(ok[np.argmin(row.wall_time_s.values[ok])])
+
+
+def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
+    """Per integrator: the cheapest run reaching ``target``, and its speed against ``baseline``."""
+    base = None
+    if baseline[0] in ds.integrator.values:
+        row = ds.sel(integrator=baseline[0])
+        hit = np.flatnonzero(np.isclose(row.setting.values, baseline[1]))
+        base = float(row.wall_time_s.values[hit[0]]) if hit.size else None
+    lines = [f"Cheapest run with error <= {target:g} (scene {ds.attrs['scene']}, n = {ds.attrs['n']}, "
+             f"saved times {ds.attrs['times']} s; reference {ds.attrs['reference']}, converged to "
+             f"{ds.attrs['reference_error']:.2g}).", "",
+             "| integrator | setting | error | wall [s] | steps | RHS evals | Jacobian evals | speed-up vs "
+             f"{baseline[0]} {baseline[1]:g} |", "|---|---|---|---|---|---|---|---|"]
+    for name in ds.integrator.values:
+        j = best_at(ds, str(name), target)
+        if j is None:
+            lines.append(f"| {name} | none reached {target:g} in the sweep | | | | | | |")
+            continue
+        p = ds.sel(integrator=name).isel(level=j)
+        key = "dt" if name == "leapfrog" else "rtol"
+        speed = f"{base / float(p.wall_time_s):.1f}x" if base else ""
+        lines.append(f"| {name} | {key} = {float(p.setting):.0e} | {float(p.error):.2g} | {float(p.wall_time_s):.3g} | "
+                     f"{int(p.n_steps)} | {int(p.n_rhs)} | {_int(p.n_jac)} | {speed} |")
+    return "\n".join(lines)
+
+
+def full_table(ds):
+    lines = ["| integrator | setting | error | wall [s] | steps | RHS evals | status |", "|---|---|---|---|---|---|---|"]
+    for name in ds.integrator.values:
+        row = ds.sel(integrator=name)
+        for j in range(ds.sizes["level"]):
+            if np.isnan(row.setting.values[j]):
+                continue
+            lines.append(f"| {name} | {row.setting.values[j]:.0e} | {row.error.values[j]:.2g} | "
+                         f"{row.wall_time_s.values[j]:.3g} | {_int(row.n_steps.values[j])} | "
+                         f"{_int(row.n_rhs.values[j])} | {row.status.values[j]} |")
+    return "\n".join(lines)
+
+
+def _int(v):
+    v = float(v)
+    return "" if np.isnan(v) or v < 0 else str(int(v))

@@ -1,0 +1,172 @@
+"""Argument parsing of the command line: numbers and ranges with their allowed ranges, sets, times, exit codes."""
+
+from __future__ import annotations
+
+import argparse
+import re
+
+import numpy as np
+
+from mol_shell._core.constants import FIELDS
+from mol_shell._core.errors import ParameterError, show
+from mol_shell.runs.resources import check_saved_times
+
+EXIT_INTERNAL, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED = 1, 2, 3, 130
+
+#: integrator options the command line offers (as --dt, --rtol, --atol, --max-step)
+CLI_OPTIONS = {"dt", "rtol", "atol", "max_step"}
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message):
+        # "argument --dt: --dt = 0 is outside ..." names the option twice: keep our own message
+        found = re.match(r"argument (\S+?): (.*)", message, flags=re.S)
+        if found and any(found.group(2).startswith(opt + " ") for opt in found.group(1).split("/")):
+            message = found.group(2)
+        self.exit(EXIT_USAGE, f"mol-shell: error: {message}\n")
+
+
+def parse_range_or_list(text, name, words=("T0", "T1", "DT"), item="t", count_check=None):
+    """``A:B:STEP`` (``B`` included; ``(B - A)/STEP`` a whole number) or ``v1,v2,...`` into a list of floats.
+
+    Generated values are rounded to 12 significant digits, so ``0:0.009:0.003`` gives values that
+    ``ds.sel`` finds as typed. Empty entries are refused. ``count_check(count)``, if given, is called
+    with the number of values before a range is expanded (``0:1:1e-12`` would be 1e12 of them).
+    """
+    a, b, d = words
+    form = f"{a}:{b}:{d} ({b} included, {d} > 0, ({b} - {a})/{d} whole) or {item}1,{item}2,..."
+    text = str(text).strip()
+    if ":" in text:
+        parts = text.split(":")
+        try:
+            if len(parts) != 3:
+                raise ValueError
+            start, stop, step = (float(x) for x in parts)
+        except ValueError:
+            raise ParameterError(name, text, form) from None
+        if not (np.isfinite([start, stop, step]).all() and step > 0 and stop > start):
+            raise ParameterError(name, text, form)
+        count = (stop - start) / step
+        if not np.isfinite(count):
+            raise ParameterError.invalid(name, text, f"has more values than can be counted (({b} - {a})/{d} = "
+                                         f"{count:g})", form)
+        whole = round(count)
+        if abs(count - whole) > 1e-9 * max(1.0, count):
+            raise ParameterError.invalid(name, text, f"does not end on its grid: ({b} - {a})/{d} = {count:.4g} "
+                                         f"is not whole ({b} is included)", form)
+        if count_check is not None:
+            count_check(whole + 1)
+        return [float(f"{start + k * step:.12g}") for k in range(whole + 1)]
+    items = [x.strip() for x in text.split(",")]
+    if not text or any(not x for x in items):
+        raise ParameterError.invalid(name, text, "has an empty entry" if text else "is empty", form)
+    try:
+        return [float(x) for x in items]
+    except ValueError:
+        raise ParameterError(name, text, form) from None
+
+
+def parse_times_arg(text, name="--times", n=None):
+    """``T0:T1:DT`` (T1 included) or ``t1,t2,...`` into an array of times.
+
+    With ``n`` (nodes), a range whose output would not fit in memory is refused before it is expanded.
+    """
+    check = (lambda count: check_saved_times(count, n, name=name, value=str(text))) if n is not None else None
+    return np.array(parse_range_or_list(text, name, count_check=check))
+
+
+def parse_sets(items, name="--set"):
+    params = {}
+    for item in items or []:
+        key, sep, value = item.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise ParameterError(name, item, "NAME=VALUE")
+        if key in params:
+            raise ParameterError.invalid(name, item, f"sets {key} a second time", "each parameter once")
+        params[key] = value.strip()
+    return params
+
+
+def _number_text(text):
+    """A number as typed, for messages (``0``, not ``'0'``); anything else quoted."""
+    try:
+        float(text)
+        return str(text).strip()
+    except ValueError:
+        return show(text)
+
+
+def number_arg(name, low=0.0, high=np.inf, *, low_closed=False, high_closed=False, unit=""):
+    """An argparse ``type``: a float in the interval, or a one-line error naming ``name`` and the interval."""
+    allowed = f"{'[' if low_closed else '('}{low:g}, {high:g}{']' if high_closed else ')'}" + (f" {unit}" if unit else "")
+
+    def convert(text):
+        try:
+            value = float(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is not a number; allowed: {allowed}") from None
+        above = value >= low if low_closed else value > low
+        below = value <= high if high_closed else value < high
+        if not (np.isfinite(value) and above and below):
+            raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is outside {allowed}")
+        return value
+
+    return convert
+
+
+def integer_arg(name, low=1):
+    """An argparse ``type``: an integer ``>= low``."""
+    allowed = f"integers >= {low}"
+
+    def convert(text):
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is not an integer; allowed: {allowed}") from None
+        if value < low:
+            raise argparse.ArgumentTypeError(f"{name} = {value} is outside {allowed}")
+        return value
+
+    return convert
+
+
+def choice_arg(name, options):
+    """An argparse ``type``: one of ``options``, or a one-line error naming ``name`` and the options."""
+
+    def convert(text):
+        if text not in options:
+            raise argparse.ArgumentTypeError(f"{name} = {show(text)} is outside {{{', '.join(options)}}}")
+        return text
+
+    return convert
+
+
+def parse_atol(text):
+    """``--atol``: one number, or ``FIELD=VALUE,...`` per field (the others keep the default 1e-9)."""
+
+    allowed = f"(0, inf), or FIELD=VALUE,... with FIELD in {{{', '.join(FIELDS)}}}"
+    if "=" not in text:
+        try:
+            return number_arg("--atol")(text)
+        except argparse.ArgumentTypeError:
+            raise argparse.ArgumentTypeError(f"--atol = {_number_text(text)} is outside {allowed}") from None
+    out = {}
+    for item in text.split(","):
+        name, _, value = item.partition("=")
+        name = name.strip()
+        try:
+            number = float(value)
+        except ValueError:
+            number = float("nan")
+        if name not in FIELDS or name in out or not (np.isfinite(number) and number > 0):
+            raise argparse.ArgumentTypeError(f"--atol = {text!r} is outside {allowed}, each field once")
+        out[name] = number
+    return out
+
+
+def integrator_option_args(args):
+    """``--dt/--rtol/--atol/--max-step`` given on the command line, as options."""
+    return {k: getattr(args, k) for k in ("dt", "rtol", "atol", "max_step") if getattr(args, k, None) is not None}
+
+

@@ -1,0 +1,229 @@
+"""Command line: ``mol-shell run | plot | ...`` (also ``python -m mol_shell``).
+
+Errors in the user's input print one line naming the parameter and its allowed
+range, and exit with code 2 (no traceback); they are found before anything is
+computed where they can be. ``-o FILE`` of every subcommand is checked first: missing
+directories are created, and a place that cannot be written is refused. A run that
+stops at a model limit writes what it computed and exits with code 3; one interrupted by
+Ctrl-C writes what it computed too and exits with code 130.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import warnings
+
+import matplotlib
+import numpy as np
+
+from mol_shell._core.errors import ParameterError
+from mol_shell._core.version import __version__
+from mol_shell.cli.analysis import register_compare, register_modes, register_stability
+from mol_shell.cli.args import (
+    CLI_OPTIONS,
+    EXIT_INCOMPLETE,
+    EXIT_INTERNAL,
+    EXIT_INTERRUPTED,
+    EXIT_USAGE,
+    Parser,
+    choice_arg,
+    integer_arg,
+    integrator_option_args,
+    number_arg,
+    parse_atol,
+    parse_sets,
+    parse_times_arg,
+)
+from mol_shell.cli.study import register_study
+from mol_shell.cli.views import register_animate, register_export
+from mol_shell.integrators import INTEGRATORS
+from mol_shell.results.dataset import read_run, writable_path, write_netcdf
+from mol_shell.runs.resources import LongRunWarning
+from mol_shell.runs.simulate import check_options, simulate
+from mol_shell.scenes import DESCRIPTIONS, SCENES, UNITS, get_scene, with_params
+from mol_shell.scenes.files import load_scene, scene_toml
+from mol_shell.views.fibres import plot_fibres
+from mol_shell.views.plotting import image_formats, is_cylinder, plot_meridian, plot_snapshots
+
+
+def cmd_run(args):
+    run = {}
+    if args.scene.endswith(".toml"):  # a scene file: its [run] table gives defaults, the options win
+
+        scene, run = load_scene(args.scene, with_run=True)
+        scene = with_params(scene, parse_sets(args.set))
+    else:
+        scene = get_scene(args.scene, **parse_sets(args.set))
+    times = parse_times_arg(args.times, n=args.n or run.get("n", 40)) if args.times else None
+    if args.t_end is None and times is None:  # --t-end or --times replace both of the file's
+        times = run.get("times")
+    t_end = args.t_end if args.t_end is not None or args.times else run.get("t_end")
+    integrator = args.integrator or run.get("integrator", "leapfrog")
+    options = {k: run[k] for k in ("dt", "rtol", "atol", "max_step") if k in run} | integrator_option_args(args)
+    check_options(scene, integrator, options, offered=CLI_OPTIONS)
+    ds = simulate(scene, integrator, n=args.n or run.get("n", 40), t_end=t_end, times=times, progress=None,
+                  stresses=args.stresses, **options)
+    write_netcdf(ds, args.output)
+    if not ds.attrs["complete"]:
+        print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {ds.sizes['time']} saved times to {args.output}",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
+    print(f"wrote {args.output}: {ds.sizes['time']} times x {ds.sizes['s']} nodes, "
+          f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s"
+          + (f", R = {ds.attrs['R']:.10g} m" if isinstance(ds.attrs.get("R"), (int, float, np.number)) else ""))
+    if str(ds.attrs.get("stresses", "")).startswith("skipped"):
+        print(f"stresses {ds.attrs['stresses']} (or run with --stresses)")
+    return 0
+
+
+#: options of ``plot --figure fibres`` only
+FIBRE_OPTIONS = ("time", "at_s", "fibres", "thickness_scale")
+
+
+def cmd_plot(args):
+    given = [name for name in FIBRE_OPTIONS if getattr(args, name) is not None]
+    if args.figure != "fibres" and given:
+        option = "--" + given[0].replace("_", "-")
+        raise ParameterError(option, getattr(args, given[0]), "options of --figure fibres only",
+                             message=f"{option} is an option of --figure fibres only (its options: --time, --at-s, "
+                             "--fibres, --thickness-scale)")
+    ds = read_run(args.file)
+    if args.figure == "fibres":
+        options = {"time": args.time, "s": args.at_s, "thickness_scale": args.thickness_scale}
+        plot_fibres(ds, args.output, count=24 if args.fibres is None else args.fibres, **options)
+    else:
+        (plot_snapshots if is_cylinder(ds) else plot_meridian)(ds, args.output)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def cmd_scenes(args):
+    import dataclasses
+
+
+    if args.name is None:
+        if args.toml:
+            raise ParameterError.missing("NAME", "give mol-shell scenes NAME --toml, NAME in {" + ", ".join(sorted(SCENES)) + "}")
+        for name, cls in SCENES.items():
+            print(f"{name:18s} {(cls.__doc__ or '').strip().splitlines()[0]}")
+        print("mol-shell scenes NAME lists a scene's parameters; set them with --set NAME=VALUE")
+        return 0
+    if args.name not in SCENES:
+        raise ParameterError("scene", args.name, "{" + ", ".join(sorted(SCENES)) + "}")
+    cls = SCENES[args.name]
+    if args.toml:
+        print(scene_toml(cls), end="")
+        return 0
+    print(f"{args.name}: {(cls.__doc__ or '').strip().splitlines()[0]}")
+    for f in dataclasses.fields(cls):
+        default = f.default if f.default is not dataclasses.MISSING else "(required)"
+        default = "auto" if default is None else default
+        print(f"  {f.name:11s} {str(default):>22s}  {UNITS.get(f.name, '1'):8s} {DESCRIPTIONS.get(f.name, '')}")
+    return 0
+
+
+def _image_formats():
+    return image_formats()
+
+
+def make_parser():
+    parser = Parser(prog="mol-shell", description="Rotationally symmetric motions of Cosserat shells (Antman & Bourne 2010).")
+    parser.add_argument("--version", action="version", version=f"mol-shell {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
+    run = sub.add_parser("run", help="run a scene and write netCDF")
+    run.add_argument("scene", metavar="SCENE_OR_FILE", help="one of: " + ", ".join(SCENES) + "; or a scene file FILE.toml")
+    run.add_argument("--integrator", default=None, help="one of: " + ", ".join(INTEGRATORS) + " (default leapfrog)")
+    run.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")
+    run.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="final time, s")
+    run.add_argument("--dt", type=number_arg("--dt", unit="s"), default=None,
+                     help="leap-frog step, s (default 1e-6); adaptive integrators refuse it")
+    run.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
+    run.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
+    run.add_argument("--rtol", type=number_arg("--rtol", 1e-14, 1.0, low_closed=True), default=None,
+                     help="relative tolerance in [1e-14, 1) (adaptive integrators)")
+    run.add_argument("--atol", type=parse_atol, default=None,
+                     help="absolute tolerance (adaptive integrators): one value, or per field as r=1e-9,theta=1e-10")
+    run.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
+    run.add_argument("--stresses", action=argparse.BooleanOptionalAction, default=None,
+                     help="resultants and face stresses after the run (default: when cell samples x saved times "
+                     "<= 4e6; --stresses always, --no-stresses never)")
+    run.add_argument("-o", "--output", required=True, help="netCDF file to write (missing directories are created)")
+    run.set_defaults(func=cmd_run)
+    scenes = sub.add_parser("scenes", help="the built-in scenes, or one scene's parameters with units and defaults")
+    scenes.add_argument("name", nargs="?", default=None, help="a scene to describe")
+    scenes.add_argument("--toml", action="store_true", help="print the scene's defaults as a scene file to start from")
+    scenes.set_defaults(func=cmd_scenes)
+    plot = sub.add_parser("plot", help="the paper's figures 4-8 (cylinders), the deformed meridian (other shells) "
+                          "or figure 1 (--figure fibres) from a run")
+    plot.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run")
+    plot.add_argument("--figure", type=choice_arg("--figure", ("snapshots", "fibres")), default="snapshots",
+                      help="snapshots: r, theta, chi against s (figures 4-8, default); fibres: a section with its "
+                      "material fibres in the reference state and at --time (figure 1)")
+    plot.add_argument("--time", type=number_arg("--time", 0.0, low_closed=True, unit="s"), default=None,
+                      help="fibres: the saved time nearest to this (default the last)")
+    plot.add_argument("--at-s", type=number_arg("--at-s", -np.inf, unit="m"), default=None,
+                      help="fibres: the section at the node nearest to this s (default the first node)")
+    plot.add_argument("--fibres", type=integer_arg("--fibres", 1), default=None, help="fibres: how many (default 24)")
+    plot.add_argument("--thickness-scale", type=number_arg("--thickness-scale"), default=None,
+                      help="fibres: magnification of the drawn thickness (default: 0.2 of the radius)")
+    plot.add_argument("-o", "--output", required=True, help="image to write (.png, .pdf, .svg, ...)")
+    plot.set_defaults(func=cmd_plot, output_suffixes=_image_formats)
+    for register in (register_compare, register_stability, register_study, register_modes, register_export,
+                     register_animate):
+        register(sub)
+    return parser
+
+
+def _remove_empty(folders):
+    """Remove the directories this command created, deepest first, if nothing was written into them."""
+    for folder in reversed(folders):
+        try:
+            os.rmdir(folder)
+        except OSError:
+            return
+
+
+def main(argv=None):
+    matplotlib.use("Agg")  # the command line draws into files only
+    parser = make_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # usage errors (code 2), --help and --version (code 0)
+        return exc.code
+    created = []  # directories made for -o: removed again if the command is refused
+    try:
+        with warnings.catch_warnings():
+            # the command line reports a stopped run in its own one line (and in the file's attrs); warnings
+            # about a run's projected time are one line each, as errors are
+            warnings.simplefilter("ignore", RuntimeWarning)
+            warnings.simplefilter("always", LongRunWarning)
+            warnings.showwarning = _one_line_warning
+            if getattr(args, "output", None) is not None:  # every subcommand: before anything is computed
+
+                suffixes = getattr(args, "output_suffixes", None)
+                writable_path(args.output, "-o", suffixes=suffixes() if callable(suffixes) else suffixes, created=created)
+            return args.func(args)
+    except ParameterError as exc:
+        _remove_empty(created)
+        print(f"mol-shell: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("mol-shell: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except Exception as exc:  # noqa: BLE001 - the last resort: one line, never a traceback (unless asked for)
+        if os.environ.get("MOL_SHELL_TRACEBACK"):
+            raise
+        text = " ".join(str(exc).split())[:300]
+        print(f"mol-shell: internal error: {type(exc).__name__}: {text} (a bug of mol_shell: please report it with "
+              "the command; MOL_SHELL_TRACEBACK=1 shows where it happened)", file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+def _one_line_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"mol-shell: warning: {message}", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    sys.exit(main())

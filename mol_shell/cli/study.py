@@ -1,0 +1,110 @@
+"""The study command: a scene varied over a grid of parameters, run on processes or dask."""
+
+from __future__ import annotations
+
+import sys
+
+from mol_shell._core.errors import ParameterError
+from mol_shell.cli.args import (
+    CLI_OPTIONS,
+    EXIT_INCOMPLETE,
+    integer_arg,
+    integrator_option_args,
+    number_arg,
+    parse_atol,
+    parse_range_or_list,
+    parse_sets,
+    parse_times_arg,
+)
+from mol_shell.results.study_store import Store
+from mol_shell.runs import resources
+from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT
+from mol_shell.runs.simulate import check_options
+from mol_shell.runs.study import resolve_scene, study
+from mol_shell.scenes import with_params
+
+
+def parse_vary(items, n=40):
+    """``["gamma=0.02:0.2:0.02", "nu=0.3,0.45,0.49"]`` -> ``{"gamma": [...], "nu": [...]}`` (ranges include the stop).
+
+    A range with more cases than a study on ``n`` nodes could hold in memory is refused before it is expanded.
+    """
+    form = "NAME=START:STOP:STEP or NAME=V1,V2,..."
+    vary = {}
+    for item in items or []:
+        name, sep, spec = (x.strip() for x in item.partition("="))
+        if not sep or not name:
+            raise ParameterError("--vary", item, form)
+        if name in vary:
+            raise ParameterError.invalid("--vary", item, f"varies {name} a second time", "each parameter once")
+        if ":" in spec:
+            values = parse_range_or_list(spec, f"--vary {name}", words=("START", "STOP", "STEP"), item="V",
+                                         count_check=lambda count: resources.check_cases(
+                                             count, n, name=f"--vary {name}", value=spec))
+        else:
+            entries = [v.strip() for v in spec.split(",")]
+            if not spec or any(not v for v in entries):
+                raise ParameterError.invalid("--vary", item, "has an empty entry" if spec else "has no values", form)
+            values = [_number_or_text(v) for v in entries]
+        vary[name] = values
+    if not vary:
+        raise ParameterError.missing("--vary", f"give {form}, at least one")
+    return vary
+
+
+def _number_or_text(text):
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def cmd_study(args):
+    sets, vary = parse_sets(args.set), parse_vary(args.vary, args.n)
+    both = [name for name in vary if name in sets]
+    if both:
+        raise ParameterError.invalid("--set", f"{both[0]}={sets[both[0]]}", f"sets {both[0]}, which --vary varies",
+                                     "parameters not in --vary")
+    scene = with_params(resolve_scene(args.scene), sets)
+    times = parse_times_arg(args.times, n=args.n) if args.times else None
+    options = integrator_option_args(args)
+    check_options(scene, args.integrator, options, offered=CLI_OPTIONS)
+    try:
+        ds = study(scene, vary, args.integrator, n=args.n, times=times, t_end=args.t_end,
+                   scheduler=args.scheduler, workers=args.workers, output=args.output, progress=None, **options)
+    except KeyboardInterrupt:
+        print(f"mol-shell: study interrupted; finished cases are kept in {Store(args.output).folder}; "
+              "run the same command again to resume", file=sys.stderr)
+        return 130
+    statuses = ds.status.values.ravel().tolist()
+    counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
+    print(f"wrote {args.output}: {ds.attrs['n_cases']} cases ({counts}); ran {ds.attrs['n_executed']}, "
+          f"reused {ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s")
+    return 0 if ds.attrs["n_failed"] == 0 else EXIT_INCOMPLETE
+
+
+def register_study(subparsers):
+    """Add ``mol-shell study`` to the command line."""
+    p = subparsers.add_parser("study", help="run a parameter study (product of --vary values) and write one netCDF")
+    p.add_argument("scene", help="a registered scene, or unshearable")
+    p.add_argument("--vary", action="append", required=True, metavar="NAME=VALUES",
+                   help="START:STOP:STEP (stop included) or V1,V2,...; repeat for more dimensions")
+    p.add_argument("--integrator", default="leapfrog", help="leapfrog, ... (ida for unshearable)")
+    p.add_argument("--n", type=integer_arg("--n", 3), default=40, help="nodes in s (default 40)")
+    p.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="final time, s")
+    p.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
+    p.add_argument("--dt", type=number_arg("--dt", unit="s"), default=None,
+                   help="leap-frog step, s (default 1e-6); adaptive integrators refuse it")
+    p.add_argument("--rtol", type=number_arg("--rtol", 1e-14, 1.0, low_closed=True), default=None,
+                   help="relative tolerance in [1e-14, 1) (adaptive integrators)")
+    p.add_argument("--atol", type=parse_atol, default=None, help="one value, or per field as r=1e-9,theta=1e-10")
+    p.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
+    p.add_argument("--set", action="append", metavar="NAME=VALUE", help="base scene parameter, repeatable")
+    p.add_argument("--scheduler", default=None,
+                   help="dask.distributed scheduler address, or serial (default: local processes); "
+                   f"refused if it does not answer within {SCHEDULER_TIMEOUT:g} s")
+    p.add_argument("--workers", type=integer_arg("--workers", 1), default=None,
+                   help="local processes, this one included (default: all cores)")
+    p.add_argument("-o", "--output", required=True,
+                   help="netCDF file; finished cases kept next to it in <stem>.cases/ (missing directories are created)")
+    p.set_defaults(func=cmd_study)

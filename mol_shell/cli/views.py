@@ -1,0 +1,52 @@
+"""Commands of the views: export (ParaView) and animate."""
+
+from __future__ import annotations
+
+from mol_shell.cli.args import integer_arg, number_arg
+from mol_shell.results.dataset import read_run
+from mol_shell.views.animate import DEFAULTS, SUFFIXES, animate
+from mol_shell.views.export import FORMATS, N_PHI, export
+from mol_shell.views.fields import field
+
+
+def register_export(subparsers):
+    parser = subparsers.add_parser("export", help="the shell in 3-D for ParaView (XDMF or VTU series)")
+    parser.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run")
+    parser.add_argument("--n-phi", type=integer_arg("--n-phi", 3), default=N_PHI,
+                        help=f"azimuthal samples (default {N_PHI})")
+    parser.add_argument("--faces", action="store_true", help="also the inner and outer faces (offset along the director)")
+    parser.add_argument("-o", "--output", required=True, help="run.xdmf (with run.h5) or run.pvd (with run_NNNN.vtu)")
+    parser.set_defaults(func=cmd_export, output_suffixes=set(FORMATS))
+
+
+def cmd_export(args):
+    ds = read_run(args.file)
+    files = export(ds, args.output, args.n_phi, args.faces)
+    extra = f" (+ {len(files) - 1} file{'s' if len(files) > 2 else ''})"
+    print(f"wrote {args.output}{extra}: {ds.sizes['time']} steps, {ds.sizes['s']} x {args.n_phi} points per surface")
+    return 0
+
+
+def register_animate(subparsers):
+    parser = subparsers.add_parser("animate", help="the deformed shell in 3-D, one frame per saved time (GIF or MP4)")
+    parser.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run")
+    parser.add_argument("--field", default=DEFAULTS["field"],
+                        help="what colours the shell: a field (chi, r, ...), a rate, a resultant (axial_torque, ...) "
+                        "or a face stress (von_mises_stress_outer, ...); default chi")
+    parser.add_argument("--n-phi", type=integer_arg("--n-phi", 3), default=DEFAULTS["n_phi"], help="azimuthal samples")
+    parser.add_argument("--fibres", type=integer_arg("--fibres", 1), default=DEFAULTS["fibres"],
+                        help="material fibres drawn (default 12)")
+    parser.add_argument("--fps", type=number_arg("--fps", 0, 100, high_closed=True), default=DEFAULTS["fps"],
+                        help="frames per second (default 4)")
+    parser.add_argument("--width", type=integer_arg("--width", 100), default=DEFAULTS["width"],
+                        help="width in pixels (default 480)")
+    parser.add_argument("-o", "--output", required=True, help="shell.gif or shell.mp4")
+    parser.set_defaults(func=cmd_animate, output_suffixes=set(SUFFIXES))
+
+
+def cmd_animate(args):
+    ds = read_run(args.file)
+    field(ds, args.field)  # refuse an unknown name before anything is drawn
+    count = animate(ds, args.output, args.field, n_phi=args.n_phi, fibres=args.fibres, fps=args.fps, width=args.width)
+    print(f"wrote {args.output}: {count} frames")
+    return 0

@@ -1,0 +1,210 @@
+"""The cell kernels of the discretised shell: strains at a cell's samples, its stored energy and dissipation.
+
+A mixin of :class:`~mol_shell.discretization.ShellSystem` (which holds the material, the thickness rule,
+the active fields and the per-cell geometry data ``cell_data``). Each cell ``[s_i, s_{i+1}]`` is sampled
+twice (``psi`` at each node, ``r`` and ``theta`` at the midpoint, derivatives as differences: ``ds = 1``
+in the kernel), the thickness integral either by the readable per-point reference form or by the
+per-cell moments of the same Gauss rule (``reference=False``, the default, equal to round-off). See the
+module docstring of :mod:`mol_shell.discretization` for the scheme.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import cached_property
+
+import casadi as ca
+import numpy as np
+
+from mol_shell._core.constants import NF
+from mol_shell._core.errors import ParameterError
+from mol_shell.model.kinematics import delta
+from mol_shell.model.material import (
+    thickness_dissipation,
+    thickness_energy,
+    thickness_energy_moments,
+    thickness_moments,
+)
+
+#: |beta2_0| below this (relative to beta1_0) is an exact zero: straight generators leave it out of the kernel
+BETA2_ZERO = 1e-13
+
+
+def trig_chain(t, g):
+    """``dV/dq`` contributed through a node's trigonometric values ``t`` (:meth:`CellKernels.node_trig_kernel`).
+
+    ``g = dV/dt``; ``t = (cos psi, sin psi, cos theta/2, sin theta/2)``, so only ``theta`` and ``psi`` receive.
+    """
+    return ca.vertcat(0, 0, 0, 0.5 * (t[2] * g[3] - t[3] * g[2]), t[0] * g[1] - t[1] * g[0])
+
+
+class CellKernels:
+    """Cell-level kernels of :class:`~mol_shell.discretization.ShellSystem` (a mixin)."""
+
+    def _cell_data(self):
+        """Per-cell kernel data (columns): ``(j1, j3, vol)`` at each thickness point, then ``beta2_0`` if curved.
+
+        From the nodal reference coordinates by the cell's own difference and midpoint formulas, in
+        difference form (``ds = 1``); ``vol`` includes the factor ``2 pi``. Refuses a thickness
+        interval that reaches the axis or a centre of curvature (``det G0 <= 0``).
+        """
+        z0, r0, th0 = self.reference
+        dz, dr, dth = np.diff(z0), np.diff(r0), np.diff(th0)
+        thm, r0m = (th0[1:] + th0[:-1]) / 2, (r0[1:] + r0[:-1]) / 2
+        beta1 = dz * np.cos(thm) + dr * np.sin(thm)
+        beta2 = -dz * np.sin(thm) + dr * np.cos(thm)
+        rows = []
+        for zeta, w in zip(*self.thickness.nodes_weights):
+            a, c = beta1 - zeta * dth, r0m + zeta * np.cos(thm)
+            if np.any(a <= 0) or np.any(c <= 0):
+                h, z1 = self.scene.h, self.thickness.zeta1
+                raise ParameterError("h", h, "values whose thickness interval stays off the axis and inside every "
+                                     "centre of curvature", hint=f"zeta1 = {z1:.4g} m: the face at zeta = {zeta:.4g} m "
+                                     "has a non-positive volume element")
+            rows += [1.0 / a, 1.0 / c, 2 * math.pi * w * a * c]
+        self.curved = bool(np.any(np.abs(beta2) > BETA2_ZERO * np.abs(beta1)))
+        if self.curved:
+            rows.append(beta2)
+        nq = self.thickness.n_quad
+        zetas = self.thickness.nodes_weights[0]
+        rows += thickness_moments([(zetas[q], rows[3 * q], rows[3 * q + 1], rows[3 * q + 2]) for q in range(nq)])
+        return np.array(rows)
+
+    def _factors(self, data):
+        """``quadrature_factors``-like tuples from a symbolic per-cell data column, and ``beta2_0``."""
+        return self._factors_and_moments(data)[:2]
+
+    def _factors_and_moments(self, data):
+        """:meth:`_factors` and the thickness moments (:func:`~mol_shell.model.material.thickness_moments`) of a cell."""
+        nq = self.thickness.n_quad
+        zetas = self.thickness.nodes_weights[0]
+        factors = [(zetas[q], data[3 * q], data[3 * q + 1], data[3 * q + 2]) for q in range(nq)]
+        start = 3 * nq + int(self.curved)
+        return factors, (data[3 * nq] if self.curved else 0.0), [data[k] for k in range(start, self.n_cell_data)]
+
+    # -- kernels -------------------------------------------------------------------------
+    #: CasADi differentiates a mapped kernel through the kernel's own Jacobian instead of one
+    #: forward sweep per colour of the whole Jacobian (15-18 at n = 40): the generated C of the
+    #: exact Jacobian is 2.5x smaller and gcc needs 3.2 s instead of 10.8 s for the cell part
+    KERNEL_OPTIONS = {"enable_forward": False}
+
+    @property
+    def n_cell_data(self):
+        return self.cell_data.shape[0]
+
+    def cell_energy(self, ql, qr, data, reference=None):
+        """Stored energy of the cell ``[s_i, s_{i+1}]``: the mean over its samples of ``2 pi int W det G0 dzeta``.
+
+        ``reference`` (default: the system's choice) selects the readable per-point form. The moments form
+        is for the forces: its value sums O(1) terms to an O(strain^2) energy and keeps ~1e-12 relative
+        accuracy, its gradient ~1e-14; the observables' stored energy uses the per-point form.
+        """
+        factors, beta2_0, moments = self._factors_and_moments(data)
+        samples = self.cell_samples(ql, qr)
+        if self.reference_kernel if reference is None else reference:
+            return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
+        return sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) for e in samples) / len(samples)
+
+    @property
+    def samples_per_cell(self):
+        """Where ``What`` is sampled in a cell: 2 (``psi`` at each node), 1 when ``psi`` is not a field."""
+        return 2 if 4 in self.active else 1
+
+    def cell_samples(self, ql, qr):
+        """Strains ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)`` at the samples of a cell, in difference form.
+
+        Differences ``q_{i+1} - q_i`` for the derivatives (``ds`` times them: the kernel works with
+        ``ds = 1``), midpoint averages for ``r`` and ``theta``, and ``psi`` at the left and at the
+        right node (see the module's docstring). Linear in ``(ql, qr)``, so the same map turns nodal
+        rates into the samples' strain rates.
+        """
+        grad = qr - ql
+        mid = (qr + ql) / 2
+        if 4 not in self.active:  # psi = 0 identically (axisymmetric scenes): the two samples coincide
+            return ((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], mid[4]),)
+        return tuple((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], node[4]) for node in (ql, qr))
+
+    def _cell_symbols(self):
+        return ca.SX.sym("ql", NF), ca.SX.sym("qr", NF), ca.SX.sym("geo", self.n_cell_data)
+
+    def cell_forces_kernel(self):
+        """``(q_left, q_right, geo) -> (dV/dq_left, dV/dq_right)``: the cell's elastic forces on its nodes."""
+        ql, qr, geo = self._cell_symbols()
+        energy = self.cell_energy(ql, qr, geo)
+        forces = [ca.gradient(energy, ql), ca.gradient(energy, qr)]
+        if not self.reference_kernel:
+            forces = ca.cse(forces)  # the two samples share their differences, midpoints and trigonometry
+        return ca.Function("cell", [ql, qr, geo], forces, self.KERNEL_OPTIONS)
+
+    def node_trig_kernel(self):
+        """``q -> (cos psi, sin psi, cos theta/2, sin theta/2)`` of a node, computed once per node and evaluation.
+
+        The lean RHS passes them to the node's kernel and to both of its cells (whose midpoint angle
+        ``(theta_l + theta_r)/2`` has its cosine and sine as products of the half angles'): two ``sincos``
+        per node instead of two per node kernel and three per cell.
+        """
+        q = ca.SX.sym("q", NF)
+        return ca.Function("node_trig", [q], [ca.vertcat(ca.cos(q[4]), ca.sin(q[4]), ca.cos(q[3] / 2),
+                                                         ca.sin(q[3] / 2))])
+
+    @cached_property
+    def shared_cell_data(self):
+        """The rows of :attr:`cell_data` that :meth:`cell_forces_shared_kernel` reads (``beta2_0`` if curved, the
+        thickness moments); one column when every cell has the same (a cylinder), broadcast by the map.
+
+        At n = 10,240 the full table is 2.8 MB, more than the cache: passing only these rows, once for a uniform
+        meridian, keeps a leap-frog step's data in cache.
+        """
+        rows = self.cell_data[3 * self.thickness.n_quad:, :]
+        return rows[:, :1] if np.all(rows == rows[:, :1]) else rows
+
+    def cell_forces_shared_kernel(self):
+        """:meth:`cell_forces_kernel` taking the nodes' :meth:`node_trig_kernel` values: ``(ql, qr, tl, tr, geo)``.
+
+        The energy is built on the trigonometric values as inputs; the chain rule back to ``theta`` and
+        ``psi`` is applied inside, so the outputs are the same forces ``dV/dq`` to round-off.
+        """
+        ql, qr, _ = self._cell_symbols()
+        tl, tr = ca.SX.sym("tl", 4), ca.SX.sym("tr", 4)
+        geo = ca.SX.sym("geo", self.shared_cell_data.shape[0])  # beta2_0 if curved, the moments
+        beta2_0 = geo[0] if self.curved else 0.0
+        moments = [geo[k] for k in range(int(self.curved), geo.numel())]
+        cos_mid, sin_mid = tl[2] * tr[2] - tl[3] * tr[3], tl[3] * tr[2] + tl[2] * tr[3]
+        samples = self.cell_samples(ql, qr)  # psi at the left node, then the right (one sample: psi = 0)
+        trigs = [(cos_mid, sin_mid, t[0], t[1]) for t in (tl, tr)]
+        energy = sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0, trig)
+                     for e, trig in zip(samples, trigs)) / len(samples)
+        forces = [ca.gradient(energy, q) + trig_chain(t, ca.gradient(energy, t)) for q, t in ((ql, tl), (qr, tr))]
+        return ca.Function("cell", [ql, qr, tl, tr, geo], ca.cse(forces), self.KERNEL_OPTIONS)
+
+    def _cell_observables(self):
+        """``(q_left, q_right, geo) -> (V_cell, ds x delta at the cell's samples)``."""
+        ql, qr, geo = self._cell_symbols()
+        deltas = [delta(z_s, r_s, r, theta, psi) for z_s, r_s, _, _, _, r, theta, psi in self.cell_samples(ql, qr)]
+        return ca.Function("cell_observables", [ql, qr, geo], [self.cell_energy(ql, qr, geo, reference=True),
+                                                               ca.vertcat(*deltas)])
+
+    def cell_delta(self):
+        """``(q_left, q_right, geo) -> ds x delta``, ``delta = r beta1 cos(psi)`` at the cell's samples (must stay > 0)."""
+        ql, qr, geo = self._cell_symbols()
+        return ca.Function("cell_delta", [ql, qr, geo], [self._cell_observables()(ql, qr, geo)[1]])
+
+    def cell_dissipation(self, ql, qr, vl, vr, data):
+        """Rayleigh function of the cell (Kelvin-Voigt), sampled like :meth:`cell_energy`; ``2 D`` is its power."""
+        factors, beta2_0 = self._factors(data)
+        pairs = list(zip(self.cell_samples(ql, qr), self.cell_samples(vl, vr)))
+        return sum(thickness_dissipation(e, e_t, self.eta_lambda, self.eta_mu, factors, beta2_0)
+                   for e, e_t in pairs) / len(pairs)
+
+    def viscous_forces_kernel(self):
+        """``(q_left, q_right, v_left, v_right, geo) -> (dD/dv_left, dD/dv_right)``: the cell's viscous forces."""
+        ql, qr, geo = self._cell_symbols()
+        vl, vr = ca.SX.sym("vl", NF), ca.SX.sym("vr", NF)
+        D = self.cell_dissipation(ql, qr, vl, vr, geo)
+        return ca.Function("viscous", [ql, qr, vl, vr, geo], [ca.gradient(D, vl), ca.gradient(D, vr)],
+                           self.KERNEL_OPTIONS)
+
+    def _viscous_power(self):
+        ql, qr, geo = self._cell_symbols()
+        vl, vr = ca.SX.sym("vl", NF), ca.SX.sym("vr", NF)
+        return ca.Function("viscous_power", [ql, qr, vl, vr, geo], [2 * self.cell_dissipation(ql, qr, vl, vr, geo)])

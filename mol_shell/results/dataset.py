@@ -1,0 +1,310 @@
+"""Labelled results: xarray Datasets with units, and their netCDF4 files."""
+
+from __future__ import annotations
+
+import datetime
+import inspect
+import os
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+from xarray.indexes import PandasIndex
+
+from mol_shell._core.atomic import atomic_path
+from mol_shell._core.errors import ParameterError
+from mol_shell._core.version import __version__
+from mol_shell.model.kinematics import FIELDS
+from mol_shell.scenes import UNITS
+
+FIELD_META = {
+    "z": ("m", "axial position of the base surface"),
+    "r": ("m", "radius of the base surface"),
+    "chi": ("rad", "azimuthal rotation"),
+    "theta": ("rad", "angle of the generator tangent from the axis"),
+    "psi": ("rad", "shear angle of the director out of the meridional plane"),
+}
+RATE_UNITS = {"m": "m s-1", "rad": "rad s-1"}
+REFERENCE = "S. S. Antman and D. Bourne, Rotational symmetry vs. axisymmetry in shell theory, CASA-report 10-46 (2010)"
+#: why ``time`` has no CF epoch (the one departure from CF 1.8; docs/netcdf.md)
+TIME_COMMENT = ("model time in seconds from the start of the run, without a calendar epoch (deliberately: "
+                "readers keep it as numbers, not dates); see docs/netcdf.md")
+
+
+def _attr(value):
+    """netCDF attributes take numbers and strings only."""
+    if value is None:
+        return "none"
+    if isinstance(value, bool):
+        return int(value)
+    if isinstance(value, (np.integer, np.floating)):
+        return value.item()
+    return value
+
+
+def build_dataset(system, scene, traj, velocities, totals, attrs):
+    """Assemble the Dataset of one run.
+
+    Parameters
+    ----------
+    system : ShellSystem
+    scene : TwistedCylinder
+        With ``R`` resolved.
+    traj : Trajectory
+    velocities : ndarray
+        ``(time, 5, s)`` rates of the fields.
+    totals : dict
+        Per-time arrays ``kinetic``, ``stored``, ``angular_momentum``, ``delta_min``.
+    attrs : dict
+        Integrator name and settings, graph statistics and the like.
+    """
+    fields = system.unpack(traj.y)
+    data = {}
+    for k, name in enumerate(FIELDS):
+        units, long_name = FIELD_META[name]
+        data[name] = (("time", "s"), fields[:, k], {"units": units, "long_name": long_name})
+        data[name + "_t"] = (
+            ("time", "s"),
+            velocities[:, k],
+            {"units": RATE_UNITS[units], "long_name": f"rate of change of {name}"},
+        )
+    data["kinetic_energy"] = (("time",), totals["kinetic"], {"units": "J", "long_name": "kinetic energy of the shell"})
+    data["stored_energy"] = (("time",), totals["stored"], {"units": "J", "long_name": "stored (strain) energy"})
+    data["energy"] = (
+        ("time",),
+        totals["kinetic"] + totals["stored"],
+        {"units": "J", "long_name": "total energy (kinetic + stored)"},
+    )
+    data["angular_momentum"] = (
+        ("time",),
+        totals["angular_momentum"],
+        {"units": "kg m2 s-1", "long_name": "angular momentum of the whole shell about the axis"},
+    )
+    data["delta_min"] = (
+        ("time",),
+        totals["delta_min"],
+        {"units": "m", "long_name": "minimum over s of delta = r beta1 cos(psi) (must stay positive)"},
+    )
+    balance = None
+    if system.n_extra:
+        data["work"] = (("time",), totals["work"], {"units": "J", "long_name":
+                        "work done on the shell so far by the loads (pressure, gravity, end forces and torques)"})
+        data["dissipated"] = (("time",), totals["dissipated"], {"units": "J", "long_name":
+                              "energy dissipated so far by viscosity and drag"})
+        energy = totals["kinetic"] + totals["stored"]
+        defect = energy - energy[0] - totals["work"] + totals["dissipated"]
+        # relative to the energy exchanged, and at least 1e-12 of a unit strain's energy (so a shell at rest,
+        # exchanging round-off, does not report a balance error of order 1)
+        unit = 2 * np.pi * float(np.sum(system.weights * system.reference[1])) * 2 * scene.h * (system.lam + 2 * system.mu)
+        exchange = max(float(np.max(np.abs(totals["work"]))), float(np.max(np.abs(totals["dissipated"]))),
+                       float(np.max(np.abs(energy - energy[0]))), 1e-12 * unit)
+        balance = float(np.max(np.abs(defect)) / exchange)
+    names = getattr(system, "reaction_names", [])
+    if names:
+        for k, (var, units, what) in {0: ("reaction_force", "N", "axial force"), 2: ("reaction_torque", "N m",
+                                                                                       "axial torque")}.items():
+            cols = [j for j, (_, field) in enumerate(names) if field == k]
+            if cols:
+                values = np.full((len(traj.t), 2), np.nan)
+                for j in cols:
+                    values[:, 0 if names[j][0] == 0 else 1] = totals["reactions"][:, j]
+                data[var] = (("time", "end"), values, {"units": units, "long_name":
+                             f"{what} the driver applies to the driven edge (NaN where the edge is not driven)"})
+    if system.viscous:
+        data["dissipation"] = (
+            ("time",),
+            totals["dissipation"],
+            {"units": "W", "long_name": "power dissipated by the Kelvin-Voigt stress (= -d energy/dt)"},
+        )
+    z0, r0, theta0 = system.reference
+    data["z0"] = (("s",), z0, {"units": "m", "long_name": "axial position of the reference base surface"})
+    data["r0"] = (("s",), r0, {"units": "m", "long_name": "radius of the reference base surface"})
+    data["theta0"] = (("s",), theta0, {"units": "rad", "long_name": "angle of the reference generator tangent from the axis"})
+    coords = {
+        "time": ("time", traj.t, {"units": "s", "long_name": "time", "standard_name": "time", "axis": "T",
+                                  "comment": TIME_COMMENT}),
+        "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"}),
+    }
+    if names:
+        coords["end"] = ("end", ["end1", "end2"], {"long_name": "edge (end1 at s = 0, end2 at s = L)"})
+    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    meta = {
+        "Conventions": "CF-1.8",
+        "title": f"mol_shell run of scene {scene.name}",
+        "source": f"mol_shell {__version__}",
+        "mol_shell_version": __version__,
+        "history": f"{now} created by mol_shell {__version__}",
+        "references": REFERENCE,
+        "comment": "time: " + TIME_COMMENT,
+        "scene": scene.name,
+        "n": system.n,
+        "status": traj.status,
+        "complete": int(traj.status == "complete"),
+        "message": traj.message,
+        "failure_time": traj.failure_time,
+        "rho_A": system.rho_a,
+        "rho_I": float(system.rho_i),
+        "rho_J": system.rho_j,
+        "zeta1_used": system.thickness.zeta1,
+        "energy_balance_error": "n/a (no loads)" if balance is None else balance,
+        "edge_s0": system.edges[0],
+        "edge_sL": system.edges[1],
+        "meridian": system.meridian.describe(),
+        "meridian_length": system.L,
+    }
+    for name, value in scene.params().items():
+        meta[name] = value
+        meta[f"units_{name}"] = UNITS.get(name, "1")
+    meta.update(traj.stats)
+    meta.update(attrs)
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: _attr(v) for k, v in meta.items()})
+
+
+#: xarray's ``Variable(..., fastpath=True)`` (an internal flag of long standing) takes numpy data as given; were
+#: it ever removed, the general path is taken, slower but the same
+FAST_PATH = {"fastpath": True} if "fastpath" in inspect.signature(xr.Variable).parameters else {}
+
+
+def coordinates(entries, keep=None):
+    """``{name: (dims, values[, attrs])}`` as xarray Coordinates: the Variables of :func:`variables` and a pandas
+    index for each dimension coordinate, made here (xarray's own asks whether the values are a dask collection,
+    which imports dask: 0.1 s of every process's first Dataset); ``keep``: Coordinates to add as they are."""
+    made = variables(entries)
+    indexes = {name: PandasIndex(pd.Index(var.values), name, coord_dtype=var.dtype)
+               for name, var in made.items() if var.dims == (name,)}
+    if keep is not None:
+        made.update({name: var for name, var in keep.variables.items() if name not in made})
+        indexes.update({name: index for name, index in keep.xindexes.items() if name not in indexes})
+    return xr.Coordinates(made, indexes=indexes)
+
+
+def variables(entries):
+    """``{name: (dims, values[, attrs])}`` as xarray Variables of numpy arrays, made on xarray's fast path.
+
+    The general path asks of every array whether it is a dask array, and the first such question imports
+    ``dask.array`` when dask is installed (0.3-0.5 s here): most of what a study's worker process spent on its
+    first case beyond the case itself. The values are numpy arrays already, so nothing is lost.
+    """
+    return {name: xr.Variable(dims, np.asarray(values), *attrs, **FAST_PATH)
+            for name, (dims, values, *attrs) in entries.items()}
+
+
+def writable_path(path, name="path", suffixes=None, created=None):
+    """Check, before anything is computed, that ``path`` can be written; create its missing directories.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file to be written (an existing file is replaced).
+    name : str
+        How the message names the parameter (``-o`` on the command line).
+    suffixes : collection of str, optional
+        Allowed file name suffixes without the dot (e.g. image formats).
+    created : list, optional
+        Directories made here are appended (outermost first), so a caller can remove them again.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    ParameterError
+        Empty path, an existing directory, a suffix outside ``suffixes``, a directory that cannot
+        be created, or a place without write permission.
+    """
+    allowed = "a file path in a writable place (missing directories are created)"
+    if path is None or not str(path).strip():
+        raise ParameterError.invalid(name, "" if path is None else str(path), "is empty", allowed)
+    path = Path(os.fspath(path)).expanduser()
+    if suffixes is not None:
+        suffix = path.suffix.lower().lstrip(".")
+        if suffix not in suffixes:
+            raise ParameterError.invalid(name, str(path), "has no known file type" if suffix else "has no suffix",
+                                         "a file ending in one of ." + ", .".join(sorted(suffixes)))
+    if path.is_dir():
+        raise ParameterError.invalid(name, str(path), "is a directory", allowed)
+    folder = path.parent
+    missing = [p for p in [folder, *folder.parents] if not p.exists()][::-1]
+    try:
+        for p in missing:
+            p.mkdir()
+            if created is not None:
+                created.append(p)
+    except OSError as exc:
+        raise ParameterError.invalid(name, str(path), f"cannot be written: cannot create directory {str(folder)!r} "
+                                     f"({exc.strerror or exc})", allowed) from None
+    if not folder.is_dir():
+        raise ParameterError.invalid(name, str(path), f"cannot be written: {str(folder)!r} is not a directory", allowed)
+    try:  # a probe: permission bits do not tell (root, read-only mounts, /proc)
+        if path.exists():
+            with open(path, "ab"):
+                pass
+        else:
+            with open(path, "xb"):
+                pass
+            path.unlink()
+    except OSError as exc:
+        raise ParameterError.invalid(name, str(path), f"cannot be written ({exc.strerror or exc})", allowed) from None
+    return path
+
+
+def write_netcdf(ds, path):
+    """Write a run as netCDF4 (model time in plain seconds, no CF calendar decoding).
+
+    Coordinate variables get no ``_FillValue`` (CF 2.5.1; xarray would write NaN for floats).
+    ``time`` is the unlimited (record) dimension, so it may come first (CF 2.4 asks other
+    dimensions to stand left of T "whenever possible"); variables along it are chunked in blocks
+    of about 1 MB (netCDF's default chunk of one record made large runs 10x slower to write).
+    Missing directories of ``path`` are created; a path that cannot be written raises
+    :class:`~mol_shell.errors.ParameterError`. The file is written under a temporary name and
+    renamed onto ``path`` (:mod:`mol_shell.atomic`): a process killed while writing leaves the
+    previous file intact.
+    """
+    path = writable_path(path)
+    encoding = {name: {"_FillValue": None} for name, var in ds.coords.items() if var.dtype.kind == "f"}
+    unlimited = ["time"] if "time" in ds.dims else []
+    for name, var in ds.variables.items():
+        if "time" in var.dims and var.dtype.kind in "fiu":
+            other = int(np.prod([ds.sizes[d] for d in var.dims if d != "time"], dtype=np.int64))
+            block = max(1, min(ds.sizes["time"], 2**17 // max(other, 1)))
+            encoding.setdefault(name, {})["chunksizes"] = tuple(block if d == "time" else ds.sizes[d] for d in var.dims)
+    with atomic_path(path) as tmp:  # a run killed while writing leaves the previous file intact
+        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding, unlimited_dims=unlimited)
+
+
+def read_netcdf(path):
+    """Read a run back into memory (times stay float seconds)."""
+    with xr.open_dataset(path, engine="netcdf4", decode_times=False) as ds:
+        return ds.load()
+
+
+def read_run(path, name="FILE"):
+    """Read a file written by ``mol-shell run`` (or :func:`write_netcdf` of a run); refuse anything else by name.
+
+    A run file holds ``r``, ``theta`` and ``chi`` on ``(time, s)``. Parameter studies, work-precision
+    comparisons and stability reports are netCDF files too, but not runs.
+    """
+    allowed = "a netCDF file written by mol-shell run"
+    path = Path(os.fspath(path)) if path is not None and str(path) else None
+    if path is None:
+        raise ParameterError.invalid(name, "", "is empty", allowed)
+    if not path.exists():
+        raise ParameterError.invalid(name, str(path), "does not exist", allowed)
+    if path.is_dir():
+        raise ParameterError.invalid(name, str(path), "is a directory", allowed)
+    try:
+        ds = read_netcdf(path)
+    except (OSError, ValueError, RuntimeError) as exc:
+        reason = "not a netCDF file" if "Unknown file format" in str(exc) or "HDF" in str(exc) else str(exc)
+        raise ParameterError.invalid(name, str(path), "is not a mol_shell run file", allowed, hint=reason) from None
+    is_run = all(v in ds and ds[v].dims == ("time", "s") for v in ("r", "theta", "chi"))
+    if not is_run:
+        title = str(ds.attrs.get("title", ""))
+        kind = ("a parameter study (mol-shell study)" if "parameter study" in title else
+                "a work-precision comparison (mol-shell compare)" if "work-precision" in title else
+                "a stability report (mol-shell stability)" if "leapfrog_dt_bound" in ds else
+                f"dims {', '.join(map(str, ds.dims)) or 'none'}")
+        raise ParameterError.invalid(name, str(path), "is not a mol_shell run file", allowed, hint=f"it holds {kind}")
+    return ds

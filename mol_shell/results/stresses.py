@@ -1,0 +1,484 @@
+"""Stresses of a run, computed after it from the constitutive law (section 7), not in the right-hand side.
+
+For every cell and saved time the cell's samples (strains ``(q_{i+1} - q_i)/ds``, ``r`` and
+``theta`` at the midpoint, ``psi`` at each of the two nodes: the samples the discrete energy
+uses) give the deformation gradient ``F`` of :func:`~mol_shell.model.kinematics.deformation_gradient`
+through the thickness, the second Piola-Kirchhoff stress ``S = lambda tr(E) I + 2 mu E`` (7.9),
+the first Piola-Kirchhoff stress ``T = F S`` and the Cauchy stress ``sigma = F S F^T / det F``.
+The reference data per cell come from the same difference formulas applied to the nodal
+reference meridian (``r0, z0, theta0``; the cylinder ``r0 = 1, z0 = s, theta0 = 0`` when the
+run does not carry one). One CasADi kernel per sample, compiled with gcc (cached on disk),
+is mapped over all samples; principal values come from NumPy.
+
+Resultants (eqs. 7.5-7.7). With ``c = r0 + zeta cos theta0`` and ``a = beta1_0 - zeta theta0_s``
+(the reference widths of the ``s``- and ``phi``-sections per ``dzeta``), ``e1, e3`` the
+reference tangent ``b0_1`` and hoop direction ``b0_3``:
+
+    r0 n^s = int T e1 c dzeta,   r0 m^s = d x int zeta T e1 c dzeta,
+    n^phi  = int T e3 a dzeta,   m^phi  = d x int zeta T e3 a dzeta.
+
+``n^s, m^s`` are the force and couple per unit reference length of the parallel circle that the
+part at larger ``s`` exerts on the part at smaller ``s``; ``n^phi, m^phi`` those across a
+meridional section per unit ``s``. Components are taken in the director frame
+``c1 = b1`` (the deformed generator's tangent), ``c2 = d`` (the director), ``c3 = c1 x d``:
+
+=============================  =====================================  =========
+name                           component                              units
+=============================  =====================================  =========
+``axial_force``                ``2 pi r0 n^s . k``                    N
+``axial_torque``               ``2 pi r0 (r n^s . a3 + m^s . k)``     N m
+``membrane_force_meridional``  ``n^s . c1``                           N m-1
+``membrane_shear_force``       ``n^s . c3``                           N m-1
+``transverse_shear_force``     ``n^s . d``                            N m-1
+``membrane_force_hoop``        ``n^phi . c3``                         N m-1
+``bending_moment_meridional``  ``m^s . c3``                           N
+``twisting_moment``            ``m^s . c1``                           N
+``bending_moment_hoop``        ``m^phi . c1``                         N
+=============================  =====================================  =========
+
+``axial_force`` and ``axial_torque`` are ``d(2 pi r0 What)/dz_s`` and ``d(2 pi r0 What)/dchi_s``
+(the flux of axial momentum and of axial angular momentum; MODEL_NOTES, last section): an axial
+force is positive in tension. A cell's value is the mean over its two samples, as its energy.
+Signs of the moments: ``m^s . c3 = -(1/r0) int zeta (T e1 . c1) c dzeta`` is negative and
+``m^phi . c1 = int zeta (T e3 . c3) a dzeta`` positive when the fibres at ``zeta > 0`` (outside,
+on the cylinder) are pulled harder than those at ``zeta < 0``.
+
+Face stresses: the Cauchy stress at ``zeta1`` (inner face) and ``zeta1 + 2h`` (outer face),
+averaged over the cell's two samples, then its principal values and von Mises stress. With
+``material = "svk-plane-stress"`` the stress ``S22`` along the director is 0 (the condensation).
+With Kelvin-Voigt viscosity the stresses include ``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t``
+and the viscous part is also given alone (``*_viscous``).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import casadi as ca
+import numpy as np
+
+from mol_shell._core.errors import ParameterError
+from mol_shell.discretization.compiled import CompiledFunctions
+from mol_shell.model.kinematics import FIELDS, deformation_gradient
+from mol_shell.model.material import condensed, green_strain, lame
+from mol_shell.results.dataset import coordinates, variables
+
+#: default limit on cell samples x saved times (2 per cell) above which stresses are skipped unless asked for:
+#: 4e6 samples cost 7 s (11 s viscous) and 270 MB on this machine (measured at n = 401, 5,000 saved times)
+MAX_SAMPLES = 4_000_000
+#: samples per call of the mapped kernel
+CHUNK = 20_000
+
+RESULTANT_META = {
+    "axial_force": ("N", "axial force through the section at s (2 pi r0 n^s.k; positive in tension)"),
+    "axial_torque": ("N m", "axial torque through the section at s (2 pi r0 (r n^s.a3 + m^s.k))"),
+    "membrane_force_meridional": ("N m-1", "meridional membrane force per unit length (n^s.c1)"),
+    "membrane_shear_force": ("N m-1", "in-surface shear force per unit length on the section at s (n^s.c3)"),
+    "transverse_shear_force": ("N m-1", "transverse shear force per unit length (n^s.d, along the director)"),
+    "membrane_force_hoop": ("N m-1", "hoop membrane force per unit length of s (n^phi.c3)"),
+    "bending_moment_meridional": ("N", "meridional bending moment per unit length (m^s.c3)"),
+    "twisting_moment": ("N", "twisting moment per unit length on the section at s (m^s.c1)"),
+    "bending_moment_hoop": ("N", "hoop bending moment per unit length of s (m^phi.c1)"),
+}
+RESULTANTS = tuple(RESULTANT_META)
+FACE_META = {
+    "principal_stress_max": ("Pa", "largest principal Cauchy stress"),
+    "principal_stress_mid": ("Pa", "middle principal Cauchy stress"),
+    "principal_stress_min": ("Pa", "smallest principal Cauchy stress"),
+    "von_mises_stress": ("Pa", "von Mises equivalent Cauchy stress"),
+}
+#: face names in the order of the ``zeta`` coordinate
+FACES = ("inner", "outer")
+
+
+# -- pure functions (floats, NumPy arrays or CasADi scalars) ----------------------------------------
+def reference_cells(s, r0=None, z0=None, theta0=None):
+    """Reference data of each cell ``[s_i, s_{i+1}]`` by the discrete system's difference formulas.
+
+    ``theta0`` and ``r0`` at the midpoint, ``theta0_s = (theta0_{i+1} - theta0_i)/ds`` and
+    ``(beta1_0, beta2_0) = betas(dz0/ds, dr0/ds, 0, r0, theta0)`` (1 and 0 on the cylinder).
+    Missing nodal data are the cylinder's: ``r0 = 1``, ``z0 = s``, ``theta0 = 0``.
+
+    Returns
+    -------
+    dict
+        ``ds`` (float) and arrays over cells ``r0, theta0, theta0_s, beta1_0, beta2_0``.
+    """
+    s = np.asarray(s, dtype=float)
+    ds = (s[-1] - s[0]) / (len(s) - 1)
+    r0 = np.ones_like(s) if r0 is None else np.asarray(r0, dtype=float)
+    z0 = s if z0 is None else np.asarray(z0, dtype=float)
+    theta0 = np.zeros_like(s) if theta0 is None else np.asarray(theta0, dtype=float)
+    r0m, th_m = (r0[1:] + r0[:-1]) / 2, (theta0[1:] + theta0[:-1]) / 2
+    z0_s, r0_s = (z0[1:] - z0[:-1]) / ds, (r0[1:] - r0[:-1]) / ds
+    beta1_0 = z0_s * np.cos(th_m) + r0_s * np.sin(th_m)  # kinematics.betas, in NumPy
+    beta2_0 = -z0_s * np.sin(th_m) + r0_s * np.cos(th_m)
+    th_s = (theta0[1:] - theta0[:-1]) / ds
+    return {"ds": ds, "r0": r0m, "theta0": th_m, "theta0_s": th_s, "beta1_0": beta1_0, "beta2_0": beta2_0}
+
+
+def cell_samples(q, ds):
+    """Strains ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)`` of every cell at its two samples.
+
+    ``q`` has shape ``(..., 5, n)`` (fields or their rates); returns ``(..., 8, n - 1, 2)``:
+    differences over ``ds``, ``r`` and ``theta`` at the midpoint, ``psi`` at the left and the right
+    node. Linear in ``q``, so the rates of the strains come from the nodal rates the same way.
+    """
+    q = np.asarray(q, dtype=float)
+    ql, qr = q[..., :-1], q[..., 1:]
+    grad, mid = (qr - ql) / ds, (qr + ql) / 2
+    common = [grad[..., k, :] for k in range(5)] + [mid[..., 1, :], mid[..., 3, :]]
+    out = np.stack([np.stack([x, x], axis=-1) for x in common] + [np.stack([ql[..., 4, :], qr[..., 4, :]], axis=-1)],
+                   axis=-3)
+    return out
+
+
+def second_piola(E, first, second, plane_stress=False):
+    """``S = first tr(E) I + 2 second E`` (7.9; with ``(eta_lambda, eta_mu)`` and ``E_t``: the viscous stress).
+
+    ``plane_stress``: the condensed law of ``material = "svk-plane-stress"`` has ``S22 = 0`` (the
+    stress along the director that the condensation eliminated); its other entries are the
+    condensed law's. Nested 3x3 tuples in the ``b0`` basis.
+    """
+    trace = E[0][0] + E[1][1] + E[2][2]
+    S = [[first * trace * (i == j) + 2.0 * second * E[i][j] for j in range(3)] for i in range(3)]
+    S[1][1] = S[1][1] * (1 - plane_stress)  # also for a symbolic flag (the compiled kernel's input)
+    return tuple(tuple(row) for row in S)
+
+
+def matmul(A, B):
+    """Product of nested 3x3 tuples."""
+    return tuple(tuple(sum(A[i][k] * B[k][j] for k in range(3)) for j in range(3)) for i in range(3))
+
+
+def transpose(A):
+    return tuple(tuple(A[j][i] for j in range(3)) for i in range(3))
+
+
+def det3(A):
+    return (A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0])
+            + A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]))
+
+
+def cauchy_stress(F, S):
+    """``sigma = F S F^T / det F`` (components in the deformed ``b`` basis; ``F`` from ``b0`` to ``b``)."""
+    J = det3(F)
+    P = matmul(matmul(F, S), transpose(F))
+    return tuple(tuple(P[i][j] / J for j in range(3)) for i in range(3))
+
+
+def von_mises(sigma):
+    """``sqrt(((s11 - s22)^2 + (s22 - s33)^2 + (s33 - s11)^2)/2 + 3 (s12^2 + s23^2 + s13^2))``.
+
+    ``sigma`` as nested 3x3 tuples, or an array ``(..., 3, 3)``.
+    """
+    if isinstance(sigma, np.ndarray):
+        sigma = [[sigma[..., i, j] for j in range(3)] for i in range(3)]
+    s = sigma
+    value = (((s[0][0] - s[1][1]) ** 2 + (s[1][1] - s[2][2]) ** 2 + (s[2][2] - s[0][0]) ** 2) / 2
+             + 3 * (s[0][1] ** 2 + s[1][2] ** 2 + s[0][2] ** 2))
+    return np.sqrt(value) if isinstance(value, np.ndarray) else value**0.5
+
+
+def principal_stresses(sigma):
+    """Principal values of symmetric ``sigma`` of shape ``(..., 3, 3)``, in decreasing order along the last axis."""
+    return np.linalg.eigvalsh(np.asarray(sigma))[..., ::-1]
+
+
+def thickness_rule(zeta1, h, n_quad):
+    """Gauss-Legendre nodes and weights on ``[zeta1, zeta1 + 2h]`` (as :class:`~mol_shell.model.material.Thickness`)."""
+    x, w = np.polynomial.legendre.leggauss(n_quad)
+    mid = zeta1 + h
+    return [mid + h * xk for xk in x], [h * wk for wk in w]
+
+
+def _director_frame(theta, psi):
+    """``k, a3, c1, d, c3`` as components in the ``b`` basis (floats, NumPy arrays or CasADi)."""
+    lib = ca if isinstance(theta, (ca.SX, ca.MX, ca.DM)) or isinstance(psi, (ca.SX, ca.MX, ca.DM)) else np
+    cs, sn, ct, st = lib.cos(psi), lib.sin(psi), lib.cos(theta), lib.sin(theta)
+    return (ct, -st, 0.0), (0.0, 0.0, 1.0), (1.0, 0.0, 0.0), (0.0, cs, sn), (0.0, -sn, cs)
+
+
+def _dot(u, v):
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def _cross(u, v):
+    return (u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0])
+
+
+def resultants_from_integrals(v1, v2, w1, w2, strains, r0):
+    """The table of the module's docstring from ``v1 = int T e1 c``, ``v2 = int zeta T e1 c``,
+    ``w1 = int T e3 a``, ``w2 = int zeta T e3 a`` (each ``dzeta``; components in the ``b`` basis)."""
+    r, theta, psi = strains[5], strains[6], strains[7]
+    k, a3, c1, d, c3 = _director_frame(theta, psi)
+    m_s, m_phi = _cross(d, v2), _cross(d, w2)  # r0 m^s and m^phi
+    return {
+        "axial_force": 2 * math.pi * _dot(v1, k),
+        "axial_torque": 2 * math.pi * (r * _dot(v1, a3) + _dot(m_s, k)),
+        "membrane_force_meridional": _dot(v1, c1) / r0,
+        "membrane_shear_force": _dot(v1, c3) / r0,
+        "transverse_shear_force": _dot(v1, d) / r0,
+        "membrane_force_hoop": _dot(w1, c3),
+        "bending_moment_meridional": _dot(m_s, c3) / r0,
+        "twisting_moment": _dot(m_s, c1) / r0,
+        "bending_moment_hoop": _dot(m_phi, c1),
+    }
+
+
+def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0.0, eta_mu=0.0, plane_stress=False):
+    """Resultants and face stresses of one sample, elastic and viscous parts (CasADi ``SX`` in, ``SX`` out).
+
+    Parameters
+    ----------
+    strains : sequence of casadi.SX
+        ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)``.
+    rates : sequence of casadi.SX or None
+        Their time derivatives; None leaves the viscous part out.
+    ref : sequence
+        ``(r0, theta0, theta0_s, beta1_0, beta2_0)`` of the cell.
+    zeta1, h : float or casadi.SX
+        Lower face and half-thickness.
+    n_quad : int
+        Gauss-Legendre points through the thickness (the run's).
+    lam, mu, eta_lambda, eta_mu : float or casadi.SX
+        Condensed Lame constants and viscosities (:func:`~mol_shell.model.material.condensed`).
+    plane_stress : bool or casadi.SX
+        ``S22 = 0`` (:func:`second_piola`).
+
+    Returns
+    -------
+    dict
+        ``elastic`` (and ``viscous``): dicts of the resultants (see the module's docstring);
+        ``sigma_elastic`` (and ``sigma_viscous``): the Cauchy stress at ``zeta1`` and
+        ``zeta1 + 2h`` as nested tuples ``[face][i][j]``.
+    """
+    e = ca.SX.sym("e", 8)
+    r0, theta0, theta0_s, beta1_0, beta2_0 = ref
+    kinds = ("elastic",) if rates is None else ("elastic", "viscous")
+
+    def stresses(zeta):
+        F = deformation_gradient(ca.vertsplit(e), zeta, r0, theta0, theta0_s, beta1_0, beta2_0)
+        E = green_strain(F)
+        out = {"elastic": second_piola(E, lam, mu, plane_stress)}
+        if rates is not None:  # E_t = dE/de . e_t
+            flat = ca.vertcat(*[E[i][j] for i in range(3) for j in range(3)])
+            Et_flat = ca.jtimes(flat, e, ca.vertcat(*rates))
+            Et = [[Et_flat[3 * i + j] for j in range(3)] for i in range(3)]
+            out["viscous"] = second_piola(Et, eta_lambda, eta_mu, plane_stress)
+        return F, out
+
+    nodes, weights = thickness_rule(zeta1, h, n_quad)
+    sums = {kind: [(0.0, 0.0, 0.0)] * 4 for kind in kinds}  # v1, v2, w1, w2
+    for zeta, w in zip(nodes, weights):
+        F, S = stresses(zeta)
+        c = w * (r0 + zeta * ca.cos(theta0))
+        a = w * (beta1_0 - zeta * theta0_s)
+        for kind in kinds:
+            T = matmul(F, S[kind])
+            t1, t3 = tuple(T[i][0] for i in range(3)), tuple(T[i][2] for i in range(3))
+            v1, v2, w1, w2 = sums[kind]
+            sums[kind] = [tuple(x + c * y for x, y in zip(v1, t1)), tuple(x + zeta * c * y for x, y in zip(v2, t1)),
+                          tuple(x + a * y for x, y in zip(w1, t3)), tuple(x + zeta * a * y for x, y in zip(w2, t3))]
+    parts = {kind: resultants_from_integrals(*sums[kind], ca.vertsplit(e), r0) for kind in kinds}
+    faces = [stresses(zeta) for zeta in (zeta1, zeta1 + 2 * h)]
+    for kind in kinds:
+        parts["sigma_" + kind] = [cauchy_stress(F, S[kind]) for F, S in faces]
+    strains = ca.vertcat(*strains)
+    return {key: _substitute(value, e, strains) for key, value in parts.items()}
+
+
+def _substitute(value, e, strains):
+    if isinstance(value, dict):
+        return {k: _substitute(v, e, strains) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return type(value)(_substitute(v, e, strains) for v in value)
+    return ca.substitute(ca.SX(value), e, strains)
+
+
+# -- the kernel and its evaluation over a run -------------------------------------------------------
+#: kernel inputs after the sample's strains, rates and reference data
+PARAMETERS = ("zeta1", "h", "lam", "mu", "eta_lambda", "eta_mu", "plane_stress")
+
+
+@functools.lru_cache(maxsize=8)
+def kernel(n_quad, viscous=False):
+    """``(e[8], e_t[8], ref[5], params[7]) -> (resultants[9], sigma[12])``, with ``viscous`` also
+    ``(resultants_viscous[9], sigma_viscous[12])`` (SX).
+
+    ``sigma`` holds the six components ``11, 22, 33, 12, 23, 13`` at ``zeta1`` then at ``zeta1 + 2h``.
+    Material data are inputs (:data:`PARAMETERS`), so one compiled kernel serves every run with
+    ``n_quad`` points; the elastic kernel ignores ``e_t`` and the viscosities.
+    """
+    e, et, ref, par = ca.SX.sym("e", 8), ca.SX.sym("et", 8), ca.SX.sym("ref", 5), ca.SX.sym("par", len(PARAMETERS))
+    zeta1, h, lam, mu, eta_l, eta_m, plane = ca.vertsplit(par)
+    out = sample_stresses(ca.vertsplit(e), ca.vertsplit(et) if viscous else None, ca.vertsplit(ref), zeta1, h, n_quad,
+                          lam, mu, eta_l, eta_m, plane)
+    pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))
+    outputs, names = [], []
+    for kind in ("elastic", "viscous") if viscous else ("elastic",):
+        outputs += [ca.vertcat(*out[kind].values()), ca.vertcat(*[f[i][j] for f in out["sigma_" + kind] for i, j in pairs])]
+        names += ["resultants_" + kind, "sigma_" + kind]
+    name = f"ms_stress_q{n_quad}" + ("_viscous" if viscous else "")
+    return ca.Function(name, [e, et, ref, par], outputs, ["e", "e_t", "ref", "par"], names)
+
+
+@functools.lru_cache(maxsize=8)
+def compiled_kernel(n_quad, viscous=False):
+    """:func:`kernel` as generated C (gcc, cached on disk; one build per ``n_quad`` and ``viscous``)."""
+    f = kernel(n_quad, viscous)
+    return CompiledFunctions([f]).functions[f.name()]
+
+
+class Evaluator:
+    """The kernel mapped over ``size`` samples, called through a CasADi buffer (no ``DM`` conversions,
+    which cost 4x the evaluation).
+
+    ``evaluator(e, et, ref, par)`` with ``e, et`` ``(M, 8)``, ``ref`` ``(M, 5)`` (``M <= size``),
+    ``par`` ``(7,)`` returns the kernel's outputs as arrays ``(M, 9), (M, 12)`` (twice with
+    ``viscous``): views into the buffer, overwritten by the next call.
+    """
+
+    def __init__(self, n_quad, viscous=False, size=CHUNK, compiled=True):
+        f = compiled_kernel(n_quad, viscous) if compiled else kernel(n_quad, viscous)
+        self.size = size
+        self._buf, self._trigger = f.map(size).buffer()
+        self._ins = [np.zeros((size, f.nnz_in(i))) for i in range(4)]
+        self._outs = [np.zeros((size, f.nnz_out(i))) for i in range(f.n_out())]
+        for i, x in enumerate(self._ins):
+            self._buf.set_arg(i, memoryview(x))
+        for i, x in enumerate(self._outs):
+            self._buf.set_res(i, memoryview(x))
+
+    def __call__(self, e, et, ref, par):
+        M = e.shape[0]
+        for x, source in zip(self._ins, (e, et, ref, np.broadcast_to(par, (M, len(PARAMETERS))))):
+            x[:M] = source
+            x[M:] = source[M - 1]  # padding: a valid sample, discarded
+        self._trigger()
+        return [x[:M] for x in self._outs]
+
+
+def _material(attrs):
+    """Condensed Lame constants, viscosities and the plane-stress flag from a run's attrs."""
+    material = str(attrs.get("material", "svk"))
+    lam, mu = condensed(*lame(float(attrs["E"]), float(attrs["nu"])), material)
+    eta_lambda, eta_mu = condensed(float(attrs.get("eta_lambda", 0.0)), float(attrs.get("eta_mu", 0.0)), material)
+    return lam, mu, eta_lambda, eta_mu, material == "svk-plane-stress"
+
+
+def _nodal(ds, name):
+    """A reference coordinate on the nodes if the run carries it (``r0``, ``z0``, ``theta0``), else None."""
+    if name in ds and ds[name].dims == ("s",):
+        return ds[name].values
+    return None
+
+
+def _face_values(sigma):
+    """Principal and von Mises stresses from the six components at the two faces, ``(12, ...)``."""
+    tensor = np.empty((*sigma.shape[1:], 2, 3, 3))
+    for face in range(2):
+        for c, (i, j) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))):
+            tensor[..., face, i, j] = tensor[..., face, j, i] = sigma[6 * face + c]
+    bad = ~np.isfinite(tensor).all(axis=(-2, -1))  # det F = 0 at a face: left NaN (and said in attrs)
+    tensor[bad] = 0.0
+    principal, mises = principal_stresses(tensor), von_mises(tensor)
+    principal[bad], mises[bad] = np.nan, np.nan
+    return {"principal_stress_max": principal[..., 0], "principal_stress_mid": principal[..., 1],
+            "principal_stress_min": principal[..., 2], "von_mises_stress": mises}
+
+
+def _block(outs, viscous):
+    """Variables of a block of saved times from the kernel's outputs (each ``(component, time, cells)``)."""
+    parts = [("", outs[0] + outs[2], outs[1] + outs[3]), ("_viscous", outs[2], outs[3])] if viscous else \
+        [("", outs[0], outs[1])]  # a viscous run: the totals, then the viscous part alone
+    values = {}
+    for suffix, resultants, sigma in parts:
+        values.update({name + suffix: resultants[k] for k, name in enumerate(RESULTANTS)})
+        values.update({name + suffix: v for name, v in _face_values(sigma).items()})
+    return values
+
+
+def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
+    """The run ``ds`` with its resultants and face stresses (a new Dataset; ``ds`` is not changed).
+
+    Adds on ``(time, s_cell)`` the resultants of the module's table and on ``(time, s_cell, zeta)``
+    the principal Cauchy stresses and the von Mises stress at the faces ``zeta1`` (``inner``) and
+    ``zeta1 + 2h`` (``outer``): the Cauchy stress of the cell's two samples averaged, then its
+    principal values. For a viscous run every variable includes the Kelvin-Voigt stress and its
+    viscous part is added as ``NAME_viscous``. ``mol-shell run`` calls this (``--no-stresses`` to
+    skip); ``simulate(..., stresses=None|True|False)`` is to call it the same way (the keyword is
+    added to :func:`~mol_shell.simulate.simulate` with the geometry work: ``None`` = up to ``limit``).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A run (fields and rates on ``(time, s)``, the scene's parameters in attrs).
+    limit : int or None
+        Skip (and say so in ``attrs["stresses"]``) when cell samples x saved times exceed it
+        (two samples per cell); ``None``: no limit. About 2 us per sample (3 with viscosity) and
+        136 bytes per cell and saved time (224 with viscosity).
+    compiled : bool
+        Evaluate generated C (built once per ``n_quad`` and cached); False: CasADi's virtual machine.
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    needed = [*FIELDS, *(f + "_t" for f in FIELDS)]
+    missing = [v for v in needed if v not in ds or ds[v].dims != ("time", "s")]
+    if missing or not all(k in ds.attrs for k in ("E", "nu", "h", "zeta1_used", "n_quad")):
+        raise ParameterError.invalid("ds", "Dataset", "is not a mol_shell run", "a Dataset from simulate or mol-shell run",
+                                     hint="missing " + ", ".join(missing or ["attrs E, nu, h, zeta1_used, n_quad"]))
+    n_t, n = ds.sizes["time"], ds.sizes["s"]
+    samples = 2 * (n - 1) * n_t
+    if limit is not None and samples > limit:
+        out = ds.copy()
+        out.attrs["stresses"] = (f"skipped: {samples:.3g} cell samples x saved times exceed the limit {limit:.3g}; "
+                                 "call mol_shell.stresses.add_stresses(ds, limit=None)")
+        return out
+    ref = reference_cells(ds["s"].values, _nodal(ds, "r0"), _nodal(ds, "z0"), _nodal(ds, "theta0"))
+    lam, mu, eta_lambda, eta_mu, plane = _material(ds.attrs)
+    zeta1, h, n_quad = float(ds.attrs["zeta1_used"]), float(ds.attrs["h"]), int(ds.attrs["n_quad"])
+    par = np.array([zeta1, h, lam, mu, eta_lambda, eta_mu, float(plane)])
+    viscous = eta_lambda > 0 or eta_mu > 0
+    ref_cells = np.stack([ref[k] for k in ("r0", "theta0", "theta0_s", "beta1_0", "beta2_0")], axis=-1)  # (cells, 5)
+    per_time = 2 * (n - 1)
+    block_t = max(1, CHUNK // per_time)
+    run = Evaluator(n_quad, viscous, block_t * per_time if n_t > block_t else n_t * per_time, compiled)
+    data = {}
+    for t0 in range(0, n_t, block_t):
+        t1 = min(t0 + block_t, n_t)
+        Q = np.stack([ds[f].values[t0:t1] for f in FIELDS], axis=1)  # (times, 5, s)
+        V = np.stack([ds[f + "_t"].values[t0:t1] for f in FIELDS], axis=1)
+        e, et = (np.moveaxis(cell_samples(x, ref["ds"]), 1, -1).reshape(-1, 8) for x in (Q, V))
+        refs = np.broadcast_to(ref_cells[None, :, None, :], (t1 - t0, n - 1, 2, 5)).reshape(-1, 5)
+        outs = [np.moveaxis(x.reshape(t1 - t0, n - 1, 2, -1).mean(axis=2), -1, 0) for x in run(e, et, refs, par)]
+        for name, value in _block(outs, viscous).items():
+            if name not in data:
+                data[name] = np.empty((n_t, *value.shape[1:]))
+            data[name][t0:t1] = value
+    s = ds["s"].values
+    coords = {
+        "s_cell": ("s_cell", (s[1:] + s[:-1]) / 2,
+                   {"units": "m", "long_name": "arc length of the reference generator at the cell centres"}),
+        "zeta": ("zeta", np.array([zeta1, zeta1 + 2 * h]), {
+            "units": "m", "long_name": "thickness coordinate of the faces along the reference director from the base "
+            "surface: zeta1 (inner face) and zeta1 + 2h (outer face)"}),
+    }
+    entries = {}
+    for name, value in data.items():
+        base = name.removesuffix("_viscous")
+        units, long_name = (RESULTANT_META if base in RESULTANT_META else FACE_META)[base]
+        if base in FACE_META:
+            long_name += " at the inner and outer faces"
+        if name != base:
+            long_name = "viscous part of the " + long_name
+        dims = ("time", "s_cell") if value.ndim == 2 else ("time", "s_cell", "zeta")
+        entries[name] = (dims, value, {"units": units, "long_name": long_name})
+    out = ds.assign_coords(coordinates(coords)).assign(variables(entries))
+    out.attrs["stresses"] = "included (mol_shell.stresses.add_stresses)"
+    if not all(np.isfinite(v).all() for v in data.values()):
+        out.attrs["stresses"] += "; NaN where det F <= 0 at a face or the state is not finite"
+    return out

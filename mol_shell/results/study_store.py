@@ -1,0 +1,192 @@
+"""The data side of parameter studies: one Dataset from many cases, finished cases on disk, summaries."""
+
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from mol_shell.results.dataset import coordinates, read_netcdf, variables, write_netcdf
+
+#: per-case numbers kept as variables even when every case has the same value
+STATS = ("n_steps", "n_rhs", "wall_time_s", "build_time_s", "case_wall_time_s", "failure_time", "complete", "R")
+
+
+def assemble(dims, coords, cases, results, times):
+    """One Dataset from per-case results; runs that stopped early are NaN after their last saved time."""
+    shape = tuple(len(coords[d]) for d in dims) if dims != ["case"] else (len(cases),)
+    grid = {d: (d, list(coords[d])) for d in dims} if dims != ["case"] else {
+        k: ("case", list(v)) for k, v in coords.items()}
+    if dims == ["case"]:
+        grid["case"] = ("case", np.arange(len(cases)))
+    done = [ds for ds, _ in results.values() if ds is not None and ds.data_vars]
+    ref = done[0] if done else None
+    data = {}
+    if ref is not None:
+        names = list(dict.fromkeys(k for ds in done for k in ds.data_vars))
+        for name in names:
+            var = next(ds[name] for ds in done if name in ds)
+            if var.dtype.kind != "f":
+                continue
+            sizes = [len(times) if d == "time" else var.sizes[d] for d in var.dims]
+            arr = np.full(shape + tuple(sizes), np.nan)
+            for index, _ in cases:
+                ds = results.get(index, (None, None))[0]
+                if ds is not None and name in ds:
+                    vals = ds[name].values
+                    arr[index][tuple(slice(0, k) for k in vals.shape)] = vals
+            data[name] = (tuple(dims) + var.dims, arr, dict(var.attrs))
+    per_case = {"status": [], "message": [], "worker": []}
+    numbers = {}
+    for index, _ in cases:
+        ds, info = results.get(index, (None, {"status": "lost", "message": "not run", "worker": ""}))
+        for key in per_case:
+            per_case[key].append(str(info.get(key, "")))
+        attrs = dict(ds.attrs) if ds is not None else {}
+        attrs["case_wall_time_s"] = info.get("case_wall_time_s", np.nan)
+        for key, value in attrs.items():
+            if key in coords:
+                continue
+            if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+                numbers.setdefault(key, {})[index] = value.item() if isinstance(value, np.generic) else value
+    constant = {}
+    for key, vals in numbers.items():
+        distinct = set(vals.values())
+        if key in STATS or len(distinct) > 1:
+            arr = np.full(shape, np.nan)
+            for index, v in vals.items():
+                arr[index] = v
+            data[key] = (tuple(dims), arr, {"units": _units(ref, key), "long_name": f"{key} of each case"})
+        else:
+            constant[key] = distinct.pop()
+    long = {"status": "how the case ended: complete, limit, unstable, refused, error, lost or interrupted",
+            "message": "account of how the case ended", "worker": "host:pid of the process that ran the case"}
+    for key, values in per_case.items():
+        data[key] = (tuple(dims), np.array(values, dtype=object).reshape(shape), {"long_name": long[key]})
+    coords_out = {**grid, "time": ("time", np.asarray(times), {"units": "s", "long_name": "time"})}
+    attrs = {k: v for k, v in (ref.attrs if ref is not None else {}).items()
+             if k not in coords and (not isinstance(v, (int, float, np.integer, np.floating)) or k in constant)}
+    attrs.update(constant)
+    for key in ("status", "message", "complete", "title", "history"):
+        attrs.pop(key, None)
+    return xr.Dataset(variables(data), coords=coordinates(coords_out, keep=ref.coords if ref is not None else None),
+                      attrs=attrs)
+
+
+def _units(ref, key):
+    if key.endswith("_s") or key in ("failure_time",):
+        return "s"
+    if ref is not None and f"units_{key}" in ref.attrs:
+        return str(ref.attrs[f"units_{key}"])
+    return "1"
+
+
+class Store:
+    """Finished cases as ``<output stem>.cases/<key>.nc`` (the key hashes the whole case).
+
+    Each file is written atomically (:func:`mol_shell.output.write_netcdf`) and carries a checksum
+    of its values and of the case's record (``case_checksum``); a file that cannot be read, or
+    whose values no longer match it (truncated or corrupted), is not reused: the case runs again.
+    """
+
+    #: the attrs of a case record, stored as ``case_<name>``
+    RECORD = ("label", "status", "message", "worker", "wall_time_s")
+
+    def __init__(self, output):
+        path = Path(output)
+        self.folder = path.with_name(path.stem + ".cases")
+        self.folder.mkdir(parents=True, exist_ok=True)
+        self.rejected = []  # (path, reason) of case files found unusable by load
+
+    def path(self, task):
+        return self.folder / f"{task.key}.nc"
+
+    def load(self, task):
+        """``(dataset or None, info)`` of a stored case, or ``None`` if there is no usable file."""
+        path = self.path(task)
+        if not path.exists():
+            return None
+        try:
+            ds = read_netcdf(path)
+        except Exception as exc:  # noqa: BLE001 - any unreadable file (HDF5 raises many kinds): run again
+            self.rejected.append((path, f"unreadable: {type(exc).__name__}"))
+            return None
+        stored = ds.attrs.pop("case_checksum", None)
+        if "case_status" not in ds.attrs or stored != checksum(ds):
+            self.rejected.append((path, "checksum mismatch" if stored else "no case record"))
+            return None
+        info = {k: ds.attrs.pop(f"case_{k}") for k in self.RECORD}
+        info.pop("label")
+        info["case_wall_time_s"] = info.pop("wall_time_s")
+        return (ds if ds.data_vars else None), info
+
+    def save(self, task, ds, info):
+        ds = xr.Dataset() if ds is None else ds.copy()
+        ds.attrs.update({"case_label": task.label, "case_status": info["status"], "case_message": info["message"],
+                         "case_worker": info["worker"], "case_wall_time_s": info["case_wall_time_s"]})
+        ds.attrs["case_checksum"] = checksum(ds)
+        write_netcdf(ds, self.path(task))  # atomic: a killed study never leaves half a case behind
+
+
+def checksum(ds):
+    """SHA-256 of a case's values (every variable and coordinate) and of its ``case_*`` record.
+
+    NaN payloads are normalised, so the value survives a netCDF round trip; any changed byte of
+    data, a missing variable or a changed record changes it.
+    """
+    digest = hashlib.sha256()
+    for name in sorted(map(str, ds.variables)):
+        var = ds.variables[name]
+        values = np.asarray(var.values)
+        digest.update(f"{name}|{','.join(map(str, var.dims))}|{values.shape}|".encode())
+        if values.dtype.kind in "fiub":
+            values = values.astype(np.float64)
+            digest.update(np.where(np.isnan(values), np.nan, values).tobytes())
+        else:
+            digest.update(repr(values.tolist()).encode())
+    for key in sorted(k for k in ds.attrs if k.startswith("case_") and k != "case_checksum"):
+        value = ds.attrs[key]
+        value = value.item() if isinstance(value, np.generic) else value  # as netCDF gives it back
+        digest.update(f"{key}={value!r};".encode())
+    return digest.hexdigest()
+
+
+def grid_mode(da, dim="s"):
+    """Split ``da`` into its ``(-1)^i`` node-to-node component along ``dim`` and the rest.
+
+    A diagnostic for grid-scale content. With ``psi`` taken at cell midpoints the ``(-1)^i``
+    pattern of ``psi`` vanished from the transverse shear and was a soft spurious mode (about
+    ``(2/ds) sqrt(mu/rho)``, 357 rad/s on 40 nodes); the cell energy now samples ``psi`` at the
+    cell's two nodes, so the pattern has the full shear stiffness (5,063 rad/s on 40 nodes, just
+    above the uniform shear mode's 5,050 rad/s) and stays small (3e-6 .. 5e-6 rad in the paper
+    scene on 40 .. 320 nodes, against max ``|psi|`` of 5.8e-5 .. 1.6e-4 rad). Returns
+    ``(amplitude without dim, remainder)``.
+    """
+    sign = xr.DataArray((-1.0) ** np.arange(da.sizes[dim]), dims=dim)
+    amplitude = (da * sign).mean(dim)
+    return amplitude, da - amplitude * sign
+
+
+def summarize(ds):
+    """Amplitudes of a run or study Dataset, reduced over ``time`` and ``s`` (NaN after a stop is skipped).
+
+    Returns a Dataset with ``dr_max`` (max ``|r - R|``), ``theta_max``, ``psi_max`` and its split
+    into ``psi_grid_mode_max`` and ``psi_smooth_max`` (see :func:`grid_mode`), ``chi_s_max``,
+    and ``energy_drift`` (max relative change of the total energy).
+    """
+    R = ds["R"] if "R" in ds.data_vars else float(ds.attrs["R"])
+    both = ("time", "s")
+    mode, rest = grid_mode(ds.psi)
+    e0 = ds.energy.isel(time=0, drop=True)
+    out = {
+        "dr_max": (abs(ds.r - R).max(both), "m", "largest change of the radius from R"),
+        "theta_max": (abs(ds.theta).max(both), "rad", "largest |theta|"),
+        "psi_max": (abs(ds.psi).max(both), "rad", "largest |psi|"),
+        "psi_grid_mode_max": (abs(mode).max("time"), "rad", "largest amplitude of the (-1)^i node pattern of psi"),
+        "psi_smooth_max": (abs(rest).max(both), "rad", "largest |psi| without its (-1)^i node pattern"),
+        "chi_s_max": (abs(ds.chi.diff("s") / ds.s.diff("s")).max(both), "rad m-1", "largest |chi_s|"),
+        "energy_drift": (abs(ds.energy - e0).max("time") / abs(e0), "1", "largest relative change of the energy"),
+    }
+    return xr.Dataset({k: v.assign_attrs(units=u, long_name=n) for k, (v, u, n) in out.items()})

@@ -1,0 +1,103 @@
+"""Scenes made ready to run: the discretised system and its compiled RHS (cached per process), the scene with
+``R`` computed, saved times checked, the starting state (static equilibrium under loads when asked), and the rates
+and totals observed at saved states."""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import time
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError, is_number
+from mol_shell.discretization.compiled import CompiledRHS
+from mol_shell.discretization.system import ShellSystem
+from mol_shell.runs.checks import check_system, resolve
+from mol_shell.scenes import SCENES, CylinderScene, ShellScene, get_scene
+
+#: from this many nodes the compiled RHS runs its cell and node kernels on threads (OpenMP maps); below,
+#: a parallel region costs more than it saves (measured: see docs/performance.md)
+PARALLEL_MIN_NODES = 1000
+
+__all__ = ["PARALLEL_MIN_NODES", "as_scene", "build", "observe", "parse_times", "resolve"]
+
+
+def _graph_key(scene):
+    """The parameters the equations depend on (initial data at their defaults), so graphs are shared."""
+    fields = {f.name: f for f in dataclasses.fields(scene)}
+    initial = {k: fields[k].default for k in getattr(scene, "initial", ()) if k in fields}
+    if isinstance(scene, CylinderScene):
+        initial["R"] = scene.a  # the natural radius: a finite initial state for the checks of the graph
+    return dataclasses.replace(scene, **initial)
+
+
+@functools.lru_cache(maxsize=16)
+def _built(key, n):
+    start = time.perf_counter()
+    system = ShellSystem(key, n)
+    check_system(key, system)  # values whose numbers are not finite are refused before anything is compiled
+    rhs = system.rhs_parallel if n >= PARALLEL_MIN_NODES else system.rhs_mapped
+    compiled = CompiledRHS(rhs, system.limits)
+    return system, compiled, time.perf_counter() - start
+
+
+def build(scene, n=40):
+    """The discretised system and its compiled RHS for ``scene`` on ``n`` nodes (cached in-process)."""
+    system, compiled, _ = _built(_graph_key(scene), int(n) if isinstance(n, (int, np.integer)) else n)
+    return system, compiled
+
+
+def as_scene(scene):
+    """A scene object from an object or a registered name; anything else is refused by name."""
+    if isinstance(scene, str):
+        return get_scene(scene)
+    if not isinstance(scene, ShellScene):
+        raise ParameterError.not_a("scene", scene, "a scene",
+                                   "a scene object such as mol_shell.TwistedCylinder(), or one of {"
+                                   + ", ".join(sorted(SCENES)) + "}")
+    return scene
+
+
+def parse_times(times=None, t_end=None):
+    """Saved times as an array starting at 0; ``t_end`` alone gives 11 evenly spaced times."""
+    if t_end is not None:
+        if not is_number(t_end):
+            raise ParameterError.not_a("t_end", t_end, "a number", "(0, inf) s")
+        if not (np.isfinite(t_end) and t_end > 0):
+            raise ParameterError("t_end", t_end, "(0, inf) s")
+    if times is None:
+        if t_end is None:
+            raise ParameterError.missing("t_end", "give t_end in (0, inf) s, or times")
+        return np.linspace(0.0, float(t_end), 11)
+    allowed = "increasing finite times starting at 0, at least two"
+    try:
+        if isinstance(times, str):
+            raise TypeError
+        times = np.asarray(times, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise ParameterError.not_a("times", times, "a list of numbers", allowed) from None
+    if times.size < 2 or not np.all(np.isfinite(times)) or times[0] != 0 or np.any(np.diff(times) <= 0):
+        raise ParameterError("times", times, allowed)
+    if t_end is not None and not np.isclose(times[-1], t_end):
+        raise ParameterError("t_end", t_end, f"the last saved time {times[-1]:g} s (or leave t_end out)")
+    return times
+
+
+def observe(system, states, times=None):
+    """Rates and per-time totals (energies, angular momentum, min delta, reactions) of saved states."""
+    times = np.zeros(len(states)) if times is None else np.asarray(times, dtype=float)
+    out = system.observables.map(len(states))(np.asarray(states).T, times[None, :])
+    v, kinetic, stored, angular, delta, dissipation, work, dissipated, reactions = (np.array(x) for x in out)
+    velocities = np.stack([v[:, i * system.n : (i + 1) * system.n] for i in range(len(states))])
+    totals = {
+        "kinetic": kinetic.ravel(),
+        "stored": stored.ravel(),
+        "angular_momentum": angular.ravel(),
+        "delta_min": delta.min(axis=0),
+        "dissipation": dissipation.ravel(),
+        "work": work.ravel(),
+        "dissipated": dissipated.ravel(),
+        "reactions": reactions.T.reshape(len(states), -1),
+    }
+    return velocities, totals

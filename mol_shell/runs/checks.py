@@ -1,0 +1,266 @@
+"""Values that pass every range check but leave the model's numbers meaningless: refused with the reason.
+
+A half-thickness of 1e-300 m is inside ``(0, 0.5) m``, but the director's inertia ``rho_J ~ rho h^3``
+underflows to 0 and the Jacobian of the discretised shell is no longer finite; a length of 1e-300 m
+makes the differences of the right-hand side overflow. Such values are found by evaluating the
+discretised system itself (state, right-hand side and Jacobian at t = 0 and their spectrum), not
+by a table of thresholds, so every scene is covered. :func:`check_system` refuses them with a
+:class:`~mol_shell.errors.ParameterError` that names the parameter responsible (the one that,
+set back to its default, makes the numbers finite again) and, found by bisection, the range of
+that parameter over which they are finite with the other parameters as given.
+:func:`equilibrium_radius` does the same for a radial equilibrium that cannot be computed
+(``E = 1e308`` overflows the energy; the solver itself can only blame the twist).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+
+import casadi as ca
+import numpy as np
+
+from mol_shell._core.errors import ParameterError, is_number, show
+from mol_shell._core.ranges import Interval, parameter_range
+from mol_shell.discretization.system import ShellSystem
+from mol_shell.model.equilibrium import equilibrium_radius as solve
+from mol_shell.model.equilibrium import spectrum_bounds
+from mol_shell.scenes import CylinderScene, check_radius
+
+#: nodes of the small systems used to find the responsible parameter and its threshold
+PROBE_NODES = 5
+#: bisection steps for a threshold between values of opposite signs (linear)
+BISECTION_STEPS = 12
+
+
+def problem(system, y0):
+    """``None`` if the state, the right-hand side, the Jacobian and ``J f`` at ``(0, y0)`` are finite (and the
+    Jacobian not zero), else what is not."""
+    y0 = np.asarray(y0, dtype=float)
+    if not np.all(np.isfinite(y0)):
+        return "the initial state is not finite in double precision"
+    with np.errstate(all="ignore"):
+        f = np.asarray(system.rhs(0, y0)).ravel()
+    if not np.all(np.isfinite(f)):
+        return "the right-hand side at t = 0 is not finite in double precision"
+    with np.errstate(all="ignore"):
+        J = system.spectrum_jac(0, y0)
+        values = np.asarray(J.nonzeros(), dtype=float)
+    if not np.all(np.isfinite(values)):
+        return "the Jacobian at t = 0 is not finite in double precision (stiffness and inertia out of its range)"
+    if values.size and not np.any(values):
+        return "the Jacobian at t = 0 is zero (stiffness or inertia below double precision's range)"
+    with np.errstate(all="ignore"):
+        accel = np.asarray(ca.mtimes(J, ca.DM(f))).ravel()  # y'' = J f: what step-size selection evaluates first
+    if not np.all(np.isfinite(accel)):
+        return "the second derivative y'' = J f at t = 0 is not finite in double precision (motions too fast)"
+    return None
+
+
+def spectrum_problem(omega_max, damping):
+    """``None`` for a usable spectrum bound, else why it is not (0, denormal or not finite)."""
+    if not (math.isfinite(omega_max) and math.isfinite(damping)):
+        return f"max |eig J(y0)| = {omega_max:.3g} /s is not finite in double precision"
+    if not omega_max > 0 or not math.isfinite(1.0 / omega_max):
+        return f"max |eig J(y0)| = {omega_max:.3g} /s: the shell's stiffness/inertia ratio underflows"
+    return None
+
+
+def checked_spectrum(scene, system, y0):
+    """``(max |lambda|, max damping)`` of :func:`mol_shell.equilibrium.spectrum_bounds`; a scene whose numbers
+    are not finite, or whose spectrum is not, is refused by :func:`refuse` instead."""
+    found = problem(system, y0)
+    if found is None:
+        try:
+            with np.errstate(all="ignore"):
+                omega_max, damping = spectrum_bounds(system.spectrum_jac, y0, system.viscous, positions(system))
+        except (np.linalg.LinAlgError, ValueError, ArithmeticError) as exc:
+            found = f"the eigenvalues of the Jacobian at t = 0 cannot be computed ({type(exc).__name__})"
+        else:
+            found = spectrum_problem(omega_max, damping)
+            if found is None:
+                return omega_max, damping
+    refuse(scene, system.n, found)
+
+
+def positions(system):
+    """Mask of the position entries of ``system``'s state (node-major: ``nf`` positions, then ``nf`` momenta per
+    node), or ``None`` when the state also holds accumulators (the work and dissipation of a loaded scene)."""
+    if system.n_extra:
+        return None
+    return np.arange(system.size) % system.ny < system.nf
+
+
+def initial_state(scene, system):
+    """``system.initial_state(scene)``; a state that cannot be formed in double precision (the momenta of
+    fields a scene leaves out come out NaN, not 0, when masses overflow) is refused by :func:`refuse`."""
+    try:
+        with np.errstate(all="ignore"):
+            return system.initial_state(scene)
+    except (ValueError, ArithmeticError):
+        refuse(scene, system.n, "the initial state is not finite in double precision (its momenta overflow)")
+
+
+def check_system(scene, system, y0=None):
+    """Refuse ``scene`` (see :func:`refuse`) if its discretised numbers at ``y0`` (default: its initial state)
+    are not finite."""
+    y0 = initial_state(scene, system) if y0 is None else y0
+    found = problem(system, y0)
+    if found is not None:
+        refuse(scene, system.n, found)
+
+
+@functools.lru_cache(maxsize=256)
+def _is_bad(scene, n):
+    """True if ``scene`` (with ``R`` resolved) has non-finite numbers (:func:`problem`) or spectrum on ``n`` nodes;
+    None if it cannot be built (a parameter refused on the way)."""
+    try:
+        scene = resolve(scene)
+        system = ShellSystem(scene, n)
+        y0 = system.initial_state(scene)
+        if problem(system, y0) is not None:
+            return True
+        with np.errstate(all="ignore"):
+            return spectrum_problem(*spectrum_bounds(system.spectrum_jac, y0, system.viscous,
+                                                     positions(system))) is not None
+    except ParameterError:
+        return None
+    except (np.linalg.LinAlgError, ValueError, ArithmeticError, RuntimeError):
+        return True
+
+
+def _changed(scene):
+    """Numeric parameters of ``scene`` that differ from its class's defaults: ``{name: (value, default)}``."""
+    try:
+        default = type(scene)()
+        resolved = resolve(default)  # parameters the code computes (R) compared with their computed default
+    except (TypeError, ParameterError):
+        return {}
+    out = {}
+    for f in dataclasses.fields(scene):
+        value, base = getattr(scene, f.name), getattr(default, f.name)
+        base = getattr(resolved, f.name) if base is None else base
+        if is_number(value) and is_number(base) and value != base:
+            out[f.name] = (float(value), float(base))
+    return out
+
+
+def _bad_numbers(scene):
+    return _is_bad(scene, PROBE_NODES)
+
+
+def responsible(scene, bad=_bad_numbers):
+    """Parameters that, each set back to its default, make ``bad(scene)`` false (the numbers finite) again."""
+    names = []
+    for name, (_, base) in _changed(scene).items():
+        try:
+            candidate = dataclasses.replace(scene, **{name: base})
+        except ParameterError:
+            continue
+        if bad(candidate) is False:
+            names.append(name)
+    return names
+
+
+def threshold(scene, name, bad=_bad_numbers, decades=0.5):
+    """The value of ``name`` closest to the given one for which the numbers are still finite: bisection towards
+    the default (geometric between values of one sign, to ``decades``; linear otherwise, 12 halvings)."""
+    given, good = _changed(scene)[name]
+    if good == 0 and given != 0:  # a default of 0 (spin, twist, viscosity): search the magnitudes of the value's sign
+        good = math.copysign(1e-300, given)
+    geometric = given != 0 and good != 0 and (given > 0) == (good > 0)
+
+    def at(t):
+        if geometric:
+            return math.copysign(math.exp((1 - t) * math.log(abs(given)) + t * math.log(abs(good))), good)
+        return (1 - t) * given + t * good
+
+    span = abs(math.log10(abs(given)) - math.log10(abs(good))) if geometric else 0.0
+    steps = max(1, math.ceil(math.log2(span / decades))) if geometric and span > decades else BISECTION_STEPS
+    lo, hi = 0.0, 1.0  # at(lo) bad, at(hi) good
+    for _ in range(steps):
+        mid = 0.5 * (lo + hi)
+        try:
+            candidate = dataclasses.replace(scene, **{name: at(mid)})
+        except ParameterError:
+            lo = mid
+            continue
+        if bad(candidate) is False:
+            hi = mid
+        else:
+            lo = mid
+    return at(hi)
+
+
+def refuse(scene, n, reason):
+    """Raise the :class:`ParameterError` for a scene whose numbers are not finite, naming who and the range."""
+    name, value, allowed, hint, message = _refusal(scene, reason)
+    raise ParameterError(name, value, allowed, hint, message=message)
+
+
+@functools.lru_cache(maxsize=64)
+def _refusal(scene, reason, bad=_bad_numbers):
+    """``(name, value, allowed, hint, message)`` of the refusal (cached: the bisection costs a second or two)."""
+    error = _diagnose(scene, reason, bad)
+    return error.name, error.value, error.allowed, "", str(error)
+
+
+def _diagnose(scene, reason, bad=_bad_numbers, exclude=()):
+    names = [k for k in responsible(scene, bad) if k not in exclude]
+    if len(names) == 1:
+        name = names[0]
+        value = getattr(scene, name)
+        edge = threshold(scene, name, bad)
+        allowed = parameter_range(scene, name)
+        if not isinstance(allowed, Interval):
+            allowed = Interval(-math.inf, math.inf)
+        allowed = allowed.with_high(edge) if edge < value else allowed.with_low(edge)
+        return ParameterError(name, value, f"about {allowed.text()}",
+                              hint=f"with the other parameters as given: beyond it {reason}")
+    if exclude:
+        return None
+    changed = _changed(scene)
+    names = names or sorted(changed, key=lambda k: -abs(math.log10(abs(changed[k][0]) + 1e-300)
+                                                         - math.log10(abs(changed[k][1]) + 1e-300)))
+    if not names:
+        return ParameterError.invalid("scene", getattr(scene, "name", type(scene).__name__), f"has {reason}",
+                                      "parameters whose discretised numbers are finite in double precision")
+    listed = ", ".join(f"{k} = {show(getattr(scene, k))}" for k in names)
+    return ParameterError(names[0], getattr(scene, names[0]), "values for which the model's numbers are finite",
+                          message=f"{listed} together leave the model's numbers outside double precision ({reason}); "
+                          "allowed: values closer to the defaults")
+
+
+@functools.lru_cache(maxsize=256)
+def _no_equilibrium(scene):
+    try:
+        with np.errstate(all="ignore"):
+            R = solve(scene)
+        return not math.isfinite(R)
+    except (ParameterError, ArithmeticError, ValueError, RuntimeError):
+        return True
+
+
+def equilibrium_radius(scene):
+    """:func:`mol_shell.equilibrium.equilibrium_radius`, but a failure caused by another parameter than the one the
+    solver names (``E = 1e308`` overflows the energy, and the solver can only blame the twist) names that
+    parameter and the range over which the equilibrium can be computed."""
+    try:
+        with np.errstate(all="ignore"):
+            return solve(scene)
+    except ParameterError as exc:
+        error = _diagnose(scene, "the radial equilibrium cannot be computed in double precision", _no_equilibrium,
+                          exclude=(exc.name,))
+        if error is None:
+            raise
+        raise error from None
+
+
+def resolve(scene):
+    """The scene with ``R`` computed when it was left to the code."""
+    if isinstance(scene, CylinderScene) and scene.R is None:
+        R = equilibrium_radius(scene)
+        check_radius(R, scene.h, scene.zeta1, hint="the computed equilibrium radius; set R", a=scene.a)
+        return dataclasses.replace(scene, R=R)
+    return scene

@@ -1,0 +1,312 @@
+"""Resource limits named before work starts: memory of the output and the solver, steps and time.
+
+:func:`check_before_build` runs before any graph is built (it needs only ``n``, the saved times
+and the integrator): it refuses a run whose memory would not fit in what the machine has
+available, naming the estimate and what to change, and warns (:class:`LongRunWarning`, a
+``RuntimeWarning``) about one whose projected time exceeds :data:`LONG_RUN_S`. Once the spectrum
+and the compiled right-hand side are known, :func:`check_before_run` sharpens the time: leap-frog's
+step count is exact (``t_end / dt``), an explicit Runge-Kutta method's is bounded below by its
+stability interval, and every adaptive method takes at least one step per saved interval.
+
+The constants are measurements on a 2-core machine (AMD EPYC, docs/reliability.md); the estimates
+are meant to be right within a factor of about two, which is all a refusal or a warning needs.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+import re
+import time
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from mol_shell._core.constants import DENSE_MAX_STATES
+from mol_shell._core.errors import ParameterError
+from mol_shell.results.stresses import MAX_SAMPLES
+
+#: environment variable: the memory a run may use, bytes (suffixes k, M, G, T; powers of 1024), instead of the
+#: machine's available memory (for tests, and for a share of a machine)
+MEMORY_ENV = "MOL_SHELL_MEMORY"
+#: a run projected to take longer than this (s) is announced before it starts
+LONG_RUN_S = 3600.0
+BYTES = 8
+#: variables per node and saved time in a run's Dataset: 5 fields and their 5 rates (every field, active or not)
+OUTPUT_PER_NODE = 10
+#: per saved time: energies, angular momentum, delta_min, dissipation
+OUTPUT_PER_TIME = 6
+#: peak memory while a run's saved states become its Dataset, in multiples of the output (the saved states, the
+#: observables evaluated over all of them at once, velocities, fields, the Dataset): measured 10.6x at n = 10 and
+#: 40 (flat graphs), 5.3x at n = 400 (mapped), 20,000-80,000 saved times
+ASSEMBLY_COPIES = 11.0
+#: memory of graph building, spectrum and compiled code per node (bytes; measured 37-41 kB per node at
+#: n = 1,000 .. 16,000, the twisted cylinder) and a fixed part (the imported libraries, ~150 MB, and margin)
+BUILD_BYTES_PER_NODE = 40e3
+BUILD_BYTES_FIXED = 300e6
+#: graph building and spectrum per node (s; measured 1.9, 1.7, 0.96 ms per node at n = 1,000, 4,000, 16,000)
+BUILD_S_PER_NODE = 1.0e-3
+#: one compiled right-hand side per node (s): 17.35 us per leap-frog step at n = 40, 0.55 us per node at 16,000
+RHS_S_PER_NODE = 0.5e-6
+#: right-hand sides per step and the imaginary-axis stability interval ``|lambda| dt`` of explicit Runge-Kutta
+#: methods: a lower bound on their steps is ``t_end max|lambda| / interval`` (slightly generous intervals)
+EXPLICIT_RK = {"scipy-rk45": (6, 3.5), "scipy-dop853": (12, 6.1)}
+#: state-sized vectors a solver keeps (leap-frog: pair, rates, limits, copies; SUNDIALS: history and work)
+SOLVER_VECTORS = {"leapfrog": 8}
+SOLVER_VECTORS_DEFAULT = 30
+
+
+class LongRunWarning(RuntimeWarning):
+    """A run is projected to take longer than :data:`LONG_RUN_S`; the message holds the estimate."""
+
+
+def parse_bytes(text):
+    """``"8G"`` -> 8 * 1024**3; plain numbers are bytes."""
+    found = re.fullmatch(r"\s*([0-9.]+(?:e[+-]?[0-9]+)?)\s*([kmgt]?)i?b?\s*", str(text), flags=re.I)
+    if not found:
+        raise ParameterError.invalid(MEMORY_ENV, text, "is not a size", "bytes, or a number with k, M, G or T")
+    return float(found.group(1)) * 1024 ** "_kmgt".index(found.group(2).lower() or "_")
+
+
+def _meminfo():
+    try:
+        with open("/proc/meminfo") as f:
+            info = dict(line.split(":", 1) for line in f if ":" in line)
+        return float(info["MemAvailable"].split()[0]) * 1024
+    except (OSError, KeyError, ValueError):
+        return None
+
+
+def _cgroup_room():
+    """Memory left under this process's cgroup (v2 or v1) limit, if there is one."""
+    for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
+                                   ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
+                                    "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
+        try:
+            with open(limit_file) as f:
+                limit = f.read().strip()
+            with open(usage_file) as f:
+                usage = float(f.read().strip())
+        except (OSError, ValueError):
+            continue
+        if limit.isdigit() and float(limit) < 2**60:
+            return float(limit) - usage
+    return None
+
+
+def available_memory():
+    """``(bytes, where from)``: :data:`MEMORY_ENV` if set, else the machine's available memory (and a cgroup limit)."""
+    if os.environ.get(MEMORY_ENV):
+        return parse_bytes(os.environ[MEMORY_ENV]), f"${MEMORY_ENV}"
+    found = [(v, src) for v, src in ((_meminfo(), "MemAvailable"), (_cgroup_room(), "cgroup limit")) if v is not None]
+    if not found:
+        try:
+            found = [(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"), "sysconf")]
+        except (ValueError, OSError, AttributeError):
+            return math.inf, "unknown"
+    return min(found)
+
+
+def show_bytes(value):
+    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if value >= size:
+            return f"{value / size:.3g} {unit}"
+    return f"{value:.0f} B"
+
+
+def show_seconds(value):
+    for unit, size in (("days", 86400.0), ("h", 3600.0), ("min", 60.0)):
+        if value >= size:
+            return f"{value / size:.3g} {unit}"
+    return f"{value:.3g} s"
+
+
+@dataclass
+class Estimate:
+    """What a run will need, before it starts.
+
+    Attributes
+    ----------
+    n, n_times, size : int
+        Nodes, saved times and unknowns (``2 x fields x n``).
+    output_bytes : float
+        The saved output: ``n_times x (10 n + 6) x 8`` bytes (fields and rates per node, totals per time).
+    memory_bytes : float
+        Peak estimate: output while it is assembled, solver state and Jacobian, graphs and spectrum.
+    steps : float
+        Leap-frog: exact (``t_end / dt``); adaptive: a lower bound (``steps_lower_bound`` is true).
+    seconds : float
+        Projected wall time (graph building, and stepping at the measured or estimated RHS cost).
+    """
+
+    n: int
+    n_times: int
+    size: int
+    output_bytes: float
+    memory_bytes: float
+    steps: float
+    steps_lower_bound: bool
+    seconds: float
+    build_seconds: float
+
+    def describe(self):
+        steps = f"{'at least ' if self.steps_lower_bound else ''}{self.steps:.3g} steps"
+        return (f"{self.n_times} saved times x {self.n} nodes: output {show_bytes(self.output_bytes)}, about "
+                f"{show_bytes(self.memory_bytes)} in all; {steps}, {'at least ' if self.steps_lower_bound else ''}"
+                f"about {show_seconds(self.seconds)}")
+
+
+#: stress and resultant values per cell and saved time (:mod:`mol_shell.stresses`), when they are computed
+STRESS_PER_CELL = 17
+
+
+def output_bytes(n_times, n, stresses=True):
+    """Bytes of a run's Dataset: fields and rates per node, totals per time, the stresses per cell and time
+    when they are computed (up to :data:`mol_shell.stresses.MAX_SAMPLES` cell samples x times), and the
+    reference meridian (3 values per node)."""
+    per_time = OUTPUT_PER_NODE * n + OUTPUT_PER_TIME
+    if stresses and float(n_times) * 2 * (n - 1) <= MAX_SAMPLES:
+        per_time += STRESS_PER_CELL * (n - 1)
+    return (float(n_times) * per_time + 3 * n) * BYTES
+
+
+def solver_bytes(integrator, size, n):
+    """State vectors, and the Jacobian where the integrator keeps one (scikit-sundae hands dense and banded
+    solvers a full N x N array; sparse solvers keep the non-zeros and their LU factors)."""
+    vectors = SOLVER_VECTORS.get(integrator, SOLVER_VECTORS_DEFAULT) * size * BYTES
+    if integrator == "leapfrog":
+        return vectors
+    jacobian = size * size * BYTES if size <= DENSE_MAX_STATES else 40 * size * 12 * 4
+    return vectors + jacobian
+
+
+def spectrum_bytes(size):
+    """Dense eigenvalues up to 2,000 unknowns (the matrix, its complex copy and LAPACK's work), ARPACK above."""
+    return 4 * size * size * BYTES if size <= DENSE_MAX_STATES else 60 * size * 2 * BYTES
+
+
+def estimate(n, n_times, t_end, integrator="leapfrog", *, fields=5, dt=None, omega_max=None, rhs_seconds=None):
+    """An :class:`Estimate` of a run; ``omega_max`` (1/s) and ``rhs_seconds`` sharpen it once known."""
+    n, n_times, t_end = int(n), int(n_times), float(t_end)
+    size = 2 * fields * n
+    out = output_bytes(n_times, n)
+    memory = (out * ASSEMBLY_COPIES + solver_bytes(integrator, size, n) + spectrum_bytes(size)
+              + BUILD_BYTES_FIXED + BUILD_BYTES_PER_NODE * n)
+    rhs = rhs_seconds if rhs_seconds is not None else RHS_S_PER_NODE * n
+    if integrator == "leapfrog" and dt:
+        steps, lower, per_step = t_end / dt, False, 1
+    else:
+        steps, lower, per_step = max(n_times - 1, 1), True, 1
+        if integrator in EXPLICIT_RK:
+            per_step, interval = EXPLICIT_RK[integrator]
+            if omega_max is not None and math.isfinite(omega_max):
+                steps = max(steps, t_end * omega_max / interval)
+    build = BUILD_S_PER_NODE * n
+    return Estimate(n, n_times, size, out, memory, steps, lower, steps * per_step * rhs + build, build)
+
+
+def check_memory(est, *, times_name="times", times_value=None, n_name="n"):
+    """Refuse a run whose memory estimate exceeds what is available; the message names the estimate and the fix.
+
+    The saved times are named when fewer of them would fit (at least two), else the nodes.
+    """
+    available, source = available_memory()
+    if est.memory_bytes <= available:
+        return
+    per_time = est.output_bytes * ASSEMBLY_COPIES / max(est.n_times, 1)
+    fixed = est.memory_bytes - per_time * est.n_times
+    fits = int(min((available - fixed) / per_time, 1e18)) if available > fixed else 0
+    need = (f"needs about {show_bytes(est.memory_bytes)} (the output alone {show_bytes(est.output_bytes)}: "
+            f"{est.n_times:.4g} saved times x {est.n} nodes x {OUTPUT_PER_NODE} values x 8 bytes), "
+            f"{show_bytes(available)} available ({source})")
+    if fits >= 2:
+        value = times_value if times_value is not None else f"<{est.n_times} saved times>"
+        raise ParameterError(times_name, value, f"at most {fits:,} saved times at n = {est.n}",
+                             hint=f"the run {need}; save fewer times (--times) or use fewer nodes (--n)")
+    per_node = (est.memory_bytes - BUILD_BYTES_FIXED) / est.n
+    max_n = int((available - BUILD_BYTES_FIXED) / per_node) if available > BUILD_BYTES_FIXED else 0
+    raise ParameterError(n_name, est.n,
+                         f"integers 3..{max(max_n, 3):,} on this machine with {est.n_times:,} saved times",
+                         hint=f"the run {need}; use fewer nodes (--n) or save fewer times (--times)")
+
+
+def warn_if_long(est, what="run"):
+    """:class:`LongRunWarning` (one line) when the projected time exceeds :data:`LONG_RUN_S`."""
+    if est.seconds <= LONG_RUN_S:
+        return False
+    least = "at least " if est.steps_lower_bound else ""
+    build = f", building the graphs about {show_seconds(est.build_seconds)}" if est.build_seconds > 60 else ""
+    warnings.warn(f"this {what} will take {least}about {show_seconds(est.seconds)} ({least}{est.steps:.3g} steps at "
+                  f"n = {est.n}{build}); a shorter t_end, a larger step or fewer nodes (--t-end, --dt, --n) "
+                  "make it shorter", LongRunWarning, stacklevel=4)
+    return True
+
+
+def check_nodes(n):
+    """``n`` must be an integer >= 3 (checked here too, so estimates never see anything else)."""
+    if not (isinstance(n, (int, np.integer)) and not isinstance(n, (bool, np.bool_)) and n >= 3):
+        raise ParameterError("n", n, "integers >= 3")
+
+
+def check_saved_times(count, n, *, name="--times", value=None, integrator="leapfrog"):
+    """Before a list of ``count`` saved times is even made: refuse it if the output would not fit in memory."""
+    if isinstance(n, (int, np.integer)) and n >= 3:
+        check_memory(estimate(n, count, 0.0, integrator), times_name=name, times_value=value)
+
+
+def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, times_value=None):
+    """Before any graph is built: refuse what does not fit in memory, warn about what takes over an hour."""
+    check_nodes(n)
+    est = estimate(n, len(times), times[-1], integrator, fields=fields, dt=dt)
+    check_memory(est, times_value=times_value)
+    warn_if_long(est)
+    return est
+
+
+def measure_rhs_seconds(compiled, y0, repeats=20):
+    """Seconds per compiled right-hand-side evaluation, timed on ``y0`` (a few ms at most)."""
+    f = compiled.evaluator()
+    f(y0)
+    start = time.perf_counter()
+    for _ in range(repeats):
+        f(y0)
+    return (time.perf_counter() - start) / repeats
+
+
+def check_before_run(n, times, integrator, *, fields=5, dt=None, omega_max=None, compiled=None, y0=None,
+                     warned=False):
+    """With the spectrum and the compiled code known: the projected time again, warned about once."""
+    rhs = measure_rhs_seconds(compiled, y0) if compiled is not None and y0 is not None else None
+    est = estimate(n, len(times), times[-1], integrator, fields=fields, dt=dt, omega_max=omega_max, rhs_seconds=rhs)
+    est.seconds -= est.build_seconds  # the graphs are built by now
+    est.build_seconds = 0.0
+    if not warned:
+        warn_if_long(est)
+    return est
+
+
+def check_cases(count, n, n_times=2, *, name="vary", value=None):
+    """Refuse a study of ``count`` cases whose combined Dataset would not fit in memory (before the cases are made)."""
+    if not (isinstance(n, (int, np.integer)) and n >= 3):
+        return
+    per_case = output_bytes(n_times, n) * ASSEMBLY_COPIES
+    available, source = available_memory()
+    if count * per_case + BUILD_BYTES_FIXED > available:
+        fits = int(max(available - BUILD_BYTES_FIXED, 0) / per_case)
+        raise ParameterError(name, value if value is not None else f"<{count:.4g} cases>",
+                             f"at most {fits:,} cases at n = {n} with {n_times} saved times",
+                             hint=f"the study's Dataset would need about {show_bytes(count * per_case)}, "
+                             f"{show_bytes(available)} available ({source}); vary fewer values (--vary)")
+
+
+def check_study(n_cases, n, times, integrator="leapfrog", *, fields=5, dt=None, workers=1):
+    """A study: its combined output must fit in memory; warn when its cases take more than an hour in all."""
+    check_cases(n_cases, n, len(times))
+    est = estimate(n, len(times), times[-1], integrator, fields=fields, dt=dt)
+    check_memory(est)  # one case (each worker runs one at a time)
+    total = dataclasses.replace(est, seconds=est.seconds * n_cases / max(int(workers or 1), 1),
+                                steps=est.steps * n_cases)
+    warn_if_long(total, what=f"study ({n_cases} cases on {max(int(workers or 1), 1)} workers)")
+    return total

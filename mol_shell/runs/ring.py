@@ -1,0 +1,259 @@
+"""Section 5: spatially uniform motions (the breathing, spinning and shearing ring) as an ODE.
+
+With ``z_s = 1`` and ``chi_s = theta = theta_s = psi_s = r_s = 0`` (eq. 5.1 with no twist)
+every section of the cylinder moves alike, and the balance laws (5.2) reduce to ordinary
+differential equations in time for ``r(t), chi(t), psi(t)``. We do not transcribe (5.2)
+(its extraction is garbled); we take the same Lagrangian as the PDE,
+
+    l(q, q_t) = T(q, q_t) - What(z_s = 1, r_s = chi_s = theta_s = psi_s = 0; r, theta = 0, psi)
+
+per unit reference area, from the same model functions
+(:func:`~mol_shell.model.kinematics.kinetic_energy_density`,
+:func:`~mol_shell.model.material.shell_energy`), and write Hamilton's equations
+
+    q_t = M(q)^-1 p,    p_t = dT/dq|_{q_t} - dWhat/dq - dD/dq_t,    q = (r, chi, psi),
+
+(``D`` the Kelvin-Voigt Rayleigh function when the scene is viscous). ``chi`` is cyclic,
+so ``p_chi`` (the axial angular momentum per unit area) is conserved. The PDE of
+:class:`~mol_shell.scenes.SpinningRing` started from uniform data must follow this ODE at
+every node: the discrete energy's ``s``-derivatives of ``What`` vanish at uniform states and
+the ends carry half a cell's energy and half a node's mass.
+"""
+
+from __future__ import annotations
+
+import datetime
+import math
+import time
+from dataclasses import dataclass
+
+import casadi as ca
+import numpy as np
+import xarray as xr
+
+from mol_shell._core.errors import ParameterError
+from mol_shell._core.version import __version__
+from mol_shell.model.kinematics import delta, kinetic_energy_density
+from mol_shell.model.linalg import spd_solve
+from mol_shell.model.material import (
+    Thickness,
+    centroidal_offset,
+    condensed,
+    effective_lame,
+    inertias,
+    shell_dissipation,
+    shell_energy,
+)
+from mol_shell.results.dataset import FIELD_META, RATE_UNITS, REFERENCE, _attr, coordinates, variables
+from mol_shell.runs.simulate import parse_times, resolve
+from mol_shell.scenes import UNITS
+from mol_shell.scenes.base import refuse_loads
+
+#: the ODE's unknowns, indices into :data:`mol_shell.model.FIELDS`
+RING_FIELDS = (1, 2, 4)
+
+
+@dataclass(frozen=True)
+class RingSystem:
+    """The reduced ODE of one scene; every CasADi object of the ring lives here.
+
+    Attributes
+    ----------
+    rhs : casadi.Function
+        ``(t, y) -> y_t`` with ``y = (r, chi, psi, p_r, p_chi, p_psi)``; momenta per unit
+        reference area (kg m-1 s-1 and kg s-1).
+    jac : casadi.Function
+        ``(t, y) -> d y_t / d y``.
+    observables : casadi.Function
+        ``y -> (rates (3), kinetic, stored, p_chi, delta, dissipation)`` per unit reference area.
+    momenta : casadi.Function
+        ``(q, q_t) -> p``.
+    area : float
+        Reference area ``2 pi r0 L`` (m^2) that turns densities into whole-shell totals.
+    """
+
+    rhs: ca.Function
+    jac: ca.Function
+    observables: ca.Function
+    momenta: ca.Function
+    area: float
+    rho_a: float
+    rho_i: float
+    rho_j: float
+    viscous: bool
+
+
+def ring_system(scene):
+    """Build the reduced ODE of section 5 for ``scene`` (its material, thickness and density).
+
+    Parameters
+    ----------
+    scene : ShellScene
+        A cylinder scene; only material, thickness, density, ``a`` and ``L`` enter the equations.
+
+    Returns
+    -------
+    RingSystem
+    """
+    r0 = getattr(scene, "a", 1.0)
+    lam, mu = effective_lame(scene.E, scene.nu, scene.material)
+    zeta1 = centroidal_offset(scene.h, r0) if scene.zeta1 is None else scene.zeta1
+    thickness = Thickness(zeta1, scene.h, scene.n_quad)
+    rho_a, rho_i, rho_j = inertias(scene.rho, thickness, r0)
+    if abs(rho_i) < 1e-14 * rho_a:
+        rho_i = 0  # as ShellSystem: the rhoI terms are left out
+    q, v, p = ca.SX.sym("q", 3), ca.SX.sym("v", 3), ca.SX.sym("p", 3)
+    r, chi, psi = ca.vertsplit(q)
+    r_t, chi_t, psi_t = ca.vertsplit(v)
+    kinetic = kinetic_energy_density((0.0, r, chi, 0.0, psi), (0.0, r_t, chi_t, 0.0, psi_t), rho_a, rho_i, rho_j)
+    strains = (1.0, 0.0, 0.0, 0.0, 0.0, r, 0.0, psi)
+    stored = shell_energy(strains, lam, mu, thickness, r0)
+    mass = ca.hessian(kinetic, v)[0]
+    v_of_p = spd_solve(mass, p)
+    forces = ca.substitute(ca.gradient(kinetic, q), v, v_of_p) - ca.gradient(stored, q)
+    viscous = scene.eta_lambda > 0 or scene.eta_mu > 0
+    dissipation = ca.SX(0)
+    if viscous:
+        rates = (0.0, 0.0, 0.0, 0.0, 0.0, r_t, 0.0, psi_t)
+        eta_lambda, eta_mu = condensed(scene.eta_lambda, scene.eta_mu, scene.material)
+        D = shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0)
+        forces -= ca.substitute(ca.gradient(D, v), v, v_of_p)
+        dissipation = ca.substitute(2 * D, v, v_of_p)
+    t, y = ca.SX.sym("t"), ca.SX.sym("y", 6)
+    ydot = ca.substitute(ca.vertcat(v_of_p, forces), ca.vertcat(q, p), y)
+    rhs = ca.Function("ring_rhs", [t, y], [ydot], ["t", "y"], ["ydot"])
+    jac = ca.Function("ring_jac", [t, y], [ca.jacobian(ydot, y)], ["t", "y"], ["J"])
+    outs = [v_of_p, ca.substitute(kinetic, v, v_of_p), stored, p[1], delta(1.0, 0.0, r, 0.0, psi), dissipation]
+    outs = [ca.substitute(o, ca.vertcat(q, p), y) for o in outs]
+    observables = ca.Function(
+        "ring_observables", [y], outs, ["y"], ["v", "kinetic", "stored", "p_chi", "delta", "dissipation"]
+    )
+    momenta = ca.Function("ring_momenta", [q, v], [ca.gradient(kinetic, v)])
+    return RingSystem(rhs, jac, observables, momenta, 2 * math.pi * r0 * scene.L, rho_a, rho_i, rho_j, viscous)
+
+
+def ring_initial_state(system, scene):
+    """``y0`` of the uniform initial data of ``scene``: ``r = R``, ``chi = 0``, ``psi = psi0``, ``chi_t = omega``."""
+    q0 = [scene.R, 0.0, getattr(scene, "psi0", 0.0)]
+    v0 = [0.0, getattr(scene, "omega", 0.0), 0.0]
+    return np.concatenate([q0, np.array(system.momenta(q0, v0)).ravel()])
+
+
+def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
+    """Solve the reduced ODE of section 5 for the uniform data of ``scene``.
+
+    Parameters
+    ----------
+    scene : SpinningRing or TwistedCylinder
+        Its ``gamma`` must be 0 (no twist: section 5 shows that twisted uniform motions
+        do not exist); ``R = None`` is resolved as by :func:`mol_shell.simulate`.
+    times : array_like
+        Saved times (s), starting at 0.
+    rtol, atol : float
+        Tolerances of the ODE solver (``atol`` applies to ``r, chi, psi`` and, scaled by
+        the initial momentum magnitude, to the momenta).
+    n : int, optional
+        ``None`` (default): the fields have dims ``(time,)`` only, so they broadcast against
+        any PDE Dataset (``pde.r - ring.r`` works for every grid). An integer ``n >= 2``
+        broadcasts them onto the PDE's grid ``linspace(0, L, n)`` (dims ``(time, s)``, and
+        ``z = s`` is included).
+    method : str, optional
+        ``scipy.integrate.solve_ivp`` method; default ``"DOP853"`` (explicit, 8th order),
+        ``"Radau"`` (with the exact Jacobian) for viscous scenes.
+
+    Returns
+    -------
+    xarray.Dataset
+        The PDE Dataset's names and units: ``r, chi, theta, psi`` and their rates,
+        ``kinetic_energy``, ``stored_energy``, ``energy``, ``angular_momentum`` (whole shell:
+        densities times ``2 pi r0 L``), ``delta_min``; scene parameters, solver and
+        statistics in attrs (``integrator = "ring-ode/<method>"``).
+    """
+    if getattr(scene, "gamma", 0.0) != 0.0:
+        raise ParameterError("gamma", scene.gamma, "{0} for the ring ODE", hint="twisted motions are not uniform in s")
+    refuse_loads(scene, "the ring ODE of section 5")
+    scene = resolve(scene)
+    times = parse_times(times)
+    system = ring_system(scene)
+    y0 = ring_initial_state(system, scene)
+    method = method or ("Radau" if system.viscous else "DOP853")
+    scale = np.r_[np.ones(3), np.maximum(np.abs(y0[3:]), 1e-3 * np.abs(y0[3:]).max(initial=1.0))]
+    fun = _numpy_rhs(system.rhs)
+    extra = {}
+    if method in ("Radau", "BDF", "LSODA"):
+        extra["jac"] = lambda t, y: np.array(system.jac(t, y))
+    start = time.perf_counter()
+    from scipy.integrate import solve_ivp
+
+    sol = solve_ivp(fun, (times[0], times[-1]), y0, method=method, t_eval=times, rtol=rtol, atol=atol * scale, **extra)
+    wall = time.perf_counter() - start
+    status = "complete" if sol.success else "error"
+    attrs = {
+        "integrator": f"ring-ode/{method}", "rtol": rtol, "atol": atol, "n_rhs": int(sol.nfev),
+        "n_jac": int(getattr(sol, "njev", 0)), "wall_time_s": wall, "status": status,
+        "complete": int(sol.success), "message": sol.message,
+    }
+    return _ring_dataset(system, scene, sol.t, sol.y.T, attrs, n)
+
+
+def _numpy_rhs(f):
+    """``(t, y) -> y_t`` as NumPy through a CasADi buffer (the ODE is called ~1e5 times)."""
+    buf, trigger = f.buffer()
+    t_in, y_in, out = np.zeros(1), np.zeros(6), np.zeros(6)
+    buf.set_arg(0, memoryview(t_in))
+    buf.set_arg(1, memoryview(y_in))
+    buf.set_res(0, memoryview(out))
+
+    def fun(t, y):
+        t_in[0] = t
+        y_in[:] = y
+        trigger()
+        return out.copy()
+
+    fun.keep = (buf, t_in, y_in, out)
+    return fun
+
+
+def _ring_dataset(system, scene, t, y, attrs, n):
+    outs = system.observables.map(len(t))(y.T)
+    rates, kinetic, stored, p_chi, dlt, dissipation = (np.array(o) for o in outs)
+    q = {"r": y[:, 0], "chi": y[:, 1], "theta": np.zeros(len(t)), "psi": y[:, 2]}
+    qt = {"r": rates[0], "chi": rates[1], "theta": np.zeros(len(t)), "psi": rates[2]}
+    coords = {"time": ("time", t, {"units": "s", "long_name": "time"})}
+    dims, expand = ("time",), (lambda a: a)
+    if n is not None:
+        s = np.linspace(0.0, scene.L, int(n))
+        coords["s"] = ("s", s, {"units": "m", "long_name": "arc length of the reference generator"})
+        dims, expand = ("time", "s"), (lambda a: np.repeat(np.asarray(a)[:, None], len(s), axis=1))
+        q = {"z": None, **q}
+        qt = {"z": np.zeros(len(t)), **qt}
+    data = {}
+    for name in q:
+        units, long_name = FIELD_META[name]
+        values = np.broadcast_to(s, (len(t), len(s))).copy() if name == "z" else expand(q[name])
+        data[name] = (dims, values, {"units": units, "long_name": long_name})
+        data[name + "_t"] = (dims, expand(qt[name]), {"units": RATE_UNITS[units], "long_name": f"rate of change of {name}"})
+    A = system.area
+    totals = {
+        "kinetic_energy": (A * kinetic.ravel(), "J", "kinetic energy of the shell"),
+        "stored_energy": (A * stored.ravel(), "J", "stored (strain) energy"),
+        "energy": (A * (kinetic + stored).ravel(), "J", "total energy (kinetic + stored)"),
+        "angular_momentum": (A * p_chi.ravel(), "kg m2 s-1", "angular momentum of the whole shell about the axis"),
+        "delta_min": (dlt.ravel(), "m", "minimum over s of delta = r beta1 cos(psi) (must stay positive)"),
+    }
+    if system.viscous:
+        totals["dissipation"] = (A * dissipation.ravel(), "W", "power dissipated by the Kelvin-Voigt stress")
+    for name, (values, units, long_name) in totals.items():
+        data[name] = (("time",), values, {"units": units, "long_name": long_name})
+    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    meta = {
+        "Conventions": "CF-1.8", "title": f"mol_shell reduced ODE (section 5) of scene {scene.name}",
+        "source": f"mol_shell {__version__}", "mol_shell_version": __version__,
+        "history": f"{now} created by mol_shell {__version__}", "references": REFERENCE, "scene": scene.name,
+        "rho_A": system.rho_a, "rho_I": float(system.rho_i), "rho_J": system.rho_j, "failure_time": float("nan"),
+    }
+    for name, value in scene.params().items():
+        meta[name] = value
+        meta[f"units_{name}"] = UNITS.get(name, "1")
+    meta.update(attrs)
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: _attr(v) for k, v in meta.items()})

@@ -1,0 +1,258 @@
+"""Where the cases of a study run: in this process, on local worker processes, or on a dask cluster.
+
+:func:`execute` yields each case's result as it finishes; a local worker that dies has its unfinished cases
+run again in a new pool, a dask worker's are retried by dask (or recorded as ``lost``). :func:`connect` refuses
+an address that does not answer before anything runs. Used by :func:`mol_shell.study.study`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+
+from mol_shell._core.errors import ParameterError
+
+#: seconds to wait for a dask scheduler to answer before the study is refused
+SCHEDULER_TIMEOUT = 10.0
+
+
+def connect(scheduler):
+    """A ``distributed.Client`` for a scheduler address (``None`` for local processes or ``"serial"``).
+
+    Raises :class:`ParameterError` for an address that is malformed or does not answer within
+    :data:`SCHEDULER_TIMEOUT` seconds, so a study never starts on a cluster it cannot reach.
+    """
+    if scheduler is None or scheduler == "serial":
+        return None
+    allowed = "'serial', or the address of a running dask scheduler such as tcp://host:8786, or a distributed.Client"
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ParameterError.invalid("scheduler", scheduler, "needs dask.distributed, which is not installed",
+                                     allowed, hint="pip install 'mol_shell[dask]'") from None
+    if isinstance(scheduler, Client):
+        return scheduler
+    if not isinstance(scheduler, str) or not scheduler.strip():
+        raise ParameterError.not_a("scheduler", scheduler, "a scheduler address", allowed)
+    try:
+        # not the default client: a failed connection would otherwise leave dask (and xarray's netCDF locks)
+        # pointing at the unreachable scheduler for the rest of the process
+        return Client(scheduler, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
+    except ValueError as exc:
+        raise ParameterError.invalid("scheduler", scheduler, "is not a scheduler address", allowed,
+                                     hint=str(exc)) from None
+    except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, or distributed's own failures to start
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        raise ParameterError.invalid("scheduler", scheduler, f"does not answer within {SCHEDULER_TIMEOUT:g} s",
+                                     allowed, hint=f"{type(exc).__name__}: {text}".rstrip(": ")) from None
+
+
+def execute(run_task, tasks, scheduler, workers, client=None):
+    """Yield ``run_task(task)``, i.e. ``(index, ds, info)``, as cases finish, on the chosen back end (``client``: a
+    connected cluster). ``run_task`` must be importable by name (it is sent to other processes)."""
+    if not tasks:
+        return
+    if scheduler == "serial":
+        for task in tasks:
+            yield run_task(task)
+        return
+    if scheduler is None:
+        yield from _execute_local(run_task, tasks, workers)
+        return
+    from distributed import as_completed
+
+    if client is None:
+        client = connect(scheduler)
+    futures = client.map(run_task, tasks, pure=False)
+    owner = {f.key: t for f, t in zip(futures, tasks)}
+    try:
+        with client.as_current():  # the client is not the process-wide default (see connect)
+            for future in as_completed(futures):
+                yield _collect(future, owner[future.key])
+    finally:
+        client.cancel(futures)
+
+
+#: thread counts of the compiled kernels and of the numerical libraries' pools (which size themselves when a
+#: process loads them): one each in every process of a local study, unless the user set them
+THREAD_VARIABLES = ("MOL_SHELL_THREADS", "OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+@contextlib.contextmanager
+def _one_thread_per_process():
+    """Local processes share the cores: each runs its cases on one thread. Sets :data:`THREAD_VARIABLES` (unless
+    set), which the spawned workers inherit and libraries loaded later read, and limits the pools this process
+    has loaded already (two processes with two BLAS threads each made the spectrum of every case contend; idle
+    BLAS threads spinning here made a study 1.5x slower). Once for the whole study: threadpoolctl's search of
+    the loaded libraries costs 1 ms a time. This process's settings are restored afterwards."""
+    from threadpoolctl import threadpool_limits
+
+    saved = {name: os.environ.get(name) for name in THREAD_VARIABLES}
+    for name in THREAD_VARIABLES:
+        os.environ.setdefault(name, "1")
+    try:
+        with threadpool_limits(limits=1):
+            yield
+    finally:
+        for name, value in saved.items():
+            if value is None:
+                os.environ.pop(name, None)
+            else:
+                os.environ[name] = value
+
+
+#: times a case whose local worker process died (killed, out of memory) is run again before it is recorded ``lost``
+LOST_RETRIES = 2
+
+
+#: cases handed to each spawned worker ahead of time: the one it runs and two waiting, so it never waits for
+#: this process (busy with a case of its own) to hand it the next
+AHEAD = 3
+
+
+def _execute_local(run_task, tasks, workers):
+    """Cases on ``workers`` local processes: this one and ``workers - 1`` spawned ones.
+
+    The spawned workers are handed cases from the front of the queue, :data:`AHEAD` each; this process, which has
+    the package imported and its kernels loaded, runs them from the back, so it computes from the first second
+    while a worker spends about one starting (interpreter, imports, first build). Who runs a case is settled in
+    a table shared with the workers (:class:`_Claims`): a worker claims a case as it starts it and skips one this
+    process has claimed, so at the end this process also takes the handed-over cases no worker has started, and
+    the two finish within about a case of each other. A worker that dies breaks its pool: the case it was
+    running (the table says which) runs again in a new pool, up to :data:`LOST_RETRIES` times, and the cases it
+    had not started run there as they were.
+    """
+    import collections
+    import multiprocessing
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+    from concurrent.futures.process import BrokenProcessPool
+
+    attempts = {task.index: 0 for task in tasks}
+    pending = list(tasks)
+    with _one_thread_per_process():
+        while pending:
+            spawned = max(1, min(workers or os.cpu_count() or 1, len(pending))) - 1
+            if not spawned:  # this process alone
+                for task in pending:
+                    yield _retried(run_task(task), attempts[task.index])
+                return
+            context = multiprocessing.get_context("spawn")
+            claims = _Claims(context, len(pending))
+            pool = ProcessPoolExecutor(max_workers=spawned, mp_context=context, initializer=_worker_start,
+                                       initargs=(claims,))
+            queue, running, failed, mine = collections.deque(range(len(pending))), {}, [], set()
+            try:
+                while queue or running:
+                    for future in [f for f in running if f.done()]:
+                        slot = running.pop(future)
+                        if isinstance(future.exception(), BrokenProcessPool):
+                            failed.append(slot)
+                        elif future.result() is not None:  # None: skipped, claimed by this process
+                            yield _retried(_collect(future, pending[slot]), attempts[pending[slot].index])
+                    while queue and not failed and len(running) < AHEAD * spawned:
+                        slot = queue.popleft()
+                        running[pool.submit(_claimed, run_task, pending[slot], slot)] = slot
+                    slot = _next_here(queue, running, claims) if not failed else None
+                    if slot is not None:
+                        mine.add(slot)
+                        yield _retried(run_task(pending[slot]), attempts[pending[slot].index])
+                    elif running:
+                        wait(running, return_when=FIRST_COMPLETED)
+                    elif failed:
+                        break
+            finally:
+                claims.close()  # interrupted, or done: a worker starts nothing more
+                # every result in: the workers exit on their own (0.2 s that the study need not wait for); on an
+                # interruption or error, what has not started is cancelled and the workers are waited for
+                pool.shutdown(wait=bool(running), cancel_futures=True)
+            again, lost = [], []
+            for slot in sorted((set(failed) | set(queue)) - mine):
+                task = pending[slot]
+                if claims.owner(slot) > 0:  # the worker that died was running it (or had finished it unread)
+                    if attempts[task.index] >= LOST_RETRIES:
+                        lost.append(task)
+                        continue
+                    attempts[task.index] += 1
+                again.append(task)
+            for task in lost:
+                yield _retried((task.index, None, {"status": "lost", "message": "BrokenProcessPool",
+                                                   "case_wall_time_s": float("nan"), "worker": ""}),
+                               attempts[task.index])
+            pending = again
+
+
+def _next_here(queue, running, claims):
+    """The slot this process runs next, claimed: the back of the queue, else the newest case handed to a worker
+    that no worker has started; ``None`` when every case left is a worker's."""
+    if queue:
+        slot = queue.pop()
+        claims.take(slot)
+        return slot
+    for slot in sorted(running.values(), reverse=True):
+        if claims.take(slot):
+            return slot
+    return None
+
+
+class _Claims:
+    """Who runs each case of a pool: 0 nobody yet, -1 this process, else the pid of the worker that started it.
+
+    Shared memory with a lock, handed to the workers when they start (:func:`_worker_start`)."""
+
+    def __init__(self, context, size):
+        self.table = context.Array("q", size)
+
+    def take(self, slot, owner=-1):
+        """Claim ``slot`` for ``owner``; False if someone has it already."""
+        with self.table.get_lock():
+            if self.table[slot]:
+                return False
+            self.table[slot] = owner
+            return True
+
+    def owner(self, slot):
+        return self.table[slot]
+
+    def close(self):
+        """Claim every free case for this process: the workers skip whatever they have not started."""
+        with self.table.get_lock():
+            for slot in range(len(self.table)):
+                self.table[slot] = self.table[slot] or -1
+
+
+_CLAIMS = None
+
+
+def _worker_start(claims):
+    """A spawned worker's initializer: the claims table."""
+    global _CLAIMS
+    _CLAIMS = claims
+
+
+def _claimed(run_task, task, slot):
+    """``run_task(task)`` in a worker if the case is still free (claimed for this worker), else ``None``."""
+    if not _CLAIMS.take(slot, os.getpid()):
+        return None
+    return run_task(task)
+
+
+def _retried(result, attempts):
+    """A case's ``(index, ds, info)``, its message saying how often it ran when a worker died under it before."""
+    if attempts:
+        result[2]["message"] += f" (run {attempts + 1} times: a worker process died)"
+    return result
+
+
+def _collect(future, task):
+    """The result of a finished future; a task that died outside our code is recorded as ``lost``."""
+    try:
+        return future.result()
+    except Exception as exc:  # noqa: BLE001 - e.g. a killed worker
+        return task.index, None, {"status": "lost", "message": f"{type(exc).__name__}: {exc}",
+                                  "case_wall_time_s": float("nan"), "worker": ""}
+
+
+def scheduler_name(scheduler):
+    if scheduler is None:
+        return "local processes"
+    return scheduler if isinstance(scheduler, str) else type(scheduler).__name__

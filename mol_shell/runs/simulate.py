@@ -1,0 +1,226 @@
+"""One entry point: run a scene with an integrator and get a labelled xarray Dataset."""
+
+from __future__ import annotations
+
+import cmath
+import dataclasses
+import math
+import sys
+import warnings
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError, is_number
+from mol_shell.integrators import INTEGRATORS
+from mol_shell.results.dataset import build_dataset
+from mol_shell.results.stresses import MAX_SAMPLES, add_stresses
+from mol_shell.runs import resources
+from mol_shell.runs.building import (  # noqa: F401
+    PARALLEL_MIN_NODES,
+    _built,
+    _graph_key,
+    as_scene,
+    build,
+    observe,
+    parse_times,
+    resolve,
+)
+from mol_shell.runs.checks import checked_spectrum, initial_state
+from mol_shell.runs.statics import static_equilibrium
+from mol_shell.runs.unshearable import simulate_unshearable
+from mol_shell.scenes import UNSHEARABLE_INTEGRATORS, Unshearable
+
+#: leap-frog is refused when damped modes could grow by more than exp(this) (1e6) over the run
+LEAPFROG_MAX_LOG_GROWTH = float(np.log(1e6))
+#: leap-frog's step when none is given (the paper's), s
+DEFAULT_DT = 1e-6
+#: relative tolerances accepted: below 1e-14 is under round-off, 1 and above controls nothing
+RTOL_RANGE = (1e-14, 1.0)
+
+
+def parasitic_growth_rate(damping, omega_max, dt):
+    """Growth rate (1/s) of leap-frog's parasitic root for the worst mode the spectrum's bounds allow.
+
+    For ``y' = lambda y`` the scheme's roots solve ``z^2 - 2 lambda dt z - 1 = 0``; the parasitic one
+    has ``|z| > 1`` when ``Re lambda < 0``. With ``lambda = -a + i w`` and ``x = w dt``,
+    ``|z|^2 = 1 + 2 a dt / sqrt(1 - x^2) + O((a dt)^2)``: the mode grows at about
+    ``a / sqrt(1 - x^2)``, faster than its damping rate near the step bound. Evaluated exactly for
+    the eigenvalue with ``a = damping`` (the largest ``-Re lambda``) and ``|lambda| = omega_max``.
+    """
+    if damping <= 0:
+        return 0.0
+    lam_dt = complex(-damping, math.sqrt(max(omega_max**2 - damping**2, 0.0))) * dt
+    root = cmath.sqrt(1.0 + lam_dt * lam_dt)
+    return max(math.log(abs(lam_dt + root)), math.log(abs(lam_dt - root))) / dt
+
+
+
+
+def integrator_options(scene, integrator):
+    """Names of the options ``integrator`` takes for ``scene`` (keyword arguments of :func:`simulate`)."""
+    if isinstance(scene, Unshearable):  # its own formulation
+        if integrator not in UNSHEARABLE_INTEGRATORS:
+            raise ParameterError("integrator", integrator, "{" + ", ".join(UNSHEARABLE_INTEGRATORS) + "}",
+                                 hint="ida solves the unshearable DAE, leapfrog the free shell from the same state")
+        return {"dt"} if integrator == "leapfrog" else {"rtol", "atol", "max_step"}
+    if integrator not in INTEGRATORS:
+        raise ParameterError("integrator", integrator, "{" + ", ".join(INTEGRATORS) + "}")
+    return {f.name for f in dataclasses.fields(INTEGRATORS[integrator])}
+
+
+def check_options(scene, integrator, options, offered=None):
+    """Refuse options ``integrator`` does not take, and an ``rtol`` outside :data:`RTOL_RANGE`.
+
+    ``offered`` (a set of names) limits the options listed in the message to those a caller
+    offers (the command line offers ``dt, rtol, atol, max_step``).
+    """
+    allowed = integrator_options(scene, integrator)
+    for name in options:
+        if name not in allowed:
+            raise ParameterError.not_an_option(name, integrator, allowed & offered if offered else allowed)
+    if isinstance(scene, Unshearable) and "atol" in options:  # the unshearable DAE takes one number
+        atol = options["atol"]
+        if not is_number(atol):
+            raise ParameterError.not_a("atol", atol, "a number", f"(0, inf), one value for the {scene.name} scene")
+        if not (np.isfinite(atol) and atol > 0):
+            raise ParameterError("atol", atol, "(0, inf)")
+    if "rtol" in options:
+        lo, hi = RTOL_RANGE
+        value = options["rtol"]
+        if not is_number(value):
+            raise ParameterError.not_a("rtol", value, "a number", f"[{lo:g}, {hi:g})")
+        if not (lo <= value < hi):
+            raise ParameterError("rtol", value, f"[{lo:g}, {hi:g})")
+
+
+def leapfrog_times(t_end, dt, count=10):
+    """Default saved times of a fixed-step run: ``count`` intervals to ``t_end``, each a whole number of steps.
+
+    ``t_end`` must be a multiple of ``dt``. The times are as even as the step grid allows and are
+    rounded to 12 significant digits, so ``ds.sel(time=...)`` finds the values a user would type.
+    """
+    parse_times(None, t_end)  # validates t_end
+    if not t_end / dt <= INTEGRATORS["leapfrog"].MAX_STEPS:  # beyond it steps cannot be counted in double precision
+        raise ParameterError("t_end", t_end, f"(0, {INTEGRATORS['leapfrog'].MAX_STEPS * dt:.4g}] s at dt = {dt:g} s")
+    steps = round(t_end / dt)
+    if steps < 1 or abs(steps * dt - t_end) > 1e-9 * t_end:
+        raise ParameterError("t_end", t_end, f"positive multiples of dt = {dt:g} s (leap-frog has a fixed step)")
+    marks = np.unique(np.rint(np.linspace(0, steps, min(count, steps) + 1)).astype(np.int64))
+    return np.array([float(f"{k * dt:.12g}") for k in marks])
+
+
+def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=None, progress=None, stresses=None,
+             threads=None, **options):
+    """Run ``scene`` and return its motion as an :class:`xarray.Dataset`.
+
+    Parameters
+    ----------
+    scene : TwistedCylinder or str
+        A scene object, or the name of a registered scene with default parameters.
+    integrator : str
+        One of :data:`mol_shell.integrators.INTEGRATORS`.
+    n : int
+        Nodes in ``s`` (paper: 40).
+    t_end : float, optional
+        Final time (s); with ``times`` omitted, 11 evenly spaced saved times.
+    times : array_like, optional
+        Saved times (s), starting at 0.
+    dt : float, optional
+        Leap-frog step (s), default :data:`DEFAULT_DT` (1e-6, the paper's); refused beyond the
+        stability bound ``1 / max |eig J(y0)|``. Adaptive integrators choose their own steps and
+        refuse ``dt`` (bound them with ``max_step``).
+    progress : bool, optional
+        Progress bar over simulated time; default: only when stderr is a terminal.
+    stresses : bool, optional
+        Resultants and face stresses after the run (:func:`mol_shell.stresses.add_stresses`): ``None``
+        (default) up to :data:`mol_shell.stresses.MAX_SAMPLES` cell samples x saved times, ``True``
+        always, ``False`` never.
+    threads : int, optional
+        Threads for the compiled right-hand side's cell and node kernels (every integrator uses it);
+        default ``$MOL_SHELL_THREADS`` or all cores. Grids below :data:`PARALLEL_MIN_NODES` nodes run
+        serially whatever it says. Results do not depend on it (each cell is one thread's work).
+    **options
+        Passed to the integrator's dataclass (e.g. ``rtol`` in [1e-14, 1), ``atol``, ``max_step``);
+        an option the integrator does not take is refused by name.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims ``time`` and ``s``; fields, rates, energies, angular momentum and
+        ``delta_min``; every scene parameter (``R`` as computed) and the run's
+        statistics in attrs. If the run hit a model limit or was interrupted, the
+        Dataset holds what was computed and ``attrs["complete"] == 0``.
+    """
+    scene = as_scene(scene)
+    if dt is not None:
+        options["dt"] = dt
+    check_options(scene, integrator, options)
+    if integrator == "leapfrog":
+        options.setdefault("dt", DEFAULT_DT)
+    if stresses is not None and not isinstance(stresses, (bool, np.bool_)):
+        raise ParameterError.not_a("stresses", stresses, "a bool", "True, False or None (cheap runs only)")
+    if isinstance(scene, Unshearable):  # its own formulation: the constrained DAE, or the free shell
+        return simulate_unshearable(scene, n=n, times=times, t_end=t_end, constrained=integrator == "ida",
+                                    progress=progress, **options)
+    method = INTEGRATORS[integrator](**options)
+    if times is None and integrator == "leapfrog":
+        times = leapfrog_times(t_end, method.dt)
+    times = parse_times(times, t_end)
+    est = resources.check_before_build(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None))
+    scene = resolve(scene)
+    system, compiled = build(scene, n)
+    _, _, build_time = _built(_graph_key(scene), int(n))
+    compiled.set_threads(threads)
+    y0, start_info = starting_state(scene, system, n)  # refused by name if it cannot be formed in double precision
+    omega_max, damping = checked_spectrum(scene, system, y0)
+    if integrator == "leapfrog":
+        dt = method.dt
+        if dt * omega_max >= 1.0:
+            raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound 1/max|eig J(y0)|")
+        growth = parasitic_growth_rate(damping, omega_max, dt)
+        if growth * times[-1] > LEAPFROG_MAX_LOG_GROWTH:
+            raise ParameterError(
+                "integrator", integrator, "{cvode-bdf, ida} for this case",
+                hint=f"leap-frog's parasitic root grows damped modes like exp({growth:.4g}/s * t) at dt = {dt:g} s; "
+                f"up to t = {times[-1]:g} s that is exp({growth * times[-1]:.3g}); viscosity makes the system stiff",
+            )
+    resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
+                               omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)
+    if progress is None:
+        progress = sys.stderr.isatty()
+    bar = _progress_bar(times[-1]) if progress else None
+    try:
+        traj = method.integrate(system, compiled, y0, times, progress=bar)
+    finally:
+        if bar is not None:
+            bar.close()
+    if traj.status != "complete":
+        warnings.warn(f"run incomplete: {traj.message}; keeping {len(traj.t)} saved times", RuntimeWarning, stacklevel=2)
+    velocities, totals = observe(system, traj.y, traj.t)
+    attrs = {"integrator": integrator, **method.settings(), **system.graph_stats()}
+    attrs.update({
+        "build_time_s": build_time,
+        "omega_max_rad_s": omega_max,
+        "max_damping_rate": damping,
+        "units_max_damping_rate": "s-1",
+        "leapfrog_dt_bound_s": 1.0 / omega_max,
+        "initial_state": start_info,
+    })
+    ds = build_dataset(system, scene, traj, velocities, totals, attrs)
+    if stresses is not False:
+        ds = add_stresses(ds, limit=None if stresses else MAX_SAMPLES)
+    return ds
+
+
+def _progress_bar(t_end):
+    from tqdm import tqdm
+
+    return tqdm(total=float(t_end), unit="s", unit_scale=False, desc="simulating", bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
+
+
+def starting_state(scene, system, n):
+    """``(y0, how)``: the scene's initial state, or the static equilibrium under its loads when it asks for one."""
+    y0 = initial_state(scene, system)
+    if scene.at_equilibrium() and getattr(scene, "loaded", False):
+        return static_equilibrium(scene, n, y0)
+    return y0, "as given by the scene's parameters"

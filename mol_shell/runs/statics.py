@@ -1,0 +1,103 @@
+"""Static equilibria under load: Newton's method on the exact Jacobian, with continuation in the load.
+
+At rest (``p = 0``) Hamilton's equations reduce to ``0 = F(q) = -dV/dq + f_loads(q, t = 0)`` on the free
+coordinates (``dT/dq`` vanishes with ``p``; drag and viscosity with the rates). The tangent stiffness is
+the block ``dp_t/dq`` of :attr:`ShellSystem.jac <mol_shell.discretization.ShellSystem.jac>`. Rigid motions
+the edges allow (axial translation of a closed sphere, ...) make it singular: each Newton step is the
+least-squares step of minimum norm, which leaves them where they are.
+
+When Newton does not converge from the given state, the loads are applied in increments (continuation:
+each load times ``lambda`` from 0 to 1, each increment's solution the next one's start); when even that
+fails, a ParameterError names the scene and the residual reached.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import scipy.linalg
+
+from mol_shell._core.errors import ParameterError
+from mol_shell.runs.building import build
+from mol_shell.scenes.base import LOADS
+
+#: Newton stops when the residual is below this fraction of a unit strain's force (``max diag K`` x scale)
+TOL = 1e-11
+MAX_ITER = 30
+
+
+def _free_entries(system, hold):
+    fixed = system.fixed[:, list(system.active)]
+    return np.array([system.ny * i + j for i in range(system.n) for j, k in enumerate(system.active)
+                     if not fixed[i, j] and k not in hold])
+
+
+def newton(system, y0, hold=(2,), tol=TOL, max_iter=MAX_ITER):
+    """``(y, iterations, residual)``: Newton from ``y0`` at rest, ``hold`` fields (default ``chi``) kept as given.
+
+    Raises ``RuntimeError`` when it does not converge (the caller may continue in the load).
+    """
+    y = np.array(y0, dtype=float)
+    y[: system.ny * system.n].reshape(system.n, system.ny)[:, system.nf:] = 0.0  # at rest
+    q = _free_entries(system, hold)
+    p = q + system.nf
+    scale = None
+    for it in range(max_iter + 1):
+        f = np.array(system.rhs_newton(0, y)).ravel()[p]
+        J = system.jac(0, y)
+        Jd = np.array(J)[np.ix_(p, q)]
+        if scale is None:
+            scale = float(np.abs(np.diag(Jd)).max()) * max(1.0, float(np.abs(system.reference[:2]).max()))
+        res = float(np.abs(f).max()) / scale
+        if not np.isfinite(res):
+            raise RuntimeError(f"non-finite residual after {it} iterations")
+        if res <= tol:
+            return y, it, res
+        if it == max_iter:
+            break
+        step = scipy.linalg.lstsq(Jd, -f, lapack_driver="gelsd")[0]
+        # damped: halve until the residual falls (a full step may cross delta = 0 far from the solution)
+        for _ in range(20):
+            trial = y.copy()
+            trial[q] += step
+            ft = np.array(system.rhs_newton(0, trial)).ravel()[p]
+            limits = np.array(system.limits(trial)).ravel()
+            if np.all(np.isfinite(ft)) and np.all(limits > 0) and np.abs(ft).max() < np.abs(f).max():
+                break
+            step /= 2
+        else:
+            break
+        y = trial
+    raise RuntimeError(f"Newton did not converge (residual {res:.3g} of a unit strain's force)")
+
+
+def scaled_loads(scene, factor):
+    """``scene`` with every load times ``factor``."""
+    return dataclasses.replace(scene, **{k: getattr(scene, k) * factor for k in LOADS if getattr(scene, k) != 0})
+
+
+def static_equilibrium(scene, n, y0, steps=(0.25, 0.5, 0.75, 1.0), hold=(2,)):
+    """The equilibrium state at rest under the scene's loads at ``t = 0``, starting from ``y0``.
+
+    Returns ``(y, info)``; ``info`` says how it was found (for the run's attrs). Direct Newton first;
+    on failure, continuation in the load over ``steps`` (each a fraction of the full load).
+    """
+    system, _ = build(scene, n)
+    try:
+        y, it, res = newton(system, y0, hold)
+        return y, f"static equilibrium under the loads at t = 0 (Newton, {it} iterations, residual {res:.2g})"
+    except RuntimeError as direct:
+        y = np.array(y0, dtype=float)
+        total = 0
+        for factor in steps:
+            sub, _ = build(scaled_loads(scene, factor), n)
+            try:
+                y, it, res = newton(sub, y, hold)
+            except RuntimeError as exc:
+                raise ParameterError("scene", scene.name, "loads under which the shell has a static equilibrium",
+                                     hint=f"Newton failed ({direct}); continuation stopped at {factor:g} of the "
+                                     f"loads ({exc})") from None
+            total += it
+        return y, (f"static equilibrium under the loads at t = 0 (continuation in {len(steps)} steps, "
+                   f"{total} Newton iterations, residual {res:.2g})")

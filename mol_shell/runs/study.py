@@ -1,0 +1,323 @@
+"""Parameter studies: the product of varied parameters, run on local processes or a dask cluster.
+
+``study(scene, vary={"gamma": [...], "nu": [...]})`` runs every case in its own task (each
+task builds its own CasADi graphs and compiled code; nothing CasADi crosses a process
+boundary) and returns one :class:`xarray.Dataset` with a dimension per varied parameter
+(a ``case`` dimension for a list of cases), plus ``status``, ``message`` and statistics per
+case. A case that fails (a refused parameter, a model limit, a solver failure) is recorded
+and the others go on. With ``output`` every finished case is stored as its own netCDF file
+in ``<output stem>.cases/``, named by a hash of everything that defines it; running the same
+study again loads those and runs only what is missing (an interrupted study resumes).
+``mol-shell study`` is the command line.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import itertools
+import json
+import os
+import socket
+import sys
+import time
+import warnings
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError
+from mol_shell._core.version import __version__
+from mol_shell.results.dataset import writable_path, write_netcdf
+from mol_shell.results.study_store import Store, assemble
+from mol_shell.runs import resources
+from mol_shell.runs.scheduling import connect, execute, scheduler_name
+from mol_shell.runs.simulate import (
+    DEFAULT_DT,
+    as_scene,
+    check_options,
+    integrator_options,
+    leapfrog_times,
+    parse_times,
+    simulate,
+)
+from mol_shell.scenes import DESCRIPTIONS, UNITS, _coerce, with_params
+
+#: statuses that are final: stored, and skipped on resume ("interrupted" and "lost" are run again)
+FINAL = ("complete", "limit", "unstable", "refused", "error")
+
+
+@dataclasses.dataclass(frozen=True)
+class Task:
+    """One case: everything a worker needs (plain data; CasADi objects are built in the worker)."""
+
+    index: tuple
+    label: str
+    scene: object
+    integrator: str
+    n: int
+    times: tuple
+    options: dict
+
+    @property
+    def key(self):
+        """Hash of the package version, scene class and parameters, integrator, grid, saved times and options."""
+        spec = {"version": __version__, "scene": type(self.scene).__name__, "params": self.scene.params(),
+                "integrator": self.integrator, "n": self.n, "times": list(self.times), "options": self.options}
+        return hashlib.sha256(json.dumps(spec, sort_keys=True, default=repr).encode()).hexdigest()[:20]
+
+
+def run_scene(scene, integrator, *, n, times, **options):
+    """Run one scene through :func:`mol_shell.simulate` (which hands a DAE scene to its own ``run``)."""
+    return simulate(scene, integrator, n=n, times=np.asarray(times), progress=False, **options)
+
+
+def run_task(task):
+    """Worker entry point: run a :class:`Task`; never raises for a failing case.
+
+    Returns ``(index, dataset or None, info)`` with ``info`` holding ``status``, ``message``,
+    ``case_wall_time_s`` and ``worker``.
+    """
+    start = time.perf_counter()
+    ds = None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            ds = run_scene(task.scene, task.integrator, n=task.n, times=task.times, **task.options)
+        status, message = str(ds.attrs.get("status", "complete")), str(ds.attrs.get("message", ""))
+    except ParameterError as exc:
+        status, message = "refused", str(exc)
+    except KeyboardInterrupt:
+        status, message = "interrupted", "interrupted by the user"
+    except Exception as exc:  # noqa: BLE001 - a failing case is data, not a crash
+        status, message = "error", f"{type(exc).__name__}: {exc}"
+    info = {"status": status, "message": message, "case_wall_time_s": time.perf_counter() - start,
+            "worker": f"{socket.gethostname()}:{os.getpid()}"}
+    return task.index, ds, info
+
+
+def resolve_scene(scene):
+    """A scene object from an object or a registered name."""
+    return as_scene(scene)
+
+
+def design(scene, vary, integrator="leapfrog"):
+    """``(dims, coords, cases)`` of a study: a grid for a dict of lists, a ``case`` dim for a list of dicts.
+
+    Each case is ``(index, {name: value})``; names are scene parameters or integrator options.
+    """
+    allowed = set(_scene_fields(scene)) | _option_names(scene, integrator)
+    if isinstance(vary, dict):
+        if not vary:
+            raise ParameterError("vary", vary, "at least one parameter with values")
+        names = list(vary)
+        values = [[_typed(scene, k, v) for v in np.atleast_1d(np.asarray(vary[k], dtype=object)).tolist()] for k in names]
+        for name, vals in zip(names, values):
+            _check_name(name, allowed, scene, integrator)
+            if not vals or len(set(map(repr, vals))) != len(vals):
+                raise ParameterError(f"vary[{name!r}]", vals, "distinct values, at least one")
+        cases = [(idx, dict(zip(names, (values[d][i] for d, i in enumerate(idx)))))
+                 for idx in itertools.product(*(range(len(v)) for v in values))]
+        return names, {k: v for k, v in zip(names, values)}, cases
+    cases = [dict(c) for c in vary]
+    if not cases:
+        raise ParameterError("vary", vary, "at least one case")
+    names = sorted({k for c in cases for k in c})
+    for name in names:
+        _check_name(name, allowed, scene, integrator)
+    coords = {k: [_typed(scene, k, c.get(k, _default(scene, k))) for c in cases] for k in names}
+    return ["case"], coords, [((i,), {k: coords[k][i] for k in names}) for i in range(len(cases))]
+
+
+def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, scheduler=None, workers=None,
+          output=None, progress=None, **options):
+    """Run every case of a parameter study and return one Dataset.
+
+    Parameters
+    ----------
+    scene : ShellScene or str
+        The base scene (object or registered name); each case replaces the varied parameters.
+    vary : dict or list of dict
+        ``{"gamma": [...], "nu": [...]}``: the product of the values, one dimension per name
+        (in this order). A list of dicts is an irregular design along a ``case`` dimension
+        (parameters missing from a case keep the base scene's value). Names are scene
+        parameters or integrator options (``dt``, ``rtol``, ...).
+    integrator : str
+        As for :func:`mol_shell.simulate`; ``"ida"`` for the unshearable scene.
+    n : int
+        Nodes in ``s`` (the same for every case).
+    times, t_end : optional
+        Saved times, the same for every case (``t_end`` alone: 11 times, snapped to ``dt``
+        for leap-frog).
+    scheduler : None, "serial", str or distributed.Client
+        ``None``: local processes (``workers`` of them, default the number of cores);
+        ``"serial"``: in this process; an address such as ``"tcp://host:8786"`` or a
+        ``Client``: that dask.distributed cluster.
+    workers : int, optional
+        Local processes (``scheduler=None`` only), this one included: it runs cases too, taking them from
+        the back of the queue while ``workers - 1`` spawned processes take them from the front.
+    output : path, optional
+        Write the combined Dataset here (netCDF) and keep every finished case in
+        ``<output stem>.cases/`` so a rerun skips them.
+    progress : bool, optional
+        Progress bar over cases; default only when stderr is a terminal.
+    **options
+        Passed to every run (``dt``, ``rtol``, ``atol``, ...).
+
+    Notes
+    -----
+    Local processes are started with ``spawn`` (safe with threads and CasADi): a script that
+    calls ``study`` must guard its entry point with ``if __name__ == "__main__":``. The calling process
+    runs its share of the cases on one thread (compiled kernels and BLAS), as the spawned ones do; it
+    computes from the start while a worker spends about a second starting, so short studies gain most. A dask
+    cluster's workers need ``mol_shell`` importable and gcc (each compiles its right-hand side
+    once into its own cache). Stored cases are keyed by their settings and the package version
+    (a new version computes every case again); a model changed in place without a new version
+    needs ``<output stem>.cases/`` deleted by hand.
+
+    Returns
+    -------
+    xarray.Dataset
+        Every variable of a single run with the study's dims in front; per case
+        ``status``, ``message``, ``worker`` and statistics (``n_steps``, ``wall_time_s``,
+        ``case_wall_time_s``, ``R``, ...); attrs ``n_cases``, ``n_executed`` (run by this
+        call), ``n_reused`` (loaded from ``output``), ``n_failed``.
+    """
+    start = time.perf_counter()
+    scene = resolve_scene(scene)
+    check_options(scene, integrator, options)  # also refuses an unknown integrator
+    if workers is not None and not (isinstance(workers, (int, np.integer)) and not isinstance(workers, bool)
+                                    and workers >= 1):
+        raise ParameterError("workers", workers, "integers >= 1")
+    if output is not None:
+        writable_path(output, "output")
+    if isinstance(vary, dict):  # the product's size, before its cases are made
+        resources.check_cases(int(np.prod([len(np.atleast_1d(np.asarray(v, dtype=object))) for v in vary.values()],
+                                          dtype=float)), n)
+    dims, coords, cases = design(scene, vary, integrator)
+    if times is None and integrator == "leapfrog":  # as simulate: on the step grid, t_end a multiple of dt
+        times = leapfrog_times(t_end, options.get("dt", DEFAULT_DT))
+    times = parse_times(times, t_end)
+    resources.check_study(len(cases), n, times, integrator, fields=len(getattr(scene, "fields", range(5))),
+                          dt=options.get("dt", DEFAULT_DT) if integrator == "leapfrog" else None,
+                          workers=1 if scheduler == "serial" else (workers or os.cpu_count() or 1))
+    results, tasks = {}, []
+    for index, changes in cases:
+        label = ", ".join(f"{k}={v}" for k, v in changes.items())
+        try:
+            task = _task(scene, index, label, changes, integrator, n, times, options)
+        except ParameterError as exc:  # a case whose parameters are out of range: refused, recorded
+            results[index] = (None, {"status": "refused", "message": str(exc), "case_wall_time_s": 0.0, "worker": ""})
+            continue
+        tasks.append(task)
+    client = connect(scheduler) if tasks else None  # an unreachable cluster is refused before anything runs
+    store = Store(output) if output is not None else None
+    pending, reused = [], 0
+    for task in tasks:
+        loaded = store.load(task) if store else None
+        if loaded is not None:
+            results[task.index] = loaded
+            reused += 1
+        else:
+            pending.append(task)
+    if progress is None:
+        progress = sys.stderr.isatty()
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(cases), initial=len(cases) - len(pending), desc="study", unit="case")
+    by_index = {task.index: task for task in pending}
+    finished = execute(run_task, pending, scheduler, workers, client)
+    try:
+        for index, ds, info in finished:
+            results[index] = (ds, info)
+            if store and info["status"] in FINAL:
+                store.save(by_index[index], ds, info)
+            if bar is not None:
+                bar.set_postfix_str(f"{info['status']}")
+                bar.update(1)
+            if info["status"] == "interrupted":  # Ctrl-C reached a case (serial, or a worker): stop the study
+                raise KeyboardInterrupt
+    finally:
+        finished.close()  # on Ctrl-C: cancel what has not started, shut the workers down
+        if bar is not None:
+            bar.close()
+        if client is not None and client is not scheduler:
+            client.close()
+    out = assemble(dims, coords, cases, results, times)
+    _label_coords(out, coords, dims)
+    failed = sum(1 for ds, info in results.values() if info["status"] != "complete")
+    out.attrs.update({
+        "title": f"mol_shell parameter study of scene {scene.name}", "study_vary": ", ".join(coords),
+        "study_integrator": integrator, "n_cases": len(cases), "n_executed": len(pending), "n_reused": reused,
+        "n_failed": failed, "scheduler": scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - start,
+    })
+    if output is not None:
+        write_netcdf(out, output)
+    return out
+
+
+def _task(scene, index, label, changes, integrator, n, times, options):
+    fields = set(_scene_fields(scene))
+    scene_changes = {k: v for k, v in changes.items() if k in fields}
+    opts = {**options, **{k: v for k, v in changes.items() if k not in fields}}
+    case_scene = with_params(scene, scene_changes)
+    return Task(index, label, case_scene, integrator, int(n), tuple(float(t) for t in times), opts)
+
+
+def _scene_fields(scene):
+    return [f.name for f in dataclasses.fields(scene)]
+
+
+def _option_names(scene, integrator):
+    return integrator_options(scene, integrator)
+
+
+def _label_coords(ds, coords, dims):
+    """Units and long names of the varied parameters (and of the ``case`` index)."""
+    for name in coords:
+        if name not in ds.coords:
+            continue
+        attrs = {"long_name": f"{DESCRIPTIONS.get(name, name)} (varied)"}
+        if ds[name].dtype.kind in "iuf":
+            attrs["units"] = UNITS.get(name, "1")
+        ds[name].attrs.update(attrs)
+    if "case" in dims and "case" in ds.coords:
+        ds["case"].attrs.update({"units": "1", "long_name": "index of the case in the list of cases"})
+
+
+def _check_name(name, allowed, scene, integrator=None):
+    if name not in allowed:
+        raise ParameterError("vary", name, "{" + ", ".join(sorted(allowed)) + "}",
+                             hint=f"parameters of scene {scene.name}" + (f" and options of {integrator}" if integrator else ""))
+
+
+def _default(scene, name):
+    return getattr(scene, name, None)
+
+
+def _typed(scene, name, value):
+    """A value as the scene field's type wants it (strings from the command line are converted).
+
+    A string that is not a number, for a numeric parameter, is refused here (for every case at once).
+    """
+    if isinstance(value, np.generic):
+        value = value.item()
+    fields = {f.name: f for f in dataclasses.fields(scene)}
+    if name not in fields:
+        if isinstance(value, str):
+            try:
+                return float(value)
+            except ValueError:
+                raise ParameterError.not_a(f"--vary {name}", value, "a number", "numbers") from None
+        return value
+    annotation = str(fields[name].type)
+    value = _coerce(name, value, fields[name].type)
+    if isinstance(value, str) and annotation != "str":
+        dataclasses.replace(scene, **{name: value})  # raises: "gamma = 'abc' is not a number; allowed: ..."
+    if "int" in annotation and isinstance(value, float) and value.is_integer():
+        return int(value)
+    return value
+
+
+# -- command line ------------------------------------------------------------------------------

@@ -1,0 +1,164 @@
+"""Animations: the deformed shell in 3-D, coloured by a field or stress, with its material fibres.
+
+``mol-shell animate run.nc -o shell.gif`` (Pillow) or ``-o shell.mp4`` (ffmpeg from the
+``imageio-ffmpeg`` wheel, so no system ffmpeg is needed); matplotlib renders headless (Agg). One
+frame per saved time, the time in the frame. The fibres are material lines of constant reference
+azimuth, drawn where they face the viewer: they turn with ``chi`` (twist shows as helices), and the
+dashed straight lines are the same fibres in the reference configuration.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from mol_shell.views.fields import field, surface_points
+
+SUFFIXES = ("gif", "mp4")
+DEFAULTS = {"field": "chi", "n_phi": 48, "fibres": 12, "fps": 4, "width": 480}
+
+
+def _short_label(name, units):
+    words = name.replace("_", " ")
+    for face in ("inner", "outer"):
+        if words.endswith(" " + face):
+            words = f"{words[: -len(face) - 1]} ({face} face)"
+    return f"{words.replace('von mises', 'von Mises')} [{units}]"
+
+
+def _scale(values):
+    """Colour map and limits over all frames: diverging and symmetric when the values change sign."""
+    import matplotlib.colors as mcolors
+
+    lo, hi = float(np.nanmin(values)), float(np.nanmax(values))
+    if lo < 0 < hi:
+        top = max(-lo, hi)
+        return "RdBu_r", mcolors.Normalize(-top, top)
+    if hi - lo <= 1e-12 * max(abs(hi), abs(lo), 1e-300):  # a constant: a visible colour, not the map's end
+        pad = max(abs(hi) * 1e-3, 1e-12)
+        lo, hi = lo - pad, hi + pad
+    return "viridis", mcolors.Normalize(lo, hi)
+
+
+def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibres=DEFAULTS["fibres"],
+            fps=DEFAULTS["fps"], width=DEFAULTS["width"], elev=16.0, azim=-62.0):
+    """Write an animation of run ``ds`` to ``path`` (``.gif`` or ``.mp4``), one frame per saved time.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A run; stresses (:func:`mol_shell.stresses.add_stresses`) can colour the shell too.
+    path : str or os.PathLike
+    field_name : str
+        What colours the shell (:func:`mol_shell.io.fields.field_names`): node fields are averaged
+        to the cells, face stresses are ``NAME_inner`` / ``NAME_outer``. One colour scale for all frames.
+    n_phi : int
+        Azimuthal samples of the surface.
+    fibres : int
+        Material fibres drawn (evenly spaced reference azimuths).
+    fps : float
+        Frames per second.
+    width : int
+        Width in pixels (height 0.9 of it).
+    elev, azim : float
+        Viewing angles, degrees (matplotlib's).
+
+    Returns
+    -------
+    int
+        Frames written.
+    """
+    import matplotlib
+    import matplotlib.pyplot as plt
+    from matplotlib import animation, colormaps
+    from matplotlib.cm import ScalarMappable
+
+    values, units, _ = field(ds, field_name, "cells")
+    suffix = Path(path).suffix.lower().lstrip(".")
+    cmap_name, norm = _scale(values)
+    cmap = colormaps[cmap_name]
+    surface = surface_points(ds, n_phi)
+    surface = np.concatenate([surface, surface[:, :, :1]], axis=2)  # closed in phi
+    lines = surface_points(ds, fibres) * [1.004, 1.004, 1.0]  # just outside the surface
+    r0 = np.asarray(ds["r0"].values) if "r0" in ds else np.ones(ds.sizes["s"])
+    z0 = np.asarray(ds["z0"].values) if "z0" in ds else np.asarray(ds["s"].values)
+    phi = 2 * np.pi * np.arange(fibres) / fibres
+    reference = np.stack([1.004 * r0[:, None] * np.cos(phi), 1.004 * r0[:, None] * np.sin(phi),
+                          z0[:, None] + 0 * phi], axis=-1)
+    view = np.array([np.cos(np.radians(azim)), np.sin(np.radians(azim))])
+    extent = float(np.abs(surface[..., :2]).max()) * 1.02
+    zlo, zhi = float(surface[..., 2].min()), float(surface[..., 2].max())
+
+    dpi = 100
+    fig = plt.figure(figsize=(width / dpi, 0.9 * width / dpi), dpi=dpi)
+    ax = fig.add_axes((0.0, 0.0, 0.78, 0.86), projection="3d", computed_zorder=False)
+    cax = fig.add_axes((0.8, 0.15, 0.035, 0.62))
+    fig.colorbar(ScalarMappable(norm, cmap), cax=cax).set_label(_short_label(field_name, units), fontsize=9)
+    cax.tick_params(labelsize=8)
+    title = fig.text(0.03, 0.96, "", fontsize=9, va="top")
+
+    def front(points):
+        """Points whose outward radial direction faces the viewer; the others NaN (hidden behind the shell)."""
+        out = points.copy()
+        out[(points[..., :2] @ view) < 0] = np.nan
+        return out
+
+    def draw(k):
+        ax.clear()
+        colours = np.zeros((*surface.shape[1:3], 4))
+        colours[:-1, :] = cmap(norm(values[k]))[:, None, :]
+        x, y, z = (surface[k, ..., i] for i in range(3))
+        ax.plot_surface(x, y, z, facecolors=colours, rstride=1, cstride=1, linewidth=0, antialiased=False,
+                        shade=True, zorder=1)
+        for j in range(fibres):
+            ref = front(reference[:, j])
+            ax.plot(ref[:, 0], ref[:, 1], ref[:, 2], color="0.3", lw=0.8, ls=(0, (3, 2)), zorder=2)
+            fib = front(lines[k, :, j])
+            ax.plot(fib[:, 0], fib[:, 1], fib[:, 2], color="k", lw=1.3, zorder=3)
+        for i in (0, -1):  # the rims
+            ax.plot(surface[k, i, :, 0], surface[k, i, :, 1], surface[k, i, :, 2], color="k", lw=0.8, zorder=3)
+        ax.set_xlim(-extent, extent)
+        ax.set_ylim(-extent, extent)
+        ax.set_zlim(zlo, zhi)
+        ax.set_box_aspect((2 * extent, 2 * extent, zhi - zlo), zoom=1.0)
+        ax.view_init(elev=elev, azim=azim)
+        ax.set_axis_off()
+        title.set_text(f"{ds.attrs.get('scene', 'run')}   t = {float(ds['time'][k]):.4g} s\n"
+                       "material fibres: black; in the reference state: dashed")
+
+    count = ds.sizes["time"]
+    try:
+        if suffix == "mp4":
+            import imageio_ffmpeg
+
+            matplotlib.rcParams["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
+            writer = animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
+            with writer.saving(fig, str(path), dpi):
+                for k in range(count):
+                    draw(k)
+                    writer.grab_frame()
+        else:
+            _write_gif(path, fig, draw, count, fps)
+    finally:
+        plt.close(fig)
+    return count
+
+
+def _write_gif(path, fig, draw, count, fps, palette_frames=6):
+    """GIF by Pillow with one palette for all frames (built from a few of them), so the colours, and the
+    colour bar, do not flicker from frame to frame as with a palette per frame."""
+    from PIL import Image
+
+    def render(k):
+        draw(k)
+        fig.canvas.draw()
+        return Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy())
+
+    samples = [render(k) for k in np.unique(np.linspace(0, count - 1, min(palette_frames, count)).astype(int))]
+    strip = Image.new("RGB", (samples[0].width, samples[0].height * len(samples)))
+    for i, frame in enumerate(samples):
+        strip.paste(frame, (0, i * frame.height))
+    palette = strip.quantize(colors=256, method=Image.Quantize.MEDIANCUT)
+    frames = [render(k).quantize(palette=palette, dither=Image.Dither.NONE) for k in range(count)]
+    frames[0].save(path, save_all=True, append_images=frames[1:], duration=int(round(1000 / fps)), loop=0)

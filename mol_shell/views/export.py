@@ -1,0 +1,150 @@
+"""3-D export for ParaView: the revolved shell at every saved time, written by meshio.
+
+``mol-shell export run.nc -o run.xdmf`` (XDMF 3 with one HDF5 file beside it) or ``-o run.pvd``
+(a ``.vtu`` file per saved time and the ``.pvd`` collection that ParaView opens as a time
+series). The surface is the base surface revolved with ``--n-phi`` azimuthal samples, each material
+point placed by the rotationally symmetric map (:func:`mol_shell.io.fields.surface_points`); with
+``--faces`` the inner and outer faces (offset along the director) are added to the same mesh. Quads
+join the samples, one per cell of the grid and azimuthal interval, so a quad is a cell of the run.
+
+Point data: the fields and their rates, ``phi`` (the reference azimuth, rad), ``zeta`` (the depth
+of the surface, m) and, with stresses, the resultants and face stresses averaged to the nodes
+(face stresses as ``NAME_inner``, ``NAME_outer``). Cell data: the resultants and face stresses
+exactly as computed per cell. One step per saved time, at that time.
+"""
+
+from __future__ import annotations
+
+import os
+from contextlib import contextmanager
+from pathlib import Path
+from xml.etree import ElementTree as ET
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError
+from mol_shell.views.fields import azimuths, face_depths, field, field_names, surface_points
+
+FORMATS = ("xdmf", "pvd")
+#: default azimuthal samples
+N_PHI = 64
+
+
+def quads(n, n_phi, surfaces=1):
+    """Quad connectivity ``(cells, 4)`` of ``surfaces`` stacked grids of ``n x n_phi`` points (node-major),
+    closed in ``phi``; ordered so that the normal ``d/dphi x d/ds`` points away from the axis."""
+    i, j = np.meshgrid(np.arange(n - 1), np.arange(n_phi), indexing="ij")
+    i, j = i.ravel(), j.ravel()
+    jn = (j + 1) % n_phi
+    one = np.stack([i * n_phi + j, i * n_phi + jn, (i + 1) * n_phi + jn, (i + 1) * n_phi + j], axis=1)
+    return np.concatenate([one + k * n * n_phi for k in range(surfaces)]).astype(np.int64)
+
+
+def mesh_series(ds, n_phi=N_PHI, faces=False):
+    """Quads, and the points and data of each saved time (a generator, so one step is in memory at a time).
+
+    Returns
+    -------
+    cells : ndarray ``(cells, 4)``
+    steps : generator of ``(points (P, 3), point_data {name: (P,)}, cell_data {name: (cells,)})``
+    """
+    n = ds.sizes["s"]
+    depths = (0.0, *face_depths(ds)) if faces else (0.0,)
+    surfaces = len(depths)
+    nodal = {name: field(ds, name, "nodes")[0] for name in field_names(ds)}
+    cellwise = {name: field(ds, name, "cells")[0] for name in field_names(ds)
+                if name not in ds or ds[name].dims != ("time", "s")}
+    constant = {"phi": np.tile(azimuths(n_phi), n * surfaces),
+                "zeta": np.repeat(np.asarray(depths, dtype=float), n * n_phi)}
+
+    def spread(values):  # per node (or cell) -> per point (or quad) of every surface
+        return np.tile(np.repeat(values, n_phi), surfaces)
+
+    def steps():
+        for k in range(ds.sizes["time"]):
+            points = np.concatenate([surface_points(ds, n_phi, zeta, times=[k])[0].reshape(-1, 3) for zeta in depths])
+            point_data = {name: spread(v[k]) for name, v in nodal.items()} | constant
+            yield points, point_data, {name: spread(v[k]) for name, v in cellwise.items()}
+
+    return quads(n, n_phi, surfaces), steps()
+
+
+@contextmanager
+def _working_directory(folder):
+    """meshio's XDMF writer puts its HDF5 file in the working directory: write from the target's folder."""
+    here = os.getcwd()
+    os.chdir(folder)
+    try:
+        yield
+    finally:
+        os.chdir(here)
+
+
+def write_xdmf(path, times, cells, steps):
+    """XDMF 3 temporal collection with the mesh of each step in its own grid; data in ``<stem>.h5``.
+
+    meshio's :class:`meshio.xdmf.TimeSeriesWriter` writes every element (geometry, topology,
+    attributes) and the HDF5 data; its ``write_points_cells``/``write_data`` assume one fixed mesh,
+    so each step's grid is given its own geometry and topology through the writer's element methods.
+    """
+    import meshio
+
+    path = Path(path).resolve()
+    with _working_directory(path.parent):
+        with meshio.xdmf.TimeSeriesWriter(path.name) as writer:
+            for k, (t, (points, point_data, cell_data)) in enumerate(zip(times, steps)):
+                grid = ET.SubElement(writer.collection, "Grid", Name=f"step{k}", GridType="Uniform")
+                writer.cells([("quad", cells)], grid)
+                writer.points(grid, points)
+                ET.SubElement(grid, "Time", Value=repr(float(t)))
+                writer.point_data(point_data, grid)
+                writer.cell_data({name: [v] for name, v in cell_data.items()}, grid)
+    return [path, path.with_suffix(".h5")]
+
+
+def write_pvd(path, times, cells, steps):
+    """One ``<stem>_NNNN.vtu`` per step (meshio) beside ``path``, and the ``.pvd`` collection that lists them."""
+    import meshio
+
+    path = Path(path)
+    root = ET.Element("VTKFile", type="Collection", version="0.1")
+    collection = ET.SubElement(root, "Collection")
+    written = []
+    for k, (t, (points, point_data, cell_data)) in enumerate(zip(times, steps)):
+        vtu = path.with_name(f"{path.stem}_{k:04d}.vtu")
+        mesh = meshio.Mesh(points, [("quad", cells)], point_data=point_data,
+                           cell_data={name: [v] for name, v in cell_data.items()})
+        meshio.write(vtu, mesh, file_format="vtu")
+        ET.SubElement(collection, "DataSet", timestep=repr(float(t)), part="0", file=vtu.name)
+        written.append(vtu)
+    ET.ElementTree(root).write(path, xml_declaration=True, encoding="utf-8")
+    return [path, *written]
+
+
+def export(ds, path, n_phi=N_PHI, faces=False):
+    """Write the revolved shell of run ``ds`` at every saved time to ``path`` (``.xdmf`` or ``.pvd``).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A run (with or without stresses).
+    path : str or os.PathLike
+        ``.xdmf`` (plus ``<stem>.h5``) or ``.pvd`` (plus ``<stem>_NNNN.vtu``).
+    n_phi : int
+        Azimuthal samples (>= 3).
+    faces : bool
+        Also the inner and outer faces.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files written.
+    """
+    if not (isinstance(n_phi, (int, np.integer)) and not isinstance(n_phi, bool) and n_phi >= 3):
+        raise ParameterError("--n-phi", n_phi, "integers >= 3")
+    suffix = Path(path).suffix.lower().lstrip(".")
+    if suffix not in FORMATS:
+        raise ParameterError.invalid("-o", str(path), "has no known file type", "a file ending in .xdmf or .pvd")
+    cells, steps = mesh_series(ds, n_phi, faces)
+    writer = write_xdmf if suffix == "xdmf" else write_pvd
+    return writer(path, ds["time"].values, cells, steps)

@@ -1,0 +1,114 @@
+"""The paper's Figure 1 from a run: a section perpendicular to the axis with its material fibres.
+
+``mol-shell plot run.nc --figure fibres -o fig1.png``: (a) the section at ``s`` in the reference
+configuration, its fibres through the thickness radial; (b) the images of the same fibres at a
+chosen time, projected onto the plane of the section. A fibre is the segment ``r + zeta d``,
+``zeta1 <= zeta <= zeta1 + 2h``, of the material line at reference azimuth ``phi``; its projection
+starts at ``r a2(phi + chi)`` and runs along ``cos(psi) cos(theta) a2 + sin(psi) a3``: ``chi`` turns
+the section, ``psi`` tilts its fibres out of the radial direction (the rotationally symmetric, not
+axisymmetric, deformation of the paper's Figure 1c). The thickness is drawn magnified (the
+magnification is in the title); magnifying ``zeta`` keeps each fibre's direction, so the tilt is
+drawn at its true angle.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError
+from mol_shell.views.fields import face_depths
+
+#: the drawn thickness 2h M is about this fraction of the radius when no magnification is given
+DRAWN_THICKNESS = 0.2
+
+
+def _nearest(values, value, name, unit):
+    lo, hi = float(values[0]), float(values[-1])
+    if not (np.isfinite(value) and lo - 1e-12 * max(1.0, abs(hi)) <= value <= hi + 1e-12 * max(1.0, abs(hi))):
+        allowed = f"[{lo:g}, {hi:g}] {unit} (the run's range)"
+        raise ParameterError(name, value, allowed, message=f"{name} = {value:g} is outside {allowed}")
+    return int(np.argmin(np.abs(np.asarray(values) - value)))
+
+
+def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
+    """The figure (a matplotlib ``Figure``, not saved).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A run.
+    time : float, optional
+        Time of panel (b), s; the nearest saved time is drawn (default the last).
+    s : float, optional
+        Where the section is, m; the nearest node (default the first, an end of the shell).
+    count : int
+        Fibres drawn (evenly spaced reference azimuths; the one at ``phi = 0`` in red).
+    thickness_scale : float, optional
+        Magnification of the thickness; default: the drawn thickness is 0.2 of the reference radius.
+    """
+    import matplotlib.pyplot as plt
+
+    if not (isinstance(count, (int, np.integer)) and not isinstance(count, bool) and count >= 1):
+        raise ParameterError("--fibres", count, "integers >= 1")
+    times, nodes = ds["time"].values, ds["s"].values
+    k = len(times) - 1 if time is None else _nearest(times, float(time), "--time", "s")
+    i = 0 if s is None else _nearest(nodes, float(s), "--at-s", "m")
+    r0 = float(ds["r0"].values[i]) if "r0" in ds else 1.0
+    theta0 = float(ds["theta0"].values[i]) if "theta0" in ds else 0.0
+    depths = np.array(face_depths(ds))
+    if thickness_scale is None:
+        thickness_scale = max(1.0, round(DRAWN_THICKNESS * r0 / (depths[1] - depths[0])))
+    elif not (np.isfinite(thickness_scale) and thickness_scale > 0):
+        raise ParameterError("--thickness-scale", thickness_scale, "(0, inf)")
+    zeta = thickness_scale * depths
+    r, chi, theta, psi = (float(ds[f].values[k, i]) for f in ("r", "chi", "theta", "psi"))
+    phi = 2 * np.pi * np.arange(count) / count
+
+    def segments(radius0, along, across, angle):
+        """Fibre ends: base point at ``radius0`` along ``j2(angle)``, plus ``zeta (along j2 + across j3)``."""
+        j2 = np.stack([np.cos(angle), np.sin(angle)], axis=-1)
+        j3 = np.stack([-np.sin(angle), np.cos(angle)], axis=-1)
+        return np.stack([radius0 * j2 + z * (along * j2 + across * j3) for z in zeta], axis=1)  # (fibre, end, 2)
+
+    reference = segments(r0, np.cos(theta0), 0.0, phi)
+    deformed = segments(r, np.cos(psi) * np.cos(theta), np.sin(psi), phi + chi)
+    circle = np.linspace(0, 2 * np.pi, 361)
+
+    fig, axes = plt.subplots(1, 2, figsize=(9.2, 5.0))
+    panels = [(axes[0], reference, [r0 + z * np.cos(theta0) for z in zeta], r0, "(a) reference configuration"),
+              (axes[1], deformed, [np.hypot(r + z * np.cos(psi) * np.cos(theta), z * np.sin(psi)) for z in zeta], r,
+               f"(b) t = {times[k]:.4g} s: chi = {chi:+.4g} rad, psi = {psi:+.3g} rad,\nr = {r:.5g} m, "
+               f"theta = {theta:+.3g} rad")]
+    for ax, fibres, faces, base, label in panels:
+        ax.fill_between(faces[1] * np.cos(circle), faces[1] * np.sin(circle), 0, color="#dbe6f3", lw=0)
+        ax.fill_between(faces[0] * np.cos(circle), faces[0] * np.sin(circle), 0, color="white", lw=0)
+        for radius in faces:
+            ax.plot(radius * np.cos(circle), radius * np.sin(circle), color="0.35", lw=0.8)
+        ax.plot(base * np.cos(circle), base * np.sin(circle), color="0.35", lw=0.6, ls=":")
+        if ax is axes[1]:
+            for seg in reference:
+                ax.plot(seg[:, 0], seg[:, 1], color="0.65", lw=1.0, ls=(0, (2, 1.5)))
+        for j, seg in enumerate(fibres):
+            ax.plot(seg[:, 0], seg[:, 1], color="tab:red" if j == 0 else "k", lw=1.8 if j == 0 else 1.2)
+        lim = 1.08 * max(faces[1], r0 + zeta[1])
+        ax.set_xlim(-lim, lim)
+        ax.set_ylim(-lim, lim)
+        ax.set_aspect("equal")
+        ax.set_xlabel("m")
+        ax.set_title(label, fontsize=10)
+    scene = ds.attrs.get("scene", "run")
+    fig.suptitle(f"{scene}: the section at s = {nodes[i]:.4g} m and its material fibres through the thickness "
+                 f"(drawn {thickness_scale:g}x thicker)\nin (b) dashed: the fibres of (a); red: the fibre at phi = 0",
+                 fontsize=10)
+    fig.tight_layout(rect=(0, 0, 1, 0.93))
+    return fig
+
+
+def plot_fibres(ds, path, **options):
+    """Write :func:`fibres_figure` to ``path``."""
+    import matplotlib.pyplot as plt
+
+    fig = fibres_figure(ds, **options)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path

@@ -1,0 +1,90 @@
+"""What a run offers to colour and export: its variables by name, on nodes or cells, and the revolved shell.
+
+A run has fields and rates on the nodes ``(time, s)``; with stresses (:mod:`mol_shell.stresses`)
+resultants on the cells ``(time, s_cell)`` and face stresses on ``(time, s_cell, zeta)``, offered
+here as ``NAME_inner`` and ``NAME_outer``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError
+from mol_shell.results.stresses import FACES
+
+
+def field_names(ds):
+    """Names :func:`field` accepts: node variables, cell variables, and face variables per face."""
+    names = [v for v in ds.data_vars if ds[v].dims == ("time", "s")]
+    names += [v for v in ds.data_vars if ds[v].dims == ("time", "s_cell")]
+    names += [f"{v}_{face}" for v in ds.data_vars if ds[v].dims == ("time", "s_cell", "zeta") for face in FACES]
+    return names
+
+
+def field(ds, name, where="cells", option="--field"):
+    """Values of ``name`` on the cells ``(time, n - 1)`` or on the nodes ``(time, n)``, with units and a label.
+
+    Node values go to a cell as the mean of its two nodes; cell values to an interior node as the
+    mean of its two cells (an end node takes its cell's value). An unknown name is refused by
+    :class:`~mol_shell.errors.ParameterError` naming ``option`` and the names the run offers.
+
+    Returns
+    -------
+    values : ndarray
+    units : str
+    label : str
+        ``long_name [units]``, or the name with spaces when the variable has no ``long_name``.
+    """
+    names = field_names(ds)
+    if name not in names:
+        hint = "" if "axial_torque" in ds else "this run has no stresses: rerun without --no-stresses"
+        raise ParameterError(option, name, "{" + ", ".join(names) + "}", hint=hint)
+    face = None
+    base = name
+    for k, suffix in enumerate(FACES):
+        if name.endswith("_" + suffix) and name not in ds:
+            base, face = name[: -len(suffix) - 1], k
+    var = ds[base] if face is None else ds[base].isel(zeta=face)
+    values = np.asarray(var.values, dtype=float)
+    on_nodes = var.dims == ("time", "s")
+    if where == "cells" and on_nodes:
+        values = (values[:, 1:] + values[:, :-1]) / 2
+    elif where == "nodes" and not on_nodes:
+        values = np.concatenate([values[:, :1], (values[:, 1:] + values[:, :-1]) / 2, values[:, -1:]], axis=1)
+    units = str(var.attrs.get("units", "1"))
+    label = str(var.attrs.get("long_name", name.replace("_", " ")))
+    if face is not None:
+        label = f"{label.replace(' at the inner and outer faces', '')}, {FACES[face]} face"
+    return values, units, f"{label} [{units}]"
+
+
+def azimuths(n_phi):
+    """Reference azimuths ``phi_j = 2 pi j / n_phi``."""
+    return 2 * np.pi * np.arange(n_phi) / n_phi
+
+
+def surface_points(ds, n_phi, zeta=0.0, times=None):
+    """Cartesian positions ``(time, s, phi, 3)`` of the material points at depth ``zeta`` (m).
+
+    The rotationally symmetric map: the material line at reference azimuth ``phi`` sits at azimuth
+    ``phi + chi(s, t)``; the base surface point is ``z k + r a2``, ``a2 = (cos, sin, 0)(phi + chi)``
+    (2.6), and the point at depth ``zeta`` along the director is ``r + zeta d``,
+    ``d = cos(psi) b2 + sin(psi) a3``, ``b2 = -sin(theta) k + cos(theta) a2`` (2.8, 2.11).
+    ``zeta = 0``: ``(r cos(phi + chi), r sin(phi + chi), z)``.
+    """
+    sel = slice(None) if times is None else times
+    z, r, chi, theta, psi = (np.asarray(ds[f].values[sel], dtype=float)[..., None] for f in ("z", "r", "chi", "theta", "psi"))
+    angle = azimuths(n_phi) + chi
+    cos_a, sin_a = np.cos(angle), np.sin(angle)
+    radial = r + zeta * np.cos(psi) * np.cos(theta)  # along a2
+    spin = zeta * np.sin(psi)  # along a3 = (-sin, cos, 0)
+    axial = z - zeta * np.cos(psi) * np.sin(theta)
+    x = radial * cos_a - spin * sin_a
+    y = radial * sin_a + spin * cos_a
+    return np.stack([x, y, np.broadcast_to(axial, x.shape)], axis=-1)
+
+
+def face_depths(ds):
+    """``(zeta1, zeta1 + 2h)`` of a run (m)."""
+    zeta1, h = float(ds.attrs["zeta1_used"]), float(ds.attrs["h"])
+    return zeta1, zeta1 + 2 * h

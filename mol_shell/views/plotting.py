@@ -1,0 +1,159 @@
+"""Figures: the paper's figures 4-8 (r, theta, chi against s, one panel per saved time)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+# Axis ranges of the paper's figures 4-8; used when the data fit inside them.
+PAPER_LIMITS = {"r": (0.985, 1.005), "theta": (-0.02, 0.02), "chi": (-0.2, 0.2)}
+LABELS = {"r": "r [m]", "theta": r"$\theta$ [rad]", "chi": r"$\chi$ [rad]"}
+#: saved times per row of panels
+COLUMNS = 6
+#: saved times drawn at most (evenly picked beyond that, and the figure says so)
+MAX_TIMES = 24
+
+
+def image_formats():
+    """File suffixes matplotlib can write (``png``, ``pdf``, ``svg``, ...)."""
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    return set(FigureCanvasBase.get_supported_filetypes())
+
+
+def _limits(values, name):
+    lo, hi = PAPER_LIMITS[name]
+    vmin, vmax = float(np.nanmin(values)), float(np.nanmax(values))
+    if lo <= vmin and vmax <= hi:
+        return lo, hi
+    pad = 0.05 * max(vmax - vmin, 1e-12)
+    return vmin - pad, vmax + pad
+
+
+def shown_times(count, max_times=MAX_TIMES):
+    """Indices of the saved times drawn: all of them up to ``max_times``, else ``max_times`` evenly picked."""
+    if count <= max_times:
+        return np.arange(count)
+    return np.unique(np.linspace(0, count - 1, max_times).round().astype(int))
+
+
+def title_of(attrs, shown, count):
+    """The figure's title: scene, the parameters it has, grid, integrator, and which times are drawn."""
+    parts = [str(attrs.get("scene", "run"))]
+    if "gamma" in attrs:
+        parts.append(f"gamma = {float(attrs['gamma']):g} rad/m")
+    for name, unit in (("omega", "rad/s"), ("psi0", "rad")):
+        if name in attrs and float(attrs[name]) != 0.0:
+            parts.append(f"{name} = {float(attrs[name]):g} {unit}")
+    if "R" in attrs:
+        parts.append(f"R = {float(attrs['R']):.6f} m")
+    if "n" in attrs:
+        parts.append(f"n = {attrs['n']}")
+    if "integrator" in attrs:
+        parts.append(str(attrs["integrator"]))
+    title = ", ".join(parts[1:])
+    title = f"{parts[0]}: {title}" if title else parts[0]
+    if shown < count:
+        title += f"\n{shown} of {count} saved times shown (evenly picked)"
+    if not attrs.get("complete", 1):
+        title += f"\n[INCOMPLETE: {attrs.get('message', '')}]"
+    return title
+
+
+def plot_snapshots(ds, path, fields=("r", "theta", "chi"), max_times=MAX_TIMES, columns=COLUMNS):
+    """Plot ``fields`` against ``s``, one panel per saved time (up to ``max_times``; beyond, evenly picked).
+
+    Panels are laid out ``columns`` times to a row, one row per field, with the paper's axis
+    ranges where the data fit them. The title says when not every saved time is drawn, and
+    when the run is incomplete.
+    """
+    import matplotlib.pyplot as plt
+
+    fig = snapshot_figure(ds, fields, max_times, columns)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def snapshot_figure(ds, fields=("r", "theta", "chi"), max_times=MAX_TIMES, columns=COLUMNS):
+    """The figure of :func:`plot_snapshots` (a matplotlib ``Figure``, not saved)."""
+    import matplotlib.pyplot as plt
+
+    idx = shown_times(ds.sizes["time"], max_times)
+    ncols = min(columns, len(idx))
+    blocks = math.ceil(len(idx) / ncols)
+    nrows = blocks * len(fields)
+    fig, axes = plt.subplots(nrows, ncols, figsize=(2.6 * ncols + 0.8, 1.9 * nrows + 1.2), squeeze=False)
+    s = ds["s"].values
+    for row, name in enumerate(fields):
+        limits = _limits(ds[name].values, name)
+        for k, i in enumerate(idx):
+            block, col = divmod(k, ncols)
+            ax = axes[block * len(fields) + row, col]
+            ax.plot(s, ds[name].values[i], "k.-", lw=1, ms=3)
+            ax.set_xlim(s[0], s[-1])
+            ax.set_ylim(*limits)
+            ax.axhline(0.0 if name != "r" else 1.0, color="0.8", lw=0.6, zorder=0)
+            if row == 0:
+                ax.set_title(f"t = {float(ds['time'][i]):.4g} s", fontsize=10)
+            if col == 0:
+                ax.set_ylabel(LABELS[name])
+            else:
+                ax.tick_params(labelleft=False)
+            if row == len(fields) - 1:
+                ax.set_xlabel("s [m]")
+            else:
+                ax.tick_params(labelbottom=False)
+    for k in range(len(idx), blocks * ncols):  # the empty places of the last row of panels
+        block, col = divmod(k, ncols)
+        for row in range(len(fields)):
+            axes[block * len(fields) + row, col].set_visible(False)
+    title = title_of(ds.attrs, len(idx), ds.sizes["time"])
+    fig.suptitle(title, fontsize=10)
+    top = (0.2 * (title.count("\n") + 1) + 0.15) / fig.get_figheight()  # room for the title's lines
+    fig.tight_layout(rect=(0, 0, 1, 1 - top))
+    return fig
+
+
+def is_cylinder(ds):
+    """Whether a run's reference meridian is a cylinder (constant ``r0``, ``theta0 = 0``); runs without it are."""
+    if "r0" not in ds:
+        return True
+    r0, th0 = ds.r0.values, ds.theta0.values
+    return bool(np.ptp(r0) <= 1e-12 * np.abs(r0).max() and np.abs(th0).max() == 0)
+
+
+def plot_meridian(ds, path, max_times=8):
+    """The deformed meridian ``(r, z)`` at saved times over the reference one, and ``chi`` and ``psi`` against ``s``.
+
+    For shells that are not cylinders, where r, theta, chi against s say less than the shape does.
+    Displacements are drawn to scale (the title gives the largest one).
+    """
+    import matplotlib.pyplot as plt
+
+    idx = shown_times(ds.sizes["time"], max_times)
+    fig, (ax, bx, cx) = plt.subplots(1, 3, figsize=(13, 4.6), gridspec_kw={"width_ratios": [1.2, 1, 1]})
+    ax.plot(ds.r0, ds.z0, color="0.6", lw=3, label="reference")
+    cmap = plt.get_cmap("viridis")
+    for j, i in enumerate(idx):
+        c = cmap(j / max(1, len(idx) - 1))
+        t = float(ds.time[i])
+        ax.plot(ds.r.isel(time=i), ds.z.isel(time=i), color=c, lw=1, label=f"t = {t:.4g} s")
+        bx.plot(ds.s, ds.chi.isel(time=i), color=c, lw=1)
+        cx.plot(ds.s, ds.psi.isel(time=i), color=c, lw=1)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("r [m]")
+    ax.set_ylabel("z [m]")
+    ax.legend(fontsize=7)
+    bx.set_xlabel("s [m]")
+    bx.set_ylabel(r"$\chi$ [rad]")
+    cx.set_xlabel("s [m]")
+    cx.set_ylabel(r"$\psi$ [rad]")
+    move = float(np.hypot(ds.r - ds.r0, ds.z - ds.z0).max())
+    fig.suptitle(title_of(ds.attrs, len(idx), ds.sizes["time"]) + f"\nmeridian to scale; largest displacement {move:.3g} m",
+                 fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
