@@ -16,7 +16,7 @@ from mol_shell.scenes import SCENES
 from mol_shell.scenes.base import DRIVES, LOADS
 from mol_shell.scenes.files import EDGES, MATERIAL, TABLES, load_scene, table_of
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 NEEDS_A_FILE = {"meridian"}  # its points have no default
 
 

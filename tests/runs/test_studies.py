@@ -31,7 +31,7 @@ import mol_shell
 import reference_ring as ref
 
 EPS = np.finfo(float).eps
-STUDIES = Path(__file__).resolve().parents[1] / "studies"
+STUDIES = Path(__file__).resolve().parents[2] / "studies"
 PAPER = mol_shell.TwistedCylinder()
 PNG = b"\x89PNG\r\n\x1a\n"
 

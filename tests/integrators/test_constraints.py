@@ -25,8 +25,8 @@ pytestmark = pytest.mark.timeout(180)
 
 def _fresh_interpreter(make, mode, solves):
     """Failed solves out of ``solves`` in a fresh interpreter whose allocator fills new memory with 0x5a."""
-    script = Path(__file__).with_name("sksundae_defect.py")
-    env = dict(os.environ, MALLOC_PERTURB_="165", PYTHONPATH=str(Path(__file__).parents[1]))
+    script = Path(__file__).parents[1] / "sksundae_defect.py"
+    env = dict(os.environ, MALLOC_PERTURB_="165", PYTHONPATH=str(Path(__file__).parents[2]) + os.pathsep + str(Path(__file__).parents[1]))
     out = subprocess.run([sys.executable, str(script), make, mode, str(solves)], env=env,
                          capture_output=True, text=True, timeout=120, check=True)
     return int(out.stdout.split()[-1])
@@ -268,9 +268,9 @@ def _shell_harness(mode, solves, names):
     tcache_count=0 sends small blocks through the paths that do the filling. Memory the solver
     reads without writing it is then garbage in every solve, not only when the heap is dirty.
     """
-    script = Path(__file__).with_name("shell_constraints.py")
+    script = Path(__file__).parents[1] / "shell_constraints.py"
     env = dict(os.environ, MALLOC_PERTURB_="165", GLIBC_TUNABLES="glibc.malloc.tcache_count=0",
-               PYTHONPATH=str(Path(__file__).parents[1]), OMP_NUM_THREADS="1")
+               PYTHONPATH=str(Path(__file__).parents[2]) + os.pathsep + str(Path(__file__).parents[1]), OMP_NUM_THREADS="1")
     out = subprocess.run([sys.executable, str(script), mode, str(solves), *names], env=env,
                          capture_output=True, text=True, timeout=90, check=True)
     # SUNDIALS prints its own errors to stdout: keep the harness's lines only

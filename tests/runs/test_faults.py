@@ -19,7 +19,7 @@ import mol_shell
 from mol_shell.results.dataset import read_run
 from mol_shell.runs.study import study
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 FIELDS = ("z", "r", "chi", "theta", "psi", "energy", "angular_momentum")
 
 

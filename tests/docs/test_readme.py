@@ -19,7 +19,7 @@ import mol_shell
 import reference_ring as ref
 
 EPS = np.finfo(float).eps
-README = Path(__file__).resolve().parents[1] / "README.md"
+README = Path(__file__).resolve().parents[2] / "README.md"
 PAPER = mol_shell.TwistedCylinder()
 PAPER_TIMES = [0, 0.02, 0.07, 0.106, 0.143]
 
