@@ -136,6 +136,7 @@ def test_the_drum_spins_down_exponentially_and_breathes_about_its_centrifugal_st
     q0 = scene.rho * scene.a**2 * scene.omega**2 / (lam + 2 * mu)
     assert round(100 * q0, 1) == 2.3
     period = 2 * math.pi * scene.a / math.sqrt((lam + 2 * mu) / scene.rho)
+    assert "period about 0.048 s" in comment and round(period, 3) == 0.048
     first = np.round(np.linspace(0, period, 97), 12)
     ds = run_example("drum_spin_down", np.append(first, 0.5))
     assert ds.attrs["status"] == "complete"

@@ -30,7 +30,7 @@ def python_blocks(text):
 
 
 def membrane_radius(gamma, nu):
-    """The uniformly twisted membrane in radial equilibrium (derivation in tests/test_studies.py):
+    """The uniformly twisted membrane in radial equilibrium (derivation in tests/runs/test_studies.py):
     ``r^2 = (lambda (1 + gamma^2) + 2 mu) / ((lambda + 2 mu)(1 + gamma^2)^2)``; the shell's ``1 - R``
     differs by a relative ``O(h^2)`` (``h^2 = 3.9e-5``), for which ``3 h^2`` is allowed below."""
     lam, mu = ref.lame(PAPER.E, nu)
