@@ -8,3 +8,6 @@ NF = len(FIELDS)
 #: up to this many states a Jacobian is handled as a dense matrix (spectra, dense or banded solvers);
 #: above it only sparse methods are used
 DENSE_MAX_STATES = 2000
+#: relative tolerances every adaptive integrator accepts, ``[low, high)``: below 1e-14 is under round-off,
+#: 1 and above controls nothing
+RTOL_RANGE = (1e-14, 1.0)

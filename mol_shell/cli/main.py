@@ -18,6 +18,7 @@ import warnings
 import matplotlib
 import numpy as np
 
+from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.version import __version__
 from mol_shell.cli.analysis import register_compare, register_modes, register_stability
@@ -141,8 +142,8 @@ def make_parser():
                      help="leap-frog step, s (default 1e-6); adaptive integrators refuse it")
     run.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
     run.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
-    run.add_argument("--rtol", type=number_arg("--rtol", 1e-14, 1.0, low_closed=True), default=None,
-                     help="relative tolerance in [1e-14, 1) (adaptive integrators)")
+    run.add_argument("--rtol", type=number_arg("--rtol", *RTOL_RANGE, low_closed=True), default=None,
+                     help=f"relative tolerance in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}) (adaptive integrators)")
     run.add_argument("--atol", type=parse_atol, default=None,
                      help="absolute tolerance (adaptive integrators): one value, or per field as r=1e-9,theta=1e-10")
     run.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sys
 
+from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.args import (
     CLI_OPTIONS,
@@ -95,8 +96,8 @@ def register_study(subparsers):
     p.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
     p.add_argument("--dt", type=number_arg("--dt", unit="s"), default=None,
                    help="leap-frog step, s (default 1e-6); adaptive integrators refuse it")
-    p.add_argument("--rtol", type=number_arg("--rtol", 1e-14, 1.0, low_closed=True), default=None,
-                   help="relative tolerance in [1e-14, 1) (adaptive integrators)")
+    p.add_argument("--rtol", type=number_arg("--rtol", *RTOL_RANGE, low_closed=True), default=None,
+                   help=f"relative tolerance in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}) (adaptive integrators)")
     p.add_argument("--atol", type=parse_atol, default=None, help="one value, or per field as r=1e-9,theta=1e-10")
     p.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="base scene parameter, repeatable")

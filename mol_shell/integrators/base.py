@@ -76,10 +76,10 @@ class Monitor:
         when the blow-up has also carried it past a limit of the model.
         """
         if not np.all(np.isfinite(y)):
-            bad = np.flatnonzero(~np.isfinite(y))[0] // self.system.ny
-            raise ModelLimitError(
-                f"non-finite state at t = {t:.9g} s, s = {self.system.s[bad]:.6g} m", t, f"s = {self.system.s[bad]:.6g} m"
-            )
+            bad = np.flatnonzero(~np.isfinite(y))[0]
+            # the motion is node-major (ny values a node); after it come the work and dissipation totals
+            place = f"s = {self.system.s[bad // self.system.ny]:.6g} m" if bad < self.system.ny * self.system.n else "whole shell"
+            raise ModelLimitError(f"non-finite state at t = {t:.9g} s, {place}", t, place)
         out = self._observe(y, t)
         energy = self._balance(out)
         if self.energy_limit is not None and not energy <= self.energy_limit:

@@ -10,14 +10,15 @@ run with one saved interval the step sequence is SciPy's.
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from mol_shell._core.errors import ModelLimitError, ParameterError
-from mol_shell.integrators.base import Monitor, StepBudget, Trajectory
-from mol_shell.integrators.sundials import _Sundials
+from mol_shell._core.errors import ModelLimitError
+from mol_shell.integrators import loop
+from mol_shell.integrators.base import StepBudget
+from mol_shell.integrators.loop import integer_at_least, option
+from mol_shell.integrators.tolerances import Tolerances
 
 
 def failed(message, t):
@@ -41,28 +42,23 @@ def initial_step(f, y0, f0, order, rtol, atol, t_end, max_step):
 
 
 @dataclass(frozen=True)
-class RungeKuttaC(_Sundials):
+class RungeKuttaC(Tolerances):
     """SciPy's ``DOP853`` in generated C (tolerances as for CVODE: ``rtol``, ``atol`` per field, momenta scaled).
 
     ``max_steps`` bounds the accepted steps of the run; ``chunk`` steps run in C between two checks of the
     energy and progress updates.
     """
 
-    chunk: int = 2000
+    max_steps: int = option(1_000_000, integer_at_least(1))
+    chunk: int = option(2000, integer_at_least(1))
 
     name = "dop853-c"
     #: the scipy.integrate class whose tableau and step control this runs (imported when used: scipy.integrate
     #: takes 0.35 s to import, a third of a study worker's start)
     solver = "DOP853"
     order = 8
-
-    def __post_init__(self):
-        super().__post_init__()
-        if not (isinstance(self.chunk, (int, np.integer)) and not isinstance(self.chunk, bool) and self.chunk >= 1):
-            raise ParameterError("chunk", self.chunk, "integers >= 1")
-
-    def settings(self):
-        return self.tolerances()
+    #: the energy and finiteness are checked at the end of every chunk (and so at every saved time)
+    checks_every_chunk = True
 
     @classmethod
     def scipy_method(cls):
@@ -84,60 +80,60 @@ class RungeKuttaC(_Sundials):
 
     def integrate(self, system, compiled, y0, times, *, progress=None):
         """Run from ``times[0]`` (must be 0) through ``times``; returns a :class:`Trajectory`."""
-        times = np.asarray(times, dtype=float)
-        if times[0] != 0:
-            raise ParameterError("times", float(times[0]), "first saved time must be 0")
+        return loop.run(self, system, compiled, y0, times, progress=progress)
+
+    def start(self, system, compiled, y0, times, monitor):
+        return _RungeKuttaStepper(self, system, compiled, y0, times, monitor)
+
+
+class _RungeKuttaStepper:
+    """The driver's state between chunks: ``t``, ``y``, ``f(y)`` and the next step ``h`` (in place)."""
+
+    def __init__(self, method, system, compiled, y0, times, monitor):
+        self.method, self.compiled, self.monitor = method, compiled, monitor
+        self.t_end = float(times[-1])
         evaluate = compiled.evaluator()
-        atol = np.ascontiguousarray(self.atol_vector(system, y0, momenta=True))
-        tableau = self.tableau()
-        monitor = Monitor(system, y0)
-        y = np.array(y0, dtype=float)
-        saved, reached = [y.copy()], [0.0]
-        status, message, failure = "complete", "completed", float("nan")
-        stats = np.zeros(3, dtype=np.int64)
-        start = time.perf_counter()
-        f = evaluate(y, 0.0).copy()
-        h0 = initial_step(lambda v, t: evaluate(v, t).copy(), y, f, self.scipy_method().error_estimator_order, self.rtol,
-                          atol, float(times[-1]), float(self.max_step))
-        t, h = np.zeros(1), np.array([h0])
-        evaluations = 2
-        try:
-            for target in times[1:]:
-                while t[0] < target:
-                    t_before = t[0]
-                    budget = min(self.chunk, self.max_steps - int(stats[0]))
-                    code = compiled.runge_kutta((t, y, f, h), target, self.rtol, atol, self.max_step, tableau,
-                                                budget, stats)
-                    if progress is not None:
-                        progress.update(t[0] - t_before)
-                    if code == 1:
-                        monitor.check(y, t[0])  # raises, naming the limit and the place
-                        raise ModelLimitError(f"a limit of the model was reached at t = {t[0]:.9g} s", t[0],
-                                              "whole shell")
-                    if code == -2:
-                        raise failed(f"{self.name} failed at t = {t[0]:.9g} s: the step fell below SciPy's minimum "
-                                     f"({h[0]:.3g} s): not finite, or stiff?", t[0])
-                    if code == -1:
-                        raise failed(f"{self.name}: the right-hand side failed at t = {t[0]:.9g} s", t[0])
-                    if stats[0] >= self.max_steps:
-                        raise failed(f"{self.name} took max_steps = {self.max_steps} steps by t = {t[0]:.9g} s", t[0])
-                    needed = stats[0] * times[-1] / t[0] if t[0] > 0 else float("inf")
-                    if stats[0] >= StepBudget.EVERY and needed > StepBudget.MARGIN * self.max_steps:
-                        raise failed(f"{self.name} would need about {needed:.3g} steps to reach t = {times[-1]:.6g} s "
-                                     f"at its mean step so far, more than max_steps = {self.max_steps}: the motion is "
-                                     f"too fast for this horizon (stopped at t = {t[0]:.9g} s)", t[0])
-                    monitor.check(y, t[0])  # the energy (instability) and finiteness, once a chunk
-                saved.append(y.copy())
-                reached.append(float(target))
-        except ModelLimitError as exc:
-            status, message, failure = exc.status, str(exc), exc.time
-        except KeyboardInterrupt:
-            status, message, failure = "interrupted", f"interrupted by the user at t = {t[0]:.9g} s", t[0]
-        wall = time.perf_counter() - start
-        run_stats = {"n_steps": int(stats[0]), "n_rejected": int(stats[1]), "n_rhs": int(stats[2]) + evaluations,
-                     "wall_time_s": wall}
-        return Trajectory(np.array(reached), np.array(saved), status=status, message=message, stats=run_stats,
-                          failure_time=failure)
+        self.atol = np.ascontiguousarray(method.atol_vector(system, y0, momenta=True))
+        self.tableau = method.tableau()
+        self.y = np.array(y0, dtype=float)
+        self.counts = np.zeros(3, dtype=np.int64)  # accepted, rejected steps, RHS evaluations in C
+        self.f = evaluate(self.y, 0.0).copy()
+        h0 = initial_step(lambda v, t: evaluate(v, t).copy(), self.y, self.f, method.scipy_method().error_estimator_order,
+                          method.rtol, self.atol, self.t_end, float(method.max_step))
+        self.time, self.h = np.zeros(1), np.array([h0])
+
+    @property
+    def t(self):
+        return float(self.time[0])
+
+    def advance(self, target):
+        m, counts, t = self.method, self.counts, self.time
+        budget = min(m.chunk, m.max_steps - int(counts[0]))
+        code = self.compiled.runge_kutta((t, self.y, self.f, self.h), target, m.rtol, self.atol, m.max_step,
+                                         self.tableau, budget, counts)
+        if code == 1:
+            self.monitor.check(self.y, t[0])  # raises, naming the limit and the place
+            raise ModelLimitError(f"a limit of the model was reached at t = {t[0]:.9g} s", t[0], "whole shell")
+        if code == -2:
+            raise failed(f"{m.name} failed at t = {t[0]:.9g} s: the step fell below SciPy's minimum "
+                         f"({self.h[0]:.3g} s): not finite, or stiff?", t[0])
+        if code == -1:
+            raise failed(f"{m.name}: the right-hand side failed at t = {t[0]:.9g} s", t[0])
+        if counts[0] >= m.max_steps:
+            raise failed(f"{m.name} took max_steps = {m.max_steps} steps by t = {t[0]:.9g} s", t[0])
+        needed = counts[0] * self.t_end / t[0] if t[0] > 0 else float("inf")
+        if counts[0] >= StepBudget.EVERY and needed > StepBudget.MARGIN * m.max_steps:
+            raise failed(f"{m.name} would need about {needed:.3g} steps to reach t = {self.t_end:.6g} s "
+                         f"at its mean step so far, more than max_steps = {m.max_steps}: the motion is "
+                         f"too fast for this horizon (stopped at t = {t[0]:.9g} s)", t[0])
+        self.monitor.check(self.y, t[0])  # the energy (instability) and finiteness, once a chunk
+
+    def state(self, target):
+        return self.y.copy()
+
+    def stats(self):
+        c = self.counts
+        return {"n_steps": int(c[0]), "n_rejected": int(c[1]), "n_rhs": int(c[2]) + 2}
 
 
 @dataclass(frozen=True)

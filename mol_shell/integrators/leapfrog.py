@@ -12,14 +12,14 @@ instability) and shows progress.
 
 from __future__ import annotations
 
-import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from mol_shell._core.errors import ModelLimitError, ParameterError, is_number
+from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.discretization.stencil import leapfrog_stepper
-from mol_shell.integrators.base import Monitor, Trajectory
+from mol_shell.integrators import loop
+from mol_shell.integrators.loop import integer_at_least, option, positive
 
 
 @dataclass(frozen=True)
@@ -34,19 +34,16 @@ class Leapfrog:
         Steps run in C between two checks of the energy (and progress updates); the limits are checked every step.
     """
 
-    dt: float = 1e-6
-    chunk: int = 2000
+    dt: float = option(1e-6, positive(" s"))
+    chunk: int = option(2000, integer_at_least(1))
 
     name = "leapfrog"
     order = 2
+    #: the energy and finiteness are checked at the end of every chunk (and so at every saved time)
+    checks_every_chunk = True
 
     def __post_init__(self):
-        if not is_number(self.dt):
-            raise ParameterError.not_a("dt", self.dt, "a number", "(0, inf) s")
-        if not (np.isfinite(self.dt) and self.dt > 0):
-            raise ParameterError("dt", self.dt, "(0, inf) s")
-        if not (isinstance(self.chunk, (int, np.integer)) and not isinstance(self.chunk, bool) and self.chunk >= 1):
-            raise ParameterError("chunk", self.chunk, "integers >= 1")
+        loop.check_declared(self)
 
     def settings(self):
         return {"dt": self.dt}
@@ -69,56 +66,59 @@ class Leapfrog:
 
     def integrate(self, system, compiled, y0, times, *, progress=None):
         """Run from ``times[0]`` (must be 0) through ``times``; returns a :class:`Trajectory`."""
-        steps = self.step_counts(times)
-        if steps[0] != 0:
-            raise ParameterError("times", float(times[0]), "first saved time must be 0")
-        monitor = Monitor(system, y0)
-        f = compiled.evaluator()
-        stepper = leapfrog_stepper(system, compiled)  # the vectorised stencil where it covers the scene
-        dt = self.dt
-        ya = np.array(y0, dtype=float)
-        yb = ya + dt * f(ya + 0.5 * dt * f(ya, 0.0), 0.5 * dt)
-        saved = [ya.copy()]
-        k, n_rhs = 1, 2
-        status, message, failure = "complete", "completed", float("nan")
-        start = time.perf_counter()
-        try:
-            monitor.check(yb, dt)
-            for target in steps[1:]:
-                while k < target:
-                    m = int(min(self.chunk, target - k))
-                    chunk_start = (ya.copy(), yb.copy(), k)
-                    taken, stopped = stepper.leapfrog(ya, yb, m, dt, k * dt)  # stops at the first step outside the limits
-                    k += taken
-                    n_rhs += taken
-                    if stopped:
-                        monitor.check(yb, k * dt)  # raises, naming the limit and the place
-                        raise ModelLimitError(f"a limit of the model was reached at t = {k * dt:.9g} s", k * dt,
-                                              "whole shell")
-                    try:
-                        monitor.check(yb, k * dt)  # the energy (instability) and finiteness, once a chunk
-                    except ModelLimitError:
-                        ya, yb, k = chunk_start
-                        self._locate(stepper, monitor, ya, yb, k, m, dt)  # raises at the first bad step
-                    if progress is not None:
-                        progress.update(m * dt)
-                saved.append(yb.copy())
-        except ModelLimitError as exc:
-            status, message, failure = exc.status, str(exc), exc.time
-            k = int(round(exc.time / dt))
-        except KeyboardInterrupt:
-            status, message, failure = "interrupted", f"interrupted by the user at t = {k * dt:.9g} s", k * dt
-        wall = time.perf_counter() - start
-        stats = {"n_steps": int(k), "n_rhs": int(n_rhs), "wall_time_s": wall}
-        # the saved times as asked for (they are multiples of dt to round-off), so ds.sel(time=...) finds them
-        return Trajectory(
-            np.asarray(times, dtype=float)[: len(saved)], np.array(saved), status=status, message=message,
-            stats=stats, failure_time=failure,
-        )
+        self.step_counts(times)  # refused before anything runs
+        return loop.run(self, system, compiled, y0, times, progress=progress)
 
-    @staticmethod
-    def _locate(stepper, monitor, ya, yb, k, m, dt):
+    def start(self, system, compiled, y0, times, monitor):
+        return _LeapfrogStepper(self, system, compiled, y0, times, monitor)
+
+
+class _LeapfrogStepper:
+    """Leap-frog's state between chunks: the two levels ``ya`` (step ``k - 1``) and ``yb`` (step ``k``)."""
+
+    def __init__(self, method, system, compiled, y0, times, monitor):
+        self.method, self.monitor, self.dt = method, monitor, method.dt
+        self.steps = dict(zip(np.asarray(times, dtype=float), method.step_counts(times)))
+        f = compiled.evaluator()
+        self.stepper = leapfrog_stepper(system, compiled)  # the vectorised stencil where it covers the scene
+        dt = self.dt
+        self.ya = np.array(y0, dtype=float)
+        self.yb = self.ya + dt * f(self.ya + 0.5 * dt * f(self.ya, 0.0), 0.5 * dt)
+        self.k, self.n_rhs = 1, 2
+        self.t = 0.0
+        monitor.check(self.yb, dt)
+
+    def advance(self, target):
+        dt, k = self.dt, self.k
+        m = int(min(self.method.chunk, self.steps[target] - k))
+        chunk_start = (self.ya.copy(), self.yb.copy(), k)
+        try:
+            taken, stopped = self.stepper.leapfrog(self.ya, self.yb, m, dt, k * dt)  # stops at the first step
+            self.k += taken                                                         # outside the limits
+            self.n_rhs += taken
+            if stopped:
+                self.monitor.check(self.yb, self.k * dt)  # raises, naming the limit and the place
+                raise ModelLimitError(f"a limit of the model was reached at t = {self.k * dt:.9g} s", self.k * dt,
+                                      "whole shell")
+            try:
+                self.monitor.check(self.yb, self.k * dt)  # the energy (instability) and finiteness, once a chunk
+            except ModelLimitError:
+                self.ya, self.yb, self.k = chunk_start
+                self._locate(m)  # raises at the first bad step
+        except ModelLimitError as exc:
+            self.k = int(round(exc.time / dt))
+            raise
+        self.t = target if self.k == self.steps[target] else self.k * dt
+
+    def _locate(self, m):
         """Redo a chunk one step at a time; raises at the first step that breaks a limit."""
-        for j in range(1, m + 1):
-            stepper.leapfrog(ya, yb, 1, dt, (k + j - 1) * dt)
-            monitor.check(yb, (k + j) * dt)
+        for _ in range(m):
+            self.stepper.leapfrog(self.ya, self.yb, 1, self.dt, self.k * self.dt)
+            self.k += 1
+            self.monitor.check(self.yb, self.k * self.dt)
+
+    def state(self, target):
+        return self.yb.copy()
+
+    def stats(self):
+        return {"n_steps": int(self.k), "n_rhs": int(self.n_rhs)}

@@ -26,41 +26,52 @@ import numpy as np
 from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.discretization.dae import ShellDAE
-from mol_shell.integrators.base import Monitor, StepBudget, Trajectory
-from mol_shell.integrators.sundials import _Sundials, pieces
+from mol_shell.integrators import loop
+from mol_shell.integrators.base import StepBudget
+from mol_shell.integrators.loop import choice, integer_at_least, option
+from mol_shell.integrators.sundials import pieces
+from mol_shell.integrators.tolerances import Tolerances
 
 
 @dataclass(frozen=True)
-class _Peer(_Sundials):
+class _Peer(Tolerances):
     """Tolerances as for CVODE (``rtol``, ``atol`` per field, momenta scaled by their mass)."""
 
-    def settings(self):
-        return self.tolerances()
+    order = None  # variable order (CasADi's CVODES and IDAS); the Runge-Kutta pairs declare theirs
 
-    def _finish(self, saved, reached, status, message, failure, stats):
-        return Trajectory(np.array(reached), np.array(saved), status=status, message=message, stats=stats,
-                          failure_time=failure)
+    def integrate(self, system, compiled, y0, times, *, progress=None):
+        return loop.run(self, system, compiled, y0, times, progress=progress)
 
 
 @dataclass(frozen=True)
 class ScipyRK45(_Peer):
     """``scipy.integrate.RK45`` (Dormand-Prince 5(4)), stepped in Python."""
 
+    max_steps: int = option(1_000_000, integer_at_least(1))
+
     name = "scipy-rk45"
     solver = "RK45"
     order = 5
     implicit = False
 
-    def integrate(self, system, compiled, y0, times, *, progress=None):
+    def start(self, system, compiled, y0, times, monitor):
+        return _ScipyStepper(self, system, compiled, y0, times)
+
+
+class _ScipyStepper:
+    """A scipy.integrate solver stepped one step at a time (as ``solve_ivp`` does), so steps are counted exactly;
+    saved states come from its dense output."""
+
+    def __init__(self, method, system, compiled, y0, times):
         import scipy.integrate  # here: with the package it was a third of a study worker's start (0.35 s)
         import scipy.sparse as sp
 
         f = compiled.evaluator()
-        options = {"rtol": self.rtol, "atol": self.atol_vector(system, y0, momenta=True)}
-        if self.max_step:
-            options["max_step"] = self.max_step
-        if self.implicit:
-            parts = pieces(system, "cvode", self.jacobian)
+        options = {"rtol": method.rtol, "atol": method.atol_vector(system, y0, momenta=True)}
+        if method.max_step:
+            options["max_step"] = method.max_step
+        if method.implicit:
+            parts = pieces(system, "cvode", method.jacobian)
             jac, pattern = parts["jac"], parts["pattern"]
             indices, indptr = pattern.indices, pattern.indptr
 
@@ -68,41 +79,37 @@ class ScipyRK45(_Peer):
                 return sp.csc_matrix((jac(t, y).copy(), indices, indptr), shape=pattern.shape)
 
             options["jac"] = jacobian
-        solver_cls = getattr(scipy.integrate, self.solver)
-        monitor = Monitor(system, y0)
-        saved, reached = [np.array(y0, dtype=float)], [0.0]
-        status, message, failure = "complete", "completed", float("nan")
-        start = time.perf_counter()
-        solver = solver_cls(lambda t, y: f(y, t).copy(), 0.0, np.array(y0, dtype=float), float(times[-1]), **options)
-        steps, k = 0, 1
-        budget = StepBudget(self.name, times[-1], self.max_steps)
-        try:
-            while k < len(times):
-                t_old = solver.t
-                message = solver.step()
-                steps += 1
-                budget.step(solver.t)  # max_steps, or a projection far beyond it, ends the run
-                if solver.status == "failed":
-                    raise ModelLimitError(f"{self.name} failed at t = {solver.t:.9g} s: {message}", solver.t,
-                                          "whole shell")
-                if progress is not None:
-                    progress.update(solver.t - t_old)
-                if k < len(times) and times[k] <= solver.t:
-                    dense = solver.dense_output()
-                    while k < len(times) and times[k] <= solver.t:
-                        y = solver.y.copy() if times[k] == solver.t else dense(times[k])
-                        monitor.check(y, times[k])
-                        saved.append(y)
-                        reached.append(times[k])
-                        k += 1
-            message = "completed"
-        except ModelLimitError as exc:
-            status, message, failure = exc.status, str(exc), exc.time
-        except KeyboardInterrupt:
-            status, message, failure = "interrupted", f"interrupted by the user at t = {solver.t:.9g} s", solver.t
-        stats = {"n_steps": steps, "n_rhs": int(solver.nfev), "n_jac": int(getattr(solver, "njev", 0)),
-                 "n_lu": int(getattr(solver, "nlu", 0)), "wall_time_s": time.perf_counter() - start}
-        return self._finish(saved, reached, status, message, failure, stats)
+        self.name = method.name
+        self.solver = getattr(scipy.integrate, method.solver)(lambda t, y: f(y, t).copy(), 0.0,
+                                                               np.array(y0, dtype=float), float(times[-1]), **options)
+        self.steps, self.dense = 0, None
+        self.budget = StepBudget(method.name, times[-1], method.max_steps)
+
+    @property
+    def t(self):
+        return float(self.solver.t)
+
+    def advance(self, target):
+        solver = self.solver
+        message = solver.step()
+        self.steps += 1
+        self.dense = None
+        self.budget.step(solver.t)  # max_steps, or a projection far beyond it, ends the run
+        if solver.status == "failed":
+            raise ModelLimitError(f"{self.name} failed at t = {solver.t:.9g} s: {message}", solver.t, "whole shell")
+
+    def state(self, target):
+        solver = self.solver
+        if target == solver.t:
+            return solver.y.copy()
+        if self.dense is None:
+            self.dense = solver.dense_output()
+        return self.dense(target)
+
+    def stats(self):
+        s = self.solver
+        return {"n_steps": self.steps, "n_rhs": int(s.nfev), "n_jac": int(getattr(s, "njev", 0)),
+                "n_lu": int(getattr(s, "nlu", 0))}
 
 
 @dataclass(frozen=True)
@@ -118,13 +125,15 @@ class ScipyDOP853(ScipyRK45):
 class ScipyRadau(ScipyRK45):
     """``scipy.integrate.Radau`` (implicit Radau IIA, order 5) with the exact sparse Jacobian."""
 
+    jacobian: str = option("compiled", choice("compiled", "vm"))
+
     name = "scipy-radau"
     solver = "Radau"
     implicit = True
 
 
 @dataclass(frozen=True)
-class ScipyBDF(ScipyRK45):
+class ScipyBDF(ScipyRadau):
     """``scipy.integrate.BDF`` (variable order 1-5, NDF) with the exact sparse Jacobian."""
 
     name = "scipy-bdf"
@@ -178,7 +187,7 @@ class CasadiCVODES(_Peer):
             what = "SUNDIALS failed"
         return f"{self.name} failed ({code}): {what}; only t = 0 is kept (all saved times come from one call)"
 
-    def integrate(self, system, compiled, y0, times, *, progress=None):
+    def start(self, system, compiled, y0, times, monitor):
         times = np.asarray(times, dtype=float)
         opts = {"abstol": float(self.field_atol().min()), "reltol": self.rtol, "max_num_steps": MAX_NUM_STEPS,
                 "disable_internal_warnings": True}  # failures are reported in the Trajectory's message
@@ -189,33 +198,44 @@ class CasadiCVODES(_Peer):
         opts.update(self.plugin_options)
         store = _CASADI_GRAPHS.setdefault(system, {})
         key = (self.plugin, tuple(times), tuple(sorted(opts.items())))
-        if key not in store:  # the graph is built once, outside the timing
+        if key not in store:  # the graph is built once (in integrate, outside the timing)
             store[key] = ca.integrator("F", self.plugin, self._dae(system), 0.0, list(times[1:]), opts)
-        F = store[key]
-        status, message, failure = "complete", "completed", float("nan")
+        return _CasadiStepper(self, system, store[key], self._initial(system, np.array(y0, dtype=float)), times,
+                              opts)
+
+    def integrate(self, system, compiled, y0, times, *, progress=None):
+        return loop.run(self, system, compiled, y0, times, progress=progress)
+
+
+class _CasadiStepper:
+    """CasADi's integrator computes every saved time in one call: the first ``advance`` makes it."""
+
+    def __init__(self, method, system, F, initial, times, opts):
+        self.method, self.system, self.F, self.initial, self.opts = method, system, F, initial, opts
+        self.times, self.t, self.wall = times, 0.0, 0.0
+
+    def advance(self, target):
         start = time.perf_counter()
         try:
-            out = F(**self._initial(system, np.array(y0, dtype=float)))
-            states = self._states(system, out["xf"])
-        except RuntimeError as exc:  # CasADi raises when SUNDIALS fails
-            states = np.zeros((0, system.size))
-            status, message, failure = "failed", self._failure_message(exc, opts), float("nan")
-        wall = time.perf_counter() - start
-        monitor = Monitor(system, y0)
-        saved, reached = [np.array(y0, dtype=float)], [0.0]
-        try:
-            for t, y in zip(times[1:], states):
-                monitor.check(y, t)
-                saved.append(y)
-                reached.append(t)
-        except ModelLimitError as exc:
-            status, message, failure = exc.status, str(exc), exc.time
-        st = F.stats()
-        stats = {"n_steps": int(st.get("nsteps", -1)), "n_rhs": int(st.get("nfevals", -1)),
-                 "n_jac": int(st.get("n_call_jacF", -1)), "n_linear_setups": int(st.get("nlinsetups", -1)),
-                 "n_error_test_failures": int(st.get("netfails", -1)),
-                 "n_nonlinear_failures": int(st.get("nncfails", -1)), "wall_time_s": wall}
-        return self._finish(saved, reached, status, message, failure, stats)
+            out = self.F(**self.initial)
+        except RuntimeError as exc:  # CasADi raises when SUNDIALS fails: only t = 0 is kept
+            self.wall = time.perf_counter() - start
+            err = ModelLimitError(self.method._failure_message(exc, self.opts), float("nan"), "whole shell")
+            err.status = "failed"
+            raise err from None
+        self.wall = time.perf_counter() - start
+        self.states = self.method._states(self.system, out["xf"])
+        self.t = float(self.times[-1])
+
+    def state(self, target):
+        return self.states[int(np.searchsorted(self.times, target)) - 1]
+
+    def stats(self):
+        st = self.F.stats()
+        return {"n_steps": int(st.get("nsteps", -1)), "n_rhs": int(st.get("nfevals", -1)),
+                "n_jac": int(st.get("n_call_jacF", -1)), "n_linear_setups": int(st.get("nlinsetups", -1)),
+                "n_error_test_failures": int(st.get("netfails", -1)),
+                "n_nonlinear_failures": int(st.get("nncfails", -1)), "wall_time_s": self.wall}
 
 
 @dataclass(frozen=True)

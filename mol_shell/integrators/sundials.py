@@ -35,11 +35,13 @@ import casadi as ca  # noqa: E402
 import numpy as np  # noqa: E402
 
 from mol_shell._core.constants import DENSE_MAX_STATES
-from mol_shell._core.errors import ModelLimitError, ParameterError, is_number  # noqa: E402
+from mol_shell._core.errors import ModelLimitError, ParameterError  # noqa: E402
 from mol_shell.discretization.compiled import CompiledFunctions, buffered
 from mol_shell.discretization.dae import ShellDAE
-from mol_shell.integrators.base import Monitor, StepBudget, Trajectory  # noqa: E402
-from mol_shell.model.kinematics import FIELDS  # noqa: E402
+from mol_shell.integrators import loop  # noqa: E402
+from mol_shell.integrators.base import StepBudget  # noqa: E402
+from mol_shell.integrators.loop import BOOL, Option, choice, integer_at_least, non_negative, option  # noqa: E402
+from mol_shell.integrators.tolerances import Tolerances  # noqa: E402
 
 #: the scikit-sundae version whose constraint defect the workaround targets (and that passes the tests)
 SKSUNDAE_TESTED = "1.2.0"
@@ -116,19 +118,11 @@ def _build_pieces(system, kind, jacobian):
 
 # -- the integrators ---------------------------------------------------------------------------
 @dataclass(frozen=True)
-class _Sundials:
-    """Options shared by CVODE and IDA.
+class _Sundials(Tolerances):
+    """Options of CVODE and IDA: the tolerances (:class:`~mol_shell.integrators.tolerances.Tolerances`) and
 
     Parameters
     ----------
-    rtol : float
-        Relative tolerance.
-    atol : float or dict or sequence
-        Absolute tolerance of the fields (m or rad): one number, ``{field: value}`` or five values
-        (``z, r, chi, theta, psi``). Rates get the same number (per second); momenta that number
-        times the lumped mass of their entry, so CVODE and IDA control comparable quantities.
-    max_step : float
-        Largest step, s (0: unbounded).
     linsolver : str
         ``"auto"`` (dense up to 100 states, banded up to DENSE_MAX_STATES, sparse above), ``"dense"``,
         ``"band"`` or ``"sparse"``.
@@ -145,79 +139,24 @@ class _Sundials:
         counts per call, and in one-step mode every call is one step).
     """
 
-    rtol: float = 1e-6
-    atol: object = 1e-9
-    max_step: float = 0.0
-    linsolver: str = "auto"
-    jacobian: str = "compiled"
-    constraints: bool = True
-    events: bool = True
-    max_order: int | None = None
-    first_step: float = 0.0
-    max_steps: int = 1_000_000
+    linsolver: str = option("auto", choice("auto", "dense", "band", "sparse"))
+    jacobian: str = option("compiled", choice("compiled", "vm"))
+    constraints: bool = option(True, BOOL)
+    events: bool = option(True, BOOL)
+    max_order: int | None = option(None, Option("integers in [1, 12] (Adams), [1, 5] (BDF, IDA), or None",
+                                                lambda v: v is None or (isinstance(v, (int, np.integer))
+                                                                        and not isinstance(v, bool) and 1 <= v <= 12)))
+    first_step: float = option(0.0, non_negative(" s", " (0: SUNDIALS estimates it)"))
+    max_steps: int = option(1_000_000, integer_at_least(1))
 
     order = None  # variable order: tests check that the tolerance is reached instead
     kind = "cvode"
-
-    def __post_init__(self):
-        if not (isinstance(self.rtol, (int, float)) and np.isfinite(self.rtol) and self.rtol > 0):
-            raise ParameterError("rtol", self.rtol, "(0, inf)")
-        if self.max_step is None or not (np.isfinite(self.max_step) and self.max_step >= 0):
-            raise ParameterError("max_step", self.max_step, "[0, inf) s (0: unbounded)")
-        if self.linsolver not in ("auto", "dense", "band", "sparse"):
-            raise ParameterError("linsolver", self.linsolver, "{auto, dense, band, sparse}")
-        if self.jacobian not in ("compiled", "vm"):
-            raise ParameterError("jacobian", self.jacobian, "{compiled, vm}")
-        self.field_atol()
 
     def settings(self):
         import sksundae  # imported when used: with scipy.optimize it is 0.28 s of every process's start
 
         return {**self.tolerances(), "linsolver_option": self.linsolver, "jacobian": self.jacobian,
                 "sksundae_version": sksundae.__version__}
-
-    def tolerances(self):
-        """``rtol``, ``atol`` (a number, or per field as ``"z=1e-09,r=1e-08,..."``) and ``max_step`` as attributes."""
-        atol = self.atol if is_number(self.atol) else ",".join(
-            f"{name}={float(value):g}" for name, value in zip(FIELDS, self.field_atol()))
-        return {"rtol": self.rtol, "atol": atol, "max_step": self.max_step}
-
-    def field_atol(self):
-        """Absolute tolerance per field ``(z, r, chi, theta, psi)``."""
-        a = self.atol
-        if isinstance(a, dict):
-            bad = set(a) - set(FIELDS)
-            if bad:
-                raise ParameterError("atol", a, "{field: value} with fields in " + ", ".join(FIELDS))
-            values = [a.get(name, 1e-9) for name in FIELDS]
-        elif isinstance(a, (int, float)):
-            values = [a] * len(FIELDS)
-        else:
-            values = list(a)
-            if len(values) != len(FIELDS):
-                raise ParameterError("atol", a, "one value, {field: value}, or five values (z, r, chi, theta, psi)")
-        if not all(isinstance(v, (int, float)) and np.isfinite(v) and v > 0 for v in values):
-            raise ParameterError("atol", a, "(0, inf)")
-        return np.array(values, dtype=float)
-
-    def atol_vector(self, system, y0, momenta):
-        """Per-entry absolute tolerances of the node-major state."""
-        fa = self.field_atol()[list(system.active)]
-        nf = system.nf
-        vec = np.tile(np.r_[fa, fa], system.n)
-        if momenta:  # p = M v: scale by the lumped diagonal mass of each entry (interior value where fixed)
-            Q = system.unpack(y0)
-            for j, k in enumerate(system.active):
-                V = np.zeros_like(Q)
-                V[k] = 1.0
-                m = np.array(system.momenta(Q, V))[k]
-                m[m <= 0] = m.max()
-                vec[nf + j : system.ny * system.n : 2 * nf] *= m
-        if system.n_extra:  # work and dissipated (J): atol times the energy of a unit strain of the shell
-            area = 2 * np.pi * float(np.sum(system.weights * system.reference[1]))
-            scale = area * 2 * system.scene.h * (system.lam + 2 * system.mu)
-            vec = np.concatenate([vec, np.full(system.n_extra, float(fa.min()) * scale)])
-        return vec
 
     def choose_linsolver(self, size):
         if self.linsolver != "auto":
@@ -227,10 +166,11 @@ class _Sundials:
     # -- running -----------------------------------------------------------------------------
     def integrate(self, system, compiled, y0, times, *, progress=None):
         """Run from ``times[0]`` through ``times``; returns a :class:`Trajectory` of ``(q, p)`` states."""
-        times = np.asarray(times, dtype=float)
-        parts = pieces(system, self.kind, self.jacobian)
-        run = _Run(self, system, compiled, parts, y0)
-        return run.go(times, progress)
+        pieces(system, self.kind, self.jacobian)  # built (and compiled) before the run is timed
+        return loop.run(self, system, compiled, y0, times, progress=progress)
+
+    def start(self, system, compiled, y0, times, monitor):
+        return _Run(self, system, compiled, pieces(system, self.kind, self.jacobian), y0).begin(times)
 
     def solver_options(self, system, parts, y0, run):
         size = system.size
@@ -295,7 +235,7 @@ class IDA(_Sundials):
 
 
 class _Run:
-    """One solve: the callbacks SUNDIALS calls, trial-time bookkeeping and the stepping loop."""
+    """One solve: the callbacks SUNDIALS calls, trial-time bookkeeping, and its steps (a stepper of the run loop)."""
 
     def __init__(self, method, system, compiled, parts, y0):
         self.method, self.system, self.parts = method, system, parts
@@ -380,58 +320,48 @@ class _Run:
             return np.array(state, dtype=float)
         return np.array(self.parts["dae"].to_momenta(state, float(np.ravel(t)[0]))).ravel()
 
-    def go(self, times, progress):
-        method, system = self.method, self.system
-        if times[0] != 0:
-            raise ParameterError("times", float(times[0]), "first saved time must be 0")
-        start = time.perf_counter()  # solver set-up is part of the run's cost; graph building is not
-        monitor = Monitor(system, self.y0)
-        solver = method.make_solver(system, self.parts, self.y0, self)
+    def begin(self, times):
+        """Make the solver and take its first step (a consistent start for IDA)."""
+        method = self.method
+        self.solver = method.make_solver(self.system, self.parts, self.y0, self)
         if self.ida:
             x0, xp0 = self.parts["dae"].consistent_rates(self.y0)
-            init = solver.init_step(0.0, x0, xp0)
+            init = self.solver.init_step(0.0, x0, xp0)
         else:
-            init = solver.init_step(0.0, self.y0)
+            init = self.solver.init_step(0.0, self.y0)
         if not init.success:
             raise RuntimeError(f"{method.name} could not start: {init.message}")
-        saved, reached = [self.y0.copy()], [0.0]
-        status, message, failure = "complete", "completed", float("nan")
-        t, steps, res = 0.0, 0, init
-        budget = StepBudget(method.name, times[-1], method.max_steps)
-        try:
-            for target in times[1:]:
-                while t < target:
-                    self.calls_in_step = 0
-                    res = solver.step(float(target), method="onestep", tstop=float(target))
-                    steps += 1
-                    self.counting = True
-                    if res.status == ROOT_RETURN:
-                        raise self._event_error(res)
-                    if not res.success:
-                        raise self._failure(res, t)
-                    if method.constraints and np.min(np.asarray(res.y)[self.r_entries]) <= self.r_floor:
-                        raise self._constraint_limit(res)
-                    budget.step(float(res.t))  # max_steps, or a projection far beyond it, ends the run
-                    if progress is not None:
-                        progress.update(float(res.t) - t)
-                    t = self.t_reached = float(res.t)
-                y = self.to_hamiltonian(res.y, t)
-                monitor.check(y, t)
-                saved.append(y)
-                reached.append(t)
-        except ModelLimitError as exc:
-            status, message, failure = exc.status, str(exc), exc.time
-        except KeyboardInterrupt:
-            status, message, failure = "interrupted", f"interrupted by the user at t = {t:.9g} s", t
-        wall = time.perf_counter() - start
-        stats = {
-            "n_steps": int(steps), "n_rhs": int(res.nfev), "n_jac": int(res.njev),
-            "n_failed_steps": int(self.failures), "wall_time_s": wall,
-            "linsolver": method.choose_linsolver(system.size),
+        self.t, self.n_steps, self.res = 0.0, 0, init
+        self.budget = StepBudget(method.name, times[-1], method.max_steps)
+        return self
+
+    def advance(self, target):
+        """One SUNDIALS step towards ``target`` (``tstop``: never past it)."""
+        method = self.method
+        self.calls_in_step = 0
+        res = self.res = self.solver.step(float(target), method="onestep", tstop=float(target))
+        self.n_steps += 1
+        self.counting = True
+        if res.status == ROOT_RETURN:
+            raise self._event_error(res)
+        if not res.success:
+            raise self._failure(res, self.t)
+        if method.constraints and np.min(np.asarray(res.y)[self.r_entries]) <= self.r_floor:
+            raise self._constraint_limit(res)
+        self.budget.step(float(res.t))  # max_steps, or a projection far beyond it, ends the run
+        self.t = self.t_reached = float(res.t)
+
+    def state(self, target):
+        return self.to_hamiltonian(self.res.y, self.t)
+
+    def stats(self):
+        res, method = self.res, self.method
+        return {
+            "n_steps": int(self.n_steps), "n_rhs": int(res.nfev), "n_jac": int(res.njev),
+            "n_failed_steps": int(self.failures),
+            "linsolver": method.choose_linsolver(self.system.size),
             "jacobian_build_s": float(self.parts.get("build_time_s", 0.0)),
         }
-        return Trajectory(np.array(reached), np.array(saved), status=status, message=message, stats=stats,
-                          failure_time=failure)
 
     def _event_error(self, res):
         t = float(res.t_events[-1]) if res.t_events is not None else float(res.t)

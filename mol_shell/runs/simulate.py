@@ -10,6 +10,7 @@ import warnings
 
 import numpy as np
 
+from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: simulate's range)
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.dataset import build_dataset
@@ -34,8 +35,6 @@ from mol_shell.scenes import UNSHEARABLE_INTEGRATORS, Unshearable
 LEAPFROG_MAX_LOG_GROWTH = float(np.log(1e6))
 #: leap-frog's step when none is given (the paper's), s
 DEFAULT_DT = 1e-6
-#: relative tolerances accepted: below 1e-14 is under round-off, 1 and above controls nothing
-RTOL_RANGE = (1e-14, 1.0)
 
 
 def parasitic_growth_rate(damping, omega_max, dt):
@@ -140,7 +139,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         default ``$MOL_SHELL_THREADS`` or all cores. Grids below :data:`PARALLEL_MIN_NODES` nodes run
         serially whatever it says. Results do not depend on it (each cell is one thread's work).
     **options
-        Passed to the integrator's dataclass (e.g. ``rtol`` in [1e-14, 1), ``atol``, ``max_step``);
+        Passed to the integrator's dataclass (e.g. ``rtol`` in ``RTOL_RANGE``, ``atol``, ``max_step``);
         an option the integrator does not take is refused by name.
 
     Returns

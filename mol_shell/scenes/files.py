@@ -38,7 +38,7 @@ import math
 import sys
 from pathlib import Path
 
-from mol_shell._core.constants import FIELDS
+from mol_shell._core.constants import FIELDS, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
@@ -185,7 +185,7 @@ def _run_options(source, run):
                     b <= a for a, b in zip(value, value[1:])):
                 raise _fail(source, "run", ParameterError(key, value, allowed))
         elif key == "rtol":
-            value = positive(key, value, 1e-14, 1.0, closed=True, unit="")
+            value = positive(key, value, *RTOL_RANGE, closed=True, unit="")
         elif key == "atol" and isinstance(value, dict):
             for name, tol in value.items():
                 if name not in FIELDS:

@@ -1,0 +1,170 @@
+"""The one run loop every integrator of the shell runs in, and the protocol an integrator follows.
+
+An integrator is a frozen dataclass whose fields are exactly the options it takes (checked by
+:func:`check_declared` from each field's declared :class:`Option`), with class attributes ``name`` and
+``order``, and a method ``start(system, compiled, y0, times, monitor) -> Stepper``. The loop
+(:func:`run`) owns what is common to all of them, as ``scipy.integrate.solve_ivp`` owns it for SciPy's
+solvers: the saved times, progress, the checks of the model's limits at saved times
+(:class:`~mol_shell.integrators.base.Monitor`), Ctrl-C, and the kinds of failure:
+
+``"limit"``
+    a limit of the model was reached (``delta -> 0``, ``r -> 0``, ``|psi| -> pi/2``, a non-finite state);
+``"unstable"``
+    the energy grew: a numerical instability;
+``"failed"``
+    the integrator gave up (its step underflowed, ``max_steps``, a solver error);
+``"interrupted"``
+    Ctrl-C.
+
+Each ends the run with the saved times reached kept and ``failure_time`` set.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field, fields
+from typing import Callable, Protocol
+
+import numpy as np
+
+from mol_shell._core.constants import RTOL_RANGE
+from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell.integrators.base import Monitor, Trajectory
+
+#: how a run can end other than ``"complete"``, and what each means
+FAILURE_KINDS = {
+    "limit": "a limit of the model was reached (delta -> 0, r -> 0, |psi| -> pi/2, a non-finite state)",
+    "unstable": "the energy grew: a numerical instability",
+    "failed": "the integrator gave up (step underflow, max_steps, a solver error)",
+    "interrupted": "interrupted by the user (Ctrl-C)",
+}
+
+
+@dataclass(frozen=True)
+class Option:
+    """An integrator option's type and allowed range, declared once beside its field.
+
+    ``check(value) -> bool`` decides; ``allowed`` is the range as the error message states it.
+    """
+
+    allowed: str
+    check: Callable[[object], bool]
+    doc: str = ""
+
+
+def _number(value):
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+
+
+def positive(unit=""):
+    return Option(f"(0, inf){unit}", lambda v: _number(v) and bool(np.isfinite(v)) and v > 0)
+
+
+def non_negative(unit="", zero=""):
+    return Option(f"[0, inf){unit}{zero}", lambda v: _number(v) and bool(np.isfinite(v)) and v >= 0)
+
+
+def integer_at_least(low):
+    return Option(f"integers >= {low}", lambda v: isinstance(v, (int, np.integer)) and not isinstance(v, bool)
+                  and v >= low)
+
+
+def interval(low, high, unit=""):
+    """``[low, high)``: a relative tolerance below ``low`` is under round-off, one at ``high`` controls nothing."""
+    return Option(f"[{low:g}, {high:g}){unit}", lambda v: _number(v) and low <= v < high)
+
+
+def choice(*values):
+    return Option("{" + ", ".join(map(str, values)) + "}", lambda v: v in values)
+
+
+BOOL = Option("{True, False}", lambda v: isinstance(v, (bool, np.bool_)))
+
+#: relative tolerances accepted by every adaptive integrator (:data:`~mol_shell._core.constants.RTOL_RANGE`)
+RTOL = interval(*RTOL_RANGE)
+
+
+def option(default, spec):
+    """A dataclass field with its declared :class:`Option` in the metadata."""
+    return field(default=default, metadata={"option": spec})
+
+
+def declared(cls):
+    """``{name: Option}`` of the integrator class ``cls`` (its dataclass fields)."""
+    return {f.name: f.metadata["option"] for f in fields(cls) if "option" in f.metadata}
+
+
+def check_declared(instance):
+    """Refuse, by name and with its allowed range, an option value outside its declared range."""
+    for name, spec in declared(type(instance)).items():
+        value = getattr(instance, name)
+        if not spec.check(value):
+            if not _number(value) and "inf" in spec.allowed:
+                raise ParameterError.not_a(name, value, "a number", spec.allowed)
+            raise ParameterError(name, value, spec.allowed)
+
+
+class _NotStarted:
+    """Stands for a stepper whose start failed (a limit at the first step)."""
+
+    t = 0.0
+
+    def stats(self):
+        return {"n_steps": 0}
+
+
+class Stepper(Protocol):
+    """One solve in progress, as an integrator's ``start`` returns it."""
+
+    #: time reached (s)
+    t: float
+
+    def advance(self, target: float) -> None:
+        """Move towards ``target`` (one step or a chunk of steps; never past it unless ``state`` interpolates);
+        raise :class:`~mol_shell._core.errors.ModelLimitError` for any failure."""
+
+    def state(self, target: float) -> np.ndarray:
+        """The Hamiltonian state ``(q, p)`` at the saved time ``target`` (reached or passed)."""
+
+    def stats(self) -> dict:
+        """Counters: ``n_steps``, ``n_rhs``, ... (``wall_time_s`` to replace the loop's own measure)."""
+
+
+def run(integrator, system, compiled, y0, times, *, progress=None):
+    """Run ``integrator`` from ``times[0] = 0`` through ``times``: the one loop, for every integrator.
+
+    Returns a :class:`~mol_shell.integrators.base.Trajectory` of the saved times reached; a failure of any
+    kind (:data:`FAILURE_KINDS`) ends the run there with its status, message and time.
+    """
+    times = np.asarray(times, dtype=float)
+    if times[0] != 0:
+        raise ParameterError("times", float(times[0]), "first saved time must be 0")
+    monitor = Monitor(system, y0)
+    start = time.perf_counter()  # solver set-up is part of the run's cost; graph building is not
+    saved, reached = [np.array(y0, dtype=float)], [0.0]
+    status, message, failure = "complete", "completed", float("nan")
+    stepper = _NotStarted()
+    try:
+        stepper = integrator.start(system, compiled, y0, times, monitor)
+        for target in times[1:]:
+            while stepper.t < target:
+                before = stepper.t
+                stepper.advance(float(target))
+                if progress is not None:
+                    progress.update(min(stepper.t, target) - before)
+            y = stepper.state(float(target))
+            if not getattr(integrator, "checks_every_chunk", False):  # else the stepper checked it already
+                monitor.check(y, float(target))
+            saved.append(y)
+            reached.append(float(target))
+    except ModelLimitError as exc:
+        status, message, failure = exc.status, str(exc), exc.time
+    except KeyboardInterrupt:
+        t = float(stepper.t)
+        status, message, failure = "interrupted", f"interrupted by the user at t = {t:.9g} s", t
+    stats = {"wall_time_s": time.perf_counter() - start, **stepper.stats()}
+    return Trajectory(np.array(reached), np.array(saved), status=status, message=message, stats=stats,
+                      failure_time=failure)
+
+
+__all__ = ["FAILURE_KINDS", "Option", "RTOL", "Stepper", "check_declared", "declared", "option", "run"]

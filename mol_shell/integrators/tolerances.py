@@ -1,0 +1,102 @@
+"""The tolerances every adaptive integrator takes: ``rtol``, ``atol`` (per field; momenta scaled by their mass)
+and ``max_step``, each declared with its range."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mol_shell._core.constants import FIELDS
+from mol_shell._core.errors import ParameterError, is_number
+from mol_shell.integrators import loop
+from mol_shell.integrators.loop import RTOL, Option, non_negative, option
+
+ATOL_ALLOWED = "(0, inf): one value, {field: value} or five values (z, r, chi, theta, psi)"
+
+
+def field_atol(a):
+    """Absolute tolerance per field ``(z, r, chi, theta, psi)`` from one number, a dict or five numbers."""
+    if isinstance(a, dict):
+        bad = set(a) - set(FIELDS)
+        if bad:
+            raise ParameterError("atol", a, "{field: value} with fields in " + ", ".join(FIELDS))
+        values = [a.get(name, 1e-9) for name in FIELDS]
+    elif isinstance(a, (int, float)):
+        values = [a] * len(FIELDS)
+    else:
+        try:
+            values = list(a)
+        except TypeError:
+            raise ParameterError("atol", a, ATOL_ALLOWED) from None
+        if len(values) != len(FIELDS):
+            raise ParameterError("atol", a, "one value, {field: value}, or five values (z, r, chi, theta, psi)")
+    if not all(isinstance(v, (int, float)) and np.isfinite(v) and v > 0 for v in values):
+        raise ParameterError("atol", a, "(0, inf)")
+    return np.array(values, dtype=float)
+
+
+def _atol_ok(value):
+    try:
+        field_atol(value)
+    except ParameterError:
+        return False
+    return True
+
+
+@dataclass(frozen=True)
+class Tolerances:
+    """Tolerances of an adaptive integrator.
+
+    Parameters
+    ----------
+    rtol : float
+        Relative tolerance, in :data:`~mol_shell._core.constants.RTOL_RANGE`.
+    atol : float or dict or sequence
+        Absolute tolerance of the fields (m or rad): one number, ``{field: value}`` or five values
+        (``z, r, chi, theta, psi``). Rates get the same number (per second); momenta that number
+        times the lumped mass of their entry, so CVODE and IDA control comparable quantities.
+    max_step : float
+        Largest step, s (0: unbounded).
+    """
+
+    rtol: float = option(1e-6, RTOL)
+    atol: object = option(1e-9, Option(ATOL_ALLOWED, _atol_ok))
+    max_step: float = option(0.0, non_negative(" s", " (0: unbounded)"))
+
+    def __post_init__(self):
+        loop.check_declared(self)
+        self.field_atol()  # names the wrong entry
+
+    def settings(self):
+        return self.tolerances()
+
+    def tolerances(self):
+        """``rtol``, ``atol`` (a number, or per field as ``"z=1e-09,r=1e-08,..."``) and ``max_step`` as attributes."""
+        atol = self.atol if is_number(self.atol) else ",".join(
+            f"{name}={float(value):g}" for name, value in zip(FIELDS, self.field_atol()))
+        return {"rtol": self.rtol, "atol": atol, "max_step": self.max_step}
+
+    def field_atol(self):
+        """Absolute tolerance per field ``(z, r, chi, theta, psi)``."""
+        return field_atol(self.atol)
+
+    def atol_vector(self, system, y0, momenta):
+        """Per-entry absolute tolerances of the node-major state."""
+        fa = self.field_atol()[list(system.active)]
+        nf = system.nf
+        vec = np.tile(np.r_[fa, fa], system.n)
+        if momenta:  # p = M v: scale by the lumped diagonal mass of each entry (interior value where fixed)
+            Q = system.unpack(y0)
+            for j, k in enumerate(system.active):
+                V = np.zeros_like(Q)
+                V[k] = 1.0
+                m = np.array(system.momenta(Q, V))[k]
+                m[m <= 0] = m.max()
+                vec[nf + j : system.ny * system.n : 2 * nf] *= m
+        if system.n_extra:  # work and dissipated (J): atol times the energy of a unit strain of the shell
+            area = 2 * np.pi * float(np.sum(system.weights * system.reference[1]))
+            scale = area * 2 * system.scene.h * (system.lam + 2 * system.mu)
+            vec = np.concatenate([vec, np.full(system.n_extra, float(fa.min()) * scale)])
+        return vec
+
