@@ -5,7 +5,7 @@ ends have travelled 0.37 m and every field moves. The reference is CVODE-Adams a
 the Hamiltonian ODE, checked against IDA at rtol = 1e-12 on the DAE in rates (another method on
 another formulation); their difference (~2e-10) bounds what the tests below can resolve.
 
-Error measure (:func:`mol_shell.workprecision.relative_error`): the largest over ``r, theta, chi``
+Error measure (:func:`mol_shell.analysis.workprecision.relative_error`): the largest over ``r, theta, chi``
 of ``max |u - u_ref| / max |u_ref|``. The adaptive integrators control the local error of each
 step to ``rtol |y| + atol`` (``atol = 1e-3 rtol``); over the few hundred steps to 0.02 s the global
 error of this non-dissipative problem stays within a small multiple of that (measured 0.002 to 1.6

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 import mol_shell
+from mol_shell._core.errors import ParameterError
 from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.integrators import Leapfrog
 from mol_shell.runs.simulate import LEAPFROG_MAX_LOG_GROWTH, build, parasitic_growth_rate, resolve
@@ -105,7 +106,7 @@ def test_parasitic_growth_is_faster_near_the_step_bound():
         dt = t_end / steps
         assert (parasitic_growth_rate(damping, omega_max, dt) * t_end > LEAPFROG_MAX_LOG_GROWTH) == refused
         if refused:
-            with pytest.raises(mol_shell.errors.ParameterError, match="parasitic root"):
+            with pytest.raises(ParameterError, match="parasitic root"):
                 mol_shell.simulate(scene, "leapfrog", n=N, dt=dt, times=[0.0, t_end], progress=False)
             traj = Leapfrog(dt=dt).integrate(system, compiled, y0, np.array([0.0, t_end]))
             assert traj.status == "unstable"

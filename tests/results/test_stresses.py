@@ -17,7 +17,7 @@ import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.kinematics import deformation_gradient
 from mol_shell.model.material import Thickness, centroidal_offset, effective_lame, lame, shell_dissipation, shell_energy
-from mol_shell.results.stresses import RESULTANTS, add_stresses, sample_stresses
+from mol_shell.results.stresses import RESULTANT_META, RESULTANTS, add_stresses, sample_stresses
 
 EPS = np.finfo(float).eps
 FIELDS = ("z", "r", "chi", "theta", "psi")
@@ -220,7 +220,7 @@ def test_resultants_are_the_3d_stress_integrated_through_the_thickness(material)
     expected, faces = traction_integrals(strains, ref, scene, lam, mu)
     got = {k: float(v) for k, v in out["elastic"].items()}
     for units in ("N m-1", "N"):
-        names = [k for k in got if mol_shell.stresses.RESULTANT_META[k][0] == units and k not in ("axial_force",)]
+        names = [k for k in got if RESULTANT_META[k][0] == units and k not in ("axial_force",)]
         floor = 1e-10 * max(abs(expected[k]) for k in names)
         for name in names:
             assert got[name] == pytest.approx(expected[name], rel=1e-10, abs=floor), name

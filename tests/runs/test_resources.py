@@ -85,7 +85,7 @@ def test_millions_of_nodes_are_refused_before_any_graph(capsys, tmp_path, no_bui
 
 
 def test_a_study_too_large_for_memory_is_refused_before_its_cases_exist(capsys, tmp_path, monkeypatch):
-    monkeypatch.setattr(mol_shell.study.__module__ and sys.modules["mol_shell.runs.study"], "run_task", None)
+    monkeypatch.setattr(sys.modules["mol_shell.runs.study"], "run_task", None)
     code = main(["study", "twisted-cylinder", "--vary", "gamma=0:1:1e-12", "--t-end", "1e-3", "-o",
                  str(tmp_path / "s.nc")])
     err = capsys.readouterr().err

@@ -97,19 +97,19 @@ def test_vary_ranges_include_the_stop():
 
 
 def test_command_line(tmp_path, monkeypatch, capsys):
-    from mol_shell.cli import main as cli
+    from mol_shell.cli.main import main
 
     out = tmp_path / "u.nc"
-    code = cli.main(["study", "unshearable", "--vary", "omega=0,20", "--integrator", "ida", "--n", "8",
+    code = main(["study", "unshearable", "--vary", "omega=0,20", "--integrator", "ida", "--n", "8",
                      "--t-end", "0.005", "--scheduler", "serial", "-o", str(out)])
     assert code == 0 and "2 cases (2 complete)" in capsys.readouterr().out
     ds = mol_shell.read_netcdf(out)
     assert ds.lambda_chi.dims == ("omega", "time", "s_cell")
     assert float(abs(ds.lambda_chi.sel(omega=0.0)).max()) == 0.0 < float(abs(ds.lambda_chi.sel(omega=20.0)).max())
     assert float(ds.chi_s_max.max()) < 1e-12 and float(ds.psi_max.max()) == 0.0
-    code = cli.main(["study", "twisted-cylinder", "--vary", "colour=1,2", "--t-end", "0.001", "-o", str(tmp_path / "x.nc")])
+    code = main(["study", "twisted-cylinder", "--vary", "colour=1,2", "--t-end", "0.001", "-o", str(tmp_path / "x.nc")])
     assert code == 2 and "vary = 'colour' is outside" in capsys.readouterr().err
-    code = cli.main(["study", "twisted-cylinder", "--vary", "nu=0.3,0.6", "--n", "8", "--t-end", "0.001",
+    code = main(["study", "twisted-cylinder", "--vary", "nu=0.3,0.6", "--n", "8", "--t-end", "0.001",
                      "--scheduler", "serial", "-o", str(tmp_path / "f.nc")])
     assert code == 3 and "1 refused" in capsys.readouterr().out
 
@@ -132,10 +132,10 @@ STUDY_BAD = [
 
 @pytest.mark.parametrize("extra,message", STUDY_BAD)
 def test_command_line_refuses_bad_studies_up_front(extra, message, tmp_path, capsys, monkeypatch):
-    from mol_shell.cli import main as cli
+    from mol_shell.cli.main import main
 
     monkeypatch.setattr(study_module, "run_task", None)  # nothing may run
-    code = cli.main(["study", "twisted-cylinder", *extra, "--t-end", "0.001", "-o", str(tmp_path / "s.nc")])
+    code = main(["study", "twisted-cylinder", *extra, "--t-end", "0.001", "-o", str(tmp_path / "s.nc")])
     err = capsys.readouterr().err
     assert code == 2 and err.startswith("mol-shell: error: " + message), err
     assert len(err.splitlines()) == 1 and "--times" not in err
