@@ -8,7 +8,8 @@ import numpy as np
 
 _REPR = reprlib.Repr()
 _REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = _REPR.maxset = 6
-_REPR.maxstring = _REPR.maxother = 80
+_REPR.maxother = 80
+_REPR.maxstring = 300  # file paths in full (a temporary directory alone can be 100 characters)
 
 
 def show(value):
@@ -34,12 +35,17 @@ class ParameterError(ValueError):
     """A parameter is outside its allowed range (or of the wrong kind, or missing).
 
     The message always names the parameter and the allowed range, and the value when there is
-    one, e.g. ``nu = 0.7 is outside (-1, 0.5)``. The alternative phrasings, for values that are
+    one, e.g. ``nu = 0.7 is outside (-1, 0.5)``. ``allowed`` is the range's text, or a declared range
+    (:mod:`mol_shell._core.ranges`), which is then kept as ``range``. The alternative phrasings, for values that are
     not even of the right kind, are the class methods :meth:`not_a`, :meth:`missing` and
     :meth:`not_an_option`.
     """
 
     def __init__(self, name, value, allowed, hint="", *, message=None):
+        #: the declared range (an :class:`~mol_shell._core.ranges.Interval` or ``Choice``) when the check gave one
+        self.range = allowed if hasattr(allowed, "text") else None
+        if self.range is not None:
+            allowed = allowed.text()
         self.name, self.value, self.allowed = name, value, allowed
         if message is None:
             message = f"{name} = {show(value)} is outside {allowed}"

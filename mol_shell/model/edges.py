@@ -24,6 +24,7 @@ import numpy as np
 
 from mol_shell._core.constants import NF
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.ranges import Choice
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.loads import history, history_rate
 
@@ -43,7 +44,7 @@ def check_edge(name, value):
     if value is None or (isinstance(value, str) and value.strip().lower() in ("auto", "none")):
         return None
     if not isinstance(value, str) or value not in EDGES + ("pole",):
-        raise ParameterError(name, value, "{" + ", ".join(EDGES) + ", pole, auto}")
+        raise ParameterError(name, value, Choice((*EDGES, "pole", "auto")))
     return value
 
 
@@ -58,12 +59,12 @@ def resolve_edges(end1, end2, poles, default="magnet"):
         asked = check_edge(name, asked)
         if pole:
             if asked not in (None, "pole"):
-                raise ParameterError(name, asked, "{pole, auto}", hint=f"the edge at {'s = 0' if name == 'end1' else 's = L'} "
+                raise ParameterError(name, asked, Choice(("pole", "auto")), hint=f"the edge at {'s = 0' if name == 'end1' else 's = L'} "
                                      "is on the axis")
             out.append("pole")
         else:
             if asked == "pole":
-                raise ParameterError(name, asked, "{" + ", ".join(EDGES) + ", auto}",
+                raise ParameterError(name, asked, Choice((*EDGES, "auto")),
                                      hint="this edge is not on the axis (r0 > 0)")
             out.append(asked or default)
     return tuple(out)

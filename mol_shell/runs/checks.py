@@ -5,10 +5,10 @@ underflows to 0 and the Jacobian of the discretised shell is no longer finite; a
 makes the differences of the right-hand side overflow. Such values are found by evaluating the
 discretised system itself (state, right-hand side and Jacobian at t = 0 and their spectrum), not
 by a table of thresholds, so every scene is covered. :func:`check_system` refuses them with a
-:class:`~mol_shell.errors.ParameterError` that names the parameter responsible (the one that,
+:class:`~mol_shell._core.errors.ParameterError` that names the parameter responsible (the one that,
 set back to its default, makes the numbers finite again) and, found by bisection, the range of
 that parameter over which they are finite with the other parameters as given.
-:func:`equilibrium_radius` does the same for a radial equilibrium that cannot be computed
+:func:`checked_equilibrium_radius` does the same for a radial equilibrium that cannot be computed
 (``E = 1e308`` overflows the energy; the solver itself can only blame the twist).
 """
 
@@ -22,11 +22,12 @@ import casadi as ca
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number, show
-from mol_shell._core.ranges import Interval, parameter_range
+from mol_shell._core.ranges import Interval
 from mol_shell.discretization.system import ShellSystem
-from mol_shell.model.equilibrium import equilibrium_radius as solve
+from mol_shell.model.equilibrium import equilibrium_radius
 from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.scenes import CylinderScene, check_radius
+from mol_shell.scenes.ranges import parameter_range
 
 #: nodes of the small systems used to find the responsible parameter and its threshold
 PROBE_NODES = 5
@@ -68,7 +69,7 @@ def spectrum_problem(omega_max, damping):
 
 
 def checked_spectrum(scene, system, y0):
-    """``(max |lambda|, max damping)`` of :func:`mol_shell.equilibrium.spectrum_bounds`; a scene whose numbers
+    """``(max |lambda|, max damping)`` of :func:`mol_shell.model.equilibrium.spectrum_bounds`; a scene whose numbers
     are not finite, or whose spectrum is not, is refused by :func:`refuse` instead."""
     found = problem(system, y0)
     if found is None:
@@ -203,7 +204,7 @@ def refuse(scene, n, reason):
 def _refusal(scene, reason, bad=_bad_numbers):
     """``(name, value, allowed, hint, message)`` of the refusal (cached: the bisection costs a second or two)."""
     error = _diagnose(scene, reason, bad)
-    return error.name, error.value, error.allowed, "", str(error)
+    return error.name, error.value, error.range or error.allowed, "", str(error)
 
 
 def _diagnose(scene, reason, bad=_bad_numbers, exclude=()):
@@ -216,7 +217,7 @@ def _diagnose(scene, reason, bad=_bad_numbers, exclude=()):
         if not isinstance(allowed, Interval):
             allowed = Interval(-math.inf, math.inf)
         allowed = allowed.with_high(edge) if edge < value else allowed.with_low(edge)
-        return ParameterError(name, value, f"about {allowed.text()}",
+        return ParameterError(name, value, dataclasses.replace(allowed, shown=f"about {allowed.text()}"),
                               hint=f"with the other parameters as given: beyond it {reason}")
     if exclude:
         return None
@@ -236,19 +237,19 @@ def _diagnose(scene, reason, bad=_bad_numbers, exclude=()):
 def _no_equilibrium(scene):
     try:
         with np.errstate(all="ignore"):
-            R = solve(scene)
+            R = equilibrium_radius(scene)
         return not math.isfinite(R)
     except (ParameterError, ArithmeticError, ValueError, RuntimeError):
         return True
 
 
-def equilibrium_radius(scene):
-    """:func:`mol_shell.equilibrium.equilibrium_radius`, but a failure caused by another parameter than the one the
+def checked_equilibrium_radius(scene):
+    """:func:`mol_shell.model.equilibrium.equilibrium_radius`, but a failure caused by another parameter than the one the
     solver names (``E = 1e308`` overflows the energy, and the solver can only blame the twist) names that
     parameter and the range over which the equilibrium can be computed."""
     try:
         with np.errstate(all="ignore"):
-            return solve(scene)
+            return equilibrium_radius(scene)
     except ParameterError as exc:
         error = _diagnose(scene, "the radial equilibrium cannot be computed in double precision", _no_equilibrium,
                           exclude=(exc.name,))
@@ -260,7 +261,7 @@ def equilibrium_radius(scene):
 def resolve(scene):
     """The scene with ``R`` computed when it was left to the code."""
     if isinstance(scene, CylinderScene) and scene.R is None:
-        R = equilibrium_radius(scene)
+        R = checked_equilibrium_radius(scene)
         check_radius(R, scene.h, scene.zeta1, hint="the computed equilibrium radius; set R", a=scene.a)
         return dataclasses.replace(scene, R=R)
     return scene

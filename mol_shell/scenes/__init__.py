@@ -1,7 +1,7 @@
 """Scenes: frozen dataclasses holding every physical parameter of a run, and their registry.
 
 Vary a scene with :func:`dataclasses.replace` (or :func:`with_params` from strings, as the CLI
-does); a bad value raises :class:`~mol_shell.errors.ParameterError` naming the parameter and its
+does); a bad value raises :class:`~mol_shell._core.errors.ParameterError` naming the parameter and its
 allowed range.
 """
 

@@ -1,7 +1,7 @@
 """The scene base class: material, thickness and edges, and the checks every parameter goes through.
 
 Vary a scene with :func:`dataclasses.replace` (or :func:`with_params` from
-strings, as the CLI does); a bad value raises :class:`~mol_shell.errors.ParameterError`
+strings, as the CLI does); a bad value raises :class:`~mol_shell._core.errors.ParameterError`
 naming the parameter and its allowed range.
 """
 
@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
+from mol_shell._core.ranges import Choice, Interval, finite, non_negative, positive
 from mol_shell.model.edges import check_edge
 from mol_shell.model.geometry import base_offset, thickness_volume_factor
 from mol_shell.model.loads import parse_history
@@ -67,11 +68,13 @@ DRIVES = ("end1_spin", "end2_spin", "end1_axial_speed", "end2_axial_speed")
 N_QUAD_RANGE = (2, 32)
 
 
-def _check(name, value, ok, allowed):
+def _check(name, value, allowed, ok=None, hint=""):
+    """Refuse ``value`` unless it is a finite number in the declared range ``allowed`` (an
+    :class:`~mol_shell._core.ranges.Interval`), and ``ok(value)`` where a condition says more than the range."""
     if not is_number(value):
-        raise ParameterError.not_a(name, value, "a number", allowed)
-    if not (math.isfinite(value) and ok(value)):
-        raise ParameterError(name, value, allowed)
+        raise ParameterError.not_a(name, value, "a number", allowed, hint)
+    if not (math.isfinite(value) and value in allowed and (ok is None or ok(value))):
+        raise ParameterError(name, value, allowed, hint)
 
 
 def zeta1_used(h, zeta1=None, a=1.0):
@@ -82,9 +85,8 @@ def zeta1_used(h, zeta1=None, a=1.0):
 def check_radius(R, h, zeta1=None, hint="", a=1.0):
     """``R > -zeta1_used``: the inner face ``r + zeta1`` of the initial cylinder at a positive radius."""
     low = -zeta1_used(h, zeta1, a)
-    _check("R", R, lambda v: v > low,
-           f"({low:.4g}, inf) m: the inner face r + zeta1 must be at a positive radius (zeta1 = {-low:.4g} m)"
-           + (f"; {hint}" if hint else ""))
+    _check("R", R, Interval(low, math.inf, unit="m", shown=f"({low:.4g}, inf) m: the inner face r + zeta1 must be at "
+                                                       f"a positive radius (zeta1 = {-low:.4g} m)" + (f"; {hint}" if hint else "")))
 
 
 @dataclass(frozen=True)
@@ -117,7 +119,7 @@ class ShellScene:
         :func:`mol_shell.model.material.effective_lame`).
     end1, end2 : str or None
         Edge conditions at ``s = 0`` and ``s = L``: ``magnet``, ``clamped``, ``pinned``, ``free``
-        (:mod:`mol_shell.ends`); ``None`` (``auto``): a pole on the axis, ``magnet`` elsewhere.
+        (:mod:`mol_shell.model.edges`); ``None`` (``auto``): a pole on the axis, ``magnet`` elsewhere.
     pressure : float
         Pressure on the base surface, Pa, a follower load, positive inflating (edges closed by lids in
         their planes); ``pressure_history`` its time history (:mod:`mol_shell.model.loads`).
@@ -144,7 +146,7 @@ class ShellScene:
     Values inside these ranges can still leave the discretised shell's numbers outside double
     precision (``h = 1e-300``: ``rho_J ~ h^3`` underflows; ``rho = 1e300``: the mass matrix's products
     overflow). A run refuses them when it starts, naming the parameter and the range over which the
-    numbers are finite with the others as given (:mod:`mol_shell.degenerate`, docs/reliability.md).
+    numbers are finite with the others as given (:mod:`mol_shell.runs.checks`, docs/reliability.md).
     """
 
     h: float = 2.0 * math.pi * 1e-3
@@ -189,12 +191,12 @@ class ShellScene:
     gamma = omega = psi0 = 0.0
 
     def __post_init__(self):
-        _check("h", self.h, lambda v: v > 0, "(0, inf) m, and the thickness off the axis")
-        _check("E", self.E, lambda v: v > 0, "(0, inf) Pa")
-        _check("nu", self.nu, lambda v: -1 < v < 0.5, "(-1, 0.5)")
-        _check("rho", self.rho, lambda v: v > 0, "(0, inf) kg/m^3")
+        _check("h", self.h, Interval(0.0, math.inf, unit="m", shown="(0, inf) m, and the thickness off the axis"))
+        _check("E", self.E, positive("Pa"))
+        _check("nu", self.nu, Interval(-1.0, 0.5))
+        _check("rho", self.rho, positive("kg/m^3"))
         lo, hi = N_QUAD_RANGE
-        allowed = f"integers {lo}..{hi}"
+        allowed = Interval(lo, hi, True, True, integer=True)
         if not isinstance(self.n_quad, numbers.Integral) or isinstance(self.n_quad, (bool, np.bool_)):
             raise ParameterError.not_a("n_quad", self.n_quad, "an integer", allowed)
         if not lo <= self.n_quad <= hi:
@@ -202,17 +204,17 @@ class ShellScene:
                                  hint="one point makes the director's inertia singular" if self.n_quad == 1 else
                                  "more points gain nothing and take minutes to compile" if self.n_quad > hi else "")
         object.__setattr__(self, "n_quad", int(self.n_quad))
-        _check("eta_lambda", self.eta_lambda, lambda v: v >= 0, "[0, inf) Pa s")
-        _check("eta_mu", self.eta_mu, lambda v: v >= 0, "[0, inf) Pa s")
+        _check("eta_lambda", self.eta_lambda, non_negative("Pa s"))
+        _check("eta_mu", self.eta_mu, non_negative("Pa s"))
         if self.material not in MATERIALS:
-            raise ParameterError("material", self.material, "{" + ", ".join(MATERIALS) + "}")
+            raise ParameterError("material", self.material, Choice(tuple(MATERIALS)))
         if self.zeta1 is not None:
-            _check("zeta1", self.zeta1, lambda v: -2 * self.h <= v <= 0, f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m")
+            _check("zeta1", self.zeta1, Interval(-2 * self.h, 0.0, True, True, unit="m",
+                                                 shown=f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m"))
         for end in ("end1", "end2"):
             object.__setattr__(self, end, check_edge(end, getattr(self, end)))
         for load in LOADS + DRIVES:
-            _check(load, getattr(self, load), lambda v: v >= 0 if load == "drag" else True,
-                   "[0, inf) N s m-3" if load == "drag" else f"finite values ({UNITS[load]})")
+            _check(load, getattr(self, load), non_negative(UNITS[load]) if load == "drag" else finite(UNITS[load]))
             if load != "drag":
                 parse_history(load + "_history", getattr(self, load + "_history"))
         try:
@@ -310,7 +312,7 @@ def with_params(scene, params):
     changes = {}
     for name, value in params.items():
         if name not in fields:
-            raise ParameterError("parameter", name, "{" + ", ".join(fields) + "}", hint=f"for scene {scene.name}")
+            raise ParameterError("parameter", name, Choice(tuple(fields)), hint=f"for scene {scene.name}")
         changes[name] = _coerce(name, value, fields[name].type)
     return dataclasses.replace(scene, **changes)
 

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.ranges import Interval, finite, positive
 from mol_shell.model.geometry import CylinderMeridian
 from mol_shell.scenes.base import ShellScene, _check, check_radius, zeta1_used
 
@@ -25,7 +26,7 @@ class CylinderScene(ShellScene):
     R : float or None
         Initial radius, m, above ``-zeta1`` (the inner face at a positive radius). ``None`` (or
         ``"auto"``) computes the radius at which the uniformly twisted cylinder is in radial
-        equilibrium (:func:`mol_shell.equilibrium.equilibrium_radius`).
+        equilibrium (:func:`mol_shell.model.equilibrium.equilibrium_radius`).
     """
 
     L: float = 4.0
@@ -35,10 +36,10 @@ class CylinderScene(ShellScene):
     initial = ("R",)
 
     def _validate(self):
-        _check("L", self.L, lambda v: v > 0, "(0, inf) m")
-        _check("a", self.a, lambda v: v > 0, "(0, inf) m")
+        _check("L", self.L, positive("m"))
+        _check("a", self.a, positive("m"))
         if self.h >= self.a / 2:
-            raise ParameterError("h", self.h, f"(0, a/2) = (0, {self.a / 2:.4g}) m",
+            raise ParameterError("h", self.h, Interval(0.0, self.a / 2, unit="m", shown=f"(0, a/2) = (0, {self.a / 2:.4g}) m"),
                                  hint="the thickness 2h must stay below the natural radius a")
         if isinstance(self.R, str) and self.R.strip().lower() in ("auto", "none"):
             object.__setattr__(self, "R", None)  # as from the command line: computed
@@ -85,10 +86,10 @@ class TwistedCylinder(CylinderScene):
 
     def _validate(self):
         super()._validate()
-        _check("gamma", self.gamma, lambda v: True, "finite values (rad/m)")
-        _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
-        _check("psi0", self.psi0, lambda v: abs(v) < math.pi / 2, "(-pi/2, pi/2) rad")
-        _check("end_omega", self.end_omega, lambda v: True, "finite values (rad/s)")
+        _check("gamma", self.gamma, finite("rad/m"))
+        _check("omega", self.omega, finite("rad/s"))
+        _check("psi0", self.psi0, Interval(-math.pi / 2, math.pi / 2, unit="rad", shown="(-pi/2, pi/2) rad"))
+        _check("end_omega", self.end_omega, finite("rad/s"))
 
     @property
     def loaded(self):

@@ -26,7 +26,7 @@ A history is its string form (:mod:`mol_shell.model.loads`) or an inline table `
 ``{kind = "step", t0 = T0}``, ``{kind = "ramp", t1 = T1}``, ``{kind = "sine", f = F}``,
 ``{kind = "table", t = [...], h = [...]}``. ``points`` is a path relative to the file's folder.
 
-Every refusal is a :class:`~mol_shell.errors.ParameterError` of one line that starts with the file
+Every refusal is a :class:`~mol_shell._core.errors.ParameterError` of one line that starts with the file
 (and the table): ``sphere.toml: [material] nu = 0.7 is outside (-1, 0.5)``.
 """
 
@@ -79,7 +79,7 @@ def _fail(source, table, exc_or_message, name=None, value=None):
     where = f"{source}: " + (f"[{table}] " if table else "")
     if isinstance(exc_or_message, ParameterError):
         exc = exc_or_message
-        return ParameterError(exc.name, exc.value, exc.allowed, message=where + str(exc))
+        return ParameterError(exc.name, exc.value, exc.range or exc.allowed, message=where + str(exc))
     return ParameterError(name, value, "", message=where + exc_or_message)
 
 

@@ -15,6 +15,7 @@ from functools import lru_cache
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.ranges import Interval, finite, non_negative, positive
 from mol_shell.model.geometry import ArcMeridian, ConeMeridian, PointsMeridian, read_points
 from mol_shell.scenes.base import ShellScene, _check
 
@@ -29,8 +30,8 @@ class _Excited(ShellScene):
     initial = ("gamma", "omega")
 
     def _validate(self):
-        _check("gamma", self.gamma, lambda v: True, "finite values (rad/m)")
-        _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
+        _check("gamma", self.gamma, finite("rad/m"))
+        _check("omega", self.omega, finite("rad/s"))
 
     def scale(self):
         """Factor applied to the natural ``(z0, r0)`` at ``t = 0``."""
@@ -55,7 +56,7 @@ class _Dilated(_Excited):
         if isinstance(self.dilation, str) and self.dilation.strip().lower() in ("auto", "none"):
             object.__setattr__(self, "dilation", None)
         if self.dilation is not None:
-            _check("dilation", self.dilation, lambda v: 0.5 < v < 2, "(0.5, 2), or auto")
+            _check("dilation", self.dilation, Interval(0.5, 2.0, shown="(0.5, 2), or auto"))
 
     def scale(self):
         return 1.0 if self.dilation is None else self.dilation
@@ -94,13 +95,15 @@ class Sphere(_Excited):
 
     def _validate(self):
         super()._validate()
-        _check("a", self.a, lambda v: v > 0, "(0, inf) m")
-        _check("alpha1", self.alpha1, lambda v: 0 <= v < math.pi, "[0, pi) rad")
-        _check("alpha2", self.alpha2, lambda v: self.alpha1 < v <= math.pi, f"({self.alpha1:.4g}, pi] rad")
+        _check("a", self.a, positive("m"))
+        _check("alpha1", self.alpha1, Interval(0.0, math.pi, low_closed=True, unit="rad", shown="[0, pi) rad"))
+        _check("alpha2", self.alpha2, Interval(self.alpha1, math.pi, high_closed=True, unit="rad",
+                                               shown=f"({self.alpha1:.4g}, pi] rad"))
         if isinstance(self.R, str) and self.R.strip().lower() in ("auto", "none"):
             object.__setattr__(self, "R", None)
         if self.R is not None:
-            _check("R", self.R, lambda v: 0.5 * self.a < v < 2 * self.a, f"(a/2, 2a) = ({self.a / 2:.4g}, {2 * self.a:.4g}) m")
+            _check("R", self.R, Interval(0.5 * self.a, 2 * self.a, unit="m",
+                                         shown=f"(a/2, 2a) = ({self.a / 2:.4g}, {2 * self.a:.4g}) m"))
 
     def meridian(self):
         return ArcMeridian(self.a, 0.0, self.alpha1, self.alpha2)
@@ -129,9 +132,10 @@ class Cone(_Dilated):
 
     def _validate(self):
         super()._validate()
-        _check("r1", self.r1, lambda v: v > 0, "(0, inf) m (an apex is not a smooth shell)")
-        _check("r2", self.r2, lambda v: v > 0, "(0, inf) m (an apex is not a smooth shell)")
-        _check("H", self.H, lambda v: v >= 0 and (v > 0 or self.r1 != self.r2), "[0, inf) m, with a meridian of positive length")
+        _check("r1", self.r1, positive("m"), hint="an apex is not a smooth shell")
+        _check("r2", self.r2, positive("m"), hint="an apex is not a smooth shell")
+        _check("H", self.H, non_negative("m"), ok=lambda v: v > 0 or self.r1 != self.r2,
+               hint="with a meridian of positive length")
 
     def meridian(self):
         return ConeMeridian(self.r1, self.r2, self.H)
@@ -156,11 +160,12 @@ class Torus(_Dilated):
 
     def _validate(self):
         super()._validate()
-        _check("a", self.a, lambda v: v > 0, "(0, inf) m")
-        _check("b", self.b, lambda v: v > 0, "(0, inf) m")
-        _check("alpha1", self.alpha1, lambda v: -math.pi <= v < math.pi, "[-pi, pi) rad")
-        _check("alpha2", self.alpha2, lambda v: self.alpha1 < v <= self.alpha1 + 2 * math.pi,
-               f"({self.alpha1:.6g}, {self.alpha1 + 2 * math.pi:.6g}] rad (alpha1 + 2 pi)")
+        _check("a", self.a, positive("m"))
+        _check("b", self.b, positive("m"))
+        _check("alpha1", self.alpha1, Interval(-math.pi, math.pi, low_closed=True, unit="rad", shown="[-pi, pi) rad"))
+        _check("alpha2", self.alpha2, Interval(self.alpha1, self.alpha1 + 2 * math.pi, high_closed=True, unit="rad",
+                                               shown=f"({self.alpha1:.6g}, {self.alpha1 + 2 * math.pi:.6g}] rad "
+                                                     "(alpha1 + 2 pi)"))
         alpha = np.linspace(self.alpha1, self.alpha2, 2001)
         if np.min(self.b + self.a * np.sin(alpha)) <= 0:
             raise ParameterError("b", self.b, f"values above a = {self.a:g} m for this segment",

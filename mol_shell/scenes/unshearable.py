@@ -12,6 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mol_shell._core.constants import NF
+from mol_shell._core.ranges import Interval, finite
 from mol_shell.scenes.base import _check, refuse_loads, zeta1_used
 from mol_shell.scenes.cylinder import CylinderScene
 
@@ -50,12 +51,12 @@ class Unshearable(CylinderScene):
 
     def _validate(self):
         super()._validate()
-        _check("dR", self.dR, lambda v: abs(v) < 0.2, "(-0.2, 0.2) m")
+        _check("dR", self.dR, Interval(-0.2, 0.2, unit="m"))
         if self.R is not None:  # the thinnest section, R - |dR|, keeps its inner face at a positive radius
             low = -zeta1_used(self.h, self.zeta1, self.a) + abs(self.dR)
-            _check("R", self.R, lambda v: v > low, f"({low:.4g}, inf) m: the inner face R - |dR| + zeta1 "
-                   f"must be at a positive radius (dR = {self.dR:g} m)")
-        _check("omega", self.omega, lambda v: True, "finite values (rad/s)")
+            _check("R", self.R, Interval(low, math.inf, unit="m", shown=f"({low:.4g}, inf) m: the inner face "
+                                         f"R - |dR| + zeta1 must be at a positive radius (dR = {self.dR:g} m)"))
+        _check("omega", self.omega, finite("rad/s"))
         refuse_loads(self, "the unshearable DAE")
 
     def initial_fields(self, s, reference=None):

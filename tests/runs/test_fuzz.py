@@ -41,7 +41,8 @@ import mol_shell
 from mol_shell.cli.main import main
 from mol_shell._core.errors import ParameterError
 from mol_shell.results.dataset import read_netcdf
-from mol_shell._core.ranges import Choice, Interval, scene_ranges
+from mol_shell._core.ranges import Choice, Interval
+from mol_shell.scenes.ranges import scene_ranges
 
 settings.register_profile("ci", max_examples=3, derandomize=True, deadline=None, database=None,
                           suppress_health_check=[HealthCheck.too_slow], print_blob=True)
@@ -362,14 +363,8 @@ def test_any_value_of_any_run_option(option, data):
 
 # -- the ranges the checks state, and the ranges the degenerate-value check reports -----------------------------
 def test_ranges_are_read_from_every_scene_s_checks():
-    """Every numeric field of every registered scene states a range its check enforces (NaN is outside all)."""
-    from mol_shell._core.ranges import parse_allowed
-
-    assert parse_allowed("(0, 0.5) m: 2h must be below") == Interval(0.0, 0.5, unit="m")
-    assert parse_allowed("integers 2..32") == Interval(2, 32, True, True, integer=True)
-    assert parse_allowed("(-pi/2, pi/2) rad").high == pytest.approx(math.pi / 2)
-    assert parse_allowed("[-2h, 0] = [-0.01257, 0] m") == Interval(-0.01257, 0.0, True, True, unit="m")
-    assert parse_allowed("{svk, svk-plane-stress}") == Choice(("svk", "svk-plane-stress"))
+    """Every field of every registered scene declares a range its check enforces (NaN is outside all):
+    the default lies inside it, and a value just beyond a finite end is refused naming that same range."""
     for name, cls in mol_shell.SCENES.items():
         ranges = scene_ranges(cls)
         for f in dataclasses.fields(cls):
@@ -378,6 +373,16 @@ def test_ranges_are_read_from_every_scene_s_checks():
             assert ranges[f.name] is not None, f"{name}.{f.name}: its check states no range that can be read"
             default = getattr(cls(), f.name)
             assert default is None or default in ranges[f.name], f"{name}.{f.name} = {default!r} outside its range"
+            rng = ranges[f.name]
+            if isinstance(rng, Interval):
+                for end, closed, away in ((rng.low, rng.low_closed, -math.inf), (rng.high, rng.high_closed, math.inf)):
+                    if not math.isfinite(end):
+                        continue
+                    beyond = (end + (1 if away > 0 else -1)) if rng.integer else (
+                        math.nextafter(end, away) if closed else end)
+                    with pytest.raises(ParameterError) as info:
+                        dataclasses.replace(cls(), **{f.name: int(beyond) if rng.integer else beyond})
+                    assert info.value.name == f.name and info.value.range == rng, (name, f.name, beyond, str(info.value))
 
 
 @pytest.mark.parametrize("name,bad", [("h", 1e-300), ("omega", -1e300), ("L", 1e-300)])
@@ -392,7 +397,7 @@ def test_a_degenerate_value_is_refused_with_the_range_where_the_numbers_are_fini
     text = str(info.value)
     assert info.value.name == name and "is outside about " in text and "double precision" in text, text
     low_side = bad < getattr(mol_shell.TwistedCylinder(), name)  # the edge between the value and the default
-    edge = float(re.search(r"about [\[(](\S+), (\S+)[\])]", text).group(1 if low_side else 2).rstrip(","))
+    edge = info.value.range.low if low_side else info.value.range.high
     toward_zero = low_side != (edge > 0)  # inside the range lies towards smaller magnitudes than the edge
     inside, beyond = (edge * 3, edge / 10) if not toward_zero else (edge / 3, edge * 10)
     assert degenerate._is_bad(dataclasses.replace(scene, **{name: inside}), 5) is False
