@@ -3,7 +3,7 @@
 At a state at rest the exact Jacobian of Hamilton's equations is ``J = [[0, M^-1], [-K, 0]]`` on the free
 coordinates (``q_t = M^-1 p``; ``p_t = -dV/dq``, ``dT/dq`` being quadratic in ``p``), so its eigenvalues
 are ``+-i omega`` with ``K phi = omega^2 M phi``. We read ``M^-1`` and ``K`` off the exact sparse
-Jacobian of :class:`~mol_shell.discretization.ShellSystem` and solve the symmetric generalised problem:
+Jacobian of :class:`~mol_shell.discretization.system.ShellSystem` and solve the symmetric generalised problem:
 dense (LAPACK) up to :data:`DENSE_MAX` free coordinates, else sparse shift-invert (ARPACK) about a
 negative shift (``K + M`` is positive definite even with rigid motions).
 
@@ -26,9 +26,9 @@ import scipy.sparse.linalg
 import xarray as xr
 
 from mol_shell._core.errors import ParameterError
-from mol_shell._core.version import __version__
 from mol_shell.model.kinematics import FIELDS
-from mol_shell.results.dataset import FIELD_META, _attr, coordinates, variables
+from mol_shell.results.cf import attr_value, coordinates, header, variables
+from mol_shell.results.dataset import FIELD_META
 from mol_shell.runs.simulate import as_scene, build, resolve, starting_state
 
 #: above this many free coordinates the sparse shift-invert solver is used
@@ -165,10 +165,9 @@ def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method):
               "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"}),
               "field": ("field", list(FIELDS), {"long_name": "field"})}
 
-    attrs = {"Conventions": "CF-1.8", "title": f"mol_shell natural modes of scene {scene.name}",
-             "source": f"mol_shell {__version__}", "scene": scene.name, "n": n, "zero_modes": n_zero,
+    attrs = {**header(f"mol_shell natural modes of scene {scene.name}"), "scene": scene.name, "n": n, "zero_modes": n_zero,
              "method": method, "edge_s0": system.edges[0], "edge_sL": system.edges[1],
              "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
     for name, value in scene.params().items():
         attrs[name] = value
-    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: _attr(v) for k, v in attrs.items()})
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in attrs.items()})

@@ -17,15 +17,14 @@ Outputs: an :class:`xarray.Dataset` (netCDF), a log-log PNG and a markdown table
 
 from __future__ import annotations
 
-import datetime
 import statistics
 
 import numpy as np
 import xarray as xr
 
 from mol_shell._core.errors import ParameterError
-from mol_shell._core.version import __version__
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.results.cf import header
 from mol_shell.runs.simulate import as_scene, build, resolve
 
 #: the paper's snapshot times (s)
@@ -173,10 +172,7 @@ def study(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_TIMES, re
     ds["status"] = (dims, status.astype(str), {"long_name": "how the run ended: complete, limit, unstable, failed, "
                                                             "interrupted, or skipped (not run; see note); empty: no point"})
     ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
-    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
-    ds.attrs.update({"Conventions": "CF-1.8", "title": f"work-precision of mol_shell integrators, scene {scene.name}",
-                     "source": f"mol_shell {__version__}", "history": f"{now} created by mol_shell {__version__}",
-                     "scene": scene.name, "n": n, "times": ",".join(f"{t:g}" for t in times), "repeats": repeats,
+    ds.attrs.update({**header(f"work-precision of mol_shell integrators, scene {scene.name}"), "scene": scene.name, "n": n, "times": ",".join(f"{t:g}" for t in times), "repeats": repeats,
                      "reference_error": ref_err, **ref_info})
     return ds
 

@@ -2,20 +2,16 @@
 
 from __future__ import annotations
 
-import datetime
-import inspect
 import os
 from pathlib import Path
 
 import numpy as np
-import pandas as pd
 import xarray as xr
-from xarray.indexes import PandasIndex
 
 from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError
-from mol_shell._core.version import __version__
 from mol_shell.model.kinematics import FIELDS
+from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.scenes import UNITS
 
 FIELD_META = {
@@ -26,21 +22,9 @@ FIELD_META = {
     "psi": ("rad", "shear angle of the director out of the meridional plane"),
 }
 RATE_UNITS = {"m": "m s-1", "rad": "rad s-1"}
-REFERENCE = "S. S. Antman and D. Bourne, Rotational symmetry vs. axisymmetry in shell theory, CASA-report 10-46 (2010)"
 #: why ``time`` has no CF epoch (the one departure from CF 1.8; docs/netcdf.md)
 TIME_COMMENT = ("model time in seconds from the start of the run, without a calendar epoch (deliberately: "
                 "readers keep it as numbers, not dates); see docs/netcdf.md")
-
-
-def _attr(value):
-    """netCDF attributes take numbers and strings only."""
-    if value is None:
-        return "none"
-    if isinstance(value, bool):
-        return int(value)
-    if isinstance(value, (np.integer, np.floating)):
-        return value.item()
-    return value
 
 
 def build_dataset(system, scene, traj, velocities, totals, attrs):
@@ -55,7 +39,9 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
     velocities : ndarray
         ``(time, 5, s)`` rates of the fields.
     totals : dict
-        Per-time arrays ``kinetic``, ``stored``, ``angular_momentum``, ``delta_min``.
+        Per-time arrays ``kinetic``, ``stored``, ``angular_momentum``, ``delta_min`` (and of a loaded shell
+        ``work``, ``dissipated`` with the scalar ``balance_error``), as :func:`mol_shell.runs.building.observe`
+        computes them.
     attrs : dict
         Integrator name and settings, graph statistics and the like.
     """
@@ -86,20 +72,12 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
         totals["delta_min"],
         {"units": "m", "long_name": "minimum over s of delta = r beta1 cos(psi) (must stay positive)"},
     )
-    balance = None
+    balance = totals.get("balance_error")
     if system.n_extra:
         data["work"] = (("time",), totals["work"], {"units": "J", "long_name":
                         "work done on the shell so far by the loads (pressure, gravity, end forces and torques)"})
         data["dissipated"] = (("time",), totals["dissipated"], {"units": "J", "long_name":
                               "energy dissipated so far by viscosity and drag"})
-        energy = totals["kinetic"] + totals["stored"]
-        defect = energy - energy[0] - totals["work"] + totals["dissipated"]
-        # relative to the energy exchanged, and at least 1e-12 of a unit strain's energy (so a shell at rest,
-        # exchanging round-off, does not report a balance error of order 1)
-        unit = 2 * np.pi * float(np.sum(system.weights * system.reference[1])) * 2 * scene.h * (system.lam + 2 * system.mu)
-        exchange = max(float(np.max(np.abs(totals["work"]))), float(np.max(np.abs(totals["dissipated"]))),
-                       float(np.max(np.abs(energy - energy[0]))), 1e-12 * unit)
-        balance = float(np.max(np.abs(defect)) / exchange)
     names = getattr(system, "reaction_names", [])
     if names:
         for k, (var, units, what) in {0: ("reaction_force", "N", "axial force"), 2: ("reaction_torque", "N m",
@@ -128,14 +106,8 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
     }
     if names:
         coords["end"] = ("end", ["end1", "end2"], {"long_name": "edge (end1 at s = 0, end2 at s = L)"})
-    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     meta = {
-        "Conventions": "CF-1.8",
-        "title": f"mol_shell run of scene {scene.name}",
-        "source": f"mol_shell {__version__}",
-        "mol_shell_version": __version__,
-        "history": f"{now} created by mol_shell {__version__}",
-        "references": REFERENCE,
+        **header(f"mol_shell run of scene {scene.name}"),
         "comment": "time: " + TIME_COMMENT,
         "scene": scene.name,
         "n": system.n,
@@ -158,36 +130,7 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
         meta[f"units_{name}"] = UNITS.get(name, "1")
     meta.update(traj.stats)
     meta.update(attrs)
-    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: _attr(v) for k, v in meta.items()})
-
-
-#: xarray's ``Variable(..., fastpath=True)`` (an internal flag of long standing) takes numpy data as given; were
-#: it ever removed, the general path is taken, slower but the same
-FAST_PATH = {"fastpath": True} if "fastpath" in inspect.signature(xr.Variable).parameters else {}
-
-
-def coordinates(entries, keep=None):
-    """``{name: (dims, values[, attrs])}`` as xarray Coordinates: the Variables of :func:`variables` and a pandas
-    index for each dimension coordinate, made here (xarray's own asks whether the values are a dask collection,
-    which imports dask: 0.1 s of every process's first Dataset); ``keep``: Coordinates to add as they are."""
-    made = variables(entries)
-    indexes = {name: PandasIndex(pd.Index(var.values), name, coord_dtype=var.dtype)
-               for name, var in made.items() if var.dims == (name,)}
-    if keep is not None:
-        made.update({name: var for name, var in keep.variables.items() if name not in made})
-        indexes.update({name: index for name, index in keep.xindexes.items() if name not in indexes})
-    return xr.Coordinates(made, indexes=indexes)
-
-
-def variables(entries):
-    """``{name: (dims, values[, attrs])}`` as xarray Variables of numpy arrays, made on xarray's fast path.
-
-    The general path asks of every array whether it is a dask array, and the first such question imports
-    ``dask.array`` when dask is installed (0.3-0.5 s here): most of what a study's worker process spent on its
-    first case beyond the case itself. The values are numpy arrays already, so nothing is lost.
-    """
-    return {name: xr.Variable(dims, np.asarray(values), *attrs, **FAST_PATH)
-            for name, (dims, values, *attrs) in entries.items()}
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in meta.items()})
 
 
 def writable_path(path, name="path", suffixes=None, created=None):
@@ -258,8 +201,8 @@ def write_netcdf(ds, path):
     dimensions to stand left of T "whenever possible"); variables along it are chunked in blocks
     of about 1 MB (netCDF's default chunk of one record made large runs 10x slower to write).
     Missing directories of ``path`` are created; a path that cannot be written raises
-    :class:`~mol_shell.errors.ParameterError`. The file is written under a temporary name and
-    renamed onto ``path`` (:mod:`mol_shell.atomic`): a process killed while writing leaves the
+    :class:`~mol_shell._core.errors.ParameterError`. The file is written under a temporary name and
+    renamed onto ``path`` (:mod:`mol_shell._core.atomic`): a process killed while writing leaves the
     previous file intact.
     """
     path = writable_path(path)

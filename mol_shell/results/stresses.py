@@ -59,10 +59,11 @@ import casadi as ca
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
+from mol_shell.discretization.cells import cell_samples as kernel_samples
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.model.kinematics import FIELDS, deformation_gradient
 from mol_shell.model.material import condensed, green_strain, lame
-from mol_shell.results.dataset import coordinates, variables
+from mol_shell.results.cf import coordinates, variables
 
 #: default limit on cell samples x saved times (2 per cell) above which stresses are skipped unless asked for:
 #: 4e6 samples cost 7 s (11 s viscous) and 270 MB on this machine (measured at n = 401, 5,000 saved times)
@@ -121,17 +122,15 @@ def reference_cells(s, r0=None, z0=None, theta0=None):
 def cell_samples(q, ds):
     """Strains ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)`` of every cell at its two samples.
 
-    ``q`` has shape ``(..., 5, n)`` (fields or their rates); returns ``(..., 8, n - 1, 2)``:
-    differences over ``ds``, ``r`` and ``theta`` at the midpoint, ``psi`` at the left and the right
-    node. Linear in ``q``, so the rates of the strains come from the nodal rates the same way.
+    ``q`` has shape ``(..., 5, n)`` (fields or their rates); returns ``(..., 8, n - 1, 2)``: the
+    kernel's samples (:func:`mol_shell.discretization.cells.cell_samples`) with the differences over
+    ``ds``. Linear in ``q``, so the rates of the strains come from the nodal rates the same way.
     """
-    q = np.asarray(q, dtype=float)
-    ql, qr = q[..., :-1], q[..., 1:]
-    grad, mid = (qr - ql) / ds, (qr + ql) / 2
-    common = [grad[..., k, :] for k in range(5)] + [mid[..., 1, :], mid[..., 3, :]]
-    out = np.stack([np.stack([x, x], axis=-1) for x in common] + [np.stack([ql[..., 4, :], qr[..., 4, :]], axis=-1)],
-                   axis=-3)
-    return out
+    q = np.moveaxis(np.asarray(q, dtype=float), -2, 0)
+    samples = np.stack([np.stack(np.broadcast_arrays(*sample)) for sample in
+                        kernel_samples(q[..., :-1], q[..., 1:])], axis=-1)  # (8, ..., n - 1, 2)
+    samples[:5] /= ds
+    return np.moveaxis(samples, 0, -3)
 
 
 def second_piola(E, first, second, plane_stress=False):
@@ -409,7 +408,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     principal values. For a viscous run every variable includes the Kelvin-Voigt stress and its
     viscous part is added as ``NAME_viscous``. ``mol-shell run`` calls this (``--no-stresses`` to
     skip); ``simulate(..., stresses=None|True|False)`` is to call it the same way (the keyword is
-    added to :func:`~mol_shell.simulate.simulate` with the geometry work: ``None`` = up to ``limit``).
+    added to :func:`~mol_shell.runs.simulate.simulate` with the geometry work: ``None`` = up to ``limit``).
 
     Parameters
     ----------
@@ -436,7 +435,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     if limit is not None and samples > limit:
         out = ds.copy()
         out.attrs["stresses"] = (f"skipped: {samples:.3g} cell samples x saved times exceed the limit {limit:.3g}; "
-                                 "call mol_shell.stresses.add_stresses(ds, limit=None)")
+                                 "call mol_shell.add_stresses(ds, limit=None)")
         return out
     ref = reference_cells(ds["s"].values, _nodal(ds, "r0"), _nodal(ds, "z0"), _nodal(ds, "theta0"))
     lam, mu, eta_lambda, eta_mu, plane = _material(ds.attrs)
@@ -478,7 +477,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
         dims = ("time", "s_cell") if value.ndim == 2 else ("time", "s_cell", "zeta")
         entries[name] = (dims, value, {"units": units, "long_name": long_name})
     out = ds.assign_coords(coordinates(coords)).assign(variables(entries))
-    out.attrs["stresses"] = "included (mol_shell.stresses.add_stresses)"
+    out.attrs["stresses"] = "included (mol_shell.add_stresses)"
     if not all(np.isfinite(v).all() for v in data.values()):
         out.attrs["stresses"] += "; NaN where det F <= 0 at a face or the state is not finite"
     return out

@@ -8,7 +8,8 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from mol_shell.results.dataset import coordinates, read_netcdf, variables, write_netcdf
+from mol_shell.results.cf import coordinates, variables
+from mol_shell.results.dataset import read_netcdf, write_netcdf
 
 #: per-case numbers kept as variables even when every case has the same value
 STATS = ("n_steps", "n_rhs", "wall_time_s", "build_time_s", "case_wall_time_s", "failure_time", "complete", "R")
@@ -86,7 +87,7 @@ def _units(ref, key):
 class Store:
     """Finished cases as ``<output stem>.cases/<key>.nc`` (the key hashes the whole case).
 
-    Each file is written atomically (:func:`mol_shell.output.write_netcdf`) and carries a checksum
+    Each file is written atomically (:func:`mol_shell.results.dataset.write_netcdf`) and carries a checksum
     of its values and of the case's record (``case_checksum``); a file that cannot be read, or
     whose values no longer match it (truncated or corrupted), is not reused: the case runs again.
     """

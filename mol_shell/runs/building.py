@@ -100,4 +100,22 @@ def observe(system, states, times=None):
         "dissipated": dissipated.ravel(),
         "reactions": reactions.T.reshape(len(states), -1),
     }
+    if system.n_extra:
+        totals["balance_error"] = energy_balance_error(system, totals)
     return velocities, totals
+
+
+def energy_balance_error(system, totals):
+    """``max |E(t) - E(0) - work + dissipated|`` relative to the energy exchanged.
+
+    The exchange is the largest of the work, the dissipated energy and the change of energy, and at least
+    ``1e-12`` of the energy of a unit strain of the whole wall (so a shell at rest, exchanging round-off,
+    does not report a balance error of order 1).
+    """
+    energy = totals["kinetic"] + totals["stored"]
+    defect = energy - energy[0] - totals["work"] + totals["dissipated"]
+    area = 2 * np.pi * float(np.sum(system.weights * system.reference[1]))
+    unit = area * 2 * system.thickness.h * (system.lam + 2 * system.mu)
+    exchange = max(float(np.max(np.abs(totals["work"]))), float(np.max(np.abs(totals["dissipated"]))),
+                   float(np.max(np.abs(energy - energy[0]))), 1e-12 * unit)
+    return float(np.max(np.abs(defect)) / exchange)

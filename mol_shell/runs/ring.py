@@ -22,7 +22,6 @@ the ends carry half a cell's energy and half a node's mass.
 
 from __future__ import annotations
 
-import datetime
 import math
 import time
 from dataclasses import dataclass
@@ -32,7 +31,6 @@ import numpy as np
 import xarray as xr
 
 from mol_shell._core.errors import ParameterError
-from mol_shell._core.version import __version__
 from mol_shell.model.kinematics import delta, kinetic_energy_density
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.material import (
@@ -44,7 +42,8 @@ from mol_shell.model.material import (
     shell_dissipation,
     shell_energy,
 )
-from mol_shell.results.dataset import FIELD_META, RATE_UNITS, REFERENCE, _attr, coordinates, variables
+from mol_shell.results.cf import attr_value, coordinates, header, variables
+from mol_shell.results.dataset import FIELD_META, RATE_UNITS
 from mol_shell.runs.simulate import parse_times, resolve
 from mol_shell.scenes import UNITS
 from mol_shell.scenes.base import refuse_loads
@@ -245,15 +244,12 @@ def _ring_dataset(system, scene, t, y, attrs, n):
         totals["dissipation"] = (A * dissipation.ravel(), "W", "power dissipated by the Kelvin-Voigt stress")
     for name, (values, units, long_name) in totals.items():
         data[name] = (("time",), values, {"units": units, "long_name": long_name})
-    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     meta = {
-        "Conventions": "CF-1.8", "title": f"mol_shell reduced ODE (section 5) of scene {scene.name}",
-        "source": f"mol_shell {__version__}", "mol_shell_version": __version__,
-        "history": f"{now} created by mol_shell {__version__}", "references": REFERENCE, "scene": scene.name,
+        **header(f"mol_shell reduced ODE (section 5) of scene {scene.name}"), "scene": scene.name,
         "rho_A": system.rho_a, "rho_I": float(system.rho_i), "rho_J": system.rho_j, "failure_time": float("nan"),
     }
     for name, value in scene.params().items():
         meta[name] = value
         meta[f"units_{name}"] = UNITS.get(name, "1")
     meta.update(attrs)
-    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: _attr(v) for k, v in meta.items()})
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in meta.items()})
