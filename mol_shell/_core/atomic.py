@@ -68,8 +68,8 @@ def atomic_path(path):
     fsync_path(path.parent, directory=True)
 
 
-def write_bytes(path, data):
-    """``Path(path).write_bytes(data)``, atomically."""
+def write_text(path, text):
+    """``Path(path).write_text(text)``, atomically (a report beside a netCDF file)."""
     with atomic_path(path) as tmp:
-        Path(tmp).write_bytes(data)
+        Path(tmp).write_text(text)
     return Path(path)

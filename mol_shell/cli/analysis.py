@@ -12,7 +12,8 @@ from mol_shell.analysis.stability import default_cases, report
 from mol_shell.analysis.stability import markdown_table as stability_table
 from mol_shell.analysis.workprecision import DEFAULT_INTEGRATORS, PAPER_TIMES, check_integrators, markdown_table, study
 from mol_shell.cli.args import integer_arg, number_arg, parse_sets
-from mol_shell.results.dataset import writable_path
+from mol_shell._core.atomic import write_text
+from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.scenes import get_scene
 from mol_shell.views.modes import plot_modes
 from mol_shell.views.stability_plot import plot_report
@@ -60,10 +61,9 @@ def register_stability(subparsers):
 
 def cmd_stability(args):
     ds = report(default_cases(get_scene(args.scene), quick=args.quick), bisect=not args.no_bisect)
-    ds.to_netcdf(args.output)
+    write_netcdf(ds, args.output)
     stem = str(args.output).rsplit(".", 1)[0]
-    with open(stem + ".md", "w") as fh:
-        fh.write(stability_table(ds) + "\n")
+    write_text(stem + ".md", stability_table(ds) + "\n")
     plot_report(ds, stem + ".png")
     print(stability_table(ds))
     return 0
@@ -73,7 +73,7 @@ def cmd_modes(args):
     scene = get_scene(args.scene, **parse_sets(args.set))
     png = writable_path(args.png or str(args.output).rsplit(".", 1)[0] + ".png", "--png")
     ds = modes(scene, n=args.n, count=args.count)
-    ds.to_netcdf(args.output, engine="netcdf4")
+    write_netcdf(ds, args.output)
     plot_modes(ds, png)
     print(f"wrote {args.output} and {png}: {ds.sizes['mode']} modes, {ds.attrs['zero_modes']} rigid motions; "
           f"lowest {float(ds.frequency[0]):.6g} rad/s")

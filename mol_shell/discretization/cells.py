@@ -1,6 +1,6 @@
 """The cell kernels of the discretised shell: strains at a cell's samples, its stored energy and dissipation.
 
-A mixin of :class:`~mol_shell.discretization.ShellSystem` (which holds the material, the thickness rule,
+A mixin of :class:`~mol_shell.discretization.system.ShellSystem` (which holds the material, the thickness rule,
 the active fields and the per-cell geometry data ``cell_data``). Each cell ``[s_i, s_{i+1}]`` is sampled
 twice (``psi`` at each node, ``r`` and ``theta`` at the midpoint, derivatives as differences: ``ds = 1``
 in the kernel), the thickness integral either by the readable per-point reference form or by the
@@ -38,8 +38,25 @@ def trig_chain(t, g):
     return ca.vertcat(0, 0, 0, 0.5 * (t[2] * g[3] - t[3] * g[2]), t[0] * g[1] - t[1] * g[0])
 
 
+
+def cell_samples(ql, qr, both=True):
+    """Strains ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)`` at the samples of a cell, in difference form.
+
+    ``ql, qr`` index the five fields first (CasADi vectors, or NumPy arrays of shape ``(5, ...)``).
+    Differences ``q_{i+1} - q_i`` for the derivatives (``ds`` times them: the kernel works with
+    ``ds = 1``), midpoint averages for ``r`` and ``theta``, and ``psi`` at the left and at the
+    right node (see the module's docstring); ``both=False``: the one sample of a scene without ``psi``
+    (the two coincide). Linear in ``(ql, qr)``, so the same map turns nodal rates into the samples'
+    strain rates.
+    """
+    grad = qr - ql
+    mid = (qr + ql) / 2
+    if not both:
+        return ((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], mid[4]),)
+    return tuple((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], node[4]) for node in (ql, qr))
+
 class CellKernels:
-    """Cell-level kernels of :class:`~mol_shell.discretization.ShellSystem` (a mixin)."""
+    """Cell-level kernels of :class:`~mol_shell.discretization.system.ShellSystem` (a mixin)."""
 
     def _cell_data(self):
         """Per-cell kernel data (columns): ``(j1, j3, vol)`` at each thickness point, then ``beta2_0`` if curved.
@@ -111,18 +128,8 @@ class CellKernels:
         return 2 if 4 in self.active else 1
 
     def cell_samples(self, ql, qr):
-        """Strains ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)`` at the samples of a cell, in difference form.
-
-        Differences ``q_{i+1} - q_i`` for the derivatives (``ds`` times them: the kernel works with
-        ``ds = 1``), midpoint averages for ``r`` and ``theta``, and ``psi`` at the left and at the
-        right node (see the module's docstring). Linear in ``(ql, qr)``, so the same map turns nodal
-        rates into the samples' strain rates.
-        """
-        grad = qr - ql
-        mid = (qr + ql) / 2
-        if 4 not in self.active:  # psi = 0 identically (axisymmetric scenes): the two samples coincide
-            return ((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], mid[4]),)
-        return tuple((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], node[4]) for node in (ql, qr))
+        """:func:`cell_samples` of this model: one sample when ``psi`` is not a field."""
+        return cell_samples(ql, qr, both=4 in self.active)
 
     def _cell_symbols(self):
         return ca.SX.sym("ql", NF), ca.SX.sym("qr", NF), ca.SX.sym("geo", self.n_cell_data)

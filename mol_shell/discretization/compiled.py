@@ -25,6 +25,7 @@ import numpy as np
 
 from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.units import show_seconds
 from mol_shell.discretization.rk_driver import RK_DRIVER
 
 #: -fno-semantic-interposition lets gcc inline CasADi's exported helpers (``casadi_sq``; calls through the PLT
@@ -137,11 +138,6 @@ def estimated_compile_seconds(source_bytes, flags=CFLAGS):
     return 0.0105 * size**2.49 if "-O1" in flags else 0.58 * size**1.12
 
 
-def show_seconds(value):
-    """``3 s``, ``1.8 min``."""
-    return f"{value:.2g} s" if value < 60 else f"{value / 60:.2g} min"
-
-
 def _announce(line):
     print(f"mol-shell: {line}", file=sys.stderr, flush=True)
 
@@ -203,7 +199,7 @@ def compile_cached(source, prefix, flags=CFLAGS, what=None):
 
     Concurrent processes that need the same object (the workers of a study) wait on a lock file for the
     first one's build instead of compiling it again. gcc writes into a private temporary directory and the
-    library is renamed onto its cache name (:func:`mol_shell.atomic.atomic_path`), so a process that does
+    library is renamed onto its cache name (:func:`mol_shell._core.atomic.atomic_path`), so a process that does
     not lock never loads a half-written file. Each gcc build appends a line (object, pid, seconds) to
     ``builds.log`` in the cache: how a study shows that no case recompiled a kernel.
     """
@@ -328,7 +324,7 @@ class CompiledRHS:
             threads = default_threads()
         if not (isinstance(threads, (int, np.integer)) and not isinstance(threads, bool) and threads >= 1):
             raise ParameterError("threads", threads, "integers >= 1")
-        #: the threads asked for (the leap-frog stencil of :mod:`mol_shell.stencil` takes them too)
+        #: the threads asked for (the leap-frog stencil of :mod:`mol_shell.discretization.stencil` takes them too)
         self.requested_threads = int(threads)
         self._lib.ms_set_threads(int(threads) if self.parallel else 1)
 
@@ -349,7 +345,7 @@ class CompiledRHS:
         return (int(code), True) if code > 0 else (int(nsteps), False)
 
     def runge_kutta(self, state, t_end, rtol, atol, max_step, tableau, max_steps, stats):
-        """Advance ``state = [t, y, f, h]`` (arrays, updated in place) towards ``t_end`` in C (:mod:`mol_shell.rk_driver`).
+        """Advance ``state = [t, y, f, h]`` (arrays, updated in place) towards ``t_end`` in C (:mod:`mol_shell.discretization.rk_driver`).
 
         ``tableau``: ``(A, B, C, E, E3 or None, error exponent)``; ``stats``: int64 ``[accepted, rejected,
         RHS evaluations]``, added to. Returns the driver's code: 0 at ``t_end``, 1 at a limit, 2 after

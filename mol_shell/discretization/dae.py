@@ -1,6 +1,6 @@
 """The semi-discrete shell in linearly implicit form, for IDA: ``F(t, x, x_t) = 0``.
 
-State ``x`` is node-major like the Hamiltonian state of :class:`~mol_shell.discretization.ShellSystem`,
+State ``x`` is node-major like the Hamiltonian state of :class:`~mol_shell.discretization.system.ShellSystem`,
 with the momenta replaced by the rates: per node the active fields ``q`` then their rates ``v``.
 The residual is the balance of momentum as it stands, without inverting the mass matrix:
 
@@ -14,7 +14,7 @@ The residual is the balance of momentum as it stands, without inverting the mass
 and ``V`` the stored energy of :class:`ShellSystem`; both come from the same cell and node
 kernels as the ODE right-hand side (here mapped over the grid, as in ``ShellSystem._build``, so the
 graph and its compiled Jacobian stay small whatever ``n``). Imposed fields at the edges
-(:mod:`mol_shell.ends`) have the rows ``q_t - v = 0`` and ``m v_t = 0`` (``v`` stays 0); a pole's tied
+(:mod:`mol_shell.model.edges`) have the rows ``q_t - v = 0`` and ``m v_t = 0`` (``v`` stays 0); a pole's tied
 ``chi`` has ``q_t = v`` of its neighbour.
 """
 

@@ -1,4 +1,4 @@
-"""The discrete loads of a :class:`~mol_shell.discretization.ShellSystem`: generalised forces, their power, drag.
+"""The discrete loads of a :class:`~mol_shell.discretization.system.ShellSystem`: generalised forces, their power, drag.
 
 The potentials and the Rayleigh function of :mod:`mol_shell.model.loads`, summed over the grid and
 differentiated by CasADi:

@@ -3,7 +3,7 @@
 An explicit embedded pair whose tableau is passed in at run time (SciPy's ``RK45`` and ``DOP853``
 coefficients), with SciPy's step-size control and error norms, so a whole run between two saved times
 is one C call: no Python per step (:class:`mol_shell.integrators.explicit.RungeKuttaC`). It uses the
-leap-frog driver's ``ms_call`` and ``ms_limits_call`` (:mod:`mol_shell.compiled`), and checks the
+leap-frog driver's ``ms_call`` and ``ms_limits_call`` (:mod:`mol_shell.discretization.compiled`), and checks the
 model's limits after every accepted step.
 """
 

@@ -1,9 +1,9 @@
 """Leap-frog on a vectorised stencil: the whole step loop in C, nodes in lanes of the processor's vector units.
 
-The compiled RHS (:mod:`mol_shell.compiled`) assembles its maps of cell and node kernels in CasADi's MX
+The compiled RHS (:mod:`mol_shell.discretization.compiled`) assembles its maps of cell and node kernels in CasADi's MX
 layer: at n = 10,240 about twenty passes over node-sized arrays between the maps are serial and the kernels
 run one node at a time. For the leap-frog of an elastic, unloaded shell without poles, the same kernels
-(:meth:`~mol_shell.cells.CellKernels.node_trig_kernel`, the shared cell kernel, the node kernels) are written
+(:meth:`~mol_shell.discretization.cells.CellKernels.node_trig_kernel`, the shared cell kernel, the node kernels) are written
 here as straight-line C from their SX instructions (:func:`sx_statements`) into three loops over blocks of
 eight nodes (trigonometry, cells, nodes), each block's lanes one ``#pragma omp simd`` vector, the blocks
 shared among threads. The state lives in a structure-of-arrays copy for the whole call (a row per field and
@@ -249,14 +249,14 @@ def stencil_source(system):
 
 
 class StencilLeapfrog:
-    """The leap-frog driver of :mod:`mol_shell.stencil` for one system: ``leapfrog(ya, yb, nsteps, dt, t)`` like
-    :meth:`~mol_shell.compiled.CompiledRHS.leapfrog`. Raises :class:`Unsupported` for a system it does not cover.
+    """The leap-frog driver of :mod:`mol_shell.discretization.stencil` for one system: ``leapfrog(ya, yb, nsteps, dt, t)`` like
+    :meth:`~mol_shell.discretization.compiled.CompiledRHS.leapfrog`. Raises :class:`Unsupported` for a system it does not cover.
 
     Parameters
     ----------
     system : ShellSystem
     threads : int, optional
-        Threads for the blocks of nodes (default :func:`~mol_shell.compiled.default_threads`).
+        Threads for the blocks of nodes (default :func:`~mol_shell.discretization.compiled.default_threads`).
     """
 
     def __init__(self, system, threads=None):
@@ -303,7 +303,7 @@ PARALLEL_MIN_NODES = 512
 def leapfrog_stepper(system, compiled):
     """What advances the leap-frog for ``system``: its :class:`StencilLeapfrog` (built once and kept on the system)
     when the stencil covers it, else ``compiled``'s generic driver. Threads: those asked of ``compiled``
-    (:meth:`~mol_shell.compiled.CompiledRHS.set_threads`) from :data:`PARALLEL_MIN_NODES` nodes, else one."""
+    (:meth:`~mol_shell.discretization.compiled.CompiledRHS.set_threads`) from :data:`PARALLEL_MIN_NODES` nodes, else one."""
     stepper = system.__dict__.get("_stencil")
     if stepper is None:
         try:

@@ -29,7 +29,7 @@ equally spaced nodes of ``[0, L]`` with a staggered (cell-centred) energy:
 Hamilton's equations ``q_t = M(q)^{-1} p``, ``p_t = dT/dq|_v - dV/dq`` are an equivalent first-order
 form of the paper's (6.5)-(6.7): energy ``T + V`` is conserved by the semi-discrete system and the
 axial angular momentum ``sum p_chi`` is conserved exactly when both edges leave ``chi`` free (``V``
-depends on ``chi`` only through differences). Edge conditions (:mod:`mol_shell.ends`): imposed fields
+depends on ``chi`` only through differences). Edge conditions (:mod:`mol_shell.model.edges`): imposed fields
 keep their initial values (those rates and momenta stay zero); the others get the natural conditions
 of the variational form. At a pole ``r = 0``, ``theta = theta0``, ``psi = 0`` are imposed and the
 massless ``chi`` of the pole node is tied to its neighbour's (its force is added there).
@@ -91,7 +91,7 @@ class ShellSystem(CellKernels):
     s : ndarray
         Node arc lengths; ``reference`` the nodal ``(z0, r0, theta0)`` (``3 x n``).
     edges : tuple of str
-        Edge kinds at ``s = 0`` and ``s = L`` (:mod:`mol_shell.ends`).
+        Edge kinds at ``s = 0`` and ``s = L`` (:mod:`mol_shell.model.edges`).
     inertia : ndarray
         ``(mA, mI, mJ)`` per node (``3 x n``), kg, kg m, kg m^2.
     fixed : ndarray
@@ -183,7 +183,7 @@ class ShellSystem(CellKernels):
         return ca.Function("node", [q, p, m] + ([t] if shared else []), outs, self.KERNEL_OPTIONS)
 
     def _driven_node_kernel(self, free, driven):
-        """The edge-node kernel with prescribed rates (:func:`mol_shell.ends.driven_node_kernel`)."""
+        """The edge-node kernel with prescribed rates (:func:`mol_shell.model.edges.driven_node_kernel`)."""
         return driven_node_kernel(self, free, driven)
 
     def free_sets(self):
@@ -198,7 +198,7 @@ class ShellSystem(CellKernels):
         return sorted(k for (e, k) in self.drives if e == end)
 
     def driven_rates(self, node, t):
-        """``(vd, vd_t)`` of the prescribed rates at edge node ``node`` (:func:`mol_shell.ends.driven_rates`)."""
+        """``(vd, vd_t)`` of the prescribed rates at edge node ``node`` (:func:`mol_shell.model.edges.driven_rates`)."""
         return driven_rates(self, node, t)
 
     # -- assembly ------------------------------------------------------------------------
@@ -272,7 +272,7 @@ class ShellSystem(CellKernels):
         The same graph and arithmetic per cell, so its generated C gives the serial results to the last
         bit whatever the thread count (each cell and node is computed by one thread, and sums over
         cells stay in the serial order outside the parallel loops). CasADi's own virtual machine
-        evaluates it serially; :class:`~mol_shell.compiled.CompiledRHS` builds it with ``-fopenmp``.
+        evaluates it serially; :class:`~mol_shell.discretization.compiled.CompiledRHS` builds it with ``-fopenmp``.
         """
         self._parallel = True
         try:

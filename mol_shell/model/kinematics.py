@@ -79,7 +79,7 @@ def deformation_gradient(strains, zeta, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_
     same for the reference configuration in the ``b0`` basis,
     ``G0 = [[beta1_0 - zeta theta0_s, 0, 0], [beta2_0, 1, 0], [0, 0, r0 + zeta cos theta0]]``;
     with ``beta1_0 = 1, beta2_0 = 0`` this is the table of (7.4). Its determinant
-    :func:`reference_volume_factor` is the reference volume element.
+    ``det G0 = (beta1_0 - zeta theta0_s)(r0 + zeta cos theta0)`` is the reference volume element.
     """
     return scaled_deformation_gradient(strains, zeta, 1.0 / (beta1_0 - zeta * theta0_s),
                                        1.0 / (r0 + zeta * cos(theta0)), beta2_0)
@@ -125,11 +125,6 @@ def column_polynomials(strains, beta2_0=0.0, trig=None):
         a = (beta1, beta2 - beta2_0 * cs, beta3 - beta2_0 * sn)
     b = (-(chi_s * sn * st + theta_s * cs), -sn * twist, cs * twist)
     return a, b, (0.0, 0.0, r), (-sn * st, -sn * ct, cs * ct), (0.0, cs, sn)
-
-
-def reference_volume_factor(zeta, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0):
-    """``det G0 = (beta1_0 - zeta theta0_s)(r0 + zeta cos theta0)``: reference volume per ``ds dzeta dphi``."""
-    return (beta1_0 - zeta * theta0_s) * (r0 + zeta * cos(theta0))
 
 
 def director_velocity_c(chi_t, theta_t, psi_t, theta, psi, trig=None):

@@ -26,6 +26,7 @@ import numpy as np
 
 from mol_shell._core.constants import DENSE_MAX_STATES
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.units import show_seconds
 from mol_shell.results.stresses import MAX_SAMPLES
 
 #: environment variable: the memory a run may use, bytes (suffixes k, M, G, T; powers of 1024), instead of the
@@ -116,13 +117,6 @@ def show_bytes(value):
     return f"{value:.0f} B"
 
 
-def show_seconds(value):
-    for unit, size in (("days", 86400.0), ("h", 3600.0), ("min", 60.0)):
-        if value >= size:
-            return f"{value / size:.3g} {unit}"
-    return f"{value:.3g} s"
-
-
 @dataclass
 class Estimate:
     """What a run will need, before it starts.
@@ -158,13 +152,13 @@ class Estimate:
                 f"about {show_seconds(self.seconds)}")
 
 
-#: stress and resultant values per cell and saved time (:mod:`mol_shell.stresses`), when they are computed
+#: stress and resultant values per cell and saved time (:mod:`mol_shell.results.stresses`), when they are computed
 STRESS_PER_CELL = 17
 
 
 def output_bytes(n_times, n, stresses=True):
     """Bytes of a run's Dataset: fields and rates per node, totals per time, the stresses per cell and time
-    when they are computed (up to :data:`mol_shell.stresses.MAX_SAMPLES` cell samples x times), and the
+    when they are computed (up to :data:`mol_shell.results.stresses.MAX_SAMPLES` cell samples x times), and the
     reference meridian (3 values per node)."""
     per_time = OUTPUT_PER_NODE * n + OUTPUT_PER_TIME
     if stresses and float(n_times) * 2 * (n - 1) <= MAX_SAMPLES:

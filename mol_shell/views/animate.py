@@ -48,10 +48,10 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
     Parameters
     ----------
     ds : xarray.Dataset
-        A run; stresses (:func:`mol_shell.stresses.add_stresses`) can colour the shell too.
+        A run; stresses (:func:`mol_shell.results.stresses.add_stresses`) can colour the shell too.
     path : str or os.PathLike
     field_name : str
-        What colours the shell (:func:`mol_shell.io.fields.field_names`): node fields are averaged
+        What colours the shell (:func:`mol_shell.views.fields.field_names`): node fields are averaged
         to the cells, face stresses are ``NAME_inner`` / ``NAME_outer``. One colour scale for all frames.
     n_phi : int
         Azimuthal samples of the surface.

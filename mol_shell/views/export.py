@@ -3,7 +3,7 @@
 ``mol-shell export run.nc -o run.xdmf`` (XDMF 3 with one HDF5 file beside it) or ``-o run.pvd``
 (a ``.vtu`` file per saved time and the ``.pvd`` collection that ParaView opens as a time
 series). The surface is the base surface revolved with ``--n-phi`` azimuthal samples, each material
-point placed by the rotationally symmetric map (:func:`mol_shell.io.fields.surface_points`); with
+point placed by the rotationally symmetric map (:func:`mol_shell.views.fields.surface_points`); with
 ``--faces`` the inner and outer faces (offset along the director) are added to the same mesh. Quads
 join the samples, one per cell of the grid and azimuthal interval, so a quad is a cell of the run.
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell.views.fields import face_depths
+from mol_shell.views.figures import save_figure
 
 #: the drawn thickness 2h M is about this fraction of the radius when no magnification is given
 DRAWN_THICKNESS = 0.2
@@ -106,9 +107,6 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
 
 def plot_fibres(ds, path, **options):
     """Write :func:`fibres_figure` to ``path``."""
-    import matplotlib.pyplot as plt
-
     fig = fibres_figure(ds, **options)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
     return path

@@ -1,6 +1,6 @@
 """What a run offers to colour and export: its variables by name, on nodes or cells, and the revolved shell.
 
-A run has fields and rates on the nodes ``(time, s)``; with stresses (:mod:`mol_shell.stresses`)
+A run has fields and rates on the nodes ``(time, s)``; with stresses (:mod:`mol_shell.results.stresses`)
 resultants on the cells ``(time, s_cell)`` and face stresses on ``(time, s_cell, zeta)``, offered
 here as ``NAME_inner`` and ``NAME_outer``.
 """
@@ -26,7 +26,7 @@ def field(ds, name, where="cells", option="--field"):
 
     Node values go to a cell as the mean of its two nodes; cell values to an interior node as the
     mean of its two cells (an end node takes its cell's value). An unknown name is refused by
-    :class:`~mol_shell.errors.ParameterError` naming ``option`` and the names the run offers.
+    :class:`~mol_shell._core.errors.ParameterError` naming ``option`` and the names the run offers.
 
     Returns
     -------

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from mol_shell._core.constants import FIELDS
+from mol_shell.views.figures import save_figure
 
 
 def plot_modes(ds, path, count=6):
@@ -34,5 +35,4 @@ def plot_modes(ds, path, count=6):
     fig.suptitle(f"{ds.attrs['scene']}: lowest modes (n = {ds.attrs['n']}, {ds.attrs['zero_modes']} rigid motions "
                  "not shown); shapes scaled to 1, share of kinetic energy per field", fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)

@@ -68,11 +68,9 @@ def plot_snapshots(ds, path, fields=("r", "theta", "chi"), max_times=MAX_TIMES, 
     ranges where the data fit them. The title says when not every saved time is drawn, and
     when the run is incomplete.
     """
-    import matplotlib.pyplot as plt
 
     fig = snapshot_figure(ds, fields, max_times, columns)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
     return path
 
 
@@ -154,6 +152,7 @@ def plot_meridian(ds, path, max_times=8):
     fig.suptitle(title_of(ds.attrs, len(idx), ds.sizes["time"]) + f"\nmeridian to scale; largest displacement {move:.3g} m",
                  fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
     return path
+
+from mol_shell.views.figures import save_figure

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from mol_shell.views.figures import save_figure
+
 
 def plot_report(ds, path):
     """Two panels over the cases: leap-frog step (bound from eigenvalues vs bisection), wall times."""
@@ -27,6 +29,5 @@ def plot_report(ds, path):
     bottom.legend(fontsize=8)
     bottom.set_xticks(x, labels, rotation=60, ha="right", fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)
     return path

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from mol_shell._core.atomic import write_text
 from mol_shell.analysis.workprecision import full_table, markdown_table
+from mol_shell.results.dataset import write_netcdf
+from mol_shell.views.figures import save_figure
 
 
 def plot(ds, path, target=1e-6):
@@ -26,16 +29,13 @@ def plot(ds, path, target=1e-6):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
 
 
 def write_outputs(ds, path, target=1e-6):
     """``path`` (netCDF), and beside it ``.png`` and ``.md`` with the same stem."""
-    ds.to_netcdf(path)
+    write_netcdf(ds, path)
     stem = str(path).rsplit(".", 1)[0]
     plot(ds, stem + ".png", target)
-    text = markdown_table(ds, target) + "\n\nAll runs:\n\n" + full_table(ds) + "\n"
-    with open(stem + ".md", "w") as fh:
-        fh.write(text)
+    write_text(stem + ".md", markdown_table(ds, target) + "\n\nAll runs:\n\n" + full_table(ds) + "\n")
     return stem + ".png", stem + ".md"
