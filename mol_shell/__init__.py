@@ -9,6 +9,7 @@ from mol_shell._core.version import __version__
 from mol_shell.analysis.modes import modes
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.dataset import read_netcdf, write_netcdf
+from mol_shell.results.stresses import add_stresses
 from mol_shell.runs.building import build
 from mol_shell.runs.ring import simulate_ring
 from mol_shell.runs.simulate import simulate
@@ -30,7 +31,7 @@ from mol_shell.scenes import (
 from mol_shell.scenes.files import load_scene
 
 __all__ = [
-    "INTEGRATORS", "SCENES", "Axisymmetric", "Cone", "MeridianShell", "ShellScene", "SpinningRing", "Sphere", "Torus",
+    "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "MeridianShell", "ShellScene", "SpinningRing", "Sphere", "Torus",
     "TwistedCylinder", "Unshearable", "__version__", "build", "get_scene", "load_scene", "modes", "read_netcdf",
     "simulate", "simulate_ring", "simulate_unshearable", "study", "write_netcdf",
 ]

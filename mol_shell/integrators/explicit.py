@@ -2,7 +2,7 @@
 
 SciPy's ``DOP853`` (Dormand-Prince 8(5,3)) and ``RK45`` (Dormand-Prince 5(4)): their tableaus, error norms
 and step-size control (safety 0.9, factors 0.2 to 10, SciPy's minimum step), with the loop in C
-(:mod:`mol_shell.rk_driver`) on the compiled right-hand side, so that no Python runs per step. The model's
+(:mod:`mol_shell.discretization.rk_driver`) on the compiled right-hand side, so that no Python runs per step. The model's
 limits are checked after every accepted step in C (as leap-frog does), the energy and progress between
 calls. Steps are shortened to land on each saved time instead of interpolating (no dense output); on a
 run with one saved interval the step sequence is SciPy's.

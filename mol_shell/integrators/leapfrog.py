@@ -3,8 +3,8 @@
 ``y_{k+1} = y_{k-1} + 2 dt f(y_k)``, started by one explicit midpoint step
 ``y_1 = y_0 + dt f(y_0 + dt/2 f(y_0))`` so the start is second order too. For the
 linear test equation ``y' = i w y`` it is stable for ``|w dt| < 1``; it neither damps
-nor amplifies. The loop runs in generated C (the vectorised stencil of :mod:`mol_shell.stencil` for elastic, unloaded
-shells without poles; :mod:`mol_shell.compiled`'s driver around the compiled RHS otherwise), which also checks
+nor amplifies. The loop runs in generated C (the vectorised stencil of :mod:`mol_shell.discretization.stencil` for elastic, unloaded
+shells without poles; :mod:`mol_shell.discretization.compiled`'s driver around the compiled RHS otherwise), which also checks
 the model's limits (:attr:`ShellSystem.limits`) after every step and stops at the first step
 outside them; Python only sees chunks of steps, where it checks the energy (numerical
 instability) and shows progress.

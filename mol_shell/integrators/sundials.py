@@ -1,10 +1,10 @@
 """SUNDIALS CVODE (BDF and Adams) and IDA through scikit-sundae, fed by the CasADi graphs.
 
-* CVODE integrates the Hamiltonian ODE ``y_t = f(y)`` of :class:`~mol_shell.discretization.ShellSystem`;
-  IDA the linearly implicit residual of :class:`~mol_shell.dae.ShellDAE` in ``x = (q, v)``
+* CVODE integrates the Hamiltonian ODE ``y_t = f(y)`` of :class:`~mol_shell.discretization.system.ShellSystem`;
+  IDA the linearly implicit residual of :class:`~mol_shell.discretization.dae.ShellDAE` in ``x = (q, v)``
   (the mass matrix is never inverted). Saved states are returned as ``y = (q, p)`` either way.
 * The exact Jacobian comes from CasADi (``dF/dx + cj dF/dxp`` for IDA), compiled to C once per graph
-  and cached on disk (:class:`~mol_shell.compiled.CompiledFunctions`); dense, banded or sparse
+  and cached on disk (:class:`~mol_shell.discretization.compiled.CompiledFunctions`); dense, banded or sparse
   linear algebra by size (``linsolver="auto"``).
 * Model limits: ``r > 0`` is a SUNDIALS inequality constraint on the ``r`` entries; ``delta > 0``
   (per cell) and ``|psi| < pi/2`` (per node) are root-finding events. A breach ends the run with

@@ -2,7 +2,7 @@
 
 :func:`execute` yields each case's result as it finishes; a local worker that dies has its unfinished cases
 run again in a new pool, a dask worker's are retried by dask (or recorded as ``lost``). :func:`connect` refuses
-an address that does not answer before anything runs. Used by :func:`mol_shell.study.study`.
+an address that does not answer before anything runs. Used by :func:`mol_shell.runs.study.study`.
 """
 
 from __future__ import annotations

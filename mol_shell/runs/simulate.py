@@ -131,8 +131,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     progress : bool, optional
         Progress bar over simulated time; default: only when stderr is a terminal.
     stresses : bool, optional
-        Resultants and face stresses after the run (:func:`mol_shell.stresses.add_stresses`): ``None``
-        (default) up to :data:`mol_shell.stresses.MAX_SAMPLES` cell samples x saved times, ``True``
+        Resultants and face stresses after the run (:func:`mol_shell.results.stresses.add_stresses`): ``None``
+        (default) up to :data:`mol_shell.results.stresses.MAX_SAMPLES` cell samples x saved times, ``True``
         always, ``False`` never.
     threads : int, optional
         Threads for the compiled right-hand side's cell and node kernels (every integrator uses it);

@@ -2,7 +2,7 @@
 
 At rest (``p = 0``) Hamilton's equations reduce to ``0 = F(q) = -dV/dq + f_loads(q, t = 0)`` on the free
 coordinates (``dT/dq`` vanishes with ``p``; drag and viscosity with the rates). The tangent stiffness is
-the block ``dp_t/dq`` of :attr:`ShellSystem.jac <mol_shell.discretization.ShellSystem.jac>`. Rigid motions
+the block ``dp_t/dq`` of :attr:`ShellSystem.jac <mol_shell.discretization.system.ShellSystem.jac>`. Rigid motions
 the edges allow (axial translation of a closed sphere, ...) make it singular: each Newton step is the
 least-squares step of minimum norm, which leaves them where they are.
 

@@ -1,7 +1,7 @@
 """Section 4: the azimuthally unshearable shell, a DAE with Lagrange multipliers, solved by IDA.
 
 The constraints (4.1), ``chi_s = 0`` and ``psi = 0``, are imposed on the same discrete
-Lagrangian as :class:`~mol_shell.discretization.ShellSystem` (its cell kernel for the stored
+Lagrangian as :class:`~mol_shell.discretization.system.ShellSystem` (its cell kernel for the stored
 energy, the model's kinetic energy density lumped at nodes):
 
     L_h = sum_i T_i(q_i, v_i) - sum_cells V_c - 2 pi r0 [ sum_cells Lc (chi_{i+1} - chi_i)
