@@ -39,8 +39,10 @@ import numpy as np
 
 from mol_shell._core.constants import NF
 from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell.discretization.compiled import buffered
 from mol_shell.integrators import Leapfrog
-from mol_shell.integrators.base import Monitor, StepBudget, Trajectory
+from mol_shell.integrators.base import StepBudget
+from mol_shell.integrators.loop import run
 from mol_shell.results.dataset import build_dataset
 from mol_shell.runs import resources
 from mol_shell.runs.building import build, observe, parse_times, resolve
@@ -144,8 +146,8 @@ class UnshearableDAE:
         """An ``sksundae`` IDA solver with the CasADi residual and its exact band Jacobian."""
         from sksundae.ida import IDA
 
-        res_buf = _Buffered(self.residual, (self.size, self.size))
-        jac_buf = _Buffered(self.iteration_matrix, (self.size, self.size, 1))
+        res_buf = buffered(self.residual)
+        jac_buf = buffered(self.iteration_matrix)
         rows, cols = self.pattern
         self.n_res = self.n_jac = 0
 
@@ -165,24 +167,6 @@ class UnshearableDAE:
             resfn, jacfn=jacfn, rtol=rtol, atol=atol, linsolver="band", lband=lb, uband=ub,
             algebraic_idx=self.algebraic, max_num_steps=100000, max_step=max_step,
         )
-
-
-class _Buffered:
-    """A CasADi Function called through a preallocated buffer (arrays kept alive here)."""
-
-    def __init__(self, f, sizes):
-        self.buf, self.trigger = f.buffer()
-        self.args = [np.zeros(size) for size in sizes]
-        self.out = np.zeros(f.nnz_out(0))
-        for i, a in enumerate(self.args):
-            self.buf.set_arg(i, memoryview(a))
-        self.buf.set_res(0, memoryview(self.out))
-
-    def __call__(self, *args):
-        for a, v in zip(self.args, args):
-            a[:] = v
-        self.trigger()
-        return self.out
 
 
 def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=True, rtol=1e-8, atol=1e-10,
@@ -246,45 +230,63 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
 
 
 def _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step):
+    """The constrained run on the one run loop (:func:`mol_shell.integrators.loop.run`): ``(traj, V, (Lc, Lp), stats)``."""
     dae = UnshearableDAE(shell)
     y0, yp0 = dae.consistent(Q0, V0)
-    scale = _atol_scale(dae, y0, yp0)
-    solver = dae.solver(rtol, atol * scale, max_step)
-    monitor = Monitor(shell)
-    saved_t, saved_y, steps = [times[0]], [y0], 0
-    status, message, failure = "complete", "completed", float("nan")
-    start = time.perf_counter()
-    result = solver.init_step(times[0], y0, yp0)
-    budget = StepBudget("ida", times[-1], STEP_LIMIT)
-    try:
-        for target in times[1:]:
-            while True:
-                result = solver.step(target, method="onestep", tstop=target)
-                if not result.success:
-                    raise RuntimeError(f"IDA failed at t = {float(np.ravel(result.t)[0]):.9g} s: {result.message}")
-                steps += 1
-                budget.step(float(np.ravel(result.t)[0]))  # stops a run that cannot reach its end
-                if float(np.ravel(result.t)[0]) >= target:
-                    break
-            y = np.array(result.y).ravel()
-            Q, V, _, _ = dae.unpack(y)
-            monitor.check(shell.pack(Q, shell.momenta(Q, V)), target)
-            saved_t.append(target)
-            saved_y.append(y)
-    except ModelLimitError as exc:
-        status, message, failure = exc.status, str(exc), exc.time
-    except RuntimeError as exc:
-        status, message, failure = "error", str(exc), float(np.ravel(result.t)[0]) if result is not None else float("nan")
-    except KeyboardInterrupt:
-        status, message, failure = "interrupted", "interrupted by the user", saved_t[-1]
-    wall = time.perf_counter() - start
-    Y = np.array(saved_y)
-    Q, V, Lc, Lp = dae.unpack(Y)
-    states = np.array([shell.pack(q, shell.momenta(q, v)) for q, v in zip(Q, V)])
-    stats = {"n_steps": steps, "n_rhs": dae.n_res, "n_jac": dae.n_jac, "wall_time_s": wall,
-             "jacobian_bw_lower": dae.bandwidth[0], "jacobian_bw_upper": dae.bandwidth[1], "dae_size": dae.size}
-    traj = Trajectory(np.array(saved_t), states, status=status, message=message, stats=stats, failure_time=failure)
-    return traj, V, (Lc, Lp), stats
+    ida = ConstrainedIDA(dae, y0, yp0, dae.solver(rtol, atol * _atol_scale(dae, y0, yp0), max_step))
+    traj = run(ida, shell, None, shell.pack(Q0, shell.momenta(Q0, V0)), times)
+    raw = np.array((ida.stepper.saved if ida.stepper is not None else [y0])[: len(traj.t)])
+    _, V, Lc, Lp = dae.unpack(raw)
+    return traj, V, (Lc, Lp), traj.stats
+
+
+class ConstrainedIDA:
+    """IDA on the constrained DAE as an integrator of the run loop (not a registered integrator: the
+    unshearable scene's own formulation). ``stepper`` keeps the DAE's unknowns at the saved times."""
+
+    name = "ida"
+
+    def __init__(self, dae, y0, yp0, solver):
+        self.dae, self.y0, self.yp0, self.solver = dae, y0, yp0, solver
+        self.stepper = None
+
+    def start(self, system, compiled, y0, times, monitor):
+        self.stepper = _ConstrainedStepper(self.dae, self.solver, self.y0, self.yp0, times[-1])
+        return self.stepper
+
+
+class _ConstrainedStepper:
+    """One IDA step at a time (``onestep``, stopping at each saved time); the loop's :class:`Stepper`."""
+
+    def __init__(self, dae, solver, y0, yp0, t_end):
+        self.dae, self.solver = dae, solver
+        self.t, self.y, self.steps = 0.0, y0, 0
+        self.saved = [y0]
+        self.budget = StepBudget("ida", t_end, STEP_LIMIT)
+        solver.init_step(0.0, y0, yp0)
+
+    def advance(self, target):
+        result = self.solver.step(target, method="onestep", tstop=target)
+        t = float(np.ravel(result.t)[0])
+        if not result.success:
+            error = ModelLimitError(f"IDA failed at t = {t:.9g} s: {result.message}", t, "whole shell")
+            error.status = "failed"
+            raise error
+        self.steps += 1
+        self.budget.step(t)  # stops a run that cannot reach its end
+        self.t, self.y = t, np.array(result.y).ravel()
+
+    def state(self, target):
+        """The shell's state (for the loop's checks and the Dataset); the DAE's unknowns are kept in ``saved``."""
+        self.saved.append(self.y)
+        Q, V, _, _ = self.dae.unpack(self.y)
+        shell = self.dae.shell
+        return shell.pack(Q, shell.momenta(Q, V))
+
+    def stats(self):
+        dae = self.dae
+        return {"n_steps": self.steps, "n_rhs": dae.n_res, "n_jac": dae.n_jac,
+                "jacobian_bw_lower": dae.bandwidth[0], "jacobian_bw_upper": dae.bandwidth[1], "dae_size": dae.size}
 
 
 def _atol_scale(dae, y0, yp0):
