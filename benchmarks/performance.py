@@ -173,7 +173,7 @@ PEERS_PROBE = r"""
 import json, sys
 from mol_shell.analysis import workprecision as wp
 names, repeats = sys.argv[1].split(","), int(sys.argv[2])
-ds = wp.study("twisted-cylinder", tuple(names), repeats=repeats, log=lambda line: print(line, file=sys.stderr))
+ds = wp.work_precision("twisted-cylinder", tuple(names), repeats=repeats, log=lambda line: print(line, file=sys.stderr))
 out = {}
 for target in (1e-6, 1e-8):
     row = {}

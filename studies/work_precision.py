@@ -41,7 +41,7 @@ def main(argv=None):
     times = wp.PAPER_TIMES if t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, t_end, 5)]
     os.makedirs(os.path.dirname(output) or ".", exist_ok=True)
     start = time.perf_counter()
-    ds = wp.study(mol_shell.TwistedCylinder(), integrators.split(","), times=times, repeats=repeats,
+    ds = wp.work_precision(mol_shell.TwistedCylinder(), integrators.split(","), times=times, repeats=repeats,
                   sweeps=quick.get("sweeps"))
     png, md = write_outputs(ds, output)
     print(wp.markdown_table(ds))

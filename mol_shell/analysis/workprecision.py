@@ -114,7 +114,7 @@ def skip_reason(name, value, times):
     return ""
 
 
-def study(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_TIMES, repeats=3, sweeps=None, log=print):
+def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_TIMES, repeats=3, sweeps=None, log=print):
     """Measure every sweep point; returns a Dataset with dims ``(integrator, level)``.
 
     Everything that can be checked is checked before the (expensive) reference runs. A leap-frog

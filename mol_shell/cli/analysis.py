@@ -10,7 +10,7 @@ from mol_shell._core.constants import FIELDS
 from mol_shell.analysis.modes import modes
 from mol_shell.analysis.stability import default_cases, report
 from mol_shell.analysis.stability import markdown_table as stability_table
-from mol_shell.analysis.workprecision import DEFAULT_INTEGRATORS, PAPER_TIMES, check_integrators, markdown_table, study
+from mol_shell.analysis.workprecision import DEFAULT_INTEGRATORS, PAPER_TIMES, check_integrators, markdown_table, work_precision
 from mol_shell.cli.args import integer_arg, number_arg, parse_sets
 from mol_shell._core.atomic import write_text
 from mol_shell.results.dataset import writable_path, write_netcdf
@@ -43,7 +43,7 @@ def cmd_compare(args):
     names = check_integrators([s.strip() for s in text.split(",")] if text else [], "--integrators")
     times = PAPER_TIMES if args.t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, args.t_end, 5)]
     start = time.perf_counter()
-    ds = study(args.scene, names, n=args.n, times=times, repeats=args.repeats)
+    ds = work_precision(args.scene, names, n=args.n, times=times, repeats=args.repeats)
     png, md = write_outputs(ds, args.output, args.target)
     print(markdown_table(ds, args.target))
     print(f"wrote {args.output}, {png}, {md} in {time.perf_counter() - start:.0f} s")

@@ -238,17 +238,17 @@ def test_compare_checks_its_input_before_the_references(tmp_path, capsys, no_com
         code = main(["compare", "twisted-cylinder", "--integrators", names, "-o", str(tmp_path / "wp.nc")])
         err = capsys.readouterr().err
         assert code == 2 and err.startswith("mol-shell: error: --integrators = ") and len(err.splitlines()) == 1
-    from mol_shell.analysis.workprecision import study as wp_study
+    from mol_shell.analysis.workprecision import work_precision
 
     with pytest.raises(ParameterError, match="times"):  # every point would be skipped: refused up front
-        wp_study("twisted-cylinder", ["leapfrog"], times=[0, 0.00125], sweeps={"leapfrog": {"dt": (1e-4,)}})
+        work_precision("twisted-cylinder", ["leapfrog"], times=[0, 0.00125], sweeps={"leapfrog": {"dt": (1e-4,)}})
 
 
 def test_compare_skips_leapfrog_steps_that_miss_the_saved_times(tmp_path):
-    from mol_shell.analysis.workprecision import study as wp_study
+    from mol_shell.analysis.workprecision import work_precision
     from mol_shell.views.workprecision import write_outputs
 
-    ds = wp_study("twisted-cylinder", ["leapfrog"], n=10, times=[0, 0.00125, 0.0025], repeats=1,
+    ds = work_precision("twisted-cylinder", ["leapfrog"], n=10, times=[0, 0.00125, 0.0025], repeats=1,
                   sweeps={"leapfrog": {"dt": (1e-4, 5e-5)}}, log=lambda *a: None)
     row = ds.sel(integrator="leapfrog")
     assert list(row.status.values) == ["skipped", "complete"]
