@@ -138,11 +138,11 @@ class ShellScene:
     end1_axial_speed, end2_axial_speed : float
         Driven edge: its ``z`` moved at this speed, m s-1, times ``*_axial_speed_history``. Not at a pole.
 
+    Notes
+    -----
     Every load and drive is 0 (off) by default and then has no term in the graph. Histories: ``constant``,
     ``step T0``, ``ramp T1``, ``sine F`` or ``table t0:h0 t1:h1 ...`` (a factor on the load or rate).
 
-    Notes
-    -----
     Values inside these ranges can still leave the discretised shell's numbers outside double
     precision (``h = 1e-300``: ``rho_J ~ h^3`` underflows; ``rho = 1e300``: the mass matrix's products
     overflow). A run refuses them when it starts, naming the parameter and the range over which the
