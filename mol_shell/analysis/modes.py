@@ -20,9 +20,6 @@ negative when a cross term dominates it).
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg
-import scipy.sparse
-import scipy.sparse.linalg
 import xarray as xr
 
 from mol_shell._core.errors import ParameterError
@@ -42,6 +39,8 @@ ZERO_TOL = 1e-9
 
 def _blocks(system, y0):
     """``(free, Minv, K)`` on the free coordinates, from the exact Jacobian at ``y0`` (sparse CSC)."""
+    import scipy.sparse  # optional heavy dependency: 0.17 s of every process's start at module level
+
     J = system.jac(0, y0)
     sp = J.sparsity()
     Js = scipy.sparse.csc_matrix((np.array(J.nonzeros()).ravel(), sp.row(), sp.colind()), shape=J.shape)
@@ -97,6 +96,10 @@ def modes(scene, n=40, count=10):
         the largest entry of each mode is 1, unit of each field), ``energy_fraction(mode, field)``;
         attrs ``zero_modes``, ``method``, the scene's parameters.
     """
+    import scipy.linalg  # optional heavy dependency: 0.17 s of every process's start at module level
+    import scipy.sparse
+    import scipy.sparse.linalg
+
     scene = resolve(as_scene(scene))
     if not isinstance(count, (int, np.integer)) or isinstance(count, bool) or count < 1:
         raise ParameterError("count", count, "integers >= 1")

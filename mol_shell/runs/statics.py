@@ -16,7 +16,6 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-import scipy.linalg
 
 from mol_shell._core.errors import ParameterError
 from mol_shell.runs.building import build
@@ -56,6 +55,8 @@ def newton(system, y0, hold=(2,), tol=TOL, max_iter=MAX_ITER):
             return y, it, res
         if it == max_iter:
             break
+        import scipy.linalg  # optional heavy dependency: only statics needs it
+
         step = scipy.linalg.lstsq(Jd, -f, lapack_driver="gelsd")[0]
         # damped: halve until the residual falls (a full step may cross delta = 0 far from the solution)
         for _ in range(20):
