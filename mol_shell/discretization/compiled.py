@@ -14,6 +14,7 @@ import ctypes
 import functools
 import hashlib
 import os
+import platform
 import subprocess
 import sys
 import tempfile
@@ -185,8 +186,6 @@ def machine_key(flags=CFLAGS):
     """
     if "-march=native" not in flags:
         return ""
-    import platform
-
     text = platform.machine() + platform.processor()
     with contextlib.suppress(OSError):
         lines = Path("/proc/cpuinfo").read_text().splitlines()

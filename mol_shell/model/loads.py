@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 
+import casadi as ca
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
@@ -63,8 +64,6 @@ def parse_history(name, spec):
 
 def history(parsed, t):
     """``h(t)`` of a parsed history, for a float or a CasADi ``t``."""
-    import casadi as ca
-
     kind, data = parsed
     if kind == "constant":
         return 1.0
@@ -84,8 +83,6 @@ def history(parsed, t):
 def history_rate(parsed, t):
     """``h'(t)`` (CasADi ``t``): 0 for constant and step (a step's impulse is not represented), ``1/T1`` on a
     ramp, ``2 pi F cos(2 pi F t)`` for a sine, the segment's slope in a table (0 beyond it)."""
-    import casadi as ca
-
     kind, data = parsed
     if kind in ("constant", "step"):
         return 0.0
@@ -106,12 +103,10 @@ def cell_volume(zl, zr, rl, rr):
 
 def gravity_potential(q, m_a, m_i, g):
     """``g (mA z + mI d.k)`` of a node with fields ``q = (z, r, chi, theta, psi)`` (``d.k = -sin theta cos psi``)."""
-    from casadi import cos, sin
-
     z, _, _, theta, psi = q
     out = g * m_a * z
     if not (isinstance(m_i, (int, float)) and m_i == 0):
-        out = out - g * m_i * sin(theta) * cos(psi)
+        out = out - g * m_i * ca.sin(theta) * ca.cos(psi)
     return out
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import casadi as ca
 import numpy as np
 
 from mol_shell.model.kinematics import column_polynomials, scaled_deformation_gradient
@@ -127,11 +128,9 @@ def quadrature_factors(thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0)
     ``vol = w (beta1_0 - zeta theta0_s)(r0 + zeta cos theta0)`` (see
     :func:`~mol_shell.model.kinematics.deformation_gradient`). Numbers or CasADi expressions.
     """
-    from casadi import cos
-
     out = []
     for zeta, w in zip(*thickness.nodes_weights):
-        a, c = beta1_0 - zeta * theta0_s, r0 + zeta * cos(theta0)
+        a, c = beta1_0 - zeta * theta0_s, r0 + zeta * ca.cos(theta0)
         out.append((zeta, 1.0 / a, 1.0 / c, w * a * c))
     return out
 
@@ -237,8 +236,6 @@ def thickness_energy_moments(strains, lam, mu, moments, beta2_0=0.0, trig=None):
 
 def thickness_dissipation(strains, rates, eta_lambda, eta_mu, factors, beta2_0=0.0):
     """``sum_q vol_q [eta_lambda/2 (tr E_t)^2 + eta_mu E_t : E_t]`` (CasADi ``strains``/``rates``)."""
-    import casadi as ca
-
     e_sym, r_sym = ca.SX.sym("e", 8), ca.SX.sym("edot", 8)
     f_sym = [ca.SX.sym(f"f{i}", 3) for i in range(len(factors))]
     b_sym = ca.SX.sym("beta2_0")
