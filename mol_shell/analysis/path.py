@@ -1,0 +1,483 @@
+"""Equilibrium paths: Keller's pseudo-arclength continuation in a load, with stability and critical points.
+
+:func:`path` follows the solutions of ``F(q, lambda) = 0`` (:class:`~mol_shell.analysis.equilibria.
+EquilibriumEquations`: the equations at rest on the free coordinates, rigid motions gauged away) from
+``lambda = start`` towards ``stop``. Each step predicts along the unit tangent ``t`` and corrects with Newton's
+method on the bordered system
+
+    [ F_q          F_lambda        ] [dq      ]     [ F                                  ]
+    [ t_q / c_q    t_lambda / c_l  ] [dlambda ] = - [ t . (u - u_0) / c - ds             ]
+
+factorised by sparse LU (``scipy.sparse.linalg.splu``; the node-major ordering keeps ``F_q`` banded and the
+border adds one row and one column), which stays regular through limit points where ``F_q`` is singular. The
+scales ``c`` make the arclength dimensionless: lengths over the meridian's size, angles as they are, and
+``lambda`` over ``|stop - start|``, with the displacement part weighted so that the first tangent is half load
+and half displacement. The step grows after quick Newton convergence (<= 3 iterations) and shrinks after slow
+convergence; a failed or limit-crossing step is halved down to ``ds / 2^10``, where the path ends (status
+``failed`` or ``limit``, the steps so far kept). The last step lands on ``lambda = stop`` exactly.
+
+Stability at each step: the eigenvalues ``omega^2`` of ``K phi = omega^2 M phi`` nearest zero (``K = -F_q``,
+``M`` the lumped mass matrix; sparse shift-invert, ``scipy.sparse.linalg.eigsh`` about a small negative shift),
+their count below zero, and the sign of ``det K`` from its LU. Between two steps where the count changes, the
+crossing is located by the secant method on the crossing eigenvalue along the arclength (each trial a corrector
+solve from the earlier step) to :data:`LOCATE_RTOL` of ``lambda``: kind ``limit`` where ``t_lambda`` changes
+sign over the interval, else ``bifurcation``. Its mode is the eigenvector there, its family ``torsional`` when
+``chi`` carries most of its kinetic energy, else ``axisymmetric``. No branch is switched to.
+
+The model is rotationally symmetric: its critical points are those of rotationally symmetric modes only, upper
+bounds where a real shell buckles into circumferential waves.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError, is_number
+from mol_shell.analysis.equilibria import PATH_LOADS, EquilibriumEquations
+from mol_shell.analysis.path_dataset import path_dataset
+from mol_shell.runs.building import as_scene
+
+#: Newton's convergence: ``|F|`` below this fraction of the forces of a unit strain, and the update below
+#: this fraction of the meridian's size
+TOL = 1e-10
+MAX_ITER = 8
+#: step control: the ratio of steps to the first one stays in ``[2^-MIN_HALVINGS, MAX_GROWTH]``
+MIN_HALVINGS = 10
+MAX_GROWTH = 2.0
+#: eigenvalues computed nearest zero at each step
+EIGENVALUES = 6
+#: critical points are located to this width of the bracket in the scaled arclength (about this fraction of
+#: ``|stop - start|`` in ``lambda``)
+LOCATE_RTOL = 1e-7
+LOCATE_ITER = 30
+#: Newton iterations allowed to the corrector of a trial point there, and its tolerance: the bordered matrix is
+#: singular at a bifurcation, and near one Newton converges slowly to a residual that stalls above TOL (the
+#: eigenvalues at the trial point move by the residual's order only)
+LOCATE_NEWTON = 12
+LOCATE_TOL = 1e-7
+#: a corrector that ends farther than this many steps from its predictor has jumped to another branch
+STRAY = 0.5
+
+
+class PathFailed(Exception):
+    """The corrector did not converge at the smallest step, or a model limit was reached (``kind``, ``where``)."""
+
+    def __init__(self, kind, message):
+        self.kind = kind
+        super().__init__(message)
+
+
+class _Path:
+    """The continuation of one :class:`EquilibriumEquations` (scales, tangents, correctors).
+
+    Vectors ``q`` hold every free coordinate; solves act on ``eq.keep`` (the gauge's coordinates stay put).
+    """
+
+    def __init__(self, eq, start, stop):
+        self.eq, self.start, self.stop = eq, float(start), float(stop)
+        system = eq.system
+        self.length = max(float(np.abs(system.reference[:2]).max()), system.L / math.pi)
+        local = eq.q_idx % eq.ny
+        field = np.array(system.active)[local]
+        self.q_scale = np.where(field <= 1, self.length, 1.0)[eq.keep]
+        self.l_scale = abs(self.stop - self.start)
+        self.direction = math.copysign(1.0, self.stop - self.start)
+        self.f_scale = None
+
+    def _full(self, dq):
+        out = np.zeros(self.eq.size)
+        out[self.eq.keep] = dq
+        return out
+
+    # -- linear algebra ------------------------------------------------------------------------
+    @staticmethod
+    def bordered(Fq, g, row_q, row_l):
+        """Sparse LU of ``[[F_q, F_lambda], [row_q, row_l]]``."""
+        import scipy.sparse
+        import scipy.sparse.linalg
+
+        A = scipy.sparse.bmat([[Fq, scipy.sparse.csc_matrix(g[:, None])],
+                               [scipy.sparse.csc_matrix(row_q[None, :]), scipy.sparse.csc_matrix([[row_l]])]],
+                              format="csc")
+        return scipy.sparse.linalg.splu(A)
+
+    def tangent(self, q, lam, previous=None):
+        """Unit tangent ``(t_q, t_lambda)`` in scaled coordinates (``t_q`` on the unknowns), oriented along
+        ``previous`` (or towards ``stop``)."""
+        _, Fq, g = self.eq.reduced(q, lam)
+        if previous is None:
+            import scipy.sparse.linalg
+
+            dq = scipy.sparse.linalg.splu(Fq).solve(-g)
+            v = np.concatenate([dq / self.q_scale, [1.0 / self.l_scale]]) * self.direction
+        else:
+            tq, tl = previous
+            rhs = np.zeros(len(tq) + 1)
+            rhs[-1] = 1.0
+            x = self.bordered(Fq, g, tq / self.q_scale, tl / self.l_scale).solve(rhs)
+            v = np.concatenate([x[:-1] / self.q_scale, [x[-1] / self.l_scale]])
+        v = v / np.linalg.norm(v)
+        return v[:-1], float(v[-1])
+
+    def weigh(self, q, lam):
+        """Weigh the displacements so that the first tangent is half load, half displacement; its tangent."""
+        tq, tl = self.tangent(q, lam)
+        self.q_scale = self.q_scale * max(np.linalg.norm(tq) / max(abs(tl), 1e-300), 1e-12)
+        return self.tangent(q, lam)
+
+    def distance(self, q0, l0, q1, l1):
+        """The scaled length of the chord between two states."""
+        d = np.concatenate([(q1 - q0)[self.eq.keep] / self.q_scale, [(l1 - l0) / self.l_scale]])
+        return float(np.linalg.norm(d))
+
+    def along(self, t, q0, l0, q1, l1):
+        """The scaled distance from ``(q0, l0)`` to ``(q1, l1)`` along the tangent ``t``."""
+        return float(np.dot(t[0], (q1 - q0)[self.eq.keep] / self.q_scale) + t[1] * (l1 - l0) / self.l_scale)
+
+    # -- correctors -------------------------------------------------------------------------------
+    def correct(self, q0, lam0, t, ds, fixed_lambda=None, max_iter=MAX_ITER, tol=TOL):
+        """Newton on ``F = 0`` and the arclength equation (or ``lambda = fixed_lambda``) from the predictor.
+
+        Returns ``(q, lam, iterations)``; raises :class:`PathFailed` (kind ``newton``) when it does not converge
+        in :data:`MAX_ITER` iterations or strays from the predictor by more than the step (onto another branch).
+        """
+        tq, tl = t
+        if fixed_lambda is None:
+            q = q0 + self._full(ds * tq * self.q_scale)
+            lam = lam0 + ds * tl * self.l_scale
+        else:
+            ds = (fixed_lambda - lam0) / (tl * self.l_scale) if tl != 0 else 0.0
+            q = q0 + self._full(ds * tq * self.q_scale)
+            lam = fixed_lambda
+        q_pred, l_pred = q.copy(), lam
+        for it in range(1, max_iter + 1):
+            F, Fq, g = self.eq.reduced(q, lam)
+            if not (np.all(np.isfinite(F)) and np.all(np.isfinite(Fq.data))):
+                break
+            if fixed_lambda is None:
+                N = self.along(t, q0, lam0, q, lam) - ds
+                row_q, row_l = tq / self.q_scale, tl / self.l_scale
+            else:
+                N, row_q, row_l = lam - fixed_lambda, np.zeros(len(tq)), 1.0
+            try:
+                x = self.bordered(Fq, g, row_q, row_l).solve(-np.concatenate([F, [N]]))
+            except RuntimeError:  # exactly singular
+                break
+            q, lam = q + self._full(x[:-1]), lam + x[-1]
+            if not (np.all(np.isfinite(q)) and np.isfinite(lam)):
+                break
+            F = self.eq.residual(q, lam)
+            if np.abs(F).max() <= tol * self.f_scale:
+                if self.distance(q_pred, l_pred, q, lam) > max(abs(ds), 1e-12) * STRAY:
+                    raise PathFailed("newton", "the corrector left the predictor's neighbourhood")
+                return q, lam, it
+        raise PathFailed("newton", f"Newton did not converge in {max_iter} iterations")
+
+    def at_load(self, q, lam, max_iter=LOCATE_NEWTON, tol=LOCATE_TOL):
+        """Newton at fixed ``lambda`` from ``q`` (no damping): ``q``; :class:`PathFailed` when it does not converge."""
+        import scipy.sparse.linalg
+
+        for _ in range(max_iter):
+            F, Fq, _ = self.eq.reduced(q, lam)
+            if not np.all(np.isfinite(F)):
+                break
+            if np.abs(F).max() <= tol * self.f_scale:
+                return q
+            try:
+                q = q + self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
+            except RuntimeError:  # exactly singular
+                break
+        raise PathFailed("newton", f"Newton at {self.eq.parameter} = {lam:.6g} did not converge")
+
+    def equilibrium(self, q, lam):
+        """Newton at fixed ``lambda`` from ``q`` (the path's first state), halving its steps when the residual grows."""
+        import scipy.sparse.linalg
+
+        for it in range(MAX_ITER * 4):
+            F, Fq, _ = self.eq.reduced(q, lam)
+            if self.f_scale is None:
+                self.f_scale = float(np.abs(Fq.diagonal()).max()) * self.length
+            if np.abs(F).max() <= TOL * self.f_scale:
+                return q, it
+            step = self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
+            norm = np.abs(F).max()
+            for _ in range(30):
+                trial = q + step
+                Ft = self.eq.residual(trial, lam)
+                if np.all(np.isfinite(Ft)) and self.eq.limits_ok(trial) is None and np.abs(Ft).max() < norm:
+                    break
+                step = step / 2
+            else:
+                break
+            q = trial
+        raise PathFailed("newton", f"no equilibrium found at {self.eq.parameter} = {lam:g} {self.eq.units} "
+                         f"(Newton from the scene's initial state, residual {np.abs(F).max() / self.f_scale:.2g} "
+                         "of a unit strain's force)")
+
+
+def stability(eq, q, lam, count=EIGENVALUES):
+    """``(w2, phi, negative, det_sign)``: the ``count`` eigenvalues ``omega^2`` of ``K phi = omega^2 M phi``
+    nearest zero (ascending) on the free coordinates with the rigid motions projected out, their vectors, how many
+    eigenvalues are negative, and the sign of ``det K`` with the gauge's coordinates held (``K = -F_q``).
+
+    Shift-invert about a small negative shift with the operator projected M-orthogonally to the rigid motions,
+    which then have no eigenvalue at all (they are exact null vectors of ``K`` at an equilibrium).
+    """
+    import scipy.sparse.linalg
+
+    _, Fq, _ = eq.evaluate(q, lam)
+    K = (-(Fq + Fq.T) / 2).tocsc()
+    M = eq.mass(q)
+    reduced = K.tocsr()[eq.keep][:, eq.keep].tocsc()
+    lu = scipy.sparse.linalg.splu(reduced)
+    sign = int(np.prod(np.sign(lu.U.diagonal()))) * _parity(lu.perm_r) * _parity(lu.perm_c)
+    shift = -1e-9 * float(np.abs(K.diagonal()).max() / np.abs(M.diagonal()).max())
+    shifted = scipy.sparse.linalg.splu((K - shift * M).tocsc())
+    R = eq.rigid_vectors
+    MR = M @ R
+    gram = R.T @ MR
+
+    def project(x):
+        return x - R @ np.linalg.solve(gram, MR.T @ x) if R.shape[1] else x
+
+    size = eq.size - R.shape[1]
+    op = scipy.sparse.linalg.LinearOperator(K.shape, matvec=lambda b: project(shifted.solve(np.ravel(b))),
+                                            dtype=float)
+    v0 = project(np.random.default_rng(0).standard_normal(eq.size))
+    k = min(count, size - 2)
+    while True:
+        w2, phi = scipy.sparse.linalg.eigsh(K, k=k, M=M, sigma=shift, which="LM", OPinv=op, v0=v0)
+        order = np.argsort(w2)
+        w2, phi = w2[order], phi[:, order]
+        negative = int(np.sum(w2 < 0))
+        if negative < k or k >= size - 2:
+            return w2[:count], phi[:, :count], negative, sign
+        k = min(2 * k, size - 2)
+
+
+def _parity(perm):
+    """``+1`` or ``-1``: the sign of a permutation (from its cycles)."""
+    perm = np.asarray(perm)
+    seen = np.zeros(len(perm), dtype=bool)
+    sign = 1
+    for i in range(len(perm)):
+        if not seen[i]:
+            j, length = i, 0
+            while not seen[j]:
+                seen[j] = True
+                j = perm[j]
+                length += 1
+            if length % 2 == 0:
+                sign = -sign
+    return sign
+
+
+def family(eq, q, phi):
+    """``axisymmetric`` or ``torsional``: which motion carries most of mode ``phi``'s kinetic energy."""
+    M = eq.mass(q)
+    Mphi = M @ phi
+    local = (eq.q_idx % eq.ny)
+    chi = np.array(eq.system.active)[local] == 2
+    share = float(np.sum(phi[chi] * Mphi[chi]) / np.dot(phi, Mphi))
+    return ("torsional" if share > 0.5 else "axisymmetric"), share
+
+
+def _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds):
+    if parameter not in PATH_LOADS:
+        raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_LOADS) + "}",
+                             hint=f"the loads of scene {scene.name} a path can be continued in")
+    for name, value in (("start", start), ("stop", stop)):
+        if not is_number(value) or not math.isfinite(value):
+            raise ParameterError.not_a(name, value, "a finite number", "(-inf, inf)")
+    if start == stop:
+        raise ParameterError("stop", stop, f"values other than start = {start:g}")
+    for name, value, low in (("n", n, 3), ("steps", steps, 1), ("max_steps", max_steps, 1)):
+        if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < low:
+            raise ParameterError(name, value, f"integers >= {low}")
+    if ds is not None and not (is_number(ds) and math.isfinite(ds) and ds > 0):
+        raise ParameterError("ds", ds, "(0, inf), or None")
+
+
+def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None):
+    """Follow the equilibria of ``scene`` at rest as the load ``parameter`` goes from ``start`` to ``stop``.
+
+    Parameters
+    ----------
+    scene : ShellScene or str
+        A scene object or a registered name; its other loads stay as given, its initial state is where
+        Newton starts at ``lambda = start``.
+    parameter : str
+        The continued load: ``pressure``, ``gravity``, ``end1_force``, ``end2_force``, ``end1_torque`` or
+        ``end2_torque`` (units as the scene's parameter).
+    start, stop : float
+        The load's range; ``stop`` may be below ``start``.
+    n : int
+        Nodes in ``s``.
+    steps : int
+        The first step covers ``1/steps`` of the range (the later ones adapt).
+    max_steps : int
+        The path ends after this many steps.
+    ds : float, optional
+        The first step in the scaled arclength (default ``sqrt(2)/steps``).
+
+    Returns
+    -------
+    xarray.Dataset
+        Along ``step``: ``parameter``, the fields, ``arclength``, ``negative_eigenvalues``,
+        ``smallest_eigenvalues``, ``stiffness_det_sign``, ``stored_energy``, ``load_work``, ``volume``;
+        along ``point``: the critical points. ``attrs["status"]`` is ``complete`` (``stop`` reached),
+        ``max_steps``, ``failed`` or ``limit`` (``attrs["message"]`` says where).
+    """
+    scene = as_scene(scene)
+    _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds)
+    clock = time.perf_counter()
+    eq = EquilibriumEquations(scene, parameter, n)
+    tracer = _Path(eq, start, stop)
+    try:
+        q, iterations = tracer.equilibrium(eq.unknowns(eq.y_ref), float(start))
+    except PathFailed as exc:
+        raise ParameterError("start", start, "loads at which Newton finds an equilibrium from the scene's initial "
+                             "state", hint=str(exc)) from None
+    t = tracer.weigh(q, float(start))
+    ds0 = math.sqrt(2.0) / steps if ds is None else float(ds)
+    record = _Record(eq, tracer)
+    record.add(q, float(start), t, 0.0, iterations)
+    lam, h = float(start), ds0
+    status, message = "max_steps", f"stopped after max_steps = {max_steps} steps"
+    while len(record.lams) <= max_steps:
+        try:
+            q_new, lam_new, its = tracer.correct(q, lam, t, h)
+            where = eq.limits_ok(q_new)
+            if where is not None:
+                raise PathFailed("limit", f"{where[0]} at {where[1]}")
+        except PathFailed as exc:
+            if h <= ds0 * 2.0 ** -MIN_HALVINGS:
+                status = "limit" if exc.kind == "limit" else "failed"
+                message = (f"the path cannot continue from {parameter} = {lam:.6g} {eq.units}: {exc} "
+                           f"(at the smallest step, {h:.3g})")
+                break
+            h /= 2
+            continue
+        beyond = (lam_new - tracer.stop) * tracer.direction >= 0
+        if beyond:
+            try:
+                q_new, lam_new, its = tracer.correct(q, lam, t, h, fixed_lambda=tracer.stop)
+            except PathFailed:
+                h /= 2
+                continue
+        t_new = tracer.tangent(q_new, lam_new, previous=t)
+        arc = tracer.along(t, q, lam, q_new, lam_new)
+        record.add(q_new, lam_new, t_new, record.arcs[-1] + arc, its)
+        record.locate_between(-2, -1, (q, lam, t))
+        q, lam, t = q_new, lam_new, t_new
+        if beyond:
+            status, message = "complete", f"reached {parameter} = {lam:.6g} {eq.units}"
+            break
+        if (lam - tracer.start) * tracer.direction < 0 and len(record.lams) > 2:
+            status, message = "returned", f"the path came back below start = {start:g} {eq.units}"
+            break
+        h = min(h * (1.6 if its <= 3 else 1.0 if its <= 5 else 0.5), ds0 * MAX_GROWTH)
+    return path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)
+
+
+class _Record:
+    """Steps and critical points of a path as it is traced."""
+
+    def __init__(self, eq, tracer):
+        self.eq, self.tracer = eq, tracer
+        self.qs, self.lams, self.tls, self.arcs, self.iterations = [], [], [], [], []
+        self.eigen, self.negative, self.det_sign = [], [], []
+        self.stored, self.phi, self.volume = [], [], []
+        self.points = []
+
+    def add(self, q, lam, t, arc, its):
+        w2, _, negative, sign = stability(self.eq, q, lam)
+        phi, vol = self.eq.conjugate(q)
+        self.qs.append(q)
+        self.lams.append(lam)
+        self.tls.append(t[1])
+        self.arcs.append(arc)
+        self.iterations.append(its)
+        self.eigen.append(np.pad(w2, (0, EIGENVALUES - len(w2)), constant_values=np.nan))
+        self.negative.append(negative)
+        self.det_sign.append(sign)
+        self.stored.append(self.eq.stored_energy(q))
+        self.phi.append(phi)
+        self.volume.append(vol)
+
+    def work(self):
+        """``int lambda dPhi`` along the steps (trapezoidal rule)."""
+        lam, phi = np.asarray(self.lams), np.asarray(self.phi)
+        return np.concatenate([[0.0], np.cumsum((lam[1:] + lam[:-1]) / 2 * np.diff(phi))])
+
+    def locate_between(self, i, j, origin):
+        """Critical points between steps ``i`` and ``j``: one per eigenvalue whose sign changes between them."""
+        before, after = self.negative[i], self.negative[j]
+        if before == after and self.det_sign[i] == self.det_sign[j]:
+            return
+        kind = "limit" if self.tls[i] * self.tls[j] < 0 else "bifurcation"
+        for index in range(min(before, after), max(before, after)):  # the eigenvalues (ascending) that cross zero
+            self._locate(i, j, origin, index, kind, before, after)
+
+    def _locate(self, i, j, origin, index, kind, before, after):
+        """Illinois secant on eigenvalue ``index`` (ascending) between steps ``i`` and ``j``.
+
+        A bifurcation is located in ``lambda`` (each trial state by Newton at fixed ``lambda`` from the chord
+        between the two steps: near a bifurcation the arclength corrector may slide onto the other branch); a
+        limit point, where ``lambda`` turns, in the arclength from step ``i`` (each trial a corrector solve).
+        """
+        tr = self.tracer
+        q0, l0, t = origin
+        qi, qj, li, lj = self.qs[i], self.qs[j], self.lams[i], self.lams[j]
+        if kind == "limit":
+            a, b = 0.0, tr.along(t, q0, l0, qj, lj)
+            width = 1.0
+
+            def trial(x):
+                q, lam, _ = tr.correct(q0, l0, t, x, max_iter=LOCATE_NEWTON, tol=LOCATE_TOL)
+                return q, lam
+        else:
+            a, b = li, lj
+            width = tr.l_scale
+
+            def trial(x):
+                share = (x - li) / (lj - li)
+                q = tr.at_load(qi + share * (qj - qi), x)
+                if tr.distance(qi + share * (qj - qi), x, q, x) > STRAY * tr.distance(qi, li, qj, lj):
+                    raise PathFailed("newton", "the trial state left the chord between the steps")
+                return q, x
+
+        fa, fb = self.eigen[i][index], self.eigen[j][index]
+        q, lam = qj, lj
+        side = 0
+        for _ in range(LOCATE_ITER):
+            if not (np.isfinite(fa) and np.isfinite(fb)) or fa == fb:
+                break
+            x = b - fb * (b - a) / (fb - fa)
+            if not min(a, b) < x < max(a, b):
+                x = (a + b) / 2
+            try:
+                q, lam = trial(x)
+            except PathFailed:
+                break
+            fx = stability(self.eq, q, lam)[0][index]
+            if fx * fa > 0:
+                a, fa = x, fx
+                fb = fb / 2 if side == -1 else fb  # Illinois: the end kept twice running counts half
+                side = -1
+            else:
+                b, fb = x, fx
+                fa = fa / 2 if side == 1 else fa
+                side = 1
+            if abs(b - a) <= LOCATE_RTOL * width or fx == 0:
+                break
+        w2, vectors, _, _ = stability(self.eq, q, lam)
+        k = index if index < len(w2) else int(np.argmin(np.abs(w2)))
+        mode = vectors[:, k]
+        name, share = family(self.eq, q, mode)
+        self.points.append({"kind": kind, "parameter": lam, "step": i % len(self.lams), "family": name,
+                            "chi_share": share, "eigenvalue": w2[k], "mode": mode, "q": q,
+                            "negative_before": before, "negative_after": after})

@@ -1,0 +1,101 @@
+"""The Dataset of an equilibrium path (:func:`mol_shell.analysis.path.path`): steps, critical points, CF attrs."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from mol_shell.analysis.equilibria import CONJUGATE_UNITS
+from mol_shell.model.kinematics import FIELDS
+from mol_shell.results.cf import attr_value, coordinates, header, variables
+from mol_shell.results.dataset import FIELD_META
+from mol_shell.scenes import DESCRIPTIONS
+
+#: what every path file says about its critical loads
+SYMMETRY_NOTE = ("critical points are those of rotationally symmetric modes only (the model has no circumferential "
+                 "waves): where the real shell buckles into a non-symmetric mode they are upper bounds")
+
+
+def _shape(eq, vector):
+    """A vector on the unknowns as fields ``(5, n)`` (held and imposed entries 0, a pole's chi tied)."""
+    out = np.zeros((5, eq.n))
+    node, local = np.divmod(eq.q_idx, eq.ny)
+    out[np.array(eq.system.active)[local], node] = vector
+    return eq.system.tie(out)
+
+
+def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
+    """Assemble the Dataset of a traced path (``record``: the steps and critical points of ``_Record``)."""
+    system = eq.system
+    steps = len(record.lams)
+    fields = np.stack([system.unpack(eq.state(q)) for q in record.qs])
+    units = eq.units
+    data = {}
+    data["parameter"] = (("step",), np.array(record.lams), {
+        "units": units, "long_name": f"{DESCRIPTIONS.get(eq.parameter, eq.parameter)} (the continued load)",
+        "parameter": eq.parameter})
+    for k, name in enumerate(FIELDS):
+        u, long_name = FIELD_META[name]
+        data[name] = (("step", "s"), fields[:, k], {"units": u, "long_name": long_name})
+    data["arclength"] = (("step",), np.array(record.arcs), {"units": "1", "long_name":
+                         "pseudo-arclength along the path (scaled load and displacements)"})
+    data["newton_iterations"] = (("step",), np.array(record.iterations, dtype=np.int32),
+                                 {"units": "1", "long_name": "Newton iterations of the step's corrector"})
+    data["negative_eigenvalues"] = (("step",), np.array(record.negative, dtype=np.int32), {"units": "1", "long_name":
+                                    "number of negative eigenvalues of the tangent stiffness (rigid motions removed)"})
+    data["smallest_eigenvalues"] = (("step", "eigenvalue"), np.array(record.eigen), {"units": "s-2", "long_name":
+                                    "eigenvalues omega^2 of K phi = omega^2 M phi nearest zero, ascending"})
+    data["stiffness_det_sign"] = (("step",), np.array(record.det_sign, dtype=np.int32), {"units": "1", "long_name":
+                                  "sign of the determinant of the tangent stiffness (rigid motions removed)"})
+    data["stored_energy"] = (("step",), np.array(record.stored), {"units": "J", "long_name": "stored (strain) energy"})
+    data["load_work"] = (("step",), record.work(), {"units": "J", "long_name":
+                         f"work of the continued load since the first step: int {eq.parameter} dPhi (trapezoidal "
+                         "rule over the steps)"})
+    data["load_conjugate"] = (("step",), np.array(record.phi), {"units": CONJUGATE_UNITS[eq.parameter], "long_name":
+                              "displacement Phi conjugate to the continued load (its work is int load dPhi)"})
+    if system.edges == ("pole", "pole"):
+        data["volume"] = (("step",), np.array(record.volume), {"units": "m3", "long_name":
+                          "volume enclosed by the base surface"})
+    points = record.points
+    count = len(points)
+    shapes = np.zeros((count, 5, eq.n))
+    for m, point in enumerate(points):
+        shapes[m] = _shape(eq, point["mode"])
+        shapes[m] /= max(np.abs(shapes[m]).max(), 1e-300)
+    data["point_kind"] = (("point",), np.array([p["kind"] for p in points], dtype=object),
+                          {"long_name": "kind of critical point: limit (the load turns back) or bifurcation"})
+    data["point_parameter"] = (("point",), np.array([p["parameter"] for p in points], dtype=float),
+                               {"units": units, "long_name": f"{eq.parameter} at the critical point"})
+    data["point_step"] = (("point",), np.array([p["step"] for p in points], dtype=np.int32),
+                          {"units": "1", "long_name": "the step after which the critical point lies"})
+    data["point_family"] = (("point",), np.array([p["family"] for p in points], dtype=object), {"long_name":
+                            "family of the critical mode: torsional when chi carries most of its kinetic energy, "
+                            "else axisymmetric"})
+    data["point_eigenvalue"] = (("point",), np.array([p["eigenvalue"] for p in points], dtype=float),
+                                {"units": "s-2", "long_name": "the crossing eigenvalue where the point was located"})
+    for k, name in enumerate(FIELDS):
+        u, long_name = FIELD_META[name]
+        data[f"point_mode_{name}"] = (("point", "s"), shapes[:, k], {"units": u, "long_name":
+                                      f"critical mode: {long_name} (each scaled to a largest entry of 1)"})
+    z0, r0, theta0 = system.reference
+    data["z0"] = (("s",), z0, {"units": "m", "long_name": "axial position of the reference base surface"})
+    data["r0"] = (("s",), r0, {"units": "m", "long_name": "radius of the reference base surface"})
+    data["theta0"] = (("s",), theta0, {"units": "rad", "long_name": "angle of the reference generator tangent"})
+    coords = {"step": ("step", np.arange(steps, dtype=np.int32), {"long_name": "step along the path"}),
+              "point": ("point", np.arange(count, dtype=np.int32), {"long_name": "critical point"}),
+              "eigenvalue": ("eigenvalue", np.arange(record.eigen[0].size, dtype=np.int32),
+                             {"long_name": "index of the eigenvalue nearest zero, ascending"}),
+              "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"})}
+    attrs = {**header(f"mol_shell equilibrium path of scene {scene.name} in {eq.parameter}"),
+             "scene": scene.name, "n": eq.n, "parameter": eq.parameter, "parameter_units": units,
+             "start": float(start), "stop": float(stop), "status": status, "message": message,
+             "complete": int(status == "complete"), "critical_points": SYMMETRY_NOTE,
+             "rigid_motions": "; ".join(eq.gauge) if eq.gauge else "none (the edges hold the shell)",
+             "method": "Keller pseudo-arclength, exact sparse Jacobian, bordered sparse LU; eigenvalues by "
+                       "shift-invert about zero",
+             "wall_time_s": float(wall_time), "edge_s0": system.edges[0], "edge_sL": system.edges[1],
+             "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
+    for name, value in scene.params().items():
+        if name != eq.parameter:
+            attrs[name] = value
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in attrs.items()})
