@@ -7,6 +7,7 @@ only from those before it): ``_core``, ``model``, ``discretization``, ``integrat
 
 from mol_shell._core.version import __version__
 from mol_shell.analysis.modes import modes
+from mol_shell.analysis.path import path
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.dataset import read_netcdf, write_netcdf
 from mol_shell.results.stresses import add_stresses
@@ -32,6 +33,6 @@ from mol_shell.scenes.files import load_scene
 
 __all__ = [
     "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "MeridianShell", "ShellScene", "SpinningRing", "Sphere", "Torus",
-    "TwistedCylinder", "Unshearable", "__version__", "build", "get_scene", "load_scene", "modes", "read_netcdf",
+    "TwistedCylinder", "Unshearable", "__version__", "build", "get_scene", "load_scene", "modes", "path", "read_netcdf",
     "simulate", "simulate_ring", "simulate_unshearable", "study", "write_netcdf",
 ]

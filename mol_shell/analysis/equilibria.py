@@ -33,7 +33,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell.discretization.loading import check_end_loads, load_terms, volume_sign
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.loads import cell_volume, gravity_potential
-from mol_shell.runs.checks import check_system
+from mol_shell.runs.checks import check_system, resolve
 from mol_shell.scenes import DRIVES, LOADS, UNITS
 
 #: the loads a path can be continued in (drag is not a load at rest)
@@ -98,7 +98,7 @@ class EquilibriumEquations:
                 raise ParameterError(drive, getattr(scene, drive), "0", hint="a path is a sequence of states at rest")
         self.parameter = parameter
         self.units = UNITS[parameter]
-        base = dataclasses.replace(scene, **{parameter: 0.0})
+        base = resolve(dataclasses.replace(scene, **{parameter: 0.0}))
         others = {load: 0.0 for load in LOADS if getattr(scene, load) != 0}
         unit = dataclasses.replace(scene, **others, **{parameter: 1.0, parameter + "_history": "constant"})
         self.scene = base

@@ -36,6 +36,7 @@ from mol_shell.cli.args import (
     parse_sets,
     parse_times_arg,
 )
+from mol_shell.cli.path import register_path
 from mol_shell.cli.study import register_study
 from mol_shell.cli.views import register_animate, register_export
 from mol_shell.integrators import INTEGRATORS
@@ -171,7 +172,7 @@ def make_parser():
     plot.add_argument("-o", "--output", required=True, help="image to write (.png, .pdf, .svg, ...)")
     plot.set_defaults(func=cmd_plot, output_suffixes=_image_formats)
     for register in (register_compare, register_stability, register_study, register_modes, register_export,
-                     register_animate):
+                     register_animate, register_path):
         register(sub)
     return parser
 
