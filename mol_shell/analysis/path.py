@@ -56,8 +56,8 @@ LOCATE_ITER = 30
 #: Newton iterations allowed to the corrector of a trial point there, and its tolerance: the bordered matrix is
 #: singular at a bifurcation, and near one Newton converges slowly to a residual that stalls above TOL (the
 #: eigenvalues at the trial point move by the residual's order only)
-LOCATE_NEWTON = 12
-LOCATE_TOL = 1e-7
+LOCATE_NEWTON = 20
+LOCATE_TOL = 1e-9
 #: a corrector that ends farther than this many steps from its predictor has jumped to another branch
 STRAY = 0.5
 
@@ -153,7 +153,9 @@ class _Path:
             q = q0 + self._full(ds * tq * self.q_scale)
             lam = fixed_lambda
         q_pred, l_pred = q.copy(), lam
+        polished, F = False, None  # one step more after the tolerance (see at_load)
         for it in range(1, max_iter + 1):
+            polished = polished or (F is not None and np.abs(F).max() <= tol * self.f_scale)
             F, Fq, g = self.eq.reduced(q, lam)
             if not (np.all(np.isfinite(F)) and np.all(np.isfinite(Fq.data))):
                 break
@@ -170,7 +172,7 @@ class _Path:
             if not (np.all(np.isfinite(q)) and np.isfinite(lam)):
                 break
             F = self.eq.residual(q, lam)
-            if np.abs(F).max() <= tol * self.f_scale:
+            if np.abs(F).max() <= tol * self.f_scale and (polished or it == max_iter):
                 if self.distance(q_pred, l_pred, q, lam) > max(abs(ds), 1e-12) * STRAY:
                     raise PathFailed("newton", "the corrector left the predictor's neighbourhood")
                 return q, lam, it
@@ -180,17 +182,28 @@ class _Path:
         """Newton at fixed ``lambda`` from ``q`` (no damping): ``q``; :class:`PathFailed` when it does not converge."""
         import scipy.sparse.linalg
 
+        done = False
         for _ in range(max_iter):
             F, Fq, _ = self.eq.reduced(q, lam)
             if not np.all(np.isfinite(F)):
                 break
-            if np.abs(F).max() <= tol * self.f_scale:
+            if done:
                 return q
+            # one more step after the tolerance: near a critical point K is nearly singular, and a residual at the
+            # tolerance leaves an error along the critical mode of (residual / smallest eigenvalue)
+            done = np.abs(F).max() <= tol * self.f_scale
             try:
                 q = q + self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
             except RuntimeError:  # exactly singular
                 break
         raise PathFailed("newton", f"Newton at {self.eq.parameter} = {lam:.6g} did not converge")
+
+    def slope(self, q, lam):
+        """``dq/dlambda`` along the path at fixed load (``-F_q^-1 F_lambda`` on the unknowns)."""
+        import scipy.sparse.linalg
+
+        _, Fq, g = self.eq.reduced(q, lam)
+        return self._full(scipy.sparse.linalg.splu(Fq).solve(-g))
 
     def equilibrium(self, q, lam):
         """Newton at fixed ``lambda`` from ``q`` (the path's first state), halving its steps when the residual grows."""
@@ -442,14 +455,18 @@ class _Record:
         else:
             a, b = li, lj
             width = tr.l_scale
+            start = {}
 
             def trial(x):
-                share = (x - li) / (lj - li)
-                q = tr.at_load(qi + share * (qj - qi), x)
-                if tr.distance(qi + share * (qj - qi), x, q, x) > STRAY * tr.distance(qi, li, qj, lj):
-                    raise PathFailed("newton", "the trial state left the chord between the steps")
+                # from the nearest state known on the branch, along its slope dq/dlambda (a far predictor may
+                # bring Newton onto a branch that crosses this one)
+                if not start:
+                    near_i = abs(x - li) <= abs(x - lj)
+                    q_near, l_near = (qi, li) if near_i else (qj, lj)
+                    start.update(q=q_near, lam=l_near, slope=tr.slope(q_near, l_near))
+                q = tr.at_load(start["q"] + (x - start["lam"]) * start["slope"], x)
+                start.update(q=q, lam=x, slope=tr.slope(q, x))
                 return q, x
-
         fa, fb = self.eigen[i][index], self.eigen[j][index]
         q, lam = qj, lj
         side = 0
