@@ -438,9 +438,12 @@ class _Record:
     def _locate(self, i, j, origin, index, kind, before, after):
         """Illinois secant on eigenvalue ``index`` (ascending) between steps ``i`` and ``j``.
 
-        A bifurcation is located in ``lambda`` (each trial state by Newton at fixed ``lambda`` from the chord
-        between the two steps: near a bifurcation the arclength corrector may slide onto the other branch); a
-        limit point, where ``lambda`` turns, in the arclength from step ``i`` (each trial a corrector solve).
+        A bifurcation is located in ``lambda``: each trial state by Newton at fixed ``lambda`` from the chord
+        between the bracket's two states, refused when it lands off that chord by more than a quarter of its
+        length (near a bifurcation another branch lies close by, and Newton may slide onto it); the first trial
+        may start from step ``i`` along its slope ``dq/dlambda`` instead, step ``j`` lying past the crossing. A
+        limit point, where ``lambda`` turns, is located in the arclength from step ``i`` (each trial a corrector
+        solve). A point whose bracket did not close to :data:`LOCATE_RTOL` is kept with ``located`` false.
         """
         tr = self.tracer
         q0, l0, t = origin
@@ -455,21 +458,23 @@ class _Record:
         else:
             a, b = li, lj
             width = tr.l_scale
-            start = {}
+            ends = {"a": (qi, li), "b": (qj, lj)}
 
             def trial(x):
-                # from the nearest state known on the branch, along its slope dq/dlambda (a far predictor may
-                # bring Newton onto a branch that crosses this one)
-                if not start:
-                    near_i = abs(x - li) <= abs(x - lj)
-                    q_near, l_near = (qi, li) if near_i else (qj, lj)
-                    start.update(q=q_near, lam=l_near, slope=tr.slope(q_near, l_near))
-                q = tr.at_load(start["q"] + (x - start["lam"]) * start["slope"], x)
-                start.update(q=q, lam=x, slope=tr.slope(q, x))
+                (qa, la), (qb, lb) = ends["a"], ends["b"]
+                chord = qa + (x - la) / (lb - la) * (qb - qa)
+                try:
+                    q = tr.at_load(chord, x)
+                    if tr.distance(chord, x, q, x) > 0.25 * tr.distance(qa, la, qb, lb) + 1e-9:
+                        raise PathFailed("newton", "the trial state left the chord of the bracket")
+                except PathFailed:
+                    if la != li:
+                        raise
+                    q = tr.at_load(qi + (x - li) * tr.slope(qi, li), x)
                 return q, x
         fa, fb = self.eigen[i][index], self.eigen[j][index]
         q, lam = qj, lj
-        side = 0
+        side, located = 0, False
         for _ in range(LOCATE_ITER):
             if not (np.isfinite(fa) and np.isfinite(fb)) or fa == fb:
                 break
@@ -485,16 +490,21 @@ class _Record:
                 a, fa = x, fx
                 fb = fb / 2 if side == -1 else fb  # Illinois: the end kept twice running counts half
                 side = -1
+                if kind != "limit":
+                    ends["a"] = (q, lam)
             else:
                 b, fb = x, fx
                 fa = fa / 2 if side == 1 else fa
                 side = 1
+                if kind != "limit":
+                    ends["b"] = (q, lam)
             if abs(b - a) <= LOCATE_RTOL * width or fx == 0:
+                located = True
                 break
         w2, vectors, _, _ = stability(self.eq, q, lam)
         k = index if index < len(w2) else int(np.argmin(np.abs(w2)))
         mode = vectors[:, k]
         name, share = family(self.eq, q, mode)
         self.points.append({"kind": kind, "parameter": lam, "step": i % len(self.lams), "family": name,
-                            "chi_share": share, "eigenvalue": w2[k], "mode": mode, "q": q,
+                            "chi_share": share, "eigenvalue": w2[k], "mode": mode, "q": q, "located": located,
                             "negative_before": before, "negative_after": after})

@@ -6,6 +6,9 @@ import numpy as np
 import xarray as xr
 
 from mol_shell.analysis.equilibria import CONJUGATE_UNITS
+
+#: the location tolerance of critical points (mol_shell.analysis.path.LOCATE_RTOL; here to keep the import one-way)
+LOCATE_RTOL = 1e-7
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META
@@ -71,6 +74,9 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     data["point_family"] = (("point",), np.array([p["family"] for p in points], dtype=object), {"long_name":
                             "family of the critical mode: torsional when chi carries most of its kinetic energy, "
                             "else axisymmetric"})
+    data["point_located"] = (("point",), np.array([p["located"] for p in points], dtype=np.int8), {"units": "1",
+                             "long_name": "1 where the crossing was located to the stated tolerance (attr "
+                             "locate_tolerance), 0 where the search stopped early (the last estimate kept)"})
     data["point_eigenvalue"] = (("point",), np.array([p["eigenvalue"] for p in points], dtype=float),
                                 {"units": "s-2", "long_name": "the crossing eigenvalue where the point was located"})
     for k, name in enumerate(FIELDS):
@@ -93,6 +99,8 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
              "rigid_motions": "; ".join(eq.gauge) if eq.gauge else "none (the edges hold the shell)",
              "method": "Keller pseudo-arclength, exact sparse Jacobian, bordered sparse LU; eigenvalues by "
                        "shift-invert about zero",
+             "locate_tolerance": "bifurcations: a bracket of LOCATE_RTOL |stop - start| in the parameter; limit "
+                                 "points: of LOCATE_RTOL in the scaled arclength".replace("LOCATE_RTOL", f"{LOCATE_RTOL:g}"),
              "wall_time_s": float(wall_time), "edge_s0": system.edges[0], "edge_sL": system.edges[1],
              "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
     for name, value in scene.params().items():
