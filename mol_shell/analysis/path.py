@@ -440,8 +440,8 @@ class _Record:
 
         A bifurcation is located in ``lambda``: each trial state by Newton at fixed ``lambda`` from the chord
         between the bracket's two states, refused when it lands off that chord by more than a quarter of its
-        length (near a bifurcation another branch lies close by, and Newton may slide onto it); the first trial
-        may start from step ``i`` along its slope ``dq/dlambda`` instead, step ``j`` lying past the crossing. A
+        length (near a bifurcation another branch lies close by, and Newton may slide onto it); a refused trial
+        starts again from the bracket's end on the side of step ``i``, along its slope ``dq/dlambda``. A
         limit point, where ``lambda`` turns, is located in the arclength from step ``i`` (each trial a corrector
         solve). A point whose bracket did not close to :data:`LOCATE_RTOL` is kept with ``located`` false.
         """
@@ -467,10 +467,8 @@ class _Record:
                     q = tr.at_load(chord, x)
                     if tr.distance(chord, x, q, x) > 0.25 * tr.distance(qa, la, qb, lb) + 1e-9:
                         raise PathFailed("newton", "the trial state left the chord of the bracket")
-                except PathFailed:
-                    if la != li:
-                        raise
-                    q = tr.at_load(qi + (x - li) * tr.slope(qi, li), x)
+                except PathFailed:  # from the end on the side of step i, along its slope
+                    q = tr.at_load(qa + (x - la) * tr.slope(qa, la), x)
                 return q, x
         fa, fb = self.eigen[i][index], self.eigen[j][index]
         q, lam = qj, lj
@@ -503,6 +501,8 @@ class _Record:
                 break
         w2, vectors, _, _ = stability(self.eq, q, lam)
         k = index if index < len(w2) else int(np.argmin(np.abs(w2)))
+        # a closed bracket on a branch other than the steps' shows no eigenvalue near zero there
+        located = located and abs(w2[k]) <= 1e-3 * max(abs(self.eigen[i][index]), abs(self.eigen[j][index]))
         mode = vectors[:, k]
         name, share = family(self.eq, q, mode)
         self.points.append({"kind": kind, "parameter": lam, "step": i % len(self.lams), "family": name,

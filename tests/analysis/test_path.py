@@ -89,7 +89,7 @@ def test_first_critical_point_is_the_classical_axisymmetric_bifurcation(request,
     assert ds.attrs["status"] == "complete"
     p_cl = classical(h)
     first = int(np.argmax(ds.point_parameter.values))  # the least external pressure
-    assert ds.point_kind.values[first] == "bifurcation"
+    assert ds.point_kind.values[first] == "bifurcation" and ds.point_located.values[first] == 1
     assert ds.point_family.values[first] == "axisymmetric"
     assert sign_changes_of_normal_mode(ds, first) == l
     # no instability before it
