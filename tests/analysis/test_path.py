@@ -157,3 +157,30 @@ def test_the_command_writes_a_readable_dataset(tmp_path, capsys):
         assert ds.r.dims == ("step", "s") and ds.r.attrs["units"] == "m"
         assert ds.attrs["Conventions"] == "CF-1.8" and "rotationally symmetric" in ds.attrs["critical_points"]
         assert ds.sizes["point"] == 0 and np.all(ds.negative_eigenvalues.values == 0)
+
+
+
+@pytest.fixture(scope="module")
+def crushed():
+    """A thick sphere (a/t = 10) pushed to 16 x its classical pressure: past its buckling the wall folds until
+    delta = r beta1 cos(psi), the stretch of a circle of the wall, reaches 0 (a limit of the model)."""
+    return path(Sphere(h=0.05, nu=0.3, material="svk-plane-stress"), "pressure", 0.0, -2e5, n=12, steps=5)
+
+
+def test_a_path_that_reaches_a_model_limit_keeps_its_steps_and_says_where(crushed):
+    assert crushed.attrs["status"] == "limit"
+    assert "delta = r beta1 cos(psi) reached 0 at s = " in crushed.attrs["message"]
+    assert crushed.sizes["step"] > 2 and -2e5 < float(crushed.parameter[-1]) < 0
+    assert crushed.point_kind.values[0] in ("limit", "bifurcation")
+
+
+def test_the_command_exits_3_on_a_path_that_cannot_continue_and_writes_its_steps(crushed, tmp_path, capsys,
+                                                                                monkeypatch):
+    monkeypatch.setattr("mol_shell.cli.path.path", lambda *args, **kwargs: crushed)
+    out = tmp_path / "crushed.nc"
+    code = main(["path", "sphere", "--param", "pressure=0:-2e5", "-o", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert code == 3
+    assert err.splitlines()[0].startswith("mol-shell: path stopped: the path cannot continue") and "reached 0" in err
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["status"] == "limit" and ds.sizes["step"] == crushed.sizes["step"]
