@@ -27,7 +27,9 @@ import pytest
 import xarray as xr
 
 from mol_shell import Sphere, path
+from mol_shell.analysis.equilibria import EquilibriumEquations
 from mol_shell.cli.main import main
+from mol_shell.discretization.system import ShellSystem
 
 E, NU, A = 1.0e6, 0.3, 1.0
 ROOT = math.sqrt(12 * (1 - NU**2))
@@ -184,3 +186,25 @@ def test_the_command_exits_3_on_a_path_that_cannot_continue_and_writes_its_steps
     assert err.splitlines()[0].startswith("mol-shell: path stopped: the path cannot continue") and "reached 0" in err
     with xr.open_dataset(out) as ds:
         assert ds.attrs["status"] == "limit" and ds.sizes["step"] == crushed.sizes["step"]
+
+
+def test_the_path_equations_are_the_dynamics_at_rest_and_exactly_linear_in_the_load():
+    """F(q, lambda) equals the momentum rates of the scene built with the load at lambda (the graph runs use), and
+    dF/dlambda is the unit load's force, exact: F(q, l2) - F(q, l1) = (l2 - l1) dF/dlambda to round-off."""
+    scene = sphere(0.02)
+    eq = EquilibriumEquations(scene, "pressure", 10)
+    q = eq.unknowns(eq.y_ref) * (1 + 0.01 * np.random.default_rng(3).standard_normal(eq.size))
+    lam = -123.0
+    F, Fq, g = eq.evaluate(q, lam)
+    loaded = ShellSystem(Sphere(a=A, h=0.02, E=E, nu=NU, material="svk-plane-stress", pressure=lam), 10)
+    y = np.zeros(loaded.size)
+    y[: eq.y_ref.size] = eq.state(q)[: eq.y_ref.size]
+    rates = np.array(loaded.rhs_newton(0, y)).ravel()[eq.p_idx]
+    scale = np.abs(rates).max()
+    assert np.abs(F - rates).max() <= 1e-12 * scale
+    F2 = eq.evaluate(q, lam + 50.0)[0]
+    assert np.abs(F2 - F - 50.0 * g).max() <= 1e-12 * scale
+    # and dF/dq is the Jacobian of F: a directional difference agrees to second order
+    dq = 1e-6 * np.random.default_rng(4).standard_normal(eq.size)
+    assert np.abs(eq.evaluate(q + dq, lam)[0] - eq.evaluate(q - dq, lam)[0] - 2 * Fq @ dq).max() <= 1e-6 * np.abs(
+        2 * Fq @ dq).max()
