@@ -18,10 +18,11 @@ convergence; a failed or limit-crossing step is halved down to ``ds / 2^10``, wh
 
 Stability at each step: the eigenvalues ``omega^2`` of ``K phi = omega^2 M phi`` nearest zero (``K = -F_q``,
 ``M`` the lumped mass matrix; sparse shift-invert, ``scipy.sparse.linalg.eigsh`` about a small negative shift),
-their count below zero, and the sign of ``det K`` from its LU. Between two steps where the count changes, the
-crossing is located by the secant method on the crossing eigenvalue along the arclength (each trial a corrector
-solve from the earlier step) to :data:`LOCATE_RTOL` of ``lambda``: kind ``limit`` where ``t_lambda`` changes
-sign over the interval, else ``bifurcation``. Its mode is the eigenvector there, its family ``torsional`` when
+their count below zero, and the sign of ``det K`` from its LU. Between two steps where the count changes, each
+crossing is located by the secant method on the crossing eigenvalue to ``LOCATE_RTOL`` of the range
+(:mod:`mol_shell.analysis.path_stability`): a bifurcation in ``lambda``, each trial state by Newton at fixed
+``lambda`` from the chord of the bracket; a limit point (``t_lambda`` changes sign over the interval) in the
+arclength, each trial a corrector solve from the earlier step. Its mode is the eigenvector there, its family ``torsional`` when
 ``chi`` carries most of its kinetic energy, else ``axisymmetric``. No branch is switched to.
 
 The model is rotationally symmetric: its critical points are those of rotationally symmetric modes only, upper
@@ -38,20 +39,17 @@ import numpy as np
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.analysis.equilibria import PATH_LOADS, EquilibriumEquations
 from mol_shell.analysis.path_dataset import path_dataset
+from mol_shell.analysis.path_stability import EIGENVALUES, LOCATE_RTOL, family, stability
 from mol_shell.runs.building import as_scene
 
-#: Newton's convergence: ``|F|`` below this fraction of the forces of a unit strain, and the update below
-#: this fraction of the meridian's size
+#: Newton's convergence: ``|F|`` below this fraction of the forces of a unit strain (``max diag K`` times the
+#: meridian's size), then one step more
 TOL = 1e-10
 MAX_ITER = 8
 #: step control: the ratio of steps to the first one stays in ``[2^-MIN_HALVINGS, MAX_GROWTH]``
 MIN_HALVINGS = 10
 MAX_GROWTH = 2.0
-#: eigenvalues computed nearest zero at each step
-EIGENVALUES = 6
-#: critical points are located to this width of the bracket in the scaled arclength (about this fraction of
-#: ``|stop - start|`` in ``lambda``)
-LOCATE_RTOL = 1e-7
+#: secant iterations per critical point
 LOCATE_ITER = 30
 #: Newton iterations allowed to the corrector of a trial point there, and its tolerance: the bordered matrix is
 #: singular at a bifurcation, and near one Newton converges slowly to a residual that stalls above TOL (the
@@ -231,73 +229,6 @@ class _Path:
                          "of a unit strain's force)")
 
 
-def stability(eq, q, lam, count=EIGENVALUES):
-    """``(w2, phi, negative, det_sign)``: the ``count`` eigenvalues ``omega^2`` of ``K phi = omega^2 M phi``
-    nearest zero (ascending) on the free coordinates with the rigid motions projected out, their vectors, how many
-    eigenvalues are negative, and the sign of ``det K`` with the gauge's coordinates held (``K = -F_q``).
-
-    Shift-invert about a small negative shift with the operator projected M-orthogonally to the rigid motions,
-    which then have no eigenvalue at all (they are exact null vectors of ``K`` at an equilibrium).
-    """
-    import scipy.sparse.linalg
-
-    _, Fq, _ = eq.evaluate(q, lam)
-    K = (-(Fq + Fq.T) / 2).tocsc()
-    M = eq.mass(q)
-    reduced = K.tocsr()[eq.keep][:, eq.keep].tocsc()
-    lu = scipy.sparse.linalg.splu(reduced)
-    sign = int(np.prod(np.sign(lu.U.diagonal()))) * _parity(lu.perm_r) * _parity(lu.perm_c)
-    shift = -1e-9 * float(np.abs(K.diagonal()).max() / np.abs(M.diagonal()).max())
-    shifted = scipy.sparse.linalg.splu((K - shift * M).tocsc())
-    R = eq.rigid_vectors
-    MR = M @ R
-    gram = R.T @ MR
-
-    def project(x):
-        return x - R @ np.linalg.solve(gram, MR.T @ x) if R.shape[1] else x
-
-    size = eq.size - R.shape[1]
-    op = scipy.sparse.linalg.LinearOperator(K.shape, matvec=lambda b: project(shifted.solve(np.ravel(b))),
-                                            dtype=float)
-    v0 = project(np.random.default_rng(0).standard_normal(eq.size))
-    k = min(count, size - 2)
-    while True:
-        w2, phi = scipy.sparse.linalg.eigsh(K, k=k, M=M, sigma=shift, which="LM", OPinv=op, v0=v0)
-        order = np.argsort(w2)
-        w2, phi = w2[order], phi[:, order]
-        negative = int(np.sum(w2 < 0))
-        if negative < k or k >= size - 2:
-            return w2[:count], phi[:, :count], negative, sign
-        k = min(2 * k, size - 2)
-
-
-def _parity(perm):
-    """``+1`` or ``-1``: the sign of a permutation (from its cycles)."""
-    perm = np.asarray(perm)
-    seen = np.zeros(len(perm), dtype=bool)
-    sign = 1
-    for i in range(len(perm)):
-        if not seen[i]:
-            j, length = i, 0
-            while not seen[j]:
-                seen[j] = True
-                j = perm[j]
-                length += 1
-            if length % 2 == 0:
-                sign = -sign
-    return sign
-
-
-def family(eq, q, phi):
-    """``axisymmetric`` or ``torsional``: which motion carries most of mode ``phi``'s kinetic energy."""
-    M = eq.mass(q)
-    Mphi = M @ phi
-    local = (eq.q_idx % eq.ny)
-    chi = np.array(eq.system.active)[local] == 2
-    share = float(np.sum(phi[chi] * Mphi[chi]) / np.dot(phi, Mphi))
-    return ("torsional" if share > 0.5 else "axisymmetric"), share
-
-
 def _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds):
     if parameter not in PATH_LOADS:
         raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_LOADS) + "}",
@@ -443,7 +374,7 @@ class _Record:
         length (near a bifurcation another branch lies close by, and Newton may slide onto it); a refused trial
         starts again from the bracket's end on the side of step ``i``, along its slope ``dq/dlambda``. A
         limit point, where ``lambda`` turns, is located in the arclength from step ``i`` (each trial a corrector
-        solve). A point whose bracket did not close to :data:`LOCATE_RTOL` is kept with ``located`` false.
+        solve). A point whose bracket did not close to ``LOCATE_RTOL`` is kept with ``located`` false (``LOCATE_RTOL``: :mod:`mol_shell.analysis.path_stability`).
         """
         tr = self.tracer
         q0, l0, t = origin

@@ -6,9 +6,7 @@ import numpy as np
 import xarray as xr
 
 from mol_shell.analysis.equilibria import CONJUGATE_UNITS
-
-#: the location tolerance of critical points (mol_shell.analysis.path.LOCATE_RTOL; here to keep the import one-way)
-LOCATE_RTOL = 1e-7
+from mol_shell.analysis.path_stability import LOCATE_RTOL
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META

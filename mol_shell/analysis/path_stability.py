@@ -1,0 +1,79 @@
+"""Stability along an equilibrium path: the spectrum of the tangent stiffness with the rigid motions projected out,
+the sign of its determinant, and the family of a mode."""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: eigenvalues computed nearest zero at each step
+EIGENVALUES = 6
+#: critical points are located to this width of the bracket: this fraction of ``|stop - start|`` in the load for a
+#: bifurcation, this much of the scaled arclength for a limit point
+LOCATE_RTOL = 1e-7
+
+
+def stability(eq, q, lam, count=EIGENVALUES):
+    """``(w2, phi, negative, det_sign)``: the ``count`` eigenvalues ``omega^2`` of ``K phi = omega^2 M phi``
+    nearest zero (ascending) on the free coordinates with the rigid motions projected out, their vectors, how many
+    eigenvalues are negative, and the sign of ``det K`` with the gauge's coordinates held (``K = -F_q``).
+
+    Shift-invert about a small negative shift with the operator projected M-orthogonally to the rigid motions,
+    which then have no eigenvalue at all (they are exact null vectors of ``K`` at an equilibrium).
+    """
+    import scipy.sparse.linalg
+
+    _, Fq, _ = eq.evaluate(q, lam)
+    K = (-(Fq + Fq.T) / 2).tocsc()
+    M = eq.mass(q)
+    reduced = K.tocsr()[eq.keep][:, eq.keep].tocsc()
+    lu = scipy.sparse.linalg.splu(reduced)
+    sign = int(np.prod(np.sign(lu.U.diagonal()))) * _parity(lu.perm_r) * _parity(lu.perm_c)
+    shift = -1e-9 * float(np.abs(K.diagonal()).max() / np.abs(M.diagonal()).max())
+    shifted = scipy.sparse.linalg.splu((K - shift * M).tocsc())
+    R = eq.rigid_vectors
+    MR = M @ R
+    gram = R.T @ MR
+
+    def project(x):
+        return x - R @ np.linalg.solve(gram, MR.T @ x) if R.shape[1] else x
+
+    size = eq.size - R.shape[1]
+    op = scipy.sparse.linalg.LinearOperator(K.shape, matvec=lambda b: project(shifted.solve(np.ravel(b))),
+                                            dtype=float)
+    v0 = project(np.random.default_rng(0).standard_normal(eq.size))
+    k = min(count, size - 2)
+    while True:
+        w2, phi = scipy.sparse.linalg.eigsh(K, k=k, M=M, sigma=shift, which="LM", OPinv=op, v0=v0)
+        order = np.argsort(w2)
+        w2, phi = w2[order], phi[:, order]
+        negative = int(np.sum(w2 < 0))
+        if negative < k or k >= size - 2:
+            return w2[:count], phi[:, :count], negative, sign
+        k = min(2 * k, size - 2)
+
+
+def _parity(perm):
+    """``+1`` or ``-1``: the sign of a permutation (from its cycles)."""
+    perm = np.asarray(perm)
+    seen = np.zeros(len(perm), dtype=bool)
+    sign = 1
+    for i in range(len(perm)):
+        if not seen[i]:
+            j, length = i, 0
+            while not seen[j]:
+                seen[j] = True
+                j = perm[j]
+                length += 1
+            if length % 2 == 0:
+                sign = -sign
+    return sign
+
+
+def family(eq, q, phi):
+    """``axisymmetric`` or ``torsional``: which motion carries most of mode ``phi``'s kinetic energy."""
+    M = eq.mass(q)
+    Mphi = M @ phi
+    local = (eq.q_idx % eq.ny)
+    chi = np.array(eq.system.active)[local] == 2
+    share = float(np.sum(phi[chi] * Mphi[chi]) / np.dot(phi, Mphi))
+    return ("torsional" if share > 0.5 else "axisymmetric"), share
