@@ -5,6 +5,7 @@ only from those before it): ``_core``, ``model``, ``discretization``, ``integrat
 ``results``, ``runs``, ``analysis``, ``views``, ``cli``.
 """
 
+from mol_shell._core.errors import MaterialWarning
 from mol_shell._core.version import __version__
 from mol_shell.analysis.modes import modes
 from mol_shell.analysis.path import path
@@ -32,7 +33,8 @@ from mol_shell.scenes import (
 from mol_shell.scenes.files import load_scene
 
 __all__ = [
-    "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "MeridianShell", "ShellScene", "SpinningRing", "Sphere", "Torus",
-    "TwistedCylinder", "Unshearable", "__version__", "build", "get_scene", "load_scene", "modes", "path", "read_netcdf",
+    "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "MaterialWarning", "MeridianShell", "ShellScene",
+    "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "Unshearable", "__version__", "build", "get_scene",
+    "load_scene", "modes", "path", "read_netcdf",
     "simulate", "simulate_ring", "simulate_unshearable", "study", "write_netcdf",
 ]

@@ -13,9 +13,15 @@ _REPR.maxstring = 300  # file paths in full (a temporary directory alone can be 
 
 
 def show(value):
-    """A value as an error message shows it: ``repr``, NumPy scalars as Python numbers, long arrays cut short."""
+    """A value as an error message shows it: ``repr``, NumPy scalars as Python numbers, long arrays cut short.
+
+    A string is shown whole (a path or a word cut in its middle cannot be acted on); long lists and arrays
+    are cut at an element.
+    """
     if isinstance(value, np.generic):
         value = value.item()
+    if isinstance(value, str):
+        return repr(value)
     if isinstance(value, np.ndarray):
         if value.size > 6:
             return f"<array of {value.size} values, {_REPR.repr(value.ravel()[:3].tolist())[:-1]}, ...]>"
@@ -71,6 +77,14 @@ class ParameterError(ValueError):
         """``rtol is not an option of leapfrog (its options: dt)``."""
         listed = ", ".join(sorted(options))
         return cls(name, name, listed, message=f"{name} is not an option of {integrator} (its options: {listed})")
+
+
+class MaterialWarning(UserWarning):
+    """A material law used outside the range where it describes the wall it is meant for (a run goes on).
+
+    The message is one line naming the parameters and the law to choose instead; the command line prints
+    it as ``mol-shell: warning: ...``, and a run records it in its Dataset's attrs.
+    """
 
 
 class ModelLimitError(RuntimeError):

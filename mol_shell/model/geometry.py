@@ -60,7 +60,8 @@ class Meridian:
         import dataclasses
 
         if isinstance(self, PointsMeridian):
-            return f"PointsMeridian({len(self.points)} points, length {self.length:.6g} m)"
+            origin = f" from {self.source}" if self.source else ""
+            return f"PointsMeridian({len(self.points)} points{origin}, length {self.length:.6g} m)"
         args = ", ".join(f"{f.name}={getattr(self, f.name):.10g}" for f in dataclasses.fields(self))
         return f"{type(self).__name__}({args})"
 
@@ -143,34 +144,48 @@ class PointsMeridian(Meridian):
 
     Refused (ParameterError naming ``name``): fewer than 4 points, non-finite values, repeated
     consecutive points, ``r < 0``, ``r = 0`` anywhere but at an end, a curve that crosses itself or
-    the axis.
+    the axis. ``source`` (a file, or what the table is) is named in messages and in :meth:`describe`;
+    ``lines`` (the line of ``source`` each row was read from, counted from 1) places a refused row
+    where a user finds it; without it rows are counted from 1.
     """
 
     points: np.ndarray
     name: str = "points"
+    source: str = ""
+    lines: tuple | None = None
     _spline: object = field(init=False, repr=False, compare=False)
+
+    def _row(self, i):
+        """Where row ``i`` (from 0) is: ``line 7`` of the file it was read from, else ``row 3`` (from 1)."""
+        return f"line {self.lines[i]}" if self.lines is not None else f"row {i + 1}"
 
     def __post_init__(self):
         from scipy.interpolate import CubicSpline
 
         pts = np.asarray(self.points, dtype=float)
         allowed = "a table of at least 4 points (r, z), r >= 0, r = 0 only at an end, a curve that does not cross itself"
+        what = self.source or "table"
         if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 4:
-            raise ParameterError.invalid(self.name, f"{pts.shape[0] if pts.ndim == 2 else pts.size} values",
-                                         "is not a table of 4 or more (r, z) rows", allowed)
+            count = pts.shape[0] if pts.ndim == 2 else pts.size
+            raise ParameterError.invalid(self.name, what, f"has {count} rows, not a table of 4 or more (r, z) rows",
+                                         allowed)
         if not np.all(np.isfinite(pts)):
-            raise ParameterError.invalid(self.name, "table", "has non-finite values", allowed)
+            i = int(np.argmax(~np.all(np.isfinite(pts), axis=1)))
+            raise ParameterError.invalid(self.name, what, f"has a non-finite value on {self._row(i)}", allowed)
         r, z = pts[:, 0], pts[:, 1]
         if np.any(r < 0):
             i = int(np.argmax(r < 0))
-            raise ParameterError.invalid(self.name, f"row {i}", f"has r = {r[i]:g} < 0", allowed)
+            raise ParameterError.invalid(self.name, what, f"has r = {r[i]:g} < 0 on {self._row(i)}", allowed)
         chord = np.hypot(np.diff(r), np.diff(z))
         scale = float(np.max(np.abs(pts)))
         if np.any(chord <= 1e-12 * max(scale, 1e-300)):
             i = int(np.argmax(chord <= 1e-12 * scale))
-            raise ParameterError.invalid(self.name, f"rows {i}, {i + 1}", "repeat a point", allowed)
+            raise ParameterError.invalid(self.name, what, f"repeats a point: {self._row(i)} and {self._row(i + 1)}",
+                                         allowed)
         if np.any(r[1:-1] == 0):
-            raise ParameterError.invalid(self.name, "table", "touches the axis between its ends", allowed)
+            i = 1 + int(np.argmax(r[1:-1] == 0))
+            raise ParameterError.invalid(self.name, what, f"touches the axis between its ends, on {self._row(i)}",
+                                         allowed)
         u = np.concatenate([[0.0], np.cumsum(chord)])
         bc = ["not-a-knot", "not-a-knot"]
         if r[0] == 0:
@@ -191,9 +206,9 @@ class PointsMeridian(Meridian):
         object.__setattr__(self, "_s", np.concatenate([[0.0], np.cumsum(lengths)]))
         dense = spline(np.linspace(0, u[-1], 40 * len(u)))
         if np.any(dense[1:-1, 0] <= 0):
-            raise ParameterError.invalid(self.name, "table", "gives a curve that crosses the axis", allowed)
+            raise ParameterError.invalid(self.name, what, "gives a curve that crosses the axis", allowed)
         if _self_intersects(dense):
-            raise ParameterError.invalid(self.name, "table", "gives a curve that crosses itself", allowed)
+            raise ParameterError.invalid(self.name, what, "gives a curve that crosses itself", allowed)
 
     @property
     def length(self):
@@ -245,8 +260,13 @@ def _self_intersects(points):
     return False
 
 
-def read_points(path, name="points"):
-    """A meridian table from a text file: two columns ``r z`` (m), whitespace or comma separated, ``#`` comments."""
+def read_points(path, name="points", with_lines=False):
+    """A meridian table from a text file: two columns ``r z`` (m), whitespace or comma separated, ``#`` comments.
+
+    A line that is not two numbers is refused naming its number as a user counts it (from 1, blank and
+    comment lines included) and the line itself, whole. ``with_lines``: also return the line number of
+    each row (for :class:`PointsMeridian`'s messages).
+    """
     from pathlib import Path
 
     allowed = "a text file with two columns r z (m), at least 4 rows"
@@ -254,14 +274,29 @@ def read_points(path, name="points"):
     if not p.is_file():
         raise ParameterError.invalid(name, str(path), "is not a readable file", allowed)
     try:
-        text = p.read_text().replace(",", " ")
-        rows = [line.split("#")[0].split() for line in text.splitlines()]
-        table = np.array([[float(x) for x in row] for row in rows if row])
-    except (ValueError, UnicodeDecodeError, OSError) as exc:
-        raise ParameterError.invalid(name, str(path), "cannot be read as numbers", allowed, hint=str(exc)[:80]) from None
-    if table.ndim != 2 or table.shape[1] != 2:
-        raise ParameterError.invalid(name, str(path), "does not have two columns in every row", allowed)
-    return table
+        text = p.read_text()
+    except (UnicodeDecodeError, OSError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else "not a text file"
+        raise ParameterError.invalid(name, str(path), f"cannot be read ({reason})", allowed) from None
+    rows, lines = [], []
+    for number, line in enumerate(text.splitlines(), start=1):
+        items = line.split("#")[0].replace(",", " ").split()
+        if not items:
+            continue
+        where = f"line {number} ({line.strip()!r})"
+        if len(items) != 2:
+            raise ParameterError.invalid(name, str(path), f"has {len(items)} values on {where}, not two (r z)", allowed)
+        values = []
+        for item in items:
+            try:
+                values.append(float(item))
+            except ValueError:
+                raise ParameterError.invalid(name, str(path), f"has {item!r} on {where}, not a number",
+                                             allowed) from None
+        rows.append(values)
+        lines.append(number)
+    table = np.array(rows, dtype=float).reshape(-1, 2)
+    return (table, tuple(lines)) if with_lines else table
 
 
 def thickness_volume_factor(meridian, zeta, s):

@@ -18,6 +18,7 @@ from mol_shell.scenes.base import (
     _check,
     _coerce,
     check_radius,
+    describe,
     with_params,
     zeta1_used,
 )
@@ -42,6 +43,6 @@ def get_scene(name, **params):
 
 __all__ = [
     "DESCRIPTIONS", "DRIVES", "LOADS", "N_QUAD_RANGE", "SCENES", "UNITS", "Axisymmetric", "Cone", "CylinderScene", "MeridianShell",
-    "ShellScene", "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "UNSHEARABLE_INTEGRATORS", "Unshearable", "check_radius", "get_scene", "with_params",
+    "ShellScene", "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "UNSHEARABLE_INTEGRATORS", "Unshearable", "check_radius", "describe", "get_scene", "with_params",
     "zeta1_used", "_check", "_coerce",
 ]

@@ -34,7 +34,7 @@ UNITS = {
 }
 #: what each parameter is (long_name of a study's coordinates)
 DESCRIPTIONS = {
-    "L": "length of the shell", "h": "half-thickness", "E": "Young's modulus", "nu": "Poisson's ratio",
+    "L": "length of the shell", "h": "half-thickness (the wall is 2h thick)", "E": "Young's modulus", "nu": "Poisson's ratio",
     "rho": "density", "R": "initial radius", "gamma": "initial twist chi_s", "omega": "initial spin rate chi_t",
     "psi0": "initial shear angle psi", "n_quad": "Gauss-Legendre points through the thickness",
     "zeta1": "lower face of the thickness interval from the base surface", "eta_lambda": "Kelvin-Voigt viscosity eta_lambda",
@@ -45,7 +45,7 @@ DESCRIPTIONS = {
     "alpha1": "polar angle of the edge at s = 0", "alpha2": "polar angle of the edge at s = L",
     "r1": "radius of the cone's edge at s = 0", "r2": "radius of the cone's edge at s = L",
     "H": "axial length of the cone", "dilation": "initial uniform dilation of the natural shell",
-    "end1": "edge condition at s = 0", "end2": "edge condition at s = L", "points": "file of meridian points (r, z)",
+    "end1": "edge condition at s = 0", "end2": "edge condition at s = L", "points": "file of meridian points (r, z); '' runs a built-in dome (half ellipsoid, 1 m x 0.6 m)",
     "pressure": "pressure on the base surface (follower, positive inflating)", "gravity": "gravity along -k",
     "drag": "drag coefficient of the ambient fluid", "end1_force": "axial force on the edge at s = 0",
     "end2_force": "axial force on the edge at s = L", "end1_torque": "axial torque on the edge at s = 0",
@@ -53,6 +53,14 @@ DESCRIPTIONS = {
     "end2_spin": "prescribed spin rate of the edge at s = L", "end1_axial_speed": "prescribed axial speed of the edge at s = 0",
     "end2_axial_speed": "prescribed axial speed of the edge at s = L", "end_omega": "both ends spun at this rate from t = 0",
 }
+
+
+def describe(name):
+    """What parameter ``name`` is, in a few words (``NAME_history``: the time history of ``NAME``)."""
+    if name.endswith("_history"):
+        base = name[: -len("_history")]
+        return f"time history of {base} (a factor on it): constant, step T0, ramp T1, sine F, table t0:h0 ..."
+    return DESCRIPTIONS.get(name, "")
 
 
 #: the loads a scene can carry (each with a ``NAME_history`` but drag)
@@ -75,6 +83,13 @@ def _check(name, value, allowed, ok=None, hint=""):
         raise ParameterError.not_a(name, value, "a number", allowed, hint)
     if not (math.isfinite(value) and value in allowed and (ok is None or ok(value))):
         raise ParameterError(name, value, allowed, hint)
+
+
+def fitted_scale(initial, reference):
+    """The uniform scale ``k`` about the origin that best fits (least squares) the nodal ``(z, r)`` of ``initial``
+    to ``k`` times those of ``reference``: exactly the factor of a uniformly dilated natural shell."""
+    (z, r), (z0, r0) = (np.asarray(x, dtype=float) for x in initial), (np.asarray(x, dtype=float) for x in reference)
+    return float(np.sum(z * z0 + r * r0) / np.sum(z0 * z0 + r0 * r0))
 
 
 def zeta1_used(h, zeta1=None, a=1.0):
@@ -233,6 +248,18 @@ class ShellScene:
                 return ParameterError(f.name, getattr(self, f.name), f"values for which h = {self.h:.4g} m fits: "
                                       + str(exc))
         return exc
+
+    def auto_values(self, initial, reference):
+        """``{name: value}``: the initial-data parameters left to the code (``None``, "auto") as the run used them.
+
+        ``initial`` and ``reference`` are the nodal ``(z, r)`` of the initial state and of the natural shell.
+        """
+        return {}
+
+    def stand_ins(self):
+        """One line for each built-in stand-in the scene runs with in place of data a user is expected to give
+        (the meridian scene without a file of points); the command line prints them as notes."""
+        return []
 
     def at_equilibrium(self):
         """Whether the run starts from the static equilibrium under the loads at ``t = 0`` (``R``/``dilation`` auto)."""

@@ -17,7 +17,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, finite, non_negative, positive
 from mol_shell.model.geometry import ArcMeridian, ConeMeridian, PointsMeridian, read_points
-from mol_shell.scenes.base import ShellScene, _check
+from mol_shell.scenes.base import ShellScene, _check, fitted_scale
 
 
 @dataclass(frozen=True)
@@ -63,6 +63,11 @@ class _Dilated(_Excited):
 
     def at_equilibrium(self):
         return self.dilation is None
+
+    def auto_values(self, initial, reference):
+        """``dilation`` = auto: the uniform scale of the starting state (its least-squares fit about the origin):
+        1 for the natural state; for an equilibrium under load, which is no uniform dilation, its mean scale."""
+        return {"dilation": fitted_scale(initial, reference)} if self.dilation is None else {}
 
 
 @dataclass(frozen=True)
@@ -113,6 +118,12 @@ class Sphere(_Excited):
 
     def at_equilibrium(self):
         return self.R is None
+
+    def auto_values(self, initial, reference):
+        """``R`` = auto: the radius of the starting state, ``a`` times its uniform scale (least-squares fit about
+        the centre): ``a`` for the natural state, the mean radius of an equilibrium under load (a sphere only to
+        the grid's accuracy, and not at all for a cap)."""
+        return {"R": self.a * fitted_scale(initial, reference)} if self.R is None else {}
 
 
 @dataclass(frozen=True)
@@ -175,9 +186,14 @@ class Torus(_Dilated):
         return ArcMeridian(self.a, self.b, self.alpha1, self.alpha2)
 
 
+#: what the meridian scene runs without a file of points (``points = ''``)
+DEFAULT_DOME = "the built-in dome (a half ellipsoid of equatorial radius 1 m and height 0.6 m, points = '')"
+
+
 @lru_cache(maxsize=8)
 def _points_meridian(path, stamp):
-    return PointsMeridian(read_points(path), name="points")
+    table, lines = read_points(path, with_lines=True)
+    return PointsMeridian(table, name="points", source=path, lines=lines)
 
 
 @dataclass(frozen=True)
@@ -188,7 +204,8 @@ class MeridianShell(_Dilated):
     arc length (:class:`~mol_shell.model.geometry.PointsMeridian`); ``s = 0`` is the first row.
     An end with ``r = 0`` is a pole (the curve leaves the axis at a right angle there). The director is
     the tangent turned by +90 degrees in the ``(z, r)`` plane: outward for rows ordered by increasing ``z``.
-    ``points = ''`` (the default) is a built-in half ellipsoid (equatorial radius 1 m, height 0.6 m).
+    ``points = ''`` (the default) is a built-in half ellipsoid (equatorial radius 1 m, height 0.6 m), so
+    the scene runs as it is; a run says so (its ``meridian`` attr, and a note of the command line).
     """
 
     points: str = ""
@@ -211,10 +228,15 @@ class MeridianShell(_Dilated):
         stamp = p.stat().st_mtime_ns if p.is_file() else 0
         return _points_meridian(str(p), stamp)
 
+    def stand_ins(self):
+        if not self.points.strip():
+            return [f"the meridian is {DEFAULT_DOME}: give your own with points = FILE (two columns r z, m)"]
+        return []
+
 
 @lru_cache(maxsize=1)
 def _default_dome():
     """The meridian scene's default table: a half ellipsoid of equatorial radius 1 m and height 0.6 m, 17 points
     from the equator (z = 0) to the pole, so the scene runs as it is (``points = ''``)."""
     t = np.linspace(0.0, np.pi / 2, 17)
-    return PointsMeridian(np.column_stack([np.cos(t), 0.6 * np.sin(t)]), name="points")
+    return PointsMeridian(np.column_stack([np.cos(t), 0.6 * np.sin(t)]), name="points", source=DEFAULT_DOME)

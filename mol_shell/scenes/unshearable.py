@@ -59,6 +59,9 @@ class Unshearable(CylinderScene):
         _check("omega", self.omega, finite("rad/s"))
         refuse_loads(self, "the unshearable DAE")
 
+    def auto_values(self, initial, reference):
+        return {"R": self.a} if self.R is None else {}  # as initial_fields takes it
+
     def initial_fields(self, s, reference=None):
         """``(Q, V)``, each ``5 x len(s)``: fields and rates of the initial data at nodes ``s``."""
         s = np.asarray(s, dtype=float)
