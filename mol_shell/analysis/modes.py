@@ -19,13 +19,16 @@ negative when a cross term dominates it).
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import MaterialWarning, ParameterError
 from mol_shell.model.kinematics import FIELDS
+from mol_shell.model.material import locking_warning
 from mol_shell.results.cf import attr_value, coordinates, header, variables
-from mol_shell.results.dataset import FIELD_META
+from mol_shell.results.dataset import FIELD_META, scene_attrs
 from mol_shell.runs.simulate import as_scene, build, resolve, starting_state
 
 #: above this many free coordinates the sparse shift-invert solver is used
@@ -100,7 +103,8 @@ def modes(scene, n=40, count=10):
     import scipy.sparse
     import scipy.sparse.linalg
 
-    scene = resolve(as_scene(scene))
+    asked = as_scene(scene)
+    scene = resolve(asked)
     if not isinstance(count, (int, np.integer)) or isinstance(count, bool) or count < 1:
         raise ParameterError("count", count, "integers >= 1")
 
@@ -132,10 +136,16 @@ def modes(scene, n=40, count=10):
     keep = np.flatnonzero(~zero)[:count]
     if len(keep) < count:
         raise ParameterError("count", count, f"integers 1..{len(np.flatnonzero(~zero))} for n = {system.n}")
-    return _dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method)
+    initial = system.unpack(np.asarray(y0, dtype=float))[:2]
+    params = scene_attrs(scene, system.edges, system.thickness.zeta1, initial, system.reference[:2], asked.params())
+    note = locking_warning(scene.material, scene.nu)
+    if note:
+        warnings.warn(note, MaterialWarning, stacklevel=2)
+        params["material_warning"] = note
+    return _dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params)
 
 
-def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method):
+def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params):
     n = system.n
     modes_count = phi.shape[1]
     shapes = np.zeros((modes_count, 5, n))
@@ -171,6 +181,5 @@ def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method):
     attrs = {**header(f"mol_shell natural modes of scene {scene.name}"), "scene": scene.name, "n": n, "zero_modes": n_zero,
              "method": method, "edge_s0": system.edges[0], "edge_sL": system.edges[1],
              "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
-    for name, value in scene.params().items():
-        attrs[name] = value
+    attrs.update({name: value for name, value in params.items() if not name.startswith("units_")})
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in attrs.items()})

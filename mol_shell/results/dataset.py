@@ -10,6 +10,7 @@ import xarray as xr
 
 from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError
+from mol_shell.model.edges import IMPOSED
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.scenes import UNITS
@@ -27,7 +28,32 @@ TIME_COMMENT = ("model time in seconds from the start of the run, without a cale
                 "readers keep it as numbers, not dates); see docs/netcdf.md")
 
 
-def build_dataset(system, scene, traj, velocities, totals, attrs):
+def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=None):
+    """Every parameter of ``scene`` as the run used it, each with its ``units_NAME``, for a Dataset's attrs.
+
+    A parameter left to the code (``None``, "auto": the edges, ``zeta1``, ``R`` or ``dilation``) is stored as
+    the value used (the edge kinds ``edges`` chosen, the number ``zeta1``, and what the scene's
+    :meth:`~mol_shell.scenes.ShellScene.auto_values` says of the nodal ``(z, r)`` of ``initial`` against
+    ``reference``) with ``NAME_requested = "auto"`` beside it. ``requested``: the parameters as asked, when
+    ``scene`` had some of them computed before (``R`` of a cylinder: :func:`mol_shell.runs.checks.resolve`).
+    """
+    used = scene.params()
+    asked = dict(used if requested is None else requested)
+    used["end1"], used["end2"] = edges
+    if "zeta1" in used:
+        used["zeta1"] = float(zeta1)
+    if initial is not None:
+        used.update(scene.auto_values(initial, reference))
+    meta = {}
+    for name, value in used.items():
+        meta[name] = value
+        meta[f"units_{name}"] = UNITS.get(name, "1")
+        if asked.get(name, value) is None and value is not None:
+            meta[f"{name}_requested"] = "auto"
+    return meta
+
+
+def build_dataset(system, scene, traj, velocities, totals, attrs, requested=None):
     """Assemble the Dataset of one run.
 
     Parameters
@@ -44,6 +70,8 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
         computes them.
     attrs : dict
         Integrator name and settings, graph statistics and the like.
+    requested : dict, optional
+        The scene's parameters as asked, before ``R`` was computed (see :func:`scene_attrs`).
     """
     fields = system.unpack(traj.y)
     data = {}
@@ -84,11 +112,12 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
                                                                                        "axial torque")}.items():
             cols = [j for j, (_, field) in enumerate(names) if field == k]
             if cols:
-                values = np.full((len(traj.t), 2), np.nan)
+                values = reaction_columns(len(traj.t), system.edges, k)
                 for j in cols:
                     values[:, 0 if names[j][0] == 0 else 1] = totals["reactions"][:, j]
                 data[var] = (("time", "end"), values, {"units": units, "long_name":
-                             f"{what} the driver applies to the driven edge (NaN where the edge is not driven)"})
+                             f"{what} the driver or support applies to the edge (0 where the edge leaves "
+                             f"{FIELDS[k]} free; NaN where a support holds it but the run does not compute it)"})
     if system.viscous:
         data["dissipation"] = (
             ("time",),
@@ -125,12 +154,23 @@ def build_dataset(system, scene, traj, velocities, totals, attrs):
         "meridian": system.meridian.describe(),
         "meridian_length": system.L,
     }
-    for name, value in scene.params().items():
-        meta[name] = value
-        meta[f"units_{name}"] = UNITS.get(name, "1")
+    meta.update(scene_attrs(scene, system.edges, system.thickness.zeta1, fields[0, :2], system.reference[:2],
+                            requested))
     meta.update(traj.stats)
     meta.update(attrs)
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in meta.items()})
+
+
+def reaction_columns(count, edges, field):
+    """``(count, 2)`` reactions on ``field`` (0 = z, 2 = chi) at the two edges before the driven ones are filled in:
+    0 at an edge that leaves the field free (nothing there to push: a free edge, ``chi`` at a magnet, a pole,
+    where ``chi`` has no inertia on the axis), NaN at one whose support holds it (clamped, pinned; ``z`` at a
+    magnet) and is not driven, whose reaction the run does not compute."""
+    values = np.zeros((count, 2))
+    for end, kind in enumerate(edges):
+        if field in IMPOSED[kind]:
+            values[:, end] = np.nan
+    return values
 
 
 def writable_path(path, name="path", suffixes=None, created=None):
@@ -161,13 +201,14 @@ def writable_path(path, name="path", suffixes=None, created=None):
     if path is None or not str(path).strip():
         raise ParameterError.invalid(name, "" if path is None else str(path), "is empty", allowed)
     path = Path(os.fspath(path)).expanduser()
+    if path.is_dir():
+        raise ParameterError.invalid(name, str(path), "is a directory", allowed)
     if suffixes is not None:
         suffix = path.suffix.lower().lstrip(".")
         if suffix not in suffixes:
-            raise ParameterError.invalid(name, str(path), "has no known file type" if suffix else "has no suffix",
+            raise ParameterError.invalid(name, str(path), f"ends in .{suffix}, a kind of file this command does not write"
+                                         if suffix else "has no suffix",
                                          "a file ending in one of ." + ", .".join(sorted(suffixes)))
-    if path.is_dir():
-        raise ParameterError.invalid(name, str(path), "is a directory", allowed)
     folder = path.parent
     missing = [p for p in [folder, *folder.parents] if not p.exists()][::-1]
     try:

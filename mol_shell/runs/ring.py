@@ -31,6 +31,7 @@ import numpy as np
 import xarray as xr
 
 from mol_shell._core.errors import ParameterError
+from mol_shell.model.edges import resolve_edges
 from mol_shell.model.kinematics import delta, kinetic_energy_density
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.material import (
@@ -43,9 +44,8 @@ from mol_shell.model.material import (
     shell_energy,
 )
 from mol_shell.results.cf import attr_value, coordinates, header, variables
-from mol_shell.results.dataset import FIELD_META, RATE_UNITS
+from mol_shell.results.dataset import FIELD_META, RATE_UNITS, scene_attrs
 from mol_shell.runs.simulate import parse_times, resolve
-from mol_shell.scenes import UNITS
 from mol_shell.scenes.base import refuse_loads
 
 #: the ODE's unknowns, indices into :data:`mol_shell.model.FIELDS`
@@ -171,6 +171,7 @@ def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
     if getattr(scene, "gamma", 0.0) != 0.0:
         raise ParameterError("gamma", scene.gamma, "{0} for the ring ODE", hint="twisted motions are not uniform in s")
     refuse_loads(scene, "the ring ODE of section 5")
+    requested = scene.params()
     scene = resolve(scene)
     times = parse_times(times)
     system = ring_system(scene)
@@ -192,7 +193,7 @@ def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
         "n_jac": int(getattr(sol, "njev", 0)), "wall_time_s": wall, "status": status,
         "complete": int(sol.success), "message": sol.message,
     }
-    return _ring_dataset(system, scene, sol.t, sol.y.T, attrs, n)
+    return _ring_dataset(system, scene, sol.t, sol.y.T, attrs, n, requested)
 
 
 def _numpy_rhs(f):
@@ -213,7 +214,7 @@ def _numpy_rhs(f):
     return fun
 
 
-def _ring_dataset(system, scene, t, y, attrs, n):
+def _ring_dataset(system, scene, t, y, attrs, n, requested=None):
     outs = system.observables.map(len(t))(y.T)
     rates, kinetic, stored, p_chi, dlt, dissipation = (np.array(o) for o in outs)
     q = {"r": y[:, 0], "chi": y[:, 1], "theta": np.zeros(len(t)), "psi": y[:, 2]}
@@ -248,8 +249,7 @@ def _ring_dataset(system, scene, t, y, attrs, n):
         **header(f"mol_shell reduced ODE (section 5) of scene {scene.name}"), "scene": scene.name,
         "rho_A": system.rho_a, "rho_I": float(system.rho_i), "rho_J": system.rho_j, "failure_time": float("nan"),
     }
-    for name, value in scene.params().items():
-        meta[name] = value
-        meta[f"units_{name}"] = UNITS.get(name, "1")
+    edges = resolve_edges(scene.end1, scene.end2, scene.meridian().poles)
+    meta.update(scene_attrs(scene, edges, scene.zeta1_used(), requested=requested))
     meta.update(attrs)
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in meta.items()})

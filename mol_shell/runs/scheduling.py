@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import warnings
 
 from mol_shell._core.errors import ParameterError
 
@@ -34,6 +35,23 @@ def connect(scheduler):
         return scheduler
     if not isinstance(scheduler, str) or not scheduler.strip():
         raise ParameterError.not_a("scheduler", scheduler, "a scheduler address", allowed)
+    from distributed.comm import resolve_address
+
+    try:  # before a Client exists: one made for a malformed address is left half-open, and closing it at exit
+        # waits 20 s and prints a traceback
+        with warnings.catch_warnings():  # a protocol dask no longer has warns, then raises the same text
+            warnings.simplefilter("ignore")
+            resolve_address(scheduler)
+    except ValueError as exc:
+        raise ParameterError.invalid("scheduler", scheduler, "is not a scheduler address", allowed,
+                                     hint=str(exc)) from None
+    except OSError as exc:  # a host name that does not resolve
+        raise ParameterError.invalid("scheduler", scheduler, "does not name a reachable host", allowed,
+                                     hint=f"{type(exc).__name__}: {exc}") from None
+    except Exception as exc:  # noqa: BLE001 - a protocol this installation of dask cannot use
+        text = " ".join(str(exc).split())
+        raise ParameterError.invalid("scheduler", scheduler, "is not an address this dask can connect to", allowed,
+                                     hint=f"{type(exc).__name__}: {text}".rstrip(": ")) from None
     try:
         # not the default client: a failed connection would otherwise leave dask (and xarray's netCDF locks)
         # pointing at the unreachable scheduler for the rest of the process

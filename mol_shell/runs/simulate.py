@@ -11,8 +11,9 @@ import warnings
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: simulate's range)
-from mol_shell._core.errors import ParameterError, is_number
+from mol_shell._core.errors import MaterialWarning, ParameterError, is_number
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.model.material import locking_warning
 from mol_shell.results.dataset import build_dataset
 from mol_shell.results.stresses import MAX_SAMPLES, add_stresses
 from mol_shell.runs import resources
@@ -114,8 +115,9 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
 
     Parameters
     ----------
-    scene : TwistedCylinder or str
-        A scene object, or the name of a registered scene with default parameters.
+    scene : ShellScene or str
+        A scene object (any of :data:`mol_shell.SCENES`' classes, e.g. ``mol_shell.Sphere()``), or the name
+        of a registered scene with default parameters.
     integrator : str
         One of :data:`mol_shell.integrators.INTEGRATORS`.
     n : int
@@ -131,9 +133,9 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     progress : bool, optional
         Progress bar over simulated time; default: only when stderr is a terminal.
     stresses : bool, optional
-        Resultants and face stresses after the run (:func:`mol_shell.results.stresses.add_stresses`): ``None``
-        (default) up to :data:`mol_shell.results.stresses.MAX_SAMPLES` cell samples x saved times, ``True``
-        always, ``False`` never.
+        Resultants and face stresses after the run (:func:`mol_shell.results.stresses.add_stresses`):
+        ``None`` (default) up to :data:`mol_shell.results.stresses.MAX_SAMPLES` cell samples x saved times,
+        ``True`` always, ``False`` never.
     threads : int, optional
         Threads for the compiled right-hand side's cell and node kernels (every integrator uses it);
         default ``$MOL_SHELL_THREADS`` or all cores. Grids below :data:`PARALLEL_MIN_NODES` nodes run
@@ -146,9 +148,16 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     -------
     xarray.Dataset
         Dims ``time`` and ``s``; fields, rates, energies, angular momentum and
-        ``delta_min``; every scene parameter (``R`` as computed) and the run's
-        statistics in attrs. If the run hit a model limit or was interrupted, the
+        ``delta_min``; every scene parameter as used (``R``, ``dilation``, ``zeta1`` as numbers, ``end1``,
+        ``end2`` as the edge kinds chosen; ``NAME_requested = "auto"`` beside one left to the code) and the
+        run's statistics in attrs. If the run hit a model limit or was interrupted, the
         Dataset holds what was computed and ``attrs["complete"] == 0``.
+
+    Warns
+    -----
+    MaterialWarning
+        ``material = "svk"`` with ``nu >= 0.45`` (:func:`mol_shell.model.material.locking_warning`); the
+        text is also in ``attrs["material_warning"]``.
     """
     scene = as_scene(scene)
     if dt is not None:
@@ -159,13 +168,15 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     if stresses is not None and not isinstance(stresses, (bool, np.bool_)):
         raise ParameterError.not_a("stresses", stresses, "a bool", "True, False or None (cheap runs only)")
     if isinstance(scene, Unshearable):  # its own formulation: the constrained DAE, or the free shell
-        return simulate_unshearable(scene, n=n, times=times, t_end=t_end, constrained=integrator == "ida",
-                                    progress=progress, **options)
+        ds = simulate_unshearable(scene, n=n, times=times, t_end=t_end, constrained=integrator == "ida",
+                                  progress=progress, **options)
+        return _material_warning(scene, ds)
     method = INTEGRATORS[integrator](**options)
     if times is None and integrator == "leapfrog":
         times = leapfrog_times(t_end, method.dt)
     times = parse_times(times, t_end)
     est = resources.check_before_build(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None))
+    requested = scene.params()
     scene = resolve(scene)
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
@@ -205,9 +216,19 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         "leapfrog_dt_bound_s": 1.0 / omega_max,
         "initial_state": start_info,
     })
-    ds = build_dataset(system, scene, traj, velocities, totals, attrs)
+    ds = _material_warning(scene, build_dataset(system, scene, traj, velocities, totals, attrs, requested))
     if stresses is not False:
         ds = add_stresses(ds, limit=None if stresses else MAX_SAMPLES)
+    return ds
+
+
+def _material_warning(scene, ds):
+    """``ds`` with the material's warning (:func:`~mol_shell.model.material.locking_warning`) said and recorded
+    (once the run is done: a run refused on the way says only why)."""
+    note = locking_warning(scene.material, scene.nu)
+    if note:
+        warnings.warn(note, MaterialWarning, stacklevel=3)
+        ds.attrs["material_warning"] = note
     return ds
 
 

@@ -25,8 +25,9 @@ import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import MaterialWarning, ParameterError
 from mol_shell._core.version import __version__
+from mol_shell.model.material import locking_warning
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.results.study_store import Store, assemble
 from mol_shell.runs import resources
@@ -82,6 +83,7 @@ def run_task(task):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
+            warnings.simplefilter("ignore", MaterialWarning)  # said once by the study, in its own process
             ds = run_scene(task.scene, task.integrator, n=task.n, times=task.times, **task.options)
         status, message = str(ds.attrs.get("status", "complete")), str(ds.attrs.get("message", ""))
     except ParameterError as exc:
@@ -210,6 +212,9 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
             continue
         tasks.append(task)
     client = connect(scheduler) if tasks else None  # an unreachable cluster is refused before anything runs
+    for note in dict.fromkeys(locking_warning(task.scene.material, task.scene.nu) for task in tasks):
+        if note:  # once per distinct warning, not once per case (each case's Dataset records its own)
+            warnings.warn(note, MaterialWarning, stacklevel=2)
     store = Store(output) if output is not None else None
     pending, reused = [], 0
     for task in tasks:
