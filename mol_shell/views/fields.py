@@ -74,6 +74,20 @@ def surface_points(ds, n_phi, zeta=0.0, times=None):
     """
     sel = slice(None) if times is None else times
     z, r, chi, theta, psi = (np.asarray(ds[f].values[sel], dtype=float)[..., None] for f in ("z", "r", "chi", "theta", "psi"))
+    return _revolve(z, r, chi, theta, psi, n_phi, zeta)
+
+
+def reference_points(ds, n_phi, zeta=0.0):
+    """Cartesian positions ``(s, phi, 3)`` of the material points at depth ``zeta`` in the reference (natural)
+    shell: the map of :func:`surface_points` at ``z0, r0, theta0``, ``chi = psi = 0``. A run without the
+    reference meridian (the ring ODE's) takes its first saved state as the reference."""
+    if not all(name in ds for name in ("z0", "r0", "theta0")):
+        return surface_points(ds, n_phi, zeta, times=[0])[0]
+    z, r, theta = (np.asarray(ds[f].values, dtype=float)[..., None] for f in ("z0", "r0", "theta0"))
+    return _revolve(z, r, np.zeros_like(r), theta, np.zeros_like(r), n_phi, zeta)
+
+
+def _revolve(z, r, chi, theta, psi, n_phi, zeta):
     angle = azimuths(n_phi) + chi
     cos_a, sin_a = np.cos(angle), np.sin(angle)
     radial = r + zeta * np.cos(psi) * np.cos(theta)  # along a2

@@ -1,4 +1,9 @@
-"""Figure of a natural-modes Dataset: the lowest shapes along s, with each field's share of kinetic energy."""
+"""Figure of a natural-modes Dataset: the lowest shapes along s, with each field's share of kinetic energy.
+
+Each mode has two panels sharing ``s``: the displacements ``z, r`` (m) above, the angles ``chi, theta,
+psi`` (rad) below, each on its own axis (a shape is scaled to a largest entry of 1 over all fields, so
+metres and radians are drawn to their own scales, never on one).
+"""
 
 from __future__ import annotations
 
@@ -7,32 +12,48 @@ import numpy as np
 from mol_shell._core.constants import FIELDS
 from mol_shell.views.figures import save_figure
 
+#: the fields drawn in each of a mode's two panels, and the panel's unit
+PANELS = ((("z", "r"), "m"), (("chi", "theta", "psi"), "rad"))
+COLORS = dict(zip(FIELDS, ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple")))
 
-def plot_modes(ds, path, count=6):
-    """The lowest ``count`` mode shapes against ``s``, one panel each, with frequency and dominant field."""
+
+def modes_figure(ds, count=6):
+    """The lowest ``count`` mode shapes against ``s`` (a matplotlib ``Figure``, not saved): per mode, lengths and
+    angles on their own axes, with the frequency, the dominant field and each field's share of the kinetic energy.
+    A field below 1e-3 of the mode's largest entry is left out of its panel."""
     import matplotlib.pyplot as plt
 
     count = min(count, ds.sizes["mode"])
     cols = 3 if count > 4 else count
     rows = -(-count // cols)
-    fig, axes = plt.subplots(rows, cols, figsize=(4.2 * cols, 2.8 * rows), squeeze=False, sharex=True)
-    colors = dict(zip(FIELDS, ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple")))
-    for m, ax in enumerate(axes.ravel()):
+    fig, axes = plt.subplots(2 * rows, cols, figsize=(4.2 * cols, 3.6 * rows), squeeze=False, sharex=True)
+    for m in range(rows * cols):
+        row, col = divmod(m, cols)
+        pair = axes[2 * row : 2 * row + 2, col]
         if m >= count:
-            ax.axis("off")
+            for ax in pair:
+                ax.axis("off")
             continue
         mode = ds.isel(mode=m)
         share = mode.energy_fraction.values
-        for k, name in enumerate(FIELDS):
-            if np.abs(mode[name]).max() > 1e-3:
-                ax.plot(ds.s, mode[name], color=colors[name], label=f"{name} ({share[k]:.0%})")
+        for ax, (names, unit) in zip(pair, PANELS):
+            drawn = [name for name in names if np.abs(mode[name]).max() > 1e-3]
+            for name in drawn:
+                ax.plot(ds.s, mode[name], color=COLORS[name], label=f"{name} ({share[FIELDS.index(name)]:.0%})")
+            ax.axhline(0, color="0.8", lw=0.5)
+            ax.set_ylabel(f"{', '.join(names)} [{unit}]", fontsize=8)
+            if drawn:
+                ax.legend(fontsize=7, loc="best")
         dom = FIELDS[int(np.argmax(share))]
-        ax.set_title(f"mode {m + 1}: {float(mode.frequency):.5g} rad/s ({dom})", fontsize=9)
-        ax.axhline(0, color="0.8", lw=0.5)
-        ax.legend(fontsize=7, loc="best")
+        pair[0].set_title(f"mode {m + 1}: {float(mode.frequency):.5g} rad/s ({dom})", fontsize=9)
     for ax in axes[-1]:
         ax.set_xlabel("s (m)")
     fig.suptitle(f"{ds.attrs['scene']}: lowest modes (n = {ds.attrs['n']}, {ds.attrs['zero_modes']} rigid motions "
                  "not shown); shapes scaled to 1, share of kinetic energy per field", fontsize=9)
     fig.tight_layout()
-    save_figure(fig, path, dpi=110)
+    return fig
+
+
+def plot_modes(ds, path, count=6):
+    """Write :func:`modes_figure` to ``path``."""
+    save_figure(modes_figure(ds, count), path, dpi=110)

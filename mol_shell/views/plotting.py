@@ -6,6 +6,9 @@ import math
 
 import numpy as np
 
+from mol_shell.views.figures import save_figure
+from mol_shell.views.history import draw_balance, draw_radius, radius_node
+
 # Axis ranges of the paper's figures 4-8; used when the data fit inside them.
 PAPER_LIMITS = {"r": (0.985, 1.005), "theta": (-0.02, 0.02), "chi": (-0.2, 0.2)}
 LABELS = {"r": "r [m]", "theta": r"$\theta$ [rad]", "chi": r"$\chi$ [rad]"}
@@ -38,16 +41,26 @@ def shown_times(count, max_times=MAX_TIMES):
     return np.unique(np.linspace(0, count - 1, max_times).round().astype(int))
 
 
+def number(attrs, name):
+    """``attrs[name]`` as a float, or ``None`` when it is absent or not a number (files of 0.5.0 stored
+    ``"none"`` for a radius left to the code)."""
+    value = attrs.get(name)
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        return None
+    return float(value)
+
+
 def title_of(attrs, shown, count):
     """The figure's title: scene, the parameters it has, grid, integrator, and which times are drawn."""
     parts = [str(attrs.get("scene", "run"))]
-    if "gamma" in attrs:
-        parts.append(f"gamma = {float(attrs['gamma']):g} rad/m")
+    if number(attrs, "gamma") is not None:
+        parts.append(f"gamma = {number(attrs, 'gamma'):g} rad/m")
     for name, unit in (("omega", "rad/s"), ("psi0", "rad")):
-        if name in attrs and float(attrs[name]) != 0.0:
-            parts.append(f"{name} = {float(attrs[name]):g} {unit}")
-    if "R" in attrs:
-        parts.append(f"R = {float(attrs['R']):.6f} m")
+        if number(attrs, name):
+            parts.append(f"{name} = {number(attrs, name):g} {unit}")
+    if number(attrs, "R") is not None:
+        auto = " (auto)" if attrs.get("R_requested") == "auto" else ""
+        parts.append(f"R = {number(attrs, 'R'):.6f} m{auto}")
     if "n" in attrs:
         parts.append(f"n = {attrs['n']}")
     if "integrator" in attrs:
@@ -122,16 +135,28 @@ def is_cylinder(ds):
     return bool(np.ptp(r0) <= 1e-12 * np.abs(r0).max() and np.abs(th0).max() == 0)
 
 
-def plot_meridian(ds, path, max_times=8):
-    """The deformed meridian ``(r, z)`` at saved times over the reference one, and ``chi`` and ``psi`` against ``s``.
+def shows_history(ds):
+    """Whether the default figure of a run is :func:`meridian_figure` (with the radius and the energy-work balance
+    over time): every shell but the paper's cylinder without pressure, whose figure is the paper's snapshots."""
+    pressure = ds.attrs.get("pressure", 0.0)
+    pressurised = isinstance(pressure, (int, float, np.integer, np.floating)) and float(pressure) != 0.0
+    return pressurised or not is_cylinder(ds)
 
-    For shells that are not cylinders, where r, theta, chi against s say less than the shape does.
-    Displacements are drawn to scale (the title gives the largest one).
+
+def meridian_figure(ds, max_times=8, s=None):
+    """The deformed meridian ``(r, z)`` at saved times over the reference one, ``chi`` and ``psi`` against ``s``;
+    below, the radius at the equator (or at ``s``) against time and the energy-work balance
+    (:mod:`mol_shell.views.history`). A matplotlib ``Figure``, not saved.
+
+    For shells that are not cylinders, where r, theta, chi against s say less than the shape does, and for
+    pressurised ones. Displacements are drawn to scale (the title gives the largest one).
     """
     import matplotlib.pyplot as plt
 
     idx = shown_times(ds.sizes["time"], max_times)
-    fig, (ax, bx, cx) = plt.subplots(1, 3, figsize=(13, 4.6), gridspec_kw={"width_ratios": [1.2, 1, 1]})
+    fig = plt.figure(figsize=(13, 8.6))
+    grid = fig.add_gridspec(2, 6, height_ratios=[1.15, 1])
+    ax, bx, cx = (fig.add_subplot(grid[0, 2 * k : 2 * k + 2]) for k in range(3))
     ax.plot(ds.r0, ds.z0, color="0.6", lw=3, label="reference")
     cmap = plt.get_cmap("viridis")
     for j, i in enumerate(idx):
@@ -148,11 +173,16 @@ def plot_meridian(ds, path, max_times=8):
     bx.set_ylabel(r"$\chi$ [rad]")
     cx.set_xlabel("s [m]")
     cx.set_ylabel(r"$\psi$ [rad]")
+    draw_radius(fig.add_subplot(grid[1, :3]), ds, radius_node(ds, s))
+    draw_balance(fig.add_subplot(grid[1, 3:]), ds)
     move = float(np.hypot(ds.r - ds.r0, ds.z - ds.z0).max())
     fig.suptitle(title_of(ds.attrs, len(idx), ds.sizes["time"]) + f"\nmeridian to scale; largest displacement {move:.3g} m",
                  fontsize=9)
     fig.tight_layout()
-    save_figure(fig, path, dpi=120)
-    return path
+    return fig
 
-from mol_shell.views.figures import save_figure
+
+def plot_meridian(ds, path, max_times=8, s=None):
+    """Write :func:`meridian_figure` to ``path``."""
+    save_figure(meridian_figure(ds, max_times, s), path, dpi=120)
+    return path
