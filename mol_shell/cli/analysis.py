@@ -6,44 +6,63 @@ import time
 
 import numpy as np
 
+from mol_shell._core.atomic import write_text
 from mol_shell._core.constants import FIELDS
 from mol_shell.analysis.modes import modes
 from mol_shell.analysis.stability import default_cases, report
 from mol_shell.analysis.stability import markdown_table as stability_table
-from mol_shell.analysis.workprecision import DEFAULT_INTEGRATORS, PAPER_TIMES, check_integrators, markdown_table, work_precision
-from mol_shell.cli.args import integer_arg, number_arg, parse_sets
-from mol_shell._core.atomic import write_text
+from mol_shell.analysis.workprecision import (
+    DEFAULT_INTEGRATORS,
+    PAPER_TIMES,
+    check_integrators,
+    markdown_table,
+    work_precision,
+)
+from mol_shell.cli.args import (
+    NETCDF_SUFFIXES,
+    SCENE_HELP,
+    SCENE_METAVAR,
+    integer_arg,
+    number_arg,
+    say_stand_ins,
+    scene_and_run,
+)
 from mol_shell.results.dataset import writable_path, write_netcdf
-from mol_shell.scenes import get_scene
 from mol_shell.views.modes import plot_modes
+from mol_shell.views.plotting import image_formats
 from mol_shell.views.stability_plot import plot_report
 from mol_shell.views.workprecision import write_outputs
 
 
 def register_compare(subparsers):
     parser = subparsers.add_parser("compare", help="work-precision: error against run time for integrators")
-    parser.add_argument("scene", help="scene name (default parameters, as in run)")
+    parser.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
+    parser.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
     parser.add_argument("--integrators", default=",".join(DEFAULT_INTEGRATORS),
                         help="comma-separated list (default: all)")
-    parser.add_argument("--n", type=integer_arg("--n", 3), default=40, help="nodes in s (default 40)")
+    parser.add_argument("--n", type=integer_arg("--n", 3), default=None,
+                        help="nodes in s (default: a scene file's [run] n, else 40)")
     parser.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None,
-                        help="final time, s; saved times then 0, t_end/4, ..., t_end (default: the paper's snapshots); "
-                        "leap-frog steps whose grid misses them are skipped")
+                        help="final time, s; saved times then 0, t_end/4, ..., t_end (default: a scene file's [run] "
+                        "t_end, else the paper's snapshots); leap-frog steps whose grid misses them are skipped")
     parser.add_argument("--repeats", type=integer_arg("--repeats", 1), default=3,
                         help="timed repeats per point (median; default 3)")
     parser.add_argument("--target", type=number_arg("--target"), default=1e-6,
                         help="error of the summary table (default 1e-6)")
     parser.add_argument("-o", "--output", required=True,
-                        help="netCDF file; .png and .md written beside it (missing directories are created)")
-    parser.set_defaults(func=cmd_compare)
+                        help="netCDF file, .nc; .png and .md written beside it (missing directories are created)")
+    parser.set_defaults(func=cmd_compare, output_suffixes=NETCDF_SUFFIXES)
 
 
 def cmd_compare(args):
     text = args.integrators.strip()
     names = check_integrators([s.strip() for s in text.split(",")] if text else [], "--integrators")
-    times = PAPER_TIMES if args.t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, args.t_end, 5)]
+    scene, run = scene_and_run(args.scene, args.set)
+    say_stand_ins(scene)
+    t_end = args.t_end if args.t_end is not None else run.get("t_end")
+    times = PAPER_TIMES if t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, t_end, 5)]
     start = time.perf_counter()
-    ds = work_precision(args.scene, names, n=args.n, times=times, repeats=args.repeats)
+    ds = work_precision(scene, names, n=args.n or run.get("n", 40), times=times, repeats=args.repeats)
     png, md = write_outputs(ds, args.output, args.target)
     print(markdown_table(ds, args.target))
     print(f"wrote {args.output}, {png}, {md} in {time.perf_counter() - start:.0f} s")
@@ -52,15 +71,18 @@ def cmd_compare(args):
 
 def register_stability(subparsers):
     parser = subparsers.add_parser("stability", help="stability report on stiff and extreme cases")
-    parser.add_argument("scene", help="base scene for the cases")
+    parser.add_argument("scene", metavar=SCENE_METAVAR, help="base scene for the cases: " + SCENE_HELP)
+    parser.add_argument("--set", action="append", metavar="NAME=VALUE", help="base scene parameter, repeatable")
     parser.add_argument("--quick", action="store_true", help="grids up to n = 640 only")
     parser.add_argument("--no-bisect", action="store_true", help="skip the leap-frog step bisection")
-    parser.add_argument("-o", "--output", required=True, help="netCDF file; a .md table and .png plot beside it")
-    parser.set_defaults(func=cmd_stability)
+    parser.add_argument("-o", "--output", required=True, help="netCDF file, .nc; a .md table and .png plot beside it")
+    parser.set_defaults(func=cmd_stability, output_suffixes=NETCDF_SUFFIXES)
 
 
 def cmd_stability(args):
-    ds = report(default_cases(get_scene(args.scene), quick=args.quick), bisect=not args.no_bisect)
+    scene, _ = scene_and_run(args.scene, args.set)
+    say_stand_ins(scene)
+    ds = report(default_cases(scene, quick=args.quick), bisect=not args.no_bisect)
     write_netcdf(ds, args.output)
     stem = str(args.output).rsplit(".", 1)[0]
     write_text(stem + ".md", stability_table(ds) + "\n")
@@ -70,9 +92,10 @@ def cmd_stability(args):
 
 
 def cmd_modes(args):
-    scene = get_scene(args.scene, **parse_sets(args.set))
-    png = writable_path(args.png or str(args.output).rsplit(".", 1)[0] + ".png", "--png")
-    ds = modes(scene, n=args.n, count=args.count)
+    scene, run = scene_and_run(args.scene, args.set)
+    png = writable_path(args.png or str(args.output).rsplit(".", 1)[0] + ".png", "--png", suffixes=image_formats())
+    say_stand_ins(scene)
+    ds = modes(scene, n=args.n or run.get("n", 40), count=args.count)
     write_netcdf(ds, args.output)
     plot_modes(ds, png)
     print(f"wrote {args.output} and {png}: {ds.sizes['mode']} modes, {ds.attrs['zero_modes']} rigid motions; "
@@ -86,10 +109,12 @@ def cmd_modes(args):
 
 def register_modes(sub):
     p = sub.add_parser("modes", help="natural frequencies and mode shapes about a scene's initial state")
-    p.add_argument("scene", help="a registered scene (its initial state must be at rest and in equilibrium)")
-    p.add_argument("--n", type=integer_arg("--n", 3), default=40, help="nodes in s (default 40)")
+    p.add_argument("scene", metavar=SCENE_METAVAR,
+                   help=SCENE_HELP + "; its initial state must be at rest and in equilibrium")
+    p.add_argument("--n", type=integer_arg("--n", 3), default=None,
+                   help="nodes in s (default: a scene file's [run] n, else 40)")
     p.add_argument("--count", type=integer_arg("--count", 1), default=10, help="lowest nonzero modes (default 10)")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
     p.add_argument("--png", default=None, help="figure of the lowest shapes (default: beside -o, .png)")
-    p.add_argument("-o", "--output", required=True, help="netCDF file to write")
-    p.set_defaults(func=cmd_modes)
+    p.add_argument("-o", "--output", required=True, help="netCDF file to write, .nc")
+    p.set_defaults(func=cmd_modes, output_suffixes=NETCDF_SUFFIXES)

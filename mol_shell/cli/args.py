@@ -4,14 +4,41 @@ from __future__ import annotations
 
 import argparse
 import re
+import sys
 
 import numpy as np
 
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.runs.resources import check_saved_times
+from mol_shell.scenes import SCENES, get_scene, with_params
+from mol_shell.scenes.files import load_scene
 
-EXIT_INTERNAL, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED = 1, 2, 3, 130
+#: exit codes: an internal error (a bug), bad input, a run stopped at a model limit, Ctrl-C, and the reader of
+#: the output gone (``mol-shell scenes | head -1``: 128 + SIGPIPE, as a command the pipe stopped)
+EXIT_INTERNAL, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED, EXIT_PIPE = 1, 2, 3, 130, 141
+
+#: file name suffixes of the outputs (``-o``) of the commands that write netCDF
+NETCDF_SUFFIXES = frozenset({"nc", "nc4", "cdf"})
+#: what the positional argument of a command that takes a scene is called in its help
+SCENE_METAVAR = "SCENE_OR_FILE"
+SCENE_HELP = ("a registered scene (" + ", ".join(SCENES) + "; meridian without --set points=FILE runs a built-in dome) "
+              "or a scene file FILE.toml")
+
+
+def say_stand_ins(scene):
+    """A note on stderr for each built-in stand-in a scene runs with (the meridian scene's dome)."""
+    for text in scene.stand_ins():
+        print(f"mol-shell: note: {text}", file=sys.stderr)
+
+
+def scene_and_run(text, sets=None):
+    """The scene a command names, a registered name or a scene file ``FILE.toml``, with ``--set`` values on top,
+    and the file's ``[run]`` table (``{}`` for a name): the defaults of the command's own options."""
+    if str(text).endswith(".toml"):
+        scene, run = load_scene(text, with_run=True)
+        return with_params(scene, parse_sets(sets)), run
+    return get_scene(text, **parse_sets(sets)), {}
 
 #: integrator options the command line offers (as --dt, --rtol, --atol, --max-step)
 CLI_OPTIONS = {"dt", "rtol", "atol", "max_step"}

@@ -5,7 +5,10 @@ range, and exit with code 2 (no traceback); they are found before anything is
 computed where they can be. ``-o FILE`` of every subcommand is checked first: missing
 directories are created, and a place that cannot be written is refused. A run that
 stops at a model limit writes what it computed and exits with code 3; one interrupted by
-Ctrl-C writes what it computed too and exits with code 130.
+Ctrl-C writes what it computed too and exits with code 130. Output cut short by its reader
+(``mol-shell scenes | head -1``) ends quietly with code 141. Warnings (a long run, a material law
+out of its range) are one line each, ``mol-shell: warning: ...``; notes (a built-in stand-in for
+data a user is expected to give) ``mol-shell: note: ...``.
 """
 
 from __future__ import annotations
@@ -18,7 +21,7 @@ import warnings
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import MaterialWarning, ParameterError
 from mol_shell._core.version import __version__
 from mol_shell.cli.analysis import register_compare, register_modes, register_stability
 from mol_shell.cli.args import (
@@ -26,15 +29,20 @@ from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
     EXIT_INTERNAL,
     EXIT_INTERRUPTED,
+    EXIT_PIPE,
     EXIT_USAGE,
+    NETCDF_SUFFIXES,
+    SCENE_HELP,
+    SCENE_METAVAR,
     Parser,
     choice_arg,
     integer_arg,
     integrator_option_args,
     number_arg,
     parse_atol,
-    parse_sets,
     parse_times_arg,
+    say_stand_ins,
+    scene_and_run,
 )
 from mol_shell.cli.path import register_path
 from mol_shell.cli.study import register_study
@@ -43,20 +51,16 @@ from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.dataset import read_run, writable_path, write_netcdf
 from mol_shell.runs.resources import LongRunWarning
 from mol_shell.runs.simulate import check_options, simulate
-from mol_shell.scenes import DESCRIPTIONS, SCENES, UNITS, get_scene, with_params
-from mol_shell.scenes.files import load_scene, scene_toml
+from mol_shell.scenes import SCENES, UNITS, describe
+from mol_shell.scenes.files import scene_toml
 from mol_shell.views.fibres import plot_fibres
-from mol_shell.views.plotting import image_formats, is_cylinder, plot_meridian, plot_snapshots
+from mol_shell.views.history import plot_history
+from mol_shell.views.plotting import image_formats, plot_meridian, plot_snapshots, shows_history
 
 
 def cmd_run(args):
-    run = {}
-    if args.scene.endswith(".toml"):  # a scene file: its [run] table gives defaults, the options win
-
-        scene, run = load_scene(args.scene, with_run=True)
-        scene = with_params(scene, parse_sets(args.set))
-    else:
-        scene = get_scene(args.scene, **parse_sets(args.set))
+    scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] table gives defaults, the options win
+    say_stand_ins(scene)
     times = parse_times_arg(args.times, n=args.n or run.get("n", 40)) if args.times else None
     if args.t_end is None and times is None:  # --t-end or --times replace both of the file's
         times = run.get("times")
@@ -79,23 +83,34 @@ def cmd_run(args):
     return 0
 
 
-#: options of ``plot --figure fibres`` only
-FIBRE_OPTIONS = ("time", "at_s", "fibres", "thickness_scale")
+#: options of ``plot`` and the figures that take them (``--at-s``: also the default figure of a shell that draws
+#: its radius over time)
+FIGURE_OPTIONS = {"time": ("fibres",), "at_s": ("fibres", "history"), "fibres": ("fibres",),
+                  "thickness_scale": ("fibres",)}
 
 
 def cmd_plot(args):
-    given = [name for name in FIBRE_OPTIONS if getattr(args, name) is not None]
-    if args.figure != "fibres" and given:
-        option = "--" + given[0].replace("_", "-")
-        raise ParameterError(option, getattr(args, given[0]), "options of --figure fibres only",
-                             message=f"{option} is an option of --figure fibres only (its options: --time, --at-s, "
-                             "--fibres, --thickness-scale)")
     ds = read_run(args.file)
+    history = shows_history(ds)
+    for name, figures in FIGURE_OPTIONS.items():
+        value = getattr(args, name)
+        takes = args.figure in figures or (name == "at_s" and args.figure == "snapshots" and history)
+        if value is not None and not takes:
+            option = "--" + name.replace("_", "-")
+            where = " or ".join(f"--figure {f}" for f in figures)
+            extra = "; and by the default figure of a shell that is not an unloaded cylinder" if name == "at_s" else ""
+            raise ParameterError(option, value, f"options of {where}",
+                                 message=f"{option} is an option of {where} only{extra} (options of --figure fibres: "
+                                 "--time, --at-s, --fibres, --thickness-scale; of --figure history: --at-s)")
     if args.figure == "fibres":
         options = {"time": args.time, "s": args.at_s, "thickness_scale": args.thickness_scale}
         plot_fibres(ds, args.output, count=24 if args.fibres is None else args.fibres, **options)
+    elif args.figure == "history":
+        plot_history(ds, args.output, s=args.at_s)
+    elif history:
+        plot_meridian(ds, args.output, s=args.at_s)
     else:
-        (plot_snapshots if is_cylinder(ds) else plot_meridian)(ds, args.output)
+        plot_snapshots(ds, args.output)
     print(f"wrote {args.output}")
     return 0
 
@@ -118,10 +133,14 @@ def cmd_scenes(args):
         print(scene_toml(cls), end="")
         return 0
     print(f"{args.name}: {(cls.__doc__ or '').strip().splitlines()[0]}")
+    rows = [("parameter", "default", "units", "what it is")]
     for f in dataclasses.fields(cls):
         default = f.default if f.default is not dataclasses.MISSING else "(required)"
-        default = "auto" if default is None else default
-        print(f"  {f.name:11s} {str(default):>22s}  {UNITS.get(f.name, '1'):8s} {DESCRIPTIONS.get(f.name, '')}")
+        default = "auto" if default is None else "''" if default == "" else default
+        rows.append((f.name, str(default), UNITS.get(f.name, "1"), describe(f.name)))
+    widths = [max(len(row[k]) for row in rows) for k in range(3)]  # from the content: every column lines up
+    for name, default, units, text in rows:
+        print(f"  {name:<{widths[0]}}  {default:>{widths[1]}}  {units:<{widths[2]}}  {text}".rstrip())
     return 0
 
 
@@ -134,7 +153,7 @@ def make_parser():
     parser.add_argument("--version", action="version", version=f"mol-shell {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     run = sub.add_parser("run", help="run a scene and write netCDF")
-    run.add_argument("scene", metavar="SCENE_OR_FILE", help="one of: " + ", ".join(SCENES) + "; or a scene file FILE.toml")
+    run.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
     run.add_argument("--integrator", default=None, help="one of: " + ", ".join(INTEGRATORS) + " (default leapfrog)")
     run.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")
     run.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="final time, s")
@@ -150,22 +169,28 @@ def make_parser():
     run.add_argument("--stresses", action=argparse.BooleanOptionalAction, default=None,
                      help="resultants and face stresses after the run (default: when cell samples x saved times "
                      "<= 4e6; --stresses always, --no-stresses never)")
-    run.add_argument("-o", "--output", required=True, help="netCDF file to write (missing directories are created)")
-    run.set_defaults(func=cmd_run)
+    run.add_argument("-o", "--output", required=True,
+                     help="netCDF file to write, .nc (missing directories are created)")
+    run.set_defaults(func=cmd_run, output_suffixes=NETCDF_SUFFIXES)
     scenes = sub.add_parser("scenes", help="the built-in scenes, or one scene's parameters with units and defaults")
     scenes.add_argument("name", nargs="?", default=None, help="a scene to describe")
     scenes.add_argument("--toml", action="store_true", help="print the scene's defaults as a scene file to start from")
     scenes.set_defaults(func=cmd_scenes)
-    plot = sub.add_parser("plot", help="the paper's figures 4-8 (cylinders), the deformed meridian (other shells) "
-                          "or figure 1 (--figure fibres) from a run")
+    plot = sub.add_parser("plot", help="the paper's figures 4-8 (unloaded cylinders), the deformed meridian with the "
+                          "radius and the energy-work balance over time (other shells, pressurised ones), figure 1 "
+                          "(--figure fibres) or the radius and balance alone (--figure history) from a run")
     plot.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run")
-    plot.add_argument("--figure", type=choice_arg("--figure", ("snapshots", "fibres")), default="snapshots",
-                      help="snapshots: r, theta, chi against s (figures 4-8, default); fibres: a section with its "
-                      "material fibres in the reference state and at --time (figure 1)")
+    plot.add_argument("--figure", type=choice_arg("--figure", ("snapshots", "fibres", "history")), default="snapshots",
+                      help="snapshots (default): r, theta, chi against s (figures 4-8) for a cylinder without pressure, "
+                      "else the deformed meridian, chi and psi against s, the radius at the equator against time and "
+                      "the energy-work balance; fibres: a section with its material fibres in the reference state "
+                      "and at --time (figure 1); history: the radius against time and the energy-work balance")
     plot.add_argument("--time", type=number_arg("--time", 0.0, low_closed=True, unit="s"), default=None,
                       help="fibres: the saved time nearest to this (default the last)")
     plot.add_argument("--at-s", type=number_arg("--at-s", -np.inf, unit="m"), default=None,
-                      help="fibres: the section at the node nearest to this s (default the first node)")
+                      help="fibres: the section at the node nearest to this s (default the first node); history and "
+                      "the meridian figure: the radius drawn over time at the node nearest to this s (default the "
+                      "equator, the node of largest reference radius)")
     plot.add_argument("--fibres", type=integer_arg("--fibres", 1), default=None, help="fibres: how many (default 24)")
     plot.add_argument("--thickness-scale", type=number_arg("--thickness-scale"), default=None,
                       help="fibres: magnification of the drawn thickness (default: 0.2 of the radius)")
@@ -199,15 +224,19 @@ def main(argv=None):
     try:
         with warnings.catch_warnings():
             # the command line reports a stopped run in its own one line (and in the file's attrs); warnings
-            # about a run's projected time are one line each, as errors are
+            # about a run's projected time and about the material are one line each, as errors are
             warnings.simplefilter("ignore", RuntimeWarning)
             warnings.simplefilter("always", LongRunWarning)
+            warnings.simplefilter("always", MaterialWarning)
             warnings.showwarning = _one_line_warning
             if getattr(args, "output", None) is not None:  # every subcommand: before anything is computed
-
                 suffixes = getattr(args, "output_suffixes", None)
                 writable_path(args.output, "-o", suffixes=suffixes() if callable(suffixes) else suffixes, created=created)
-            return args.func(args)
+            code = args.func(args)
+            sys.stdout.flush()  # here, where a reader that has gone (| head -1) can be told from a bug
+            return code
+    except BrokenPipeError:
+        return _reader_gone()
     except ParameterError as exc:
         _remove_empty(created)
         print(f"mol-shell: error: {exc}", file=sys.stderr)
@@ -224,8 +253,22 @@ def main(argv=None):
         return EXIT_INTERNAL
 
 
+def _reader_gone():
+    """The reader of stdout has gone (``mol-shell scenes | head -1``): exit quietly, as command-line tools do.
+
+    stdout is pointed at /dev/null so the interpreter's own flush at exit finds nowhere to fail.
+    """
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # a stdout without a file descriptor (captured): nothing to flush
+        pass
+    return EXIT_PIPE
+
+
 def _one_line_warning(message, category, filename, lineno, file=None, line=None):
-    print(f"mol-shell: warning: {message}", file=sys.stderr)
+    text = " ".join(str(message).split())  # one line, whatever the warning's author wrapped
+    print(f"mol-shell: warning: {text}", file=sys.stderr)
 
 
 if __name__ == "__main__":

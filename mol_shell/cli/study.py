@@ -9,6 +9,9 @@ from mol_shell._core.errors import ParameterError
 from mol_shell.cli.args import (
     CLI_OPTIONS,
     EXIT_INCOMPLETE,
+    NETCDF_SUFFIXES,
+    SCENE_HELP,
+    SCENE_METAVAR,
     integer_arg,
     integrator_option_args,
     number_arg,
@@ -16,12 +19,14 @@ from mol_shell.cli.args import (
     parse_range_or_list,
     parse_sets,
     parse_times_arg,
+    say_stand_ins,
+    scene_and_run,
 )
 from mol_shell.results.study_store import Store
 from mol_shell.runs import resources
 from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT
 from mol_shell.runs.simulate import check_options
-from mol_shell.runs.study import resolve_scene, study
+from mol_shell.runs.study import study
 from mol_shell.scenes import with_params
 
 
@@ -61,17 +66,25 @@ def _number_or_text(text):
 
 
 def cmd_study(args):
-    sets, vary = parse_sets(args.set), parse_vary(args.vary, args.n)
+    sets = parse_sets(args.set)
+    base, run = scene_and_run(args.scene)  # a scene file's [run] table gives defaults, the options win
+    n = args.n or run.get("n", 40)
+    vary = parse_vary(args.vary, n)
     both = [name for name in vary if name in sets]
     if both:
         raise ParameterError.invalid("--set", f"{both[0]}={sets[both[0]]}", f"sets {both[0]}, which --vary varies",
                                      "parameters not in --vary")
-    scene = with_params(resolve_scene(args.scene), sets)
-    times = parse_times_arg(args.times, n=args.n) if args.times else None
-    options = integrator_option_args(args)
-    check_options(scene, args.integrator, options, offered=CLI_OPTIONS)
+    scene = with_params(base, sets)
+    say_stand_ins(scene)
+    times = parse_times_arg(args.times, n=n) if args.times else None
+    if args.t_end is None and times is None:  # --t-end or --times replace both of the file's
+        times = run.get("times")
+    t_end = args.t_end if args.t_end is not None or args.times else run.get("t_end")
+    integrator = args.integrator or run.get("integrator", "leapfrog")
+    options = {k: run[k] for k in ("dt", "rtol", "atol", "max_step") if k in run} | integrator_option_args(args)
+    check_options(scene, integrator, options, offered=CLI_OPTIONS)
     try:
-        ds = study(scene, vary, args.integrator, n=args.n, times=times, t_end=args.t_end,
+        ds = study(scene, vary, integrator, n=n, times=times, t_end=t_end,
                    scheduler=args.scheduler, workers=args.workers, output=args.output, progress=None, **options)
     except KeyboardInterrupt:
         print(f"mol-shell: study interrupted; finished cases are kept in {Store(args.output).folder}; "
@@ -87,11 +100,13 @@ def cmd_study(args):
 def register_study(subparsers):
     """Add ``mol-shell study`` to the command line."""
     p = subparsers.add_parser("study", help="run a parameter study (product of --vary values) and write one netCDF")
-    p.add_argument("scene", help="a registered scene, or unshearable")
+    p.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
     p.add_argument("--vary", action="append", required=True, metavar="NAME=VALUES",
                    help="START:STOP:STEP (stop included) or V1,V2,...; repeat for more dimensions")
-    p.add_argument("--integrator", default="leapfrog", help="leapfrog, ... (ida for unshearable)")
-    p.add_argument("--n", type=integer_arg("--n", 3), default=40, help="nodes in s (default 40)")
+    p.add_argument("--integrator", default=None,
+                   help="leapfrog, ... (ida for unshearable; default: a scene file's [run] integrator, else leapfrog)")
+    p.add_argument("--n", type=integer_arg("--n", 3), default=None,
+                   help="nodes in s (default: a scene file's [run] n, else 40)")
     p.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="final time, s")
     p.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
     p.add_argument("--dt", type=number_arg("--dt", unit="s"), default=None,
@@ -107,5 +122,6 @@ def register_study(subparsers):
     p.add_argument("--workers", type=integer_arg("--workers", 1), default=None,
                    help="local processes, this one included (default: all cores)")
     p.add_argument("-o", "--output", required=True,
-                   help="netCDF file; finished cases kept next to it in <stem>.cases/ (missing directories are created)")
-    p.set_defaults(func=cmd_study)
+                   help="netCDF file, .nc; finished cases kept next to it in <stem>.cases/ (missing directories are "
+                   "created)")
+    p.set_defaults(func=cmd_study, output_suffixes=NETCDF_SUFFIXES)
