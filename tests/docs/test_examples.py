@@ -113,6 +113,19 @@ def test_the_pressurised_sphere_with_plane_stress_strains_two_percent():
     assert round(100 * membrane_strain(scene, True)) == 2
 
 
+def test_the_pressurised_sphere_says_which_law_to_choose():
+    """The comment names the law for a rubber-like wall and how much stiffer the paper's law is in this
+    equibiaxial stretch: the ratio of the two closed-form membrane strains, ``(1 - nu) / ((1 + nu)(1 - 2 nu))``,
+    17.1 at nu = 0.49; and a run of the paper's law says so in a MaterialWarning."""
+    scene, _, comment = example("pressurised_sphere")
+    assert 'rubber-like wall (a balloon), material = "svk-plane-stress"' in comment and "17 times stiffer" in comment
+    ratio = membrane_strain(scene, plane_stress=True) / membrane_strain(scene)
+    assert ratio == pytest.approx((1 - scene.nu) / ((1 + scene.nu) * (1 - 2 * scene.nu)), rel=1e-12)
+    assert round(ratio) == 17 and scene.material == "svk" and scene.nu == 0.49
+    with pytest.warns(mol_shell.MaterialWarning, match=r'17\.1 times stretched equally.*"svk-plane-stress"'):
+        at_rest(scene, 5)
+
+
 # -- the drum ------------------------------------------------------------------------------------------
 def test_the_drum_spins_down_exponentially_and_breathes_about_its_centrifugal_stretch():
     """The comment: the spin decays like ``exp(-drag t / (rho 2h))``, a time constant of about 0.25 s, the angular
