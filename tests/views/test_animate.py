@@ -116,7 +116,7 @@ def test_fibre_figure_from_the_command_line(run_file, tmp_path, capsys):
                         (["--figure", "fibres", "--at-s", "5"], "--at-s = 5 is outside [0, 4] m"),
                         (["--figure", "fibres", "--fibres", "0"], "--fibres = 0 is outside"),
                         (["--time", "0"], "--time is an option of --figure fibres only"),
-                        (["--figure", "fibre"], "--figure = 'fibre' is outside {snapshots, fibres}")]:
+                        (["--figure", "fibre"], "--figure = 'fibre' is outside {snapshots, fibres, history}")]:
         code = main(["plot", str(run_file[0]), *argv, "-o", str(tmp_path / "x.png")])
         err = capsys.readouterr().err
         assert code == 2 and len(err.splitlines()) == 1 and words in err, (argv, err)

@@ -50,14 +50,14 @@ def offset_points(ds, k, zeta):
 
 
 def read_xdmf(path):
-    """Every step of an XDMF time series through meshio's reader (each step's grid holds its own mesh)."""
+    """Every step of an XDMF time series through meshio's reader: one reference mesh, moved at each step by its
+    ``displacement`` (as ParaView's Warp By Vector moves it)."""
     steps = []
     with meshio.xdmf.TimeSeriesReader(path) as reader:
+        reference, cells = reader.read_points_cells()
         for k in range(reader.num_steps):
-            reader.mesh_grid = reader.collection[k]
-            points, cells = reader.read_points_cells()
             t, point_data, cell_data = reader.read_data(k)
-            steps.append((t, points, cells, point_data, cell_data))
+            steps.append((t, reference + point_data["displacement"], cells, point_data, cell_data))
     return steps
 
 
