@@ -58,12 +58,12 @@ def cmd_compare(args):
     text = args.integrators.strip()
     names = check_integrators([s.strip() for s in text.split(",")] if text else [], "--integrators")
     scene, run = scene_and_run(args.scene, args.set)
-    say_stand_ins(scene)
     t_end = args.t_end if args.t_end is not None else run.get("t_end")
     times = PAPER_TIMES if t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, t_end, 5)]
     start = time.perf_counter()
     ds = work_precision(scene, names, n=args.n or run.get("n", 40), times=times, repeats=args.repeats)
     png, md = write_outputs(ds, args.output, args.target)
+    say_stand_ins(scene)
     print(markdown_table(ds, args.target))
     print(f"wrote {args.output}, {png}, {md} in {time.perf_counter() - start:.0f} s")
     return 0
@@ -81,8 +81,8 @@ def register_stability(subparsers):
 
 def cmd_stability(args):
     scene, _ = scene_and_run(args.scene, args.set)
-    say_stand_ins(scene)
     ds = report(default_cases(scene, quick=args.quick), bisect=not args.no_bisect)
+    say_stand_ins(scene)
     write_netcdf(ds, args.output)
     stem = str(args.output).rsplit(".", 1)[0]
     write_text(stem + ".md", stability_table(ds) + "\n")
@@ -94,8 +94,8 @@ def cmd_stability(args):
 def cmd_modes(args):
     scene, run = scene_and_run(args.scene, args.set)
     png = writable_path(args.png or str(args.output).rsplit(".", 1)[0] + ".png", "--png", suffixes=image_formats())
-    say_stand_ins(scene)
     ds = modes(scene, n=args.n or run.get("n", 40), count=args.count)
+    say_stand_ins(scene)
     write_netcdf(ds, args.output)
     plot_modes(ds, png)
     print(f"wrote {args.output} and {png}: {ds.sizes['mode']} modes, {ds.attrs['zero_modes']} rigid motions; "

@@ -27,7 +27,8 @@ SCENE_HELP = ("a registered scene (" + ", ".join(SCENES) + "; meridian without -
 
 
 def say_stand_ins(scene):
-    """A note on stderr for each built-in stand-in a scene runs with (the meridian scene's dome)."""
+    """A note on stderr for each built-in stand-in a scene ran with (the meridian scene's dome); said once the
+    command has computed, so a refusal stays one line."""
     for text in scene.stand_ins():
         print(f"mol-shell: note: {text}", file=sys.stderr)
 

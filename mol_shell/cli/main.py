@@ -60,7 +60,6 @@ from mol_shell.views.plotting import image_formats, plot_meridian, plot_snapshot
 
 def cmd_run(args):
     scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] table gives defaults, the options win
-    say_stand_ins(scene)
     times = parse_times_arg(args.times, n=args.n or run.get("n", 40)) if args.times else None
     if args.t_end is None and times is None:  # --t-end or --times replace both of the file's
         times = run.get("times")
@@ -71,6 +70,7 @@ def cmd_run(args):
     ds = simulate(scene, integrator, n=args.n or run.get("n", 40), t_end=t_end, times=times, progress=None,
                   stresses=args.stresses, **options)
     write_netcdf(ds, args.output)
+    say_stand_ins(scene)
     if not ds.attrs["complete"]:
         print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {ds.sizes['time']} saved times to {args.output}",
               file=sys.stderr)

@@ -75,7 +75,6 @@ def cmd_study(args):
         raise ParameterError.invalid("--set", f"{both[0]}={sets[both[0]]}", f"sets {both[0]}, which --vary varies",
                                      "parameters not in --vary")
     scene = with_params(base, sets)
-    say_stand_ins(scene)
     times = parse_times_arg(args.times, n=n) if args.times else None
     if args.t_end is None and times is None:  # --t-end or --times replace both of the file's
         times = run.get("times")
@@ -90,6 +89,7 @@ def cmd_study(args):
         print(f"mol-shell: study interrupted; finished cases are kept in {Store(args.output).folder}; "
               "run the same command again to resume", file=sys.stderr)
         return 130
+    say_stand_ins(scene)
     statuses = ds.status.values.ravel().tolist()
     counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
     print(f"wrote {args.output}: {ds.attrs['n_cases']} cases ({counts}); ran {ds.attrs['n_executed']}, "
