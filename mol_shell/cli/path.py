@@ -8,10 +8,16 @@ import sys
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.analysis.equilibria import PATH_LOADS
 from mol_shell.analysis.path import path
-from mol_shell.cli.args import EXIT_INCOMPLETE, integer_arg, parse_sets
+from mol_shell.cli.args import (
+    EXIT_INCOMPLETE,
+    NETCDF_SUFFIXES,
+    SCENE_HELP,
+    SCENE_METAVAR,
+    integer_arg,
+    say_stand_ins,
+    scene_and_run,
+)
 from mol_shell.results.dataset import write_netcdf
-from mol_shell.scenes import SCENES, get_scene, with_params
-from mol_shell.scenes.files import load_scene
 
 PARAM_FORM = "NAME=START:STOP with NAME in {" + ", ".join(PATH_LOADS) + "}, START and STOP numbers, START != STOP"
 
@@ -36,12 +42,7 @@ def parse_param(text):
 
 def cmd_path(args):
     name, start, stop = parse_param(args.param)
-    if args.scene.endswith(".toml"):
-        scene, run = load_scene(args.scene, with_run=True)
-        scene = with_params(scene, parse_sets(args.set))
-    else:
-        run = {}
-        scene = get_scene(args.scene, **parse_sets(args.set))
+    scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] n is the default of --n
     n = args.n or run.get("n", 40)
     try:
         ds = path(scene, name, start, stop, n=n, max_steps=args.max_steps)
@@ -51,6 +52,7 @@ def cmd_path(args):
                 from None
         raise
     write_netcdf(ds, args.output)
+    say_stand_ins(scene)
     summary = (f"{ds.sizes['step']} steps from {name} = {start:g} to {float(ds.parameter[-1]):.6g} "
                f"{ds.parameter.attrs['units']}, {ds.sizes['point']} critical points")
     points = "".join(f"\n  {kind} at {name} = {value:.6g} ({family})" for kind, value, family in
@@ -66,12 +68,13 @@ def cmd_path(args):
 def register_path(sub):
     p = sub.add_parser("path", help="equilibrium path in one load through limit points, with stability and "
                        "critical points")
-    p.add_argument("scene", metavar="SCENE_OR_FILE", help="one of: " + ", ".join(SCENES) + "; or a scene file FILE.toml")
+    p.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
     p.add_argument("--param", required=True, metavar="NAME=START:STOP",
                    help="the continued load and its range, NAME in {" + ", ".join(PATH_LOADS) + "}")
     p.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
     p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=200,
                    help="the path ends after this many steps (default 200)")
-    p.add_argument("-o", "--output", required=True, help="netCDF file to write (missing directories are created)")
-    p.set_defaults(func=cmd_path)
+    p.add_argument("-o", "--output", required=True,
+                   help="netCDF file to write, .nc (missing directories are created)")
+    p.set_defaults(func=cmd_path, output_suffixes=NETCDF_SUFFIXES)

@@ -115,7 +115,7 @@ def test_compare_and_stability_take_a_scene_file(command, tmp_path, monkeypatch,
         given.append(scene)
         raise ParameterError("analysis", "stopped here", "nothing: the test stops it")
 
-    monkeypatch.setattr(analysis, "study", capture)
+    monkeypatch.setattr(analysis, "work_precision", capture)
     monkeypatch.setattr(analysis, "default_cases", capture)
     path = tmp_path / "big.toml"
     path.write_text(SPHERE_FILE)
@@ -145,6 +145,7 @@ def test_output_cut_short_by_its_reader_ends_quietly(args):
     ["study", "sphere", "--vary", "nu=0.3,0.4", "--t-end", "1e-5"],
     ["compare", "sphere", "--integrators", "leapfrog"],
     ["stability", "sphere", "--quick"],
+    ["path", "sphere", "--param", "pressure=0:1e3"],
 ])
 @pytest.mark.parametrize("suffix", ["png", "xdmf", "txt", ""])
 def test_commands_writing_netcdf_refuse_other_file_kinds(argv, suffix, tmp_path, capsys):
