@@ -281,6 +281,7 @@ def test_casadi_cvodes_fails_cleanly_at_a_singularity(tmp_path, capsys):
     assert ds.attrs["status"] == "failed" and ds.attrs["complete"] == 0 and ds.sizes["time"] == 1
 
 
+@pytest.mark.slow
 def test_ctrl_c_keeps_the_data_and_exits_130(tmp_path):
     """SIGINT during a leap-frog run (5 s of simulated time: ~22 s of stepping on the 0.5.0 stencil) after the build:
     the saved times reached are written, marked interrupted, and the exit code is 130 (128 + SIGINT)."""

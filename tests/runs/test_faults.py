@@ -19,6 +19,9 @@ import mol_shell
 from mol_shell.results.dataset import read_run
 from mol_shell.runs.study import study
 
+#: fault drills: subprocesses killed, pools broken, compilers racing (each several seconds); still run by CI
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[2]
 FIELDS = ("z", "r", "chi", "theta", "psi", "energy", "angular_momentum")
 
@@ -40,6 +43,7 @@ STUDY = ["study", "twisted-cylinder", "--vary", "gamma=0.02:0.12:0.02", "--n", "
          "--scheduler", "serial"]
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(300)
 def test_study_killed_with_sigkill_resumes_to_the_same_results(tmp_path):
     """SIGKILL once two of six cases are stored (each ~0.5 s of leap-frog): the rerun reuses what was stored,
