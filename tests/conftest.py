@@ -9,6 +9,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 SPREAD = {"test_fuzz.py"}
 
 
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist's own hook reads the groups
 def pytest_collection_modifyitems(config, items):
     """Under pytest-xdist (``-n 2``, ``--dist loadgroup`` from pyproject), the tests of one file run on one worker:
     a file's module-scoped fixtures and cached runs (a reference solution, a compiled system) are built once."""
