@@ -31,7 +31,7 @@ LAYERS = next(c["layers"] for c in CONTRACTS if c["type"] == "layers")
 LAZY_EXTERNAL = {
     "distributed": "the dask extra, optional: only studies run on a dask cluster need it",
     "sksundae": "SUNDIALS (about 1 s to import): only the CVODE/IDA integrators and the DAE route need it",
-    "scipy": "its integrate/interpolate/sparse submodules (0.4-1 s each): only some integrators, statics and meridians",
+    "scipy": "its integrate/interpolate/sparse submodules (0.4-1 s each): only some integrators, statics, modes, meridians",
     "matplotlib": "pyplot (0.7 s, and it picks a backend): only figures; the CLI chooses the backend first",
     "meshio": "only the 3-D export",
     "imageio_ffmpeg": "only animations written as video",
