@@ -4,6 +4,19 @@ import pytest
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
+#: files whose tests are independent examples with nothing shared but a kernel cache on disk: under pytest-xdist
+#: they spread over the workers one by one, and fill the gaps between the other files
+SPREAD = {"test_fuzz.py"}
+
+
+@pytest.hookimpl(tryfirst=True)  # before pytest-xdist's own hook reads the groups
+def pytest_collection_modifyitems(config, items):
+    """Under pytest-xdist (``-n 2``, ``--dist loadgroup`` from pyproject), the tests of one file run on one worker:
+    a file's module-scoped fixtures and cached runs (a reference solution, a compiled system) are built once."""
+    for item in items:
+        if item.path.name not in SPREAD:
+            item.add_marker(pytest.mark.xdist_group(str(item.path.relative_to(config.rootpath))))
+
 
 @pytest.fixture(scope="session")
 def paper_scene():

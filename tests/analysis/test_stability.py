@@ -50,11 +50,16 @@ def test_locking_raises_the_frequency_and_plane_stress_removes_it():
 
 
 def test_report_table_has_a_row_per_case():
+    """The markdown table: a header, its rule and one row per case, each row's cells the report's values."""
     ds = report([Case("paper", mol_shell.TwistedCylinder(), n=12, t_end=0.002)], integrators=(), bisect=False)
-    table = markdown_table(ds)
-    assert table.count("\n") == 2 and "| paper | 12 |" in table
     assert str(ds["leapfrog_status"].values[0]) == "complete"
     assert np.isfinite(ds["leapfrog_dt_bound"].values[0])
+    header, rule, *rows = [[cell.strip() for cell in line.split("|")[1:-1]] for line in markdown_table(ds).split("\n")]
+    assert set(rule) == {"---"} and len(rule) == len(header)
+    assert len(rows) == ds.sizes["case"] and all(len(row) == len(header) for row in rows)
+    row = dict(zip(header, rows[0]))
+    assert row["case"] == "paper" and row["n"] == "12" and row["leapfrog status"] == "complete"
+    assert float(row["LF dt bound [s]"]) == pytest.approx(float(ds["leapfrog_dt_bound"].values[0]), rel=5e-3)
 
 
 @pytest.mark.filterwarnings("ignore:run incomplete:RuntimeWarning")

@@ -1,7 +1,12 @@
 """Command line for shells of revolution: scenes listing, runs and plots of a sphere, modes and their refusals."""
 
+import dataclasses
+
+import pytest
 import xarray as xr
 
+import mol_shell
+from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
 
 
@@ -12,9 +17,12 @@ def test_scenes_lists_every_registered_scene_and_a_scenes_parameters(capsys):
     out = capsys.readouterr().out
     assert all(name in out for name in SCENES)
     assert main(["scenes", "torus"]) == 0
-    out = capsys.readouterr().out
-    for name in ("a ", "b ", "alpha1", "alpha2", "dilation", "end1", "h "):
-        assert name in out
+    head, *rows = capsys.readouterr().out.splitlines()
+    assert head.startswith("torus: ")
+    shown = {row.split()[0]: row.split()[1] for row in rows}  # name, default, unit, description
+    torus = SCENES["torus"]()
+    assert shown == {f.name: "auto" if getattr(torus, f.name) is None else str(getattr(torus, f.name))
+                     for f in dataclasses.fields(torus)}
     assert main(["scenes", "drum"]) == 2
     assert "scene = 'drum' is outside" in capsys.readouterr().err
 
@@ -40,9 +48,11 @@ def test_sphere_run_plot_and_modes(tmp_path, capsys):
 
 def test_modes_and_edges_refuse_with_one_line(tmp_path, capsys):
     # the paper's twisted cylinder between magnets untwists: not an equilibrium
+    with pytest.raises(ParameterError) as refused:
+        mol_shell.modes(mol_shell.TwistedCylinder(), n=11)
+    assert "equilibrium" in str(refused.value) and "chi" in str(refused.value)
     assert main(["modes", "twisted-cylinder", "--n", "11", "-o", str(tmp_path / "m.nc")]) == 2
-    err = capsys.readouterr().err.strip()
-    assert err.count("\n") == 0 and "equilibrium" in err and "chi" in err
+    assert capsys.readouterr().err.splitlines() == [f"mol-shell: error: {refused.value}"]  # all of stderr
     # a pole cannot be clamped; an open edge cannot be a pole
     assert main(["run", "sphere", "--set", "end1=clamped", "--t-end", "1e-5", "-o", str(tmp_path / "x.nc")]) == 2
     assert "end1 = 'clamped' is outside {pole, auto}" in capsys.readouterr().err

@@ -22,6 +22,7 @@ def _installed(name):
 missing = [name for name in ("mkdocs", "mkdocstrings", "mkdocstrings_handlers.python") if not _installed(name)]
 
 
+@pytest.mark.slow  # mkdocs builds the whole site with its API pages: 10-20 s
 @pytest.mark.skipif(bool(missing), reason=f"the docs extra is not installed (pip install -e \".[docs]\"): "
                                           f"{', '.join(missing)} missing")
 @pytest.mark.timeout(300)

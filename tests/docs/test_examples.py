@@ -127,6 +127,7 @@ def test_the_pressurised_sphere_says_which_law_to_choose():
 
 
 # -- the drum ------------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_the_drum_spins_down_exponentially_and_breathes_about_its_centrifugal_stretch():
     """The comment: the spin decays like ``exp(-drag t / (rho 2h))``, a time constant of about 0.25 s, the angular
     momentum at 0.5 s is 0.1368 of its start; the centrifugal stretch is about 2.3 % at the start and falls with
@@ -200,6 +201,7 @@ def test_the_cone_follows_its_driven_edge_behind_a_torsion_wave():
 
 
 # -- the torus -----------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_the_torus_oscillates_about_its_sagged_equilibrium_at_its_lowest_natural_frequency():
     """The comment: released from the natural state, the equator falls freely at first, then oscillates about
     the sagged equilibrium: down 19 mm at t = 0.1 s and back to the start at 0.2 s.

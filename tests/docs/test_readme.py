@@ -22,6 +22,8 @@ EPS = np.finfo(float).eps
 README = Path(__file__).resolve().parents[2] / "README.md"
 PAPER = mol_shell.TwistedCylinder()
 PAPER_TIMES = [0, 0.02, 0.07, 0.106, 0.143]
+#: the README's example runs the paper's 143,000 steps, a viscous IDA run at n = 160 and a study: ~20 s
+pytestmark = pytest.mark.slow
 
 
 def python_blocks(text):

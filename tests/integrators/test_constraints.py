@@ -42,6 +42,7 @@ def test_partial_constraint_list_defect_is_reproduced(make):
     assert _fresh_interpreter(make, "partial", 20) == 20
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("make", ["cvode", "ida"])
 def test_full_constraint_list_workaround_never_fails(make):
     assert _fresh_interpreter(make, "full", 20) == 0
@@ -279,6 +280,7 @@ def _shell_harness(mode, solves, names):
     return {row[0]: (int(row[1]), float(row[3])) for row in rows if int(row[2]) == solves}
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(120)
 def test_shell_solves_with_constraints_never_fail_on_a_poisoned_heap():
     """100 CVODE (BDF) and 100 IDA solves of the twisted cylinder through the package, r > 0 constrained.

@@ -24,10 +24,13 @@ import numpy as np
 import pytest
 
 import mol_shell
+from mol_shell.scenes.base import LOADS
 
+#: the loads this scene puts on (module docstring)
+LOADS_ON = {"pressure": 200.0, "gravity": 9.81, "drag": 50.0, "end1_torque": 5.0, "end2_force": 20.0}
 SCENE = mol_shell.TwistedCylinder(
-    gamma=0.1, R=None, end1="magnet", end2="free", pressure=200.0, pressure_history="ramp 0.01", gravity=9.81,
-    drag=50.0, end1_torque=5.0, end1_torque_history="sine 50", end2_force=20.0, end2_spin=0.5,
+    gamma=0.1, R=None, end1="magnet", end2="free", pressure_history="ramp 0.01", end1_torque_history="sine 50",
+    end2_spin=0.5, **LOADS_ON,
 )
 N = 21
 TIMES = np.linspace(0.0, 0.02, 11)
@@ -51,7 +54,10 @@ def test_every_load_is_in_the_graph_and_exchanges_energy():
     ``end1_torque`` is a load, not a reaction), and the exchange is substantial (work > 40 J, dissipated
     > 4 J) so that a relative balance of 1e-9 resolves 4e-8 J."""
     assert SCENE.loaded
-    assert set(SCENE.load_histories()) == {"pressure", "gravity", "drag", "end1_torque", "end2_force"}
+    assert set(SCENE.load_histories()) == set(LOADS_ON)
+    # every kind of load the package declares is on, at one end or the other
+    assert {name.split("_", 1)[-1] if name.startswith("end") else name for name in LOADS} == {
+        name.split("_", 1)[-1] if name.startswith("end") else name for name in LOADS_ON}
     assert set(SCENE.drives()) == {(1, 2)}
     ds = run("leapfrog", dt=1e-6)
     assert np.all(ds.reaction_torque.values[:, 0] == 0) and np.all(np.isfinite(ds.reaction_torque.values[:, 1]))

@@ -200,6 +200,7 @@ class DragRing(ref.Ring):
         return sol.y
 
 
+@pytest.mark.slow
 def test_spinning_drum_in_a_viscous_fluid_follows_the_ring_ode_with_drag():
     """``TwistedCylinder(gamma=0, R=1, omega=20, psi0=0, drag=250)``, CVODE-BDF ``rtol = 1e-10``, ``atol = 1e-12``,
     ``n = 11``, to 0.05 s, against :class:`DragRing` (DOP853 at rtol 1e-12).

@@ -23,6 +23,7 @@ exact eigenvector (mirror-symmetric ghost node), with the discrete frequency
 import math
 
 import numpy as np
+import pytest
 import scipy.sparse
 import scipy.sparse.linalg
 from scipy.integrate import solve_ivp
@@ -70,6 +71,7 @@ def torsional_eigenfrequency(system, A, k):
     return abs(values[j].imag), overlap[j], np.linalg.norm(psi[:, j]) / np.linalg.norm(chi[:, j])
 
 
+@pytest.mark.slow
 def test_torsional_modes_converge_to_the_shear_wave_at_order_two():
     """Eigenvalues of ``system.jac`` on ``n = 20, 40, 80, 160`` for the k = 1 and k = 2 torsional modes.
 
@@ -168,6 +170,7 @@ def _solve_smooth(n, t_end, rtol, atol):
     return system.unpack(sol.y[:, -1])
 
 
+@pytest.mark.slow
 def test_nonlinear_solution_converges_at_second_order_in_s():
     """All five fields, ``n = 81, 161, 321, 641`` (nested: ``ds`` halves from 0.05 m), DOP853 at rtol 1e-10 to 0.02 s.
 

@@ -68,12 +68,18 @@ COUNTS = {"examples": 0, "cli": {}, "api": {}, "slowest": []}
 
 
 @pytest.fixture(scope="module", autouse=True)
-def private_cache():
-    """Kernels compiled for fuzzed values go into a cache of their own, removed afterwards; the counts of
+def fuzz_cache():
+    """Kernels compiled for fuzzed values go into a cache of their own, apart from the kernels of real runs. The
+    ``ci`` profile draws the same values every time (derandomized): its kernels are a fixed set (about 10 MB), kept
+    in ``fuzz-ci`` inside the kernel cache, shared by the workers of a parallel run (the cache's lock) and reused by
+    the next run. Other profiles draw new values each time: a temporary cache, removed afterwards. The counts of
     examples and outcomes are printed at the end (for the README's status)."""
+    from mol_shell.discretization.compiled import cache_dir
+
     old = os.environ.get("MOL_SHELL_CACHE")
     start = time.perf_counter()
-    with tempfile.TemporaryDirectory(prefix="mol_shell_fuzz_cache") as tmp:
+    kept = contextlib.nullcontext(str(cache_dir() / "fuzz-ci")) if PROFILE == "ci" else None
+    with kept or tempfile.TemporaryDirectory(prefix="mol_shell_fuzz_cache") as tmp:
         os.environ["MOL_SHELL_CACHE"] = tmp
         yield
     if old is None:
@@ -262,6 +268,7 @@ def check_api(scene, name, value, integrator, rng):
     return outcome
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene,name", PAIRS, ids=[f"{s}-{n}" for s, n in PAIRS])
 @settings(deadline=None)
 @given(data=st.data())
@@ -325,6 +332,7 @@ OPTION_VALUES = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("option", sorted(OPTION_VALUES))
 @settings(deadline=None)
 @given(data=st.data())
@@ -404,6 +412,7 @@ def test_a_degenerate_value_is_refused_with_the_range_where_the_numbers_are_fini
     assert degenerate._is_bad(dataclasses.replace(scene, **{name: beyond}), 5) is True
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene", sorted(mol_shell.SCENES))
 def test_every_wrong_type_and_special_value_is_refused_or_stored_as_a_plain_number(scene):
     """Every value of WRONG_TYPES and SPECIAL for every field (cheap: no run): the scene refuses it naming the

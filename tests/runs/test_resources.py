@@ -143,6 +143,7 @@ _PEAK = textwrap.dedent("""
 """)
 
 
+@pytest.mark.slow
 @pytest.mark.timeout(300)
 def test_memory_estimate_bounds_a_measured_run():
     """20,001 saved times at n = 40 (171 MB of output with the stresses): the process's peak grows by more than the

@@ -21,6 +21,7 @@ Tolerances are explained where they are used; nothing is copied from a run of th
 """
 
 import importlib.util
+import inspect
 import math
 from pathlib import Path
 
@@ -36,12 +37,30 @@ PAPER = mol_shell.TwistedCylinder()
 PNG = b"\x89PNG\r\n\x1a\n"
 
 
-def run_study(name, out, *extra):
-    """``studies/<name>.py``'s ``main`` with ``--quick --out out`` (plus ``extra``), in this process."""
+#: study name -> the test below that runs it (filled by :func:`covers` when this module is imported)
+COVERED = {}
+
+
+def covers(name):
+    """Declare that the decorated test runs ``studies/<name>.py`` (:func:`test_every_study_has_a_quick_mode`)."""
+    def declare(test):
+        assert name not in COVERED, (name, COVERED[name])
+        COVERED[name] = test.__name__
+        return test
+    return declare
+
+
+def load_study(name):
     spec = importlib.util.spec_from_file_location(f"study_{name}", STUDIES / f"{name}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    return module.main(["--quick", "--out", str(out), *extra])
+    return module
+
+
+def run_study(name, out, *extra):
+    """``studies/<name>.py``'s ``main`` with ``--quick --out out`` (plus ``extra``), in this process."""
+    assert name in COVERED, f"declare the test that runs {name} with @covers({name!r})"
+    return load_study(name).main(["--quick", "--out", str(out), *extra])
 
 
 def lame(nu, material="svk", E=PAPER.E):
@@ -72,6 +91,8 @@ def assert_written(*paths):
             assert path.read_bytes()[:8] == PNG, path
 
 
+@pytest.mark.slow
+@covers("ring_vs_pde")
 def test_ring_vs_pde_error_falls_at_order_two_and_the_motion_stays_uniform(tmp_path):
     """Spinning ring (section 5), N = 10, dt = 8, 4, 2 us to 0.04 s against the ring ODE (DOP853, rtol 1e-12).
 
@@ -91,6 +112,8 @@ def test_ring_vs_pde_error_falls_at_order_two_and_the_motion_stays_uniform(tmp_p
     assert_written(tmp_path / "ring_vs_pde.nc", tmp_path / "ring_vs_pde.png")
 
 
+@pytest.mark.slow
+@covers("paper_figures")
 def test_paper_figures_energy_error_is_second_order_and_files_are_written(tmp_path):
     """The paper's run (N = 40) at the paper's dt = 1e-6 s and at 4e-6 s; the figures and netCDF.
 
@@ -116,6 +139,8 @@ def test_paper_figures_energy_error_is_second_order_and_files_are_written(tmp_pa
         assert t in back.time.values
 
 
+@pytest.mark.slow
+@covers("twist_amplitude")
 def test_twist_amplitude_follows_the_small_twist_law(tmp_path):
     """gamma = 0.025, 0.05, 0.1 rad/m on N = 40.
 
@@ -140,6 +165,8 @@ def test_twist_amplitude_follows_the_small_twist_law(tmp_path):
     assert_written(*(tmp_path / f for f in ("twist_amplitude.nc", "twist_amplitude_n40.nc", "twist_amplitude.png")))
 
 
+@pytest.mark.slow
+@covers("sweeps_nu_h")
 def test_sweeps_radius_change_falls_with_nu_and_the_step_bound_scales_with_h(tmp_path):
     """nu = 0.3, 0.45, 0.499 and h = 1/4, 1/2, 1 x 2 pi 1e-3 m, N = 40.
 
@@ -166,6 +193,8 @@ def test_sweeps_radius_change_falls_with_nu_and_the_step_bound_scales_with_h(tmp
                    tmp_path / "sweeps_nu_h.png")
 
 
+@pytest.mark.slow
+@covers("plane_stress")
 def test_plane_stress_radius_and_locking_against_closed_forms(tmp_path):
     """nu = 0.499, 0.4999 with the paper's law (svk) and with plane stress, N = 40.
 
@@ -197,6 +226,8 @@ def test_plane_stress_radius_and_locking_against_closed_forms(tmp_path):
     assert_written(tmp_path / "plane_stress.nc", tmp_path / "plane_stress.png")
 
 
+@pytest.mark.slow
+@covers("unshearable_vs_free")
 def test_unshearable_shell_keeps_its_constraints_while_the_free_shell_twists(tmp_path):
     """N = 21 to 0.02 s; spins 0, 10, 20 rad/s.
 
@@ -230,6 +261,8 @@ def test_unshearable_shell_keeps_its_constraints_while_the_free_shell_twists(tmp
                    tmp_path / "unshearable_omega.nc", tmp_path / "unshearable.png")
 
 
+@pytest.mark.slow
+@covers("work_precision")
 def test_work_precision_leapfrog_is_second_order_and_adams_follows_its_tolerance(tmp_path):
     """Leap-frog at dt = 1e-5, 5e-6 s and CVODE-Adams at rtol = 1e-5, 1e-7, paper scene to 0.02 s.
 
@@ -251,6 +284,8 @@ def test_work_precision_leapfrog_is_second_order_and_adams_follows_its_tolerance
     assert_written(tmp_path / "work_precision.nc", tmp_path / "work_precision.png", tmp_path / "work_precision.md")
 
 
+@pytest.mark.slow
+@covers("stability_report")
 def test_stability_report_bound_is_sharp_and_viscosity_damps_the_shear_mode(tmp_path):
     """The paper scene and viscous eta_mu = 100 Pa s (eta_lambda = 200 Pa s), N = 40, 10 ms.
 
@@ -280,6 +315,8 @@ def test_stability_report_bound_is_sharp_and_viscosity_damps_the_shear_mode(tmp_
     assert_written(tmp_path / "stability.nc", tmp_path / "stability.md", tmp_path / "stability.png")
 
 
+@pytest.mark.slow
+@covers("implicit_scaling")
 def test_implicit_scaling_viscous_steps_do_not_follow_the_grid(tmp_path):
     """Viscous (eta_mu = 1000, eta_lambda = 2000 Pa s, 10 ms) and elastic (2 ms) on n = 40, 80, CVODE-BDF.
 
@@ -309,8 +346,14 @@ def test_implicit_scaling_viscous_steps_do_not_follow_the_grid(tmp_path):
 
 
 @pytest.mark.parametrize("name", sorted(p.stem for p in STUDIES.glob("*.py")))
-def test_every_study_has_a_quick_mode(name):
-    """A new script in studies/ must take --quick and --out (and get a test above)."""
-    text = (STUDIES / f"{name}.py").read_text()
-    assert '"--quick"' in text and '"--out"' in text and "def main(argv=None)" in text
-    assert f'run_study("{name}"' in Path(__file__).read_text()
+def test_every_study_has_a_quick_mode(name, capsys):
+    """A new script in studies/ must have ``main(argv=None)`` taking --quick and --out (its ``--help`` lists them),
+    and a test above that runs it (declared with ``@covers``)."""
+    main = load_study(name).main
+    assert inspect.signature(main).parameters["argv"].default is None
+    with pytest.raises(SystemExit) as done:
+        main(["--help"])
+    assert done.value.code == 0
+    usage = capsys.readouterr().out
+    assert "--quick" in usage and "--out" in usage, usage
+    assert name in COVERED, f"studies/{name}.py has no test: add one above, declared with @covers({name!r})"

@@ -72,6 +72,7 @@ def test_interrupted_study_resumes_and_skips_finished_cases(tmp_path, monkeypatc
     assert other.attrs["n_executed"] == 4
 
 
+@pytest.mark.slow
 def test_on_an_explicit_dask_cluster():
     distributed = pytest.importorskip("distributed")
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:

@@ -23,7 +23,6 @@ NEEDS_A_FILE = {"meridian"}  # its points have no default
 def test_every_parameter_of_every_scene_is_in_exactly_one_table():
     lists = {"material": MATERIAL, "edges": EDGES, "loads": LOADS}
     assert set(DRIVES) <= set(EDGES)
-    geometry = set()
     for cls in SCENES.values():
         names = {f.name for f in dataclasses.fields(cls)}
         for name in names:
@@ -33,10 +32,50 @@ def test_every_parameter_of_every_scene_is_in_exactly_one_table():
             assert len(claims) <= 1, f"{cls.name}: {name} claimed by {claims}"
             table = table_of(cls, name)
             assert table == (claims[0] if claims else "geometry") and table in TABLES[:-1]
-            if table == "geometry":
-                geometry.add(name)
-    # today's meridian parameters (a new initial-data field left out of a scene's `initial` would land here)
-    assert geometry == {"L", "a", "b", "alpha1", "alpha2", "r1", "r2", "H", "points"}
+
+
+def _changed(scene, name, tmp_path):
+    """``scene`` with parameter ``name`` moved a little (5 %, or 0.05 from zero; another built-in table of points),
+    staying inside its allowed range."""
+    value = getattr(scene, name)
+    if name == "points":  # a file: a flatter half ellipsoid than the built-in dome
+        t = np.linspace(0.0, np.pi / 2, 17)
+        path = tmp_path / "dome.txt"
+        np.savetxt(path, np.column_stack([np.cos(t), 0.5 * np.sin(t)]))
+        candidates = [str(path)]
+    elif value is None:  # R or dilation: automatic (the equilibrium) by default
+        candidates = [1.02, 0.02]
+    else:
+        candidates = [value * 1.05, value * 0.95] if value else [0.05, -0.05]
+    for candidate in candidates:
+        try:
+            return dataclasses.replace(scene, **{name: candidate})
+        except ParameterError:
+            continue
+    raise AssertionError(f"{type(scene).__name__}.{name}: no allowed change among {candidates}")
+
+
+def _meridian(scene):
+    mer = scene.meridian()
+    return np.concatenate([[mer.length], *mer.at(np.linspace(0.0, mer.length, 9))])
+
+
+@pytest.mark.parametrize("name", sorted(SCENES))
+def test_geometry_parameters_shape_the_meridian_and_initial_ones_do_not(name, tmp_path):
+    """What the tables claim, from the scene itself: a parameter of the [geometry] table (no other table claims it)
+    changes the reference meridian; one of [initial] leaves it as it is (so a new initial-data parameter left out
+    of a scene's ``initial`` lands in [geometry] and fails here)."""
+    cls = SCENES[name]
+    scene = cls()
+    reference = _meridian(scene)
+    tables = {f.name: table_of(cls, f.name) for f in dataclasses.fields(cls)}
+    assert "geometry" in tables.values() and "initial" in tables.values()
+    for param, table in tables.items():
+        if table not in ("geometry", "initial"):
+            continue
+        moved = np.allclose(_meridian(_changed(scene, param, tmp_path)), reference, rtol=1e-12, atol=0.0)
+        assert moved == (table == "initial"), f"{name}: {param} is in [{table}] but the meridian " + (
+            "does not change with it" if moved else "changes with it")
 
 
 def _printed(name, capsys):
@@ -193,11 +232,11 @@ def test_a_bad_file_is_refused_in_one_line_naming_file_and_key(text, message, tm
     out = tmp_path / "out" / "x.nc"
     assert main(["run", str(path), "--t-end", "1e-5", "-o", str(out)]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "Traceback" not in err
-    assert err.startswith(f"mol-shell: error: {path}: {message}"), err
     assert not out.exists() and not out.parent.exists()
-    with pytest.raises(ParameterError, match="^" + str(path)):
+    with pytest.raises(ParameterError) as refused:
         load_scene(path)
+    assert str(refused.value).startswith(f"{path}: {message}"), refused.value
+    assert err.splitlines() == [f"mol-shell: error: {refused.value}"], err  # the library's message, all of stderr
 
 
 def test_a_missing_file_and_a_missing_name_are_refused(tmp_path, capsys):
