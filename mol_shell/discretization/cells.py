@@ -18,6 +18,7 @@ import numpy as np
 
 from mol_shell._core.constants import NF
 from mol_shell._core.errors import ParameterError
+from mol_shell.model.hyperelastic import law_thickness_energy
 from mol_shell.model.kinematics import delta
 from mol_shell.model.material import (
     thickness_dissipation,
@@ -56,7 +57,13 @@ def cell_samples(ql, qr, both=True):
     return tuple((grad[0], grad[1], grad[2], grad[3], grad[4], mid[1], mid[3], node[4]) for node in (ql, qr))
 
 class CellKernels:
-    """Cell-level kernels of :class:`~mol_shell.discretization.system.ShellSystem` (a mixin)."""
+    """Cell-level kernels of :class:`~mol_shell.discretization.system.ShellSystem` (a mixin).
+
+    ``law``/``law_params`` (:func:`~mol_shell.model.laws.law_parameters`): ``None`` for the SVK materials (their
+    Lame pair ``lam, mu`` and thickness moments), else the law integrated point by point in every kernel.
+    """
+
+    law = law_params = None
 
     def _cell_data(self):
         """Per-cell kernel data (columns): ``(j1, j3, vol)`` at each thickness point, then ``beta2_0`` if curved.
@@ -118,6 +125,9 @@ class CellKernels:
         """
         factors, beta2_0, moments = self._factors_and_moments(data)
         samples = self.cell_samples(ql, qr)
+        if self.law is not None:  # any other law: per thickness point in both forms
+            return sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0)
+                       for e in samples) / len(samples)
         if self.reference_kernel if reference is None else reference:
             return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
         return sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) for e in samples) / len(samples)
@@ -162,7 +172,7 @@ class CellKernels:
         At n = 10,240 the full table is 2.8 MB, more than the cache: passing only these rows, once for a uniform
         meridian, keeps a leap-frog step's data in cache.
         """
-        rows = self.cell_data[3 * self.thickness.n_quad:, :]
+        rows = self.cell_data[0 if self.law is not None else 3 * self.thickness.n_quad:, :]  # a law: every row
         return rows[:, :1] if np.all(rows == rows[:, :1]) else rows
 
     def cell_forces_shared_kernel(self):
@@ -173,14 +183,19 @@ class CellKernels:
         """
         ql, qr, _ = self._cell_symbols()
         tl, tr = ca.SX.sym("tl", 4), ca.SX.sym("tr", 4)
-        geo = ca.SX.sym("geo", self.shared_cell_data.shape[0])  # beta2_0 if curved, the moments
-        beta2_0 = geo[0] if self.curved else 0.0
-        moments = [geo[k] for k in range(int(self.curved), geo.numel())]
+        geo = ca.SX.sym("geo", self.shared_cell_data.shape[0])  # beta2_0 if curved, the moments (a law: every row)
         cos_mid, sin_mid = tl[2] * tr[2] - tl[3] * tr[3], tl[3] * tr[2] + tl[2] * tr[3]
         samples = self.cell_samples(ql, qr)  # psi at the left node, then the right (one sample: psi = 0)
         trigs = [(cos_mid, sin_mid, t[0], t[1]) for t in (tl, tr)]
-        energy = sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0, trig)
-                     for e, trig in zip(samples, trigs)) / len(samples)
+        if self.law is not None:
+            factors, beta2_0, _ = self._factors_and_moments(geo)
+            energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig)
+                         for e, trig in zip(samples, trigs)) / len(samples)
+        else:
+            beta2_0 = geo[0] if self.curved else 0.0
+            moments = [geo[k] for k in range(int(self.curved), geo.numel())]
+            energy = sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0, trig)
+                         for e, trig in zip(samples, trigs)) / len(samples)
         forces = [ca.gradient(energy, q) + trig_chain(t, ca.gradient(energy, t)) for q, t in ((ql, tl), (qr, tr))]
         return ca.Function("cell", [ql, qr, tl, tr, geo], ca.cse(forces), self.KERNEL_OPTIONS)
 

@@ -80,6 +80,7 @@ def unsupported_reason(system):
     """Why ``system`` cannot run on the stencil driver, or ``None`` when it can."""
     checks = [
         (system.reference_kernel, "the reference kernel"),
+        (system.law is not None, f"material = {system.scene.material}"),
         (system.n_extra > 0 or bool(system.drives), "loads or driven edges"),
         (system.viscous, "viscosity"),
         (bool(system.ties), "a pole"),

@@ -60,12 +60,8 @@ from mol_shell.model.kinematics import FIELDS as FIELD_NAMES
 from mol_shell.model.kinematics import kinetic_energy_density
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.loads import history
-from mol_shell.model.material import (
-    Thickness,
-    condensed,
-    effective_lame,
-    inertias,
-)
+from mol_shell.model.laws import law_parameters, small_strain_lame, viscosities
+from mol_shell.model.material import Thickness, inertias
 
 
 class ShellSystem(CellKernels):
@@ -116,8 +112,9 @@ class ShellSystem(CellKernels):
         r0, z0, th0, _ = self.meridian.at(self.s)
         self.reference = np.array([z0, r0, th0])
         self.edges = resolve_edges(getattr(scene, "end1", None), getattr(scene, "end2", None), self.meridian.poles)
-        self.lam, self.mu = effective_lame(scene.E, scene.nu, scene.material)
-        self.eta_lambda, self.eta_mu = condensed(scene.eta_lambda, scene.eta_mu, scene.material)
+        self.lam, self.mu = small_strain_lame(scene)  # the SVK kernels' pair; scales for the other laws
+        self.law, self.law_params = law_parameters(scene)
+        self.eta_lambda, self.eta_mu = viscosities(scene)
         self.viscous = scene.eta_lambda > 0 or scene.eta_mu > 0
         zeta1 = scene.zeta1_used()
         self.thickness = Thickness(zeta1, scene.h, scene.n_quad)

@@ -8,7 +8,8 @@ import numpy as np
 from mol_shell._core.constants import DENSE_MAX_STATES
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.loads import history
-from mol_shell.model.material import Thickness, effective_lame, shell_energy
+from mol_shell.model.laws import scene_shell_energy
+from mol_shell.model.material import Thickness
 
 
 def equilibrium_radius(scene, tol=1e-14, max_iter=50):
@@ -19,11 +20,10 @@ def equilibrium_radius(scene, tol=1e-14, max_iter=50):
     equilibrium state of the material"). For ``gamma = 0`` the root is the natural radius ``a``. A
     pressure ``p`` (its value at ``t = 0``) adds ``-p r^2/(2a)`` per unit reference area (``-p V``, ``V = pi r^2 L``).
     """
-    lam, mu = effective_lame(scene.E, scene.nu, scene.material)
     a = getattr(scene, "a", 1.0)
     thickness = Thickness(scene.zeta1_used(), scene.h, scene.n_quad)
     r = ca.SX.sym("r")
-    energy = shell_energy((1.0, 0.0, getattr(scene, "gamma", 0.0), 0.0, 0.0, r, 0.0, 0.0), lam, mu, thickness, a)
+    energy = scene_shell_energy(scene, (1.0, 0.0, getattr(scene, "gamma", 0.0), 0.0, 0.0, r, 0.0, 0.0), thickness, a)
     # pressure: -p V with V = pi r^2 L, per unit reference area 2 pi a L: -p r^2 / (2a) (follower, at t = 0)
     p0 = getattr(scene, "pressure", 0.0)
     if p0:

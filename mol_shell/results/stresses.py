@@ -59,9 +59,11 @@ import casadi as ca
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.ranges import Choice
 from mol_shell.discretization.cells import cell_samples as kernel_samples
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.model.kinematics import FIELDS, deformation_gradient
+from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, green_strain, lame
 from mol_shell.results.cf import coordinates, variables
 
@@ -362,6 +364,9 @@ class Evaluator:
 def _material(attrs):
     """Condensed Lame constants, viscosities and the plane-stress flag from a run's attrs."""
     material = str(attrs.get("material", "svk"))
+    if material not in SVK_MATERIALS:  # its stresses are not SVK's: refuse rather than give those
+        raise ParameterError("material", material, Choice(tuple(SVK_MATERIALS)),
+                             hint="stresses and resultants are computed for the SVK laws only so far")
     lam, mu = condensed(*lame(float(attrs["E"]), float(attrs["nu"])), material)
     eta_lambda, eta_mu = condensed(float(attrs.get("eta_lambda", 0.0)), float(attrs.get("eta_mu", 0.0)), material)
     return lam, mu, eta_lambda, eta_mu, material == "svk-plane-stress"
@@ -432,6 +437,11 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
                                      hint="missing " + ", ".join(missing or ["attrs E, nu, h, zeta1_used, n_quad"]))
     n_t, n = ds.sizes["time"], ds.sizes["s"]
     samples = 2 * (n - 1) * n_t
+    material = str(ds.attrs.get("material", "svk"))
+    if limit is not None and material not in SVK_MATERIALS:  # after a run: say so; asked for: _material refuses
+        out = ds.copy()
+        out.attrs["stresses"] = f"skipped: not computed for material = {material} (the SVK laws only so far)"
+        return out
     if limit is not None and samples > limit:
         out = ds.copy()
         out.attrs["stresses"] = (f"skipped: {samples:.3g} cell samples x saved times exceed the limit {limit:.3g}; "

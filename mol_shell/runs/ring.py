@@ -34,15 +34,8 @@ from mol_shell._core.errors import ParameterError
 from mol_shell.model.edges import resolve_edges
 from mol_shell.model.kinematics import delta, kinetic_energy_density
 from mol_shell.model.linalg import spd_solve
-from mol_shell.model.material import (
-    Thickness,
-    centroidal_offset,
-    condensed,
-    effective_lame,
-    inertias,
-    shell_dissipation,
-    shell_energy,
-)
+from mol_shell.model.laws import scene_shell_energy, viscosities
+from mol_shell.model.material import Thickness, centroidal_offset, inertias, shell_dissipation
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, RATE_UNITS, scene_attrs
 from mol_shell.runs.simulate import parse_times, resolve
@@ -95,7 +88,6 @@ def ring_system(scene):
     RingSystem
     """
     r0 = getattr(scene, "a", 1.0)
-    lam, mu = effective_lame(scene.E, scene.nu, scene.material)
     zeta1 = centroidal_offset(scene.h, r0) if scene.zeta1 is None else scene.zeta1
     thickness = Thickness(zeta1, scene.h, scene.n_quad)
     rho_a, rho_i, rho_j = inertias(scene.rho, thickness, r0)
@@ -106,7 +98,7 @@ def ring_system(scene):
     r_t, chi_t, psi_t = ca.vertsplit(v)
     kinetic = kinetic_energy_density((0.0, r, chi, 0.0, psi), (0.0, r_t, chi_t, 0.0, psi_t), rho_a, rho_i, rho_j)
     strains = (1.0, 0.0, 0.0, 0.0, 0.0, r, 0.0, psi)
-    stored = shell_energy(strains, lam, mu, thickness, r0)
+    stored = scene_shell_energy(scene, strains, thickness, r0)
     mass = ca.hessian(kinetic, v)[0]
     v_of_p = spd_solve(mass, p)
     forces = ca.substitute(ca.gradient(kinetic, q), v, v_of_p) - ca.gradient(stored, q)
@@ -114,7 +106,7 @@ def ring_system(scene):
     dissipation = ca.SX(0)
     if viscous:
         rates = (0.0, 0.0, 0.0, 0.0, 0.0, r_t, 0.0, psi_t)
-        eta_lambda, eta_mu = condensed(scene.eta_lambda, scene.eta_mu, scene.material)
+        eta_lambda, eta_mu = viscosities(scene)
         D = shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0)
         forces -= ca.substitute(ca.gradient(D, v), v, v_of_p)
         dissipation = ca.substitute(2 * D, v, v_of_p)

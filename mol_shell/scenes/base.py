@@ -19,12 +19,13 @@ from mol_shell._core.ranges import Choice, Interval, finite, non_negative, posit
 from mol_shell.model.edges import check_edge
 from mol_shell.model.geometry import base_offset, thickness_volume_factor
 from mol_shell.model.loads import parse_history
-from mol_shell.model.material import MATERIALS, centroidal_offset
+from mol_shell.model.laws import MATERIALS
+from mol_shell.model.material import centroidal_offset
 
 UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
     "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
-    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "dR": "m", "a": "m", "b": "m",
+    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "c10": "Pa", "c01": "Pa", "dR": "m", "a": "m", "b": "m",
     "alpha1": "rad", "alpha2": "rad", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
     "points": "1", "pressure": "Pa", "gravity": "m s-2", "drag": "N s m-3", "end1_force": "N", "end2_force": "N",
     "end1_torque": "N m", "end2_torque": "N m", "end1_spin": "rad s-1", "end2_spin": "rad s-1",
@@ -38,7 +39,9 @@ DESCRIPTIONS = {
     "rho": "density", "R": "initial radius", "gamma": "initial twist chi_s", "omega": "initial spin rate chi_t",
     "psi0": "initial shear angle psi", "n_quad": "Gauss-Legendre points through the thickness",
     "zeta1": "lower face of the thickness interval from the base surface", "eta_lambda": "Kelvin-Voigt viscosity eta_lambda",
-    "eta_mu": "Kelvin-Voigt viscosity eta_mu", "material": "material law", "dR": "amplitude of the initial radius variation",
+    "eta_mu": "Kelvin-Voigt viscosity eta_mu", "material": "material law",
+    "c10": "Mooney-Rivlin constant c10 (material = mooney-rivlin)", "c01": "Mooney-Rivlin constant c01 (material = mooney-rivlin)",
+    "dR": "amplitude of the initial radius variation",
     "dt": "leap-frog time step", "rtol": "relative tolerance", "atol": "absolute tolerance (m or rad per field)",
     "max_step": "largest step of the adaptive integrator",
     "a": "natural radius (cylinder, sphere) or tube radius (torus)", "b": "radius of the torus' centre circle",
@@ -129,9 +132,14 @@ class ShellScene:
         Kelvin-Voigt viscosities, Pa s (``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t``);
         0 (default) is the elastic shell, and leaves the viscous terms out of the graph.
     material : str
-        ``"svk"`` (the paper: 3-D St Venant-Kirchhoff with the inextensible director) or
+        ``"svk"`` (the paper: 3-D St Venant-Kirchhoff with the inextensible director),
         ``"svk-plane-stress"`` (thickness stress condensed out; see
-        :func:`mol_shell.model.material.effective_lame`).
+        :func:`mol_shell.model.material.effective_lame`), ``"neo-hookean"`` (compressible, ``E, nu``, plane
+        stress), ``"neo-hookean-incompressible"`` (shear modulus ``E/3``) or ``"mooney-rivlin"`` (incompressible,
+        ``c10, c01``); see :mod:`mol_shell.model.laws`.
+    c10, c01 : float
+        Mooney-Rivlin constants, Pa (``W = c10 (I1 - 3) + c01 (I2 - 3)``; ``c10 > 0``, ``c01 >= 0``); read by
+        ``material = "mooney-rivlin"`` only.
     end1, end2 : str or None
         Edge conditions at ``s = 0`` and ``s = L``: ``magnet``, ``clamped``, ``pinned``, ``free``
         (:mod:`mol_shell.model.edges`); ``None`` (``auto``): a pole on the axis, ``magnet`` elsewhere.
@@ -173,6 +181,8 @@ class ShellScene:
     eta_lambda: float = 0.0
     eta_mu: float = 0.0
     material: str = "svk"
+    c10: float = 1.5e5
+    c01: float = 0.0
     end1: str | None = None
     end2: str | None = None
     pressure: float = 0.0
@@ -223,6 +233,8 @@ class ShellScene:
         _check("eta_mu", self.eta_mu, non_negative("Pa s"))
         if self.material not in MATERIALS:
             raise ParameterError("material", self.material, Choice(tuple(MATERIALS)))
+        _check("c10", self.c10, positive("Pa"))
+        _check("c01", self.c01, non_negative("Pa"))
         if self.zeta1 is not None:
             _check("zeta1", self.zeta1, Interval(-2 * self.h, 0.0, True, True, unit="m",
                                                  shown=f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m"))

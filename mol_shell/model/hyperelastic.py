@@ -1,0 +1,137 @@
+"""Any hyperelastic law through the thickness: ``W(C)`` at each Gauss point, with the thickness treatment of the law.
+
+A law (:class:`~mol_shell.model.laws.Law`) is its stored energy ``W(C, parameters)`` per unit reference volume,
+``C = F^T F`` the 3-D right Cauchy-Green tensor in the reference basis ``(b0_1, b0_2, b0_3)`` of
+:func:`~mol_shell.model.kinematics.deformation_gradient`, whose second direction (index 1 here) is the director,
+the thickness direction. The shell's ``F = [(a + zeta b) j1, c2, (c + zeta d) j3]``
+(:func:`~mol_shell.model.kinematics.column_polynomials`) gives every component of ``C`` but the thickness one,
+``C_22 = |d|^2 = 1`` for the paper's inextensible director; the law's ``thickness`` treatment decides it:
+
+- ``director``: ``C_22 = 1`` (the paper; the transverse shears ``C_12``, ``C_23`` stay kinematic);
+- ``plane-stress``: ``C_22 = x`` minimising ``W`` (``dW/dC_22 = 0``, the thickness stress ``S_22 = 2 dW/dC_22``
+  vanishes), found by Newton's method in ``u = ln x`` from ``x = 1``, unrolled :data:`NEWTON_STEPS` times in the
+  graph (so ``x > 0`` always); the derivatives of the condensed energy follow by AD through the iterations,
+  which at convergence equal those of the implicit function theorem (``dW/dx = 0`` there);
+- ``incompressible``: ``det C = 1``. ``det C`` is affine in ``C_22``: ``det C = C_22 (C_11 C_33 - C_13^2) + N``
+  with ``N`` the determinant at ``C_22 = 0``, so ``C_22 = (1 - N) / (C_11 C_33 - C_13^2)``, substituted into ``W``
+  (the hydrostatic pressure is eliminated by the vanishing thickness stress: the membrane route of rubber).
+
+The thickness integral is the same Gauss-Legendre rule as :func:`~mol_shell.model.material.thickness_energy`
+(``sum_q vol_q W(C_q)``); the mass per reference area does not change.
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+
+from mol_shell.model.kinematics import column_polynomials
+from mol_shell.model.material import quadrature_factors
+
+#: the thickness (director) index of ``C``
+THICK = 1
+#: Newton steps of the plane-stress condensation (quadratic convergence: a compressible neo-Hookean law, nu = 0.3,
+#: reaches |dW/dC_22| ~ 1e-16 mu within 5 steps from x = 1 for in-plane stretches 0.5..3; tests/model/test_laws.py
+#: checks the residual)
+NEWTON_STEPS = 6
+
+
+def _dot(u, v):
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def cauchy_green(F):
+    """``C = F^T F`` (nested 3x3 tuples) of ``F`` given as ``F[k][l]`` (component ``k`` of column ``l``)."""
+    return tuple(tuple(sum(F[k][i] * F[k][j] for k in range(3)) for j in range(3)) for i in range(3))
+
+
+def determinant(C):
+    """``det C`` of a nested 3x3."""
+    return (C[0][0] * (C[1][1] * C[2][2] - C[1][2] * C[2][1]) - C[0][1] * (C[1][0] * C[2][2] - C[1][2] * C[2][0])
+            + C[0][2] * (C[1][0] * C[2][1] - C[1][1] * C[2][0]))
+
+
+def invariants(C):
+    """``(I1, I2, I3)`` of ``C``: ``tr C``, ``(tr(C)^2 - tr(C^2)) / 2``, ``det C``."""
+    i1 = C[0][0] + C[1][1] + C[2][2]
+    square = sum(C[i][j] * C[j][i] for i in range(3) for j in range(3))
+    return i1, 0.5 * (i1 * i1 - square), determinant(C)
+
+
+def with_thickness(C, x):
+    """``C`` with its thickness component ``C_22`` replaced by ``x``."""
+    return tuple(tuple(x if i == j == THICK else C[i][j] for j in range(3)) for i in range(3))
+
+
+def incompressible_thickness(C):
+    """``C_22`` such that ``det C = 1`` (closed form: ``det C`` is affine in ``C_22``)."""
+    n = determinant(with_thickness(C, 0.0))
+    return (1.0 - n) / (C[0][0] * C[2][2] - C[0][2] * C[2][0])
+
+
+def plane_stress_thickness(energy, C, steps=NEWTON_STEPS):
+    """``C_22`` with ``dW/dC_22 = 0``: Newton's method on ``u = ln C_22`` from ``u = 0``, ``steps`` times.
+
+    ``energy(C)`` is the law with its parameters bound. Returns the last iterate (a CasADi expression of
+    ``C``'s other components); :func:`plane_stress_residual` measures how far it is from the root.
+    """
+    x = ca.SX.sym("c22")
+    w = energy(with_thickness(C, x))
+    g = ca.gradient(w, x)
+    f = ca.vertcat(g * x, ca.gradient(g, x) * x * x + g * x)  # dW/du, d2W/du2 with x = exp(u)
+    u = ca.SX(0.0)
+    for _ in range(steps):
+        fu = ca.substitute(f, x, ca.exp(u))
+        u = u - fu[0] / fu[1]
+    return ca.exp(u)
+
+
+def plane_stress_residual(energy, C, x):
+    """``dW/dC_22`` at ``C_22 = x`` (twice the thickness stress ``S_22``)."""
+    s = ca.SX.sym("c22")
+    return ca.substitute(ca.gradient(energy(with_thickness(C, s)), s), s, x)
+
+
+def condensed_energy(law, C, params):
+    """``W`` at ``C`` with the thickness component set by the law's treatment (see the module docstring)."""
+    def energy(c):
+        return law.energy(c, params)
+
+    if law.thickness == "director":
+        return energy(C)
+    if law.thickness == "incompressible":
+        return energy(with_thickness(C, incompressible_thickness(C)))
+    if law.thickness == "plane-stress":
+        return energy(with_thickness(C, plane_stress_thickness(energy, C)))
+    raise ValueError(f"thickness treatment {law.thickness!r} is not director, plane-stress or incompressible")
+
+
+def shell_cauchy_green(a, b, c, d, c2, zeta, j1, j3):
+    """``C`` at depth ``zeta`` from :func:`~mol_shell.model.kinematics.column_polynomials` and the column factors.
+
+    ``F = [(a + zeta b) j1, c2, (c + zeta d) j3]`` (``|c2| = 1``); ``C_22 = 1`` here, as the director has it.
+    """
+    col1 = tuple(x + zeta * y for x, y in zip(a, b))
+    col3 = tuple(x + zeta * y for x, y in zip(c, d))
+    c11, c33, c13 = _dot(col1, col1) * (j1 * j1), _dot(col3, col3) * (j3 * j3), _dot(col1, col3) * (j1 * j3)
+    c12, c23 = _dot(col1, c2) * j1, _dot(c2, col3) * j3
+    return ((c11, c12, c13), (c12, 1.0, c23), (c13, c23, c33))
+
+
+def law_thickness_energy(strains, law, params, factors, beta2_0=0.0, trig=None):
+    """``sum_q vol_q W(C_q)``: :func:`~mol_shell.model.material.thickness_energy` for any law.
+
+    ``factors``: :func:`~mol_shell.model.material.quadrature_factors` (or a cell's symbolic ones); ``trig``:
+    the sample's ``(cos theta, sin theta, cos psi, sin psi)`` if known.
+    """
+    a, b, c, d, c2 = column_polynomials(strains, beta2_0, trig)
+    total = 0.0
+    for zeta, j1, j3, vol in factors:
+        total = total + vol * condensed_energy(law, shell_cauchy_green(a, b, c, d, c2, zeta, j1, j3), params)
+    return total
+
+
+def law_shell_energy(strains, law, params, thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0, beta2_0=0.0):
+    """Stored energy per unit reference area for any law: :func:`~mol_shell.model.material.shell_energy`'s
+    arguments with ``(law, params)`` in place of the Lame pair."""
+    factors = quadrature_factors(thickness, r0, theta0, theta0_s, beta1_0)
+    return law_thickness_energy(strains, law, params, factors, beta2_0) / r0

@@ -1,0 +1,136 @@
+"""Material laws as stored energies ``W(C)``, the built-in ones, and what a scene's ``material`` makes of them.
+
+``svk`` and ``svk-plane-stress`` keep their own route (:mod:`mol_shell.model.material`: the Lame pair, exact
+per-cell thickness moments). Every other law is a :class:`Law`, integrated through the thickness point by point
+(:mod:`mol_shell.model.hyperelastic`) with its stresses and tangents by automatic differentiation:
+
+- ``neo-hookean``: ``W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2``, ``J = sqrt(det C)``, the Lame pair of
+  ``E, nu``; plane stress (the thickness stretch condensed);
+- ``neo-hookean-incompressible``: ``W = mu/2 (I1 - 3)``, ``mu = E/3``, ``det C = 1``;
+- ``mooney-rivlin``: ``W = c10 (I1 - 3) + c01 (I2 - 3)``, ``det C = 1`` (``c10, c01`` in Pa; small-strain shear
+  modulus ``2 (c10 + c01)``).
+
+The parameters enter the graphs as numbers: a law's parameters are absent from a scene that uses another law.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import casadi as ca
+
+from mol_shell.model.hyperelastic import invariants, law_shell_energy
+from mol_shell.model.material import MATERIALS as SVK_MATERIALS
+from mol_shell.model.material import condensed, effective_lame, lame, shell_energy
+
+#: thickness treatments (:mod:`mol_shell.model.hyperelastic`)
+TREATMENTS = ("director", "plane-stress", "incompressible")
+
+
+@dataclass(frozen=True)
+class Law:
+    """A hyperelastic law: ``energy(C, params)`` per unit reference volume, ``C`` a nested 3x3 of scalars.
+
+    ``parameters``: the names ``params`` must hold; ``thickness``: one of :data:`TREATMENTS`.
+    """
+
+    name: str
+    energy: Callable
+    parameters: tuple
+    thickness: str
+
+    def __post_init__(self):
+        if self.thickness not in TREATMENTS:
+            raise ValueError(f"thickness = {self.thickness!r} is outside {{{', '.join(TREATMENTS)}}}")
+
+
+def svk(C, p):
+    """St Venant-Kirchhoff, ``lambda/2 (tr E)^2 + mu E:E`` with ``E = (C - I)/2`` (the generic route's check)."""
+    E = [[0.5 * (C[i][j] - (1.0 if i == j else 0.0)) for j in range(3)] for i in range(3)]
+    trace = E[0][0] + E[1][1] + E[2][2]
+    return 0.5 * p["lambda"] * trace**2 + p["mu"] * sum(E[i][j] * E[j][i] for i in range(3) for j in range(3))
+
+
+def neo_hookean(C, p):
+    """Compressible neo-Hookean: ``mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2``."""
+    i1, _, i3 = invariants(C)
+    log_j = 0.5 * ca.log(i3)
+    return 0.5 * p["mu"] * (i1 - 3.0) - p["mu"] * log_j + 0.5 * p["lambda"] * log_j**2
+
+
+def neo_hookean_incompressible(C, p):
+    """Incompressible neo-Hookean: ``mu/2 (I1 - 3)`` (``det C = 1`` imposed by the thickness treatment)."""
+    return 0.5 * p["mu"] * (invariants(C)[0] - 3.0)
+
+
+def mooney_rivlin(C, p):
+    """Mooney-Rivlin: ``c10 (I1 - 3) + c01 (I2 - 3)`` (``det C = 1`` imposed by the thickness treatment)."""
+    i1, i2, _ = invariants(C)
+    return p["c10"] * (i1 - 3.0) + p["c01"] * (i2 - 3.0)
+
+
+#: the built-in laws beyond SVK, by the scene parameter ``material``
+LAWS = {
+    "neo-hookean": Law("neo-hookean", neo_hookean, ("lambda", "mu"), "plane-stress"),
+    "neo-hookean-incompressible": Law("neo-hookean-incompressible", neo_hookean_incompressible, ("mu",),
+                                      "incompressible"),
+    "mooney-rivlin": Law("mooney-rivlin", mooney_rivlin, ("c10", "c01"), "incompressible"),
+}
+#: every value of the scene parameter ``material``
+MATERIALS = tuple(SVK_MATERIALS) + tuple(LAWS)
+#: scene parameters read by one law only
+LAW_PARAMETERS = {"mooney-rivlin": ("c10", "c01")}
+
+
+def law_parameters(scene):
+    """``(law, params)`` of a scene's material, or ``(None, None)`` for ``svk``/``svk-plane-stress`` (own route)."""
+    name = scene.material
+    if name in SVK_MATERIALS:
+        return None, None
+    law = LAWS[name]
+    if name == "neo-hookean":
+        lam, mu = lame(scene.E, scene.nu)
+        return law, {"lambda": lam, "mu": mu}
+    if name == "neo-hookean-incompressible":
+        return law, {"mu": scene.E / 3.0}
+    return law, {"c10": scene.c10, "c01": scene.c01}
+
+
+def thickness_treatment(material):
+    """``director``, ``plane-stress`` or ``incompressible``: how ``material`` sets the thickness stretch."""
+    if material in SVK_MATERIALS:
+        return "director" if material == "svk" else "plane-stress"
+    return LAWS[material].thickness
+
+
+def small_strain_lame(scene):
+    """The Lame pair ``(lambda*, mu)`` of the material at small strain, thickness stress condensed as the law does.
+
+    The SVK materials: :func:`~mol_shell.model.material.effective_lame` (the pair their kernels use). The others:
+    ``lambda* + 2 mu`` is their small-strain in-plane modulus (compressible neo-Hookean: ``E/(1 - nu^2)``;
+    incompressible: ``lambda* = 2 mu``, so ``4 mu``), used for scales (tolerances, wave speeds), not in the energy.
+    """
+    name = scene.material
+    if name in SVK_MATERIALS:
+        return effective_lame(scene.E, scene.nu, name)
+    if name == "neo-hookean":
+        return condensed(*lame(scene.E, scene.nu), "svk-plane-stress")
+    mu = scene.E / 3.0 if name == "neo-hookean-incompressible" else 2.0 * (scene.c10 + scene.c01)
+    return 2.0 * mu, mu
+
+
+def viscosities(scene):
+    """The Kelvin-Voigt pair as the kernels use it: condensed like the elastic part for a plane-stress or
+    incompressible law (:func:`~mol_shell.model.material.condensed`), unchanged under the director constraint."""
+    how = "svk" if thickness_treatment(scene.material) == "director" else "svk-plane-stress"
+    return condensed(scene.eta_lambda, scene.eta_mu, how)
+
+
+def scene_shell_energy(scene, strains, thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0, beta2_0=0.0):
+    """Stored energy per unit reference area of the scene's material (SVK's own route or the law's)."""
+    law, params = law_parameters(scene)
+    if law is None:
+        lam, mu = effective_lame(scene.E, scene.nu, scene.material)
+        return shell_energy(strains, lam, mu, thickness, r0, theta0, theta0_s, beta1_0, beta2_0)
+    return law_shell_energy(strains, law, params, thickness, r0, theta0, theta0_s, beta1_0, beta2_0)

@@ -1,0 +1,221 @@
+"""Material laws as stored energies (``mol_shell.model.laws``, ``mol_shell.model.hyperelastic``).
+
+References, derived here and independent of the code under test:
+
+- St Venant-Kirchhoff through the existing route (``thickness_energy`` with the Lame pair, and with the pair
+  condensed for plane stress, ``lambda* = 2 lambda mu / (lambda + 2 mu)``): the generic route, given the SVK
+  energy ``W(C)``, must reproduce it to round-off, for the director and for the plane-stress treatment.
+- Membrane responses of a sheet of thickness ``t = 2h`` with in-plane principal stretches ``l1, l2`` (``C``
+  diagonal, ``C_11 = l1^2``, ``C_33 = l2^2`` in the code's (s, director, phi) order). The nominal tension per unit
+  reference length is ``T1 = t dW/dl1``, with the thickness stretch condensed (the derivative at fixed
+  condensed variable equals the total one because ``dW/dl3 = 0`` there).
+  * incompressible neo-Hookean, ``l3 = 1/(l1 l2)``: ``W = mu/2 (l1^2 + l2^2 + l1^-2 l2^-2 - 3)``,
+    ``dW/dl1 = mu (l1 - l1^-3 l2^-2)``. Equibiaxial ``l1 = l2 = l``: ``T = t mu (l - l^-5)``. Uniaxial
+    (``T2 = 0``): ``l2 - l2^-3 l1^-2 = 0`` gives ``l2 = l1^-1/2``, and then ``T1 = t mu (l - l^-2)``.
+  * Mooney-Rivlin: ``I1 = l1^2 + l2^2 + l1^-2 l2^-2``, ``I2 = l1^2 l2^2 + l1^-2 + l2^-2``; equibiaxial
+    ``dI1/dl1 = 2 (l - l^-5)``, ``dI2/dl1 = 2 (l^3 - l^-3)``: ``T = 2 t [c10 (l - l^-5) + c01 (l^3 - l^-3)]``.
+  * compressible neo-Hookean, plane stress, equibiaxial: with ``J = l^2 l3``,
+    ``dW/dl3 = mu (l3 - 1/l3) + lambda ln J / l3 = 0`` fixes ``l3`` (solved here by bisection), and
+    ``T = t [mu (l - 1/l) + lambda ln J / l]``.
+"""
+
+import math
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from mol_shell.discretization.system import ShellSystem
+from mol_shell.model.hyperelastic import (
+    NEWTON_STEPS,
+    condensed_energy,
+    law_thickness_energy,
+    plane_stress_residual,
+    plane_stress_thickness,
+    with_thickness,
+)
+from mol_shell.model.laws import LAWS, Law, neo_hookean, svk
+from mol_shell.model.material import Thickness, effective_lame, lame, quadrature_factors, thickness_energy
+from mol_shell.scenes import Sphere
+
+E, NU, H = 1.0e6, 0.3, 0.01
+RNG = np.random.default_rng(24)
+
+
+def _strains():
+    """A general state: every strain non-zero (twist, shear, curvatures) near the natural cylinder."""
+    base = np.array([1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0])
+    return base + RNG.uniform(-0.15, 0.15, 8)
+
+
+def _energy_and_gradient(expr, e):
+    f = ca.Function("f", [e], [expr, ca.gradient(expr, e)])
+    return f
+
+
+@pytest.mark.parametrize("material,thickness", [("svk", "director"), ("svk-plane-stress", "plane-stress")])
+def test_generic_route_reproduces_svk(material, thickness):
+    """Energy and its gradient through the thickness: the generic law route with ``W_SVK(C)`` equals the SVK route."""
+    lam3, mu = lame(E, NU)
+    law = Law("svk-generic", svk, ("lambda", "mu"), thickness)
+    lam_eff, mu_eff = effective_lame(E, NU, material)
+    th = Thickness(-H, H, 4)
+    e = ca.SX.sym("e", 8)
+    strains = ca.vertsplit(e)
+    factors = quadrature_factors(th, 0.8, 0.3, -0.5, 1.05)
+    beta2_0 = 0.02
+    old = _energy_and_gradient(thickness_energy(strains, lam_eff, mu_eff, factors, beta2_0), e)
+    new = _energy_and_gradient(law_thickness_energy(strains, law, {"lambda": lam3, "mu": mu}, factors, beta2_0), e)
+    for _ in range(5):
+        x = _strains()
+        (w0, g0), (w1, g1) = old(x), new(x)
+        assert abs(float(w1) - float(w0)) <= 1e-13 * abs(float(w0))
+        assert np.max(np.abs(np.array(g1 - g0))) <= 1e-12 * np.max(np.abs(np.array(g0)))
+
+
+@pytest.mark.parametrize("material,thickness", [("svk", "director"), ("svk-plane-stress", "plane-stress")])
+def test_cell_kernel_with_generic_svk(material, thickness):
+    """The discrete shell's cell forces (lean and per-point kernels) with the generic SVK law equal today's."""
+    scene = Sphere(h=0.02, nu=NU, material=material)
+    system = ShellSystem(scene, 8)
+    q = system.reference.copy()
+    Q = np.array([q[0], q[1], np.zeros(8), q[2], np.zeros(8)]) + RNG.uniform(-0.02, 0.02, (5, 8))
+    geo = system.cell_data[:, 3]
+    trig = system.node_trig_kernel()
+    before = [np.array(x) for x in system.cell_forces_kernel()(Q[:, 3], Q[:, 4], geo)]
+    shared_geo = system.shared_cell_data[:, min(3, system.shared_cell_data.shape[1] - 1)]
+    before_shared = [np.array(x) for x in system.cell_forces_shared_kernel()(
+        Q[:, 3], Q[:, 4], trig(Q[:, 3]), trig(Q[:, 4]), shared_geo)]
+    system.law, system.law_params = Law("svk-generic", svk, ("lambda", "mu"), thickness), dict(
+        zip(("lambda", "mu"), lame(E, NU)))
+    system.__dict__.pop("shared_cell_data")  # a law reads every row of the cell data
+    after = [np.array(x) for x in system.cell_forces_kernel()(Q[:, 3], Q[:, 4], geo)]
+    after_shared = [np.array(x) for x in system.cell_forces_shared_kernel()(
+        Q[:, 3], Q[:, 4], trig(Q[:, 3]), trig(Q[:, 4]), system.cell_data[:, 3])]
+    scale = max(np.abs(b).max() for b in before)
+    for b, a in zip(before + before_shared, after + after_shared):
+        assert np.max(np.abs(a - b)) <= 1e-11 * scale
+
+
+def _condensed(energy, C):
+    x = plane_stress_thickness(energy, C)
+    return x, plane_stress_residual(energy, C, x)
+
+
+@pytest.mark.parametrize("l1,l2,shear", [(1.0, 1.0, 0.0), (0.6, 0.6, 0.0), (2.5, 2.5, 0.0), (2.0, 0.7, 0.3),
+                                         (1.3, 1.1, -0.2)])
+def test_plane_stress_condensation_converged(l1, l2, shear):
+    """``dW/dC_22 = 0`` at the condensed thickness component to 1e-12 relative (``mu`` is the stress scale)."""
+    lam, mu = lame(E, NU)
+    p = {"lambda": lam, "mu": mu}
+    C = ((l1 * l1, shear, 0.1 * shear), (shear, 1.0, 0.05), (0.1 * shear, 0.05, l2 * l2))
+    x, residual = _condensed(lambda c: neo_hookean(c, p), C)
+    assert float(x) > 0
+    assert abs(float(residual)) <= 1e-12 * mu
+    # one more Newton step than the graph has changes nothing
+    more = plane_stress_thickness(lambda c: neo_hookean(c, p), C, NEWTON_STEPS + 1)
+    assert abs(float(more) - float(x)) <= 1e-14 * float(x)
+
+
+def test_plane_stress_tangent_is_a_finite_difference_and_the_implicit_function_theorem():
+    """AD through the unrolled Newton: ``dx/dC_11 = -W_x1 / W_xx`` (implicit function theorem), and the condensed
+    energy's first and second derivatives equal central differences."""
+    lam, mu = lame(E, NU)
+    p = {"lambda": lam, "mu": mu}
+    c = ca.SX.sym("c", 3)  # C_11, C_33, C_13
+    C = ((c[0], 0.0, c[2]), (0.0, 1.0, 0.0), (c[2], 0.0, c[1]))
+    x = plane_stress_thickness(lambda m: neo_hookean(m, p), C)
+    w = neo_hookean(with_thickness(C, x), p)
+    g = ca.gradient(w, c)
+    f = ca.Function("f", [c], [w, g, ca.jacobian(g, c), x, ca.jacobian(x, c)])
+    s = ca.SX.sym("s")  # the implicit function theorem at the solution, from W itself
+    Cs = with_thickness(C, s)
+    wx = ca.gradient(neo_hookean(Cs, p), s)
+    ift = ca.Function("ift", [c, s], [-ca.jacobian(wx, c) / ca.gradient(wx, s)])
+    c0 = np.array([1.7, 0.8, 0.2])
+    w0, g0, k0, x0, dx0 = (np.array(v) for v in f(c0))
+    assert np.allclose(dx0.ravel(), np.array(ift(c0, x0.item())).ravel(), rtol=1e-12, atol=1e-14)
+    step = 1e-5
+    for i in range(3):
+        dc = np.zeros(3)
+        dc[i] = step
+        wp, gp = (np.array(v) for v in f(c0 + dc)[:2])
+        wm, gm = (np.array(v) for v in f(c0 - dc)[:2])
+        assert abs((wp - wm).item() / (2 * step) - g0[i].item()) <= 1e-8 * mu
+        assert np.allclose(((gp - gm) / (2 * step)).ravel(), k0[:, i], rtol=1e-7, atol=1e-7 * mu)
+
+
+def _membrane_tension(name, params, l1, l2, t):
+    """``(T1, T2) = t (dW/dl1, dW/dl2)`` of the condensed law at principal in-plane stretches ``l1, l2``."""
+    s = ca.SX.sym("s", 2)
+    C = ((s[0] ** 2, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, s[1] ** 2))
+    w = condensed_energy(LAWS[name], C, params)
+    return t * np.array(ca.Function("T", [s], [ca.gradient(w, s)])([l1, l2])).ravel()
+
+
+@pytest.mark.parametrize("stretch", [0.8, 1.01, 1.5, 2.0, 3.0])
+def test_incompressible_neo_hookean_sheet(stretch):
+    """Equibiaxial ``T = t mu (l - l^-5)``; uniaxial ``T1 = t mu (l - l^-2)`` with ``T2 = 0`` at ``l2 = l^-1/2``."""
+    mu, t = E / 3, 2 * H
+    T = _membrane_tension("neo-hookean-incompressible", {"mu": mu}, stretch, stretch, t)
+    assert np.allclose(T, t * mu * (stretch - stretch**-5), rtol=1e-13, atol=1e-12 * t * mu)
+    T = _membrane_tension("neo-hookean-incompressible", {"mu": mu}, stretch, stretch**-0.5, t)
+    assert T[0] == pytest.approx(t * mu * (stretch - stretch**-2), rel=1e-13, abs=1e-12 * t * mu)
+    assert abs(T[1]) <= 1e-13 * t * mu
+
+
+@pytest.mark.parametrize("stretch", [0.8, 1.5, 2.5])
+def test_mooney_rivlin_sheet(stretch):
+    """Equibiaxial ``T = 2 t [c10 (l - l^-5) + c01 (l^3 - l^-3)]``."""
+    c10, c01, t = 2e5, 5e4, 2 * H
+    T = _membrane_tension("mooney-rivlin", {"c10": c10, "c01": c01}, stretch, stretch, t)
+    expected = 2 * t * (c10 * (stretch - stretch**-5) + c01 * (stretch**3 - stretch**-3))
+    assert np.allclose(T, expected, rtol=1e-13)
+
+
+@pytest.mark.parametrize("stretch", [0.8, 1.2, 2.0])
+def test_compressible_neo_hookean_sheet(stretch):
+    """Plane-stress equibiaxial response: ``l3`` from ``mu (l3 - 1/l3) + lambda ln(l^2 l3)/l3 = 0``, then
+    ``T = t [mu (l - 1/l) + lambda ln J / l]``."""
+    lam, mu = lame(E, NU)
+    t = 2 * H
+
+    def thickness_stress(l3):
+        return mu * (l3 - 1 / l3) + lam * math.log(stretch**2 * l3) / l3
+
+    lo, hi = 1e-3, 10.0  # increasing in l3: bisection to round-off
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if thickness_stress(mid) < 0 else (lo, mid)
+    J = stretch**2 * 0.5 * (lo + hi)
+    T = _membrane_tension("neo-hookean", {"lambda": lam, "mu": mu}, stretch, stretch, t)
+    assert np.allclose(T, t * (mu * (stretch - 1 / stretch) + lam * math.log(J) / stretch), rtol=1e-11)
+
+
+def _state(system, amplitude=0.03):
+    Q = np.array([system.reference[0], system.reference[1], np.zeros(system.n), system.reference[2],
+                  np.zeros(system.n)]) * (1.0 + amplitude)
+    Q[4] += amplitude * np.sin(np.linspace(0, 3, system.n))
+    return Q
+
+
+def test_mooney_rivlin_with_c01_zero_is_neo_hookean():
+    """``c10 (I1 - 3)`` is ``mu/2 (I1 - 3)`` with ``mu = 2 c10``: the same elastic forces (``mu = E/3``, so ``E = 6 c10``)."""
+    c10 = 1.2e5
+    mr = ShellSystem(Sphere(h=0.01, material="mooney-rivlin", c10=c10, c01=0.0), 10)
+    nh = ShellSystem(Sphere(h=0.01, material="neo-hookean-incompressible", E=6 * c10), 10)
+    Q = _state(mr)
+    f_mr, f_nh = (np.array(ca.evalf(s.elastic_forces(ca.DM(Q)))) for s in (mr, nh))
+    assert np.max(np.abs(f_mr - f_nh)) <= 1e-12 * np.max(np.abs(f_nh))
+    assert np.max(np.abs(f_nh)) > 0
+
+
+def test_law_parameters_only_where_used():
+    """An SVK scene keeps its own route whatever ``c10``/``c01`` say; the SVK materials have no law object."""
+    a = ShellSystem(Sphere(h=0.01), 8)
+    b = ShellSystem(Sphere(h=0.01, c10=7e5, c01=3e5), 8)
+    assert a.law is None and b.law is None
+    assert a.kernel_instructions == b.kernel_instructions
+    Q = _state(a)
+    f_a, f_b = (np.array(ca.evalf(s.elastic_forces(ca.DM(Q)))) for s in (a, b))
+    assert np.array_equal(f_a, f_b)
