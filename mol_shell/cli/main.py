@@ -79,7 +79,8 @@ def cmd_run(args):
           f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s"
           + (f", R = {ds.attrs['R']:.10g} m" if isinstance(ds.attrs.get("R"), (int, float, np.number)) else ""))
     if str(ds.attrs.get("stresses", "")).startswith("skipped"):
-        print(f"stresses {ds.attrs['stresses']} (or run with --stresses)")
+        why = str(ds.attrs["stresses"])
+        print(f"stresses {why}" + (" (or run with --stresses)" if "exceed the limit" in why else ""))
     return 0
 
 
