@@ -2,8 +2,12 @@
 viscosity, by the run's own energy accounting (the same checks as the SVK runs')."""
 
 import numpy as np
+import pytest
 
 import mol_shell
+import mol_shell.model.laws
+from mol_shell._core.errors import ParameterError
+from mol_shell.cli.main import main
 from mol_shell.scenes import Sphere
 
 
@@ -28,3 +32,21 @@ def test_mooney_rivlin_viscous_pressurised_energy_balance():
     assert ds.attrs["energy_balance_error"] < 1e-7
     assert float(ds.dissipated.values[-1]) > 1e-3 * abs(float(ds.energy.values[0]))
     assert abs(float(ds.work.values[-1])) > 1e-3 * abs(float(ds.energy.values[0]))
+
+
+def test_stresses_of_another_law_are_refused_not_faked():
+    """After a run they are skipped with the reason in attrs; asked for explicitly, a ParameterError names the law."""
+    ds = mol_shell.simulate(Sphere(h=0.01, material="neo-hookean-incompressible", R=1.1), "leapfrog", n=8,
+                            times=[0.0, 1e-4], progress=False)
+    assert "not computed for material = neo-hookean-incompressible" in ds.attrs["stresses"]
+    with pytest.raises(ParameterError, match="material = 'neo-hookean-incompressible' is outside"):
+        mol_shell.add_stresses(ds, limit=None)
+
+
+def test_scenes_lists_the_law_parameters(capsys):
+    assert main(["scenes", "sphere"]) == 0
+    out = capsys.readouterr().out
+    for name in ("c10", "c01"):
+        line = next(x for x in out.splitlines() if x.split()[:1] == [name])
+        assert " Pa " in line and "Mooney-Rivlin" in line
+    assert "neo-hookean-incompressible" in str(mol_shell.model.laws.MATERIALS)
