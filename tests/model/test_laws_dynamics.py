@@ -9,6 +9,7 @@ import mol_shell.model.laws
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
 from mol_shell.scenes import Sphere
+from mol_shell.scenes.files import load_scene
 
 
 def test_neo_hookean_balloon_breathes_with_constant_energy():
@@ -50,3 +51,14 @@ def test_scenes_lists_the_law_parameters(capsys):
         line = next(x for x in out.splitlines() if x.split()[:1] == [name])
         assert " Pa " in line and "Mooney-Rivlin" in line
     assert "neo-hookean-incompressible" in str(mol_shell.model.laws.MATERIALS)
+
+
+def test_scene_file_material_table_takes_the_law_and_refuses_a_bad_constant(tmp_path):
+    good = tmp_path / "mr.toml"
+    good.write_text('scene = "sphere"\n[material]\nmaterial = "mooney-rivlin"\nc10 = 2e5\nc01 = 1e4\n')
+    scene = load_scene(good)
+    assert (scene.material, scene.c10, scene.c01) == ("mooney-rivlin", 2e5, 1e4)
+    bad = tmp_path / "bad.toml"
+    bad.write_text('scene = "sphere"\n[material]\nmaterial = "mooney-rivlin"\nc10 = -2e5\n')
+    with pytest.raises(ParameterError, match=r"\[material\] c10 = -200000.0 is outside \(0, inf\) Pa"):
+        load_scene(bad)
