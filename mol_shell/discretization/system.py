@@ -58,9 +58,9 @@ from mol_shell.model.edges import driven_node_kernel, driven_rates, free_rates, 
 from mol_shell.model.geometry import node_inertias
 from mol_shell.model.kinematics import FIELDS as FIELD_NAMES
 from mol_shell.model.kinematics import kinetic_energy_density
+from mol_shell.model.laws import law_parameters, small_strain_lame, viscosities
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.loads import history
-from mol_shell.model.laws import law_parameters, small_strain_lame, viscosities
 from mol_shell.model.material import Thickness, inertias
 
 

@@ -7,8 +7,8 @@ import numpy as np
 
 from mol_shell._core.constants import DENSE_MAX_STATES
 from mol_shell._core.errors import ParameterError
-from mol_shell.model.loads import history
 from mol_shell.model.laws import scene_shell_energy
+from mol_shell.model.loads import history
 from mol_shell.model.material import Thickness
 
 

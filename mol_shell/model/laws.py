@@ -15,8 +15,8 @@ The parameters enter the graphs as numbers: a law's parameters are absent from a
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import casadi as ca
 

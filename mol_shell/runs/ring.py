@@ -33,8 +33,8 @@ import xarray as xr
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.edges import resolve_edges
 from mol_shell.model.kinematics import delta, kinetic_energy_density
-from mol_shell.model.linalg import spd_solve
 from mol_shell.model.laws import scene_shell_energy, viscosities
+from mol_shell.model.linalg import spd_solve
 from mol_shell.model.material import Thickness, centroidal_offset, inertias, shell_dissipation
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, RATE_UNITS, scene_attrs

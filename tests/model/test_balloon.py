@@ -20,8 +20,7 @@ must agree within 0.5 % (``p`` is flat there: a 0.1 % discretisation error in ``
 abscissa by a few 1e-3).
 """
 
-import math
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 
@@ -38,7 +37,7 @@ def membrane(lam):
     return 2 * MU * T / A * (1 / lam - lam**-7)
 
 
-@lru_cache(maxsize=None)
+@cache
 def balloon(n, max_steps):
     scene = Sphere(a=A, h=H, E=E, material="neo-hookean-incompressible")
     return path(scene, "pressure", 0.0, 1.5 * P_MAX, n=n, steps=10, max_steps=max_steps)

@@ -25,6 +25,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
+from mol_shell._core.errors import ParameterError
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.hyperelastic import (
     NEWTON_STEPS,
@@ -102,11 +103,13 @@ def _condensed(energy, C):
     return x, plane_stress_residual(energy, C, x)
 
 
-@pytest.mark.parametrize("l1,l2,shear", [(1.0, 1.0, 0.0), (0.6, 0.6, 0.0), (2.5, 2.5, 0.0), (2.0, 0.7, 0.3),
-                                         (1.3, 1.1, -0.2)])
-def test_plane_stress_condensation_converged(l1, l2, shear):
-    """``dW/dC_22 = 0`` at the condensed thickness component to 1e-12 relative (``mu`` is the stress scale)."""
-    lam, mu = lame(E, NU)
+@pytest.mark.parametrize("nu", [0.0, 0.3, 0.45, 0.49])
+@pytest.mark.parametrize("l1,l2,shear", [(1.0, 1.0, 0.0), (0.3, 0.3, 0.0), (0.6, 0.6, 0.0), (3.0, 3.0, 0.0),
+                                         (2.0, 0.7, 0.3), (0.6, 3.0, 0.5), (1.3, 1.1, -0.2)])
+def test_plane_stress_condensation_converged(l1, l2, shear, nu):
+    """``dW/dC_22 = 0`` at the condensed thickness component to 1e-12 relative (``mu`` is the stress scale), over
+    the Poisson ratios the scene allows for ``neo-hookean``, stretches 0.3..3 and transverse shear."""
+    lam, mu = lame(E, nu)
     p = {"lambda": lam, "mu": mu}
     C = ((l1 * l1, shear, 0.1 * shear), (shear, 1.0, 0.05), (0.1 * shear, 0.05, l2 * l2))
     x, residual = _condensed(lambda c: neo_hookean(c, p), C)
@@ -133,7 +136,7 @@ def test_plane_stress_tangent_is_a_finite_difference_and_the_implicit_function_t
     wx = ca.gradient(neo_hookean(Cs, p), s)
     ift = ca.Function("ift", [c, s], [-ca.jacobian(wx, c) / ca.gradient(wx, s)])
     c0 = np.array([1.7, 0.8, 0.2])
-    w0, g0, k0, x0, dx0 = (np.array(v) for v in f(c0))
+    _, g0, k0, x0, dx0 = (np.array(v) for v in f(c0))
     assert np.allclose(dx0.ravel(), np.array(ift(c0, x0.item())).ravel(), rtol=1e-12, atol=1e-14)
     step = 1e-5
     for i in range(3):
@@ -208,6 +211,12 @@ def test_mooney_rivlin_with_c01_zero_is_neo_hookean():
     f_mr, f_nh = (np.array(ca.evalf(s.elastic_forces(ca.DM(Q)))) for s in (mr, nh))
     assert np.max(np.abs(f_mr - f_nh)) <= 1e-12 * np.max(np.abs(f_nh))
     assert np.max(np.abs(f_nh)) > 0
+
+
+def test_neo_hookean_refuses_a_negative_poisson_ratio():
+    with pytest.raises(ParameterError, match="nu = -0.2 is outside"):
+        Sphere(material="neo-hookean", nu=-0.2)
+    Sphere(material="svk", nu=-0.2)  # the other laws keep (-1, 0.5)
 
 
 def test_law_parameters_only_where_used():
