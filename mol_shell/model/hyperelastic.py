@@ -91,18 +91,27 @@ def plane_stress_residual(energy, C, x):
     return ca.substitute(ca.gradient(energy(with_thickness(C, s)), s), s, x)
 
 
+def thickness_component(law, C, params):
+    """``C_22`` as the law's treatment sets it (``1`` under the director constraint).
+
+    Plane stress: the law's own solve (``law.condense``) when it has one, else :func:`plane_stress_thickness`.
+    """
+    if law.thickness == "director":
+        return C[THICK][THICK]
+    if law.thickness == "incompressible":
+        return incompressible_thickness(C)
+    if law.thickness == "plane-stress":
+        if law.condense is not None:
+            return law.condense(C, params)
+        return plane_stress_thickness(lambda c: law.energy(c, params), C)
+    raise ValueError(f"thickness treatment {law.thickness!r} is not director, plane-stress or incompressible")
+
+
 def condensed_energy(law, C, params):
     """``W`` at ``C`` with the thickness component set by the law's treatment (see the module docstring)."""
-    def energy(c):
-        return law.energy(c, params)
-
     if law.thickness == "director":
-        return energy(C)
-    if law.thickness == "incompressible":
-        return energy(with_thickness(C, incompressible_thickness(C)))
-    if law.thickness == "plane-stress":
-        return energy(with_thickness(C, plane_stress_thickness(energy, C)))
-    raise ValueError(f"thickness treatment {law.thickness!r} is not director, plane-stress or incompressible")
+        return law.energy(C, params)
+    return law.energy(with_thickness(C, thickness_component(law, C, params)), params)
 
 
 def shell_cauchy_green(a, b, c, d, c2, zeta, j1, j3):

@@ -5,7 +5,8 @@ per-cell thickness moments). Every other law is a :class:`Law`, integrated throu
 (:mod:`mol_shell.model.hyperelastic`) with its stresses and tangents by automatic differentiation:
 
 - ``neo-hookean``: ``W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2``, ``J = sqrt(det C)``, the Lame pair of
-  ``E, nu``; plane stress (the thickness stretch condensed);
+  ``E, nu``; plane stress (the thickness stretch condensed by its own scalar Newton solve,
+  :func:`neo_hookean_thickness`);
 - ``neo-hookean-incompressible``: ``W = mu/2 (I1 - 3)``, ``mu = E/3``, ``det C = 1``;
 - ``mooney-rivlin``: ``W = c10 (I1 - 3) + c01 (I2 - 3)``, ``det C = 1`` (``c10, c01`` in Pa; small-strain shear
   modulus ``2 (c10 + c01)``).
@@ -20,7 +21,7 @@ from dataclasses import dataclass
 
 import casadi as ca
 
-from mol_shell.model.hyperelastic import invariants, law_shell_energy
+from mol_shell.model.hyperelastic import NEWTON_STEPS, determinant, invariants, law_shell_energy, with_thickness
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, effective_lame, lame, shell_energy
 
@@ -32,13 +33,16 @@ TREATMENTS = ("director", "plane-stress", "incompressible")
 class Law:
     """A hyperelastic law: ``energy(C, params)`` per unit reference volume, ``C`` a nested 3x3 of scalars.
 
-    ``parameters``: the names ``params`` must hold; ``thickness``: one of :data:`TREATMENTS`.
+    ``parameters``: the names ``params`` must hold; ``thickness``: one of :data:`TREATMENTS`; ``condense``:
+    optionally ``(C, params) -> C_22`` solving the law's plane-stress condition more cheaply than the generic
+    Newton iteration on ``dW/dC_22`` (:func:`~mol_shell.model.hyperelastic.plane_stress_thickness`).
     """
 
     name: str
     energy: Callable
     parameters: tuple
     thickness: str
+    condense: Callable | None = None
 
     def __post_init__(self):
         if self.thickness not in TREATMENTS:
@@ -59,6 +63,26 @@ def neo_hookean(C, p):
     return 0.5 * p["mu"] * (i1 - 3.0) - p["mu"] * log_j + 0.5 * p["lambda"] * log_j**2
 
 
+def neo_hookean_thickness(C, p, steps=NEWTON_STEPS):
+    """``C_22`` of the compressible neo-Hookean law in plane stress, from a scalar equation in ``v = ln det C``.
+
+    ``det C = C_22 M + N`` (``M = C_11 C_33 - C_13^2``, ``N`` the determinant at ``C_22 = 0``) and
+    ``dW/dC_22 = mu/2 + (lambda ln J - mu) M / (2 det C)``, so ``dW/dC_22 = 0`` reads
+    ``f(v) = mu e^v + lambda M v / 2 - mu M = 0``: increasing and convex in ``v`` for ``lambda >= 0``, so Newton's
+    method converges monotonically after its first step. Started from the root of ``f`` linearised about
+    ``v = ln M``, ``v0 = mu ln M / (mu + lambda/2)``; ``steps`` iterations (one ``exp`` each), then
+    ``C_22 = (e^v - N) / M``.
+    """
+    lam, mu = p["lambda"], p["mu"]
+    m = C[0][0] * C[2][2] - C[0][2] * C[2][0]
+    n = determinant(with_thickness(C, 0.0))
+    v = mu * ca.log(m) / (mu + 0.5 * lam)
+    for _ in range(steps):
+        ev = ca.exp(v)
+        v = v - (mu * ev + 0.5 * lam * m * v - mu * m) / (mu * ev + 0.5 * lam * m)
+    return (ca.exp(v) - n) / m
+
+
 def neo_hookean_incompressible(C, p):
     """Incompressible neo-Hookean: ``mu/2 (I1 - 3)`` (``det C = 1`` imposed by the thickness treatment)."""
     return 0.5 * p["mu"] * (invariants(C)[0] - 3.0)
@@ -72,7 +96,7 @@ def mooney_rivlin(C, p):
 
 #: the built-in laws beyond SVK, by the scene parameter ``material``
 LAWS = {
-    "neo-hookean": Law("neo-hookean", neo_hookean, ("lambda", "mu"), "plane-stress"),
+    "neo-hookean": Law("neo-hookean", neo_hookean, ("lambda", "mu"), "plane-stress", neo_hookean_thickness),
     "neo-hookean-incompressible": Law("neo-hookean-incompressible", neo_hookean_incompressible, ("mu",),
                                       "incompressible"),
     "mooney-rivlin": Law("mooney-rivlin", mooney_rivlin, ("c10", "c01"), "incompressible"),
