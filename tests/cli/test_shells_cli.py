@@ -17,8 +17,8 @@ def test_scenes_lists_every_registered_scene_and_a_scenes_parameters(capsys):
     out = capsys.readouterr().out
     assert all(name in out for name in SCENES)
     assert main(["scenes", "torus"]) == 0
-    head, *rows = capsys.readouterr().out.splitlines()
-    assert head.startswith("torus: ")
+    head, columns, *rows = capsys.readouterr().out.splitlines()
+    assert head.startswith("torus: ") and columns.split()[:3] == ["parameter", "default", "units"]
     shown = {row.split()[0]: row.split()[1] for row in rows}  # name, default, unit, description
     torus = SCENES["torus"]()
     assert shown == {f.name: "auto" if getattr(torus, f.name) is None else str(getattr(torus, f.name))
