@@ -14,6 +14,7 @@ data a user is expected to give) ``mol-shell: note: ...``.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import sys
 import warnings
@@ -117,8 +118,6 @@ def cmd_plot(args):
 
 
 def cmd_scenes(args):
-    import dataclasses
-
 
     if args.name is None:
         if args.toml:

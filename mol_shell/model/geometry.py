@@ -31,8 +31,10 @@ All built-ins are exact formulas; :class:`PointsMeridian` interpolates a table w
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -57,8 +59,6 @@ class Meridian:
 
     def describe(self):
         """One line naming the meridian and its parameters (for a run's attrs)."""
-        import dataclasses
-
         if isinstance(self, PointsMeridian):
             origin = f" from {self.source}" if self.source else ""
             return f"PointsMeridian({len(self.points)} points{origin}, length {self.length:.6g} m)"
@@ -267,8 +267,6 @@ def read_points(path, name="points", with_lines=False):
     comment lines included) and the line itself, whole. ``with_lines``: also return the line number of
     each row (for :class:`PointsMeridian`'s messages).
     """
-    from pathlib import Path
-
     allowed = "a text file with two columns r z (m), at least 4 rows"
     p = Path(str(path)).expanduser()
     if not p.is_file():

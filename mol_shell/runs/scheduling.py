@@ -7,9 +7,15 @@ an address that does not answer before anything runs. Used by :func:`mol_shell.r
 
 from __future__ import annotations
 
+import collections
 import contextlib
+import multiprocessing
 import os
 import warnings
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+
+from threadpoolctl import threadpool_limits
 
 from mol_shell._core.errors import ParameterError
 
@@ -103,8 +109,6 @@ def _one_thread_per_process():
     has loaded already (two processes with two BLAS threads each made the spectrum of every case contend; idle
     BLAS threads spinning here made a study 1.5x slower). Once for the whole study: threadpoolctl's search of
     the loaded libraries costs 1 ms a time. This process's settings are restored afterwards."""
-    from threadpoolctl import threadpool_limits
-
     saved = {name: os.environ.get(name) for name in THREAD_VARIABLES}
     for name in THREAD_VARIABLES:
         os.environ.setdefault(name, "1")
@@ -140,11 +144,6 @@ def _execute_local(run_task, tasks, workers):
     running (the table says which) runs again in a new pool, up to :data:`LOST_RETRIES` times, and the cases it
     had not started run there as they were.
     """
-    import collections
-    import multiprocessing
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-    from concurrent.futures.process import BrokenProcessPool
-
     attempts = {task.index: 0 for task in tasks}
     pending = list(tasks)
     with _one_thread_per_process():

@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import lru_cache
+from pathlib import Path
 
 import numpy as np
 
@@ -220,8 +221,6 @@ class MeridianShell(_Dilated):
         self.meridian()
 
     def meridian(self):
-        from pathlib import Path
-
         if not self.points.strip():
             return _default_dome()
         p = Path(self.points).expanduser()

@@ -42,16 +42,7 @@ LAZY_EXTERNAL = {
 
 #: Function-level imports that have no such reason (the standard library, and packages every run imports anyway):
 #: reported to be moved to module level. Each entry must still exist, so a fixed one is removed from here.
-NOT_YET_AT_MODULE_LEVEL = {
-    ("mol_shell.cli.main", "dataclasses"),
-    ("mol_shell.model.geometry", "dataclasses"),
-    ("mol_shell.model.geometry", "pathlib"),
-    ("mol_shell.runs.scheduling", "collections"),
-    ("mol_shell.runs.scheduling", "concurrent"),
-    ("mol_shell.runs.scheduling", "multiprocessing"),
-    ("mol_shell.runs.scheduling", "threadpoolctl"),
-    ("mol_shell.scenes.shells", "pathlib"),
-}
+NOT_YET_AT_MODULE_LEVEL: set = set()
 
 
 def module_files():
