@@ -32,6 +32,9 @@ def connect(scheduler):
     if scheduler is None or scheduler == "serial":
         return None
     allowed = "'serial', or the address of a running dask scheduler such as tcp://host:8786, or a distributed.Client"
+    if isinstance(scheduler, str) and ":" not in scheduler:  # no port and no protocol: refused before dask's import
+        raise ParameterError.invalid("scheduler", scheduler, "is not a scheduler address", allowed,
+                                     hint=f"missing port number in address {scheduler!r}")
     try:
         from distributed import Client
     except ImportError:
