@@ -11,6 +11,7 @@ import numpy as np
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.runs.resources import check_saved_times
+from mol_shell.runs.simulate import check_options
 from mol_shell.scenes import SCENES, get_scene, with_params
 from mol_shell.scenes.files import load_scene
 
@@ -198,3 +199,14 @@ def integrator_option_args(args):
     return {k: getattr(args, k) for k in ("dt", "rtol", "atol", "max_step") if getattr(args, k, None) is not None}
 
 
+def run_settings(args, run, scene, n):
+    """``(times, t_end, integrator, options)`` of a run or a study's cases: the command line's options over a
+    scene file's ``[run]`` table (``--t-end`` or ``--times`` replace both of the file's), the options checked."""
+    times = parse_times_arg(args.times, n=n) if args.times else None
+    if args.t_end is None and times is None:
+        times = run.get("times")
+    t_end = args.t_end if args.t_end is not None or args.times else run.get("t_end")
+    integrator = args.integrator or run.get("integrator", "leapfrog")
+    options = {k: run[k] for k in ("dt", "rtol", "atol", "max_step") if k in run} | integrator_option_args(args)
+    check_options(scene, integrator, options, offered=CLI_OPTIONS)
+    return times, t_end, integrator, options

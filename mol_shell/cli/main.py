@@ -26,7 +26,6 @@ from mol_shell._core.errors import MaterialWarning, ParameterError
 from mol_shell._core.version import __version__
 from mol_shell.cli.analysis import register_compare, register_modes, register_stability
 from mol_shell.cli.args import (
-    CLI_OPTIONS,
     EXIT_INCOMPLETE,
     EXIT_INTERNAL,
     EXIT_INTERRUPTED,
@@ -38,10 +37,9 @@ from mol_shell.cli.args import (
     Parser,
     choice_arg,
     integer_arg,
-    integrator_option_args,
     number_arg,
     parse_atol,
-    parse_times_arg,
+    run_settings,
     say_stand_ins,
     scene_and_run,
 )
@@ -51,7 +49,7 @@ from mol_shell.cli.views import register_animate, register_export
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.dataset import read_run, writable_path, write_netcdf
 from mol_shell.runs.resources import LongRunWarning
-from mol_shell.runs.simulate import check_options, simulate
+from mol_shell.runs.simulate import simulate
 from mol_shell.scenes import SCENES, UNITS, describe
 from mol_shell.scenes.files import scene_toml
 from mol_shell.views.fibres import plot_fibres
@@ -61,13 +59,7 @@ from mol_shell.views.plotting import image_formats, plot_meridian, plot_snapshot
 
 def cmd_run(args):
     scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] table gives defaults, the options win
-    times = parse_times_arg(args.times, n=args.n or run.get("n", 40)) if args.times else None
-    if args.t_end is None and times is None:  # --t-end or --times replace both of the file's
-        times = run.get("times")
-    t_end = args.t_end if args.t_end is not None or args.times else run.get("t_end")
-    integrator = args.integrator or run.get("integrator", "leapfrog")
-    options = {k: run[k] for k in ("dt", "rtol", "atol", "max_step") if k in run} | integrator_option_args(args)
-    check_options(scene, integrator, options, offered=CLI_OPTIONS)
+    times, t_end, integrator, options = run_settings(args, run, scene, args.n or run.get("n", 40))
     ds = simulate(scene, integrator, n=args.n or run.get("n", 40), t_end=t_end, times=times, progress=None,
                   stresses=args.stresses, **options)
     write_netcdf(ds, args.output)

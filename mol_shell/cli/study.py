@@ -7,25 +7,22 @@ import sys
 from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.args import (
-    CLI_OPTIONS,
     EXIT_INCOMPLETE,
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
     integer_arg,
-    integrator_option_args,
     number_arg,
     parse_atol,
     parse_range_or_list,
     parse_sets,
-    parse_times_arg,
+    run_settings,
     say_stand_ins,
     scene_and_run,
 )
 from mol_shell.results.study_store import Store
 from mol_shell.runs import resources
 from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT
-from mol_shell.runs.simulate import check_options
 from mol_shell.runs.study import study
 from mol_shell.scenes import with_params
 
@@ -75,13 +72,7 @@ def cmd_study(args):
         raise ParameterError.invalid("--set", f"{both[0]}={sets[both[0]]}", f"sets {both[0]}, which --vary varies",
                                      "parameters not in --vary")
     scene = with_params(base, sets)
-    times = parse_times_arg(args.times, n=n) if args.times else None
-    if args.t_end is None and times is None:  # --t-end or --times replace both of the file's
-        times = run.get("times")
-    t_end = args.t_end if args.t_end is not None or args.times else run.get("t_end")
-    integrator = args.integrator or run.get("integrator", "leapfrog")
-    options = {k: run[k] for k in ("dt", "rtol", "atol", "max_step") if k in run} | integrator_option_args(args)
-    check_options(scene, integrator, options, offered=CLI_OPTIONS)
+    times, t_end, integrator, options = run_settings(args, run, scene, n)
     try:
         ds = study(scene, vary, integrator, n=n, times=times, t_end=t_end,
                    scheduler=args.scheduler, workers=args.workers, output=args.output, progress=None, **options)

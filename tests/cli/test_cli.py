@@ -8,7 +8,8 @@ import time
 import numpy as np
 import pytest
 
-from mol_shell.cli.main import main, parse_times_arg
+from mol_shell.cli.args import parse_times_arg
+from mol_shell.cli.main import main
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.results.dataset import read_netcdf, read_run
 
