@@ -71,16 +71,17 @@ COUNTS = {"examples": 0, "cli": {}, "api": {}, "slowest": []}
 def fuzz_cache():
     """Kernels compiled for fuzzed values go into a cache of their own, apart from the kernels of real runs. The
     ``ci`` profile draws the same values every time (derandomized): its kernels are a fixed set (about 10 MB), kept
-    in ``fuzz-ci`` inside the kernel cache, shared by the workers of a parallel run (the cache's lock) and reused by
+    in ``fuzz-ci-O0`` inside the kernel cache, shared by the workers of a parallel run (the cache's lock) and reused by
     the next run. Other profiles draw new values each time: a temporary cache, removed afterwards. The counts of
     examples and outcomes are printed at the end (for the README's status)."""
-    from mol_shell.discretization.compiled import cache_dir
+    from mol_shell.discretization import compiled
 
     old = os.environ.get("MOL_SHELL_CACHE")
     start = time.perf_counter()
-    kept = contextlib.nullcontext(str(cache_dir() / "fuzz-ci")) if PROFILE == "ci" else None
-    with kept or tempfile.TemporaryDirectory(prefix="mol_shell_fuzz_cache") as tmp:
+    kept = contextlib.nullcontext(str(compiled.cache_dir() / "fuzz-ci-O0")) if PROFILE == "ci" else None
+    with kept or tempfile.TemporaryDirectory(prefix="mol_shell_fuzz_cache") as tmp, pytest.MonkeyPatch.context() as mp:
         os.environ["MOL_SHELL_CACHE"] = tmp
+        mp.setattr(compiled, "run_compiler", _unoptimised(compiled.run_compiler))
         yield
     if old is None:
         os.environ.pop("MOL_SHELL_CACHE", None)
@@ -90,6 +91,17 @@ def fuzz_cache():
           f"CLI exit codes {dict(sorted(COUNTS['cli'].items()))}; API outcomes {COUNTS['api']}")
     for row in COUNTS["slowest"]:
         print("  slowest: %.1f s %s %s=%s %s exit %s, API %s" % row)
+
+
+def _unoptimised(run_compiler):
+    """gcc at ``-O0`` for the fuzzed kernels: each example runs one step, and what is checked is how a value is
+    handled (run, refused, stopped), not how fast its kernel is; ``-O0`` builds them about 5 times faster than
+    ``-O3`` (the right-hand side) and ``-O1`` (exact Jacobians), which is most of the file's time from a cold cache.
+    The cache of fuzzed kernels is apart from the real ones, so no real run ever loads one of them."""
+    def build(command, what, source_bytes, flags):
+        return run_compiler(["-O0" if arg in ("-O1", "-O2", "-O3") else arg for arg in command], what, source_bytes,
+                            flags)
+    return build
 
 
 SPECIAL = [0.0, -0.0, 1.0, -1.0, 5e-324, -5e-324, 1e-300, -1e-300, 1e-30, 1e30, 1e300, -1e300,
