@@ -2,14 +2,27 @@
 
 from __future__ import annotations
 
+import contextlib
+
 import casadi as ca
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from mol_shell._core.constants import DENSE_MAX_STATES
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.laws import scene_shell_energy
 from mol_shell.model.loads import history
 from mol_shell.model.material import Thickness
+
+#: dense eigenvalue problems up to this size run on one BLAS thread: at n = 40 (a 200 x 200 product) two
+#: OpenBLAS threads gain nothing, and on a machine whose other core is busy (a study's second process, a
+#: compiler) their spinning made the spectrum 80 times slower (0.67 s instead of 8 ms a run)
+ONE_THREAD_MAX_ROWS = 1000
+
+
+def blas_threads(rows):
+    """One BLAS thread for dense problems of up to :data:`ONE_THREAD_MAX_ROWS` rows, else the library's own."""
+    return threadpool_limits(limits=1, user_api="blas") if rows <= ONE_THREAD_MAX_ROWS else contextlib.nullcontext()
 
 
 def equilibrium_radius(scene, tol=1e-14, max_iter=50):
@@ -57,9 +70,10 @@ def spectrum_bounds(jac, y, dissipative=True, positions=None):
     J = jac(0, y)
     if J.size1() <= DENSE_MAX_STATES:
         dense = np.array(J)
-        ev = rest_spectrum(dense, positions) if positions is not None else None
-        if ev is None:
-            ev = np.linalg.eigvals(dense)
+        with blas_threads(dense.shape[0]):
+            ev = rest_spectrum(dense, positions) if positions is not None else None
+            if ev is None:
+                ev = np.linalg.eigvals(dense)
     else:
         import scipy.sparse.linalg  # large grids only: 0.27 s of a process's start otherwise
 

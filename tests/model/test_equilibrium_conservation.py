@@ -300,3 +300,26 @@ def _nodal_mass(system, Q, i):
     M = np.stack(cols, axis=1)
     free = ~system.fixed[i]
     return M[np.ix_(free, free)]
+
+
+def test_a_small_spectrum_runs_on_one_blas_thread(monkeypatch):
+    """The step bound's dense spectrum at n = 40 is a 200 x 200 problem: on two OpenBLAS threads it gained nothing
+    and, with the other core busy (a study's second process), their spinning made it 80 times slower. Every dense
+    eigenvalue call of ``spectrum_bounds`` below :data:`ONE_THREAD_MAX_ROWS` rows sees one BLAS thread."""
+    from threadpoolctl import threadpool_info
+
+    from mol_shell.model import equilibrium
+    from mol_shell.runs.simulate import build, resolve
+
+    scene = resolve(PAPER)
+    system, _ = build(scene, 40)
+    seen, eigvals = [], np.linalg.eigvals
+
+    def counted(matrix):
+        seen.append((matrix.shape[0], {p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"}))
+        return eigvals(matrix)
+
+    monkeypatch.setattr(np.linalg, "eigvals", counted)
+    omega_max, _ = equilibrium.spectrum_bounds(system.jac, system.initial_state(scene), False)
+    assert omega_max > 0 and seen
+    assert all(rows <= equilibrium.ONE_THREAD_MAX_ROWS and threads == {1} for rows, threads in seen), seen
