@@ -6,7 +6,8 @@ import pytest
 import mol_shell
 
 from mol_shell._core.errors import ParameterError
-from mol_shell.runs.unshearable import UnshearableDAE, defects, simulate_unshearable
+from mol_shell.discretization.unshearable_dae import UnshearableDAE
+from mol_shell.runs.unshearable import defects, simulate_unshearable
 from mol_shell.scenes import Unshearable
 
 TIMES = np.linspace(0.0, 0.03, 7)
