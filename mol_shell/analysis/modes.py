@@ -79,7 +79,7 @@ def check_equilibrium(system, y0, scene_name):
                              "end1=clamped, end2=clamped to hold its twist")
 
 
-def modes(scene, n=40, count=10):
+def modes(scene, n=40, count=10, *, initial=None):
     """Natural frequencies and mode shapes of ``scene`` about its initial state (at rest, in equilibrium).
 
     Parameters
@@ -91,6 +91,9 @@ def modes(scene, n=40, count=10):
         Nodes in ``s``.
     count : int
         How many of the lowest nonzero frequencies to return.
+    initial : array_like, optional
+        Fields ``z, r, chi, theta, psi`` at the nodes, ``(5, n)``, at rest, in place of the scene's initial state: an
+        equilibrium under the scene's loads, e.g. a path's step (prestressed frequencies).
 
     Returns
     -------
@@ -109,7 +112,7 @@ def modes(scene, n=40, count=10):
         raise ParameterError("count", count, "integers >= 1")
 
     system, _ = build(scene, n)
-    y0, _ = starting_state(scene, system, n)
+    y0, _ = starting_state(scene, system, n, initial)
     check_equilibrium(system, y0, scene.name)
     q_idx, Minv, K = _blocks(system, y0)
     size = len(q_idx)

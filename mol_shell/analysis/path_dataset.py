@@ -60,6 +60,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     points = record.points
     count = len(points)
     shapes = np.zeros((count, 5, eq.n))
+    states = np.stack([eq.system.unpack(eq.state(p["q"])) for p in points]) if count else np.zeros((0, 5, eq.n))
     for m, point in enumerate(points):
         shapes[m] = _shape(eq, point["mode"])
         shapes[m] /= max(np.abs(shapes[m]).max(), 1e-300)
@@ -81,6 +82,10 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
         u, long_name = FIELD_META[name]
         data[f"point_mode_{name}"] = (("point", "s"), shapes[:, k], {"units": u, "long_name":
                                       f"critical mode: {long_name} (each scaled to a largest entry of 1)"})
+    for k, name in enumerate(FIELDS):
+        u, long_name = FIELD_META[name]
+        data[f"point_{name}"] = (("point", "s"), states[:, k], {"units": u, "long_name":
+                                 f"equilibrium at the critical point: {long_name}"})
     z0, r0, theta0 = system.reference
     data["z0"] = (("s",), z0, {"units": "m", "long_name": "axial position of the reference base surface"})
     data["r0"] = (("s",), r0, {"units": "m", "long_name": "radius of the reference base surface"})
