@@ -40,6 +40,8 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
         data[name] = (("step", "s"), fields[:, k], {"units": u, "long_name": long_name})
     data["arclength"] = (("step",), np.array(record.arcs), {"units": "1", "long_name":
                          "pseudo-arclength along the path (scaled load and displacements)"})
+    data["branch"] = (("step",), np.array(record.branches, dtype=np.int8), {"units": "1", "long_name":
+                      "0 on the path from start, 1 on the branch switched to at a bifurcation (attr branch_point)"})
     data["newton_iterations"] = (("step",), np.array(record.iterations, dtype=np.int32),
                                  {"units": "1", "long_name": "Newton iterations of the step's corrector"})
     data["negative_eigenvalues"] = (("step",), np.array(record.negative, dtype=np.int32), {"units": "1", "long_name":
@@ -104,6 +106,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
                        "shift-invert about zero",
              "locate_tolerance": "bifurcations: a bracket of LOCATE_RTOL |stop - start| in the parameter; limit "
                                  "points: of LOCATE_RTOL in the scaled arclength".replace("LOCATE_RTOL", f"{LOCATE_RTOL:g}"),
+             "branch_point": int(record.branch_point) if record.branch else -1,
              "wall_time_s": float(wall_time), "edge_s0": system.edges[0], "edge_sL": system.edges[1],
              "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
     for name, value in scene.params().items():

@@ -50,8 +50,10 @@ def cmd_path(args):
     scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] n is the default of --n
     n = args.n or run.get("n", 40)
     try:
-        ds = path(scene, name, start, stop, n=n, max_steps=args.max_steps)
+        ds = path(scene, name, start, stop, n=n, max_steps=args.max_steps, branch=args.branch)
     except ParameterError as exc:
+        if exc.name == "branch":
+            raise ParameterError("--branch", args.branch, exc.allowed, message="--" + str(exc)) from None
         if exc.name in ("parameter", "start", "stop"):  # said by the option --param
             raise ParameterError("--param", args.param, exc.allowed, message=f"--param = {show(args.param)}: {exc}") \
                 from None
@@ -84,6 +86,8 @@ def register_path(sub):
     p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=200,
                    help="the path ends after this many steps (default 200); short of STOP it says so in a note on "
                    "stderr and in attrs status = max_steps, complete = 0, and exits 0")
+    p.add_argument("--branch", type=integer_arg("--branch", 0), default=None, metavar="K",
+                   help="switch onto the branch leaving bifurcation point K (numbered from 0 as found) and follow it")
     p.add_argument("-o", "--output", required=True,
                    help="netCDF file to write, .nc (missing directories are created)")
     p.set_defaults(func=cmd_path, output_suffixes=NETCDF_SUFFIXES)
