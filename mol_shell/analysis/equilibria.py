@@ -34,6 +34,7 @@ from mol_shell.discretization.loading import check_end_loads, load_terms, volume
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.loads import cell_volume, gravity_potential
 from mol_shell.runs.checks import check_system, resolve
+from mol_shell.runs.statics import to_csc
 from mol_shell.scenes import DRIVES, LOADS, UNITS
 
 #: the loads a path can be continued in (drag is not a load at rest)
@@ -45,12 +46,8 @@ CONJUGATE_UNITS = {"pressure": "m3", "gravity": "kg m", "end1_force": "m", "end2
 SELF_EQUILIBRATED = 1e-9
 
 
-def _sparse(dm):
-    """A CasADi sparse matrix as SciPy CSC (the same compressed-column layout)."""
-    import scipy.sparse  # heavy optional dependency: loaded where a path needs it
-
-    sp = dm.sparsity()
-    return scipy.sparse.csc_matrix((np.array(dm.nonzeros()).ravel(), sp.row(), sp.colind()), shape=dm.shape)
+#: CasADi sparse matrices as SciPy CSC: the same conversion as the static Newton of runs (nothing dense)
+_sparse = to_csc
 
 
 def allowed_loads(system):
