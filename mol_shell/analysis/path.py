@@ -39,7 +39,7 @@ import time
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
-from mol_shell.analysis.equilibria import PATH_LOADS, EquilibriumEquations
+from mol_shell.analysis.equilibria import PATH_PARAMETERS, REACTIONS, EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, check_branch_point, switch
 from mol_shell.analysis.path_dataset import path_dataset
 from mol_shell.analysis.path_stability import EIGENVALUES, LOCATE_RTOL, family, stability
@@ -221,7 +221,7 @@ class _Path:
             for _ in range(30):
                 trial = q + step
                 Ft = self.eq.residual(trial, lam)
-                if np.all(np.isfinite(Ft)) and self.eq.limits_ok(trial) is None and np.abs(Ft).max() < norm:
+                if np.all(np.isfinite(Ft)) and self.eq.limits_ok(trial, lam) is None and np.abs(Ft).max() < norm:
                     break
                 step = step / 2
             else:
@@ -233,8 +233,8 @@ class _Path:
 
 
 def _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=None):
-    if parameter not in PATH_LOADS:
-        raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_LOADS) + "}",
+    if parameter not in PATH_PARAMETERS:
+        raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_PARAMETERS) + "}",
                              hint=f"the loads of scene {scene.name} a path can be continued in")
     for name, value in (("start", start), ("stop", stop)):
         if not is_number(value) or not math.isfinite(value):
@@ -303,7 +303,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     while len(record.lams) <= max_steps:
         try:
             q_new, lam_new, its = tracer.correct(q, lam, t, h)
-            where = eq.limits_ok(q_new)
+            where = eq.limits_ok(q_new, lam_new)
             if where is not None:
                 raise PathFailed("limit", f"{where[0]} at {where[1]}")
         except PathFailed as exc:
@@ -357,14 +357,15 @@ class _Record:
         self.eq, self.tracer = eq, tracer
         self.qs, self.lams, self.tls, self.arcs, self.iterations = [], [], [], [], []
         self.eigen, self.negative, self.det_sign = [], [], []
-        self.stored, self.phi, self.volume = [], [], []
+        self.stored, self.phi, self.volume, self.reactions = [], [], [], []
         self.points = []
         #: 0 on the path from start, 1 on the branch switched to (``path(..., branch=K)``)
         self.branch, self.branches = 0, []
 
     def add(self, q, lam, t, arc, its):
         w2, _, negative, sign = stability(self.eq, q, lam)
-        phi, vol = self.eq.conjugate(q)
+        phi, vol = self.eq.conjugate(q, lam)
+        self.reactions.append(self.eq.reactions(q, lam))
         self.qs.append(q)
         self.lams.append(lam)
         self.tls.append(t[1])
@@ -374,13 +375,15 @@ class _Record:
         self.eigen.append(np.pad(w2, (0, EIGENVALUES - len(w2)), constant_values=np.nan))
         self.negative.append(negative)
         self.det_sign.append(sign)
-        self.stored.append(self.eq.stored_energy(q))
+        self.stored.append(self.eq.stored_energy(q, lam))
         self.phi.append(phi)
         self.volume.append(vol)
 
     def work(self):
-        """``int lambda dPhi`` along the steps (trapezoidal rule)."""
+        """``int lambda dPhi`` along the steps (trapezoidal rule); for an edge displacement ``int R dlambda``."""
         lam, phi = np.asarray(self.lams), np.asarray(self.phi)
+        if self.eq.moved is not None:  # an edge displacement: the work of its reaction, int R d(displacement)
+            lam, phi = phi, lam
         return np.concatenate([[0.0], np.cumsum((lam[1:] + lam[:-1]) / 2 * np.diff(phi))])
 
     def locate_between(self, i, j, origin):

@@ -53,7 +53,7 @@ def switch(tracer, point, t, ds, min_ds, failed):
             direction = (sign * v[:-1], float(sign * v[-1]))
             try:
                 q, lam, its = tracer.correct(q_c, lam_c, direction, h)
-                if eq.limits_ok(q) is None:
+                if eq.limits_ok(q, lam) is None:
                     return q, lam, direction, its
             except failed:
                 pass

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from mol_shell.analysis.equilibria import CONJUGATE_UNITS
+from mol_shell.analysis.equilibria import CONJUGATE_UNITS, REACTIONS
 from mol_shell.analysis.path_stability import LOCATE_RTOL
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import attr_value, coordinates, header, variables
@@ -29,7 +29,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     """Assemble the Dataset of a traced path (``record``: the steps and critical points of ``_Record``)."""
     system = eq.system
     steps = len(record.lams)
-    fields = np.stack([system.unpack(eq.state(q)) for q in record.qs])
+    fields = np.stack([system.unpack(eq.state(q, lam)) for q, lam in zip(record.qs, record.lams)])
     units = eq.units
     data = {}
     data["parameter"] = (("step",), np.array(record.lams), {
@@ -55,14 +55,22 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
                          f"work of the continued load since the first step: int {eq.parameter} dPhi (trapezoidal "
                          "rule over the steps)"})
     data["load_conjugate"] = (("step",), np.array(record.phi), {"units": CONJUGATE_UNITS[eq.parameter], "long_name":
-                              "displacement Phi conjugate to the continued load (its work is int load dPhi)"})
+                              "displacement Phi conjugate to the continued load (its work is int load dPhi)" if
+                              eq.moved is None else "reaction conjugate to the continued edge displacement (its "
+                              "work is int reaction d(displacement))"})
+    reactions = np.array(record.reactions)
+    for k, (name, _, field) in enumerate(REACTIONS):
+        if np.isfinite(reactions[:, k]).any():
+            data[name] = (("step",), reactions[:, k], {"units": "N" if field == 0 else "N m", "long_name":
+                          f"{'axial force' if field == 0 else 'axial torque'} the support supplies on the imposed "
+                          f"{'z' if field == 0 else 'chi'} of the edge at s = {'0' if name.startswith('end1') else 'L'}"})
     if system.edges == ("pole", "pole"):
         data["volume"] = (("step",), np.array(record.volume), {"units": "m3", "long_name":
                           "volume enclosed by the base surface"})
     points = record.points
     count = len(points)
     shapes = np.zeros((count, 5, eq.n))
-    states = np.stack([eq.system.unpack(eq.state(p["q"])) for p in points]) if count else np.zeros((0, 5, eq.n))
+    states = np.stack([eq.system.unpack(eq.state(p["q"], p["parameter"])) for p in points]) if count else np.zeros((0, 5, eq.n))
     for m, point in enumerate(points):
         shapes[m] = _shape(eq, point["mode"])
         shapes[m] /= max(np.abs(shapes[m]).max(), 1e-300)

@@ -6,7 +6,7 @@ import math
 import sys
 
 from mol_shell._core.errors import ParameterError, show
-from mol_shell.analysis.equilibria import PATH_LOADS
+from mol_shell.analysis.equilibria import PATH_PARAMETERS
 from mol_shell.analysis.path import path
 from mol_shell.analysis.path_start import is_path, path_start, read_path
 from mol_shell.cli.args import (
@@ -24,24 +24,24 @@ from mol_shell.results.dataset import read_netcdf, write_netcdf
 from mol_shell.scenes import with_params
 from mol_shell.views.path_plot import plot_path, response_values, responses
 
-PARAM_FORM = "NAME=START:STOP with NAME in {" + ", ".join(PATH_LOADS) + "}, START and STOP numbers, START != STOP"
+PARAM_FORM = "NAME=START:STOP with NAME in {" + ", ".join(PATH_PARAMETERS) + "}, START and STOP numbers, START != STOP"
 
 
-def parse_param(text):
-    """``NAME=START:STOP`` into ``(name, start, stop)``; anything else is refused naming ``--param``."""
+def parse_param(text, option="--param"):
+    """``NAME=START:STOP`` into ``(name, start, stop)``; anything else is refused naming ``option``."""
     name, sep, span = str(text).partition("=")
     name = name.strip()
-    if not sep or name not in PATH_LOADS:
-        raise ParameterError("--param", text, PARAM_FORM)
+    if not sep or name not in PATH_PARAMETERS:
+        raise ParameterError(option, text, PARAM_FORM)
     parts = span.split(":")
     try:
         if len(parts) != 2:
             raise ValueError
         start, stop = (float(x) for x in parts)
     except ValueError:
-        raise ParameterError("--param", text, PARAM_FORM) from None
+        raise ParameterError(option, text, PARAM_FORM) from None
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
-        raise ParameterError("--param", text, PARAM_FORM)
+        raise ParameterError(option, text, PARAM_FORM)
     return name, start, stop
 
 
@@ -80,7 +80,7 @@ def register_path(sub):
                        "critical points")
     p.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
     p.add_argument("--param", required=True, metavar="NAME=START:STOP",
-                   help="the continued load and its range, NAME in {" + ", ".join(PATH_LOADS) + "}")
+                   help="the continued load or edge displacement and its range, NAME in {" + ", ".join(PATH_PARAMETERS) + "}")
     p.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
     p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=200,

@@ -41,10 +41,9 @@ def classical(h):
     return L, 2 * math.pi * A * N
 
 
-def cylinder(h, **extra):
+def cylinder(h, end2="theta"):
     L, _ = classical(h)
-    return Axisymmetric(L=L, a=A, R=A, h=h, E=E, nu=NU, material="svk-plane-stress", end1="z,theta", end2="theta",
-                        **extra)
+    return Axisymmetric(L=L, a=A, R=A, h=h, E=E, nu=NU, material="svk-plane-stress", end1="z,theta", end2=end2)
 
 
 @pytest.fixture(scope="module")
@@ -86,3 +85,35 @@ def test_an_edge_is_the_set_of_fields_it_imposes_in_a_scene_file(tmp_path):
     f.write_text('scene = "axisymmetric"\n[edges]\nend1 = "theta, z"\nend2 = "theta"\n')
     scene = load_scene(str(f))
     assert (scene.end1, scene.end2) == ("z,theta", "theta")
+
+
+def test_displacement_control_gives_the_same_bifurcation_and_the_edge_reactions(critical):
+    """The same cylinder with both edges imposing z and theta (``z,theta``), shortened by ``end2_dz``: the membrane
+    state and the mode are those of the force-controlled path, so the reaction at the bifurcation is its critical
+    force (the reaction is read between the two steps around the point, linearly: the prebuckling response is
+    linear to O(eps)); the two edges' reactions balance; the stored energy is the reaction's work ``int R d dz``
+    (trapezoidal rule over the steps)."""
+    h = 0.01
+    L, F = classical(h)
+    eps = F / (2 * math.pi * A) / (E * 2 * h)  # axial strain at the classical load (uniaxial membrane stress)
+    scene = cylinder(h, end2="z,theta")
+    ds = path(scene, "end2_dz", 0.0, -1.3 * eps * L, n=121, steps=10, max_steps=20)
+    assert ds.attrs["status"] == "complete" and ds.load_conjugate.attrs["units"] == "N"
+    r1, r2 = ds.end1_reaction_force.values, ds.end2_reaction_force.values
+    assert np.abs(r1 + r2).max() <= 1e-9 * np.abs(r2).max()
+    assert np.all(r2[1:] < 0)  # the support pushes the shortened edge back along -k: compression
+    p = float(ds.point_parameter[0])
+    assert ds.point_kind.values[0] == "bifurcation"
+    reaction = np.interp(-p, -ds.parameter.values, r2)
+    assert reaction / -F == pytest.approx(critical[h][2], rel=1e-3)
+    stored = ds.stored_energy.values - ds.stored_energy.values[0]
+    assert np.abs(stored - ds.load_work.values).max() <= 1e-3 * stored.max()
+
+
+def test_a_displacement_of_a_free_field_is_refused_naming_the_option(tmp_path, capsys):
+    from mol_shell.cli.main import main
+
+    code = main(["path", "axisymmetric", "--param", "end2_dz=0:-0.01", "--set", "end2=theta", "--n", "11",
+                 "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and "--param" in err and "end1_dz" in err
