@@ -229,7 +229,8 @@ class EquilibriumEquations:
         for _, node, field in REACTIONS:
             node = node % n
             if field in system.active and system.imposed[node, field] and system.edges[min(node, 1)] != "pole":
-                reactions.append(dU[system.active.index(field), node] - others[field, node] - lam * unit_forces[field, node])
+                reactions.append(dU[system.active.index(field), node] - others[field, node]
+                                 - lam * unit_forces[field, node])
             else:
                 reactions.append(ca.MX(np.nan))
         self._reactions = ca.Function("reactions", [y, lam], [ca.vertcat(*reactions)])

@@ -39,7 +39,7 @@ import time
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
-from mol_shell.analysis.equilibria import PATH_PARAMETERS, REACTIONS, EquilibriumEquations
+from mol_shell.analysis.equilibria import PATH_PARAMETERS, EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, check_branch_point, switch
 from mol_shell.analysis.path_dataset import path_dataset
 from mol_shell.analysis.path_stability import EIGENVALUES, LOCATE_RTOL, family, stability

@@ -63,14 +63,16 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
         if np.isfinite(reactions[:, k]).any():
             data[name] = (("step",), reactions[:, k], {"units": "N" if field == 0 else "N m", "long_name":
                           f"{'axial force' if field == 0 else 'axial torque'} the support supplies on the imposed "
-                          f"{'z' if field == 0 else 'chi'} of the edge at s = {'0' if name.startswith('end1') else 'L'}"})
+                          f"{'z' if field == 0 else 'chi'} of the edge at s = "
+                          f"{'0' if name.startswith('end1') else 'L'}"})
     if system.edges == ("pole", "pole"):
         data["volume"] = (("step",), np.array(record.volume), {"units": "m3", "long_name":
                           "volume enclosed by the base surface"})
     points = record.points
     count = len(points)
     shapes = np.zeros((count, 5, eq.n))
-    states = np.stack([eq.system.unpack(eq.state(p["q"], p["parameter"])) for p in points]) if count else np.zeros((0, 5, eq.n))
+    states = (np.stack([eq.system.unpack(eq.state(p["q"], p["parameter"])) for p in points]) if count
+              else np.zeros((0, 5, eq.n)))
     for m, point in enumerate(points):
         shapes[m] = _shape(eq, point["mode"])
         shapes[m] /= max(np.abs(shapes[m]).max(), 1e-300)

@@ -41,7 +41,6 @@ from mol_shell.cli.args import (
     parse_atol,
     run_settings,
     say_stand_ins,
-    scene_and_run,
 )
 from mol_shell.cli.path import add_start_options, cmd_plot_path, looks_like_path, register_path, start_of
 from mol_shell.cli.study import register_study
@@ -195,7 +194,8 @@ def make_parser():
     plot.add_argument("--thickness-scale", type=number_arg("--thickness-scale"), default=None,
                       help="fibres: magnification of the drawn thickness (default: 0.2 of the radius)")
     plot.add_argument("--response", default=None, help="a path file (mol-shell path): the response the load is drawn "
-                      "against, a variable along step (default load_conjugate) or FIELD@S (a field at the node nearest S)")
+                      "against, a variable along step (default load_conjugate) or FIELD@S (a field at the node "
+                      "nearest S)")
     plot.add_argument("-o", "--output", required=True, help="image to write (.png, .pdf, .svg, ...)")
     plot.set_defaults(func=cmd_plot, output_suffixes=_image_formats)
     for register in (register_compare, register_stability, register_study, register_modes, register_export,

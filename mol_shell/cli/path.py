@@ -80,7 +80,8 @@ def register_path(sub):
                        "critical points")
     p.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
     p.add_argument("--param", required=True, metavar="NAME=START:STOP",
-                   help="the continued load or edge displacement and its range, NAME in {" + ", ".join(PATH_PARAMETERS) + "}")
+                   help="the continued load or edge displacement and its range, NAME in {"
+                   + ", ".join(PATH_PARAMETERS) + "}")
     p.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
     p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=200,

@@ -186,7 +186,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
     compiled.set_threads(threads)
-    y0, start_info = starting_state(scene, system, n, initial)  # refused by name if it cannot be formed in double precision
+    # refused by name if it cannot be formed in double precision
+    y0, start_info = starting_state(scene, system, n, initial)
     omega_max, damping = checked_spectrum(scene, system, y0)
     if integrator == "leapfrog":
         dt = method.dt
