@@ -86,3 +86,32 @@ def test_prestressed_frequency_falls_to_zero_at_the_limit_point_like_the_fold_no
 def test_the_path_scene_ignores_attrs_that_are_no_parameter(cap_path):
     scene = path_scene(cap_path, -1.0)
     assert scene.pressure == -1.0 and scene.alpha2 == pytest.approx(cap_params(LAMBDA)["alpha2"])
+
+
+def test_at_a_bifurcation_the_frequency_falls_like_the_square_root():
+    """The other kind of critical point: the compressed cylinder of tests/analysis/test_path_cylinder.py, whose path
+    before its bifurcation is the uniform membrane state, linear in the load to O(eps). There the eigenvalue that
+    crosses zero does so linearly in the load, ``omega^2 = c (lambda_c - lambda) + O((lambda_c - lambda)^2)``: the
+    frequency goes like ``|lambda - lambda_c|^(1/2)``. Fitted on steps between 0.9 and 0.995 of the critical force
+    (the O((lambda_c - lambda)^2) term bends the slope by a few hundredths over 0.8 .. 0.97);
+    ``omega^2`` from the path's eigenvalues, checked against ``modes`` at the step nearest the point."""
+    import math
+
+    from mol_shell import Axisymmetric
+
+    E, NU, h = 1.0e6, 0.3, 0.01
+    t = 2 * h
+    D = E * t**3 / (12 * (1 - NU**2))
+    L = 8 * math.pi / (E * t / D) ** 0.25
+    scene = Axisymmetric(L=L, a=1.0, R=1.0, h=h, E=E, nu=NU, material="svk-plane-stress", end1="z,theta",
+                         end2="theta")
+    onset = path(scene, "end2_force", 0.0, -2e3, n=61, steps=10, max_steps=20)
+    f_c = float(onset.point_parameter.values.max())  # the least compressive critical force
+    ds = path(scene, "end2_force", 0.9 * f_c, 0.995 * f_c, n=61, steps=12)
+    assert ds.sizes["point"] == 0 and ds.attrs["status"] == "complete"
+    distance = np.abs(ds.parameter.values - f_c)
+    w2 = ds.smallest_eigenvalues.values[:, 0]
+    slope = np.polyfit(np.log(distance), np.log(np.sqrt(w2)), 1)[0]
+    assert slope == pytest.approx(0.5, abs=0.02)
+    scene_k, n, fields, _ = path_start(ds, step=ds.sizes["step"] - 1)
+    assert float(modes(scene_k, n=n, count=1, initial=fields).frequency[0]) ** 2 == pytest.approx(w2[-1], rel=1e-6)
