@@ -34,3 +34,18 @@ def cap_params(lam, h=H_HALF):
     """Keyword arguments of ``mol_shell.Sphere`` for the clamped cap (pole at s = 0, clamped edge at s = L)."""
     return {"a": A, "h": h, "E": E, "nu": NU, "alpha2": cap_angle(lam, h), "end2": "clamped",
             "material": "svk-plane-stress"}
+
+
+def cap_angle_from_rise(lam, h=H_HALF, a=A, nu=NU):
+    """The edge angle of the cap whose rise ``H = a (1 - cos alpha)`` gives ``lam = 2 [3 (1 - nu^2)]^(1/4)
+    sqrt(H / t)``: the definition of the published tables below (the same as :func:`cap_angle` for a shallow cap;
+    at lambda = 5 the two angles differ by 1 %)."""
+    t = 2 * h
+    rise = t * lam**2 / (4 * math.sqrt(3 * (1 - nu**2)))
+    return math.acos((a - rise) / a)
+
+
+#: published axisymmetric snap-through pressures of clamped spherical caps, ``p_cr / p_cl`` against lambda, as
+#: tabulated by Teng & Rotter (1989a, Computers & Structures 31(2), 211-233, their Table 1): Budiansky (1959,
+#: shallow-shell theory), Dumir & Nath (1984), Teng & Rotter (1989a, a non-shallow axisymmetric shell analysis)
+PUBLISHED = {4.0: (0.578, 0.58, 0.563), 5.0: (0.629, 0.63, 0.615), 6.0: (0.995, 0.986, 0.972)}
