@@ -65,6 +65,11 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
                           f"{'axial force' if field == 0 else 'axial torque'} the support supplies on the imposed "
                           f"{'z' if field == 0 else 'chi'} of the edge at s = "
                           f"{'0' if name.startswith('end1') else 'L'}"})
+    z0 = system.reference[0]
+    for name, node in (("end1_dz", 0), ("end2_dz", -1)):  # where the edges are: a response to draw the load against
+        data[name.replace("_dz", "_axial_displacement")] = (("step",), fields[:, 0, node] - z0[node], {"units": "m",
+                                                              "long_name": f"axial displacement of the edge at s = "
+                                                              f"{'0' if node == 0 else 'L'} from the reference"})
     if system.edges == ("pole", "pole"):
         data["volume"] = (("step",), np.array(record.volume), {"units": "m3", "long_name":
                           "volume enclosed by the base surface"})

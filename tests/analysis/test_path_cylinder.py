@@ -99,6 +99,9 @@ def test_displacement_control_gives_the_same_bifurcation_and_the_edge_reactions(
     scene = cylinder(h, end2="z,theta")
     ds = path(scene, "end2_dz", 0.0, -1.3 * eps * L, n=121, steps=10, max_steps=20)
     assert ds.attrs["status"] == "complete" and ds.load_conjugate.attrs["units"] == "N"
+    # the edge is where the parameter puts it, the other one stays
+    assert np.abs(ds.end2_axial_displacement.values - ds.parameter.values).max() <= 1e-12
+    assert np.all(ds.end1_axial_displacement.values == 0)
     r1, r2 = ds.end1_reaction_force.values, ds.end2_reaction_force.values
     assert np.abs(r1 + r2).max() <= 1e-9 * np.abs(r2).max()
     assert np.all(r2[1:] < 0)  # the support pushes the shortened edge back along -k: compression
