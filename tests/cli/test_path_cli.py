@@ -87,3 +87,13 @@ def test_a_path_cut_short_by_max_steps_says_so_and_exits_0(tmp_path, capsys):
     assert "note: the path did not reach pressure" in captured.err and "raise --max-steps" in captured.err
     with xr.open_dataset(out) as ds:
         assert ds.attrs["status"] == "max_steps" and ds.attrs["complete"] == 0 and ds.sizes["step"] == 4
+
+
+def test_modes_at_a_critical_point_list_the_critical_mode_at_zero_frequency(cap_file, tmp_path):
+    """At the limit point the tangent stiffness is singular along the critical mode: modes lists it first at
+    frequency ~0 (it is not one of the rigid motions, of which this clamped cap has none)."""
+    out = tmp_path / "m.nc"
+    assert main(["modes", "--from", str(cap_file), "--point", "0", "--count", "2", "-o", str(out)]) == 0
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["zero_modes"] == 0
+        assert float(ds.frequency[0]) < 1e-2 * float(ds.frequency[1])
