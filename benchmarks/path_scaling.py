@@ -9,7 +9,8 @@ each ``n`` runs ``mol_shell.path`` from 0 to ``-0.975 p_cl`` (a first step of a 
 * peak resident memory of the process (``ru_maxrss``) and the Python-side peak of the path (``tracemalloc``,
   which sees NumPy's arrays but not SuperLU's or ARPACK's own allocations),
 * per step: sparse LU factorisations (``splu``: correctors, tangents, eigen solves, determinants, the location of
-  critical points), evaluations of ``F`` with its Jacobian, and of ``F`` alone.
+  critical points), evaluations of ``F`` with its Jacobian, of ``F`` alone, and of the mass matrix (each one
+  evaluation of the dynamics' full Jacobian, whose block ``dq_t/dp`` is ``M^-1``).
 
 Usage: python benchmarks/path_scaling.py [--n 641 2561 10241] [--json out.json]
 """
@@ -31,7 +32,7 @@ n = int(sys.argv[1])
 E, NU, A = 1.0e6, 0.3, 1.0
 h = A / (2 * 11 * 12 / math.sqrt(12 * (1 - NU**2)))
 p_cl = 2 * E * (2 * h) ** 2 / (A**2 * math.sqrt(3 * (1 - NU**2)))
-counts = {"splu": 0, "jacobian": 0, "residual": 0}
+counts = {"splu": 0, "jacobian": 0, "residual": 0, "mass": 0}
 splu = scipy.sparse.linalg.splu
 def counted_splu(*args, **kwargs):
     counts["splu"] += 1
@@ -44,6 +45,11 @@ def counted_evaluate(self, *args):
 def counted_residual(self, *args):
     counts["residual"] += 1
     return residual(self, *args)
+mass = equilibria.EquilibriumEquations.mass
+def counted_mass(self, *args):
+    counts["mass"] += 1
+    return mass(self, *args)
+equilibria.EquilibriumEquations.mass = counted_mass
 equilibria.EquilibriumEquations.evaluate = counted_evaluate
 equilibria.EquilibriumEquations.residual = counted_residual
 sphere = mol_shell.Sphere(a=A, h=h, E=E, nu=NU, material="svk-plane-stress")
@@ -78,12 +84,13 @@ def main():
         row = json.loads(out.stdout.strip().splitlines()[-1])
         rows.append(row)
         print(json.dumps(row), flush=True)
-    print("| n | steps | first critical / p_cl | s per step | LU per step | F+J per step | F per step | "
+    print("| n | steps | first critical / p_cl | s per step | LU per step | F+J per step | F per step | M per step | "
           "peak RSS (MB) | Python peak (MB) |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         print(f"| {r['n']} | {r['steps']} | {r['first_critical_over_p_cl']:.5f} | {r['per_step_s']:.3g} | "
               f"{r['splu_per_step']:.1f} | {r['jacobian_per_step']:.1f} | {r['residual_per_step']:.1f} | "
+              f"{r['mass_per_step']:.1f} | "
               f"{r['maxrss_MB']:.0f} | {r['traced_peak_MB']:.0f} |")
     if len(rows) > 1:
         a, b = rows[0], rows[-1]
