@@ -34,23 +34,36 @@ from mol_shell.discretization.loading import check_end_loads, load_terms, volume
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.loads import cell_volume, gravity_potential
 from mol_shell.runs.checks import check_system, resolve
-from mol_shell.scenes import DRIVES, LOADS, UNITS
+from mol_shell.runs.statics import to_csc
+from mol_shell.scenes import DISPLACEMENTS, DRIVES, LOADS, UNITS
 
 #: the loads a path can be continued in (drag is not a load at rest)
 PATH_LOADS = tuple(load for load in LOADS if load != "drag")
-#: units of each load's conjugate displacement ``Phi``
+#: what a path can be continued in: a load, or a static edge displacement (displacement control)
+PATH_PARAMETERS = PATH_LOADS + DISPLACEMENTS
+#: units of each load's conjugate displacement ``Phi``; of an edge displacement's conjugate reaction
 CONJUGATE_UNITS = {"pressure": "m3", "gravity": "kg m", "end1_force": "m", "end2_force": "m", "end1_torque": "rad",
-                   "end2_torque": "rad"}
+                   "end2_torque": "rad", "end1_dz": "N", "end2_dz": "N", "end1_dchi": "N m", "end2_dchi": "N m"}
+#: the edge reactions recorded along a path: (name, edge node 0 or -1, field)
+REACTIONS = (("end1_reaction_force", 0, 0), ("end2_reaction_force", -1, 0), ("end1_reaction_torque", 0, 2),
+             ("end2_reaction_torque", -1, 2))
 #: a load is self-equilibrated in a rigid direction when its net force there is below this share of its total
 SELF_EQUILIBRATED = 1e-9
 
 
-def _sparse(dm):
-    """A CasADi sparse matrix as SciPy CSC (the same compressed-column layout)."""
-    import scipy.sparse  # heavy optional dependency: loaded where a path needs it
+#: CasADi sparse matrices as SciPy CSC: the same conversion as the static Newton of runs (nothing dense)
+_sparse = to_csc
 
-    sp = dm.sparsity()
-    return scipy.sparse.csc_matrix((np.array(dm.nonzeros()).ravel(), sp.row(), sp.colind()), shape=dm.shape)
+
+def allowed_parameters(system):
+    """:func:`allowed_loads` and the edge displacements of :data:`DISPLACEMENTS` whose field the edge imposes."""
+    out = list(allowed_loads(system))
+    for name in DISPLACEMENTS:
+        node = 0 if name.startswith("end1") else system.n - 1
+        field = 0 if name.endswith("dz") else 2
+        if field in system.active and system.imposed[node, field] and system.edges[0 if node == 0 else 1] != "pole":
+            out.append(name)
+    return tuple(out)
 
 
 def allowed_loads(system):
@@ -90,27 +103,36 @@ class EquilibriumEquations:
     """
 
     def __init__(self, scene, parameter, n):
-        if parameter not in PATH_LOADS:
-            raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_LOADS) + "}",
-                                 hint="the loads a path can be continued in")
+        if parameter not in PATH_PARAMETERS:
+            raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_PARAMETERS) + "}",
+                                 hint="the loads and edge displacements a path can be continued in")
         for drive in DRIVES:
             if getattr(scene, drive, 0.0):
                 raise ParameterError(drive, getattr(scene, drive), "0", hint="a path is a sequence of states at rest")
         self.parameter = parameter
         self.units = UNITS[parameter]
         base = resolve(dataclasses.replace(scene, **{parameter: 0.0}))
-        others = {load: 0.0 for load in LOADS if getattr(scene, load) != 0}
-        unit = dataclasses.replace(scene, **others, **{parameter: 1.0, parameter + "_history": "constant"})
+        if parameter in DISPLACEMENTS:
+            unit = None
+        else:
+            others = {load: 0.0 for load in LOADS if getattr(scene, load) != 0}
+            unit = dataclasses.replace(scene, **others, **{parameter: 1.0, parameter + "_history": "constant"})
         self.scene = base
         self.system = system = ShellSystem(base, n)
         check_system(base, system)
-        allowed = allowed_loads(system)
+        allowed = allowed_parameters(system)
         if parameter not in allowed:
             raise ParameterError("parameter", parameter, "{" + ", ".join(allowed) + "}",
-                                 hint=f"the loads scene {scene.name} can carry with edges {system.edges[0]} and "
-                                 f"{system.edges[1]}")
-        check_end_loads(system, unit)
+                                 hint=f"the loads and edge displacements scene {scene.name} can take with edges "
+                                 f"{system.edges[0]} and {system.edges[1]}")
         self.n, self.nf, self.ny = system.n, system.nf, system.ny
+        #: the state index the continued edge displacement moves (None for a load)
+        self.moved = None
+        if unit is None:
+            node = 0 if parameter.startswith("end1") else system.n - 1
+            self.moved = self.ny * node + system.active.index(0 if parameter.endswith("dz") else 2)
+        else:
+            check_end_loads(system, unit)
         self._layout()
         self._graphs(unit)
         self.y_ref = self._rest(system.initial_state(base))
@@ -148,10 +170,13 @@ class EquilibriumEquations:
         y[self.ny * self.n:] = 0.0
         return y
 
-    def state(self, q):
-        """The state vector with unknowns ``q`` (the other entries from the reference, at rest)."""
+    def state(self, q, lam=0.0):
+        """The state vector with unknowns ``q`` (the other entries from the reference, at rest; a continued edge
+        displacement ``lam`` added to its imposed field)."""
         y = self.y_ref.copy()
         y[self.q_idx] = q
+        if self.moved is not None:
+            y[self.moved] += lam
         return y
 
     def unknowns(self, y):
@@ -165,11 +190,19 @@ class EquilibriumEquations:
         Y = ca.reshape(y[: ny * n], ny, n)
         rows = [Y[system.active.index(k), :] if k in system.active else ca.MX.zeros(1, n) for k in range(NF)]
         Q = ca.vertcat(*rows)
-        forces = load_terms(system, unit, 0, Q, ca.MX.zeros(NF, n))[0] * ca.DM((~system.fixed.T).astype(float))
-        g_all = ca.vec(forces[list(system.active), :])  # node-major: nf per node
-        node, local = np.divmod(self.p_idx, ny)
-        g = g_all[list(nf * node + local - nf)]
-        F = system.rhs_newton(0, y)[list(self.p_idx)] + lam * g
+        if unit is None:  # an edge displacement: the imposed field's value is y's entry plus lambda
+            moved = np.zeros(system.size)
+            moved[self.moved] = 1.0
+            F = system.rhs_newton(0, y + lam * ca.DM(moved))[list(self.p_idx)]
+            g = ca.jacobian(F, lam)
+            unit_forces = ca.MX.zeros(NF, n)
+        else:
+            unit_forces = load_terms(system, unit, 0, Q, ca.MX.zeros(NF, n))[0]
+            forces = unit_forces * ca.DM((~system.fixed.T).astype(float))
+            g_all = ca.vec(forces[list(system.active), :])  # node-major: nf per node
+            node, local = np.divmod(self.p_idx, ny)
+            g = g_all[list(nf * node + local - nf)]
+            F = system.rhs_newton(0, y)[list(self.p_idx)] + lam * g
         # the unknowns as a symbol of their own, so the Jacobian is taken with respect to them only
         q = ca.MX.sym("q", self.size)
         rest = ca.MX.sym("rest", system.size)
@@ -188,7 +221,22 @@ class EquilibriumEquations:
         self._residual = r.expand() if not system.mapped else r
         # the conjugate displacement Phi of the continued load (dPhi/dq = g)
         Qt = system.tie(Q)
-        if self.parameter == "pressure":
+        # the edge reactions: what the support supplies on an imposed z or chi, dU/dq less the loads' force there
+        stored = system.observables(y, 0)[2]
+        dU = ca.reshape(ca.gradient(stored, y)[: ny * n], ny, n)
+        others = load_terms(system, self.scene, 0, Q, ca.MX.zeros(NF, n))[0] if system.n_extra else ca.MX.zeros(NF, n)
+        reactions = []
+        for _, node, field in REACTIONS:
+            node = node % n
+            if field in system.active and system.imposed[node, field] and system.edges[min(node, 1)] != "pole":
+                reactions.append(dU[system.active.index(field), node] - others[field, node]
+                                 - lam * unit_forces[field, node])
+            else:
+                reactions.append(ca.MX(np.nan))
+        self._reactions = ca.Function("reactions", [y, lam], [ca.vertcat(*reactions)])
+        if unit is None:
+            phi = ca.MX.zeros(1)  # the conjugate of a displacement is its reaction (conjugate())
+        elif self.parameter == "pressure":
             phi = volume_sign(system) * ca.sum2(cell_volume(Qt[0, :-1], Qt[0, 1:], Qt[1, :-1], Qt[1, 1:]))
         elif self.parameter == "gravity":
             m_i = system.inertia[1] if system.has_rho_i else np.zeros(n)
@@ -199,7 +247,7 @@ class EquilibriumEquations:
             phi = Qt[0 if self.parameter.endswith("force") else 2, node]
         volume = volume_sign(system) * ca.sum2(cell_volume(Qt[0, :-1], Qt[0, 1:], Qt[1, :-1], Qt[1, 1:]))
         self._phi = ca.Function("phi", [y], [phi, volume])
-        self._unit_forces = ca.Function("unit_forces", [y], [forces])
+        self._unit_forces = ca.Function("unit_forces", [y], [unit_forces * ca.DM((~system.fixed.T).astype(float))])
 
     def evaluate(self, q, lam):
         """``(F, F_q, F_lambda)`` at unknowns ``q`` and load ``lam``: a vector, a sparse CSC matrix and a vector."""
@@ -216,17 +264,27 @@ class EquilibriumEquations:
         """``F`` alone on the unknowns Newton solves for."""
         return np.array(self._residual(q, self.y_ref, lam)).ravel()[self.keep]
 
-    def conjugate(self, q):
-        """``(Phi, volume)`` at unknowns ``q``: the continued load's conjugate displacement, the enclosed volume."""
-        phi, vol = self._phi(self.state(q))
+    def conjugate(self, q, lam=0.0):
+        """``(Phi, volume)`` at unknowns ``q``: the continued load's conjugate displacement (an edge displacement's:
+        its reaction), the enclosed volume."""
+        y = self.state(q, lam)
+        phi, vol = self._phi(y)
+        if self.moved is not None:
+            names = [name for name, _, _ in REACTIONS]
+            kind = "force" if self.parameter.endswith("dz") else "torque"
+            phi = self.reactions(q, lam)[names.index(f"{self.parameter[:4]}_reaction_{kind}")]
         return float(phi), float(vol)
 
-    def stored_energy(self, q):
-        return float(self.system.observables(self.state(q), 0)[2])
+    def reactions(self, q, lam=0.0):
+        """The edge reactions of :data:`REACTIONS` (N, N m; NaN where the edge leaves the field free)."""
+        return np.array(self._reactions(self.state(q, lam), lam)).ravel()
 
-    def limits_ok(self, q):
+    def stored_energy(self, q, lam=0.0):
+        return float(self.system.observables(self.state(q, lam), 0)[2])
+
+    def limits_ok(self, q, lam=0.0):
         """``None`` if the state is inside the model's limits, else ``(what, where)`` of the first one reached."""
-        g = np.array(self.system.limits(self.state(q))).ravel()
+        g = np.array(self.system.limits(self.state(q, lam))).ravel()
         bad = np.flatnonzero(~(g > 0))
         return None if bad.size == 0 else self.system.limit_names()[int(bad[0])]
 

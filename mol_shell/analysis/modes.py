@@ -58,6 +58,14 @@ def _blocks(system, y0):
     return q_idx, Minv.tocsc(), K.tocsc()
 
 
+def rigid_motions(system):
+    """How many rigid motions the edges allow: axial translation when no edge imposes ``z``, rotation about the axis
+    when none imposes ``chi`` (a pole's tied ``chi`` does not)."""
+    translation = 0 in system.active and not system.fixed[:, 0].any()
+    spin = 2 in system.active and not system.imposed[:, 2].any()
+    return int(translation) + int(spin)
+
+
 def check_equilibrium(system, y0, scene_name):
     """Refuse (ParameterError) a state that is moving or out of equilibrium, saying how far and where."""
     f = np.array(system.rhs_newton(0, y0)).ravel()[: system.ny * system.n].reshape(system.n, system.ny)
@@ -79,7 +87,7 @@ def check_equilibrium(system, y0, scene_name):
                              "end1=clamped, end2=clamped to hold its twist")
 
 
-def modes(scene, n=40, count=10):
+def modes(scene, n=40, count=10, *, initial=None):
     """Natural frequencies and mode shapes of ``scene`` about its initial state (at rest, in equilibrium).
 
     Parameters
@@ -91,6 +99,9 @@ def modes(scene, n=40, count=10):
         Nodes in ``s``.
     count : int
         How many of the lowest nonzero frequencies to return.
+    initial : array_like, optional
+        Fields ``z, r, chi, theta, psi`` at the nodes, ``(5, n)``, at rest, in place of the scene's initial state: an
+        equilibrium under the scene's loads, e.g. a path's step (prestressed frequencies).
 
     Returns
     -------
@@ -109,7 +120,7 @@ def modes(scene, n=40, count=10):
         raise ParameterError("count", count, "integers >= 1")
 
     system, _ = build(scene, n)
-    y0, _ = starting_state(scene, system, n)
+    y0, _ = starting_state(scene, system, n, initial)
     check_equilibrium(system, y0, scene.name)
     q_idx, Minv, K = _blocks(system, y0)
     size = len(q_idx)
@@ -131,7 +142,12 @@ def modes(scene, n=40, count=10):
         M = M.toarray() if size <= DENSE_MAX else M
         method = "sparse shift-invert"
     top = max(abs(w2).max(), 1e-300)
-    zero = np.abs(w2) <= ZERO_TOL * (top if method == "dense" else abs(K.diagonal()).max())
+    small = np.abs(w2) <= ZERO_TOL * (top if method == "dense" else abs(K.diagonal()).max())
+    # the rigid motions are the edges' (at most that many of the eigenvalues nearest zero): a physical mode whose
+    # frequency falls to zero (a prestressed state at a critical point) stays listed, at frequency ~0
+    candidates = np.flatnonzero(small)
+    zero = np.zeros(len(w2), dtype=bool)
+    zero[candidates[np.argsort(np.abs(w2[candidates]))][: rigid_motions(system)]] = True
     n_zero = int(zero.sum())
     keep = np.flatnonzero(~zero)[:count]
     if len(keep) < count:

@@ -23,7 +23,9 @@ crossing is located by the secant method on the crossing eigenvalue to ``LOCATE_
 (:mod:`mol_shell.analysis.path_stability`): a bifurcation in ``lambda``, each trial state by Newton at fixed
 ``lambda`` from the chord of the bracket; a limit point (``t_lambda`` changes sign over the interval) in the
 arclength, each trial a corrector solve from the earlier step. Its mode is the eigenvector there, its family ``torsional`` when
-``chi`` carries most of its kinetic energy, else ``axisymmetric``. No branch is switched to.
+``chi`` carries most of its kinetic energy, else ``axisymmetric``. With ``branch = K`` the path switches, once
+bifurcation point ``K`` is located, onto the branch leaving it (:mod:`mol_shell.analysis.path_branch`) and follows
+that branch to the end; the variable ``branch`` says which steps lie on it.
 
 The model is rotationally symmetric: its critical points are those of rotationally symmetric modes only, upper
 bounds where a real shell buckles into circumferential waves.
@@ -37,7 +39,8 @@ import time
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
-from mol_shell.analysis.equilibria import PATH_LOADS, EquilibriumEquations
+from mol_shell.analysis.equilibria import PATH_PARAMETERS, EquilibriumEquations
+from mol_shell.analysis.path_branch import BranchFailed, check_branch_point, switch
 from mol_shell.analysis.path_dataset import path_dataset
 from mol_shell.analysis.path_stability import EIGENVALUES, LOCATE_RTOL, family, stability
 from mol_shell.runs.building import as_scene
@@ -218,7 +221,7 @@ class _Path:
             for _ in range(30):
                 trial = q + step
                 Ft = self.eq.residual(trial, lam)
-                if np.all(np.isfinite(Ft)) and self.eq.limits_ok(trial) is None and np.abs(Ft).max() < norm:
+                if np.all(np.isfinite(Ft)) and self.eq.limits_ok(trial, lam) is None and np.abs(Ft).max() < norm:
                     break
                 step = step / 2
             else:
@@ -229,9 +232,9 @@ class _Path:
                          "of a unit strain's force)")
 
 
-def _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds):
-    if parameter not in PATH_LOADS:
-        raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_LOADS) + "}",
+def _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=None):
+    if parameter not in PATH_PARAMETERS:
+        raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_PARAMETERS) + "}",
                              hint=f"the loads of scene {scene.name} a path can be continued in")
     for name, value in (("start", start), ("stop", stop)):
         if not is_number(value) or not math.isfinite(value):
@@ -243,9 +246,11 @@ def _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds):
             raise ParameterError(name, value, f"integers >= {low}")
     if ds is not None and not (is_number(ds) and math.isfinite(ds) and ds > 0):
         raise ParameterError("ds", ds, "(0, inf), or None")
+    if branch is not None and (not isinstance(branch, (int, np.integer)) or isinstance(branch, bool) or branch < 0):
+        raise ParameterError("branch", branch, "integers >= 0 (a critical point of the path), or None")
 
 
-def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None):
+def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None):
     """Follow the equilibria of ``scene`` at rest as the load ``parameter`` goes from ``start`` to ``stop``.
 
     Parameters
@@ -266,6 +271,10 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         The path ends after this many steps.
     ds : float, optional
         The first step in the scaled arclength (default ``sqrt(2)/steps``).
+    branch : int, optional
+        Switch onto the branch leaving critical point ``branch`` (numbered as found, from 0) once it is located,
+        and follow it; a limit point there is refused (``ParameterError`` naming ``branch``). A path that ends
+        before it finds that point says so in ``attrs["message"]``.
 
     Returns
     -------
@@ -276,7 +285,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         ``max_steps``, ``failed`` or ``limit`` (``attrs["message"]`` says where).
     """
     scene = as_scene(scene)
-    _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds)
+    _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch)
     clock = time.perf_counter()
     eq = EquilibriumEquations(scene, parameter, n)
     tracer = _Path(eq, start, stop)
@@ -294,7 +303,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     while len(record.lams) <= max_steps:
         try:
             q_new, lam_new, its = tracer.correct(q, lam, t, h)
-            where = eq.limits_ok(q_new)
+            where = eq.limits_ok(q_new, lam_new)
             if where is not None:
                 raise PathFailed("limit", f"{where[0]} at {where[1]}")
         except PathFailed as exc:
@@ -317,6 +326,18 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         record.add(q_new, lam_new, t_new, record.arcs[-1] + arc, its)
         record.locate_between(-2, -1, (q, lam, t))
         q, lam, t = q_new, lam_new, t_new
+        if branch is not None and record.branch == 0 and len(record.points) > branch:
+            check_branch_point(record, branch)
+            try:
+                q, lam, t, its = switch(tracer, record.points[branch], t, h, ds0 * 2.0 ** -MIN_HALVINGS,
+                                     PathFailed)
+            except BranchFailed as exc:
+                status, message = "failed", f"no switch onto the branch at critical point {branch}: {exc}"
+                break
+            record.branch, record.branch_point = 1, branch
+            t = tracer.tangent(q, lam, previous=t)
+            record.add(q, lam, t, record.arcs[-1] + h, its)
+            continue
         if beyond:
             status, message = "complete", f"reached {parameter} = {lam:.6g} {eq.units}"
             break
@@ -324,6 +345,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
             status, message = "returned", f"the path came back below start = {start:g} {eq.units}"
             break
         h = min(h * (1.6 if its <= 3 else 1.0 if its <= 5 else 0.5), ds0 * MAX_GROWTH)
+    if branch is not None and record.branch == 0:
+        message += f"; no switch: critical point {branch} was not reached ({len(record.points)} found)"
     return path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)
 
 
@@ -334,27 +357,33 @@ class _Record:
         self.eq, self.tracer = eq, tracer
         self.qs, self.lams, self.tls, self.arcs, self.iterations = [], [], [], [], []
         self.eigen, self.negative, self.det_sign = [], [], []
-        self.stored, self.phi, self.volume = [], [], []
+        self.stored, self.phi, self.volume, self.reactions = [], [], [], []
         self.points = []
+        #: 0 on the path from start, 1 on the branch switched to (``path(..., branch=K)``)
+        self.branch, self.branches = 0, []
 
     def add(self, q, lam, t, arc, its):
         w2, _, negative, sign = stability(self.eq, q, lam)
-        phi, vol = self.eq.conjugate(q)
+        phi, vol = self.eq.conjugate(q, lam)
+        self.reactions.append(self.eq.reactions(q, lam))
         self.qs.append(q)
         self.lams.append(lam)
         self.tls.append(t[1])
+        self.branches.append(self.branch)
         self.arcs.append(arc)
         self.iterations.append(its)
         self.eigen.append(np.pad(w2, (0, EIGENVALUES - len(w2)), constant_values=np.nan))
         self.negative.append(negative)
         self.det_sign.append(sign)
-        self.stored.append(self.eq.stored_energy(q))
+        self.stored.append(self.eq.stored_energy(q, lam))
         self.phi.append(phi)
         self.volume.append(vol)
 
     def work(self):
-        """``int lambda dPhi`` along the steps (trapezoidal rule)."""
+        """``int lambda dPhi`` along the steps (trapezoidal rule); for an edge displacement ``int R dlambda``."""
         lam, phi = np.asarray(self.lams), np.asarray(self.phi)
+        if self.eq.moved is not None:  # an edge displacement: the work of its reaction, int R d(displacement)
+            lam, phi = phi, lam
         return np.concatenate([[0.0], np.cumsum((lam[1:] + lam[:-1]) / 2 * np.diff(phi))])
 
     def locate_between(self, i, j, origin):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from mol_shell.analysis.equilibria import CONJUGATE_UNITS
+from mol_shell.analysis.equilibria import CONJUGATE_UNITS, REACTIONS
 from mol_shell.analysis.path_stability import LOCATE_RTOL
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import attr_value, coordinates, header, variables
@@ -29,7 +29,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     """Assemble the Dataset of a traced path (``record``: the steps and critical points of ``_Record``)."""
     system = eq.system
     steps = len(record.lams)
-    fields = np.stack([system.unpack(eq.state(q)) for q in record.qs])
+    fields = np.stack([system.unpack(eq.state(q, lam)) for q, lam in zip(record.qs, record.lams)])
     units = eq.units
     data = {}
     data["parameter"] = (("step",), np.array(record.lams), {
@@ -40,6 +40,8 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
         data[name] = (("step", "s"), fields[:, k], {"units": u, "long_name": long_name})
     data["arclength"] = (("step",), np.array(record.arcs), {"units": "1", "long_name":
                          "pseudo-arclength along the path (scaled load and displacements)"})
+    data["branch"] = (("step",), np.array(record.branches, dtype=np.int8), {"units": "1", "long_name":
+                      "0 on the path from start, 1 on the branch switched to at a bifurcation (attr branch_point)"})
     data["newton_iterations"] = (("step",), np.array(record.iterations, dtype=np.int32),
                                  {"units": "1", "long_name": "Newton iterations of the step's corrector"})
     data["negative_eigenvalues"] = (("step",), np.array(record.negative, dtype=np.int32), {"units": "1", "long_name":
@@ -53,13 +55,29 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
                          f"work of the continued load since the first step: int {eq.parameter} dPhi (trapezoidal "
                          "rule over the steps)"})
     data["load_conjugate"] = (("step",), np.array(record.phi), {"units": CONJUGATE_UNITS[eq.parameter], "long_name":
-                              "displacement Phi conjugate to the continued load (its work is int load dPhi)"})
+                              "displacement Phi conjugate to the continued load (its work is int load dPhi)" if
+                              eq.moved is None else "reaction conjugate to the continued edge displacement (its "
+                              "work is int reaction d(displacement))"})
+    reactions = np.array(record.reactions)
+    for k, (name, _, field) in enumerate(REACTIONS):
+        if np.isfinite(reactions[:, k]).any():
+            data[name] = (("step",), reactions[:, k], {"units": "N" if field == 0 else "N m", "long_name":
+                          f"{'axial force' if field == 0 else 'axial torque'} the support supplies on the imposed "
+                          f"{'z' if field == 0 else 'chi'} of the edge at s = "
+                          f"{'0' if name.startswith('end1') else 'L'}"})
+    z0 = system.reference[0]
+    for name, node in (("end1_dz", 0), ("end2_dz", -1)):  # where the edges are: a response to draw the load against
+        data[name.replace("_dz", "_axial_displacement")] = (("step",), fields[:, 0, node] - z0[node], {"units": "m",
+                                                              "long_name": f"axial displacement of the edge at s = "
+                                                              f"{'0' if node == 0 else 'L'} from the reference"})
     if system.edges == ("pole", "pole"):
         data["volume"] = (("step",), np.array(record.volume), {"units": "m3", "long_name":
                           "volume enclosed by the base surface"})
     points = record.points
     count = len(points)
     shapes = np.zeros((count, 5, eq.n))
+    states = (np.stack([eq.system.unpack(eq.state(p["q"], p["parameter"])) for p in points]) if count
+              else np.zeros((0, 5, eq.n)))
     for m, point in enumerate(points):
         shapes[m] = _shape(eq, point["mode"])
         shapes[m] /= max(np.abs(shapes[m]).max(), 1e-300)
@@ -81,6 +99,10 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
         u, long_name = FIELD_META[name]
         data[f"point_mode_{name}"] = (("point", "s"), shapes[:, k], {"units": u, "long_name":
                                       f"critical mode: {long_name} (each scaled to a largest entry of 1)"})
+    for k, name in enumerate(FIELDS):
+        u, long_name = FIELD_META[name]
+        data[f"point_{name}"] = (("point", "s"), states[:, k], {"units": u, "long_name":
+                                 f"equilibrium at the critical point: {long_name}"})
     z0, r0, theta0 = system.reference
     data["z0"] = (("s",), z0, {"units": "m", "long_name": "axial position of the reference base surface"})
     data["r0"] = (("s",), r0, {"units": "m", "long_name": "radius of the reference base surface"})
@@ -99,6 +121,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
                        "shift-invert about zero",
              "locate_tolerance": "bifurcations: a bracket of LOCATE_RTOL |stop - start| in the parameter; limit "
                                  "points: of LOCATE_RTOL in the scaled arclength".replace("LOCATE_RTOL", f"{LOCATE_RTOL:g}"),
+             "branch_point": int(record.branch_point) if record.branch else -1,
              "wall_time_s": float(wall_time), "edge_s0": system.edges[0], "edge_sL": system.edges[1],
              "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
     for name, value in scene.params().items():

@@ -27,6 +27,7 @@ from mol_shell.cli.args import (
     say_stand_ins,
     scene_and_run,
 )
+from mol_shell.cli.path import add_start_options, start_of
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.views.modes import plot_modes
 from mol_shell.views.plotting import image_formats
@@ -92,9 +93,11 @@ def cmd_stability(args):
 
 
 def cmd_modes(args):
-    scene, run = scene_and_run(args.scene, args.set)
+    scene, run, initial, info = start_of(args)
     png = writable_path(args.png or str(args.output).rsplit(".", 1)[0] + ".png", "--png", suffixes=image_formats())
-    ds = modes(scene, n=args.n or run.get("n", 40), count=args.count)
+    ds = modes(scene, n=args.n or run.get("n", 40), count=args.count, initial=initial)
+    if info:
+        ds.attrs["initial_state"] = info
     say_stand_ins(scene)
     write_netcdf(ds, args.output)
     plot_modes(ds, png)
@@ -109,8 +112,9 @@ def cmd_modes(args):
 
 def register_modes(sub):
     p = sub.add_parser("modes", help="natural frequencies and mode shapes about a scene's initial state")
-    p.add_argument("scene", metavar=SCENE_METAVAR,
+    p.add_argument("scene", metavar=SCENE_METAVAR, nargs="?", default=None,
                    help=SCENE_HELP + "; its initial state must be at rest and in equilibrium")
+    add_start_options(p)
     p.add_argument("--n", type=integer_arg("--n", 3), default=None,
                    help="nodes in s (default: a scene file's [run] n, else 40)")
     p.add_argument("--count", type=integer_arg("--count", 1), default=10, help="lowest nonzero modes (default 10)")

@@ -41,9 +41,8 @@ from mol_shell.cli.args import (
     parse_atol,
     run_settings,
     say_stand_ins,
-    scene_and_run,
 )
-from mol_shell.cli.path import register_path
+from mol_shell.cli.path import add_start_options, cmd_plot_path, looks_like_path, register_path, start_of
 from mol_shell.cli.study import register_study
 from mol_shell.cli.views import register_animate, register_export
 from mol_shell.integrators import INTEGRATORS
@@ -58,10 +57,12 @@ from mol_shell.views.plotting import image_formats, plot_meridian, plot_snapshot
 
 
 def cmd_run(args):
-    scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] table gives defaults, the options win
+    scene, run, initial, info = start_of(args)  # a scene file's [run] table gives defaults, the options win
     times, t_end, integrator, options = run_settings(args, run, scene, args.n or run.get("n", 40))
     ds = simulate(scene, integrator, n=args.n or run.get("n", 40), t_end=t_end, times=times, progress=None,
-                  stresses=args.stresses, **options)
+                  stresses=args.stresses, initial=initial, **options)
+    if info:
+        ds.attrs["initial_state"] = info
     write_netcdf(ds, args.output)
     say_stand_ins(scene)
     if not ds.attrs["complete"]:
@@ -84,6 +85,11 @@ FIGURE_OPTIONS = {"time": ("fibres",), "at_s": ("fibres", "history"), "fibres": 
 
 
 def cmd_plot(args):
+    if looks_like_path(args.file):
+        return cmd_plot_path(args)
+    if args.response is not None:
+        raise ParameterError("--response", args.response, "an option of a path's figure (mol-shell path files)",
+                             message="--response is an option of a path's figure (files of mol-shell path) only")
     ds = read_run(args.file)
     history = shows_history(ds)
     for name, figures in FIGURE_OPTIONS.items():
@@ -145,7 +151,7 @@ def make_parser():
     parser.add_argument("--version", action="version", version=f"mol-shell {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     run = sub.add_parser("run", help="run a scene and write netCDF")
-    run.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
+    run.add_argument("scene", metavar=SCENE_METAVAR, nargs="?", default=None, help=SCENE_HELP)
     run.add_argument("--integrator", default=None, help="one of: " + ", ".join(INTEGRATORS) + " (default leapfrog)")
     run.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")
     run.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="final time, s")
@@ -163,6 +169,7 @@ def make_parser():
                      "<= 4e6; --stresses always, --no-stresses never)")
     run.add_argument("-o", "--output", required=True,
                      help="netCDF file to write, .nc (missing directories are created)")
+    add_start_options(run, perturb=True)
     run.set_defaults(func=cmd_run, output_suffixes=NETCDF_SUFFIXES)
     scenes = sub.add_parser("scenes", help="the built-in scenes, or one scene's parameters with units and defaults")
     scenes.add_argument("name", nargs="?", default=None, help="a scene to describe")
@@ -171,7 +178,7 @@ def make_parser():
     plot = sub.add_parser("plot", help="the paper's figures 4-8 (unloaded cylinders), the deformed meridian with the "
                           "radius and the energy-work balance over time (other shells, pressurised ones), figure 1 "
                           "(--figure fibres) or the radius and balance alone (--figure history) from a run")
-    plot.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run")
+    plot.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run or mol-shell path")
     plot.add_argument("--figure", type=choice_arg("--figure", ("snapshots", "fibres", "history")), default="snapshots",
                       help="snapshots (default): r, theta, chi against s (figures 4-8) for a cylinder without pressure, "
                       "else the deformed meridian, chi and psi against s, the radius at the equator against time and "
@@ -186,6 +193,9 @@ def make_parser():
     plot.add_argument("--fibres", type=integer_arg("--fibres", 1), default=None, help="fibres: how many (default 24)")
     plot.add_argument("--thickness-scale", type=number_arg("--thickness-scale"), default=None,
                       help="fibres: magnification of the drawn thickness (default: 0.2 of the radius)")
+    plot.add_argument("--response", default=None, help="a path file (mol-shell path): the response the load is drawn "
+                      "against, a variable along step (default load_conjugate) or FIELD@S (a field at the node "
+                      "nearest S)")
     plot.add_argument("-o", "--output", required=True, help="image to write (.png, .pdf, .svg, ...)")
     plot.set_defaults(func=cmd_plot, output_suffixes=_image_formats)
     for register in (register_compare, register_stability, register_study, register_modes, register_export,

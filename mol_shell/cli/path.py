@@ -6,37 +6,42 @@ import math
 import sys
 
 from mol_shell._core.errors import ParameterError, show
-from mol_shell.analysis.equilibria import PATH_LOADS
+from mol_shell.analysis.equilibria import PATH_PARAMETERS
 from mol_shell.analysis.path import path
+from mol_shell.analysis.path_start import is_path, path_start, read_path
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
     integer_arg,
+    number_arg,
+    parse_sets,
     say_stand_ins,
     scene_and_run,
 )
-from mol_shell.results.dataset import write_netcdf
+from mol_shell.results.dataset import read_netcdf, write_netcdf
+from mol_shell.scenes import with_params
+from mol_shell.views.path_plot import plot_path, response_values, responses
 
-PARAM_FORM = "NAME=START:STOP with NAME in {" + ", ".join(PATH_LOADS) + "}, START and STOP numbers, START != STOP"
+PARAM_FORM = "NAME=START:STOP with NAME in {" + ", ".join(PATH_PARAMETERS) + "}, START and STOP numbers, START != STOP"
 
 
-def parse_param(text):
-    """``NAME=START:STOP`` into ``(name, start, stop)``; anything else is refused naming ``--param``."""
+def parse_param(text, option="--param"):
+    """``NAME=START:STOP`` into ``(name, start, stop)``; anything else is refused naming ``option``."""
     name, sep, span = str(text).partition("=")
     name = name.strip()
-    if not sep or name not in PATH_LOADS:
-        raise ParameterError("--param", text, PARAM_FORM)
+    if not sep or name not in PATH_PARAMETERS:
+        raise ParameterError(option, text, PARAM_FORM)
     parts = span.split(":")
     try:
         if len(parts) != 2:
             raise ValueError
         start, stop = (float(x) for x in parts)
     except ValueError:
-        raise ParameterError("--param", text, PARAM_FORM) from None
+        raise ParameterError(option, text, PARAM_FORM) from None
     if not (math.isfinite(start) and math.isfinite(stop)) or start == stop:
-        raise ParameterError("--param", text, PARAM_FORM)
+        raise ParameterError(option, text, PARAM_FORM)
     return name, start, stop
 
 
@@ -45,8 +50,10 @@ def cmd_path(args):
     scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] n is the default of --n
     n = args.n or run.get("n", 40)
     try:
-        ds = path(scene, name, start, stop, n=n, max_steps=args.max_steps)
+        ds = path(scene, name, start, stop, n=n, max_steps=args.max_steps, branch=args.branch)
     except ParameterError as exc:
+        if exc.name == "branch":
+            raise ParameterError("--branch", args.branch, exc.allowed, message="--" + str(exc)) from None
         if exc.name in ("parameter", "start", "stop"):  # said by the option --param
             raise ParameterError("--param", args.param, exc.allowed, message=f"--param = {show(args.param)}: {exc}") \
                 from None
@@ -62,6 +69,9 @@ def cmd_path(args):
               file=sys.stderr)
         return EXIT_INCOMPLETE
     print(f"wrote {args.output}: {summary} ({ds.attrs['message']}){points}")
+    if ds.attrs["status"] in ("max_steps", "returned"):  # what was asked for, but short of STOP: exit 0, said
+        print(f"mol-shell: note: the path did not reach {name} = {stop:g}: {ds.attrs['message']}"
+              + (" (raise --max-steps to go on)" if ds.attrs["status"] == "max_steps" else ""), file=sys.stderr)
     return 0
 
 
@@ -70,11 +80,90 @@ def register_path(sub):
                        "critical points")
     p.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
     p.add_argument("--param", required=True, metavar="NAME=START:STOP",
-                   help="the continued load and its range, NAME in {" + ", ".join(PATH_LOADS) + "}")
+                   help="the continued load or edge displacement and its range, NAME in {"
+                   + ", ".join(PATH_PARAMETERS) + "}")
     p.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
     p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=200,
-                   help="the path ends after this many steps (default 200)")
+                   help="the path ends after this many steps (default 200); short of STOP it says so in a note on "
+                   "stderr and in attrs status = max_steps, complete = 0, and exits 0")
+    p.add_argument("--branch", type=integer_arg("--branch", 0), default=None, metavar="K",
+                   help="switch onto the branch leaving bifurcation point K (numbered from 0 as found) and follow it")
     p.add_argument("-o", "--output", required=True,
                    help="netCDF file to write, .nc (missing directories are created)")
     p.set_defaults(func=cmd_path, output_suffixes=NETCDF_SUFFIXES)
+
+
+# -- starting a run or modes from a path ------------------------------------------------------------------------
+def add_start_options(p, perturb=False):
+    """``--from PATH.nc`` with ``--step K`` or ``--point K`` (and ``--perturb A`` for a run) on command ``p``."""
+    p.add_argument("--from", dest="from_path", metavar="PATH.nc", default=None,
+                   help="start from an equilibrium path written by mol-shell path (in place of SCENE_OR_FILE: the "
+                   "path's scene, its load at the state's value, --set on top)")
+    p.add_argument("--step", type=integer_arg("--step", 0), default=None, help="with --from: the path's step K")
+    p.add_argument("--point", type=integer_arg("--point", 0), default=None,
+                   help="with --from: the path's critical point K")
+    if perturb:
+        p.add_argument("--perturb", type=number_arg("--perturb", -math.inf), default=None,
+                       help="with --from and --point: add this amplitude times the critical mode (its largest "
+                       "entry 1, m or rad)")
+
+
+def start_of(args):
+    """``(scene, run, initial, info)`` of a command with :func:`add_start_options`: a scene (file) and its ``[run]``
+    table as usual (``initial`` and ``info`` None), or a path's state with ``{"n": the path's n}``."""
+    perturb = getattr(args, "perturb", None)
+    if args.from_path is None:
+        for option, value in (("--step", args.step), ("--point", args.point), ("--perturb", perturb)):
+            if value is not None:
+                raise ParameterError(option, value, "an option with --from PATH.nc",
+                                     message=f"{option} is an option with --from PATH.nc only")
+        if args.scene is None:
+            raise ParameterError.missing("SCENE_OR_FILE", "give a scene, a scene file or --from PATH.nc")
+        scene, run = scene_and_run(args.scene, args.set)
+        return scene, run, None, None
+    if args.scene is not None:
+        raise ParameterError("--from", args.from_path, "a path file in place of SCENE_OR_FILE",
+                             message=f"give SCENE_OR_FILE ({args.scene}) or --from PATH.nc, not both")
+    ds = read_path(args.from_path)
+    scene, n, fields, info = path_start(ds, step=args.step, point=args.point, perturb=perturb or 0.0)
+    if args.n is not None and args.n != n:
+        raise ParameterError("--n", args.n, f"{{{n}}} with --from (the path's nodes)")
+    return with_params(scene, parse_sets(args.set)), {"n": n}, fields, info
+
+
+# -- the figure of a path ---------------------------------------------------------------------------------------
+def looks_like_path(filename):
+    """Whether ``filename`` is a readable path file (anything else goes to the run figures and their checks)."""
+    try:
+        return is_path(read_netcdf(filename))
+    except Exception:  # noqa: BLE001 - not a readable netCDF file: the run reader refuses it by name
+        return False
+
+
+def cmd_plot_path(args):
+    for option, value in (("--figure", None if args.figure == "snapshots" else args.figure), ("--time", args.time),
+                          ("--at-s", args.at_s), ("--fibres", args.fibres),
+                          ("--thickness-scale", args.thickness_scale)):
+        if value is not None:
+            raise ParameterError(option, value, "options of run files",
+                                 message=f"{option} is an option of a run's figures; a path's: --response")
+    ds = read_path(args.file, "FILE")
+    response = args.response or "load_conjugate"
+    names = responses(ds)
+    form = "{" + ", ".join(names) + "} or FIELD@S with FIELD in {z, r, chi, theta, psi} and S in m"
+    if "@" in response:
+        field, _, at = response.partition("@")
+        try:
+            ok = field in ("z", "r", "chi", "theta", "psi") and math.isfinite(float(at))
+        except ValueError:
+            ok = False
+    else:
+        ok = response in names
+    if not ok:
+        raise ParameterError("--response", response, form)
+    response_values(ds, response)
+    plot_path(ds, args.output, response)
+    print(f"wrote {args.output}: {ds.attrs['parameter']} against {response}, {ds.sizes['step']} steps, "
+          f"{ds.sizes['point']} critical points")
+    return 0

@@ -6,6 +6,7 @@ import sys
 
 from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import ParameterError
+from mol_shell.analysis.path_study import path_study
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
     NETCDF_SUFFIXES,
@@ -20,6 +21,7 @@ from mol_shell.cli.args import (
     say_stand_ins,
     scene_and_run,
 )
+from mol_shell.cli.path import parse_param
 from mol_shell.results.study_store import Store
 from mol_shell.runs import resources
 from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT
@@ -72,6 +74,8 @@ def cmd_study(args):
         raise ParameterError.invalid("--set", f"{both[0]}={sets[both[0]]}", f"sets {both[0]}, which --vary varies",
                                      "parameters not in --vary")
     scene = with_params(base, sets)
+    if args.path is not None:
+        return _path_study(args, scene, vary, n)
     times, t_end, integrator, options = run_settings(args, run, scene, n)
     try:
         ds = study(scene, vary, integrator, n=n, times=times, t_end=t_end,
@@ -85,6 +89,30 @@ def cmd_study(args):
     counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
     print(f"wrote {args.output}: {ds.attrs['n_cases']} cases ({counts}); ran {ds.attrs['n_executed']}, "
           f"reused {ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s")
+    return 0 if ds.attrs["n_failed"] == 0 else EXIT_INCOMPLETE
+
+
+def _path_study(args, scene, vary, n):
+    """``mol-shell study ... --path NAME=START:STOP``: one equilibrium path per case, the critical points gathered."""
+    for option in ("integrator", "t_end", "times", "dt", "rtol", "atol", "max_step"):
+        if getattr(args, option) is not None:
+            name = "--" + option.replace("_", "-")
+            raise ParameterError(name, getattr(args, option), "options of a study of runs",
+                                 message=f"{name} is an option of a study of runs, not of one of paths (--path)")
+    name, start, stop = parse_param(args.path, "--path")
+    try:
+        ds = path_study(scene, vary, name, start, stop, n=n, max_steps=args.max_steps, scheduler=args.scheduler,
+                        workers=args.workers, output=args.output)
+    except KeyboardInterrupt:
+        print(f"mol-shell: study interrupted; finished cases are kept in {Store(args.output).folder}; "
+              "run the same command again to resume", file=sys.stderr)
+        return 130
+    say_stand_ins(scene)
+    statuses = ds.status.values.ravel().tolist()
+    counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
+    print(f"wrote {args.output}: {ds.attrs['n_cases']} paths ({counts}); ran {ds.attrs['n_executed']}, reused "
+          f"{ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s; first critical {name}: "
+          + ", ".join(f"{v:.6g}" for v in ds.first_critical.values.ravel()))
     return 0 if ds.attrs["n_failed"] == 0 else EXIT_INCOMPLETE
 
 
@@ -112,6 +140,11 @@ def register_study(subparsers):
                    f"refused if it does not answer within {SCHEDULER_TIMEOUT:g} s")
     p.add_argument("--workers", type=integer_arg("--workers", 1), default=None,
                    help="local processes, this one included (default: all cores)")
+    p.add_argument("--path", default=None, metavar="NAME=START:STOP",
+                   help="a study of equilibrium paths (mol-shell path) in place of runs: one path per case, their "
+                   "critical points gathered (the run options --integrator, --t-end, ... are refused)")
+    p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=200,
+                   help="with --path: each path ends after this many steps (default 200)")
     p.add_argument("-o", "--output", required=True,
                    help="netCDF file, .nc; finished cases kept next to it in <stem>.cases/ (missing directories are "
                    "created)")

@@ -40,6 +40,25 @@ def check_end_loads(system, scene):
                                  "magnet or free)")
 
 
+def edge_displacements(system, scene):
+    """``[(node, field, value)]`` of the scene's static edge displacements (``end1_dz`` ...) that are not 0; one at
+    an edge that does not impose the field is refused by name."""
+    out = []
+    for end, node in (("end1", 0), ("end2", system.n - 1)):
+        for kind, field in (("dz", 0), ("dchi", 2)):
+            name = f"{end}_{kind}"
+            value = getattr(scene, name, 0.0)
+            if not value:
+                continue
+            if field not in system.active or not system.imposed[node, field]:
+                edge = system.edges[0 if end == "end1" else 1]
+                raise ParameterError(name, value, "0 for this edge", hint=f"{end} = {edge} leaves its "
+                                     f"{'z' if field == 0 else 'chi'} free or tied (a prescribed displacement needs an "
+                                     f"edge that imposes it, e.g. {end}=clamped or a set naming it)")
+            out.append((node, field, float(value)))
+    return out
+
+
 def dual_areas(system):
     """``A_i = 2 pi int r0 ds`` over each node's dual cell (the reference area the drag acts on)."""
     x, w = np.polynomial.legendre.leggauss(6)

@@ -53,7 +53,7 @@ import numpy as np
 from mol_shell._core.constants import NF
 from mol_shell._core.errors import ParameterError
 from mol_shell.discretization.cells import BETA2_ZERO, CellKernels, trig_chain  # noqa: F401  (BETA2_ZERO: where it is defined)
-from mol_shell.discretization.loading import check_end_loads, load_terms
+from mol_shell.discretization.loading import check_end_loads, edge_displacements, load_terms
 from mol_shell.model.edges import driven_node_kernel, driven_rates, free_rates, imposed_mask, resolve_edges, tied_chi
 from mol_shell.model.geometry import node_inertias
 from mol_shell.model.kinematics import FIELDS as FIELD_NAMES
@@ -458,6 +458,8 @@ class ShellSystem(CellKernels):
         Q, V = sc.initial_fields(self.s, self.reference)
         Q, V = np.array(Q, dtype=float), np.array(V, dtype=float)
         Q = self.tie(Q)
+        for node, field, value in edge_displacements(self, sc):  # end1_dz, ...: an imposed field moved
+            Q[field, node] += value
         V = V * ~self.fixed.T
         if self.drives:  # a driven edge moves at its prescribed rate from t = 0 (its neighbours' momenta see it)
 

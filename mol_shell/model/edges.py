@@ -12,6 +12,7 @@ pinned     z, r, chi                   m.a3 = m.c1 = 0 (rotations free)
 free       none                        n.k = n.a2 = n.a3 = 0, m.a3 = m.c1 = 0
 pole       r = 0, theta = theta0,      ``chi`` is tied to its neighbour's (it has no inertia on the
            psi = 0                     axis, and the cell next to the pole carries no twist); z free
+a set      the fields named            the natural conditions of the others (``end2=r,theta``)
 =========  ==========================  ==========================================================
 
 An edge on the axis (``r0 = 0``) is a pole whatever is asked; an open edge cannot be one.
@@ -28,24 +29,50 @@ from mol_shell._core.ranges import Choice
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.loads import history, history_rate
 
+#: the fields, in the order of their indices, as an edge given by the set of fields it imposes names them
+EDGE_FIELDS = ("z", "r", "chi", "theta", "psi")
+
+
+class _Imposed(dict):
+    """Fields imposed at an edge of each kind; an edge given as a set of fields (``"r,theta"``, canonical: in the
+    order of :data:`EDGE_FIELDS`, see :func:`check_edge`) imposes those."""
+
+    def __missing__(self, kind):
+        return tuple(EDGE_FIELDS.index(f) for f in str(kind).split(","))
+
+
 #: fields imposed at an edge of each kind (indices into FIELDS: z, r, chi, theta, psi)
-IMPOSED = {
+IMPOSED = _Imposed({
     "magnet": (0, 3),
     "clamped": (0, 1, 2, 3, 4),
     "pinned": (0, 1, 2),
     "free": (),
     "pole": (1, 3, 4),
-}
+})
 EDGES = ("magnet", "clamped", "pinned", "free")
+#: what an edge may be, for messages
+EDGE_FORMS = (*EDGES, "pole", "auto", "a set of the fields it imposes, e.g. r,theta (fields: z, r, chi, theta, psi)")
+
+
+def field_set(value):
+    """``"theta, r"`` -> ``"r,theta"`` (canonical), or ``None`` if ``value`` is not a set of distinct field names."""
+    parts = [p.strip() for p in value.split(",")]
+    if not parts or any(p not in EDGE_FIELDS for p in parts) or len(set(parts)) != len(parts):
+        return None
+    return ",".join(f for f in EDGE_FIELDS if f in parts)
 
 
 def check_edge(name, value):
-    """``value`` if it is an edge kind (or ``None``, chosen from the geometry); else a ParameterError."""
+    """``value`` if it is an edge kind, or a set of imposed fields (returned canonical), or ``None`` (chosen from
+    the geometry); else a ParameterError."""
     if value is None or (isinstance(value, str) and value.strip().lower() in ("auto", "none")):
         return None
-    if not isinstance(value, str) or value not in EDGES + ("pole",):
-        raise ParameterError(name, value, Choice((*EDGES, "pole", "auto")))
-    return value
+    if isinstance(value, str) and value.strip() in EDGES + ("pole",):
+        return value.strip()
+    canonical = field_set(value) if isinstance(value, str) else None
+    if canonical is None:
+        raise ParameterError(name, value, Choice(EDGE_FORMS))
+    return canonical
 
 
 def resolve_edges(end1, end2, poles, default="magnet"):

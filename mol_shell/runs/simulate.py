@@ -110,7 +110,7 @@ def leapfrog_times(t_end, dt, count=10):
 
 
 def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=None, progress=None, stresses=None,
-             threads=None, **options):
+             threads=None, initial=None, **options):
     """Run ``scene`` and return its motion as an :class:`xarray.Dataset`.
 
     Parameters
@@ -140,6 +140,9 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         Threads for the compiled right-hand side's cell and node kernels (every integrator uses it);
         default ``$MOL_SHELL_THREADS`` or all cores. Grids below :data:`PARALLEL_MIN_NODES` nodes run
         serially whatever it says. Results do not depend on it (each cell is one thread's work).
+    initial : array_like, optional
+        Fields ``z, r, chi, theta, psi`` at the nodes, ``(5, n)``: the run starts from them at rest in place of the
+        scene's initial data (e.g. a path's step, :func:`mol_shell.analysis.path_start.path_start`).
     **options
         Passed to the integrator's dataclass (e.g. ``rtol`` in ``RTOL_RANGE``, ``atol``, ``max_step``);
         an option the integrator does not take is refused by name.
@@ -168,6 +171,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     if stresses is not None and not isinstance(stresses, (bool, np.bool_)):
         raise ParameterError.not_a("stresses", stresses, "a bool", "True, False or None (cheap runs only)")
     if isinstance(scene, Unshearable):  # its own formulation: the constrained DAE, or the free shell
+        if initial is not None:
+            raise ParameterError("initial", "given", "None for the unshearable scene (its own formulation)")
         ds = simulate_unshearable(scene, n=n, times=times, t_end=t_end, constrained=integrator == "ida",
                                   progress=progress, **options)
         return _material_warning(scene, ds)
@@ -181,7 +186,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
     compiled.set_threads(threads)
-    y0, start_info = starting_state(scene, system, n)  # refused by name if it cannot be formed in double precision
+    # refused by name if it cannot be formed in double precision
+    y0, start_info = starting_state(scene, system, n, initial)
     omega_max, damping = checked_spectrum(scene, system, y0)
     if integrator == "leapfrog":
         dt = method.dt
@@ -238,9 +244,29 @@ def _progress_bar(t_end):
     return tqdm(total=float(t_end), unit="s", unit_scale=False, desc="simulating", bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
 
 
-def starting_state(scene, system, n):
-    """``(y0, how)``: the scene's initial state, or the static equilibrium under its loads when it asks for one."""
+def starting_state(scene, system, n, initial=None):
+    """``(y0, how)``: the scene's initial state, or the static equilibrium under its loads when it asks for one;
+    with ``initial`` (fields ``z, r, chi, theta, psi`` at the nodes, ``(5, n)``), that state at rest."""
+    if initial is not None:
+        return given_state(system, initial), "the fields given (initial), at rest"
     y0 = initial_state(scene, system)
     if scene.at_equilibrium() and getattr(scene, "loaded", False):
         return static_equilibrium(scene, n, y0)
     return y0, "as given by the scene's parameters"
+
+
+def given_state(system, fields):
+    """The state vector of ``fields`` (``(5, n)``) at rest; a pole's ``chi`` tied; refused by name unless finite
+    and of that shape, with zero in the fields the scene does not move."""
+    try:
+        Q = np.array(fields, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError.not_a("initial", fields, "an array of numbers", f"(5, {system.n}) finite") from None
+    if Q.shape != (5, system.n) or not np.all(np.isfinite(Q)):
+        raise ParameterError("initial", Q, f"finite arrays of shape (5, {system.n}): z, r, chi, theta, psi at the "
+                             "nodes")
+    Q = system.tie(Q)
+    try:
+        return system.pack(Q, np.zeros_like(Q))
+    except ValueError as exc:
+        raise ParameterError("initial", Q, "fields the scene moves", hint=str(exc)) from None

@@ -1,10 +1,11 @@
-"""Static equilibria under load: Newton's method on the exact Jacobian, with continuation in the load.
+"""Static equilibria under load: Newton's method on the exact sparse Jacobian, with continuation in the load.
 
 At rest (``p = 0``) Hamilton's equations reduce to ``0 = F(q) = -dV/dq + f_loads(q, t = 0)`` on the free
 coordinates (``dT/dq`` vanishes with ``p``; drag and viscosity with the rates). The tangent stiffness is
 the block ``dp_t/dq`` of :attr:`ShellSystem.jac <mol_shell.discretization.system.ShellSystem.jac>`. Rigid motions
-the edges allow (axial translation of a closed sphere, ...) make it singular: each Newton step is the
-least-squares step of minimum norm, which leaves them where they are.
+the edges allow (axial translation of a closed sphere) make it singular: one ``z`` is held while Newton iterates
+and the result is shifted back to the starting mean ``z`` (what minimum-norm steps give); ``chi`` is held
+(no spin). Sparse LU throughout: memory and time per iteration grow like ``n``.
 
 When Newton does not converge from the given state, the loads are applied in increments (continuation:
 each load times ``lambda`` from 0 to 1, each increment's solution the next one's start); when even that
@@ -26,45 +27,75 @@ TOL = 1e-11
 MAX_ITER = 30
 
 
+def to_csc(dm):
+    """A CasADi sparse matrix as SciPy CSC (the same compressed-column layout; nothing dense)."""
+    import scipy.sparse  # optional heavy dependency: loaded where statics needs it
+
+    sp = dm.sparsity()
+    return scipy.sparse.csc_matrix((np.array(dm.nonzeros()).ravel(), sp.row(), sp.colind()), shape=dm.shape)
+
+
 def _free_entries(system, hold):
     fixed = system.fixed[:, list(system.active)]
     return np.array([system.ny * i + j for i in range(system.n) for j, k in enumerate(system.active)
                      if not fixed[i, j] and k not in hold])
 
 
+def _axial_gauge(system, hold):
+    """Positions in the state of every ``z`` when no edge imposes one (the shell may translate along the axis:
+    the Jacobian is singular), else ``None``."""
+    if 0 not in system.active or 0 in hold or system.fixed[:, 0].any():
+        return None
+    return np.arange(system.n) * system.ny + system.active.index(0)
+
+
 def newton(system, y0, hold=(2,), tol=TOL, max_iter=MAX_ITER):
     """``(y, iterations, residual)``: Newton from ``y0`` at rest, ``hold`` fields (default ``chi``) kept as given.
 
+    Each step solves with the exact sparse Jacobian (SuperLU, ``scipy.sparse.linalg.splu``; the node-major
+    ordering keeps it banded): time and memory grow like ``n``, never a dense matrix. A shell that no edge holds
+    axially (a closed sphere) can translate along the axis, which makes the Jacobian singular at every state: the
+    ``z`` of the first node is held during the iteration (its equation is the sum of the others' for loads
+    self-equilibrated axially) and the converged state is shifted along the axis so that the mean ``z`` is the
+    starting one's: the solution of minimum-norm steps, which leave the rigid translation where it was. Steps are
+    halved until the residual falls (a full step may cross ``delta = 0`` far from the solution).
+
     Raises ``RuntimeError`` when it does not converge (the caller may continue in the load).
     """
+    import scipy.sparse.linalg  # optional heavy dependency: only statics needs it
+
     y = np.array(y0, dtype=float)
     y[: system.ny * system.n].reshape(system.n, system.ny)[:, system.nf:] = 0.0  # at rest
     q = _free_entries(system, hold)
-    p = q + system.nf
+    axial = _axial_gauge(system, hold)
+    solve = q if axial is None else q[q != axial[0]]
+    p, p_solve = q + system.nf, solve + system.nf
     scale = None
     for it in range(max_iter + 1):
-        f = np.array(system.rhs_newton(0, y)).ravel()[p]
-        J = system.jac(0, y)
-        Jd = np.array(J)[np.ix_(p, q)]
+        f = np.array(system.rhs_newton(0, y)).ravel()
+        J = to_csc(system.jac(0, y)).tocsr()
+        Jr = J[p_solve][:, solve].tocsc()
         if scale is None:
-            scale = float(np.abs(np.diag(Jd)).max()) * max(1.0, float(np.abs(system.reference[:2]).max()))
-        res = float(np.abs(f).max()) / scale
+            scale = float(np.abs(Jr.diagonal()).max()) * max(1.0, float(np.abs(system.reference[:2]).max()))
+        res = float(np.abs(f[p]).max()) / scale
         if not np.isfinite(res):
             raise RuntimeError(f"non-finite residual after {it} iterations")
         if res <= tol:
+            if axial is not None:
+                y[axial] += float(np.mean(np.asarray(y0, dtype=float)[axial] - y[axial]))
             return y, it, res
         if it == max_iter:
             break
-        import scipy.linalg  # optional heavy dependency: only statics needs it
-
-        step = scipy.linalg.lstsq(Jd, -f, lapack_driver="gelsd")[0]
-        # damped: halve until the residual falls (a full step may cross delta = 0 far from the solution)
+        try:
+            step = scipy.sparse.linalg.splu(Jr).solve(-f[p_solve])
+        except RuntimeError as exc:  # exactly singular
+            raise RuntimeError(f"singular tangent stiffness after {it} iterations ({exc})") from None
         for _ in range(20):
             trial = y.copy()
-            trial[q] += step
+            trial[solve] += step
             ft = np.array(system.rhs_newton(0, trial)).ravel()[p]
             limits = np.array(system.limits(trial)).ravel()
-            if np.all(np.isfinite(ft)) and np.all(limits > 0) and np.abs(ft).max() < np.abs(f).max():
+            if np.all(np.isfinite(ft)) and np.all(limits > 0) and np.abs(ft).max() < np.abs(f[p]).max():
                 break
             step /= 2
         else:

@@ -10,6 +10,7 @@ from __future__ import annotations
 from mol_shell._core.errors import ParameterError
 from mol_shell.scenes.base import (
     DESCRIPTIONS,
+    DISPLACEMENTS,
     DRIVES,
     LOADS,
     N_QUAD_RANGE,
@@ -42,7 +43,7 @@ def get_scene(name, **params):
 
 
 __all__ = [
-    "DESCRIPTIONS", "DRIVES", "LOADS", "N_QUAD_RANGE", "SCENES", "UNITS", "Axisymmetric", "Cone", "CylinderScene", "MeridianShell",
+    "DESCRIPTIONS", "DISPLACEMENTS", "DRIVES", "LOADS", "N_QUAD_RANGE", "SCENES", "UNITS", "Axisymmetric", "Cone", "CylinderScene", "MeridianShell",
     "ShellScene", "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "UNSHEARABLE_INTEGRATORS", "Unshearable", "check_radius", "describe", "get_scene", "with_params",
     "zeta1_used", "_check", "_coerce",
 ]

@@ -30,6 +30,7 @@ UNITS = {
     "points": "1", "pressure": "Pa", "gravity": "m s-2", "drag": "N s m-3", "end1_force": "N", "end2_force": "N",
     "end1_torque": "N m", "end2_torque": "N m", "end1_spin": "rad s-1", "end2_spin": "rad s-1",
     "end1_axial_speed": "m s-1", "end2_axial_speed": "m s-1", "end_omega": "rad s-1",
+    "end1_dz": "m", "end2_dz": "m", "end1_dchi": "rad", "end2_dchi": "rad",
     # integrator options (varied in studies)
     "dt": "s", "rtol": "1", "atol": "1", "max_step": "s",
 }
@@ -55,6 +56,10 @@ DESCRIPTIONS = {
     "end2_torque": "axial torque on the edge at s = L", "end1_spin": "prescribed spin rate of the edge at s = 0",
     "end2_spin": "prescribed spin rate of the edge at s = L", "end1_axial_speed": "prescribed axial speed of the edge at s = 0",
     "end2_axial_speed": "prescribed axial speed of the edge at s = L", "end_omega": "both ends spun at this rate from t = 0",
+    "end1_dz": "prescribed axial displacement of the edge at s = 0 (its z imposed)",
+    "end2_dz": "prescribed axial displacement of the edge at s = L (its z imposed)",
+    "end1_dchi": "prescribed rotation about the axis of the edge at s = 0 (its chi imposed)",
+    "end2_dchi": "prescribed rotation about the axis of the edge at s = L (its chi imposed)",
 }
 
 
@@ -70,6 +75,8 @@ def describe(name):
 LOADS = ("pressure", "gravity", "drag", "end1_force", "end2_force", "end1_torque", "end2_torque")
 #: driven edges: prescribed rates of an edge's chi and z (each with a ``NAME_history``)
 DRIVES = ("end1_spin", "end2_spin", "end1_axial_speed", "end2_axial_speed")
+#: static edge displacements: an imposed z (m) or chi (rad) moved from its reference value (displacement control)
+DISPLACEMENTS = ("end1_dz", "end2_dz", "end1_dchi", "end2_dchi")
 
 #: Gauss-Legendre points through the thickness: one point makes the director's inertia rhoJ = rhoI^2/rhoA,
 #: a singular mass matrix. Above 32 nothing is gained and the kernels grow too large to compile in
@@ -160,6 +167,10 @@ class ShellScene:
         reaction torque is in the run's ``reaction_torque``). Not at a pole.
     end1_axial_speed, end2_axial_speed : float
         Driven edge: its ``z`` moved at this speed, m s-1, times ``*_axial_speed_history``. Not at a pole.
+    end1_dz, end2_dz, end1_dchi, end2_dchi : float
+        Static edge displacements: the edge's imposed ``z`` (m) or ``chi`` (rad) moved this far from its reference
+        value (the initial state; ``mol_shell.path`` continues in them: displacement control). The edge must
+        impose the field.
 
     Notes
     -----
@@ -206,6 +217,10 @@ class ShellScene:
     end1_axial_speed_history: str = "constant"
     end2_axial_speed: float = 0.0
     end2_axial_speed_history: str = "constant"
+    end1_dz: float = 0.0
+    end2_dz: float = 0.0
+    end1_dchi: float = 0.0
+    end2_dchi: float = 0.0
 
     name = "shell"
     #: indices into ``mol_shell.model.FIELDS`` of the fields this scene moves
@@ -243,6 +258,8 @@ class ShellScene:
                                                  shown=f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m"))
         for end in ("end1", "end2"):
             object.__setattr__(self, end, check_edge(end, getattr(self, end)))
+        for name in DISPLACEMENTS:
+            _check(name, getattr(self, name), finite(UNITS[name]))
         for load in LOADS + DRIVES:
             _check(load, getattr(self, load), non_negative(UNITS[load]) if load == "drag" else finite(UNITS[load]))
             if load != "drag":
@@ -257,7 +274,7 @@ class ShellScene:
         """A refusal of ``h`` caused by a changed geometry parameter (``a = 5e-324``) names that parameter."""
         if exc.name != "h" or self.h != type(self).h:
             return exc
-        skip = set(LOADS + DRIVES) | set(getattr(self, "initial", ())) | {"h", "zeta1", "end1", "end2"}
+        skip = set(LOADS + DRIVES + DISPLACEMENTS) | set(getattr(self, "initial", ())) | {"h", "zeta1", "end1", "end2"}
         for f in dataclasses.fields(self):
             if f.name not in skip and not f.name.endswith("_history") and getattr(self, f.name) != f.default:
                 return ParameterError(f.name, getattr(self, f.name), f"values for which h = {self.h:.4g} m fits: "

@@ -43,7 +43,7 @@ from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES
-from mol_shell.scenes.base import DESCRIPTIONS, DRIVES, LOADS, UNITS
+from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -53,7 +53,7 @@ else:  # pragma: no cover
 #: the tables of a scene file, in the order they are written
 TABLES = ("geometry", "material", "edges", "loads", "initial", "run")
 MATERIAL = ("h", "E", "nu", "rho", "material", "c10", "c01", "n_quad", "zeta1", "eta_lambda", "eta_mu")
-EDGES = ("end1", "end2") + DRIVES + ("end_omega",)
+EDGES = ("end1", "end2") + DRIVES + DISPLACEMENTS + ("end_omega",)
 #: the keys of ``[run]``: defaults of ``mol-shell run`` (``simulate``'s keywords)
 RUN = ("integrator", "n", "t_end", "times", "dt", "rtol", "atol", "max_step")
 HISTORY_FORMS = {"constant": (), "step": ("t0",), "ramp": ("t1",), "sine": ("f",), "table": ("t", "h")}

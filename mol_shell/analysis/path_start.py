@@ -1,0 +1,115 @@
+"""Starting a run or a modes analysis from an equilibrium path: a step's state, or a critical point's, perturbed.
+
+A path file (:func:`mol_shell.analysis.path.path`) keeps the scene's name and parameters in its attrs (the
+continued load left out) and the equilibrium fields at every step (``z, r, chi, theta, psi`` on ``(step, s)``)
+and at every critical point (``point_z, ...`` on ``(point, s)``) with the critical mode (``point_mode_*``, scaled
+to a largest entry of 1). :func:`path_start` gives back the scene with the continued load at that state's value,
+the grid and the fields, at rest. ``perturb`` adds ``perturb x`` the critical mode: a launch of post-buckling
+dynamics (``mol-shell run --from path.nc --point K --perturb A``). The mode is 0 on imposed and gauge-held
+coordinates, so the edges stay where they were.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError, is_number
+from mol_shell.model.kinematics import FIELDS
+from mol_shell.results.dataset import read_netcdf
+from mol_shell.scenes import SCENES, get_scene
+
+ALLOWED = "a netCDF file written by mol-shell path"
+
+
+def is_path(ds):
+    """Whether Dataset ``ds`` is an equilibrium path."""
+    return "step" in ds.dims and "parameter" in ds and "parameter" in ds.attrs and "r" in ds \
+        and ds["r"].dims == ("step", "s")
+
+
+def read_path(filename, name="--from"):
+    """Read a path file; anything else is refused naming ``name``."""
+    path = Path(os.fspath(filename)) if filename is not None and str(filename) else None
+    if path is None or not path.is_file():
+        raise ParameterError.invalid(name, str(filename), "is not a file" if path is None or path.exists() else
+                                     "does not exist", ALLOWED)
+    try:
+        ds = read_netcdf(path)
+    except (OSError, ValueError, RuntimeError):
+        raise ParameterError.invalid(name, str(path), "is not a netCDF file", ALLOWED) from None
+    if not is_path(ds):
+        raise ParameterError.invalid(name, str(path), "is not an equilibrium path", ALLOWED,
+                                     hint=f"it holds dims {', '.join(map(str, ds.dims)) or 'none'}")
+    return ds
+
+
+def path_scene(ds, value):
+    """The scene of path ``ds`` (its name and parameters from the attrs) with the continued load at ``value``."""
+    name = str(ds.attrs["scene"])
+    if name not in SCENES:
+        raise ParameterError.invalid("--from", name, "names no registered scene", ALLOWED)
+    fields = {f.name for f in dataclasses.fields(SCENES[name])}
+    params = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in ds.attrs.items() if k in fields}
+    params[str(ds.attrs["parameter"])] = float(value)
+    return get_scene(name, **params)
+
+
+def _index(value, name, count, what):
+    if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or not 0 <= value < count:
+        allowed = f"integers 0..{count - 1} (the path's {what})" if count else f"none: the path has no {what}"
+        raise ParameterError(name, value, allowed)
+    return int(value)
+
+
+def path_start(ds, *, step=None, point=None, perturb=0.0):
+    """``(scene, n, fields, info)``: where a run or modes analysis starts from path ``ds``.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A path (:func:`read_path`).
+    step, point : int
+        One of them: the step (``0 .. steps - 1``) or the critical point (``0 .. points - 1``).
+    perturb : float
+        Amplitude of the critical mode added to a critical point's state (m or rad: the mode's largest entry is
+        1); only with ``point``.
+
+    Returns
+    -------
+    scene : ShellScene
+        The path's scene with the continued load at the state's value.
+    n : int
+        The path's nodes.
+    fields : ndarray
+        ``(5, n)``: ``z, r, chi, theta, psi`` at rest.
+    info : str
+        Where the state comes from (for the attrs of what is computed from it).
+    """
+    if (step is None) == (point is None):
+        raise ParameterError("--step", step, "one of --step K or --point K with --from",
+                             message="give one of --step K (a step) or --point K (a critical point) with --from")
+    if not is_number(perturb) or not math.isfinite(perturb):
+        raise ParameterError.not_a("--perturb", perturb, "a finite number", "(-inf, inf) m or rad")
+    name = str(ds.attrs["parameter"])
+    units = str(ds.attrs.get("parameter_units", ""))
+    if step is not None:
+        if perturb:
+            raise ParameterError("--perturb", perturb, "0 with --step (the critical mode is a point's: use --point)")
+        k = _index(step, "--step", ds.sizes["step"], "steps")
+        value = float(ds.parameter.values[k])
+        fields = np.stack([ds[f].values[k] for f in FIELDS])
+        info = f"equilibrium path step {k}: {name} = {value:.10g} {units}"
+    else:
+        k = _index(point, "--point", ds.sizes.get("point", 0), "critical points")
+        value = float(ds.point_parameter.values[k])
+        fields = np.stack([ds[f"point_{f}"].values[k] for f in FIELDS])
+        mode = np.stack([ds[f"point_mode_{f}"].values[k] for f in FIELDS])
+        fields = fields + float(perturb) * mode
+        info = (f"equilibrium path critical point {k} ({ds.point_kind.values[k]}): {name} = {value:.10g} {units}"
+                + (f", perturbed by {float(perturb):g} x its critical mode" if perturb else ""))
+    return path_scene(ds, value), int(ds.sizes["s"]), fields, info

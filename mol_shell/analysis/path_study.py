@@ -1,0 +1,211 @@
+"""Studies of equilibrium paths: one path per case of a parameter grid, their critical points in one Dataset.
+
+``path_study(scene, vary, parameter, start, stop)`` runs :func:`mol_shell.analysis.path.path` for every case of
+``vary`` (the design of :func:`mol_shell.runs.study.design`: the product of the values, or a list of cases) on the
+back ends of run studies (:func:`mol_shell.runs.scheduling.execute`: this process, local processes, or a dask
+cluster), keeps each finished path in ``<output stem>.cases/`` (:class:`mol_shell.results.study_store.Store`: a rerun
+reuses it), and gathers the critical points: dims ``(*study dims, point)``, the points of each case in the order its
+path met them, padded (``point_kind = ""``, ``point_parameter = NaN``) to the longest. ``first_critical`` is the
+first point's load (the buckling load when the path starts unloaded). ``mol-shell study SCENE --vary ... --path
+NAME=START:STOP`` is the command.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import os
+import socket
+import time
+import warnings
+
+import numpy as np
+import xarray as xr
+
+from mol_shell._core.errors import MaterialWarning, ParameterError
+from mol_shell._core.version import __version__
+from mol_shell.analysis.path import path
+from mol_shell.analysis.path_dataset import SYMMETRY_NOTE
+from mol_shell.results.cf import attr_value, header
+from mol_shell.results.dataset import writable_path, write_netcdf
+from mol_shell.results.study_store import Store
+from mol_shell.runs.building import as_scene
+from mol_shell.runs.scheduling import connect, execute, scheduler_name
+from mol_shell.runs.study import design
+from mol_shell.scenes import UNITS, with_params
+
+#: statuses of a path that are final (stored, not run again on resume)
+FINAL = ("complete", "max_steps", "returned", "failed", "limit", "refused", "error")
+
+
+@dataclasses.dataclass(frozen=True)
+class PathTask:
+    """One case: a scene and the path to trace (plain data, sent to a worker)."""
+
+    index: tuple
+    label: str
+    scene: object
+    parameter: str
+    start: float
+    stop: float
+    n: int
+    options: dict
+
+    @property
+    def key(self):
+        spec = {"version": __version__, "kind": "path", "scene": type(self.scene).__name__,
+                "params": self.scene.params(), "parameter": self.parameter, "start": self.start, "stop": self.stop,
+                "n": self.n, "options": self.options}
+        return hashlib.sha256(json.dumps(spec, sort_keys=True, default=repr).encode()).hexdigest()[:20]
+
+
+def run_path_task(task):
+    """Worker entry point: ``(index, path Dataset or None, info)``; never raises for a failing case."""
+    start = time.perf_counter()
+    ds = None
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            warnings.simplefilter("ignore", MaterialWarning)
+            ds = path(task.scene, task.parameter, task.start, task.stop, n=task.n, **task.options)
+        status, message = str(ds.attrs["status"]), str(ds.attrs["message"])
+    except ParameterError as exc:
+        status, message = "refused", str(exc)
+    except KeyboardInterrupt:
+        status, message = "interrupted", "interrupted by the user"
+    except Exception as exc:  # noqa: BLE001 - a failing case is data, not a crash
+        status, message = "error", f"{type(exc).__name__}: {exc}"
+    info = {"status": status, "message": message, "case_wall_time_s": time.perf_counter() - start,
+            "worker": f"{socket.gethostname()}:{os.getpid()}"}
+    return task.index, ds, info
+
+
+def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps=200, scheduler=None, workers=None,
+               output=None):
+    """Trace the path in ``parameter`` from ``start`` to ``stop`` for every case of ``vary``; gather the critical
+    points.
+
+    Parameters
+    ----------
+    scene : ShellScene or str
+        The base scene; each case replaces the varied parameters (scene parameters only).
+    vary : dict or list of dict
+        As for :func:`mol_shell.runs.study.study`.
+    parameter, start, stop, n, steps, max_steps
+        As for :func:`mol_shell.analysis.path.path`, the same for every case.
+    scheduler, workers, output
+        As for :func:`mol_shell.runs.study.study` (``output``: the gathered Dataset, and each case's path in
+        ``<output stem>.cases/``, reused by a rerun).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dims: the study's, and ``point``. Per case: ``status``, ``message``, ``steps``, ``first_critical``
+        (the first critical point's load, NaN without one), ``case_wall_time_s``; per point: ``point_kind``,
+        ``point_parameter``, ``point_family``, ``point_located``.
+    """
+    clock = time.perf_counter()
+    scene = as_scene(scene)
+    if output is not None:
+        writable_path(output, "output")
+    dims, coords, cases = design(scene, vary)
+    fields = {f.name for f in dataclasses.fields(scene)}
+    for name in coords:
+        if name not in fields:
+            raise ParameterError("vary", name, "{" + ", ".join(sorted(fields)) + "}",
+                                 hint="a path study varies scene parameters")
+        if name == parameter:
+            raise ParameterError("vary", name, "parameters other than the continued one")
+    options = {"steps": steps, "max_steps": max_steps}
+    results, tasks = {}, []
+    for index, changes in cases:
+        label = ", ".join(f"{k}={v}" for k, v in changes.items())
+        try:
+            case_scene = with_params(scene, changes)
+        except ParameterError as exc:
+            results[index] = (None, {"status": "refused", "message": str(exc), "case_wall_time_s": 0.0, "worker": ""})
+            continue
+        tasks.append(PathTask(index, label, case_scene, parameter, float(start), float(stop), int(n), options))
+    store = Store(output) if output is not None else None
+    pending, reused = [], 0
+    for task in tasks:
+        loaded = store.load(task) if store else None
+        if loaded is not None:
+            results[task.index] = loaded
+            reused += 1
+        else:
+            pending.append(task)
+    client = connect(scheduler) if pending else None
+    by_index = {task.index: task for task in pending}
+    finished = execute(run_path_task, pending, scheduler, workers, client)
+    try:
+        for index, ds, info in finished:
+            results[index] = (ds, info)
+            if store and info["status"] in FINAL:
+                store.save(by_index[index], ds, info)
+            if info["status"] == "interrupted":
+                raise KeyboardInterrupt
+    finally:
+        finished.close()
+        if client is not None and client is not scheduler:
+            client.close()
+    out = _gather(scene, dims, coords, cases, results, parameter)
+    failed = sum(1 for _, info in results.values() if info["status"] not in ("complete", "max_steps", "returned"))
+    out.attrs.update({k: attr_value(v) for k, v in {
+        "study_vary": ", ".join(coords), "path_parameter": parameter, "path_start": float(start),
+        "path_stop": float(stop), "n": int(n), "n_cases": len(cases), "n_executed": len(pending), "n_reused": reused,
+        "n_failed": failed, "scheduler": scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - clock,
+    }.items()})
+    if output is not None:
+        write_netcdf(out, output)
+    return out
+
+
+def _gather(scene, dims, coords, cases, results, parameter):
+    shape = tuple(len(coords[d]) for d in dims) if dims != ["case"] else (len(cases),)
+    count = max([ds.sizes.get("point", 0) for ds, _ in results.values() if ds is not None] + [0])
+    kind = np.full(shape + (count,), "", dtype=object)
+    family = np.full(shape + (count,), "", dtype=object)
+    value = np.full(shape + (count,), np.nan)
+    located = np.zeros(shape + (count,), dtype=np.int8)
+    status = np.full(shape, "", dtype=object)
+    message = np.full(shape, "", dtype=object)
+    steps = np.zeros(shape, dtype=np.int32)
+    wall = np.full(shape, np.nan)
+    for index, _ in cases:
+        ds, info = results[index]
+        status[index], message[index], wall[index] = info["status"], info["message"], info["case_wall_time_s"]
+        if ds is None:
+            continue
+        steps[index] = ds.sizes["step"]
+        m = ds.sizes.get("point", 0)
+        kind[index][:m] = ds.point_kind.values
+        family[index][:m] = ds.point_family.values
+        value[index][:m] = ds.point_parameter.values
+        located[index][:m] = ds.point_located.values
+    units = UNITS.get(parameter, "1")
+    sdims = tuple(dims)
+    data = {
+        "status": (sdims, status, {"long_name": "how the case's path ended (complete, max_steps, failed, limit, ...)"}),
+        "message": (sdims, message, {"long_name": "what the case's path said"}),
+        "steps": (sdims, steps, {"units": "1", "long_name": "steps of the case's path"}),
+        "first_critical": (sdims, value[..., 0] if count else np.full(shape, np.nan), {"units": units, "long_name":
+                           f"{parameter} at the first critical point the path met (NaN: none)"}),
+        "case_wall_time_s": (sdims, wall, {"units": "s", "long_name": "wall time of the case"}),
+        "point_kind": (sdims + ("point",), kind, {"long_name": "limit or bifurcation ('' past a case's last point)"}),
+        "point_parameter": (sdims + ("point",), value, {"units": units, "long_name": f"{parameter} at the critical "
+                            "point (NaN past a case's last point)"}),
+        "point_family": (sdims + ("point",), family, {"long_name": "family of the critical mode"}),
+        "point_located": (sdims + ("point",), located, {"units": "1", "long_name":
+                          "1 where the point was located to the path's tolerance"}),
+    }
+    coord_vars = {d: (d, np.asarray(coords[d]) if d != "case" else np.arange(len(cases)),
+                      {"units": UNITS.get(d, "1")}) for d in dims}
+    if dims == ["case"]:
+        for name, vals in coords.items():
+            coord_vars[name] = ("case", np.asarray(vals), {"units": UNITS.get(name, "1")})
+    coord_vars["point"] = ("point", np.arange(count, dtype=np.int32), {"long_name": "critical point, as met"})
+    attrs = {**header(f"mol_shell study of equilibrium paths of scene {scene.name} in {parameter}"),
+             "scene": scene.name, "critical_points": SYMMETRY_NOTE}
+    return xr.Dataset(data, coords=coord_vars, attrs=attrs)

@@ -1,0 +1,79 @@
+"""Branch switching (``path(..., branch=K)``, ``mol-shell path --branch K``) at the first bifurcation of a closed
+sphere under external pressure.
+
+What is expected, independently of a run. The sphere of tests/analysis/test_path.py with ``a/t = 39.9`` buckles
+first into the Legendre mode ``P_11`` (odd: antisymmetric about the equator). Before that point every state is
+symmetric about the equator (``r(s) = r(L - s)``); the discrete sphere keeps this symmetry exactly, so the point is
+a symmetric pitchfork and the branch leaving it carries the antisymmetric mode: on it ``r(s) - r(L - s)`` is not
+zero, and near the point it is along the mode's own antisymmetric part. The axisymmetric post-buckling of a
+sphere under pressure is unstable (Koiter 1969; Hutchinson 1967): the branch is subcritical, its pressure falls
+below the critical one, and by the exchange of stability at a simple pitchfork whose primary path was stable
+before it carries exactly one unstable direction near the point.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from reference_cap import cap_params, p_classical
+
+from mol_shell import Sphere, path
+from mol_shell.cli.main import main
+
+E, NU, A = 1.0e6, 0.3, 1.0
+H11 = A / (2 * 11 * 12 / math.sqrt(12 * (1 - NU**2)))
+P_CL = 2 * E * (2 * H11) ** 2 / (A**2 * math.sqrt(3 * (1 - NU**2)))
+
+
+@pytest.fixture(scope="module")
+def switched():
+    sphere = Sphere(a=A, h=H11, E=E, nu=NU, material="svk-plane-stress")
+    return path(sphere, "pressure", 0.0, -1.02 * P_CL, n=60, steps=10, max_steps=16, branch=0)
+
+
+def antisymmetric(r):
+    return r - r[..., ::-1]
+
+
+def test_the_path_switches_at_the_first_bifurcation(switched):
+    ds = switched
+    branch = ds.branch.values
+    first = int(np.argmax(branch == 1))
+    assert first > 0 and np.all(branch[:first] == 0) and np.all(branch[first:] == 1)
+    assert ds.attrs["branch_point"] == 0 and ds.point_kind.values[0] == "bifurcation"
+    p_c = float(ds.point_parameter[0])
+    # the branch starts next to the point
+    assert abs(float(ds.parameter[first]) / p_c - 1) < 0.01
+    # symmetric before it, antisymmetric part on the branch growing away from the point
+    asym = np.abs(antisymmetric(ds.r.values)).max(axis=1)
+    assert np.all(asym[:first] < 1e-12)
+    assert np.all(asym[first:] > 1e-5) and np.all(np.diff(asym[first:]) > 0)
+
+
+def test_the_branch_leaves_along_the_critical_mode(switched):
+    ds = switched
+    first = int(np.argmax(ds.branch.values == 1))
+    a = antisymmetric(ds.r.values[first])
+    m = antisymmetric(ds.point_mode_r.values[0])
+    assert abs(np.dot(a, m)) / (np.linalg.norm(a) * np.linalg.norm(m)) > 0.99
+
+
+def test_the_branch_is_subcritical_and_unstable(switched):
+    ds = switched
+    on = ds.branch.values == 1
+    p = -ds.parameter.values[on]
+    assert np.all(p < -float(ds.point_parameter[0])) and np.all(np.diff(p) < 0)
+    assert np.all(ds.negative_eigenvalues.values[on][:3] == 1)
+
+
+def test_branch_at_a_limit_point_exits_2_with_one_line(tmp_path, capsys):
+    argv = ["path", "sphere", "--param", f"pressure=0:{-0.7 * p_classical():.6g}", "--n", "21", "--branch", "0"]
+    for k, v in cap_params(5.0).items():
+        argv += ["--set", f"{k}={v!r}" if isinstance(v, float) else f"{k}={v}"]
+    out = tmp_path / "b.nc"
+    assert main(argv + ["-o", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "--branch = 0" in err and "limit point" in err
+    assert not out.exists()

@@ -1,0 +1,61 @@
+"""Studies of paths (``path_study``, ``mol-shell study --path``): one path per case, the critical points gathered."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import xarray as xr
+from reference_cap import cap_angle, cap_params, p_classical
+
+from mol_shell import Sphere, path
+from mol_shell.analysis.path_study import path_study
+from mol_shell.cli.main import main
+
+STOP = -1.0 * p_classical()
+ANGLES = [cap_angle(4.5), cap_angle(5.5)]
+
+
+@pytest.fixture(scope="module")
+def studied(tmp_path_factory):
+    out = tmp_path_factory.mktemp("study") / "caps.nc"
+    ds = path_study(Sphere(**cap_params(5.0)), {"alpha2": ANGLES}, "pressure", 0.0, STOP, n=21, max_steps=30,
+                    scheduler="serial", output=out)
+    return out, ds
+
+
+def test_each_case_has_the_critical_points_of_its_own_path(studied):
+    _, ds = studied
+    assert ds.point_parameter.dims == ("alpha2", "point") and ds.attrs["n_cases"] == 2
+    for k, angle in enumerate(ANGLES):
+        own = path(Sphere(**{**cap_params(5.0), "alpha2": angle}), "pressure", 0.0, STOP, n=21, max_steps=30)
+        m = own.sizes["point"]
+        assert np.array_equal(ds.point_parameter.values[k, :m], own.point_parameter.values)
+        assert list(ds.point_kind.values[k, :m]) == list(own.point_kind.values)
+        assert ds.first_critical.values[k] == own.point_parameter.values[0]
+        assert np.all(np.isnan(ds.point_parameter.values[k, m:]))
+    # a deeper cap (larger lambda) carries a larger pressure before it snaps (shallow-shell theory: the snap
+    # pressure grows with the rise)
+    assert ds.first_critical.values[1] < ds.first_critical.values[0] < 0
+
+
+def test_a_rerun_reuses_the_finished_paths(studied):
+    out, first = studied
+    again = path_study(Sphere(**cap_params(5.0)), {"alpha2": ANGLES}, "pressure", 0.0, STOP, n=21, max_steps=30,
+                       scheduler="serial", output=out)
+    assert again.attrs["n_reused"] == 2 and again.attrs["n_executed"] == 0
+    assert np.array_equal(again.point_parameter.values, first.point_parameter.values, equal_nan=True)
+
+
+def test_the_command(tmp_path, capsys):
+    out = tmp_path / "s.nc"
+    argv = ["study", "sphere", "--vary", f"alpha2={ANGLES[0]!r},{ANGLES[1]!r}", "--path", f"pressure=0:{STOP:.6g}",
+            "--n", "21", "--max-steps", "30", "--scheduler", "serial", "-o", str(out)]
+    for k, v in cap_params(5.0).items():
+        if k != "alpha2":
+            argv += ["--set", f"{k}={v}"]
+    assert main(argv) == 0, capsys.readouterr().err
+    assert "first critical pressure" in capsys.readouterr().out
+    with xr.open_dataset(out) as ds:
+        assert ds.sizes["alpha2"] == 2 and ds.first_critical.attrs["units"] == "Pa"
+    assert main(argv[:-2] + ["--t-end", "1", "-o", str(tmp_path / "x.nc")]) == 2
+    assert "--t-end is an option of a study of runs" in capsys.readouterr().err

@@ -1,0 +1,99 @@
+"""``mol-shell run|modes --from PATH.nc --step K|--point K [--perturb A]`` and ``mol-shell plot PATH.nc``."""
+
+from __future__ import annotations
+
+import pytest
+import xarray as xr
+from reference_cap import cap_params, p_classical
+
+from mol_shell.cli.main import main
+
+N = 21
+
+
+def sets(lam=5.0):
+    out = []
+    for k, v in cap_params(lam).items():
+        out += ["--set", f"{k}={v!r}" if isinstance(v, float) else f"{k}={v}"]
+    return out
+
+
+@pytest.fixture(scope="module")
+def cap_file(tmp_path_factory):
+    out = tmp_path_factory.mktemp("path") / "cap.nc"
+    code = main(["path", "sphere", "--param", f"pressure=0:{-0.7 * p_classical():.6g}", "--n", str(N), *sets(),
+                 "--max-steps", "40", "-o", str(out)])
+    assert code == 0
+    return out
+
+
+def test_modes_from_a_step_are_the_prestressed_frequencies(cap_file, tmp_path, capsys):
+    with xr.open_dataset(cap_file) as p:
+        w2 = float(p.smallest_eigenvalues[3, 0])
+        value = float(p.parameter[3])
+    out = tmp_path / "m.nc"
+    assert main(["modes", "--from", str(cap_file), "--step", "3", "--count", "2", "-o", str(out)]) == 0
+    with xr.open_dataset(out) as ds:
+        assert float(ds.frequency[0]) ** 2 == pytest.approx(w2, rel=1e-6)
+        assert ds.attrs["pressure"] == value and "step 3" in ds.attrs["initial_state"]
+
+
+def test_run_from_a_critical_point_perturbed_along_its_mode(cap_file, tmp_path, capsys):
+    out = tmp_path / "r.nc"
+    code = main(["run", "--from", str(cap_file), "--point", "0", "--perturb", "1e-4", "--integrator", "cvode-bdf",
+                 "--t-end", "0.02", "-o", str(out)])
+    assert code == 0, capsys.readouterr().err
+    with xr.open_dataset(out) as ds, xr.open_dataset(cap_file) as p:
+        start = p.point_z.values[0] + 1e-4 * p.point_mode_z.values[0]
+        assert abs(ds.z.isel(time=0).values - start).max() < 1e-12
+        assert "critical point 0 (limit)" in ds.attrs["initial_state"]
+        assert ds.attrs["pressure"] == float(p.point_parameter[0])
+
+
+def test_plot_of_a_path(cap_file, tmp_path, capsys):
+    out = tmp_path / "p.png"
+    assert main(["plot", str(cap_file), "--response", "r@0", "-o", str(out)]) == 0
+    assert out.stat().st_size > 10000
+    assert main(["plot", str(cap_file), "-o", str(out)]) == 0
+    assert "against load_conjugate" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, option", [
+    (["modes", "--from", "{f}", "--step", "99"], "--step"),
+    (["modes", "--from", "{f}", "--point", "5"], "--point"),
+    (["modes", "--from", "{f}"], "--step"),
+    (["run", "--from", "{f}", "--step", "2", "--perturb", "1e-3", "--t-end", "0.01"], "--perturb"),
+    (["modes", "sphere", "--step", "2"], "--step"),
+    (["modes", "sphere", "--from", "{f}", "--step", "2"], "--from"),
+    (["modes", "--from", "{f}", "--step", "2", "--n", "30"], "--n"),
+    (["plot", "{f}", "--response", "speed"], "--response"),
+    (["plot", "{f}", "--figure", "fibres"], "--figure"),
+    (["modes", "--from", "nothing.nc", "--step", "1"], "--from"),
+])
+def test_bad_input_exits_2_with_one_line_naming_the_option(cap_file, tmp_path, capsys, argv, option):
+    argv = [a.replace("{f}", str(cap_file)) for a in argv] + ["-o", str(tmp_path / ("x.png" if argv[0] == "plot"
+                                                                                   else "x.nc"))]
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and option in err
+
+
+def test_a_path_cut_short_by_max_steps_says_so_and_exits_0(tmp_path, capsys):
+    out = tmp_path / "short.nc"
+    code = main(["path", "sphere", "--param", f"pressure=0:{-0.7 * p_classical():.6g}", "--n", str(N), *sets(),
+                 "--max-steps", "3", "-o", str(out)])
+    captured = capsys.readouterr()
+    assert code == 0
+    assert "note: the path did not reach pressure" in captured.err and "raise --max-steps" in captured.err
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["status"] == "max_steps" and ds.attrs["complete"] == 0 and ds.sizes["step"] == 4
+
+
+def test_modes_at_a_critical_point_list_the_critical_mode_at_zero_frequency(cap_file, tmp_path):
+    """At the limit point the tangent stiffness is singular along the critical mode: modes lists it first at
+    frequency ~0 (it is not one of the rigid motions, of which this clamped cap has none)."""
+    out = tmp_path / "m.nc"
+    assert main(["modes", "--from", str(cap_file), "--point", "0", "--count", "2", "-o", str(out)]) == 0
+    with xr.open_dataset(out) as ds:
+        assert ds.attrs["zero_modes"] == 0
+        assert float(ds.frequency[0]) < 1e-2 * float(ds.frequency[1])
