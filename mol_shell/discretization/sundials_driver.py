@@ -27,11 +27,11 @@ from mol_shell.discretization.sundials_source import SUNDIALS_DRIVER
 
 #: the libraries the driver links, by the start of their file names
 LIBRARIES = ("core", "cvode", "ida", "nvecserial", "sunmatrixdense", "sunmatrixband", "sunmatrixsparse",
-             "sunlinsoldense", "sunlinsolband", "sunlinsolsuperlumt")
+             "sunlinsoldense", "sunlinsolband", "sunlinsolsuperlumt", "sunlinsollapackdense", "sunlinsollapackband")
 #: the driver's own code needs no -march=native (the CasADi kernels it calls are built apart)
 FLAGS = ("-O2", "-fPIC", "-shared")
 #: iopts/opts layout of ms_create (see the C source)
-LINSOLVERS = {"dense": 0, "band": 1, "sparse": 2}
+LINSOLVERS = {"dense": 0, "band": 1, "sparse": 2, "lapack-dense": 3, "lapack-band": 4}
 #: codes of ms_advance
 REACHED, ROOT, R_FLOOR, MAX_STEPS, CHUNK, CALLS = 0, 1, 2, 3, 4, 5
 #: SUNDIALS' flags for a failed constraint (CV_CONSTR_FAIL, IDA_CONSTR_FAIL)
@@ -64,12 +64,16 @@ def library_paths(folder):
     return paths
 
 
+def link_arguments(folder):
+    """gcc's arguments after the source: the libraries by full path, and their folder as the run-time path."""
+    return (*library_paths(folder), f"-Wl,-rpath,{Path(folder).resolve()}")
+
+
 @functools.lru_cache(maxsize=None)
 def _load(folder):
     if shutil.which("gcc") is None:
         raise DriverUnavailable("gcc not found on PATH")
-    paths = library_paths(folder)
-    link = (*paths, f"-Wl,-rpath,{Path(folder).resolve()}")
+    link = link_arguments(folder)
     try:
         _, lib = load_cached(SUNDIALS_DRIVER, "sundials", FLAGS, lambda path: ctypes.CDLL(str(path)),
                              what="the SUNDIALS driver", link=link)
@@ -104,6 +108,7 @@ def _declare(lib):
     lib.ms_advance.restype = i32
     lib.ms_advance.argtypes = [vp, dbl, ll, dbl, ctypes.POINTER(dbl), arr[np.float64], arr[np.float64]]
     lib.ms_stats.argtypes = [vp, arr[np.int64]]
+    lib.ms_costs.argtypes = [vp, i32, arr[np.float64]]
     lib.ms_event_time.restype = dbl
     lib.ms_event_time.argtypes = [vp]
     lib.ms_free.argtypes = [vp]
@@ -157,7 +162,7 @@ class Solve:
             self.close()
             raise RuntimeError(f"the SUNDIALS driver could not set up the solver (stage {err.value})")
         self.t = 0.0
-        self._stats = np.zeros(10, dtype=np.int64)
+        self._stats = np.zeros(11, dtype=np.int64)
 
     def advance(self, target, max_steps, seconds):
         """Step towards ``target``; returns the driver's code (:data:`REACHED`, :data:`ROOT`, ...)."""
@@ -171,8 +176,16 @@ class Solve:
         """Steps, evaluations, Jacobians, set-ups, failures, Newton iterations, root evaluations, the root, calls."""
         self.lib.ms_stats(self.handle, self._stats)
         keys = ("sundials_steps", "n_rhs", "n_jac", "n_setups", "n_error_test_fails", "n_convergence_fails",
-                "n_newton", "n_root_evals", "root", "n_steps")
+                "n_newton", "n_root_evals", "root", "n_steps", "n_rhs_jacobian")
         return dict(zip(keys, (int(v) for v in self._stats)))
+
+    def costs(self, reps=20):
+        """Seconds per call at the current state: right-hand side, Jacobian (NaN: difference quotients), copy and
+        factorisation, solve, limits (see ``ms_costs``)."""
+        out = np.zeros(5)
+        self.lib.ms_costs(self.handle, int(reps), out)
+        keys = ("rhs_s", "jacobian_s", "factorisation_s", "solve_s", "limits_s")
+        return {k: (float(v) if v >= 0 else float("nan")) for k, v in zip(keys, out)}
 
     def event_time(self):
         return float(self.lib.ms_event_time(self.handle))

@@ -28,6 +28,7 @@ typedef struct _SUNContext* SUNContext;
 typedef struct _generic_N_Vector* N_Vector;
 typedef struct _generic_SUNMatrix* SUNMatrix;
 typedef struct _generic_SUNLinearSolver* SUNLinearSolver;
+typedef struct _generic_SUNNonlinearSolver* SUNNonlinearSolver;
 
 /* the SUNDIALS 7.9 C API, as much of it as is used here */
 int SUNContext_Create(int comm, SUNContext* ctx);
@@ -51,7 +52,16 @@ void SUNMatDestroy(SUNMatrix a);
 SUNLinearSolver SUNLinSol_Dense(N_Vector y, SUNMatrix a, SUNContext ctx);
 SUNLinearSolver SUNLinSol_Band(N_Vector y, SUNMatrix a, SUNContext ctx);
 SUNLinearSolver SUNLinSol_SuperLUMT(N_Vector y, SUNMatrix a, int threads, SUNContext ctx);
+SUNLinearSolver SUNLinSol_LapackDense(N_Vector y, SUNMatrix a, SUNContext ctx);
+SUNLinearSolver SUNLinSol_LapackBand(N_Vector y, SUNMatrix a, SUNContext ctx);
+int SUNLinSolSetup(SUNLinearSolver s, SUNMatrix a);
+int SUNLinSolSolve(SUNLinearSolver s, SUNMatrix a, N_Vector x, N_Vector b, sunrealtype tol);
 int SUNLinSolFree(SUNLinearSolver s);
+SUNMatrix SUNMatClone(SUNMatrix a);
+int SUNMatCopy(SUNMatrix a, SUNMatrix b);
+N_Vector N_VClone(N_Vector v);
+SUNNonlinearSolver SUNNonlinSol_FixedPoint(N_Vector y, int m, SUNContext ctx);
+int SUNNonlinSolFree(SUNNonlinearSolver s);
 
 typedef int (*CVRhsFn)(sunrealtype t, N_Vector y, N_Vector ydot, void* data);
 typedef int (*CVRootFn)(sunrealtype t, N_Vector y, sunrealtype* g, void* data);
@@ -62,6 +72,7 @@ int CVodeInit(void* mem, CVRhsFn f, sunrealtype t0, N_Vector y0);
 int CVodeSVtolerances(void* mem, sunrealtype rtol, N_Vector atol);
 int CVodeSetUserData(void* mem, void* data);
 int CVodeSetLinearSolver(void* mem, SUNLinearSolver ls, SUNMatrix a);
+int CVodeSetNonlinearSolver(void* mem, SUNNonlinearSolver nls);
 int CVodeSetJacFn(void* mem, CVLsJacFn jac);
 int CVodeSetMaxNonlinIters(void* mem, int maxcor);
 int CVodeSetMaxConvFails(void* mem, int maxncf);
@@ -80,6 +91,7 @@ int CVode(void* mem, sunrealtype tout, N_Vector yout, sunrealtype* tret, int ita
 int CVodeGetRootInfo(void* mem, int* rootsfound);
 int CVodeGetNumSteps(void* mem, long int* n);
 int CVodeGetNumRhsEvals(void* mem, long int* n);
+int CVodeGetNumLinRhsEvals(void* mem, long int* n);
 int CVodeGetNumJacEvals(void* mem, long int* n);
 int CVodeGetNumLinSolvSetups(void* mem, long int* n);
 int CVodeGetNumErrTestFails(void* mem, long int* n);
@@ -114,6 +126,7 @@ int IDASolve(void* mem, sunrealtype tout, sunrealtype* tret, N_Vector y, N_Vecto
 int IDAGetRootInfo(void* mem, int* rootsfound);
 int IDAGetNumSteps(void* mem, long int* n);
 int IDAGetNumResEvals(void* mem, long int* n);
+int IDAGetNumLinResEvals(void* mem, long int* n);
 int IDAGetNumJacEvals(void* mem, long int* n);
 int IDAGetNumLinSolvSetups(void* mem, long int* n);
 int IDAGetNumErrTestFails(void* mem, long int* n);
@@ -151,12 +164,13 @@ static void ms_fn_free(ms_fn* fn) {
 
 /* ---- one solve ---- */
 typedef struct {
-  int ida, n, linsolver, ml, mu, nnz, ng, nr;
+  int ida, n, linsolver, matrix, ml, mu, nnz, ng, nr; /* matrix: 0 dense, 1 band, 2 sparse */
   SUNContext ctx;
   void* mem;
   N_Vector y, yp, atol, cons;
   SUNMatrix a;
   SUNLinearSolver ls;
+  SUNNonlinearSolver nls;
   ms_fn rhs, jac, lim;
   ms_py_jac py_jac;
   int* colind;
@@ -186,7 +200,7 @@ static int ms_count_call(ms_run* r, double t) {
 /* the Jacobian's non-zeros (compressed columns) into the solver's matrix */
 static int ms_fill(ms_run* r, SUNMatrix J) {
   int j, k;
-  if (r->linsolver == 2) {
+  if (r->matrix == 2) {
     sunindextype* ptr = SUNSparseMatrix_IndexPointers(J);
     sunindextype* idx = SUNSparseMatrix_IndexValues(J);
     double* data = SUNSparseMatrix_Data(J);
@@ -197,8 +211,8 @@ static int ms_fill(ms_run* r, SUNMatrix J) {
   }
   SUNMatZero(J);
   for (j = 0; j < r->n; ++j) {
-    double* col = r->linsolver == 1 ? SUNBandMatrix_Column(J, j) : SUNDenseMatrix_Column(J, j);
-    int shift = r->linsolver == 1 ? j : 0;
+    double* col = r->matrix == 1 ? SUNBandMatrix_Column(J, j) : SUNDenseMatrix_Column(J, j);
+    int shift = r->matrix == 1 ? j : 0;
     for (k = r->colind[j]; k < r->colind[j + 1]; ++k) col[r->row[k] - shift] = r->jnz[k];
   }
   return 0;
@@ -275,7 +289,9 @@ CASADI_SYMBOL_EXPORT int ms_check_index(void) {
 /* opts (doubles): rtol, first_step, max_step, r_floor, nonlinear convergence coefficient (0: default),
    IDA's cj ratio for a new factorisation (0: default).
    iopts (long long): ida, lmm (1 Adams, 2 BDF), linsolver (0 dense, 1 band, 2 sparse), ml, mu, max_order,
-   max_newton, max_conv_fails, jac_every, setup_every, events, constraints, max_calls, threads (SuperLU_MT).
+   max_newton, max_conv_fails, jac_every, setup_every, events, constraints, max_calls, threads (SuperLU_MT),
+   fixed point (CVODE: 1 for fixed-point iterations, no Jacobian and no linear solver; 0 for Newton's),
+   its Anderson acceleration depth.
    Returns the run, or 0 with *err set to the step that failed. */
 CASADI_SYMBOL_EXPORT ms_run* ms_create(const long long* iopts, const double* opts, int n, double t0,
                                        const double* y0, const double* yp0, const double* atol,
@@ -287,7 +303,7 @@ CASADI_SYMBOL_EXPORT ms_run* ms_create(const long long* iopts, const double* opt
   int i, flag = 0, ida = (int) iopts[0];
   *err = 1;
   if (!r) return 0;
-  r->ida = ida; r->n = n; r->linsolver = (int) iopts[2]; r->ml = (int) iopts[3]; r->mu = (int) iopts[4];
+  r->ida = ida; r->n = n; r->linsolver = (int) iopts[2]; r->matrix = r->linsolver % 3 == 2 ? 2 : r->linsolver % 3; r->ml = (int) iopts[3]; r->mu = (int) iopts[4];
   r->nnz = nnz; r->ng = ng; r->nr = nr; r->floor = floor; r->r_floor = opts[3]; r->max_calls = iopts[12];
   r->py_jac = py_jac;
   r->t = t0;
@@ -319,14 +335,21 @@ CASADI_SYMBOL_EXPORT ms_run* ms_create(const long long* iopts, const double* opt
     memcpy(N_VGetArrayPointer(r->yp), yp0, sizeof(double) * n);
   }
   *err = 4;
-  if (r->linsolver == 0) r->a = SUNDenseMatrix(n, n, r->ctx);
-  else if (r->linsolver == 1) r->a = SUNBandMatrix(n, r->mu, r->ml, r->ctx);
+  if (!ida && iopts[14]) {
+    r->nls = SUNNonlinSol_FixedPoint(r->y, (int) iopts[15], r->ctx);
+    if (!r->nls) return r;
+  } else {
+  if (r->matrix == 0) r->a = SUNDenseMatrix(n, n, r->ctx);
+  else if (r->matrix == 1) r->a = SUNBandMatrix(n, r->mu, r->ml, r->ctx);
   else r->a = SUNSparseMatrix(n, n, nnz, 0, r->ctx);
   if (!r->a) return r;
   if (r->linsolver == 0) r->ls = SUNLinSol_Dense(r->y, r->a, r->ctx);
   else if (r->linsolver == 1) r->ls = SUNLinSol_Band(r->y, r->a, r->ctx);
+  else if (r->linsolver == 3) r->ls = SUNLinSol_LapackDense(r->y, r->a, r->ctx);
+  else if (r->linsolver == 4) r->ls = SUNLinSol_LapackBand(r->y, r->a, r->ctx);
   else r->ls = SUNLinSol_SuperLUMT(r->y, r->a, (int) iopts[13], r->ctx);
   if (!r->ls) return r;
+  }
   *err = 5;
   if (ida) {
     r->mem = IDACreate(r->ctx);
@@ -335,7 +358,7 @@ CASADI_SYMBOL_EXPORT ms_run* ms_create(const long long* iopts, const double* opt
     flag |= IDASVtolerances(r->mem, opts[0], r->atol);
     flag |= IDASetUserData(r->mem, r);
     flag |= IDASetLinearSolver(r->mem, r->ls, r->a);
-    flag |= IDASetJacFn(r->mem, ms_ida_jac);
+    if (jac || py_jac) flag |= IDASetJacFn(r->mem, ms_ida_jac); /* else SUNDIALS' difference quotients */
     flag |= IDASetMaxNonlinIters(r->mem, (int) iopts[6]);
     flag |= IDASetMaxConvFails(r->mem, (int) iopts[7]);
     if (opts[4] > 0) flag |= IDASetNonlinConvCoef(r->mem, opts[4]);
@@ -350,8 +373,12 @@ CASADI_SYMBOL_EXPORT ms_run* ms_create(const long long* iopts, const double* opt
     flag |= CVodeInit(r->mem, ms_cv_rhs, t0, r->y);
     flag |= CVodeSVtolerances(r->mem, opts[0], r->atol);
     flag |= CVodeSetUserData(r->mem, r);
-    flag |= CVodeSetLinearSolver(r->mem, r->ls, r->a);
-    flag |= CVodeSetJacFn(r->mem, ms_cv_jac);
+    if (r->nls) {
+      flag |= CVodeSetNonlinearSolver(r->mem, r->nls);
+    } else {
+      flag |= CVodeSetLinearSolver(r->mem, r->ls, r->a);
+      if (jac || py_jac) flag |= CVodeSetJacFn(r->mem, ms_cv_jac); /* else SUNDIALS' difference quotients */
+    }
     flag |= CVodeSetMaxNonlinIters(r->mem, (int) iopts[6]);
     flag |= CVodeSetMaxConvFails(r->mem, (int) iopts[7]);
     if (opts[4] > 0) flag |= CVodeSetNonlinConvCoef(r->mem, opts[4]);
@@ -437,25 +464,74 @@ CASADI_SYMBOL_EXPORT int ms_advance(ms_run* r, double target, long long max_step
 }
 
 /* steps, rhs (or residual) evaluations, Jacobians, linear solver set-ups (factorisations), error-test failures,
-   nonlinear convergence failures, Newton iterations, root-function evaluations, the root found (index, or -1) */
+   nonlinear convergence failures, Newton iterations, root-function evaluations, the root found (index, or -1),
+   one-step calls, right-hand side evaluations for difference-quotient Jacobians */
 CASADI_SYMBOL_EXPORT void ms_stats(ms_run* r, long long* out) {
-  long int v[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+  long int v[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
   int i;
   if (r->ida) {
     IDAGetNumSteps(r->mem, v); IDAGetNumResEvals(r->mem, v + 1); IDAGetNumJacEvals(r->mem, v + 2);
     IDAGetNumLinSolvSetups(r->mem, v + 3); IDAGetNumErrTestFails(r->mem, v + 4);
     IDAGetNumNonlinSolvConvFails(r->mem, v + 5); IDAGetNumNonlinSolvIters(r->mem, v + 6);
     if (r->ng) IDAGetNumGEvals(r->mem, v + 7);
+    if (r->ls) IDAGetNumLinResEvals(r->mem, v + 8);
   } else {
     CVodeGetNumSteps(r->mem, v); CVodeGetNumRhsEvals(r->mem, v + 1); CVodeGetNumJacEvals(r->mem, v + 2);
     CVodeGetNumLinSolvSetups(r->mem, v + 3); CVodeGetNumErrTestFails(r->mem, v + 4);
     CVodeGetNumNonlinSolvConvFails(r->mem, v + 5); CVodeGetNumNonlinSolvIters(r->mem, v + 6);
     if (r->ng) CVodeGetNumGEvals(r->mem, v + 7);
+    if (r->ls) CVodeGetNumLinRhsEvals(r->mem, v + 8);
   }
   for (i = 0; i < 8; ++i) out[i] = v[i];
   out[8] = -1;
   for (i = 0; i < r->ng; ++i) if (r->roots[i]) { out[8] = i; break; }
   out[9] = r->n_steps;
+  out[10] = v[8];
+}
+
+/* The cost of each part of a step, s per call, at the run's current state (for the benchmark; after the run: it
+   uses the solver's linear solver): right-hand side (or residual), Jacobian written into the matrix (-1 for
+   difference quotients or none), copy and factorisation, one solve, the limits. */
+CASADI_SYMBOL_EXPORT int ms_costs(ms_run* r, int reps, double* out) {
+  N_Vector tmp = N_VClone(r->y), x = N_VClone(r->y);
+  SUNMatrix J = r->a ? SUNMatClone(r->a) : 0, A = r->a ? SUNMatClone(r->a) : 0;
+  double* yv = N_VGetArrayPointer(r->y);
+  double* ypv = r->ida ? N_VGetArrayPointer(r->yp) : 0;
+  double start, cj = 1.0;
+  int k, j;
+  for (k = 0; k < 5; ++k) out[k] = -1.0;
+  start = ms_now();
+  for (k = 0; k < reps; ++k) ms_eval(&r->rhs, r->t, yv, ypv, 0, N_VGetArrayPointer(tmp));
+  out[0] = (ms_now() - start) / reps;
+  if (J && (r->jac.f || r->py_jac)) {
+    start = ms_now();
+    for (k = 0; k < reps; ++k) {
+      if (r->ida) ms_ida_jac(r->t, cj, r->y, r->yp, tmp, J, r, 0, 0, 0);
+      else ms_cv_jac(r->t, r->y, tmp, J, r, 0, 0, 0);
+    }
+    out[1] = (ms_now() - start) / reps;
+  } else if (J && r->matrix != 2) { /* a diagonally dominant stand-in: the factorisation's cost depends on the shape */
+    SUNMatZero(J);
+    for (j = 0; j < r->n; ++j) (r->matrix == 1 ? SUNBandMatrix_Column(J, j) : SUNDenseMatrix_Column(J, j) + j)[0] = 1.0;
+  }
+  if (J) {
+    double* b = N_VGetArrayPointer(tmp);
+    for (j = 0; j < r->n; ++j) b[j] = 1.0;
+    start = ms_now();
+    for (k = 0; k < reps; ++k) { SUNMatCopy(J, A); SUNLinSolSetup(r->ls, A); }
+    out[2] = (ms_now() - start) / reps;
+    start = ms_now();
+    for (k = 0; k < reps; ++k) SUNLinSolSolve(r->ls, A, x, tmp, 0.0);
+    out[3] = (ms_now() - start) / reps;
+  }
+  if (r->ng) {
+    start = ms_now();
+    for (k = 0; k < reps; ++k) ms_limits(r, yv, r->g);
+    out[4] = (ms_now() - start) / reps;
+  }
+  if (J) { SUNMatDestroy(J); SUNMatDestroy(A); }
+  N_VDestroy(tmp); N_VDestroy(x);
+  return 0;
 }
 
 CASADI_SYMBOL_EXPORT double ms_event_time(ms_run* r) { return r->t_event; }
@@ -464,6 +540,7 @@ CASADI_SYMBOL_EXPORT void ms_free(ms_run* r) {
   if (!r) return;
   if (r->mem) { if (r->ida) IDAFree(&r->mem); else CVodeFree(&r->mem); }
   if (r->ls) SUNLinSolFree(r->ls);
+  if (r->nls) SUNNonlinSolFree(r->nls);
   if (r->a) SUNMatDestroy(r->a);
   if (r->y) N_VDestroy(r->y);
   if (r->yp) N_VDestroy(r->yp);

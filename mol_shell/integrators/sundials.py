@@ -110,6 +110,10 @@ def _build_pieces(system, kind, jacobian):
     elif jacobian == "vm":
         out["jac"] = buffered(system.jac if kind != "ida" else jac)
         out["residual"] = buffered(funcs[0]) if kind == "ida" else None
+    elif jacobian == "pattern":  # the compiled route's difference quotients: the pattern, and IDA's residual compiled
+        out["jac"] = out["residual"] = None
+        if kind == "ida":
+            out["library"] = CompiledFunctions(funcs[:1])
     else:
         raise ParameterError("jacobian", jacobian, "{compiled, vm}")
     import scipy.sparse as sp
