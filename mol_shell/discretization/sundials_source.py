@@ -181,7 +181,9 @@ typedef struct {
   int* r_idx;
   double r_floor, t, t_event, zero;
   int* roots;
-  long long calls_in_step, max_calls, n_steps;
+  long long calls_in_step, max_calls, n_steps, n_dq;
+  int dq, n_extra;
+  double rtol;
   int too_many_calls;
 } ms_run;
 
@@ -227,6 +229,46 @@ static int ms_limits(ms_run* r, const double* y, double* g) {
   return 0;
 }
 
+/* A banded Jacobian by difference quotients, ml + mu + 1 evaluations (columns j, j + w, j + 2w, ... perturbed
+   together, w = ml + mu + 1): the rows of the last n_extra entries (accumulators of work and dissipation, which
+   depend on every entry but feed back into none) keep their diagonal only, as in the Newton matrix of the exact
+   route; a grouped quotient would add the derivatives of a whole group there. For IDA, x and x' = cj x move
+   together: dF/dx + cj dF/dx'. */
+static int ms_dq_band(ms_run* r, double t, N_Vector yv, N_Vector ypv, double cj, N_Vector f0v, SUNMatrix J,
+                      N_Vector fv, N_Vector yv2, N_Vector ypv2) {
+  const double srur = 1.4901161193847656e-08; /* sqrt of the unit round-off */
+  const double* y = N_VGetArrayPointer(yv);
+  const double* yp = ypv ? N_VGetArrayPointer(ypv) : 0;
+  const double* f0 = N_VGetArrayPointer(f0v);
+  const double* atol = N_VGetArrayPointer(r->atol);
+  double* f = N_VGetArrayPointer(fv);
+  double* y2 = N_VGetArrayPointer(yv2);
+  double* yp2 = ypv2 ? N_VGetArrayPointer(ypv2) : 0;
+  int n = r->n, nm = r->n - r->n_extra, width = r->ml + r->mu + 1, g, j, i;
+  memcpy(y2, y, sizeof(double) * n);
+  if (r->ida) memcpy(yp2, yp, sizeof(double) * n);
+  SUNMatZero(J);
+  for (g = 0; g < width && g < n; ++g) {
+    for (j = g; j < n; j += width) {
+      double inc = srur * fmax(fabs(y[j]), atol[j] / fmax(r->rtol, srur));
+      y2[j] = y[j] + inc;
+      if (r->ida) yp2[j] = yp[j] + cj * inc;
+    }
+    if (ms_eval(&r->rhs, t, y2, yp2, 0, f)) return -1;
+    r->n_dq += 1;
+    for (j = g; j < n; j += width) {
+      double inc = y2[j] - y[j];
+      double* col = SUNBandMatrix_Column(J, j);
+      int lo = j - r->mu > 0 ? j - r->mu : 0, hi = j + r->ml < nm - 1 ? j + r->ml : nm - 1;
+      for (i = lo; i <= hi; ++i) col[i - j] = (f[i] - f0[i]) / inc;
+      if (j >= nm) col[0] = (f[j] - f0[j]) / inc;
+      y2[j] = y[j];
+      if (r->ida) yp2[j] = yp[j];
+    }
+  }
+  return 0;
+}
+
 static int ms_cv_rhs(double t, N_Vector y, N_Vector ydot, void* data) {
   ms_run* r = (ms_run*) data;
   if (ms_count_call(r, t)) return -1;
@@ -236,8 +278,10 @@ static int ms_cv_rhs(double t, N_Vector y, N_Vector ydot, void* data) {
 static int ms_cv_jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void* data, N_Vector t1, N_Vector t2,
                      N_Vector t3) {
   ms_run* r = (ms_run*) data;
-  int flag = r->py_jac ? r->py_jac(t, N_VGetArrayPointer(y), 0, 0.0, r->jnz)
-                       : ms_eval(&r->jac, t, N_VGetArrayPointer(y), 0, 0, r->jnz);
+  int flag;
+  if (r->dq) return ms_dq_band(r, t, y, 0, 0.0, fy, J, t1, t2, 0);
+  flag = r->py_jac ? r->py_jac(t, N_VGetArrayPointer(y), 0, 0.0, r->jnz)
+                   : ms_eval(&r->jac, t, N_VGetArrayPointer(y), 0, 0, r->jnz);
   (void) fy; (void) t1; (void) t2; (void) t3;
   return flag ? -1 : ms_fill(r, J);
 }
@@ -256,8 +300,10 @@ static int ms_ida_res(double t, N_Vector y, N_Vector yp, N_Vector res, void* dat
 static int ms_ida_jac(double t, double cj, N_Vector y, N_Vector yp, N_Vector res, SUNMatrix J, void* data,
                       N_Vector t1, N_Vector t2, N_Vector t3) {
   ms_run* r = (ms_run*) data;
-  int flag = r->py_jac ? r->py_jac(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), cj, r->jnz)
-                       : ms_eval(&r->jac, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), &cj, r->jnz);
+  int flag;
+  if (r->dq) return ms_dq_band(r, t, y, yp, cj, res, J, t1, t2, t3);
+  flag = r->py_jac ? r->py_jac(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), cj, r->jnz)
+                   : ms_eval(&r->jac, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), &cj, r->jnz);
   (void) res; (void) t1; (void) t2; (void) t3;
   return flag ? -1 : ms_fill(r, J);
 }
@@ -291,7 +337,8 @@ CASADI_SYMBOL_EXPORT int ms_check_index(void) {
    iopts (long long): ida, lmm (1 Adams, 2 BDF), linsolver (0 dense, 1 band, 2 sparse), ml, mu, max_order,
    max_newton, max_conv_fails, jac_every, setup_every, events, constraints, max_calls, threads (SuperLU_MT),
    fixed point (CVODE: 1 for fixed-point iterations, no Jacobian and no linear solver; 0 for Newton's),
-   its Anderson acceleration depth.
+   its Anderson acceleration depth, the number of accumulators at the end of the state (n_extra).
+   Neither jac nor py_jac: difference quotients, ours for a banded matrix (ms_dq_band), SUNDIALS' for a dense one.
    Returns the run, or 0 with *err set to the step that failed. */
 CASADI_SYMBOL_EXPORT ms_run* ms_create(const long long* iopts, const double* opts, int n, double t0,
                                        const double* y0, const double* yp0, const double* atol,
@@ -307,6 +354,9 @@ CASADI_SYMBOL_EXPORT ms_run* ms_create(const long long* iopts, const double* opt
   r->nnz = nnz; r->ng = ng; r->nr = nr; r->floor = floor; r->r_floor = opts[3]; r->max_calls = iopts[12];
   r->py_jac = py_jac;
   r->t = t0;
+  r->rtol = opts[0];
+  r->n_extra = (int) iopts[16];
+  r->dq = !jac && !py_jac && r->matrix == 1;
   r->colind = (int*) malloc(sizeof(int) * (n + 1));
   r->row = (int*) malloc(sizeof(int) * (nnz + 1));
   r->jnz = (double*) calloc(nnz + 1, sizeof(double));
@@ -358,7 +408,7 @@ CASADI_SYMBOL_EXPORT ms_run* ms_create(const long long* iopts, const double* opt
     flag |= IDASVtolerances(r->mem, opts[0], r->atol);
     flag |= IDASetUserData(r->mem, r);
     flag |= IDASetLinearSolver(r->mem, r->ls, r->a);
-    if (jac || py_jac) flag |= IDASetJacFn(r->mem, ms_ida_jac); /* else SUNDIALS' difference quotients */
+    if (jac || py_jac || r->dq) flag |= IDASetJacFn(r->mem, ms_ida_jac); /* else SUNDIALS' difference quotients */
     flag |= IDASetMaxNonlinIters(r->mem, (int) iopts[6]);
     flag |= IDASetMaxConvFails(r->mem, (int) iopts[7]);
     if (opts[4] > 0) flag |= IDASetNonlinConvCoef(r->mem, opts[4]);
@@ -377,7 +427,7 @@ CASADI_SYMBOL_EXPORT ms_run* ms_create(const long long* iopts, const double* opt
       flag |= CVodeSetNonlinearSolver(r->mem, r->nls);
     } else {
       flag |= CVodeSetLinearSolver(r->mem, r->ls, r->a);
-      if (jac || py_jac) flag |= CVodeSetJacFn(r->mem, ms_cv_jac); /* else SUNDIALS' difference quotients */
+      if (jac || py_jac || r->dq) flag |= CVodeSetJacFn(r->mem, ms_cv_jac); /* else SUNDIALS' difference quotients */
     }
     flag |= CVodeSetMaxNonlinIters(r->mem, (int) iopts[6]);
     flag |= CVodeSetMaxConvFails(r->mem, (int) iopts[7]);
@@ -486,7 +536,7 @@ CASADI_SYMBOL_EXPORT void ms_stats(ms_run* r, long long* out) {
   out[8] = -1;
   for (i = 0; i < r->ng; ++i) if (r->roots[i]) { out[8] = i; break; }
   out[9] = r->n_steps;
-  out[10] = v[8];
+  out[10] = v[8] + r->n_dq;
 }
 
 /* The cost of each part of a step, s per call, at the run's current state (for the benchmark; after the run: it
@@ -503,13 +553,19 @@ CASADI_SYMBOL_EXPORT int ms_costs(ms_run* r, int reps, double* out) {
   start = ms_now();
   for (k = 0; k < reps; ++k) ms_eval(&r->rhs, r->t, yv, ypv, 0, N_VGetArrayPointer(tmp));
   out[0] = (ms_now() - start) / reps;
-  if (J && (r->jac.f || r->py_jac)) {
+  if (J && (r->jac.f || r->py_jac || r->dq)) {
+    long long before = r->n_dq;
+    N_Vector y2 = N_VClone(r->y), yp2 = N_VClone(r->y);
+    ms_eval(&r->rhs, r->t, yv, ypv, 0, N_VGetArrayPointer(x)); /* f0 of the difference quotients */
     start = ms_now();
     for (k = 0; k < reps; ++k) {
-      if (r->ida) ms_ida_jac(r->t, cj, r->y, r->yp, tmp, J, r, 0, 0, 0);
+      if (r->dq) ms_dq_band(r, r->t, r->y, r->ida ? r->yp : 0, cj, x, J, tmp, y2, yp2);
+      else if (r->ida) ms_ida_jac(r->t, cj, r->y, r->yp, tmp, J, r, 0, 0, 0);
       else ms_cv_jac(r->t, r->y, tmp, J, r, 0, 0, 0);
     }
     out[1] = (ms_now() - start) / reps;
+    r->n_dq = before;
+    N_VDestroy(y2); N_VDestroy(yp2);
   } else if (J && r->matrix != 2) { /* a diagonally dominant stand-in: the factorisation's cost depends on the shape */
     SUNMatZero(J);
     for (j = 0; j < r->n; ++j) (r->matrix == 1 ? SUNBandMatrix_Column(J, j) : SUNDenseMatrix_Column(J, j) + j)[0] = 1.0;

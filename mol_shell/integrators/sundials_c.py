@@ -269,7 +269,8 @@ class _CompiledRun:
         ml, mu = parts["bw"]
         iopts = [int(self.ida), lmm, drv.LINSOLVERS.get(linsolver, 0), ml, mu, int(max_order), int(max_newton), 10,
                  jac_every, setup_every, int(limits is not None), int(bool(method.constraints)),
-                 sundials._Run.MAX_CALLS_PER_STEP, 1, int(fixed_point), int(getattr(method, "anderson", 0))]
+                 sundials._Run.MAX_CALLS_PER_STEP, 1, int(fixed_point), int(getattr(method, "anderson", 0)),
+                 int(system.n_extra)]
         opts = [float(method.rtol), float(method.first_step), float(method.max_step), r_floor, coef, cj_ratio]
         atol = method.atol_vector(system, self.y0, momenta=not self.ida)
         self.py_error = None
