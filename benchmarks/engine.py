@@ -25,6 +25,7 @@ import json
 import os
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -46,6 +47,7 @@ for k in range(repeats + 1):  # the first: build, kernels from the cache, driver
     if k or not repeats:
         best = min(best, float(ds.attrs["wall_time_s"]))
 final = {f: np.asarray(ds[f].values)[-1].tolist() for f in ("r", "theta", "chi")}
+final["module"] = mol_shell.__file__
 keys = ("n_steps", "n_rhs", "n_jac", "n_setups", "n_rhs_jacobian", "status")
 print(json.dumps({"wall_s": best, "final": final, **{k: (ds.attrs[k] if isinstance(ds.attrs[k], str) else
                                                         int(ds.attrs[k])) for k in keys if k in ds.attrs}}))
@@ -94,14 +96,16 @@ def load():
 
 def probe(tree, code, *args, timeout=3600):
     env = dict(os.environ, PYTHONPATH=str(tree), OMP_NUM_THREADS="1")
+    # run outside both trees: ``python -c`` puts the working directory first on sys.path, before PYTHONPATH
     out = subprocess.run([sys.executable, "-c", code, *map(str, args)], env=env, capture_output=True, text=True,
-                         timeout=timeout)
+                         timeout=timeout, cwd=tempfile.gettempdir())
     if out.returncode:
         raise RuntimeError(f"probe failed in {tree}: {out.stderr[-1500:]}")
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
 def error(final, ref):
+    """Largest over r, theta, chi of max |u - u_ref| / max |u_ref|."""
     return max(float(np.max(np.abs(np.subtract(final[f], ref[f])))) / float(np.max(np.abs(ref[f])))
                for f in ("r", "theta", "chi"))
 
@@ -125,6 +129,9 @@ def ladders(configs, scene, n, t_end, rtols, rounds, repeats, ref):
                 key = (label, rtol)
                 if key not in found or r["wall_s"] < found[key]["wall_s"]:
                     found[key] = r
+    for label, tree, _, _ in configs:
+        module = next(r["final"]["module"] for (lb, _), r in found.items() if lb == label)
+        print(f"{label}: {module}")
     table = {}
     for (label, rtol), r in found.items():
         table.setdefault(label, []).append((rtol, error(r["final"], ref), r["wall_s"], r))
