@@ -223,7 +223,7 @@ def target_overhead():
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--baseline", required=True, help="a checkout of release 0.5.0")
-    parser.add_argument("--targets", default="paper,viscous,overhead")
+    parser.add_argument("--targets", default="paper,viscous,overhead", help="any of paper, viscous, overhead, xlarge")
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--repeats", type=int, default=2, help="timed runs in each process, after one warm-up")
     parser.add_argument("--n-viscous", type=int, default=640)
@@ -241,7 +241,7 @@ def main(argv=None):
         out["paper"] = target_paper(args.baseline, args.rounds, args.repeats)
     if "viscous" in targets:
         out["viscous"] = target_viscous(args.baseline, args.rounds, args.repeats, args.n_viscous)
-    if args.xlarge:
+    if args.xlarge or "xlarge" in targets:
         out["viscous_xlarge"] = target_xlarge(args.baseline)
     if "overhead" in targets:
         out["overhead"] = target_overhead()
