@@ -88,9 +88,10 @@ class _Compiled:
         return "dense" if size <= 100 else "band"
 
     def jacobian_kind(self, size):
-        """``"compiled"``, ``"vm"`` or ``"dq"``: ``"auto"`` is SUNDIALS' difference quotients for a dense or banded
-        matrix (measured cheaper than the compiled exact Jacobian: ml + mu + 1 right-hand sides against ~120 at
-        n = 640, ~30 against ~120 at n = 40, and nothing to compile), the compiled exact one for a sparse matrix."""
+        """``"compiled"``, ``"vm"`` or ``"dq"``: ``"auto"`` is difference quotients for a dense or banded matrix (the
+        driver's own for a banded one, SUNDIALS' for a dense one; measured cheaper than the compiled exact Jacobian:
+        ml + mu + 1, about 30, right-hand sides against about 120 at n = 40 and 640, and nothing to compile), the
+        compiled exact one for a sparse matrix."""
         if self.jacobian != "auto":
             return self.jacobian
         return "compiled" if self.choose_linsolver(size) == "sparse" else "dq"
