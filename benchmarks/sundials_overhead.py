@@ -1,4 +1,5 @@
-"""Benchmark: where the time of a SUNDIALS run goes, against one compiled RHS evaluation.
+"""Benchmark: where the time of a SUNDIALS run through scikit-sundae's Python loop goes (the ``sksundae-*`` routes,
+release 0.5.0's), against one compiled RHS evaluation. The compiled routes: benchmarks/engine.py.
 
 Paper scene (n = 40) to t = 0.143 s at rtol = 1e-6 (atol = 1e-9). For CVODE-BDF, CVODE-Adams and
 IDA it times the callbacks SUNDIALS makes into Python (right-hand side or residual, Jacobian,
@@ -92,7 +93,7 @@ def main():
     print("| integrator | stepping | wall [s] | steps | RHS evals | Jacobian evals | us/step | in RHS | in Jacobian "
           "| in events | SUNDIALS + wrappers | rest per step / one RHS |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for name in ("cvode-adams", "cvode-bdf", "ida"):
+    for name in ("sksundae-cvode-adams", "sksundae-cvode-bdf", "sksundae-ida"):  # scikit-sundae's Python loop
         method = INTEGRATORS[name](rtol=1e-6, atol=1e-9)
         counted = 0
         for stepping in ("onestep", "normal"):

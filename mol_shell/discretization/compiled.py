@@ -193,16 +193,18 @@ def machine_key(flags=CFLAGS):
     return text
 
 
-def compile_cached(source, prefix, flags=CFLAGS, what=None):
+def compile_cached(source, prefix, flags=CFLAGS, what=None, link=()):
     """Path of a shared object built from C ``source`` with gcc ``flags``, cached on disk by hash.
 
     Concurrent processes that need the same object (the workers of a study) wait on a lock file for the
     first one's build instead of compiling it again. gcc writes into a private temporary directory and the
     library is renamed onto its cache name (:func:`mol_shell._core.atomic.atomic_path`), so a process that does
     not lock never loads a half-written file. Each gcc build appends a line (object, pid, seconds) to
-    ``builds.log`` in the cache: how a study shows that no case recompiled a kernel.
+    ``builds.log`` in the cache: how a study shows that no case recompiled a kernel. ``link``: libraries by full
+    path (and linker flags) after the source; part of the key, so a library of another version gets another object.
     """
-    key = hashlib.sha256((source + " ".join(flags) + ca.__version__ + machine_key(flags)).encode()).hexdigest()[:20]
+    key = hashlib.sha256((source + " ".join(flags) + " ".join(link) + ca.__version__ + machine_key(flags)).encode()
+                         ).hexdigest()[:20]
     lib = cache_dir() / f"{prefix}_{key}.so"
     if lib.exists():
         return lib
@@ -219,26 +221,26 @@ def compile_cached(source, prefix, flags=CFLAGS, what=None):
                 src = Path(tmp, f"{prefix}.c")
                 src.write_text(source)
                 with atomic_path(lib) as out:
-                    run_compiler(["gcc", *flags, str(src), "-o", str(out), "-lm"], what or f"the {prefix} kernels",
+                    run_compiler(["gcc", *flags, str(src), "-o", str(out), *link, "-lm"], what or f"the {prefix} kernels",
                                  len(source), flags)
             with open(cache_dir() / "builds.log", "a") as log:
                 log.write(f"{lib.name} {os.getpid()} {time.perf_counter() - start:.2f}\n")
     return lib
 
 
-def load_cached(source, prefix, flags, load, what=None):
+def load_cached(source, prefix, flags, load, what=None, link=()):
     """``load(path)`` of the cached library of ``source``; a cached file that does not load is rebuilt once.
 
     A library left damaged in the cache (a disk error, a copy cut short, a file of an older
     version written in place) fails in ``dlopen``; it is removed and compiled again.
     """
-    lib = compile_cached(source, prefix, flags, what)
+    lib = compile_cached(source, prefix, flags, what, link)
     try:
         return lib, load(lib)
     except (OSError, RuntimeError):
         with contextlib.suppress(OSError):
             lib.unlink()
-        lib = compile_cached(source, prefix, flags, what)
+        lib = compile_cached(source, prefix, flags, what, link)
         return lib, load(lib)
 
 

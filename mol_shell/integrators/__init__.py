@@ -3,9 +3,12 @@
 from mol_shell.integrators.base import Monitor, Trajectory
 from mol_shell.integrators.explicit import EXPLICIT
 from mol_shell.integrators.leapfrog import Leapfrog
-from mol_shell.integrators.sundials import CVODEBDF, IDA, CVODEAdams
+from mol_shell.integrators import sundials
+from mol_shell.integrators.sundials_c import CVODEBDF, IDA, CVODEAdams
 
-INTEGRATORS = {cls.name: cls for cls in (Leapfrog, CVODEBDF, CVODEAdams, IDA)}
+# cvode-bdf, cvode-adams, ida: the loop in compiled C; sksundae-*: scikit-sundae's Python loop (release 0.5.0's)
+INTEGRATORS = {cls.name: cls for cls in (Leapfrog, CVODEBDF, CVODEAdams, IDA, sundials.CVODEBDF,
+                                         sundials.CVODEAdams, sundials.IDA)}
 INTEGRATORS.update(EXPLICIT)
 
 try:  # the comparison's peers (scipy, CasADi's SUNDIALS plugins)

@@ -1,4 +1,9 @@
-"""SUNDIALS CVODE (BDF and Adams) and IDA through scikit-sundae, fed by the CasADi graphs.
+"""SUNDIALS CVODE (BDF and Adams) and IDA through scikit-sundae's Python loop, fed by the CasADi graphs.
+
+These are the routes of release 0.5.0 under the names ``sksundae-cvode-bdf``, ``sksundae-cvode-adams`` and
+``sksundae-ida``: every right-hand side, Jacobian and event evaluation is a Python call. The names ``cvode-bdf``,
+``cvode-adams`` and ``ida`` run the same solvers with the loop in compiled code
+(:mod:`mol_shell.integrators.sundials_c`), and fall back to these where that cannot be built.
 
 * CVODE integrates the Hamiltonian ODE ``y_t = f(y)`` of :class:`~mol_shell.discretization.system.ShellSystem`;
   IDA the linearly implicit residual of :class:`~mol_shell.discretization.dae.ShellDAE` in ``x = (q, v)``
@@ -99,11 +104,16 @@ def _build_pieces(system, kind, jacobian):
     jac = funcs[-1]
     if jacobian == "compiled":
         lib = CompiledFunctions(funcs)
+        out["library"] = lib  # the compiled route calls its C functions directly
         out["jac"] = lib.evaluator(jac.name())
         out["residual"] = lib.evaluator(funcs[0].name()) if kind == "ida" else None
     elif jacobian == "vm":
         out["jac"] = buffered(system.jac if kind != "ida" else jac)
         out["residual"] = buffered(funcs[0]) if kind == "ida" else None
+    elif jacobian == "pattern":  # the compiled route's difference quotients: the pattern, and IDA's residual compiled
+        out["jac"] = out["residual"] = None
+        if kind == "ida":
+            out["library"] = CompiledFunctions(funcs[:1])
     else:
         raise ParameterError("jacobian", jacobian, "{compiled, vm}")
     import scipy.sparse as sp
@@ -113,6 +123,7 @@ def _build_pieces(system, kind, jacobian):
     out["pattern"] = sp.csc_matrix((np.ones(len(rows)), (rows, cols)), shape=pattern.shape)
     out["rows"], out["cols"] = rows, cols
     out["bw"] = (int(pattern.bw_lower()), int(pattern.bw_upper()))
+    out["sparsity"] = pattern
     return out
 
 
@@ -198,9 +209,9 @@ class _Sundials(Tolerances):
 
 @dataclass(frozen=True)
 class CVODEBDF(_Sundials):
-    """CVODE, variable-order BDF (1-5) with Newton iterations on the exact Jacobian."""
+    """CVODE, variable-order BDF (1-5) with Newton iterations on the exact Jacobian (scikit-sundae's Python loop)."""
 
-    name = "cvode-bdf"
+    name = "sksundae-cvode-bdf"
     method = "BDF"
 
     def make_solver(self, system, parts, y0, run):
@@ -213,17 +224,17 @@ class CVODEBDF(_Sundials):
 
 @dataclass(frozen=True)
 class CVODEAdams(CVODEBDF):
-    """CVODE, variable-order Adams-Moulton (1-12) with Newton iterations on the exact Jacobian."""
+    """CVODE, variable-order Adams-Moulton (1-12) with Newton iterations on the exact Jacobian (Python loop)."""
 
-    name = "cvode-adams"
+    name = "sksundae-cvode-adams"
     method = "Adams"
 
 
 @dataclass(frozen=True)
 class IDA(_Sundials):
-    """IDA, variable-order BDF on the linearly implicit residual (no inverse of the mass matrix)."""
+    """IDA, variable-order BDF on the linearly implicit residual (no inverse of the mass matrix; Python loop)."""
 
-    name = "ida"
+    name = "sksundae-ida"
     kind = "ida"
 
     def make_solver(self, system, parts, y0, run):
@@ -359,7 +370,7 @@ class _Run:
         return {
             "n_steps": int(self.n_steps), "n_rhs": int(res.nfev), "n_jac": int(res.njev),
             "n_failed_steps": int(self.failures),
-            "linsolver": method.choose_linsolver(self.system.size),
+            "linsolver": method.choose_linsolver(self.system.size), "route": "scikit-sundae",
             "jacobian_build_s": float(self.parts.get("build_time_s", 0.0)),
         }
 

@@ -287,9 +287,11 @@ def test_shell_solves_with_constraints_never_fail_on_a_poisoned_heap():
 
     Every one completes, and the final states are bit-identical (spread 0.0: the same arithmetic
     each time, no stray values in the constraints vector). Measured: 0 of 100 failed, spread 0.0,
-    both integrators (cvode-adams builds its solver by the same code as cvode-bdf). ~10 s.
+    both integrators (cvode-adams builds its solver by the same code as cvode-bdf). ~10 s. The compiled routes
+    (their own constraints vector, zero-filled in C) are held to the same.
     """
-    assert _shell_harness("full", 100, ("cvode-bdf", "ida")) == {"cvode-bdf": (0, 0.0), "ida": (0, 0.0)}
+    names = ("sksundae-cvode-bdf", "sksundae-ida", "cvode-bdf", "ida")
+    assert _shell_harness("full", 100, names) == {name: (0, 0.0) for name in names}
 
 
 @pytest.mark.timeout(60)
@@ -297,5 +299,5 @@ def test_shell_solves_with_constraints_never_fail_on_a_poisoned_heap():
 def test_shell_harness_detects_a_partial_constraint_list():
     """The same harness with only the r entries listed (what the defect needs): every solve fails
     ("Illegal values in constraints vector"; measured 10 of 10 for both), so it can see the defect."""
-    result = _shell_harness("partial", 10, ("cvode-bdf", "ida"))
-    assert {name: failures for name, (failures, _) in result.items()} == {"cvode-bdf": 10, "ida": 10}
+    result = _shell_harness("partial", 10, ("sksundae-cvode-bdf", "sksundae-ida"))  # the scikit-sundae route's defect
+    assert {name: failures for name, (failures, _) in result.items()} == {"sksundae-cvode-bdf": 10, "sksundae-ida": 10}

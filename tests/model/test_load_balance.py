@@ -91,7 +91,7 @@ def test_leapfrog_balance_is_second_order_in_dt():
 @pytest.mark.parametrize("integrator", ["cvode-bdf", "ida"])
 def test_adaptive_balance_falls_with_the_tolerance(integrator):
     """CVODE-BDF and IDA at ``(rtol, atol) = (1e-6, 1e-9)`` and ``(1e-9, 1e-12)``: the balance error falls with the
-    tolerance (by more than 30x over the three decades), stays below ``rtol`` itself, and the tight runs agree with
+    tolerance (by more than 10x over the three decades), stays below ``rtol`` itself, and the tight runs agree with
     leap-frog's ``work`` and ``dissipated`` at ``dt = 1e-6`` within leap-frog's own ``O(dt^2)`` (1e-7 relative;
     measured 2.8e-9 and 5.5e-11 for CVODE, 1.8e-9 and 5.0e-10 for IDA).
 
@@ -99,13 +99,15 @@ def test_adaptive_balance_falls_with_the_tolerance(integrator):
     accumulators' absolute tolerance stays at ``1e-9 x`` the energy of a unit strain (5e-3 J here), and IDA's
     error at ``rtol = 1e-9`` rises instead (1.6e-9 against 4.5e-10 at 1e-6: a 6.7e-8 J step where the pressure
     ramp ends at 0.01 s, a kink the integrator steps across). Measured (loose, tight): CVODE-BDF 8.3e-10,
-    2.8e-12; IDA 4.5e-10, 9.4e-13.
+    2.8e-12; IDA 4.5e-10, 9.4e-13 (0.5.0). The loose error is the lucky one: on 0.6.0 scikit-sundae's IDA gives
+    1.5e-10, 3.9e-12 (37x), the compiled IDA with its difference-quotient Jacobian 7.7e-11, 3.7e-12 (21x), with a
+    dense one 8.3e-10, 4.3e-12 (194x); CVODE-BDF 7.5e-9, 5.5e-13. Hence 10x, not a ratio near one of these.
     """
     loose = run(integrator, rtol=1e-6, atol=1e-9)
     tight = run(integrator, rtol=1e-9, atol=1e-12)
     e_loose, e_tight = loose.attrs["energy_balance_error"], tight.attrs["energy_balance_error"]
     assert e_loose < 1e-6 and e_tight < 1e-9
-    assert e_tight < e_loose / 30, (e_loose, e_tight)
+    assert e_tight < e_loose / 10, (e_loose, e_tight)
     reference = run("leapfrog", dt=1e-6)
     for name in ("work", "dissipated"):
         assert float(tight[name][-1]) == pytest.approx(float(reference[name][-1]), rel=1e-7)
