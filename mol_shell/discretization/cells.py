@@ -18,6 +18,7 @@ import numpy as np
 
 from mol_shell._core.constants import NF
 from mol_shell._core.errors import ParameterError
+from mol_shell.model.fibres import fibre_thickness_energy
 from mol_shell.model.hyperelastic import law_thickness_energy
 from mol_shell.model.kinematics import delta
 from mol_shell.model.material import (
@@ -63,7 +64,15 @@ class CellKernels:
     Lame pair ``lam, mu`` and thickness moments), else the law integrated point by point in every kernel.
     """
 
-    law = law_params = None
+    law = law_params = fibres = None
+
+    def _fibre_energy(self, samples, factors, beta2_0, trigs=None):
+        """The fibres' stored energy of a cell (:mod:`mol_shell.model.fibres`), 0 without fibres (not in the graph)."""
+        if self.fibres is None:
+            return 0.0
+        trigs = trigs or [None] * len(samples)
+        return sum(fibre_thickness_energy(e, self.fibres, factors, beta2_0, trig)
+                   for e, trig in zip(samples, trigs)) / len(samples)
 
     def _cell_data(self):
         """Per-cell kernel data (columns): ``(j1, j3, vol)`` at each thickness point, then ``beta2_0`` if curved.
@@ -125,12 +134,13 @@ class CellKernels:
         """
         factors, beta2_0, moments = self._factors_and_moments(data)
         samples = self.cell_samples(ql, qr)
+        fibres = self._fibre_energy(samples, factors, beta2_0)
         if self.law is not None:  # any other law: per thickness point in both forms
             return sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0)
-                       for e in samples) / len(samples)
+                       for e in samples) / len(samples) + fibres
         if self.reference_kernel if reference is None else reference:
-            return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
-        return sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) for e in samples) / len(samples)
+            return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples) + fibres
+        return sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) for e in samples) / len(samples) + fibres
 
     @property
     def samples_per_cell(self):
@@ -172,7 +182,8 @@ class CellKernels:
         At n = 10,240 the full table is 2.8 MB, more than the cache: passing only these rows, once for a uniform
         meridian, keeps a leap-frog step's data in cache.
         """
-        rows = self.cell_data[0 if self.law is not None else 3 * self.thickness.n_quad:, :]  # a law: every row
+        per_point = self.law is not None or self.fibres is not None
+        rows = self.cell_data[0 if per_point else 3 * self.thickness.n_quad:, :]  # a law or fibres: every row
         return rows[:, :1] if np.all(rows == rows[:, :1]) else rows
 
     def cell_forces_shared_kernel(self):
@@ -191,11 +202,17 @@ class CellKernels:
             factors, beta2_0, _ = self._factors_and_moments(geo)
             energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig)
                          for e, trig in zip(samples, trigs)) / len(samples)
+        elif self.fibres is not None:  # SVK's moments, then the fibres point by point
+            factors, beta2_0, moments = self._factors_and_moments(geo)
+            energy = sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0, trig)
+                         for e, trig in zip(samples, trigs)) / len(samples)
         else:
             beta2_0 = geo[0] if self.curved else 0.0
             moments = [geo[k] for k in range(int(self.curved), geo.numel())]
             energy = sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0, trig)
                          for e, trig in zip(samples, trigs)) / len(samples)
+        if self.fibres is not None:
+            energy = energy + self._fibre_energy(samples, factors, beta2_0, trigs)
         forces = [ca.gradient(energy, q) + trig_chain(t, ca.gradient(energy, t)) for q, t in ((ql, tl), (qr, tr))]
         return ca.Function("cell", [ql, qr, tl, tr, geo], ca.cse(forces), self.KERNEL_OPTIONS)
 

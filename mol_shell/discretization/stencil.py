@@ -81,6 +81,7 @@ def unsupported_reason(system):
     checks = [
         (system.reference_kernel, "the reference kernel"),
         (system.law is not None, f"material = {system.scene.material}"),
+        (system.fibres is not None, "fibres"),
         (system.n_extra > 0 or bool(system.drives), "loads or driven edges"),
         (system.viscous, "viscosity"),
         (bool(system.ties), "a pole"),

@@ -55,6 +55,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell.discretization.cells import BETA2_ZERO, CellKernels, trig_chain  # noqa: F401  (BETA2_ZERO: where it is defined)
 from mol_shell.discretization.loading import check_end_loads, load_terms
 from mol_shell.model.edges import driven_node_kernel, driven_rates, free_rates, imposed_mask, resolve_edges, tied_chi
+from mol_shell.model.fibres import scene_fibres
 from mol_shell.model.geometry import node_inertias
 from mol_shell.model.kinematics import FIELDS as FIELD_NAMES
 from mol_shell.model.kinematics import kinetic_energy_density
@@ -114,6 +115,7 @@ class ShellSystem(CellKernels):
         self.edges = resolve_edges(getattr(scene, "end1", None), getattr(scene, "end2", None), self.meridian.poles)
         self.lam, self.mu = small_strain_lame(scene)  # the SVK kernels' pair; scales for the other laws
         self.law, self.law_params = law_parameters(scene)
+        self.fibres = scene_fibres(scene)  # None without fibres: nothing of them in the graph
         self.eta_lambda, self.eta_mu = viscosities(scene)
         self.viscous = scene.eta_lambda > 0 or scene.eta_mu > 0
         zeta1 = scene.zeta1_used()

@@ -21,9 +21,10 @@ from dataclasses import dataclass
 
 import casadi as ca
 
+from mol_shell.model.fibres import fibre_thickness_energy, scene_fibres
 from mol_shell.model.hyperelastic import NEWTON_STEPS, determinant, invariants, law_shell_energy, with_thickness
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
-from mol_shell.model.material import condensed, effective_lame, lame, shell_energy
+from mol_shell.model.material import condensed, effective_lame, lame, quadrature_factors, shell_energy
 
 #: thickness treatments (:mod:`mol_shell.model.hyperelastic`)
 TREATMENTS = ("director", "plane-stress", "incompressible")
@@ -152,9 +153,15 @@ def viscosities(scene):
 
 
 def scene_shell_energy(scene, strains, thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0, beta2_0=0.0):
-    """Stored energy per unit reference area of the scene's material (SVK's own route or the law's)."""
+    """Stored energy per unit reference area of the scene's material (SVK's own route or the law's), fibres included."""
     law, params = law_parameters(scene)
     if law is None:
         lam, mu = effective_lame(scene.E, scene.nu, scene.material)
-        return shell_energy(strains, lam, mu, thickness, r0, theta0, theta0_s, beta1_0, beta2_0)
-    return law_shell_energy(strains, law, params, thickness, r0, theta0, theta0_s, beta1_0, beta2_0)
+        energy = shell_energy(strains, lam, mu, thickness, r0, theta0, theta0_s, beta1_0, beta2_0)
+    else:
+        energy = law_shell_energy(strains, law, params, thickness, r0, theta0, theta0_s, beta1_0, beta2_0)
+    fibres = scene_fibres(scene)
+    if fibres is None:
+        return energy
+    factors = quadrature_factors(thickness, r0, theta0, theta0_s, beta1_0)
+    return energy + fibre_thickness_energy(strains, fibres, factors, beta2_0) / r0

@@ -364,6 +364,9 @@ class Evaluator:
 def _material(attrs):
     """Condensed Lame constants, viscosities and the plane-stress flag from a run's attrs."""
     material = str(attrs.get("material", "svk"))
+    if float(attrs.get("fibre_E", 0.0)) > 0:  # the fibres' stress is not in SVK's: refuse rather than leave it out
+        raise ParameterError("fibre_E", float(attrs["fibre_E"]), "0",
+                             hint="stresses and resultants are computed for walls without fibres only so far")
     if material not in SVK_MATERIALS:  # its stresses are not SVK's: refuse rather than give those
         raise ParameterError("material", material, Choice(tuple(SVK_MATERIALS)),
                              hint="stresses and resultants are computed for the SVK laws only so far")
@@ -441,6 +444,10 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     if limit is not None and material not in SVK_MATERIALS:  # after a run: say so; asked for: _material refuses
         out = ds.copy()
         out.attrs["stresses"] = f"skipped: not computed for material = {material} (the SVK laws only so far)"
+        return out
+    if limit is not None and float(ds.attrs.get("fibre_E", 0.0)) > 0:
+        out = ds.copy()
+        out.attrs["stresses"] = "skipped: not computed for a wall with fibres (fibre_E > 0) so far"
         return out
     if limit is not None and samples > limit:
         out = ds.copy()

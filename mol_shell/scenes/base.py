@@ -25,7 +25,8 @@ from mol_shell.model.material import centroidal_offset
 UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
     "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
-    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "c10": "Pa", "c01": "Pa", "dR": "m", "a": "m", "b": "m",
+    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "c10": "Pa", "c01": "Pa",
+    "fibre_E": "Pa", "fibre_angle": "rad", "fibre_families": "1", "fibre_compression": "1", "dR": "m", "a": "m", "b": "m",
     "alpha1": "rad", "alpha2": "rad", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
     "points": "1", "pressure": "Pa", "gravity": "m s-2", "drag": "N s m-3", "end1_force": "N", "end2_force": "N",
     "end1_torque": "N m", "end2_torque": "N m", "end1_spin": "rad s-1", "end2_spin": "rad s-1",
@@ -41,6 +42,9 @@ DESCRIPTIONS = {
     "zeta1": "lower face of the thickness interval from the base surface", "eta_lambda": "Kelvin-Voigt viscosity eta_lambda",
     "eta_mu": "Kelvin-Voigt viscosity eta_mu", "material": "material law",
     "c10": "Mooney-Rivlin constant c10 (material = mooney-rivlin)", "c01": "Mooney-Rivlin constant c01 (material = mooney-rivlin)",
+    "fibre_E": "fibre modulus (0: no fibres)",
+    "fibre_angle": "fibre angle from the meridian towards +phi", "fibre_families": "fibre families: 1 (helix) or 2 (+-angle)",
+    "fibre_compression": "whether fibres carry compression (false: tension only)",
     "dR": "amplitude of the initial radius variation",
     "dt": "leap-frog time step", "rtol": "relative tolerance", "atol": "absolute tolerance (m or rad per field)",
     "max_step": "largest step of the adaptive integrator",
@@ -140,6 +144,10 @@ class ShellScene:
     c10, c01 : float
         Mooney-Rivlin constants, Pa (``W = c10 (I1 - 3) + c01 (I2 - 3)``; ``c10 > 0``, ``c01 >= 0``); read by
         ``material = "mooney-rivlin"`` only.
+    fibre_E, fibre_angle, fibre_families, fibre_compression : float, float, int, bool
+        Fibre reinforcement on the law (:mod:`mol_shell.model.fibres`): modulus, Pa (``>= 0``; 0, the default, is
+        no fibres and nothing of them in the graph); angle, rad, from the meridian towards ``+phi``; 1 family
+        (a helix: stretch couples with twist) or 2 (``+-angle``, balanced); ``False``: tension only.
     end1, end2 : str or None
         Edge conditions at ``s = 0`` and ``s = L``: ``magnet``, ``clamped``, ``pinned``, ``free``
         (:mod:`mol_shell.model.edges`); ``None`` (``auto``): a pole on the axis, ``magnet`` elsewhere.
@@ -183,6 +191,10 @@ class ShellScene:
     material: str = "svk"
     c10: float = 1.5e5
     c01: float = 0.0
+    fibre_E: float = 0.0
+    fibre_angle: float = 0.0
+    fibre_families: int = 1
+    fibre_compression: bool = True
     end1: str | None = None
     end2: str | None = None
     pressure: float = 0.0
@@ -238,6 +250,7 @@ class ShellScene:
                    "stretch is condensed by 6 Newton steps, checked converged for 0 <= nu < 0.5")
         _check("c10", self.c10, positive("Pa"))
         _check("c01", self.c01, non_negative("Pa"))
+        self._check_fibres()
         if self.zeta1 is not None:
             _check("zeta1", self.zeta1, Interval(-2 * self.h, 0.0, True, True, unit="m",
                                                  shown=f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m"))
@@ -252,6 +265,22 @@ class ShellScene:
             self._check_thickness()
         except ParameterError as exc:
             raise self._blame(exc) from None
+
+    def _check_fibres(self):
+        """``fibre_E >= 0``, a finite ``fibre_angle``, ``fibre_families`` 1 or 2, ``fibre_compression`` true or false."""
+        _check("fibre_E", self.fibre_E, non_negative("Pa"))
+        _check("fibre_angle", self.fibre_angle, finite("rad"))
+        families = Interval(1, 2, True, True, integer=True, shown="{1, 2}")
+        if not isinstance(self.fibre_families, numbers.Integral) or isinstance(self.fibre_families, (bool, np.bool_)):
+            raise ParameterError.not_a("fibre_families", self.fibre_families, "an integer", families)
+        if self.fibre_families not in families:
+            raise ParameterError("fibre_families", self.fibre_families, families)
+        object.__setattr__(self, "fibre_families", int(self.fibre_families))
+        flag = {"true": True, "false": False}.get(self.fibre_compression, self.fibre_compression) \
+            if isinstance(self.fibre_compression, str) else self.fibre_compression
+        if not isinstance(flag, (bool, np.bool_)):
+            raise ParameterError("fibre_compression", self.fibre_compression, Choice(("true", "false")))
+        object.__setattr__(self, "fibre_compression", bool(flag))
 
     def _blame(self, exc):
         """A refusal of ``h`` caused by a changed geometry parameter (``a = 5e-324``) names that parameter."""

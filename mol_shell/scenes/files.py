@@ -52,7 +52,8 @@ else:  # pragma: no cover
 
 #: the tables of a scene file, in the order they are written
 TABLES = ("geometry", "material", "edges", "loads", "initial", "run")
-MATERIAL = ("h", "E", "nu", "rho", "material", "c10", "c01", "n_quad", "zeta1", "eta_lambda", "eta_mu")
+MATERIAL = ("h", "E", "nu", "rho", "material", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families",
+            "fibre_compression", "n_quad", "zeta1", "eta_lambda", "eta_mu")
 EDGES = ("end1", "end2") + DRIVES + ("end_omega",)
 #: the keys of ``[run]``: defaults of ``mol-shell run`` (``simulate``'s keywords)
 RUN = ("integrator", "n", "t_end", "times", "dt", "rtol", "atol", "max_step")
@@ -150,7 +151,7 @@ def _type_ok(field, value):
     kind = str(field.type)
     return ((value is None and "None" in kind) or ("float" in kind and is_number(value))
             or ("int" in kind and is_number(value) and float(value).is_integer())
-            or ("str" in kind and isinstance(value, str)))
+            or ("str" in kind and isinstance(value, str)) or (kind == "bool" and isinstance(value, bool)))
 
 
 def _run_options(source, run):
