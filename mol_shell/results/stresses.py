@@ -53,6 +53,7 @@ and the viscous part is also given alone (``*_viscous``).
 from __future__ import annotations
 
 import functools
+import hashlib
 import math
 
 import casadi as ca
@@ -63,9 +64,20 @@ from mol_shell._core.ranges import Choice
 from mol_shell.discretization.cells import cell_samples as kernel_samples
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.model.kinematics import FIELDS, deformation_gradient
+from mol_shell.model.laws import LAWS
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, green_strain, lame
 from mol_shell.results.cf import coordinates, variables
+from mol_shell.results.law_stresses import law_of_attrs, route_law, route_stress
+from mol_shell.results.tensors import (  # noqa: F401  (matmul, transpose, det3: where the stresses' tests find them)
+    cauchy_stress,
+    det3,
+    matmul,
+    principal_stresses,
+    thickness_stretched,
+    transpose,
+    von_mises,
+)
 
 #: default limit on cell samples x saved times (2 per cell) above which stresses are skipped unless asked for:
 #: 4e6 samples cost 7 s (11 s viscous) and 270 MB on this machine (measured at n = 401, 5,000 saved times)
@@ -148,45 +160,6 @@ def second_piola(E, first, second, plane_stress=False):
     return tuple(tuple(row) for row in S)
 
 
-def matmul(A, B):
-    """Product of nested 3x3 tuples."""
-    return tuple(tuple(sum(A[i][k] * B[k][j] for k in range(3)) for j in range(3)) for i in range(3))
-
-
-def transpose(A):
-    return tuple(tuple(A[j][i] for j in range(3)) for i in range(3))
-
-
-def det3(A):
-    return (A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0])
-            + A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]))
-
-
-def cauchy_stress(F, S):
-    """``sigma = F S F^T / det F`` (components in the deformed ``b`` basis; ``F`` from ``b0`` to ``b``)."""
-    J = det3(F)
-    P = matmul(matmul(F, S), transpose(F))
-    return tuple(tuple(P[i][j] / J for j in range(3)) for i in range(3))
-
-
-def von_mises(sigma):
-    """``sqrt(((s11 - s22)^2 + (s22 - s33)^2 + (s33 - s11)^2)/2 + 3 (s12^2 + s23^2 + s13^2))``.
-
-    ``sigma`` as nested 3x3 tuples, or an array ``(..., 3, 3)``.
-    """
-    if isinstance(sigma, np.ndarray):
-        sigma = [[sigma[..., i, j] for j in range(3)] for i in range(3)]
-    s = sigma
-    value = (((s[0][0] - s[1][1]) ** 2 + (s[1][1] - s[2][2]) ** 2 + (s[2][2] - s[0][0]) ** 2) / 2
-             + 3 * (s[0][1] ** 2 + s[1][2] ** 2 + s[0][2] ** 2))
-    return np.sqrt(value) if isinstance(value, np.ndarray) else value**0.5
-
-
-def principal_stresses(sigma):
-    """Principal values of symmetric ``sigma`` of shape ``(..., 3, 3)``, in decreasing order along the last axis."""
-    return np.linalg.eigvalsh(np.asarray(sigma))[..., ::-1]
-
-
 def thickness_rule(zeta1, h, n_quad):
     """Gauss-Legendre nodes and weights on ``[zeta1, zeta1 + 2h]`` (as :class:`~mol_shell.model.material.Thickness`)."""
     x, w = np.polynomial.legendre.leggauss(n_quad)
@@ -228,7 +201,8 @@ def resultants_from_integrals(v1, v2, w1, w2, strains, r0):
     }
 
 
-def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0.0, eta_mu=0.0, plane_stress=False):
+def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0.0, eta_mu=0.0, plane_stress=False,
+                    elastic=None):
     """Resultants and face stresses of one sample, elastic and viscous parts (CasADi ``SX`` in, ``SX`` out).
 
     Parameters
@@ -247,6 +221,10 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
         Condensed Lame constants and viscosities (:func:`~mol_shell.model.material.condensed`).
     plane_stress : bool or casadi.SX
         ``S22 = 0`` (:func:`second_piola`).
+    elastic : callable, optional
+        ``C -> (S, lambda_3)`` in place of SVK's ``S`` (``lam, mu`` unused): another law's stress and thickness
+        stretch (:func:`mol_shell.results.law_stresses.energy_stress`); the face stresses then use ``F`` with its
+        director column times ``lambda_3``.
 
     Returns
     -------
@@ -262,18 +240,22 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
     def stresses(zeta):
         F = deformation_gradient(ca.vertsplit(e), zeta, r0, theta0, theta0_s, beta1_0, beta2_0)
         E = green_strain(F)
-        out = {"elastic": second_piola(E, lam, mu, plane_stress)}
+        if elastic is None:
+            out, stretch = {"elastic": second_piola(E, lam, mu, plane_stress)}, 1.0
+        else:
+            S, stretch = elastic(tuple(tuple(2 * E[i][j] + (i == j) for j in range(3)) for i in range(3)))
+            out = {"elastic": S}
         if rates is not None:  # E_t = dE/de . e_t
             flat = ca.vertcat(*[E[i][j] for i in range(3) for j in range(3)])
             Et_flat = ca.jtimes(flat, e, ca.vertcat(*rates))
             Et = [[Et_flat[3 * i + j] for j in range(3)] for i in range(3)]
             out["viscous"] = second_piola(Et, eta_lambda, eta_mu, plane_stress)
-        return F, out
+        return F, out, stretch
 
     nodes, weights = thickness_rule(zeta1, h, n_quad)
     sums = {kind: [(0.0, 0.0, 0.0)] * 4 for kind in kinds}  # v1, v2, w1, w2
     for zeta, w in zip(nodes, weights):
-        F, S = stresses(zeta)
+        F, S, _ = stresses(zeta)
         c = w * (r0 + zeta * ca.cos(theta0))
         a = w * (beta1_0 - zeta * theta0_s)
         for kind in kinds:
@@ -285,7 +267,8 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
     parts = {kind: resultants_from_integrals(*sums[kind], ca.vertsplit(e), r0) for kind in kinds}
     faces = [stresses(zeta) for zeta in (zeta1, zeta1 + 2 * h)]
     for kind in kinds:
-        parts["sigma_" + kind] = [cauchy_stress(F, S[kind]) for F, S in faces]
+        parts["sigma_" + kind] = [cauchy_stress(F if elastic is None else thickness_stretched(F, stretch), S[kind])
+                                  for F, S, stretch in faces]
     strains = ca.vertcat(*strains)
     return {key: _substitute(value, e, strains) for key, value in parts.items()}
 
@@ -304,31 +287,39 @@ PARAMETERS = ("zeta1", "h", "lam", "mu", "eta_lambda", "eta_mu", "plane_stress")
 
 
 @functools.lru_cache(maxsize=8)
-def kernel(n_quad, viscous=False):
+def kernel(n_quad, viscous=False, route=None):
     """``(e[8], e_t[8], ref[5], params[7]) -> (resultants[9], sigma[12])``, with ``viscous`` also
     ``(resultants_viscous[9], sigma_viscous[12])`` (SX).
 
     ``sigma`` holds the six components ``11, 22, 33, 12, 23, 13`` at ``zeta1`` then at ``zeta1 + 2h``.
     Material data are inputs (:data:`PARAMETERS`), so one compiled kernel serves every run with
-    ``n_quad`` points; the elastic kernel ignores ``e_t`` and the viscosities.
+    ``n_quad`` points; the elastic kernel ignores ``e_t`` and the viscosities. ``route``
+    (:func:`~mol_shell.results.law_stresses.law_of_attrs`): another law or fibres, whose stress is in the graph
+    (``lam, mu, plane_stress`` inputs unused; the viscous stress condensed unless under the director constraint).
     """
     e, et, ref, par = ca.SX.sym("e", 8), ca.SX.sym("et", 8), ca.SX.sym("ref", 5), ca.SX.sym("par", len(PARAMETERS))
     zeta1, h, lam, mu, eta_l, eta_m, plane = ca.vertsplit(par)
+    elastic, name = None, f"ms_stress_q{n_quad}"
+    if route is not None:
+        elastic = route_stress(route)
+        plane = float(route[3] or route_law(route).thickness != "director")
+        digest = hashlib.sha256(repr(route).encode()).hexdigest()[:12]  # stable across processes: the C cache
+        name = f"ms_stress_{route[0].replace('-', '_')}_{digest}_q{n_quad}"
     out = sample_stresses(ca.vertsplit(e), ca.vertsplit(et) if viscous else None, ca.vertsplit(ref), zeta1, h, n_quad,
-                          lam, mu, eta_l, eta_m, plane)
+                          lam, mu, eta_l, eta_m, plane, elastic=elastic)
     pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))
     outputs, names = [], []
     for kind in ("elastic", "viscous") if viscous else ("elastic",):
         outputs += [ca.vertcat(*out[kind].values()), ca.vertcat(*[f[i][j] for f in out["sigma_" + kind] for i, j in pairs])]
         names += ["resultants_" + kind, "sigma_" + kind]
-    name = f"ms_stress_q{n_quad}" + ("_viscous" if viscous else "")
+    name += "_viscous" if viscous else ""
     return ca.Function(name, [e, et, ref, par], outputs, ["e", "e_t", "ref", "par"], names)
 
 
 @functools.lru_cache(maxsize=8)
-def compiled_kernel(n_quad, viscous=False):
-    """:func:`kernel` as generated C (gcc, cached on disk; one build per ``n_quad`` and ``viscous``)."""
-    f = kernel(n_quad, viscous)
+def compiled_kernel(n_quad, viscous=False, route=None):
+    """:func:`kernel` as generated C (gcc, cached on disk; one build per ``n_quad``, ``viscous`` and law)."""
+    f = kernel(n_quad, viscous, route)
     return CompiledFunctions([f]).functions[f.name()]
 
 
@@ -341,8 +332,8 @@ class Evaluator:
     ``viscous``): views into the buffer, overwritten by the next call.
     """
 
-    def __init__(self, n_quad, viscous=False, size=CHUNK, compiled=True):
-        f = compiled_kernel(n_quad, viscous) if compiled else kernel(n_quad, viscous)
+    def __init__(self, n_quad, viscous=False, size=CHUNK, compiled=True, route=None):
+        f = compiled_kernel(n_quad, viscous, route) if compiled else kernel(n_quad, viscous, route)
         self.size = size
         self._buf, self._trigger = f.map(size).buffer()
         self._ins = [np.zeros((size, f.nnz_in(i))) for i in range(4)]
@@ -362,17 +353,18 @@ class Evaluator:
 
 
 def _material(attrs):
-    """Condensed Lame constants, viscosities and the plane-stress flag from a run's attrs."""
+    """Condensed Lame constants, viscosities, the plane-stress flag and the stress route
+    (:func:`~mol_shell.results.law_stresses.law_of_attrs`) from a run's attrs."""
     material = str(attrs.get("material", "svk"))
-    if float(attrs.get("fibre_E", 0.0)) > 0:  # the fibres' stress is not in SVK's: refuse rather than leave it out
-        raise ParameterError("fibre_E", float(attrs["fibre_E"]), "0",
-                             hint="stresses and resultants are computed for walls without fibres only so far")
-    if material not in SVK_MATERIALS:  # its stresses are not SVK's: refuse rather than give those
-        raise ParameterError("material", material, Choice(tuple(SVK_MATERIALS)),
-                             hint="stresses and resultants are computed for the SVK laws only so far")
-    lam, mu = condensed(*lame(float(attrs["E"]), float(attrs["nu"])), material)
-    eta_lambda, eta_mu = condensed(float(attrs.get("eta_lambda", 0.0)), float(attrs.get("eta_mu", 0.0)), material)
-    return lam, mu, eta_lambda, eta_mu, material == "svk-plane-stress"
+    route = law_of_attrs(attrs)
+    if route is not None and route[1] is None:  # a material this version does not know: refuse rather than guess
+        raise ParameterError("material", material, Choice(tuple(SVK_MATERIALS) + tuple(LAWS)),
+                             hint="stresses and resultants are computed for the built-in laws")
+    how = material if route is None else ("svk" if route_law(route).thickness == "director" and not route[3]
+                                          else "svk-plane-stress")
+    lam, mu = condensed(*lame(float(attrs["E"]), float(attrs["nu"])), how)
+    eta_lambda, eta_mu = condensed(float(attrs.get("eta_lambda", 0.0)), float(attrs.get("eta_mu", 0.0)), how)
+    return lam, mu, eta_lambda, eta_mu, how == "svk-plane-stress", route
 
 
 def _nodal(ds, name):
@@ -441,13 +433,9 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     n_t, n = ds.sizes["time"], ds.sizes["s"]
     samples = 2 * (n - 1) * n_t
     material = str(ds.attrs.get("material", "svk"))
-    if limit is not None and material not in SVK_MATERIALS:  # after a run: say so; asked for: _material refuses
+    if limit is not None and material not in SVK_MATERIALS + tuple(LAWS):  # after a run: say so; asked: refused
         out = ds.copy()
-        out.attrs["stresses"] = f"skipped: not computed for material = {material} (the SVK laws only so far)"
-        return out
-    if limit is not None and float(ds.attrs.get("fibre_E", 0.0)) > 0:
-        out = ds.copy()
-        out.attrs["stresses"] = "skipped: not computed for a wall with fibres (fibre_E > 0) so far"
+        out.attrs["stresses"] = f"skipped: not computed for material = {material} (the built-in laws only)"
         return out
     if limit is not None and samples > limit:
         out = ds.copy()
@@ -455,14 +443,14 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
                                  "call mol_shell.add_stresses(ds, limit=None)")
         return out
     ref = reference_cells(ds["s"].values, _nodal(ds, "r0"), _nodal(ds, "z0"), _nodal(ds, "theta0"))
-    lam, mu, eta_lambda, eta_mu, plane = _material(ds.attrs)
+    lam, mu, eta_lambda, eta_mu, plane, route = _material(ds.attrs)
     zeta1, h, n_quad = float(ds.attrs["zeta1_used"]), float(ds.attrs["h"]), int(ds.attrs["n_quad"])
     par = np.array([zeta1, h, lam, mu, eta_lambda, eta_mu, float(plane)])
     viscous = eta_lambda > 0 or eta_mu > 0
     ref_cells = np.stack([ref[k] for k in ("r0", "theta0", "theta0_s", "beta1_0", "beta2_0")], axis=-1)  # (cells, 5)
     per_time = 2 * (n - 1)
     block_t = max(1, CHUNK // per_time)
-    run = Evaluator(n_quad, viscous, block_t * per_time if n_t > block_t else n_t * per_time, compiled)
+    run = Evaluator(n_quad, viscous, block_t * per_time if n_t > block_t else n_t * per_time, compiled, route)
     data = {}
     for t0 in range(0, n_t, block_t):
         t1 = min(t0 + block_t, n_t)

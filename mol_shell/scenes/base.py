@@ -83,6 +83,17 @@ DRIVES = ("end1_spin", "end2_spin", "end1_axial_speed", "end2_axial_speed")
 N_QUAD_RANGE = (2, 32)
 
 
+class Flag(Choice):
+    """A yes/no parameter: ``True``/``False`` (or 1/0, as netCDF stores them), or the strings ``true``/``false``."""
+
+    def __init__(self):
+        super().__init__(("true", "false"))
+
+    def __contains__(self, value):
+        return value in self.values or isinstance(value, (bool, np.bool_)) or (
+            isinstance(value, numbers.Integral) and value in (0, 1))
+
+
 def _check(name, value, allowed, ok=None, hint=""):
     """Refuse ``value`` unless it is a finite number in the declared range ``allowed`` (an
     :class:`~mol_shell._core.ranges.Interval`), and ``ok(value)`` where a condition says more than the range."""
@@ -278,8 +289,10 @@ class ShellScene:
         object.__setattr__(self, "fibre_families", int(self.fibre_families))
         flag = {"true": True, "false": False}.get(self.fibre_compression, self.fibre_compression) \
             if isinstance(self.fibre_compression, str) else self.fibre_compression
+        if isinstance(flag, numbers.Integral) and not isinstance(flag, (bool, np.bool_)) and flag in (0, 1):
+            flag = bool(flag)  # as a netCDF file stores it
         if not isinstance(flag, (bool, np.bool_)):
-            raise ParameterError("fibre_compression", self.fibre_compression, Choice(("true", "false")))
+            raise ParameterError("fibre_compression", self.fibre_compression, Flag())
         object.__setattr__(self, "fibre_compression", bool(flag))
 
     def _blame(self, exc):
