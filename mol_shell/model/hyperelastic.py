@@ -22,10 +22,37 @@ The thickness integral is the same Gauss-Legendre rule as :func:`~mol_shell.mode
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
+
 import casadi as ca
 
 from mol_shell.model.kinematics import column_polynomials
 from mol_shell.model.material import quadrature_factors
+
+#: thickness treatments (:mod:`mol_shell.model.hyperelastic`)
+TREATMENTS = ("director", "plane-stress", "incompressible")
+
+
+@dataclass(frozen=True)
+class Law:
+    """A hyperelastic law: ``energy(C, params)`` per unit reference volume, ``C`` a nested 3x3 of scalars.
+
+    ``parameters``: the names ``params`` must hold; ``thickness``: one of :data:`TREATMENTS`; ``condense``:
+    optionally ``(C, params) -> C_22`` solving the law's plane-stress condition more cheaply than the generic
+    Newton iteration on ``dW/dC_22`` (:func:`~mol_shell.model.hyperelastic.plane_stress_thickness`).
+    """
+
+    name: str
+    energy: Callable
+    parameters: tuple
+    thickness: str
+    condense: Callable | None = None
+
+    def __post_init__(self):
+        if self.thickness not in TREATMENTS:
+            raise ValueError(f"thickness = {self.thickness!r} is outside {{{', '.join(TREATMENTS)}}}")
+
 
 #: the thickness (director) index of ``C``
 THICK = 1

@@ -16,39 +16,25 @@ The parameters enter the graphs as numbers: a law's parameters are absent from a
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
+import importlib
 
 import casadi as ca
 
+from mol_shell._core.errors import ParameterError
+from mol_shell._core.ranges import Choice
 from mol_shell.model.fibres import fibre_thickness_energy, scene_fibres
-from mol_shell.model.hyperelastic import NEWTON_STEPS, determinant, invariants, law_shell_energy, with_thickness
+from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: where the laws are)
+    NEWTON_STEPS,
+    TREATMENTS,
+    Law,
+    determinant,
+    invariants,
+    law_shell_energy,
+    with_thickness,
+)
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, effective_lame, lame, quadrature_factors, shell_energy
-
-#: thickness treatments (:mod:`mol_shell.model.hyperelastic`)
-TREATMENTS = ("director", "plane-stress", "incompressible")
-
-
-@dataclass(frozen=True)
-class Law:
-    """A hyperelastic law: ``energy(C, params)`` per unit reference volume, ``C`` a nested 3x3 of scalars.
-
-    ``parameters``: the names ``params`` must hold; ``thickness``: one of :data:`TREATMENTS`; ``condense``:
-    optionally ``(C, params) -> C_22`` solving the law's plane-stress condition more cheaply than the generic
-    Newton iteration on ``dW/dC_22`` (:func:`~mol_shell.model.hyperelastic.plane_stress_thickness`).
-    """
-
-    name: str
-    energy: Callable
-    parameters: tuple
-    thickness: str
-    condense: Callable | None = None
-
-    def __post_init__(self):
-        if self.thickness not in TREATMENTS:
-            raise ValueError(f"thickness = {self.thickness!r} is outside {{{', '.join(TREATMENTS)}}}")
-
+from mol_shell.model.user_laws import Material
 
 def svk(C, p):
     """St Venant-Kirchhoff, ``lambda/2 (tr E)^2 + mu E:E`` with ``E = (C - I)/2`` (the generic route's check)."""
@@ -108,11 +94,59 @@ MATERIALS = tuple(SVK_MATERIALS) + tuple(LAWS)
 LAW_PARAMETERS = {"mooney-rivlin": ("c10", "c01")}
 
 
+#: the laws of one's own (:class:`~mol_shell.model.user_laws.Material`) of this process, by the ``material`` a
+#: scene stores: their name, or the import path they came by
+REGISTRY = {}
+
+
+def resolve_material(value):
+    """The string a scene stores as ``material``: a built-in name as it is; a
+    :class:`~mol_shell.model.user_laws.Material` registered under its name; a registered name; an import path
+    ``package.module:attr`` of a Material (imported, registered under the path). ParameterError otherwise."""
+    if isinstance(value, Material):
+        if value.name in MATERIALS:
+            raise ParameterError("material", value.name, _allowed(), hint="a mol_shell.Material needs a name of its own")
+        REGISTRY[value.name] = value
+        return value.name
+    if isinstance(value, str) and (value in MATERIALS or value in REGISTRY):
+        return value
+    if isinstance(value, str) and ":" in value:
+        module, _, attr = value.partition(":")
+        try:
+            found = getattr(importlib.import_module(module.strip()), attr.strip())
+        except (ImportError, AttributeError, ValueError) as exc:
+            raise ParameterError("material", value, _allowed(),
+                                 hint=f"cannot import it ({type(exc).__name__}: {exc})") from None
+        if not isinstance(found, Material):
+            raise ParameterError("material", value, _allowed(), hint=f"it is a {type(found).__name__}, not a "
+                                 "mol_shell.Material")
+        REGISTRY[value] = found
+        return value
+    raise ParameterError("material", value, _allowed(),
+                         hint="or a mol_shell.Material, or its import path 'package.module:attr'")
+
+
+def _allowed():
+    return Choice(tuple(MATERIALS))
+
+
+def user_material(name):
+    """The :class:`~mol_shell.model.user_laws.Material` a scene's ``material`` names, or ``None`` for a built-in."""
+    if name in MATERIALS:
+        return None
+    if name not in REGISTRY:
+        resolve_material(name)  # an import path made in another process; a bare name unknown here is refused
+    return REGISTRY[name]
+
+
 def law_parameters(scene):
     """``(law, params)`` of a scene's material, or ``(None, None)`` for ``svk``/``svk-plane-stress`` (own route)."""
     name = scene.material
     if name in SVK_MATERIALS:
         return None, None
+    if name not in LAWS:
+        material = user_material(name)
+        return material.law(), dict(material.parameters)
     law = LAWS[name]
     if name == "neo-hookean":
         lam, mu = lame(scene.E, scene.nu)
@@ -126,6 +160,8 @@ def thickness_treatment(material):
     """``director``, ``plane-stress`` or ``incompressible``: how ``material`` sets the thickness stretch."""
     if material in SVK_MATERIALS:
         return "director" if material == "svk" else "plane-stress"
+    if material not in LAWS:
+        return user_material(material).thickness
     return LAWS[material].thickness
 
 
@@ -141,6 +177,8 @@ def small_strain_lame(scene):
         return effective_lame(scene.E, scene.nu, name)
     if name == "neo-hookean":
         return condensed(*lame(scene.E, scene.nu), "svk-plane-stress")
+    if name not in LAWS:
+        return user_material(name).small_strain_pair()
     mu = scene.E / 3.0 if name == "neo-hookean-incompressible" else 2.0 * (scene.c10 + scene.c01)
     return 2.0 * mu, mu
 

@@ -31,7 +31,8 @@ import casadi as ca
 
 from mol_shell.model.fibres import Fibres, fibre_energy
 from mol_shell.model.hyperelastic import condensed_energy, thickness_component
-from mol_shell.model.laws import LAWS, Law, svk
+from mol_shell._core.errors import ParameterError
+from mol_shell.model.laws import LAWS, Law, svk, user_material
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, lame
 
@@ -55,8 +56,12 @@ def law_of_attrs(attrs):
             return None
         lam, mu = condensed(*lame(float(attrs["E"]), float(attrs["nu"])), material)
         return "svk", (("lambda", lam), ("mu", mu)), fibres, material == "svk-plane-stress"
-    if material not in LAWS:
-        return material, None, fibres, False
+    if material not in LAWS:  # a law of one's own (registered here, or by its import path), else unknown
+        try:
+            user = user_material(material)
+        except ParameterError:
+            return material, None, fibres, False
+        return material, tuple(sorted(user.parameters.items())), fibres, False
     E, nu = float(attrs["E"]), float(attrs["nu"])
     if material == "neo-hookean":
         lam, mu = lame(E, nu)
@@ -70,7 +75,9 @@ def law_of_attrs(attrs):
 
 def route_law(route):
     """The :class:`~mol_shell.model.laws.Law` of a route of :func:`law_of_attrs`."""
-    return SVK_LAW if route[0] == "svk" else LAWS[route[0]]
+    if route[0] == "svk":
+        return SVK_LAW
+    return LAWS[route[0]] if route[0] in LAWS else user_material(route[0]).law()
 
 
 def route_stress(route):

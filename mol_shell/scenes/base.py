@@ -18,7 +18,7 @@ from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Choice, Interval, finite, non_negative, positive
 from mol_shell.model.edges import check_edge
 from mol_shell.model.geometry import base_offset, thickness_volume_factor
-from mol_shell.model.laws import MATERIALS
+from mol_shell.model.laws import MATERIALS, resolve_material
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
 
@@ -254,8 +254,8 @@ class ShellScene:
         object.__setattr__(self, "n_quad", int(self.n_quad))
         _check("eta_lambda", self.eta_lambda, non_negative("Pa s"))
         _check("eta_mu", self.eta_mu, non_negative("Pa s"))
-        if self.material not in MATERIALS:
-            raise ParameterError("material", self.material, Choice(tuple(MATERIALS)))
+        if self.material not in MATERIALS:  # a law of one's own: its name, kept in this process, or import path
+            object.__setattr__(self, "material", resolve_material(self.material))
         if self.material == "neo-hookean":  # its plane-stress condensation is shown converged for these
             _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True), hint="material = neo-hookean: its thickness "
                    "stretch is condensed by 6 Newton steps, checked converged for 0 <= nu < 0.5")
