@@ -19,7 +19,7 @@ import numpy as np
 from mol_shell._core.constants import NF
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.fibres import fibre_thickness_energy
-from mol_shell.model.hyperelastic import law_thickness_energy
+from mol_shell.model.hyperelastic import law_thickness_energy, law_thickness_values
 from mol_shell.model.kinematics import delta
 from mol_shell.model.material import (
     thickness_dissipation,
@@ -198,7 +198,18 @@ class CellKernels:
         cos_mid, sin_mid = tl[2] * tr[2] - tl[3] * tr[3], tl[3] * tr[2] + tl[2] * tr[3]
         samples = self.cell_samples(ql, qr)  # psi at the left node, then the right (one sample: psi = 0)
         trigs = [(cos_mid, sin_mid, t[0], t[1]) for t in (tl, tr)]
-        if self.law is not None:
+        envelope = None
+        if self.law is not None and self.law.thickness == "plane-stress":  # the condensed C_22 held in the gradient
+            factors, beta2_0, _ = self._factors_and_moments(geo)
+            nq = len(factors)
+            held = ca.SX.sym("c22", nq * len(samples))
+            energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig,
+                                              ca.vertsplit(held[k * nq:(k + 1) * nq]))
+                         for k, (e, trig) in enumerate(zip(samples, trigs))) / len(samples)
+            envelope = (held, ca.vertcat(*[x for e, trig in zip(samples, trigs)
+                                           for x in law_thickness_values(e, self.law, self.law_params, factors,
+                                                                         beta2_0, trig)]))
+        elif self.law is not None:
             factors, beta2_0, _ = self._factors_and_moments(geo)
             energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig)
                          for e, trig in zip(samples, trigs)) / len(samples)
@@ -214,6 +225,9 @@ class CellKernels:
         if self.fibres is not None:
             energy = energy + self._fibre_energy(samples, factors, beta2_0, trigs)
         forces = [ca.gradient(energy, q) + trig_chain(t, ca.gradient(energy, t)) for q, t in ((ql, tl), (qr, tr))]
+        if envelope is not None:  # dW/dC_22 = 0 there: the gradient at the condensed C_22 needs no dC_22/dq (the
+            forces = ca.vertsplit(ca.substitute(ca.vertcat(*forces), *envelope), [0, NF, 2 * NF])  # (the Jacobian,
+            # differentiating this, still gets dC_22/dq)
         return ca.Function("cell", [ql, qr, tl, tr, geo], ca.cse(forces), self.KERNEL_OPTIONS)
 
     def _cell_observables(self):
