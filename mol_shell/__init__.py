@@ -29,13 +29,14 @@ from mol_shell.scenes import (
                               Torus,
                               TwistedCylinder,
                               Unshearable,
+                              Vessel,
                               get_scene,
 )
 from mol_shell.scenes.files import load_scene
 
 __all__ = [
     "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "Material", "MaterialWarning", "MeridianShell", "ShellScene",
-    "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "Unshearable", "__version__", "build", "get_scene",
+    "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "Unshearable", "Vessel", "__version__", "build", "get_scene",
     "load_scene", "modes", "path", "read_netcdf",
     "simulate", "simulate_ring", "simulate_unshearable", "study", "write_netcdf",
 ]

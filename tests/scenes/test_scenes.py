@@ -13,7 +13,7 @@ from mol_shell.runs.simulate import build
 
 def test_registry_and_string_parameters():
     assert {"twisted-cylinder", "spinning-ring", "axisymmetric", "unshearable", "sphere", "cone", "torus",
-            "meridian"} == set(mol_shell.SCENES)
+            "meridian", "vessel"} == set(mol_shell.SCENES)
     scene = get_scene("twisted-cylinder", gamma="0.2", n_quad="6", R="auto", material="svk-plane-stress")
     assert scene.gamma == 0.2 and scene.n_quad == 6 and scene.R is None and scene.material == "svk-plane-stress"
     with pytest.raises(ParameterError, match="gamma"):
