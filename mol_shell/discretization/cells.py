@@ -22,6 +22,7 @@ from mol_shell.model.fibres import fibre_thickness_energy
 from mol_shell.model.hyperelastic import law_thickness_energy, law_thickness_values
 from mol_shell.model.kinematics import delta
 from mol_shell.model.material import (
+    svk_turning_limit,
     thickness_dissipation,
     thickness_energy,
     thickness_energy_moments,
@@ -236,6 +237,19 @@ class CellKernels:
         deltas = [delta(z_s, r_s, r, theta, psi) for z_s, r_s, _, _, _, r, theta, psi in self.cell_samples(ql, qr)]
         return ca.Function("cell_observables", [ql, qr, geo], [self.cell_energy(ql, qr, geo, reference=True),
                                                                ca.vertcat(*deltas)])
+
+    @property
+    def turning_limit(self):
+        """Whether the runs watch SVK's compressive turning point (:func:`~mol_shell.model.material.svk_turning_limit`):
+        for the SVK laws without fibres (their own kernel), unless the scene's ``law_limit`` is off."""
+        return self.law is None and self.fibres is None and bool(getattr(self.scene, "law_limit", True))
+
+    def cell_turning(self):
+        """``(q_left, q_right, geo) -> det(C_t - I/3)`` at the cell's samples (must stay > 0; SVK only)."""
+        ql, qr, geo = self._cell_symbols()
+        _, beta2_0, moments = self._factors_and_moments(geo)
+        values = [svk_turning_limit(e, moments, beta2_0) for e in self.cell_samples(ql, qr)]
+        return ca.Function("cell_turning", [ql, qr, geo], [ca.vertcat(*values)])
 
     def cell_delta(self):
         """``(q_left, q_right, geo) -> ds x delta``, ``delta = r beta1 cos(psi)`` at the cell's samples (must stay > 0)."""

@@ -384,8 +384,9 @@ class ShellSystem(CellKernels):
     def limits(self):
         """``y -> g``: the model's limits as functions that must stay positive (:meth:`limit_names` says which).
 
-        ``g = [delta at the samples of each cell; r per node; (pi/2)^2 - psi^2 per node]``
-        (the last only when ``psi`` is a field). Leap-frog checks them after every step (in C),
+        ``g = [delta at the samples of each cell; r per node; (pi/2)^2 - psi^2 per node; det(C_t - I/3) at the
+        samples of each cell]`` (the third only when ``psi`` is a field; the last for the SVK laws without fibres:
+        :func:`~mol_shell.model.material.svk_turning_limit`). Leap-frog checks them after every step (in C),
         CVODE and IDA find their roots. Depends on the field entries only, which sit at the same
         places in ``y = (q, p)`` and in IDA's ``x = (q, v)``.
         """
@@ -395,6 +396,8 @@ class ShellSystem(CellKernels):
         g = [ca.vec(self.cell_delta().map(n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)), Q[1, list(self.radial_nodes)].T]
         if 4 in self.active:
             g.append((math.pi / 2) ** 2 - Q[4, :].T ** 2)
+        if self.turning_limit:
+            g.append(ca.vec(self.cell_turning().map(n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)))
         f = ca.Function("limits", [y], [ca.vertcat(*g)], ["y"], ["g"])
         return f.expand() if n <= self.FLAT_MAX_NODES else f
 
@@ -405,6 +408,10 @@ class ShellSystem(CellKernels):
         names += [("r reached 0", f"s = {self.s[i]:.6g} m") for i in self.radial_nodes]
         if 4 in self.active:
             names += [("|psi| reached pi/2", f"s = {s:.6g} m") for s in self.s]
+        if self.turning_limit:
+            names += [("an in-plane stretch reached 1/sqrt(3) in compression, where the St Venant-Kirchhoff stress "
+                       "turns back (a limit of the law)", f"s = {s:.6g} m (cell centre)")
+                      for s in np.repeat(cells, self.samples_per_cell)]
         return names
 
     @property

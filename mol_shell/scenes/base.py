@@ -26,7 +26,7 @@ UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
     "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
     "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "c10": "Pa", "c01": "Pa",
-    "fibre_E": "Pa", "fibre_angle": "rad", "fibre_families": "1", "fibre_compression": "1", "dR": "m", "a": "m", "b": "m",
+    "fibre_E": "Pa", "fibre_angle": "rad", "fibre_families": "1", "fibre_compression": "1", "law_limit": "1", "dR": "m", "a": "m", "b": "m",
     "alpha1": "rad", "alpha2": "rad", "Lc": "m", "crown": "m", "knuckle": "m", "segments": "1", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
     "points": "1", "pressure": "Pa", "gravity": "m s-2", "drag": "N s m-3", "end1_force": "N", "end2_force": "N",
     "end1_torque": "N m", "end2_torque": "N m", "end1_spin": "rad s-1", "end2_spin": "rad s-1",
@@ -45,6 +45,7 @@ DESCRIPTIONS = {
     "fibre_E": "fibre modulus (0: no fibres)",
     "fibre_angle": "fibre angle from the meridian towards +phi", "fibre_families": "fibre families: 1 (helix) or 2 (+-angle)",
     "fibre_compression": "whether fibres carry compression (false: tension only)",
+    "law_limit": "stop where the law leaves its range (SVK: a compressive stretch of 1/sqrt(3))",
     "dR": "amplitude of the initial radius variation",
     "Lc": "length of the vessel's cylinder", "crown": "crown radius of the vessel's torispherical heads (a: hemispheres)", "knuckle": "knuckle radius of a torispherical head",
     "segments": "meridian from the bottom pole: 'arc R DEG, line L, ...' (overrides a, Lc, crown, knuckle)",
@@ -161,6 +162,10 @@ class ShellScene:
         Fibre reinforcement on the law (:mod:`mol_shell.model.fibres`): modulus, Pa (``>= 0``; 0, the default, is
         no fibres and nothing of them in the graph); angle, rad, from the meridian towards ``+phi``; 1 family
         (a helix: stretch couples with twist) or 2 (``+-angle``, balanced); ``False``: tension only.
+    law_limit : bool
+        Stop a run, as a limit of the model, where the law leaves its range: for the SVK laws (without fibres) an
+        in-plane stretch of ``1/sqrt(3)`` in compression, past which their stress turns back
+        (:func:`~mol_shell.model.material.svk_turning_limit`). ``False``: the law as written, without that stop.
     end1, end2 : str or None
         Edge conditions at ``s = 0`` and ``s = L``: ``magnet``, ``clamped``, ``pinned``, ``free``
         (:mod:`mol_shell.model.edges`); ``None`` (``auto``): a pole on the axis, ``magnet`` elsewhere.
@@ -208,6 +213,7 @@ class ShellScene:
     fibre_angle: float = 0.0
     fibre_families: int = 1
     fibre_compression: bool = True
+    law_limit: bool = True
     end1: str | None = None
     end2: str | None = None
     pressure: float = 0.0
@@ -296,6 +302,13 @@ class ShellScene:
         if not isinstance(flag, (bool, np.bool_)):
             raise ParameterError("fibre_compression", self.fibre_compression, Flag())
         object.__setattr__(self, "fibre_compression", bool(flag))
+        flag = {"true": True, "false": False}.get(self.law_limit, self.law_limit) \
+            if isinstance(self.law_limit, str) else self.law_limit
+        if isinstance(flag, numbers.Integral) and not isinstance(flag, (bool, np.bool_)) and flag in (0, 1):
+            flag = bool(flag)
+        if not isinstance(flag, (bool, np.bool_)):
+            raise ParameterError("law_limit", self.law_limit, Flag())
+        object.__setattr__(self, "law_limit", bool(flag))
 
     def _blame(self, exc):
         """A refusal of ``h`` caused by a changed geometry parameter (``a = 5e-324``) names that parameter."""
