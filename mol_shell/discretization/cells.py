@@ -65,7 +65,7 @@ class CellKernels:
     Lame pair ``lam, mu`` and thickness moments), else the law integrated point by point in every kernel.
     """
 
-    law = law_params = fibres = None
+    law = law_params = fibres = graded = None
 
     def _fibre_energy(self, samples, factors, beta2_0, trigs=None):
         """The fibres' stored energy of a cell (:mod:`mol_shell.model.fibres`), 0 without fibres (not in the graph)."""
@@ -88,7 +88,12 @@ class CellKernels:
         beta1 = dz * np.cos(thm) + dr * np.sin(thm)
         beta2 = -dz * np.sin(thm) + dr * np.cos(thm)
         rows = []
-        for zeta, w in zip(*self.thickness.nodes_weights):
+        nodes_weights = self.thickness.nodes_weights
+        if self.graded is not None:  # each cell its own interval [-h, h] about the mid-surface (arrays over cells)
+            x, w = np.polynomial.legendre.leggauss(self.thickness.n_quad)
+            hc = self.graded((self.s[1:] + self.s[:-1]) / 2)
+            nodes_weights = ([hc * xq for xq in x], [hc * wq for wq in w])
+        for zeta, w in zip(*nodes_weights):
             a, c = beta1 - zeta * dth, r0m + zeta * np.cos(thm)
             if np.any(a <= 0) or np.any(c <= 0):
                 h, z1 = self.scene.h, self.thickness.zeta1
@@ -100,9 +105,11 @@ class CellKernels:
         if self.curved:
             rows.append(beta2)
         nq = self.thickness.n_quad
-        zetas = self.thickness.nodes_weights[0]
+        zetas = nodes_weights[0]
         rows += thickness_moments([(zetas[q], rows[3 * q], rows[3 * q + 1], rows[3 * q + 2]) for q in range(nq)])
-        return np.array(rows)
+        if self.graded is not None:
+            rows += list(zetas)  # the cells' thickness points: data of the kernels (a graded wall only)
+        return np.array([np.broadcast_to(row, beta1.shape) for row in rows])
 
     def _factors(self, data):
         """``quadrature_factors``-like tuples from a symbolic per-cell data column, and ``beta2_0``."""
@@ -111,10 +118,13 @@ class CellKernels:
     def _factors_and_moments(self, data):
         """:meth:`_factors` and the thickness moments (:func:`~mol_shell.model.material.thickness_moments`) of a cell."""
         nq = self.thickness.n_quad
-        zetas = self.thickness.nodes_weights[0]
-        factors = [(zetas[q], data[3 * q], data[3 * q + 1], data[3 * q + 2]) for q in range(nq)]
         start = 3 * nq + int(self.curved)
-        return factors, (data[3 * nq] if self.curved else 0.0), [data[k] for k in range(start, self.n_cell_data)]
+        zetas = self.thickness.nodes_weights[0]
+        end = start + 22  # the 22 moments (thickness_moments)
+        if self.graded is not None:  # the points are the cell's, after its moments
+            zetas = [data[end + q] for q in range(nq)]
+        factors = [(zetas[q], data[3 * q], data[3 * q + 1], data[3 * q + 2]) for q in range(nq)]
+        return factors, (data[3 * nq] if self.curved else 0.0), [data[k] for k in range(start, end)]
 
     # -- kernels -------------------------------------------------------------------------
     #: CasADi differentiates a mapped kernel through the kernel's own Jacobian instead of one

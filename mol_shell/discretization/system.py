@@ -57,6 +57,7 @@ from mol_shell.discretization.loading import check_end_loads, load_terms
 from mol_shell.model.edges import driven_node_kernel, driven_rates, free_rates, imposed_mask, resolve_edges, tied_chi
 from mol_shell.model.fibres import scene_fibres
 from mol_shell.model.geometry import node_inertias
+from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.model.kinematics import FIELDS as FIELD_NAMES
 from mol_shell.model.kinematics import kinetic_energy_density
 from mol_shell.model.laws import law_parameters, small_strain_lame, viscosities
@@ -118,9 +119,17 @@ class ShellSystem(CellKernels):
         self.fibres = scene_fibres(scene)  # None without fibres: nothing of them in the graph
         self.eta_lambda, self.eta_mu = viscosities(scene)
         self.viscous = scene.eta_lambda > 0 or scene.eta_mu > 0
-        zeta1 = scene.zeta1_used()
+        profile = getattr(scene, "h_profile", "")
+        self.graded = thickness_function(profile, self.L) if profile else None  # h(s) of a graded wall
+        zeta1 = -scene.h if self.graded else scene.zeta1_used()
         self.thickness = Thickness(zeta1, scene.h, scene.n_quad)
-        self.inertia = node_inertias(self.meridian, self.s, scene.rho, self.thickness)
+        if self.graded is None:
+            self.inertia = node_inertias(self.meridian, self.s, scene.rho, self.thickness)
+        else:  # each node's dual cell with the node's own interval [-h, h]
+            h_nodes = self.graded(self.s)
+            self.inertia = np.array([node_inertias(self.meridian, self.s, scene.rho,
+                                                   Thickness(-h_nodes[i], h_nodes[i], scene.n_quad))[:, i]
+                                     for i in range(self.n)]).T
         self.has_rho_i = bool(np.any(np.abs(self.inertia[1]) > 1e-14 * self.inertia[0] * scene.h))
         if not self.has_rho_i:
             self.inertia[1] = 0.0  # exact zero: the rhoI terms are left out of the graph

@@ -21,12 +21,13 @@ from mol_shell.model.geometry import base_offset, thickness_volume_factor
 from mol_shell.model.laws import MATERIALS, resolve_material
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
+from mol_shell.model.thickness_profile import thickness_function
 
 UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
     "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
     "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "c10": "Pa", "c01": "Pa",
-    "fibre_E": "Pa", "fibre_angle": "rad", "fibre_families": "1", "fibre_compression": "1", "law_limit": "1", "dR": "m", "a": "m", "b": "m",
+    "fibre_E": "Pa", "fibre_angle": "rad", "fibre_families": "1", "fibre_compression": "1", "law_limit": "1", "h_profile": "m", "dR": "m", "a": "m", "b": "m",
     "alpha1": "rad", "alpha2": "rad", "Lc": "m", "crown": "m", "knuckle": "m", "segments": "1", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
     "points": "1", "pressure": "Pa", "gravity": "m s-2", "drag": "N s m-3", "end1_force": "N", "end2_force": "N",
     "end1_torque": "N m", "end2_torque": "N m", "end1_spin": "rad s-1", "end2_spin": "rad s-1",
@@ -46,6 +47,7 @@ DESCRIPTIONS = {
     "fibre_angle": "fibre angle from the meridian towards +phi", "fibre_families": "fibre families: 1 (helix) or 2 (+-angle)",
     "fibre_compression": "whether fibres carry compression (false: tension only)",
     "law_limit": "stop where the law leaves its range (SVK: a compressive stretch of 1/sqrt(3))",
+    "h_profile": "half-thickness along the meridian: 'table s0:h0 s1:h1 ...' or an expression of s ('': h)",
     "dR": "amplitude of the initial radius variation",
     "Lc": "length of the vessel's cylinder", "crown": "crown radius of the vessel's torispherical heads (a: hemispheres)", "knuckle": "knuckle radius of a torispherical head",
     "segments": "meridian from the bottom pole: 'arc R DEG, line L, ...' (overrides a, Lc, crown, knuckle)",
@@ -162,6 +164,10 @@ class ShellScene:
         Fibre reinforcement on the law (:mod:`mol_shell.model.fibres`): modulus, Pa (``>= 0``; 0, the default, is
         no fibres and nothing of them in the graph); angle, rad, from the meridian towards ``+phi``; 1 family
         (a helix: stretch couples with twist) or 2 (``+-angle``, balanced); ``False``: tension only.
+    h_profile : str
+        A graded wall (:mod:`mol_shell.model.thickness_profile`): ``h(s)`` as ``"table s0:h0 s1:h1 ..."`` (m, covering
+        the meridian) or an expression of ``s``; each cell integrated through its own ``[-h, h]`` about the
+        mid-surface (``zeta1`` must be auto), ``h`` the nominal half-thickness. ``""`` (default): the uniform wall.
     law_limit : bool
         Stop a run, as a limit of the model, where the law leaves its range: for the SVK laws (without fibres) an
         in-plane stretch of ``1/sqrt(3)`` in compression, past which their stress turns back
@@ -214,6 +220,7 @@ class ShellScene:
     fibre_families: int = 1
     fibre_compression: bool = True
     law_limit: bool = True
+    h_profile: str = ""
     end1: str | None = None
     end2: str | None = None
     pressure: float = 0.0
@@ -371,6 +378,9 @@ class ShellScene:
 
     def _check_thickness(self):
         """The thickness interval stays off the axis and inside every centre of curvature (``det G0 > 0``)."""
+        if not isinstance(self.h_profile, str) or self.h_profile:
+            self._check_profile()
+            return
         mer = self.meridian()
         s = np.linspace(0.0, mer.length, 401)
         s = np.concatenate([s, (s[:-1] + s[1:]) / 2])
@@ -382,6 +392,22 @@ class ShellScene:
             raise ParameterError("h", self.h, "values whose thickness interval stays off the axis and inside every "
                                  "centre of curvature of the meridian",
                                  hint=f"zeta1 = {z1:.4g} m; a face reaches the axis or a centre of curvature")
+
+    def _check_profile(self):
+        """A graded wall: ``h_profile`` read, ``zeta1`` auto, every cell's ``[-h(s), h(s)]`` with ``det G0 > 0``."""
+        if not isinstance(self.h_profile, str):
+            raise ParameterError.not_a("h_profile", self.h_profile, "a string", "'table s0:h0 ...' or an expression of s")
+        mer = self.meridian()
+        h = thickness_function(self.h_profile, mer.length)
+        if self.zeta1 is not None:
+            raise ParameterError("zeta1", self.zeta1, "auto with h_profile (the mid-surface is the base surface)")
+        s = np.linspace(0.0, mer.length, 801)
+        r0 = mer.at(s)[0]
+        keep = r0 > 1e-9 * max(1.0, float(np.max(np.abs(r0))))
+        for si, hi in zip(s[keep], h(s[keep])):
+            if not np.all(thickness_volume_factor(mer, np.array([-hi, hi]), np.array([si])) > 0):
+                raise ParameterError("h_profile", self.h_profile, "values whose thickness interval stays off the axis "
+                                     "and inside every centre of curvature", hint=f"h = {hi:.4g} m at s = {si:.4g} m")
 
     def initial_fields(self, s, reference):
         """``(Q, V)``, each ``5 x n``: the fields and rates of the initial data at nodes ``s``.
