@@ -65,7 +65,19 @@ class CellKernels:
     Lame pair ``lam, mu`` and thickness moments), else the law integrated point by point in every kernel.
     """
 
-    law = law_params = fibres = graded = None
+    law = law_params = fibres = graded = layer_laws = None
+
+    def _law_energy(self, e, factors, beta2_0, trig=None):
+        """``sum_q vol_q W(C_q)`` of the law, or of a layered wall layer by layer (each its ``n_quad`` points)."""
+        if self.layer_laws is None:
+            return law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig)
+        nq, total = self.scene.n_quad, 0.0
+        for k, (law, params, fibres) in enumerate(self.layer_laws):
+            part = factors[k * nq:(k + 1) * nq]
+            total = total + law_thickness_energy(e, law, params, part, beta2_0, trig)
+            if fibres is not None:
+                total = total + fibre_thickness_energy(e, fibres, part, beta2_0, trig)
+        return total
 
     def _fibre_energy(self, samples, factors, beta2_0, trigs=None):
         """The fibres' stored energy of a cell (:mod:`mol_shell.model.fibres`), 0 without fibres (not in the graph)."""
@@ -147,8 +159,7 @@ class CellKernels:
         samples = self.cell_samples(ql, qr)
         fibres = self._fibre_energy(samples, factors, beta2_0)
         if self.law is not None:  # any other law: per thickness point in both forms
-            return sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0)
-                       for e in samples) / len(samples) + fibres
+            return sum(self._law_energy(e, factors, beta2_0) for e in samples) / len(samples) + fibres
         if self.reference_kernel if reference is None else reference:
             return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples) + fibres
         return sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) for e in samples) / len(samples) + fibres
@@ -210,7 +221,7 @@ class CellKernels:
         samples = self.cell_samples(ql, qr)  # psi at the left node, then the right (one sample: psi = 0)
         trigs = [(cos_mid, sin_mid, t[0], t[1]) for t in (tl, tr)]
         envelope = None
-        if self.law is not None and self.law.thickness == "plane-stress":  # the condensed C_22 held in the gradient
+        if self.law is not None and self.law.thickness == "plane-stress" and self.layer_laws is None:  # C_22 held
             factors, beta2_0, _ = self._factors_and_moments(geo)
             nq = len(factors)
             held = ca.SX.sym("c22", nq * len(samples))
@@ -222,8 +233,7 @@ class CellKernels:
                                                                          beta2_0, trig)]))
         elif self.law is not None:
             factors, beta2_0, _ = self._factors_and_moments(geo)
-            energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig)
-                         for e, trig in zip(samples, trigs)) / len(samples)
+            energy = sum(self._law_energy(e, factors, beta2_0, trig) for e, trig in zip(samples, trigs)) / len(samples)
         elif self.fibres is not None:  # SVK's moments, then the fibres point by point
             factors, beta2_0, moments = self._factors_and_moments(geo)
             energy = sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0, trig)

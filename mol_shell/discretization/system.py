@@ -60,7 +60,7 @@ from mol_shell.model.geometry import node_inertias
 from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.model.kinematics import FIELDS as FIELD_NAMES
 from mol_shell.model.kinematics import kinetic_energy_density
-from mol_shell.model.laws import law_parameters, small_strain_lame, viscosities
+from mol_shell.model.laws import layer_laws, law_parameters, small_strain_lame, viscosities
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.loads import history
 from mol_shell.model.material import Thickness, inertias
@@ -123,6 +123,9 @@ class ShellSystem(CellKernels):
         self.graded = thickness_function(profile, self.L) if profile else None  # h(s) of a graded wall
         zeta1 = -scene.h if self.graded else scene.zeta1_used()
         self.thickness = Thickness(zeta1, scene.h, scene.n_quad)
+        if getattr(scene, "layers", ""):  # layer by layer: each its law (the first one routes the kernels)
+            self.thickness, self.layer_laws = layer_laws(scene)
+            self.law, self.law_params, self.fibres = *self.layer_laws[0][:2], None
         if self.graded is None:
             self.inertia = node_inertias(self.meridian, self.s, scene.rho, self.thickness)
         else:  # each node's dual cell with the node's own interval [-h, h]

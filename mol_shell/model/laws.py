@@ -16,6 +16,7 @@ The parameters enter the graphs as numbers: a law's parameters are absent from a
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 
 import casadi as ca
@@ -23,6 +24,7 @@ import casadi as ca
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Choice
 from mol_shell.model.fibres import fibre_thickness_energy, scene_fibres
+from mol_shell.model.layers import layered_thickness, parse_layers
 from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: where the laws are)
     NEWTON_STEPS,
     TREATMENTS,
@@ -30,6 +32,7 @@ from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: wher
     determinant,
     invariants,
     law_shell_energy,
+    law_thickness_energy,
     with_thickness,
 )
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
@@ -198,8 +201,49 @@ def viscosities(scene):
     return condensed(scene.eta_lambda, scene.eta_mu, how)
 
 
+#: the SVK energy as a law, under the director constraint (the Lame pair condensed as the scene's material asks)
+SVK_LAW = Law("svk", svk, ("lambda", "mu"), "director")
+
+
+def layer_scenes(scene):
+    """``[(thickness, scene of the layer)]`` of a layered scene: the scene with the layer's material and keys (its
+    checks run on them), without layers."""
+    out = []
+    for thickness, material, changes in parse_layers(scene.layers):
+        typed = {k: (int(float(v)) if k == "fibre_families" else v if k == "fibre_compression" else float(v))
+                 for k, v in changes.items()}
+        out.append((thickness, dataclasses.replace(scene, layers="", material=material, **typed)))
+    return out
+
+
+def layer_laws(scene):
+    """``(thickness rule, [(law, params, fibres) per layer])`` of a layered scene (every layer by its law's route:
+    the SVK laws as :data:`SVK_LAW` with their condensed Lame pair)."""
+    layers = layer_scenes(scene)
+    out = []
+    for _, sub in layers:
+        law, params = law_parameters(sub)
+        if law is None:
+            lam, mu = effective_lame(sub.E, sub.nu, sub.material)
+            law, params = SVK_LAW, {"lambda": lam, "mu": mu}
+        out.append((law, params, scene_fibres(sub)))
+    rule = layered_thickness(scene.zeta1_used(), scene.h, scene.n_quad, [t for t, _ in layers])
+    return rule, out
+
+
 def scene_shell_energy(scene, strains, thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0, beta2_0=0.0):
-    """Stored energy per unit reference area of the scene's material (SVK's own route or the law's), fibres included."""
+    """Stored energy per unit reference area of the scene's material (SVK's own route or the law's), fibres included;
+    a layered wall layer by layer (``thickness`` then only places the wall: its ``zeta1``)."""
+    if getattr(scene, "layers", ""):
+        rule, laws = layer_laws(scene)
+        factors = quadrature_factors(rule, r0, theta0, theta0_s, beta1_0)
+        nq, total = scene.n_quad, 0.0
+        for k, (law, params, fibres) in enumerate(laws):
+            part = factors[k * nq:(k + 1) * nq]
+            total = total + law_thickness_energy(strains, law, params, part, beta2_0)
+            if fibres is not None:
+                total = total + fibre_thickness_energy(strains, fibres, part, beta2_0)
+        return total / r0
     law, params = law_parameters(scene)
     if law is None:
         lam, mu = effective_lame(scene.E, scene.nu, scene.material)

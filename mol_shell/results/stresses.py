@@ -434,13 +434,14 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     n_t, n = ds.sizes["time"], ds.sizes["s"]
     samples = 2 * (n - 1) * n_t
     material = str(ds.attrs.get("material", "svk"))
-    if str(ds.attrs.get("h_profile", "") or "") not in ("", "none"):  # a graded wall: per-cell intervals, not yet here
-        if limit is None:
-            raise ParameterError("h_profile", ds.attrs["h_profile"], "'' (a uniform wall)",
-                                 hint="stresses of a graded wall are not computed yet")
-        out = ds.copy()
-        out.attrs["stresses"] = "skipped: not computed for a graded wall (h_profile) yet"
-        return out
+    for key, what in (("h_profile", "a graded wall"), ("layers", "a layered wall")):  # not computed here yet
+        if str(ds.attrs.get(key, "") or "") not in ("", "none"):
+            if limit is None:
+                raise ParameterError(key, ds.attrs[key], "'' (a uniform wall of one law)",
+                                     hint=f"stresses of {what} are not computed yet")
+            out = ds.copy()
+            out.attrs["stresses"] = f"skipped: not computed for {what} ({key}) yet"
+            return out
     if limit is not None and law_of_attrs(ds.attrs) is not None and law_of_attrs(ds.attrs)[1] is None:  # unknown
         out = ds.copy()
         out.attrs["stresses"] = f"skipped: not computed for material = {material} (the built-in laws only)"

@@ -18,7 +18,8 @@ from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Choice, Interval, finite, non_negative, positive
 from mol_shell.model.edges import check_edge
 from mol_shell.model.geometry import base_offset, thickness_volume_factor
-from mol_shell.model.laws import MATERIALS, resolve_material
+from mol_shell.model.laws import MATERIALS, layer_scenes, resolve_material
+from mol_shell.model.layers import layers_text
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
 from mol_shell.model.thickness_profile import thickness_function
@@ -27,7 +28,7 @@ UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
     "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
     "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "c10": "Pa", "c01": "Pa",
-    "fibre_E": "Pa", "fibre_angle": "rad", "fibre_families": "1", "fibre_compression": "1", "law_limit": "1", "h_profile": "m", "dR": "m", "a": "m", "b": "m",
+    "fibre_E": "Pa", "fibre_angle": "rad", "fibre_families": "1", "fibre_compression": "1", "law_limit": "1", "h_profile": "m", "layers": "1", "dR": "m", "a": "m", "b": "m",
     "alpha1": "rad", "alpha2": "rad", "Lc": "m", "crown": "m", "knuckle": "m", "segments": "1", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
     "points": "1", "pressure": "Pa", "gravity": "m s-2", "drag": "N s m-3", "end1_force": "N", "end2_force": "N",
     "end1_torque": "N m", "end2_torque": "N m", "end1_spin": "rad s-1", "end2_spin": "rad s-1",
@@ -47,6 +48,7 @@ DESCRIPTIONS = {
     "fibre_angle": "fibre angle from the meridian towards +phi", "fibre_families": "fibre families: 1 (helix) or 2 (+-angle)",
     "fibre_compression": "whether fibres carry compression (false: tension only)",
     "law_limit": "stop where the law leaves its range (SVK: a compressive stretch of 1/sqrt(3))",
+    "layers": "layers from the lower face: 'T MATERIAL key=value ...; ...' (T thickness, m; they add up to 2h)",
     "h_profile": "half-thickness along the meridian: 'table s0:h0 s1:h1 ...' or an expression of s ('': h)",
     "dR": "amplitude of the initial radius variation",
     "Lc": "length of the vessel's cylinder", "crown": "crown radius of the vessel's torispherical heads (a: hemispheres)", "knuckle": "knuckle radius of a torispherical head",
@@ -164,6 +166,11 @@ class ShellScene:
         Fibre reinforcement on the law (:mod:`mol_shell.model.fibres`): modulus, Pa (``>= 0``; 0, the default, is
         no fibres and nothing of them in the graph); angle, rad, from the meridian towards ``+phi``; 1 family
         (a helix: stretch couples with twist) or 2 (``+-angle``, balanced); ``False``: tension only.
+    layers : str or list of dict
+        A layered wall (:mod:`mol_shell.model.layers`): ``"T1 MATERIAL key=value ...; T2 ..."`` from the lower face
+        (``T`` full thicknesses adding up to ``2h``; keys ``E, nu, c10, c01, fibre_E, fibre_angle, fibre_families,
+        fibre_compression``, the scene's where left out), or a list of dicts ``{"thickness": T, "material": M, ...}``
+        (stored as the string). ``""`` (default): one layer of ``material``.
     h_profile : str
         A graded wall (:mod:`mol_shell.model.thickness_profile`): ``h(s)`` as ``"table s0:h0 s1:h1 ..."`` (m, covering
         the meridian) or an expression of ``s``; each cell integrated through its own ``[-h, h]`` about the
@@ -221,6 +228,7 @@ class ShellScene:
     fibre_compression: bool = True
     law_limit: bool = True
     h_profile: str = ""
+    layers: str = ""
     end1: str | None = None
     end2: str | None = None
     pressure: float = 0.0
@@ -277,6 +285,7 @@ class ShellScene:
         _check("c10", self.c10, positive("Pa"))
         _check("c01", self.c01, non_negative("Pa"))
         self._check_fibres()
+        self._check_layers()
         if self.zeta1 is not None:
             _check("zeta1", self.zeta1, Interval(-2 * self.h, 0.0, True, True, unit="m",
                                                  shown=f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m"))
@@ -316,6 +325,24 @@ class ShellScene:
         if not isinstance(flag, (bool, np.bool_)):
             raise ParameterError("law_limit", self.law_limit, Flag())
         object.__setattr__(self, "law_limit", bool(flag))
+
+    def _check_layers(self):
+        """``layers`` read (a list becomes the string form), each layer's parameters checked as a scene's, their
+        thicknesses adding up to the wall ``2h``; not with ``h_profile``."""
+        object.__setattr__(self, "layers", layers_text(self.layers))
+        if not self.layers.strip():
+            return
+        if self.h_profile:
+            raise ParameterError("layers", self.layers, "'' with h_profile (a graded layered wall is not built yet)")
+        try:
+            layers = layer_scenes(self)
+        except ParameterError as exc:
+            raise ParameterError("layers", self.layers, "layers whose parameters are in range",
+                                 hint=str(exc)) from None
+        total = sum(t for t, _ in layers)
+        if abs(total - 2 * self.h) > 1e-9 * 2 * self.h:
+            raise ParameterError("layers", self.layers, f"thicknesses adding up to the wall, 2h = {2 * self.h:.6g} m",
+                                 hint=f"they add up to {total:.6g} m")
 
     def _blame(self, exc):
         """A refusal of ``h`` caused by a changed geometry parameter (``a = 5e-324``) names that parameter."""

@@ -6,8 +6,11 @@ A scene file names a registered scene and sets any of its parameters, each in th
 
     [geometry]                  # the meridian: L, a, b, alpha1, alpha2, r1, r2, H, points
     a = 1.0
-    [material]                  # h, E, nu, rho, material, n_quad, zeta1, eta_lambda, eta_mu
+    [material]                  # h, E, nu, rho, material, n_quad, zeta1, eta_lambda, eta_mu, fibre_*, h_profile, ...
     E = 1e6
+    [[layer]]                   # a layered wall, from the lower face (mol_shell.model.layers): thickness, material, ...
+    thickness = 0.0126
+    material = "svk"
     [edges]                     # end1, end2 and the driven edges (end1_spin, ..., end_omega, with *_history)
     end1 = "auto"
     [loads]                     # pressure, gravity, drag, end forces and torques (with *_history)
@@ -52,7 +55,7 @@ else:  # pragma: no cover
 
 #: the tables of a scene file, in the order they are written
 TABLES = ("geometry", "material", "edges", "loads", "initial", "run")
-MATERIAL = ("h", "h_profile", "E", "nu", "rho", "material", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families",
+MATERIAL = ("h", "h_profile", "layers", "E", "nu", "rho", "material", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families",
             "fibre_compression", "law_limit", "n_quad", "zeta1", "eta_lambda", "eta_mu")
 EDGES = ("end1", "end2") + DRIVES + ("end_omega",)
 #: the keys of ``[run]``: defaults of ``mol-shell run`` (``simulate``'s keywords)
@@ -212,6 +215,9 @@ def scene_from_dict(data, source="<scene file>", folder="."):
     fields = {f.name: f for f in dataclasses.fields(cls)}
     tables = ", ".join(f"[{t}]" for t in TABLES)
     given, where = {}, {}
+    if "layer" in data and "layers" in fields:  # [[layer]] tables: a layered wall (mol_shell.model.layers)
+        data = dict(data)
+        given["layers"], where["layers"] = data.pop("layer"), "layer"
     for key, table in data.items():
         if key == "scene":
             continue
