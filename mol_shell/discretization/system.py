@@ -57,7 +57,7 @@ from mol_shell.discretization.loading import check_end_loads, load_terms
 from mol_shell.model.edges import driven_node_kernel, driven_rates, free_rates, imposed_mask, resolve_edges, tied_chi
 from mol_shell.model.fibres import scene_fibres
 from mol_shell.model.geometry import node_inertias
-from mol_shell.model.thickness_profile import thickness_function
+from mol_shell.model.thickness_profile import graded_node_inertias, thickness_function
 from mol_shell.model.kinematics import FIELDS as FIELD_NAMES
 from mol_shell.model.kinematics import kinetic_energy_density
 from mol_shell.model.laws import layer_laws, law_parameters, small_strain_lame, viscosities
@@ -126,13 +126,8 @@ class ShellSystem(CellKernels):
         if getattr(scene, "layers", ""):  # layer by layer: each its law (the first one routes the kernels)
             self.thickness, self.layer_laws = layer_laws(scene)
             self.law, self.law_params, self.fibres = *self.layer_laws[0][:2], None
-        if self.graded is None:
-            self.inertia = node_inertias(self.meridian, self.s, scene.rho, self.thickness)
-        else:  # each node's dual cell with the node's own interval [-h, h]
-            h_nodes = self.graded(self.s)
-            self.inertia = np.array([node_inertias(self.meridian, self.s, scene.rho,
-                                                   Thickness(-h_nodes[i], h_nodes[i], scene.n_quad))[:, i]
-                                     for i in range(self.n)]).T
+        self.inertia = (node_inertias(self.meridian, self.s, scene.rho, self.thickness) if self.graded is None else
+                        graded_node_inertias(self.meridian, self.s, scene.rho, self.graded, scene.n_quad))
         self.has_rho_i = bool(np.any(np.abs(self.inertia[1]) > 1e-14 * self.inertia[0] * scene.h))
         if not self.has_rho_i:
             self.inertia[1] = 0.0  # exact zero: the rhoI terms are left out of the graph

@@ -19,6 +19,8 @@ import math
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
+from mol_shell.model.geometry import node_inertias
+from mol_shell.model.material import Thickness
 
 _FUNCTIONS = {"sqrt": np.sqrt, "exp": np.exp, "log": np.log, "sin": np.sin, "cos": np.cos, "tanh": np.tanh}
 _ALLOWED = "'table s0:h0 s1:h1 ...' (m, covering the meridian) or an expression of s such as '0.01 * (1 + 0.2 * s)'"
@@ -75,3 +77,11 @@ def thickness_function(text, length):
     if not np.all(np.isfinite(values) & (values > 0)):
         raise ParameterError("h_profile", text, "a positive, finite h(s) on the meridian", hint=_ALLOWED)
     return h
+
+
+def graded_node_inertias(meridian, s_nodes, rho, h, n_quad):
+    """:func:`~mol_shell.model.geometry.node_inertias` of a graded wall: each node's dual cell with the node's own
+    interval ``[-h, h]`` (``h`` a function of ``s``)."""
+    h_nodes = h(np.asarray(s_nodes, dtype=float))
+    return np.array([node_inertias(meridian, s_nodes, rho, Thickness(-h_nodes[i], h_nodes[i], n_quad))[:, i]
+                     for i in range(len(h_nodes))]).T
