@@ -32,7 +32,8 @@ import casadi as ca
 from mol_shell.model.fibres import Fibres, fibre_energy
 from mol_shell.model.hyperelastic import condensed_energy, thickness_component
 from mol_shell._core.errors import ParameterError
-from mol_shell.model.laws import LAWS, Law, svk, user_material
+from mol_shell.model.laws import LAWS, Law, svk, thickness_treatment, user_material
+from mol_shell.model.layers import parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, lame
 
@@ -46,6 +47,10 @@ def law_of_attrs(attrs):
     (``svk-plane-stress``, SVK's convention). A material this version does not know gives ``None`` params.
     """
     material = str(attrs.get("material", "svk"))
+    if str(attrs.get("layers", "") or "") not in ("", "none"):  # ("layers", ((thickness, route of the layer), ...),
+        return "layers", tuple((t, _layer_route(attrs, m, changes))  # plane): each layer as a run of its own
+                               for t, m, changes in parse_layers(str(attrs["layers"]))), \
+            thickness_treatment(material) != "director"
     fibre_E = float(attrs.get("fibre_E", 0.0))
     fibres = None
     if fibre_E > 0:
@@ -71,6 +76,16 @@ def law_of_attrs(attrs):
     else:
         params = {"c10": float(attrs["c10"]), "c01": float(attrs["c01"])}
     return material, tuple(sorted(params.items())), fibres, False
+
+
+def _layer_route(attrs, material, changes):
+    """The route of one layer: the run's attrs with the layer's material and keys (SVK without fibres included)."""
+    sub = {**attrs, "layers": "", "material": material, **changes}
+    route = law_of_attrs(sub)
+    if route is None:
+        lam, mu = condensed(*lame(float(sub["E"]), float(sub["nu"])), material)
+        route = "svk", (("lambda", lam), ("mu", mu)), None, material == "svk-plane-stress"
+    return route
 
 
 def route_law(route):

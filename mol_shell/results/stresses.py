@@ -65,7 +65,7 @@ from mol_shell._core.ranges import Choice
 from mol_shell.discretization.cells import cell_samples as kernel_samples
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.model.kinematics import FIELDS, deformation_gradient
-from mol_shell.model.laws import LAWS
+from mol_shell.model.laws import LAWS, thickness_treatment
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, green_strain, lame
 from mol_shell.results.cf import coordinates, variables
@@ -203,7 +203,7 @@ def resultants_from_integrals(v1, v2, w1, w2, strains, r0):
 
 
 def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0.0, eta_mu=0.0, plane_stress=False,
-                    elastic=None):
+                    elastic=None, layers=None):
     """Resultants and face stresses of one sample, elastic and viscous parts (CasADi ``SX`` in, ``SX`` out).
 
     Parameters
@@ -226,6 +226,9 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
         ``C -> (S, lambda_3)`` in place of SVK's ``S`` (``lam, mu`` unused): another law's stress and thickness
         stretch (:func:`mol_shell.results.law_stresses.energy_stress`); the face stresses then use ``F`` with its
         director column times ``lambda_3``.
+    layers : list, optional
+        ``[(lower face, upper face, elastic)]`` of a layered wall, from ``zeta1`` to ``zeta1 + 2h``: each layer its
+        own ``n_quad`` points and stress (in place of ``elastic``).
 
     Returns
     -------
@@ -238,7 +241,7 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
     r0, theta0, theta0_s, beta1_0, beta2_0 = ref
     kinds = ("elastic",) if rates is None else ("elastic", "viscous")
 
-    def stresses(zeta):
+    def stresses(zeta, elastic=elastic):
         F = deformation_gradient(ca.vertsplit(e), zeta, r0, theta0, theta0_s, beta1_0, beta2_0)
         E = green_strain(F)
         if elastic is None:
@@ -253,10 +256,11 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
             out["viscous"] = second_piola(Et, eta_lambda, eta_mu, plane_stress)
         return F, out, stretch
 
-    nodes, weights = thickness_rule(zeta1, h, n_quad)
+    layers = layers or [(zeta1, zeta1 + 2 * h, elastic)]
+    points = [(z, w, el) for lo, hi, el in layers for z, w in zip(*thickness_rule(lo, (hi - lo) / 2, n_quad))]
     sums = {kind: [(0.0, 0.0, 0.0)] * 4 for kind in kinds}  # v1, v2, w1, w2
-    for zeta, w in zip(nodes, weights):
-        F, S, _ = stresses(zeta)
+    for zeta, w, el in points:
+        F, S, _ = stresses(zeta, el)
         c = w * (r0 + zeta * ca.cos(theta0))
         a = w * (beta1_0 - zeta * theta0_s)
         for kind in kinds:
@@ -266,10 +270,10 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
             sums[kind] = [tuple(x + c * y for x, y in zip(v1, t1)), tuple(x + zeta * c * y for x, y in zip(v2, t1)),
                           tuple(x + a * y for x, y in zip(w1, t3)), tuple(x + zeta * a * y for x, y in zip(w2, t3))]
     parts = {kind: resultants_from_integrals(*sums[kind], ca.vertsplit(e), r0) for kind in kinds}
-    faces = [stresses(zeta) for zeta in (zeta1, zeta1 + 2 * h)]
-    for kind in kinds:
-        parts["sigma_" + kind] = [cauchy_stress(F if elastic is None else thickness_stretched(F, stretch), S[kind])
-                                  for F, S, stretch in faces]
+    faces = [stresses(zeta1, layers[0][2]), stresses(zeta1 + 2 * h, layers[-1][2])]
+    for kind in kinds:  # SVK's own (stretch 1.0): F as it is
+        parts["sigma_" + kind] = [cauchy_stress(thickness_stretched(F, stretch) if isinstance(stretch, ca.SX) else F,
+                                                S[kind]) for F, S, stretch in faces]
     strains = ca.vertcat(*strains)
     return {key: _substitute(value, e, strains) for key, value in parts.items()}
 
@@ -287,6 +291,16 @@ def _substitute(value, e, strains):
 PARAMETERS = ("zeta1", "h", "lam", "mu", "eta_lambda", "eta_mu", "plane_stress")
 
 
+def route_elastic(route, zeta1):
+    """``(elastic, layers, plane)`` of :func:`sample_stresses` for a route of
+    :func:`~mol_shell.results.law_stresses.law_of_attrs` (a layered wall: each layer on its interval from ``zeta1``)."""
+    if route[0] != "layers":
+        return route_stress(route), None, float(route[3] or route_law(route).thickness != "director")
+    bounds = [zeta1 + sum(t for t, _ in route[1][:k]) for k in range(len(route[1]) + 1)]
+    return None, [(lo, hi, route_stress(sub)) for lo, hi, (_, sub) in zip(bounds[:-1], bounds[1:], route[1])], \
+        float(route[2])
+
+
 @functools.lru_cache(maxsize=8)
 def kernel(n_quad, viscous=False, route=None):
     """``(e[8], e_t[8], ref[5], params[7]) -> (resultants[9], sigma[12])``, with ``viscous`` also
@@ -300,14 +314,13 @@ def kernel(n_quad, viscous=False, route=None):
     """
     e, et, ref, par = ca.SX.sym("e", 8), ca.SX.sym("et", 8), ca.SX.sym("ref", 5), ca.SX.sym("par", len(PARAMETERS))
     zeta1, h, lam, mu, eta_l, eta_m, plane = ca.vertsplit(par)
-    elastic, name = None, f"ms_stress_q{n_quad}"
+    elastic, layers, name = None, None, f"ms_stress_q{n_quad}"
     if route is not None:
-        elastic = route_stress(route)
-        plane = float(route[3] or route_law(route).thickness != "director")
+        elastic, layers, plane = route_elastic(route, zeta1)
         digest = hashlib.sha256(repr(route).encode()).hexdigest()[:12]  # stable across processes: the C cache
         name = f"ms_stress_{re.sub(r'[^A-Za-z0-9]', '_', route[0])}_{digest}_q{n_quad}"
     out = sample_stresses(ca.vertsplit(e), ca.vertsplit(et) if viscous else None, ca.vertsplit(ref), zeta1, h, n_quad,
-                          lam, mu, eta_l, eta_m, plane, elastic=elastic)
+                          lam, mu, eta_l, eta_m, plane, elastic=elastic, layers=layers)
     pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))
     outputs, names = [], []
     for kind in ("elastic", "viscous") if viscous else ("elastic",):
@@ -358,11 +371,17 @@ def _material(attrs):
     (:func:`~mol_shell.results.law_stresses.law_of_attrs`) from a run's attrs."""
     material = str(attrs.get("material", "svk"))
     route = law_of_attrs(attrs)
-    if route is not None and route[1] is None:  # a material this version does not know: refuse rather than guess
+    if route is not None and route[0] == "layers" and any(sub[1] is None for _, sub in route[1]):
+        raise ParameterError("layers", attrs["layers"], "layers of the built-in laws",
+                             hint="stresses and resultants are computed for the built-in laws")
+    if route is not None and route[0] != "layers" and route[1] is None:  # a material this version does not know: refuse rather than guess
         raise ParameterError("material", material, Choice(tuple(SVK_MATERIALS) + tuple(LAWS)),
                              hint="stresses and resultants are computed for the built-in laws")
-    how = material if route is None else ("svk" if route_law(route).thickness == "director" and not route[3]
-                                          else "svk-plane-stress")
+    if route is not None and route[0] == "layers":  # the viscosities condensed as the run's (the scene's material)
+        how = "svk" if thickness_treatment(material) == "director" else "svk-plane-stress"
+    else:
+        how = material if route is None else ("svk" if route_law(route).thickness == "director" and not route[3]
+                                              else "svk-plane-stress")
     lam, mu = condensed(*lame(float(attrs["E"]), float(attrs["nu"])), how)
     eta_lambda, eta_mu = condensed(float(attrs.get("eta_lambda", 0.0)), float(attrs.get("eta_mu", 0.0)), how)
     return lam, mu, eta_lambda, eta_mu, how == "svk-plane-stress", route
@@ -434,7 +453,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     n_t, n = ds.sizes["time"], ds.sizes["s"]
     samples = 2 * (n - 1) * n_t
     material = str(ds.attrs.get("material", "svk"))
-    for key, what in (("h_profile", "a graded wall"), ("layers", "a layered wall")):  # not computed here yet
+    for key, what in (("h_profile", "a graded wall"),):  # not computed here yet
         if str(ds.attrs.get(key, "") or "") not in ("", "none"):
             if limit is None:
                 raise ParameterError(key, ds.attrs[key], "'' (a uniform wall of one law)",

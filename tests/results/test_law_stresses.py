@@ -12,7 +12,7 @@ import mol_shell
 from mol_shell.model.laws import scene_shell_energy
 from mol_shell.model.material import Thickness, effective_lame
 from mol_shell.results.law_stresses import law_of_attrs, route_stress
-from mol_shell.results.stresses import RESULTANT_META, add_stresses, sample_stresses
+from mol_shell.results.stresses import RESULTANT_META, add_stresses, route_elastic, sample_stresses
 from mol_shell.scenes import Sphere
 
 H = 0.01
@@ -27,17 +27,19 @@ CASES = {
     "svk+2 fibre families": dict(material="svk", nu=0.3, fibre_E=5e6, fibre_angle=0.6, fibre_families=2),
     "mooney-rivlin+tension-only fibres": dict(material="mooney-rivlin", c01=4e4, fibre_E=5e6, fibre_angle=1.1,
                                               fibre_compression=False),
+    "layers: rubber under SVK with fibres": dict(material="svk-plane-stress", nu=0.3, layers=(
+        "0.012 neo-hookean-incompressible; 0.008 svk-plane-stress fibre_E=5e6 fibre_angle=0.6")),
 }
 
 
 def _scene(case):
-    return Sphere(h=H, E=1e6, **CASES[case])
+    return Sphere(h=H, E=1e6, zeta1=-H, **CASES[case])  # the wall [-H, H] about the base surface, as below
 
 
 def _resultants(scene):
-    route = law_of_attrs(scene.params())
+    elastic, layers, _ = route_elastic(law_of_attrs(scene.params()), -H)
     out = sample_stresses([ca.SX(x) for x in STRAINS], None, [ca.SX(x) for x in REF], -H, H, 4, 0.0, 0.0,
-                          elastic=route_stress(route))
+                          elastic=elastic, layers=layers)
     return {k: float(v) for k, v in out["elastic"].items()}
 
 
