@@ -10,6 +10,7 @@ from mol_shell._core.version import __version__
 from mol_shell.analysis.modes import modes
 from mol_shell.analysis.path import path
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.model.user_laws import Material
 from mol_shell.results.dataset import read_netcdf, write_netcdf
 from mol_shell.results.stresses import add_stresses
 from mol_shell.runs.building import build
@@ -28,13 +29,14 @@ from mol_shell.scenes import (
                               Torus,
                               TwistedCylinder,
                               Unshearable,
+                              Vessel,
                               get_scene,
 )
 from mol_shell.scenes.files import load_scene
 
 __all__ = [
-    "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "MaterialWarning", "MeridianShell", "ShellScene",
-    "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "Unshearable", "__version__", "build", "get_scene",
+    "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "Material", "MaterialWarning", "MeridianShell", "ShellScene",
+    "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "Unshearable", "Vessel", "__version__", "build", "get_scene",
     "load_scene", "modes", "path", "read_netcdf",
     "simulate", "simulate_ring", "simulate_unshearable", "study", "write_netcdf",
 ]

@@ -18,9 +18,11 @@ import numpy as np
 
 from mol_shell._core.constants import NF
 from mol_shell._core.errors import ParameterError
-from mol_shell.model.hyperelastic import law_thickness_energy
+from mol_shell.model.fibres import fibre_thickness_energy
+from mol_shell.model.hyperelastic import law_thickness_energy, law_thickness_values
 from mol_shell.model.kinematics import delta
 from mol_shell.model.material import (
+    svk_turning_limit,
     thickness_dissipation,
     thickness_energy,
     thickness_energy_moments,
@@ -63,7 +65,27 @@ class CellKernels:
     Lame pair ``lam, mu`` and thickness moments), else the law integrated point by point in every kernel.
     """
 
-    law = law_params = None
+    law = law_params = fibres = graded = layer_laws = None
+
+    def _law_energy(self, e, factors, beta2_0, trig=None):
+        """``sum_q vol_q W(C_q)`` of the law, or of a layered wall layer by layer (each its ``n_quad`` points)."""
+        if self.layer_laws is None:
+            return law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig)
+        nq, total = self.scene.n_quad, 0.0
+        for k, (law, params, fibres) in enumerate(self.layer_laws):
+            part = factors[k * nq:(k + 1) * nq]
+            total = total + law_thickness_energy(e, law, params, part, beta2_0, trig)
+            if fibres is not None:
+                total = total + fibre_thickness_energy(e, fibres, part, beta2_0, trig)
+        return total
+
+    def _fibre_energy(self, samples, factors, beta2_0, trigs=None):
+        """The fibres' stored energy of a cell (:mod:`mol_shell.model.fibres`), 0 without fibres (not in the graph)."""
+        if self.fibres is None:
+            return 0.0
+        trigs = trigs or [None] * len(samples)
+        return sum(fibre_thickness_energy(e, self.fibres, factors, beta2_0, trig)
+                   for e, trig in zip(samples, trigs)) / len(samples)
 
     def _cell_data(self):
         """Per-cell kernel data (columns): ``(j1, j3, vol)`` at each thickness point, then ``beta2_0`` if curved.
@@ -78,7 +100,12 @@ class CellKernels:
         beta1 = dz * np.cos(thm) + dr * np.sin(thm)
         beta2 = -dz * np.sin(thm) + dr * np.cos(thm)
         rows = []
-        for zeta, w in zip(*self.thickness.nodes_weights):
+        nodes_weights = self.thickness.nodes_weights
+        if self.graded is not None:  # each cell its own interval [-h, h] about the mid-surface (arrays over cells)
+            x, w = np.polynomial.legendre.leggauss(self.thickness.n_quad)
+            hc = self.graded((self.s[1:] + self.s[:-1]) / 2)
+            nodes_weights = ([hc * xq for xq in x], [hc * wq for wq in w])
+        for zeta, w in zip(*nodes_weights):
             a, c = beta1 - zeta * dth, r0m + zeta * np.cos(thm)
             if np.any(a <= 0) or np.any(c <= 0):
                 h, z1 = self.scene.h, self.thickness.zeta1
@@ -90,9 +117,11 @@ class CellKernels:
         if self.curved:
             rows.append(beta2)
         nq = self.thickness.n_quad
-        zetas = self.thickness.nodes_weights[0]
+        zetas = nodes_weights[0]
         rows += thickness_moments([(zetas[q], rows[3 * q], rows[3 * q + 1], rows[3 * q + 2]) for q in range(nq)])
-        return np.array(rows)
+        if self.graded is not None:
+            rows += list(zetas)  # the cells' thickness points: data of the kernels (a graded wall only)
+        return np.array([np.broadcast_to(row, beta1.shape) for row in rows])
 
     def _factors(self, data):
         """``quadrature_factors``-like tuples from a symbolic per-cell data column, and ``beta2_0``."""
@@ -101,10 +130,13 @@ class CellKernels:
     def _factors_and_moments(self, data):
         """:meth:`_factors` and the thickness moments (:func:`~mol_shell.model.material.thickness_moments`) of a cell."""
         nq = self.thickness.n_quad
-        zetas = self.thickness.nodes_weights[0]
-        factors = [(zetas[q], data[3 * q], data[3 * q + 1], data[3 * q + 2]) for q in range(nq)]
         start = 3 * nq + int(self.curved)
-        return factors, (data[3 * nq] if self.curved else 0.0), [data[k] for k in range(start, self.n_cell_data)]
+        zetas = self.thickness.nodes_weights[0]
+        end = start + 22  # the 22 moments (thickness_moments)
+        if self.graded is not None:  # the points are the cell's, after its moments
+            zetas = [data[end + q] for q in range(nq)]
+        factors = [(zetas[q], data[3 * q], data[3 * q + 1], data[3 * q + 2]) for q in range(nq)]
+        return factors, (data[3 * nq] if self.curved else 0.0), [data[k] for k in range(start, end)]
 
     # -- kernels -------------------------------------------------------------------------
     #: CasADi differentiates a mapped kernel through the kernel's own Jacobian instead of one
@@ -125,12 +157,12 @@ class CellKernels:
         """
         factors, beta2_0, moments = self._factors_and_moments(data)
         samples = self.cell_samples(ql, qr)
+        fibres = self._fibre_energy(samples, factors, beta2_0)
         if self.law is not None:  # any other law: per thickness point in both forms
-            return sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0)
-                       for e in samples) / len(samples)
+            return sum(self._law_energy(e, factors, beta2_0) for e in samples) / len(samples) + fibres
         if self.reference_kernel if reference is None else reference:
-            return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples)
-        return sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) for e in samples) / len(samples)
+            return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples) + fibres
+        return sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) for e in samples) / len(samples) + fibres
 
     @property
     def samples_per_cell(self):
@@ -172,7 +204,8 @@ class CellKernels:
         At n = 10,240 the full table is 2.8 MB, more than the cache: passing only these rows, once for a uniform
         meridian, keeps a leap-frog step's data in cache.
         """
-        rows = self.cell_data[0 if self.law is not None else 3 * self.thickness.n_quad:, :]  # a law: every row
+        per_point = self.law is not None or self.fibres is not None
+        rows = self.cell_data[0 if per_point else 3 * self.thickness.n_quad:, :]  # a law or fibres: every row
         return rows[:, :1] if np.all(rows == rows[:, :1]) else rows
 
     def cell_forces_shared_kernel(self):
@@ -187,16 +220,35 @@ class CellKernels:
         cos_mid, sin_mid = tl[2] * tr[2] - tl[3] * tr[3], tl[3] * tr[2] + tl[2] * tr[3]
         samples = self.cell_samples(ql, qr)  # psi at the left node, then the right (one sample: psi = 0)
         trigs = [(cos_mid, sin_mid, t[0], t[1]) for t in (tl, tr)]
-        if self.law is not None:
+        envelope = None
+        if self.law is not None and self.law.thickness == "plane-stress" and self.layer_laws is None:  # C_22 held
             factors, beta2_0, _ = self._factors_and_moments(geo)
-            energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig)
+            nq = len(factors)
+            held = ca.SX.sym("c22", nq * len(samples))
+            energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig,
+                                              ca.vertsplit(held[k * nq:(k + 1) * nq]))
+                         for k, (e, trig) in enumerate(zip(samples, trigs))) / len(samples)
+            envelope = (held, ca.vertcat(*[x for e, trig in zip(samples, trigs)
+                                           for x in law_thickness_values(e, self.law, self.law_params, factors,
+                                                                         beta2_0, trig)]))
+        elif self.law is not None:
+            factors, beta2_0, _ = self._factors_and_moments(geo)
+            energy = sum(self._law_energy(e, factors, beta2_0, trig) for e, trig in zip(samples, trigs)) / len(samples)
+        elif self.fibres is not None:  # SVK's moments, then the fibres point by point
+            factors, beta2_0, moments = self._factors_and_moments(geo)
+            energy = sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0, trig)
                          for e, trig in zip(samples, trigs)) / len(samples)
         else:
             beta2_0 = geo[0] if self.curved else 0.0
             moments = [geo[k] for k in range(int(self.curved), geo.numel())]
             energy = sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0, trig)
                          for e, trig in zip(samples, trigs)) / len(samples)
+        if self.fibres is not None:
+            energy = energy + self._fibre_energy(samples, factors, beta2_0, trigs)
         forces = [ca.gradient(energy, q) + trig_chain(t, ca.gradient(energy, t)) for q, t in ((ql, tl), (qr, tr))]
+        if envelope is not None:  # dW/dC_22 = 0 there: the gradient at the condensed C_22 needs no dC_22/dq (the
+            forces = ca.vertsplit(ca.substitute(ca.vertcat(*forces), *envelope), [0, NF, 2 * NF])  # (the Jacobian,
+            # differentiating this, still gets dC_22/dq)
         return ca.Function("cell", [ql, qr, tl, tr, geo], ca.cse(forces), self.KERNEL_OPTIONS)
 
     def _cell_observables(self):
@@ -205,6 +257,19 @@ class CellKernels:
         deltas = [delta(z_s, r_s, r, theta, psi) for z_s, r_s, _, _, _, r, theta, psi in self.cell_samples(ql, qr)]
         return ca.Function("cell_observables", [ql, qr, geo], [self.cell_energy(ql, qr, geo, reference=True),
                                                                ca.vertcat(*deltas)])
+
+    @property
+    def turning_limit(self):
+        """Whether the runs watch SVK's compressive turning point (:func:`~mol_shell.model.material.svk_turning_limit`):
+        for the SVK laws without fibres (their own kernel), unless the scene's ``law_limit`` is off."""
+        return self.law is None and self.fibres is None and bool(getattr(self.scene, "law_limit", True))
+
+    def cell_turning(self):
+        """``(q_left, q_right, geo) -> det(C_t - I/3)`` at the cell's samples (must stay > 0; SVK only)."""
+        ql, qr, geo = self._cell_symbols()
+        _, beta2_0, moments = self._factors_and_moments(geo)
+        values = [svk_turning_limit(e, moments, beta2_0) for e in self.cell_samples(ql, qr)]
+        return ca.Function("cell_turning", [ql, qr, geo], [ca.vertcat(*values)])
 
     def cell_delta(self):
         """``(q_left, q_right, geo) -> ds x delta``, ``delta = r beta1 cos(psi)`` at the cell's samples (must stay > 0)."""

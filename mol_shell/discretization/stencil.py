@@ -27,6 +27,7 @@ import casadi as ca
 import numpy as np
 
 from mol_shell.discretization.compiled import CFLAGS, default_threads, load_cached
+from mol_shell.model.material import svk_turning_limit
 
 #: the SX operations the emitter writes as C (each exactly as CasADi's own code generator does)
 _BINARY = {ca.OP_ADD: "({0}+{1})", ca.OP_SUB: "({0}-{1})", ca.OP_MUL: "({0}*{1})", ca.OP_DIV: "({0}/{1})"}
@@ -81,6 +82,7 @@ def unsupported_reason(system):
     checks = [
         (system.reference_kernel, "the reference kernel"),
         (system.law is not None, f"material = {system.scene.material}"),
+        (system.fibres is not None, "fibres"),
         (system.n_extra > 0 or bool(system.drives), "loads or driven edges"),
         (system.viscous, "viscosity"),
         (bool(system.ties), "a pole"),
@@ -101,8 +103,13 @@ def cell_limits_kernel(system):
     cos_mid, sin_mid = tl[2] * tr[2] - tl[3] * tr[3], tl[3] * tr[2] + tl[2] * tr[3]
     beta1 = (qr[0] - ql[0]) * cos_mid + (qr[1] - ql[1]) * sin_mid
     r_mid = (qr[1] + ql[1]) / 2
-    deltas = ca.vertcat(r_mid * beta1 * tl[0], r_mid * beta1 * tr[0])
-    return ca.Function("cell_limits", [ql, qr, tl, tr, geo], ca.cse([gl, gr, deltas]))
+    deltas = [r_mid * beta1 * tl[0], r_mid * beta1 * tr[0]]
+    if system.turning_limit:  # SVK's compressive turning point at the two samples, from the same trigonometry
+        beta2_0 = geo[0] if system.curved else 0.0
+        moments = [geo[k] for k in range(int(system.curved), geo.numel())]
+        deltas += [svk_turning_limit(e, moments, beta2_0, (cos_mid, sin_mid, t[0], t[1]))
+                   for e, t in zip(system.cell_samples(ql, qr), (tl, tr))]
+    return ca.Function("cell_limits", [ql, qr, tl, tr, geo], ca.cse([gl, gr, ca.vertcat(*deltas)]))
 
 
 _HEAD = r"""#include <math.h>
@@ -156,7 +163,7 @@ long long ms_stencil_leapfrog(double* ya, double* yb, long long nsteps, double d
           GL[c] = cl0; GL[ld + c] = cl1; GL[2 * ld + c] = cl2; GL[3 * ld + c] = cl3; GL[4 * ld + c] = cl4;
           GR[c + 1] = cr0; GR[ld + c + 1] = cr1; GR[2 * ld + c + 1] = cr2; GR[3 * ld + c + 1] = cr3;
           GR[4 * ld + c + 1] = cr4;
-          bad |= (c < n - 1) & !((cd0 > 0) & (cd1 > 0));
+          bad |= (c < n - 1) & !(%(cell_ok)s);
         }
       }
       if (!(bad && step > 0) && step < nsteps) {  /* bad: reduced, and seen by every thread after the barrier */
@@ -238,6 +245,7 @@ def stencil_source(system):
         "psi_max_sq": ((math.pi / 2) ** 2).hex(),
         "trig": sx_statements(system.node_trig_kernel(), lambda j, r: f"B[{r} * ld + i]", ["tc"]),
         "cell": sx_statements(cell_limits_kernel(system), cell_read, ["cl", "cr", "cd"]),
+        "cell_ok": " & ".join(f"(cd{k} > 0)" for k in range(4 if system.turning_limit else 2)),
         "node": node(inner),
         "first": node(first),
         "last": node(last),

@@ -55,10 +55,12 @@ from mol_shell._core.errors import ParameterError
 from mol_shell.discretization.cells import BETA2_ZERO, CellKernels, trig_chain  # noqa: F401  (BETA2_ZERO: where it is defined)
 from mol_shell.discretization.loading import check_end_loads, edge_displacements, load_terms
 from mol_shell.model.edges import driven_node_kernel, driven_rates, free_rates, imposed_mask, resolve_edges, tied_chi
+from mol_shell.model.fibres import scene_fibres
 from mol_shell.model.geometry import node_inertias
+from mol_shell.model.thickness_profile import graded_node_inertias, thickness_function
 from mol_shell.model.kinematics import FIELDS as FIELD_NAMES
 from mol_shell.model.kinematics import kinetic_energy_density
-from mol_shell.model.laws import law_parameters, small_strain_lame, viscosities
+from mol_shell.model.laws import layer_laws, law_parameters, small_strain_lame, viscosities
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.loads import history
 from mol_shell.model.material import Thickness, inertias
@@ -114,11 +116,18 @@ class ShellSystem(CellKernels):
         self.edges = resolve_edges(getattr(scene, "end1", None), getattr(scene, "end2", None), self.meridian.poles)
         self.lam, self.mu = small_strain_lame(scene)  # the SVK kernels' pair; scales for the other laws
         self.law, self.law_params = law_parameters(scene)
+        self.fibres = scene_fibres(scene)  # None without fibres: nothing of them in the graph
         self.eta_lambda, self.eta_mu = viscosities(scene)
         self.viscous = scene.eta_lambda > 0 or scene.eta_mu > 0
-        zeta1 = scene.zeta1_used()
+        profile = getattr(scene, "h_profile", "")
+        self.graded = thickness_function(profile, self.L) if profile else None  # h(s) of a graded wall
+        zeta1 = -scene.h if self.graded else scene.zeta1_used()
         self.thickness = Thickness(zeta1, scene.h, scene.n_quad)
-        self.inertia = node_inertias(self.meridian, self.s, scene.rho, self.thickness)
+        if getattr(scene, "layers", ""):  # layer by layer: each its law (the first one routes the kernels)
+            self.thickness, self.layer_laws = layer_laws(scene)
+            self.law, self.law_params, self.fibres = *self.layer_laws[0][:2], None
+        self.inertia = (node_inertias(self.meridian, self.s, scene.rho, self.thickness) if self.graded is None else
+                        graded_node_inertias(self.meridian, self.s, scene.rho, self.graded, scene.n_quad))
         self.has_rho_i = bool(np.any(np.abs(self.inertia[1]) > 1e-14 * self.inertia[0] * scene.h))
         if not self.has_rho_i:
             self.inertia[1] = 0.0  # exact zero: the rhoI terms are left out of the graph
@@ -382,8 +391,9 @@ class ShellSystem(CellKernels):
     def limits(self):
         """``y -> g``: the model's limits as functions that must stay positive (:meth:`limit_names` says which).
 
-        ``g = [delta at the samples of each cell; r per node; (pi/2)^2 - psi^2 per node]``
-        (the last only when ``psi`` is a field). Leap-frog checks them after every step (in C),
+        ``g = [delta at the samples of each cell; r per node; (pi/2)^2 - psi^2 per node; det(C_t - I/3) at the
+        samples of each cell]`` (the third only when ``psi`` is a field; the last for the SVK laws without fibres:
+        :func:`~mol_shell.model.material.svk_turning_limit`). Leap-frog checks them after every step (in C),
         CVODE and IDA find their roots. Depends on the field entries only, which sit at the same
         places in ``y = (q, p)`` and in IDA's ``x = (q, v)``.
         """
@@ -393,6 +403,8 @@ class ShellSystem(CellKernels):
         g = [ca.vec(self.cell_delta().map(n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)), Q[1, list(self.radial_nodes)].T]
         if 4 in self.active:
             g.append((math.pi / 2) ** 2 - Q[4, :].T ** 2)
+        if self.turning_limit:
+            g.append(ca.vec(self.cell_turning().map(n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)))
         f = ca.Function("limits", [y], [ca.vertcat(*g)], ["y"], ["g"])
         return f.expand() if n <= self.FLAT_MAX_NODES else f
 
@@ -403,6 +415,10 @@ class ShellSystem(CellKernels):
         names += [("r reached 0", f"s = {self.s[i]:.6g} m") for i in self.radial_nodes]
         if 4 in self.active:
             names += [("|psi| reached pi/2", f"s = {s:.6g} m") for s in self.s]
+        if self.turning_limit:
+            names += [("an in-plane stretch reached 1/sqrt(3) in compression, where the St Venant-Kirchhoff stress "
+                       "turns back (a limit of the law)", f"s = {s:.6g} m (cell centre)")
+                      for s in np.repeat(cells, self.samples_per_cell)]
         return names
 
     @property

@@ -22,10 +22,37 @@ The thickness integral is the same Gauss-Legendre rule as :func:`~mol_shell.mode
 
 from __future__ import annotations
 
+from collections.abc import Callable
+from dataclasses import dataclass
+
 import casadi as ca
 
 from mol_shell.model.kinematics import column_polynomials
 from mol_shell.model.material import quadrature_factors
+
+#: thickness treatments (:mod:`mol_shell.model.hyperelastic`)
+TREATMENTS = ("director", "plane-stress", "incompressible")
+
+
+@dataclass(frozen=True)
+class Law:
+    """A hyperelastic law: ``energy(C, params)`` per unit reference volume, ``C`` a nested 3x3 of scalars.
+
+    ``parameters``: the names ``params`` must hold; ``thickness``: one of :data:`TREATMENTS`; ``condense``:
+    optionally ``(C, params) -> C_22`` solving the law's plane-stress condition more cheaply than the generic
+    Newton iteration on ``dW/dC_22`` (:func:`~mol_shell.model.hyperelastic.plane_stress_thickness`).
+    """
+
+    name: str
+    energy: Callable
+    parameters: tuple
+    thickness: str
+    condense: Callable | None = None
+
+    def __post_init__(self):
+        if self.thickness not in TREATMENTS:
+            raise ValueError(f"thickness = {self.thickness!r} is outside {{{', '.join(TREATMENTS)}}}")
+
 
 #: the thickness (director) index of ``C``
 THICK = 1
@@ -126,17 +153,30 @@ def shell_cauchy_green(a, b, c, d, c2, zeta, j1, j3):
     return ((c11, c12, c13), (c12, 1.0, c23), (c13, c23, c33))
 
 
-def law_thickness_energy(strains, law, params, factors, beta2_0=0.0, trig=None):
+def law_thickness_energy(strains, law, params, factors, beta2_0=0.0, trig=None, thickness_values=None):
     """``sum_q vol_q W(C_q)``: :func:`~mol_shell.model.material.thickness_energy` for any law.
 
     ``factors``: :func:`~mol_shell.model.material.quadrature_factors` (or a cell's symbolic ones); ``trig``:
-    the sample's ``(cos theta, sin theta, cos psi, sin psi)`` if known.
+    the sample's ``(cos theta, sin theta, cos psi, sin psi)`` if known. ``thickness_values``: the thickness
+    components ``C_22`` at the points, given (:func:`law_thickness_values`) instead of solved here.
     """
     a, b, c, d, c2 = column_polynomials(strains, beta2_0, trig)
     total = 0.0
-    for zeta, j1, j3, vol in factors:
-        total = total + vol * condensed_energy(law, shell_cauchy_green(a, b, c, d, c2, zeta, j1, j3), params)
+    for q, (zeta, j1, j3, vol) in enumerate(factors):
+        C = shell_cauchy_green(a, b, c, d, c2, zeta, j1, j3)
+        if thickness_values is None:
+            w = condensed_energy(law, C, params)
+        else:
+            w = law.energy(with_thickness(C, thickness_values[q]), params)
+        total = total + vol * w
     return total
+
+
+def law_thickness_values(strains, law, params, factors, beta2_0=0.0, trig=None):
+    """The thickness components ``C_22`` that the law's treatment sets at each of ``factors``' points."""
+    a, b, c, d, c2 = column_polynomials(strains, beta2_0, trig)
+    return [thickness_component(law, shell_cauchy_green(a, b, c, d, c2, zeta, j1, j3), params)
+            for zeta, j1, j3, _ in factors]
 
 
 def law_shell_energy(strains, law, params, thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0, beta2_0=0.0):

@@ -256,6 +256,29 @@ def thickness_energy_moments(strains, lam, mu, moments, beta2_0=0.0, trig=None):
     return (0.5 * lam + mu) * (e11_sq + e33_sq) + lam * e11_e33 + mu * shear
 
 
+#: SVK's nominal stress in a uniaxial stretch ``l``, ``(E/2)(l^3 - l)``, is extreme at ``l^2 = 1/3``: compressed further,
+#: the law's stress turns back (it softens to zero at ``l = 0``), a limit of the law, not of the shell
+SVK_TURNING_C = 1.0 / 3.0
+
+
+def svk_turning_limit(strains, moments, beta2_0=0.0, trig=None):
+    """``det(C_t - I/3)`` of the in-plane (tangent) block ``C_t`` of the thickness-averaged metric: positive while
+    every in-plane stretch exceeds ``1/sqrt(3)``, where SVK's stress turns back in compression (:data:`SVK_TURNING_C`).
+
+    From the natural state (``C_t = I``: 4/9) the first stretch to reach ``1/sqrt(3)`` makes it vanish. ``C_11``,
+    ``C_33`` and ``C_13^2`` are taken at the base surface with the thickness-averaged reference factors of the
+    moments (:func:`thickness_moments`): ``|a|^2 <j1^2>``, ``r^2 <j3^2>``, ``(a_3 r)^2 <j1^2 j3^2>``, ``<.>`` the
+    moment over ``sum vol``; a membrane criterion (a bent wall's faces reach it a little earlier).
+    """
+    a, _, c, _, _ = column_polynomials(strains, beta2_0, trig)
+    m = list(moments)
+    m0 = m[21]
+    c11 = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) * m[15] / m0
+    c33 = c[2] * c[2] * m[18] / m0
+    c13_sq = (a[2] * c[2]) ** 2 * m[10] / m0
+    return (c11 - SVK_TURNING_C) * (c33 - SVK_TURNING_C) - c13_sq
+
+
 def thickness_dissipation(strains, rates, eta_lambda, eta_mu, factors, beta2_0=0.0):
     """``sum_q vol_q [eta_lambda/2 (tr E_t)^2 + eta_mu E_t : E_t]`` (CasADi ``strains``/``rates``)."""
     e_sym, r_sym = ca.SX.sym("e", 8), ca.SX.sym("edot", 8)

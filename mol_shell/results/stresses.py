@@ -53,7 +53,9 @@ and the viscous part is also given alone (``*_viscous``).
 from __future__ import annotations
 
 import functools
+import hashlib
 import math
+import re
 
 import casadi as ca
 import numpy as np
@@ -63,9 +65,20 @@ from mol_shell._core.ranges import Choice
 from mol_shell.discretization.cells import cell_samples as kernel_samples
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.model.kinematics import FIELDS, deformation_gradient
+from mol_shell.model.laws import LAWS, thickness_treatment
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, green_strain, lame
 from mol_shell.results.cf import coordinates, variables
+from mol_shell.results.law_stresses import law_of_attrs, route_law, route_stress
+from mol_shell.results.tensors import (  # noqa: F401  (matmul, transpose, det3: where the stresses' tests find them)
+    cauchy_stress,
+    det3,
+    matmul,
+    principal_stresses,
+    thickness_stretched,
+    transpose,
+    von_mises,
+)
 
 #: default limit on cell samples x saved times (2 per cell) above which stresses are skipped unless asked for:
 #: 4e6 samples cost 7 s (11 s viscous) and 270 MB on this machine (measured at n = 401, 5,000 saved times)
@@ -148,45 +161,6 @@ def second_piola(E, first, second, plane_stress=False):
     return tuple(tuple(row) for row in S)
 
 
-def matmul(A, B):
-    """Product of nested 3x3 tuples."""
-    return tuple(tuple(sum(A[i][k] * B[k][j] for k in range(3)) for j in range(3)) for i in range(3))
-
-
-def transpose(A):
-    return tuple(tuple(A[j][i] for j in range(3)) for i in range(3))
-
-
-def det3(A):
-    return (A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0])
-            + A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]))
-
-
-def cauchy_stress(F, S):
-    """``sigma = F S F^T / det F`` (components in the deformed ``b`` basis; ``F`` from ``b0`` to ``b``)."""
-    J = det3(F)
-    P = matmul(matmul(F, S), transpose(F))
-    return tuple(tuple(P[i][j] / J for j in range(3)) for i in range(3))
-
-
-def von_mises(sigma):
-    """``sqrt(((s11 - s22)^2 + (s22 - s33)^2 + (s33 - s11)^2)/2 + 3 (s12^2 + s23^2 + s13^2))``.
-
-    ``sigma`` as nested 3x3 tuples, or an array ``(..., 3, 3)``.
-    """
-    if isinstance(sigma, np.ndarray):
-        sigma = [[sigma[..., i, j] for j in range(3)] for i in range(3)]
-    s = sigma
-    value = (((s[0][0] - s[1][1]) ** 2 + (s[1][1] - s[2][2]) ** 2 + (s[2][2] - s[0][0]) ** 2) / 2
-             + 3 * (s[0][1] ** 2 + s[1][2] ** 2 + s[0][2] ** 2))
-    return np.sqrt(value) if isinstance(value, np.ndarray) else value**0.5
-
-
-def principal_stresses(sigma):
-    """Principal values of symmetric ``sigma`` of shape ``(..., 3, 3)``, in decreasing order along the last axis."""
-    return np.linalg.eigvalsh(np.asarray(sigma))[..., ::-1]
-
-
 def thickness_rule(zeta1, h, n_quad):
     """Gauss-Legendre nodes and weights on ``[zeta1, zeta1 + 2h]`` (as :class:`~mol_shell.model.material.Thickness`)."""
     x, w = np.polynomial.legendre.leggauss(n_quad)
@@ -228,7 +202,8 @@ def resultants_from_integrals(v1, v2, w1, w2, strains, r0):
     }
 
 
-def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0.0, eta_mu=0.0, plane_stress=False):
+def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0.0, eta_mu=0.0, plane_stress=False,
+                    elastic=None, layers=None):
     """Resultants and face stresses of one sample, elastic and viscous parts (CasADi ``SX`` in, ``SX`` out).
 
     Parameters
@@ -247,6 +222,13 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
         Condensed Lame constants and viscosities (:func:`~mol_shell.model.material.condensed`).
     plane_stress : bool or casadi.SX
         ``S22 = 0`` (:func:`second_piola`).
+    elastic : callable, optional
+        ``C -> (S, lambda_3)`` in place of SVK's ``S`` (``lam, mu`` unused): another law's stress and thickness
+        stretch (:func:`mol_shell.results.law_stresses.energy_stress`); the face stresses then use ``F`` with its
+        director column times ``lambda_3``.
+    layers : list, optional
+        ``[(lower face, upper face, elastic)]`` of a layered wall, from ``zeta1`` to ``zeta1 + 2h``: each layer its
+        own ``n_quad`` points and stress (in place of ``elastic``).
 
     Returns
     -------
@@ -259,21 +241,26 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
     r0, theta0, theta0_s, beta1_0, beta2_0 = ref
     kinds = ("elastic",) if rates is None else ("elastic", "viscous")
 
-    def stresses(zeta):
+    def stresses(zeta, elastic=elastic):
         F = deformation_gradient(ca.vertsplit(e), zeta, r0, theta0, theta0_s, beta1_0, beta2_0)
         E = green_strain(F)
-        out = {"elastic": second_piola(E, lam, mu, plane_stress)}
+        if elastic is None:
+            out, stretch = {"elastic": second_piola(E, lam, mu, plane_stress)}, 1.0
+        else:
+            S, stretch = elastic(tuple(tuple(2 * E[i][j] + (i == j) for j in range(3)) for i in range(3)))
+            out = {"elastic": S}
         if rates is not None:  # E_t = dE/de . e_t
             flat = ca.vertcat(*[E[i][j] for i in range(3) for j in range(3)])
             Et_flat = ca.jtimes(flat, e, ca.vertcat(*rates))
             Et = [[Et_flat[3 * i + j] for j in range(3)] for i in range(3)]
             out["viscous"] = second_piola(Et, eta_lambda, eta_mu, plane_stress)
-        return F, out
+        return F, out, stretch
 
-    nodes, weights = thickness_rule(zeta1, h, n_quad)
+    layers = layers or [(zeta1, zeta1 + 2 * h, elastic)]
+    points = [(z, w, el) for lo, hi, el in layers for z, w in zip(*thickness_rule(lo, (hi - lo) / 2, n_quad))]
     sums = {kind: [(0.0, 0.0, 0.0)] * 4 for kind in kinds}  # v1, v2, w1, w2
-    for zeta, w in zip(nodes, weights):
-        F, S = stresses(zeta)
+    for zeta, w, el in points:
+        F, S, _ = stresses(zeta, el)
         c = w * (r0 + zeta * ca.cos(theta0))
         a = w * (beta1_0 - zeta * theta0_s)
         for kind in kinds:
@@ -283,9 +270,10 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
             sums[kind] = [tuple(x + c * y for x, y in zip(v1, t1)), tuple(x + zeta * c * y for x, y in zip(v2, t1)),
                           tuple(x + a * y for x, y in zip(w1, t3)), tuple(x + zeta * a * y for x, y in zip(w2, t3))]
     parts = {kind: resultants_from_integrals(*sums[kind], ca.vertsplit(e), r0) for kind in kinds}
-    faces = [stresses(zeta) for zeta in (zeta1, zeta1 + 2 * h)]
-    for kind in kinds:
-        parts["sigma_" + kind] = [cauchy_stress(F, S[kind]) for F, S in faces]
+    faces = [stresses(zeta1, layers[0][2]), stresses(zeta1 + 2 * h, layers[-1][2])]
+    for kind in kinds:  # SVK's own (stretch 1.0): F as it is
+        parts["sigma_" + kind] = [cauchy_stress(thickness_stretched(F, stretch) if isinstance(stretch, ca.SX) else F,
+                                                S[kind]) for F, S, stretch in faces]
     strains = ca.vertcat(*strains)
     return {key: _substitute(value, e, strains) for key, value in parts.items()}
 
@@ -303,32 +291,49 @@ def _substitute(value, e, strains):
 PARAMETERS = ("zeta1", "h", "lam", "mu", "eta_lambda", "eta_mu", "plane_stress")
 
 
+def route_elastic(route, zeta1):
+    """``(elastic, layers, plane)`` of :func:`sample_stresses` for a route of
+    :func:`~mol_shell.results.law_stresses.law_of_attrs` (a layered wall: each layer on its interval from ``zeta1``)."""
+    if route[0] != "layers":
+        return route_stress(route), None, float(route[3] or route_law(route).thickness != "director")
+    bounds = [zeta1 + sum(t for t, _ in route[1][:k]) for k in range(len(route[1]) + 1)]
+    return None, [(lo, hi, route_stress(sub)) for lo, hi, (_, sub) in zip(bounds[:-1], bounds[1:], route[1])], \
+        float(route[2])
+
+
 @functools.lru_cache(maxsize=8)
-def kernel(n_quad, viscous=False):
+def kernel(n_quad, viscous=False, route=None):
     """``(e[8], e_t[8], ref[5], params[7]) -> (resultants[9], sigma[12])``, with ``viscous`` also
     ``(resultants_viscous[9], sigma_viscous[12])`` (SX).
 
     ``sigma`` holds the six components ``11, 22, 33, 12, 23, 13`` at ``zeta1`` then at ``zeta1 + 2h``.
     Material data are inputs (:data:`PARAMETERS`), so one compiled kernel serves every run with
-    ``n_quad`` points; the elastic kernel ignores ``e_t`` and the viscosities.
+    ``n_quad`` points; the elastic kernel ignores ``e_t`` and the viscosities. ``route``
+    (:func:`~mol_shell.results.law_stresses.law_of_attrs`): another law or fibres, whose stress is in the graph
+    (``lam, mu, plane_stress`` inputs unused; the viscous stress condensed unless under the director constraint).
     """
     e, et, ref, par = ca.SX.sym("e", 8), ca.SX.sym("et", 8), ca.SX.sym("ref", 5), ca.SX.sym("par", len(PARAMETERS))
     zeta1, h, lam, mu, eta_l, eta_m, plane = ca.vertsplit(par)
+    elastic, layers, name = None, None, f"ms_stress_q{n_quad}"
+    if route is not None:
+        elastic, layers, plane = route_elastic(route, zeta1)
+        digest = hashlib.sha256(repr(route).encode()).hexdigest()[:12]  # stable across processes: the C cache
+        name = f"ms_stress_{re.sub(r'[^A-Za-z0-9]', '_', route[0])}_{digest}_q{n_quad}"
     out = sample_stresses(ca.vertsplit(e), ca.vertsplit(et) if viscous else None, ca.vertsplit(ref), zeta1, h, n_quad,
-                          lam, mu, eta_l, eta_m, plane)
+                          lam, mu, eta_l, eta_m, plane, elastic=elastic, layers=layers)
     pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))
     outputs, names = [], []
     for kind in ("elastic", "viscous") if viscous else ("elastic",):
         outputs += [ca.vertcat(*out[kind].values()), ca.vertcat(*[f[i][j] for f in out["sigma_" + kind] for i, j in pairs])]
         names += ["resultants_" + kind, "sigma_" + kind]
-    name = f"ms_stress_q{n_quad}" + ("_viscous" if viscous else "")
+    name += "_viscous" if viscous else ""
     return ca.Function(name, [e, et, ref, par], outputs, ["e", "e_t", "ref", "par"], names)
 
 
 @functools.lru_cache(maxsize=8)
-def compiled_kernel(n_quad, viscous=False):
-    """:func:`kernel` as generated C (gcc, cached on disk; one build per ``n_quad`` and ``viscous``)."""
-    f = kernel(n_quad, viscous)
+def compiled_kernel(n_quad, viscous=False, route=None):
+    """:func:`kernel` as generated C (gcc, cached on disk; one build per ``n_quad``, ``viscous`` and law)."""
+    f = kernel(n_quad, viscous, route)
     return CompiledFunctions([f]).functions[f.name()]
 
 
@@ -341,8 +346,8 @@ class Evaluator:
     ``viscous``): views into the buffer, overwritten by the next call.
     """
 
-    def __init__(self, n_quad, viscous=False, size=CHUNK, compiled=True):
-        f = compiled_kernel(n_quad, viscous) if compiled else kernel(n_quad, viscous)
+    def __init__(self, n_quad, viscous=False, size=CHUNK, compiled=True, route=None):
+        f = compiled_kernel(n_quad, viscous, route) if compiled else kernel(n_quad, viscous, route)
         self.size = size
         self._buf, self._trigger = f.map(size).buffer()
         self._ins = [np.zeros((size, f.nnz_in(i))) for i in range(4)]
@@ -362,14 +367,24 @@ class Evaluator:
 
 
 def _material(attrs):
-    """Condensed Lame constants, viscosities and the plane-stress flag from a run's attrs."""
+    """Condensed Lame constants, viscosities, the plane-stress flag and the stress route
+    (:func:`~mol_shell.results.law_stresses.law_of_attrs`) from a run's attrs."""
     material = str(attrs.get("material", "svk"))
-    if material not in SVK_MATERIALS:  # its stresses are not SVK's: refuse rather than give those
-        raise ParameterError("material", material, Choice(tuple(SVK_MATERIALS)),
-                             hint="stresses and resultants are computed for the SVK laws only so far")
-    lam, mu = condensed(*lame(float(attrs["E"]), float(attrs["nu"])), material)
-    eta_lambda, eta_mu = condensed(float(attrs.get("eta_lambda", 0.0)), float(attrs.get("eta_mu", 0.0)), material)
-    return lam, mu, eta_lambda, eta_mu, material == "svk-plane-stress"
+    route = law_of_attrs(attrs)
+    if route is not None and route[0] == "layers" and any(sub[1] is None for _, sub in route[1]):
+        raise ParameterError("layers", attrs["layers"], "layers of the built-in laws",
+                             hint="stresses and resultants are computed for the built-in laws")
+    if route is not None and route[0] != "layers" and route[1] is None:  # a material this version does not know: refuse rather than guess
+        raise ParameterError("material", material, Choice(tuple(SVK_MATERIALS) + tuple(LAWS)),
+                             hint="stresses and resultants are computed for the built-in laws")
+    if route is not None and route[0] == "layers":  # the viscosities condensed as the run's (the scene's material)
+        how = "svk" if thickness_treatment(material) == "director" else "svk-plane-stress"
+    else:
+        how = material if route is None else ("svk" if route_law(route).thickness == "director" and not route[3]
+                                              else "svk-plane-stress")
+    lam, mu = condensed(*lame(float(attrs["E"]), float(attrs["nu"])), how)
+    eta_lambda, eta_mu = condensed(float(attrs.get("eta_lambda", 0.0)), float(attrs.get("eta_mu", 0.0)), how)
+    return lam, mu, eta_lambda, eta_mu, how == "svk-plane-stress", route
 
 
 def _nodal(ds, name):
@@ -438,9 +453,17 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     n_t, n = ds.sizes["time"], ds.sizes["s"]
     samples = 2 * (n - 1) * n_t
     material = str(ds.attrs.get("material", "svk"))
-    if limit is not None and material not in SVK_MATERIALS:  # after a run: say so; asked for: _material refuses
+    for key, what in (("h_profile", "a graded wall"),):  # not computed here yet
+        if str(ds.attrs.get(key, "") or "") not in ("", "none"):
+            if limit is None:
+                raise ParameterError(key, ds.attrs[key], "'' (a uniform wall of one law)",
+                                     hint=f"stresses of {what} are not computed yet")
+            out = ds.copy()
+            out.attrs["stresses"] = f"skipped: not computed for {what} ({key}) yet"
+            return out
+    if limit is not None and law_of_attrs(ds.attrs) is not None and law_of_attrs(ds.attrs)[1] is None:  # unknown
         out = ds.copy()
-        out.attrs["stresses"] = f"skipped: not computed for material = {material} (the SVK laws only so far)"
+        out.attrs["stresses"] = f"skipped: not computed for material = {material} (the built-in laws only)"
         return out
     if limit is not None and samples > limit:
         out = ds.copy()
@@ -448,14 +471,14 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
                                  "call mol_shell.add_stresses(ds, limit=None)")
         return out
     ref = reference_cells(ds["s"].values, _nodal(ds, "r0"), _nodal(ds, "z0"), _nodal(ds, "theta0"))
-    lam, mu, eta_lambda, eta_mu, plane = _material(ds.attrs)
+    lam, mu, eta_lambda, eta_mu, plane, route = _material(ds.attrs)
     zeta1, h, n_quad = float(ds.attrs["zeta1_used"]), float(ds.attrs["h"]), int(ds.attrs["n_quad"])
     par = np.array([zeta1, h, lam, mu, eta_lambda, eta_mu, float(plane)])
     viscous = eta_lambda > 0 or eta_mu > 0
     ref_cells = np.stack([ref[k] for k in ("r0", "theta0", "theta0_s", "beta1_0", "beta2_0")], axis=-1)  # (cells, 5)
     per_time = 2 * (n - 1)
     block_t = max(1, CHUNK // per_time)
-    run = Evaluator(n_quad, viscous, block_t * per_time if n_t > block_t else n_t * per_time, compiled)
+    run = Evaluator(n_quad, viscous, block_t * per_time if n_t > block_t else n_t * per_time, compiled, route)
     data = {}
     for t0 in range(0, n_t, block_t):
         t1 = min(t0 + block_t, n_t)

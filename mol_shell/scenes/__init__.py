@@ -24,11 +24,12 @@ from mol_shell.scenes.base import (
     zeta1_used,
 )
 from mol_shell.scenes.cylinder import Axisymmetric, CylinderScene, SpinningRing, TwistedCylinder
+from mol_shell.scenes.segments import Vessel
 from mol_shell.scenes.shells import Cone, MeridianShell, Sphere, Torus
 from mol_shell.scenes.unshearable import UNSHEARABLE_INTEGRATORS, Unshearable
 
 SCENES = {cls.name: cls for cls in (TwistedCylinder, SpinningRing, Axisymmetric, Sphere, Cone, Torus, MeridianShell,
-                                  Unshearable)}
+                                  Unshearable, Vessel)}
 
 
 def get_scene(name, **params):
@@ -44,6 +45,6 @@ def get_scene(name, **params):
 
 __all__ = [
     "DESCRIPTIONS", "DISPLACEMENTS", "DRIVES", "LOADS", "N_QUAD_RANGE", "SCENES", "UNITS", "Axisymmetric", "Cone", "CylinderScene", "MeridianShell",
-    "ShellScene", "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "UNSHEARABLE_INTEGRATORS", "Unshearable", "check_radius", "describe", "get_scene", "with_params",
+    "ShellScene", "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "UNSHEARABLE_INTEGRATORS", "Unshearable", "Vessel", "check_radius", "describe", "get_scene", "with_params",
     "zeta1_used", "_check", "_coerce",
 ]

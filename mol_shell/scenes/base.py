@@ -18,15 +18,18 @@ from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Choice, Interval, finite, non_negative, positive
 from mol_shell.model.edges import check_edge
 from mol_shell.model.geometry import base_offset, thickness_volume_factor
-from mol_shell.model.laws import MATERIALS
+from mol_shell.model.laws import MATERIALS, layer_scenes, resolve_material
+from mol_shell.model.layers import layers_text
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
+from mol_shell.model.thickness_profile import thickness_function
 
 UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
     "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
-    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "c10": "Pa", "c01": "Pa", "dR": "m", "a": "m", "b": "m",
-    "alpha1": "rad", "alpha2": "rad", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
+    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "c10": "Pa", "c01": "Pa",
+    "fibre_E": "Pa", "fibre_angle": "rad", "fibre_families": "1", "fibre_compression": "1", "law_limit": "1", "h_profile": "m", "layers": "1", "dR": "m", "a": "m", "b": "m",
+    "alpha1": "rad", "alpha2": "rad", "Lc": "m", "crown": "m", "knuckle": "m", "segments": "1", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
     "points": "1", "pressure": "Pa", "gravity": "m s-2", "drag": "N s m-3", "end1_force": "N", "end2_force": "N",
     "end1_torque": "N m", "end2_torque": "N m", "end1_spin": "rad s-1", "end2_spin": "rad s-1",
     "end1_axial_speed": "m s-1", "end2_axial_speed": "m s-1", "end_omega": "rad s-1",
@@ -42,7 +45,15 @@ DESCRIPTIONS = {
     "zeta1": "lower face of the thickness interval from the base surface", "eta_lambda": "Kelvin-Voigt viscosity eta_lambda",
     "eta_mu": "Kelvin-Voigt viscosity eta_mu", "material": "material law",
     "c10": "Mooney-Rivlin constant c10 (material = mooney-rivlin)", "c01": "Mooney-Rivlin constant c01 (material = mooney-rivlin)",
+    "fibre_E": "fibre modulus (0: no fibres)",
+    "fibre_angle": "fibre angle from the meridian towards +phi", "fibre_families": "fibre families: 1 (helix) or 2 (+-angle)",
+    "fibre_compression": "whether fibres carry compression (false: tension only)",
+    "law_limit": "stop where the law leaves its range (SVK: a compressive stretch of 1/sqrt(3))",
+    "layers": "layers from the lower face: 'T MATERIAL key=value ...; ...' (T thickness, m; they add up to 2h)",
+    "h_profile": "half-thickness along the meridian: 'table s0:h0 s1:h1 ...' or an expression of s ('': h)",
     "dR": "amplitude of the initial radius variation",
+    "Lc": "length of the vessel's cylinder", "crown": "crown radius of the vessel's torispherical heads (a: hemispheres)", "knuckle": "knuckle radius of a torispherical head",
+    "segments": "meridian from the bottom pole: 'arc R DEG, line L, ...' (overrides a, Lc, crown, knuckle)",
     "dt": "leap-frog time step", "rtol": "relative tolerance", "atol": "absolute tolerance (m or rad per field)",
     "max_step": "largest step of the adaptive integrator",
     "a": "natural radius (cylinder, sphere) or tube radius (torus)", "b": "radius of the torus' centre circle",
@@ -84,6 +95,17 @@ DISPLACEMENTS = ("end1_dz", "end2_dz", "end1_dchi", "end2_dchi")
 #: h < 0.5 m (32 with the inner face at r = 0.1 m); at n = 40 the exact Jacobian of cvode-bdf compiled in
 #: 3.8, 13, 54, 108 and 767 s at 4, 8, 16, 32, 64 points (docs/reliability.md)
 N_QUAD_RANGE = (2, 32)
+
+
+class Flag(Choice):
+    """A yes/no parameter: ``True``/``False`` (or 1/0, as netCDF stores them), or the strings ``true``/``false``."""
+
+    def __init__(self):
+        super().__init__(("true", "false"))
+
+    def __contains__(self, value):
+        return value in self.values or isinstance(value, (bool, np.bool_)) or (
+            isinstance(value, numbers.Integral) and value in (0, 1))
 
 
 def _check(name, value, allowed, ok=None, hint=""):
@@ -147,6 +169,23 @@ class ShellScene:
     c10, c01 : float
         Mooney-Rivlin constants, Pa (``W = c10 (I1 - 3) + c01 (I2 - 3)``; ``c10 > 0``, ``c01 >= 0``); read by
         ``material = "mooney-rivlin"`` only.
+    fibre_E, fibre_angle, fibre_families, fibre_compression : float, float, int, bool
+        Fibre reinforcement on the law (:mod:`mol_shell.model.fibres`): modulus, Pa (``>= 0``; 0, the default, is
+        no fibres and nothing of them in the graph); angle, rad, from the meridian towards ``+phi``; 1 family
+        (a helix: stretch couples with twist) or 2 (``+-angle``, balanced); ``False``: tension only.
+    layers : str or list of dict
+        A layered wall (:mod:`mol_shell.model.layers`): ``"T1 MATERIAL key=value ...; T2 ..."`` from the lower face
+        (``T`` full thicknesses adding up to ``2h``; keys ``E, nu, c10, c01, fibre_E, fibre_angle, fibre_families,
+        fibre_compression``, the scene's where left out), or a list of dicts ``{"thickness": T, "material": M, ...}``
+        (stored as the string). ``""`` (default): one layer of ``material``.
+    h_profile : str
+        A graded wall (:mod:`mol_shell.model.thickness_profile`): ``h(s)`` as ``"table s0:h0 s1:h1 ..."`` (m, covering
+        the meridian) or an expression of ``s``; each cell integrated through its own ``[-h, h]`` about the
+        mid-surface (``zeta1`` must be auto), ``h`` the nominal half-thickness. ``""`` (default): the uniform wall.
+    law_limit : bool
+        Stop a run, as a limit of the model, where the law leaves its range: for the SVK laws (without fibres) an
+        in-plane stretch of ``1/sqrt(3)`` in compression, past which their stress turns back
+        (:func:`~mol_shell.model.material.svk_turning_limit`). ``False``: the law as written, without that stop.
     end1, end2 : str or None
         Edge conditions at ``s = 0`` and ``s = L``: ``magnet``, ``clamped``, ``pinned``, ``free``
         (:mod:`mol_shell.model.edges`); ``None`` (``auto``): a pole on the axis, ``magnet`` elsewhere.
@@ -194,6 +233,13 @@ class ShellScene:
     material: str = "svk"
     c10: float = 1.5e5
     c01: float = 0.0
+    fibre_E: float = 0.0
+    fibre_angle: float = 0.0
+    fibre_families: int = 1
+    fibre_compression: bool = True
+    law_limit: bool = True
+    h_profile: str = ""
+    layers: str = ""
     end1: str | None = None
     end2: str | None = None
     pressure: float = 0.0
@@ -246,13 +292,15 @@ class ShellScene:
         object.__setattr__(self, "n_quad", int(self.n_quad))
         _check("eta_lambda", self.eta_lambda, non_negative("Pa s"))
         _check("eta_mu", self.eta_mu, non_negative("Pa s"))
-        if self.material not in MATERIALS:
-            raise ParameterError("material", self.material, Choice(tuple(MATERIALS)))
+        if self.material not in MATERIALS:  # a law of one's own: its name, kept in this process, or import path
+            object.__setattr__(self, "material", resolve_material(self.material))
         if self.material == "neo-hookean":  # its plane-stress condensation is shown converged for these
             _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True), hint="material = neo-hookean: its thickness "
-                   "stretch is condensed by 6 Newton steps, checked converged for 0 <= nu < 0.5")
+                   "stretch is condensed by 3 Halley steps, checked converged for 0 <= nu < 0.5")
         _check("c10", self.c10, positive("Pa"))
         _check("c01", self.c01, non_negative("Pa"))
+        self._check_fibres()
+        self._check_layers()
         if self.zeta1 is not None:
             _check("zeta1", self.zeta1, Interval(-2 * self.h, 0.0, True, True, unit="m",
                                                  shown=f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m"))
@@ -269,6 +317,49 @@ class ShellScene:
             self._check_thickness()
         except ParameterError as exc:
             raise self._blame(exc) from None
+
+    def _check_fibres(self):
+        """``fibre_E >= 0``, a finite ``fibre_angle``, ``fibre_families`` 1 or 2, ``fibre_compression`` true or false."""
+        _check("fibre_E", self.fibre_E, non_negative("Pa"))
+        _check("fibre_angle", self.fibre_angle, finite("rad"))
+        families = Interval(1, 2, True, True, integer=True, shown="{1, 2}")
+        if not isinstance(self.fibre_families, numbers.Integral) or isinstance(self.fibre_families, (bool, np.bool_)):
+            raise ParameterError.not_a("fibre_families", self.fibre_families, "an integer", families)
+        if self.fibre_families not in families:
+            raise ParameterError("fibre_families", self.fibre_families, families)
+        object.__setattr__(self, "fibre_families", int(self.fibre_families))
+        flag = {"true": True, "false": False}.get(self.fibre_compression, self.fibre_compression) \
+            if isinstance(self.fibre_compression, str) else self.fibre_compression
+        if isinstance(flag, numbers.Integral) and not isinstance(flag, (bool, np.bool_)) and flag in (0, 1):
+            flag = bool(flag)  # as a netCDF file stores it
+        if not isinstance(flag, (bool, np.bool_)):
+            raise ParameterError("fibre_compression", self.fibre_compression, Flag())
+        object.__setattr__(self, "fibre_compression", bool(flag))
+        flag = {"true": True, "false": False}.get(self.law_limit, self.law_limit) \
+            if isinstance(self.law_limit, str) else self.law_limit
+        if isinstance(flag, numbers.Integral) and not isinstance(flag, (bool, np.bool_)) and flag in (0, 1):
+            flag = bool(flag)
+        if not isinstance(flag, (bool, np.bool_)):
+            raise ParameterError("law_limit", self.law_limit, Flag())
+        object.__setattr__(self, "law_limit", bool(flag))
+
+    def _check_layers(self):
+        """``layers`` read (a list becomes the string form), each layer's parameters checked as a scene's, their
+        thicknesses adding up to the wall ``2h``; not with ``h_profile``."""
+        object.__setattr__(self, "layers", layers_text(self.layers))
+        if not self.layers.strip():
+            return
+        if self.h_profile:
+            raise ParameterError("layers", self.layers, "'' with h_profile (a graded layered wall is not built yet)")
+        try:
+            layers = layer_scenes(self)
+        except ParameterError as exc:
+            raise ParameterError("layers", self.layers, "layers whose parameters are in range",
+                                 hint=str(exc)) from None
+        total = sum(t for t, _ in layers)
+        if abs(total - 2 * self.h) > 1e-9 * 2 * self.h:
+            raise ParameterError("layers", self.layers, f"thicknesses adding up to the wall, 2h = {2 * self.h:.6g} m",
+                                 hint=f"they add up to {total:.6g} m")
 
     def _blame(self, exc):
         """A refusal of ``h`` caused by a changed geometry parameter (``a = 5e-324``) names that parameter."""
@@ -331,6 +422,9 @@ class ShellScene:
 
     def _check_thickness(self):
         """The thickness interval stays off the axis and inside every centre of curvature (``det G0 > 0``)."""
+        if not isinstance(self.h_profile, str) or self.h_profile:
+            self._check_profile()
+            return
         mer = self.meridian()
         s = np.linspace(0.0, mer.length, 401)
         s = np.concatenate([s, (s[:-1] + s[1:]) / 2])
@@ -342,6 +436,22 @@ class ShellScene:
             raise ParameterError("h", self.h, "values whose thickness interval stays off the axis and inside every "
                                  "centre of curvature of the meridian",
                                  hint=f"zeta1 = {z1:.4g} m; a face reaches the axis or a centre of curvature")
+
+    def _check_profile(self):
+        """A graded wall: ``h_profile`` read, ``zeta1`` auto, every cell's ``[-h(s), h(s)]`` with ``det G0 > 0``."""
+        if not isinstance(self.h_profile, str):
+            raise ParameterError.not_a("h_profile", self.h_profile, "a string", "'table s0:h0 ...' or an expression of s")
+        mer = self.meridian()
+        h = thickness_function(self.h_profile, mer.length)
+        if self.zeta1 is not None:
+            raise ParameterError("zeta1", self.zeta1, "auto with h_profile (the mid-surface is the base surface)")
+        s = np.linspace(0.0, mer.length, 801)
+        r0 = mer.at(s)[0]
+        keep = r0 > 1e-9 * max(1.0, float(np.max(np.abs(r0))))
+        for si, hi in zip(s[keep], h(s[keep])):
+            if not np.all(thickness_volume_factor(mer, np.array([-hi, hi]), np.array([si])) > 0):
+                raise ParameterError("h_profile", self.h_profile, "values whose thickness interval stays off the axis "
+                                     "and inside every centre of curvature", hint=f"h = {hi:.4g} m at s = {si:.4g} m")
 
     def initial_fields(self, s, reference):
         """``(Q, V)``, each ``5 x n``: the fields and rates of the initial data at nodes ``s``.

@@ -6,8 +6,11 @@ A scene file names a registered scene and sets any of its parameters, each in th
 
     [geometry]                  # the meridian: L, a, b, alpha1, alpha2, r1, r2, H, points
     a = 1.0
-    [material]                  # h, E, nu, rho, material, n_quad, zeta1, eta_lambda, eta_mu
+    [material]                  # h, E, nu, rho, material, n_quad, zeta1, eta_lambda, eta_mu, fibre_*, h_profile, ...
     E = 1e6
+    [[layer]]                   # a layered wall, from the lower face (mol_shell.model.layers): thickness, material, ...
+    thickness = 0.0126
+    material = "svk"
     [edges]                     # end1, end2 and the driven edges (end1_spin, ..., end_omega, with *_history)
     end1 = "auto"
     [loads]                     # pressure, gravity, drag, end forces and torques (with *_history)
@@ -52,7 +55,8 @@ else:  # pragma: no cover
 
 #: the tables of a scene file, in the order they are written
 TABLES = ("geometry", "material", "edges", "loads", "initial", "run")
-MATERIAL = ("h", "E", "nu", "rho", "material", "c10", "c01", "n_quad", "zeta1", "eta_lambda", "eta_mu")
+MATERIAL = ("h", "h_profile", "layers", "E", "nu", "rho", "material", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families",
+            "fibre_compression", "law_limit", "n_quad", "zeta1", "eta_lambda", "eta_mu")
 EDGES = ("end1", "end2") + DRIVES + DISPLACEMENTS + ("end_omega",)
 #: the keys of ``[run]``: defaults of ``mol-shell run`` (``simulate``'s keywords)
 RUN = ("integrator", "n", "t_end", "times", "dt", "rtol", "atol", "max_step")
@@ -150,7 +154,7 @@ def _type_ok(field, value):
     kind = str(field.type)
     return ((value is None and "None" in kind) or ("float" in kind and is_number(value))
             or ("int" in kind and is_number(value) and float(value).is_integer())
-            or ("str" in kind and isinstance(value, str)))
+            or ("str" in kind and isinstance(value, str)) or (kind == "bool" and isinstance(value, bool)))
 
 
 def _run_options(source, run):
@@ -211,6 +215,9 @@ def scene_from_dict(data, source="<scene file>", folder="."):
     fields = {f.name: f for f in dataclasses.fields(cls)}
     tables = ", ".join(f"[{t}]" for t in TABLES)
     given, where = {}, {}
+    if "layer" in data and "layers" in fields:  # [[layer]] tables: a layered wall (mol_shell.model.layers)
+        data = dict(data)
+        given["layers"], where["layers"] = data.pop("layer"), "layer"
     for key, table in data.items():
         if key == "scene":
             continue

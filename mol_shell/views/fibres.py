@@ -9,6 +9,13 @@ the section, ``psi`` tilts its fibres out of the radial direction (the rotationa
 axisymmetric, deformation of the paper's Figure 1c). The thickness is drawn magnified (the
 magnification is in the title); magnifying ``zeta`` keeps each fibre's direction, so the tilt is
 drawn at its true angle.
+
+A run with fibre reinforcement (``fibre_E > 0``, :mod:`mol_shell.model.fibres`) gets a third panel: (c) the
+reinforcing fibres on the base surface seen from the side (the half facing the viewer), in the reference
+configuration (grey, dashed) and deformed at the same time (one colour per family). A fibre at angle ``alpha``
+from the meridian towards ``+phi`` follows ``dphi/ds = tan(alpha) / r0(s)`` on the reference surface; its image
+is ``z(s) k + r(s) a2(phi(s) + chi(s))``, drawn as ``(z, r sin(phi + chi))``: the helices of a twisting shell
+turn with ``chi``.
 """
 
 from __future__ import annotations
@@ -29,6 +36,55 @@ def _nearest(values, value, name, unit):
         allowed = f"[{lo:g}, {hi:g}] {unit} (the run's range)"
         raise ParameterError(name, value, allowed, message=f"{name} = {value:g} is outside {allowed}")
     return int(np.argmin(np.abs(np.asarray(values) - value)))
+
+
+#: colours of the reinforcing fibre families in panel (c)
+FAMILY_COLOURS = ("tab:blue", "tab:green")
+
+
+def reinforcing_fibres(ds, k, count=12):
+    """Per family, ``(reference, deformed)`` arrays ``(fibre, node, 2)`` of the side view ``(z, y)`` at time index
+    ``k``, NaN where a point faces away (``cos(phi + chi) < 0``) or where ``r0`` is under 2 % of its largest value
+    (near a pole the helix winds without end)."""
+    nodes = ds["s"].values
+    fine = np.linspace(nodes[0], nodes[-1], 8 * len(nodes))  # the nodal values interpolated linearly
+
+    def at(values):
+        return np.interp(fine, nodes, values)
+
+    r0 = at(ds["r0"].values) if "r0" in ds else np.ones_like(fine)
+    z0 = at(ds["z0"].values) if "z0" in ds else fine
+    alpha = float(ds.attrs.get("fibre_angle", 0.0))
+    families = int(ds.attrs.get("fibre_families", 1))
+    keep = r0 > 0.02 * np.max(r0)
+    inv = np.where(keep, 1.0 / np.where(keep, r0, 1.0), 0.0)
+    turn = np.concatenate([[0.0], np.cumsum(np.diff(fine) * (inv[1:] + inv[:-1]) / 2)])  # int ds / r0
+    z, r, chi = (at(ds[f].values[k]) for f in ("z", "r", "chi"))
+    start = 2 * np.pi * np.arange(count) / count
+    out = []
+    for sign in (1, -1)[:families]:
+        phi = start[:, None] + sign * np.tan(alpha) * turn[None, :]
+        ref = np.stack([np.broadcast_to(z0, phi.shape), r0 * np.sin(phi)], axis=-1)
+        ref[(np.cos(phi) < 0) | ~keep] = np.nan
+        angle = phi + chi
+        cur = np.stack([np.broadcast_to(z, phi.shape), r * np.sin(angle)], axis=-1)
+        cur[(np.cos(angle) < 0) | ~keep] = np.nan
+        out.append((ref, cur))
+    return out
+
+
+def _fibre_panel(ax, ds, k):
+    for j, (ref, cur) in enumerate(reinforcing_fibres(ds, k)):
+        for line in ref:
+            ax.plot(line[:, 0], line[:, 1], color="0.65", lw=0.8, ls=(0, (2, 1.5)))
+        for line in cur:
+            ax.plot(line[:, 0], line[:, 1], color=FAMILY_COLOURS[j], lw=1.3)
+    alpha = float(ds.attrs.get("fibre_angle", 0.0))
+    families = int(ds.attrs.get("fibre_families", 1))
+    ax.set_aspect("equal")
+    ax.set_xlabel("z, m")
+    ax.set_title(f"(c) reinforcing fibres, {'+-' if families == 2 else ''}{np.degrees(alpha):.3g} deg, side view:\n"
+                 "dashed the reference, solid at the time of (b)", fontsize=10)
 
 
 def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
@@ -75,7 +131,8 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
     deformed = segments(r, np.cos(psi) * np.cos(theta), np.sin(psi), phi + chi)
     circle = np.linspace(0, 2 * np.pi, 361)
 
-    fig, axes = plt.subplots(1, 2, figsize=(9.2, 5.0))
+    reinforced = float(ds.attrs.get("fibre_E", 0.0)) > 0
+    fig, axes = plt.subplots(1, 3 if reinforced else 2, figsize=(13.8 if reinforced else 9.2, 5.0))
     panels = [(axes[0], reference, [r0 + z * np.cos(theta0) for z in zeta], r0, "(a) reference configuration"),
               (axes[1], deformed, [np.hypot(r + z * np.cos(psi) * np.cos(theta), z * np.sin(psi)) for z in zeta], r,
                f"(b) t = {times[k]:.4g} s: chi = {chi:+.4g} rad, psi = {psi:+.3g} rad,\nr = {r:.5g} m, "
@@ -97,6 +154,8 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
         ax.set_aspect("equal")
         ax.set_xlabel("m")
         ax.set_title(label, fontsize=10)
+    if reinforced:
+        _fibre_panel(axes[2], ds, k)
     scene = ds.attrs.get("scene", "run")
     fig.suptitle(f"{scene}: the section at s = {nodes[i]:.4g} m and its material fibres through the thickness "
                  f"(drawn {thickness_scale:g}x thicker)\nin (b) dashed: the fibres of (a); red: the fibre at phi = 0",

@@ -90,7 +90,7 @@ def test_run_and_plot_through_python_m(tmp_path):
 def test_model_limit_writes_data_and_exits_3(tmp_path):
     nc = tmp_path / "limit.nc"
     cmd = [sys.executable, "-m", "mol_shell", "run", "twisted-cylinder", "--set", "R=3", "--set", "gamma=0",
-           "--times", "0:0.05:0.005", "-o", str(nc)]
+           "--set", "law_limit=false", "--times", "0:0.05:0.005", "-o", str(nc)]
     done = subprocess.run(cmd, capture_output=True, text=True)
     assert done.returncode == 3
     # only the command's own line (and its one-line warnings): no Python RuntimeWarning with its source line

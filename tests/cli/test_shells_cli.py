@@ -21,8 +21,8 @@ def test_scenes_lists_every_registered_scene_and_a_scenes_parameters(capsys):
     assert head.startswith("torus: ") and columns.split()[:3] == ["parameter", "default", "units"]
     shown = {row.split()[0]: row.split()[1] for row in rows}  # name, default, unit, description
     torus = SCENES["torus"]()
-    assert shown == {f.name: "auto" if getattr(torus, f.name) is None else str(getattr(torus, f.name))
-                     for f in dataclasses.fields(torus)}
+    assert shown == {f.name: "auto" if getattr(torus, f.name) is None else "''" if getattr(torus, f.name) == "" else
+                     str(getattr(torus, f.name)) for f in dataclasses.fields(torus)}  # '': an empty string shown
     assert main(["scenes", "drum"]) == 2
     assert "scene = 'drum' is outside" in capsys.readouterr().err
 

@@ -388,7 +388,7 @@ def test_ranges_are_read_from_every_scene_s_checks():
     for name, cls in mol_shell.SCENES.items():
         ranges = scene_ranges(cls)
         for f in dataclasses.fields(cls):
-            if f.name.endswith("_history") or f.name == "points":
+            if f.name.endswith("_history") or f.name in ("points", "segments", "h_profile", "layers"):
                 continue  # a grammar or a file, not a range (their refusals: tests/test_loads.py, test_meridians.py)
             assert ranges[f.name] is not None, f"{name}.{f.name}: its check states no range that can be read"
             default = getattr(cls(), f.name)
@@ -440,5 +440,6 @@ def test_every_wrong_type_and_special_value_is_refused_or_stored_as_a_plain_numb
                 continue
             plain = isinstance(stored, (int, float, np.integer, np.floating)) and not isinstance(stored, bool)
             grammar = scene_ranges(cls)[f.name] is None  # a history or a file name: checked by its own parser
-            assert plain and math.isfinite(stored) or stored is None or isinstance(stored, str) and \
+            flag = isinstance(stored, bool) and stored in scene_ranges(cls)[f.name]  # a yes/no parameter
+            assert plain and math.isfinite(stored) or flag or stored is None or isinstance(stored, str) and \
                 (grammar or stored in scene_ranges(cls)[f.name]), (f.name, value, stored)

@@ -43,6 +43,8 @@ def _changed(scene, name, tmp_path):
         path = tmp_path / "dome.txt"
         np.savetxt(path, np.column_stack([np.cos(t), 0.5 * np.sin(t)]))
         candidates = [str(path)]
+    elif name == "segments":  # a meridian from segments: a capsule in place of the default vessel
+        candidates = ["arc 1 -90, line 1.5, arc 1 -90"]
     elif value is None:  # R or dilation: automatic (the equilibrium) by default
         candidates = [1.02, 0.02]
     else:

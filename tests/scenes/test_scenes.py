@@ -13,7 +13,7 @@ from mol_shell.runs.simulate import build
 
 def test_registry_and_string_parameters():
     assert {"twisted-cylinder", "spinning-ring", "axisymmetric", "unshearable", "sphere", "cone", "torus",
-            "meridian"} == set(mol_shell.SCENES)
+            "meridian", "vessel"} == set(mol_shell.SCENES)
     scene = get_scene("twisted-cylinder", gamma="0.2", n_quad="6", R="auto", material="svk-plane-stress")
     assert scene.gamma == 0.2 and scene.n_quad == 6 and scene.R is None and scene.material == "svk-plane-stress"
     with pytest.raises(ParameterError, match="gamma"):
@@ -36,7 +36,8 @@ def test_axisymmetric_scene_builds_only_z_r_theta():
     assert axi.size == 6 * 40 and full.size == 10 * 40
     assert axi.rhs.n_instructions() < 0.5 * full.rhs.n_instructions()
     # without psi the two samples of a cell coincide: one delta per cell, then r per node (no psi limit)
-    assert axi.limits.size1_out(0) == 39 + 40 and full.limits.size1_out(0) == 2 * 39 + 40 + 40
+    # delta per cell sample, r per node, (psi per node), SVK's compressive turning point per cell sample
+    assert axi.limits.size1_out(0) == 39 + 40 + 39 and full.limits.size1_out(0) == 2 * 39 + 40 + 40 + 2 * 39
 
 
 def test_axisymmetric_equals_full_model_without_twist_spin_shear():

@@ -1,0 +1,93 @@
+"""Layered walls: layers through the thickness, each with its law, parameters and fibres, integrated layer by layer.
+
+The scene parameter ``layers`` lists them from the lower face ``zeta1`` upwards, as a string
+``"T1 MATERIAL key=value ...; T2 MATERIAL ..."`` (``T`` the layer's full thickness, m; ``MATERIAL`` a value of
+``material``; keys ``E, nu, c10, c01, fibre_E, fibre_angle, fibre_families, fibre_compression``, the scene's
+values where left out), or as a Python list of dicts (``thickness``, ``material`` and those keys), or ``[[layer]]``
+tables in a scene file. The thicknesses add up to the wall, ``2h``. Each layer gets the scene's ``n_quad``
+Gauss-Legendre points on its own interval: the energy is integrated layer by layer (a kink of the stress at an
+interface is never inside a Gauss rule).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError
+
+#: the keys a layer may set (the rest are the scene's)
+LAYER_KEYS = ("E", "nu", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families", "fibre_compression")
+_ALLOWED = ("'T MATERIAL key=value ...; ...' (T the layer's thickness, m; keys " + ", ".join(LAYER_KEYS)
+            + "), or a list of dicts with thickness, material and those keys")
+
+
+def layers_text(value):
+    """A list of dicts (Python, or a scene file's ``[[layer]]`` tables) as the string form; a string as it is."""
+    if isinstance(value, str):
+        return value
+    if not isinstance(value, (list, tuple)) or not all(isinstance(x, dict) for x in value):
+        raise ParameterError.not_a("layers", value, "a list of layers", _ALLOWED)
+    parts = []
+    for layer in value:
+        layer = dict(layer)
+        try:
+            head = f"{float(layer.pop('thickness'))!r} {layer.pop('material')}"
+        except (KeyError, TypeError, ValueError):
+            raise ParameterError("layers", value, _ALLOWED, hint="each layer needs thickness and material") from None
+        parts.append(" ".join([head] + [f"{k}={v}" for k, v in layer.items()]))
+    return "; ".join(parts)
+
+
+def parse_layers(text):
+    """``[(thickness, material, {key: text})]`` of the string form; a ParameterError naming ``layers`` otherwise."""
+    out = []
+    for part in text.split(";"):
+        words = part.split()
+        try:
+            thickness = float(words[0])
+            material = words[1]
+            changes = dict(w.split("=", 1) for w in words[2:])
+        except (IndexError, ValueError):
+            raise ParameterError("layers", text, _ALLOWED, hint=f"cannot read {part.strip()!r}") from None
+        unknown = [k for k in changes if k not in LAYER_KEYS]
+        if unknown or not (np.isfinite(thickness) and thickness > 0):
+            raise ParameterError("layers", text, _ALLOWED, hint=f"unknown key {unknown[0]!r}" if unknown else
+                                 f"a layer thickness {thickness:g} <= 0")
+        out.append((thickness, material, changes))
+    return out
+
+
+@dataclass(frozen=True)
+class LayeredThickness:
+    """The thickness rule of a layered wall: ``n_quad`` Gauss points on each layer (``bounds``: its faces).
+
+    Quacks like :class:`~mol_shell.model.material.Thickness` (``zeta1``, ``h``, ``n_quad`` = all the points,
+    ``nodes_weights``); ``per_layer`` points belong to each layer in turn.
+    """
+
+    zeta1: float
+    h: float
+    per_layer: int
+    bounds: tuple
+
+    @property
+    def n_quad(self):
+        return self.per_layer * (len(self.bounds) - 1)
+
+    @property
+    def nodes_weights(self):
+        x, w = np.polynomial.legendre.leggauss(self.per_layer)
+        nodes, weights = [], []
+        for lo, hi in zip(self.bounds[:-1], self.bounds[1:]):
+            half = (hi - lo) / 2
+            nodes += list((lo + hi) / 2 + half * x)
+            weights += list(half * w)
+        return tuple(nodes), tuple(weights)
+
+
+def layered_thickness(zeta1, h, n_quad, thicknesses):
+    """The :class:`LayeredThickness` of layers of ``thicknesses`` from ``zeta1`` (they add up to ``2h``)."""
+    bounds = tuple(float(b) for b in zeta1 + np.concatenate([[0.0], np.cumsum(thicknesses)]))
+    return LayeredThickness(float(zeta1), float(h), int(n_quad), bounds[:-1] + (float(zeta1 + 2 * h),))

@@ -1,0 +1,87 @@
+"""A wall whose thickness varies along the meridian: the half-thickness ``h(s)`` from a table or an expression.
+
+The scene parameter ``h_profile`` gives ``h(s)`` (m) as
+
+- ``"table s0:h0 s1:h1 ..."``: linear between the points, which must cover the meridian ``[0, L]``;
+- an expression of ``s`` (m) with ``+ - * / **``, numbers, ``pi``, ``sqrt``, ``exp``, ``log``, ``sin``, ``cos``,
+  ``tanh``: ``"0.01 * (1 + 0.2 * s)"``.
+
+A graded wall is integrated cell by cell with the cell's own thickness interval ``[-h, h]`` about the base surface
+(the mid-surface: ``zeta1 = -h(s)``) and the same Gauss rule; each node's inertia is that of its dual cell with the
+node's ``h``. ``h`` of the scene stays the nominal half-thickness (scales, tolerances).
+"""
+
+from __future__ import annotations
+
+import ast
+import math
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError
+from mol_shell.model.geometry import node_inertias
+from mol_shell.model.material import Thickness
+
+_FUNCTIONS = {"sqrt": np.sqrt, "exp": np.exp, "log": np.log, "sin": np.sin, "cos": np.cos, "tanh": np.tanh}
+_ALLOWED = "'table s0:h0 s1:h1 ...' (m, covering the meridian) or an expression of s such as '0.01 * (1 + 0.2 * s)'"
+
+
+def _check_expression(text):
+    """Only arithmetic, ``s``, ``pi`` and :data:`_FUNCTIONS` (nothing else reaches ``eval``)."""
+    tree = ast.parse(text, mode="eval")
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name) and node.id not in ("s", "pi", *_FUNCTIONS):
+            raise ValueError(f"unknown name {node.id!r}")
+        if not isinstance(node, (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Call, ast.Name, ast.Load, ast.Constant,
+                                 ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd)):
+            raise ValueError(f"{type(node).__name__} is not allowed")
+        if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):
+            raise ValueError("only numbers")
+    return compile(tree, "<h_profile>", "eval")
+
+
+def thickness_function(text, length):
+    """``h(s)`` (a function of an array ``s``) from ``text``; a ParameterError naming ``h_profile`` otherwise.
+
+    Refuses a table that does not cover ``[0, length]``, and an ``h`` that is not positive and finite on it.
+    """
+    words = text.split()
+    try:
+        if words and words[0] == "table":
+            pairs = [tuple(float(x) for x in w.split(":")) for w in words[1:]]
+            if len(pairs) < 2 or any(len(p) != 2 for p in pairs):
+                raise ValueError("a table needs two or more points s:h")
+            s_tab, h_tab = (np.array(x) for x in zip(*pairs))
+            if np.any(np.diff(s_tab) <= 0):
+                raise ValueError("the table's s must increase")
+            tol = 1e-9 * max(1.0, length)
+            if s_tab[0] > tol or s_tab[-1] < length - tol:
+                raise ParameterError("h_profile", text, f"a table covering the meridian [0, {length:.6g}] m",
+                                     hint=f"it covers [{s_tab[0]:g}, {s_tab[-1]:g}] m")
+
+            def h(s):
+                return np.interp(np.asarray(s, dtype=float), s_tab, h_tab)
+        else:
+            code = _check_expression(text)
+
+            def h(s):
+                s = np.asarray(s, dtype=float)
+                value = eval(code, {"__builtins__": {}}, {"s": s, "pi": math.pi, **_FUNCTIONS})  # noqa: S307 (checked)
+                return np.broadcast_to(np.asarray(value, dtype=float), s.shape).copy()
+    except ParameterError:
+        raise
+    except (ValueError, SyntaxError, TypeError) as exc:
+        raise ParameterError("h_profile", text, _ALLOWED, hint=str(exc)) from None
+    with np.errstate(all="ignore"):
+        values = h(np.linspace(0.0, length, 1001))
+    if not np.all(np.isfinite(values) & (values > 0)):
+        raise ParameterError("h_profile", text, "a positive, finite h(s) on the meridian", hint=_ALLOWED)
+    return h
+
+
+def graded_node_inertias(meridian, s_nodes, rho, h, n_quad):
+    """:func:`~mol_shell.model.geometry.node_inertias` of a graded wall: each node's dual cell with the node's own
+    interval ``[-h, h]`` (``h`` a function of ``s``)."""
+    h_nodes = h(np.asarray(s_nodes, dtype=float))
+    return np.array([node_inertias(meridian, s_nodes, rho, Thickness(-h_nodes[i], h_nodes[i], n_quad))[:, i]
+                     for i in range(len(h_nodes))]).T

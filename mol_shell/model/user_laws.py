@@ -1,0 +1,113 @@
+"""Laws of one's own: :class:`Material`, a stored energy ``W(C, parameters)`` written by the user.
+
+``energy(C, p)`` takes ``C``, the 3-D right Cauchy-Green tensor as a CasADi ``SX`` 3x3 matrix in the reference
+basis (meridian, director = thickness, circumference), and ``p``, the dict ``parameters``; it returns ``W`` per unit
+reference volume as an ``SX`` scalar (``casadi.trace``, ``casadi.det``, ``casadi.log``, ``C[0, 2]``, ... all work).
+The law then runs like a built-in one (:mod:`mol_shell.model.laws`): through the thickness with its ``thickness``
+treatment (``plane-stress``, ``incompressible`` or ``director``), stresses and Jacobians by automatic
+differentiation, fibres on top.
+
+A scene takes it as ``material``:
+
+- the :class:`Material` itself (Python): the scene stores its ``name``, registered in this process;
+- an import path ``"package.module:attr"`` (a scene file's ``material = "..."``, the command line's
+  ``--set material=...``, and anything run in other processes such as a study's spawned workers): the module is
+  imported where the scene is made, and the scene stores the path.
+
+The parameters are numbers fixed in the :class:`Material` (a study varies the law by varying ``material``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import casadi as ca
+
+from mol_shell._core.errors import ParameterError
+from mol_shell.model.hyperelastic import Law, condensed_energy, with_thickness
+
+#: the thickness treatments a user law may ask for (:mod:`mol_shell.model.hyperelastic`)
+USER_TREATMENTS = ("plane-stress", "incompressible", "director")
+
+
+@dataclass(frozen=True, eq=False)
+class Material:
+    """A hyperelastic law from its stored energy.
+
+    Parameters
+    ----------
+    name : str
+        What runs and files call it (``material`` in their attrs); not the name of a built-in law.
+    energy : callable
+        ``energy(C, p) -> W``: ``C`` a CasADi ``SX`` 3x3 (index 1 the thickness), ``p`` the parameters.
+    parameters : dict
+        ``{name: number}`` handed to ``energy``.
+    thickness : str
+        ``plane-stress`` (default: the thickness stretch minimises ``W``, by the unrolled Newton iteration of
+        :func:`~mol_shell.model.hyperelastic.plane_stress_thickness`), ``incompressible`` (``det C = 1``) or
+        ``director`` (the paper's inextensible director, thickness stretch 1).
+    """
+
+    name: str
+    energy: object
+    parameters: dict = field(default_factory=dict)
+    thickness: str = "plane-stress"
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name.strip() or ":" in self.name:
+            raise ParameterError("name", self.name, "a name of its own (no ':'; not a built-in law's)")
+        if not callable(self.energy):
+            raise ParameterError.not_a("energy", self.energy, "a function energy(C, parameters)",
+                                       "a function of C (casadi.SX 3x3) and the parameters")
+        if self.thickness not in USER_TREATMENTS:
+            raise ParameterError("thickness", self.thickness, "{" + ", ".join(USER_TREATMENTS) + "}")
+        for key, value in dict(self.parameters).items():
+            if not isinstance(key, str) or isinstance(value, bool) or not isinstance(value, (int, float)):
+                raise ParameterError("parameters", key, "a dict of names and numbers")
+        object.__setattr__(self, "parameters", {k: float(v) for k, v in self.parameters.items()})
+        self._check_energy()
+
+    def _check_energy(self):
+        """The energy evaluates to a scalar at ``C = I`` (the natural state) and is stationary there."""
+        C = ca.SX.sym("C", 3, 3)
+        try:
+            W = self.energy(C, dict(self.parameters))
+            W = ca.SX(W)
+        except Exception as exc:  # noqa: BLE001 - any failure of the user's function is a refusal of it
+            raise ParameterError.not_a("energy", self.name, "a function energy(C, parameters) of casadi.SX",
+                                       "a function returning a CasADi scalar", hint=f"{type(exc).__name__}: {exc}") from None
+        if W.numel() != 1:
+            raise ParameterError.not_a("energy", self.name, "a scalar energy", "a function returning one number")
+
+    def law(self):
+        """The :class:`~mol_shell.model.laws.Law` that runs it (``C`` handed over as an ``SX`` matrix)."""
+        energy = self.energy
+
+        def nested_energy(C, p):
+            M = ca.SX(3, 3)
+            for i in range(3):
+                for j in range(3):
+                    M[i, j] = C[i][j]
+            return energy(M, p)
+
+        return Law(self.name, nested_energy, tuple(self.parameters), self.thickness)
+
+    def small_strain_pair(self):
+        """``(lambda*, mu)`` of the law at ``C = I``, thickness condensed: ``mu = d2W/dC13^2`` (``C13 = C31``) and
+        ``lambda* + 2 mu = 4 d2W/dC11^2`` (the isotropic ``lambda*/2 (tr E)^2 + mu E:E``, ``E = (C - I)/2``). For the
+        scales of a run (tolerances, wave speeds), not its energy."""
+        x = ca.SX.sym("x")
+        law, p = self.law(), dict(self.parameters)
+
+        def second(i, j):
+            C = [[x if (a, b) in ((i, j), (j, i)) else (1.0 if a == b and (a, b) != (i, j) else 0.0)
+                  for b in range(3)] for a in range(3)]
+            if i == j:
+                C[i][i] = x
+            W = condensed_energy(law, with_thickness(tuple(tuple(r) for r in C), C[1][1]), p)
+            d2 = ca.Function("d2", [x], [ca.hessian(W, x)[0]])
+            return float(d2(1.0 if i == j else 0.0))
+
+        mu = second(0, 2)
+        lam = 4 * second(0, 0) - 2 * mu
+        return lam, mu

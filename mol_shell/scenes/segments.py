@@ -1,0 +1,160 @@
+"""Meridians made of segments with a continuous tangent, and the closed vessel built from them.
+
+A segment is a straight line (``("line", length)``) or a circular arc (``("arc", radius, angle)``: the tangent angle
+``theta0`` turns by ``angle``, rad, over the length ``radius |angle|``); each starts where the previous one ends, with
+its tangent, so the tangent is continuous and the curvature ``theta0_s`` jumps at the junctions. From a start
+``(r, z, theta)``, with ``dz0/ds = cos(theta0)`` and ``dr0/ds = sin(theta0)`` (:mod:`mol_shell.model.geometry`):
+
+    arc of curvature k = angle / length:  theta0 = theta_a + k (s - s_a),
+                                          r0 = r_a + (cos theta_a - cos theta0) / k,   z0 = z_a + (sin theta0 - sin theta_a) / k;
+    line:                                 r0 = r_a + sin(theta_a) (s - s_a),            z0 = z_a + cos(theta_a) (s - s_a).
+
+The vessel scene starts at the bottom pole heading outward (``theta = pi/2``), so the director ``d0`` is the
+outward normal everywhere (``-k`` at the bottom pole, as the sphere's). A torispherical head is a crown arc of radius ``Rc`` turning by ``phi1`` and a knuckle of radius ``rk``
+turning by ``pi/2 - phi1``, with ``sin(phi1) = (a - rk) / (Rc - rk)`` so that the knuckle ends on the cylinder
+``r = a`` (``Rc sin(phi1) + rk (1 - sin(phi1)) = a``); ``Rc = a`` is the hemispherical head, one arc ``(a, -pi/2)``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError
+from mol_shell._core.ranges import Interval, positive
+from mol_shell.model.geometry import Meridian
+from mol_shell.scenes.shells import _Dilated
+from mol_shell.scenes.base import _check
+
+
+@dataclass(frozen=True, eq=False)
+class SegmentedMeridian(Meridian):
+    """A meridian of line and arc segments (see the module's docstring), from ``start = (r, z, theta)``."""
+
+    segments: tuple
+    start: tuple = (0.0, 0.0, math.pi / 2)
+
+    def __post_init__(self):
+        rows, (r, z, theta), s = [], self.start, 0.0
+        for seg in self.segments:
+            kind = seg[0]
+            if kind == "line" and len(seg) == 2 and seg[1] > 0:
+                length, k = float(seg[1]), 0.0
+            elif kind == "arc" and len(seg) == 3 and seg[1] > 0 and seg[2] != 0:
+                length, k = float(seg[1]) * abs(seg[2]), float(seg[2]) / (float(seg[1]) * abs(seg[2]))
+            else:
+                raise ParameterError("segments", seg, "('line', length > 0) or ('arc', radius > 0, angle != 0)")
+            rows.append((s, length, r, z, theta, k))
+            r, z, theta = self._point(r, z, theta, k, length)
+            s += length
+        object.__setattr__(self, "_rows", tuple(rows))
+        object.__setattr__(self, "_length", s)
+
+    @staticmethod
+    def _point(r, z, theta, k, ds):
+        if k == 0:
+            return r + np.sin(theta) * ds, z + np.cos(theta) * ds, theta + 0 * ds
+        end = theta + k * ds
+        return r + (np.cos(theta) - np.cos(end)) / k, z + (np.sin(end) - np.sin(theta)) / k, end
+
+    @property
+    def length(self):
+        return self._length
+
+    def at(self, s):
+        s = np.asarray(s, dtype=float)
+        out = [np.zeros_like(s) for _ in range(4)]
+        for i, (s0, length, r, z, theta, k) in enumerate(self._rows):
+            last = i == len(self._rows) - 1
+            mask = (s >= s0) & ((s <= s0 + length) if last else (s < s0 + length))
+            r0, z0, th0 = self._point(r, z, theta, k, s[mask] - s0)
+            out[0][mask], out[1][mask], out[2][mask], out[3][mask] = r0, z0, th0, k
+        scale = max(abs(row[2]) for row in self._rows) + self._length
+        out[0] = np.where(np.abs(out[0]) <= 1e-13 * scale, 0.0, out[0])  # exact zeros at the poles
+        return tuple(out)
+
+    def describe(self):
+        parts = ", ".join(f"{seg[0]} " + " ".join(f"{x:.6g}" for x in seg[1:]) for seg in self.segments)
+        return f"SegmentedMeridian({parts}; length {self.length:.6g} m)"
+
+
+def head(a, crown, knuckle):
+    """The segments of a torispherical head from its pole to the cylinder ``r = a``: a crown arc (radius ``crown``)
+    and a knuckle (radius ``knuckle``); ``crown = a`` is the hemisphere (the knuckle then turns by 0 and is left out)."""
+    phi1 = math.asin(min(1.0, (a - knuckle) / (crown - knuckle)))
+    out = [("arc", crown, -phi1)]
+    if math.pi / 2 - phi1 > 1e-12:
+        out.append(("arc", knuckle, -(math.pi / 2 - phi1)))
+    return out
+
+
+def parse_segments(text):
+    """``"arc R DEG, line L, ..."`` as segments (angles in degrees), or a ParameterError naming ``segments``."""
+    out = []
+    allowed = "'arc RADIUS ANGLE_DEG' and 'line LENGTH' separated by commas (radius, length > 0, m)"
+    for part in text.split(","):
+        words = part.split()
+        try:
+            if words[0] == "arc" and len(words) == 3:
+                out.append(("arc", float(words[1]), math.radians(float(words[2]))))
+            elif words[0] == "line" and len(words) == 2:
+                out.append(("line", float(words[1])))
+            else:
+                raise ValueError(part)
+        except (ValueError, IndexError):
+            raise ParameterError("segments", text, allowed, hint=f"cannot read {part.strip()!r}") from None
+    return out
+
+
+@dataclass(frozen=True)
+class Vessel(_Dilated):
+    """A closed pressure vessel: a cylinder of radius ``a`` and length ``Lc`` with two torispherical heads (crown
+    radius ``crown``, default (auto) ``2a``; knuckle radius ``knuckle``, default ``0.2 a``; ``crown = a``:
+    hemispherical heads, a capsule), or any meridian from
+    the bottom pole given as ``segments`` (``"arc R DEG, line L, ..."``, degrees; it overrides the others).
+
+    The meridian starts at the bottom pole heading outward (director outward), so an equatorial closed shell has
+    two poles.
+    """
+
+    a: float = 1.0
+    Lc: float = 2.0
+    crown: float | None = None
+    knuckle: float | None = None
+    segments: str = ""
+
+    name = "vessel"
+
+    def _validate(self):
+        super()._validate()
+        _check("a", self.a, positive("m"))
+        _check("Lc", self.Lc, Interval(0.0, math.inf, low_closed=True, unit="m"))
+        for name in ("crown", "knuckle"):
+            if isinstance(getattr(self, name), str) and getattr(self, name).strip().lower() in ("auto", "none"):
+                object.__setattr__(self, name, None)
+        if self.crown is not None:
+            _check("crown", self.crown, Interval(self.a, math.inf, low_closed=True, unit="m",
+                                                 shown=f"[a, inf) = [{self.a:g}, inf) m (a: hemispherical heads), or auto"))
+        if self.knuckle is not None:
+            _check("knuckle", self.knuckle, Interval(0.0, self.a, unit="m", shown=f"(0, a) = (0, {self.a:g}) m, or auto"))
+        if not isinstance(self.segments, str):
+            raise ParameterError.not_a("segments", self.segments, "a string", "'arc R DEG, line L, ...'")
+        try:
+            self.meridian()
+        except ParameterError as exc:
+            if self.segments.strip():
+                raise
+            blame = "a" if self.crown is None or self.knuckle is None else "crown"
+            raise ParameterError(blame, getattr(self, blame), "values whose heads have positive, finite radii",
+                                 hint=str(exc)) from None
+
+    def meridian(self):
+        if self.segments.strip():
+            return SegmentedMeridian(tuple(parse_segments(self.segments)))
+        crown = 2 * self.a if self.crown is None else self.crown
+        knuckle = 0.2 * self.a if self.knuckle is None else self.knuckle
+        bottom = head(self.a, crown, knuckle)
+        middle = [("line", self.Lc)] if self.Lc > 0 else []
+        return SegmentedMeridian(tuple(bottom + middle + bottom[::-1]))

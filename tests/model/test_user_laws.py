@@ -1,0 +1,97 @@
+"""Laws of one's own (mol_shell.Material): a stored energy written by the user runs like a built-in law."""
+
+import textwrap
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import mol_shell
+from mol_shell._core.errors import ParameterError
+from mol_shell.cli.main import main
+from mol_shell.model.laws import small_strain_lame
+from mol_shell.scenes import Sphere
+from mol_shell.scenes.files import load_scene
+
+E = 1e6
+
+
+def neo_hookean(C, p):
+    """The incompressible neo-Hookean law written again by hand: ``mu/2 (tr C - 3)``."""
+    return p["mu"] / 2 * (ca.trace(C) - 3)
+
+
+RUBBER = mol_shell.Material("my-neo-hookean", energy=neo_hookean, parameters={"mu": E / 3}, thickness="incompressible")
+TIMES = np.linspace(0.0, 4e-3, 3)
+
+
+def _run(material):
+    return mol_shell.simulate(Sphere(h=0.01, E=E, material=material, R=1.2), "leapfrog", n=8, times=TIMES,
+                              progress=False)
+
+
+@pytest.fixture(scope="module")
+def builtin():
+    return _run("neo-hookean-incompressible")
+
+
+def test_a_user_neo_hookean_gives_the_built_in_run(builtin):
+    """The same energy through the user's SX matrix: every field at every saved time to round-off (the graphs differ
+    in the order of their operations only; measured 1e-15 relative), the stresses too."""
+    ds = _run(RUBBER)
+    assert ds.attrs["material"] == "my-neo-hookean"
+    for f in ("z", "r", "chi", "theta", "psi", "energy"):
+        scale = float(np.abs(builtin[f].values).max()) or 1.0
+        np.testing.assert_allclose(ds[f].values, builtin[f].values, rtol=0, atol=1e-12 * scale, err_msg=f)
+    assert float(np.ptp(ds.r.values[:, 4])) > 1e-3  # it moved
+    np.testing.assert_allclose(ds.membrane_force_hoop.values, builtin.membrane_force_hoop.values, rtol=1e-11)
+
+
+def test_small_strain_moduli_are_read_from_the_energy():
+    """``(lambda*, mu)`` at ``C = I`` with the thickness condensed: the incompressible law's ``(2 mu, mu)``."""
+    got = small_strain_lame(Sphere(material=RUBBER))
+    np.testing.assert_allclose(got, small_strain_lame(Sphere(material="neo-hookean-incompressible", E=E)), rtol=1e-12)
+
+
+def test_by_import_path_in_a_scene_file_the_command_line_and_a_study(tmp_path, monkeypatch, builtin):
+    """``material = "package.module:attr"``: a scene file, ``--set`` and a study (in this process) take it."""
+    (tmp_path / "my_laws.py").write_text(textwrap.dedent('''
+        import casadi as ca
+        import mol_shell
+
+        rubber = mol_shell.Material("rubber", energy=lambda C, p: p["mu"] / 2 * (ca.trace(C) - 3),
+                                    parameters={"mu": 1e6 / 3}, thickness="incompressible")
+        not_a_law = 3
+    '''))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    path = tmp_path / "balloon.toml"
+    path.write_text('scene = "sphere"\n[material]\nh = 0.01\nmaterial = "my_laws:rubber"\n[initial]\nR = 1.2\n')
+    scene = load_scene(path)
+    assert scene.material == "my_laws:rubber"
+    ds = mol_shell.simulate(scene, "leapfrog", n=8, times=TIMES, progress=False)
+    np.testing.assert_allclose(ds.r.values, builtin.r.values, rtol=1e-12)
+    out = mol_shell.study(scene, {"material": ["my_laws:rubber", "neo-hookean-incompressible"]}, n=8, times=TIMES,
+                          scheduler="serial", progress=False)
+    np.testing.assert_allclose(out.r.values[0], out.r.values[1], rtol=1e-12)
+    assert main(["run", str(path), "--n", "8", "--t-end", "1e-4", "-o", str(tmp_path / "b.nc")]) == 0
+
+
+@pytest.mark.parametrize("value, words", [
+    ("nowhere_at_all:rubber", "material = 'nowhere_at_all:rubber' is outside {svk,"),
+    ("os:sep", "it is a str, not a mol_shell.Material"),
+    ("rubbery", "or its import path 'package.module:attr'"),
+])
+def test_a_bad_material_is_one_line_exit_2(capsys, tmp_path, value, words):
+    assert main(["run", "sphere", "--set", f"material={value}", "--n", "6", "--t-end", "1e-4",
+                 "-o", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and words in err[0], err
+
+
+def test_a_material_that_is_not_a_law_is_refused():
+    with pytest.raises(ParameterError, match="energy"):
+        mol_shell.Material("broken", energy=lambda C, p: C, parameters={})
+    with pytest.raises(ParameterError, match="thickness"):
+        mol_shell.Material("odd", energy=neo_hookean, parameters={"mu": 1.0}, thickness="membrane")
+    with pytest.raises(ParameterError, match="material = 'svk'"):
+        Sphere(material=mol_shell.Material("svk", energy=neo_hookean, parameters={"mu": 1.0}))

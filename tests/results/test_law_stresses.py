@@ -1,0 +1,130 @@
+"""Stresses of the laws beyond SVK and of fibres (mol_shell.results.law_stresses): each shell stress resultant
+against a central finite difference of the integrated energy (the model's own energy route,
+``mol_shell.model.laws.scene_shell_energy``, not the stress code), and a balloon against membrane theory."""
+
+import math
+
+import casadi as ca
+import numpy as np
+import pytest
+
+import mol_shell
+from mol_shell.model.laws import scene_shell_energy
+from mol_shell.model.material import Thickness, effective_lame
+from mol_shell.results.law_stresses import law_of_attrs, route_stress
+from mol_shell.results.stresses import RESULTANT_META, add_stresses, route_elastic, sample_stresses
+from mol_shell.scenes import Sphere
+
+H = 0.01
+#: a general sample with psi = 0 at the sample (psi_s is not 0): z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi
+STRAINS = (1.15, 0.05, 0.12, 0.08, 0.03, 1.25, 0.3, 0.0)
+REF = (0.9, 0.25, 0.2, 1.01, 0.02)  # r0, theta0, theta0_s, beta1_0, beta2_0: a curved reference
+CASES = {
+    "neo-hookean": dict(material="neo-hookean", nu=0.3),
+    "neo-hookean-incompressible": dict(material="neo-hookean-incompressible"),
+    "mooney-rivlin": dict(material="mooney-rivlin", c10=1.5e5, c01=4e4),
+    "svk-plane-stress+fibres": dict(material="svk-plane-stress", nu=0.3, fibre_E=5e6, fibre_angle=0.6),
+    "svk+2 fibre families": dict(material="svk", nu=0.3, fibre_E=5e6, fibre_angle=0.6, fibre_families=2),
+    "mooney-rivlin+tension-only fibres": dict(material="mooney-rivlin", c01=4e4, fibre_E=5e6, fibre_angle=1.1,
+                                              fibre_compression=False),
+    "layers: rubber under SVK with fibres": dict(material="svk-plane-stress", nu=0.3, layers=(
+        "0.012 neo-hookean-incompressible; 0.008 svk-plane-stress fibre_E=5e6 fibre_angle=0.6")),
+}
+
+
+def _scene(case):
+    return Sphere(h=H, E=1e6, zeta1=-H, **CASES[case])  # the wall [-H, H] about the base surface, as below
+
+
+def _resultants(scene):
+    elastic, layers, _ = route_elastic(law_of_attrs(scene.params()), -H)
+    out = sample_stresses([ca.SX(x) for x in STRAINS], None, [ca.SX(x) for x in REF], -H, H, 4, 0.0, 0.0,
+                          elastic=elastic, layers=layers)
+    return {k: float(v) for k, v in out["elastic"].items()}
+
+
+def _energy_gradient(scene, step=1e-4):
+    e = ca.SX.sym("e", 8)
+    r0, theta0, theta0_s, beta1_0, beta2_0 = REF
+    W = scene_shell_energy(scene, ca.vertsplit(e), Thickness(-H, H, 4), r0, theta0, theta0_s, beta1_0, beta2_0)
+    f = ca.Function("W", [e], [W])
+    grad = []
+    for k in range(8):
+        d = np.zeros(8)
+        d[k] = step
+        grad.append((float(f(np.add(STRAINS, d))) - float(f(np.subtract(STRAINS, d)))) / (2 * step))
+    return grad
+
+
+@pytest.mark.parametrize("case", list(CASES))
+def test_resultants_are_finite_differences_of_the_integrated_energy(case):
+    """With ``psi = 0`` at the sample (``c1 = b1``, ``d = b2``, ``c3 = b3``) the virtual work of the resultants
+    (``mol_shell.results.stresses``: ``r0 n^s = int T e1 c``, ``r0 m^s = d x int zeta T e1 c``, ``n^phi = int T e3
+    a``) against the strains' variations gives, ``W`` the energy per unit reference area, ``N, Q, Ns, Nh, Mb, Mt``
+    the membrane, transverse shear, membrane shear and hoop forces, the meridional bending and twisting moments:
+
+        dW/dz_s = cos(theta) N - sin(theta) Q,    dW/dr_s = sin(theta) N + cos(theta) Q,
+        dW/dchi_s = r Ns + cos(theta) Mt,         dW/dtheta_s = Mb,   dW/dpsi_s = Mt,   dW/dr = chi_s Ns + Nh / r0,
+
+    and ``axial_force = 2 pi r0 dW/dz_s``, ``axial_torque = 2 pi r0 dW/dchi_s``. Central differences with step 1e-4 (round-off ~1e-15 W / step, truncation ~step^2):
+    agreement to 1e-6 relative of each quantity's scale (the hoop bending moment is not among these)."""
+    scene = _scene(case)
+    g = _energy_gradient(scene)
+    R = _resultants(scene)
+    _, _, chi_s, _, _, r, theta, _ = STRAINS
+    r0 = REF[0]
+    c, s = math.cos(theta), math.sin(theta)
+    N, Q, Ns, Nh = (R[k] for k in ("membrane_force_meridional", "transverse_shear_force", "membrane_shear_force",
+                                   "membrane_force_hoop"))
+    Mb, Mt = R["bending_moment_meridional"], R["twisting_moment"]
+    pairs = [(g[0], c * N - s * Q), (g[1], s * N + c * Q), (g[2], r * Ns + c * Mt), (g[3], Mb), (g[4], Mt),
+             (g[5], chi_s * Ns + Nh / r0), (2 * math.pi * r0 * g[0], R["axial_force"]),
+             (2 * math.pi * r0 * g[2], R["axial_torque"])]
+    forces = max(abs(x) for x in (N, Q, Ns, Nh))
+    for k, (fd, got) in enumerate(pairs):
+        scale = forces * (2 * math.pi * r0 if k >= 6 else 1.0) if k not in (3, 4) else max(abs(Mb), abs(Mt))
+        assert got == pytest.approx(fd, abs=1e-6 * scale), (k, fd, got)
+    assert abs(Mt) > 1e-3 * abs(Mb) and abs(Q) > 1e-3 * forces and abs(Ns) > 1e-2 * forces  # nothing trivial
+
+
+def test_generic_route_with_the_svk_energy_is_svks_kernel():
+    """The automatic-differentiation route given the SVK energy (fibres of modulus 1e-300, so the route is taken)
+    reproduces SVK's own stress kernel to round-off, resultants and face stresses, director and plane stress."""
+    for material in ("svk", "svk-plane-stress"):
+        scene = Sphere(h=H, nu=0.3, material=material, fibre_E=1e-300)
+        got = sample_stresses([ca.SX(x) for x in STRAINS], None, [ca.SX(x) for x in REF], -H, H, 4, 0.0, 0.0,
+                              elastic=route_stress(law_of_attrs(scene.params())))
+        lam, mu = effective_lame(scene.E, scene.nu, material)
+        ref = sample_stresses([ca.SX(x) for x in STRAINS], None, [ca.SX(x) for x in REF], -H, H, 4, lam, mu,
+                              plane_stress=material == "svk-plane-stress")
+        for k in RESULTANT_META:
+            assert float(got["elastic"][k]) == pytest.approx(float(ref["elastic"][k]), rel=1e-11, abs=1e-9), k
+        for face in range(2):
+            a = np.array([[float(x) for x in row] for row in got["sigma_elastic"][face]])
+            b = np.array([[float(x) for x in row] for row in ref["sigma_elastic"][face]])
+            np.testing.assert_allclose(a, b, rtol=1e-11, atol=1e-11 * np.abs(b).max())
+
+
+def test_inflated_rubber_sphere_stresses_are_membrane_theorys():
+    """An incompressible neo-Hookean sphere (``a = 1``, ``h/a = 0.01``) dilated uniformly to ``lam = 1.2``: membrane
+    theory gives the nominal membrane force per unit reference length ``2 h mu (lam - lam^-5)`` in both tangent
+    directions and the Cauchy stress ``mu (lam^2 - lam^-4)``, zero through the thickness (von Mises = that stress;
+    the thickness stretch ``lam^-2`` is in ``F``). At the equator of the exact sphere (its strains at one sample)
+    to the shell's thickness corrections, O((h/a)^2) (measured 1.2e-4 and -5.7e-5; allowed 3e-4). In a run on
+    12 nodes the hoop force is per unit of the discrete meridian, whose cell length is the chord: the same times
+    ``beta1_0 = sin(ds/2)/(ds/2)`` (allowed 3e-4); the face stresses 1e-3."""
+    scene = Sphere(h=H, material="neo-hookean-incompressible", R=1.2)
+    mu, lam = scene.E / 3, 1.2
+    membrane, sigma = 2 * H * mu * (lam - lam**-5), mu * (lam**2 - lam**-4)
+    exact = sample_stresses([ca.SX(x) for x in (lam, 0, 0, 1.0, 0, lam, 0, 0)], None,
+                            [ca.SX(x) for x in (1.0, 0.0, 1.0, 1.0, 0.0)], scene.zeta1_used(), H, 4, 0.0, 0.0,
+                            elastic=route_stress(law_of_attrs(scene.params())))["elastic"]
+    assert float(exact["membrane_force_hoop"]) == pytest.approx(membrane, rel=3e-4)
+    assert float(exact["membrane_force_meridional"]) == pytest.approx(membrane, rel=3e-4)
+    ds = mol_shell.simulate(scene, "leapfrog", n=12, times=[0.0, 1e-5], progress=False)
+    assert "included" in ds.attrs["stresses"]
+    mid, cell = ds.sizes["s_cell"] // 2, math.pi / 11
+    assert float(ds.membrane_force_hoop[0, mid]) == pytest.approx(membrane * math.sin(cell / 2) / (cell / 2), rel=3e-4)
+    assert float(ds.von_mises_stress[0, mid].mean()) == pytest.approx(sigma, rel=1e-3)
+    assert float(ds.principal_stress_max[0, mid].mean()) == pytest.approx(sigma, rel=1e-3)
+    assert float(ds.principal_stress_min[0, mid].mean()) == pytest.approx(0.0, abs=1e-3 * sigma)
