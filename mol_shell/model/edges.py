@@ -51,7 +51,7 @@ IMPOSED = _Imposed({
 })
 EDGES = ("magnet", "clamped", "pinned", "free")
 #: what an edge may be, for messages
-EDGE_FORMS = (*EDGES, "pole", "auto", "a set of the fields it imposes, e.g. r,theta (fields: z, r, chi, theta, psi)")
+EDGE_FORMS = (*EDGES, "pole", "auto", "none", "a set of the fields it imposes, e.g. r,theta (fields: z, r, chi, theta, psi)")
 
 
 def field_set(value):

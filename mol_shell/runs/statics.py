@@ -41,12 +41,12 @@ def _free_entries(system, hold):
                      if not fixed[i, j] and k not in hold])
 
 
-def _axial_gauge(system, hold):
-    """Positions in the state of every ``z`` when no edge imposes one (the shell may translate along the axis:
-    the Jacobian is singular), else ``None``."""
-    if 0 not in system.active or 0 in hold or system.fixed[:, 0].any():
+def _gauge(system, hold, field):
+    """Positions in the state of every entry of ``field`` (0: ``z``, 2: ``chi``) when it is solved for and no edge
+    imposes it (the shell may translate along the axis, or spin about it: the Jacobian is singular), else ``None``."""
+    if field not in system.active or field in hold or system.fixed[:, system.active.index(field)].any():
         return None
-    return np.arange(system.n) * system.ny + system.active.index(0)
+    return np.arange(system.n) * system.ny + system.active.index(field)
 
 
 def newton(system, y0, hold=(2,), tol=TOL, max_iter=MAX_ITER):
@@ -57,7 +57,8 @@ def newton(system, y0, hold=(2,), tol=TOL, max_iter=MAX_ITER):
     axially (a closed sphere) can translate along the axis, which makes the Jacobian singular at every state: the
     ``z`` of the first node is held during the iteration (its equation is the sum of the others' for loads
     self-equilibrated axially) and the converged state is shifted along the axis so that the mean ``z`` is the
-    starting one's: the solution of minimum-norm steps, which leave the rigid translation where it was. Steps are
+    starting one's: the solution of minimum-norm steps, which leave the rigid translation where it was. So for
+    ``chi`` when it is solved for (``hold`` without 2) and no edge imposes it: the spin about the axis. Steps are
     halved until the residual falls (a full step may cross ``delta = 0`` far from the solution).
 
     Raises ``RuntimeError`` when it does not converge (the caller may continue in the load).
@@ -67,8 +68,8 @@ def newton(system, y0, hold=(2,), tol=TOL, max_iter=MAX_ITER):
     y = np.array(y0, dtype=float)
     y[: system.ny * system.n].reshape(system.n, system.ny)[:, system.nf:] = 0.0  # at rest
     q = _free_entries(system, hold)
-    axial = _axial_gauge(system, hold)
-    solve = q if axial is None else q[q != axial[0]]
+    gauges = [g for g in (_gauge(system, hold, 0), _gauge(system, hold, 2)) if g is not None]
+    solve = q[~np.isin(q, [g[0] for g in gauges])]
     p, p_solve = q + system.nf, solve + system.nf
     scale = None
     for it in range(max_iter + 1):
@@ -81,8 +82,8 @@ def newton(system, y0, hold=(2,), tol=TOL, max_iter=MAX_ITER):
         if not np.isfinite(res):
             raise RuntimeError(f"non-finite residual after {it} iterations")
         if res <= tol:
-            if axial is not None:
-                y[axial] += float(np.mean(np.asarray(y0, dtype=float)[axial] - y[axial]))
+            for g in gauges:
+                y[g] += float(np.mean(np.asarray(y0, dtype=float)[g] - y[g]))
             return y, it, res
         if it == max_iter:
             break
