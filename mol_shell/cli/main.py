@@ -42,7 +42,15 @@ from mol_shell.cli.args import (
     run_settings,
     say_stand_ins,
 )
-from mol_shell.cli.path import add_start_options, cmd_plot_path, looks_like_path, register_path, start_of
+from mol_shell.cli.path import (
+    add_start_options,
+    cmd_plot_path,
+    cmd_plot_path_study,
+    looks_like_path,
+    looks_like_path_study,
+    register_path,
+    start_of,
+)
 from mol_shell.cli.study import register_study
 from mol_shell.cli.views import register_animate, register_export
 from mol_shell.integrators import INTEGRATORS
@@ -87,6 +95,8 @@ FIGURE_OPTIONS = {"time": ("fibres",), "at_s": ("fibres", "history"), "fibres": 
 def cmd_plot(args):
     if looks_like_path(args.file):
         return cmd_plot_path(args)
+    if looks_like_path_study(args.file):
+        return cmd_plot_path_study(args)
     if args.response is not None:
         raise ParameterError("--response", args.response, "an option of a path's figure (mol-shell path files)",
                              message="--response is an option of a path's figure (files of mol-shell path) only")

@@ -23,6 +23,7 @@ from mol_shell.cli.args import (
 from mol_shell.results.dataset import read_netcdf, write_netcdf
 from mol_shell.scenes import with_params
 from mol_shell.views.path_plot import plot_path, response_values, responses
+from mol_shell.views.path_study_plot import is_path_study, plot_path_study
 
 PARAM_FORM = "NAME=START:STOP with NAME in {" + ", ".join(PATH_PARAMETERS) + "}, START and STOP numbers, START != STOP"
 
@@ -141,13 +142,36 @@ def looks_like_path(filename):
         return False
 
 
-def cmd_plot_path(args):
+def looks_like_path_study(filename):
+    """Whether ``filename`` is a readable study of paths (``mol-shell study ... --path``)."""
+    try:
+        return is_path_study(read_netcdf(filename))
+    except Exception:  # noqa: BLE001 - not a readable netCDF file: the run reader refuses it by name
+        return False
+
+
+def _refuse_run_options(args, theirs):
     for option, value in (("--figure", None if args.figure == "snapshots" else args.figure), ("--time", args.time),
                           ("--at-s", args.at_s), ("--fibres", args.fibres),
                           ("--thickness-scale", args.thickness_scale)):
         if value is not None:
             raise ParameterError(option, value, "options of run files",
-                                 message=f"{option} is an option of a run's figures; a path's: --response")
+                                 message=f"{option} is an option of a run's figures; {theirs}")
+
+
+def cmd_plot_path_study(args):
+    """``mol-shell plot STUDY.nc`` of a study of paths: critical loads against the varied parameter."""
+    _refuse_run_options(args, "a study of paths' figure takes none")
+    if args.response is not None:
+        raise ParameterError("--response", args.response, "an option of a path's figure (mol-shell path files)",
+                             message="--response is an option of a path's figure; a study of paths' figure takes none")
+    plot_path_study(read_netcdf(args.file), args.output)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def cmd_plot_path(args):
+    _refuse_run_options(args, "a path's: --response")
     ds = read_path(args.file, "FILE")
     response = args.response or "load_conjugate"
     names = responses(ds)

@@ -59,3 +59,28 @@ def test_the_command(tmp_path, capsys):
         assert ds.sizes["alpha2"] == 2 and ds.first_critical.attrs["units"] == "Pa"
     assert main(argv[:-2] + ["--t-end", "1", "-o", str(tmp_path / "x.nc")]) == 2
     assert "--t-end is an option of a study of runs" in capsys.readouterr().err
+
+
+def test_the_study_s_figure_draws_each_case_s_critical_loads(studied, tmp_path, capsys):
+    """``mol-shell plot`` of a study of paths: the first critical load of each case joined against the varied
+    angle, every critical point marked; a run figure's option is refused by name."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from mol_shell.views.path_study_plot import is_path_study, path_study_figure
+
+    out, ds = studied
+    assert is_path_study(ds)
+    fig = path_study_figure(ds)
+    ax = fig.axes[0]
+    first = ax.lines[0]
+    np.testing.assert_array_equal(first.get_ydata(), ds.first_critical.values)
+    np.testing.assert_array_equal(first.get_xdata(), ds.alpha2.values)
+    marked = np.concatenate([line.get_ydata() for line in ax.lines[1:] if len(line.get_ydata())])
+    located = ds.point_parameter.values[np.isfinite(ds.point_parameter.values)]
+    assert sorted(marked) == sorted(located)
+    assert "pressure" in ax.get_ylabel() and "Pa" in ax.get_ylabel()
+    png = tmp_path / "study.png"
+    assert main(["plot", str(out), "-o", str(png)]) == 0 and png.stat().st_size > 1000
+    assert main(["plot", str(out), "--time", "0.1", "-o", str(png)]) == 2
+    assert "--time" in capsys.readouterr().err
