@@ -84,3 +84,17 @@ def test_the_study_s_figure_draws_each_case_s_critical_loads(studied, tmp_path, 
     assert main(["plot", str(out), "-o", str(png)]) == 0 and png.stat().st_size > 1000
     assert main(["plot", str(out), "--time", "0.1", "-o", str(png)]) == 2
     assert "--time" in capsys.readouterr().err
+
+
+def test_on_a_dask_cluster_the_same_critical_points(studied):
+    """The same study on a dask cluster (one in-process worker: the back end's submission, gathering and
+    bookkeeping, not its processes, which the run studies' fault drills cover) finds the same points as serially."""
+    distributed = pytest.importorskip("distributed")
+    _, serial = studied
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        ds = path_study(Sphere(**cap_params(5.0)), {"alpha2": ANGLES}, "pressure", 0.0, STOP, n=21, max_steps=30,
+                        scheduler=client)
+    assert ds.attrs["scheduler"] != "serial" and ds.attrs["n_executed"] == 2
+    assert list(ds.status.values) == list(serial.status.values)
+    np.testing.assert_array_equal(ds.point_parameter.values, serial.point_parameter.values)
