@@ -15,15 +15,12 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
-import os
-import socket
 import time
-import warnings
 
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import MaterialWarning, ParameterError
+from mol_shell._core.errors import ParameterError
 from mol_shell._core.version import __version__
 from mol_shell.analysis.path import path
 from mol_shell.analysis.path_dataset import SYMMETRY_NOTE
@@ -32,7 +29,7 @@ from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.results.study_store import Store
 from mol_shell.runs.building import as_scene
 from mol_shell.runs.scheduling import connect, execute, scheduler_name
-from mol_shell.runs.study import design
+from mol_shell.runs.study import case_result, design
 from mol_shell.scenes import UNITS, with_params
 
 #: statuses of a path that are final (stored, not run again on resume)
@@ -62,23 +59,8 @@ class PathTask:
 
 def run_path_task(task):
     """Worker entry point: ``(index, path Dataset or None, info)``; never raises for a failing case."""
-    start = time.perf_counter()
-    ds = None
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", RuntimeWarning)
-            warnings.simplefilter("ignore", MaterialWarning)
-            ds = path(task.scene, task.parameter, task.start, task.stop, n=task.n, **task.options)
-        status, message = str(ds.attrs["status"]), str(ds.attrs["message"])
-    except ParameterError as exc:
-        status, message = "refused", str(exc)
-    except KeyboardInterrupt:
-        status, message = "interrupted", "interrupted by the user"
-    except Exception as exc:  # noqa: BLE001 - a failing case is data, not a crash
-        status, message = "error", f"{type(exc).__name__}: {exc}"
-    info = {"status": status, "message": message, "case_wall_time_s": time.perf_counter() - start,
-            "worker": f"{socket.gethostname()}:{os.getpid()}"}
-    return task.index, ds, info
+    return case_result(task.index, lambda: path(task.scene, task.parameter, task.start, task.stop, n=task.n,
+                                                **task.options))
 
 
 def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps=200, scheduler=None, workers=None,

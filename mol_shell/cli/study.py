@@ -77,9 +77,16 @@ def cmd_study(args):
     if args.path is not None:
         return _path_study(args, scene, vary, n)
     times, t_end, integrator, options = run_settings(args, run, scene, n)
+    return _finish(args, scene, "cases", lambda: study(
+        scene, vary, integrator, n=n, times=times, t_end=t_end, scheduler=args.scheduler, workers=args.workers,
+        output=args.output, progress=None, **options))
+
+
+def _finish(args, scene, what, run, tail=lambda ds: ""):
+    """Run a study (``run()``), say what it wrote in one line (``tail`` adds to it), and the exit code: 130 when
+    interrupted (the finished cases kept for a rerun), 0 when every case ended well, else EXIT_INCOMPLETE."""
     try:
-        ds = study(scene, vary, integrator, n=n, times=times, t_end=t_end,
-                   scheduler=args.scheduler, workers=args.workers, output=args.output, progress=None, **options)
+        ds = run()
     except KeyboardInterrupt:
         print(f"mol-shell: study interrupted; finished cases are kept in {Store(args.output).folder}; "
               "run the same command again to resume", file=sys.stderr)
@@ -87,8 +94,8 @@ def cmd_study(args):
     say_stand_ins(scene)
     statuses = ds.status.values.ravel().tolist()
     counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
-    print(f"wrote {args.output}: {ds.attrs['n_cases']} cases ({counts}); ran {ds.attrs['n_executed']}, "
-          f"reused {ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s")
+    print(f"wrote {args.output}: {ds.attrs['n_cases']} {what} ({counts}); ran {ds.attrs['n_executed']}, "
+          f"reused {ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s{tail(ds)}")
     return 0 if ds.attrs["n_failed"] == 0 else EXIT_INCOMPLETE
 
 
@@ -100,20 +107,10 @@ def _path_study(args, scene, vary, n):
             raise ParameterError(name, getattr(args, option), "options of a study of runs",
                                  message=f"{name} is an option of a study of runs, not of one of paths (--path)")
     name, start, stop = parse_param(args.path, "--path")
-    try:
-        ds = path_study(scene, vary, name, start, stop, n=n, max_steps=args.max_steps, scheduler=args.scheduler,
-                        workers=args.workers, output=args.output)
-    except KeyboardInterrupt:
-        print(f"mol-shell: study interrupted; finished cases are kept in {Store(args.output).folder}; "
-              "run the same command again to resume", file=sys.stderr)
-        return 130
-    say_stand_ins(scene)
-    statuses = ds.status.values.ravel().tolist()
-    counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
-    print(f"wrote {args.output}: {ds.attrs['n_cases']} paths ({counts}); ran {ds.attrs['n_executed']}, reused "
-          f"{ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s; first critical {name}: "
-          + ", ".join(f"{v:.6g}" for v in ds.first_critical.values.ravel()))
-    return 0 if ds.attrs["n_failed"] == 0 else EXIT_INCOMPLETE
+    return _finish(args, scene, "paths", lambda: path_study(
+        scene, vary, name, start, stop, n=n, max_steps=args.max_steps, scheduler=args.scheduler, workers=args.workers,
+        output=args.output), lambda ds: f"; first critical {name}: "
+        + ", ".join(f"{v:.6g}" for v in ds.first_critical.values.ravel()))
 
 
 def register_study(subparsers):

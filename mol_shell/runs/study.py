@@ -78,13 +78,21 @@ def run_task(task):
     Returns ``(index, dataset or None, info)`` with ``info`` holding ``status``, ``message``,
     ``case_wall_time_s`` and ``worker``.
     """
+    return case_result(task.index, lambda: run_scene(task.scene, task.integrator, n=task.n, times=task.times,
+                                                     **task.options))
+
+
+def case_result(index, work):
+    """``(index, work() or None, info)`` for a study's worker: the Dataset's ``status`` and ``message`` (a refusal,
+    an interruption or any other exception recorded as data, never raised), the case's wall time and the worker
+    (host:pid). Shared by the studies of runs and of paths."""
     start = time.perf_counter()
     ds = None
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             warnings.simplefilter("ignore", MaterialWarning)  # said once by the study, in its own process
-            ds = run_scene(task.scene, task.integrator, n=task.n, times=task.times, **task.options)
+            ds = work()
         status, message = str(ds.attrs.get("status", "complete")), str(ds.attrs.get("message", ""))
     except ParameterError as exc:
         status, message = "refused", str(exc)
@@ -94,7 +102,7 @@ def run_task(task):
         status, message = "error", f"{type(exc).__name__}: {exc}"
     info = {"status": status, "message": message, "case_wall_time_s": time.perf_counter() - start,
             "worker": f"{socket.gethostname()}:{os.getpid()}"}
-    return task.index, ds, info
+    return index, ds, info
 
 
 def resolve_scene(scene):
