@@ -23,64 +23,7 @@ from mol_shell.model.layers import layers_text
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
 from mol_shell.model.thickness_profile import thickness_function
-
-UNITS = {
-    "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
-    "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
-    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "c10": "Pa", "c01": "Pa",
-    "fibre_E": "Pa", "fibre_angle": "rad", "fibre_families": "1", "fibre_compression": "1", "law_limit": "1", "h_profile": "m", "layers": "1", "dR": "m", "a": "m", "b": "m",
-    "alpha1": "rad", "alpha2": "rad", "Lc": "m", "crown": "m", "knuckle": "m", "segments": "1", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
-    "points": "1", "pressure": "Pa", "gravity": "m s-2", "drag": "N s m-3", "end1_force": "N", "end2_force": "N",
-    "end1_torque": "N m", "end2_torque": "N m", "end1_spin": "rad s-1", "end2_spin": "rad s-1",
-    "end1_axial_speed": "m s-1", "end2_axial_speed": "m s-1", "end_omega": "rad s-1",
-    "end1_dz": "m", "end2_dz": "m", "end1_dchi": "rad", "end2_dchi": "rad",
-    # integrator options (varied in studies)
-    "dt": "s", "rtol": "1", "atol": "1", "max_step": "s",
-}
-#: what each parameter is (long_name of a study's coordinates)
-DESCRIPTIONS = {
-    "L": "length of the shell", "h": "half-thickness (the wall is 2h thick)", "E": "Young's modulus", "nu": "Poisson's ratio",
-    "rho": "density", "R": "initial radius", "gamma": "initial twist chi_s", "omega": "initial spin rate chi_t",
-    "psi0": "initial shear angle psi", "n_quad": "Gauss-Legendre points through the thickness",
-    "zeta1": "lower face of the thickness interval from the base surface", "eta_lambda": "Kelvin-Voigt viscosity eta_lambda",
-    "eta_mu": "Kelvin-Voigt viscosity eta_mu", "material": "material law",
-    "c10": "Mooney-Rivlin constant c10 (material = mooney-rivlin)", "c01": "Mooney-Rivlin constant c01 (material = mooney-rivlin)",
-    "fibre_E": "fibre modulus (0: no fibres)",
-    "fibre_angle": "fibre angle from the meridian towards +phi", "fibre_families": "fibre families: 1 (helix) or 2 (+-angle)",
-    "fibre_compression": "whether fibres carry compression (false: tension only)",
-    "law_limit": "stop where the law leaves its range (SVK: a compressive stretch of 1/sqrt(3))",
-    "layers": "layers from the lower face: 'T MATERIAL key=value ...; ...' (T thickness, m; they add up to 2h)",
-    "h_profile": "half-thickness along the meridian: 'table s0:h0 s1:h1 ...' or an expression of s ('': h)",
-    "dR": "amplitude of the initial radius variation",
-    "Lc": "length of the vessel's cylinder", "crown": "crown radius of the vessel's torispherical heads (a: hemispheres)", "knuckle": "knuckle radius of a torispherical head",
-    "segments": "meridian from the bottom pole: 'arc R DEG, line L, ...' (overrides a, Lc, crown, knuckle)",
-    "dt": "leap-frog time step", "rtol": "relative tolerance", "atol": "absolute tolerance (m or rad per field)",
-    "max_step": "largest step of the adaptive integrator",
-    "a": "natural radius (cylinder, sphere) or tube radius (torus)", "b": "radius of the torus' centre circle",
-    "alpha1": "polar angle of the edge at s = 0", "alpha2": "polar angle of the edge at s = L",
-    "r1": "radius of the cone's edge at s = 0", "r2": "radius of the cone's edge at s = L",
-    "H": "axial length of the cone", "dilation": "initial uniform dilation of the natural shell",
-    "end1": "edge condition at s = 0", "end2": "edge condition at s = L", "points": "file of meridian points (r, z); '' runs a built-in dome (half ellipsoid, 1 m x 0.6 m)",
-    "pressure": "pressure on the base surface (follower, positive inflating)", "gravity": "gravity along -k",
-    "drag": "drag coefficient of the ambient fluid", "end1_force": "axial force on the edge at s = 0",
-    "end2_force": "axial force on the edge at s = L", "end1_torque": "axial torque on the edge at s = 0",
-    "end2_torque": "axial torque on the edge at s = L", "end1_spin": "prescribed spin rate of the edge at s = 0",
-    "end2_spin": "prescribed spin rate of the edge at s = L", "end1_axial_speed": "prescribed axial speed of the edge at s = 0",
-    "end2_axial_speed": "prescribed axial speed of the edge at s = L", "end_omega": "both ends spun at this rate from t = 0",
-    "end1_dz": "prescribed axial displacement of the edge at s = 0 (its z imposed)",
-    "end2_dz": "prescribed axial displacement of the edge at s = L (its z imposed)",
-    "end1_dchi": "prescribed rotation about the axis of the edge at s = 0 (its chi imposed)",
-    "end2_dchi": "prescribed rotation about the axis of the edge at s = L (its chi imposed)",
-}
-
-
-def describe(name):
-    """What parameter ``name`` is, in a few words (``NAME_history``: the time history of ``NAME``)."""
-    if name.endswith("_history"):
-        base = name[: -len("_history")]
-        return f"time history of {base} (a factor on it): constant, step T0, ramp T1, sine F, table t0:h0 ..."
-    return DESCRIPTIONS.get(name, "")
-
+from mol_shell.scenes.descriptions import DESCRIPTIONS, UNITS, describe  # noqa: F401 - the scenes' vocabulary
 
 #: the loads a scene can carry (each with a ``NAME_history`` but drag)
 LOADS = ("pressure", "gravity", "drag", "end1_force", "end2_force", "end1_torque", "end2_torque")
