@@ -157,15 +157,12 @@ ANDERSON = option(0, Option("integers in [0, 10]", lambda v: _count(v) and v <= 
 
 
 @dataclass(frozen=True)
-class CVODEBDF(_Compiled, sundials.CVODEBDF):
-    """CVODE, variable-order BDF (1-5), Newton iterations on the exact Jacobian; loop in compiled C.
-
-    Options beyond scikit-sundae's route (:class:`mol_shell.integrators.sundials.CVODEBDF`): ``max_newton``
-    (Newton iterations per step), ``newton_coef`` (safety factor of the nonlinear convergence test),
+class _CVODEOptions:
+    """The options both CVODE methods take beyond scikit-sundae's route (:class:`mol_shell.integrators.sundials.CVODEBDF`):
+    ``max_newton`` (Newton iterations per step), ``newton_coef`` (safety factor of the nonlinear convergence test),
     ``jac_every`` (steps between Jacobian evaluations, SUNDIALS' msbj; 0: 51), ``setup_every`` (steps between
     factorisations, msbp; 0: 20), ``iteration`` (``"newton"``, or ``"fixed-point"``: no Jacobian and no linear
-    solver, for non-stiff motions) and ``anderson`` (Anderson acceleration depth of the fixed-point iteration).
-    """
+    solver, for non-stiff motions) and ``anderson`` (Anderson acceleration depth of the fixed-point iteration)."""
 
     linsolver: str = LINSOLVER
     jacobian: str = JACOBIAN
@@ -176,23 +173,22 @@ class CVODEBDF(_Compiled, sundials.CVODEBDF):
     iteration: str = option("newton", choice("newton", "fixed-point"))
     anderson: int = ANDERSON
 
+
+@dataclass(frozen=True)
+class CVODEBDF(_CVODEOptions, _Compiled, sundials.CVODEBDF):
+    """CVODE, variable-order BDF (1-5), Newton iterations on the exact Jacobian; loop in compiled C. Options: those of
+    :class:`_CVODEOptions`."""
+
     name = "cvode-bdf"
 
 
 @dataclass(frozen=True)
-class CVODEAdams(_Compiled, sundials.CVODEAdams):
+class CVODEAdams(_CVODEOptions, _Compiled, sundials.CVODEAdams):
     """CVODE, variable-order Adams-Moulton (1-12); loop in compiled C. Options as for :class:`CVODEBDF`, but
     ``iteration="fixed-point"`` by default (the non-stiff pairing SUNDIALS recommends; measured 1.4x-1.6x faster than
     Newton's on the paper's scene at equal error): ``iteration="newton"`` for scikit-sundae's route's iteration."""
 
-    linsolver: str = LINSOLVER
-    jacobian: str = JACOBIAN
-    max_newton: int | None = MAX_NEWTON
-    newton_coef: float = NEWTON_COEF
-    jac_every: int = JAC_EVERY
-    setup_every: int = SETUP_EVERY
     iteration: str = option("fixed-point", choice("newton", "fixed-point"))
-    anderson: int = ANDERSON
 
     name = "cvode-adams"
 
