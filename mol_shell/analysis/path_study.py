@@ -26,10 +26,9 @@ from mol_shell.analysis.path import path
 from mol_shell.analysis.path_dataset import SYMMETRY_NOTE
 from mol_shell.results.cf import attr_value, header
 from mol_shell.results.dataset import writable_path, write_netcdf
-from mol_shell.results.study_store import Store
 from mol_shell.runs.building import as_scene
-from mol_shell.runs.scheduling import connect, execute, scheduler_name
-from mol_shell.runs.study import case_result, design
+from mol_shell.runs.scheduling import connect, scheduler_name
+from mol_shell.runs.study import case_result, design, run_cases
 from mol_shell.scenes import UNITS, with_params
 
 #: statuses of a path that are final (stored, not run again on resume)
@@ -64,7 +63,7 @@ def run_path_task(task):
 
 
 def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps=200, scheduler=None, workers=None,
-               output=None):
+               output=None, progress=None):
     """Trace the path in ``parameter`` from ``start`` to ``stop`` for every case of ``vary``; gather the critical
     points.
 
@@ -76,9 +75,10 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
         As for :func:`mol_shell.runs.study.study`.
     parameter, start, stop, n, steps, max_steps
         As for :func:`mol_shell.analysis.path.path`, the same for every case.
-    scheduler, workers, output
+    scheduler, workers, output, progress
         As for :func:`mol_shell.runs.study.study` (``output``: the gathered Dataset, and each case's path in
-        ``<output stem>.cases/``, reused by a rerun).
+        ``<output stem>.cases/``, reused by a rerun; ``progress``: a bar of finished paths, by default on a
+        terminal).
 
     Returns
     -------
@@ -109,29 +109,9 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
             results[index] = (None, {"status": "refused", "message": str(exc), "case_wall_time_s": 0.0, "worker": ""})
             continue
         tasks.append(PathTask(index, label, case_scene, parameter, float(start), float(stop), int(n), options))
-    store = Store(output) if output is not None else None
-    pending, reused = [], 0
-    for task in tasks:
-        loaded = store.load(task) if store else None
-        if loaded is not None:
-            results[task.index] = loaded
-            reused += 1
-        else:
-            pending.append(task)
-    client = connect(scheduler) if pending else None
-    by_index = {task.index: task for task in pending}
-    finished = execute(run_path_task, pending, scheduler, workers, client)
-    try:
-        for index, ds, info in finished:
-            results[index] = (ds, info)
-            if store and info["status"] in FINAL:
-                store.save(by_index[index], ds, info)
-            if info["status"] == "interrupted":
-                raise KeyboardInterrupt
-    finally:
-        finished.close()
-        if client is not None and client is not scheduler:
-            client.close()
+    client = connect(scheduler) if tasks else None
+    pending, reused = run_cases(run_path_task, tasks, results, output=output, final=FINAL, scheduler=scheduler,
+                                workers=workers, client=client, progress=progress, total=len(cases), desc="paths")
     out = _gather(scene, dims, coords, cases, results, parameter)
     failed = sum(1 for _, info in results.values() if info["status"] not in ("complete", "max_steps", "returned"))
     out.attrs.update({k: attr_value(v) for k, v in {

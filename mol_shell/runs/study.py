@@ -223,6 +223,30 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     for note in dict.fromkeys(locking_warning(task.scene.material, task.scene.nu) for task in tasks):
         if note:  # once per distinct warning, not once per case (each case's Dataset records its own)
             warnings.warn(note, MaterialWarning, stacklevel=2)
+    pending, reused = run_cases(run_task, tasks, results, output=output, final=FINAL, scheduler=scheduler,
+                                workers=workers, client=client, progress=progress, total=len(cases))
+    out = assemble(dims, coords, cases, results, times)
+    _label_coords(out, coords, dims)
+    failed = sum(1 for ds, info in results.values() if info["status"] != "complete")
+    out.attrs.update({
+        "title": f"mol_shell parameter study of scene {scene.name}", "study_vary": ", ".join(coords),
+        "study_integrator": integrator, "n_cases": len(cases), "n_executed": len(pending), "n_reused": reused,
+        "n_failed": failed, "scheduler": scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - start,
+    })
+    if output is not None:
+        write_netcdf(out, output)
+    return out
+
+
+def run_cases(run, tasks, results, *, output, final, scheduler, workers, client, progress, total, desc="study"):
+    """Run a study's ``tasks`` with ``run`` (importable by name) into ``results`` (``index -> (ds, info)``);
+    ``(pending, reused)``: the tasks that ran and how many finished cases were read back instead.
+
+    With ``output``, a case stored by an earlier run (:class:`Store`, keyed by the task) is reused and each case
+    that ends in a status of ``final`` is stored as it finishes, so an interrupted study resumes. A progress bar
+    (tqdm) when ``progress`` (``None``: on a terminal). A case interrupted by Ctrl-C stops the study
+    (``KeyboardInterrupt``, after the workers are shut down); ``client`` is closed unless it is ``scheduler``
+    itself (the user's)."""
     store = Store(output) if output is not None else None
     pending, reused = [], 0
     for task in tasks:
@@ -238,13 +262,13 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     if progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=len(cases), initial=len(cases) - len(pending), desc="study", unit="case")
+        bar = tqdm(total=total, initial=total - len(pending), desc=desc, unit="case")
     by_index = {task.index: task for task in pending}
-    finished = execute(run_task, pending, scheduler, workers, client)
+    finished = execute(run, pending, scheduler, workers, client)
     try:
         for index, ds, info in finished:
             results[index] = (ds, info)
-            if store and info["status"] in FINAL:
+            if store and info["status"] in final:
                 store.save(by_index[index], ds, info)
             if bar is not None:
                 bar.set_postfix_str(f"{info['status']}")
@@ -257,17 +281,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
             bar.close()
         if client is not None and client is not scheduler:
             client.close()
-    out = assemble(dims, coords, cases, results, times)
-    _label_coords(out, coords, dims)
-    failed = sum(1 for ds, info in results.values() if info["status"] != "complete")
-    out.attrs.update({
-        "title": f"mol_shell parameter study of scene {scene.name}", "study_vary": ", ".join(coords),
-        "study_integrator": integrator, "n_cases": len(cases), "n_executed": len(pending), "n_reused": reused,
-        "n_failed": failed, "scheduler": scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - start,
-    })
-    if output is not None:
-        write_netcdf(out, output)
-    return out
+    return pending, reused
 
 
 def _task(scene, index, label, changes, integrator, n, times, options):
