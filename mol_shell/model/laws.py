@@ -37,7 +37,7 @@ from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: wher
 )
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, effective_lame, lame, quadrature_factors, shell_energy
-from mol_shell.model.user_laws import Material
+from mol_shell.model.user_laws import Material, parameter_text, parameter_values  # noqa: F401  (parameter_text: the stored form)
 
 def svk(C, p):
     """St Venant-Kirchhoff, ``lambda/2 (tr E)^2 + mu E:E`` with ``E = (C - I)/2`` (the generic route's check)."""
@@ -150,13 +150,22 @@ def user_material(name):
     return REGISTRY[name]
 
 
+def scene_material(material, parameters=""):
+    """The :class:`~mol_shell.model.user_laws.Material` named by ``material`` with a scene's ``material_parameters``
+    applied (:func:`~mol_shell.model.user_laws.parameter_values`); ``None`` for a built-in law."""
+    user = user_material(material)
+    if user is None:
+        return None
+    return user.with_parameters(parameter_values(parameters or ""))
+
+
 def law_parameters(scene):
     """``(law, params)`` of a scene's material, or ``(None, None)`` for ``svk``/``svk-plane-stress`` (own route)."""
     name = scene.material
     if name in SVK_MATERIALS:
         return None, None
     if name not in LAWS:
-        material = user_material(name)
+        material = scene_material(name, getattr(scene, "material_parameters", ""))
         return material.law(), dict(material.parameters)
     law = LAWS[name]
     if name == "neo-hookean":
@@ -189,7 +198,7 @@ def small_strain_lame(scene):
     if name == "neo-hookean":
         return condensed(*lame(scene.E, scene.nu), "svk-plane-stress")
     if name not in LAWS:
-        return user_material(name).small_strain_pair()
+        return scene_material(name, getattr(scene, "material_parameters", "")).small_strain_pair()
     mu = scene.E / 3.0 if name == "neo-hookean-incompressible" else 2.0 * (scene.c10 + scene.c01)
     return 2.0 * mu, mu
 

@@ -14,11 +14,14 @@ A scene takes it as ``material``:
   ``--set material=...``, and anything run in other processes such as a study's spawned workers): the module is
   imported where the scene is made, and the scene stores the path.
 
-The parameters are numbers fixed in the :class:`Material` (a study varies the law by varying ``material``).
+The parameters are numbers in the :class:`Material`; a scene's ``material_parameters`` (``"mu=3e5 k=1e4"`` or a
+dict) changes some of them for that scene, so a study varies them like a built-in law's (``vary={"material.mu":
+[...]}``; :func:`parameter_text`).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import casadi as ca
@@ -79,6 +82,21 @@ class Material:
         if W.numel() != 1:
             raise ParameterError.not_a("energy", self.name, "a scalar energy", "a function returning one number")
 
+    def with_parameters(self, changes):
+        """This law with some of its parameters changed (``{name: number}``; names it does not have are refused,
+        naming ``material_parameters``)."""
+        changes = dict(changes)
+        if not changes:
+            return self
+        for key, value in changes.items():
+            if key not in self.parameters:
+                raise ParameterError("material_parameters", key, "{" + ", ".join(sorted(self.parameters)) + "}",
+                                     hint=f"the parameters of material {self.name}")
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ParameterError.not_a("material_parameters", f"{key}={value}", "a finite number",
+                                           "finite numbers")
+        return Material(self.name, self.energy, {**self.parameters, **changes}, self.thickness)
+
     def law(self):
         """The :class:`~mol_shell.model.laws.Law` that runs it (``C`` handed over as an ``SX`` matrix)."""
         energy = self.energy
@@ -111,3 +129,36 @@ class Material:
         mu = second(0, 2)
         lam = 4 * second(0, 0) - 2 * mu
         return lam, mu
+
+
+def parameter_values(value):
+    """``material_parameters`` as a dict ``{name: float}``: from ``"name=value name=value"`` (spaces or commas
+    between the pairs) or a dict. ParameterError naming ``material_parameters`` for anything else."""
+    if isinstance(value, dict):
+        pairs = list(value.items())
+    elif isinstance(value, str):
+        pairs = []
+        for item in value.replace(",", " ").split():
+            key, sep, number = item.partition("=")
+            if not sep or not key:
+                raise ParameterError.not_a("material_parameters", value, "'name=value ...'",
+                                           "'name=value name=value' or a dict of numbers", hint=f"at {item!r}")
+            pairs.append((key.strip(), number.strip()))
+    else:
+        raise ParameterError.not_a("material_parameters", value, "'name=value ...'",
+                                   "'name=value name=value' or a dict of numbers")
+    values = {}
+    for key, number in pairs:
+        try:
+            values[str(key)] = float(number) if not isinstance(number, bool) else math.nan
+        except (TypeError, ValueError):
+            raise ParameterError.not_a("material_parameters", f"{key}={number}", "a finite number",
+                                       "finite numbers") from None
+        if not math.isfinite(values[str(key)]):
+            raise ParameterError.not_a("material_parameters", f"{key}={number}", "a finite number", "finite numbers")
+    return values
+
+
+def parameter_text(values):
+    """The stored form of ``material_parameters``: ``"name=value ..."``, sorted by name, values as ``repr``."""
+    return " ".join(f"{k}={float(v)!r}" for k, v in sorted(values.items()))

@@ -32,7 +32,7 @@ import casadi as ca
 from mol_shell.model.fibres import Fibres, fibre_energy
 from mol_shell.model.hyperelastic import condensed_energy, thickness_component
 from mol_shell._core.errors import ParameterError
-from mol_shell.model.laws import LAWS, Law, svk, thickness_treatment, user_material
+from mol_shell.model.laws import LAWS, Law, scene_material, svk, thickness_treatment, user_material
 from mol_shell.model.layers import parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, lame
@@ -63,7 +63,7 @@ def law_of_attrs(attrs):
         return "svk", (("lambda", lam), ("mu", mu)), fibres, material == "svk-plane-stress"
     if material not in LAWS:  # a law of one's own (registered here, or by its import path), else unknown
         try:
-            user = user_material(material)
+            user = scene_material(material, str(attrs.get("material_parameters", "") or ""))
         except ParameterError:
             return material, None, fibres, False
         return material, tuple(sorted(user.parameters.items())), fibres, False

@@ -44,7 +44,9 @@ Signs of the moments: ``m^s . c3 = -(1/r0) int zeta (T e1 . c1) c dzeta`` is neg
 on the cylinder) are pulled harder than those at ``zeta < 0``.
 
 Face stresses: the Cauchy stress at ``zeta1`` (inner face) and ``zeta1 + 2h`` (outer face),
-averaged over the cell's two samples, then its principal values and von Mises stress. With
+averaged over the cell's two samples, then its principal values and von Mises stress. A graded wall
+(``h_profile``) has each cell's own faces ``-h(s), +h(s)`` about the mid-surface: ``zeta`` is then the face in
+units of ``h(s)`` and ``zeta_face`` the depths. With
 ``material = "svk-plane-stress"`` the stress ``S22`` along the director is 0 (the condensation).
 With Kelvin-Voigt viscosity the stresses include ``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t``
 and the viscous part is also given alone (``*_viscous``).
@@ -66,6 +68,7 @@ from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.laws import LAWS, thickness_treatment
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, lame
+from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.results.cf import coordinates, variables
 from mol_shell.results.law_stresses import law_of_attrs, route_law, route_stress
 from mol_shell.results.stress_samples import cell_samples, reference_cells, sample_stresses
@@ -200,6 +203,16 @@ def _material(attrs):
     return lam, mu, eta_lambda, eta_mu, how == "svk-plane-stress", route
 
 
+def graded_half_thickness(ds):
+    """A graded wall's half-thickness at the cell centres (``h_profile`` of the run's attrs, as the run's cells
+    took it), or ``None`` for a uniform wall."""
+    profile = str(ds.attrs.get("h_profile", "") or "")
+    if profile in ("", "none"):
+        return None
+    s = ds["s"].values
+    return np.asarray(thickness_function(profile, float(s[-1] - s[0]))((s[1:] + s[:-1]) / 2), dtype=float)
+
+
 def _nodal(ds, name):
     """A reference coordinate on the nodes if the run carries it (``r0``, ``z0``, ``theta0``), else None."""
     if name in ds and ds[name].dims == ("s",):
@@ -266,14 +279,6 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     n_t, n = ds.sizes["time"], ds.sizes["s"]
     samples = 2 * (n - 1) * n_t
     material = str(ds.attrs.get("material", "svk"))
-    for key, what in (("h_profile", "a graded wall"),):  # not computed here yet
-        if str(ds.attrs.get(key, "") or "") not in ("", "none"):
-            if limit is None:
-                raise ParameterError(key, ds.attrs[key], "'' (a uniform wall of one law)",
-                                     hint=f"stresses of {what} are not computed yet")
-            out = ds.copy()
-            out.attrs["stresses"] = f"skipped: not computed for {what} ({key}) yet"
-            return out
     if limit is not None and law_of_attrs(ds.attrs) is not None and law_of_attrs(ds.attrs)[1] is None:  # unknown
         out = ds.copy()
         out.attrs["stresses"] = f"skipped: not computed for material = {material} (the built-in laws only)"
@@ -287,6 +292,12 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     lam, mu, eta_lambda, eta_mu, plane, route = _material(ds.attrs)
     zeta1, h, n_quad = float(ds.attrs["zeta1_used"]), float(ds.attrs["h"]), int(ds.attrs["n_quad"])
     par = np.array([zeta1, h, lam, mu, eta_lambda, eta_mu, float(plane)])
+    s = ds["s"].values
+    half = graded_half_thickness(ds)  # a graded wall: each cell's own [-h, h] about the mid-surface, as the run's
+    if half is not None:
+        par = np.tile(par, (n - 1, 2, 1))
+        par[:, :, 0], par[:, :, 1] = -half[:, None], half[:, None]
+        par = par.reshape(-1, len(PARAMETERS))
     viscous = eta_lambda > 0 or eta_mu > 0
     ref_cells = np.stack([ref[k] for k in ("r0", "theta0", "theta0_s", "beta1_0", "beta2_0")], axis=-1)  # (cells, 5)
     per_time = 2 * (n - 1)
@@ -299,12 +310,12 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
         V = np.stack([ds[f + "_t"].values[t0:t1] for f in FIELDS], axis=1)
         e, et = (np.moveaxis(cell_samples(x, ref["ds"]), 1, -1).reshape(-1, 8) for x in (Q, V))
         refs = np.broadcast_to(ref_cells[None, :, None, :], (t1 - t0, n - 1, 2, 5)).reshape(-1, 5)
-        outs = [np.moveaxis(x.reshape(t1 - t0, n - 1, 2, -1).mean(axis=2), -1, 0) for x in run(e, et, refs, par)]
+        pars = par if par.ndim == 1 else np.broadcast_to(par, (t1 - t0, *par.shape)).reshape(-1, len(PARAMETERS))
+        outs = [np.moveaxis(x.reshape(t1 - t0, n - 1, 2, -1).mean(axis=2), -1, 0) for x in run(e, et, refs, pars)]
         for name, value in _block(outs, viscous).items():
             if name not in data:
                 data[name] = np.empty((n_t, *value.shape[1:]))
             data[name][t0:t1] = value
-    s = ds["s"].values
     coords = {
         "s_cell": ("s_cell", (s[1:] + s[:-1]) / 2,
                    {"units": "m", "long_name": "arc length of the reference generator at the cell centres"}),
@@ -312,6 +323,13 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
             "units": "m", "long_name": "thickness coordinate of the faces along the reference director from the base "
             "surface: zeta1 (inner face) and zeta1 + 2h (outer face)"}),
     }
+    if half is not None:  # the faces move with h(s): the dimension in units of h, the depths beside it
+        coords["zeta"] = ("zeta", np.array([-1.0, 1.0]), {
+            "units": "1", "long_name": "face of the graded wall in units of the local half-thickness h(s): -1 inner "
+            "face, +1 outer face (depths in zeta_face)"})
+        coords["zeta_face"] = (("s_cell", "zeta"), np.stack([-half, half], axis=-1), {
+            "units": "m", "long_name": "thickness coordinate of the faces from the mid-surface (the base surface of a "
+            "graded wall): -h(s) inner, +h(s) outer"})
     entries = {}
     for name, value in data.items():
         base = name.removesuffix("_viscous")

@@ -27,6 +27,7 @@ import numpy as np
 
 from mol_shell._core.errors import MaterialWarning, ParameterError
 from mol_shell._core.version import __version__
+from mol_shell.model.laws import scene_material
 from mol_shell.model.material import locking_warning
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.results.study_store import Store, assemble
@@ -115,7 +116,7 @@ def design(scene, vary, integrator="leapfrog"):
 
     Each case is ``(index, {name: value})``; names are scene parameters or integrator options.
     """
-    allowed = set(_scene_fields(scene)) | _option_names(scene, integrator)
+    allowed = set(_scene_fields(scene)) | _option_names(scene, integrator) | _material_names(scene)
     if isinstance(vary, dict):
         if not vary:
             raise ParameterError("vary", vary, "at least one parameter with values")
@@ -285,7 +286,7 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
 
 
 def _task(scene, index, label, changes, integrator, n, times, options):
-    fields = set(_scene_fields(scene))
+    fields = set(_scene_fields(scene)) | _material_names(scene)
     scene_changes = {k: v for k, v in changes.items() if k in fields}
     opts = {**options, **{k: v for k, v in changes.items() if k not in fields}}
     case_scene = with_params(scene, scene_changes)
@@ -294,6 +295,12 @@ def _task(scene, index, label, changes, integrator, n, times, options):
 
 def _scene_fields(scene):
     return [f.name for f in dataclasses.fields(scene)]
+
+
+def _material_names(scene):
+    """``material.NAME`` for each parameter of the scene's law of one's own (none for a built-in law)."""
+    user = scene_material(scene.material) if hasattr(scene, "material_parameters") else None
+    return {f"material.{k}" for k in (user.parameters if user is not None else ())}
 
 
 def _option_names(scene, integrator):
@@ -306,7 +313,9 @@ def _label_coords(ds, coords, dims):
         if name not in ds.coords:
             continue
         attrs = {"long_name": f"{DESCRIPTIONS.get(name, name)} (varied)"}
-        if ds[name].dtype.kind in "iuf":
+        if name.startswith("material."):  # a Material's parameter: its units are the law's author's
+            attrs["long_name"] = f"parameter {name.removeprefix('material.')} of the material (varied)"
+        elif ds[name].dtype.kind in "iuf":
             attrs["units"] = UNITS.get(name, "1")
         ds[name].attrs.update(attrs)
     if "case" in dims and "case" in ds.coords:

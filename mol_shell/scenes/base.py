@@ -18,7 +18,14 @@ from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Choice, Interval, finite, non_negative, positive
 from mol_shell.model.edges import check_edge
 from mol_shell.model.geometry import base_offset, thickness_volume_factor
-from mol_shell.model.laws import MATERIALS, layer_scenes, resolve_material
+from mol_shell.model.laws import (
+    MATERIALS,
+    layer_scenes,
+    parameter_text,
+    parameter_values,
+    resolve_material,
+    user_material,
+)
 from mol_shell.model.layers import layers_text
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
@@ -109,6 +116,10 @@ class ShellScene:
         :func:`mol_shell.model.material.effective_lame`), ``"neo-hookean"`` (compressible, ``E, nu``, plane
         stress), ``"neo-hookean-incompressible"`` (shear modulus ``E/3``) or ``"mooney-rivlin"`` (incompressible,
         ``c10, c01``); see :mod:`mol_shell.model.laws`.
+    material_parameters : str or dict
+        A law of one's own (:class:`mol_shell.Material`) with some of its parameters changed: ``"mu=3e5 k=1e4"`` or
+        ``{"mu": 3e5}`` (stored as the string); ``""`` (default): the Material's own. Built-in laws take theirs as
+        scene parameters (``E, nu, c10, c01``). ``with_params``, ``--set`` and studies also take ``material.NAME``.
     c10, c01 : float
         Mooney-Rivlin constants, Pa (``W = c10 (I1 - 3) + c01 (I2 - 3)``; ``c10 > 0``, ``c01 >= 0``); read by
         ``material = "mooney-rivlin"`` only.
@@ -174,6 +185,7 @@ class ShellScene:
     eta_lambda: float = 0.0
     eta_mu: float = 0.0
     material: str = "svk"
+    material_parameters: str = ""
     c10: float = 1.5e5
     c01: float = 0.0
     fibre_E: float = 0.0
@@ -237,6 +249,7 @@ class ShellScene:
         _check("eta_mu", self.eta_mu, non_negative("Pa s"))
         if self.material not in MATERIALS:  # a law of one's own: its name, kept in this process, or import path
             object.__setattr__(self, "material", resolve_material(self.material))
+        self._check_material_parameters()
         if self.material == "neo-hookean":  # its plane-stress condensation is shown converged for these
             _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True), hint="material = neo-hookean: its thickness "
                    "stretch is condensed by 3 Halley steps, checked converged for 0 <= nu < 0.5")
@@ -260,6 +273,17 @@ class ShellScene:
             self._check_thickness()
         except ParameterError as exc:
             raise self._blame(exc) from None
+
+    def _check_material_parameters(self):
+        """``material_parameters`` read (a dict becomes the string form) and checked against a law of one's own."""
+        values = parameter_values(self.material_parameters)
+        if values and user_material(self.material) is None:
+            raise ParameterError("material_parameters", self.material_parameters, "'' (a built-in law)",
+                                 hint=f"material = {self.material} takes its parameters as scene parameters "
+                                 "(E, nu, c10, c01)")
+        if values:
+            user_material(self.material).with_parameters(values)
+        object.__setattr__(self, "material_parameters", parameter_text(values))
 
     def _check_fibres(self):
         """``fibre_E >= 0``, a finite ``fibre_angle``, ``fibre_families`` 1 or 2, ``fibre_compression`` true or false."""
@@ -422,7 +446,12 @@ def with_params(scene, params):
     """``dataclasses.replace`` that accepts strings (as from ``--set NAME=VALUE``) and names unknown parameters."""
     fields = {f.name: f for f in dataclasses.fields(scene)}
     changes = {}
+    own = parameter_values(getattr(scene, "material_parameters", "") or "")
     for name, value in params.items():
+        if name.startswith("material.") and "material_parameters" in fields:  # one parameter of a law of one's own
+            own[name.removeprefix("material.")] = value
+            changes["material_parameters"] = own
+            continue
         if name not in fields:
             raise ParameterError("parameter", name, Choice(tuple(fields)), hint=f"for scene {scene.name}")
         changes[name] = _coerce(name, value, fields[name].type)

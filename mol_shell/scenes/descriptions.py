@@ -6,7 +6,7 @@ from __future__ import annotations
 UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
     "gamma": "rad m-1", "omega": "rad s-1", "psi0": "rad", "n_quad": "1", "zeta1": "m",
-    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "c10": "Pa", "c01": "Pa",
+    "eta_lambda": "Pa s", "eta_mu": "Pa s", "material": "1", "material_parameters": "1", "c10": "Pa", "c01": "Pa",
     "fibre_E": "Pa", "fibre_angle": "rad", "fibre_families": "1", "fibre_compression": "1", "law_limit": "1", "h_profile": "m", "layers": "1", "dR": "m", "a": "m", "b": "m",
     "alpha1": "rad", "alpha2": "rad", "Lc": "m", "crown": "m", "knuckle": "m", "segments": "1", "r1": "m", "r2": "m", "H": "m", "dilation": "1", "end1": "1", "end2": "1",
     "points": "1", "pressure": "Pa", "gravity": "m s-2", "drag": "N s m-3", "end1_force": "N", "end2_force": "N",
@@ -23,6 +23,7 @@ DESCRIPTIONS = {
     "psi0": "initial shear angle psi", "n_quad": "Gauss-Legendre points through the thickness",
     "zeta1": "lower face of the thickness interval from the base surface", "eta_lambda": "Kelvin-Voigt viscosity eta_lambda",
     "eta_mu": "Kelvin-Voigt viscosity eta_mu", "material": "material law",
+    "material_parameters": "parameters of a law of one's own changed for this scene: 'name=value ...' ('': the Material's)",
     "c10": "Mooney-Rivlin constant c10 (material = mooney-rivlin)", "c01": "Mooney-Rivlin constant c01 (material = mooney-rivlin)",
     "fibre_E": "fibre modulus (0: no fibres)",
     "fibre_angle": "fibre angle from the meridian towards +phi", "fibre_families": "fibre families: 1 (helix) or 2 (+-angle)",

@@ -25,7 +25,7 @@ RUBBER = mol_shell.Material("my-neo-hookean", energy=neo_hookean, parameters={"m
 TIMES = np.linspace(0.0, 4e-3, 3)
 
 
-def _run(material):
+def _run(material, E=E):
     return mol_shell.simulate(Sphere(h=0.01, E=E, material=material, R=1.2), "leapfrog", n=8, times=TIMES,
                               progress=False)
 
@@ -95,3 +95,30 @@ def test_a_material_that_is_not_a_law_is_refused():
         mol_shell.Material("odd", energy=neo_hookean, parameters={"mu": 1.0}, thickness="membrane")
     with pytest.raises(ParameterError, match="material = 'svk'"):
         Sphere(material=mol_shell.Material("svk", energy=neo_hookean, parameters={"mu": 1.0}))
+
+
+def test_a_study_varies_a_materials_parameter_like_a_built_in_law(builtin):
+    """``vary={"material.mu": [...]}``: each case is the built-in incompressible neo-Hookean run at ``E = 3 mu``
+    (an independent route: the built-in law's own graph), and ``material_parameters`` records the value used."""
+    mus = [E / 3, 2 * E / 3]
+    ds = mol_shell.study(Sphere(h=0.01, E=E, material=RUBBER, R=1.2), {"material.mu": mus}, "leapfrog", n=8,
+                         times=TIMES, scheduler="serial", progress=False)
+    assert list(ds["material.mu"].values) == mus and "parameter mu" in ds["material.mu"].attrs["long_name"]
+    np.testing.assert_allclose(ds.r.values[0], builtin.r.values, rtol=0, atol=1e-12)
+    stiffer = _run("neo-hookean-incompressible", E=2 * E)
+    np.testing.assert_allclose(ds.r.values[1], stiffer.r.values, rtol=0, atol=1e-12)
+    assert not np.allclose(ds.r.values[0], ds.r.values[1])  # the parameter reached the graph
+
+
+def test_material_parameters_from_python_the_command_line_and_a_file(tmp_path):
+    """A dict, ``--set material.mu=...`` and a scene file's ``material_parameters`` all give the stored string;
+    a name the Material lacks, a built-in law, or a non-number is one line naming the key."""
+    assert Sphere(material=RUBBER, material_parameters={"mu": 2e5}).material_parameters == "mu=200000.0"
+    from mol_shell.scenes import with_params
+    assert with_params(Sphere(material=RUBBER), {"material.mu": "2e5"}).material_parameters == "mu=200000.0"
+    for bad, words in ((dict(material=RUBBER, material_parameters="k=1"), "is outside {mu}"),
+                       (dict(material="svk", material_parameters="mu=1"), "is outside '' (a built-in law)"),
+                       (dict(material=RUBBER, material_parameters="mu=x"), "is not a finite number")):
+        with pytest.raises(ParameterError, match="material_parameters") as err:
+            Sphere(**bad)
+        assert words in str(err.value)
