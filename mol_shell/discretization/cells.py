@@ -102,9 +102,13 @@ class CellKernels:
         rows = []
         nodes_weights = self.thickness.nodes_weights
         if self.graded is not None:  # each cell its own interval [-h, h] about the mid-surface (arrays over cells)
-            x, w = np.polynomial.legendre.leggauss(self.thickness.n_quad)
             hc = self.graded((self.s[1:] + self.s[:-1]) / 2)
-            nodes_weights = ([hc * xq for xq in x], [hc * wq for wq in w])
+            if self.layer_laws is None:
+                x, w = np.polynomial.legendre.leggauss(self.thickness.n_quad)
+                nodes_weights = ([hc * xq for xq in x], [hc * wq for wq in w])
+            else:  # the layers keep their shares of the wall: the nominal [-h, h] scaled to the cell's
+                scale = hc / self.scene.h
+                nodes_weights = tuple([scale * v for v in values] for values in nodes_weights)
         for zeta, w in zip(*nodes_weights):
             a, c = beta1 - zeta * dth, r0m + zeta * np.cos(thm)
             if np.any(a <= 0) or np.any(c <= 0):

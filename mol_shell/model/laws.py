@@ -236,7 +236,8 @@ def layer_laws(scene):
             lam, mu = effective_lame(sub.E, sub.nu, sub.material)
             law, params = SVK_LAW, {"lambda": lam, "mu": mu}
         out.append((law, params, scene_fibres(sub)))
-    rule = layered_thickness(scene.zeta1_used(), scene.h, scene.n_quad, [t for t, _ in layers])
+    zeta1 = -scene.h if getattr(scene, "h_profile", "") else scene.zeta1_used()  # graded: about the mid-surface
+    rule = layered_thickness(zeta1, scene.h, scene.n_quad, [t for t, _ in layers])
     return rule, out
 
 

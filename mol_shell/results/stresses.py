@@ -107,18 +107,20 @@ FACES = ("inner", "outer")
 PARAMETERS = ("zeta1", "h", "lam", "mu", "eta_lambda", "eta_mu", "plane_stress")
 
 
-def route_elastic(route, zeta1):
+def route_elastic(route, zeta1, h=None):
     """``(elastic, layers, plane)`` of :func:`sample_stresses` for a route of
-    :func:`~mol_shell.results.law_stresses.law_of_attrs` (a layered wall: each layer on its interval from ``zeta1``)."""
+    :func:`~mol_shell.results.law_stresses.law_of_attrs` (a layered wall: each layer on its interval from ``zeta1``;
+    with ``h``, a graded wall's half-thickness at the sample, each layer keeps its share of the nominal wall)."""
     if route[0] != "layers":
         return route_stress(route), None, float(route[3] or route_law(route).thickness != "director")
-    bounds = [zeta1 + sum(t for t, _ in route[1][:k]) for k in range(len(route[1]) + 1)]
+    scale = 1.0 if h is None else 2 * h / sum(t for t, _ in route[1])
+    bounds = [zeta1 + scale * sum(t for t, _ in route[1][:k]) for k in range(len(route[1]) + 1)]
     return None, [(lo, hi, route_stress(sub)) for lo, hi, (_, sub) in zip(bounds[:-1], bounds[1:], route[1])], \
         float(route[2])
 
 
 @functools.lru_cache(maxsize=8)
-def kernel(n_quad, viscous=False, route=None):
+def kernel(n_quad, viscous=False, route=None, graded=False):
     """``(e[8], e_t[8], ref[5], params[7]) -> (resultants[9], sigma[12])``, with ``viscous`` also
     ``(resultants_viscous[9], sigma_viscous[12])`` (SX).
 
@@ -127,14 +129,16 @@ def kernel(n_quad, viscous=False, route=None):
     ``n_quad`` points; the elastic kernel ignores ``e_t`` and the viscosities. ``route``
     (:func:`~mol_shell.results.law_stresses.law_of_attrs`): another law or fibres, whose stress is in the graph
     (``lam, mu, plane_stress`` inputs unused; the viscous stress condensed unless under the director constraint).
+    ``graded``: a layered wall's layers scaled to the sample's ``h`` (:func:`route_elastic`).
     """
     e, et, ref, par = ca.SX.sym("e", 8), ca.SX.sym("et", 8), ca.SX.sym("ref", 5), ca.SX.sym("par", len(PARAMETERS))
     zeta1, h, lam, mu, eta_l, eta_m, plane = ca.vertsplit(par)
     elastic, layers, name = None, None, f"ms_stress_q{n_quad}"
     if route is not None:
-        elastic, layers, plane = route_elastic(route, zeta1)
+        graded = graded and route[0] == "layers"
+        elastic, layers, plane = route_elastic(route, zeta1, h if graded else None)
         digest = hashlib.sha256(repr(route).encode()).hexdigest()[:12]  # stable across processes: the C cache
-        name = f"ms_stress_{re.sub(r'[^A-Za-z0-9]', '_', route[0])}_{digest}_q{n_quad}"
+        name = f"ms_stress_{re.sub(r'[^A-Za-z0-9]', '_', route[0])}_{digest}_q{n_quad}" + ("_graded" if graded else "")
     out = sample_stresses(ca.vertsplit(e), ca.vertsplit(et) if viscous else None, ca.vertsplit(ref), zeta1, h, n_quad,
                           lam, mu, eta_l, eta_m, plane, elastic=elastic, layers=layers)
     pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))
@@ -147,9 +151,9 @@ def kernel(n_quad, viscous=False, route=None):
 
 
 @functools.lru_cache(maxsize=8)
-def compiled_kernel(n_quad, viscous=False, route=None):
+def compiled_kernel(n_quad, viscous=False, route=None, graded=False):
     """:func:`kernel` as generated C (gcc, cached on disk; one build per ``n_quad``, ``viscous`` and law)."""
-    f = kernel(n_quad, viscous, route)
+    f = kernel(n_quad, viscous, route, graded)
     return CompiledFunctions([f]).functions[f.name()]
 
 
@@ -162,8 +166,8 @@ class Evaluator:
     ``viscous``): views into the buffer, overwritten by the next call.
     """
 
-    def __init__(self, n_quad, viscous=False, size=CHUNK, compiled=True, route=None):
-        f = compiled_kernel(n_quad, viscous, route) if compiled else kernel(n_quad, viscous, route)
+    def __init__(self, n_quad, viscous=False, size=CHUNK, compiled=True, route=None, graded=False):
+        f = compiled_kernel(n_quad, viscous, route, graded) if compiled else kernel(n_quad, viscous, route, graded)
         self.size = size
         self._buf, self._trigger = f.map(size).buffer()
         self._ins = [np.zeros((size, f.nnz_in(i))) for i in range(4)]
@@ -302,7 +306,8 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     ref_cells = np.stack([ref[k] for k in ("r0", "theta0", "theta0_s", "beta1_0", "beta2_0")], axis=-1)  # (cells, 5)
     per_time = 2 * (n - 1)
     block_t = max(1, CHUNK // per_time)
-    run = Evaluator(n_quad, viscous, block_t * per_time if n_t > block_t else n_t * per_time, compiled, route)
+    run = Evaluator(n_quad, viscous, block_t * per_time if n_t > block_t else n_t * per_time, compiled, route,
+                    half is not None)
     data = {}
     for t0 in range(0, n_t, block_t):
         t1 = min(t0 + block_t, n_t)

@@ -131,7 +131,8 @@ class ShellScene:
         A layered wall (:mod:`mol_shell.model.layers`): ``"T1 MATERIAL key=value ...; T2 ..."`` from the lower face
         (``T`` full thicknesses adding up to ``2h``; keys ``E, nu, c10, c01, fibre_E, fibre_angle, fibre_families,
         fibre_compression``, the scene's where left out), or a list of dicts ``{"thickness": T, "material": M, ...}``
-        (stored as the string). ``""`` (default): one layer of ``material``.
+        (stored as the string). ``""`` (default): one layer of ``material``. With ``h_profile`` each layer keeps its
+        share of the wall (its thickness times ``h(s)/h``).
     h_profile : str
         A graded wall (:mod:`mol_shell.model.thickness_profile`): ``h(s)`` as ``"table s0:h0 s1:h1 ..."`` (m, covering
         the meridian) or an expression of ``s``; each cell integrated through its own ``[-h, h]`` about the
@@ -312,12 +313,10 @@ class ShellScene:
 
     def _check_layers(self):
         """``layers`` read (a list becomes the string form), each layer's parameters checked as a scene's, their
-        thicknesses adding up to the wall ``2h``; not with ``h_profile``."""
+        thicknesses adding up to the wall ``2h`` (with ``h_profile`` the nominal wall: each layer keeps its share)."""
         object.__setattr__(self, "layers", layers_text(self.layers))
         if not self.layers.strip():
             return
-        if self.h_profile:
-            raise ParameterError("layers", self.layers, "'' with h_profile (a graded layered wall is not built yet)")
         try:
             layers = layer_scenes(self)
         except ParameterError as exc:

@@ -77,6 +77,34 @@ def test_a_graded_walls_stresses_are_its_local_membrane_stresses():
     assert hoop[3] / hoop[-4] > 1.25  # the local thickness is seen (h ratio 1.29 between these cells)
 
 
+def test_a_layered_graded_wall_keeps_each_layers_share():
+    """Layers on a graded wall keep their shares of it (thickness times h(s)/h). Two layers of one law give the
+    single graded wall (radii to 1e-13, face stresses to 1e-9: round-off); an inner 1 MPa layer of 40 % of the wall
+    under an outer 3 MPa one gives at each cell the face stresses of the uniform layered wall of the local
+    thickness (cells 4 and 8: measured 6.8e-5 .. 2.2e-4; allowed 1e-3, as the unlayered wall above)."""
+    times = np.linspace(0.0, 1e-4, 2)
+    kw = dict(r1=1.0, r2=1.0, H=2.0, material="svk-plane-stress", E=1e6, nu=0.3, end1="magnet", end2="free",
+              pressure=1.0)
+
+    def run(**more):
+        return mol_shell.simulate(Cone(**kw, **more), "cvode-bdf", n=17, times=times, progress=False)
+
+    single = run(h=0.005, h_profile=PROFILE)
+    equal = run(h=0.005, h_profile=PROFILE, layers="0.004 svk-plane-stress; 0.006 svk-plane-stress")
+    np.testing.assert_allclose(equal.r.values, single.r.values, rtol=1e-13)
+    for name in ("principal_stress_max", "membrane_force_hoop", "bending_moment_hoop"):
+        scale = float(np.abs(single[name]).max())
+        np.testing.assert_allclose(equal[name].values, single[name].values, rtol=0, atol=1e-9 * scale, err_msg=name)
+    layered = run(h=0.005, h_profile=PROFILE, layers="0.004 svk-plane-stress; 0.006 svk-plane-stress E=3e6")
+    for i in (4, 8):
+        h = float(h_of(layered.s_cell.values[i]))
+        local = run(h=h, zeta1=-h, layers=f"{0.8 * h!r} svk-plane-stress; {1.2 * h!r} svk-plane-stress E=3e6")
+        np.testing.assert_allclose(layered.principal_stress_max.values[-1, i],
+                                   local.principal_stress_max.values[-1, i], rtol=1e-3)
+    faces = layered.principal_stress_max.values[-1, 8]
+    assert 2.5 < faces[1] / faces[0] < 3.5  # the stiffer outer layer carries about 3x the stress: the layers are seen
+
+
 @pytest.mark.parametrize("profile, words", [
     ("table 0:0.01 1:0.01", "h_profile = 'table 0:0.01 1:0.01' is outside a table covering the meridian [0, 2] m"),
     ("0.01 * unknown(s)", "h_profile = '0.01 * unknown(s)' is outside"),
