@@ -223,14 +223,14 @@ class CellKernels:
         envelope = None
         if self.law is not None and self.law.thickness == "plane-stress" and self.layer_laws is None:  # C_22 held
             factors, beta2_0, _ = self._factors_and_moments(geo)
-            nq = len(factors)
-            held = ca.SX.sym("c22", nq * len(samples))
-            energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig,
-                                              ca.vertsplit(held[k * nq:(k + 1) * nq]))
-                         for k, (e, trig) in enumerate(zip(samples, trigs))) / len(samples)
-            envelope = (held, ca.vertcat(*[x for e, trig in zip(samples, trigs)
-                                           for x in law_thickness_values(e, self.law, self.law_params, factors,
-                                                                         beta2_0, trig)]))
+            solved = [law_thickness_values(e, self.law, self.law_params, factors, beta2_0, trig)
+                      for e, trig in zip(samples, trigs)]  # per sample, per point: C_22 (and the law's own values)
+            held = [[tuple(ca.SX.sym(f"c22_{k}_{q}_{i}") for i in range(len(values))) for q, values in enumerate(points)]
+                    for k, points in enumerate(solved)]
+            energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig, values)
+                         for e, trig, values in zip(samples, trigs, held)) / len(samples)
+            envelope = tuple(ca.vertcat(*[x for points in every for values in points for x in values])
+                             for every in (held, solved))
         elif self.law is not None:
             factors, beta2_0, _ = self._factors_and_moments(geo)
             energy = sum(self._law_energy(e, factors, beta2_0, trig) for e, trig in zip(samples, trigs)) / len(samples)

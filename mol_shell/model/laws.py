@@ -5,8 +5,8 @@ per-cell thickness moments). Every other law is a :class:`Law`, integrated throu
 (:mod:`mol_shell.model.hyperelastic`) with its stresses and tangents by automatic differentiation:
 
 - ``neo-hookean``: ``W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2``, ``J = sqrt(det C)``, the Lame pair of
-  ``E, nu``; plane stress (the thickness stretch condensed by its own scalar Newton solve,
-  :func:`neo_hookean_thickness`);
+  ``E, nu``; plane stress (the thickness stretch condensed by its own scalar Halley solve,
+  :func:`neo_hookean_solve`, the energy then written with its ``ln det C``, :func:`neo_hookean_held`);
 - ``neo-hookean-incompressible``: ``W = mu/2 (I1 - 3)``, ``mu = E/3``, ``det C = 1``;
 - ``mooney-rivlin``: ``W = c10 (I1 - 3) + c01 (I2 - 3)``, ``det C = 1`` (``c10, c01`` in Pa; small-strain shear
   modulus ``2 (c10 + c01)``).
@@ -59,15 +59,18 @@ def neo_hookean(C, p):
 HALLEY_STEPS = 3
 
 
-def neo_hookean_thickness(C, p, steps=HALLEY_STEPS):
-    """``C_22`` of the compressible neo-Hookean law in plane stress, from a scalar equation in ``v = ln det C``.
+def neo_hookean_solve(C, p, steps=HALLEY_STEPS):
+    """``(C_22, v, e^v)`` of the compressible neo-Hookean law in plane stress: ``v = ln det C`` at the root of a
+    scalar equation, ``e^v = det C`` and ``C_22 = (e^v - N) / M``.
 
     ``det C = C_22 M + N`` (``M = C_11 C_33 - C_13^2``, ``N`` the determinant at ``C_22 = 0``) and
     ``dW/dC_22 = mu/2 + (lambda ln J - mu) M / (2 det C)``, so ``dW/dC_22 = 0`` reads
     ``f(v) = mu e^v + lambda M v / 2 - mu M = 0``: increasing and convex in ``v`` for ``lambda >= 0``. Started from
-    the root of ``f`` linearised about ``v = ln M``, ``v0 = mu ln M / (mu + lambda/2)``; ``steps`` Halley iterations
-    ``v -= 2 f f' / (2 f'^2 - f f'')`` (cubic convergence; ``f' = mu e^v + lambda M / 2``, ``f'' = mu e^v``: one
-    ``exp`` each), then ``C_22 = (e^v - N) / M``.
+    the root of ``f`` linearised about ``v = ln M``, ``v0 = mu ln M / (mu + lambda/2)``; ``steps`` (at least 1)
+    Halley iterations ``v -= 2 f f' / (2 f'^2 - f f'')`` (cubic convergence; ``f' = mu e^v + lambda M / 2``,
+    ``f'' = mu e^v``: one ``exp`` each). The last step ``s`` is small (at most 5e-5 over the range of
+    :data:`HALLEY_STEPS`), so ``e^v`` after it is the last ``exp`` times ``e^-s`` to fourth order (error
+    ``s^5/120``, below round-off) rather than one more ``exp``.
     """
     lam, mu = p["lambda"], p["mu"]
     m = C[0][0] * C[2][2] - C[0][2] * C[2][0]
@@ -75,10 +78,34 @@ def neo_hookean_thickness(C, p, steps=HALLEY_STEPS):
     a = 0.5 * lam * m
     v = mu * ca.log(m) / (mu + 0.5 * lam)
     for _ in range(steps):
-        f2 = mu * ca.exp(v)
+        ev = ca.exp(v)
+        f2 = mu * ev
         f, f1 = f2 + a * v - mu * m, f2 + a
-        v = v - 2.0 * f * f1 / (2.0 * f1 * f1 - f * f2)
-    return (ca.exp(v) - n) / m
+        s = 2.0 * f * f1 / (2.0 * f1 * f1 - f * f2)
+        v = v - s
+    ev = ev * (1.0 - s * (1.0 - 0.5 * s * (1.0 - s / 3.0 * (1.0 - 0.25 * s))))
+    return (ev - n) / m, v, ev
+
+
+def neo_hookean_thickness(C, p, steps=HALLEY_STEPS):
+    """``C_22`` of the compressible neo-Hookean law in plane stress (:func:`neo_hookean_solve`)."""
+    return neo_hookean_solve(C, p, steps)[0]
+
+
+def neo_hookean_held(C, values, p):
+    """:func:`neo_hookean` at ``C_22 = x`` for ``values = (x, v, e^v)`` of :func:`neo_hookean_solve`, where
+    ``v = ln det C``: ``mu/2 (I1 - 3) - mu v/2 + lambda v^2/8 + (lambda v/4 - mu/2) (det C / e^v - 1)``.
+
+    The last term vanishes there, and its derivative in ``C`` at ``v`` held, ``(lambda v/4 - mu/2) d(det C)/e^v``,
+    is that of ``-mu ln J + lambda/2 (ln J)^2``: the same value and first derivatives as the law without a ``log``.
+    Through ``values`` as functions of ``C`` the derivatives are the law's too (``ln det C = v`` identically).
+    """
+    x, v, ev = values
+    lam, mu = p["lambda"], p["mu"]
+    Cx = with_thickness(C, x)
+    i1 = C[0][0] + x + C[2][2]
+    return (0.5 * mu * (i1 - 3.0) + (0.125 * lam * v - 0.5 * mu) * v
+            + (0.25 * lam * v - 0.5 * mu) * (determinant(Cx) / ev - 1.0))
 
 
 def neo_hookean_incompressible(C, p):
@@ -94,7 +121,8 @@ def mooney_rivlin(C, p):
 
 #: the built-in laws beyond SVK, by the scene parameter ``material``
 LAWS = {
-    "neo-hookean": Law("neo-hookean", neo_hookean, ("lambda", "mu"), "plane-stress", neo_hookean_thickness),
+    "neo-hookean": Law("neo-hookean", neo_hookean, ("lambda", "mu"), "plane-stress", neo_hookean_solve,
+                       neo_hookean_held),
     "neo-hookean-incompressible": Law("neo-hookean-incompressible", neo_hookean_incompressible, ("mu",),
                                       "incompressible"),
     "mooney-rivlin": Law("mooney-rivlin", mooney_rivlin, ("c10", "c01"), "incompressible"),
