@@ -17,9 +17,11 @@ The parameters enter the graphs as numbers: a law's parameters are absent from a
 from __future__ import annotations
 
 import dataclasses
+import functools
 import importlib
 
 import casadi as ca
+import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Choice
@@ -53,10 +55,30 @@ def neo_hookean(C, p):
     return 0.5 * p["mu"] * (i1 - 3.0) - p["mu"] * log_j + 0.5 * p["lambda"] * log_j**2
 
 
-#: Halley steps of :func:`neo_hookean_thickness`: from its start, 3 reach round-off in ``v`` for every
-#: ``0 <= nu <= 0.49`` and in-plane determinant ``M`` of ``C`` in ``[0.3^4, 3^4]`` (stretches 0.3..3; 6 Newton
-#: steps leave 2e-10 at nu = 0.45), and 4 for ``M`` in ``[1e-3, 1e3]``; tests/model/test_laws.py checks the residual
-HALLEY_STEPS = 3
+#: Halley steps of :func:`neo_hookean_solve`: from its start, 2 reach round-off in ``v`` for every
+#: ``0 <= nu <= 0.49`` and in-plane determinant ``M`` of ``C`` in ``[1e-3, 1e3]`` (stretches 0.18..5.6; the start
+#: is within 1.6e-2 of the root there, 1.1e-7 after one step); tests/model/test_laws.py checks the residual
+HALLEY_STEPS = 2
+#: the start's fit: ``ln M`` in ``[-START_RANGE, START_RANGE]`` (held at the ends outside), degree ``START_DEGREE``
+START_RANGE, START_DEGREE = 7.0, 6
+
+
+@functools.lru_cache(maxsize=64)
+def neo_hookean_start(k):
+    """Coefficients (power basis, of ``t = ln M / START_RANGE``) of the start's correction, for ``k = lambda/(2 mu)``.
+
+    The root of ``mu e^v + lambda M v / 2 - mu M = 0`` solves ``e^v / M + k v = 1``: a function of ``ln M`` alone,
+    ``v = ln M / (1 + k) + g(ln M)`` (the first term its linearisation about ``v = ln M``). ``g`` is fitted once per
+    ``k`` here: Chebyshev least squares at 64 nodes of the range, the roots there by 60 Halley steps.
+    """
+    nodes = START_RANGE * np.cos(np.pi * (np.arange(64) + 0.5) / 64)
+    v = nodes / (1.0 + k)
+    for _ in range(60):
+        e = np.exp(v - nodes)
+        g, g1 = e + k * v - 1.0, e + k
+        v = v - 2.0 * g * g1 / (2.0 * g1 * g1 - g * e)
+    fit = np.polynomial.chebyshev.chebfit(nodes / START_RANGE, v - nodes / (1.0 + k), START_DEGREE)
+    return tuple(float(c) for c in np.polynomial.chebyshev.cheb2poly(fit))
 
 
 def neo_hookean_solve(C, p, steps=HALLEY_STEPS):
@@ -66,17 +88,24 @@ def neo_hookean_solve(C, p, steps=HALLEY_STEPS):
     ``det C = C_22 M + N`` (``M = C_11 C_33 - C_13^2``, ``N`` the determinant at ``C_22 = 0``) and
     ``dW/dC_22 = mu/2 + (lambda ln J - mu) M / (2 det C)``, so ``dW/dC_22 = 0`` reads
     ``f(v) = mu e^v + lambda M v / 2 - mu M = 0``: increasing and convex in ``v`` for ``lambda >= 0``. Started from
-    the root of ``f`` linearised about ``v = ln M``, ``v0 = mu ln M / (mu + lambda/2)``; ``steps`` (at least 1)
-    Halley iterations ``v -= 2 f f' / (2 f'^2 - f f'')`` (cubic convergence; ``f' = mu e^v + lambda M / 2``,
-    ``f'' = mu e^v``: one ``exp`` each). The last step ``s`` is small (at most 5e-5 over the range of
-    :data:`HALLEY_STEPS`), so ``e^v`` after it is the last ``exp`` times ``e^-s`` to fourth order (error
-    ``s^5/120``, below round-off) rather than one more ``exp``.
+    ``v0 = ln M / (1 + k) + g(ln M)`` (:func:`neo_hookean_start`; outside its range ``g`` keeps its end value,
+    a start no worse than the linearisation's); ``steps`` (at least 1) Halley iterations
+    ``v -= 2 f f' / (2 f'^2 - f f'')`` (cubic convergence; ``f' = mu e^v + lambda M / 2``, ``f'' = mu e^v``: one
+    ``exp`` each). The last step ``s`` is small (at most 1.1e-7 over the range of :data:`HALLEY_STEPS`), so
+    ``e^v`` after it is the last ``exp`` times ``e^-s`` to fourth order (error ``s^5/120``, far below round-off)
+    rather than one more ``exp``.
     """
     lam, mu = p["lambda"], p["mu"]
     m = C[0][0] * C[2][2] - C[0][2] * C[2][0]
     n = determinant(with_thickness(C, 0.0))
     a = 0.5 * lam * m
-    v = mu * ca.log(m) / (mu + 0.5 * lam)
+    k = 0.5 * float(lam) / float(mu)
+    log_m = ca.log(m)
+    t = ca.fmin(ca.fmax(log_m, -START_RANGE), START_RANGE) / START_RANGE
+    correction = 0.0
+    for c in reversed(neo_hookean_start(k)):
+        correction = correction * t + c
+    v = log_m / (1.0 + k) + correction
     for _ in range(steps):
         ev = ca.exp(v)
         f2 = mu * ev

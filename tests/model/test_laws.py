@@ -36,7 +36,7 @@ from mol_shell.model.hyperelastic import (
     thickness_component,
     with_thickness,
 )
-from mol_shell.model.laws import HALLEY_STEPS, LAWS, Law, neo_hookean, neo_hookean_thickness, svk
+from mol_shell.model.laws import HALLEY_STEPS, LAWS, Law, neo_hookean, neo_hookean_solve, neo_hookean_thickness, svk
 from mol_shell.model.material import Thickness, effective_lame, lame, quadrature_factors, thickness_energy
 from mol_shell.scenes import Sphere
 
@@ -123,6 +123,28 @@ def test_plane_stress_condensation_converged(l1, l2, shear, nu, solver):
     more = (plane_stress_thickness(lambda c: neo_hookean(c, p), C, NEWTON_STEPS + 1) if solver == "generic"
             else neo_hookean_thickness(C, p, HALLEY_STEPS + 1))
     assert abs(float(more) - float(x)) <= 1e-14 * float(x)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.1, 0.3, 0.45, 0.49])
+def test_neo_hookean_solve_reaches_round_off_over_its_range(nu):
+    """:data:`HALLEY_STEPS` from the fitted start reach round-off in ``v = ln det C`` for in-plane determinants
+    ``M`` over ``[1e-3, 1e3]`` (500 of them, with transverse shear): the residual of ``e^v/M + k v = 1`` is at
+    round-off, two more steps move ``v`` by round-off only, and ``e^v`` (from the last ``exp`` before the last step)
+    is ``exp(v)``."""
+    lam, mu = lame(E, nu)
+    p = {"lambda": lam, "mu": mu}
+    c = ca.SX.sym("c", 2)
+    C = ((c[0], 0.1, 0.05 * c[1]), (0.1, 1.0, 0.08), (0.05 * c[1], 0.08, c[1]))
+    m = c[0] * c[1] - 0.0025 * c[1] * c[1]
+    _, v, ev = neo_hookean_solve(C, p)
+    more = neo_hookean_solve(C, p, HALLEY_STEPS + 2)[1]
+    f = ca.Function("f", [c], [v, ev / m + 0.5 * lam / mu * v - 1.0, v - more, ev - ca.exp(v)])
+    big = np.geomspace(1e-3, 1e3, 500) ** 0.5
+    v, residual, moved, ev_gap = (np.array(x).ravel() for x in f.map(500)(np.vstack([big, big * 0.999])))
+    scale = np.maximum(1.0, np.abs(v))
+    assert np.all(np.abs(residual) <= 1e-14 * (1 + 0.5 * lam / mu) * scale)
+    assert np.all(np.abs(moved) <= 4e-16 * scale)
+    assert np.all(np.abs(ev_gap) <= 4e-16 * scale * np.exp(v))  # e^v from the step before, to v's own round-off
 
 
 @pytest.mark.parametrize("solver", ["generic", "law"])
