@@ -277,26 +277,29 @@ def test_thickness_quadrature_converges_in_n_quad(name):
 def test_neo_hookean_held_energy_gives_the_generic_forces_and_jacobian():
     """The compressible neo-Hookean's energy written with its solve's ``v = ln det C`` and ``e^v`` (no ``log``)
     against the law as it reads (``ln J`` of ``det C`` at the condensed ``C_22``): the same energy, the same cell
-    forces (``C_22`` held) and the same exact Jacobian (through the solve), to round-off."""
+    forces (``C_22`` held) and the same exact Jacobian (through the solve), to round-off; the staged kernel (the
+    compiled right-hand side's) gives them to the bit."""
     system = ShellSystem(Sphere(h=0.02, nu=0.45, material="neo-hookean"), 8)
     trig = system.node_trig_kernel()
 
-    def kernel():
+    def kernel(staged=False):
         system.__dict__.pop("shared_cell_data", None)
-        cell = system.cell_forces_shared_kernel()
+        cell = system.cell_forces_shared_kernel(staged)
         ql, qr, geo = ca.SX.sym("ql", 5), ca.SX.sym("qr", 5), ca.SX.sym("geo", system.shared_cell_data.shape[0])
-        forces = ca.vertcat(*cell(ql, qr, trig(ql), trig(qr), geo))
+        forces = ca.vertcat(*cell(ql, qr, trig(ql), trig(qr), geo)[-2:])
         return ca.Function("f", [ql, qr, geo], [forces, ca.jacobian(forces, ca.vertcat(ql, qr))])
 
-    held = kernel()
+    held, staged = kernel(), kernel(staged=True)  # staged: the solves' exp and log listed first, rank by rank
+    assert system.cell_forces_shared_kernel(staged=True).n_out() == 2 + 3  # log, exp, exp
     system.law = Law("neo-hookean-as-read", neo_hookean, ("lambda", "mu"), "plane-stress", neo_hookean_thickness)
     generic = kernel()
     geo = system.shared_cell_data[:, min(3, system.shared_cell_data.shape[1] - 1)]
     for amplitude in (0.02, 0.1, 0.3):
         Q = _state(system, amplitude) + RNG.uniform(-amplitude, amplitude, (5, system.n))
-        (f0, j0), (f1, j1) = ([np.array(x) for x in k(Q[:, 3], Q[:, 4], geo)] for k in (generic, held))
+        (f0, j0), (f1, j1), (f2, j2) = ([np.array(x) for x in k(Q[:, 3], Q[:, 4], geo)] for k in (generic, held, staged))
         assert np.max(np.abs(f1 - f0)) <= 1e-13 * np.max(np.abs(f0))
         assert np.max(np.abs(j1 - j0)) <= 1e-13 * np.max(np.abs(j0))
+        assert np.array_equal(f2, f1) and np.array_equal(j2, j1)
     lam, mu = lame(E, 0.45)
     p = {"lambda": lam, "mu": mu}
     C = ((1.7, 0.1, 0.2), (0.1, 1.0, 0.05), (0.2, 0.05, 0.8))
