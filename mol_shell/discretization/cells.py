@@ -34,15 +34,15 @@ BETA2_ZERO = 1e-13
 
 
 def solve_stages(values):
-    """The ``exp`` and ``log`` operations of per-point iterative solves, rank by rank across the points.
+    """The ``exp``, ``log`` and division operations of per-point iterative solves, rank by rank across the points.
 
-    ``values``: SX scalars, the solves' results. A node's rank is the number of ``exp``/``log`` on the longest
-    path from the inputs to it, itself included; returns ``[[the rank-1 nodes], [the rank-2 nodes], ...]``.
+    ``values``: SX scalars, the solves' results. A node's rank is the number of these slow operations on the
+    longest path from the inputs to it, itself included; returns ``[[the rank-1 nodes], [the rank-2 nodes], ...]``.
     A kernel listing these as outputs before its own is compiled in that order (CasADi sorts depth first from
     the outputs): the points' chains of dependent operations side by side, which the processor overlaps,
     rather than one point's whole chain after another's.
     """
-    transcendental = (ca.OP_EXP, ca.OP_LOG)
+    slow = (ca.OP_EXP, ca.OP_LOG, ca.OP_DIV)  # long latencies (divisions: the steps, 1/M)
     rank, by_rank = {}, {}
     stack = list(values)
     while stack:  # iterative depth-first ranking (the chains are long)
@@ -58,7 +58,7 @@ def solve_stages(values):
             continue
         stack.pop()
         r = max((rank[d.element_hash()] for d in deps), default=0)
-        if any(x.is_op(op) for op in transcendental):
+        if any(x.is_op(op) for op in slow):
             r += 1
             by_rank.setdefault(r, []).append(x)
         rank[key] = r
