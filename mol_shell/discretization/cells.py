@@ -42,7 +42,7 @@ def solve_stages(values):
     the outputs): the points' chains of dependent operations side by side, which the processor overlaps,
     rather than one point's whole chain after another's.
     """
-    slow = (ca.OP_EXP, ca.OP_LOG, ca.OP_DIV)  # long latencies (divisions: the steps, 1/M)
+    slow = (ca.OP_EXP, ca.OP_LOG, ca.OP_DIV)  # long latencies (divisions: the steps', C_22's)
     rank, by_rank = {}, {}
     stack = list(values)
     while stack:  # iterative depth-first ranking (the chains are long)
@@ -260,8 +260,8 @@ class CellKernels:
             factors, beta2_0, _ = self._factors_and_moments(geo)
             solved = [law_thickness_values(e, self.law, self.law_params, factors, beta2_0, trig)
                       for e, trig in zip(samples, trigs)]  # per sample, per point: C_22 (and the law's own values)
-            held = [[tuple(ca.SX.sym(f"c22_{k}_{q}_{i}") for i in range(len(values))) for q, values in enumerate(points)]
-                    for k, points in enumerate(solved)]
+            held = [[tuple(ca.SX.sym(f"c22_{k}_{q}_{i}") for i in range(len(values)))
+                     for q, values in enumerate(points)] for k, points in enumerate(solved)]
             energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig, values)
                          for e, trig, values in zip(samples, trigs, held)) / len(samples)
             envelope = tuple(ca.vertcat(*[x for points in every for values in points for x in values])

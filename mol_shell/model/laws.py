@@ -94,13 +94,13 @@ def neo_hookean_solve(C, p, steps=HALLEY_STEPS):
     ``v -= 2 f f' / (2 f'^2 - f f'')`` (cubic convergence; ``f' = mu e^v + lambda M / 2``, ``f'' = mu e^v``: one
     ``exp`` each). The last step ``s`` is small (at most 1.1e-7 over the range of :data:`HALLEY_STEPS`), so
     ``e^v`` after it is the last ``exp`` times ``e^-s`` to second order (error ``s^3/6 < 3e-22``) rather than one
-    more ``exp``. Constants multiply rather than divide, and ``1/M`` is formed aside: the solve is a chain of
-    dependent operations at every thickness point, so its length is what it costs.
+    more ``exp``. Constants multiply rather than divide: the solve is a chain of dependent operations at every
+    thickness point, so its length is what it costs.
     """
     lam, mu = p["lambda"], p["mu"]
     m = C[0][0] * C[2][2] - C[0][2] * C[2][0]
     n = determinant(with_thickness(C, 0.0))
-    a, inverse_m = 0.5 * lam * m, 1.0 / m  # off the iteration's chain
+    a = 0.5 * lam * m
     k = 0.5 * float(lam) / float(mu)
     log_m = ca.log(m)
     t = 0.5 * (ca.fabs(log_m + START_RANGE) - ca.fabs(log_m - START_RANGE))  # ln M held in the range, no call
@@ -115,7 +115,7 @@ def neo_hookean_solve(C, p, steps=HALLEY_STEPS):
         s = 2.0 * f * f1 / (2.0 * f1 * f1 - f * f2)
         v = v - s
     ev = ev * (1.0 - s * (1.0 - 0.5 * s))
-    return (ev - n) * inverse_m, v, ev
+    return (ev - n) / m, v, ev
 
 
 def neo_hookean_thickness(C, p, steps=HALLEY_STEPS):

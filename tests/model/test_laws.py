@@ -296,7 +296,8 @@ def test_neo_hookean_held_energy_gives_the_generic_forces_and_jacobian():
     geo = system.shared_cell_data[:, min(3, system.shared_cell_data.shape[1] - 1)]
     for amplitude in (0.02, 0.1, 0.3):
         Q = _state(system, amplitude) + RNG.uniform(-amplitude, amplitude, (5, system.n))
-        (f0, j0), (f1, j1), (f2, j2) = ([np.array(x) for x in k(Q[:, 3], Q[:, 4], geo)] for k in (generic, held, staged))
+        (f0, j0), (f1, j1), (f2, j2) = ([np.array(x) for x in k(Q[:, 3], Q[:, 4], geo)]
+                                        for k in (generic, held, staged))
         assert np.max(np.abs(f1 - f0)) <= 1e-13 * np.max(np.abs(f0))
         assert np.max(np.abs(j1 - j0)) <= 1e-13 * np.max(np.abs(j0))
         assert np.array_equal(f2, f1) and np.array_equal(j2, j1)
