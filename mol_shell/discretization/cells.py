@@ -33,6 +33,38 @@ from mol_shell.model.material import (
 BETA2_ZERO = 1e-13
 
 
+def solve_stages(values):
+    """The ``exp``, ``log`` and division operations of per-point iterative solves, rank by rank across the points.
+
+    ``values``: SX scalars, the solves' results. A node's rank is the number of these slow operations on the
+    longest path from the inputs to it, itself included; returns ``[[the rank-1 nodes], [the rank-2 nodes], ...]``.
+    A kernel listing these as outputs before its own is compiled in that order (CasADi sorts depth first from
+    the outputs): the points' chains of dependent operations side by side, which the processor overlaps,
+    rather than one point's whole chain after another's.
+    """
+    slow = (ca.OP_EXP, ca.OP_LOG, ca.OP_DIV)  # long latencies (divisions: the steps', C_22's)
+    rank, by_rank = {}, {}
+    stack = list(values)
+    while stack:  # iterative depth-first ranking (the chains are long)
+        x = stack[-1]
+        key = x.element_hash()
+        if key in rank:
+            stack.pop()
+            continue
+        deps = [x.dep(i) for i in range(x.n_dep())] if not (x.is_symbolic() or x.is_constant()) else []
+        todo = [d for d in deps if d.element_hash() not in rank]
+        if todo:
+            stack.extend(todo)
+            continue
+        stack.pop()
+        r = max((rank[d.element_hash()] for d in deps), default=0)
+        if any(x.is_op(op) for op in slow):
+            r += 1
+            by_rank.setdefault(r, []).append(x)
+        rank[key] = r
+    return [by_rank[r] for r in sorted(by_rank)]
+
+
 def trig_chain(t, g):
     """``dV/dq`` contributed through a node's trigonometric values ``t`` (:meth:`CellKernels.node_trig_kernel`).
 
@@ -212,11 +244,14 @@ class CellKernels:
         rows = self.cell_data[0 if per_point else 3 * self.thickness.n_quad:, :]  # a law or fibres: every row
         return rows[:, :1] if np.all(rows == rows[:, :1]) else rows
 
-    def cell_forces_shared_kernel(self):
+    def cell_forces_shared_kernel(self, staged=False):
         """:meth:`cell_forces_kernel` taking the nodes' :meth:`node_trig_kernel` values: ``(ql, qr, tl, tr, geo)``.
 
         The energy is built on the trigonometric values as inputs; the chain rule back to ``theta`` and
-        ``psi`` is applied inside, so the outputs are the same forces ``dV/dq`` to round-off.
+        ``psi`` is applied inside, so the outputs are the same forces ``dV/dq`` to round-off. ``staged``: a law
+        with a plane-stress solve lists its :func:`solve_stages` as outputs before the forces (the same
+        arithmetic, in an order that runs the thickness points' solves side by side; the forces are the last
+        two outputs, the stages are for no one and cost nothing in a map that leaves them unused).
         """
         ql, qr, _ = self._cell_symbols()
         tl, tr = ca.SX.sym("tl", 4), ca.SX.sym("tr", 4)
@@ -224,17 +259,19 @@ class CellKernels:
         cos_mid, sin_mid = tl[2] * tr[2] - tl[3] * tr[3], tl[3] * tr[2] + tl[2] * tr[3]
         samples = self.cell_samples(ql, qr)  # psi at the left node, then the right (one sample: psi = 0)
         trigs = [(cos_mid, sin_mid, t[0], t[1]) for t in (tl, tr)]
-        envelope = None
+        envelope, stages = None, []
         if self.law is not None and self.law.thickness == "plane-stress" and self.layer_laws is None:  # C_22 held
             factors, beta2_0, _ = self._factors_and_moments(geo)
-            nq = len(factors)
-            held = ca.SX.sym("c22", nq * len(samples))
-            energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig,
-                                              ca.vertsplit(held[k * nq:(k + 1) * nq]))
-                         for k, (e, trig) in enumerate(zip(samples, trigs))) / len(samples)
-            envelope = (held, ca.vertcat(*[x for e, trig in zip(samples, trigs)
-                                           for x in law_thickness_values(e, self.law, self.law_params, factors,
-                                                                         beta2_0, trig)]))
+            solved = [law_thickness_values(e, self.law, self.law_params, factors, beta2_0, trig)
+                      for e, trig in zip(samples, trigs)]  # per sample, per point: C_22 (and the law's own values)
+            held = [[tuple(ca.SX.sym(f"c22_{k}_{q}_{i}") for i in range(len(values)))
+                     for q, values in enumerate(points)] for k, points in enumerate(solved)]
+            energy = sum(law_thickness_energy(e, self.law, self.law_params, factors, beta2_0, trig, values)
+                         for e, trig, values in zip(samples, trigs, held)) / len(samples)
+            envelope = tuple(ca.vertcat(*[x for points in every for values in points for x in values])
+                             for every in (held, solved))
+            if staged:
+                stages = [ca.vertcat(*nodes) for nodes in solve_stages(ca.vertsplit(envelope[1]))]
         elif self.law is not None:
             factors, beta2_0, _ = self._factors_and_moments(geo)
             energy = sum(self._law_energy(e, factors, beta2_0, trig) for e, trig in zip(samples, trigs)) / len(samples)
@@ -253,7 +290,8 @@ class CellKernels:
         if envelope is not None:  # dW/dC_22 = 0 there: the gradient at the condensed C_22 needs no dC_22/dq (the
             forces = ca.vertsplit(ca.substitute(ca.vertcat(*forces), *envelope), [0, NF, 2 * NF])  # (the Jacobian,
             # differentiating this, still gets dC_22/dq)
-        return ca.Function("cell", [ql, qr, tl, tr, geo], ca.cse(forces), self.KERNEL_OPTIONS)
+        outputs = ca.cse(stages + forces)
+        return ca.Function("cell", [ql, qr, tl, tr, geo], outputs, self.KERNEL_OPTIONS)
 
     def _cell_observables(self):
         """``(q_left, q_right, geo) -> (V_cell, ds x delta at the cell's samples)``."""

@@ -248,8 +248,8 @@ class ShellSystem(ModelLimits, CellKernels):
         if trig is None:
             gl, gr = self._map(self.cell_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
         else:  # a pole's tied chi does not enter the trigonometry
-            gl, gr = self._map(self.cell_forces_shared_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], trig[:, :-1],
-                                                                        trig[:, 1:], self.shared_cell_data)
+            gl, gr = self._map(self.cell_forces_shared_kernel(staged=True), n - 1)(
+                Qt[:, :-1], Qt[:, 1:], trig[:, :-1], trig[:, 1:], self.shared_cell_data)[-2:]
         pad = ca.MX.zeros(NF, 1)
         return self.gather_ties(ca.horzcat(gl, pad) + ca.horzcat(pad, gr))
 

@@ -41,6 +41,10 @@ class Law:
     ``parameters``: the names ``params`` must hold; ``thickness``: one of :data:`TREATMENTS`; ``condense``:
     optionally ``(C, params) -> C_22`` solving the law's plane-stress condition more cheaply than the generic
     Newton iteration on ``dW/dC_22`` (:func:`~mol_shell.model.hyperelastic.plane_stress_thickness`).
+    ``held_energy``: optionally ``(C, values, params) -> W`` with ``values = condense(C, params)`` then a tuple,
+    ``C_22`` first, then what the solve found on the way (the compressible neo-Hookean: ``ln det C`` and
+    ``det C``): the energy at ``C_22 = values[0]`` written with them, of the same value and the same first
+    derivatives in ``C`` at those values as ``energy`` (so it may skip work the solve has done).
     """
 
     name: str
@@ -48,6 +52,7 @@ class Law:
     parameters: tuple
     thickness: str
     condense: Callable | None = None
+    held_energy: Callable | None = None
 
     def __post_init__(self):
         if self.thickness not in TREATMENTS:
@@ -118,27 +123,41 @@ def plane_stress_residual(energy, C, x):
     return ca.substitute(ca.gradient(energy(with_thickness(C, s)), s), s, x)
 
 
-def thickness_component(law, C, params):
-    """``C_22`` as the law's treatment sets it (``1`` under the director constraint).
+def thickness_state(law, C, params):
+    """The values the law's treatment sets at ``C``: ``(C_22,)`` (``C_22 = 1`` under the director constraint), or
+    the tuple of the law's own solve when it has a ``held_energy``.
 
     Plane stress: the law's own solve (``law.condense``) when it has one, else :func:`plane_stress_thickness`.
     """
     if law.thickness == "director":
-        return C[THICK][THICK]
+        return (C[THICK][THICK],)
     if law.thickness == "incompressible":
-        return incompressible_thickness(C)
+        return (incompressible_thickness(C),)
     if law.thickness == "plane-stress":
-        if law.condense is not None:
-            return law.condense(C, params)
-        return plane_stress_thickness(lambda c: law.energy(c, params), C)
+        if law.condense is None:
+            return (plane_stress_thickness(lambda c: law.energy(c, params), C),)
+        values = law.condense(C, params)
+        return tuple(values) if law.held_energy is not None else (values,)
     raise ValueError(f"thickness treatment {law.thickness!r} is not director, plane-stress or incompressible")
+
+
+def thickness_component(law, C, params):
+    """``C_22`` as the law's treatment sets it (``1`` under the director constraint)."""
+    return thickness_state(law, C, params)[0]
+
+
+def held_energy(law, C, values, params):
+    """``W`` at ``C`` with the values of :func:`thickness_state` given (``C_22 = values[0]``)."""
+    if law.held_energy is not None:
+        return law.held_energy(C, values, params)
+    return law.energy(with_thickness(C, values[0]), params)
 
 
 def condensed_energy(law, C, params):
     """``W`` at ``C`` with the thickness component set by the law's treatment (see the module docstring)."""
     if law.thickness == "director":
         return law.energy(C, params)
-    return law.energy(with_thickness(C, thickness_component(law, C, params)), params)
+    return held_energy(law, C, thickness_state(law, C, params), params)
 
 
 def shell_cauchy_green(a, b, c, d, c2, zeta, j1, j3):
@@ -157,8 +176,8 @@ def law_thickness_energy(strains, law, params, factors, beta2_0=0.0, trig=None, 
     """``sum_q vol_q W(C_q)``: :func:`~mol_shell.model.material.thickness_energy` for any law.
 
     ``factors``: :func:`~mol_shell.model.material.quadrature_factors` (or a cell's symbolic ones); ``trig``:
-    the sample's ``(cos theta, sin theta, cos psi, sin psi)`` if known. ``thickness_values``: the thickness
-    components ``C_22`` at the points, given (:func:`law_thickness_values`) instead of solved here.
+    the sample's ``(cos theta, sin theta, cos psi, sin psi)`` if known. ``thickness_values``: the values of
+    :func:`thickness_state` at the points (:func:`law_thickness_values`), given instead of solved here.
     """
     a, b, c, d, c2 = column_polynomials(strains, beta2_0, trig)
     total = 0.0
@@ -167,15 +186,16 @@ def law_thickness_energy(strains, law, params, factors, beta2_0=0.0, trig=None, 
         if thickness_values is None:
             w = condensed_energy(law, C, params)
         else:
-            w = law.energy(with_thickness(C, thickness_values[q]), params)
+            w = held_energy(law, C, thickness_values[q], params)
         total = total + vol * w
     return total
 
 
 def law_thickness_values(strains, law, params, factors, beta2_0=0.0, trig=None):
-    """The thickness components ``C_22`` that the law's treatment sets at each of ``factors``' points."""
+    """The values of :func:`thickness_state` (``C_22`` first) that the law's treatment sets at each of
+    ``factors``' points."""
     a, b, c, d, c2 = column_polynomials(strains, beta2_0, trig)
-    return [thickness_component(law, shell_cauchy_green(a, b, c, d, c2, zeta, j1, j3), params)
+    return [thickness_state(law, shell_cauchy_green(a, b, c, d, c2, zeta, j1, j3), params)
             for zeta, j1, j3, _ in factors]
 
 

@@ -5,8 +5,8 @@ per-cell thickness moments). Every other law is a :class:`Law`, integrated throu
 (:mod:`mol_shell.model.hyperelastic`) with its stresses and tangents by automatic differentiation:
 
 - ``neo-hookean``: ``W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2``, ``J = sqrt(det C)``, the Lame pair of
-  ``E, nu``; plane stress (the thickness stretch condensed by its own scalar Newton solve,
-  :func:`neo_hookean_thickness`);
+  ``E, nu``; plane stress (the thickness stretch condensed by its own scalar Halley solve,
+  :func:`neo_hookean_solve`, the energy then written with its ``ln det C``, :func:`neo_hookean_held`);
 - ``neo-hookean-incompressible``: ``W = mu/2 (I1 - 3)``, ``mu = E/3``, ``det C = 1``;
 - ``mooney-rivlin``: ``W = c10 (I1 - 3) + c01 (I2 - 3)``, ``det C = 1`` (``c10, c01`` in Pa; small-strain shear
   modulus ``2 (c10 + c01)``).
@@ -17,9 +17,11 @@ The parameters enter the graphs as numbers: a law's parameters are absent from a
 from __future__ import annotations
 
 import dataclasses
+import functools
 import importlib
 
 import casadi as ca
+import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Choice
@@ -53,32 +55,88 @@ def neo_hookean(C, p):
     return 0.5 * p["mu"] * (i1 - 3.0) - p["mu"] * log_j + 0.5 * p["lambda"] * log_j**2
 
 
-#: Halley steps of :func:`neo_hookean_thickness`: from its start, 3 reach round-off in ``v`` for every
-#: ``0 <= nu <= 0.49`` and in-plane determinant ``M`` of ``C`` in ``[0.3^4, 3^4]`` (stretches 0.3..3; 6 Newton
-#: steps leave 2e-10 at nu = 0.45), and 4 for ``M`` in ``[1e-3, 1e3]``; tests/model/test_laws.py checks the residual
-HALLEY_STEPS = 3
+#: Halley steps of :func:`neo_hookean_solve`: from its start, 2 reach round-off in ``v`` for every
+#: ``0 <= nu <= 0.49`` and in-plane determinant ``M`` of ``C`` in ``[1e-3, 1e3]`` (stretches 0.18..5.6; the start
+#: is within 1.6e-2 of the root there, 1.1e-7 after one step); tests/model/test_laws.py checks the residual
+HALLEY_STEPS = 2
+#: the start's fit: ``ln M`` in ``[-START_RANGE, START_RANGE]`` (held at the ends outside), degree 6
+START_RANGE, START_DEGREE = 7.0, 6
 
 
-def neo_hookean_thickness(C, p, steps=HALLEY_STEPS):
-    """``C_22`` of the compressible neo-Hookean law in plane stress, from a scalar equation in ``v = ln det C``.
+@functools.lru_cache(maxsize=64)
+def neo_hookean_start(k):
+    """Coefficients (power basis, of ``t = ln M / START_RANGE``) of the start's correction, for ``k = lambda/(2 mu)``.
+
+    The root of ``mu e^v + lambda M v / 2 - mu M = 0`` solves ``e^v / M + k v = 1``: a function of ``ln M`` alone,
+    ``v = ln M / (1 + k) + g(ln M)`` (the first term its linearisation about ``v = ln M``). ``g`` is fitted once per
+    ``k`` here: Chebyshev least squares at 64 nodes of the range, the roots there by 60 Halley steps.
+    """
+    nodes = START_RANGE * np.cos(np.pi * (np.arange(64) + 0.5) / 64)
+    v = nodes / (1.0 + k)
+    for _ in range(60):
+        e = np.exp(v - nodes)
+        g, g1 = e + k * v - 1.0, e + k
+        v = v - 2.0 * g * g1 / (2.0 * g1 * g1 - g * e)
+    fit = np.polynomial.chebyshev.chebfit(nodes / START_RANGE, v - nodes / (1.0 + k), START_DEGREE)
+    power = np.polynomial.chebyshev.cheb2poly(fit)  # trimmed when the top ones vanish (k = 0)
+    return tuple(float(c) for c in np.pad(power, (0, START_DEGREE + 1 - len(power))))
+
+
+def neo_hookean_solve(C, p, steps=HALLEY_STEPS):
+    """``(C_22, v, e^v)`` of the compressible neo-Hookean law in plane stress: ``v = ln det C`` at the root of a
+    scalar equation, ``e^v = det C`` and ``C_22 = (e^v - N) / M``.
 
     ``det C = C_22 M + N`` (``M = C_11 C_33 - C_13^2``, ``N`` the determinant at ``C_22 = 0``) and
     ``dW/dC_22 = mu/2 + (lambda ln J - mu) M / (2 det C)``, so ``dW/dC_22 = 0`` reads
     ``f(v) = mu e^v + lambda M v / 2 - mu M = 0``: increasing and convex in ``v`` for ``lambda >= 0``. Started from
-    the root of ``f`` linearised about ``v = ln M``, ``v0 = mu ln M / (mu + lambda/2)``; ``steps`` Halley iterations
+    ``v0 = ln M / (1 + k) + g(ln M)`` (:func:`neo_hookean_start`; outside its range ``g`` keeps its end value,
+    a start no worse than the linearisation's); ``steps`` (at least 1) Halley iterations
     ``v -= 2 f f' / (2 f'^2 - f f'')`` (cubic convergence; ``f' = mu e^v + lambda M / 2``, ``f'' = mu e^v``: one
-    ``exp`` each), then ``C_22 = (e^v - N) / M``.
+    ``exp`` each). The last step ``s`` is small (at most 1.1e-7 over the range of :data:`HALLEY_STEPS`), so
+    ``e^v`` after it is the last ``exp`` times ``e^-s`` to second order (error ``s^3/6 < 3e-22``) rather than one
+    more ``exp``. Constants multiply rather than divide: the solve is a chain of dependent operations at every
+    thickness point, so its length is what it costs.
     """
     lam, mu = p["lambda"], p["mu"]
     m = C[0][0] * C[2][2] - C[0][2] * C[2][0]
     n = determinant(with_thickness(C, 0.0))
     a = 0.5 * lam * m
-    v = mu * ca.log(m) / (mu + 0.5 * lam)
+    k = 0.5 * float(lam) / float(mu)
+    log_m = ca.log(m)
+    t = 0.5 * (ca.fabs(log_m + START_RANGE) - ca.fabs(log_m - START_RANGE))  # ln M held in the range, no call
+    c = [ci / START_RANGE**i for i, ci in enumerate(neo_hookean_start(k))]  # in ln M itself; Estrin's scheme
+    t2 = t * t
+    correction = (c[0] + c[1] * t) + t2 * ((c[2] + c[3] * t) + t2 * ((c[4] + c[5] * t) + t2 * c[6]))
+    v = log_m * (1.0 / (1.0 + k)) + correction
     for _ in range(steps):
-        f2 = mu * ca.exp(v)
+        ev = ca.exp(v)
+        f2 = mu * ev
         f, f1 = f2 + a * v - mu * m, f2 + a
-        v = v - 2.0 * f * f1 / (2.0 * f1 * f1 - f * f2)
-    return (ca.exp(v) - n) / m
+        s = 2.0 * f * f1 / (2.0 * f1 * f1 - f * f2)
+        v = v - s
+    ev = ev * (1.0 - s * (1.0 - 0.5 * s))
+    return (ev - n) / m, v, ev
+
+
+def neo_hookean_thickness(C, p, steps=HALLEY_STEPS):
+    """``C_22`` of the compressible neo-Hookean law in plane stress (:func:`neo_hookean_solve`)."""
+    return neo_hookean_solve(C, p, steps)[0]
+
+
+def neo_hookean_held(C, values, p):
+    """:func:`neo_hookean` at ``C_22 = x`` for ``values = (x, v, e^v)`` of :func:`neo_hookean_solve`, where
+    ``v = ln det C``: ``mu/2 (I1 - 3) - mu v/2 + lambda v^2/8 + (lambda v/4 - mu/2) (det C / e^v - 1)``.
+
+    The last term vanishes there, and its derivative in ``C`` at ``v`` held, ``(lambda v/4 - mu/2) d(det C)/e^v``,
+    is that of ``-mu ln J + lambda/2 (ln J)^2``: the same value and first derivatives as the law without a ``log``.
+    Through ``values`` as functions of ``C`` the derivatives are the law's too (``ln det C = v`` identically).
+    """
+    x, v, ev = values
+    lam, mu = p["lambda"], p["mu"]
+    Cx = with_thickness(C, x)
+    i1 = C[0][0] + x + C[2][2]
+    return (0.5 * mu * (i1 - 3.0) + (0.125 * lam * v - 0.5 * mu) * v
+            + (0.25 * lam * v - 0.5 * mu) * (determinant(Cx) / ev - 1.0))
 
 
 def neo_hookean_incompressible(C, p):
@@ -94,7 +152,8 @@ def mooney_rivlin(C, p):
 
 #: the built-in laws beyond SVK, by the scene parameter ``material``
 LAWS = {
-    "neo-hookean": Law("neo-hookean", neo_hookean, ("lambda", "mu"), "plane-stress", neo_hookean_thickness),
+    "neo-hookean": Law("neo-hookean", neo_hookean, ("lambda", "mu"), "plane-stress", neo_hookean_solve,
+                       neo_hookean_held),
     "neo-hookean-incompressible": Law("neo-hookean-incompressible", neo_hookean_incompressible, ("mu",),
                                       "incompressible"),
     "mooney-rivlin": Law("mooney-rivlin", mooney_rivlin, ("c10", "c01"), "incompressible"),

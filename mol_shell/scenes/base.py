@@ -253,7 +253,7 @@ class ShellScene:
         self._check_material_parameters()
         if self.material == "neo-hookean":  # its plane-stress condensation is shown converged for these
             _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True), hint="material = neo-hookean: its thickness "
-                   "stretch is condensed by 3 Halley steps, checked converged for 0 <= nu < 0.5")
+                   "stretch is condensed by 2 Halley steps, checked converged for 0 <= nu < 0.5")
         _check("c10", self.c10, positive("Pa"))
         _check("c01", self.c01, non_negative("Pa"))
         self._check_fibres()

@@ -36,7 +36,7 @@ from mol_shell.model.hyperelastic import (
     thickness_component,
     with_thickness,
 )
-from mol_shell.model.laws import HALLEY_STEPS, LAWS, Law, neo_hookean, neo_hookean_thickness, svk
+from mol_shell.model.laws import HALLEY_STEPS, LAWS, Law, neo_hookean, neo_hookean_solve, neo_hookean_thickness, svk
 from mol_shell.model.material import Thickness, effective_lame, lame, quadrature_factors, thickness_energy
 from mol_shell.scenes import Sphere
 
@@ -123,6 +123,28 @@ def test_plane_stress_condensation_converged(l1, l2, shear, nu, solver):
     more = (plane_stress_thickness(lambda c: neo_hookean(c, p), C, NEWTON_STEPS + 1) if solver == "generic"
             else neo_hookean_thickness(C, p, HALLEY_STEPS + 1))
     assert abs(float(more) - float(x)) <= 1e-14 * float(x)
+
+
+@pytest.mark.parametrize("nu", [0.0, 0.1, 0.3, 0.45, 0.49])
+def test_neo_hookean_solve_reaches_round_off_over_its_range(nu):
+    """:data:`HALLEY_STEPS` from the fitted start reach round-off in ``v = ln det C`` for in-plane determinants
+    ``M`` over ``[1e-3, 1e3]`` (500 of them, with transverse shear): the residual of ``e^v/M + k v = 1`` is at
+    round-off, two more steps move ``v`` by round-off only, and ``e^v`` (from the last ``exp`` before the last step)
+    is ``exp(v)``."""
+    lam, mu = lame(E, nu)
+    p = {"lambda": lam, "mu": mu}
+    c = ca.SX.sym("c", 2)
+    C = ((c[0], 0.1, 0.05 * c[1]), (0.1, 1.0, 0.08), (0.05 * c[1], 0.08, c[1]))
+    m = c[0] * c[1] - 0.0025 * c[1] * c[1]
+    _, v, ev = neo_hookean_solve(C, p)
+    more = neo_hookean_solve(C, p, HALLEY_STEPS + 2)[1]
+    f = ca.Function("f", [c], [v, ev / m + 0.5 * lam / mu * v - 1.0, v - more, ev - ca.exp(v)])
+    big = np.geomspace(1e-3, 1e3, 500) ** 0.5
+    v, residual, moved, ev_gap = (np.array(x).ravel() for x in f.map(500)(np.vstack([big, big * 0.999])))
+    scale = np.maximum(1.0, np.abs(v))
+    assert np.all(np.abs(residual) <= 1e-14 * (1 + 0.5 * lam / mu) * scale)
+    assert np.all(np.abs(moved) <= 4e-16 * scale)
+    assert np.all(np.abs(ev_gap) <= 4e-16 * scale * np.exp(v))  # e^v from the step before, to v's own round-off
 
 
 @pytest.mark.parametrize("solver", ["generic", "law"])
@@ -250,3 +272,37 @@ def test_thickness_quadrature_converges_in_n_quad(name):
         values.append(float(law_thickness_energy(strains, LAWS[name], params, factors, 0.01)))
     gaps = [abs(v - values[-1]) for v in values[:-1]]
     assert gaps[0] > gaps[1] > 0 and gaps[2] <= 1e-10 * abs(values[-1])
+
+
+def test_neo_hookean_held_energy_gives_the_generic_forces_and_jacobian():
+    """The compressible neo-Hookean's energy written with its solve's ``v = ln det C`` and ``e^v`` (no ``log``)
+    against the law as it reads (``ln J`` of ``det C`` at the condensed ``C_22``): the same energy, the same cell
+    forces (``C_22`` held) and the same exact Jacobian (through the solve), to round-off; the staged kernel (the
+    compiled right-hand side's) gives them to the bit."""
+    system = ShellSystem(Sphere(h=0.02, nu=0.45, material="neo-hookean"), 8)
+    trig = system.node_trig_kernel()
+
+    def kernel(staged=False):
+        system.__dict__.pop("shared_cell_data", None)
+        cell = system.cell_forces_shared_kernel(staged)
+        ql, qr, geo = ca.SX.sym("ql", 5), ca.SX.sym("qr", 5), ca.SX.sym("geo", system.shared_cell_data.shape[0])
+        forces = ca.vertcat(*cell(ql, qr, trig(ql), trig(qr), geo)[-2:])
+        return ca.Function("f", [ql, qr, geo], [forces, ca.jacobian(forces, ca.vertcat(ql, qr))])
+
+    held, staged = kernel(), kernel(staged=True)  # staged: the solves' exp and log listed first, rank by rank
+    assert system.cell_forces_shared_kernel(staged=True).n_out() >= 2 + 3  # at least log, exp, exp
+    system.law = Law("neo-hookean-as-read", neo_hookean, ("lambda", "mu"), "plane-stress", neo_hookean_thickness)
+    generic = kernel()
+    geo = system.shared_cell_data[:, min(3, system.shared_cell_data.shape[1] - 1)]
+    for amplitude in (0.02, 0.1, 0.3):
+        Q = _state(system, amplitude) + RNG.uniform(-amplitude, amplitude, (5, system.n))
+        (f0, j0), (f1, j1), (f2, j2) = ([np.array(x) for x in k(Q[:, 3], Q[:, 4], geo)]
+                                        for k in (generic, held, staged))
+        assert np.max(np.abs(f1 - f0)) <= 1e-13 * np.max(np.abs(f0))
+        assert np.max(np.abs(j1 - j0)) <= 1e-13 * np.max(np.abs(j0))
+        assert np.array_equal(f2, f1) and np.array_equal(j2, j1)
+    lam, mu = lame(E, 0.45)
+    p = {"lambda": lam, "mu": mu}
+    C = ((1.7, 0.1, 0.2), (0.1, 1.0, 0.05), (0.2, 0.05, 0.8))
+    w = float(condensed_energy(LAWS["neo-hookean"], C, p))
+    assert abs(w - float(neo_hookean(with_thickness(C, neo_hookean_thickness(C, p)), p))) <= 1e-14 * mu
