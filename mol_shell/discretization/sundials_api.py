@@ -41,6 +41,7 @@ sunindextype* SUNSparseMatrix_IndexValues(SUNMatrix a);
 sunindextype* SUNSparseMatrix_IndexPointers(SUNMatrix a);
 sunindextype SUNSparseMatrix_NNZ(SUNMatrix a);
 int SUNMatZero(SUNMatrix a);
+int SUNMatScaleAddI(sunrealtype c, SUNMatrix a);
 void SUNMatDestroy(SUNMatrix a);
 SUNLinearSolver SUNLinSol_Dense(N_Vector y, SUNMatrix a, SUNContext ctx);
 SUNLinearSolver SUNLinSol_Band(N_Vector y, SUNMatrix a, SUNContext ctx);
@@ -52,6 +53,7 @@ int SUNLinSolSolve(SUNLinearSolver s, SUNMatrix a, N_Vector x, N_Vector b, sunre
 int SUNLinSolFree(SUNLinearSolver s);
 SUNMatrix SUNMatClone(SUNMatrix a);
 int SUNMatCopy(SUNMatrix a, SUNMatrix b);
+int SUNMatScaleAdd(sunrealtype c, SUNMatrix a, SUNMatrix b);
 N_Vector N_VClone(N_Vector v);
 SUNNonlinearSolver SUNNonlinSol_FixedPoint(N_Vector y, int m, SUNContext ctx);
 int SUNNonlinSolFree(SUNNonlinearSolver s);

@@ -14,8 +14,9 @@ callback (CasADi's virtual machine, no compiler) is also accepted: it is called 
 """
 
 from mol_shell.discretization.sundials_api import SUNDIALS_PROTOTYPES
+from mol_shell.discretization.sundials_jacobians import JACOBIAN_SOURCE
 
-SUNDIALS_DRIVER = SUNDIALS_PROTOTYPES + r"""#define MS_ONE_STEP 2
+_HEAD = r"""#define MS_ONE_STEP 2
 #define MS_ROOT_RETURN 2
 
 /* ---- a CasADi-generated function and its work arrays ---- */
@@ -62,7 +63,9 @@ typedef struct {
   double r_floor, t, t_event, zero;
   int* roots;
   long long calls_in_step, max_calls, n_steps, n_dq;
-  int dq, n_extra;
+  int dq, n_extra, reuse, since;      /* IDA: difference-quotient Jacobians reused over reuse set-ups */
+  long ncf_seen;
+  SUNMatrix jx, jxp;                  /* ... kept as dF/dx and dF/dx' */
   double rtol;
   int too_many_calls;
 } ms_run;
@@ -79,27 +82,6 @@ static int ms_count_call(ms_run* r, double t) {
   return 0;
 }
 
-/* the Jacobian's non-zeros (compressed columns) into the solver's matrix */
-static int ms_fill(ms_run* r, SUNMatrix J) {
-  int j, k;
-  if (r->matrix == 2) {
-    sunindextype* ptr = SUNSparseMatrix_IndexPointers(J);
-    sunindextype* idx = SUNSparseMatrix_IndexValues(J);
-    double* data = SUNSparseMatrix_Data(J);
-    if (SUNSparseMatrix_NNZ(J) < r->nnz) return -1;
-    for (j = 0; j <= r->n; ++j) ptr[j] = r->colind[j];
-    for (k = 0; k < r->nnz; ++k) { idx[k] = r->row[k]; data[k] = r->jnz[k]; }
-    return 0;
-  }
-  SUNMatZero(J);
-  for (j = 0; j < r->n; ++j) {
-    double* col = r->matrix == 1 ? SUNBandMatrix_Column(J, j) : SUNDenseMatrix_Column(J, j);
-    int shift = r->matrix == 1 ? j : 0;
-    for (k = r->colind[j]; k < r->colind[j + 1]; ++k) col[r->row[k] - shift] = r->jnz[k];
-  }
-  return 0;
-}
-
 static int ms_limits(ms_run* r, const double* y, double* g) {
   int i;
   r->lim.arg[0] = y; /* limits(y): one input */
@@ -109,47 +91,9 @@ static int ms_limits(ms_run* r, const double* y, double* g) {
   return 0;
 }
 
-/* A banded Jacobian by difference quotients, ml + mu + 1 evaluations (columns j, j + w, j + 2w, ... perturbed
-   together, w = ml + mu + 1): the rows of the last n_extra entries (accumulators of work and dissipation, which
-   depend on every entry but feed back into none) keep their diagonal only, as in the Newton matrix of the exact
-   route; a grouped quotient would add the derivatives of a whole group there. For IDA, x and x' = cj x move
-   together: dF/dx + cj dF/dx'. */
-static int ms_dq_band(ms_run* r, double t, N_Vector yv, N_Vector ypv, double cj, N_Vector f0v, SUNMatrix J,
-                      N_Vector fv, N_Vector yv2, N_Vector ypv2) {
-  const double srur = 1.4901161193847656e-08; /* sqrt of the unit round-off */
-  const double* y = N_VGetArrayPointer(yv);
-  const double* yp = ypv ? N_VGetArrayPointer(ypv) : 0;
-  const double* f0 = N_VGetArrayPointer(f0v);
-  const double* atol = N_VGetArrayPointer(r->atol);
-  double* f = N_VGetArrayPointer(fv);
-  double* y2 = N_VGetArrayPointer(yv2);
-  double* yp2 = ypv2 ? N_VGetArrayPointer(ypv2) : 0;
-  int n = r->n, nm = r->n - r->n_extra, width = r->ml + r->mu + 1, g, j, i;
-  memcpy(y2, y, sizeof(double) * n);
-  if (r->ida) memcpy(yp2, yp, sizeof(double) * n);
-  SUNMatZero(J);
-  for (g = 0; g < width && g < n; ++g) {
-    for (j = g; j < n; j += width) {
-      double inc = srur * fmax(fabs(y[j]), atol[j] / fmax(r->rtol, srur));
-      y2[j] = y[j] + inc;
-      if (r->ida) yp2[j] = yp[j] + cj * inc;
-    }
-    if (ms_eval(&r->rhs, t, y2, yp2, 0, f)) return -1;
-    r->n_dq += 1;
-    for (j = g; j < n; j += width) {
-      double inc = y2[j] - y[j];
-      double* col = SUNBandMatrix_Column(J, j);
-      int lo = j - r->mu > 0 ? j - r->mu : 0, hi = j + r->ml < nm - 1 ? j + r->ml : nm - 1;
-      for (i = lo; i <= hi; ++i) col[i - j] = (f[i] - f0[i]) / inc;
-      if (j >= nm) col[0] = (f[j] - f0[j]) / inc;
-      y2[j] = y[j];
-      if (r->ida) yp2[j] = yp[j];
-    }
-  }
-  return 0;
-}
+"""
 
-static int ms_cv_rhs(double t, N_Vector y, N_Vector ydot, void* data) {
+_LOOP = r"""static int ms_cv_rhs(double t, N_Vector y, N_Vector ydot, void* data) {
   ms_run* r = (ms_run*) data;
   if (ms_count_call(r, t)) return -1;
   return ms_eval(&r->rhs, t, N_VGetArrayPointer(y), 0, 0, N_VGetArrayPointer(ydot)) ? -1 : 0;
@@ -159,7 +103,7 @@ static int ms_cv_jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void* data,
                      N_Vector t3) {
   ms_run* r = (ms_run*) data;
   int flag;
-  if (r->dq) return ms_dq_band(r, t, y, 0, 0.0, fy, J, t1, t2, 0);
+  if (r->dq) return ms_dq_band(r, t, y, 0, 1.0, 0.0, 0.0, fy, J, t1, t2, 0);
   flag = r->py_jac ? r->py_jac(t, N_VGetArrayPointer(y), 0, 0.0, r->jnz)
                    : ms_eval(&r->jac, t, N_VGetArrayPointer(y), 0, 0, r->jnz);
   (void) fy; (void) t1; (void) t2; (void) t3;
@@ -181,7 +125,8 @@ static int ms_ida_jac(double t, double cj, N_Vector y, N_Vector yp, N_Vector res
                       N_Vector t1, N_Vector t2, N_Vector t3) {
   ms_run* r = (ms_run*) data;
   int flag;
-  if (r->dq) return ms_dq_band(r, t, y, yp, cj, res, J, t1, t2, t3);
+  if (r->dq && r->reuse > 1) return ms_ida_dq_reused(r, t, cj, y, yp, res, J, t1, t2, t3);
+  if (r->dq) return ms_dq_band(r, t, y, yp, 1.0, cj, 0.0, res, J, t1, t2, t3);
   flag = r->py_jac ? r->py_jac(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), cj, r->jnz)
                    : ms_eval(&r->jac, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), &cj, r->jnz);
   (void) res; (void) t1; (void) t2; (void) t3;
@@ -217,7 +162,8 @@ CASADI_SYMBOL_EXPORT int ms_check_index(void) {
    iopts (long long): ida, lmm (1 Adams, 2 BDF), linsolver (0 dense, 1 band, 2 sparse), ml, mu, max_order,
    max_newton, max_conv_fails, jac_every, setup_every, events, constraints, max_calls, threads (SuperLU_MT),
    fixed point (CVODE: 1 for fixed-point iterations, no Jacobian and no linear solver; 0 for Newton's),
-   its Anderson acceleration depth, the number of accumulators at the end of the state (n_extra).
+   its Anderson acceleration depth, the number of accumulators at the end of the state (n_extra), IDA's set-ups
+   per difference-quotient Jacobian (jac_reuse).
    Neither jac nor py_jac: difference quotients, ours for a banded matrix (ms_dq_band), SUNDIALS' for a dense one.
    Returns the run, or 0 with *err set to the step that failed. */
 CASADI_SYMBOL_EXPORT ms_run* ms_create(const long long* iopts, const double* opts, int n, double t0,
@@ -236,6 +182,7 @@ CASADI_SYMBOL_EXPORT ms_run* ms_create(const long long* iopts, const double* opt
   r->t = t0;
   r->rtol = opts[0];
   r->n_extra = (int) iopts[16];
+  r->reuse = (int) iopts[17];
   r->dq = !jac && !py_jac && r->matrix == 1;
   r->colind = (int*) malloc(sizeof(int) * (n + 1));
   r->row = (int*) malloc(sizeof(int) * (nnz + 1));
@@ -439,7 +386,7 @@ CASADI_SYMBOL_EXPORT int ms_costs(ms_run* r, int reps, double* out) {
     ms_eval(&r->rhs, r->t, yv, ypv, 0, N_VGetArrayPointer(x)); /* f0 of the difference quotients */
     start = ms_now();
     for (k = 0; k < reps; ++k) {
-      if (r->dq) ms_dq_band(r, r->t, r->y, r->ida ? r->yp : 0, cj, x, J, tmp, y2, yp2);
+      if (r->dq) ms_dq_band(r, r->t, r->y, r->ida ? r->yp : 0, 1.0, cj, 0.0, x, J, tmp, y2, yp2);
       else if (r->ida) ms_ida_jac(r->t, cj, r->y, r->yp, tmp, J, r, 0, 0, 0);
       else ms_cv_jac(r->t, r->y, tmp, J, r, 0, 0, 0);
     }
@@ -454,6 +401,8 @@ CASADI_SYMBOL_EXPORT int ms_costs(ms_run* r, int reps, double* out) {
     double* b = N_VGetArrayPointer(tmp);
     for (j = 0; j < r->n; ++j) b[j] = 1.0;
     start = ms_now();
+    /* CVODE factorises I - gamma J, not J (whose zero pivots, e.g. dq'/dq = 0, would end the LU early) */
+    if (!r->ida) SUNMatScaleAddI(-1e-3, J);
     for (k = 0; k < reps; ++k) { SUNMatCopy(J, A); SUNLinSolSetup(r->ls, A); }
     out[2] = (ms_now() - start) / reps;
     start = ms_now();
@@ -478,6 +427,8 @@ CASADI_SYMBOL_EXPORT void ms_free(ms_run* r) {
   if (r->ls) SUNLinSolFree(r->ls);
   if (r->nls) SUNNonlinSolFree(r->nls);
   if (r->a) SUNMatDestroy(r->a);
+  if (r->jx) SUNMatDestroy(r->jx);
+  if (r->jxp) SUNMatDestroy(r->jxp);
   if (r->y) N_VDestroy(r->y);
   if (r->yp) N_VDestroy(r->yp);
   if (r->atol) N_VDestroy(r->atol);
@@ -490,3 +441,5 @@ CASADI_SYMBOL_EXPORT void ms_free(ms_run* r) {
   free(r);
 }
 """
+
+SUNDIALS_DRIVER = SUNDIALS_PROTOTYPES + _HEAD + JACOBIAN_SOURCE + _LOOP

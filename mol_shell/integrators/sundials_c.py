@@ -196,13 +196,18 @@ class CVODEAdams(_CVODEOptions, _Compiled, sundials.CVODEAdams):
 @dataclass(frozen=True)
 class IDA(_Compiled, sundials.IDA):
     """IDA on the linearly implicit residual; loop in compiled C. ``cj_ratio``: a new factorisation when ``cj`` changed
-    by more than this fraction (0: SUNDIALS' 0.25)."""
+    by more than this fraction (0: SUNDIALS' 0.25). ``jac_reuse``: with the banded difference-quotient Jacobian (the
+    default above 100 states), ``dF/dx`` and ``dF/dx'`` are evaluated afresh every ``jac_reuse``-th set-up and after a
+    failed Newton iteration, and combined with each set-up's ``cj`` in between (IDA itself evaluates the whole
+    matrix at every set-up)."""
 
     linsolver: str = LINSOLVER
     jacobian: str = JACOBIAN
     max_newton: int | None = MAX_NEWTON
     newton_coef: float = NEWTON_COEF
     cj_ratio: float = option(0.0, Option("[0, 1) (0: SUNDIALS' 0.25)", _fraction))
+    jac_reuse: int = option(1, Option("integers in [1, 1000] (set-ups per difference-quotient Jacobian; 1: a fresh "
+                                      "one at each set-up, as SUNDIALS)", lambda v: _count(v) and 1 <= v <= 1000))
 
     name = "ida"
 
@@ -267,7 +272,7 @@ class _CompiledRun:
         iopts = [int(self.ida), lmm, drv.LINSOLVERS.get(linsolver, 0), ml, mu, int(max_order), int(max_newton), 10,
                  jac_every, setup_every, int(limits is not None), int(bool(method.constraints)),
                  sundials._Run.MAX_CALLS_PER_STEP, 1, int(fixed_point), int(getattr(method, "anderson", 0)),
-                 int(system.n_extra)]
+                 int(system.n_extra), int(getattr(method, "jac_reuse", 1))]
         opts = [float(method.rtol), float(method.first_step), float(method.max_step), r_floor, coef, cj_ratio]
         atol = method.atol_vector(system, self.y0, momenta=not self.ida)
         self.py_error = None
