@@ -26,6 +26,13 @@ class ModelLimits:
         CVODE and IDA find their roots. Depends on the field entries only, which sit at the same
         places in ``y = (q, p)`` and in IDA's ``x = (q, v)``.
         """
+        f = self.limits_mapped
+        return f.expand() if self.n <= self.FLAT_MAX_NODES else f
+
+    @cached_property
+    def limits_mapped(self):
+        """:attr:`limits` as a map of the cell kernels whatever ``n``: the form to compile (the flat graph of a few
+        hundred nodes is tens of thousands of lines of straight C, which gcc -O3 takes a minute over)."""
         n = self.n
         y = ca.MX.sym("y", self.size)
         Q = self.tie(self._fields(ca.reshape(y[: self.ny * n], self.ny, n)))
@@ -34,8 +41,7 @@ class ModelLimits:
             g.append((math.pi / 2) ** 2 - Q[4, :].T ** 2)
         if self.turning_limit:
             g.append(ca.vec(self.cell_turning().map(n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)))
-        f = ca.Function("limits", [y], [ca.vertcat(*g)], ["y"], ["g"])
-        return f.expand() if n <= self.FLAT_MAX_NODES else f
+        return ca.Function("limits", [y], [ca.vertcat(*g)], ["y"], ["g"])
 
     def limit_names(self):
         """``(what, where)`` for each entry of :attr:`limits`."""

@@ -38,7 +38,7 @@ def _built(key, n):
     system = ShellSystem(key, n)
     check_system(key, system)  # values whose numbers are not finite are refused before anything is compiled
     rhs = system.rhs_parallel if n >= PARALLEL_MIN_NODES else system.rhs_mapped
-    compiled = CompiledRHS(rhs, system.limits)
+    compiled = CompiledRHS(rhs, system.limits_mapped)
     return system, compiled, time.perf_counter() - start
 
 
