@@ -285,11 +285,11 @@ def test_casadi_cvodes_fails_cleanly_at_a_singularity(tmp_path, capsys):
 
 @pytest.mark.slow
 def test_ctrl_c_keeps_the_data_and_exits_130(tmp_path):
-    """SIGINT during a leap-frog run (5 s of simulated time: ~22 s of stepping on the 0.5.0 stencil) after the build:
+    """SIGINT during a leap-frog run (10 s of simulated time: ~40 s of stepping on the 0.5.0 stencil) after the build:
     the saved times reached are written, marked interrupted, and the exit code is 130 (128 + SIGINT)."""
     out = tmp_path / "x.nc"
-    proc = subprocess.Popen([sys.executable, "-m", "mol_shell", "run", "twisted-cylinder", "--t-end", "5",
-                             "--times", "0:5:0.01", "-o", str(out)], stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen([sys.executable, "-m", "mol_shell", "run", "twisted-cylinder", "--t-end", "10",
+                             "--times", "0:10:0.01", "-o", str(out)], stderr=subprocess.PIPE, text=True)
     time.sleep(12)  # build (cached) and some stepping
     assert proc.poll() is None, proc.stderr.read()
     proc.send_signal(signal.SIGINT)
