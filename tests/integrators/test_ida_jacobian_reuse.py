@@ -1,7 +1,6 @@
 """IDA's difference-quotient Jacobian kept over several set-ups (``jac_reuse``): ``dF/dx`` and ``dF/dx'`` evaluated
 afresh every ``jac_reuse``-th set-up and recombined with each set-up's ``cj`` in between."""
 
-import numpy as np
 import pytest
 
 import mol_shell
