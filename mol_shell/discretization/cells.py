@@ -24,6 +24,7 @@ from mol_shell.model.kinematics import delta
 from mol_shell.model.material import (
     svk_turning_limit,
     thickness_dissipation,
+    thickness_dissipation_moments,
     thickness_energy,
     thickness_energy_moments,
     thickness_moments,
@@ -318,22 +319,51 @@ class CellKernels:
         ql, qr, geo = self._cell_symbols()
         return ca.Function("cell_delta", [ql, qr, geo], [self._cell_observables()(ql, qr, geo)[1]])
 
-    def cell_dissipation(self, ql, qr, vl, vr, data):
-        """Rayleigh function of the cell (Kelvin-Voigt), sampled like :meth:`cell_energy`; ``2 D`` is its power."""
-        factors, beta2_0 = self._factors(data)
+    def cell_dissipation(self, ql, qr, vl, vr, data, reference=None):
+        """Rayleigh function of the cell (Kelvin-Voigt), sampled like :meth:`cell_energy`; ``2 D`` is its power.
+
+        The viscous stress does not depend on the law, so every law takes the thickness moments' form
+        (:func:`~mol_shell.model.material.thickness_dissipation_moments`, the same quadrature to round-off);
+        ``reference`` (default: the system's choice) selects the per-point form.
+        """
+        factors, beta2_0, moments = self._factors_and_moments(data)
         pairs = list(zip(self.cell_samples(ql, qr), self.cell_samples(vl, vr)))
-        return sum(thickness_dissipation(e, e_t, self.eta_lambda, self.eta_mu, factors, beta2_0)
+        if self.reference_kernel if reference is None else reference:
+            return sum(thickness_dissipation(e, e_t, self.eta_lambda, self.eta_mu, factors, beta2_0)
+                       for e, e_t in pairs) / len(pairs)
+        return sum(thickness_dissipation_moments(e, e_t, self.eta_lambda, self.eta_mu, moments, beta2_0)
                    for e, e_t in pairs) / len(pairs)
 
     def viscous_forces_kernel(self):
-        """``(q_left, q_right, v_left, v_right, geo) -> (dD/dv_left, dD/dv_right)``: the cell's viscous forces."""
+        """``(q_left, q_right, v_left, v_right, geo) -> (dD/dv_left, dD/dv_right, 2 D)``: the cell's viscous forces
+        and the power they dissipate (``D`` is quadratic in the rates: ``2 D = v . dD/dv``)."""
         ql, qr, geo = self._cell_symbols()
         vl, vr = ca.SX.sym("vl", NF), ca.SX.sym("vr", NF)
         D = self.cell_dissipation(ql, qr, vl, vr, geo)
-        return ca.Function("viscous", [ql, qr, vl, vr, geo], [ca.gradient(D, vl), ca.gradient(D, vr)],
-                           self.KERNEL_OPTIONS)
+        return self._viscous_outputs("viscous", D, [ql, qr, vl, vr, geo])
 
-    def _viscous_power(self):
-        ql, qr, geo = self._cell_symbols()
+    def viscous_forces_shared_kernel(self):
+        """:meth:`viscous_forces_kernel` on the nodes' trigonometry (:meth:`node_trig_kernel`) and the shared cell
+        data (:attr:`shared_cell_data`): ``(q_left, q_right, v_left, v_right, t_left, t_right, geo)``, the
+        thickness moments' form (the viscous stress is the same for every law)."""
+        ql, qr, _ = self._cell_symbols()
         vl, vr = ca.SX.sym("vl", NF), ca.SX.sym("vr", NF)
-        return ca.Function("viscous_power", [ql, qr, vl, vr, geo], [2 * self.cell_dissipation(ql, qr, vl, vr, geo)])
+        tl, tr = ca.SX.sym("tl", 4), ca.SX.sym("tr", 4)
+        geo = ca.SX.sym("geo", self.shared_cell_data.shape[0])
+        cos_mid, sin_mid = tl[2] * tr[2] - tl[3] * tr[3], tl[3] * tr[2] + tl[2] * tr[3]
+        if self.law is not None or self.fibres is not None:  # every row of the cell data
+            _, beta2_0, moments = self._factors_and_moments(geo)
+        else:  # beta2_0 if curved, then the moments
+            beta2_0 = geo[0] if self.curved else 0.0
+            moments = [geo[k] for k in range(int(self.curved), int(self.curved) + 22)]
+        pairs = list(zip(self.cell_samples(ql, qr), self.cell_samples(vl, vr), (tl, tr)))
+        D = sum(thickness_dissipation_moments(e, e_t, self.eta_lambda, self.eta_mu, moments, beta2_0,
+                                              (cos_mid, sin_mid, t[0], t[1])) for e, e_t, t in pairs) / len(pairs)
+        return self._viscous_outputs("viscous_shared", D, [ql, qr, vl, vr, tl, tr, geo])
+
+    def _viscous_outputs(self, name, D, inputs):
+        """The kernel ``inputs -> (dD/dv_left, dD/dv_right, 2 D)`` (``2 D = v . dD/dv``, ``D`` quadratic in ``v``)."""
+        vl, vr = inputs[2], inputs[3]
+        fl, fr = ca.gradient(D, vl), ca.gradient(D, vr)
+        return ca.Function(name, inputs, ca.cse([fl, fr, ca.dot(vl, fl) + ca.dot(vr, fr)]), self.KERNEL_OPTIONS)
+

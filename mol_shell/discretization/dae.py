@@ -89,10 +89,8 @@ class ShellDAE:
         forces = sy.elastic_forces(Q)  # dV/dq, the stored energy of ShellSystem
         dissipation = 0
         if sy.viscous:
-            forces = forces + sy.viscous_forces(Q, sy.tie(V))  # dD/dv
-            Qt, Vt = sy.tie(Q), sy.tie(V)
-            dissipation = ca.sum2(sy._viscous_power().map(n - 1)(Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:],
-                                                                sy.cell_data))
+            viscous, dissipation = sy.viscous_forces(Q, sy.tie(V))  # dD/dv, 2 D
+            forces = forces + viscous
         extra_rows, extra_newton = [], []
         if sy.n_extra:
             load_forces, power, drag_power = load_terms(sy, sy.scene, t, Q, sy.tie(V))

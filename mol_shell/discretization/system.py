@@ -253,13 +253,19 @@ class ShellSystem(ModelLimits, CellKernels):
         pad = ca.MX.zeros(NF, 1)
         return self.gather_ties(ca.horzcat(gl, pad) + ca.horzcat(pad, gr))
 
-    def viscous_forces(self, Q, V):
-        """``dD/dv`` (``5 x n``, MX) at fields ``Q`` and rates ``V`` (ties applied inside)."""
+    def viscous_forces(self, Q, V, trig=None):
+        """``(dD/dv, 2 D)`` at fields ``Q`` and rates ``V``: the viscous forces (``5 x n``, MX; ties applied
+        inside) and the power they dissipate. ``trig``: as for :meth:`elastic_forces`."""
         n = self.n
         Qt, Vt = self.tie(Q), self.tie(V)
-        fl, fr = self._map(self.viscous_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:], self.cell_data)
+        if trig is None:
+            fl, fr, power = self._map(self.viscous_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:],
+                                                                          self.cell_data)
+        else:
+            fl, fr, power = self._map(self.viscous_forces_shared_kernel(), n - 1)(
+                Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:], trig[:, :-1], trig[:, 1:], self.shared_cell_data)
         pad = ca.MX.zeros(NF, 1)
-        return self.gather_ties(ca.horzcat(fl, pad) + ca.horzcat(pad, fr))
+        return self.gather_ties(ca.horzcat(fl, pad) + ca.horzcat(pad, fr)), ca.sum2(power)
 
     #: kernels mapped with CasADi's "openmp" map while :attr:`rhs_parallel` is assembled
     _parallel = False
@@ -342,10 +348,8 @@ class ShellSystem(ModelLimits, CellKernels):
         forces = ca.horzcat(f0, fi, fn) - self.elastic_forces(Q, trig)
         dissipation = 0
         if self.viscous:
-            forces = forces - self.viscous_forces(Q, V)
-            Qt = self.tie(Q)
-            dissipation = ca.sum2(self._map(self._viscous_power(), n - 1)(Qt[:, :-1], Qt[:, 1:], V[:, :-1], V[:, 1:],
-                                                                  self.cell_data))
+            viscous, dissipation = self.viscous_forces(Q, V, trig)
+            forces = forces - viscous
         rates = []
         work, dissipated = 0, 0
         self._reactions = []

@@ -45,7 +45,7 @@ class UnshearableDAE:
         pad = ca.SX.zeros(NF, 1)
         generalized = inertial + ca.horzcat(gl, pad) + ca.horzcat(pad, gr)
         if shell.viscous:
-            fl, fr = shell.viscous_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:], shell.cell_data)
+            fl, fr, _ = shell.viscous_forces_kernel().map(n - 1)(Q[:, :-1], Q[:, 1:], V[:, :-1], V[:, 1:], shell.cell_data)
             generalized += ca.horzcat(fl, pad) + ca.horzcat(pad, fr)
         zero = ca.SX.zeros(1, 1)
         constraint = ca.SX.zeros(NF, n)

@@ -215,6 +215,41 @@ def thickness_moments(factors):
     return out
 
 
+def _dot(u, v):
+    return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+
+def _times(p, q):
+    """The product of two quadratics in ``zeta``: 5 coefficients."""
+    return (p[0] * q[0], p[0] * q[1] + p[1] * q[0], p[0] * q[2] + p[1] * q[1] + p[2] * q[0],
+            p[1] * q[2] + p[2] * q[1], p[2] * q[2])
+
+
+def _with_row(coeffs, row):
+    return sum(x * m for x, m in zip(coeffs, row))
+
+
+def _moment_rows(moments):
+    """The moments of :func:`thickness_moments` split by :data:`MOMENTS`: ``(m41, m43, mx, m21, m23, (m0,))``."""
+    m = list(moments)
+    rows, k = [], 0
+    for _, _, kmax in MOMENTS:
+        rows.append(m[k:k + kmax + 1])
+        k += kmax + 1
+    return rows
+
+
+def strain_coefficients(a, b, c, d, c2):
+    """The eleven numbers that make ``C`` at every depth (:func:`~mol_shell.model.kinematics.column_polynomials`):
+    ``C_11 = P(zeta) j1^2``, ``C_33 = Q(zeta) j3^2``, ``C_13 = R(zeta) j1 j3``, ``C_12 = e12 j1``, ``C_23 = e23 j3``
+    with ``P, Q, R`` quadratics in ``zeta`` (3 coefficients each), ``C_22 = 1``."""
+    r = c[2]
+    P = (_dot(a, a), 2 * _dot(a, b), _dot(b, b))
+    Q = (r * r, 2 * r * d[2], _dot(d, d))
+    R = (a[2] * r, _dot(a, d) + b[2] * r, _dot(b, d))
+    return P, Q, R, a[1] * c2[1] + a[2] * c2[2], r * c2[2]
+
+
 def thickness_energy_moments(strains, lam, mu, moments, beta2_0=0.0, trig=None):
     """:func:`thickness_energy_shared` with the thickness sums done beforehand (:func:`thickness_moments`).
 
@@ -225,35 +260,48 @@ def thickness_energy_moments(strains, lam, mu, moments, beta2_0=0.0, trig=None):
     with a row of moments. Equal to the quadrature up to round-off, at a cost independent of ``n_quad``.
     ``trig``: the sample's ``(cos theta, sin theta, cos psi, sin psi)`` if known.
     """
-    a, b, c, d, c2 = column_polynomials(strains, beta2_0, trig)
-
-    def dot(u, v):
-        return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
-
-    def times(p, q):  # product of two quadratics in zeta: 5 coefficients
-        return (p[0] * q[0], p[0] * q[1] + p[1] * q[0], p[0] * q[2] + p[1] * q[1] + p[2] * q[0],
-                p[1] * q[2] + p[2] * q[1], p[2] * q[2])
-
-    def with_row(coeffs, row):
-        return sum(x * m for x, m in zip(coeffs, row))
-
-    m = list(moments)
-    rows, k = [], 0
-    for _, _, kmax in MOMENTS:
-        rows.append(m[k:k + kmax + 1])
-        k += kmax + 1
-    m41, m43, mx, m21, m23, (m0,) = rows
-    r = c[2]
-    P = (dot(a, a), 2 * dot(a, b), dot(b, b))
-    Q = (r * r, 2 * r * d[2], dot(d, d))
-    R = (a[2] * r, dot(a, d) + b[2] * r, dot(b, d))
-    e12, e23 = a[1] * c2[1] + a[2] * c2[2], r * c2[2]
-    p1, q3 = with_row(P, m21), with_row(Q, m23)
-    e11_sq = 0.25 * (with_row(times(P, P), m41) - 2 * p1 + m0)  # sum vol E11^2
-    e33_sq = 0.25 * (with_row(times(Q, Q), m43) - 2 * q3 + m0)
-    e11_e33 = 0.25 * (with_row(times(P, Q), mx) - p1 - q3 + m0)
-    shear = 0.5 * (e12 * e12 * m21[0] + e23 * e23 * m23[0] + with_row(times(R, R), mx))
+    P, Q, R, e12, e23 = strain_coefficients(*column_polynomials(strains, beta2_0, trig))
+    m41, m43, mx, m21, m23, (m0,) = _moment_rows(moments)
+    p1, q3 = _with_row(P, m21), _with_row(Q, m23)
+    e11_sq = 0.25 * (_with_row(_times(P, P), m41) - 2 * p1 + m0)  # sum vol E11^2
+    e33_sq = 0.25 * (_with_row(_times(Q, Q), m43) - 2 * q3 + m0)
+    e11_e33 = 0.25 * (_with_row(_times(P, Q), mx) - p1 - q3 + m0)
+    shear = 0.5 * (e12 * e12 * m21[0] + e23 * e23 * m23[0] + _with_row(_times(R, R), mx))
     return (0.5 * lam + mu) * (e11_sq + e33_sq) + lam * e11_e33 + mu * shear
+
+
+def thickness_dissipation_moments(strains, rates, eta_lambda, eta_mu, moments, beta2_0=0.0, trig=None):
+    """:func:`thickness_dissipation` with the thickness sums done beforehand (:func:`thickness_moments`).
+
+    ``E_t`` has the form of ``E`` (:func:`strain_coefficients`) with each of the eleven numbers replaced by its
+    rate (their derivatives along ``rates``, linear in them) and no constant part; ``E_22 = 0`` under the
+    director, so ``tr E_t = E11_t + E33_t`` and ``D`` is :func:`thickness_energy_moments`' quadratic form in the
+    rates with ``(eta_lambda, eta_mu)`` for ``(lambda, mu)``. Equal to the quadrature up to round-off, at a cost
+    independent of ``n_quad`` (CasADi ``strains``/``rates``). ``trig``: the sample's ``(cos theta, sin theta,
+    cos psi, sin psi)`` if known (their rates follow from those of ``theta`` and ``psi``, the last two strains).
+    """
+    e_sym, r_sym, t_sym = ca.SX.sym("e", 8), ca.SX.sym("edot", 8), ca.SX.sym("trig", 4)
+    b_sym = ca.SX.sym("beta2_0")
+    b = 0.0 if isinstance(beta2_0, (int, float)) and beta2_0 == 0 else b_sym  # left out when it is 0
+    P, Q, R, e12, e23 = strain_coefficients(*column_polynomials(ca.vertsplit(e_sym), b,
+                                                                None if trig is None else ca.vertsplit(t_sym)))
+    flat = ca.vertcat(*P, *Q, *R, e12, e23)
+    if trig is None:
+        rate = ca.vertsplit(ca.jtimes(flat, e_sym, r_sym))
+    else:  # d(cos theta)/dt = -sin theta theta_t, ...
+        t_rate = ca.vertcat(-t_sym[1] * r_sym[6], t_sym[0] * r_sym[6], -t_sym[3] * r_sym[7], t_sym[2] * r_sym[7])
+        rate = ca.vertsplit(ca.jtimes(flat, ca.vertcat(e_sym, t_sym), ca.vertcat(r_sym, t_rate)))
+    Pt, Qt, Rt, e12t, e23t = rate[0:3], rate[3:6], rate[6:9], rate[9], rate[10]
+    m_sym = ca.SX.sym("m", sum(kmax + 1 for _, _, kmax in MOMENTS))
+    m41, m43, mx, m21, m23, _ = _moment_rows(ca.vertsplit(m_sym))
+    e11_sq = 0.25 * _with_row(_times(Pt, Pt), m41)  # sum vol E11_t^2
+    e33_sq = 0.25 * _with_row(_times(Qt, Qt), m43)
+    e11_e33 = 0.25 * _with_row(_times(Pt, Qt), mx)
+    shear = 0.5 * (e12t * e12t * m21[0] + e23t * e23t * m23[0] + _with_row(_times(Rt, Rt), mx))
+    total = (0.5 * eta_lambda + eta_mu) * (e11_sq + e33_sq) + eta_lambda * e11_e33 + eta_mu * shear
+    fn = ca.Function("dissipation_moments", [e_sym, r_sym, t_sym, b_sym, m_sym], [total])
+    return fn(ca.vertcat(*strains), ca.vertcat(*rates), ca.vertcat(*(trig if trig is not None else [0.0] * 4)),
+              beta2_0, ca.vertcat(*moments))
 
 
 #: SVK's nominal stress in a uniaxial stretch ``l``, ``(E/2)(l^3 - l)``, is extreme at ``l^2 = 1/3``: compressed further,
@@ -282,18 +330,18 @@ def svk_turning_limit(strains, moments, beta2_0=0.0, trig=None):
 def thickness_dissipation(strains, rates, eta_lambda, eta_mu, factors, beta2_0=0.0):
     """``sum_q vol_q [eta_lambda/2 (tr E_t)^2 + eta_mu E_t : E_t]`` (CasADi ``strains``/``rates``)."""
     e_sym, r_sym = ca.SX.sym("e", 8), ca.SX.sym("edot", 8)
-    f_sym = [ca.SX.sym(f"f{i}", 3) for i in range(len(factors))]
+    f_sym = [ca.SX.sym(f"f{i}", 4) for i in range(len(factors))]  # zeta (a graded wall's are symbols), j1, j3, vol
     b_sym = ca.SX.sym("beta2_0")
     b = 0.0 if isinstance(beta2_0, (int, float)) and beta2_0 == 0 else b_sym  # left out when it is 0
     total = 0.0
-    for (zeta, _, _, _), f in zip(factors, f_sym):
-        E = green_strain(scaled_deformation_gradient(ca.vertsplit(e_sym), zeta, f[0], f[1], b))
+    for f in f_sym:
+        E = green_strain(scaled_deformation_gradient(ca.vertsplit(e_sym), f[0], f[1], f[2], b))
         flat = ca.vertcat(*[E[i][j] for i in range(3) for j in range(3)])
         Et = ca.reshape(ca.jtimes(flat, e_sym, r_sym), 3, 3)
         trace = Et[0, 0] + Et[1, 1] + Et[2, 2]
-        total = total + f[2] * (0.5 * eta_lambda * trace**2 + eta_mu * ca.sumsqr(Et))
+        total = total + f[3] * (0.5 * eta_lambda * trace**2 + eta_mu * ca.sumsqr(Et))
     fn = ca.Function("dissipation", [e_sym, r_sym, b_sym, *f_sym], [total])
-    values = [ca.vertcat(j1, j3, vol) for _, j1, j3, vol in factors]
+    values = [ca.vertcat(zeta, j1, j3, vol) for zeta, j1, j3, vol in factors]
     return fn(ca.vertcat(*strains), ca.vertcat(*rates), beta2_0, *values)
 
 

