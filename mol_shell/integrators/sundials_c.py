@@ -130,8 +130,13 @@ class _Compiled:
     def newton_settings(self):
         """``(max Newton iterations, nonlinear convergence coefficient, Jacobian every, set-up every, cj ratio)``."""
         default_newton = 4 if self.kind == "ida" else 3
-        return (self.max_newton or default_newton, float(self.newton_coef), int(getattr(self, "jac_every", 0)),
-                int(getattr(self, "setup_every", 0)), float(getattr(self, "cj_ratio", 0.0)))
+        jac_every, setup_every = int(getattr(self, "jac_every", 0)), int(getattr(self, "setup_every", 0))
+        if getattr(self, "iteration", "newton") != "newton":  # no Jacobian, no linear solver
+            jac_every = setup_every = 0
+        elif jac_every or setup_every:  # a fresh Jacobian is factorised: msbp above msbj would mean nothing
+            setup_every = min(setup_every or 20, jac_every or 51)
+        return (self.max_newton or default_newton, float(self.newton_coef), jac_every, setup_every,
+                float(getattr(self, "cj_ratio", 0.0)))
 
 
 LINSOLVER = option("auto", Option(
@@ -151,8 +156,11 @@ def _count(v):
     return isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 0
 
 
-JAC_EVERY = option(0, Option("integers >= 0 (0: SUNDIALS' 51)", _count))
-SETUP_EVERY = option(0, Option("integers >= 0 (0: SUNDIALS' 20)", _count))
+#: CVODE's steps between Jacobians and between factorisations: 200 and 100 rather than SUNDIALS' 51 and 20 (a stale
+#: Jacobian that stalls Newton's iteration is replaced at once, and gamma's 30 % rule still refactorises): faster
+#: on each of the six motions of benchmarks/cvode_settings.py at the same error (docs/integrators.md)
+JAC_EVERY = option(200, Option("integers >= 0 (0: SUNDIALS' 51)", _count))
+SETUP_EVERY = option(100, Option("integers >= 0 (0: SUNDIALS' 20)", _count))
 ANDERSON = option(0, Option("integers in [0, 10]", lambda v: _count(v) and v <= 10))
 
 
@@ -160,9 +168,9 @@ ANDERSON = option(0, Option("integers in [0, 10]", lambda v: _count(v) and v <= 
 class _CVODEOptions:
     """The options both CVODE methods take beyond scikit-sundae's route (:class:`mol_shell.integrators.sundials.CVODEBDF`):
     ``max_newton`` (Newton iterations per step), ``newton_coef`` (safety factor of the nonlinear convergence test),
-    ``jac_every`` (steps between Jacobian evaluations, SUNDIALS' msbj; 0: 51), ``setup_every`` (steps between
-    factorisations, msbp; 0: 20), ``iteration`` (``"newton"``, or ``"fixed-point"``: no Jacobian and no linear
-    solver, for non-stiff motions) and ``anderson`` (Anderson acceleration depth of the fixed-point iteration)."""
+    ``jac_every`` (steps between Jacobian evaluations, SUNDIALS' msbj; default 200, 0: SUNDIALS' 51),
+    ``setup_every`` (steps between factorisations, msbp; default 100, 0: SUNDIALS' 20), ``iteration``
+    (``"newton"``, or ``"fixed-point"``: no Jacobian and no linear solver, for non-stiff motions) and ``anderson`` (Anderson acceleration depth of the fixed-point iteration)."""
 
     linsolver: str = LINSOLVER
     jacobian: str = JACOBIAN
