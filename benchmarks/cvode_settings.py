@@ -24,13 +24,15 @@ from mol_shell.runs.simulate import resolve
 SCENES = {  # name: (scene, n, t_end)
     "paper": (lambda: mol_shell.TwistedCylinder(), 40, 0.143),
     "viscous": (lambda: mol_shell.TwistedCylinder(eta_mu=100, eta_lambda=200), 640, 0.01),
+    "viscous-2560": (lambda: mol_shell.TwistedCylinder(eta_mu=100, eta_lambda=200), 2560, 0.01),
     "driven-twist": (lambda: mol_shell.TwistedCylinder(end_omega=10.0, eta_mu=5, eta_lambda=10), 160, 0.05),
     "sphere-breathing": (lambda: mol_shell.Sphere(R=1.05, eta_mu=20, eta_lambda=40), 160, 0.011),
     "rubber-breathing": (lambda: mol_shell.Sphere(material="neo-hookean-incompressible", E=3e6, h=0.01, R=1.3,
                                                   eta_mu=10, eta_lambda=0), 120, 0.03),
 }
 SETTINGS = {
-    "cvode-bdf": [{"jac_every": 0, "setup_every": 0}, {}, {"jac_every": 1000, "setup_every": 1000}],
+    "cvode-bdf": [{"jac_every": 0, "setup_every": 0}, {"jac_every": 0, "setup_every": 50},
+                  {"jac_every": 200, "setup_every": 100}],
     "ida": [{}, {"jac_reuse": 10}, {"jac_reuse": 1000}],
 }
 

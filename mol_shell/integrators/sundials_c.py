@@ -156,11 +156,11 @@ def _count(v):
     return isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 0
 
 
-#: CVODE's steps between Jacobians and between factorisations: 200 and 100 rather than SUNDIALS' 51 and 20 (a stale
-#: Jacobian that stalls Newton's iteration is replaced at once, and gamma's 30 % rule still refactorises): faster
-#: on each of the six motions of benchmarks/cvode_settings.py at the same error (docs/integrators.md)
-JAC_EVERY = option(200, Option("integers >= 0 (0: SUNDIALS' 51)", _count))
-SETUP_EVERY = option(100, Option("integers >= 0 (0: SUNDIALS' 20)", _count))
+#: CVODE's steps between Jacobians and between factorisations: SUNDIALS' 51 and 20 (0). Longer reuse (200 and 100)
+#: was 1.1-1.4x faster up to n = 640 and 1.35x to 2x slower at n = 2,560 and 10,240, where a stale Jacobian stalls
+#: Newton's iteration and shortens the steps (benchmarks/cvode_settings.py, docs/integrators.md)
+JAC_EVERY = option(0, Option("integers >= 0 (0: SUNDIALS' 51)", _count))
+SETUP_EVERY = option(0, Option("integers >= 0 (0: SUNDIALS' 20)", _count))
 ANDERSON = option(0, Option("integers in [0, 10]", lambda v: _count(v) and v <= 10))
 
 
@@ -168,9 +168,10 @@ ANDERSON = option(0, Option("integers in [0, 10]", lambda v: _count(v) and v <= 
 class _CVODEOptions:
     """The options both CVODE methods take beyond scikit-sundae's route (:class:`mol_shell.integrators.sundials.CVODEBDF`):
     ``max_newton`` (Newton iterations per step), ``newton_coef`` (safety factor of the nonlinear convergence test),
-    ``jac_every`` (steps between Jacobian evaluations, SUNDIALS' msbj; default 200, 0: SUNDIALS' 51),
-    ``setup_every`` (steps between factorisations, msbp; default 100, 0: SUNDIALS' 20), ``iteration``
-    (``"newton"``, or ``"fixed-point"``: no Jacobian and no linear solver, for non-stiff motions) and ``anderson`` (Anderson acceleration depth of the fixed-point iteration)."""
+    ``jac_every`` (steps between Jacobian evaluations, SUNDIALS' msbj; 0: 51), ``setup_every`` (steps between
+    factorisations, msbp; 0: 20; at most ``jac_every``), ``iteration`` (``"newton"``, or ``"fixed-point"``: no
+    Jacobian and no linear solver, for non-stiff motions) and ``anderson`` (Anderson acceleration depth of the
+    fixed-point iteration)."""
 
     linsolver: str = LINSOLVER
     jacobian: str = JACOBIAN
