@@ -12,6 +12,7 @@ from mol_shell.cli.args import parse_times_arg
 from mol_shell.cli.main import main
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.results.dataset import read_netcdf, read_run
+from child_process import sigint_default
 
 BAD = [
     (["run", "nope", "--t-end", "0.01"], "scene"),
@@ -289,7 +290,8 @@ def test_ctrl_c_keeps_the_data_and_exits_130(tmp_path):
     the saved times reached are written, marked interrupted, and the exit code is 130 (128 + SIGINT)."""
     out = tmp_path / "x.nc"
     proc = subprocess.Popen([sys.executable, "-m", "mol_shell", "run", "twisted-cylinder", "--t-end", "10",
-                             "--times", "0:10:0.01", "-o", str(out)], stderr=subprocess.PIPE, text=True)
+                             "--times", "0:10:0.01", "-o", str(out)], stderr=subprocess.PIPE, text=True,
+                            preexec_fn=sigint_default)
     time.sleep(12)  # build (cached) and some stepping
     assert proc.poll() is None, proc.stderr.read()
     proc.send_signal(signal.SIGINT)

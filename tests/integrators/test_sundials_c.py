@@ -27,6 +27,7 @@ from mol_shell.discretization.sundials_source import SUNDIALS_DRIVER
 from mol_shell.integrators import INTEGRATORS, loop, sundials_c
 from mol_shell.results.dataset import read_netcdf
 from mol_shell.runs.simulate import build, resolve
+from child_process import sigint_default
 
 TIMES = [0.0, 0.005, 0.01, 0.015, 0.02]
 
@@ -137,7 +138,7 @@ def test_ctrl_c_in_the_compiled_loop_keeps_the_data_and_exits_130(tmp_path):
     drv.driver()
     proc = subprocess.Popen([sys.executable, "-m", "mol_shell", "run", "twisted-cylinder", "--integrator", "cvode-bdf",
                              "--n", "160", "--t-end", "60", "--times", "0:60:0.01", "-o", str(out)],
-                            stderr=subprocess.PIPE, text=True)
+                            stderr=subprocess.PIPE, text=True, preexec_fn=sigint_default)
     time.sleep(10)  # start-up, the kernels loaded from the cache, and some stepping
     assert proc.poll() is None, proc.stderr.read()
     sent = time.perf_counter()
