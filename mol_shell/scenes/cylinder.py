@@ -35,6 +35,14 @@ class CylinderScene(ShellScene):
 
     initial = ("R",)
 
+    def initial_radius(self):
+        """``R`` for the initial fields; ``None`` (auto) is computed by :func:`mol_shell.runs.checks.resolve`, which
+        the public routes call first (a system built directly from an unresolved scene got NaN radii)."""
+        if self.R is None:
+            raise ParameterError("R", None, "a radius in m for the initial fields",
+                                 hint="R = auto is computed by mol_shell.runs.checks.resolve(scene), as simulate does")
+        return self.R
+
     def _validate(self):
         _check("L", self.L, positive("m"))
         _check("a", self.a, positive("m"))
@@ -104,7 +112,7 @@ class TwistedCylinder(CylinderScene):
 
     def initial_fields(self, s, reference):
         Q, V = super().initial_fields(s, reference)
-        Q[1] = self.R
+        Q[1] = self.initial_radius()
         Q[2] = self.gamma * (np.asarray(s) - self.L / 2)
         Q[4] = self.psi0
         V[2] = self.omega
@@ -143,5 +151,5 @@ class Axisymmetric(CylinderScene):
 
     def initial_fields(self, s, reference):
         Q, V = super().initial_fields(s, reference)
-        Q[1] = self.R
+        Q[1] = self.initial_radius()
         return Q, V

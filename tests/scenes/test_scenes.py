@@ -115,3 +115,16 @@ def test_simulate_refuses_bad_arguments_before_computing():
     with pytest.raises(ParameterError) as info:
         mol_shell.simulate(scene, "cvode-bdf", t_end=0.01, atol=np.full(400, 1e-9), progress=False)
     assert str(info.value).startswith("atol = <array of 400 values") and len(str(info.value)) < 200
+
+
+def test_a_system_built_from_an_unresolved_scene_refuses_its_initial_state():
+    """``R = auto`` is computed by resolve (simulate calls it); a system built directly from the scene got NaN radii
+    in its initial state. It now names R; resolved, the state is finite."""
+    from mol_shell.discretization.system import ShellSystem
+    from mol_shell.runs.checks import resolve
+
+    scene = mol_shell.TwistedCylinder()
+    system = ShellSystem(scene, 9)
+    with pytest.raises(ParameterError, match=r"^R = None .*resolve"):
+        system.initial_state(scene)
+    assert np.isfinite(system.initial_state(resolve(scene))).all()
