@@ -75,6 +75,13 @@ def trig_chain(t, g):
 
 
 
+def sample_trigs(tl, tr):
+    """The two samples' ``(cos theta, sin theta, cos psi, sin psi)`` from their nodes' :meth:`~CellKernels.node_trig_kernel`
+    values: ``theta`` at the midpoint (its cosine and sine as products of the half angles'), ``psi`` at each node."""
+    cos_mid, sin_mid = tl[2] * tr[2] - tl[3] * tr[3], tl[3] * tr[2] + tl[2] * tr[3]
+    return [(cos_mid, sin_mid, t[0], t[1]) for t in (tl, tr)]
+
+
 def cell_samples(ql, qr, both=True):
     """Strains ``(z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)`` at the samples of a cell, in difference form.
 
@@ -163,6 +170,14 @@ class CellKernels:
     def _factors(self, data):
         """``quadrature_factors``-like tuples from a symbolic per-cell data column, and ``beta2_0``."""
         return self._factors_and_moments(data)[:2]
+
+    def shared_moments(self, geo):
+        """``(beta2_0, thickness moments)`` from a column of :attr:`shared_cell_data` (every row of the cell data
+        for a law or fibres; else ``beta2_0`` if curved, then the moments)."""
+        if self.law is not None or self.fibres is not None:
+            return self._factors_and_moments(geo)[1:]
+        start = int(self.curved)
+        return (geo[0] if self.curved else 0.0), [geo[k] for k in range(start, start + 22)]
 
     def _factors_and_moments(self, data):
         """:meth:`_factors` and the thickness moments (:func:`~mol_shell.model.material.thickness_moments`) of a cell."""
@@ -257,9 +272,8 @@ class CellKernels:
         ql, qr, _ = self._cell_symbols()
         tl, tr = ca.SX.sym("tl", 4), ca.SX.sym("tr", 4)
         geo = ca.SX.sym("geo", self.shared_cell_data.shape[0])  # beta2_0 if curved, the moments (a law: every row)
-        cos_mid, sin_mid = tl[2] * tr[2] - tl[3] * tr[3], tl[3] * tr[2] + tl[2] * tr[3]
         samples = self.cell_samples(ql, qr)  # psi at the left node, then the right (one sample: psi = 0)
-        trigs = [(cos_mid, sin_mid, t[0], t[1]) for t in (tl, tr)]
+        trigs = sample_trigs(tl, tr)
         envelope, stages = None, []
         if self.law is not None and self.law.thickness == "plane-stress" and self.layer_laws is None:  # C_22 held
             factors, beta2_0, _ = self._factors_and_moments(geo)
@@ -281,8 +295,7 @@ class CellKernels:
             energy = sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0, trig)
                          for e, trig in zip(samples, trigs)) / len(samples)
         else:
-            beta2_0 = geo[0] if self.curved else 0.0
-            moments = [geo[k] for k in range(int(self.curved), geo.numel())]
+            beta2_0, moments = self.shared_moments(geo)
             energy = sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0, trig)
                          for e, trig in zip(samples, trigs)) / len(samples)
         if self.fibres is not None:
@@ -350,15 +363,10 @@ class CellKernels:
         vl, vr = ca.SX.sym("vl", NF), ca.SX.sym("vr", NF)
         tl, tr = ca.SX.sym("tl", 4), ca.SX.sym("tr", 4)
         geo = ca.SX.sym("geo", self.shared_cell_data.shape[0])
-        cos_mid, sin_mid = tl[2] * tr[2] - tl[3] * tr[3], tl[3] * tr[2] + tl[2] * tr[3]
-        if self.law is not None or self.fibres is not None:  # every row of the cell data
-            _, beta2_0, moments = self._factors_and_moments(geo)
-        else:  # beta2_0 if curved, then the moments
-            beta2_0 = geo[0] if self.curved else 0.0
-            moments = [geo[k] for k in range(int(self.curved), int(self.curved) + 22)]
-        pairs = list(zip(self.cell_samples(ql, qr), self.cell_samples(vl, vr), (tl, tr)))
-        D = sum(thickness_dissipation_moments(e, e_t, self.eta_lambda, self.eta_mu, moments, beta2_0,
-                                              (cos_mid, sin_mid, t[0], t[1])) for e, e_t, t in pairs) / len(pairs)
+        beta2_0, moments = self.shared_moments(geo)
+        pairs = list(zip(self.cell_samples(ql, qr), self.cell_samples(vl, vr), sample_trigs(tl, tr)))
+        D = sum(thickness_dissipation_moments(e, e_t, self.eta_lambda, self.eta_mu, moments, beta2_0, trig)
+                for e, e_t, trig in pairs) / len(pairs)
         return self._viscous_outputs("viscous_shared", D, [ql, qr, vl, vr, tl, tr, geo])
 
     def _viscous_outputs(self, name, D, inputs):

@@ -26,6 +26,7 @@ import math
 import casadi as ca
 import numpy as np
 
+from mol_shell.discretization.cells import sample_trigs
 from mol_shell.discretization.compiled import CFLAGS, default_threads, load_cached
 from mol_shell.model.material import svk_turning_limit
 
@@ -105,10 +106,9 @@ def cell_limits_kernel(system):
     r_mid = (qr[1] + ql[1]) / 2
     deltas = [r_mid * beta1 * tl[0], r_mid * beta1 * tr[0]]
     if system.turning_limit:  # SVK's compressive turning point at the two samples, from the same trigonometry
-        beta2_0 = geo[0] if system.curved else 0.0
-        moments = [geo[k] for k in range(int(system.curved), geo.numel())]
-        deltas += [svk_turning_limit(e, moments, beta2_0, (cos_mid, sin_mid, t[0], t[1]))
-                   for e, t in zip(system.cell_samples(ql, qr), (tl, tr))]
+        beta2_0, moments = system.shared_moments(geo)
+        deltas += [svk_turning_limit(e, moments, beta2_0, trig)
+                   for e, trig in zip(system.cell_samples(ql, qr), sample_trigs(tl, tr))]
     return ca.Function("cell_limits", [ql, qr, tl, tr, geo], ca.cse([gl, gr, ca.vertcat(*deltas)]))
 
 
