@@ -239,6 +239,19 @@ def _moment_rows(moments):
     return rows
 
 
+def _svk_sums(P, Q, R, e12, e23, rows, lam, mu, linear=True):
+    """``sum vol W_SVK`` from :func:`strain_coefficients` (or their rates) and :func:`_moment_rows`: the quadratic
+    sums of ``E11``, ``E33`` and the shears; ``linear=False`` leaves out ``E``'s constant and linear parts (``E_t`` has
+    none: ``E11_t = P_t j1^2 / 2``)."""
+    m41, m43, mx, m21, m23, (m0,) = rows
+    p1, q3, m0 = (_with_row(P, m21), _with_row(Q, m23), m0) if linear else (0.0, 0.0, 0.0)
+    e11_sq = 0.25 * (_with_row(_times(P, P), m41) - 2 * p1 + m0)  # sum vol E11^2
+    e33_sq = 0.25 * (_with_row(_times(Q, Q), m43) - 2 * q3 + m0)
+    e11_e33 = 0.25 * (_with_row(_times(P, Q), mx) - p1 - q3 + m0)
+    shear = 0.5 * (e12 * e12 * m21[0] + e23 * e23 * m23[0] + _with_row(_times(R, R), mx))
+    return (0.5 * lam + mu) * (e11_sq + e33_sq) + lam * e11_e33 + mu * shear
+
+
 def strain_coefficients(a, b, c, d, c2):
     """The eleven numbers that make ``C`` at every depth (:func:`~mol_shell.model.kinematics.column_polynomials`):
     ``C_11 = P(zeta) j1^2``, ``C_33 = Q(zeta) j3^2``, ``C_13 = R(zeta) j1 j3``, ``C_12 = e12 j1``, ``C_23 = e23 j3``
@@ -260,14 +273,7 @@ def thickness_energy_moments(strains, lam, mu, moments, beta2_0=0.0, trig=None):
     with a row of moments. Equal to the quadrature up to round-off, at a cost independent of ``n_quad``.
     ``trig``: the sample's ``(cos theta, sin theta, cos psi, sin psi)`` if known.
     """
-    P, Q, R, e12, e23 = strain_coefficients(*column_polynomials(strains, beta2_0, trig))
-    m41, m43, mx, m21, m23, (m0,) = _moment_rows(moments)
-    p1, q3 = _with_row(P, m21), _with_row(Q, m23)
-    e11_sq = 0.25 * (_with_row(_times(P, P), m41) - 2 * p1 + m0)  # sum vol E11^2
-    e33_sq = 0.25 * (_with_row(_times(Q, Q), m43) - 2 * q3 + m0)
-    e11_e33 = 0.25 * (_with_row(_times(P, Q), mx) - p1 - q3 + m0)
-    shear = 0.5 * (e12 * e12 * m21[0] + e23 * e23 * m23[0] + _with_row(_times(R, R), mx))
-    return (0.5 * lam + mu) * (e11_sq + e33_sq) + lam * e11_e33 + mu * shear
+    return _svk_sums(*strain_coefficients(*column_polynomials(strains, beta2_0, trig)), _moment_rows(moments), lam, mu)
 
 
 def thickness_dissipation_moments(strains, rates, eta_lambda, eta_mu, moments, beta2_0=0.0, trig=None):
@@ -291,14 +297,9 @@ def thickness_dissipation_moments(strains, rates, eta_lambda, eta_mu, moments, b
     else:  # d(cos theta)/dt = -sin theta theta_t, ...
         t_rate = ca.vertcat(-t_sym[1] * r_sym[6], t_sym[0] * r_sym[6], -t_sym[3] * r_sym[7], t_sym[2] * r_sym[7])
         rate = ca.vertsplit(ca.jtimes(flat, ca.vertcat(e_sym, t_sym), ca.vertcat(r_sym, t_rate)))
-    Pt, Qt, Rt, e12t, e23t = rate[0:3], rate[3:6], rate[6:9], rate[9], rate[10]
     m_sym = ca.SX.sym("m", sum(kmax + 1 for _, _, kmax in MOMENTS))
-    m41, m43, mx, m21, m23, _ = _moment_rows(ca.vertsplit(m_sym))
-    e11_sq = 0.25 * _with_row(_times(Pt, Pt), m41)  # sum vol E11_t^2
-    e33_sq = 0.25 * _with_row(_times(Qt, Qt), m43)
-    e11_e33 = 0.25 * _with_row(_times(Pt, Qt), mx)
-    shear = 0.5 * (e12t * e12t * m21[0] + e23t * e23t * m23[0] + _with_row(_times(Rt, Rt), mx))
-    total = (0.5 * eta_lambda + eta_mu) * (e11_sq + e33_sq) + eta_lambda * e11_e33 + eta_mu * shear
+    total = _svk_sums(rate[0:3], rate[3:6], rate[6:9], rate[9], rate[10], _moment_rows(ca.vertsplit(m_sym)),
+                      eta_lambda, eta_mu, linear=False)
     fn = ca.Function("dissipation_moments", [e_sym, r_sym, t_sym, b_sym, m_sym], [total])
     return fn(ca.vertcat(*strains), ca.vertcat(*rates), ca.vertcat(*(trig if trig is not None else [0.0] * 4)),
               beta2_0, ca.vertcat(*moments))
