@@ -207,14 +207,19 @@ class CellKernels:
         is for the forces: its value sums O(1) terms to an O(strain^2) energy and keeps ~1e-12 relative
         accuracy, its gradient ~1e-14; the observables' stored energy uses the per-point form.
         """
-        factors, beta2_0, moments = self._factors_and_moments(data)
         samples = self.cell_samples(ql, qr)
-        fibres = self._fibre_energy(samples, factors, beta2_0)
+        return sum(self.sample_energy(e, data, reference) for e in samples) / len(samples)
+
+    def sample_energy(self, e, data, reference=None):
+        """``2 pi int W det G0 dzeta`` at one sample's strains ``e = (z_s, r_s, chi_s, theta_s, psi_s, r, theta, psi)``
+        (difference form) with a cell's data column: the law's, or SVK's per point or by its moments, and the fibres'."""
+        factors, beta2_0, moments = self._factors_and_moments(data)
+        fibres = self._fibre_energy((e,), factors, beta2_0)
         if self.law is not None:  # any other law: per thickness point in both forms
-            return sum(self._law_energy(e, factors, beta2_0) for e in samples) / len(samples) + fibres
+            return self._law_energy(e, factors, beta2_0) + fibres
         if self.reference_kernel if reference is None else reference:
-            return sum(thickness_energy(e, self.lam, self.mu, factors, beta2_0) for e in samples) / len(samples) + fibres
-        return sum(thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) for e in samples) / len(samples) + fibres
+            return thickness_energy(e, self.lam, self.mu, factors, beta2_0) + fibres
+        return thickness_energy_moments(e, self.lam, self.mu, moments, beta2_0) + fibres
 
     @property
     def samples_per_cell(self):

@@ -1,7 +1,8 @@
 """The model's limits on the discrete state (delta > 0, r > 0 off the axis, |psi| < pi/2, SVK's turning point) as one
 CasADi function that must stay positive, with what and where each entry is: a part of
 :class:`~mol_shell.discretization.system.ShellSystem`, which the leap-frog checks after every step and CVODE and IDA
-hand to SUNDIALS' root finding."""
+hand to SUNDIALS' root finding. And the equations' ellipticity in ``s`` (:meth:`ModelLimits.ellipticity_margins`),
+checked on saved states."""
 
 from __future__ import annotations
 
@@ -55,6 +56,53 @@ class ModelLimits:
                        "turns back (a limit of the law)", f"s = {s:.6g} m (cell centre)")
                       for s in np.repeat(cells, self.samples_per_cell)]
         return names
+
+    @cached_property
+    def principal_symbol(self):
+        """``(g, m, geo) -> vec K`` over the ``n - 1`` cells: ``K = d2W/dg2``, the Hessian of one sample's stored energy
+        (:meth:`sample_energy`) in the derivatives ``g = (z_s, r_s, chi_s, theta_s, psi_s)`` of the active fields at
+        fixed ``m = (r, theta, psi)``: the principal symbol of the shell's equations in ``s``."""
+        g, m, geo = ca.SX.sym("g", 5), ca.SX.sym("m", 3), ca.SX.sym("geo", self.n_cell_data)
+        active = list(self.active)
+        K = ca.hessian(self.sample_energy((*ca.vertsplit(g), *ca.vertsplit(m)), geo), g)[0][active, active]
+        return ca.Function("principal_symbol", [g, m, geo], [ca.vec(K)])
+
+    def _symbols(self, Qs):
+        """``K`` of every cell of each state of the stack ``Qs`` ``(T, 5, n)``: ``(T, n - 1, a, a)``."""
+        T, a, cells = Qs.shape[0], len(self.active), self.n - 1
+        G = np.concatenate(list(Qs[:, :, 1:] - Qs[:, :, :-1]), axis=1)
+        M = np.concatenate(list((Qs[:, [1, 3, 4], 1:] + Qs[:, [1, 3, 4], :-1]) / 2), axis=1)
+        K = np.array(self.principal_symbol.map(T * cells)(G, M, np.tile(self.cell_data, (1, T))))
+        return K.T.reshape(T, cells, a, a)
+
+    def ellipticity_margins(self, Qs):
+        """The smallest eigenvalue of each cell's principal symbol ``K`` (:attr:`principal_symbol`) relative to the
+        natural state's ``K_0``, ``min eig(K_0^-1/2 K K_0^-1/2)``, for fields ``Qs`` ``(5, n)`` or a stack
+        ``(T, 5, n)``: ``(n - 1,)`` or ``(T, n - 1)``, 1 at the natural state.
+
+        The shell's equations are hyperbolic (elliptic in ``s``) while it is positive (the Legendre-Hadamard
+        condition of the 1-D shell). Where it reaches 0 a compressive membrane force has exceeded what the
+        transverse shear and the twist carry (for the director-constrained SVK law under equibiaxial compression
+        ``lam^2 = (l + mu) / (l + 2 mu)``, Lame's ``l``: 1 % at ``nu = 0.49``); beyond it waves short enough grow at a
+        rate that rises with their wavenumber (elastic) or at ``|K| / eta`` (viscous): results depend on the grid.
+        Cells where ``K_0`` is not positive definite give NaN.
+        """
+        Qs = np.asarray(Qs, dtype=float)
+        single = Qs.ndim == 2
+        Qs = Qs[None] if single else Qs
+        K0 = self._symbols(self._natural_fields()[None])[0]
+        w, V = np.linalg.eigh(K0)
+        ok = np.all(w > 0, axis=1)
+        root = np.einsum("cij,cj,ckj->cik", V, 1 / np.sqrt(np.where(w > 0, w, 1.0)), V)  # K_0^-1/2
+        A = root @ self._symbols(Qs) @ root
+        margins = np.where(ok, np.linalg.eigvalsh(A).min(axis=-1), np.nan)
+        return margins[0] if single else margins
+
+    def _natural_fields(self):
+        """The reference (natural) state's fields ``(5, n)``."""
+        Q = np.zeros((5, self.n))
+        Q[0], Q[1], Q[3] = self.reference
+        return Q
 
     @property
     def radial_nodes(self):

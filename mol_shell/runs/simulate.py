@@ -29,6 +29,7 @@ from mol_shell.runs.building import (  # noqa: F401
     resolve,
 )
 from mol_shell.runs.checks import checked_spectrum, initial_state
+from mol_shell.runs.ellipticity import check_ellipticity
 from mol_shell.runs.statics import static_equilibrium
 from mol_shell.runs.unshearable import simulate_unshearable
 from mol_shell.scenes import UNSHEARABLE_INTEGRATORS, Unshearable
@@ -161,7 +162,9 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     -----
     MaterialWarning
         ``material = "svk"`` with ``nu >= 0.45`` (:func:`mol_shell.model.material.locking_warning`); the
-        text is also in ``attrs["material_warning"]``.
+        text is also in ``attrs["material_warning"]``. Saved states where the shell's equations are no longer
+        elliptic in ``s`` (:func:`~mol_shell.runs.ellipticity.check_ellipticity`; the Dataset's
+        ``ellipticity_margin``): the first one's time and place, also in ``attrs["ellipticity_warning"]``.
     """
     scene = as_scene(scene)
     if dt is not None:
@@ -224,6 +227,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         "initial_state": start_info,
     })
     ds = _material_warning(scene, build_dataset(system, scene, traj, velocities, totals, attrs, requested))
+    ds = check_ellipticity(system, ds)
     if stresses is not False:
         ds = add_stresses(ds, limit=None if stresses else MAX_SAMPLES)
     return ds

@@ -1,0 +1,98 @@
+"""Where the shell's equations stop being elliptic in s (the Legendre-Hadamard condition of the 1-D shell), against
+the 3-D acoustic tensor of the director-constrained SVK law, and what a run reports there.
+
+Closed forms (derived here, not taken from a run). Under the inextensible director (``C_33 = 1``, ``E_33 = 0``) a
+uniform state with in-plane stretches ``a`` (meridian) and ``b`` (hoop) has ``S_11 = l (E_11 + E_22) + 2 mu E_11``,
+``E_11 = (a^2 - 1)/2``, ``E_22 = (b^2 - 1)/2``, Lame's ``l, mu``. For waves along the meridian the acoustic tensor
+``Q_ik = S_11 delta_ik + (F^T m)(F^T m) C_.1.1`` has, for the transverse polarisation ``m = d`` (``F^T d = D``),
+``S_11 + mu``, and for the hoop polarisation (``chi``; ``F^T e_phi = b E_2``) ``S_11 + mu b^2``. The shell loses
+ellipticity where the smaller reaches 0:
+- axial compression of a cylinder (``b = 1``): ``a^2 = 1 - mu / (l/2 + mu)``, both polarisations at once;
+- equibiaxial compression of a sphere (``a = b``): the hoop polarisation first, ``a^2 = (l + mu) / (l + 2 mu)``,
+  up to a curvature correction of order ``h/a``.
+"""
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import mol_shell
+from mol_shell.discretization.system import ShellSystem
+from mol_shell.runs.checks import resolve
+
+NU = 0.49
+L_OVER_MU = 2 * NU / (1 - 2 * NU)  # Lame's l / mu
+
+
+def crossing(system, equibiaxial):
+    """The stretch where the smallest margin of the uniformly stretched reference state reaches 0 (bisection)."""
+    lo, hi = 0.5, 1.0
+    for _ in range(45):
+        mid = (lo + hi) / 2
+        Q = system._natural_fields()
+        Q[0] *= mid
+        if equibiaxial:
+            Q[1] *= mid
+        if np.nanmin(system.ellipticity_margins(Q)) > 0:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+def test_natural_state_is_elliptic_for_every_law():
+    for params in ({}, {"material": "svk-plane-stress"}, {"material": "neo-hookean"},
+                   {"material": "neo-hookean-incompressible", "fibre_E": 2e6, "fibre_angle": 0.5},
+                   {"material": "mooney-rivlin", "c10": 1e5, "c01": 2e4}):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            system = ShellSystem(resolve(mol_shell.Sphere(**params)), 21)
+        margins = system.ellipticity_margins(system._natural_fields())
+        assert np.all(np.isfinite(margins)), params  # K_0 positive definite in every cell, poles included
+        np.testing.assert_allclose(margins, 1.0, atol=1e-9)
+
+
+@pytest.mark.parametrize("h", [0.02, 0.002])
+def test_cylinder_axial_compression_against_the_acoustic_tensor(h):
+    system = ShellSystem(resolve(mol_shell.TwistedCylinder(h=h, nu=NU)), 15)
+    expected = math.sqrt(1 - 1 / (L_OVER_MU / 2 + 1))  # 0.98020 at nu = 0.49
+    assert crossing(system, equibiaxial=False) == pytest.approx(expected, abs=1e-10)
+
+
+def test_sphere_equibiaxial_compression_converges_to_the_acoustic_tensor_in_h():
+    expected = math.sqrt((L_OVER_MU + 1) / (L_OVER_MU + 2))  # 0.99015: the hoop (chi) polarisation first
+    errors = {}
+    for h in (0.002, 0.0005):
+        system = ShellSystem(resolve(mol_shell.Sphere(h=h, nu=NU)), 41)
+        errors[h] = crossing(system, equibiaxial=True) - expected
+        assert abs(errors[h]) < 0.02 * h  # the curvature's correction, of order h / a (a = 1 m)
+    assert errors[0.002] / errors[0.0005] == pytest.approx(4.0, rel=0.1)  # first order in h
+
+
+def test_a_breathing_sphere_reports_the_loss_where_the_closed_form_says_whatever_the_grid():
+    # released 5 % stretched, the sphere breathes through about 5 % compression: past 1 % the default law's
+    # equations are no longer elliptic and a finer grid stops sooner (the run's own limit: 1/sqrt(3))
+    critical = math.sqrt((L_OVER_MU + 1) / (L_OVER_MU + 2))
+    times = np.linspace(0, 0.01, 41)
+    lost = []
+    for n in (21, 41):
+        with pytest.warns(mol_shell.MaterialWarning, match="lost ellipticity by t = "):
+            ds = mol_shell.simulate(mol_shell.Sphere(R=1.05), "cvode-bdf", n=n, times=times, stresses=False)
+        stretch = (ds.r / ds.r0).isel(s=n // 2).values  # the equator, in the uniform breathing
+        first_below = float(ds.time[np.argmax(stretch < critical)])
+        assert ds.attrs["ellipticity_lost_time"] == first_below
+        assert np.all(ds.ellipticity_margin.values[ds.time.values < first_below] > 0)
+        lost.append(ds.attrs["ellipticity_lost_time"])
+    assert lost[0] == lost[1]
+
+
+def test_the_papers_scene_stays_elliptic():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", mol_shell.MaterialWarning)
+        warnings.filterwarnings("ignore", "material = ", mol_shell.MaterialWarning)  # SVK's locking note
+        ds = mol_shell.simulate(mol_shell.TwistedCylinder(), "cvode-bdf", n=21, t_end=0.05, stresses=False)
+    assert "ellipticity_lost_time" not in ds.attrs
+    assert ds.ellipticity_margin.attrs["units"] == "1"
+    assert float(ds.ellipticity_margin.min()) > 0.2
