@@ -35,10 +35,11 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError, is_number
+from mol_shell._core.errors import MaterialWarning, ParameterError, is_number
 from mol_shell.analysis.equilibria import PATH_PARAMETERS, EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, check_branch_point, switch
 from mol_shell.analysis.path_dataset import path_dataset
@@ -347,7 +348,10 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         h = min(h * (1.6 if its <= 3 else 1.0 if its <= 5 else 0.5), ds0 * MAX_GROWTH)
     if branch is not None and record.branch == 0:
         message += f"; no switch: critical point {branch} was not reached ({len(record.points)} found)"
-    return path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)
+    ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)
+    if "ellipticity_warning" in ds.attrs:
+        warnings.warn(ds.attrs["ellipticity_warning"], MaterialWarning, stacklevel=2)
+    return ds
 
 
 class _Record:
