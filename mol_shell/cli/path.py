@@ -63,8 +63,10 @@ def cmd_path(args):
     say_stand_ins(scene)
     summary = (f"{ds.sizes['step']} steps from {name} = {start:g} to {float(ds.parameter[-1]):.6g} "
                f"{ds.parameter.attrs['units']}, {ds.sizes['point']} critical points")
-    points = "".join(f"\n  {kind} at {name} = {value:.6g} ({family})" for kind, value, family in
-                     zip(ds.point_kind.values, ds.point_parameter.values, ds.point_family.values))
+    past = "; past the loss of ellipticity: the grid's"
+    points = "".join(f"\n  {kind} at {name} = {value:.6g} ({family}{'' if margin > 0 else past})"
+                     for kind, value, family, margin in zip(ds.point_kind.values, ds.point_parameter.values,
+                                                            ds.point_family.values, ds.point_ellipticity_margin.values))
     if ds.attrs["status"] in ("failed", "limit"):
         print(f"mol-shell: path stopped: {ds.attrs['message']}; wrote {summary} to {args.output}{points}",
               file=sys.stderr)
