@@ -29,6 +29,7 @@ from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.material import locking_warning
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, scene_attrs
+from mol_shell.runs.ellipticity import CONSEQUENCE, sampled_margins
 from mol_shell.runs.simulate import as_scene, build, resolve, starting_state
 
 #: above this many free coordinates the sparse shift-invert solver is used
@@ -108,7 +109,9 @@ def modes(scene, n=40, count=10, *, initial=None):
     xarray.Dataset
         ``frequency(mode)`` (rad s-1, ascending), shapes ``z, r, chi, theta, psi (mode, s)`` (scaled so
         the largest entry of each mode is 1, unit of each field), ``energy_fraction(mode, field)``;
-        attrs ``zero_modes``, ``method``, the scene's parameters.
+        attrs ``zero_modes``, ``method``, the scene's parameters, and ``ellipticity_margin`` of the state
+        (:func:`~mol_shell.runs.ellipticity.sampled_margins`; where it is not positive, a
+        :class:`~mol_shell.MaterialWarning` and ``ellipticity_warning``: the lowest modes are then the grid's).
     """
     import scipy.linalg  # optional heavy dependency: 0.17 s of every process's start at module level
     import scipy.sparse
@@ -158,6 +161,13 @@ def modes(scene, n=40, count=10, *, initial=None):
     if note:
         warnings.warn(note, MaterialWarning, stacklevel=2)
         params["material_warning"] = note
+    margin, _, lost = sampled_margins(system, system.unpack(np.asarray(y0, dtype=float))[None])
+    params["ellipticity_margin"] = float(margin[0])
+    if lost is not None:
+        params["ellipticity_warning"] = (f"the state the modes are taken about is past the loss of ellipticity at "
+                                         f"s = {lost[1]:.6g} m (d2W/d(q_s)2 is not positive definite: {CONSEQUENCE}); "
+                                         "its lowest modes are the grid's")
+        warnings.warn(params["ellipticity_warning"], MaterialWarning, stacklevel=2)
     return _dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params)
 
 

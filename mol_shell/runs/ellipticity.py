@@ -72,4 +72,4 @@ def check_ellipticity(system, ds, warn=True):
     return ds
 
 
-__all__ = ["LONG_NAME", "MAX_INSTRUCTIONS", "CONSEQUENCE", "check_ellipticity", "sampled_margins"]
+__all__ = ["CONSEQUENCE", "LONG_NAME", "MAX_INSTRUCTIONS", "check_ellipticity", "sampled_margins"]
