@@ -53,9 +53,10 @@ def assemble(dims, coords, cases, results, times):
             if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
                 numbers.setdefault(key, {})[index] = value.item() if isinstance(value, np.generic) else value
     constant = {}
+    ran = sum(results.get(index, (None, None))[0] is not None for index, _ in cases)
     for key, vals in numbers.items():
         distinct = set(vals.values())
-        if key in STATS or len(distinct) > 1:
+        if key in STATS or len(distinct) > 1 or len(vals) < ran:  # differs, or only some cases have it
             arr = np.full(shape, np.nan)
             for index, v in vals.items():
                 arr[index] = v
@@ -67,8 +68,9 @@ def assemble(dims, coords, cases, results, times):
     for key, values in per_case.items():
         data[key] = (tuple(dims), np.array(values, dtype=object).reshape(shape), {"long_name": long[key]})
     coords_out = {**grid, "time": ("time", np.asarray(times), {"units": "s", "long_name": "time"})}
-    attrs = {k: v for k, v in (ref.attrs if ref is not None else {}).items()
-             if k not in coords and (not isinstance(v, (int, float, np.integer, np.floating)) or k in constant)}
+    attrs = {k: v for k, v in (ref.attrs if ref is not None else {}).items()  # texts only where every case agrees
+             if k not in coords and (k in constant if isinstance(v, (int, float, np.integer, np.floating))
+                                     else all(str(ds.attrs.get(k)) == str(v) for ds in done))}
     attrs.update(constant)
     for key in ("status", "message", "complete", "title", "history"):
         attrs.pop(key, None)

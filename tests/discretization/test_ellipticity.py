@@ -96,3 +96,17 @@ def test_the_papers_scene_stays_elliptic():
     assert "ellipticity_lost_time" not in ds.attrs
     assert ds.ellipticity_margin.attrs["units"] == "1"
     assert float(ds.ellipticity_margin.min()) > 0.2
+
+
+def test_a_study_keeps_each_cases_loss_to_itself():
+    # one case at rest in its natural state (R = a), one breathing through the loss: the loss is a per-case
+    # variable (NaN where there was none), never a study-wide attribute
+    times = np.linspace(0, 0.01, 41)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", mol_shell.MaterialWarning)
+        st = mol_shell.study(mol_shell.Sphere(), {"R": [1.0, 1.05]}, integrator="cvode-bdf", n=21, times=times,
+                             scheduler="serial")
+    lost = st.ellipticity_lost_time.values
+    assert np.isnan(lost[0]) and lost[1] == pytest.approx(0.00675)
+    assert "ellipticity_warning" not in st.attrs and "ellipticity_lost_time" not in st.attrs
+    assert np.all(st.ellipticity_margin.values[0] == pytest.approx(1.0))
