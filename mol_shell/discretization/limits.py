@@ -12,6 +12,8 @@ from functools import cached_property
 import casadi as ca
 import numpy as np
 
+from mol_shell._core.errors import ParameterError
+
 
 class ModelLimits:
     """The limits of a :class:`~mol_shell.discretization.system.ShellSystem` (a mixin: it reads the system's fields,
@@ -22,8 +24,10 @@ class ModelLimits:
         """``y -> g``: the model's limits as functions that must stay positive (:meth:`limit_names` says which).
 
         ``g = [delta at the samples of each cell; r per node; (pi/2)^2 - psi^2 per node; det(C_t - I/3) at the
-        samples of each cell]`` (the third only when ``psi`` is a field; the last for the SVK laws without fibres:
-        :func:`~mol_shell.model.material.svk_turning_limit`). Leap-frog checks them after every step (in C),
+        samples of each cell; the leading principal minors of each cell's principal symbol]`` (the third only when
+        ``psi`` is a field; the fourth for the SVK laws without fibres:
+        :func:`~mol_shell.model.material.svk_turning_limit`; the last with the scene's ``ellipticity_limit``:
+        :meth:`cell_minors`). Leap-frog checks them after every step (in C),
         CVODE and IDA find their roots. Depends on the field entries only, which sit at the same
         places in ``y = (q, p)`` and in IDA's ``x = (q, v)``.
         """
@@ -42,7 +46,36 @@ class ModelLimits:
             g.append((math.pi / 2) ** 2 - Q[4, :].T ** 2)
         if self.turning_limit:
             g.append(ca.vec(self.cell_turning().map(n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)))
+        if self.ellipticity_limit:
+            G, M = Q[:, 1:] - Q[:, :-1], (Q[[1, 3, 4], 1:] + Q[[1, 3, 4], :-1]) / 2
+            g.append(ca.vec(self.cell_minors().map(n - 1)(G, M, self.cell_data, ca.DM(self._natural_minors().T))))
         return ca.Function("limits", [y], [ca.vertcat(*g)], ["y"], ["g"])
+
+    @property
+    def ellipticity_limit(self):
+        """Whether runs stop where the shell's equations stop being elliptic in ``s`` (the scene's
+        ``ellipticity_limit``; off by default: the runs then check their saved states afterwards)."""
+        return bool(getattr(self.scene, "ellipticity_limit", False))
+
+    def cell_minors(self):
+        """``(g, m, geo, K0 minors) -> the leading principal minors of the principal symbol K`` (:attr:`principal_symbol`),
+        each over the natural state's: all positive exactly while ``K`` is positive definite (Sylvester), each a root
+        function (a single determinant would miss two eigenvalues crossing 0 within one step, as the transverse and
+        the hoop polarisations of an equibiaxially compressed sphere nearly do)."""
+        a = len(self.active)
+        g, m, geo, ref = ca.SX.sym("g", 5), ca.SX.sym("m", 3), ca.SX.sym("geo", self.n_cell_data), ca.SX.sym("k0", a)
+        K = ca.reshape(self.principal_symbol(g, m, geo), a, a)
+        minors = [ca.det(K[:k, :k]) / ref[k - 1] for k in range(1, a + 1)]
+        return ca.Function("cell_minors", [g, m, geo, ref], [ca.vertcat(*minors)])
+
+    def _natural_minors(self):
+        """``(n - 1, a)``: the leading principal minors of each cell's ``K`` at the natural state."""
+        K0 = self._symbols(self._natural_fields()[None])[0]
+        minors = np.stack([np.linalg.det(K0[:, :k, :k]) for k in range(1, K0.shape[1] + 1)], axis=1)
+        if not np.all(minors > 0):
+            raise ParameterError("ellipticity_limit", True, "false for this scene",
+                                 hint="its natural state's principal symbol is not positive definite in every cell")
+        return minors
 
     def limit_names(self):
         """``(what, where)`` for each entry of :attr:`limits`."""
@@ -55,6 +88,10 @@ class ModelLimits:
             names += [("an in-plane stretch reached 1/sqrt(3) in compression, where the St Venant-Kirchhoff stress "
                        "turns back (a limit of the law)", f"s = {s:.6g} m (cell centre)")
                       for s in np.repeat(cells, self.samples_per_cell)]
+        if self.ellipticity_limit:
+            names += [("the shell's equations stopped being elliptic in s (d2W/d(q_s)2 is no longer positive definite: "
+                       "compression beyond what the transverse shear carries; ellipticity_limit)",
+                       f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, len(self.active))]
         return names
 
     @cached_property

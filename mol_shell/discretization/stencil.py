@@ -89,6 +89,7 @@ def unsupported_reason(system):
         (bool(system.ties), "a pole"),
         (tuple(system.active) != tuple(range(5)), "a scene without all five fields"),
         (bool(system.fixed[1:-1].any()), "imposed fields at interior nodes"),
+        (system.ellipticity_limit, "ellipticity_limit"),
     ]
     return next((what for bad, what in checks if bad), None)
 

@@ -141,6 +141,11 @@ class ShellScene:
         Stop a run, as a limit of the model, where the law leaves its range: for the SVK laws (without fibres) an
         in-plane stretch of ``1/sqrt(3)`` in compression, past which their stress turns back
         (:func:`~mol_shell.model.material.svk_turning_limit`). ``False``: the law as written, without that stop.
+    ellipticity_limit : bool
+        Stop a run, as a limit of the model, where the shell's equations stop being elliptic in ``s`` (the leading
+        minors of each cell's principal symbol as root functions: about one more right-hand side per step).
+        ``False`` (default): the run goes on and its saved states are checked afterwards
+        (:mod:`mol_shell.runs.ellipticity`).
     end1, end2 : str or None
         Edge conditions at ``s = 0`` and ``s = L``: ``magnet``, ``clamped``, ``pinned``, ``free``
         (:mod:`mol_shell.model.edges`); ``None`` (``auto``): a pole on the axis, ``magnet`` elsewhere.
@@ -194,6 +199,7 @@ class ShellScene:
     fibre_families: int = 1
     fibre_compression: bool = True
     law_limit: bool = True
+    ellipticity_limit: bool = False
     h_profile: str = ""
     layers: str = ""
     end1: str | None = None
@@ -296,20 +302,18 @@ class ShellScene:
         if self.fibre_families not in families:
             raise ParameterError("fibre_families", self.fibre_families, families)
         object.__setattr__(self, "fibre_families", int(self.fibre_families))
-        flag = {"true": True, "false": False}.get(self.fibre_compression, self.fibre_compression) \
-            if isinstance(self.fibre_compression, str) else self.fibre_compression
-        if isinstance(flag, numbers.Integral) and not isinstance(flag, (bool, np.bool_)) and flag in (0, 1):
-            flag = bool(flag)  # as a netCDF file stores it
-        if not isinstance(flag, (bool, np.bool_)):
-            raise ParameterError("fibre_compression", self.fibre_compression, Flag())
-        object.__setattr__(self, "fibre_compression", bool(flag))
-        flag = {"true": True, "false": False}.get(self.law_limit, self.law_limit) \
-            if isinstance(self.law_limit, str) else self.law_limit
+        for name in ("fibre_compression", "law_limit", "ellipticity_limit"):
+            self._check_flag(name)
+
+    def _check_flag(self, name):
+        """A true/false parameter: a bool, ``"true"``/``"false"`` (``--set``), or 0/1 (as a netCDF file stores it)."""
+        value = getattr(self, name)
+        flag = {"true": True, "false": False}.get(value, value) if isinstance(value, str) else value
         if isinstance(flag, numbers.Integral) and not isinstance(flag, (bool, np.bool_)) and flag in (0, 1):
             flag = bool(flag)
         if not isinstance(flag, (bool, np.bool_)):
-            raise ParameterError("law_limit", self.law_limit, Flag())
-        object.__setattr__(self, "law_limit", bool(flag))
+            raise ParameterError(name, value, Flag())
+        object.__setattr__(self, name, bool(flag))
 
     def _check_layers(self):
         """``layers`` read (a list becomes the string form), each layer's parameters checked as a scene's, their

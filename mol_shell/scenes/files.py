@@ -56,7 +56,7 @@ else:  # pragma: no cover
 #: the tables of a scene file, in the order they are written
 TABLES = ("geometry", "material", "edges", "loads", "initial", "run")
 MATERIAL = ("h", "h_profile", "layers", "E", "nu", "rho", "material", "material_parameters", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families",
-            "fibre_compression", "law_limit", "n_quad", "zeta1", "eta_lambda", "eta_mu")
+            "fibre_compression", "law_limit", "ellipticity_limit", "n_quad", "zeta1", "eta_lambda", "eta_mu")
 EDGES = ("end1", "end2") + DRIVES + DISPLACEMENTS + ("end_omega",)
 #: the keys of ``[run]``: defaults of ``mol-shell run`` (``simulate``'s keywords)
 RUN = ("integrator", "n", "t_end", "times", "dt", "rtol", "atol", "max_step")
