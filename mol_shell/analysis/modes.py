@@ -162,7 +162,7 @@ def modes(scene, n=40, count=10, *, initial=None):
         warnings.warn(note, MaterialWarning, stacklevel=2)
         params["material_warning"] = note
     margin, _, lost = sampled_margins(system, system.unpack(np.asarray(y0, dtype=float))[None])
-    params["ellipticity_margin"] = float(margin[0])
+    params["ellipticity_margin"] = float(margin[0])  # NaN where no cell could be checked
     if lost is not None:
         params["ellipticity_warning"] = (f"the state the modes are taken about is past the loss of ellipticity at "
                                          f"s = {lost[1]:.6g} m (d2W/d(q_s)2 is not positive definite: {CONSEQUENCE}); "

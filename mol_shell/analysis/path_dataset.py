@@ -10,7 +10,7 @@ from mol_shell.analysis.path_stability import LOCATE_RTOL
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META
-from mol_shell.runs.ellipticity import CONSEQUENCE, LONG_NAME, sampled_margins
+from mol_shell.runs.ellipticity import CONSEQUENCE, LONG_NAME, sampled_margins, state_minimum, unchecked_note
 from mol_shell.scenes import DESCRIPTIONS
 
 #: what every path file says about its critical loads
@@ -106,7 +106,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
                                  f"equilibrium at the critical point: {long_name}"})
     per_step, every, lost = sampled_margins(system, fields)
     data["ellipticity_margin"] = (("step",), per_step, {"units": "1", "long_name": LONG_NAME})
-    point_margins = np.nanmin(system.ellipticity_margins(states), axis=1) if count else np.zeros(0)
+    point_margins = state_minimum(system.ellipticity_margins(states)) if count else np.zeros(0)
     data["point_ellipticity_margin"] = (("point",), point_margins, {"units": "1", "long_name": f"{LONG_NAME}, at "
                                         "the critical point: where it is not positive, the point is the grid's"})
     z0, r0, theta0 = system.reference
@@ -131,10 +131,12 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
              "wall_time_s": float(wall_time), "edge_s0": system.edges[0], "edge_sL": system.edges[1],
              "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
     attrs["ellipticity_checked_every"] = every
+    if unchecked_note(system):
+        attrs["ellipticity_note"] = unchecked_note(system)
     if lost is not None:
         step, where = lost
         attrs.update({"ellipticity_lost_step": step, "ellipticity_lost_parameter": float(record.lams[step]),
-                      "ellipticity_lost_s": where, "units_ellipticity_lost_s": "m"})
+                      "ellipticity_lost_position": where, "units_ellipticity_lost_position": "m"})
         attrs["ellipticity_warning"] = (
             f"the shell's equations lost ellipticity by step {step} ({eq.parameter} = {record.lams[step]:.6g} "
             f"{units}) at s = {where:.6g} m (cell centre; the first {'step' if every == 1 else 'checked step'} where "

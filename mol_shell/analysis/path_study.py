@@ -85,7 +85,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
     xarray.Dataset
         Dims: the study's, and ``point``. Per case: ``status``, ``message``, ``steps``, ``first_critical``
         (the first critical point's load, NaN without one), ``case_wall_time_s``; per point: ``point_kind``,
-        ``point_parameter``, ``point_family``, ``point_located``.
+        ``point_parameter``, ``point_family``, ``point_located``, ``point_ellipticity_margin``.
     """
     clock = time.perf_counter()
     scene = as_scene(scene)
@@ -131,6 +131,7 @@ def _gather(scene, dims, coords, cases, results, parameter):
     family = np.full(shape + (count,), "", dtype=object)
     value = np.full(shape + (count,), np.nan)
     located = np.zeros(shape + (count,), dtype=np.int8)
+    margin = np.full(shape + (count,), np.nan)
     status = np.full(shape, "", dtype=object)
     message = np.full(shape, "", dtype=object)
     steps = np.zeros(shape, dtype=np.int32)
@@ -146,6 +147,8 @@ def _gather(scene, dims, coords, cases, results, parameter):
         family[index][:m] = ds.point_family.values
         value[index][:m] = ds.point_parameter.values
         located[index][:m] = ds.point_located.values
+        if "point_ellipticity_margin" in ds:
+            margin[index][:m] = ds.point_ellipticity_margin.values
     units = UNITS.get(parameter, "1")
     sdims = tuple(dims)
     data = {
@@ -161,6 +164,8 @@ def _gather(scene, dims, coords, cases, results, parameter):
         "point_family": (sdims + ("point",), family, {"long_name": "family of the critical mode"}),
         "point_located": (sdims + ("point",), located, {"units": "1", "long_name":
                           "1 where the point was located to the path's tolerance"}),
+        "point_ellipticity_margin": (sdims + ("point",), margin, {"units": "1", "long_name":
+                                     "ellipticity margin at the critical point (not positive: the point is the grid's)"}),
     }
     coord_vars = {d: (d, np.asarray(coords[d]) if d != "case" else np.arange(len(cases)),
                       {"units": UNITS.get(d, "1")}) for d in dims}

@@ -64,7 +64,7 @@ def cmd_path(args):
     summary = (f"{ds.sizes['step']} steps from {name} = {start:g} to {float(ds.parameter[-1]):.6g} "
                f"{ds.parameter.attrs['units']}, {ds.sizes['point']} critical points")
     past = "; past the loss of ellipticity: the grid's"
-    points = "".join(f"\n  {kind} at {name} = {value:.6g} ({family}{'' if margin > 0 else past})"
+    points = "".join(f"\n  {kind} at {name} = {value:.6g} ({family}{past if margin <= 0 else ''})"
                      for kind, value, family, margin in zip(ds.point_kind.values, ds.point_parameter.values,
                                                             ds.point_family.values, ds.point_ellipticity_margin.values))
     if ds.attrs["status"] in ("failed", "limit"):

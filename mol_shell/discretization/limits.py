@@ -90,13 +90,13 @@ class ModelLimits:
                       for s in np.repeat(cells, self.samples_per_cell)]
         if self.ellipticity_limit:
             names += [("the shell's equations stopped being elliptic in s (d2W/d(q_s)2 is no longer positive definite: "
-                       "compression beyond what the transverse shear carries; ellipticity_limit)",
+                       "compression beyond what a shear carries; ellipticity_limit)",
                        f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, len(self.active))]
         return names
 
     @cached_property
     def principal_symbol(self):
-        """``(g, m, geo) -> vec K`` over the ``n - 1`` cells: ``K = d2W/dg2``, the Hessian of one sample's stored energy
+        """``(g, m, geo) -> vec K`` of one cell (map it over the cells): ``K = d2W/dg2``, the Hessian of one sample's stored energy
         (:meth:`sample_energy`) in the derivatives ``g = (z_s, r_s, chi_s, theta_s, psi_s)`` of the active fields at
         fixed ``m = (r, theta, psi)``: the principal symbol of the shell's equations in ``s``."""
         g, m, geo = ca.SX.sym("g", 5), ca.SX.sym("m", 3), ca.SX.sym("geo", self.n_cell_data)
@@ -114,26 +114,43 @@ class ModelLimits:
 
     def ellipticity_margins(self, Qs):
         """The smallest eigenvalue of each cell's principal symbol ``K`` (:attr:`principal_symbol`) relative to the
-        natural state's ``K_0``, ``min eig(K_0^-1/2 K K_0^-1/2)``, for fields ``Qs`` ``(5, n)`` or a stack
-        ``(T, 5, n)``: ``(n - 1,)`` or ``(T, n - 1)``, 1 at the natural state.
+        natural state's ``K_0`` turned with the cell, ``min eig(K_0^-1/2 R^T K R K_0^-1/2)`` (``R`` turns ``(z_s, r_s)``
+        by the cell's rotation in the meridian plane, ``theta - theta0`` at its midpoint, so that a rotation alone
+        leaves 1), for fields ``Qs`` ``(5, n)`` or a stack ``(T, 5, n)``: ``(n - 1,)`` or ``(T, n - 1)``.
 
         The shell's equations are hyperbolic (elliptic in ``s``) while it is positive (the Legendre-Hadamard
-        condition of the 1-D shell). Where it reaches 0 a compressive membrane force has exceeded what the
-        transverse shear and the twist carry (for the director-constrained SVK law under equibiaxial compression
-        ``lam^2 = (l + mu) / (l + 2 mu)``, Lame's ``l``: 1 % at ``nu = 0.49``); beyond it waves short enough grow at a
-        rate that rises with their wavenumber (elastic) or at ``|K| / eta`` (viscous): results depend on the grid.
-        Cells where ``K_0`` is not positive definite give NaN.
+        condition of the 1-D shell). Where it reaches 0 a compressive membrane force has exceeded what a shear
+        carries (for the director-constrained SVK law under equibiaxial compression, the stretch
+        ``a^2 = (l + mu) / (l + 2 mu)``, Lame's ``l``: 1 % at ``nu = 0.49``, in the hoop polarisation); beyond it
+        waves short enough grow at a rate that rises with their wavenumber (elastic) or at ``|K| / eta`` (viscous):
+        results depend on the grid. NaN in cells where ``K_0`` is not positive definite and for states that are not
+        finite.
         """
         Qs = np.asarray(Qs, dtype=float)
         single = Qs.ndim == 2
         Qs = Qs[None] if single else Qs
+        finite = np.all(np.isfinite(Qs), axis=(1, 2))
+        Qs = np.where(finite[:, None, None], Qs, self._natural_fields()[None])
+        K = self._symbols(Qs)
+        active = list(self.active)
+        if 0 in active and 1 in active:  # turn each cell's K back by its rotation in the meridian plane
+            i, j = active.index(0), active.index(1)
+            turn = (Qs[:, 3, 1:] + Qs[:, 3, :-1] - self.reference[2][1:] - self.reference[2][:-1]) / 2
+            R = np.broadcast_to(np.eye(len(active)), K.shape).copy()
+            R[..., i, i], R[..., i, j], R[..., j, i], R[..., j, j] = np.cos(turn), -np.sin(turn), np.sin(turn), np.cos(turn)
+            K = np.swapaxes(R, -1, -2) @ K @ R
+        root, ok = self._natural_root
+        margins = np.linalg.eigvalsh(root @ K @ root).min(axis=-1)
+        margins = np.where(ok[None] & finite[:, None], margins, np.nan)
+        return margins[0] if single else margins
+
+    @cached_property
+    def _natural_root(self):
+        """``(K_0^-1/2 per cell, whether K_0 is positive definite there)``."""
         K0 = self._symbols(self._natural_fields()[None])[0]
         w, V = np.linalg.eigh(K0)
         ok = np.all(w > 0, axis=1)
-        root = np.einsum("cij,cj,ckj->cik", V, 1 / np.sqrt(np.where(w > 0, w, 1.0)), V)  # K_0^-1/2
-        A = root @ self._symbols(Qs) @ root
-        margins = np.where(ok, np.linalg.eigvalsh(A).min(axis=-1), np.nan)
-        return margins[0] if single else margins
+        return np.einsum("cij,cj,ckj->cik", V, 1 / np.sqrt(np.where(w > 0, w, 1.0)), V), ok
 
     def _natural_fields(self):
         """The reference (natural) state's fields ``(5, n)``."""

@@ -60,7 +60,7 @@ def assemble(dims, coords, cases, results, times):
             arr = np.full(shape, np.nan)
             for index, v in vals.items():
                 arr[index] = v
-            data[key] = (tuple(dims), arr, {"units": _units(ref, key), "long_name": f"{key} of each case"})
+            data[key] = (tuple(dims), arr, {"units": _units(done, key), "long_name": f"{key} of each case"})
         else:
             constant[key] = distinct.pop()
     long = {"status": "how the case ended: complete, limit, unstable, refused, error, lost or interrupted",
@@ -78,11 +78,14 @@ def assemble(dims, coords, cases, results, times):
                       attrs=attrs)
 
 
-def _units(ref, key):
+def _units(done, key):
+    """The unit of a per-case number: as a case that has it says (``units_KEY``), else seconds for ``*_s`` and
+    ``failure_time``, else 1."""
+    said = next((ds.attrs[f"units_{key}"] for ds in done if f"units_{key}" in ds.attrs), None)
+    if said is not None:
+        return str(said)
     if key.endswith("_s") or key in ("failure_time",):
         return "s"
-    if ref is not None and f"units_{key}" in ref.attrs:
-        return str(ref.attrs[f"units_{key}"])
     return "1"
 
 

@@ -109,6 +109,8 @@ def test_a_study_keeps_each_cases_loss_to_itself():
                              scheduler="serial")
     lost = st.ellipticity_lost_time.values
     assert np.isnan(lost[0]) and lost[1] == pytest.approx(0.00675)
+    # units from the case that has the number, though the first one does not; a position in metres, not seconds
+    assert st.ellipticity_lost_time.attrs["units"] == "s" and st.ellipticity_lost_position.attrs["units"] == "m"
     assert "ellipticity_warning" not in st.attrs and "ellipticity_lost_time" not in st.attrs
     assert np.all(st.ellipticity_margin.values[0] == pytest.approx(1.0))
 
@@ -144,3 +146,33 @@ def test_ellipticity_limit_is_a_flag():
     with pytest.raises(ParameterError, match="ellipticity_limit"):
         mol_shell.Sphere(ellipticity_limit="sometimes")
     assert mol_shell.Sphere(ellipticity_limit="true").ellipticity_limit is True
+
+
+def test_a_rotation_alone_leaves_the_margin_at_one():
+    # a very wide cylinder's meridian turned rigidly in its plane (positions and theta together): the hoop strain
+    # this leaves is of order L/a = 1e-3, the rotation itself must not count (K_0 is turned with the cell)
+    system = ShellSystem(resolve(mol_shell.TwistedCylinder(gamma=0.0, a=1000.0, R=1000.0)), 5)
+    Q0 = system._natural_fields()
+    d = np.diff(Q0[[0, 1]], axis=1)
+    for phi in (0.3, 0.8, 1.5):
+        c, s = math.cos(phi), math.sin(phi)
+        Q = Q0.copy()
+        Q[0] = Q0[0, 0] + np.concatenate([[0], np.cumsum(c * d[0] - s * d[1])])
+        Q[1] = Q0[1, 0] + np.concatenate([[0], np.cumsum(s * d[0] + c * d[1])])
+        Q[3] = Q0[3] + phi
+        np.testing.assert_allclose(system.ellipticity_margins(Q), 1.0, atol=5e-3)
+
+
+def test_a_law_without_shear_stiffness_is_left_unchecked_and_says_so():
+    import casadi as ca
+
+    fluid = mol_shell.Material("fluid-like", energy=lambda C, p: p["k"] * (ca.det(C) - 1) ** 2, parameters={"k": 1e6},
+                               thickness="director")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no RuntimeWarning (All-NaN), no ellipticity warning
+        warnings.filterwarnings("ignore", category=mol_shell.MaterialWarning, message="material = ")
+        ds = mol_shell.simulate(mol_shell.Sphere(h=0.01, material=fluid), "cvode-bdf", n=11, t_end=0.001,
+                                stresses=False)
+    assert np.all(np.isnan(ds.ellipticity_margin.values))
+    assert "not checked in 10 of 10 cells" in ds.attrs["ellipticity_note"]
+    assert "ellipticity_lost_time" not in ds.attrs
