@@ -131,8 +131,9 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
              "wall_time_s": float(wall_time), "edge_s0": system.edges[0], "edge_sL": system.edges[1],
              "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
     attrs["ellipticity_checked_every"] = every
-    if unchecked_note(system):
-        attrs["ellipticity_note"] = unchecked_note(system)
+    note = unchecked_note(system)
+    if note:
+        attrs["ellipticity_note"] = note
     if lost is not None:
         step, where = lost
         attrs.update({"ellipticity_lost_step": step, "ellipticity_lost_parameter": float(record.lams[step]),

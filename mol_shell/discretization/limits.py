@@ -70,7 +70,7 @@ class ModelLimits:
 
     def _natural_minors(self):
         """``(n - 1, a)``: the leading principal minors of each cell's ``K`` at the natural state."""
-        K0 = self._symbols(self._natural_fields()[None])[0]
+        K0 = self._natural_symbols
         minors = np.stack([np.linalg.det(K0[:, :k, :k]) for k in range(1, K0.shape[1] + 1)], axis=1)
         if not np.all(minors > 0):
             raise ParameterError("ellipticity_limit", True, "false for this scene",
@@ -145,10 +145,14 @@ class ModelLimits:
         return margins[0] if single else margins
 
     @cached_property
+    def _natural_symbols(self):
+        """``K_0``: each cell's principal symbol at the natural state, ``(n - 1, a, a)``."""
+        return self._symbols(self._natural_fields()[None])[0]
+
+    @cached_property
     def _natural_root(self):
         """``(K_0^-1/2 per cell, whether K_0 is positive definite there)``."""
-        K0 = self._symbols(self._natural_fields()[None])[0]
-        w, V = np.linalg.eigh(K0)
+        w, V = np.linalg.eigh(self._natural_symbols)
         ok = np.all(w > 0, axis=1)
         return np.einsum("cij,cj,ckj->cik", V, 1 / np.sqrt(np.where(w > 0, w, 1.0)), V), ok
 
