@@ -345,6 +345,18 @@ def test_implicit_scaling_viscous_steps_do_not_follow_the_grid(tmp_path):
     assert_written(*(tmp_path / f"implicit_scaling.{ext}" for ext in ("nc", "png", "md")))
 
 
+@covers("ellipticity")
+def test_ellipticity_loss_is_the_same_on_every_grid_and_absent_in_plane_stress(tmp_path):
+    out = run_study("ellipticity", tmp_path)
+    svk = out.where(out.material == "svk", drop=True)
+    assert np.all(svk.lost.values == svk.lost.values[0]) and 0.006 < svk.lost.values[0] < 0.008  # 1 % compression
+    assert np.all(svk.stretch_min.values < out.attrs["critical_stretch"])
+    plane = out.where(out.material == "svk-plane-stress", drop=True)
+    assert np.all(np.isnan(plane.lost.values)) and np.all(plane.margin_min.values > 0)
+    assert np.all(plane.stretch_min.values < 0.96)  # it did go through the same compression
+    assert_written(tmp_path / "ellipticity.nc", tmp_path / "ellipticity.png")
+
+
 @pytest.mark.parametrize("name", sorted(p.stem for p in STUDIES.glob("*.py")))
 def test_every_study_has_a_quick_mode(name, capsys):
     """A new script in studies/ must have ``main(argv=None)`` taking --quick and --out (its ``--help`` lists them),
