@@ -15,6 +15,12 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 
 
+def symbol_inputs(Q):
+    """``(g, m)`` of every cell of the fields ``Q`` ``(5, n)`` (NumPy or CasADi): the differences of the five fields
+    and the midpoint ``(r, theta, psi)``, the inputs of :attr:`ModelLimits.principal_symbol` (difference form)."""
+    return Q[:, 1:] - Q[:, :-1], (Q[[1, 3, 4], 1:] + Q[[1, 3, 4], :-1]) / 2
+
+
 class ModelLimits:
     """The limits of a :class:`~mol_shell.discretization.system.ShellSystem` (a mixin: it reads the system's fields,
     edges, cell kernels and grid)."""
@@ -47,8 +53,8 @@ class ModelLimits:
         if self.turning_limit:
             g.append(ca.vec(self.cell_turning().map(n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)))
         if self.ellipticity_limit:
-            G, M = Q[:, 1:] - Q[:, :-1], (Q[[1, 3, 4], 1:] + Q[[1, 3, 4], :-1]) / 2
-            g.append(ca.vec(self.cell_minors().map(n - 1)(G, M, self.cell_data, ca.DM(self._natural_minors().T))))
+            g.append(ca.vec(self.cell_minors().map(n - 1)(*symbol_inputs(Q), self.cell_data,
+                                                          ca.DM(self._natural_minors().T))))
         return ca.Function("limits", [y], [ca.vertcat(*g)], ["y"], ["g"])
 
     @property
@@ -89,9 +95,9 @@ class ModelLimits:
                        "turns back (a limit of the law)", f"s = {s:.6g} m (cell centre)")
                       for s in np.repeat(cells, self.samples_per_cell)]
         if self.ellipticity_limit:
-            names += [("the shell's equations stopped being elliptic in s (d2W/d(q_s)2 is no longer positive definite: "
-                       "compression beyond what a shear carries; ellipticity_limit)",
-                       f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, len(self.active))]
+            what = ("the shell's equations stopped being elliptic in s (d2W/d(q_s)2 is no longer positive definite: "
+                    "compression beyond what a shear carries; ellipticity_limit)")
+            names += [(what, f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, len(self.active))]
         return names
 
     @cached_property
@@ -107,8 +113,7 @@ class ModelLimits:
     def _symbols(self, Qs):
         """``K`` of every cell of each state of the stack ``Qs`` ``(T, 5, n)``: ``(T, n - 1, a, a)``."""
         T, a, cells = Qs.shape[0], len(self.active), self.n - 1
-        G = np.concatenate(list(Qs[:, :, 1:] - Qs[:, :, :-1]), axis=1)
-        M = np.concatenate(list((Qs[:, [1, 3, 4], 1:] + Qs[:, [1, 3, 4], :-1]) / 2), axis=1)
+        G, M = (np.hstack(parts) for parts in zip(*(symbol_inputs(Q) for Q in Qs)))
         K = np.array(self.principal_symbol.map(T * cells)(G, M, np.tile(self.cell_data, (1, T))))
         return K.T.reshape(T, cells, a, a)
 
