@@ -2,10 +2,13 @@
 shell, :meth:`~mol_shell.discretization.limits.ModelLimits.ellipticity_margins`): a Dataset variable, and a warning
 with the time (or path step) and place where they did not.
 
-Past that point a compressive membrane force exceeds what the transverse shear and the twist carry, waves short enough
-grow at rates set by the grid, and a finer grid stops sooner or shows more wrinkles: what follows depends on ``n``.
-The check runs on the saved states after the integration (it costs the loop nothing), on every k-th saved state where
-all of them would take more than :data:`MAX_INSTRUCTIONS` of CasADi's virtual machine (about 0.1 s).
+Past that point a compressive membrane force exceeds what a shear (transverse, or in the wall: the twist) carries, waves
+short enough grow at rates set by the grid, and a finer grid stops sooner or shows more wrinkles: what follows depends
+on ``n``. The check runs on the saved states after the integration (it costs the loop nothing), on every k-th saved
+state where all of them would take more than :data:`MAX_INSTRUCTIONS` of CasADi's virtual machine (measured: 0.04-0.10 s
+at n = 40 with 200 saved states, 0.15-0.32 s at n = 2,560 with 50). The unshearable scene's DAE is not checked (its
+principal symbol is another one); ``ellipticity_limit = true`` (a scene parameter) stops a run there instead
+(:meth:`~mol_shell.discretization.limits.ModelLimits.cell_minors`).
 """
 
 from __future__ import annotations
