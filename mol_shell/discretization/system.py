@@ -54,6 +54,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell.discretization.cells import BETA2_ZERO, CellKernels, trig_chain  # noqa: F401  (BETA2_ZERO: where it is defined)
 from mol_shell.discretization.limits import ModelLimits
 from mol_shell.discretization.loading import check_end_loads, edge_displacements, load_terms
+from mol_shell.discretization.reactions import held_reactions
 from mol_shell.model.edges import driven_node_kernel, driven_rates, free_rates, imposed_mask, resolve_edges, tied_chi
 from mol_shell.model.fibres import scene_fibres
 from mol_shell.model.geometry import node_inertias
@@ -246,9 +247,9 @@ class ShellSystem(ModelLimits, CellKernels):
         n = self.n
         Qt = self.tie(Q)
         if trig is None:
-            gl, gr = self._map(self.cell_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
+            gl, gr = self._map(self.kernel("cell_forces_kernel"), n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
         else:  # a pole's tied chi does not enter the trigonometry
-            gl, gr = self._map(self.cell_forces_shared_kernel(staged=True), n - 1)(
+            gl, gr = self._map(self.kernel("cell_forces_shared_kernel", True), n - 1)(
                 Qt[:, :-1], Qt[:, 1:], trig[:, :-1], trig[:, 1:], self.shared_cell_data)[-2:]
         pad = ca.MX.zeros(NF, 1)
         return self.gather_ties(ca.horzcat(gl, pad) + ca.horzcat(pad, gr))
@@ -259,13 +260,21 @@ class ShellSystem(ModelLimits, CellKernels):
         n = self.n
         Qt, Vt = self.tie(Q), self.tie(V)
         if trig is None:
-            fl, fr, power = self._map(self.viscous_forces_kernel(), n - 1)(Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:],
+            fl, fr, power = self._map(self.kernel("viscous_forces_kernel"), n - 1)(Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:],
                                                                           self.cell_data)
         else:
-            fl, fr, power = self._map(self.viscous_forces_shared_kernel(), n - 1)(
+            fl, fr, power = self._map(self.kernel("viscous_forces_shared_kernel"), n - 1)(
                 Qt[:, :-1], Qt[:, 1:], Vt[:, :-1], Vt[:, 1:], trig[:, :-1], trig[:, 1:], self.shared_cell_data)
         pad = ca.MX.zeros(NF, 1)
         return self.gather_ties(ca.horzcat(fl, pad) + ca.horzcat(pad, fr)), ca.sum2(power)
+
+    def kernel(self, method, *args):
+        """``getattr(self, method)(*args)``, a cell kernel built once per system (the maps of every assembly and the
+        edges' reactions share it)."""
+        memo = self.__dict__.setdefault("_kernels", {})
+        if (method, args) not in memo:
+            memo[method, args] = getattr(self, method)(*args)
+        return memo[method, args]
 
     #: kernels mapped with CasADi's "openmp" map while :attr:`rhs_parallel` is assembled
     _parallel = False
@@ -365,6 +374,8 @@ class ShellSystem(ModelLimits, CellKernels):
                 self._reactions += [(e, k, reaction[j]) for j, k in enumerate(driven)]
             rates = [power, dissipation + drag_power]
             work, dissipated = y[self.ny * n], y[self.ny * n + 1]
+        held = held_reactions(self, t, Q, P, V, trig, [f0, fn], load_forces if self.n_extra else None)
+        self._reactions += [(e, k, reaction) for e, k, reaction, _ in held]  # the supports' (observables only)
         forces = forces * ca.DM((~self.fixed.T).astype(float))
         motion = ca.vec(ca.vertcat(V[active, :], forces[active, :]))
         ydot = ca.vertcat(motion, *rates)
@@ -373,6 +384,7 @@ class ShellSystem(ModelLimits, CellKernels):
         angular = ca.sum2(P[2, :])  # sum p_chi, with the momenta of driven chi (not states) added
         for _, driven, _, _, (pd, _, _, _) in drive_terms:
             angular = angular + sum(pd[j] for j, k in enumerate(driven) if k == 2)
+        angular = angular + sum(p_held for _, k, _, p_held in held if k == 2)
         self.reaction_names = [(e, k) for e, k, _ in self._reactions]
         Qt = self.tie(Q)
         energies, deltas = self._cell_observables().map(n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)

@@ -117,7 +117,7 @@ def build_dataset(system, scene, traj, velocities, totals, attrs, requested=None
                     values[:, 0 if names[j][0] == 0 else 1] = totals["reactions"][:, j]
                 data[var] = (("time", "end"), values, {"units": units, "long_name":
                              f"{what} the driver or support applies to the edge (0 where the edge leaves "
-                             f"{FIELDS[k]} free; NaN where a support holds it but the run does not compute it)"})
+                             f"{FIELDS[k]} free)"})
     if system.viscous:
         data["dissipation"] = (
             ("time",),
@@ -162,10 +162,10 @@ def build_dataset(system, scene, traj, velocities, totals, attrs, requested=None
 
 
 def reaction_columns(count, edges, field):
-    """``(count, 2)`` reactions on ``field`` (0 = z, 2 = chi) at the two edges before the driven ones are filled in:
-    0 at an edge that leaves the field free (nothing there to push: a free edge, ``chi`` at a magnet, a pole,
-    where ``chi`` has no inertia on the axis), NaN at one whose support holds it (clamped, pinned; ``z`` at a
-    magnet) and is not driven, whose reaction the run does not compute."""
+    """``(count, 2)`` reactions on ``field`` (0 = z, 2 = chi) at the two edges before the computed ones (driven or
+    held: :mod:`mol_shell.discretization.reactions`) are filled in: 0 at an edge that leaves the field free (nothing
+    there to push: a free edge, ``chi`` at a magnet, a pole, where ``chi`` has no inertia on the axis), NaN at one
+    whose support holds it where no reaction is computed (none is left: a guard)."""
     values = np.zeros((count, 2))
     for end, kind in enumerate(edges):
         if field in IMPOSED[kind]:

@@ -100,15 +100,16 @@ def test_modes_store_the_values_used_too():
 
 
 # -- item 11: reactions at edges that are not driven -------------------------------------------------------
-def test_a_free_edge_carries_no_reaction_torque_and_a_held_one_is_not_made_up():
-    """A cone spun at its first edge: the torque at the free second edge is 0 (nothing holds it); with that edge
-    clamped instead, its support's torque is not computed: NaN, not a number pretending to be one."""
+def test_a_free_edge_carries_no_reaction_and_a_held_one_is_computed():
+    """A cone spun at its first edge (a magnet: ``z`` held, ``chi`` driven): the torque and force at the free
+    second edge are 0 (nothing holds it), the magnet's axial force is computed; with the second edge clamped, its
+    support's torque and force are computed too (their balance laws: tests/model/test_held_reactions.py)."""
     free = run(mol_shell.Cone(end1="magnet", end2="free", end1_spin=10.0), t_end=1e-5)
-    torque = free.reaction_torque.values
-    assert np.all(torque[:, 1] == 0) and np.all(np.isfinite(torque[:, 0]))
-    assert "reaction_force" not in free  # no axial drive
+    torque, force = free.reaction_torque.values, free.reaction_force.values
+    assert np.all(torque[:, 1] == 0) and np.all(force[:, 1] == 0)
+    assert np.all(np.isfinite(torque[:, 0])) and np.all(np.isfinite(force[:, 0]))
     held = run(mol_shell.Cone(end1="magnet", end2="clamped", end1_spin=10.0), t_end=1e-5)
-    assert np.all(np.isnan(held.reaction_torque.values[:, 1])) and np.all(np.isfinite(held.reaction_torque.values[:, 0]))
+    assert np.all(np.isfinite(held.reaction_torque.values)) and np.all(np.isfinite(held.reaction_force.values))
 
 
 # -- item 10: the documentation of simulate, and the scene classes --------------------------------------------
