@@ -471,4 +471,5 @@ class _Record:
         name, share = family(self.eq, q, mode)
         self.points.append({"kind": kind, "parameter": lam, "step": i % len(self.lams), "family": name,
                             "chi_share": share, "eigenvalue": w2[k], "mode": mode, "q": q, "located": located,
+                            "reactions": self.eq.reactions(q, lam),
                             "negative_before": before, "negative_after": after})

@@ -60,12 +60,15 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
                               eq.moved is None else "reaction conjugate to the continued edge displacement (its "
                               "work is int reaction d(displacement))"})
     reactions = np.array(record.reactions)
+    at_points = np.array([p["reactions"] for p in record.points]).reshape(-1, len(REACTIONS))
     for k, (name, _, field) in enumerate(REACTIONS):
         if np.isfinite(reactions[:, k]).any():
-            data[name] = (("step",), reactions[:, k], {"units": "N" if field == 0 else "N m", "long_name":
-                          f"{'axial force' if field == 0 else 'axial torque'} the support supplies on the imposed "
-                          f"{'z' if field == 0 else 'chi'} of the edge at s = "
-                          f"{'0' if name.startswith('end1') else 'L'}"})
+            what = (f"{'axial force' if field == 0 else 'axial torque'} the support supplies on the imposed "
+                    f"{'z' if field == 0 else 'chi'} of the edge at s = {'0' if name.startswith('end1') else 'L'}")
+            unit = "N" if field == 0 else "N m"
+            data[name] = (("step",), reactions[:, k], {"units": unit, "long_name": what})
+            data["point_" + name] = (("point",), at_points[:, k], {"units": unit, "long_name": what +
+                                     ", at the critical point"})
     z0 = system.reference[0]
     for name, node in (("end1_dz", 0), ("end2_dz", -1)):  # where the edges are: a response to draw the load against
         data[name.replace("_dz", "_axial_displacement")] = (("step",), fields[:, 0, node] - z0[node], {"units": "m",

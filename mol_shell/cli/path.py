@@ -64,9 +64,14 @@ def cmd_path(args):
     summary = (f"{ds.sizes['step']} steps from {name} = {start:g} to {float(ds.parameter[-1]):.6g} "
                f"{ds.parameter.attrs['units']}, {ds.sizes['point']} critical points")
     past = "; past the loss of ellipticity: the grid's"
-    points = "".join(f"\n  {kind} at {name} = {value:.6g} ({family}{past if margin <= 0 else ''})"
-                     for kind, value, family, margin in zip(ds.point_kind.values, ds.point_parameter.values,
-                                                            ds.point_family.values, ds.point_ellipticity_margin.values))
+    held = f"point_{name[:4]}_reaction_{'force' if name.endswith('dz') else 'torque'}"  # an edge displacement's
+    reactions = (ds[held].values if held in ds and name[5:] in ("dz", "dchi") else [None] * ds.sizes["point"])
+    points = "".join(f"\n  {kind} at {name} = {value:.6g} ({family}"
+                     + ("" if reaction is None else f"; reaction {reaction:.6g} {ds[held].attrs['units']}")
+                     + f"{past if margin <= 0 else ''})"
+                     for kind, value, family, margin, reaction in zip(
+                         ds.point_kind.values, ds.point_parameter.values, ds.point_family.values,
+                         ds.point_ellipticity_margin.values, reactions))
     if ds.attrs["status"] in ("failed", "limit"):
         print(f"mol-shell: path stopped: {ds.attrs['message']}; wrote {summary} to {args.output}{points}",
               file=sys.stderr)

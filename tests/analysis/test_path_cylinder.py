@@ -71,6 +71,14 @@ def test_axisymmetric_bifurcation_of_the_compressed_cylinder(critical, h):
     # the state before buckling is the uniform membrane state: r the same at every node
     r = ds.r.values[before]
     assert np.abs(r - r[:, :1]).max() <= 1e-10
+    # the held edge's reaction at each critical point balances the applied end force (no other axial load). The
+    # located states are equilibria to the locating Newton's residual, not to round-off: at the first point to 1e-7
+    # (measured 7e-11 and 1e-14), at the later ones, where the solves are nearly singular on an unstable path,
+    # to 1e-5 (measured up to 1.2e-6). The steps balance to round-off.
+    imbalance = np.abs(ds.point_end1_reaction_force.values + ds.point_parameter.values)
+    load = np.abs(ds.point_parameter.values)
+    assert imbalance[first] <= 1e-7 * load[first] and np.all(imbalance <= 1e-5 * load)
+    assert np.abs(ds.end1_reaction_force.values + ds.parameter.values).max() <= 1e-12 * load.max()
 
 
 def test_the_critical_force_extrapolates_to_the_classical_value(critical):
@@ -107,7 +115,12 @@ def test_displacement_control_gives_the_same_bifurcation_and_the_edge_reactions(
     assert np.all(r2[1:] < 0)  # the support pushes the shortened edge back along -k: compression
     p = float(ds.point_parameter[0])
     assert ds.point_kind.values[0] == "bifurcation"
-    reaction = np.interp(-p, -ds.parameter.values, r2)
+    # the reaction at the located point: between the two steps' around it, balanced by the other edge's
+    reaction = float(ds.point_end2_reaction_force[0])
+    k = int(ds.point_step[0])
+    assert min(r2[k], r2[k + 1]) <= reaction <= max(r2[k], r2[k + 1])
+    assert abs(reaction + float(ds.point_end1_reaction_force[0])) <= 1e-7 * abs(reaction)
+    assert ds.point_end2_reaction_force.attrs["units"] == "N"
     assert reaction / -F == pytest.approx(critical[h][2], rel=1e-3)
     stored = ds.stored_energy.values - ds.stored_energy.values[0]
     assert np.abs(stored - ds.load_work.values).max() <= 1e-3 * stored.max()
@@ -120,3 +133,20 @@ def test_a_displacement_of_a_free_field_is_refused_naming_the_option(tmp_path, c
                  "-o", str(tmp_path / "x.nc")])
     err = capsys.readouterr().err.strip()
     assert code == 2 and len(err.splitlines()) == 1 and "--param" in err and "end1_dz" in err
+
+
+def test_the_cli_says_the_reaction_at_each_critical_point_of_a_displacement_path(tmp_path, capsys):
+    """``mol-shell path --param end2_dz=...``: each critical point's line names the reaction there (the quantity
+    displacement control measures), as stored in ``point_end2_reaction_force``; a load path's lines do not."""
+    from mol_shell.cli.main import main
+    from mol_shell.results.dataset import read_netcdf
+
+    sets = ["--set", "h=0.01", "--set", "L=1.955", "--set", "E=1e6", "--set", "nu=0.3", "--set", "R=1",
+            "--set", "material=svk-plane-stress", "--set", "end1=z,theta", "--set", "end2=z,theta"]
+    out = tmp_path / "dz.nc"
+    assert main(["path", "axisymmetric", "--param", "end2_dz=0:-0.03", "--n", "41", *sets, "-o", str(out)]) == 0
+    lines = [line for line in capsys.readouterr().out.splitlines() if "bifurcation at" in line]
+    ds = read_netcdf(out)
+    assert len(lines) == ds.sizes["point"] >= 1
+    for line, reaction in zip(lines, ds.point_end2_reaction_force.values):
+        assert f"reaction {reaction:.6g} N" in line and reaction < 0
