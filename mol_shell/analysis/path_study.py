@@ -132,6 +132,7 @@ def _gather(scene, dims, coords, cases, results, parameter):
     value = np.full(shape + (count,), np.nan)
     located = np.zeros(shape + (count,), dtype=np.int8)
     margin = np.full(shape + (count,), np.nan)
+    reactions = {}  # point_end*_reaction_*: where some case's edges hold z or chi (NaN in the others)
     status = np.full(shape, "", dtype=object)
     message = np.full(shape, "", dtype=object)
     steps = np.zeros(shape, dtype=np.int32)
@@ -149,6 +150,10 @@ def _gather(scene, dims, coords, cases, results, parameter):
         located[index][:m] = ds.point_located.values
         if "point_ellipticity_margin" in ds:
             margin[index][:m] = ds.point_ellipticity_margin.values
+        for name in [v for v in ds.data_vars if v.startswith("point_end")]:
+            if name not in reactions:
+                reactions[name] = (np.full(shape + (count,), np.nan), dict(ds[name].attrs))
+            reactions[name][0][index][:m] = ds[name].values
     units = UNITS.get(parameter, "1")
     sdims = tuple(dims)
     data = {
@@ -167,6 +172,9 @@ def _gather(scene, dims, coords, cases, results, parameter):
         "point_ellipticity_margin": (sdims + ("point",), margin, {"units": "1", "long_name":
                                      "ellipticity margin at the critical point (not positive: the point is the grid's)"}),
     }
+    for name, (values, attrs) in sorted(reactions.items()):
+        data[name] = (sdims + ("point",), values, {**attrs, "long_name": attrs["long_name"] + " (NaN past a case's "
+                      "last point)"})
     coord_vars = {d: (d, np.asarray(coords[d]) if d != "case" else np.arange(len(cases)),
                       {"units": UNITS.get(d, "1")}) for d in dims}
     if dims == ["case"]:

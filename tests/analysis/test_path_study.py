@@ -33,6 +33,8 @@ def test_each_case_has_the_critical_points_of_its_own_path(studied):
         assert list(ds.point_kind.values[k, :m]) == list(own.point_kind.values)
         assert ds.first_critical.values[k] == own.point_parameter.values[0]
         assert np.all(np.isnan(ds.point_parameter.values[k, m:]))
+        held = [v for v in own.data_vars if v.startswith("point_end")]  # the rim's reactions at the points
+        assert held and all(np.array_equal(ds[v].values[k, :m], own[v].values) for v in held)
     # a deeper cap (larger lambda) carries a larger pressure before it snaps (shallow-shell theory: the snap
     # pressure grows with the rise)
     assert ds.first_critical.values[1] < ds.first_critical.values[0] < 0
