@@ -58,13 +58,13 @@ from mol_shell.discretization.reactions import held_reactions
 from mol_shell.model.edges import driven_node_kernel, driven_rates, free_rates, imposed_mask, resolve_edges, tied_chi
 from mol_shell.model.fibres import scene_fibres
 from mol_shell.model.geometry import node_inertias
-from mol_shell.model.thickness_profile import graded_node_inertias, thickness_function
 from mol_shell.model.kinematics import FIELDS as FIELD_NAMES
 from mol_shell.model.kinematics import kinetic_energy_density
-from mol_shell.model.laws import layer_laws, law_parameters, small_strain_lame, viscosities
+from mol_shell.model.laws import law_parameters, layer_laws, small_strain_lame, viscosities
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.loads import history
 from mol_shell.model.material import Thickness, inertias
+from mol_shell.model.thickness_profile import graded_node_inertias, thickness_function
 
 
 class ShellSystem(ModelLimits, CellKernels):

@@ -118,6 +118,8 @@ def test_displacement_control_gives_the_same_bifurcation_and_the_edge_reactions(
     # the reaction at the located point: between the two steps' around it, balanced by the other edge's
     reaction = float(ds.point_end2_reaction_force[0])
     k = int(ds.point_step[0])
+    dz = ds.parameter.values
+    assert min(dz[k], dz[k + 1]) <= p <= max(dz[k], dz[k + 1])
     assert min(r2[k], r2[k + 1]) <= reaction <= max(r2[k], r2[k + 1])
     assert abs(reaction + float(ds.point_end1_reaction_force[0])) <= 1e-7 * abs(reaction)
     assert ds.point_end2_reaction_force.attrs["units"] == "N"
