@@ -174,7 +174,7 @@ def _gather(scene, dims, coords, cases, results, parameter):
     }
     for name, (values, attrs) in sorted(reactions.items()):
         data[name] = (sdims + ("point",), values, {**attrs, "long_name": attrs["long_name"] + " (NaN past a case's "
-                      "last point)"})
+                      "last point, and where a case's edge leaves the field free)"})
     coord_vars = {d: (d, np.asarray(coords[d]) if d != "case" else np.arange(len(cases)),
                       {"units": UNITS.get(d, "1")}) for d in dims}
     if dims == ["case"]:

@@ -21,7 +21,7 @@ from mol_shell.cli.args import (
     scene_and_run,
 )
 from mol_shell.results.dataset import read_netcdf, write_netcdf
-from mol_shell.scenes import with_params
+from mol_shell.scenes import DISPLACEMENTS, with_params
 from mol_shell.views.path_plot import plot_path, response_values, responses
 from mol_shell.views.path_study_plot import is_path_study, plot_path_study
 
@@ -64,8 +64,9 @@ def cmd_path(args):
     summary = (f"{ds.sizes['step']} steps from {name} = {start:g} to {float(ds.parameter[-1]):.6g} "
                f"{ds.parameter.attrs['units']}, {ds.sizes['point']} critical points")
     past = "; past the loss of ellipticity: the grid's"
-    held = f"point_{name[:4]}_reaction_{'force' if name.endswith('dz') else 'torque'}"  # an edge displacement's
-    reactions = (ds[held].values if held in ds and name[5:] in ("dz", "dchi") else [None] * ds.sizes["point"])
+    edge, _, moved = name.partition("_")  # an edge displacement (end2_dz): its reaction beside each point
+    held = f"point_{edge}_reaction_{'force' if moved == 'dz' else 'torque'}"
+    reactions = ds[held].values if name in DISPLACEMENTS and held in ds else [None] * ds.sizes["point"]
     points = "".join(f"\n  {kind} at {name} = {value:.6g} ({family}"
                      + ("" if reaction is None else f"; reaction {reaction:.6g} {ds[held].attrs['units']}")
                      + f"{past if margin <= 0 else ''})"

@@ -23,8 +23,8 @@ REACTION_FIELDS = (0, 2)
 def held_fields(system, e):
     """The fields of :data:`REACTION_FIELDS` that edge node ``e`` holds without driving them."""
     kind = system.edges[0 if e == 0 else 1]
-    if kind == "pole" or any(nb == e for _, nb in system.ties):
-        return []
+    if kind == "pole" or any(nb == e for _, nb in system.ties):  # (a pole's neighbour is never an edge at n >= 3:
+        return []  # a guard, so that a tied chi's gathered force is never read from one cell)
     return [k for k in REACTION_FIELDS if system.imposed[e, k] and k not in system.driven_fields(e)]
 
 
@@ -69,8 +69,8 @@ def held_reactions(system, t, Q, P, V, trig, node_forces, loads):
         fields = sorted(driven + held)
         vd, vd_rate = system.driven_rates(e, t) if driven else (ca.DM.zeros(NF), ca.DM.zeros(NF))
         forces = edge_forces(system, e, Q, V, trig, node_force, loads)
-        rates = forces * ca.DM((~system.fixed[e]).astype(float))  # p_t of the free fields
+        p_rate = forces * ca.DM((~system.fixed[e]).astype(float))  # p_t of the free fields
         p, dq, dp, dvd = driven_node_kernel(system, free, fields)(Q[:, e], P[:, e], system.inertia[:, e], vd)[3:]
-        rate = ca.mtimes(dq, V[:, e]) + ca.mtimes(dp, rates) + ca.mtimes(dvd, vd_rate)
+        rate = ca.mtimes(dq, V[:, e]) + ca.mtimes(dp, p_rate) + ca.mtimes(dvd, vd_rate)
         out += [(e, k, rate[j] - forces[k], p[j]) for j, k in enumerate(fields) if k in held]
     return out

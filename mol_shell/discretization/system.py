@@ -381,7 +381,7 @@ class ShellSystem(ModelLimits, CellKernels):
         ydot = ca.vertcat(motion, *rates)
         kinetic = ca.sum2(ti) + t0 + tn
         reactions = ca.vertcat(*[r for _, _, r in self._reactions]) if self._reactions else ca.MX.zeros(0)
-        angular = ca.sum2(P[2, :])  # sum p_chi, with the momenta of driven chi (not states) added
+        angular = ca.sum2(P[2, :])  # sum p_chi, with the momenta of driven and held chi (not states) added
         for _, driven, _, _, (pd, _, _, _) in drive_terms:
             angular = angular + sum(pd[j] for j, k in enumerate(driven) if k == 2)
         angular = angular + sum(p_held for _, k, _, p_held in held if k == 2)

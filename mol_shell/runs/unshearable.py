@@ -102,6 +102,13 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         attrs = {"integrator": "leapfrog", "dt": dt, "constrained": 0, "leapfrog_dt_bound_s": 1.0 / omega_max}
     attrs["build_and_run_time_s"] = time.perf_counter() - start
     velocities, totals = observe(shell, traj.y)
+    if constrained:  # a held chi's support shares the torque with the constraint chi_s = 0, whose multiplier the
+        # shell's own equations do not hold: its reaction is not computed (NaN; a held z's is: no constraint acts on z)
+        for j, (_, field) in enumerate(shell.reaction_names):
+            if field == 2:
+                totals["reactions"][:, j] = np.nan
+                attrs["reaction_torque_note"] = ("not computed for the constrained DAE: the held chi's support "
+                                                 "shares the torque with the constraint chi_s = 0 (lambda_chi)")
 
     ds = build_dataset(shell, scene, traj, velocities, totals, attrs)
     ds.attrs["title"] = f"mol_shell run of scene unshearable ({'constrained DAE' if constrained else 'free shell'})"

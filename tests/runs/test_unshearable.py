@@ -120,3 +120,16 @@ def test_simulate_hands_the_scene_to_its_dae_and_refuses_other_integrators():
     assert free.attrs["constrained"] == 0 and "lambda_chi" not in free
     with pytest.raises(ParameterError, match="dR"):
         Unshearable(dR=0.5)
+
+
+def test_a_held_chi_under_the_constraint_has_no_computed_torque_and_a_held_z_its_force():
+    """A pinned edge (z, r, chi held) on the constrained DAE: the support's torque is shared with the constraint
+    ``chi_s = 0`` (its multiplier ``lambda_chi``), which the shell's own equations leave out, so the torque is NaN
+    with a note, not a number computed without it; the held z (no constraint acts on z) has its force. The free
+    run of the same scene computes both."""
+    scene = mol_shell.Unshearable(end1="pinned", omega=20.0, dR=0.01)
+    ds = mol_shell.simulate_unshearable(scene, n=11, times=np.linspace(0.0, 0.002, 3))
+    assert np.all(np.isnan(ds.reaction_torque.values[:, 0])) and "lambda_chi" in ds.attrs["reaction_torque_note"]
+    assert np.all(np.isfinite(ds.reaction_force.values))
+    free = mol_shell.simulate_unshearable(scene, n=11, times=np.linspace(0.0, 0.001, 3), constrained=False)
+    assert np.all(np.isfinite(free.reaction_torque.values)) and "reaction_torque_note" not in free.attrs
