@@ -37,8 +37,9 @@ LONG_RUN_S = 3600.0
 BYTES = 8
 #: variables per node and saved time in a run's Dataset: 5 fields and their 5 rates (every field, active or not)
 OUTPUT_PER_NODE = 10
-#: per saved time: energies, angular momentum, delta_min, dissipation
-OUTPUT_PER_TIME = 6
+#: per saved time: the three energies, angular momentum, delta_min, the ellipticity margin and the two edges' axial
+#: force (an edge that holds z: most scenes; dissipation, work and torques add a few more)
+OUTPUT_PER_TIME = 8
 #: peak memory while a run's saved states become its Dataset, in multiples of the output (the saved states, the
 #: observables evaluated over all of them at once, velocities, fields, the Dataset): measured 10.6x at n = 10 and
 #: 40 (flat graphs), 5.3x at n = 400 (mapped), 20,000-80,000 saved times
@@ -126,7 +127,7 @@ class Estimate:
     n, n_times, size : int
         Nodes, saved times and unknowns (``2 x fields x n``).
     output_bytes : float
-        The saved output: ``n_times x (10 n + 6) x 8`` bytes (fields and rates per node, totals per time).
+        The saved output: ``n_times x (10 n + 8) x 8`` bytes (fields and rates per node, totals per time).
     memory_bytes : float
         Peak estimate: output while it is assembled, solver state and Jacobian, graphs and spectrum.
     steps : float

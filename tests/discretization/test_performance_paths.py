@@ -240,7 +240,7 @@ def test_a_run_and_a_study_do_not_import_dask():
     code = ("import sys, mol_shell\n"
             "ds = mol_shell.simulate('twisted-cylinder', n=10, t_end=0.001)\n"
             "st = mol_shell.study('twisted-cylinder', {'gamma': [0.5, 0.6]}, n=10, t_end=0.001, scheduler='serial')\n"
-            "assert 'von_mises_stress' in ds and dict(ds.sizes) == {'time': 11, 's': 10, 's_cell': 9, 'zeta': 2}\n"
+            "assert 'von_mises_stress' in ds and dict(ds.sizes) == {'time': 11, 's': 10, 's_cell': 9, 'zeta': 2, 'end': 2}\n"
             "assert 'von_mises_stress' in st and st.sizes['gamma'] == 2 and set(st.status.values) == {'complete'}\n"
             "print('dask' in sys.modules or 'dask.array' in sys.modules)\n")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)

@@ -23,7 +23,9 @@ def test_grid_on_local_processes_with_a_refused_and_a_stopped_case():
     """2 x 3 cases on this machine's cores: nu = 0.5 is refused, R = 3 hits r <= 0 (at nu = 0.49); the others run."""
     base = dataclasses.replace(BASE, law_limit=False)  # R = 3 collapses through SVK's turning point to r = 0
     ds = study(base, {"R": [0.99, 3.0], "nu": [0.3, 0.49, 0.5]}, n=10, t_end=0.01, workers=2)
-    assert dict(ds.sizes) == {"R": 2, "nu": 3, "time": 11, "s": 10, "s_cell": 9, "zeta": 2}  # stresses on cells, faces
+    # stresses on cells and faces; the magnets' axial force on the two ends
+    assert dict(ds.sizes) == {"R": 2, "nu": 3, "time": 11, "s": 10, "s_cell": 9, "zeta": 2, "end": 2}
+    assert ds.reaction_force.dims == ("R", "nu", "time", "end")
     assert ds.r.dims == ("R", "nu", "time", "s") and ds.energy.dims == ("R", "nu", "time")
     status = ds.status.values
     assert list(status[:, 2]) == ["refused", "refused"] and "nu = 0.5 is outside" in ds.message.values[0, 2]
