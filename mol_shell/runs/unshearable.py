@@ -89,6 +89,7 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
     check_system(scene, shell, shell.pack(Q0, shell.momenta(Q0, V0)))  # numbers finite in double precision
     start = time.perf_counter()
     if constrained:
+        _check_constrained_edges(scene, shell)
         traj, V, multipliers, stats = _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step)
         attrs = {"integrator": "ida", "rtol": rtol, "atol": atol, "constrained": 1, **stats}
     else:
@@ -113,6 +114,22 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
     ds = build_dataset(shell, scene, traj, velocities, totals, attrs)
     ds.attrs["title"] = f"mol_shell run of scene unshearable ({'constrained DAE' if constrained else 'free shell'})"
     return _add_defects(ds, shell, multipliers)
+
+
+def _check_constrained_edges(scene, shell):
+    """Edges the constraints leave room for: ``psi = 0`` is imposed at every node, so an edge that holds ``psi`` too
+    (clamped, or a set with ``psi``) holds it twice (the multipliers are then not determined: a singular Newton
+    matrix); ``chi_s = 0`` makes every section turn with an edge that holds ``chi``, so the shell cannot spin."""
+    for name, kind in zip(("end1", "end2"), shell.edges):
+        node = 0 if name == "end1" else -1
+        if shell.imposed[node, 4]:
+            raise ParameterError.invalid(name, kind, "holds psi, which the constrained shell holds at 0 at every node "
+                                         "already", "an edge that leaves psi free (magnet, pinned, free, or a set "
+                                         "without psi)")
+        if shell.imposed[node, 2] and scene.omega != 0:
+            raise ParameterError.invalid("omega", scene.omega, f"spins a shell whose {name} = {kind} holds chi (the "
+                                         "constraint chi_s = 0 turns every section with that edge)", "0, or an edge "
+                                         "that leaves chi free (magnet, free, or a set without chi)")
 
 
 def _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step):

@@ -127,9 +127,28 @@ def test_a_held_chi_under_the_constraint_has_no_computed_torque_and_a_held_z_its
     ``chi_s = 0`` (its multiplier ``lambda_chi``), which the shell's own equations leave out, so the torque is NaN
     with a note, not a number computed without it; the held z (no constraint acts on z) has its force. The free
     run of the same scene computes both."""
-    scene = mol_shell.Unshearable(end1="pinned", omega=20.0, dR=0.01)
+    scene = mol_shell.Unshearable(end1="pinned", omega=0.0, dR=0.01)  # held chi: the constrained shell cannot spin
     ds = mol_shell.simulate_unshearable(scene, n=11, times=np.linspace(0.0, 0.002, 3))
+    assert ds.attrs["complete"] == 1
     assert np.all(np.isnan(ds.reaction_torque.values[:, 0])) and "lambda_chi" in ds.attrs["reaction_torque_note"]
     assert np.all(np.isfinite(ds.reaction_force.values))
-    free = mol_shell.simulate_unshearable(scene, n=11, times=np.linspace(0.0, 0.001, 3), constrained=False)
+    spun = mol_shell.Unshearable(end1="pinned", omega=20.0, dR=0.01)
+    free = mol_shell.simulate_unshearable(spun, n=11, times=np.linspace(0.0, 0.001, 3), constrained=False)
     assert np.all(np.isfinite(free.reaction_torque.values)) and "reaction_torque_note" not in free.attrs
+
+
+@pytest.mark.parametrize("sets, key", [(["--set", "end1=clamped", "--set", "omega=0"], "end1 = 'clamped' holds psi"),
+                                       (["--set", "end2=z,psi", "--set", "omega=0"], "end2 = 'z,psi' holds psi"),
+                                       (["--set", "end1=pinned"], "omega = 20.0 spins")])
+def test_edges_the_constraints_leave_no_room_for_are_refused_in_one_line(sets, key, tmp_path, capsys):
+    """The constrained shell imposes psi = 0 at every node: an edge that holds psi too made the multipliers
+    undetermined (an internal error, a singular Newton matrix, on 0.6.0 before this); chi_s = 0 turns every
+    section with an edge that holds chi, so an initial spin contradicts it (a spurious 'numerical instability'
+    before). Both are refused naming the key, exit 2; a held chi without spin runs (above)."""
+    from mol_shell.cli.main import main
+
+    code = main(["run", "unshearable", "--integrator", "ida", *sets, "--n", "11", "--t-end", "0.001",
+                 "-o", str(tmp_path / "u.nc")])
+    err = [line for line in capsys.readouterr().err.splitlines() if "warning" not in line]
+    assert code == 2 and len(err) == 1 and key in err[0] and "allowed:" in err[0], err
+    assert not (tmp_path / "u.nc").exists()
