@@ -280,7 +280,7 @@ class CellKernels:
         samples = self.cell_samples(ql, qr)  # psi at the left node, then the right (one sample: psi = 0)
         trigs = sample_trigs(tl, tr)
         envelope, stages = None, []
-        if self.law is not None and self.law.thickness == "plane-stress" and self.layer_laws is None:  # C_22 held
+        if self.law is not None and self.law.thickness != "director" and self.layer_laws is None:  # C_22 held
             factors, beta2_0, _ = self._factors_and_moments(geo)
             solved = [law_thickness_values(e, self.law, self.law_params, factors, beta2_0, trig)
                       for e, trig in zip(samples, trigs)]  # per sample, per point: C_22 (and the law's own values)

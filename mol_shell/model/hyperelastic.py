@@ -14,7 +14,10 @@ the thickness direction. The shell's ``F = [(a + zeta b) j1, c2, (c + zeta d) j3
   which at convergence equal those of the implicit function theorem (``dW/dx = 0`` there);
 - ``incompressible``: ``det C = 1``. ``det C`` is affine in ``C_22``: ``det C = C_22 (C_11 C_33 - C_13^2) + N``
   with ``N`` the determinant at ``C_22 = 0``, so ``C_22 = (1 - N) / (C_11 C_33 - C_13^2)``, substituted into ``W``
-  (the hydrostatic pressure is eliminated by the vanishing thickness stress: the membrane route of rubber).
+  (the hydrostatic pressure is eliminated by the vanishing thickness stress: the membrane route of rubber). The
+  energy is written ``W - p (det C - 1)`` with that pressure ``p`` (:func:`incompressible_pressure`): the same
+  value, and stationary in ``C_22``, so the cell forces are taken with ``C_22`` and ``p`` held (no ``dC_22/dC``;
+  8-18 % cheaper right-hand sides than differentiating the substitution).
 
 The thickness integral is the same Gauss-Legendre rule as :func:`~mol_shell.model.material.thickness_energy`
 (``sum_q vol_q W(C_q)``); the mass per reference area does not change.
@@ -132,7 +135,8 @@ def thickness_state(law, C, params):
     if law.thickness == "director":
         return (C[THICK][THICK],)
     if law.thickness == "incompressible":
-        return (incompressible_thickness(C),)
+        x = incompressible_thickness(C)
+        return (x, incompressible_pressure(law, C, x, params))
     if law.thickness == "plane-stress":
         if law.condense is None:
             return (plane_stress_thickness(lambda c: law.energy(c, params), C),)
@@ -147,10 +151,27 @@ def thickness_component(law, C, params):
 
 
 def held_energy(law, C, values, params):
-    """``W`` at ``C`` with the values of :func:`thickness_state` given (``C_22 = values[0]``)."""
+    """``W`` at ``C`` with the values of :func:`thickness_state` given (``C_22 = values[0]``).
+
+    Incompressible: ``W(C_x) - p (det C_x - 1)`` with ``p = values[1]`` (:func:`incompressible_pressure`): the same
+    value at ``det C_x = 1``, and, ``x`` and ``p`` held, the first derivatives in ``C`` of ``W`` with ``x(C)``
+    substituted (``-p d(det)/dC = dW/dx dx/dC`` there), so a gradient needs no ``dx/dC``.
+    """
     if law.held_energy is not None:
         return law.held_energy(C, values, params)
-    return law.energy(with_thickness(C, values[0]), params)
+    Cx = with_thickness(C, values[0])
+    if law.thickness == "incompressible" and len(values) > 1:
+        return law.energy(Cx, params) - values[1] * (determinant(Cx) - 1.0)
+    return law.energy(Cx, params)
+
+
+def incompressible_pressure(law, C, x, params):
+    """``p = (dW/dC_22) / (d det C/dC_22)`` at ``C_22 = x``: the multiplier of ``det C = 1`` that makes
+    :func:`held_energy` stationary in ``C_22`` (``d det C/dC_22 = C_11 C_33 - C_13^2``, ``det C`` being affine in
+    ``C_22``)."""
+    s = ca.SX.sym("c22")
+    dw = ca.substitute(ca.gradient(law.energy(with_thickness(C, s), params), s), s, x)
+    return dw / (C[0][0] * C[2][2] - C[0][2] * C[2][0])
 
 
 def condensed_energy(law, C, params):
