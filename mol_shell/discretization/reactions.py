@@ -1,6 +1,8 @@
-"""What a support supplies to hold an edge's ``z`` or ``chi``: the reactions at held (imposed, not driven) edges.
+"""What a driver or support supplies to an edge's ``z`` or ``chi``: the reactions at driven and held edges.
 
-A held field is a driven one at rate 0. Its reaction is ``d p_held/dt`` less the generalised forces on it, where
+A driven field's reaction is ``d p_d/dt`` less the generalised forces on it, ``p_d = dT/dv_d`` the momentum
+conjugate to it (not a state). A held field (imposed, not driven) is a driven one at rate 0: its reaction is
+``d p_held/dt`` less the generalised forces on it, where
 ``p_held = dT/dv_held`` (at the held rate 0 and the driven rates of the same node) is not zero when the node's free
 rates couple to it in the kinetic energy: ``chi`` with ``psi`` at a pinned edge (the director's azimuthal
 velocity). ``p_held`` of ``chi`` belongs to the axial angular momentum, so the supports' and drivers' torques
@@ -52,25 +54,25 @@ def edge_forces(system, e, Q, V, trig, node_force, loads):
     return out if loads is None else out + loads[:, e]
 
 
-def held_reactions(system, t, Q, P, V, trig, node_forces, loads):
-    """``[(edge node, field, reaction, p_held)]`` (MX) for the held ``z`` and ``chi`` of both edges.
+def edge_reactions(system, t, Q, P, V, trig, node_forces, loads):
+    """``[(edge node, field, reaction, momentum)]`` (MX) for the driven and held ``z`` and ``chi`` of both edges,
+    each edge's fields in order; ``momentum`` is ``dT/dv`` of the field (not a state).
 
     ``node_forces``: the two edge nodes' ``dT/dq`` from the RHS's node kernels; ``loads``: the loads' forces
-    (``5 x n``) or ``None``. ``d p_held/dt = dp/dq v + dp/dp p_t + dp/dv_d v_d,t``, with ``p_t`` the node's free
-    rows of its forces.
+    (``5 x n``) or ``None``. ``d p/dt = dp/dq v + dp/dp p_t + dp/dv_d v_d,t``, with ``p_t`` the node's free rows
+    of its forces. (The RHS computes the drivers' reactions once more for their power, on the whole grid's forces.)
     """
     out = []
     first, _, last = system.free_sets()
     for e, free, node_force in ((0, first, node_forces[0]), (system.n - 1, last, node_forces[1])):
-        held = held_fields(system, e)
-        if not held:
+        driven, held = system.driven_fields(e), held_fields(system, e)
+        fields = sorted(driven + held)  # drives are of z and chi only
+        if not fields:
             continue
-        driven = system.driven_fields(e)
-        fields = sorted(driven + held)
         vd, vd_rate = system.driven_rates(e, t) if driven else (ca.DM.zeros(NF), ca.DM.zeros(NF))
         forces = edge_forces(system, e, Q, V, trig, node_force, loads)
         p_rate = forces * ca.DM((~system.fixed[e]).astype(float))  # p_t of the free fields
         p, dq, dp, dvd = driven_node_kernel(system, free, fields)(Q[:, e], P[:, e], system.inertia[:, e], vd)[3:]
         rate = ca.mtimes(dq, V[:, e]) + ca.mtimes(dp, p_rate) + ca.mtimes(dvd, vd_rate)
-        out += [(e, k, rate[j] - forces[k], p[j]) for j, k in enumerate(fields) if k in held]
+        out += [(e, k, rate[j] - forces[k], p[j]) for j, k in enumerate(fields)]
     return out

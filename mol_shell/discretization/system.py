@@ -54,7 +54,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell.discretization.cells import BETA2_ZERO, CellKernels, trig_chain  # noqa: F401  (BETA2_ZERO: where it is defined)
 from mol_shell.discretization.limits import ModelLimits
 from mol_shell.discretization.loading import check_end_loads, edge_displacements, load_terms
-from mol_shell.discretization.reactions import held_reactions
+from mol_shell.discretization.reactions import edge_reactions
 from mol_shell.model.edges import driven_node_kernel, driven_rates, free_rates, imposed_mask, resolve_edges, tied_chi
 from mol_shell.model.fibres import scene_fibres
 from mol_shell.model.geometry import node_inertias
@@ -361,7 +361,6 @@ class ShellSystem(ModelLimits, CellKernels):
             forces = forces - viscous
         rates = []
         work, dissipated = 0, 0
-        self._reactions = []
         if self.n_extra:
             load_forces, power, drag_power = load_terms(self, self.scene, t, Q, V)
             forces = forces + load_forces
@@ -371,21 +370,18 @@ class ShellSystem(ModelLimits, CellKernels):
                 pd_rate = ca.mtimes(dq, V[:, e]) + ca.mtimes(dp, masked[:, e]) + ca.mtimes(dvd, vd_rate)
                 reaction = pd_rate - ca.vertcat(*[forces[k, e] for k in driven])
                 power = power + ca.dot(reaction, ca.vertcat(*[vd[k] for k in driven]))
-                self._reactions += [(e, k, reaction[j]) for j, k in enumerate(driven)]
             rates = [power, dissipation + drag_power]
             work, dissipated = y[self.ny * n], y[self.ny * n + 1]
-        held = held_reactions(self, t, Q, P, V, trig, [f0, fn], load_forces if self.n_extra else None)
-        self._reactions += [(e, k, reaction) for e, k, reaction, _ in held]  # the supports' (observables only)
+        # the drivers' and supports' reactions for the observables, from the edge nodes' own cells
+        edge = edge_reactions(self, t, Q, P, V, trig, [f0, fn], load_forces if self.n_extra else None)
         forces = forces * ca.DM((~self.fixed.T).astype(float))
         motion = ca.vec(ca.vertcat(V[active, :], forces[active, :]))
         ydot = ca.vertcat(motion, *rates)
         kinetic = ca.sum2(ti) + t0 + tn
-        reactions = ca.vertcat(*[r for _, _, r in self._reactions]) if self._reactions else ca.MX.zeros(0)
-        angular = ca.sum2(P[2, :])  # sum p_chi, with the momenta of driven and held chi (not states) added
-        for _, driven, _, _, (pd, _, _, _) in drive_terms:
-            angular = angular + sum(pd[j] for j, k in enumerate(driven) if k == 2)
-        angular = angular + sum(p_held for _, k, _, p_held in held if k == 2)
-        self.reaction_names = [(e, k) for e, k, _ in self._reactions]
+        reactions = ca.vertcat(*[r for _, _, r, _ in edge]) if edge else ca.MX.zeros(0)
+        # sum p_chi, with the momenta of driven and held chi (not states) added
+        angular = ca.sum2(P[2, :]) + sum(momentum for _, k, _, momentum in edge if k == 2)
+        self.reaction_names = [(e, k) for e, k, _, _ in edge]
         Qt = self.tie(Q)
         energies, deltas = self._cell_observables().map(n - 1)(Qt[:, :-1], Qt[:, 1:], self.cell_data)
         stored = ca.sum2(energies)
