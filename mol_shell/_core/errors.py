@@ -79,6 +79,19 @@ class ParameterError(ValueError):
         return cls(name, name, listed, message=f"{name} is not an option of {integrator} (its options: {listed})")
 
 
+def by_interrupt(exc):
+    """Whether ``exc`` is a Ctrl-C: a ``KeyboardInterrupt``, or an error a C extension raised because one arrived
+    during its call (CasADi's wrappers then return with the interrupt set, and Python reports a ``SystemError``
+    caused by it)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
+
+
 class MaterialWarning(UserWarning):
     """A material law used outside the range where it describes the wall it is meant for (a run goes on).
 

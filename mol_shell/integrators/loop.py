@@ -28,7 +28,7 @@ from typing import Callable, Protocol
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE
-from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
 from mol_shell.integrators.base import Monitor, Trajectory
 
 #: how a run can end other than ``"complete"``, and what each means
@@ -162,7 +162,9 @@ def run(integrator, system, compiled, y0, times, *, progress=None):
             reached.append(float(target))
     except ModelLimitError as exc:
         status, message, failure = exc.status, str(exc), exc.time
-    except KeyboardInterrupt:
+    except (KeyboardInterrupt, SystemError) as exc:  # SystemError: a Ctrl-C inside a CasADi call (by_interrupt)
+        if not by_interrupt(exc):
+            raise
         t = float(stepper.t)
         status, message, failure = "interrupted", f"interrupted by the user at t = {t:.9g} s", t
     stats = {"wall_time_s": time.perf_counter() - start, "setup_time_s": start - setup, **stepper.stats()}

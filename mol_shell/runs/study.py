@@ -25,7 +25,7 @@ import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import MaterialWarning, ParameterError
+from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell._core.version import __version__
 from mol_shell.model.laws import scene_material
 from mol_shell.model.material import locking_warning
@@ -100,7 +100,8 @@ def case_result(index, work):
     except KeyboardInterrupt:
         status, message = "interrupted", "interrupted by the user"
     except Exception as exc:  # noqa: BLE001 - a failing case is data, not a crash
-        status, message = "error", f"{type(exc).__name__}: {exc}"
+        status, message = ("interrupted", "interrupted by the user") if by_interrupt(exc) else (
+            "error", f"{type(exc).__name__}: {exc}")
     info = {"status": status, "message": message, "case_wall_time_s": time.perf_counter() - start,
             "worker": f"{socket.gethostname()}:{os.getpid()}"}
     return index, ds, info

@@ -284,6 +284,26 @@ def test_casadi_cvodes_fails_cleanly_at_a_singularity(tmp_path, capsys):
     assert ds.attrs["status"] == "failed" and ds.attrs["complete"] == 0 and ds.sizes["time"] == 1
 
 
+def test_a_ctrl_c_inside_a_c_call_is_an_interruption_not_an_internal_error(tmp_path, monkeypatch, capsys):
+    """A Ctrl-C that arrives while a C extension (CasADi) runs surfaces as a SystemError caused by the
+    KeyboardInterrupt (CPython: "returned a result with an exception set"; seen once at the set-up of a run):
+    "interrupted", exit 130, not "internal error"."""
+    import importlib
+
+    cli_main = importlib.import_module("mol_shell.cli.main")  # the module (the package exports its function main)
+
+    def interrupted_inside_c(*args, **kwargs):
+        try:
+            raise KeyboardInterrupt
+        except KeyboardInterrupt as interrupt:
+            raise SystemError("<function DM.__array__> returned a result with an exception set") from interrupt
+
+    monkeypatch.setattr(cli_main, "writable_path", interrupted_inside_c)
+    code = cli_main.main(["run", "twisted-cylinder", "--t-end", "0.001", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 130 and "interrupted" in err and "internal error" not in err
+
+
 @pytest.mark.slow
 def test_ctrl_c_keeps_the_data_and_exits_130(tmp_path):
     """SIGINT during a leap-frog run (10 s of simulated time: ~40 s of stepping on the 0.5.0 stencil) after the build:

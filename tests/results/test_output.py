@@ -151,22 +151,35 @@ def test_kinetic_and_stored_energy_of_a_spinning_shell(zeta1, psi0):
         assert abs(2 * rho_i * R * c) / (rho_a * R**2 + rho_j) > 1e3 * (n + 20) * EPS
 
 
+def inside_c_call():
+    """What a Ctrl-C raises when it arrives inside a C extension's call (CasADi's wrappers): CPython reports the
+    call as having returned with the exception set, a SystemError caused by the KeyboardInterrupt (reproduced by
+    signalling a process converting DMs to arrays)."""
+    try:
+        raise KeyboardInterrupt
+    except KeyboardInterrupt as interrupt:
+        raise SystemError("<method 'get' of 'dict' objects> returned a result with an exception set") from interrupt
+
+
 class _InterruptAfter:
-    def __init__(self, calls):
-        self.calls = calls
+    def __init__(self, calls, inside_c=False):
+        self.calls, self.inside_c = calls, inside_c
 
     def update(self, _):
         self.calls -= 1
         if self.calls == 0:
+            if self.inside_c:
+                inside_c_call()
             raise KeyboardInterrupt
 
 
-def test_ctrl_c_keeps_the_saved_times():
+@pytest.mark.parametrize("inside_c", [False, True])
+def test_ctrl_c_keeps_the_saved_times(inside_c):
     scene = resolve(mol_shell.TwistedCylinder())
     system, compiled = build(scene, 40)
     times = np.arange(0, 0.011, 0.001)
     traj = Leapfrog(dt=1e-5, chunk=50).integrate(
-        system, compiled, system.initial_state(scene), times, progress=_InterruptAfter(9)
+        system, compiled, system.initial_state(scene), times, progress=_InterruptAfter(9, inside_c)
     )
     assert traj.status == "interrupted"
     assert len(traj.t) == 5  # 9 chunks of 50 steps of 1e-5 s: saved 0 .. 0.004 s

@@ -46,7 +46,8 @@ def test_grid_on_local_processes_with_a_refused_and_a_stopped_case():
     np.testing.assert_array_equal(ds.r.sel(R=0.99, nu=0.49).values, one.r.values)
 
 
-def test_interrupted_study_resumes_and_skips_finished_cases(tmp_path, monkeypatch):
+@pytest.mark.parametrize("inside_c", [False, True])  # True: the Ctrl-C arrived inside a CasADi call (SystemError)
+def test_interrupted_study_resumes_and_skips_finished_cases(tmp_path, monkeypatch, inside_c):
     out = tmp_path / "study.nc"
     vary = {"gamma": [0.05, 0.1], "psi0": [0.0, 0.02]}
     calls = []
@@ -55,6 +56,11 @@ def test_interrupted_study_resumes_and_skips_finished_cases(tmp_path, monkeypatc
     def interrupt_third(*args, **kwargs):
         calls.append(1)
         if len(calls) == 3:
+            if inside_c:
+                try:
+                    raise KeyboardInterrupt
+                except KeyboardInterrupt as interrupt:
+                    raise SystemError("returned a result with an exception set") from interrupt
             raise KeyboardInterrupt
         return real(*args, **kwargs)
 
