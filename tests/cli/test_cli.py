@@ -3,7 +3,6 @@
 import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
@@ -12,7 +11,7 @@ from mol_shell.cli.args import parse_times_arg
 from mol_shell.cli.main import main
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.results.dataset import read_netcdf, read_run
-from child_process import sigint_default
+from child_process import sigint_default, wait_until_busy
 
 BAD = [
     (["run", "nope", "--t-end", "0.01"], "scene"),
@@ -312,8 +311,8 @@ def test_ctrl_c_keeps_the_data_and_exits_130(tmp_path):
     proc = subprocess.Popen([sys.executable, "-m", "mol_shell", "run", "twisted-cylinder", "--t-end", "10",
                              "--times", "0:10:0.01", "-o", str(out)], stderr=subprocess.PIPE, text=True,
                             preexec_fn=sigint_default)
-    time.sleep(12)  # build (cached) and some stepping
-    assert proc.poll() is None, proc.stderr.read()
+    # past start-up and set-up (2.2 s of its own processor time, measured) and about 2 s into the stepping
+    assert wait_until_busy(proc, 4.0), proc.stderr.read()
     proc.send_signal(signal.SIGINT)
     _, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
