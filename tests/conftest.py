@@ -6,7 +6,9 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 #: files whose tests are independent examples with nothing shared but a kernel cache on disk: under pytest-xdist
 #: they spread over the workers one by one, and fill the gaps between the other files
-SPREAD = {"test_fuzz.py", "test_studies.py"}  # test_studies: each runs a studies/ script to its own folder
+#: (test_studies: each runs a studies/ script to its own folder; test_faults: 96 s of drills, each with its own
+#: processes, which as one group could end the suite on one worker while the other idles)
+SPREAD = {"test_fuzz.py", "test_studies.py", "test_faults.py", "test_performance_paths.py"}
 
 
 @pytest.hookimpl(tryfirst=True)  # before pytest-xdist's own hook reads the groups
