@@ -60,7 +60,7 @@ def edge_reactions(system, t, Q, P, V, trig, node_forces, loads):
 
     ``node_forces``: the two edge nodes' ``dT/dq`` from the RHS's node kernels; ``loads``: the loads' forces
     (``5 x n``) or ``None``. ``d p/dt = dp/dq v + dp/dp p_t + dp/dv_d v_d,t``, with ``p_t`` the node's free rows
-    of its forces. (The RHS computes the drivers' reactions once more for their power, on the whole grid's forces.)
+    of its forces. The RHS reads the drivers' ones for their power in the ``work`` accumulator.
     """
     out = []
     first, _, last = system.free_sets()

@@ -342,14 +342,12 @@ class ShellSystem(ModelLimits, CellKernels):
         interior = self._node_kernel(inner, shared)
         t = ca.MX.sym("t")
         vi, fi, ti = self._map(interior, n - 2)(*node_inputs(slice(1, -1)))
-        ends, drive_terms = [], []
+        ends = []
         for e, free in ((0, first), (n - 1, last)):
             driven = self.driven_fields(e)
             if driven:
-                vd, vd_rate = self.driven_rates(e, t)
-                out = self._driven_node_kernel(free, driven)(Q[:, e], P[:, e], self.inertia[:, e], vd)
-                ends.append(out[:3])
-                drive_terms.append((e, driven, vd, vd_rate, out[3:]))
+                vd = self.driven_rates(e, t)[0]
+                ends.append(self._driven_node_kernel(free, driven)(Q[:, e], P[:, e], self.inertia[:, e], vd)[:3])
             else:
                 ends.append(self._node_kernel(free, shared)(*node_inputs(e)))
         (v0, f0, t0), (vn, fn, tn) = ends
@@ -361,19 +359,18 @@ class ShellSystem(ModelLimits, CellKernels):
             forces = forces - viscous
         rates = []
         work, dissipated = 0, 0
+        load_forces = None
         if self.n_extra:
             load_forces, power, drag_power = load_terms(self, self.scene, t, Q, V)
             forces = forces + load_forces
-            masked = forces * ca.DM((~self.fixed.T).astype(float))
-            for e, driven, vd, vd_rate, (pd, dq, dp, dvd) in drive_terms:
-                # reaction = d(p_d)/dt - (generalised forces on the driven fields): what the driver supplies
-                pd_rate = ca.mtimes(dq, V[:, e]) + ca.mtimes(dp, masked[:, e]) + ca.mtimes(dvd, vd_rate)
-                reaction = pd_rate - ca.vertcat(*[forces[k, e] for k in driven])
-                power = power + ca.dot(reaction, ca.vertcat(*[vd[k] for k in driven]))
+        # the drivers' and supports' reactions, from the edge nodes' own cells (mol_shell.discretization.reactions)
+        edge = edge_reactions(self, t, Q, P, V, trig, [f0, fn], load_forces)
+        if self.n_extra:  # the drivers' power: their reactions times the prescribed rates (a support does no work)
+            for e, k, reaction, _ in edge:
+                if k in self.driven_fields(e):
+                    power = power + reaction * V[k, e]
             rates = [power, dissipation + drag_power]
             work, dissipated = y[self.ny * n], y[self.ny * n + 1]
-        # the drivers' and supports' reactions for the observables, from the edge nodes' own cells
-        edge = edge_reactions(self, t, Q, P, V, trig, [f0, fn], load_forces if self.n_extra else None)
         forces = forces * ca.DM((~self.fixed.T).astype(float))
         motion = ca.vec(ca.vertcat(V[active, :], forces[active, :]))
         ydot = ca.vertcat(motion, *rates)
