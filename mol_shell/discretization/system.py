@@ -190,8 +190,9 @@ class ShellSystem(ModelLimits, CellKernels):
         return ca.Function("node", [q, p, m] + ([t] if shared else []), outs, self.KERNEL_OPTIONS)
 
     def _driven_node_kernel(self, free, driven):
-        """The edge-node kernel with prescribed rates (:func:`mol_shell.model.edges.driven_node_kernel`)."""
-        return driven_node_kernel(self, free, driven)
+        """The edge-node kernel with prescribed rates (:func:`mol_shell.model.edges.driven_node_kernel`), its
+        first three outputs (the momenta of the driven fields are the reactions', :mod:`~mol_shell.discretization.reactions`)."""
+        return driven_node_kernel(self, free, driven, momenta=False)
 
     def free_sets(self):
         """Free rates at node 0, at interior nodes and at node ``n - 1`` (imposed, tied and driven fields are not)."""
@@ -347,7 +348,7 @@ class ShellSystem(ModelLimits, CellKernels):
             driven = self.driven_fields(e)
             if driven:
                 vd = self.driven_rates(e, t)[0]
-                ends.append(self._driven_node_kernel(free, driven)(Q[:, e], P[:, e], self.inertia[:, e], vd)[:3])
+                ends.append(self._driven_node_kernel(free, driven)(Q[:, e], P[:, e], self.inertia[:, e], vd))
             else:
                 ends.append(self._node_kernel(free, shared)(*node_inputs(e)))
         (v0, f0, t0), (vn, fn, tn) = ends

@@ -126,11 +126,12 @@ def free_rates(kind, active):
     return [k for k in active if k not in fixed]
 
 
-def driven_node_kernel(system, free, driven):
+def driven_node_kernel(system, free, driven, momenta=True):
     """``(q, p, m, vd) -> (v, dT/dq, T, p_d, dp_d/dq, dp_d/dp, dp_d/dvd)`` for an edge node with driven rates.
 
     ``vd`` holds the prescribed rates (entries ``driven``); ``p_d = dT/dv_d`` are the momenta conjugate to
     the driven fields (not states: the reaction is ``d p_d/dt`` less the other generalised forces).
+    ``momenta=False``: the first three outputs only (the right-hand side's; the reactions take the rest).
     """
     q, p, m, vd = ca.SX.sym("q", NF), ca.SX.sym("p", NF), ca.SX.sym("m", 3), ca.SX.sym("vd", NF)
     vf = ca.SX.sym("v", len(free))
@@ -145,8 +146,10 @@ def driven_node_kernel(system, free, driven):
     v_full[free] = v_of_p
     for k in driven:
         v_full[k] = vd[k]
-    pd = ca.substitute(ca.vertcat(*[ca.jacobian(T, vd)[k] for k in driven]), vf, v_of_p)  # dT/dv_d
-    outs = [v_full, dTdq, T_p, pd, ca.jacobian(pd, q), ca.jacobian(pd, p), ca.jacobian(pd, vd)]
+    outs = [v_full, dTdq, T_p]
+    if momenta:
+        pd = ca.substitute(ca.vertcat(*[ca.jacobian(T, vd)[k] for k in driven]), vf, v_of_p)  # dT/dv_d
+        outs += [pd, ca.jacobian(pd, q), ca.jacobian(pd, p), ca.jacobian(pd, vd)]
     return ca.Function("driven_node", [q, p, m, vd], outs, system.KERNEL_OPTIONS)
 
 
