@@ -39,6 +39,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell.discretization.unshearable_dae import NODE, UnshearableDAE
 from mol_shell.integrators import Leapfrog
+from mol_shell.model.edges import EDGE_FIELDS, IMPOSED, resolve_edges
 from mol_shell.integrators.constrained import ConstrainedIDA, ida_solver
 from mol_shell.integrators.loop import run
 from mol_shell.results.dataset import build_dataset
@@ -84,12 +85,13 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         raise ParameterError("scene", getattr(scene, "name", scene), "{unshearable}")
     times = parse_times(times, t_end)
     resources.check_before_build(n, times, "ida" if constrained else "leapfrog", dt=None if constrained else dt)
+    if constrained:
+        _check_constrained_edges(scene)  # before the graph is built and compiled
     shell, compiled = build(scene, n)
     Q0, V0 = scene.initial_fields(shell.s)
     check_system(scene, shell, shell.pack(Q0, shell.momenta(Q0, V0)))  # numbers finite in double precision
     start = time.perf_counter()
     if constrained:
-        _check_constrained_edges(scene, shell)
         traj, V, multipliers, stats = _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step)
         attrs = {"integrator": "ida", "rtol": rtol, "atol": atol, "constrained": 1, **stats}
     else:
@@ -116,17 +118,19 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
     return _add_defects(ds, shell, multipliers)
 
 
-def _check_constrained_edges(scene, shell):
+def _check_constrained_edges(scene):
     """Edges the constraints leave room for: ``psi = 0`` is imposed at every node, so an edge that holds ``psi`` too
     (clamped, or a set with ``psi``) holds it twice (the multipliers are then not determined: a singular Newton
     matrix); ``chi_s = 0`` makes every section turn with an edge that holds ``chi``, so the shell cannot spin."""
-    for name, kind in zip(("end1", "end2"), shell.edges):
-        node = 0 if name == "end1" else -1
-        if shell.imposed[node, 4]:
+    active = tuple(getattr(scene, "fields", range(len(EDGE_FIELDS))))
+    edges = resolve_edges(scene.end1, scene.end2, scene.meridian().poles)
+    for name, kind in zip(("end1", "end2"), edges):
+        held = {EDGE_FIELDS[k] for k in IMPOSED[kind] if k in active}
+        if "psi" in held:
             raise ParameterError.invalid(name, kind, "holds psi, which the constrained shell holds at 0 at every node "
                                          "already", "an edge that leaves psi free (magnet, pinned, free, or a set "
                                          "without psi)")
-        if shell.imposed[node, 2] and scene.omega != 0:
+        if "chi" in held and scene.omega != 0:
             raise ParameterError.invalid("omega", scene.omega, f"spins a shell whose {name} = {kind} holds chi (the "
                                          "constraint chi_s = 0 turns every section with that edge)", "0, or an edge "
                                          "that leaves chi free (magnet, free, or a set without chi)")

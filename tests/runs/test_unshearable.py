@@ -140,12 +140,19 @@ def test_a_held_chi_under_the_constraint_has_no_computed_torque_and_a_held_z_its
 @pytest.mark.parametrize("sets, key", [(["--set", "end1=clamped", "--set", "omega=0"], "end1 = 'clamped' holds psi"),
                                        (["--set", "end2=z,psi", "--set", "omega=0"], "end2 = 'z,psi' holds psi"),
                                        (["--set", "end1=pinned"], "omega = 20.0 spins")])
-def test_edges_the_constraints_leave_no_room_for_are_refused_in_one_line(sets, key, tmp_path, capsys):
+def test_edges_the_constraints_leave_no_room_for_are_refused_in_one_line(sets, key, tmp_path, capsys, monkeypatch):
     """The constrained shell imposes psi = 0 at every node: an edge that holds psi too made the multipliers
     undetermined (an internal error, a singular Newton matrix, on 0.6.0 before this); chi_s = 0 turns every
     section with an edge that holds chi, so an initial spin contradicts it (a spurious 'numerical instability'
-    before). Both are refused naming the key, exit 2; a held chi without spin runs (above)."""
+    before). Both are refused naming the key, exit 2, before the graph is built; a held chi without spin runs
+    (above)."""
     from mol_shell.cli.main import main
+    from mol_shell.runs import unshearable
+
+    def no_build(*args, **kwargs):
+        raise AssertionError("the graph was built before the edges were checked")
+
+    monkeypatch.setattr(unshearable, "build", no_build)
 
     code = main(["run", "unshearable", "--integrator", "ida", *sets, "--n", "11", "--t-end", "0.001",
                  "-o", str(tmp_path / "u.nc")])
