@@ -39,9 +39,9 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell.discretization.unshearable_dae import NODE, UnshearableDAE
 from mol_shell.integrators import Leapfrog
-from mol_shell.model.edges import EDGE_FIELDS, IMPOSED, resolve_edges
 from mol_shell.integrators.constrained import ConstrainedIDA, ida_solver
 from mol_shell.integrators.loop import run
+from mol_shell.model.edges import EDGE_FIELDS, IMPOSED, resolve_edges
 from mol_shell.results.dataset import build_dataset
 from mol_shell.runs import resources
 from mol_shell.runs.building import build, observe, parse_times, resolve
