@@ -29,6 +29,7 @@ from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.material import locking_warning
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, scene_attrs
+from mol_shell.runs import resources
 from mol_shell.runs.ellipticity import CONSEQUENCE, sampled_margins
 from mol_shell.runs.simulate import as_scene, build, resolve, starting_state
 
@@ -122,6 +123,7 @@ def modes(scene, n=40, count=10, *, initial=None):
     if not isinstance(count, (int, np.integer)) or isinstance(count, bool) or count < 1:
         raise ParameterError("count", count, "integers >= 1")
 
+    resources.check_analysis(n, count, f"computing {count} modes", "modes", fields=len(getattr(scene, "fields", range(5))))
     system, _ = build(scene, n)
     y0, _ = starting_state(scene, system, n, initial)
     check_equilibrium(system, y0, scene.name)

@@ -44,6 +44,7 @@ from mol_shell.analysis.equilibria import PATH_PARAMETERS, EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, check_branch_point, switch
 from mol_shell.analysis.path_dataset import path_dataset
 from mol_shell.analysis.path_stability import EIGENVALUES, LOCATE_RTOL, family, stability
+from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
 
 #: Newton's convergence: ``|F|`` below this fraction of the forces of a unit strain (``max diag K`` times the
@@ -249,6 +250,8 @@ def _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch
         raise ParameterError("ds", ds, "(0, inf), or None")
     if branch is not None and (not isinstance(branch, (int, np.integer)) or isinstance(branch, bool) or branch < 0):
         raise ParameterError("branch", branch, "integers >= 0 (a critical point of the path), or None")
+    resources.check_analysis(n, max_steps + 1, f"tracing a path of up to {max_steps} steps", "states",
+                             fields=len(getattr(scene, "fields", range(5))))
 
 
 def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None):

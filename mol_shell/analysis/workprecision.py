@@ -25,6 +25,7 @@ import xarray as xr
 from mol_shell._core.errors import ParameterError
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.cf import header
+from mol_shell.runs import resources
 from mol_shell.runs.simulate import as_scene, build, resolve
 
 #: the paper's snapshot times (s)
@@ -47,6 +48,8 @@ SWEEPS = {
     "rk45-c": {"rtol": RTOLS[:8]},
 }
 DEFAULT_INTEGRATORS = tuple(SWEEPS)
+#: timed repeats per sweep point at most (the median is reported; each repeat is a whole run)
+MAX_REPEATS = 100
 COMPARED = ("r", "theta", "chi")
 _INDEX = {"r": 1, "chi": 2, "theta": 3}
 
@@ -124,9 +127,12 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
     """
     sweeps = {**SWEEPS, **(sweeps or {})}
     integrators = check_integrators(integrators)
-    if not (isinstance(repeats, (int, np.integer)) and repeats >= 1):
-        raise ParameterError("repeats", repeats, "integers >= 1")
+    if not (isinstance(repeats, (int, np.integer)) and not isinstance(repeats, bool) and 1 <= repeats <= MAX_REPEATS):
+        raise ParameterError("repeats", repeats, f"integers 1..{MAX_REPEATS}", hint="the median of the repeats is "
+                             "timed at every point of every sweep")
     times = np.asarray(times, dtype=float)
+    for name in integrators:
+        resources.check_analysis(n, len(times), f"each {name} run of the comparison", "saved times", integrator=name)
     plan = {name: [(value, skip_reason(name, value, times)) for value in next(iter(sweeps[name].values()))]
             for name in integrators}
     if all(reason for points in plan.values() for _, reason in points):

@@ -202,10 +202,11 @@ def estimate(n, n_times, t_end, integrator="leapfrog", *, fields=5, dt=None, ome
     return Estimate(n, n_times, size, out, memory, steps, lower, steps * per_step * rhs + build, build)
 
 
-def check_memory(est, *, times_name="times", times_value=None, n_name="n"):
+def check_memory(est, *, times_name="times", times_value=None, n_name="n", what="the run", kept="saved times"):
     """Refuse a run whose memory estimate exceeds what is available; the message names the estimate and the fix.
 
-    The saved times are named when fewer of them would fit (at least two), else the nodes.
+    The saved times (``times_name``; None: never) are named when fewer of them would fit (at least two), else the
+    nodes. ``what`` is the work the message speaks of, ``kept`` what its states are.
     """
     available, source = available_memory()
     if est.memory_bytes <= available:
@@ -214,17 +215,18 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n"):
     fixed = est.memory_bytes - per_time * est.n_times
     fits = int(min((available - fixed) / per_time, 1e18)) if available > fixed else 0
     need = (f"needs about {show_bytes(est.memory_bytes)} (the output alone {show_bytes(est.output_bytes)}: "
-            f"{est.n_times:.4g} saved times x {est.n} nodes x {OUTPUT_PER_NODE} values x 8 bytes), "
+            f"{est.n_times:.4g} {kept} x {est.n} nodes x {OUTPUT_PER_NODE} values x 8 bytes), "
             f"{show_bytes(available)} available ({source})")
-    if fits >= 2:
+    if fits >= 2 and times_name is not None:
         value = times_value if times_value is not None else f"<{est.n_times} saved times>"
         raise ParameterError(times_name, value, f"at most {fits:,} saved times at n = {est.n}",
-                             hint=f"the run {need}; save fewer times (--times) or use fewer nodes (--n)")
+                             hint=f"{what} {need}; save fewer times (--times) or use fewer nodes (--n)")
     per_node = (est.memory_bytes - BUILD_BYTES_FIXED) / est.n
     max_n = int((available - BUILD_BYTES_FIXED) / per_node) if available > BUILD_BYTES_FIXED else 0
     raise ParameterError(n_name, est.n,
-                         f"integers 3..{max(max_n, 3):,} on this machine with {est.n_times:,} saved times",
-                         hint=f"the run {need}; use fewer nodes (--n) or save fewer times (--times)")
+                         f"integers 3..{max(max_n, 3):,} on this machine with {est.n_times:,} {kept}",
+                         hint=f"{what} {need}; use fewer nodes (--n)" + (" or save fewer times (--times)"
+                                                                        if times_name == "times" else ""))
 
 
 def warn_if_long(est, what="run"):
@@ -258,6 +260,16 @@ def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, ti
     check_memory(est, times_value=times_value)
     warn_if_long(est)
     return est
+
+
+def check_analysis(n, states, what, kept, *, integrator="cvode-bdf", fields=5):
+    """Before a graph is built for an analysis (``what``: natural modes, an equilibrium path, a comparison of
+    integrators): refuse ``n`` when the graph, the spectrum, the matrices and the ``states`` kept (modes, path
+    steps, saved times) would not fit in memory. ``integrator`` names the matrices kept (a comparison's most
+    demanding one; modes and paths factorise a sparse Jacobian, as an implicit integrator does)."""
+    check_nodes(n)
+    est = estimate(n, max(int(states), 2), 0.0, integrator, fields=fields)
+    check_memory(est, times_name=None, what=what, kept=kept)
 
 
 def measure_rhs_seconds(compiled, y0, repeats=20):

@@ -86,6 +86,45 @@ def test_millions_of_nodes_are_refused_before_any_graph(capsys, tmp_path, no_bui
     assert len(err.splitlines()) == 1
 
 
+def _work_precision(**kwargs):
+    from mol_shell.analysis.workprecision import work_precision
+
+    return work_precision("sphere", ("leapfrog", "cvode-bdf"), **kwargs)
+
+
+@pytest.mark.parametrize("command, what, call", [
+    (["modes", "sphere"], "computing 10 modes needs about", lambda n: mol_shell.modes("sphere", n=n)),
+    (["path", "sphere", "--param", "pressure=0:100"], "tracing a path of up to 200 steps needs about",
+     lambda n: mol_shell.path("sphere", "pressure", 0.0, 100.0, n=n)),
+    (["compare", "sphere", "--integrators", "leapfrog,cvode-bdf"], "each leapfrog run of the comparison needs about",
+     lambda n: _work_precision(n=n)),
+])
+def test_modes_paths_and_comparisons_too_large_for_memory_are_refused_before_any_graph(command, what, call, capsys,
+                                                                                        tmp_path, monkeypatch,
+                                                                                        no_build):
+    """``--n 1000000000`` filled the machine's memory until the kernel killed the process (modes), or ended in an
+    internal MemoryError (path, compare): now one line naming n and the estimate, exit 2, before building. A size
+    that fits gets past the check (to the graph's build)."""
+    start = time.perf_counter()
+    code = main([*command, "--n", "1000000000", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert time.perf_counter() - start < 5
+    assert code == 2 and err.startswith("mol-shell: error: n = 1000000000 is outside integers 3..") and what in err, err
+    assert len(err.splitlines()) == 1 and "use fewer nodes (--n)" in err
+    monkeypatch.setattr(sys.modules["mol_shell.analysis.equilibria"], "ShellSystem", sys.modules[
+        "mol_shell.runs.building"].ShellSystem)  # the path's equations build their own system
+    with pytest.raises(Built):
+        call(41)
+
+
+def test_a_comparison_takes_at_most_100_repeats(capsys, tmp_path, no_build):
+    """``--repeats 1000000000`` was accepted, and the comparison would have run for years."""
+    code = main(["compare", "sphere", "--integrators", "leapfrog", "--repeats", "1000000000", "-o",
+                 str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("mol-shell: error: repeats = 1000000000 is outside integers 1..100"), err
+
+
 def test_a_study_too_large_for_memory_is_refused_before_its_cases_exist(capsys, tmp_path, monkeypatch):
     monkeypatch.setattr(sys.modules["mol_shell.runs.study"], "run_task", None)
     code = main(["study", "twisted-cylinder", "--vary", "gamma=0:1:1e-12", "--t-end", "1e-3", "-o",
