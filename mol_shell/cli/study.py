@@ -4,11 +4,14 @@ from __future__ import annotations
 
 import sys
 
+import numpy as np
+
 from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import ParameterError
 from mol_shell.analysis.path_study import path_study
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
+    EXIT_USAGE,
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
@@ -84,7 +87,8 @@ def cmd_study(args):
 
 def _finish(args, scene, what, run, tail=lambda ds: ""):
     """Run a study (``run()``), say what it wrote in one line (``tail`` adds to it), and the exit code: 130 when
-    interrupted (the finished cases kept for a rerun), 0 when every case ended well, else EXIT_INCOMPLETE."""
+    interrupted (the finished cases kept for a rerun), 0 when every case ended well, EXIT_USAGE when every case was
+    refused (its input out of range; the first reason on stderr), else EXIT_INCOMPLETE."""
     try:
         ds = run()
     except KeyboardInterrupt:
@@ -96,7 +100,24 @@ def _finish(args, scene, what, run, tail=lambda ds: ""):
     counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
     print(f"wrote {args.output}: {ds.attrs['n_cases']} {what} ({counts}); ran {ds.attrs['n_executed']}, "
           f"reused {ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s{tail(ds)}")
+    refused = _say_refused(ds, what)
+    if refused and refused == len(statuses):
+        return EXIT_USAGE  # every case's input is out of range: nothing was computed
     return 0 if ds.attrs["n_failed"] == 0 else EXIT_INCOMPLETE
+
+
+def _say_refused(ds, what):
+    """One line on stderr when cases were refused (their input out of range): how many, and the first reason, naming
+    the parameter (the file's ``message`` holds every case's). Returns the number of refused cases."""
+    status = ds.status.values.ravel()
+    messages = ds.message.values.ravel() if "message" in ds else np.full(status.shape, "")
+    reasons = list(dict.fromkeys(str(m) for st, m in zip(status, messages) if st == "refused"))
+    count = int(np.sum(status == "refused"))
+    if count:
+        others = len(reasons) - 1
+        more = f" (and {others} other reason{'s' * (others > 1)}: the file's message variable)" if others else ""
+        print(f"mol-shell: error: {count} of {len(status)} {what} refused: {reasons[0]}{more}", file=sys.stderr)
+    return count
 
 
 def _path_study(args, scene, vary, n):

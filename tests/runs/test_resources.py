@@ -117,6 +117,16 @@ def test_modes_paths_and_comparisons_too_large_for_memory_are_refused_before_any
         call(41)
 
 
+def test_a_study_of_paths_too_large_for_memory_is_refused_once_before_its_cases(capsys, tmp_path, no_build):
+    """Each case was refused on its own (exit 3, nothing on stderr): now the study is, once, before any case."""
+    code = main(["study", "sphere", "--vary", "nu=0.3,0.4", "--path", "pressure=0:100", "--n", "1000000000",
+                 "--scheduler", "serial", "-o", str(tmp_path / "s.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("mol-shell: error: n = 1000000000 is outside integers 3..") and len(
+        err.splitlines()) == 1 and "tracing each path of up to 200 steps needs about" in err, err
+    assert not (tmp_path / "s.nc").exists()
+
+
 def test_a_comparison_takes_at_most_100_repeats(capsys, tmp_path, no_build):
     """``--repeats 1000000000`` was accepted, and the comparison would have run for years."""
     code = main(["compare", "sphere", "--integrators", "leapfrog", "--repeats", "1000000000", "-o",

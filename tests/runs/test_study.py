@@ -122,7 +122,24 @@ def test_command_line(tmp_path, monkeypatch, capsys):
     assert code == 2 and "vary = 'colour' is outside" in capsys.readouterr().err
     code = main(["study", "twisted-cylinder", "--vary", "nu=0.3,0.6", "--n", "8", "--t-end", "0.001",
                      "--scheduler", "serial", "-o", str(tmp_path / "f.nc")])
-    assert code == 3 and "1 refused" in capsys.readouterr().out
+    captured = capsys.readouterr()
+    assert code == 3 and "1 refused" in captured.out
+    # the reason is named on stderr too (it was in the file's message only)
+    assert captured.err.strip() == "mol-shell: error: 1 of 2 cases refused: nu = 0.6 is outside (-1, 0.5)"
+
+
+def test_a_study_whose_every_case_is_refused_exits_2_naming_the_parameter(tmp_path, capsys):
+    """Every case out of range is bad input, not a model limit: exit 2 (was 3, with nothing on stderr), one line
+    with the count and the first reason; the file keeps every case's message."""
+    from mol_shell.cli.main import main
+
+    code = main(["study", "sphere", "--vary", "nu=0.7,0.8", "--n", "8", "--t-end", "0.001", "--scheduler", "serial",
+                 "-o", str(tmp_path / "s.nc")])
+    err = capsys.readouterr().err.splitlines()
+    assert code == 2 and err == ["mol-shell: error: 2 of 2 cases refused: nu = 0.7 is outside (-1, 0.5) (and 1 other "
+                                 "reason: the file's message variable)"], err
+    ds = mol_shell.read_netcdf(tmp_path / "s.nc")
+    assert list(ds.message.values) == ["nu = 0.7 is outside (-1, 0.5)", "nu = 0.8 is outside (-1, 0.5)"]
 
 
 STUDY_BAD = [
