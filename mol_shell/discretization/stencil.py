@@ -31,9 +31,10 @@ from mol_shell.discretization.compiled import CFLAGS, default_threads, load_cach
 from mol_shell.model.material import svk_turning_limit
 
 #: the SX operations the emitter writes as C (each exactly as CasADi's own code generator does)
-_BINARY = {ca.OP_ADD: "({0}+{1})", ca.OP_SUB: "({0}-{1})", ca.OP_MUL: "({0}*{1})", ca.OP_DIV: "({0}/{1})"}
+_BINARY = {ca.OP_ADD: "({0}+{1})", ca.OP_SUB: "({0}-{1})", ca.OP_MUL: "({0}*{1})", ca.OP_DIV: "({0}/{1})",
+           ca.OP_LT: "({0}<{1})", ca.OP_LE: "({0}<={1})", ca.OP_IF_ELSE_ZERO: "({0}?{1}:0.)"}
 _UNARY = {ca.OP_NEG: "(-{0})", ca.OP_SQ: "({0}*{0})", ca.OP_TWICE: "(2.*{0})", ca.OP_SIN: "sin({0})",
-          ca.OP_COS: "cos({0})", ca.OP_ASSIGN: "{0}"}
+          ca.OP_COS: "cos({0})", ca.OP_ASSIGN: "{0}", ca.OP_FABS: "fabs({0})", ca.OP_NOT: "(!{0})"}
 #: gcc flags: the generic ones and OpenMP
 FLAGS = CFLAGS + ("-fopenmp",)
 #: lanes per block: one AVX-512 vector of doubles (two AVX2 ones); every node goes through the vector path

@@ -311,10 +311,14 @@ SVK_TURNING_C = 1.0 / 3.0
 
 
 def svk_turning_limit(strains, moments, beta2_0=0.0, trig=None):
-    """``det(C_t - I/3)`` of the in-plane (tangent) block ``C_t`` of the thickness-averaged metric: positive while
-    every in-plane stretch exceeds ``1/sqrt(3)``, where SVK's stress turns back in compression (:data:`SVK_TURNING_C`).
+    """``det(C_t - I/3)`` of the in-plane (tangent) block ``C_t`` of the thickness-averaged metric where
+    ``tr(C_t - I/3) > 0``, else ``-|det|``: positive exactly while every in-plane stretch exceeds ``1/sqrt(3)``, where
+    SVK's stress turns back in compression (:data:`SVK_TURNING_C`).
 
-    From the natural state (``C_t = I``: 4/9) the first stretch to reach ``1/sqrt(3)`` makes it vanish. ``C_11``,
+    From the natural state (``C_t = I``: 4/9) the first stretch to reach ``1/sqrt(3)`` makes it vanish. The
+    determinant alone is positive again when both stretches are past it (a state that starts there: an equilibrium
+    radius under a large external pressure); the trace tells the two apart, and the function stays continuous
+    (where the trace vanishes the determinant is not positive). ``C_11``,
     ``C_33`` and ``C_13^2`` are taken at the base surface with the thickness-averaged reference factors of the
     moments (:func:`thickness_moments`): ``|a|^2 <j1^2>``, ``r^2 <j3^2>``, ``(a_3 r)^2 <j1^2 j3^2>``, ``<.>`` the
     moment over ``sum vol``; a membrane criterion (a bent wall's faces reach it a little earlier).
@@ -325,7 +329,8 @@ def svk_turning_limit(strains, moments, beta2_0=0.0, trig=None):
     c11 = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) * m[15] / m0
     c33 = c[2] * c[2] * m[18] / m0
     c13_sq = (a[2] * c[2]) ** 2 * m[10] / m0
-    return (c11 - SVK_TURNING_C) * (c33 - SVK_TURNING_C) - c13_sq
+    det = (c11 - SVK_TURNING_C) * (c33 - SVK_TURNING_C) - c13_sq
+    return ca.if_else(c11 + c33 - 2 * SVK_TURNING_C > 0, det, -ca.fabs(det))
 
 
 def thickness_dissipation(strains, rates, eta_lambda, eta_mu, factors, beta2_0=0.0):

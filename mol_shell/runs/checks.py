@@ -27,6 +27,7 @@ from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.equilibrium import equilibrium_radius
 from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.scenes import CylinderScene, check_radius
+from mol_shell.scenes.base import LOADS
 from mol_shell.scenes.ranges import parameter_range
 
 #: nodes of the small systems used to find the responsible parameter and its threshold
@@ -256,6 +257,30 @@ def checked_equilibrium_radius(scene):
         if error is None:
             raise
         raise error from None
+
+
+def check_start_inside_limits(scene, requested, system, y0, how):
+    """A starting state the code computed (``R`` left to the code, or the static equilibrium under the loads) must lie
+    inside the model's limits (:meth:`~mol_shell.discretization.limits.ModelLimits.limits`): a 1 m sphere under
+    -1e9 Pa has a Newton equilibrium at R = 0.4 mm, thinner than its wall and far past SVK's turning point, which is
+    no state of the model. Refused naming the load (or what the radius was computed from) and the limit reached;
+    a state the user gave is left to the run, which stops at its first step with time and place."""
+    computed = (isinstance(scene, CylinderScene) and requested.get("R") in (None, "auto")) or str(how).startswith(
+        "static equilibrium")
+    if not computed:
+        return
+    g = np.array(system.limits(y0)).ravel()
+    bad = np.flatnonzero(~(g > 0))
+    if not bad.size:
+        return
+    what, where = system.limit_names()[int(bad[0])]
+    loads = [k for k in LOADS if is_number(getattr(scene, k, 0)) and getattr(scene, k, 0) != 0]
+    name = loads[0] if loads else next((k for k in _changed(scene) if k != "R"), "R")
+    others = " with the other parameters as given" if len(loads) > 1 or not loads else ""
+    static = str(how).startswith("static equilibrium")
+    state = "the static equilibrium computed at t = 0" if static else f"the equilibrium radius R = {scene.R:.4g} m"
+    raise ParameterError(name, getattr(scene, name), f"values whose equilibrium at t = 0 lies inside the model's "
+                         f"limits{others}", hint=f"{state} is past one: {what} at {where}")
 
 
 def resolve(scene):

@@ -28,7 +28,7 @@ from mol_shell.runs.building import (  # noqa: F401
     parse_times,
     resolve,
 )
-from mol_shell.runs.checks import checked_spectrum, initial_state
+from mol_shell.runs.checks import check_start_inside_limits, checked_spectrum, initial_state
 from mol_shell.runs.ellipticity import check_ellipticity
 from mol_shell.runs.statics import static_equilibrium
 from mol_shell.runs.unshearable import simulate_unshearable
@@ -192,6 +192,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     compiled.set_threads(threads)
     # refused by name if it cannot be formed in double precision
     y0, start_info = starting_state(scene, system, n, initial)
+    check_start_inside_limits(scene, requested, system, y0, start_info)
     omega_max, damping = checked_spectrum(scene, system, y0)
     if integrator == "leapfrog":
         dt = method.dt

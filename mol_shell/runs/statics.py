@@ -128,9 +128,12 @@ def static_equilibrium(scene, n, y0, steps=(0.25, 0.5, 0.75, 1.0), hold=(2,)):
             try:
                 y, it, res = newton(sub, y, hold)
             except RuntimeError as exc:
-                raise ParameterError("scene", scene.name, "loads under which the shell has a static equilibrium",
-                                     hint=f"Newton failed ({direct}); continuation stopped at {factor:g} of the "
-                                     f"loads ({exc})") from None
+                loads = [k for k in LOADS if getattr(scene, k) != 0]
+                name, value = (loads[0], getattr(scene, loads[0])) if loads else ("scene", scene.name)
+                others = " (with the other loads as given)" if len(loads) > 1 else ""
+                raise ParameterError(name, value, "loads under which the shell has a static equilibrium inside the "
+                                     f"model's limits{others}", hint=f"Newton failed ({direct}); continuation "
+                                     f"stopped at {factor:g} of the loads ({exc})") from None
             total += it
         return y, (f"static equilibrium under the loads at t = 0 (continuation in {len(steps)} steps, "
                    f"{total} Newton iterations, residual {res:.2g})")

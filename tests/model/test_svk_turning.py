@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import mol_shell
+from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
 from mol_shell.model.material import Thickness, shell_energy, svk_turning_limit, thickness_moments, quadrature_factors
 from mol_shell.scenes import Sphere
@@ -54,3 +55,42 @@ def test_exit_3_from_the_command_line(tmp_path, capsys):
                  "--set", "pressure=-2e5", "--set", "R=1", "--n", "9", "--t-end", "0.0095", "-o", str(tmp_path / "x.nc")])
     assert code == 3
     assert LIMIT in capsys.readouterr().err
+
+
+def test_both_stretches_past_the_turning_point_read_as_past_it():
+    """``det(C_t - I/3)`` alone is positive again when both in-plane stretches are below ``1/sqrt(3)`` (its two
+    factors negative): an equibiaxially crushed state (a start there, never reached continuously) read as inside the
+    law's range. The limit is negative exactly when some principal stretch is below ``1/sqrt(3)``: checked on a grid
+    of axial and hoop stretches of the unit cylinder (``C_t = diag(a^2, b^2)``), and continuous across ``tr = 0``."""
+    thickness = Thickness(-0.005, 0.005, 4)
+    moments = thickness_moments(quadrature_factors(thickness))
+    a, b = ca.SX.sym("a"), ca.SX.sym("b")
+    g = ca.Function("g", [a, b], [svk_turning_limit((a, 0.0, 0.0, 0.0, 0.0, b, 0.0, 0.0), moments)])
+    edge = 1 / math.sqrt(3)
+    for x in np.linspace(0.05, 1.5, 30):
+        for y in np.linspace(0.05, 1.5, 30):
+            if min(abs(x - edge), abs(y - edge)) < 1e-3:
+                continue  # the membrane criterion sits within the wall's (h/a)^2 of the stretch itself
+            inside = min(x, y) > edge
+            assert (float(g(x, y)) > 0) == inside, (x, y, float(g(x, y)))
+    assert float(g(0.5, 0.5)) < 0 and float(g(0.1, 0.1)) < 0
+
+
+def test_a_computed_starting_state_past_a_limit_is_refused_naming_the_load():
+    """A 1 m sphere under -1e9 Pa: Newton's static equilibrium was R = 0.4 mm (thinner than the wall, stretches of
+    4e-4), and the run ended complete with exit 0; now refused naming pressure (its continuation cannot stay inside
+    the limits). A twisted cylinder at gamma = 1 rad/m: its equilibrium radius R has the tangent metric
+    ``[[1 + (R g)^2, R^2 g], [R^2 g, R^2]]`` (axial stretch 1), whose smaller eigenvalue (computed here from R) is
+    below 1/3: refused naming gamma, before any step."""
+    with pytest.raises(ParameterError) as crushed:
+        mol_shell.simulate(Sphere(pressure=-1e9), n=11, t_end=1e-4, progress=False)
+    assert crushed.value.name == "pressure" and "inside the model's limits" in str(crushed.value)
+    with pytest.raises(ParameterError) as twisted:
+        mol_shell.simulate(mol_shell.TwistedCylinder(gamma=1.0), n=11, t_end=1e-4, progress=False)
+    message = str(twisted.value)
+    assert twisted.value.name == "gamma" and LIMIT in message, message
+    R = float(message.split("equilibrium radius R = ")[1].split(" m")[0])
+    C = np.array([[1 + R**2, R**2], [R**2, R**2]])
+    assert np.linalg.eigvalsh(C)[0] < 1 / 3 < R**2
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(gamma=0.5), n=11, t_end=1e-4, progress=False)
+    assert ds.attrs["complete"] == 1  # R = 0.89: every stretch inside
