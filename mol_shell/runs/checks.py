@@ -24,8 +24,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell._core.ranges import Interval
 from mol_shell.discretization.system import ShellSystem
-from mol_shell.model.equilibrium import equilibrium_radius
-from mol_shell.model.equilibrium import spectrum_bounds
+from mol_shell.model.equilibrium import equilibrium_radius, spectrum_bounds
 from mol_shell.scenes import CylinderScene, check_radius
 from mol_shell.scenes.base import LOADS
 from mol_shell.scenes.ranges import parameter_range
