@@ -52,14 +52,14 @@ from mol_shell.cli.path import (
     start_of,
 )
 from mol_shell.cli.study import register_study
-from mol_shell.cli.views import register_animate, register_export
+from mol_shell.cli.views import read_drawable, register_animate, register_export
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.results.dataset import read_run, writable_path, write_netcdf
+from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.runs.resources import LongRunWarning
 from mol_shell.runs.simulate import simulate
 from mol_shell.scenes import SCENES, UNITS, describe
 from mol_shell.scenes.files import scene_toml
-from mol_shell.views.fibres import plot_fibres
+from mol_shell.views.fibres import MAX_FIBRES, plot_fibres
 from mol_shell.views.history import plot_history
 from mol_shell.views.plotting import image_formats, plot_meridian, plot_snapshots, shows_history
 
@@ -100,7 +100,7 @@ def cmd_plot(args):
     if args.response is not None:
         raise ParameterError("--response", args.response, "an option of a path's figure (mol-shell path files)",
                              message="--response is an option of a path's figure (files of mol-shell path) only")
-    ds = read_run(args.file)
+    ds = read_drawable(args.file)
     history = shows_history(ds)
     for name, figures in FIGURE_OPTIONS.items():
         value = getattr(args, name)
@@ -200,7 +200,8 @@ def make_parser():
                       help="fibres: the section at the node nearest to this s (default the first node); history and "
                       "the meridian figure: the radius drawn over time at the node nearest to this s (default the "
                       "equator, the node of largest reference radius)")
-    plot.add_argument("--fibres", type=integer_arg("--fibres", 1), default=None, help="fibres: how many (default 24)")
+    plot.add_argument("--fibres", type=integer_arg("--fibres", 1, MAX_FIBRES), default=None,
+                      help=f"fibres: how many, 1 to {MAX_FIBRES} (default 24)")
     plot.add_argument("--thickness-scale", type=number_arg("--thickness-scale"), default=None,
                       help="fibres: magnification of the drawn thickness (default: 0.2 of the radius)")
     plot.add_argument("--response", default=None, help="a path file (mol-shell path): the response the load is drawn "
