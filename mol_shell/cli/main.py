@@ -108,10 +108,12 @@ def cmd_plot(args):
         if value is not None and not takes:
             option = "--" + name.replace("_", "-")
             where = " or ".join(f"--figure {f}" for f in figures)
-            extra = "; and by the default figure of a shell that is not an unloaded cylinder" if name == "at_s" else ""
+            only = (f"an option of {where} only" if name != "at_s" else "an option of --figure fibres, of --figure "
+                    "history and of the default figure of a shell that is not an unloaded cylinder, not of the "
+                    "paper's figures 4-8")
             raise ParameterError(option, value, f"options of {where}",
-                                 message=f"{option} is an option of {where} only{extra} (options of --figure fibres: "
-                                 "--time, --at-s, --fibres, --thickness-scale; of --figure history: --at-s)")
+                                 message=f"{option} is {only} (options of --figure fibres: --time, --at-s, --fibres, "
+                                 "--thickness-scale; of --figure history: --at-s)")
     if args.figure == "fibres":
         options = {"time": args.time, "s": args.at_s, "thickness_scale": args.thickness_scale}
         plot_fibres(ds, args.output, count=24 if args.fibres is None else args.fibres, **options)

@@ -100,3 +100,11 @@ def test_damaged_run_files_are_refused_naming_the_file(files, tmp_path, capsys, 
 def test_every_figure_refuses_a_file_without_saved_times(files, tmp_path, capsys, figure):
     refused(capsys, ["plot", str(files["empty"]), "--figure", figure, "-o", str(tmp_path / "x.png")],
             "has no saved times")
+
+
+def test_the_refusal_of_at_s_says_which_figures_take_it(files, tmp_path, capsys):
+    """The paper's figures 4-8 (an unloaded cylinder) refuse --at-s, in a sentence that reads."""
+    err = refused(capsys, ["plot", str(files["run"]), "--at-s", "1", "-o", str(tmp_path / "x.png")],
+                  "--at-s is an option of --figure fibres, of --figure history and of the default figure of a shell "
+                  "that is not an unloaded cylinder, not of the paper's figures 4-8")
+    assert "only; and" not in err
