@@ -57,7 +57,7 @@ from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.runs.resources import LongRunWarning
 from mol_shell.runs.simulate import simulate
-from mol_shell.scenes import SCENES, UNITS, describe
+from mol_shell.scenes import SCENES, UNITS, describe, summary
 from mol_shell.scenes.files import scene_toml
 from mol_shell.views.fibres import MAX_FIBRES, plot_fibres
 from mol_shell.views.history import plot_history
@@ -133,7 +133,7 @@ def cmd_scenes(args):
         if args.toml:
             raise ParameterError.missing("NAME", "give mol-shell scenes NAME --toml, NAME in {" + ", ".join(sorted(SCENES)) + "}")
         for name, cls in SCENES.items():
-            print(f"{name:18s} {(cls.__doc__ or '').strip().splitlines()[0]}")
+            print(f"{name:18s} {summary(cls)}")
         print("mol-shell scenes NAME lists a scene's parameters; set them with --set NAME=VALUE")
         return 0
     if args.name not in SCENES:
@@ -142,12 +142,12 @@ def cmd_scenes(args):
     if args.toml:
         print(scene_toml(cls), end="")
         return 0
-    print(f"{args.name}: {(cls.__doc__ or '').strip().splitlines()[0]}")
+    print(f"{args.name}: {summary(cls)}")
     rows = [("parameter", "default", "units", "what it is")]
     for f in dataclasses.fields(cls):
         default = f.default if f.default is not dataclasses.MISSING else "(required)"
         default = "auto" if default is None else "''" if default == "" else default
-        rows.append((f.name, str(default), UNITS.get(f.name, "1"), describe(f.name)))
+        rows.append((f.name, str(default), UNITS.get(f.name, "1"), describe(f.name).replace("``", "")))
     widths = [max(len(row[k]) for row in rows) for k in range(3)]  # from the content: every column lines up
     for name, default, units, text in rows:
         print(f"  {name:<{widths[0]}}  {default:>{widths[1]}}  {units:<{widths[2]}}  {text}".rstrip())
