@@ -39,6 +39,7 @@ from mol_shell.cli.args import (
     integer_arg,
     number_arg,
     parse_atol,
+    plural,
     run_settings,
     say_stand_ins,
 )
@@ -74,11 +75,12 @@ def cmd_run(args):
     write_netcdf(ds, args.output)
     say_stand_ins(scene)
     if not ds.attrs["complete"]:
-        print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {ds.sizes['time']} saved times to {args.output}",
+        print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {plural(ds.sizes['time'], 'saved time')} to "
+              f"{args.output}",
               file=sys.stderr)
         return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
-    print(f"wrote {args.output}: {ds.sizes['time']} times x {ds.sizes['s']} nodes, "
-          f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s"
+    print(f"wrote {args.output}: {plural(ds.sizes['time'], 'time')} x {ds.sizes['s']} nodes, "
+          f"{plural(int(ds.attrs['n_steps']), 'step')} in {ds.attrs['wall_time_s']:.3g} s"
           + (f", R = {ds.attrs['R']:.10g} m" if isinstance(ds.attrs.get("R"), (int, float, np.number)) else ""))
     if str(ds.attrs.get("stresses", "")).startswith("skipped"):
         why = str(ds.attrs["stresses"])

@@ -97,3 +97,11 @@ def test_modes_at_a_critical_point_list_the_critical_mode_at_zero_frequency(cap_
     with xr.open_dataset(out) as ds:
         assert ds.attrs["zero_modes"] == 0
         assert float(ds.frequency[0]) < 1e-2 * float(ds.frequency[1])
+
+
+def test_one_critical_point_is_said_in_the_singular(cap_file, tmp_path, capsys):
+    with xr.open_dataset(cap_file) as p:
+        assert p.sizes["point"] == 1
+    assert main(["plot", str(cap_file), "-o", str(tmp_path / "p.png")]) == 0
+    out = capsys.readouterr().out
+    assert out.rstrip().endswith(", 1 critical point") and "critical points" not in out
