@@ -210,7 +210,7 @@ def make_parser():
                       help="fibres: magnification of the drawn thickness (default: 0.2 of the radius)")
     plot.add_argument("--response", default=None, help="a path file (mol-shell path): the response the load is drawn "
                       "against, a variable along step (default load_conjugate) or FIELD@S (a field at the node "
-                      "nearest S)")
+                      "nearest S, S in [0, L] m: the meridian's arc length)")
     plot.add_argument("-o", "--output", required=True, help="image to write (.png, .pdf, .svg, ...)")
     plot.set_defaults(func=cmd_plot, output_suffixes=_image_formats)
     for register in (register_compare, register_stability, register_study, register_modes, register_export,
