@@ -264,7 +264,9 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         Newton starts at ``lambda = start``.
     parameter : str
         The continued load: ``pressure``, ``gravity``, ``end1_force``, ``end2_force``, ``end1_torque`` or
-        ``end2_torque`` (units as the scene's parameter).
+        ``end2_torque``; or an edge displacement (displacement control): ``end1_dz``, ``end2_dz`` (m),
+        ``end1_dchi`` or ``end2_dchi`` (rad), on an edge that holds ``z`` or ``chi`` (units as the scene's
+        parameter).
     start, stop : float
         The load's range; ``stop`` may be below ``start``.
     n : int

@@ -24,6 +24,7 @@ from mol_shell.cli.args import (
     SCENE_METAVAR,
     integer_arg,
     number_arg,
+    plural,
     say_stand_ins,
     scene_and_run,
 )
@@ -101,9 +102,9 @@ def cmd_modes(args):
     say_stand_ins(scene)
     write_netcdf(ds, args.output)
     plot_modes(ds, png)
-    print(f"wrote {args.output} and {png}: {ds.sizes['mode']} modes, {ds.attrs['zero_modes']} rigid motions; "
-          f"lowest {float(ds.frequency[0]):.6g} rad/s")
-    for m in range(min(ds.sizes["mode"], 10)):
+    print(f"wrote {args.output} and {png}: {plural(ds.sizes['mode'], 'mode')}, "
+          f"{plural(int(ds.attrs['zero_modes']), 'rigid motion')}; lowest {float(ds.frequency[0]):.6g} rad/s")
+    for m in range(ds.sizes["mode"]):  # every mode the file holds (--count asked for them)
         share = ds.energy_fraction.isel(mode=m).values
         print(f"  mode {m + 1:2d}: {float(ds.frequency[m]):14.6f} rad/s  ({FIELDS[int(np.argmax(share))]}, "
               f"{share.max():.0%} of the kinetic energy)")

@@ -27,6 +27,11 @@ SCENE_HELP = ("a registered scene (" + ", ".join(SCENES) + "; meridian without -
               "or a scene file FILE.toml")
 
 
+def plural(count, word, words=None):
+    """``1 step``, ``2 steps``: a count and its noun for a summary line (``words``: an irregular plural)."""
+    return f"{count} {word if count == 1 else words or word + 's'}"
+
+
 def say_stand_ins(scene):
     """A note on stderr for each built-in stand-in a scene ran with (the meridian scene's dome); said once the
     command has computed, so a refusal stays one line."""
@@ -144,16 +149,16 @@ def number_arg(name, low=0.0, high=np.inf, *, low_closed=False, high_closed=Fals
     return convert
 
 
-def integer_arg(name, low=1):
-    """An argparse ``type``: an integer ``>= low``."""
-    allowed = f"integers >= {low}"
+def integer_arg(name, low=1, high=None):
+    """An argparse ``type``: an integer ``>= low`` (and ``<= high`` when given)."""
+    allowed = f"integers >= {low}" if high is None else f"integers in [{low}, {high}]"
 
     def convert(text):
         try:
             value = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is not an integer; allowed: {allowed}") from None
-        if value < low:
+        if value < low or (high is not None and value > high):
             raise argparse.ArgumentTypeError(f"{name} = {value} is outside {allowed}")
         return value
 

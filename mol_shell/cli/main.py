@@ -39,6 +39,7 @@ from mol_shell.cli.args import (
     integer_arg,
     number_arg,
     parse_atol,
+    plural,
     run_settings,
     say_stand_ins,
 )
@@ -52,14 +53,14 @@ from mol_shell.cli.path import (
     start_of,
 )
 from mol_shell.cli.study import register_study
-from mol_shell.cli.views import register_animate, register_export
+from mol_shell.cli.views import read_drawable, register_animate, register_export
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.results.dataset import read_run, writable_path, write_netcdf
+from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.runs.resources import LongRunWarning
 from mol_shell.runs.simulate import simulate
-from mol_shell.scenes import SCENES, UNITS, describe
+from mol_shell.scenes import SCENES, UNITS, describe, summary
 from mol_shell.scenes.files import scene_toml
-from mol_shell.views.fibres import plot_fibres
+from mol_shell.views.fibres import MAX_FIBRES, plot_fibres
 from mol_shell.views.history import plot_history
 from mol_shell.views.plotting import image_formats, plot_meridian, plot_snapshots, shows_history
 
@@ -74,11 +75,12 @@ def cmd_run(args):
     write_netcdf(ds, args.output)
     say_stand_ins(scene)
     if not ds.attrs["complete"]:
-        print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {ds.sizes['time']} saved times to {args.output}",
+        print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {plural(ds.sizes['time'], 'saved time')} to "
+              f"{args.output}",
               file=sys.stderr)
         return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
-    print(f"wrote {args.output}: {ds.sizes['time']} times x {ds.sizes['s']} nodes, "
-          f"{ds.attrs['n_steps']} steps in {ds.attrs['wall_time_s']:.3g} s"
+    print(f"wrote {args.output}: {plural(ds.sizes['time'], 'time')} x {ds.sizes['s']} nodes, "
+          f"{plural(int(ds.attrs['n_steps']), 'step')} in {ds.attrs['wall_time_s']:.3g} s"
           + (f", R = {ds.attrs['R']:.10g} m" if isinstance(ds.attrs.get("R"), (int, float, np.number)) else ""))
     if str(ds.attrs.get("stresses", "")).startswith("skipped"):
         why = str(ds.attrs["stresses"])
@@ -100,7 +102,7 @@ def cmd_plot(args):
     if args.response is not None:
         raise ParameterError("--response", args.response, "an option of a path's figure (mol-shell path files)",
                              message="--response is an option of a path's figure (files of mol-shell path) only")
-    ds = read_run(args.file)
+    ds = read_drawable(args.file)
     history = shows_history(ds)
     for name, figures in FIGURE_OPTIONS.items():
         value = getattr(args, name)
@@ -108,10 +110,12 @@ def cmd_plot(args):
         if value is not None and not takes:
             option = "--" + name.replace("_", "-")
             where = " or ".join(f"--figure {f}" for f in figures)
-            extra = "; and by the default figure of a shell that is not an unloaded cylinder" if name == "at_s" else ""
+            only = (f"an option of {where} only" if name != "at_s" else "an option of --figure fibres, of --figure "
+                    "history and of the default figure of a shell that is not an unloaded cylinder, not of the "
+                    "paper's figures 4-8")
             raise ParameterError(option, value, f"options of {where}",
-                                 message=f"{option} is an option of {where} only{extra} (options of --figure fibres: "
-                                 "--time, --at-s, --fibres, --thickness-scale; of --figure history: --at-s)")
+                                 message=f"{option} is {only} (options of --figure fibres: --time, --at-s, --fibres, "
+                                 "--thickness-scale; of --figure history: --at-s)")
     if args.figure == "fibres":
         options = {"time": args.time, "s": args.at_s, "thickness_scale": args.thickness_scale}
         plot_fibres(ds, args.output, count=24 if args.fibres is None else args.fibres, **options)
@@ -131,7 +135,7 @@ def cmd_scenes(args):
         if args.toml:
             raise ParameterError.missing("NAME", "give mol-shell scenes NAME --toml, NAME in {" + ", ".join(sorted(SCENES)) + "}")
         for name, cls in SCENES.items():
-            print(f"{name:18s} {(cls.__doc__ or '').strip().splitlines()[0]}")
+            print(f"{name:18s} {summary(cls)}")
         print("mol-shell scenes NAME lists a scene's parameters; set them with --set NAME=VALUE")
         return 0
     if args.name not in SCENES:
@@ -140,12 +144,12 @@ def cmd_scenes(args):
     if args.toml:
         print(scene_toml(cls), end="")
         return 0
-    print(f"{args.name}: {(cls.__doc__ or '').strip().splitlines()[0]}")
+    print(f"{args.name}: {summary(cls)}")
     rows = [("parameter", "default", "units", "what it is")]
     for f in dataclasses.fields(cls):
         default = f.default if f.default is not dataclasses.MISSING else "(required)"
         default = "auto" if default is None else "''" if default == "" else default
-        rows.append((f.name, str(default), UNITS.get(f.name, "1"), describe(f.name)))
+        rows.append((f.name, str(default), UNITS.get(f.name, "1"), describe(f.name).replace("``", "")))
     widths = [max(len(row[k]) for row in rows) for k in range(3)]  # from the content: every column lines up
     for name, default, units, text in rows:
         print(f"  {name:<{widths[0]}}  {default:>{widths[1]}}  {units:<{widths[2]}}  {text}".rstrip())
@@ -200,12 +204,13 @@ def make_parser():
                       help="fibres: the section at the node nearest to this s (default the first node); history and "
                       "the meridian figure: the radius drawn over time at the node nearest to this s (default the "
                       "equator, the node of largest reference radius)")
-    plot.add_argument("--fibres", type=integer_arg("--fibres", 1), default=None, help="fibres: how many (default 24)")
+    plot.add_argument("--fibres", type=integer_arg("--fibres", 1, MAX_FIBRES), default=None,
+                      help=f"fibres: how many, 1 to {MAX_FIBRES} (default 24)")
     plot.add_argument("--thickness-scale", type=number_arg("--thickness-scale"), default=None,
                       help="fibres: magnification of the drawn thickness (default: 0.2 of the radius)")
     plot.add_argument("--response", default=None, help="a path file (mol-shell path): the response the load is drawn "
                       "against, a variable along step (default load_conjugate) or FIELD@S (a field at the node "
-                      "nearest S)")
+                      "nearest S, S in [0, L] m: the meridian's arc length)")
     plot.add_argument("-o", "--output", required=True, help="image to write (.png, .pdf, .svg, ...)")
     plot.set_defaults(func=cmd_plot, output_suffixes=_image_formats)
     for register in (register_compare, register_stability, register_study, register_modes, register_export,

@@ -17,6 +17,7 @@ from mol_shell.cli.args import (
     integer_arg,
     number_arg,
     parse_sets,
+    plural,
     say_stand_ins,
     scene_and_run,
 )
@@ -61,8 +62,8 @@ def cmd_path(args):
         raise
     write_netcdf(ds, args.output)
     say_stand_ins(scene)
-    summary = (f"{ds.sizes['step']} steps from {name} = {start:g} to {float(ds.parameter[-1]):.6g} "
-               f"{ds.parameter.attrs['units']}, {ds.sizes['point']} critical points")
+    summary = (f"{plural(ds.sizes['step'], 'step')} from {name} = {start:g} to {float(ds.parameter[-1]):.6g} "
+               f"{ds.parameter.attrs['units']}, {plural(ds.sizes['point'], 'critical point')}")
     past = "; past the loss of ellipticity: the grid's"
     edge, _, moved = name.partition("_")  # an edge displacement (end2_dz): its reaction beside each point
     held = f"point_{edge}_reaction_{'force' if moved == 'dz' else 'torque'}"
@@ -196,6 +197,6 @@ def cmd_plot_path(args):
         raise ParameterError("--response", response, form)
     response_values(ds, response)
     plot_path(ds, args.output, response)
-    print(f"wrote {args.output}: {ds.attrs['parameter']} against {response}, {ds.sizes['step']} steps, "
-          f"{ds.sizes['point']} critical points")
+    print(f"wrote {args.output}: {ds.attrs['parameter']} against {response}, {plural(ds.sizes['step'], 'step')}, "
+          f"{plural(ds.sizes['point'], 'critical point')}")
     return 0

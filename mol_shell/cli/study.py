@@ -20,6 +20,7 @@ from mol_shell.cli.args import (
     parse_atol,
     parse_range_or_list,
     parse_sets,
+    plural,
     run_settings,
     say_stand_ins,
     scene_and_run,
@@ -80,7 +81,7 @@ def cmd_study(args):
     if args.path is not None:
         return _path_study(args, scene, vary, n)
     times, t_end, integrator, options = run_settings(args, run, scene, n)
-    return _finish(args, scene, "cases", lambda: study(
+    return _finish(args, scene, "case", lambda: study(
         scene, vary, integrator, n=n, times=times, t_end=t_end, scheduler=args.scheduler, workers=args.workers,
         output=args.output, progress=None, **options))
 
@@ -98,7 +99,7 @@ def _finish(args, scene, what, run, tail=lambda ds: ""):
     say_stand_ins(scene)
     statuses = ds.status.values.ravel().tolist()
     counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
-    print(f"wrote {args.output}: {ds.attrs['n_cases']} {what} ({counts}); ran {ds.attrs['n_executed']}, "
+    print(f"wrote {args.output}: {plural(int(ds.attrs['n_cases']), what)} ({counts}); ran {ds.attrs['n_executed']}, "
           f"reused {ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s{tail(ds)}")
     refused = _say_refused(ds, what)
     if refused and refused == len(statuses):
@@ -128,7 +129,7 @@ def _path_study(args, scene, vary, n):
             raise ParameterError(name, getattr(args, option), "options of a study of runs",
                                  message=f"{name} is an option of a study of runs, not of one of paths (--path)")
     name, start, stop = parse_param(args.path, "--path")
-    return _finish(args, scene, "paths", lambda: path_study(
+    return _finish(args, scene, "path", lambda: path_study(
         scene, vary, name, start, stop, n=n, max_steps=args.max_steps, scheduler=args.scheduler, workers=args.workers,
         output=args.output), lambda ds: f"; first critical {name}: "
         + ", ".join(f"{v:.6g}" for v in ds.first_critical.values.ravel()))

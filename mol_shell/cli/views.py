@@ -2,29 +2,43 @@
 
 from __future__ import annotations
 
-from mol_shell.cli.args import integer_arg, number_arg
+from mol_shell.cli.args import integer_arg, number_arg, plural
 from mol_shell.results.dataset import read_run
-from mol_shell.views.animate import DEFAULTS, SUFFIXES, animate
-from mol_shell.views.export import FORMATS, N_PHI, export
-from mol_shell.views.fields import field
+from mol_shell.views.animate import DEFAULTS, RANGES, SUFFIXES, animate
+from mol_shell.views.export import FORMATS, N_PHI, N_PHI_MAX, export
+from mol_shell.views.fields import check_run, field
+
+
+def read_drawable(filename):
+    """The run in ``filename``, refused in one line naming the file when it has no saved times or values that are
+    not finite (a hand-edited or damaged file)."""
+    ds = read_run(filename)
+    check_run(ds, filename)
+    return ds
 
 
 def register_export(subparsers):
     parser = subparsers.add_parser("export", help="the shell in 3-D for ParaView (XDMF or VTU series)")
     parser.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run")
-    parser.add_argument("--n-phi", type=integer_arg("--n-phi", 3), default=N_PHI,
-                        help=f"azimuthal samples (default {N_PHI})")
+    parser.add_argument("--n-phi", type=integer_arg("--n-phi", 3, N_PHI_MAX), default=N_PHI,
+                        help=f"azimuthal samples, 3 to {N_PHI_MAX} (default {N_PHI})")
     parser.add_argument("--faces", action="store_true", help="also the inner and outer faces (offset along the director)")
     parser.add_argument("-o", "--output", required=True, help="run.xdmf (with run.h5) or run.pvd (with run_NNNN.vtu)")
     parser.set_defaults(func=cmd_export, output_suffixes=set(FORMATS))
 
 
 def cmd_export(args):
-    ds = read_run(args.file)
+    ds = read_drawable(args.file)
     files = export(ds, args.output, args.n_phi, args.faces)
-    extra = f" (+ {len(files) - 1} file{'s' if len(files) > 2 else ''})"
-    print(f"wrote {args.output}{extra}: {ds.sizes['time']} steps, {ds.sizes['s']} x {args.n_phi} points per surface")
+    extra = f" (+ {plural(len(files) - 1, 'file')})"
+    print(f"wrote {args.output}{extra}: {plural(ds.sizes['time'], 'step')}, {ds.sizes['s']} x {args.n_phi} points "
+          "per surface")
     return 0
+
+
+def _range(name):
+    low, high = RANGES[name]
+    return f"{low} to {high}"
 
 
 def register_animate(subparsers):
@@ -33,20 +47,21 @@ def register_animate(subparsers):
     parser.add_argument("--field", default=DEFAULTS["field"],
                         help="what colours the shell: a field (chi, r, ...), a rate, a resultant (axial_torque, ...) "
                         "or a face stress (von_mises_stress_outer, ...); default chi")
-    parser.add_argument("--n-phi", type=integer_arg("--n-phi", 3), default=DEFAULTS["n_phi"], help="azimuthal samples")
-    parser.add_argument("--fibres", type=integer_arg("--fibres", 1), default=DEFAULTS["fibres"],
-                        help="material fibres drawn (default 12)")
+    parser.add_argument("--n-phi", type=integer_arg("--n-phi", *RANGES["n_phi"]), default=DEFAULTS["n_phi"],
+                        help=f"azimuthal samples, {_range('n_phi')} (default {DEFAULTS['n_phi']})")
+    parser.add_argument("--fibres", type=integer_arg("--fibres", *RANGES["fibres"]), default=DEFAULTS["fibres"],
+                        help=f"material fibres drawn, {_range('fibres')} (default {DEFAULTS['fibres']})")
     parser.add_argument("--fps", type=number_arg("--fps", 0, 100, high_closed=True), default=DEFAULTS["fps"],
                         help="frames per second (default 4)")
-    parser.add_argument("--width", type=integer_arg("--width", 100), default=DEFAULTS["width"],
-                        help="width in pixels (default 480)")
+    parser.add_argument("--width", type=integer_arg("--width", *RANGES["width"]), default=DEFAULTS["width"],
+                        help=f"width in pixels, {_range('width')} (default {DEFAULTS['width']})")
     parser.add_argument("-o", "--output", required=True, help="shell.gif or shell.mp4")
     parser.set_defaults(func=cmd_animate, output_suffixes=set(SUFFIXES))
 
 
 def cmd_animate(args):
-    ds = read_run(args.file)
+    ds = read_drawable(args.file)
     field(ds, args.field)  # refuse an unknown name before anything is drawn
     count = animate(ds, args.output, args.field, n_phi=args.n_phi, fibres=args.fibres, fps=args.fps, width=args.width)
-    print(f"wrote {args.output}: {count} frames")
+    print(f"wrote {args.output}: {plural(count, 'frame')}")
     return 0

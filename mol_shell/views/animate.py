@@ -13,10 +13,23 @@ from pathlib import Path
 
 import numpy as np
 
-from mol_shell.views.fields import field, surface_points
+from mol_shell._core.errors import ParameterError
+from mol_shell.views.fields import check_run, field, surface_points
 
 SUFFIXES = ("gif", "mp4")
 DEFAULTS = {"field": "chi", "n_phi": 48, "fibres": 12, "fps": 4, "width": 480}
+#: the allowed ranges of the integer options: generous for a picture (a frame of 4096 px at 1024 azimuthal samples
+#: and 360 fibres takes seconds), while the time and the memory a frame takes stay bounded (``--width 20000`` ran
+#: for minutes, 100000 ran out of memory)
+RANGES = {"n_phi": (3, 1024), "fibres": (1, 360), "width": (100, 4096)}
+
+
+def check_integers(**values):
+    """Refuse a value of ``n_phi``, ``fibres`` or ``width`` outside :data:`RANGES`, naming its option."""
+    for name, value in values.items():
+        low, high = RANGES[name]
+        if not (isinstance(value, (int, np.integer)) and not isinstance(value, bool) and low <= value <= high):
+            raise ParameterError("--" + name.replace("_", "-"), value, f"integers in [{low}, {high}]")
 
 
 def _short_label(name, units):
@@ -54,13 +67,13 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
         What colours the shell (:func:`mol_shell.views.fields.field_names`): node fields are averaged
         to the cells, face stresses are ``NAME_inner`` / ``NAME_outer``. One colour scale for all frames.
     n_phi : int
-        Azimuthal samples of the surface.
+        Azimuthal samples of the surface, in [3, 1024].
     fibres : int
-        Material fibres drawn (evenly spaced reference azimuths).
+        Material fibres drawn (evenly spaced reference azimuths), in [1, 360].
     fps : float
         Frames per second.
     width : int
-        Width in pixels (height 0.9 of it).
+        Width in pixels (height 0.9 of it), in [100, 4096].
     elev, azim : float
         Viewing angles, degrees (matplotlib's).
 
@@ -74,6 +87,8 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
     from matplotlib import animation, colormaps
     from matplotlib.cm import ScalarMappable
 
+    check_integers(n_phi=n_phi, fibres=fibres, width=width)
+    check_run(ds)
     values, units, _ = field(ds, field_name, "cells")
     suffix = Path(path).suffix.lower().lstrip(".")
     cmap_name, norm = _scale(values)

@@ -23,11 +23,13 @@ from __future__ import annotations
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
-from mol_shell.views.fields import face_depths
+from mol_shell.views.fields import check_run, face_depths
 from mol_shell.views.figures import save_figure
 
 #: the drawn thickness 2h M is about this fraction of the radius when no magnification is given
 DRAWN_THICKNESS = 0.2
+#: fibres drawn at most: a fibre every degree, denser than a section shows apart (``--fibres 1e8`` ran for minutes)
+MAX_FIBRES = 360
 
 
 def _nearest(values, value, name, unit):
@@ -99,14 +101,15 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
     s : float, optional
         Where the section is, m; the nearest node (default the first, an end of the shell).
     count : int
-        Fibres drawn (evenly spaced reference azimuths; the one at ``phi = 0`` in red).
+        Fibres drawn (evenly spaced reference azimuths; the one at ``phi = 0`` in red), in [1, :data:`MAX_FIBRES`].
     thickness_scale : float, optional
         Magnification of the thickness; default: the drawn thickness is 0.2 of the reference radius.
     """
     import matplotlib.pyplot as plt
 
-    if not (isinstance(count, (int, np.integer)) and not isinstance(count, bool) and count >= 1):
-        raise ParameterError("--fibres", count, "integers >= 1")
+    if not (isinstance(count, (int, np.integer)) and not isinstance(count, bool) and 1 <= count <= MAX_FIBRES):
+        raise ParameterError("--fibres", count, f"integers in [1, {MAX_FIBRES}]")
+    check_run(ds)
     times, nodes = ds["time"].values, ds["s"].values
     k = len(times) - 1 if time is None else _nearest(times, float(time), "--time", "s")
     i = 0 if s is None else _nearest(nodes, float(s), "--at-s", "m")

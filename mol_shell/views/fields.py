@@ -9,8 +9,45 @@ from __future__ import annotations
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.constants import FIELDS
+from mol_shell._core.errors import ParameterError, show
 from mol_shell.results.stresses import FACES
+
+#: what a run the views draw holds finite: the coordinates, the fields and the reference meridian (a run stops
+#: before a state that is not finite, so only a hand-edited or damaged file has such values)
+FINITE = ("time", "s", *FIELDS, "z0", "r0", "theta0")
+
+
+def check_run(ds, source=None):
+    """Refuse a run the views cannot draw, in one line naming the file (``source``, default the file ``ds`` was
+    read from): one without saved times or with fewer than two nodes, or whose coordinates, fields
+    (:data:`FINITE`) are not finite somewhere.
+
+    Raises
+    ------
+    ParameterError
+        ``FILE = 'run.nc' has no saved times; allowed: ...`` or ``FILE = 'run.nc': r is not finite at t = 0 s,
+        s = 0 m (11 of 11 values); allowed: ...``; named ``ds`` for a run that was not read from a file.
+    """
+    source = source if source is not None else ds.encoding.get("source")
+    name, value = ("FILE", str(source)) if source is not None else ("ds", "run")
+    allowed = "a run file with saved times, two nodes or more and finite values, as mol-shell run writes it"
+    times, nodes = ds.sizes.get("time", 0), ds.sizes.get("s", 0)
+    if times == 0:
+        raise ParameterError.invalid(name, value, "has no saved times", allowed)
+    if nodes < 2:
+        raise ParameterError.invalid(name, value, f"has {nodes} node{'' if nodes == 1 else 's'} in s", allowed)
+    for var in (v for v in FINITE if v in ds.variables):
+        values = np.asarray(ds[var].values, dtype=float)
+        bad = ~np.isfinite(values)
+        if not bad.any():
+            continue
+        first = np.unravel_index(np.argmax(bad), values.shape)
+        at = {"time": f"t = {float(ds['time'][first[0]]):.6g} s" if var != "time" else f"saved time {first[0]}",
+              "s": f"s = {float(ds['s'][first[-1]]):.6g} m" if var != "s" else f"node {first[-1]}"}
+        where = ", ".join(at[dim] for dim in ds[var].dims if dim in at)
+        raise ParameterError(name, value, allowed, message=f"{name} = {show(value)}: {var} is not finite at {where} "
+                             f"({int(bad.sum())} of {bad.size} values); allowed: {allowed}")
 
 
 def field_names(ds):

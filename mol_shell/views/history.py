@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from mol_shell.views.fibres import _nearest
+from mol_shell.views.fields import check_run
 from mol_shell.views.figures import save_figure
 
 
@@ -92,6 +93,7 @@ def history_figure(ds, s=None):
     """The radius against time and the energy-work balance (a matplotlib ``Figure``, not saved)."""
     import matplotlib.pyplot as plt
 
+    check_run(ds)
     node = radius_node(ds, s)
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2))
     draw_radius(ax, ds, node)

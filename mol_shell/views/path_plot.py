@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mol_shell._core.errors import ParameterError
 from mol_shell.views.figures import save_figure
 
 #: the critical mode as drawn: its largest displacement this fraction of the meridian's size
@@ -28,6 +29,11 @@ def response_values(ds, response):
     """``(values along step, label)``; ``response``: one of :func:`responses` or ``FIELD@S``."""
     if "@" in response:
         field, _, at = response.partition("@")
+        first, last = float(ds.s[0]), float(ds.s[-1])
+        low, high = f"{first:.6g}", f"{last:.6g}"  # the ends as said: a value typed as shown is taken
+        if not min(first, float(low)) <= float(at) <= max(last, float(high)):
+            raise ParameterError("--response", response, f"FIELD@S with S in [{low}, {high}] m (the meridian's arc "
+                                 "length; S is drawn at the node nearest it)")
         node = int(np.argmin(np.abs(ds.s.values - float(at))))
         var = ds[field]
         return var.values[:, node], f"{field} at s = {float(ds.s[node]):.4g} m [{var.attrs.get('units', '')}]"

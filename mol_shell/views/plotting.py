@@ -6,6 +6,7 @@ import math
 
 import numpy as np
 
+from mol_shell.views.fields import check_run
 from mol_shell.views.figures import save_figure
 from mol_shell.views.history import draw_balance, draw_radius, radius_node
 
@@ -91,6 +92,7 @@ def snapshot_figure(ds, fields=("r", "theta", "chi"), max_times=MAX_TIMES, colum
     """The figure of :func:`plot_snapshots` (a matplotlib ``Figure``, not saved)."""
     import matplotlib.pyplot as plt
 
+    check_run(ds)
     idx = shown_times(ds.sizes["time"], max_times)
     ncols = min(columns, len(idx))
     blocks = math.ceil(len(idx) / ncols)
@@ -153,6 +155,7 @@ def meridian_figure(ds, max_times=8, s=None):
     """
     import matplotlib.pyplot as plt
 
+    check_run(ds)
     idx = shown_times(ds.sizes["time"], max_times)
     fig = plt.figure(figsize=(13, 8.6))
     grid = fig.add_gridspec(2, 6, height_ratios=[1.15, 1])

@@ -320,3 +320,18 @@ def test_ctrl_c_keeps_the_data_and_exits_130(tmp_path):
     ds = read_netcdf(out)
     assert ds.attrs["status"] == "interrupted" and ds.attrs["complete"] == 0
     assert ds.sizes["time"] >= 2 and np.isfinite(ds.r.values).all()
+
+
+def test_summaries_count_in_the_singular_after_one(tmp_path, capsys):
+    """"1 steps", "1 cases": a count of one takes the singular."""
+    from mol_shell.cli.args import plural
+
+    assert [plural(k, "step") for k in (0, 1, 2)] == ["0 steps", "1 step", "2 steps"]
+    assert plural(1, "critical point") == "1 critical point" and plural(3, "case") == "3 cases"
+    assert main(["run", "twisted-cylinder", "--n", "5", "--t-end", "1e-6", "-o", str(tmp_path / "one.nc")]) == 0
+    out = capsys.readouterr().out
+    assert ", 1 step in " in out and "1 steps" not in out
+    assert main(["study", "twisted-cylinder", "--vary", "gamma=0.1", "--n", "5", "--t-end", "1e-6", "--workers", "1",
+                 "-o", str(tmp_path / "study.nc")]) == 0
+    out = capsys.readouterr().out
+    assert ": 1 case (1 complete)" in out and "1 cases" not in out

@@ -97,3 +97,23 @@ def test_modes_at_a_critical_point_list_the_critical_mode_at_zero_frequency(cap_
     with xr.open_dataset(out) as ds:
         assert ds.attrs["zero_modes"] == 0
         assert float(ds.frequency[0]) < 1e-2 * float(ds.frequency[1])
+
+
+def test_a_response_beyond_the_meridian_is_refused(cap_file, tmp_path, capsys):
+    """``--response r@100`` on a meridian 0.279 m long drew the last node's r: S must lie on the meridian."""
+    with xr.open_dataset(cap_file) as p:
+        length = float(p.s[-1])
+    for at in ("100", "-0.1", f"{1.001 * length!r}"):
+        code = main(["plot", str(cap_file), "--response", f"r@{at}", "-o", str(tmp_path / "p.png")])
+        err = capsys.readouterr().err
+        assert code == 2 and len(err.splitlines()) == 1, err
+        assert f"--response = 'r@{at}' is outside FIELD@S with S in [0, {length:.6g}] m" in err
+    assert main(["plot", str(cap_file), "--response", f"chi@{length!r}", "-o", str(tmp_path / "p.png")]) == 0
+
+
+def test_one_critical_point_is_said_in_the_singular(cap_file, tmp_path, capsys):
+    with xr.open_dataset(cap_file) as p:
+        assert p.sizes["point"] == 1
+    assert main(["plot", str(cap_file), "-o", str(tmp_path / "p.png")]) == 0
+    out = capsys.readouterr().out
+    assert out.rstrip().endswith(", 1 critical point") and "critical points" not in out

@@ -58,3 +58,35 @@ def test_modes_and_edges_refuse_with_one_line(tmp_path, capsys):
     assert "end1 = 'clamped' is outside {pole, auto}" in capsys.readouterr().err
     assert main(["run", "cone", "--set", "end2=pole", "--t-end", "1e-5", "-o", str(tmp_path / "x.nc")]) == 2
     assert "end2 = 'pole' is outside" in capsys.readouterr().err
+
+
+def test_modes_lists_every_mode_it_counts(tmp_path, capsys):
+    """``--count 12`` said "12 modes" and listed modes 1-10: every mode of the file is listed."""
+    out = tmp_path / "m.nc"
+    assert main(["modes", "sphere", "--n", "11", "--count", "12", "-o", str(out)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert ": 12 modes, 2 rigid motions; lowest" in lines[0]
+    assert [line.split(":")[0].split()[-1] for line in lines[1:]] == [str(m) for m in range(1, 13)]
+    assert main(["modes", "sphere", "--n", "11", "--count", "1", "-o", str(out)]) == 0
+    first, *listed = capsys.readouterr().out.splitlines()
+    assert ": 1 mode, 2 rigid motions;" in first and len(listed) == 1
+
+
+def test_scene_summaries_are_plain_whole_clauses(capsys):
+    """``mol-shell scenes`` cut the vessel's line in a parenthesis ("torispherical heads (crown") and showed the
+    double backticks of reStructuredText: each summary is plain text with its parentheses closed."""
+    from mol_shell.scenes import SCENES
+
+    assert main(["scenes"]) == 0
+    lines = capsys.readouterr().out.splitlines()[: len(SCENES)]
+    for name, line in zip(SCENES, lines):
+        assert main(["scenes", name]) == 0
+        head = capsys.readouterr().out.splitlines()[0]
+        text = line[18:].strip()
+        assert head == f"{name}: {text}"
+        assert "``" not in line and line.count("(") == line.count(")") and len(text) <= 100, line
+        assert text.endswith((".", " ...")), line
+    vessel = dict(zip(SCENES, lines))["vessel"]
+    assert "(crown" not in vessel and "two torispherical heads" in vessel
+    assert dict(zip(SCENES, lines))["sphere"].endswith("A spherical shell of natural radius a: closed (default), a "
+                                                        "cap or a zone.")
