@@ -305,7 +305,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     record = _Record(eq, tracer)
     record.add(q, float(start), t, 0.0, iterations)
     lam, h = float(start), ds0
-    status, message = "max_steps", f"stopped after max_steps = {max_steps} steps"
+    status, message = "max_steps", f"stopped after max_steps = {max_steps} step{'s' * (max_steps != 1)}"
     while len(record.lams) <= max_steps:
         try:
             q_new, lam_new, its = tracer.correct(q, lam, t, h)

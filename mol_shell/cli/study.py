@@ -117,7 +117,7 @@ def _say_refused(ds, what):
     if count:
         others = len(reasons) - 1
         more = f" (and {others} other reason{'s' * (others > 1)}: the file's message variable)" if others else ""
-        print(f"mol-shell: error: {count} of {len(status)} {what} refused: {reasons[0]}{more}", file=sys.stderr)
+        print(f"mol-shell: error: {count} of {plural(len(status), what)} refused: {reasons[0]}{more}", file=sys.stderr)
     return count
 
 
