@@ -50,6 +50,8 @@ BUILD_BYTES_PER_NODE = 40e3
 BUILD_BYTES_FIXED = 300e6
 #: graph building and spectrum per node (s; measured 1.9, 1.7, 0.96 ms per node at n = 1,000, 4,000, 16,000)
 BUILD_S_PER_NODE = 1.0e-3
+#: a build projected to take longer than this (s) is announced before it starts (n = 100,000 took 107 s in silence)
+LONG_BUILD_S = 30.0
 #: one compiled right-hand side per node (s): 17.35 us per leap-frog step at n = 40, 0.55 us per node at 16,000
 RHS_S_PER_NODE = 0.5e-6
 #: right-hand sides per step and the imaginary-axis stability interval ``|lambda| dt`` of explicit Runge-Kutta
@@ -258,7 +260,10 @@ def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, ti
     check_nodes(n)
     est = estimate(n, len(times), times[-1], integrator, fields=fields, dt=dt)
     check_memory(est, times_value=times_value)
-    warn_if_long(est)
+    if not warn_if_long(est) and est.build_seconds > LONG_BUILD_S:
+        warnings.warn(f"building the graphs and the spectrum at n = {n:,} takes about "
+                      f"{show_seconds(est.build_seconds)} before the first step (the step's stability bound is "
+                      "known only then)", LongRunWarning, stacklevel=3)
     return est
 
 
