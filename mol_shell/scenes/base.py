@@ -16,7 +16,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Choice, Interval, finite, non_negative, positive
-from mol_shell.model.edges import check_edge
+from mol_shell.model.edges import check_displacements, check_edge, resolve_edges
 from mol_shell.model.geometry import base_offset, thickness_volume_factor
 from mol_shell.model.laws import (
     MATERIALS,
@@ -277,6 +277,7 @@ class ShellScene:
                 parse_history(load + "_history", getattr(self, load + "_history"))
         try:
             self._validate()
+            self._check_displacements()
             self._check_thickness()
         except ParameterError as exc:
             raise self._blame(exc) from None
@@ -330,6 +331,13 @@ class ShellScene:
         if abs(total - 2 * self.h) > 1e-9 * 2 * self.h:
             raise ParameterError("layers", self.layers, f"thicknesses adding up to the wall, 2h = {2 * self.h:.6g} m",
                                  hint=f"they add up to {total:.6g} m")
+
+    def _check_displacements(self):
+        """A static edge displacement only at an edge that holds its field (refused before anything is built)."""
+        given = {name: getattr(self, name) for name in DISPLACEMENTS if getattr(self, name)}
+        if given:
+            edges = resolve_edges(self.end1, self.end2, self.meridian().poles)
+            check_displacements(given, edges, getattr(self, "fields", range(5)))
 
     def _blame(self, exc):
         """A refusal of ``h`` caused by a changed geometry parameter (``a = 5e-324``) names that parameter."""
