@@ -45,6 +45,9 @@ DISPLACEMENTS = ("end1_dz", "end2_dz", "end1_dchi", "end2_dchi")
 #: h < 0.5 m (32 with the inner face at r = 0.1 m); at n = 40 the exact Jacobian of cvode-bdf compiled in
 #: 3.8, 13, 54, 108 and 767 s at 4, 8, 16, 32, 64 points (docs/reliability.md)
 N_QUAD_RANGE = (2, 32)
+#: layers' thicknesses must add up to the wall 2h to this fraction of it (what a user types: 7 digits); they are then
+#: scaled to add up to 2h exactly
+LAYERS_RTOL = 1e-6
 
 
 class Flag(Choice):
@@ -327,10 +330,10 @@ class ShellScene:
         except ParameterError as exc:
             raise ParameterError("layers", self.layers, "layers whose parameters are in range",
                                  hint=str(exc)) from None
-        total = sum(t for t, _ in layers)
-        if abs(total - 2 * self.h) > 1e-9 * 2 * self.h:
-            raise ParameterError("layers", self.layers, f"thicknesses adding up to the wall, 2h = {2 * self.h:.6g} m",
-                                 hint=f"they add up to {total:.6g} m")
+        total = sum(t for t, _ in layers)  # to LAYERS_RTOL: the layers are then scaled to 2h (layered_thickness)
+        if abs(total - 2 * self.h) > LAYERS_RTOL * 2 * self.h:
+            raise ParameterError("layers", self.layers, f"thicknesses adding up to the wall, 2h = {2 * self.h:.10g} m, "
+                                 f"to {LAYERS_RTOL:g} of it", hint=f"they add up to {total:.10g} m")
 
     def _check_displacements(self):
         """A static edge displacement only at an edge that holds its field (refused before anything is built)."""
