@@ -67,6 +67,17 @@ def test_layers_add_up_to_the_wall_to_what_a_user_types_and_the_message_shows_th
     assert hi == 0.01 and (mid - lo) / (hi - mid) == pytest.approx(1 + 4e-7, rel=1e-10)
 
 
+def test_the_director_law_is_warned_about_per_layer_not_for_the_scene_defaults_the_layers_replace():
+    """A wall of rubber-like layers with no svk layer was warned about as svk at nu = 0.49 (the scene's defaults)."""
+    from mol_shell.model.laws import locking_warnings
+
+    assert locking_warnings(Sphere(h=0.01, layers="0.012 neo-hookean-incompressible; 0.008 svk-plane-stress nu=0.3")) == []
+    notes = locking_warnings(Sphere(h=0.01, material="svk-plane-stress",
+                                    layers="0.012 svk nu=0.3; 0.004 svk; 0.004 svk-plane-stress"))
+    assert len(notes) == 1 and notes[0].startswith('layer 2 (0.004 m): material = "svk" at nu = 0.49'), notes
+    assert len(locking_warnings(Sphere())) == 1 and locking_warnings(Sphere(material="svk-plane-stress")) == []
+
+
 @pytest.mark.parametrize("layers, words", [
     ("0.01 svk; 0.005 svk", "thicknesses adding up to the wall, 2h = 0.01256637061 m, to 1e-06 of it"),
     ("0.01 svk; 0.0025664 svk nu=0.7", "nu = 0.7 is outside (-1, 0.5)"),
