@@ -197,6 +197,9 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     start = time.perf_counter()
     scene = resolve_scene(scene)
     check_options(scene, integrator, options)  # also refuses an unknown integrator
+    if not (isinstance(vary, dict) or (isinstance(vary, (list, tuple)) and all(isinstance(c, dict) for c in vary))):
+        raise ParameterError.not_a("vary", vary, "a dict or a list of dicts",
+                                   "{name: [values, ...]} (a grid), or [{name: value, ...}, ...] (cases)")
     if workers is not None and not (isinstance(workers, (int, np.integer)) and not isinstance(workers, bool)
                                     and workers >= 1):
         raise ParameterError("workers", workers, "integers >= 1")
