@@ -26,7 +26,7 @@ import xarray as xr
 
 from mol_shell._core.errors import MaterialWarning, ParameterError
 from mol_shell.model.kinematics import FIELDS
-from mol_shell.model.material import locking_warning
+from mol_shell.model.laws import locking_warnings
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, scene_attrs
 from mol_shell.runs import resources
@@ -159,7 +159,7 @@ def modes(scene, n=40, count=10, *, initial=None):
         raise ParameterError("count", count, f"integers 1..{len(np.flatnonzero(~zero))} for n = {system.n}")
     initial = system.unpack(np.asarray(y0, dtype=float))[:2]
     params = scene_attrs(scene, system.edges, system.thickness.zeta1, initial, system.reference[:2], asked.params())
-    note = locking_warning(scene.material, scene.nu)
+    note = "; ".join(locking_warnings(scene))
     if note:
         warnings.warn(note, MaterialWarning, stacklevel=2)
         params["material_warning"] = note

@@ -114,8 +114,23 @@ _LIMITS_CALL = """const casadi_real* arg[{sz_arg} + 1]; casadi_real* res[{sz_res
 
 
 def cache_dir():
-    path = Path(os.environ.get("MOL_SHELL_CACHE", Path.home() / ".cache" / "mol_shell"))
-    path.mkdir(parents=True, exist_ok=True)
+    """``$MOL_SHELL_CACHE`` (default ``~/.cache/mol_shell``), created if missing; one that cannot be a writable
+    directory is refused naming the variable (a ParameterError: exit 2 on the command line)."""
+    text = os.environ.get("MOL_SHELL_CACHE", "").strip()
+    path = Path(text).expanduser() if text else Path.home() / ".cache" / "mol_shell"
+    allowed = "a writable directory (created if missing)"
+    hint = "" if text else "the default cache; set MOL_SHELL_CACHE to a writable directory"
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        problem = "is a file" if isinstance(exc, FileExistsError) else f"cannot be created ({exc.strerror or exc})"
+        raise ParameterError.invalid("MOL_SHELL_CACHE", str(path), problem, allowed, hint) from None
+    try:  # a probe: permission bits do not tell (root, read-only mounts, /proc)
+        with tempfile.TemporaryFile(dir=path):
+            pass
+    except OSError as exc:
+        raise ParameterError.invalid("MOL_SHELL_CACHE", str(path), f"cannot be written ({exc.strerror or exc})",
+                                     allowed, hint) from None
     return path
 
 

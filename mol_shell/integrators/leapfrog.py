@@ -62,6 +62,12 @@ class Leapfrog:
         if bad.any():
             t = np.asarray(times)[bad][0]
             raise ParameterError("times", float(t), f"multiples of dt = {self.dt:g} s (leap-frog has a fixed step)")
+        same = np.flatnonzero(np.diff(steps) <= 0)  # 1e-300 after 0: no step between two saved times
+        if same.size:
+            t = float(np.asarray(times)[same[0] + 1])
+            raise ParameterError("times", t, f"positive multiples of dt = {self.dt:g} s, at least one step apart "
+                                 "(leap-frog has a fixed step)", hint=f"{t:g} s is {steps[same[0] + 1]} steps from "
+                                 f"the time before")
         return steps
 
     def integrate(self, system, compiled, y0, times, *, progress=None):

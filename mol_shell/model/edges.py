@@ -97,6 +97,29 @@ def resolve_edges(end1, end2, poles, default="magnet"):
     return tuple(out)
 
 
+#: edges that hold each field a static displacement can move (z, chi), for messages
+HOLDERS = {0: "magnet, clamped, pinned, or a set with z", 2: "clamped, pinned, or a set with chi"}
+
+
+def check_displacements(displacements, edges, active):
+    """Refuse a static edge displacement (``{"end2_dz": 0.01, ...}``) at an edge that does not hold its field.
+
+    ``edges`` are the resolved kinds at ``s = 0`` and ``s = L`` (:func:`resolve_edges`), ``active`` the scene's
+    fields. Checked by the scene, before anything is built.
+    """
+    for end, kind in zip(("end1", "end2"), edges):
+        for what, field in (("dz", 0), ("dchi", 2)):
+            name, letter = f"{end}_{what}", EDGE_FIELDS[field]
+            value = displacements.get(name, 0.0)
+            if not value or (field in active and field in IMPOSED[kind]):
+                continue
+            why = (f"the scene has no {letter} field" if field not in active else
+                   f"{end} = 'pole' ties chi to its neighbour's (an edge on the axis)" if kind == "pole" and field else
+                   f"{end} = {kind!r} leaves {letter} free" + (" (an edge on the axis)" if kind == "pole" else ""))
+            raise ParameterError.invalid(name, value, f"cannot be imposed: {why}",
+                                         f"0, or a displacement at an edge that holds {letter} ({HOLDERS[field]})")
+
+
 def imposed_mask(n, edges, active):
     """``(n, 5)`` booleans: which nodal fields are imposed (held at their initial values)."""
     mask = np.zeros((n, 5), dtype=bool)

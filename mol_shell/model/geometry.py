@@ -134,6 +134,13 @@ class ArcMeridian(Meridian):
         return r0, -self.a * np.cos(alpha), math.pi / 2 - alpha, np.full_like(s, -1.0 / self.a)
 
 
+#: coordinates of a table of points beyond this (m) are refused: the spline's and the shell's products of them
+#: (r^2, r^3 in the inertias) overflow double precision
+MAX_COORDINATE = 1e100
+#: a table turning by more than this between consecutive chords doubles back on itself (a cusp, not a shell)
+MAX_TURN_DEG = 170.0
+
+
 @dataclass(frozen=True, eq=False)
 class PointsMeridian(Meridian):
     """A meridian through a table of points ``(r, z)``, re-parametrised by arc length.
@@ -163,7 +170,8 @@ class PointsMeridian(Meridian):
         from scipy.interpolate import CubicSpline
 
         pts = np.asarray(self.points, dtype=float)
-        allowed = "a table of at least 4 points (r, z), r >= 0, r = 0 only at an end, a curve that does not cross itself"
+        allowed = ("a table of at least 4 points (r, z), 0 <= r, |z| <= 1e100 m, r = 0 only at an end, a curve that "
+                   "neither crosses nor doubles back on itself")
         what = self.source or "table"
         if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 4:
             count = pts.shape[0] if pts.ndim == 2 else pts.size
@@ -172,6 +180,10 @@ class PointsMeridian(Meridian):
         if not np.all(np.isfinite(pts)):
             i = int(np.argmax(~np.all(np.isfinite(pts), axis=1)))
             raise ParameterError.invalid(self.name, what, f"has a non-finite value on {self._row(i)}", allowed)
+        if np.any(np.abs(pts) > MAX_COORDINATE):  # beyond it the spline's and the shell's products overflow
+            i = int(np.argmax(np.any(np.abs(pts) > MAX_COORDINATE, axis=1)))
+            raise ParameterError.invalid(self.name, what, f"has a coordinate beyond {MAX_COORDINATE:g} m on "
+                                         f"{self._row(i)} ({pts[i, 0]:g}, {pts[i, 1]:g})", allowed)
         r, z = pts[:, 0], pts[:, 1]
         if np.any(r < 0):
             i = int(np.argmax(r < 0))
@@ -180,8 +192,16 @@ class PointsMeridian(Meridian):
         scale = float(np.max(np.abs(pts)))
         if np.any(chord <= 1e-12 * max(scale, 1e-300)):
             i = int(np.argmax(chord <= 1e-12 * scale))
-            raise ParameterError.invalid(self.name, what, f"repeats a point: {self._row(i)} and {self._row(i + 1)}",
-                                         allowed)
+            problem = (f"repeats a point: {self._row(i)} and {self._row(i + 1)}" if chord[i] == 0 else
+                       f"has points {chord[i]:.3g} m apart on {self._row(i)} and {self._row(i + 1)}, closer than "
+                       f"1e-12 of its size ({scale:.3g} m)")
+            raise ParameterError.invalid(self.name, what, problem, allowed)
+        step = np.diff(pts, axis=0)
+        turn = np.sum(step[:-1] * step[1:], axis=1) / (chord[:-1] * chord[1:])  # cos of the turn at each inner row
+        if np.any(turn < math.cos(math.radians(MAX_TURN_DEG))):
+            i = 1 + int(np.argmax(turn < math.cos(math.radians(MAX_TURN_DEG))))
+            raise ParameterError.invalid(self.name, what, f"doubles back on itself at {self._row(i)} (it turns by more "
+                                         f"than {MAX_TURN_DEG:g} degrees there: its arc length stops increasing)", allowed)
         if np.any(r[1:-1] == 0):
             i = 1 + int(np.argmax(r[1:-1] == 0))
             raise ParameterError.invalid(self.name, what, f"touches the axis between its ends, on {self._row(i)}",

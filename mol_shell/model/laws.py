@@ -38,7 +38,7 @@ from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: wher
     with_thickness,
 )
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
-from mol_shell.model.material import condensed, effective_lame, lame, quadrature_factors, shell_energy
+from mol_shell.model.material import condensed, effective_lame, lame, locking_warning, quadrature_factors, shell_energy
 from mol_shell.model.user_laws import Material, parameter_text, parameter_values  # noqa: F401  (parameter_text: the stored form)
 
 def svk(C, p):
@@ -282,6 +282,17 @@ def layer_scenes(scene):
                  for k, v in changes.items()}
         out.append((thickness, dataclasses.replace(scene, layers="", material=material, **typed)))
     return out
+
+
+def locking_warnings(scene):
+    """The lines of :func:`~mol_shell.model.material.locking_warning` for ``scene``: its law's; for a layered wall one
+    per layer that is ``svk`` at ``nu >= 0.45`` (named by its place and thickness), and none for the scene-level
+    ``material``/``nu`` the layers replace."""
+    if not getattr(scene, "layers", ""):
+        note = locking_warning(scene.material, scene.nu)
+        return [note] if note else []
+    notes = [(k, t, locking_warning(sub.material, sub.nu)) for k, (t, sub) in enumerate(layer_scenes(scene), 1)]
+    return [f"layer {k} ({t:g} m): {note}" for k, t, note in notes if note]
 
 
 def layer_laws(scene):

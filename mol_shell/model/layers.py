@@ -88,6 +88,9 @@ class LayeredThickness:
 
 
 def layered_thickness(zeta1, h, n_quad, thicknesses):
-    """The :class:`LayeredThickness` of layers of ``thicknesses`` from ``zeta1`` (they add up to ``2h``)."""
+    """The :class:`LayeredThickness` of layers of ``thicknesses`` from ``zeta1``, scaled to add up to ``2h`` exactly
+    (the scene accepts them to 1e-6 of it; equal layers stay equal halves of the wall to round-off)."""
+    thicknesses = np.asarray(thicknesses, dtype=float)
+    thicknesses = thicknesses * (2 * h / np.sum(thicknesses))
     bounds = tuple(float(b) for b in zeta1 + np.concatenate([[0.0], np.cumsum(thicknesses)]))
     return LayeredThickness(float(zeta1), float(h), int(n_quad), bounds[:-1] + (float(zeta1 + 2 * h),))

@@ -28,8 +28,12 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 
 HISTORIES = ("constant", "step T0", "ramp T1", "sine F", "table t0:h0 t1:h1 ...")
-HISTORY_ALLOWED = ("'constant', 'step T0' (0 before T0 s, then 1), 'ramp T1' (t/T1 up to 1), 'sine F' "
-                   "(sin(2 pi F t), F in Hz) or 'table t0:h0 t1:h1 ...' (linear between, held beyond; times increasing)")
+#: the highest frequency of a ``sine`` history, Hz: a period of a picosecond, far beyond any shell's frequencies (and
+#: 1e6 leap-frog steps of the paper's dt per period); beyond, a run only samples the sine's phase at random
+MAX_FREQUENCY = 1e12
+HISTORY_ALLOWED = ("'constant', 'step T0' (0 before T0 s, then 1), 'ramp T1' (t/T1 up to 1, T1 >= 1e-300 s), "
+                   "'sine F' (sin(2 pi F t), 0 < F <= 1e12 Hz) or 'table t0:h0 t1:h1 ...' (linear between, held "
+                   "beyond; times increasing)")
 
 
 def parse_history(name, spec):
@@ -48,6 +52,7 @@ def parse_history(name, spec):
         if kind in ("step", "ramp", "sine") and len(rest) == 1:
             value = float(rest[0])
             ok = math.isfinite(value) and (value >= 0 if kind == "step" else value > 0)
+            ok = ok and (kind != "sine" or value <= MAX_FREQUENCY) and (kind != "ramp" or value >= 1e-300)
             if ok:
                 return (kind, (value,))
         if kind == "table" and len(rest) >= 2:

@@ -246,6 +246,8 @@ def write_netcdf(ds, path):
     renamed onto ``path`` (:mod:`mol_shell._core.atomic`): a process killed while writing leaves the
     previous file intact.
     """
+    if not isinstance(ds, xr.Dataset):
+        raise ParameterError.not_a("ds", ds, "an xarray.Dataset", "a Dataset, as mol_shell.simulate returns")
     path = writable_path(path)
     encoding = {name: {"_FillValue": None} for name, var in ds.coords.items() if var.dtype.kind == "f"}
     unlimited = ["time"] if "time" in ds.dims else []
@@ -259,9 +261,33 @@ def write_netcdf(ds, path):
 
 
 def read_netcdf(path):
-    """Read a run back into memory (times stay float seconds)."""
+    """Read a run back into memory (times stay float seconds).
+
+    A path that is not a readable netCDF file raises :class:`~mol_shell._core.errors.ParameterError` naming it.
+    """
+    allowed = "a netCDF file"
+    try:
+        path = Path(os.fspath(path)).expanduser()
+    except TypeError:
+        raise ParameterError.not_a("path", path, "a file path", allowed) from None
+    if not str(path).strip() or not path.exists():
+        raise ParameterError.invalid("path", str(path), "does not exist", allowed)
+    if path.is_dir():
+        raise ParameterError.invalid("path", str(path), "is a directory", allowed)
+    try:
+        return _load(path)
+    except (OSError, ValueError, RuntimeError) as exc:
+        raise ParameterError.invalid("path", str(path), "cannot be read", allowed, hint=_unreadable(exc)) from None
+
+
+def _load(path):
     with xr.open_dataset(path, engine="netcdf4", decode_times=False) as ds:
         return ds.load()
+
+
+def _unreadable(exc):
+    """Why a file could not be read as netCDF, in a few words."""
+    return "not a netCDF file" if "Unknown file format" in str(exc) or "HDF" in str(exc) else str(exc)
 
 
 def read_run(path, name="FILE"):
@@ -279,10 +305,10 @@ def read_run(path, name="FILE"):
     if path.is_dir():
         raise ParameterError.invalid(name, str(path), "is a directory", allowed)
     try:
-        ds = read_netcdf(path)
+        ds = _load(path)
     except (OSError, ValueError, RuntimeError) as exc:
-        reason = "not a netCDF file" if "Unknown file format" in str(exc) or "HDF" in str(exc) else str(exc)
-        raise ParameterError.invalid(name, str(path), "is not a mol_shell run file", allowed, hint=reason) from None
+        raise ParameterError.invalid(name, str(path), "is not a mol_shell run file", allowed,
+                                     hint=_unreadable(exc)) from None
     is_run = all(v in ds and ds[v].dims == ("time", "s") for v in ("r", "theta", "chi"))
     if not is_run:
         title = str(ds.attrs.get("title", ""))

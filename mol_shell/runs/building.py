@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
+import sys
 import time
 
 import numpy as np
@@ -59,8 +61,23 @@ def as_scene(scene):
     return scene
 
 
+#: the shortest interval between saved times (s): sqrt of the smallest normal double, 1.5e-154 s. An adaptive
+#: integrator's step-size selection squares the step (h^2 y''); below this it underflows and SUNDIALS refuses to
+#: start (CV_ILL_INPUT, measured from 1e-161 s on with IDA)
+MIN_INTERVAL = math.sqrt(sys.float_info.min)
+#: saved times closer than this many machine epsilons of the later one are the same time to any tolerance
+MIN_INTERVAL_ULPS = 1e3
+_SPACING = (f"at least {MIN_INTERVAL:.2g} s (sqrt of the smallest double: an adaptive step's square underflows "
+            f"below it) and {MIN_INTERVAL_ULPS:g} machine epsilons of the later time apart")
+
+
 def parse_times(times=None, t_end=None):
-    """Saved times as an array starting at 0; ``t_end`` alone gives 11 evenly spaced times."""
+    """Saved times as an array starting at 0; ``t_end`` alone gives 11 evenly spaced times.
+
+    Consecutive times are :data:`MIN_INTERVAL` s and :data:`MIN_INTERVAL_ULPS` epsilons of the later one apart, at
+    least: closer ones cannot be told apart by an integrator.
+    """
+    low = 10 * MIN_INTERVAL  # t_end alone: 10 intervals
     if t_end is not None:
         if not is_number(t_end):
             raise ParameterError.not_a("t_end", t_end, "a number", "(0, inf) s")
@@ -69,16 +86,27 @@ def parse_times(times=None, t_end=None):
     if times is None:
         if t_end is None:
             raise ParameterError.missing("t_end", "give t_end in (0, inf) s, or times")
+        if t_end < low:
+            raise ParameterError("t_end", t_end, f"[{low:.2g}, inf) s", hint=f"its 10 saved intervals {_SPACING}")
         return np.linspace(0.0, float(t_end), 11)
-    allowed = "increasing finite times starting at 0, at least two"
+    allowed = "increasing finite times starting at 0, at least two, in one list"
     try:
         if isinstance(times, str):
             raise TypeError
-        times = np.asarray(times, dtype=float).ravel()
+        times = np.asarray(times, dtype=float)
     except (TypeError, ValueError):
         raise ParameterError.not_a("times", times, "a list of numbers", allowed) from None
+    if times.ndim != 1:
+        raise ParameterError.not_a("times", times.tolist(), "a flat list of numbers", allowed,
+                                   hint=f"it has {times.ndim} dimensions, shape {times.shape}")
     if times.size < 2 or not np.all(np.isfinite(times)) or times[0] != 0 or np.any(np.diff(times) <= 0):
         raise ParameterError("times", times, allowed)
+    gaps = np.diff(times)
+    close = gaps < np.maximum(MIN_INTERVAL, MIN_INTERVAL_ULPS * np.finfo(float).eps * times[1:])
+    if np.any(close):
+        i = int(np.argmax(close))
+        raise ParameterError("times", times, f"{allowed}, consecutive ones {_SPACING}",
+                             hint=f"{times[i]:.17g} s and {times[i + 1]:.17g} s are {gaps[i]:.3g} s apart")
     if t_end is not None and not np.isclose(times[-1], t_end):
         raise ParameterError("t_end", t_end, f"the last saved time {times[-1]:g} s (or leave t_end out)")
     return times

@@ -30,7 +30,9 @@ import casadi as ca
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.constants import RTOL_RANGE
+from mol_shell._core.errors import ParameterError, is_number
+from mol_shell._core.ranges import Choice
 from mol_shell.model.edges import resolve_edges
 from mol_shell.model.kinematics import delta, kinetic_energy_density
 from mol_shell.model.laws import scene_shell_energy, viscosities
@@ -160,6 +162,7 @@ def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
         densities times ``2 pi r0 L``), ``delta_min``; scene parameters, solver and
         statistics in attrs (``integrator = "ring-ode/<method>"``).
     """
+    _check_arguments(scene, rtol, atol, n, method)
     if getattr(scene, "gamma", 0.0) != 0.0:
         raise ParameterError("gamma", scene.gamma, "{0} for the ring ODE", hint="twisted motions are not uniform in s")
     refuse_loads(scene, "the ring ODE of section 5")
@@ -186,6 +189,30 @@ def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
         "complete": int(sol.success), "message": sol.message,
     }
     return _ring_dataset(system, scene, sol.t, sol.y.T, attrs, n, requested)
+
+
+#: ``scipy.integrate.solve_ivp``'s methods
+METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
+
+
+def _check_arguments(scene, rtol, atol, n, method):
+    """The arguments of :func:`simulate_ring`, each refused by name (before anything is built)."""
+    from mol_shell.scenes import TwistedCylinder
+
+    if not isinstance(scene, TwistedCylinder):
+        raise ParameterError.not_a("scene", getattr(scene, "name", scene), "a cylinder scene of section 5",
+                                   "mol_shell.SpinningRing() or mol_shell.TwistedCylinder(gamma=0)")
+    lo, hi = RTOL_RANGE
+    for name, value, allowed, ok in (("rtol", rtol, f"[{lo:g}, {hi:g})", lambda v: lo <= v < hi),
+                                     ("atol", atol, "(0, inf)", lambda v: 0 < v < math.inf)):
+        if not is_number(value):
+            raise ParameterError.not_a(name, value, "a number", allowed)
+        if not ok(value):
+            raise ParameterError(name, value, allowed)
+    if n is not None and (not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 2):
+        raise ParameterError("n", n, "None or integers >= 2")
+    if method is not None and method not in METHODS:
+        raise ParameterError("method", method, Choice(METHODS), hint="scipy.integrate.solve_ivp's methods, or None")
 
 
 def _numpy_rhs(f):

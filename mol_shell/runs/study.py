@@ -27,8 +27,7 @@ import numpy as np
 
 from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell._core.version import __version__
-from mol_shell.model.laws import scene_material
-from mol_shell.model.material import locking_warning
+from mol_shell.model.laws import locking_warnings, scene_material
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.results.study_store import Store, assemble
 from mol_shell.runs import resources
@@ -197,6 +196,9 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     start = time.perf_counter()
     scene = resolve_scene(scene)
     check_options(scene, integrator, options)  # also refuses an unknown integrator
+    if not (isinstance(vary, dict) or (isinstance(vary, (list, tuple)) and all(isinstance(c, dict) for c in vary))):
+        raise ParameterError.not_a("vary", vary, "a dict or a list of dicts",
+                                   "{name: [values, ...]} (a grid), or [{name: value, ...}, ...] (cases)")
     if workers is not None and not (isinstance(workers, (int, np.integer)) and not isinstance(workers, bool)
                                     and workers >= 1):
         raise ParameterError("workers", workers, "integers >= 1")
@@ -222,7 +224,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
             continue
         tasks.append(task)
     client = connect(scheduler) if tasks else None  # an unreachable cluster is refused before anything runs
-    for note in dict.fromkeys(locking_warning(task.scene.material, task.scene.nu) for task in tasks):
+    for note in dict.fromkeys(note for task in tasks for note in locking_warnings(task.scene)):
         if note:  # once per distinct warning, not once per case (each case's Dataset records its own)
             warnings.warn(note, MaterialWarning, stacklevel=2)
     pending, reused = run_cases(run_task, tasks, results, output=output, final=FINAL, scheduler=scheduler,

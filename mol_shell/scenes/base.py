@@ -16,7 +16,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Choice, Interval, finite, non_negative, positive
-from mol_shell.model.edges import check_edge
+from mol_shell.model.edges import check_displacements, check_edge, resolve_edges
 from mol_shell.model.geometry import base_offset, thickness_volume_factor
 from mol_shell.model.laws import (
     MATERIALS,
@@ -45,6 +45,9 @@ DISPLACEMENTS = ("end1_dz", "end2_dz", "end1_dchi", "end2_dchi")
 #: h < 0.5 m (32 with the inner face at r = 0.1 m); at n = 40 the exact Jacobian of cvode-bdf compiled in
 #: 3.8, 13, 54, 108 and 767 s at 4, 8, 16, 32, 64 points (docs/reliability.md)
 N_QUAD_RANGE = (2, 32)
+#: layers' thicknesses must add up to the wall 2h to this fraction of it (what a user types: 7 digits); they are then
+#: scaled to add up to 2h exactly
+LAYERS_RTOL = 1e-6
 
 
 class Flag(Choice):
@@ -277,6 +280,7 @@ class ShellScene:
                 parse_history(load + "_history", getattr(self, load + "_history"))
         try:
             self._validate()
+            self._check_displacements()
             self._check_thickness()
         except ParameterError as exc:
             raise self._blame(exc) from None
@@ -326,10 +330,17 @@ class ShellScene:
         except ParameterError as exc:
             raise ParameterError("layers", self.layers, "layers whose parameters are in range",
                                  hint=str(exc)) from None
-        total = sum(t for t, _ in layers)
-        if abs(total - 2 * self.h) > 1e-9 * 2 * self.h:
-            raise ParameterError("layers", self.layers, f"thicknesses adding up to the wall, 2h = {2 * self.h:.6g} m",
-                                 hint=f"they add up to {total:.6g} m")
+        total = sum(t for t, _ in layers)  # to LAYERS_RTOL: the layers are then scaled to 2h (layered_thickness)
+        if abs(total - 2 * self.h) > LAYERS_RTOL * 2 * self.h:
+            raise ParameterError("layers", self.layers, f"thicknesses adding up to the wall, 2h = {2 * self.h:.10g} m, "
+                                 f"to {LAYERS_RTOL:g} of it", hint=f"they add up to {total:.10g} m")
+
+    def _check_displacements(self):
+        """A static edge displacement only at an edge that holds its field (refused before anything is built)."""
+        given = {name: getattr(self, name) for name in DISPLACEMENTS if getattr(self, name)}
+        if given:
+            edges = resolve_edges(self.end1, self.end2, self.meridian().poles)
+            check_displacements(given, edges, getattr(self, "fields", range(5)))
 
     def _blame(self, exc):
         """A refusal of ``h`` caused by a changed geometry parameter (``a = 5e-324``) names that parameter."""

@@ -38,6 +38,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -278,7 +279,10 @@ def load_scene(path, *, with_run=False):
         error (with its line), ``scene`` missing or unknown, an unknown table or key, a key in the wrong
         table, a value of the wrong type or outside its range.
     """
-    path = Path(path)
+    try:
+        path = Path(os.fspath(path)).expanduser()
+    except TypeError:
+        raise ParameterError.not_a("scene file", path, "a file path", "a readable TOML file") from None
     try:
         text = path.read_bytes().decode("utf-8")
     except (OSError, UnicodeDecodeError) as exc:

@@ -24,7 +24,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, positive
-from mol_shell.model.geometry import Meridian
+from mol_shell.model.geometry import Meridian, _self_intersects
 from mol_shell.scenes.shells import _Dilated
 from mol_shell.scenes.base import _check
 
@@ -42,10 +42,11 @@ class SegmentedMeridian(Meridian):
             kind = seg[0]
             if kind == "line" and len(seg) == 2 and seg[1] > 0:
                 length, k = float(seg[1]), 0.0
-            elif kind == "arc" and len(seg) == 3 and seg[1] > 0 and seg[2] != 0:
+            elif kind == "arc" and len(seg) == 3 and seg[1] > 0 and 0 < abs(seg[2]) < 2 * math.pi:
                 length, k = float(seg[1]) * abs(seg[2]), float(seg[2]) / (float(seg[1]) * abs(seg[2]))
             else:
-                raise ParameterError("segments", seg, "('line', length > 0) or ('arc', radius > 0, angle != 0)")
+                raise ParameterError("segments", seg, "('line', length > 0) or ('arc', radius > 0, 0 < |angle| < 2 pi)",
+                                     hint="an arc turning a full circle or more overlaps itself")
             rows.append((s, length, r, z, theta, k))
             r, z, theta = self._point(r, z, theta, k, length)
             s += length
@@ -90,19 +91,38 @@ def head(a, crown, knuckle):
     return out
 
 
+def check_segmented(text, meridian):
+    """Refuse, naming ``segments``, a meridian of segments that crosses the axis or itself (sampled densely)."""
+    s = np.linspace(0.0, meridian.length, 40 * len(meridian.segments) + 1)
+    r, z = meridian.at(s)[:2]
+    scale = max(float(np.max(np.abs(r))), float(np.max(np.abs(z))), meridian.length)
+    allowed = "segments whose meridian stays off the axis between its ends and does not cross itself"
+    if np.any(r[1:-1] <= 1e-12 * scale):
+        where = s[1 + int(np.argmax(r[1:-1] <= 1e-12 * scale))]
+        raise ParameterError("segments", text, allowed, hint=f"it reaches the axis at s = {where:.4g} m")
+    if _self_intersects(np.column_stack([r, z])):
+        raise ParameterError("segments", text, allowed, hint="it crosses itself")
+
+
 def parse_segments(text):
     """``"arc R DEG, line L, ..."`` as segments (angles in degrees), or a ParameterError naming ``segments``."""
     out = []
-    allowed = "'arc RADIUS ANGLE_DEG' and 'line LENGTH' separated by commas (radius, length > 0, m)"
+    allowed = ("'arc RADIUS ANGLE_DEG' and 'line LENGTH' separated by commas (radius, length > 0, m; "
+               "0 < |ANGLE_DEG| < 360)")
     for part in text.split(","):
         words = part.split()
         try:
             if words[0] == "arc" and len(words) == 3:
+                if not 0 < abs(float(words[2])) < 360:
+                    raise ParameterError("segments", text, allowed, hint=f"the arc {part.strip()!r} turns by "
+                                         f"{float(words[2]):g} degrees: a full circle or more overlaps itself")
                 out.append(("arc", float(words[1]), math.radians(float(words[2]))))
             elif words[0] == "line" and len(words) == 2:
                 out.append(("line", float(words[1])))
             else:
                 raise ValueError(part)
+        except ParameterError:
+            raise
         except (ValueError, IndexError):
             raise ParameterError("segments", text, allowed, hint=f"cannot read {part.strip()!r}") from None
     return out
@@ -142,13 +162,15 @@ class Vessel(_Dilated):
         if not isinstance(self.segments, str):
             raise ParameterError.not_a("segments", self.segments, "a string", "'arc R DEG, line L, ...'")
         try:
-            self.meridian()
+            mer = self.meridian()
         except ParameterError as exc:
             if self.segments.strip():
                 raise
             blame = "a" if self.crown is None or self.knuckle is None else "crown"
             raise ParameterError(blame, getattr(self, blame), "values whose heads have positive, finite radii",
                                  hint=str(exc)) from None
+        if self.segments.strip():
+            check_segmented(self.segments, mer)
 
     def meridian(self):
         if self.segments.strip():

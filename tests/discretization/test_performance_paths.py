@@ -151,6 +151,21 @@ def test_simulate_threads_option_gives_identical_runs(monkeypatch):
     np.testing.assert_array_equal(runs[0].psi.values, runs[1].psi.values)
 
 
+def test_cache_dir_that_cannot_be_a_writable_directory_is_refused_by_name(monkeypatch, tmp_path):
+    """MOL_SHELL_CACHE under /proc, or naming a file, was an internal FileNotFoundError/FileExistsError."""
+    from mol_shell._core.errors import ParameterError
+    from mol_shell.discretization.compiled import cache_dir
+
+    monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path / "new" / "cache"))
+    assert cache_dir() == tmp_path / "new" / "cache" and cache_dir().is_dir()
+    (tmp_path / "file").write_text("")
+    for bad, problem in (("/proc/nope", "cannot be created"), (str(tmp_path / "file"), "is a file"),
+                         ("/proc", "cannot be written")):
+        monkeypatch.setenv("MOL_SHELL_CACHE", bad)
+        with pytest.raises(ParameterError, match=f"MOL_SHELL_CACHE = '{bad}' {problem}.*a writable directory"):
+            cache_dir()
+
+
 def test_threads_default_and_refusals(monkeypatch):
     from mol_shell._core.errors import ParameterError
 

@@ -55,8 +55,31 @@ def test_layers_from_a_scene_file_and_a_python_list(tmp_path):
     assert scene.layers == listed.layers and "fibre_E=5000000.0" in scene.layers
 
 
+def test_layers_add_up_to_the_wall_to_what_a_user_types_and_the_message_shows_the_difference():
+    """The check was to 1e-9 of 2h, with both numbers printed to 6 digits (they looked the same): now to 1e-6, the
+    layers scaled to 2h exactly, and the numbers printed to 10 digits."""
+    assert Sphere(layers="0.0125663706 svk-plane-stress").layers == "0.0125663706 svk-plane-stress"
+    with pytest.raises(ParameterError, match=r"2h = 0.01256637061 m, to 1e-06 of it \(they add up to 0.0125663 m\)"):
+        Sphere(layers="0.0125663 svk-plane-stress")
+    from mol_shell.model.layers import layered_thickness
+
+    lo, mid, hi = layered_thickness(-0.01, 0.01, 4, [0.01 * (1 + 4e-7), 0.01]).bounds  # scaled, not the last cut
+    assert hi == 0.01 and (mid - lo) / (hi - mid) == pytest.approx(1 + 4e-7, rel=1e-10)
+
+
+def test_the_director_law_is_warned_about_per_layer_not_for_the_scene_defaults_the_layers_replace():
+    """A wall of rubber-like layers with no svk layer was warned about as svk at nu = 0.49 (the scene's defaults)."""
+    from mol_shell.model.laws import locking_warnings
+
+    assert locking_warnings(Sphere(h=0.01, layers="0.012 neo-hookean-incompressible; 0.008 svk-plane-stress nu=0.3")) == []
+    notes = locking_warnings(Sphere(h=0.01, material="svk-plane-stress",
+                                    layers="0.012 svk nu=0.3; 0.004 svk; 0.004 svk-plane-stress"))
+    assert len(notes) == 1 and notes[0].startswith('layer 2 (0.004 m): material = "svk" at nu = 0.49'), notes
+    assert len(locking_warnings(Sphere())) == 1 and locking_warnings(Sphere(material="svk-plane-stress")) == []
+
+
 @pytest.mark.parametrize("layers, words", [
-    ("0.01 svk; 0.005 svk", "thicknesses adding up to the wall, 2h = 0.0125664 m"),
+    ("0.01 svk; 0.005 svk", "thicknesses adding up to the wall, 2h = 0.01256637061 m, to 1e-06 of it"),
     ("0.01 svk; 0.0025664 svk nu=0.7", "nu = 0.7 is outside (-1, 0.5)"),
     ("0.01 rubber; 0.0025664 svk", "material = 'rubber' is outside"),
     ("0.01 svk; 0.0025664 svk colour=red", "unknown key 'colour'"),

@@ -393,3 +393,15 @@ def test_torus_released_from_its_natural_state_oscillates_about_the_static_sag()
     assert abs(average - sag) <= 1.5 * abs(sag) / (w1 * T), (average, sag, w1)
     assert float(u.min()) < 1.5 * sag
     assert ds.attrs["energy_balance_error"] < 1e-6
+
+
+def test_a_sine_history_beyond_a_terahertz_and_a_ramp_too_short_to_invert_are_refused():
+    """sine 1e300 was accepted and the run completed (its phase sampled at random); ramp 1e-320 made 1/T1 infinite."""
+    from mol_shell._core.errors import ParameterError
+    from mol_shell.model.loads import parse_history
+
+    assert parse_history("pressure_history", "sine 1e12") == ("sine", (1e12,))
+    for bad in ("sine 1e300", "sine 1.1e12", "ramp 1e-320"):
+        with pytest.raises(ParameterError, match=r"^pressure_history = .* 'ramp T1' \(t/T1 up to 1, T1 >= 1e-300 s\), "
+                           r"'sine F' \(sin\(2 pi F t\), 0 < F <= 1e12 Hz\)"):
+            parse_history("pressure_history", bad)

@@ -374,6 +374,10 @@ BAD_TABLES = {
     "self-crossing": ([[1.0, 0.0], [2.0, 1.0], [2.0, 0.0], [1.0, 1.0], [1.0, 2.0]], "crosses itself"),
     "three points": ([[1.0, 0.0], [1.2, 0.5], [1.0, 1.0]], "4 or more"),
     "axis mid-way": ([[1.0, 0.0], [0.0, 1.0], [1.0, 2.0], [1.0, 3.0]], "touches the axis between its ends"),
+    # were refused naming h (the thickness off the axis), and as "repeats a point" of two distinct points
+    "doubling back": ([[1.0, 0.0], [1.0, 1.0], [1.0, 0.5], [1.0, 2.0]], "doubles back on itself at line 2"),
+    "1e300 m": ([[1.0, 0.0], [1.0, 1.0], [1.0, 2.0], [1.0, 1e300]], "has a coordinate beyond 1e+100 m on line 4"),
+    "1e50 m": ([[1.0, 0.0], [1.0, 1.0], [1.0, 2.0], [1.0, 1e50]], "points 1 m apart on line 1 and line 2, closer than"),
 }
 
 

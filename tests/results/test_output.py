@@ -236,3 +236,19 @@ def test_write_netcdf_creates_directories_and_names_an_unwritable_path(short_run
         mol_shell.write_netcdf(short_run, tmp_path / "a")
     with pytest.raises(ParameterError, match="^path = '' is empty"):
         mol_shell.write_netcdf(short_run, "")
+
+
+def test_read_and_write_refuse_bad_arguments_by_name(tmp_path):
+    """read_netcdf raised FileNotFoundError / OSError, write_netcdf(3, ...) an AttributeError."""
+    from mol_shell._core.errors import ParameterError
+
+    garbage = tmp_path / "garbage.nc"
+    garbage.write_bytes(bytes(range(256)))
+    unreadable = r"cannot be read; allowed: a netCDF file \(not a netCDF file\)"
+    for path, words in ((tmp_path / "missing.nc", "does not exist"), (garbage, unreadable),
+                        (tmp_path, "is a directory"), (None, "is not a file path")):
+        with pytest.raises(ParameterError, match=f"^path = .* {words}"):
+            mol_shell.read_netcdf(path)
+    with pytest.raises(ParameterError, match="^ds = 3 is not an xarray.Dataset"):
+        mol_shell.write_netcdf(3, tmp_path / "w.nc")
+    assert not (tmp_path / "w.nc").exists()

@@ -61,3 +61,18 @@ def test_ode_is_a_casadi_function_of_three_fields_and_momenta():
     assert system.rhs.size1_in(1) == 6 and system.rhs.is_a("SXFunction")
     with pytest.raises(ParameterError, match="gamma"):
         simulate_ring(mol_shell.TwistedCylinder(), [0.0, 0.001])
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"rtol": 0}, r"rtol = 0 is outside \[1e-14, 1\)"),
+    ({"rtol": -1}, r"rtol = -1 is outside"),
+    ({"atol": float("nan")}, r"atol = nan is outside \(0, inf\)"),
+    ({"n": 1}, r"n = 1 is outside None or integers >= 2"),
+    ({"method": "foo"}, r"method = 'foo' is outside \{RK45"),
+    ({"scene": mol_shell.Sphere()}, r"scene = 'sphere' is not a cylinder scene"),
+])
+def test_bad_arguments_are_parameter_errors_naming_them(kwargs, words):
+    """rtol <= 0 and n = 1 were accepted, method = 'foo' raised SciPy's ValueError, a sphere an AttributeError."""
+    scene = kwargs.pop("scene", mol_shell.SpinningRing())
+    with pytest.raises(ParameterError, match="^" + words):
+        simulate_ring(scene, [0.0, 0.001], **kwargs)

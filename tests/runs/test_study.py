@@ -216,3 +216,10 @@ def test_leapfrog_study_times_follow_simulate():
         study(BASE, {"gamma": [0.0, 0.05]}, n=10, t_end=1.05e-5, scheduler="serial")
     ds = study(BASE, {"gamma": [0.0]}, n=10, t_end=1e-5, scheduler="serial")
     assert float(ds.time[-1]) == 1e-5 and ds.sizes["time"] == 11
+
+
+@pytest.mark.parametrize("vary", [None, 3, "gamma", [1, 2], [{"gamma": 0.1}, "nu"]])
+def test_vary_that_is_neither_a_dict_nor_a_list_of_dicts_is_refused_by_name(vary):
+    """vary = None raised TypeError: 'NoneType' object is not iterable."""
+    with pytest.raises(ParameterError, match="^vary = .* is not a dict or a list of dicts"):
+        mol_shell.study("sphere", vary, n=5, t_end=1e-3)

@@ -249,3 +249,10 @@ def test_a_missing_file_and_a_missing_name_are_refused(tmp_path, capsys):
     assert "scene = " in capsys.readouterr().err
     assert main(["scenes", "--toml"]) == 2
     assert capsys.readouterr().err.startswith("mol-shell: error: NAME is missing: give mol-shell scenes NAME --toml")
+
+
+def test_load_scene_of_something_not_a_path_is_refused_by_name():
+    """load_scene(None) raised TypeError."""
+    for bad in (None, 3):
+        with pytest.raises(ParameterError, match=f"^scene file = {bad} is not a file path"):
+            load_scene(bad)

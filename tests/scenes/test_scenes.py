@@ -128,3 +128,21 @@ def test_a_system_built_from_an_unresolved_scene_refuses_its_initial_state():
     with pytest.raises(ParameterError, match=r"^R = None .*resolve"):
         system.initial_state(scene)
     assert np.isfinite(system.initial_state(resolve(scene))).all()
+
+
+@pytest.mark.parametrize("scene, changes, why", [
+    ("twisted-cylinder", {"end2": "free", "end2_dz": 0.01}, "end2 = 'free' leaves z free"),
+    ("twisted-cylinder", {"end2": "free", "end2_dchi": 0.01}, "end2 = 'free' leaves chi free"),
+    ("twisted-cylinder", {"end1_dchi": 0.01}, "end1 = 'magnet' leaves chi free"),
+    ("cone", {"end2": "free", "end2_dz": 0.01}, "end2 = 'free' leaves z free"),
+    ("sphere", {"end1_dchi": 0.01}, "end1 = 'pole' ties chi"),
+    ("axisymmetric", {"end2": "clamped", "end2_dchi": 0.01}, "the scene has no chi field"),
+])
+def test_an_edge_displacement_of_a_field_the_edge_does_not_hold_is_refused_by_the_scene(scene, changes, why):
+    """Was refused only once the system was built, as momenta that overflow, with a false range (-inf, 1e-300]."""
+    name = next(k for k in changes if k.endswith(("_dz", "_dchi")))
+    with pytest.raises(ParameterError, match=f"^{name} = 0.01 cannot be imposed: {why}.*allowed: 0, or a displacement"):
+        with_params(get_scene(scene), changes)
+    held = {"end2": "clamped"} if scene != "sphere" else {}
+    if scene not in ("sphere", "axisymmetric"):
+        with_params(get_scene(scene), {**changes, **held, "end1": "clamped"})  # held: accepted

@@ -1,0 +1,37 @@
+"""Saved times checked before anything is built (mol_shell.runs.building.parse_times)."""
+
+import numpy as np
+import pytest
+
+import mol_shell
+from mol_shell._core.errors import ParameterError
+from mol_shell.runs.building import MIN_INTERVAL, parse_times
+
+
+def test_times_an_integrator_cannot_tell_apart_are_refused():
+    """t_end = 1e-300 reached SUNDIALS (CV_ILL_INPUT, exit 3); times 0, 1e-300 ran leap-frog for 0 steps."""
+    assert MIN_INTERVAL == pytest.approx(1.49e-154, rel=1e-2)
+    with pytest.raises(ParameterError, match=r"^t_end = 1e-300 is outside \[1.5e-153, inf\) s \(its 10 saved intervals"):
+        parse_times(None, 1e-300)
+    with pytest.raises(ParameterError, match=r"^times = \[0.0, 1e-300\] .* at least 1.5e-154 s .*1e-300 s apart"):
+        parse_times([0, 1e-300])
+    with pytest.raises(ParameterError, match="machine epsilons"):
+        parse_times([0, 1.0, 1.0 + 1e-14])
+    np.testing.assert_array_equal(parse_times([0, 1e-150, 1.0, 1.0 + 1e-12]), [0, 1e-150, 1.0, 1.0 + 1e-12])
+    assert parse_times(None, 1e-150)[-1] == 1e-150
+
+
+def test_times_must_be_one_flat_list():
+    """A nested list was flattened and run."""
+    with pytest.raises(ParameterError, match=r"^times = \[\[0.0, 0.001\]\] is not a flat list of numbers"):
+        mol_shell.simulate("sphere", n=5, times=[[0, 1e-3]])
+
+
+def test_leapfrog_refuses_saved_times_no_step_apart():
+    """1e-12 s after 0 rounds to 0 steps of dt = 1e-6 s and was accepted (the t = 0 state saved again)."""
+    step_counts = mol_shell.integrators.INTEGRATORS["leapfrog"](dt=1e-6).step_counts
+    assert step_counts(np.array([0.0, 1e-6, 3e-6])).tolist() == [0, 1, 3]
+    with pytest.raises(ParameterError, match=r"^times = 1e-12 is outside positive multiples of dt = 1e-06 s, at least one step"):
+        step_counts(np.array([0.0, 1e-12]))
+    with pytest.raises(ParameterError, match="at least one step"):
+        mol_shell.simulate("twisted-cylinder", n=5, times=[0, 1e-6, 1e-6 + 1e-13])
