@@ -99,6 +99,8 @@ def initial_state(scene, system):
     try:
         with np.errstate(all="ignore"):
             return system.initial_state(scene)
+    except ParameterError:  # a parameter refused by name on the way: not an overflow
+        raise
     except (ValueError, ArithmeticError):
         refuse(scene, system.n, "the initial state is not finite in double precision (its momenta overflow)")
 
