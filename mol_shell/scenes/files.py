@@ -325,7 +325,9 @@ def scene_toml(scene):
         value = {f.name: f.default if f.default is not dataclasses.MISSING else "" for f in fields}
     else:
         value = {f.name: getattr(scene, f.name) for f in fields}
-    doc = (cls.__doc__ or "").strip().splitlines()[0].replace("``", "")
+    from mol_shell.scenes import summary  # the package's summaries: one clause, no markup
+
+    doc = summary(cls)
     lines = [f"# {cls.name}: {doc}",
              "# A mol_shell scene file: mol-shell run THIS.toml -o out.nc (--set NAME=VALUE on top). Units: SI.",
              '# "auto" is computed (an edge: from the geometry; R, dilation: the equilibrium under the loads',
