@@ -42,6 +42,7 @@ from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, RATE_UNITS, scene_attrs
 from mol_shell.runs.simulate import parse_times, resolve
 from mol_shell.scenes.base import refuse_loads
+from mol_shell.scenes.cylinder import TwistedCylinder
 
 #: the ODE's unknowns, indices into :data:`mol_shell.model.FIELDS`
 RING_FIELDS = (1, 2, 4)
@@ -197,8 +198,6 @@ METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
 
 def _check_arguments(scene, rtol, atol, n, method):
     """The arguments of :func:`simulate_ring`, each refused by name (before anything is built)."""
-    from mol_shell.scenes import TwistedCylinder
-
     if not isinstance(scene, TwistedCylinder):
         raise ParameterError.not_a("scene", getattr(scene, "name", scene), "a cylinder scene of section 5",
                                    "mol_shell.SpinningRing() or mol_shell.TwistedCylinder(gamma=0)")

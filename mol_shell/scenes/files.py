@@ -46,7 +46,7 @@ from mol_shell._core.constants import FIELDS, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
-from mol_shell.scenes import SCENES
+from mol_shell.scenes import SCENES, summary
 from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS
 
 if sys.version_info >= (3, 11):
@@ -325,9 +325,7 @@ def scene_toml(scene):
         value = {f.name: f.default if f.default is not dataclasses.MISSING else "" for f in fields}
     else:
         value = {f.name: getattr(scene, f.name) for f in fields}
-    from mol_shell.scenes import summary  # the package's summaries: one clause, no markup
-
-    doc = summary(cls)
+    doc = summary(cls)  # the package's summary: one clause, no markup
     lines = [f"# {cls.name}: {doc}",
              "# A mol_shell scene file: mol-shell run THIS.toml -o out.nc (--set NAME=VALUE on top). Units: SI.",
              '# "auto" is computed (an edge: from the geometry; R, dilation: the equilibrium under the loads',
