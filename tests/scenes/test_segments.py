@@ -63,10 +63,11 @@ def test_capsule_cylinder_carries_the_membrane_stresses():
     ("crown=0.5", "crown = 0.5 is outside [a, inf) = [1, inf) m"),
     ("knuckle=2", "knuckle = 2"),
     # were refused naming h (the thickness interval off the axis)
-    ("segments=arc 1 -720", "segments = 'arc 1 -720' is outside 'arc RADIUS ANGLE_DEG' and 'line LENGTH' separated "
-     "by commas (radius, length > 0, m; 0 < |ANGLE_DEG| < 360) (the arc 'arc 1 -720' turns by -720 degrees"),
-    ("segments=arc 1 -300", "segments = 'arc 1 -300' is outside segments whose meridian stays off the axis between "
-     "its ends and does not cross itself (it reaches the axis at s = 3.142 m)"),
+    ("segments=arc 1 -720", ("segments = 'arc 1 -720' is outside 'arc RADIUS ANGLE_DEG' and 'line LENGTH' separated "
+                             "by commas (radius, length > 0, m; 0 < |ANGLE_DEG| < 360) (the arc 'arc 1 -720' turns by "
+                             "-720 degrees")),
+    ("segments=arc 1 -300", ("segments = 'arc 1 -300' is outside segments whose meridian stays off the axis "
+                             "between its ends and does not cross itself (it reaches the axis at s = 3.142 m)")),
 ])
 def test_bad_segments_one_line_exit_2(capsys, tmp_path, setting, words):
     args = ["run", "vessel", "--set", setting, "--n", "9", "--t-end", "1e-5", "-o", str(tmp_path / "x.nc")]
