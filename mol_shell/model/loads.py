@@ -82,7 +82,14 @@ def history(parsed, t):
     if isinstance(t, (int, float)):
         return float(np.interp(t, times, values))
     tt = ca.fmax(ca.fmin(t, times[-1]), times[0])  # held beyond the table
-    return ca.pw_lin(tt, ca.DM(times), ca.DM(values))
+    h = values[0]  # a sum of clipped ramps, one per segment (CasADi's pw_lin takes no MX time)
+    for i, slope in enumerate(_slopes(times, values)):
+        h = h + slope * (ca.fmin(ca.fmax(tt, times[i]), times[i + 1]) - times[i])
+    return h
+
+
+def _slopes(times, values):
+    return [(values[i + 1] - values[i]) / (times[i + 1] - times[i]) for i in range(len(times) - 1)]
 
 
 def history_rate(parsed, t):
@@ -96,8 +103,10 @@ def history_rate(parsed, t):
     if kind == "sine":
         return 2 * math.pi * data[0] * ca.cos(2 * math.pi * data[0] * t)
     times, values = data
-    slopes = [0.0] + [(values[i + 1] - values[i]) / (times[i + 1] - times[i]) for i in range(len(times) - 1)] + [0.0]
-    return ca.pw_const(t, ca.DM(times), ca.DM(slopes))
+    rate = 0.0  # the segment's slope where t lies in it (CasADi's pw_const takes no MX time)
+    for i, slope in enumerate(_slopes(times, values)):
+        rate = rate + ca.if_else(ca.logic_and(t >= times[i], t < times[i + 1]), slope, 0.0)
+    return rate
 
 
 def cell_volume(zl, zr, rl, rr):
