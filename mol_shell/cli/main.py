@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import os
+import re
 import sys
 import warnings
 
@@ -228,13 +229,29 @@ def _remove_empty(folders):
             return
 
 
+#: a negative number as argparse does not know it (``-1e-6``, ``-inf``: its own pattern takes ``-1`` and ``-.5`` only)
+_NEGATIVE = re.compile(r"-(?:\d+\.?\d*|\.\d+)(?:e[+-]?\d+)?|-inf|-nan", re.IGNORECASE)
+
+
+def negative_values_attached(argv):
+    """``--dt -1e-6`` as ``--dt=-1e-6``: argparse would read ``-1e-6`` as an option and refuse ``--dt`` for want of
+    a value, naming no range; attached, the value reaches the option's own check."""
+    out = []
+    for token in argv:
+        if out and _NEGATIVE.fullmatch(token) and out[-1].startswith("--") and "=" not in out[-1]:
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
+
+
 def main(argv=None):
     # the command line draws into files only; matplotlib reads this when (and if) a command imports it, so a
     # run does not pay matplotlib's import (0.1 s)
     os.environ["MPLBACKEND"] = "Agg"
     parser = make_parser()
     try:
-        args = parser.parse_args(argv)
+        args = parser.parse_args(negative_values_attached(sys.argv[1:] if argv is None else list(argv)))
     except SystemExit as exc:  # usage errors (code 2), --help and --version (code 0)
         return exc.code
     created = []  # directories made for -o: removed again if the command is refused

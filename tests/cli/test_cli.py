@@ -335,3 +335,13 @@ def test_summaries_count_in_the_singular_after_one(tmp_path, capsys):
                  "-o", str(tmp_path / "study.nc")]) == 0
     out = capsys.readouterr().out
     assert ": 1 case (1 complete)" in out and "1 cases" not in out
+
+
+@pytest.mark.parametrize("option, value, allowed", [("--dt", "-1e-6", "(0, inf) s"), ("--t-end", "-1e-3", "(0, inf) s"),
+                                                    ("--t-end", "-inf", "(0, inf) s")])
+def test_a_negative_number_in_exponent_form_reaches_the_option_s_range(option, value, allowed, tmp_path, capsys):
+    """argparse reads ``-1e-6`` as an option (its pattern of negative numbers takes ``-1`` and ``-.5`` only) and
+    refused ``--dt`` for want of a value, naming no range; attached to its option the value gets the range."""
+    code = main(["run", "twisted-cylinder", "--n", "11", option, value, "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err.splitlines()
+    assert code == 2 and err == [f"mol-shell: error: {option} = {value} is outside {allowed}"], err
