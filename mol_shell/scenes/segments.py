@@ -45,8 +45,9 @@ class SegmentedMeridian(Meridian):
             elif kind == "arc" and len(seg) == 3 and seg[1] > 0 and 0 < abs(seg[2]) < 2 * math.pi:
                 length, k = float(seg[1]) * abs(seg[2]), float(seg[2]) / (float(seg[1]) * abs(seg[2]))
             else:
+                full = kind == "arc" and len(seg) == 3 and abs(seg[2]) >= 2 * math.pi
                 raise ParameterError("segments", seg, "('line', length > 0) or ('arc', radius > 0, 0 < |angle| < 2 pi)",
-                                     hint="an arc turning a full circle or more overlaps itself")
+                                     hint="an arc turning a full circle or more overlaps itself" if full else "")
             rows.append((s, length, r, z, theta, k))
             r, z, theta = self._point(r, z, theta, k, length)
             s += length
@@ -114,13 +115,17 @@ def parse_segments(text):
         try:
             if words[0] == "arc" and len(words) == 3:
                 if not 0 < abs(float(words[2])) < 360:
+                    why = "a full circle or more overlaps itself" if float(words[2]) != 0 else "an arc must turn"
                     raise ParameterError("segments", text, allowed, hint=f"the arc {part.strip()!r} turns by "
-                                         f"{float(words[2]):g} degrees: a full circle or more overlaps itself")
+                                         f"{float(words[2]):g} degrees: {why}")
                 out.append(("arc", float(words[1]), math.radians(float(words[2]))))
             elif words[0] == "line" and len(words) == 2:
                 out.append(("line", float(words[1])))
             else:
                 raise ValueError(part)
+            if not (math.isfinite(out[-1][1]) and out[-1][1] > 0):
+                raise ParameterError("segments", text, allowed, hint=f"the {words[0]} {part.strip()!r} has a "
+                                     f"{'radius' if words[0] == 'arc' else 'length'} that is not positive and finite")
         except ParameterError:
             raise
         except (ValueError, IndexError):

@@ -266,3 +266,12 @@ def test_memory_sizes_parse():
     assert resources.parse_bytes("1e9") == 1e9
     with pytest.raises(ParameterError, match="MOL_SHELL_MEMORY = 'lots' is not a size"):
         resources.parse_bytes("lots")
+
+
+def test_a_huge_mode_count_is_blamed_on_count_not_on_n(capsys, tmp_path):
+    """``--count 1000000000`` was refused as ``n = 41 is outside integers 3..3 ... with 1,000,000,000 modes``: the
+    memory check counts at most one mode per coordinate, and the count's own range names it."""
+    code = main(["modes", "sphere", "--n", "9", "--count", "1000000000", "-o", str(tmp_path / "m.nc")])
+    err = capsys.readouterr().err.splitlines()
+    assert code == 2 and len(err) == 1 and err[0].startswith("mol-shell: error: count = 1000000000 is outside "
+                                                             "integers 1.."), err

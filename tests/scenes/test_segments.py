@@ -68,6 +68,10 @@ def test_capsule_cylinder_carries_the_membrane_stresses():
                              "-720 degrees")),
     ("segments=arc 1 -300", ("segments = 'arc 1 -300' is outside segments whose meridian stays off the axis "
                              "between its ends and does not cross itself (it reaches the axis at s = 3.142 m)")),
+    # were refused as internal tuples, or with the full circle's reason
+    ("segments=line -1", "(the line 'line -1' has a length that is not positive and finite)"),
+    ("segments=arc 0 90", "(the arc 'arc 0 90' has a radius that is not positive and finite)"),
+    ("segments=arc 0.5 0", "(the arc 'arc 0.5 0' turns by 0 degrees: an arc must turn)"),
 ])
 def test_bad_segments_one_line_exit_2(capsys, tmp_path, setting, words):
     args = ["run", "vessel", "--set", setting, "--n", "9", "--t-end", "1e-5", "-o", str(tmp_path / "x.nc")]
