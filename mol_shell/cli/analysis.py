@@ -12,6 +12,7 @@ from mol_shell.analysis.modes import modes
 from mol_shell.analysis.stability import default_cases, report
 from mol_shell.analysis.stability import markdown_table as stability_table
 from mol_shell.analysis.workprecision import (
+    MAX_REPEATS,
     DEFAULT_INTEGRATORS,
     PAPER_TIMES,
     check_integrators,
@@ -47,8 +48,8 @@ def register_compare(subparsers):
     parser.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None,
                         help="final time, s; saved times then 0, t_end/4, ..., t_end (default: a scene file's [run] "
                         "t_end, else the paper's snapshots); leap-frog steps whose grid misses them are skipped")
-    parser.add_argument("--repeats", type=integer_arg("--repeats", 1), default=3,
-                        help="timed repeats per point (median; default 3)")
+    parser.add_argument("--repeats", type=integer_arg("--repeats", 1, MAX_REPEATS), default=3,
+                        help=f"timed repeats per point, 1 to {MAX_REPEATS} (median; default 3)")
     parser.add_argument("--target", type=number_arg("--target"), default=1e-6,
                         help="error of the summary table (default 1e-6)")
     parser.add_argument("-o", "--output", required=True,
