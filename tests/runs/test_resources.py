@@ -144,7 +144,9 @@ def test_a_comparison_takes_at_most_100_repeats(capsys, tmp_path, no_build):
     code = main(["compare", "sphere", "--integrators", "leapfrog", "--repeats", "1000000000", "-o",
                  str(tmp_path / "x.nc")])
     err = capsys.readouterr().err
-    assert code == 2 and err.startswith("mol-shell: error: repeats = 1000000000 is outside integers 1..100"), err
+    assert code == 2 and err.startswith("mol-shell: error: --repeats = 1000000000 is outside integers in [1, 100]"), err
+    with pytest.raises(ParameterError, match=r"^repeats = 1000000000 is outside integers 1\.\.100"):
+        _work_precision(repeats=1_000_000_000)
 
 
 def test_a_study_too_large_for_memory_is_refused_before_its_cases_exist(capsys, tmp_path, monkeypatch):
