@@ -41,21 +41,15 @@ def check_end_loads(system, scene):
 
 
 def edge_displacements(system, scene):
-    """``[(node, field, value)]`` of the scene's static edge displacements (``end1_dz`` ...) that are not 0; one at
-    an edge that does not impose the field is refused by name."""
+    """``[(node, field, value)]`` of the scene's static edge displacements (``end1_dz`` ...) that are not 0. The
+    scene has refused one at an edge that does not impose its field (:func:`mol_shell.model.edges.check_displacements`,
+    before anything is built)."""
     out = []
     for end, node in (("end1", 0), ("end2", system.n - 1)):
         for kind, field in (("dz", 0), ("dchi", 2)):
-            name = f"{end}_{kind}"
-            value = getattr(scene, name, 0.0)
-            if not value:
-                continue
-            if field not in system.active or not system.imposed[node, field]:
-                edge = system.edges[0 if end == "end1" else 1]
-                raise ParameterError(name, value, "0 for this edge", hint=f"{end} = {edge} leaves its "
-                                     f"{'z' if field == 0 else 'chi'} free or tied (a prescribed displacement needs an "
-                                     f"edge that imposes it, e.g. {end}=clamped or a set naming it)")
-            out.append((node, field, float(value)))
+            value = getattr(scene, f"{end}_{kind}", 0.0)
+            if value:
+                out.append((node, field, float(value)))
     return out
 
 
