@@ -26,7 +26,6 @@ from mol_shell._core.ranges import Interval
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.equilibrium import equilibrium_radius, spectrum_bounds
 from mol_shell.scenes import CylinderScene, check_radius
-from mol_shell.scenes.base import LOADS
 from mol_shell.scenes.ranges import parameter_range
 
 #: nodes of the small systems used to find the responsible parameter and its threshold
@@ -275,7 +274,7 @@ def check_start_inside_limits(scene, requested, system, y0, how):
     if not bad.size:
         return
     what, where = system.limit_names()[int(bad[0])]
-    loads = [k for k in LOADS if is_number(getattr(scene, k, 0)) and getattr(scene, k, 0) != 0]
+    loads = scene.loads_on()
     name = loads[0] if loads else next((k for k in _changed(scene) if k != "R"), "R")
     others = " with the other parameters as given" if len(loads) > 1 or not loads else ""
     static = str(how).startswith("static equilibrium")

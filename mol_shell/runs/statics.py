@@ -20,7 +20,6 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell.runs.building import build
-from mol_shell.scenes.base import LOADS
 
 #: Newton stops when the residual is below this fraction of a unit strain's force (``max diag K`` x scale)
 TOL = 1e-11
@@ -107,7 +106,7 @@ def newton(system, y0, hold=(2,), tol=TOL, max_iter=MAX_ITER):
 
 def scaled_loads(scene, factor):
     """``scene`` with every load times ``factor``."""
-    return dataclasses.replace(scene, **{k: getattr(scene, k) * factor for k in LOADS if getattr(scene, k) != 0})
+    return dataclasses.replace(scene, **{k: getattr(scene, k) * factor for k in scene.loads_on()})
 
 
 def static_equilibrium(scene, n, y0, steps=(0.25, 0.5, 0.75, 1.0), hold=(2,)):
@@ -128,7 +127,7 @@ def static_equilibrium(scene, n, y0, steps=(0.25, 0.5, 0.75, 1.0), hold=(2,)):
             try:
                 y, it, res = newton(sub, y, hold)
             except RuntimeError as exc:
-                loads = [k for k in LOADS if getattr(scene, k) != 0]
+                loads = scene.loads_on()
                 name, value = (loads[0], getattr(scene, loads[0])) if loads else ("scene", scene.name)
                 others = " (with the other loads as given)" if len(loads) > 1 else ""
                 raise ParameterError(name, value, "loads under which the shell has a static equilibrium inside the "

@@ -369,6 +369,10 @@ class ShellScene:
         """Whether the run starts from the static equilibrium under the loads at ``t = 0`` (``R``/``dilation`` auto)."""
         return False
 
+    def loads_on(self):
+        """The names of the loads that are on (not 0), in the order of :data:`LOADS`."""
+        return [load for load in LOADS if getattr(self, load) != 0]
+
     @property
     def loaded(self):
         """Whether any load or drive is on (then the run accounts the work done on the shell and the energy dissipated)."""
