@@ -220,10 +220,11 @@ def compile_cached(source, prefix, flags=CFLAGS, what=None, link=()):
     """
     key = hashlib.sha256((source + " ".join(flags) + " ".join(link) + ca.__version__ + machine_key(flags)).encode()
                          ).hexdigest()[:20]
-    lib = cache_dir() / f"{prefix}_{key}.so"
+    folder = cache_dir()  # checked writable once (a probe file) for the lookup and the build
+    lib = folder / f"{prefix}_{key}.so"
     if lib.exists():
         return lib
-    with open(cache_dir() / f".{prefix}_{key}.lock", "w") as lock:
+    with open(folder / f".{prefix}_{key}.lock", "w") as lock:
         try:
             import fcntl
 
@@ -232,13 +233,13 @@ def compile_cached(source, prefix, flags=CFLAGS, what=None, link=()):
             pass
         if not lib.exists():
             start = time.perf_counter()
-            with tempfile.TemporaryDirectory(prefix=f".{prefix}_{key}.", dir=cache_dir()) as tmp:
+            with tempfile.TemporaryDirectory(prefix=f".{prefix}_{key}.", dir=folder) as tmp:
                 src = Path(tmp, f"{prefix}.c")
                 src.write_text(source)
                 with atomic_path(lib) as out:
                     run_compiler(["gcc", *flags, str(src), "-o", str(out), *link, "-lm"], what or f"the {prefix} kernels",
                                  len(source), flags)
-            with open(cache_dir() / "builds.log", "a") as log:
+            with open(folder / "builds.log", "a") as log:
                 log.write(f"{lib.name} {os.getpid()} {time.perf_counter() - start:.2f}\n")
     return lib
 
