@@ -27,6 +27,7 @@ import numpy as np
 
 from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell._core.version import __version__
+from mol_shell.discretization.compiled import cache_dir
 from mol_shell.model.laws import locking_warnings, scene_material
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.results.study_store import Store, assemble
@@ -204,6 +205,8 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         raise ParameterError("workers", workers, "integers >= 1")
     if output is not None:
         writable_path(output, "output")
+    if scheduler is None or scheduler == "serial":  # the cases compile or load their kernels here: a cache that
+        cache_dir()  # cannot be used is refused once, before the cases, not once per case
     if isinstance(vary, dict):  # the product's size, before its cases are made
         resources.check_cases(int(np.prod([len(np.atleast_1d(np.asarray(v, dtype=object))) for v in vary.values()],
                                           dtype=float)), n)

@@ -170,6 +170,22 @@ def test_command_line_refuses_bad_studies_up_front(extra, message, tmp_path, cap
     assert not (tmp_path / "s.cases").exists() and not (tmp_path / "s.nc").exists()
 
 
+@pytest.mark.parametrize("scheduler", [[], ["--scheduler", "serial"]])
+def test_an_unusable_kernel_cache_is_refused_once_before_the_cases(scheduler, tmp_path, capsys, monkeypatch):
+    """Each case refused it in turn (after about 1 s a case), and the study wrote a file of refused cases."""
+    from mol_shell.cli.main import main
+
+    (tmp_path / "a-file").write_text("")
+    monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path / "a-file"))
+    monkeypatch.setattr(study_module, "run_task", None)  # nothing may run
+    code = main(["study", "twisted-cylinder", "--vary", "gamma=1e-3,2e-3", *scheduler, "--t-end", "0.001",
+                 "-o", str(tmp_path / "s.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith(f"mol-shell: error: MOL_SHELL_CACHE = '{tmp_path / 'a-file'}'"), err
+    assert len(err.splitlines()) == 1 and "cases refused" not in err
+    assert not (tmp_path / "s.cases").exists() and not (tmp_path / "s.nc").exists()
+
+
 def test_unreachable_scheduler_is_refused_quickly(monkeypatch):
     import socket
     import time
