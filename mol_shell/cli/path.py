@@ -62,7 +62,8 @@ def cmd_path(args):
         raise
     write_netcdf(ds, args.output)
     say_stand_ins(scene)
-    summary = (f"{plural(ds.sizes['step'], 'step')} from {name} = {start:g} to {float(ds.parameter[-1]):.6g} "
+    states = ds.sizes["step"]  # the start is the first of them
+    summary = (f"{plural(states, 'state')} ({plural(states - 1, 'step')}) from {name} = {start:g} to {float(ds.parameter[-1]):.6g} "
                f"{ds.parameter.attrs['units']}, {plural(ds.sizes['point'], 'critical point')}")
     past = "; past the loss of ellipticity: the grid's"
     edge, _, moved = name.partition("_")  # an edge displacement (end2_dz): its reaction beside each point

@@ -159,6 +159,14 @@ def test_the_command_writes_a_readable_dataset(tmp_path, capsys):
         assert ds.r.dims == ("step", "s") and ds.r.attrs["units"] == "m"
         assert ds.attrs["Conventions"] == "CF-1.8" and "rotationally symmetric" in ds.attrs["critical_points"]
         assert ds.sizes["point"] == 0 and np.all(ds.negative_eigenvalues.values == 0)
+        states = ds.sizes["step"]
+    assert f"wrote {out}: {states} states ({states - 1} steps) from pressure = 0" in capsys.readouterr().out
+
+
+def test_the_summary_counts_the_start_as_a_state_not_a_step(tmp_path, capsys):
+    out = tmp_path / "one.nc"
+    code = main(["path", "sphere", "--param", "pressure=0:-100", "--n", "10", "--max-steps", "1", "-o", str(out)])
+    assert code == 0 and "2 states (1 step) from pressure = 0" in capsys.readouterr().out
 
 
 
