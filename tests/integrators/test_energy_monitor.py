@@ -13,7 +13,7 @@ from mol_shell.runs.simulate import build, resolve
 
 #: a thick rubber-like sphere released from rest at its natural radius under 2 bar (the pressure's work reaches
 #: 2.5e4 J within 2 ms, and the balance's error 2.4e-4 J, 1e-8 of it)
-SCENE = dict(material="svk-plane-stress", nu=0.3, h=0.01, R=1.0, pressure=2e5)
+SCENE = {"material": "svk-plane-stress", "nu": 0.3, "h": 0.01, "R": 1.0, "pressure": 2e5}
 TIMES = np.linspace(0.0, 0.002, 11)
 
 
