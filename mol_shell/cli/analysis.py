@@ -107,7 +107,7 @@ def cmd_modes(args):
           f"{plural(int(ds.attrs['zero_modes']), 'rigid motion')}; lowest {float(ds.frequency[0]):.6g} rad/s")
     for m in range(ds.sizes["mode"]):  # every mode the file holds (--count asked for them)
         share = ds.energy_fraction.isel(mode=m).values
-        print(f"  mode {m + 1:2d}: {float(ds.frequency[m]):14.6f} rad/s  ({FIELDS[int(np.argmax(share))]}, "
+        print(f"  mode {m + 1:2d}: {float(ds.frequency[m]):14.8g} rad/s  ({FIELDS[int(np.argmax(share))]}, "
               f"{share.max():.0%} of the kinetic energy)")
     return 0
 

@@ -2,6 +2,7 @@
 
 import dataclasses
 
+import numpy as np
 import pytest
 import xarray as xr
 
@@ -90,3 +91,15 @@ def test_scene_summaries_are_plain_whole_clauses(capsys):
     assert "(crown" not in vessel and "two torispherical heads" in vessel
     assert dict(zip(SCENES, lines))["sphere"].endswith("A spherical shell of natural radius a: closed (default), a "
                                                         "cap or a zone.")
+
+
+def test_each_listed_frequency_reads_back_as_the_files_to_8_digits(tmp_path, capsys):
+    """A soft Mooney-Rivlin wall (c10 = 1e-300 Pa) has modes near 4e-152 rad/s: the list printed each as
+    0.000000 (six decimals), under a summary saying 4.38e-152. Each line reads back as the file's value."""
+    out = tmp_path / "m.nc"
+    assert main(["modes", "sphere", "--set", "material=mooney-rivlin", "--set", "c10=1e-300", "--n", "10",
+                 "--count", "3", "-o", str(out)]) == 0
+    listed = [float(line.split(":")[1].split()[0]) for line in capsys.readouterr().out.splitlines()[1:]]
+    with xr.open_dataset(out) as ds:
+        np.testing.assert_allclose(listed, ds.frequency.values, rtol=1e-7)
+        assert 0 < ds.frequency.values[0] < 1e-100  # the soft wall's, not a rounding
