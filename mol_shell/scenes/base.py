@@ -244,7 +244,11 @@ class ShellScene:
     def __post_init__(self):
         _check("h", self.h, Interval(0.0, math.inf, unit="m", shown="(0, inf) m, and the thickness off the axis"))
         _check("E", self.E, positive("Pa"))
-        _check("nu", self.nu, Interval(-1.0, 0.5))
+        if self.material == "neo-hookean":  # its plane-stress condensation is shown converged for these
+            _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True), hint="material = neo-hookean: its thickness "
+                   "stretch is condensed by 2 Halley steps, checked converged for 0 <= nu < 0.5")
+        else:
+            _check("nu", self.nu, Interval(-1.0, 0.5))
         _check("rho", self.rho, positive("kg/m^3"))
         lo, hi = N_QUAD_RANGE
         allowed = Interval(lo, hi, True, True, integer=True)
@@ -260,9 +264,6 @@ class ShellScene:
         if self.material not in MATERIALS:  # a law of one's own: its name, kept in this process, or import path
             object.__setattr__(self, "material", resolve_material(self.material))
         self._check_material_parameters()
-        if self.material == "neo-hookean":  # its plane-stress condensation is shown converged for these
-            _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True), hint="material = neo-hookean: its thickness "
-                   "stretch is condensed by 2 Halley steps, checked converged for 0 <= nu < 0.5")
         _check("c10", self.c10, positive("Pa"))
         _check("c01", self.c01, non_negative("Pa"))
         self._check_fibres()

@@ -247,6 +247,15 @@ def test_neo_hookean_refuses_a_negative_poisson_ratio():
     Sphere(material="svk", nu=-0.2)  # the other laws keep (-1, 0.5)
 
 
+@pytest.mark.parametrize("nu", [0.5, float("nan"), -0.2, 0.7])
+def test_every_refused_nu_of_the_neo_hookean_law_names_its_own_range(nu):
+    """nu = 0.5 and nan were refused with the other laws' range (-1, 0.5), which does not hold for this law."""
+    with pytest.raises(ParameterError, match=r"is outside \[0, 0\.5\) \(material = neo-hookean"):
+        Sphere(material="neo-hookean", nu=nu)
+    with pytest.raises(ParameterError, match=r"is outside \(-1, 0\.5\)$"):
+        Sphere(material="svk", nu=0.5)
+
+
 def test_law_parameters_only_where_used():
     """An SVK scene keeps its own route whatever ``c10``/``c01`` say; the SVK materials have no law object."""
     a = ShellSystem(Sphere(h=0.01), 8)
