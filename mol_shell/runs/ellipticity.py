@@ -45,7 +45,9 @@ def unchecked_note(system):
     """A note where some cells cannot be checked (their natural state's principal symbol is singular), else None."""
     bad = int(np.sum(~system._natural_root[1]))
     return None if bad == 0 else (f"ellipticity not checked in {bad} of {system.n - 1} cells: their natural state's "
-                                  "principal symbol is not positive definite (a law without shear stiffness?)")
+                                  "principal symbol is not positive definite in double precision (a wall whose "
+                                  "stiffnesses lie more than 1e16 apart, far thinner than its radius of curvature, "
+                                  "or a law without shear stiffness)")
 
 
 def sampled_margins(system, Qs):
@@ -79,6 +81,8 @@ def check_ellipticity(system, ds, warn=True):
     note = unchecked_note(system)
     if note:
         ds.attrs["ellipticity_note"] = note
+        if warn and np.all(np.isnan(per_state)):  # said on stderr when no state could be checked at all
+            warnings.warn(note, MaterialWarning, stacklevel=3)
     if lost is not None:
         t, s = float(ds.time[lost[0]]), lost[1]
         ds.attrs.update({"ellipticity_lost_time": t, "units_ellipticity_lost_time": "s",
