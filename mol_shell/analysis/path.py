@@ -39,12 +39,12 @@ import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import MaterialWarning, ParameterError, is_number
-from mol_shell.analysis.equilibria import PATH_PARAMETERS, EquilibriumEquations
+from mol_shell._core.errors import MaterialWarning, ParameterError
+from mol_shell.analysis.equilibria import EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, check_branch_point, switch
 from mol_shell.analysis.path_dataset import path_dataset
+from mol_shell.analysis.path_inputs import check_inputs
 from mol_shell.analysis.path_stability import EIGENVALUES, LOCATE_RTOL, family, stability
-from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
 
 #: Newton's convergence: ``|F|`` below this fraction of the forces of a unit strain (``max diag K`` times the
@@ -122,6 +122,7 @@ class _Path:
             rhs[-1] = 1.0
             x = self.bordered(Fq, g, tq / self.q_scale, tl / self.l_scale).solve(rhs)
             v = np.concatenate([x[:-1] / self.q_scale, [x[-1] / self.l_scale]])
+        v = v / np.abs(v).max()  # first to O(1): 1 / l_scale squared overflows for a range below 1e-154
         v = v / np.linalg.norm(v)
         return v[:-1], float(v[-1])
 
@@ -234,26 +235,6 @@ class _Path:
                          "of a unit strain's force)")
 
 
-def _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=None):
-    if parameter not in PATH_PARAMETERS:
-        raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_PARAMETERS) + "}",
-                             hint=f"the loads of scene {scene.name} a path can be continued in")
-    for name, value in (("start", start), ("stop", stop)):
-        if not is_number(value) or not math.isfinite(value):
-            raise ParameterError.not_a(name, value, "a finite number", "(-inf, inf)")
-    if start == stop:
-        raise ParameterError("stop", stop, f"values other than start = {start:g}")
-    for name, value, low in (("n", n, 3), ("steps", steps, 1), ("max_steps", max_steps, 1)):
-        if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < low:
-            raise ParameterError(name, value, f"integers >= {low}")
-    if ds is not None and not (is_number(ds) and math.isfinite(ds) and ds > 0):
-        raise ParameterError("ds", ds, "(0, inf), or None")
-    if branch is not None and (not isinstance(branch, (int, np.integer)) or isinstance(branch, bool) or branch < 0):
-        raise ParameterError("branch", branch, "integers >= 0 (a critical point of the path), or None")
-    resources.check_analysis(n, max_steps + 1, f"tracing a path of up to {max_steps} steps", "states",
-                             fields=len(getattr(scene, "fields", range(5))))
-
-
 def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None):
     """Follow the equilibria of ``scene`` at rest as the load ``parameter`` goes from ``start`` to ``stop``.
 
@@ -291,7 +272,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         ``max_steps``, ``failed`` or ``limit`` (``attrs["message"]`` says where).
     """
     scene = as_scene(scene)
-    _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch)
+    check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch)
     clock = time.perf_counter()
     eq = EquilibriumEquations(scene, parameter, n)
     tracer = _Path(eq, start, stop)
