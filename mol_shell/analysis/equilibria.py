@@ -115,7 +115,8 @@ class EquilibriumEquations:
         if parameter in DISPLACEMENTS:
             unit = None
         else:
-            others = {load: 0.0 for load in LOADS if getattr(scene, load) != 0}
+            # the unit load alone: the scene's other loads off, and its own value of the continued one replaced
+            others = {load: 0.0 for load in LOADS if getattr(scene, load) != 0 and load != parameter}
             unit = dataclasses.replace(scene, **others, **{parameter: 1.0, parameter + "_history": "constant"})
         self.scene = base
         self.system = system = ShellSystem(base, n)

@@ -14,7 +14,9 @@ scales ``c`` make the arclength dimensionless: lengths over the meridian's size,
 ``lambda`` over ``|stop - start|``, with the displacement part weighted so that the first tangent is half load
 and half displacement. The step grows after quick Newton convergence (<= 3 iterations) and shrinks after slow
 convergence; a failed or limit-crossing step is halved down to ``ds / 2^10``, where the path ends (status
-``failed`` or ``limit``, the steps so far kept). The last step lands on ``lambda = stop`` exactly.
+``failed`` or ``limit``, the steps so far kept). The last step lands on ``lambda = stop`` exactly. A first step that
+fails so is taken again as a secant (:mod:`mol_shell.analysis.path_secant`: the start's tangent is not the path's
+where the stiffness jumps there, as at the natural state of tension-only fibres).
 
 Stability at each step: the eigenvalues ``omega^2`` of ``K phi = omega^2 M phi`` nearest zero (``K = -F_q``,
 ``M`` the lumped mass matrix; sparse shift-invert, ``scipy.sparse.linalg.eigsh`` about a small negative shift),
@@ -39,12 +41,13 @@ import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import MaterialWarning, ParameterError, is_number
-from mol_shell.analysis.equilibria import PATH_PARAMETERS, EquilibriumEquations
+from mol_shell._core.errors import MaterialWarning, ParameterError
+from mol_shell.analysis.equilibria import EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, check_branch_point, switch
 from mol_shell.analysis.path_dataset import path_dataset
+from mol_shell.analysis.path_inputs import check_inputs
+from mol_shell.analysis.path_secant import secant_start
 from mol_shell.analysis.path_stability import EIGENVALUES, LOCATE_RTOL, family, stability
-from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
 
 #: Newton's convergence: ``|F|`` below this fraction of the forces of a unit strain (``max diag K`` times the
@@ -122,6 +125,7 @@ class _Path:
             rhs[-1] = 1.0
             x = self.bordered(Fq, g, tq / self.q_scale, tl / self.l_scale).solve(rhs)
             v = np.concatenate([x[:-1] / self.q_scale, [x[-1] / self.l_scale]])
+        v = v / np.abs(v).max()  # first to O(1): 1 / l_scale squared overflows for a range below 1e-154
         v = v / np.linalg.norm(v)
         return v[:-1], float(v[-1])
 
@@ -234,26 +238,6 @@ class _Path:
                          "of a unit strain's force)")
 
 
-def _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=None):
-    if parameter not in PATH_PARAMETERS:
-        raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_PARAMETERS) + "}",
-                             hint=f"the loads of scene {scene.name} a path can be continued in")
-    for name, value in (("start", start), ("stop", stop)):
-        if not is_number(value) or not math.isfinite(value):
-            raise ParameterError.not_a(name, value, "a finite number", "(-inf, inf)")
-    if start == stop:
-        raise ParameterError("stop", stop, f"values other than start = {start:g}")
-    for name, value, low in (("n", n, 3), ("steps", steps, 1), ("max_steps", max_steps, 1)):
-        if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < low:
-            raise ParameterError(name, value, f"integers >= {low}")
-    if ds is not None and not (is_number(ds) and math.isfinite(ds) and ds > 0):
-        raise ParameterError("ds", ds, "(0, inf), or None")
-    if branch is not None and (not isinstance(branch, (int, np.integer)) or isinstance(branch, bool) or branch < 0):
-        raise ParameterError("branch", branch, "integers >= 0 (a critical point of the path), or None")
-    resources.check_analysis(n, max_steps + 1, f"tracing a path of up to {max_steps} steps", "states",
-                             fields=len(getattr(scene, "fields", range(5))))
-
-
 def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None):
     """Follow the equilibria of ``scene`` at rest as the load ``parameter`` goes from ``start`` to ``stop``.
 
@@ -291,7 +275,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         ``max_steps``, ``failed`` or ``limit`` (``attrs["message"]`` says where).
     """
     scene = as_scene(scene)
-    _check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch)
+    check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch)
     clock = time.perf_counter()
     eq = EquilibriumEquations(scene, parameter, n)
     tracer = _Path(eq, start, stop)
@@ -304,7 +288,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     ds0 = math.sqrt(2.0) / steps if ds is None else float(ds)
     record = _Record(eq, tracer)
     record.add(q, float(start), t, 0.0, iterations)
-    lam, h = float(start), ds0
+    lam, h, secant = float(start), ds0, None  # secant: the first step's chord, when it had to take one
     status, message = "max_steps", f"stopped after max_steps = {max_steps} step{'s' * (max_steps != 1)}"
     while len(record.lams) <= max_steps:
         try:
@@ -314,6 +298,21 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
                 raise PathFailed("limit", f"{where[0]} at {where[1]}")
         except PathFailed as exc:
             if h <= ds0 * 2.0 ** -MIN_HALVINGS:
+                if exc.kind == "newton" and len(record.lams) == 1 and secant is None:  # the start's tangent failed
+                    try:
+                        q_new, lam_new, t_new, secant, its = secant_start(tracer, q, lam, steps, MIN_HALVINGS,
+                                                                         PathFailed)
+                    except PathFailed as again:
+                        secant = exc = PathFailed("newton", f"{exc}; nor did Newton at a fixed load past it find an "
+                                                  f"equilibrium ({again}): the tangent may not be defined there")
+                    else:
+                        record.add(q_new, lam_new, t_new, tracer.distance(q, lam, q_new, lam_new), its)
+                        record.locate_between(-2, -1, (q, lam, secant))
+                        q, lam, t, h = q_new, lam_new, t_new, ds0
+                        if (lam - tracer.stop) * tracer.direction >= 0:
+                            status, message = "complete", f"reached {parameter} = {lam:.6g} {eq.units}"
+                            break
+                        continue
                 status = "limit" if exc.kind == "limit" else "failed"
                 message = (f"the path cannot continue from {parameter} = {lam:.6g} {eq.units}: {exc} "
                            f"(at the smallest step, {h:.3g})")

@@ -145,7 +145,17 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
             f"the shell's equations lost ellipticity by step {step} ({eq.parameter} = {record.lams[step]:.6g} "
             f"{units}) at s = {where:.6g} m (cell centre; the first {'step' if every == 1 else 'checked step'} where "
             f"d2W/d(q_s)2 is not positive definite: {CONSEQUENCE}); critical points past it are the grid's")
-    for name, value in scene.params().items():
+    params = scene.params()
+    for name, value in params.items():
         if name != eq.parameter:
             attrs[name] = value
+    history = eq.parameter + "_history"
+    if history in params:  # every state is at rest under a constant load (a run or modes --from starts there)
+        attrs[history] = "constant"
+    if params[eq.parameter]:  # the scene's own value of what the path varies: replaced by the path's values
+        attrs["parameter_scene_value"] = float(params[eq.parameter])
+        attrs["parameter_replaced"] = (
+            f"the scene's {eq.parameter} = {params[eq.parameter]:g} {units}"
+            + (f" ({history} {params[history]!r})" if params.get(history, "constant") != "constant" else "")
+            + " is replaced by the path's values, constant in time")
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in attrs.items()})

@@ -1,11 +1,12 @@
 """Starting a run or a modes analysis from an equilibrium path: a step's state, or a critical point's, perturbed.
 
 A path file (:func:`mol_shell.analysis.path.path`) keeps the scene's name and parameters in its attrs (the
-continued load left out) and the equilibrium fields at every step (``z, r, chi, theta, psi`` on ``(step, s)``)
-and at every critical point (``point_z, ...`` on ``(point, s)``) with the critical mode (``point_mode_*``, scaled
-to a largest entry of 1). :func:`path_start` gives back the scene with the continued load at that state's value,
-the grid and the fields, at rest. ``perturb`` adds ``perturb x`` the critical mode: a launch of post-buckling
-dynamics (``mol-shell run --from path.nc --point K --perturb A``). The mode is 0 on imposed and gauge-held
+continued load left out: a value the scene gave it is ``parameter_scene_value``, replaced by the path's) and the
+equilibrium fields at every step (``z, r, chi, theta, psi`` on ``(step, s)``) and at every critical point
+(``point_z, ...`` on ``(point, s)``) with the critical mode (``point_mode_*``, scaled to a largest entry of 1).
+:func:`path_start` gives back the scene with the continued load at that state's value and constant in time
+(whatever history the scene gave it), the grid and the fields, at rest. ``perturb`` adds ``perturb x`` the
+critical mode: a launch of post-buckling dynamics (``mol-shell run --from path.nc --point K --perturb A``). The mode is 0 on imposed and gauge-held
 coordinates, so the edges stay where they were.
 """
 
@@ -56,6 +57,8 @@ def path_scene(ds, value):
     fields = {f.name for f in dataclasses.fields(SCENES[name])}
     params = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in ds.attrs.items() if k in fields}
     params[str(ds.attrs["parameter"])] = float(value)
+    if str(ds.attrs["parameter"]) + "_history" in fields:  # the path's states are at rest under a constant load
+        params[str(ds.attrs["parameter"]) + "_history"] = "constant"
     return get_scene(name, **params)
 
 

@@ -1,0 +1,55 @@
+"""The inputs of :func:`mol_shell.analysis.path.path`, checked before anything is built.
+
+The range ``|stop - start|`` is the scale of the load in the arclength (``lambda / |stop - start|``; the first
+tangent has a load component ``1 / |stop - start|``). It must be a normal double: below the smallest one,
+``2.2250738585072014e-308``, it is subnormal (fewer significant digits, and below ``1 / 1.8e308 = 5.6e-309`` its
+reciprocal overflows, so the tangent and the arclength equation are no longer numbers). Above it every range
+works as it does at any size: a load that small moves the shell linearly. A range that overflows (``-1e308`` to
+``1e308``) is refused too.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError, is_number
+from mol_shell.analysis.equilibria import PATH_PARAMETERS
+from mol_shell.runs import resources
+
+#: the smallest range ``|stop - start|`` a path takes: the smallest normal double
+RANGE_MIN = float(np.finfo(float).tiny)
+#: the largest: the largest double
+RANGE_MAX = float(np.finfo(float).max)
+
+
+def check_range(start, stop):
+    """Refuse ``stop`` (naming it) when ``|stop - start|`` is 0, below :data:`RANGE_MIN` or above :data:`RANGE_MAX`."""
+    if start == stop:
+        raise ParameterError("stop", stop, f"values other than start = {start:g}")
+    width = abs(float(stop) - float(start))
+    if not RANGE_MIN <= width <= RANGE_MAX:
+        raise ParameterError("stop", stop, f"values with {RANGE_MIN:.17g} <= |stop - start| <= {RANGE_MAX:.17g} "
+                             f"(start = {start:g})", hint="the range scales the load in the arclength: a subnormal "
+                             "one has too few digits and its reciprocal overflows")
+
+
+def check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=None):
+    """Refuse the first bad input of a path, naming it (``ParameterError``)."""
+    if parameter not in PATH_PARAMETERS:
+        raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_PARAMETERS) + "}",
+                             hint=f"the loads of scene {scene.name} a path can be continued in")
+    for name, value in (("start", start), ("stop", stop)):
+        if not is_number(value) or not math.isfinite(value):
+            raise ParameterError.not_a(name, value, "a finite number", "(-inf, inf)")
+    check_range(start, stop)
+    for name, value, low in (("n", n, 3), ("steps", steps, 1), ("max_steps", max_steps, 1)):
+        if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < low:
+            raise ParameterError(name, value, f"integers >= {low}")
+    if ds is not None and not (is_number(ds) and math.isfinite(ds) and ds > 0):
+        raise ParameterError("ds", ds, "(0, inf), or None")
+    if branch is not None and (not isinstance(branch, (int, np.integer)) or isinstance(branch, bool) or branch < 0):
+        raise ParameterError("branch", branch, "integers >= 0 (a critical point of the path), or None")
+    resources.check_analysis(n, max_steps + 1, f"tracing a path of up to {max_steps} steps", "states",
+                             fields=len(getattr(scene, "fields", range(5))))

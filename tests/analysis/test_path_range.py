@@ -1,0 +1,55 @@
+"""The size of a path's range: a tiny range traces like any other, one too small to scale by is refused.
+
+The arclength scales the load by the range ``|stop - start|``; the first tangent's load component is its
+reciprocal. At ``1e-200`` the square of that component (``1e400``) overflowed in the tangent's norm, the tangent
+came out 0 and every step failed ("Newton did not converge"). A load that small moves the shell linearly: the
+free end of a clamped cone turns by ``chi = T / k`` with ``k`` its torsional stiffness, the same at ``T = 1e-6``
+and at ``1e-300`` (the ratio, not a run's number, is what is compared). The smallest range taken is the smallest
+normal double, ``2.2250738585072014e-308``: below it the range is subnormal and its reciprocal overflows near
+``5.6e-309``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mol_shell import Cone, ParameterError, Sphere, path
+from mol_shell.cli.main import main
+
+N = 8
+
+
+@pytest.mark.parametrize("material, stop", [("svk-plane-stress", 1e-200), ("neo-hookean-incompressible", 1e-300),
+                                            ("svk-plane-stress", 2.2250738585072014e-308)])
+def test_a_tiny_pressure_range_traces_to_its_end(material, stop):
+    ds = path(Sphere(material=material), "pressure", 0.0, stop, n=N)
+    assert ds.attrs["status"] == "complete" and float(ds.parameter[-1]) == stop
+    assert np.all(np.diff(ds.parameter.values) > 0)
+    # a response of order 1e-200 of the radius: the sphere stays put to the round-off of Newton's corrections
+    assert np.allclose(ds.r.values[-1], ds.r.values[0], rtol=0, atol=1e-14)
+
+
+def test_a_tiny_end_torque_turns_the_free_end_as_the_linear_stiffness_says():
+    scene = Cone(material="neo-hookean-incompressible", end1="clamped", end2="free")
+    tiny = path(scene, "end2_torque", 0.0, 1e-300, n=N)
+    small = path(scene, "end2_torque", 0.0, 1e-6, n=N, steps=2)
+    assert tiny.attrs["status"] == "complete"
+    compliance = float(small.chi[-1, -1]) / 1e-6
+    assert compliance > 0
+    assert float(tiny.chi[-1, -1]) / 1e-300 == pytest.approx(compliance, rel=1e-6)
+
+
+@pytest.mark.parametrize("start, stop", [(0.0, 1e-310), (1e-308, -1e-308), (-1e308, 1e308)])
+def test_a_range_outside_the_normal_doubles_is_refused_naming_stop(start, stop):
+    with pytest.raises(ParameterError) as exc:
+        path(Sphere(), "pressure", start, stop, n=N)
+    assert exc.value.name == "stop" and "2.2250738585072014e-308 <= |stop - start|" in str(exc.value)
+
+
+def test_the_command_refuses_it_in_one_line_naming_param(tmp_path, capsys):
+    code = main(["path", "sphere", "--param", "pressure=0:1e-310", "--n", "8", "-o", str(tmp_path / "p.nc")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1
+    assert err.startswith("mol-shell: error: --param") and "2.2250738585072014e-308" in err
+    assert not (tmp_path / "p.nc").exists()
