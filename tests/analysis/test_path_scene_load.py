@@ -64,3 +64,17 @@ def test_modes_from_a_step_of_a_path_whose_scene_ramps_the_load_are_those_at_the
 def test_a_study_of_paths_in_a_load_the_scene_sets():
     ds = path_study(Sphere(pressure=50.0), {"h": [0.01, 0.02]}, "pressure", 0.0, -100.0, n=N, scheduler="serial")
     assert list(ds.status.values) == ["complete", "complete"]
+
+
+def test_the_command_says_the_scenes_load_was_replaced(tmp_path, capsys):
+    """The shipped example under --param pressure: the replacement is said on stderr, not only in the file."""
+    from pathlib import Path
+
+    from mol_shell.cli.main import main
+
+    example = Path(__file__).parents[2] / "examples" / "pressurised_sphere.toml"
+    out = tmp_path / "p.nc"
+    assert main(["path", str(example), "--param", "pressure=0:100", "--n", str(N), "--max-steps", "2",
+                 "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "mol-shell: note: the scene's pressure = 1000 Pa (pressure_history 'ramp 0.05') is replaced" in err
