@@ -6,10 +6,11 @@ import pytest
 import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
+from mol_shell.discretization.system import ShellSystem
 from mol_shell.runs.building import build
 from mol_shell.runs.checks import initial_state
 from mol_shell.runs.statics import newton
-from mol_shell.scenes import Cone
+from mol_shell.scenes import Cone, Sphere
 
 PROFILE = "0.005 * (1 + 0.25 * s)"
 
@@ -118,3 +119,30 @@ def test_a_bad_profile_is_one_line_exit_2(capsys, tmp_path, profile, words):
     assert len(err) == 1 and words in err[0], err
     with pytest.raises(ParameterError, match="zeta1"):
         Cone(r2=1.0, H=2.0, h_profile="0.01", zeta1=-0.01)
+
+
+@pytest.mark.parametrize("profile", ["1.5", "s**s", "1e300"])
+def test_a_profile_past_the_centre_of_curvature_is_refused_by_name(capsys, tmp_path, profile):
+    """The unit sphere's centre of curvature lies 1 m inside the mid-surface at every s: a wall whose h(s) reaches
+    1 m there is refused naming h_profile and that distance (both factors of det G0 change sign past the centre,
+    so their product alone does not see it), one line, exit 2."""
+    args = ["run", "sphere", "--set", "h=0.01", "--set", f"h_profile={profile}", "--set", "R=1.05", "--n", "8",
+            "--t-end", "0.001", "-o", str(tmp_path / "x.nc")]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"mol-shell: error: h_profile = '{profile}' is outside "), err
+    assert "below 1 m" in err[0], err
+    Sphere(h=0.01, h_profile="0.9")  # inside the centre: accepted
+
+
+def test_the_cells_own_check_of_a_graded_wall_names_h_profile():
+    """Should a profile pass the scene's sampling and still reach a centre of curvature in a cell, the cells' check
+    names h_profile and the cell (a profile set past the scene's check here: 1.5 m on the unit sphere)."""
+    scene = Sphere(h=0.01, h_profile="0.5")
+    object.__setattr__(scene, "h_profile", "1.5")
+    with pytest.raises(ParameterError) as info:
+        ShellSystem(scene, 8)
+    assert info.value.name == "h_profile" and "h = 1.5 m in the cell at s = " in str(info.value), str(info.value)
+
+
+
