@@ -56,8 +56,9 @@ def thickness_function(text, length):
                 raise ValueError("the table's s must increase")
             tol = 1e-9 * max(1.0, length)
             if s_tab[0] > tol or s_tab[-1] < length - tol:
-                raise ParameterError("h_profile", text, f"a table covering the meridian [0, {length:.6g}] m",
-                                     hint=f"it covers [{s_tab[0]:g}, {s_tab[-1]:g}] m")
+                short = max(s_tab[0], 0.0) + max(length - s_tab[-1], 0.0)
+                raise ParameterError("h_profile", text, f"a table covering the meridian [0, {length:.12g}] m",
+                                     hint=f"it covers [{s_tab[0]:.12g}, {s_tab[-1]:.12g}] m, {short:.3g} m short")
 
             def h(s):
                 return np.interp(np.asarray(s, dtype=float), s_tab, h_tab)
@@ -72,10 +73,16 @@ def thickness_function(text, length):
         raise
     except (ValueError, SyntaxError, TypeError) as exc:
         raise ParameterError("h_profile", text, _ALLOWED, hint=str(exc)) from None
+    s = np.linspace(0.0, length, 1001)
+    if words and words[0] == "table":  # linear between its points: its least value on [0, L] is at one of them
+        s = np.concatenate([s, s_tab[(s_tab > 0) & (s_tab < length)]])
     with np.errstate(all="ignore"):
-        values = h(np.linspace(0.0, length, 1001))
-    if not np.all(np.isfinite(values) & (values > 0)):
-        raise ParameterError("h_profile", text, "a positive, finite h(s) on the meridian", hint=_ALLOWED)
+        values = h(s)
+    bad = np.flatnonzero(~(np.isfinite(values) & (values > 0)))
+    if bad.size:
+        k = bad[np.argmin(s[bad])]
+        raise ParameterError("h_profile", text, "a positive, finite h(s) on the meridian",
+                             hint=f"h = {values[k]:.4g} m at s = {s[k]:.6g} m")
     return h
 
 

@@ -1,5 +1,7 @@
 """A wall whose thickness varies along the meridian (h_profile; mol_shell.model.thickness_profile)."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -145,4 +147,20 @@ def test_the_cells_own_check_of_a_graded_wall_names_h_profile():
     assert info.value.name == "h_profile" and "h = 1.5 m in the cell at s = " in str(info.value), str(info.value)
 
 
+def test_a_table_reaching_zero_between_the_sampled_points_is_refused():
+    """Linear between its points, a table's least value on the meridian is at one of them: h = 0 at s = 1.5 m (not
+    a point of a uniform sampling of [0, pi]) is refused, and the message says where."""
+    with pytest.raises(ParameterError) as info:
+        Sphere(h=0.01, h_profile="table 0:0.01 1.5:0 3.2:0.01")
+    assert info.value.name == "h_profile" and "h = 0 m at s = 1.5 m" in str(info.value), str(info.value)
+
+
+def test_a_table_just_short_of_the_meridian_says_by_how_much():
+    """The unit half-circle is pi m long; a table ending at 3.14159 falls pi - 3.14159 m short, and both ranges
+    are printed with the digits that tell them apart."""
+    with pytest.raises(ParameterError) as info:
+        Sphere(h=0.01, h_profile="table 0:0.01 3.14159:0.01")
+    text = str(info.value)
+    assert f"[0, {math.pi:.12g}] m" in text and "[0, 3.14159] m" in text, text
+    assert f"{math.pi - 3.14159:.3g} m short" in text, text
 
