@@ -1,5 +1,6 @@
 """A wall whose thickness varies along the meridian (h_profile; mol_shell.model.thickness_profile)."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -9,6 +10,7 @@ import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
 from mol_shell.discretization.system import ShellSystem
+from mol_shell.runs import checks
 from mol_shell.runs.building import build
 from mol_shell.runs.checks import initial_state
 from mol_shell.runs.statics import newton
@@ -164,3 +166,21 @@ def test_a_table_just_short_of_the_meridian_says_by_how_much():
     assert f"[0, {math.pi:.12g}] m" in text and "[0, 3.14159] m" in text, text
     assert f"{math.pi - 3.14159:.3g} m short" in text, text
 
+
+def test_a_profile_too_thin_for_double_precision_is_blamed_on_h_profile(capsys, tmp_path):
+    """h = 0.01 with h_profile = 1e-300: the nominal wall is fine, the profile is not. The refusal names h_profile
+    with the least h(s) the numbers allow; that edge is checked here on both sides by the finiteness test itself
+    (a constant profile 3x above it is finite, 10x below it is not)."""
+    args = ["run", "sphere", "--set", "h=0.01", "--set", "h_profile=1e-300", "--set", "R=1.05", "--n", "8",
+            "--t-end", "0.001", "-o", str(tmp_path / "x.nc")]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("mol-shell: error: h_profile = '1e-300' is outside "), err
+    scene = Sphere(h=0.01, h_profile="1e-300", R=1.05)
+    with pytest.raises(ParameterError) as info:
+        mol_shell.simulate(scene, n=5, times=[0, 1e-6])
+    assert info.value.name == "h_profile" and "least h(s)" in str(info.value), str(info.value)
+    edge = info.value.range.low
+    assert 0 < edge < 0.01
+    assert checks._is_bad(dataclasses.replace(scene, h_profile=repr(edge * 3)), 5) is False
+    assert checks._is_bad(dataclasses.replace(scene, h_profile=repr(edge / 10)), 5) is True
