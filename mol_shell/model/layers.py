@@ -17,6 +17,13 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 
+#: the most layers a wall may have. Every layer adds its own Gauss points to every cell's kernel, and the generated
+#: C grows with them: a sphere at n = 8 of N svk-plane-stress layers, measured on a 2-core machine shared with
+#: other jobs (graph build, gcc -O3, the run and its stresses, from an empty kernel cache): N = 1 in 5.7 s,
+#: N = 10 in 19 s (333 kB of C, gcc 9.7 s), N = 20 in 50 s (582 kB, gcc 34 s), N = 30 in 102 s (853 kB,
+#: gcc 77 s); N = 1000 built its graph for 4 min (2.4 GB) and gcc did not finish in 5 min. 20 keeps a run
+#: within about a minute.
+MAX_LAYERS = 20
 #: the keys a layer may set (the rest are the scene's)
 LAYER_KEYS = ("E", "nu", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families", "fibre_compression")
 _ALLOWED = ("'T MATERIAL key=value ...; ...' (T the layer's thickness, m; keys " + ", ".join(LAYER_KEYS)

@@ -26,7 +26,7 @@ from mol_shell.model.laws import (
     resolve_material,
     user_material,
 )
-from mol_shell.model.layers import layers_text
+from mol_shell.model.layers import MAX_LAYERS, layers_text, parse_layers
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
 from mol_shell.model.thickness_profile import thickness_function
@@ -325,6 +325,11 @@ class ShellScene:
         object.__setattr__(self, "layers", layers_text(self.layers))
         if not self.layers.strip():
             return
+        count = len(parse_layers(self.layers))
+        if count > MAX_LAYERS:  # before the layers' scenes are made: each is a scene checked in full
+            allowed = Interval(1, MAX_LAYERS, True, True, integer=True, shown=f"1..{MAX_LAYERS} layers")
+            raise ParameterError("layers", count, allowed, hint="each layer adds its Gauss points to every cell's "
+                                 "compiled kernel", message=f"layers holds {count} layers; allowed: {allowed}")
         try:
             layers = layer_scenes(self)
         except ParameterError as exc:
