@@ -30,6 +30,11 @@ _ALLOWED = ("'T MATERIAL key=value ...; ...' (T the layer's thickness, m; keys "
             + "), or a list of dicts with thickness, material and those keys")
 
 
+def _word(value):
+    """A layer's value in the string form: a bool as ``true``/``false`` (the words the flags take), else as it is."""
+    return ("true" if value else "false") if isinstance(value, (bool, np.bool_)) else value
+
+
 def layers_text(value):
     """A list of dicts (Python, or a scene file's ``[[layer]]`` tables) as the string form; a string as it is."""
     if isinstance(value, str):
@@ -43,7 +48,7 @@ def layers_text(value):
             head = f"{float(layer.pop('thickness'))!r} {layer.pop('material')}"
         except (KeyError, TypeError, ValueError):
             raise ParameterError("layers", value, _ALLOWED, hint="each layer needs thickness and material") from None
-        parts.append(" ".join([head] + [f"{k}={v}" for k, v in layer.items()]))
+        parts.append(" ".join([head] + [f"{k}={_word(v)}" for k, v in layer.items()]))
     return "; ".join(parts)
 
 

@@ -493,7 +493,7 @@ def with_params(scene, params):
 def _coerce(name, value, annotation):
     """A string from the command line as the field wants it; what does not convert is passed on unchanged,
     so the scene's own check names the parameter and its allowed range."""
-    if not isinstance(value, str) or annotation in (str, "str"):
+    if not isinstance(value, str) or annotation in (str, "str", bool, "bool"):  # a flag: true/false as typed
         return value
     text = value.strip()
     if text.lower() in ("none", "auto") and "None" in str(annotation):

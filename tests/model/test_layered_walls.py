@@ -8,6 +8,7 @@ import pytest
 import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
+from mol_shell.model.laws import layer_scenes
 from mol_shell.model.layers import MAX_LAYERS
 from mol_shell.scenes import Sphere
 from mol_shell.scenes.files import load_scene
@@ -114,3 +115,17 @@ def test_too_many_layers_are_refused_before_anything_is_built(capsys, tmp_path):
         assert time.perf_counter() - start < 5
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and f"L{count}.toml: [layer] layers holds {count} layers; allowed: 1..20 layers" in err[0], err
+
+
+def test_a_layer_table_takes_fibre_compression_as_a_toml_boolean(tmp_path):
+    """[[layer]] tables refused fibre_compression = true ('True' is outside {true, false}): the flag reaches the
+    layer as the scene's own (true and false), and as the string form's word."""
+    for flag in (True, False):
+        path = tmp_path / "fibres.toml"
+        path.write_text('scene = "sphere"\n[material]\nh = 0.01\n[[layer]]\nthickness = 0.02\n'
+                        f'material = "svk-plane-stress"\nfibre_E = 1e6\nfibre_compression = {str(flag).lower()}\n')
+        scene = load_scene(path)
+        assert scene.layers == f"0.02 svk-plane-stress fibre_E=1000000.0 fibre_compression={str(flag).lower()}"
+        (_, layer), = layer_scenes(scene)
+        assert layer.fibre_compression is flag and layer.fibre_E == 1e6
+
