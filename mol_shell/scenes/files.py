@@ -236,6 +236,9 @@ def scene_from_dict(data, source="<scene file>", folder="."):
     given, where = {}, {}
     if "layer" in data and "layers" in fields:  # [[layer]] tables: a layered wall (mol_shell.model.layers)
         data = dict(data)
+        if isinstance(data.get("material"), dict) and "layers" in data["material"]:
+            raise _fail(source, "material", "layers is given twice, as [material] layers and as [[layer]] tables; "
+                        "allowed: one of them", "layers", data["material"]["layers"])
         given["layers"], where["layers"] = _layer_tables(source, data.pop("layer")), "layer"
     for key, table in data.items():
         if key == "scene":

@@ -129,3 +129,13 @@ def test_a_layer_table_takes_fibre_compression_as_a_toml_boolean(tmp_path):
         (_, layer), = layer_scenes(scene)
         assert layer.fibre_compression is flag and layer.fibre_E == 1e6
 
+
+def test_layers_given_twice_in_a_scene_file_are_refused(capsys, tmp_path):
+    """[material] layers and [[layer]] tables together: the tables were dropped without a word."""
+    path = tmp_path / "dup.toml"
+    path.write_text('scene = "sphere"\n[material]\nh = 0.01\nlayers = "0.01 svk; 0.01 neo-hookean-incompressible"\n'
+                    '[[layer]]\nthickness = 0.02\nmaterial = "mooney-rivlin"\n[run]\nn = 6\nt_end = 1e-4\n')
+    assert main(["run", str(path), "-o", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "dup.toml: [material] layers is given twice, as [material] layers and as [[layer]] " \
+        "tables; allowed: one of them" in err[0], err
