@@ -86,6 +86,28 @@ def thickness_function(text, length):
     return h
 
 
+def check_profile_fits(text, h, meridian, samples=801):
+    """Refuse (naming ``h_profile``) an ``h(s)`` that reaches the axis or a centre of curvature on ``meridian``.
+
+    ``det G0 = (1 - zeta theta0_s)(r0 + zeta cos theta0)``: each factor must stay positive on ``[-h, h]`` (past a
+    centre of curvature both change sign and their product alone would pass), i.e. ``h(s)`` below the distance to
+    the centre of curvature, ``1/|theta0_s|``, and to the axis, ``r0/|cos theta0|`` (off the poles).
+    """
+    s = np.linspace(0.0, meridian.length, samples)
+    r0, _, th0, th0s = meridian.at(s)
+    keep = r0 > 1e-9 * max(1.0, float(np.max(np.abs(r0))))  # off the poles (their factor is 0 by geometry)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        bound = np.minimum(np.where(th0s != 0, 1 / np.abs(th0s), np.inf),
+                           np.where(keep & (np.cos(th0) != 0), r0 / np.abs(np.cos(th0)), np.inf))
+    hs = h(s)
+    bad = np.flatnonzero(~(hs < bound))
+    if bad.size:
+        k = bad[0]
+        raise ParameterError("h_profile", text, "values whose h(s) stays below the distance to the axis and to every "
+                             f"centre of curvature (at s = {s[k]:.4g} m: below {bound[k]:.4g} m)",
+                             hint=f"h = {hs[k]:.4g} m there")
+
+
 def graded_node_inertias(meridian, s_nodes, rho, h, n_quad):
     """:func:`~mol_shell.model.geometry.node_inertias` of a graded wall: each node's dual cell with the node's own
     interval ``[-h, h]`` (``h`` a function of ``s``)."""

@@ -29,7 +29,7 @@ from mol_shell.model.laws import (
 from mol_shell.model.layers import MAX_LAYERS, layers_text, parse_layers
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
-from mol_shell.model.thickness_profile import thickness_function
+from mol_shell.model.thickness_profile import check_profile_fits, thickness_function
 from mol_shell.scenes.descriptions import DESCRIPTIONS, UNITS, describe  # noqa: F401 - the scenes' vocabulary
 
 #: the loads a scene can carry (each with a ``NAME_history`` but drag)
@@ -435,22 +435,7 @@ class ShellScene:
         h = thickness_function(self.h_profile, mer.length)
         if self.zeta1 is not None:
             raise ParameterError("zeta1", self.zeta1, "auto with h_profile (the mid-surface is the base surface)")
-        s = np.linspace(0.0, mer.length, 801)
-        r0, _, th0, th0s = mer.at(s)
-        keep = r0 > 1e-9 * max(1.0, float(np.max(np.abs(r0))))  # off the poles (their factor is 0 by geometry)
-        hs = h(s)
-        # det G0 = (1 - zeta theta0_s)(r0 + zeta cos theta0): each factor must stay positive on [-h, h] (at a wall
-        # beyond a centre of curvature both change sign and their product alone would pass), i.e. h(s) below
-        # the distance to the centre of curvature, 1/|theta0_s|, and to the axis, r0/|cos theta0|
-        with np.errstate(divide="ignore", invalid="ignore"):
-            bound = np.minimum(np.where(th0s != 0, 1 / np.abs(th0s), np.inf),
-                               np.where(keep & (np.cos(th0) != 0), r0 / np.abs(np.cos(th0)), np.inf))
-        bad = np.flatnonzero(~(hs < bound))
-        if bad.size:
-            k = bad[0]
-            raise ParameterError("h_profile", self.h_profile, "values whose h(s) stays below the distance to the axis "
-                                 f"and to every centre of curvature (at s = {s[k]:.4g} m: below {bound[k]:.4g} m)",
-                                 hint=f"h = {hs[k]:.4g} m there")
+        check_profile_fits(self.h_profile, h, mer)
 
     def initial_fields(self, s, reference):
         """``(Q, V)``, each ``5 x n``: the fields and rates of the initial data at nodes ``s``.
