@@ -152,6 +152,12 @@ class CellKernels:
         for zeta, w in zip(*nodes_weights):
             a, c = beta1 - zeta * dth, r0m + zeta * np.cos(thm)
             if np.any(a <= 0) or np.any(c <= 0):
+                if self.graded is not None:  # zeta and the faces are arrays over the cells: name the first cell
+                    k = int(np.flatnonzero((a <= 0) | (c <= 0))[0])
+                    raise ParameterError("h_profile", self.scene.h_profile, "values whose h(s) keeps every cell's "
+                                         "thickness interval off the axis and inside every centre of curvature",
+                                         hint=f"h = {hc[k]:.4g} m in the cell at s = {(self.s[k] + self.s[k + 1]) / 2:.4g}"
+                                         " m has a non-positive volume element")
                 h, z1 = self.scene.h, self.thickness.zeta1
                 raise ParameterError("h", h, "values whose thickness interval stays off the axis and inside every "
                                      "centre of curvature", hint=f"zeta1 = {z1:.4g} m: the face at zeta = {zeta:.4g} m "

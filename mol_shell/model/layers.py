@@ -17,10 +17,22 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 
+#: the most layers a wall may have. Every layer adds its own Gauss points to every cell's kernel, and the generated
+#: C grows with them: a sphere at n = 8 of N svk-plane-stress layers, measured on a 2-core machine shared with
+#: other jobs (graph build, gcc -O3, the run and its stresses, from an empty kernel cache): N = 1 in 5.7 s,
+#: N = 10 in 19 s (333 kB of C, gcc 9.7 s), N = 20 in 50 s (582 kB, gcc 34 s), N = 30 in 102 s (853 kB,
+#: gcc 77 s); N = 1000 built its graph for 4 min (2.4 GB) and gcc did not finish in 5 min. 20 keeps a run
+#: within about a minute.
+MAX_LAYERS = 20
 #: the keys a layer may set (the rest are the scene's)
 LAYER_KEYS = ("E", "nu", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families", "fibre_compression")
 _ALLOWED = ("'T MATERIAL key=value ...; ...' (T the layer's thickness, m; keys " + ", ".join(LAYER_KEYS)
             + "), or a list of dicts with thickness, material and those keys")
+
+
+def _word(value):
+    """A layer's value in the string form: a bool as ``true``/``false`` (the words the flags take), else as it is."""
+    return ("true" if value else "false") if isinstance(value, (bool, np.bool_)) else value
 
 
 def layers_text(value):
@@ -36,7 +48,7 @@ def layers_text(value):
             head = f"{float(layer.pop('thickness'))!r} {layer.pop('material')}"
         except (KeyError, TypeError, ValueError):
             raise ParameterError("layers", value, _ALLOWED, hint="each layer needs thickness and material") from None
-        parts.append(" ".join([head] + [f"{k}={v}" for k, v in layer.items()]))
+        parts.append(" ".join([head] + [f"{k}={_word(v)}" for k, v in layer.items()]))
     return "; ".join(parts)
 
 

@@ -56,8 +56,9 @@ def thickness_function(text, length):
                 raise ValueError("the table's s must increase")
             tol = 1e-9 * max(1.0, length)
             if s_tab[0] > tol or s_tab[-1] < length - tol:
-                raise ParameterError("h_profile", text, f"a table covering the meridian [0, {length:.6g}] m",
-                                     hint=f"it covers [{s_tab[0]:g}, {s_tab[-1]:g}] m")
+                short = max(s_tab[0], 0.0) + max(length - s_tab[-1], 0.0)
+                raise ParameterError("h_profile", text, f"a table covering the meridian [0, {length:.12g}] m",
+                                     hint=f"it covers [{s_tab[0]:.12g}, {s_tab[-1]:.12g}] m, {short:.3g} m short")
 
             def h(s):
                 return np.interp(np.asarray(s, dtype=float), s_tab, h_tab)
@@ -72,11 +73,39 @@ def thickness_function(text, length):
         raise
     except (ValueError, SyntaxError, TypeError) as exc:
         raise ParameterError("h_profile", text, _ALLOWED, hint=str(exc)) from None
+    s = np.linspace(0.0, length, 1001)
+    if words and words[0] == "table":  # linear between its points: its least value on [0, L] is at one of them
+        s = np.concatenate([s, s_tab[(s_tab > 0) & (s_tab < length)]])
     with np.errstate(all="ignore"):
-        values = h(np.linspace(0.0, length, 1001))
-    if not np.all(np.isfinite(values) & (values > 0)):
-        raise ParameterError("h_profile", text, "a positive, finite h(s) on the meridian", hint=_ALLOWED)
+        values = h(s)
+    bad = np.flatnonzero(~(np.isfinite(values) & (values > 0)))
+    if bad.size:
+        k = bad[np.argmin(s[bad])]
+        raise ParameterError("h_profile", text, "a positive, finite h(s) on the meridian",
+                             hint=f"h = {values[k]:.4g} m at s = {s[k]:.6g} m")
     return h
+
+
+def check_profile_fits(text, h, meridian, samples=801):
+    """Refuse (naming ``h_profile``) an ``h(s)`` that reaches the axis or a centre of curvature on ``meridian``.
+
+    ``det G0 = (1 - zeta theta0_s)(r0 + zeta cos theta0)``: each factor must stay positive on ``[-h, h]`` (past a
+    centre of curvature both change sign and their product alone would pass), i.e. ``h(s)`` below the distance to
+    the centre of curvature, ``1/|theta0_s|``, and to the axis, ``r0/|cos theta0|`` (off the poles).
+    """
+    s = np.linspace(0.0, meridian.length, samples)
+    r0, _, th0, th0s = meridian.at(s)
+    keep = r0 > 1e-9 * max(1.0, float(np.max(np.abs(r0))))  # off the poles (their factor is 0 by geometry)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        bound = np.minimum(np.where(th0s != 0, 1 / np.abs(th0s), np.inf),
+                           np.where(keep & (np.cos(th0) != 0), r0 / np.abs(np.cos(th0)), np.inf))
+    hs = h(s)
+    bad = np.flatnonzero(~(hs < bound))
+    if bad.size:
+        k = bad[0]
+        raise ParameterError("h_profile", text, "values whose h(s) stays below the distance to the axis and to every "
+                             f"centre of curvature (at s = {s[k]:.4g} m: below {bound[k]:.4g} m)",
+                             hint=f"h = {hs[k]:.4g} m there")
 
 
 def graded_node_inertias(meridian, s_nodes, rho, h, n_quad):

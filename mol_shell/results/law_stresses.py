@@ -55,7 +55,7 @@ def law_of_attrs(attrs):
     fibres = None
     if fibre_E > 0:
         fibres = Fibres(fibre_E, float(attrs.get("fibre_angle", 0.0)), int(attrs.get("fibre_families", 1)),
-                        bool(int(attrs.get("fibre_compression", 1))))
+                        _flag(attrs.get("fibre_compression", 1)))
     if material in SVK_MATERIALS:
         if fibres is None:
             return None
@@ -76,6 +76,14 @@ def law_of_attrs(attrs):
     else:
         params = {"c10": float(attrs["c10"]), "c01": float(attrs["c01"])}
     return material, tuple(sorted(params.items())), fibres, False
+
+
+def _flag(value):
+    """A checked true/false parameter as the attrs hold it: 0/1 (the run's own), or ``true``/``false`` (a layer's key
+    in the ``layers`` string)."""
+    if isinstance(value, str):
+        return {"true": True, "false": False}[value.strip().lower()]
+    return bool(int(value))
 
 
 def _layer_route(attrs, material, changes):

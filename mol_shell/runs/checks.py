@@ -25,6 +25,7 @@ from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell._core.ranges import Interval
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.equilibrium import equilibrium_radius, spectrum_bounds
+from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.scenes import CylinderScene, check_radius
 from mol_shell.scenes.ranges import parameter_range
 
@@ -208,7 +209,59 @@ def _refusal(scene, reason, bad=_bad_numbers):
     return error.name, error.value, error.range or error.allowed, "", str(error)
 
 
+def _profile_scaled(text, factor):
+    """``h_profile`` text for ``factor`` times the profile ``text``: a table's values scaled, an expression multiplied."""
+    words = text.split()
+    if words and words[0] == "table":
+        pairs = [w.split(":") for w in words[1:]]
+        return "table " + " ".join(f"{a}:{factor * float(b)!r}" for a, b in pairs)
+    return f"{factor!r} * ({text})"
+
+
+def _profile_diagnosis(scene, reason, bad, decades=0.5):
+    """The refusal naming ``h_profile`` when the graded wall alone leaves the numbers non-finite (a uniform wall of
+    the nominal ``h`` has finite ones), else ``None``. Its range, found by bisection of a factor scaling the whole
+    profile (geometric, to ``decades``) towards a profile whose extreme value is the nominal ``h``: the least (or the
+    greatest) ``h(s)`` with which the numbers stay finite, the other parameters as given."""
+    text = getattr(scene, "h_profile", "")
+    if not (isinstance(text, str) and text) or bad(dataclasses.replace(scene, h_profile="")) is not False:
+        return None
+    values = thickness_function(text, scene.meridian().length)(np.linspace(0.0, scene.meridian().length, 1001))
+    low, high = float(np.min(values)), float(np.max(values))
+
+    def bad_at(factor):
+        try:
+            return bad(dataclasses.replace(scene, h_profile=_profile_scaled(text, factor))) is not False
+        except (ParameterError, ValueError, ArithmeticError):
+            return True
+
+    good = next((f for f in (scene.h / low, scene.h / high) if math.isfinite(f) and f > 0 and not bad_at(f)), None)
+    if good is None:
+        return None
+    span = abs(math.log10(good))
+    lo, hi = 0.0, 1.0  # exponent t of the factor good**t: bad at lo, good at hi
+    for _ in range(max(1, math.ceil(math.log2(span / decades))) if span > decades else 1):
+        mid = 0.5 * (lo + hi)
+        if bad_at(good ** mid):
+            lo = mid
+        else:
+            hi = mid
+    edge = good ** hi
+    if edge > 1:  # too thin: the least h(s) must grow
+        allowed = Interval(low * edge, math.inf, low_closed=True, unit="m",
+                           shown=f"profiles whose least h(s) is within about [{low * edge:.4g}, inf) m")
+    else:
+        allowed = Interval(0.0, high * edge, high_closed=True, unit="m",
+                           shown=f"profiles whose greatest h(s) is within about (0, {high * edge:.4g}] m")
+    return ParameterError("h_profile", text, allowed, hint=f"h(s) in [{low:.4g}, {high:.4g}] m, with the other "
+                          f"parameters as given: beyond it {reason}")
+
+
 def _diagnose(scene, reason, bad=_bad_numbers, exclude=()):
+    if "h_profile" not in exclude:
+        graded = _profile_diagnosis(scene, reason, bad)
+        if graded is not None:
+            return graded
     names = [k for k in responsible(scene, bad) if k not in exclude]
     if len(names) == 1:
         name = names[0]

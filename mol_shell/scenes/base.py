@@ -26,10 +26,10 @@ from mol_shell.model.laws import (
     resolve_material,
     user_material,
 )
-from mol_shell.model.layers import layers_text
+from mol_shell.model.layers import MAX_LAYERS, layers_text, parse_layers
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
-from mol_shell.model.thickness_profile import thickness_function
+from mol_shell.model.thickness_profile import check_profile_fits, thickness_function
 from mol_shell.scenes.descriptions import DESCRIPTIONS, UNITS, describe  # noqa: F401 - the scenes' vocabulary
 
 #: the loads a scene can carry (each with a ``NAME_history`` but drag)
@@ -326,6 +326,11 @@ class ShellScene:
         object.__setattr__(self, "layers", layers_text(self.layers))
         if not self.layers.strip():
             return
+        count = len(parse_layers(self.layers))
+        if count > MAX_LAYERS:  # before the layers' scenes are made: each is a scene checked in full
+            allowed = Interval(1, MAX_LAYERS, True, True, integer=True, shown=f"1..{MAX_LAYERS} layers")
+            raise ParameterError("layers", count, allowed, hint="each layer adds its Gauss points to every cell's "
+                                 "compiled kernel", message=f"layers holds {count} layers; allowed: {allowed}")
         try:
             layers = layer_scenes(self)
         except ParameterError as exc:
@@ -431,13 +436,7 @@ class ShellScene:
         h = thickness_function(self.h_profile, mer.length)
         if self.zeta1 is not None:
             raise ParameterError("zeta1", self.zeta1, "auto with h_profile (the mid-surface is the base surface)")
-        s = np.linspace(0.0, mer.length, 801)
-        r0 = mer.at(s)[0]
-        keep = r0 > 1e-9 * max(1.0, float(np.max(np.abs(r0))))
-        for si, hi in zip(s[keep], h(s[keep])):
-            if not np.all(thickness_volume_factor(mer, np.array([-hi, hi]), np.array([si])) > 0):
-                raise ParameterError("h_profile", self.h_profile, "values whose thickness interval stays off the axis "
-                                     "and inside every centre of curvature", hint=f"h = {hi:.4g} m at s = {si:.4g} m")
+        check_profile_fits(self.h_profile, h, mer)
 
     def initial_fields(self, s, reference):
         """``(Q, V)``, each ``5 x n``: the fields and rates of the initial data at nodes ``s``.
@@ -480,7 +479,7 @@ def with_params(scene, params):
 def _coerce(name, value, annotation):
     """A string from the command line as the field wants it; what does not convert is passed on unchanged,
     so the scene's own check names the parameter and its allowed range."""
-    if not isinstance(value, str) or annotation in (str, "str"):
+    if not isinstance(value, str) or annotation in (str, "str", bool, "bool"):  # a flag: true/false as typed
         return value
     text = value.strip()
     if text.lower() in ("none", "auto") and "None" in str(annotation):

@@ -59,6 +59,8 @@ TABLES = ("geometry", "material", "edges", "loads", "initial", "run")
 MATERIAL = ("h", "h_profile", "layers", "E", "nu", "rho", "material", "material_parameters", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families",
             "fibre_compression", "law_limit", "ellipticity_limit", "n_quad", "zeta1", "eta_lambda", "eta_mu")
 EDGES = ("end1", "end2") + DRIVES + DISPLACEMENTS + ("end_omega",)
+#: the true/false parameters: TOML booleans in a scene file
+FLAGS = ("fibre_compression", "law_limit", "ellipticity_limit")
 #: the keys of ``[run]``: defaults of ``mol-shell run`` (``simulate``'s keywords)
 RUN = ("integrator", "n", "t_end", "times", "dt", "rtol", "atol", "max_step")
 HISTORY_FORMS = {"constant": (), "step": ("t0",), "ramp": ("t1",), "sine": ("f",), "table": ("t", "h")}
@@ -132,6 +134,22 @@ def history_text(name, value):
     except ParameterError:
         raise bad from None
     return text
+
+
+def _flag_of_file(source, table, name, value):
+    """A true/false key of a scene file: a TOML boolean (``true``/``false``), nothing else (not 0/1, not a string)."""
+    if not isinstance(value, bool):
+        raise _fail(source, table, ParameterError.not_a(name, value, "a TOML boolean", "{true, false}"))
+    return value
+
+
+def _layer_tables(source, layers):
+    """``[[layer]]`` tables as given, their true/false keys checked as TOML booleans (the rest: the scene's check)."""
+    for layer in layers if isinstance(layers, list) else ():
+        for key, value in (layer.items() if isinstance(layer, dict) else ()):
+            if key in FLAGS:
+                _flag_of_file(source, "layer", key, value)
+    return layers
 
 
 def _convert(cls, field, value, folder):
@@ -218,7 +236,10 @@ def scene_from_dict(data, source="<scene file>", folder="."):
     given, where = {}, {}
     if "layer" in data and "layers" in fields:  # [[layer]] tables: a layered wall (mol_shell.model.layers)
         data = dict(data)
-        given["layers"], where["layers"] = data.pop("layer"), "layer"
+        if isinstance(data.get("material"), dict) and "layers" in data["material"]:
+            raise _fail(source, "material", "layers is given twice, as [material] layers and as [[layer]] tables; "
+                        "allowed: one of them", "layers", data["material"]["layers"])
+        given["layers"], where["layers"] = _layer_tables(source, data.pop("layer")), "layer"
     for key, table in data.items():
         if key == "scene":
             continue
@@ -239,6 +260,8 @@ def scene_from_dict(data, source="<scene file>", folder="."):
                             + (", ".join(takes) or f"none ([{key}] of {name} is empty)"), param, value)
             if table_of(cls, param) != key:
                 raise _fail(source, key, f"{param} belongs in [{table_of(cls, param)}], not [{key}]", param, value)
+            if param in FLAGS:
+                _flag_of_file(source, key, param, value)
             try:
                 given[param] = _convert(cls, fields[param], value, folder)
             except ParameterError as exc:

@@ -118,6 +118,8 @@ def test_energy_conserved_and_balanced_with_fibres():
     ("fibre_families=3", "fibre_families = 3 is outside {1, 2}"),
     ("fibre_E=-1", "fibre_E = -1.0 is outside [0, inf) Pa"),
     ("fibre_compression=maybe", "fibre_compression = 'maybe' is outside {true, false}"),
+    ("fibre_compression=0", "fibre_compression = '0' is outside {true, false}"),  # as typed (it showed 0.0)
+    ("fibre_compression=1", "fibre_compression = '1' is outside {true, false}"),
 ])
 def test_bad_fibre_input_is_one_line_exit_2(capsys, tmp_path, setting, line):
     assert main(["run", "sphere", "--set", setting, "--n", "6", "--t-end", "1e-4", "-o", str(tmp_path / "unused.nc")]) == 2
@@ -140,3 +142,22 @@ def test_scene_file_takes_the_fibres_in_material(tmp_path):
     bad.write_text('scene = "cone"\n[material]\nfibre_families = 3\n')
     with pytest.raises(ParameterError, match=r"bad.toml: \[material\] fibre_families = 3 is outside \{1, 2\}"):
         load_scene(bad)
+
+
+@pytest.mark.parametrize("table", ["material", "layer"])
+@pytest.mark.parametrize("value", ["0", "1", '"false"'])
+def test_a_scene_files_flag_is_a_toml_boolean_as_on_the_command_line(capsys, tmp_path, table, value):
+    """One rule for true/false keys: a TOML boolean in a scene file, the words true/false on the command line. An
+    integer 0 was accepted as false in [material] (the command line refuses it); in [[layer]] tables even true was
+    refused. Refused in one line naming the file, the table and the key, with the value as written."""
+    layer = '[[layer]]\nthickness = 0.02\nmaterial = "svk-plane-stress"\nfibre_E = 1e6\n'
+    head = 'scene = "sphere"\n[material]\nh = 0.01\nfibre_E = 1e6\n'
+    body = (head + f"fibre_compression = {value}\n") if table == "material" else (
+        head + layer + f"fibre_compression = {value}\n")
+    path = tmp_path / "flag.toml"
+    path.write_text(body + "[run]\nn = 6\nt_end = 1e-4\n")
+    assert main(["run", str(path), "-o", str(tmp_path / "unused.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    shown = {"0": "0", "1": "1", '"false"': "'false'"}[value]
+    assert len(err) == 1 and f"flag.toml: [{table}] fibre_compression = {shown} is not a TOML boolean; allowed: " \
+        "{true, false}" in err[0], err

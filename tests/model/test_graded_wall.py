@@ -1,15 +1,20 @@
 """A wall whose thickness varies along the meridian (h_profile; mol_shell.model.thickness_profile)."""
 
+import dataclasses
+import math
+
 import numpy as np
 import pytest
 
 import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
+from mol_shell.discretization.system import ShellSystem
+from mol_shell.runs import checks
 from mol_shell.runs.building import build
 from mol_shell.runs.checks import initial_state
 from mol_shell.runs.statics import newton
-from mol_shell.scenes import Cone
+from mol_shell.scenes import Cone, Sphere
 
 PROFILE = "0.005 * (1 + 0.25 * s)"
 
@@ -118,3 +123,64 @@ def test_a_bad_profile_is_one_line_exit_2(capsys, tmp_path, profile, words):
     assert len(err) == 1 and words in err[0], err
     with pytest.raises(ParameterError, match="zeta1"):
         Cone(r2=1.0, H=2.0, h_profile="0.01", zeta1=-0.01)
+
+
+@pytest.mark.parametrize("profile", ["1.5", "s**s", "1e300"])
+def test_a_profile_past_the_centre_of_curvature_is_refused_by_name(capsys, tmp_path, profile):
+    """The unit sphere's centre of curvature lies 1 m inside the mid-surface at every s: a wall whose h(s) reaches
+    1 m there is refused naming h_profile and that distance (both factors of det G0 change sign past the centre,
+    so their product alone does not see it), one line, exit 2."""
+    args = ["run", "sphere", "--set", "h=0.01", "--set", f"h_profile={profile}", "--set", "R=1.05", "--n", "8",
+            "--t-end", "0.001", "-o", str(tmp_path / "x.nc")]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"mol-shell: error: h_profile = '{profile}' is outside "), err
+    assert "below 1 m" in err[0], err
+    Sphere(h=0.01, h_profile="0.9")  # inside the centre: accepted
+
+
+def test_the_cells_own_check_of_a_graded_wall_names_h_profile():
+    """Should a profile pass the scene's sampling and still reach a centre of curvature in a cell, the cells' check
+    names h_profile and the cell (a profile set past the scene's check here: 1.5 m on the unit sphere)."""
+    scene = Sphere(h=0.01, h_profile="0.5")
+    object.__setattr__(scene, "h_profile", "1.5")
+    with pytest.raises(ParameterError) as info:
+        ShellSystem(scene, 8)
+    assert info.value.name == "h_profile" and "h = 1.5 m in the cell at s = " in str(info.value), str(info.value)
+
+
+def test_a_table_reaching_zero_between_the_sampled_points_is_refused():
+    """Linear between its points, a table's least value on the meridian is at one of them: h = 0 at s = 1.5 m (not
+    a point of a uniform sampling of [0, pi]) is refused, and the message says where."""
+    with pytest.raises(ParameterError) as info:
+        Sphere(h=0.01, h_profile="table 0:0.01 1.5:0 3.2:0.01")
+    assert info.value.name == "h_profile" and "h = 0 m at s = 1.5 m" in str(info.value), str(info.value)
+
+
+def test_a_table_just_short_of_the_meridian_says_by_how_much():
+    """The unit half-circle is pi m long; a table ending at 3.14159 falls pi - 3.14159 m short, and both ranges
+    are printed with the digits that tell them apart."""
+    with pytest.raises(ParameterError) as info:
+        Sphere(h=0.01, h_profile="table 0:0.01 3.14159:0.01")
+    text = str(info.value)
+    assert f"[0, {math.pi:.12g}] m" in text and "[0, 3.14159] m" in text, text
+    assert f"{math.pi - 3.14159:.3g} m short" in text, text
+
+
+def test_a_profile_too_thin_for_double_precision_is_blamed_on_h_profile(capsys, tmp_path):
+    """h = 0.01 with h_profile = 1e-300: the nominal wall is fine, the profile is not. The refusal names h_profile
+    with the least h(s) the numbers allow; that edge is checked here on both sides by the finiteness test itself
+    (a constant profile 3x above it is finite, 10x below it is not)."""
+    args = ["run", "sphere", "--set", "h=0.01", "--set", "h_profile=1e-300", "--set", "R=1.05", "--n", "8",
+            "--t-end", "0.001", "-o", str(tmp_path / "x.nc")]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("mol-shell: error: h_profile = '1e-300' is outside "), err
+    scene = Sphere(h=0.01, h_profile="1e-300", R=1.05)
+    with pytest.raises(ParameterError) as info:
+        mol_shell.simulate(scene, n=5, times=[0, 1e-6])
+    assert info.value.name == "h_profile" and "least h(s)" in str(info.value), str(info.value)
+    edge = info.value.range.low
+    assert 0 < edge < 0.01
+    assert checks._is_bad(dataclasses.replace(scene, h_profile=repr(edge * 3)), 5) is False
+    assert checks._is_bad(dataclasses.replace(scene, h_profile=repr(edge / 10)), 5) is True

@@ -1,11 +1,15 @@
 """Layered walls (mol_shell.model.layers): layers through the thickness, each with its law, integrated layer by layer."""
 
+import time
+
 import numpy as np
 import pytest
 
 import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
+from mol_shell.model.laws import layer_scenes
+from mol_shell.model.layers import MAX_LAYERS
 from mol_shell.scenes import Sphere
 from mol_shell.scenes.files import load_scene
 
@@ -91,3 +95,47 @@ def test_bad_layers_one_line_exit_2(capsys, tmp_path, layers, words):
     assert len(err) == 1 and "layers = " in err[0] and words in err[0], err
     with pytest.raises(ParameterError, match="layers"):
         Sphere(layers=layers)
+
+
+def test_too_many_layers_are_refused_before_anything_is_built(capsys, tmp_path):
+    """1000 [[layer]] tables built a graph for 4 minutes and a kernel gcc did not finish in 5: above MAX_LAYERS (20,
+    measured in mol_shell.model.layers) a wall is refused in one line naming the file, layers and the count allowed,
+    before the layers' scenes are made (1000 of them are refused in well under a second here)."""
+    def scene_file(count):
+        path = tmp_path / f"L{count}.toml"
+        path.write_text('scene = "sphere"\n[material]\nh = 0.01\n' + count * (
+            f'[[layer]]\nthickness = {0.02 / count!r}\nmaterial = "svk-plane-stress"\n') + "[run]\nn = 8\nt_end = 0.001\n")
+        return path
+
+    assert MAX_LAYERS == 20
+    assert len(load_scene(scene_file(20)).layers.split(";")) == 20
+    for count in (21, 1000):
+        start = time.perf_counter()
+        assert main(["run", str(scene_file(count)), "-o", str(tmp_path / "x.nc")]) == 2
+        assert time.perf_counter() - start < 5
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and f"L{count}.toml: [layer] layers holds {count} layers; allowed: 1..20 layers" in err[0], err
+
+
+def test_a_layer_table_takes_fibre_compression_as_a_toml_boolean(tmp_path):
+    """[[layer]] tables refused fibre_compression = true ('True' is outside {true, false}): the flag reaches the
+    layer as the scene's own (true and false), and as the string form's word."""
+    for flag in (True, False):
+        path = tmp_path / "fibres.toml"
+        path.write_text('scene = "sphere"\n[material]\nh = 0.01\n[[layer]]\nthickness = 0.02\n'
+                        f'material = "svk-plane-stress"\nfibre_E = 1e6\nfibre_compression = {str(flag).lower()}\n')
+        scene = load_scene(path)
+        assert scene.layers == f"0.02 svk-plane-stress fibre_E=1000000.0 fibre_compression={str(flag).lower()}"
+        (_, layer), = layer_scenes(scene)
+        assert layer.fibre_compression is flag and layer.fibre_E == 1e6
+
+
+def test_layers_given_twice_in_a_scene_file_are_refused(capsys, tmp_path):
+    """[material] layers and [[layer]] tables together: the tables were dropped without a word."""
+    path = tmp_path / "dup.toml"
+    path.write_text('scene = "sphere"\n[material]\nh = 0.01\nlayers = "0.01 svk; 0.01 neo-hookean-incompressible"\n'
+                    '[[layer]]\nthickness = 0.02\nmaterial = "mooney-rivlin"\n[run]\nn = 6\nt_end = 1e-4\n')
+    assert main(["run", str(path), "-o", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "dup.toml: [material] layers is given twice, as [material] layers and as [[layer]] " \
+        "tables; allowed: one of them" in err[0], err

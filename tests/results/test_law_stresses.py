@@ -29,6 +29,9 @@ CASES = {
                                               fibre_compression=False),
     "layers: rubber under SVK with fibres": dict(material="svk-plane-stress", nu=0.3, layers=(
         "0.012 neo-hookean-incompressible; 0.008 svk-plane-stress fibre_E=5e6 fibre_angle=0.6")),
+    "layers: tension-only fibres in a layer": dict(material="svk-plane-stress", nu=0.3, layers=(
+        "0.012 neo-hookean-incompressible fibre_E=5e6 fibre_angle=1.1 fibre_compression=false; "
+        "0.008 svk-plane-stress fibre_E=5e6 fibre_angle=0.6 fibre_compression=true")),
 }
 
 
@@ -167,3 +170,23 @@ def test_hoop_bending_moment_of_a_dilated_cylinder_is_the_closed_forms_integral(
     assert got["membrane_force_hoop"] == pytest.approx(force, rel=1e-9)
     assert got["bending_moment_hoop"] == pytest.approx(moment, rel=1e-9)
     assert moment < -1e-3 * h * force  # the inner fibres stretch more: a moment that is not round-off
+
+
+def _dilated_meridional_force(R, layer):
+    """The meridional membrane force at t = 0 of the unit sphere dilated to radius R, its wall one layer ``layer``."""
+    scene = Sphere(h=0.01, R=R, layers=f"0.02 svk-plane-stress nu=0.3 {layer}")
+    ds = mol_shell.simulate(scene, n=8, times=[0.0, 1e-6], stresses=True)
+    return ds["membrane_force_meridional"].values[0]
+
+
+def test_tension_only_fibres_of_a_layer_carry_tension_and_no_compression():
+    """A layer's fibre_compression=false reached the stresses as the text 'false', which they could not read (the run
+    was lost). Fibres along the meridian of a uniformly dilated sphere are stretched everywhere through the wall
+    for R > 1 and shortened everywhere for R < 1: tension-only fibres then give the stresses of fibres that carry
+    compression, and of no fibres, respectively (and these differ)."""
+    fibres = "fibre_E=5e6 fibre_angle=0"
+    for R, same, other in ((1.05, f"{fibres} fibre_compression=true", ""),
+                           (0.95, "", f"{fibres} fibre_compression=true")):
+        tension_only = _dilated_meridional_force(R, f"{fibres} fibre_compression=false")
+        np.testing.assert_allclose(tension_only, _dilated_meridional_force(R, same), rtol=1e-12, atol=0)
+        assert np.all(np.abs(tension_only - _dilated_meridional_force(R, other)) > 1e-3 * np.abs(tension_only))
