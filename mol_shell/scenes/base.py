@@ -38,6 +38,9 @@ LOADS = ("pressure", "gravity", "drag", "end1_force", "end2_force", "end1_torque
 DRIVES = ("end1_spin", "end2_spin", "end1_axial_speed", "end2_axial_speed")
 #: static edge displacements: an imposed z (m) or chi (rad) moved from its reference value (displacement control)
 DISPLACEMENTS = ("end1_dz", "end2_dz", "end1_dchi", "end2_dchi")
+#: the wall's law: none of these decides whether a wall of thickness h fits the meridian
+WALL_LAW = ("E", "nu", "rho", "n_quad", "eta_lambda", "eta_mu", "material", "material_parameters", "c10", "c01",
+            "fibre_E", "fibre_angle", "fibre_families", "fibre_compression", "law_limit", "ellipticity_limit", "layers")
 
 #: Gauss-Legendre points through the thickness: one point makes the director's inertia rhoJ = rhoI^2/rhoA,
 #: a singular mass matrix. Above 32 nothing is gained and the kernels grow too large to compile in
@@ -352,7 +355,8 @@ class ShellScene:
         """A refusal of ``h`` caused by a changed geometry parameter (``a = 5e-324``) names that parameter."""
         if exc.name != "h" or self.h != type(self).h:
             return exc
-        skip = set(LOADS + DRIVES + DISPLACEMENTS) | set(getattr(self, "initial", ())) | {"h", "zeta1", "end1", "end2"}
+        skip = set(LOADS + DRIVES + DISPLACEMENTS + WALL_LAW) | set(getattr(self, "initial", ())) | {"h", "zeta1",
+                                                                                                  "end1", "end2"}
         for f in dataclasses.fields(self):
             if f.name not in skip and not f.name.endswith("_history") and getattr(self, f.name) != f.default:
                 return ParameterError(f.name, getattr(self, f.name), f"values for which h = {self.h:.4g} m fits: "

@@ -80,3 +80,12 @@ def test_bad_segments_one_line_exit_2(capsys, tmp_path, setting, words):
     assert len(err) == 1 and words in err[0], err
     with pytest.raises(ParameterError):
         SegmentedMeridian((("arc", -1.0, 1.0),))
+
+
+@pytest.mark.parametrize("law", [{}, {"material": "svk-plane-stress"}, {"nu": 0.3, "E": 2e9}])
+def test_an_overflowing_meridian_is_blamed_on_its_segments_not_on_the_law(law):
+    """An arc of radius 1e300 m: the centroid's equation for h overflows. With a law set beside it, the refusal
+    named ``material`` (the first changed field), a parameter that plays no part in whether the wall fits."""
+    with pytest.raises(ParameterError) as caught:
+        Vessel(segments="arc 1e300 -90, line 2, arc 1 -90", **law)
+    assert caught.value.name == "segments" and str(caught.value).startswith("segments = 'arc 1e300 -90"), caught.value
