@@ -317,11 +317,19 @@ def read_points(path, name="points", with_lines=False):
     return (table, tuple(lines)) if with_lines else table
 
 
-def thickness_volume_factor(meridian, zeta, s):
-    """``(1 - zeta theta0_s)(r0 + zeta cos theta0)`` at arc lengths ``s`` (rows) and depths ``zeta`` (columns)."""
+def thickness_factors(meridian, zeta, s):
+    """``(1 - zeta theta0_s, r0 + zeta cos theta0)`` at arc lengths ``s`` (rows) and depths ``zeta`` (columns): both
+    positive while ``zeta`` is inside the centre of curvature and off the axis (past a centre of curvature on the
+    axis, a sphere's, both turn negative and their product alone is positive again)."""
     r0, _, th0, th0s = meridian.at(np.asarray(s, dtype=float))
     zeta = np.asarray(zeta, dtype=float)[None, :]
-    return (1 - zeta * th0s[:, None]) * (r0[:, None] + zeta * np.cos(th0)[:, None])
+    return 1 - zeta * th0s[:, None], r0[:, None] + zeta * np.cos(th0)[:, None]
+
+
+def thickness_volume_factor(meridian, zeta, s):
+    """``(1 - zeta theta0_s)(r0 + zeta cos theta0)`` at arc lengths ``s`` (rows) and depths ``zeta`` (columns)."""
+    curvature, axis = thickness_factors(meridian, zeta, s)
+    return curvature * axis
 
 
 def base_offset(meridian, h, samples=400):

@@ -17,7 +17,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Choice, Interval, finite, non_negative, positive
 from mol_shell.model.edges import check_displacements, check_edge, resolve_edges
-from mol_shell.model.geometry import base_offset, thickness_volume_factor
+from mol_shell.model.geometry import base_offset, thickness_factors
 from mol_shell.model.laws import (
     MATERIALS,
     layer_scenes,
@@ -426,8 +426,7 @@ class ShellScene:
         r0 = mer.at(s)[0]
         keep = r0 > 1e-9 * max(1.0, float(np.max(np.abs(r0))))  # off the poles (their factor is 0 by geometry)
         z1 = self.zeta1_used()
-        vol = thickness_volume_factor(mer, np.array([z1, z1 + 2 * self.h]), s[keep])
-        if not np.all(vol > 0):
+        if not all(np.all(f > 0) for f in thickness_factors(mer, np.array([z1, z1 + 2 * self.h]), s[keep])):
             raise ParameterError("h", self.h, "values whose thickness interval stays off the axis and inside every "
                                  "centre of curvature of the meridian",
                                  hint=f"zeta1 = {z1:.4g} m; a face reaches the axis or a centre of curvature")

@@ -139,6 +139,17 @@ def test_a_profile_past_the_centre_of_curvature_is_refused_by_name(capsys, tmp_p
     Sphere(h=0.01, h_profile="0.9")  # inside the centre: accepted
 
 
+@pytest.mark.parametrize("h", [0.9, 1.5])
+def test_a_uniform_wall_past_the_centre_of_curvature_is_refused_by_the_scene(h):
+    """The uniform wall's twin of the check above: its scene checked the product of the two factors, which a sphere's
+    wall past its centre (on the axis: both factors flip) passed; the build caught it later. The centroidal interval
+    ``[zeta1, zeta1 + 2h]`` of the unit sphere reaches past its centre, 1 m inside, once ``-zeta1 >= 1``."""
+    with pytest.raises(ParameterError, match=f"h = {h} is outside values whose thickness interval stays off the axis"):
+        Sphere(h=h)
+    inner = -Sphere(h=0.4).zeta1_used()
+    assert 0 < inner < 1  # accepted, its inner face inside the centre
+
+
 def test_the_cells_own_check_of_a_graded_wall_names_h_profile():
     """Should a profile pass the scene's sampling and still reach a centre of curvature in a cell, the cells' check
     names h_profile and the cell (a profile set past the scene's check here: 1.5 m on the unit sphere)."""
