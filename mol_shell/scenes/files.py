@@ -47,7 +47,7 @@ from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES, summary
-from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS
+from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS, ShellScene
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -59,8 +59,8 @@ TABLES = ("geometry", "material", "edges", "loads", "initial", "run")
 MATERIAL = ("h", "h_profile", "layers", "E", "nu", "rho", "material", "material_parameters", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families",
             "fibre_compression", "law_limit", "ellipticity_limit", "n_quad", "zeta1", "eta_lambda", "eta_mu")
 EDGES = ("end1", "end2") + DRIVES + DISPLACEMENTS + ("end_omega",)
-#: the true/false parameters: TOML booleans in a scene file
-FLAGS = ("fibre_compression", "law_limit", "ellipticity_limit")
+#: the true/false parameters (the scenes' bool fields): TOML booleans in a scene file
+FLAGS = tuple(f.name for f in dataclasses.fields(ShellScene) if f.type in (bool, "bool"))
 #: the keys of ``[run]``: defaults of ``mol-shell run`` (``simulate``'s keywords)
 RUN = ("integrator", "n", "t_end", "times", "dt", "rtol", "atol", "max_step")
 HISTORY_FORMS = {"constant": (), "step": ("t0",), "ramp": ("t1",), "sine": ("f",), "table": ("t", "h")}
