@@ -26,7 +26,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Choice
 from mol_shell.model.fibres import fibre_thickness_energy, scene_fibres
-from mol_shell.model.layers import layered_thickness, parse_layers
+from mol_shell.model.layers import layer_value, layered_thickness, parse_layers
 from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: where the laws are)
     NEWTON_STEPS,
     TREATMENTS,
@@ -277,10 +277,12 @@ def layer_scenes(scene):
     """``[(thickness, scene of the layer)]`` of a layered scene: the scene with the layer's material and keys (its
     checks run on them), without layers."""
     out = []
-    for thickness, material, changes in parse_layers(scene.layers):
-        typed = {k: (int(float(v)) if k == "fibre_families" else v if k == "fibre_compression" else float(v))
-                 for k, v in changes.items()}
-        out.append((thickness, dataclasses.replace(scene, layers="", material=material, **typed)))
+    for number, (thickness, material, changes) in enumerate(parse_layers(scene.layers), start=1):
+        try:
+            typed = {k: layer_value(k, v) for k, v in changes.items()}
+            out.append((thickness, dataclasses.replace(scene, layers="", material=material, **typed)))
+        except ParameterError as exc:
+            raise ParameterError(exc.name, exc.value, exc.allowed, message=f"layer {number}: {exc}") from None
     return out
 
 

@@ -53,22 +53,38 @@ def layers_text(value):
 
 
 def parse_layers(text):
-    """``[(thickness, material, {key: text})]`` of the string form; a ParameterError naming ``layers`` otherwise."""
+    """``[(thickness, material, {key: text})]`` of the string form; a ParameterError naming ``layers`` and the layer
+    (counted from 1 at the lower face) otherwise."""
     out = []
-    for part in text.split(";"):
+    for number, part in enumerate(text.split(";"), start=1):
         words = part.split()
         try:
             thickness = float(words[0])
             material = words[1]
             changes = dict(w.split("=", 1) for w in words[2:])
         except (IndexError, ValueError):
-            raise ParameterError("layers", text, _ALLOWED, hint=f"cannot read {part.strip()!r}") from None
+            raise ParameterError("layers", text, _ALLOWED, hint=f"layer {number}: cannot read {part.strip()!r}") from None
         unknown = [k for k in changes if k not in LAYER_KEYS]
         if unknown or not (np.isfinite(thickness) and thickness > 0):
-            raise ParameterError("layers", text, _ALLOWED, hint=f"unknown key {unknown[0]!r}" if unknown else
-                                 f"a layer thickness {thickness:g} <= 0")
+            raise ParameterError("layers", text, _ALLOWED, hint=f"layer {number}: unknown key {unknown[0]!r}" if unknown
+                                 else f"layer {number}: a thickness {thickness:g} <= 0")
         out.append((thickness, material, changes))
     return out
+
+
+def layer_value(key, text):
+    """A layer's ``key=text`` as the scene field takes it: a number (``fibre_families`` an int when it is a whole
+    number, else the float, which the scene's check refuses), the flag's word as it is; a ParameterError naming the
+    key for text that is not a number (the caller adds the layer)."""
+    if key == "fibre_compression":
+        return text
+    try:
+        value = float(text)
+    except ValueError:
+        raise ParameterError.not_a(key, text, "a number", "a number in the key's range") from None
+    if key == "fibre_families" and value.is_integer():
+        return int(value)
+    return value
 
 
 @dataclass(frozen=True)

@@ -84,11 +84,18 @@ def test_the_director_law_is_warned_about_per_layer_not_for_the_scene_defaults_t
 
 @pytest.mark.parametrize("layers, words", [
     ("0.01 svk; 0.005 svk", "thicknesses adding up to the wall, 2h = 0.01256637061 m, to 1e-06 of it"),
-    ("0.01 svk; 0.0025664 svk nu=0.7", "nu = 0.7 is outside (-1, 0.5)"),
-    ("0.01 rubber; 0.0025664 svk", "material = 'rubber' is outside"),
-    ("0.01 svk; 0.0025664 svk colour=red", "unknown key 'colour'"),
+    ("0.01 svk; 0.0025664 svk nu=0.7", "layer 2: nu = 0.7 is outside (-1, 0.5)"),
+    ("0.01 rubber; 0.0025664 svk", "layer 1: material = 'rubber' is outside"),
+    ("0.01 svk; 0.0025664 svk colour=red", "layer 2: unknown key 'colour'"),
+    ("0.01 svk; x svk", "layer 2: cannot read 'x svk'"),
+    # an internal error (ValueError) before: the layer's value went through float() unguarded
+    ("0.01 svk; 0.0025664 svk nu=x", "layer 2: nu = 'x' is not a number"),
+    # truncated to 1 by int() before, silently; and 1e400 an OverflowError (an internal error)
+    ("0.01 svk fibre_E=1e9 fibre_families=1.5; 0.0025664 svk", "layer 1: fibre_families = 1.5 is not an integer"),
+    ("0.01 svk; 0.0025664 svk fibre_E=1e9 fibre_families=1e400", "layer 2: fibre_families = inf is not an integer"),
 ])
 def test_bad_layers_one_line_exit_2(capsys, tmp_path, layers, words):
+    """Each refusal names the layer, counted from 1 at the lower face (they named none before)."""
     assert main(["run", "sphere", "--set", f"layers={layers}", "--n", "6", "--t-end", "1e-5",
                  "-o", str(tmp_path / "x.nc")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
