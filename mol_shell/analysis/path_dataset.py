@@ -6,6 +6,7 @@ import numpy as np
 import xarray as xr
 
 from mol_shell.analysis.equilibria import CONJUGATE_UNITS, REACTIONS
+from mol_shell.analysis.path_inputs import loads_at_rest
 from mol_shell.analysis.path_stability import LOCATE_RTOL
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import attr_value, coordinates, header, variables
@@ -158,4 +159,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
             f"the scene's {eq.parameter} = {params[eq.parameter]:g} {units}"
             + (f" ({history} {params[history]!r})" if params.get(history, "constant") != "constant" else "")
             + " is replaced by the path's values, constant in time")
+    notes = loads_at_rest(scene, eq.parameter)
+    if notes:  # another load on a history: the states take it at t = 0
+        attrs["loads_at_rest"] = "\n".join(notes)
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in attrs.items()})

@@ -16,7 +16,9 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.analysis.equilibria import PATH_PARAMETERS
+from mol_shell.model.loads import history, parse_history
 from mol_shell.runs import resources
+from mol_shell.scenes import LOADS, UNITS
 
 #: the smallest range ``|stop - start|`` a path takes: the smallest normal double
 RANGE_MIN = float(np.finfo(float).tiny)
@@ -53,3 +55,21 @@ def check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=
         raise ParameterError("branch", branch, "integers >= 0 (a critical point of the path), or None")
     resources.check_analysis(n, max_steps + 1, f"tracing a path of up to {max_steps} steps", "states",
                              fields=len(getattr(scene, "fields", range(5))))
+
+
+def loads_at_rest(scene, parameter):
+    """What each of the scene's other loads is in the path's states, when its history makes that differ from its
+    magnitude: a path's states are at rest, under the loads at ``t = 0`` (``h(0) x`` the magnitude; a ramp, a sine
+    and a later step give 0 there). One sentence per such load (none for ``drag``, which vanishes at rest)."""
+    notes = []
+    for load in LOADS:
+        value = getattr(scene, load, 0.0)
+        spec = getattr(scene, load + "_history", "constant")
+        if load in (parameter, "drag") or not value or spec == "constant":
+            continue
+        factor = history(parse_history(load + "_history", spec), 0.0)
+        if factor != 1.0:
+            notes.append(f"the scene's {load} = {value:g} {UNITS[load]} ({load}_history {spec!r}) acts at its value at "
+                         f"t = 0 in every state, {factor * value:g} {UNITS[load]} (a path's states are at rest; "
+                         f"{load}_history = constant holds {value:g})")
+    return notes

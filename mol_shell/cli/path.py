@@ -64,6 +64,8 @@ def cmd_path(args):
     say_stand_ins(scene)
     if "parameter_replaced" in ds.attrs:  # --param pressure=... on a scene that sets a pressure of its own
         print(f"mol-shell: note: {ds.attrs['parameter_replaced']}", file=sys.stderr)
+    for note in str(ds.attrs.get("loads_at_rest", "")).splitlines():  # another load on a history: taken at t = 0
+        print(f"mol-shell: note: {note}", file=sys.stderr)
     states = ds.sizes["step"]  # the start is the first of them
     summary = (f"{plural(states, 'state')} ({plural(states - 1, 'step')}) from {name} = {start:g} to {float(ds.parameter[-1]):.6g} "
                f"{ds.parameter.attrs['units']}, {plural(ds.sizes['point'], 'critical point')}")

@@ -78,3 +78,28 @@ def test_the_command_says_the_scenes_load_was_replaced(tmp_path, capsys):
                  "-o", str(out)]) == 0
     err = capsys.readouterr().err
     assert "mol-shell: note: the scene's pressure = 1000 Pa (pressure_history 'ramp 0.05') is replaced" in err
+
+
+def test_another_load_on_a_history_acts_at_its_value_at_t0_and_the_path_says_so(tmp_path, capsys):
+    """A path's states are at rest, under the scene's other loads at ``t = 0``: a pressure on a ramp is 0 there
+    (the path equals the one without it), on a table starting at half its magnitude it is half (the path equals
+    the one with that pressure held constant). This was silent before: the file and the command now say it."""
+    from mol_shell.cli.main import main
+
+    edges = {"end1": "clamped", "end2": "free"}
+    ramped = path(Cone(**edges, pressure=400.0, pressure_history="ramp 0.01"), "end2_force", 0.0, 10.0, n=N)
+    bare = path(Cone(**edges), "end2_force", 0.0, 10.0, n=N)
+    assert np.allclose(ramped.z.values, bare.z.values, rtol=0, atol=1e-14)
+    assert "pressure = 400 Pa (pressure_history 'ramp 0.01') acts at its value at t = 0 in every state, 0 Pa" \
+        in ramped.attrs["loads_at_rest"]
+    halved = path(Cone(**edges, pressure=400.0, pressure_history="table 0:0.5 1:1"), "end2_force", 0.0, 10.0, n=N)
+    held = path(Cone(**edges, pressure=200.0), "end2_force", 0.0, 10.0, n=N)
+    assert np.allclose(halved.z.values, held.z.values, rtol=0, atol=1e-14)
+    assert "in every state, 200 Pa" in halved.attrs["loads_at_rest"] and "loads_at_rest" not in held.attrs
+    out = tmp_path / "p.nc"
+    assert main(["path", "cone", "--set", "end1=clamped", "--set", "end2=free", "--set", "pressure=400",
+                 "--set", "pressure_history=sine 50", "--param", "end2_force=0:10", "--n", str(N),
+                 "--max-steps", "2", "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "mol-shell: note: the scene's pressure = 400 Pa (pressure_history 'sine 50') acts at its value at t = 0 " \
+        "in every state, 0 Pa" in err
