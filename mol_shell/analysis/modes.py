@@ -40,6 +40,33 @@ DENSE_MAX = 3000
 EQUILIBRIUM_TOL = 1e-8
 #: eigenvalues below this fraction of the largest are rigid motions
 ZERO_TOL = 1e-9
+#: a state is the natural one (every strain zero) when it differs from the reference by a rigid motion to this
+#: fraction of the meridian's scale
+NATURAL_TOL = 1e-12
+
+
+def slack_fibres_note(system, y0):
+    """A sentence when ``y0`` is the natural state of a wall with tension-only fibres, else ``""``.
+
+    Tension-only fibres store ``(E_f / 2) max(a.E a, 0)^2``, whose second derivative jumps from 0 to ``E_f`` at zero
+    fibre strain; in the natural state every fibre sits there (``y0`` differs from the reference by an axial
+    translation and a spin at most). The stiffness is then one-sided and no linear mode exists: the derivative of
+    ``max`` at a tie is a convention and the round-off of the zero strains picks the side point by point. Other
+    states whose fibre strains vanish at a thickness point exactly are not detected.
+    """
+    fibres = [system.fibres] + [layer[2] for layer in (system.layer_laws or ())]
+    if not any(f is not None and not f.compression for f in fibres):
+        return ""
+    z, r, chi, theta, psi = system.unpack(np.asarray(y0, dtype=float))[:5]
+    z0, r0, theta0 = system.reference
+    scale = max(float(np.ptp(z0) + np.max(np.abs(r0))), 1e-300)
+    offsets = (z - z0 - np.mean(z - z0), r - r0, (chi - np.mean(chi)) * r0, (theta - theta0) * scale, psi * scale)
+    if max(float(np.max(np.abs(x))) for x in offsets) > NATURAL_TOL * scale:
+        return ""
+    return ("the modes are taken about the natural state of a wall with tension-only fibres (fibre_compression = "
+            "false), where every fibre is at zero strain and its stiffness one-sided (E_f when stretched, 0 when "
+            "shortened): no linear mode exists there, and these frequencies mix the two sides point by point as "
+            "round-off falls; fibre_compression = true gives the taut wall's modes, fibre_E = 0 the slack one's")
 
 
 def _blocks(system, y0):
@@ -165,6 +192,10 @@ def modes(scene, n=40, count=10, *, initial=None):
     if note:
         warnings.warn(note, MaterialWarning, stacklevel=2)
         params["material_warning"] = note
+    slack = slack_fibres_note(system, y0)
+    if slack:
+        warnings.warn(slack, MaterialWarning, stacklevel=2)
+        params["fibre_warning"] = slack
     margin, _, lost = sampled_margins(system, system.unpack(np.asarray(y0, dtype=float))[None])
     params["ellipticity_margin"] = float(margin[0])  # NaN where no cell could be checked
     if lost is not None:
