@@ -156,9 +156,11 @@ class ModelLimits:
 
     @cached_property
     def _natural_root(self):
-        """``(K_0^-1/2 per cell, whether K_0 is positive definite there)``."""
+        """``(K_0^-1/2 per cell, whether K_0 is positive definite there)``: in double precision, each eigenvalue
+        above the rounding of the largest (``size x eps x`` it, the backward error of ``eigh``); below it the sign
+        is the LAPACK build's round-off (a wall with ``h / R = 6e-13`` was checked on one machine, not on another)."""
         w, V = np.linalg.eigh(self._natural_symbols)
-        ok = np.all(w > 0, axis=1)
+        ok = w.min(axis=1) > w.shape[-1] * np.finfo(float).eps * np.abs(w).max(axis=1)
         return np.einsum("cij,cj,ckj->cik", V, 1 / np.sqrt(np.where(w > 0, w, 1.0)), V), ok
 
     def _natural_fields(self):
