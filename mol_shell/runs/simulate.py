@@ -258,7 +258,8 @@ def starting_state(scene, system, n, initial=None):
         return given_state(system, initial), "the fields given (initial), at rest"
     y0 = initial_state(scene, system)
     if scene.at_equilibrium() and getattr(scene, "loaded", False):
-        return static_equilibrium(scene, n, y0)
+        # a twist asked for (gamma) is initial data, kept while the other fields come to rest under the loads
+        return static_equilibrium(scene, n, y0, hold=(2,) if getattr(scene, "gamma", 0.0) else ())
     return y0, "as given by the scene's parameters"
 
 

@@ -2,7 +2,8 @@
 
 Each scene starts from its natural shell, dilated (``R`` for the sphere, ``dilation`` elsewhere), twisted
 (``gamma``: ``chi = gamma (s - L/2)``) and spun (``omega``: rigid ``chi_t``). ``R``/``dilation`` = auto
-(the default) is the static equilibrium under the loads at ``t = 0`` (``chi`` kept as given): without
+(the default) is the static equilibrium under the loads at ``t = 0`` (``chi`` solved for too, unless ``gamma``
+asks for a twist: then it is kept as given while the other fields come to rest): without
 loads, the natural state at rest (an equilibrium, so ``mol-shell modes`` takes it as it is).
 """
 
