@@ -167,6 +167,21 @@ LAW_PARAMETERS = {"mooney-rivlin": ("c10", "c01")}
 #: the laws of one's own (:class:`~mol_shell.model.user_laws.Material`) of this process, by the ``material`` a
 #: scene stores: their name, or the import path they came by
 REGISTRY = {}
+#: what runs when a name is registered again for another law (other energy, parameters or thickness): the caches
+#: of the layers above, keyed by scenes, which store the law's name only (each adds its own ``cache_clear``)
+ON_REDEFINED = []
+
+
+def _register(name, material):
+    """``REGISTRY[name] = material``; the caches keyed by scenes are cleared when the name held another law (they
+    handed a second law of the same name the first one's graphs, silently)."""
+    previous = REGISTRY.get(name)
+    REGISTRY[name] = material
+    if previous is not None and previous is not material and (
+            previous.energy is not material.energy or previous.parameters != material.parameters
+            or previous.thickness != material.thickness):
+        for clear in ON_REDEFINED:
+            clear()
 
 
 def resolve_material(value):
@@ -175,8 +190,9 @@ def resolve_material(value):
     ``package.module:attr`` of a Material (imported, registered under the path). ParameterError otherwise."""
     if isinstance(value, Material):
         if value.name in MATERIALS:
-            raise ParameterError("material", value.name, _allowed(), hint="a mol_shell.Material needs a name of its own")
-        REGISTRY[value.name] = value
+            raise ParameterError("name", value.name, "a name of its own, not a built-in law's ("
+                                 + ", ".join(MATERIALS) + ")", hint="the name of a mol_shell.Material")
+        _register(value.name, value)
         return value.name
     if isinstance(value, str) and (value in MATERIALS or value in REGISTRY):
         return value
@@ -190,7 +206,7 @@ def resolve_material(value):
         if not isinstance(found, Material):
             raise ParameterError("material", value, _allowed(), hint=f"it is a {type(found).__name__}, not a "
                                  "mol_shell.Material")
-        REGISTRY[value] = found
+        _register(value, found)
         return value
     raise ParameterError("material", value, _allowed(),
                          hint="or a mol_shell.Material, or its import path 'package.module:attr'")

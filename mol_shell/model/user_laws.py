@@ -25,6 +25,7 @@ import math
 from dataclasses import dataclass, field
 
 import casadi as ca
+import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.hyperelastic import Law, condensed_energy, with_thickness
@@ -64,11 +65,15 @@ class Material:
                                        "a function of C (casadi.SX 3x3) and the parameters")
         if self.thickness not in USER_TREATMENTS:
             raise ParameterError("thickness", self.thickness, "{" + ", ".join(USER_TREATMENTS) + "}")
-        for key, value in dict(self.parameters).items():
-            if not isinstance(key, str) or isinstance(value, bool) or not isinstance(value, (int, float)):
-                raise ParameterError("parameters", key, "a dict of names and numbers")
+        if not isinstance(self.parameters, dict):
+            raise ParameterError.not_a("parameters", self.parameters, "a dict", "a dict of names and finite numbers")
+        for key, value in self.parameters.items():
+            if not isinstance(key, str) or isinstance(value, bool) or not isinstance(value, (int, float)) \
+                    or not math.isfinite(value):
+                raise ParameterError("parameters", f"{key}={value!r}", "a dict of names and finite numbers")
         object.__setattr__(self, "parameters", {k: float(v) for k, v in self.parameters.items()})
         self._check_energy()
+        self._check_natural_state()
 
     def _check_energy(self):
         """The energy evaluates to a scalar at ``C = I`` (the natural state) and is stationary there."""
@@ -81,6 +86,30 @@ class Material:
                                        "a function returning a CasADi scalar", hint=f"{type(exc).__name__}: {exc}") from None
         if W.numel() != 1:
             raise ParameterError.not_a("energy", self.name, "a scalar energy", "a function returning one number")
+
+    def _check_natural_state(self):
+        """The natural state ``C = I`` is stress-free and stable under the law's thickness treatment: ``W`` finite,
+        its in-plane derivatives zero (to 1e-9 of the stiffness; a law linear in ``C`` fails here), ``mu > 0`` and ``lambda* + mu > 0``
+        (:meth:`small_strain_pair`). A law failing one was refused at its run, blamed on ``h``, or ran (a
+        stressed or unstable natural state)."""
+        law, p = self.law(), dict(self.parameters)
+        x = ca.SX.sym("x", 3)  # C11, C33, C13 (meridian, circumference)
+        C = ((1.0 + x[0], 0.0, x[2]), (0.0, 1.0, 0.0), (x[2], 0.0, 1.0 + x[1]))
+        W = condensed_energy(law, with_thickness(C, C[1][1]), p)
+        value, slope = (np.array(v, dtype=float).ravel() for v in ca.Function("w", [x], [W, ca.gradient(W, x)])(0))
+        lam, mu = self.small_strain_pair() if np.all(np.isfinite([*value, *slope])) else (math.nan, math.nan)
+        scale = abs(lam) + 2 * abs(mu)
+        if not math.isfinite(scale):
+            reason = "an energy finite near C = I"
+        elif np.abs(slope).max() > 1e-9 * scale:
+            reason = (f"a stress-free natural state: dW/dC = 0 at C = I in the wall's plane (here up to "
+                      f"{np.abs(slope).max():.4g} Pa, the stiffness {scale:.4g} Pa)")
+        elif not (mu > 0 and lam + mu > 0):
+            reason = f"a stable natural state: mu > 0 and lambda* + mu > 0 at C = I (here {mu:.4g} and {lam + mu:.4g} Pa)"
+        else:
+            return
+        raise ParameterError.not_a("energy", self.name, reason, "energies finite, stress-free and stable (mu > 0, "
+                                   "lambda* + mu > 0) at C = I", hint=f"thickness = {self.thickness}")
 
     def with_parameters(self, changes):
         """This law with some of its parameters changed (``{name: number}``; names it does not have are refused,

@@ -65,7 +65,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Choice
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.model.kinematics import FIELDS
-from mol_shell.model.laws import LAWS, thickness_treatment
+from mol_shell.model.laws import LAWS, ON_REDEFINED, thickness_treatment
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, lame
 from mol_shell.model.thickness_profile import thickness_function
@@ -350,3 +350,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     if not all(np.isfinite(v).all() for v in data.values()):
         out.attrs["stresses"] += "; NaN where det F <= 0 at a face or the state is not finite"
     return out
+
+
+# a mol_shell.Material's name given to another law: its stress kernels afresh (keyed by the law's name)
+ON_REDEFINED.extend([kernel.cache_clear, compiled_kernel.cache_clear])

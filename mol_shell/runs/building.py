@@ -15,6 +15,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.discretization.compiled import CompiledRHS
 from mol_shell.discretization.system import ShellSystem
+from mol_shell.model.laws import ON_REDEFINED
 from mol_shell.runs.checks import check_system, resolve
 from mol_shell.scenes import SCENES, CylinderScene, ShellScene, get_scene
 
@@ -42,6 +43,9 @@ def _built(key, n):
     rhs = system.rhs_parallel if n >= PARALLEL_MIN_NODES else system.rhs_mapped
     compiled = CompiledRHS(rhs, system.limits_mapped)
     return system, compiled, time.perf_counter() - start
+
+
+ON_REDEFINED.append(_built.cache_clear)  # a mol_shell.Material's name given to another law: build afresh
 
 
 def build(scene, n=40):

@@ -25,6 +25,7 @@ from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell._core.ranges import Interval
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.equilibrium import equilibrium_radius, spectrum_bounds
+from mol_shell.model.laws import ON_REDEFINED
 from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.scenes import CylinderScene, check_radius
 from mol_shell.scenes.ranges import parameter_range
@@ -343,3 +344,7 @@ def resolve(scene):
         check_radius(R, scene.h, scene.zeta1, hint="the computed equilibrium radius; set R", a=scene.a)
         return dataclasses.replace(scene, R=R)
     return scene
+
+
+# a mol_shell.Material's name given to another law: check afresh (the refusals are keyed by scenes)
+ON_REDEFINED.extend([_is_bad.cache_clear, _refusal.cache_clear, _no_equilibrium.cache_clear])

@@ -1,5 +1,6 @@
 """Laws of one's own (mol_shell.Material): a stored energy written by the user runs like a built-in law."""
 
+import re
 import textwrap
 
 import casadi as ca
@@ -93,8 +94,39 @@ def test_a_material_that_is_not_a_law_is_refused():
         mol_shell.Material("broken", energy=lambda C, p: C, parameters={})
     with pytest.raises(ParameterError, match="thickness"):
         mol_shell.Material("odd", energy=neo_hookean, parameters={"mu": 1.0}, thickness="membrane")
-    with pytest.raises(ParameterError, match="material = 'svk'"):
-        Sphere(material=mol_shell.Material("svk", energy=neo_hookean, parameters={"mu": 1.0}))
+    with pytest.raises(ParameterError, match="name = 'svk' is outside a name of its own, not a built-in law's"):
+        Sphere(material=mol_shell.Material("svk", energy=neo_hookean, parameters={"mu": 1.0}, thickness="incompressible"))
+
+
+@pytest.mark.parametrize("energy, parameters, thickness, words", [
+    # each was accepted: a NaN or a list failed deep inside (TypeError) or ran; the others ran, or were refused
+    # at the run as "h = 0.01 together leave the model's numbers outside double precision"
+    (neo_hookean, {"mu": float("nan")}, "incompressible", "parameters = 'mu=nan' is outside a dict of names and finite"),
+    (neo_hookean, None, "incompressible", "parameters = None is not a dict"),
+    (neo_hookean, [1], "incompressible", "parameters = [1] is not a dict"),
+    (lambda C, p: 0 * ca.trace(C), {}, "plane-stress", "is not a stable natural state: mu > 0"),
+    (lambda C, p: -neo_hookean(C, p), {"mu": 1e5}, "incompressible", "here -1e+05 and -3e+05 Pa"),
+    # linear in C: the natural state is stressed (1.5 mu in every direction, the director holding the thickness)
+    (lambda C, p: 1.5 * p["mu"] * (ca.trace(C) - 3), {"mu": 1e5}, "director", "is not a stress-free natural state"),
+    (lambda C, p: ca.sqrt(-ca.trace(C)), {}, "plane-stress", "is not an energy finite near C = I"),
+])
+def test_a_law_whose_natural_state_is_stressed_unstable_or_not_finite_is_refused_where_it_is_made(
+        energy, parameters, thickness, words):
+    with pytest.raises(ParameterError, match=re.escape(words)):
+        mol_shell.Material("x", energy=energy, parameters=parameters, thickness=thickness)
+
+
+def test_a_name_given_to_another_law_runs_that_law_not_the_first_ones_cached_graphs():
+    """Scenes store a law's name; the runs' caches are keyed by scenes. A second Material under the same name
+    (here mu doubled) ran on the first one's graphs, silently: its frequencies were the first one's. Doubling mu
+    scales every frequency by sqrt(2) exactly (the same mass, the stiffness doubled)."""
+    first = mol_shell.Material("renamed", energy=neo_hookean, parameters={"mu": E / 3}, thickness="incompressible")
+    soft = mol_shell.modes(Sphere(h=0.01, material=first), n=8, count=3).frequency.values
+    second = mol_shell.Material("renamed", energy=neo_hookean, parameters={"mu": 2 * E / 3}, thickness="incompressible")
+    stiff = mol_shell.modes(Sphere(h=0.01, material=second), n=8, count=3).frequency.values
+    np.testing.assert_allclose(stiff, np.sqrt(2) * soft, rtol=1e-12)
+    again = mol_shell.modes(Sphere(h=0.01, material=first), n=8, count=3).frequency.values
+    np.testing.assert_allclose(again, soft, rtol=1e-12)
 
 
 def test_a_study_varies_a_materials_parameter_like_a_built_in_law(builtin):
