@@ -93,6 +93,21 @@ def test_python_values_of_the_wrong_kind_are_parameter_errors():
     assert mol_shell.TwistedCylinder(E=np.float32(2e6)).E == 2e6
 
 
+def test_numpy_scalars_become_python_numbers_so_a_float32_radius_builds_in_double_precision():
+    """``Sphere(a=np.float32(1.1))``: the field stayed a float32, the meridian was computed in single precision (the
+    pole's ``r0`` came out -1.4e-7, not 0; the step bound 7.8e-9 s, not 2e-4 s; CVODE failed at t = 0), and since
+    the float32 hashes equal to the float64 ``1.100000023841858``, the in-process caches handed that scene the
+    broken build too. Stored as the Python float of the same value, both scenes are one, built in double."""
+    single = mol_shell.Sphere(a=np.float32(1.1), R=1.1, h=np.float32(0.01), n_quad=np.int32(4))
+    assert [type(v) for v in (single.a, single.h, single.n_quad)] == [float, float, int]
+    assert single == mol_shell.Sphere(a=1.100000023841858, R=1.1, h=float(np.float32(0.01)), n_quad=4)
+    from mol_shell.runs.building import build
+
+    system, _ = build(single, 11)
+    r0 = system.reference[1]
+    assert r0[0] == 0.0 and r0[-1] == 0.0 and r0.dtype == np.float64
+
+
 def test_simulate_refuses_bad_arguments_before_computing():
     scene = mol_shell.TwistedCylinder()
     cases = [
