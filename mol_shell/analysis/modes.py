@@ -154,7 +154,7 @@ def modes(scene, n=40, count=10, *, initial=None):
     kept = min(count, 10 * n) if isinstance(n, (int, np.integer)) else count
     resources.check_analysis(n, kept, f"computing {kept} modes", "modes", fields=len(getattr(scene, "fields", range(5))))
     system, _ = build(scene, n)
-    y0, _ = starting_state(scene, system, n, initial)
+    y0, _ = starting_state(scene, system, n, initial, asked=asked)
     check_equilibrium(system, y0, scene.name)
     q_idx, Minv, K = _blocks(system, y0)
     size = len(q_idx)

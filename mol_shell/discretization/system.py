@@ -436,22 +436,28 @@ class ShellSystem(ModelLimits, CellKernels):
     def initial_state(self, sc):
         """The node-major state vector of scene ``sc``'s initial data (``R`` and the like resolved).
 
-        The scene gives the fields and rates at the nodes from the reference coordinates
-        (``sc.initial_fields(s, reference)``); imposed rates are zeroed, driven ones set to their
-        prescribed values, a pole's ``chi`` takes its neighbour's value, and the momenta follow from
-        ``p = M(q) v`` (those of imposed and driven fields are not states: zero).
+        The scene gives the fields at the nodes from the reference coordinates (``sc.initial_fields(s,
+        reference)``); a pole's ``chi`` takes its neighbour's value, and the momenta follow from the rates
+        (:meth:`initial_rates`) as ``p = M(q) v`` (those of imposed and driven fields are not states: zero).
         """
-        Q, V = sc.initial_fields(self.s, self.reference)
-        Q, V = np.array(Q, dtype=float), np.array(V, dtype=float)
-        Q = self.tie(Q)
+        Q, _ = sc.initial_fields(self.s, self.reference)
+        Q = self.tie(np.array(Q, dtype=float))
         for node, field, value in edge_displacements(self, sc):  # end1_dz, ...: an imposed field moved
             Q[field, node] += value
-        V = V * ~self.fixed.T
-        if self.drives:  # a driven edge moves at its prescribed rate from t = 0 (its neighbours' momenta see it)
+        return self.pack(Q, self.momenta(Q, self.initial_rates(sc)))
 
-            for (e, k), (rate, hist) in self.drives.items():
-                V[k, 0 if e == 0 else self.n - 1] = rate * history(hist, 0.0)
-        return self.pack(Q, self.momenta(Q, V))
+    def initial_rates(self, sc):
+        """Scene ``sc``'s rates at ``t = 0`` (``5 x n``): its own (a spin ``omega``), imposed ones zero, driven
+        edges at their prescribed rate from ``t = 0`` (their neighbours' momenta see it)."""
+        V = np.array(sc.initial_fields(self.s, self.reference)[1], dtype=float) * ~self.fixed.T
+        for (e, k), (rate, hist) in self.drives.items():
+            V[k, 0 if e == 0 else self.n - 1] = rate * history(hist, 0.0)
+        return V
+
+    def moving(self, y, sc):
+        """State ``y``'s positions moving at scene ``sc``'s initial rates (a static equilibrium set spinning)."""
+        Q = self.unpack(y)
+        return self.pack(Q, self.momenta(Q, self.initial_rates(sc)))
 
     def pack(self, Q, P):
         """Node-major state vector from full fields ``Q`` and momenta ``P`` (each ``5 x n``)."""

@@ -32,7 +32,7 @@ from mol_shell.runs.checks import check_start_inside_limits, checked_spectrum, i
 from mol_shell.runs.ellipticity import check_ellipticity
 from mol_shell.runs.statics import static_equilibrium
 from mol_shell.runs.unshearable import simulate_unshearable
-from mol_shell.scenes import UNSHEARABLE_INTEGRATORS, Unshearable
+from mol_shell.scenes import UNSHEARABLE_INTEGRATORS, CylinderScene, Unshearable
 
 #: leap-frog is refused when damped modes could grow by more than exp(this) (1e6) over the run
 LEAPFROG_MAX_LOG_GROWTH = float(np.log(1e6))
@@ -185,13 +185,13 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         times = leapfrog_times(t_end, method.dt)
     times = parse_times(times, t_end)
     est = resources.check_before_build(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None))
-    requested = scene.params()
+    requested, requested_scene = scene.params(), scene
     scene = resolve(scene)
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
     compiled.set_threads(threads)
     # refused by name if it cannot be formed in double precision
-    y0, start_info = starting_state(scene, system, n, initial)
+    y0, start_info = starting_state(scene, system, n, initial, asked=requested_scene)
     check_start_inside_limits(scene, requested, system, y0, start_info)
     omega_max, damping = checked_spectrum(scene, system, y0)
     if integrator == "leapfrog":
@@ -251,16 +251,25 @@ def _progress_bar(t_end):
     return tqdm(total=float(t_end), unit="s", unit_scale=False, desc="simulating", bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
 
 
-def starting_state(scene, system, n, initial=None):
-    """``(y0, how)``: the scene's initial state, or the static equilibrium under its loads when it asks for one;
-    with ``initial`` (fields ``z, r, chi, theta, psi`` at the nodes, ``(5, n)``), that state at rest."""
+def starting_state(scene, system, n, initial=None, asked=None):
+    """``(y0, how)``: the scene's initial state, or the static equilibrium under its loads when it asks for one
+    (``R`` or ``dilation`` auto; for an untwisted cylinder, ``asked`` the scene before ``R`` was computed, the
+    radial equilibrium is the start of the static solve under loads); set moving at the scene's
+    initial rates (``omega``, driven edges). With ``initial`` (fields ``z, r, chi, theta, psi`` at the nodes,
+    ``(5, n)``), that state at rest."""
     if initial is not None:
         return given_state(system, initial), "the fields given (initial), at rest"
     y0 = initial_state(scene, system)
-    if scene.at_equilibrium() and getattr(scene, "loaded", False):
-        # a twist asked for (gamma) is initial data, kept while the other fields come to rest under the loads
-        return static_equilibrium(scene, n, y0, hold=(2,) if getattr(scene, "gamma", 0.0) else ())
-    return y0, "as given by the scene's parameters"
+    # a cylinder's R = auto: the radial equilibrium of its uniform twist (the paper's start, kept with a twist:
+    # released, it moves anyway); untwisted under loads, the static solve starts from it
+    radial = isinstance(asked, CylinderScene) and asked.R is None and not getattr(asked, "gamma", 0.0)
+    if not ((scene.at_equilibrium() or radial) and getattr(scene, "loaded", False)):
+        return y0, "as given by the scene's parameters"
+    # a twist asked for (gamma) is initial data, kept while the other fields come to rest under the loads
+    y, how = static_equilibrium(scene, n, y0, hold=(2,) if getattr(scene, "gamma", 0.0) else ())
+    if not np.any(system.initial_rates(scene)):
+        return y, how
+    return system.moving(y, scene), how + "; then set moving at the scene's initial rates (omega, driven edges)"
 
 
 def given_state(system, fields):

@@ -164,7 +164,8 @@ def static_equilibrium(scene, n, y0, hold=()):
                 raise ParameterError(name, value, "loads under which the shell has a static equilibrium inside the "
                                      f"model's limits{others}", hint=f"Newton failed ({direct}); continuation "
                                      f"stopped at {done:g} of the loads, no increment down to "
-                                     f"{SMALLEST_INCREMENT:g} of them converging ({exc})") from None
+                                     f"{SMALLEST_INCREMENT:g} of them converging ({exc}); to start from a state "
+                                     "of one's own, set R or dilation") from None
             y, done, total, steps = y_next, factor, total + it, steps + 1
             if it < EASY:
                 increment = min(FIRST_INCREMENT, 2 * increment)

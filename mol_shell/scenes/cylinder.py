@@ -26,7 +26,8 @@ class CylinderScene(ShellScene):
     R : float or None
         Initial radius, m, above ``-zeta1`` (the inner face at a positive radius). ``None`` (or
         ``"auto"``) computes the radius at which the uniformly twisted cylinder is in radial
-        equilibrium (:func:`mol_shell.model.equilibrium.equilibrium_radius`).
+        equilibrium (:func:`mol_shell.model.equilibrium.equilibrium_radius`); untwisted (``gamma = 0``) under
+        loads the run starts from the static equilibrium found from it (:func:`mol_shell.runs.simulate.starting_state`).
     """
 
     L: float = 4.0

@@ -139,3 +139,37 @@ def test_a_twist_the_scene_asks_for_is_kept_while_the_rest_comes_to_equilibrium(
         r, chi = system.unpack(y)[1:3]
         assert np.allclose(chi, gamma * (system.s - system.s[-1] / 2), rtol=0, atol=1e-12)
         assert np.abs(r - system.reference[1]).max() > 1e-6  # the pressure moved the wall
+
+
+def test_a_tube_with_free_ends_inflated_starts_at_the_membrane_equilibrium_with_its_lids_axial_push():
+    """``R = auto`` of the cylinder is the radial equilibrium of its uniform twist at its natural length; under a
+    pressure with neither edge holding ``z`` that left the lids' axial push unbalanced, and the tube started
+    lengthening. Now the static solve starts from it. Membrane theory of a closed tube (derived here): the
+    meridional force ``N_s = p a / 2`` (the lids), the hoop force ``p a``, plane stress with ``t = 2h``:
+    axial strain ``(p a / (E t)) (1/2 - nu)``, hoop strain ``(p a / (E t)) (1 - nu/2)``. Corrections: the free
+    ends' bending boundary layers (length ``~sqrt(a t)`` = 0.1 m of 4 m) and ``p a / E t`` = 1e-3 (nonlinear)."""
+    from mol_shell import TwistedCylinder
+    from mol_shell.runs.simulate import simulate
+
+    E, nu, a, h, p = 1e6, 0.3, 1.0, 0.005, 10.0
+    scene = TwistedCylinder(gamma=0.0, h=h, E=E, nu=nu, material="svk-plane-stress", pressure=p, end1="free",
+                            end2="free")
+    ds = simulate(scene, n=41, t_end=0.02, integrator="cvode-bdf", progress=None)
+    unit = p * a / (E * 2 * h)
+    length = float(ds.z.isel(time=0, s=-1) - ds.z.isel(time=0, s=0))
+    assert length / 4.0 - 1 == pytest.approx(unit * (0.5 - nu), rel=0.03)
+    assert float(ds.r.isel(time=0, s=20)) / a - 1 == pytest.approx(unit * (1 - nu / 2), rel=0.01)
+    assert "static equilibrium" in ds.attrs["initial_state"]
+    assert float(ds.kinetic_energy.max()) <= 1e-12 * float(ds.stored_energy[0])  # at rest, and it stays there
+
+
+def test_a_spin_asked_for_is_kept_on_the_static_equilibrium_under_load():
+    """``omega`` with ``R = auto`` under pressure: the static state was returned at rest, the spin dropped
+    silently (angular momentum 0). Now it is set spinning at ``omega`` about the axis (chi_t = omega at every
+    node) from the equilibrium under the loads."""
+    from mol_shell.runs.simulate import simulate
+
+    ds = simulate(Sphere(omega=3.0, pressure=100.0, nu=0.3, material="svk-plane-stress"), n=12, t_end=1e-3,
+                  integrator="cvode-bdf", progress=None)
+    assert np.allclose(ds.chi_t.values[0], 3.0, rtol=1e-12, atol=0)
+    assert float(ds.angular_momentum[0]) > 0 and "then set moving" in ds.attrs["initial_state"]
