@@ -89,9 +89,9 @@ class Material:
 
     def _check_natural_state(self):
         """The natural state ``C = I`` is stress-free and stable under the law's thickness treatment: ``W`` finite,
-        its in-plane derivatives zero (to 1e-9 of the stiffness; a law linear in ``C`` fails here), ``mu > 0`` and ``lambda* + mu > 0``
-        (:meth:`small_strain_pair`). A law failing one was refused at its run, blamed on ``h``, or ran (a
-        stressed or unstable natural state)."""
+        its in-plane derivatives zero (to 1e-9 of the stiffness; a law linear in ``C`` fails here), ``mu >= 0``
+        and ``lambda* + mu > 0`` (:meth:`small_strain_pair`; ``mu = 0`` is a fluid-like wall). A law failing one
+        was refused at its run, blamed on ``h``, or ran (a stressed or unstable natural state)."""
         law, p = self.law(), dict(self.parameters)
         x = ca.SX.sym("x", 3)  # C11, C33, C13 (meridian, circumference)
         C = ((1.0 + x[0], 0.0, x[2]), (0.0, 1.0, 0.0), (x[2], 0.0, 1.0 + x[1]))
@@ -104,11 +104,11 @@ class Material:
         elif np.abs(slope).max() > 1e-9 * scale:
             reason = (f"a stress-free natural state: dW/dC = 0 at C = I in the wall's plane (here up to "
                       f"{np.abs(slope).max():.4g} Pa, the stiffness {scale:.4g} Pa)")
-        elif not (mu > 0 and lam + mu > 0):
-            reason = f"a stable natural state: mu > 0 and lambda* + mu > 0 at C = I (here {mu:.4g} and {lam + mu:.4g} Pa)"
+        elif not (mu >= 0 and lam + mu > 0):  # mu = 0: a fluid-like wall, whose ellipticity is not checked
+            reason = f"a stable natural state: mu >= 0 and lambda* + mu > 0 at C = I (here {mu:.4g} and {lam + mu:.4g} Pa)"
         else:
             return
-        raise ParameterError.not_a("energy", self.name, reason, "energies finite, stress-free and stable (mu > 0, "
+        raise ParameterError.not_a("energy", self.name, reason, "energies finite, stress-free and stable (mu >= 0, "
                                    "lambda* + mu > 0) at C = I", hint=f"thickness = {self.thickness}")
 
     def with_parameters(self, changes):
