@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import shutil
 
 import numpy as np
 
@@ -20,10 +21,15 @@ MAX_TIMES = 24
 
 
 def image_formats():
-    """File suffixes matplotlib can write (``png``, ``pdf``, ``svg``, ...)."""
+    """File suffixes matplotlib can write (``png``, ``pdf``, ``svg``, ...); ``pgf`` only where its TeX system
+    (``xelatex`` by default) is installed: matplotlib lists it everywhere and fails at the save without one."""
+    import matplotlib
     from matplotlib.backend_bases import FigureCanvasBase
 
-    return set(FigureCanvasBase.get_supported_filetypes())
+    formats = set(FigureCanvasBase.get_supported_filetypes())
+    if shutil.which(str(matplotlib.rcParams["pgf.texsystem"])) is None:
+        formats.discard("pgf")
+    return formats
 
 
 def _limits(values, name):

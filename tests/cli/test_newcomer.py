@@ -2,6 +2,7 @@
 was a crash, a hang, a silently wrong file or a misaligned listing."""
 
 import dataclasses
+import shutil
 import subprocess
 import sys
 import time
@@ -167,6 +168,14 @@ def test_views_refuse_other_file_kinds(argv, wrong, right, sphere_run, tmp_path,
     assert main([*argv, str(sphere_run), "-o", str(out)]) == 2
     err = one_error(capsys)
     assert right in err and not out.exists()
+
+
+@pytest.mark.skipif(shutil.which("xelatex") is not None, reason="xelatex is installed: pgf is a format here")
+def test_plot_refuses_pgf_where_no_tex_system_can_write_it(sphere_run, tmp_path, capsys):
+    """matplotlib lists pgf everywhere and fails at the save without xelatex: an internal error before."""
+    out = tmp_path / "run.pgf"
+    assert main(["plot", str(sphere_run), "-o", str(out)]) == 2
+    assert ".png" in one_error(capsys) and not out.exists()
 
 
 def test_modes_refuses_a_figure_that_is_not_an_image(tmp_path, capsys):
