@@ -103,3 +103,16 @@ def test_a_limit_reached_by_an_unstable_step_is_not_a_stable_step():
     dt, horizon = stable_leapfrog_step(system, compiled, y0, bound)
     assert math.isnan(dt)
     assert horizon == pytest.approx(0.9 * fine.failure_time, rel=0.02) and horizon < 100 * 2 * bound
+
+
+def test_a_loaded_shell_starting_at_rest_reports_its_energy_work_balance_and_every_variable_is_described():
+    """A pressure ramped from 0 on a shell at rest: ``E(0) = 0``, and the energy error relative to it read 1e25 to
+    1e29 for every integrator. It is the run's energy-work balance error (relative to the energy exchanged), whose
+    size is the integrator's accuracy; each variable of the report carries units and a long name."""
+    scene = mol_shell.Sphere(pressure=1000.0, pressure_history="ramp 0.001", nu=0.3, material="svk-plane-stress")
+    ds = report([Case("ramped", scene, n=12, t_end=0.002)], integrators=("cvode-bdf",), bisect=False)
+    for name in ("leapfrog", "cvode_bdf"):
+        assert str(ds[f"{name}_status"].values[0]) == "complete"
+        assert 0 <= float(ds[f"{name}_energy_error"].values[0]) < 1e-3
+    assert all("long_name" in ds[v].attrs for v in ds.variables)
+    assert ds["leapfrog_wall_s"].attrs["units"] == "s" and "status" not in ds["cvode_bdf_status"].attrs.get("units", "")
