@@ -151,15 +151,21 @@ class ShellDAE:
         return P[k, :]
 
     def consistent_rates(self, y):
-        """``(x, x_t)`` at a Hamiltonian state ``y``: ``x_t = (v, v_t)`` with ``v_t = (dv/dy) y_t`` (exact, no solve).
+        """``(x, x_t)`` at a Hamiltonian state ``y``: ``x_t = (v, v_t)`` with ``v_t = dv/dy y_t + dv/dt`` (exact,
+        no solve).
 
-        ``v(q, p)`` is the rate part of the ODE right-hand side; its time derivative along the
-        motion is the rate rows of ``J(y) y_t``, so ``F(t, x, x_t) = 0`` holds to rounding.
+        ``v(t, q, p)`` is the rate part of the ODE right-hand side; its time derivative along the
+        motion is the rate rows of ``J(y) y_t`` plus its explicit one (a driven edge's rate on a history moves
+        its neighbours' rates: without it a ramped drive left ``F(0, x, x_t)`` off by the drive's
+        acceleration, and IDA failed its error test at ``t = 0`` at tight tolerances), so ``F(t, x, x_t) = 0``
+        holds to rounding.
         """
         sy = self.system
         y = np.asarray(y, dtype=float)
         ydot = np.array(sy.rhs(0, y)).ravel()
-        jv = np.array(sy.jac(0, y) @ ca.DM(ydot)).ravel()
+        t, Y = ca.MX.sym("t"), ca.MX.sym("y", y.size)
+        explicit = ca.Function("dv_dt", [t, Y], [ca.jacobian(sy.rhs(t, Y), t)])
+        jv = np.array(sy.jac(0, y) @ ca.DM(ydot)).ravel() + np.array(explicit(0.0, y)).ravel()
         x = np.array(self.from_momenta(y)).ravel()
         nf, body = sy.nf, sy.ny * sy.n
         Yd, Jv = ydot[:body].reshape(sy.n, 2 * nf), jv[:body].reshape(sy.n, 2 * nf)
