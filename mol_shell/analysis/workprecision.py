@@ -22,7 +22,7 @@ import statistics
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.cf import header
 from mol_shell.runs import resources
@@ -84,7 +84,12 @@ def reference(system, compiled, y0, times, method=("cvode-adams", 1e-12), check=
     ref = run_once(system, compiled, y0, times, *method)
     other = run_once(system, compiled, y0, times, *check)
     if ref.status != "complete" or other.status != "complete":
-        raise RuntimeError(f"reference runs did not complete: {ref.message}; {other.message}")
+        failed = [run for run in (ref, other) if run.status != "complete"]
+        when = min(float(getattr(run, "failure_time", float("nan"))) for run in failed)
+        raise ModelLimitError(f"the reference runs ({method[0]} and {check[0]} at rtol {method[1]:g}) did not "
+                              f"complete ({'; '.join(run.message for run in failed)}): no error can be measured "
+                              "against them; a shorter t_end, or a scene its integrators can run that tightly",
+                              when, "the reference run")
     r, o = fields_of(system, ref.y), fields_of(system, other.y)
     return r, relative_error(o, r), {"reference": f"{method[0]} rtol={method[1]:g}",
                                      "reference_check": f"{check[0]} rtol={check[1]:g}",

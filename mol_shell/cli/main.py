@@ -23,7 +23,7 @@ import warnings
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE
-from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
+from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, by_interrupt
 from mol_shell._core.version import __version__
 from mol_shell.cli.analysis import register_compare, register_modes, register_stability
 from mol_shell.cli.args import (
@@ -278,6 +278,9 @@ def main(argv=None):
     except KeyboardInterrupt:
         print("mol-shell: interrupted", file=sys.stderr)
         return EXIT_INTERRUPTED
+    except ModelLimitError as exc:  # a run a command needs stopped at a limit (compare's reference)
+        print(f"mol-shell: stopped: {exc}", file=sys.stderr)
+        return EXIT_INCOMPLETE
     except Exception as exc:  # noqa: BLE001 - the last resort: one line, never a traceback (unless asked for)
         if by_interrupt(exc):  # a Ctrl-C that arrived inside a C extension's call
             print("mol-shell: interrupted", file=sys.stderr)

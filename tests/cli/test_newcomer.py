@@ -259,3 +259,23 @@ def test_every_parameter_is_described_in_aligned_columns(name, capsys):
         assert row[text_at - 1] == " " and text.strip() == text and text, row
         if field.endswith("_history"):
             assert text.startswith(f"time history of {field[: -len('_history')]} "), row
+
+
+def test_compare_whose_reference_stops_says_where_and_exits_3(monkeypatch, tmp_path, capsys):
+    """The reference runs (cvode-adams and ida at rtol 1e-12) that stopped were an internal error (a RuntimeError);
+    a ramped drive made IDA stop at t = 0 that way (mended). Here the stop is forced: the command says why in one
+    line, names the time, and exits 3."""
+    import types
+
+    from mol_shell.analysis import workprecision
+
+    def stopped(system, compiled, y0, times, name, value):
+        return types.SimpleNamespace(status="limit", message=f"{name} failed at t = 0.5 ms", failure_time=5e-4)
+
+    monkeypatch.setattr(workprecision, "run_once", stopped)
+    code = main(["compare", "sphere", "--integrators", "leapfrog", "--n", "8", "--t-end", "1e-3",
+                 "-o", str(tmp_path / "c.nc")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 3 and len([line for line in err if "mol-shell: stopped" in line]) == 1, err
+    assert "did not complete (cvode-adams failed at t = 0.5 ms; ida failed at t = 0.5 ms)" in err[-1]
+    assert "internal error" not in " ".join(err)
