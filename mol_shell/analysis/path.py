@@ -117,7 +117,10 @@ class _Path:
         if previous is None:
             import scipy.sparse.linalg
 
-            dq = scipy.sparse.linalg.splu(Fq).solve(-g)
+            try:
+                dq = scipy.sparse.linalg.splu(Fq).solve(-g)
+            except RuntimeError:  # exactly singular
+                raise PathFailed("newton", f"singular tangent stiffness at {self.eq.parameter} = {lam:g}") from None
             v = np.concatenate([dq / self.q_scale, [1.0 / self.l_scale]]) * self.direction
         else:
             tq, tl = previous
@@ -222,7 +225,10 @@ class _Path:
                 self.f_scale = float(np.abs(Fq.diagonal()).max()) * self.length
             if np.abs(F).max() <= TOL * self.f_scale:
                 return q, it
-            step = self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
+            try:
+                step = self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
+            except RuntimeError:  # exactly singular (a load so large the state's numbers overflow)
+                break
             norm = np.abs(F).max()
             for _ in range(30):
                 trial = q + step

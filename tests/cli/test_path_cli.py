@@ -117,3 +117,16 @@ def test_one_critical_point_is_said_in_the_singular(cap_file, tmp_path, capsys):
     assert main(["plot", str(cap_file), "-o", str(tmp_path / "p.png")]) == 0
     out = capsys.readouterr().out
     assert out.rstrip().endswith(", 1 critical point") and "critical points" not in out
+
+
+@pytest.mark.parametrize("argv", [["sphere", "--param", "pressure=0:1e24"],
+                                  ["twisted-cylinder", "--param", "end2_dz=0:1e30"]])
+def test_a_range_far_past_any_equilibrium_stops_at_the_start_and_exits_3(argv, tmp_path, capsys):
+    """The first load past the start (the range over the steps, halved) is so large that the tangent stiffness
+    there is exactly singular: SuperLU's RuntimeError was an internal error. Now the start's Newton gives up and the
+    path stops where it is, saying so."""
+    out = tmp_path / "p.nc"
+    assert main(["path", *argv, "--n", "10", "--max-steps", "5", "-o", str(out)]) == 3
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert err.startswith("mol-shell: path stopped: the path cannot continue from") and "0 steps" in err, err
+    assert xr.open_dataset(out).sizes["step"] == 1
