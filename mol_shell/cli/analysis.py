@@ -20,6 +20,7 @@ from mol_shell.analysis.workprecision import (
     work_precision,
 )
 from mol_shell.cli.args import (
+    check_companions,
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
@@ -63,6 +64,8 @@ def cmd_compare(args):
     scene, run = scene_and_run(args.scene, args.set)
     t_end = args.t_end if args.t_end is not None else run.get("t_end")
     times = PAPER_TIMES if t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, t_end, 5)]
+    stem = str(args.output).rsplit(".", 1)[0]
+    check_companions(args.output, [stem + ".png", stem + ".md"])
     start = time.perf_counter()
     ds = work_precision(scene, names, n=args.n or run.get("n", 40), times=times, repeats=args.repeats)
     png, md = write_outputs(ds, args.output, args.target)
@@ -84,6 +87,8 @@ def register_stability(subparsers):
 
 def cmd_stability(args):
     scene, _ = scene_and_run(args.scene, args.set)
+    stem = str(args.output).rsplit(".", 1)[0]
+    check_companions(args.output, [stem + ".png", stem + ".md"])
     ds = report(default_cases(scene, quick=args.quick), bisect=not args.no_bisect)
     say_stand_ins(scene)
     write_netcdf(ds, args.output)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import re
 import sys
 
@@ -215,3 +216,12 @@ def run_settings(args, run, scene, n):
     options = {k: run[k] for k in ("dt", "rtol", "atol", "max_step") if k in run} | integrator_option_args(args)
     check_options(scene, integrator, options, offered=CLI_OPTIONS)
     return times, t_end, integrator, options
+
+
+def check_companions(output, paths):
+    """Refuse, naming ``-o``, a file a command writes beside its output (``.png``, ``.md``, ``.h5``,
+    ``_NNNN.vtu``) where a directory stands: found only after the work, it was an internal error."""
+    for path in paths:
+        if os.path.isdir(path):
+            raise ParameterError.invalid("-o", str(output), f"writes {path} beside it, where a directory stands",
+                                         "an output whose companion files can be written (move that directory away)")

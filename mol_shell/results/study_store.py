@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from mol_shell._core.errors import ParameterError
 from mol_shell.results.cf import coordinates, variables
 from mol_shell.results.dataset import read_netcdf, write_netcdf
 
@@ -103,7 +104,12 @@ class Store:
     def __init__(self, output):
         path = Path(output)
         self.folder = path.with_name(path.stem + ".cases")
-        self.folder.mkdir(parents=True, exist_ok=True)
+        try:
+            self.folder.mkdir(parents=True, exist_ok=True)
+        except (FileExistsError, NotADirectoryError):  # a file where the folder goes: refused before any case runs
+            raise ParameterError.invalid("output", str(output), f"keeps its finished cases in {self.folder}/, where a "
+                                         "file stands", "an output beside which <stem>.cases/ can be a directory "
+                                         "(move that file away)") from None
         self.rejected = []  # (path, reason) of case files found unusable by load
 
     def path(self, task):

@@ -279,3 +279,23 @@ def test_compare_whose_reference_stops_says_where_and_exits_3(monkeypatch, tmp_p
     assert code == 3 and len([line for line in err if "mol-shell: stopped" in line]) == 1, err
     assert "did not complete (cvode-adams failed at t = 0.5 ms; ida failed at t = 0.5 ms)" in err[-1]
     assert "internal error" not in " ".join(err)
+
+
+@pytest.mark.parametrize("argv, output, blocker, kind", [
+    (["compare", "sphere", "--integrators", "leapfrog", "--n", "8"], "c.nc", "c.md", "dir"),
+    (["stability", "sphere", "--quick"], "st.nc", "st.png", "dir"),
+    (["export", "RUN"], "e.xdmf", "e.h5", "dir"),
+    (["export", "RUN"], "p.pvd", "p_0001.vtu", "dir"),
+    (["study", "sphere", "--vary", "nu=0.3,0.4", "--t-end", "1e-5", "--n", "8"], "s.nc", "s.cases", "file"),
+])
+def test_a_file_written_beside_the_output_that_cannot_be_is_refused_before_the_work(
+        argv, output, blocker, kind, sphere_run, tmp_path, capsys):
+    """Only -o itself was checked: a directory where compare's .md, export's .h5 or a .vtu of the series goes, or a
+    file where a study keeps its cases, was an internal error after the work (some files already written)."""
+    (tmp_path / blocker).mkdir() if kind == "dir" else (tmp_path / blocker).write_text("")
+    argv = [str(sphere_run) if a == "RUN" else a for a in argv]
+    start = time.perf_counter()
+    assert main([*argv, "-o", str(tmp_path / output)]) == 2
+    err = one_error(capsys)
+    assert str(tmp_path / blocker) in err and not (tmp_path / output).exists()
+    assert time.perf_counter() - start < 5
