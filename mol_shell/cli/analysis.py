@@ -48,7 +48,7 @@ def register_compare(subparsers):
                         help="nodes in s (default: a scene file's [run] n, else 40)")
     parser.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None,
                         help="final time, s; saved times then 0, t_end/4, ..., t_end (default: a scene file's [run] "
-                        "t_end, else the paper's snapshots); leap-frog steps whose grid misses them are skipped")
+                        "times or t_end, else the paper's snapshots); leap-frog steps whose grid misses them are skipped")
     parser.add_argument("--repeats", type=integer_arg("--repeats", 1, MAX_REPEATS), default=3,
                         help=f"timed repeats per point, 1 to {MAX_REPEATS} (median; default 3)")
     parser.add_argument("--target", type=number_arg("--target"), default=1e-6,
@@ -63,7 +63,10 @@ def cmd_compare(args):
     names = check_integrators([s.strip() for s in text.split(",")] if text else [], "--integrators")
     scene, run = scene_and_run(args.scene, args.set)
     t_end = args.t_end if args.t_end is not None else run.get("t_end")
-    times = PAPER_TIMES if t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, t_end, 5)]
+    if args.t_end is None and run.get("times") is not None:  # the file's saved times (they were left out)
+        times = [float(t) for t in run["times"]]
+    else:
+        times = PAPER_TIMES if t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, t_end, 5)]
     stem = str(args.output).rsplit(".", 1)[0]
     check_companions(args.output, [stem + ".png", stem + ".md"])
     start = time.perf_counter()

@@ -12,7 +12,8 @@ import numpy as np
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.runs.resources import check_saved_times
-from mol_shell.runs.simulate import check_options
+from mol_shell.integrators import INTEGRATORS
+from mol_shell.runs.simulate import check_options, integrator_options
 from mol_shell.scenes import SCENES, get_scene, with_params
 from mol_shell.scenes.files import load_scene
 
@@ -213,7 +214,14 @@ def run_settings(args, run, scene, n):
         times = run.get("times")
     t_end = args.t_end if args.t_end is not None or args.times else run.get("t_end")
     integrator = args.integrator or run.get("integrator", "leapfrog")
-    options = {k: run[k] for k in ("dt", "rtol", "atol", "max_step") if k in run} | integrator_option_args(args)
+    from_file = {k: run[k] for k in ("dt", "rtol", "atol", "max_step") if k in run}
+    if args.integrator and args.integrator != run.get("integrator", "leapfrog"):
+        # the command line's integrator wins, and the file's options for another integrator go with that one
+        allowed = integrator_options(scene, integrator) if integrator in INTEGRATORS else set(from_file)
+        for key in sorted(set(from_file) - set(allowed)):
+            print(f"mol-shell: note: the scene file's [run] {key} = {from_file.pop(key)!r} is not an option of "
+                  f"{integrator} (--integrator): left out", file=sys.stderr)
+    options = from_file | integrator_option_args(args)
     check_options(scene, integrator, options, offered=CLI_OPTIONS)
     return times, t_end, integrator, options
 

@@ -133,6 +133,20 @@ def test_run_defaults_come_from_the_file_and_the_command_line_wins(tmp_path):
     assert ds.attrs["dt"] == 5e-7  # the file's, as no option replaced it
 
 
+def test_the_command_lines_integrator_leaves_out_the_files_options_for_another(tmp_path, capsys):
+    """A file for leap-frog (``dt``) run with ``--integrator cvode-bdf`` was refused ("dt is not an option of
+    cvode-bdf"), naming neither the file nor its key, and the command line could not override it."""
+    path = tmp_path / "lf.toml"
+    path.write_text('scene = "sphere"\n[run]\nn = 8\nt_end = 1e-5\ndt = 5e-7\n')
+    out = tmp_path / "a.nc"
+    assert main(["run", str(path), "--integrator", "cvode-bdf", "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "note: the scene file's [run] dt = 5e-07 is not an option of cvode-bdf (--integrator): left out" in err
+    assert read_netcdf(out).attrs["integrator"] == "cvode-bdf"
+    assert main(["run", str(path), "--integrator", "leapfrog", "-o", str(out)]) == 0  # the file's own: kept
+    assert read_netcdf(out).attrs["dt"] == 5e-7 and "left out" not in capsys.readouterr().err
+
+
 # -- the examples ---------------------------------------------------------------------------------------
 def _run_example(name, tmp_path, t_end="0.005"):
     out = tmp_path / f"{name}.nc"
@@ -256,3 +270,12 @@ def test_load_scene_of_something_not_a_path_is_refused_by_name():
     for bad in (None, 3):
         with pytest.raises(ParameterError, match=f"^scene file = {bad} is not a file path"):
             load_scene(bad)
+
+
+def test_compare_takes_the_files_saved_times(tmp_path, capsys):
+    """``[run] times`` was ignored by compare, which ran the paper's snapshots to 0.143 s instead."""
+    path = tmp_path / "t.toml"
+    path.write_text('scene = "sphere"\n[run]\nn = 8\ntimes = [0, 1e-5, 2e-5]\n')
+    out = tmp_path / "c.nc"
+    assert main(["compare", str(path), "--integrators", "dop853-c", "--repeats", "1", "-o", str(out)]) == 0
+    assert read_netcdf(out).attrs["times"] == "0,1e-05,2e-05"
