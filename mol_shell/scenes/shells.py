@@ -10,6 +10,7 @@ loads, the natural state at rest (an equilibrium, so ``mol-shell modes`` takes i
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -219,6 +220,8 @@ class MeridianShell(_Dilated):
         if not isinstance(self.points, str):
             raise ParameterError.not_a("points", self.points, "a file name",
                                        "a file with two columns r z (m), at least 4 rows, or '' (a built-in dome)")
+        if self.points.strip():  # absolute: a run's or a path's file names it wherever it is read again (--from)
+            object.__setattr__(self, "points", os.path.abspath(os.path.expanduser(self.points)))
         self.meridian()
 
     def meridian(self):

@@ -161,3 +161,15 @@ def test_an_edge_displacement_of_a_field_the_edge_does_not_hold_is_refused_by_th
     held = {"end2": "clamped"} if scene != "sphere" else {}
     if scene not in ("sphere", "axisymmetric"):
         with_params(get_scene(scene), {**changes, **held, "end1": "clamped"})  # held: accepted
+
+
+def test_a_points_file_is_kept_by_its_absolute_path(tmp_path, monkeypatch):
+    """A run's or a path's file stored ``points`` as given, relative to where the command ran: ``run --from`` from
+    another folder refused it as unreadable."""
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "pts.txt").write_text("1.0 0.0\n0.9 0.3\n0.7 0.5\n0.4 0.55\n0.0 0.6\n")
+    monkeypatch.chdir(tmp_path)
+    scene = mol_shell.scenes.SCENES["meridian"](points="sub/pts.txt")
+    assert scene.points == str(tmp_path / "sub" / "pts.txt")
+    monkeypatch.chdir(tmp_path / "sub")
+    assert mol_shell.scenes.SCENES["meridian"](points=scene.points).meridian().length == scene.meridian().length
