@@ -213,8 +213,11 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n", what=
     available, source = available_memory()
     if est.memory_bytes <= available:
         return
-    per_time = est.output_bytes * ASSEMBLY_COPIES / max(est.n_times, 1)
-    fixed = est.memory_bytes - per_time * est.n_times
+    if est.n_times < 1e15:
+        per_time = est.output_bytes * ASSEMBLY_COPIES / max(est.n_times, 1)
+        fixed = est.memory_bytes - per_time * est.n_times
+    else:  # astronomically many saved times (0:1e300:1e-6): the estimate overflows; the times' own share is the floor
+        per_time, fixed = (OUTPUT_PER_NODE * est.n + OUTPUT_PER_TIME) * BYTES * ASSEMBLY_COPIES, 0.0
     fits = int(min((available - fixed) / per_time, 1e18)) if available > fixed else 0
     need = (f"needs about {show_bytes(est.memory_bytes)} (the output alone {show_bytes(est.output_bytes)}: "
             f"{est.n_times:.4g} {kept} x {est.n} nodes x {OUTPUT_PER_NODE} values x 8 bytes), "
@@ -226,7 +229,8 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n", what=
     per_node = (est.memory_bytes - BUILD_BYTES_FIXED) / est.n
     max_n = int((available - BUILD_BYTES_FIXED) / per_node) if available > BUILD_BYTES_FIXED else 0
     raise ParameterError(n_name, est.n,
-                         f"integers 3..{max(max_n, 3):,} on this machine with {est.n_times:,} {kept}",
+                         f"integers 3..{max(max_n, 3):,} on this machine with "
+                         + (f"{est.n_times:,} {kept}" if est.n_times < 1e15 else f"{est.n_times:.3g} {kept}"),
                          hint=f"{what} {need}; use fewer nodes (--n)" + (" or save fewer times (--times)"
                                                                         if times_name == "times" else ""))
 

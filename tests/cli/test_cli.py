@@ -45,6 +45,8 @@ BAD = [
     (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "cvode-bdf", "--rtol", "2"], "--rtol"),
     (["run", "twisted-cylinder", "--t-end", "0.01", "--integrator", "cvode-bdf", "--rtol", "1e-20"], "--rtol"),
     (["run", "twisted-cylinder", "--t-end", "0.01", "--n", "abc"], "--n"),
+    # the memory estimate of 1e306 saved times overflowed, and the refusal blamed --n with a 300-digit count
+    (["run", "sphere", "--n", "8", "--times", "0:1e300:1e-6"], "--times"),
 ]
 
 
