@@ -132,7 +132,7 @@ def _path_study(args, scene, vary, n):
     return _finish(args, scene, "path", lambda: path_study(
         scene, vary, name, start, stop, n=n, max_steps=args.max_steps, scheduler=args.scheduler, workers=args.workers,
         output=args.output), lambda ds: f"; first critical {name}: "
-        + ", ".join(f"{v:.6g}" for v in ds.first_critical.values.ravel()))
+        + ", ".join("none" if np.isnan(v) else f"{v:.6g}" for v in ds.first_critical.values.ravel()))
 
 
 def register_study(subparsers):

@@ -55,6 +55,13 @@ def path_study_figure(ds):
     ax.set_xlabel(f"{x_dim} [{x_units}]" if x_units else x_dim)
     ax.set_ylabel(f"critical {parameter} [{units}]" if units else f"critical {parameter}")
     ax.set_title(ds.attrs.get("title", f"critical points of {parameter}"), fontsize="medium")
+    if np.all(np.isnan(ds.first_critical.values)):  # axes of NaN alone are empty: say why
+        stop = ds.attrs.get("path_stop", "")
+        ax.text(0.5, 0.5, f"no path met a critical point of {parameter}"
+                + (f"\n(each traced up to {parameter} = {stop})" if stop != "" else ""),
+                transform=ax.transAxes, ha="center", va="center")
+        if numeric and len(xs):
+            ax.set_xlim(float(np.min(xs)) - 0.5 * (np.ptp(xs) or 1.0), float(np.max(xs)) + 0.5 * (np.ptp(xs) or 1.0))
     ax.legend(fontsize="small")
     ax.grid(alpha=0.3)
     return fig

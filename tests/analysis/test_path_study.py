@@ -100,3 +100,20 @@ def test_on_a_dask_cluster_the_same_critical_points(studied):
     assert ds.attrs["scheduler"] != "serial" and ds.attrs["n_executed"] == 2
     assert list(ds.status.values) == list(serial.status.values)
     np.testing.assert_array_equal(ds.point_parameter.values, serial.point_parameter.values)
+
+
+def test_a_study_whose_paths_meet_no_critical_point_says_so_in_the_figure(studied):
+    """A study whose paths met no critical point plotted empty axes (every first_critical NaN; its summary line,
+    mended too, printed "nan"). The same study with every case's critical points blanked stands in."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from mol_shell.views.path_study_plot import path_study_figure
+
+    _, ds = studied
+    none = ds.copy()
+    none["first_critical"] = none.first_critical * np.nan
+    none["point_parameter"] = none.point_parameter * np.nan
+    none["point_kind"] = none.point_kind.where(False, "")
+    texts = [t.get_text() for t in path_study_figure(none).axes[0].texts]
+    assert any(t.startswith("no path met a critical point of pressure") for t in texts), texts
