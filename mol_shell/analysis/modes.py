@@ -95,25 +95,35 @@ def rigid_motions(system):
     return int(translation) + int(spin)
 
 
-def check_equilibrium(system, y0, scene_name):
-    """Refuse (ParameterError) a state that is moving or out of equilibrium, saying how far and where."""
+def check_equilibrium(system, y0, scene, asked=None):
+    """Refuse (ParameterError) a state that is moving or out of equilibrium, saying how far and where, and what
+    of the scene (``asked``: as given, ``R`` or ``dilation`` perhaps auto) to change."""
     f = np.array(system.rhs_newton(0, y0)).ravel()[: system.ny * system.n].reshape(system.n, system.ny)
     nf = system.nf
     rates, forces = np.abs(f[:, :nf]), np.abs(f[:, nf:])
     if rates.max() > 0:
         i = int(np.argmax(rates.max(axis=1)))
-        raise ParameterError("scene", scene_name, "a scene whose initial state is at rest (omega = 0)",
-                             hint=f"the initial state moves at s = {system.s[i]:.4g} m; modes of a moving state "
-                             "are not computed")
+        where = f"the initial state moves at s = {system.s[i]:.4g} m; modes of a moving state are not computed"
+        if getattr(scene, "omega", 0.0):
+            raise ParameterError("omega", scene.omega, "0 for modes (a state at rest)", hint=where)
+        raise ParameterError("scene", scene.name, "a scene whose initial state is at rest (no spin, no driven "
+                             "edge moving at t = 0)", hint=where)
     _, _, K = _blocks(system, y0)
     scale = float(np.abs(K.diagonal()).max()) * max(1.0, float(np.abs(system.reference[:2]).max()))
     if forces.max() > EQUILIBRIUM_TOL * scale:
         i, k = np.unravel_index(int(np.argmax(forces)), forces.shape)
         field = FIELDS[system.active[k]]
-        raise ParameterError("scene", scene_name, "a scene whose initial state is an equilibrium",
+        asked = scene if asked is None else asked
+        if getattr(scene, "gamma", 0.0):
+            fix = "a twist (gamma) is held only by edges imposing chi: end1=clamped, end2=clamped"
+        elif any(getattr(asked, key, None) is not None for key in ("R", "dilation")):
+            key = "R" if getattr(asked, "R", None) is not None else "dilation"
+            fix = f"{key} = auto starts from the static equilibrium under the loads"
+        else:
+            fix = "the modes are taken about an equilibrium at rest"
+        raise ParameterError("scene", scene.name, "a scene whose initial state is an equilibrium",
                              hint=f"residual force {forces.max():.3g} on {field} at s = {system.s[i]:.4g} m "
-                             f"({forces.max() / scale:.2g} of a unit strain's); e.g. a twisted cylinder needs "
-                             "end1=clamped, end2=clamped to hold its twist")
+                             f"({forces.max() / scale:.2g} of a unit strain's); {fix}")
 
 
 def modes(scene, n=40, count=10, *, initial=None):
@@ -155,7 +165,7 @@ def modes(scene, n=40, count=10, *, initial=None):
     resources.check_analysis(n, kept, f"computing {kept} modes", "modes", fields=len(getattr(scene, "fields", range(5))))
     system, _ = build(scene, n)
     y0, _ = starting_state(scene, system, n, initial, asked=asked)
-    check_equilibrium(system, y0, scene.name)
+    check_equilibrium(system, y0, scene, asked)
     q_idx, Minv, K = _blocks(system, y0)
     size = len(q_idx)
     if size <= DENSE_MAX:

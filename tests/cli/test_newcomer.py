@@ -299,3 +299,16 @@ def test_a_file_written_beside_the_output_that_cannot_be_is_refused_before_the_w
     err = one_error(capsys)
     assert str(tmp_path / blocker) in err and not (tmp_path / output).exists()
     assert time.perf_counter() - start < 5
+
+
+@pytest.mark.parametrize("argv, words", [
+    ([str(EXAMPLES / "torus_gravity.toml")], "dilation = auto starts from the static equilibrium under the loads"),
+    ([str(EXAMPLES / "drum_spin_down.toml")], "omega = 20.0 is outside 0 for modes (a state at rest)"),
+    (["twisted-cylinder"], "a twist (gamma) is held only by edges imposing chi: end1=clamped, end2=clamped"),
+])
+def test_modes_of_a_state_out_of_equilibrium_says_what_of_the_scene_to_change(argv, words, tmp_path, capsys):
+    """Every such refusal ended "e.g. a twisted cylinder needs end1=clamped, end2=clamped", the torus's and the
+    spinning drum's too (whose fixes are dilation = auto and omega = 0)."""
+    assert main(["modes", *argv, "--n", "12", "-o", str(tmp_path / "m.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert err.startswith("mol-shell: error: ") and words in err, err
