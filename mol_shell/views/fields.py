@@ -74,7 +74,15 @@ def field(ds, name, where="cells", option="--field"):
     """
     names = field_names(ds)
     if name not in names:
-        hint = "" if "axial_torque" in ds else "this run has no stresses: rerun without --no-stresses"
+        why = str(ds.attrs.get("stresses", ""))
+        if "axial_torque" in ds:
+            hint = ""
+        elif why.startswith("skipped"):
+            hint = f"this run has no stresses ({why})"
+        elif ds.attrs.get("scene") == "unshearable":  # its runs never have them
+            hint = "the unshearable scene's runs have no stresses"
+        else:
+            hint = "this run has no stresses: rerun without --no-stresses"
         raise ParameterError(option, name, "{" + ", ".join(names) + "}", hint=hint)
     face = None
     base = name

@@ -120,3 +120,13 @@ def test_fibre_figure_from_the_command_line(run_file, tmp_path, capsys):
         code = main(["plot", str(run_file[0]), *argv, "-o", str(tmp_path / "x.png")])
         err = capsys.readouterr().err
         assert code == 2 and len(err.splitlines()) == 1 and words in err, (argv, err)
+
+
+def test_a_stress_of_the_unshearable_scene_is_refused_without_blaming_an_option_never_given(tmp_path, capsys):
+    """Its runs have no stresses: the refusal said "rerun without --no-stresses", a flag never given."""
+    run = tmp_path / "u.nc"
+    assert main(["run", "unshearable", "--integrator", "ida", "--n", "8", "--t-end", "1e-4", "-o", str(run)]) == 0
+    capsys.readouterr()
+    assert main(["animate", str(run), "--field", "von_mises_stress_inner", "-o", str(tmp_path / "u.gif")]) == 2
+    err = capsys.readouterr().err
+    assert "the unshearable scene's runs have no stresses" in err and "--no-stresses" not in err
