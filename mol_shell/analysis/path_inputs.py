@@ -10,6 +10,7 @@ works as it does at any size: a load that small moves the shell linearly. A rang
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -46,6 +47,8 @@ def check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=
         if not is_number(value) or not math.isfinite(value):
             raise ParameterError.not_a(name, value, "a finite number", "(-inf, inf)")
     check_range(start, stop)
+    for value in (start, stop) if parameter in LOADS else ():  # the scene's own checks of a load, on the user's
+        dataclasses.replace(scene, **{parameter: float(value)})  # values (not on the unit load used inside)
     for name, value, low in (("n", n, 3), ("steps", steps, 1), ("max_steps", max_steps, 1)):
         if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < low:
             raise ParameterError(name, value, f"integers >= {low}")

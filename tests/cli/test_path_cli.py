@@ -130,3 +130,9 @@ def test_a_range_far_past_any_equilibrium_stops_at_the_start_and_exits_3(argv, t
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert err.startswith("mol-shell: path stopped: the path cannot continue from") and "0 steps" in err, err
     assert xr.open_dataset(out).sizes["step"] == 1
+
+
+def test_a_load_the_scene_refuses_is_refused_at_the_users_value(tmp_path, capsys):
+    """The unshearable scene takes no loads: the refusal named "pressure = 1.0", the unit load used inside."""
+    assert main(["path", "unshearable", "--param", "pressure=0:1000", "--n", "8", "-o", str(tmp_path / "p.nc")]) == 2
+    assert "pressure = 1000.0 is outside 0" in capsys.readouterr().err
