@@ -63,7 +63,8 @@ def check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=
 def loads_at_rest(scene, parameter):
     """What each of the scene's other loads is in the path's states, when its history makes that differ from its
     magnitude: a path's states are at rest, under the loads at ``t = 0`` (``h(0) x`` the magnitude; a ramp, a sine
-    and a later step give 0 there). One sentence per such load (none for ``drag``, which vanishes at rest)."""
+    and a later step give 0 there). One sentence per such load (none for ``drag``, which vanishes at rest), and one
+    for a spin ``omega``, left out."""
     notes = []
     for load in LOADS:
         value = getattr(scene, load, 0.0)
@@ -75,4 +76,6 @@ def loads_at_rest(scene, parameter):
             notes.append(f"the scene's {load} = {value:g} {UNITS[load]} ({load}_history {spec!r}) acts at its value at "
                          f"t = 0 in every state, {factor * value:g} {UNITS[load]} (a path's states are at rest; "
                          f"{load}_history = constant holds {value:g})")
+    if getattr(scene, "omega", 0.0):  # initial data of a motion: the states are at rest
+        notes.append(f"the scene's omega = {scene.omega:g} rad s-1 is left out: a path's states are at rest")
     return notes

@@ -103,3 +103,11 @@ def test_another_load_on_a_history_acts_at_its_value_at_t0_and_the_path_says_so(
     err = capsys.readouterr().err
     assert "mol-shell: note: the scene's pressure = 400 Pa (pressure_history 'sine 50') acts at its value at t = 0 " \
         "in every state, 0 Pa" in err
+
+
+def test_a_spin_is_left_out_of_a_paths_states_and_the_file_says_so():
+    """A drum spun at omega = 20 rad/s: the path's states are at rest, as without the spin; it was silent."""
+    spun = path(Cone(end1="clamped", end2="free", omega=20.0), "end2_force", 0.0, 10.0, n=N)
+    still = path(Cone(end1="clamped", end2="free"), "end2_force", 0.0, 10.0, n=N)
+    assert np.array_equal(spun.z.values, still.z.values)
+    assert "omega = 20 rad s-1 is left out: a path's states are at rest" in spun.attrs["loads_at_rest"]
