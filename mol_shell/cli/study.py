@@ -102,6 +102,7 @@ def _finish(args, scene, what, run, tail=lambda ds: ""):
     print(f"wrote {args.output}: {plural(int(ds.attrs['n_cases']), what)} ({counts}); ran {ds.attrs['n_executed']}, "
           f"reused {ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s{tail(ds)}")
     refused = _say_refused(ds, what)
+    _say_stopped(ds, what)
     if refused and refused == len(statuses):
         return EXIT_USAGE  # every case's input is out of range: nothing was computed
     return 0 if ds.attrs["n_failed"] == 0 else EXIT_INCOMPLETE
@@ -119,6 +120,18 @@ def _say_refused(ds, what):
         more = f" (and {others} other reason{'s' * (others > 1)}: the file's message variable)" if others else ""
         print(f"mol-shell: error: {count} of {plural(len(status), what)} refused: {reasons[0]}{more}", file=sys.stderr)
     return count
+
+
+def _say_stopped(ds, what):
+    """One line on stderr when cases stopped short (a model limit, an instability, a lost worker): how many, and the
+    first one's message, which says where and when (the file's ``message`` holds every case's)."""
+    status = ds.status.values.ravel()
+    messages = ds.message.values.ravel() if "message" in ds else np.full(status.shape, "")
+    stopped = [(str(st), str(m)) for st, m in zip(status, messages) if st not in ("complete", "refused")]
+    if stopped:
+        kind, message = stopped[0]
+        print(f"mol-shell: {len(stopped)} of {plural(len(status), what)} stopped short; the first ({kind}): {message}",
+              file=sys.stderr)
 
 
 def _path_study(args, scene, vary, n):

@@ -312,3 +312,15 @@ def test_modes_of_a_state_out_of_equilibrium_says_what_of_the_scene_to_change(ar
     assert main(["modes", *argv, "--n", "12", "-o", str(tmp_path / "m.nc")]) == 2
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert err.startswith("mol-shell: error: ") and words in err, err
+
+
+def test_a_study_whose_case_stops_at_a_limit_says_where_and_when_and_exits_3(tmp_path, capsys):
+    """A case crushed by 1e6 Pa stops at SVK's compressive turning point: the study exited 3 saying only the
+    counts; now one line gives the first stopped case's message (where and when)."""
+    out = tmp_path / "st.nc"
+    code = main(["study", "sphere", "--vary", "pressure=0,-1e6", "--set", "R=1.0", "--t-end", "0.05", "--n", "8",
+                 "--integrator", "cvode-bdf", "--scheduler", "serial", "-o", str(out)])
+    err = capsys.readouterr().err
+    assert code == 3
+    line = next(x for x in err.splitlines() if "stopped short" in x)
+    assert line.startswith("mol-shell: 1 of 2 cases stopped short; the first (limit): ") and " at t = " in line
