@@ -27,6 +27,7 @@ from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.cf import header
 from mol_shell.runs import resources
 from mol_shell.runs.simulate import as_scene, build, resolve
+from mol_shell.scenes import Unshearable
 
 #: the paper's snapshot times (s)
 PAPER_TIMES = (0.0, 0.02, 0.07, 0.106, 0.143)
@@ -186,6 +187,10 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
     ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
     ds.attrs.update({**header(f"work-precision of mol_shell integrators, scene {scene.name}"), "scene": scene.name, "n": n, "times": ",".join(f"{t:g}" for t in times), "repeats": repeats,
                      "reference_error": ref_err, **ref_info})
+    if isinstance(scene, Unshearable):  # every integrator here runs its free shell, ida too
+        ds.attrs["model"] = ("the unshearable scene's free shell (the ODE every integrator runs); its constrained "
+                             "DAE, run by `run --integrator ida`, is not compared")
+        log(f"model: {ds.attrs['model']}")
     return ds
 
 

@@ -324,3 +324,13 @@ def test_a_study_whose_case_stops_at_a_limit_says_where_and_when_and_exits_3(tmp
     assert code == 3
     line = next(x for x in err.splitlines() if "stopped short" in x)
     assert line.startswith("mol-shell: 1 of 2 cases stopped short; the first (limit): ") and " at t = " in line
+
+
+def test_compare_on_the_unshearable_scene_says_which_model_it_compares(tmp_path, capsys):
+    """Every integrator of a comparison runs the scene's free shell (ida too), while `run --integrator ida` runs
+    its constrained DAE: the file and the output say which model was compared."""
+    out = tmp_path / "cu.nc"
+    assert main(["compare", "unshearable", "--integrators", "leapfrog", "--n", "8", "--t-end", "1e-3",
+                 "--repeats", "1", "-o", str(out)]) == 0
+    assert "model: the unshearable scene's free shell" in capsys.readouterr().out
+    assert "constrained DAE" in read_netcdf(out).attrs["model"]
