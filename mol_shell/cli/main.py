@@ -263,6 +263,7 @@ def main(argv=None):
             warnings.simplefilter("always", LongRunWarning)
             warnings.simplefilter("always", MaterialWarning)
             warnings.showwarning = _one_line_warning
+            _SAID.clear()  # once per command (tests call main many times in one process)
             if getattr(args, "output", None) is not None:  # every subcommand: before anything is computed
                 suffixes = getattr(args, "output_suffixes", None)
                 writable_path(args.output, "-o", suffixes=suffixes() if callable(suffixes) else suffixes, created=created)
@@ -306,9 +307,15 @@ def _reader_gone():
     return EXIT_PIPE
 
 
+#: the warnings said by this command: each once (a stability report's twenty runs of one law warned twenty times)
+_SAID = set()
+
+
 def _one_line_warning(message, category, filename, lineno, file=None, line=None):
     text = " ".join(str(message).split())  # one line, whatever the warning's author wrapped
-    print(f"mol-shell: warning: {text}", file=sys.stderr)
+    if text not in _SAID:
+        _SAID.add(text)
+        print(f"mol-shell: warning: {text}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -334,3 +334,11 @@ def test_compare_on_the_unshearable_scene_says_which_model_it_compares(tmp_path,
                  "--repeats", "1", "-o", str(out)]) == 0
     assert "model: the unshearable scene's free shell" in capsys.readouterr().out
     assert "constrained DAE" in read_netcdf(out).attrs["model"]
+
+
+def test_a_warning_repeated_by_the_runs_of_one_command_is_said_once(tmp_path, capsys):
+    """Each case of a study (each run of a stability report: twenty) warned about the same law again."""
+    assert main(["study", "sphere", "--vary", "E=1e6,2e6,3e6", "--t-end", "1e-5", "--n", "8", "--scheduler", "serial",
+                 "-o", str(tmp_path / "s.nc")]) == 0
+    err = capsys.readouterr().err
+    assert err.count('mol-shell: warning: material = "svk" at nu = 0.49') == 1, err
