@@ -29,7 +29,7 @@ from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
 from mol_shell.runs.scheduling import connect, scheduler_name
-from mol_shell.runs.study import case_result, design, run_cases
+from mol_shell.runs.study import case_result, design, label_coords, run_cases
 from mol_shell.scenes import UNITS, with_params
 
 #: statuses of a path that are final (stored, not run again on resume)
@@ -188,4 +188,6 @@ def _gather(scene, dims, coords, cases, results, parameter):
     coord_vars["point"] = ("point", np.arange(count, dtype=np.int32), {"long_name": "critical point, as met"})
     attrs = {**header(f"mol_shell study of equilibrium paths of scene {scene.name} in {parameter}"),
              "scene": scene.name, "critical_points": SYMMETRY_NOTE}
-    return xr.Dataset(data, coords=coord_vars, attrs=attrs)
+    ds = xr.Dataset(data, coords=coord_vars, attrs=attrs)
+    label_coords(ds, coords, dims)  # the varied parameters' long names, as a study of runs has them
+    return ds

@@ -233,7 +233,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     pending, reused = run_cases(run_task, tasks, results, output=output, final=FINAL, scheduler=scheduler,
                                 workers=workers, client=client, progress=progress, total=len(cases))
     out = assemble(dims, coords, cases, results, times)
-    _label_coords(out, coords, dims)
+    label_coords(out, coords, dims)
     failed = sum(1 for ds, info in results.values() if info["status"] != "complete")
     out.attrs.update({
         "title": f"mol_shell parameter study of scene {scene.name}", "study_vary": ", ".join(coords),
@@ -313,7 +313,7 @@ def _option_names(scene, integrator):
     return integrator_options(scene, integrator)
 
 
-def _label_coords(ds, coords, dims):
+def label_coords(ds, coords, dims):
     """Units and long names of the varied parameters (and of the ``case`` index)."""
     for name in coords:
         if name not in ds.coords:

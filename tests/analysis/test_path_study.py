@@ -59,6 +59,7 @@ def test_the_command(tmp_path, capsys):
     assert "first critical pressure" in capsys.readouterr().out
     with xr.open_dataset(out) as ds:
         assert ds.sizes["alpha2"] == 2 and ds.first_critical.attrs["units"] == "Pa"
+        assert ds.alpha2.attrs["long_name"].endswith("(varied)")  # it had none
     assert main(argv[:-2] + ["--t-end", "1", "-o", str(tmp_path / "x.nc")]) == 2
     assert "--t-end is an option of a study of runs" in capsys.readouterr().err
 
