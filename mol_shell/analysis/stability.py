@@ -213,8 +213,8 @@ META = {
 SUFFIXES = {
     "_status": (None, "how the {} run ended"), "_steps": ("1", "{} steps"), "_failures": ("1", "{} failed steps"),
     "_wall_s": ("s", "{} wall time"),
-    "_energy_error": ("1", "{} energy error: the energy-work balance's relative to the energy exchanged where loads "
-                      "or viscosity act, else the energy's drift relative to E(0)"),
+    "_energy_error": ("1", ("{} energy error: the energy-work balance's relative to the energy exchanged where loads "
+                           "or viscosity act, else the energy's drift relative to E(0)")),
 }
 
 

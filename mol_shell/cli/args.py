@@ -11,8 +11,8 @@ import numpy as np
 
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError, show
-from mol_shell.runs.resources import check_saved_times
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.runs.resources import check_saved_times
 from mol_shell.runs.simulate import check_options, integrator_options
 from mol_shell.scenes import SCENES, get_scene, with_params
 from mol_shell.scenes.files import load_scene
