@@ -145,7 +145,7 @@ class ModelLimits:
             R[..., i, i], R[..., i, j], R[..., j, i], R[..., j, j] = np.cos(turn), -np.sin(turn), np.sin(turn), np.cos(turn)
             K = np.swapaxes(R, -1, -2) @ K @ R
         root, ok = self._natural_root
-        margins = np.linalg.eigvalsh(root @ K @ root).min(axis=-1)
+        margins = np.linalg.eigvalsh(root @ K @ np.swapaxes(root, -1, -2)).min(axis=-1)
         margins = np.where(ok[None] & finite[:, None], margins, np.nan)
         return margins[0] if single else margins
 
@@ -156,12 +156,19 @@ class ModelLimits:
 
     @cached_property
     def _natural_root(self):
-        """``(K_0^-1/2 per cell, whether K_0 is positive definite there)``: in double precision, each eigenvalue
-        above the rounding of the largest (``size x eps x`` it, the backward error of ``eigh``); below it the sign
-        is the LAPACK build's round-off (a wall with ``h / R = 6e-13`` was checked on one machine, not on another)."""
-        w, V = np.linalg.eigh(self._natural_symbols)
+        """``(M per cell, whether K_0 is positive definite there)`` with ``M K_0 M^T = I``: the margins are the
+        eigenvalues of ``M K M^T``. ``K_0`` is scaled by its diagonal first (``S = D^-1 K_0 D^-1``, ``M =
+        S^-1/2 D^-1``): its entries mix units (membrane ``~E h``, bending ``~E h^3``), and the test that ``S`` is
+        positive definite in double precision (each eigenvalue above the rounding of the largest, ``size x eps x``
+        it, the backward error of ``eigh``) must not depend on them. Without the scaling a 10 um sphere lost every
+        cell; with ``> 0`` as the test a wall with ``h / R = 6e-13`` was checked on one LAPACK build, not another."""
+        K0 = self._natural_symbols
+        d = np.sqrt(np.abs(np.einsum("cii->ci", K0)))
+        d = np.where(d > 0, d, 1.0)
+        w, V = np.linalg.eigh(K0 / d[:, :, None] / d[:, None, :])
         ok = w.min(axis=1) > w.shape[-1] * np.finfo(float).eps * np.abs(w).max(axis=1)
-        return np.einsum("cij,cj,ckj->cik", V, 1 / np.sqrt(np.where(w > 0, w, 1.0)), V), ok
+        root = np.einsum("cij,cj,ckj->cik", V, 1 / np.sqrt(np.where(w > 0, w, 1.0)), V)
+        return root / d[:, None, :], ok
 
     def _natural_fields(self):
         """The reference (natural) state's fields ``(5, n)``."""

@@ -45,9 +45,9 @@ def unchecked_note(system):
     """A note where some cells cannot be checked (their natural state's principal symbol is singular), else None."""
     bad = int(np.sum(~system._natural_root[1]))
     return None if bad == 0 else (f"ellipticity not checked in {bad} of {system.n - 1} cells: their natural state's "
-                                  "principal symbol is not positive definite in double precision (a wall whose "
-                                  "stiffnesses lie more than 1e16 apart, far thinner than its radius of curvature, "
-                                  "or a law without shear stiffness)")
+                                  "principal symbol is not positive definite in double precision (a law without "
+                                  "shear stiffness, or stiffnesses that, scaled to their diagonal, lie more than "
+                                  "1e15 apart)")
 
 
 def sampled_margins(system, Qs):
