@@ -45,12 +45,23 @@ def _free_entries(system, hold):
 
 def _gauge(system, hold, field):
     """Positions in the state of the free entries of ``field`` (0: ``z``, 2: ``chi``) when it is solved for and no
-    edge imposes it (the shell may translate along the axis, or spin about it: the Jacobian is singular), else
-    ``None``. A pole's ``chi``, tied to its neighbour's, imposes nothing and is not among them."""
-    if field not in system.active or field in hold or system.imposed[:, field].any():
+    edge imposes or drives it (the shell may translate along the axis, or spin about it: the Jacobian is singular),
+    else ``None``. A pole's ``chi``, tied to its neighbour's, imposes nothing and is not among them."""
+    if field not in system.active or field in hold or system.imposed[:, field].any() \
+            or any(k == field for _, k in system.drives):  # a driven edge holds the rigid motion too
         return None
     column = system.active.index(field)
     return np.flatnonzero(~system.fixed[:, column]) * system.ny + column
+
+
+def _tied(system, y):
+    """``y`` (at rest) with a pole's ``chi`` set to its neighbour's: a tied entry is no unknown of Newton's, and
+    once ``chi`` is solved for it kept its starting value beside a neighbour that moved."""
+    body = system.ny * system.n
+    Q = system.tie(system.unpack(y))
+    out = system.pack(Q, np.zeros_like(Q))
+    out[body:] = y[body:]
+    return out
 
 
 def newton(system, y0, hold=(), tol=TOL, max_iter=MAX_ITER):
@@ -96,7 +107,7 @@ def newton(system, y0, hold=(), tol=TOL, max_iter=MAX_ITER):
         if res <= tol:
             for g in gauges:
                 y[g] += float(np.mean(np.asarray(y0, dtype=float)[g] - y[g]))
-            return y, it, res
+            return _tied(system, y), it, res
         if it == max_iter:
             break
         try:
