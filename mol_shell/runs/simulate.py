@@ -260,9 +260,11 @@ def starting_state(scene, system, n, initial=None, asked=None):
     if initial is not None:
         return given_state(system, initial), "the fields given (initial), at rest"
     y0 = initial_state(scene, system)
-    # a cylinder's R = auto: the radial equilibrium of its uniform twist (the paper's start, kept with a twist:
-    # released, it moves anyway); untwisted under loads, the static solve starts from it
-    radial = isinstance(asked, CylinderScene) and asked.R is None and not getattr(asked, "gamma", 0.0)
+    # a cylinder's R = auto: the radial equilibrium of its uniform twist (the paper's start, kept with a twist or a
+    # tilt psi0 as initial data: released, it moves anyway); untwisted and untilted under loads, the static solve
+    # starts from it
+    radial = (isinstance(asked, CylinderScene) and asked.R is None and not getattr(asked, "gamma", 0.0)
+              and not getattr(asked, "psi0", 0.0))
     if not ((scene.at_equilibrium() or radial) and getattr(scene, "loaded", False)):
         return y0, "as given by the scene's parameters"
     # a twist asked for (gamma) is initial data, kept while the other fields come to rest under the loads
