@@ -68,8 +68,8 @@ class Material:
         if not isinstance(self.parameters, dict):
             raise ParameterError.not_a("parameters", self.parameters, "a dict", "a dict of names and finite numbers")
         for key, value in self.parameters.items():
-            if not isinstance(key, str) or isinstance(value, bool) or not isinstance(value, (int, float)) \
-                    or not math.isfinite(value):
+            if not isinstance(key, str) or isinstance(value, (bool, np.bool_)) \
+                    or not isinstance(value, (int, float, np.integer, np.floating)) or not math.isfinite(value):
                 raise ParameterError("parameters", f"{key}={value!r}", "a dict of names and finite numbers")
         object.__setattr__(self, "parameters", {k: float(v) for k, v in self.parameters.items()})
         self._check_energy()
@@ -121,10 +121,16 @@ class Material:
             if key not in self.parameters:
                 raise ParameterError("material_parameters", key, "{" + ", ".join(sorted(self.parameters)) + "}",
                                      hint=f"the parameters of material {self.name}")
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.integer, np.floating)) \
+                    or not math.isfinite(value):
                 raise ParameterError.not_a("material_parameters", f"{key}={value}", "a finite number",
                                            "finite numbers")
-        return Material(self.name, self.energy, {**self.parameters, **changes}, self.thickness)
+        try:
+            return Material(self.name, self.energy, {**self.parameters, **changes}, self.thickness)
+        except ParameterError as exc:  # the changed law refused (unstable, say): the changes are to blame
+            shown = " ".join(f"{k}={v:g}" for k, v in changes.items())
+            raise ParameterError("material_parameters", shown, exc.allowed,
+                                 message=f"material_parameters = {shown!r} of material {self.name}: {exc}") from None
 
     def law(self):
         """The :class:`~mol_shell.model.laws.Law` that runs it (``C`` handed over as an ``SX`` matrix)."""

@@ -154,3 +154,13 @@ def test_material_parameters_from_python_the_command_line_and_a_file(tmp_path):
         with pytest.raises(ParameterError, match="material_parameters") as err:
             Sphere(**bad)
         assert words in str(err.value)
+
+
+def test_changed_parameters_that_unsettle_the_law_are_blamed_and_numpy_numbers_are_taken():
+    """``material_parameters = "mu=-1e5"`` was refused as "energy = ... is not a stable natural state", naming the
+    law, not the change; numpy numbers were refused as parameters though scenes take them."""
+    with pytest.raises(ParameterError, match=r"^material_parameters = 'mu=-100000' of material my-neo-hookean: "):
+        Sphere(material=RUBBER, material_parameters="mu=-1e5")
+    law = mol_shell.Material("np-numbers", energy=neo_hookean, parameters={"mu": np.float32(1e5)},
+                             thickness="incompressible")
+    assert law.parameters == {"mu": 1e5} and type(law.parameters["mu"]) is float
