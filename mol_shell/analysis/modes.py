@@ -114,7 +114,9 @@ def check_equilibrium(system, y0, scene, asked=None):
         i, k = np.unravel_index(int(np.argmax(forces)), forces.shape)
         field = FIELDS[system.active[k]]
         asked = scene if asked is None else asked
-        if getattr(scene, "gamma", 0.0):
+        if getattr(scene, "gamma", 0.0) and "pole" in system.edges:
+            fix = "a twist (gamma) is no equilibrium of a shell closed at a pole: gamma = 0"
+        elif getattr(scene, "gamma", 0.0):
             fix = "a twist (gamma) is held only by edges imposing chi: end1=clamped, end2=clamped"
         elif any(getattr(asked, key, None) is not None for key in ("R", "dilation")):
             key = "R" if getattr(asked, "R", None) is not None else "dilation"

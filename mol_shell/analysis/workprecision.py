@@ -26,7 +26,7 @@ from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.cf import header
 from mol_shell.runs import resources
-from mol_shell.runs.simulate import as_scene, build, resolve
+from mol_shell.runs.simulate import as_scene, build, resolve, starting_state
 from mol_shell.scenes import Unshearable
 
 #: the paper's snapshot times (s)
@@ -144,9 +144,10 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
     if all(reason for points in plan.values() for _, reason in points):
         raise ParameterError("times", times.tolist(), "saved times on the step grid of at least one sweep point",
                              hint="every point would be skipped")
-    scene = resolve(as_scene(scene))
+    asked = as_scene(scene)
+    scene = resolve(asked)
     system, compiled = build(scene, n)
-    y0 = system.initial_state(scene)
+    y0, _ = starting_state(scene, system, n, asked=asked)  # where a run starts (R = auto under loads: the statics)
     ref, ref_err, ref_info = reference(system, compiled, y0, times)
     log(f"reference {ref_info['reference']}: converged to {ref_err:.2g} (against {ref_info['reference_check']})")
     levels = max(len(points) for points in plan.values())

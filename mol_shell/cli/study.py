@@ -127,7 +127,8 @@ def _say_stopped(ds, what):
     first one's message, which says where and when (the file's ``message`` holds every case's)."""
     status = ds.status.values.ravel()
     messages = ds.message.values.ravel() if "message" in ds else np.full(status.shape, "")
-    stopped = [(str(st), str(m)) for st, m in zip(status, messages) if st not in ("complete", "refused")]
+    ended = ("complete", "refused", "max_steps", "returned")  # a path's max_steps and return are ends, not stops
+    stopped = [(str(st), str(m)) for st, m in zip(status, messages) if st not in ended]
     if stopped:
         kind, message = stopped[0]
         print(f"mol-shell: {len(stopped)} of {plural(len(status), what)} stopped short; the first ({kind}): {message}",

@@ -305,6 +305,7 @@ def test_a_file_written_beside_the_output_that_cannot_be_is_refused_before_the_w
     ([str(EXAMPLES / "torus_gravity.toml")], "dilation = auto starts from the static equilibrium under the loads"),
     ([str(EXAMPLES / "drum_spin_down.toml")], "omega = 20.0 is outside 0 for modes (a state at rest)"),
     (["twisted-cylinder"], "a twist (gamma) is held only by edges imposing chi: end1=clamped, end2=clamped"),
+    (["sphere", "--set", "gamma=0.1", "--set", "R=1.0"], "no equilibrium of a shell closed at a pole: gamma = 0"),
 ])
 def test_modes_of_a_state_out_of_equilibrium_says_what_of_the_scene_to_change(argv, words, tmp_path, capsys):
     """Every such refusal ended "e.g. a twisted cylinder needs end1=clamped, end2=clamped", the torus's and the

@@ -166,3 +166,24 @@ def test_compare_command_writes_netcdf_png_and_table(tmp_path):
     ds = wp.xr.open_dataset(out)
     assert set(ds.integrator.values) == {"leapfrog", "cvode-adams"} and np.nanmax(ds.error.values) < 0.1
     assert ds.attrs["reference_error"] < 1e-7
+
+
+def test_compare_starts_where_a_run_starts(monkeypatch):
+    """A loaded sphere with R = auto: a run starts from the static equilibrium under the pressure; the comparison
+    started from the natural state (and compared the integrators on the inflation, not on the scene's motion)."""
+    from mol_shell._core.errors import ParameterError
+
+    scene = mol_shell.Sphere(pressure=1000.0, nu=0.3, material="svk-plane-stress")
+    seen = {}
+
+    def stop_at_the_reference(system, compiled, y0, times, *args, **kwargs):
+        seen["fields"] = system.unpack(y0)
+        raise ParameterError("reference", "stopped here", "(the test)")
+
+    monkeypatch.setattr(wp, "reference", stop_at_the_reference)
+    with pytest.raises(ParameterError, match="stopped here"):
+        wp.work_precision(scene, ["dop853-c"], n=8, times=[0.0, 1e-4], repeats=1, log=lambda *a: None)
+    run = mol_shell.simulate(scene, "cvode-bdf", n=8, t_end=1e-4, progress=False, stresses=False)
+    np.testing.assert_allclose(seen["fields"][1], run.r.values[0], rtol=0, atol=1e-14)
+    inner = slice(1, -1)  # the poles stay on the axis
+    assert np.all(run.r.values[0][inner] / run.r0.values[inner] > 1 + 1e-4)  # inflated: not the natural state
