@@ -164,3 +164,39 @@ def test_changed_parameters_that_unsettle_the_law_are_blamed_and_numpy_numbers_a
     law = mol_shell.Material("np-numbers", energy=neo_hookean, parameters={"mu": np.float32(1e5)},
                              thickness="incompressible")
     assert law.parameters == {"mu": 1e5} and type(law.parameters["mu"]) is float
+
+
+def ogden_volumetric(C, p):
+    """Neo-Hookean shear with Ogden's volumetric term ``K/b^2 (b ln J + J^-b - 1)`` (rubber: K/mu = 30, b = 9)."""
+    J = ca.sqrt(ca.det(C))
+    return (p["mu"] / 2 * (ca.trace(C) - 3) - p["mu"] * ca.log(J)
+            + p["K"] / p["b"] ** 2 * (p["b"] * ca.log(J) + J ** (-p["b"]) - 1))
+
+
+def test_a_plane_stress_law_gets_the_newton_steps_its_condition_needs():
+    """Six unrolled Newton steps were taken for every law of one's own, unchecked: with Ogden's volumetric term
+    they left a thickness stress of 1e8 Pa at an equibiaxial stretch of 1.3, and a sphere's energy 28 times too
+    high. Reference (derived here): with ``C = diag(l^2, x, l^2)``, ``J = l^2 sqrt(x)``,
+    ``dW/dx = mu/2 + (-mu + K/b (1 - J^-b)) / (2 x)``, its root by bisection, and ``W`` there."""
+    from scipy.optimize import brentq
+
+    from mol_shell.model.hyperelastic import condensed_energy
+
+    p = {"mu": 1e6 / 3, "K": 1e7, "b": 9.0}
+    law = mol_shell.Material("ogden-vol", energy=ogden_volumetric, parameters=p)
+    assert law.steps > 6
+    lam = 1.3
+
+    def slope(x):
+        J = lam * lam * np.sqrt(x)
+        return p["mu"] / 2 + (-p["mu"] + p["K"] / p["b"] * (1 - J ** -p["b"])) / (2 * x)
+
+    x = brentq(slope, 1e-6, 1.0, xtol=1e-15)
+    J = lam * lam * np.sqrt(x)
+    expected = (p["mu"] / 2 * (2 * lam * lam + x - 3) - p["mu"] * np.log(J)
+                + p["K"] / p["b"] ** 2 * (p["b"] * np.log(J) + J ** -p["b"] - 1))
+    C = ((lam * lam, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, lam * lam))
+    W = float(ca.evalf(condensed_energy(law.law(), C, p)))
+    assert W == pytest.approx(expected, rel=1e-12)
+    with pytest.raises(ParameterError, match=r"^thickness = 'plane-stress' is outside .* in 32 steps"):
+        mol_shell.Material("ogden-stiff", energy=ogden_volumetric, parameters={**p, "b": 80.0})
