@@ -37,7 +37,16 @@ def _check_expression(text):
             raise ValueError(f"{type(node).__name__} is not allowed")
         if isinstance(node, ast.Constant) and not isinstance(node.value, (int, float)):
             raise ValueError("only numbers")
-    return compile(tree, "<h_profile>", "eval")
+    return compile(ast.fix_missing_locations(_Doubles().visit(tree)), "<h_profile>", "eval")
+
+
+class _Doubles(ast.NodeTransformer):
+    """Every number as a numpy double: arithmetic of constants alone then overflows to inf, divides by zero to inf
+    and takes roots of negatives to NaN (refused as an h that is not positive and finite), where Python's ints and
+    floats hung (``9**9**9``), raised (``1/0``, ``10.0**400``) or turned complex (``(-0.01)**0.5``)."""
+
+    def visit_Constant(self, node):
+        return ast.Call(ast.Name("_double", ast.Load()), [ast.Constant(float(node.value))], [])
 
 
 def thickness_function(text, length):
@@ -67,7 +76,8 @@ def thickness_function(text, length):
 
             def h(s):
                 s = np.asarray(s, dtype=float)
-                value = eval(code, {"__builtins__": {}}, {"s": s, "pi": math.pi, **_FUNCTIONS})  # noqa: S307 (checked)
+                value = eval(code, {"__builtins__": {}}, {"s": s, "pi": np.float64(math.pi), "_double": np.float64,
+                                                          **_FUNCTIONS})  # noqa: S307 (checked)
                 return np.broadcast_to(np.asarray(value, dtype=float), s.shape).copy()
     except ParameterError:
         raise

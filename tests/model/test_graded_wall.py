@@ -2,6 +2,7 @@
 
 import dataclasses
 import math
+import time
 
 import numpy as np
 import pytest
@@ -114,13 +115,22 @@ def test_a_layered_graded_wall_keeps_each_layers_share():
     ("table 0:0.01 1:0.01", "h_profile = 'table 0:0.01 1:0.01' is outside a table covering the meridian [0, 2] m"),
     ("0.01 * unknown(s)", "h_profile = '0.01 * unknown(s)' is outside"),
     ("0.01 - s", "a positive, finite h(s) on the meridian"),
+    # numbers alone, evaluated as Python's: internal errors (ZeroDivisionError, OverflowError, a complex TypeError)
+    # and hangs (big integers); as doubles they give inf or NaN, refused as any h that is not positive and finite
+    ("0.01+1/0", "(h = inf m at s = 0 m)"),
+    ("0.01+0*10.0**400", "(h = nan m at s = 0 m)"),
+    ("(-0.01)**0.5", "(h = nan m at s = 0 m)"),
+    ("9**9**9", "(h = inf m at s = 0 m)"),
+    ("0.01+0*(10**10**8)", "(h = nan m at s = 0 m)"),
 ])
 def test_a_bad_profile_is_one_line_exit_2(capsys, tmp_path, profile, words):
+    start = time.perf_counter()
     args = ["run", "cone", "--set", "r2=1", "--set", "H=2", "--set", f"h_profile={profile}", "--n", "9",
             "--t-end", "1e-5", "-o", str(tmp_path / "x.nc")]
     assert main(args) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and words in err[0], err
+    assert time.perf_counter() - start < 10  # no hang
     with pytest.raises(ParameterError, match="zeta1"):
         Cone(r2=1.0, H=2.0, h_profile="0.01", zeta1=-0.01)
 
