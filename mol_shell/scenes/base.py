@@ -245,9 +245,10 @@ class ShellScene:
     gamma = omega = psi0 = 0.0
 
     def __post_init__(self):
-        for name, value in vars(self).items():  # numpy scalars as Python's (np.float32 hashed equal to a float64)
-            if isinstance(value, np.generic):
-                object.__setattr__(self, name, value.item())
+        for f in dataclasses.fields(self):  # numpy scalars as Python's (np.float32 hashed equal to a float64), and
+            value = getattr(self, f.name)  # "auto" as None where None (auto) is the default, as in scene files
+            auto = f.default is None and isinstance(value, str) and value.strip().lower() in ("auto", "none")
+            object.__setattr__(self, f.name, None if auto else value.item() if isinstance(value, np.generic) else value)
         _check("h", self.h, Interval(0.0, math.inf, unit="m", shown="(0, inf) m, and the thickness off the axis"))
         _check("E", self.E, positive("Pa"))
         if self.material == "neo-hookean":  # its plane-stress condensation is shown converged for these

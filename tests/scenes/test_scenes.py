@@ -173,3 +173,12 @@ def test_a_points_file_is_kept_by_its_absolute_path(tmp_path, monkeypatch):
     assert scene.points == str(tmp_path / "sub" / "pts.txt")
     monkeypatch.chdir(tmp_path / "sub")
     assert mol_shell.scenes.SCENES["meridian"](points=scene.points).meridian().length == scene.meridian().length
+
+
+def test_auto_is_taken_wherever_auto_is_the_default():
+    """``zeta1 = "auto"`` (the documented default) was refused from Python ("'auto' is not a number"), while R and
+    scene files took it."""
+    assert mol_shell.Sphere(zeta1="auto").zeta1 is None and mol_shell.Sphere(zeta1=" Auto ").zeta1 is None
+    assert mol_shell.Cone(dilation="auto").dilation is None and mol_shell.TwistedCylinder(R="none").R is None
+    with pytest.raises(ParameterError, match="^h = 'auto' is not a number"):
+        mol_shell.Sphere(h="auto")  # not where a number is the default
