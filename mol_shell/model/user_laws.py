@@ -213,6 +213,8 @@ def parameter_values(value):
                                    "'name=value name=value' or a dict of numbers")
     values = {}
     for key, number in pairs:
+        if str(key) in values:  # the last one silently won
+            raise ParameterError.invalid("material_parameters", value, f"sets {key} twice", "each parameter once")
         try:
             values[str(key)] = float(number) if not isinstance(number, bool) else math.nan
         except (TypeError, ValueError):

@@ -200,3 +200,9 @@ def test_a_plane_stress_law_gets_the_newton_steps_its_condition_needs():
     assert W == pytest.approx(expected, rel=1e-12)
     with pytest.raises(ParameterError, match=r"^thickness = 'plane-stress' is outside .* in 32 steps"):
         mol_shell.Material("ogden-stiff", energy=ogden_volumetric, parameters={**p, "b": 80.0})
+
+
+def test_a_parameter_set_twice_is_refused():
+    """``material_parameters = "mu=1e5 mu=2e5"`` kept the last value silently."""
+    with pytest.raises(ParameterError, match=r"^material_parameters = 'mu=1e5 mu=2e5' sets mu twice"):
+        Sphere(material=RUBBER, material_parameters="mu=1e5 mu=2e5")
