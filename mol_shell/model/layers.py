@@ -76,8 +76,8 @@ def layer_value(key, text):
     """A layer's ``key=text`` as the scene field takes it: a number (``fibre_families`` an int when it is a whole
     number, else the float, which the scene's check refuses), the flag's word as it is; a ParameterError naming the
     key for text that is not a number (the caller adds the layer)."""
-    if key == "fibre_compression":
-        return text
+    if key == "fibre_compression":  # 1/0 as the scene's own flag takes them (a layer dict's fibre_compression=0)
+        return {"1": "true", "0": "false", "1.0": "true", "0.0": "false"}.get(text.strip(), text)
     try:
         value = float(text)
     except ValueError:

@@ -146,3 +146,12 @@ def test_layers_given_twice_in_a_scene_file_are_refused(capsys, tmp_path):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "dup.toml: [material] layers is given twice, as [material] layers and as [[layer]] " \
         "tables; allowed: one of them" in err[0], err
+
+
+def test_a_layers_fibre_compression_takes_1_and_0_as_the_scenes_flag_does():
+    """``fibre_compression = 0`` was taken by a scene (netCDF stores flags as 0/1) and refused in a layer dict."""
+    from mol_shell.model.laws import layer_scenes
+
+    scene = Sphere(h=0.01, layers=[{"thickness": 0.01, "material": "svk", "fibre_E": 1e6, "fibre_compression": 0},
+                                   {"thickness": 0.01, "material": "svk", "fibre_E": 1e6, "fibre_compression": 1}])
+    assert [layer.fibre_compression for _, layer in layer_scenes(scene)] == [False, True]
