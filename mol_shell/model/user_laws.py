@@ -134,7 +134,8 @@ class Material:
             raise ParameterError("thickness", self.thickness, "plane-stress for laws whose condition dW/dC22 = 0 "
                                  "Newton's method solves from C22 = 1 in 32 steps; director or incompressible",
                                  hint=f"material {self.name}: after 32 steps dW/dC22 is still {residual:.3g} of the "
-                                 "stiffness at in-plane stretches 0.6 to 2")
+                                 "stiffness at in-plane stretches 0.6 to 2" if math.isfinite(residual) else
+                                 f"material {self.name}: dW/dC22 is not finite at in-plane stretches 0.6 to 2")
         object.__setattr__(self, "steps", steps)
 
     def with_parameters(self, changes):

@@ -25,7 +25,7 @@ from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell._core.ranges import Interval
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.equilibrium import equilibrium_radius, spectrum_bounds
-from mol_shell.model.laws import ON_REDEFINED
+from mol_shell.model.laws import ON_REDEFINED, user_material
 from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.scenes import CylinderScene, check_radius
 from mol_shell.scenes.ranges import parameter_range
@@ -263,6 +263,15 @@ def _diagnose(scene, reason, bad=_bad_numbers, exclude=()):
         graded = _profile_diagnosis(scene, reason, bad)
         if graded is not None:
             return graded
+    if "material" not in exclude and user_material(getattr(scene, "material", "svk")) is not None:
+        try:  # a law of one's own: the same scene with a built-in law of its small-strain stiffness
+            builtin = dataclasses.replace(scene, material="svk-plane-stress", material_parameters="")
+        except ParameterError:
+            builtin = None
+        if builtin is not None and bad(builtin) is False:
+            return ParameterError("material", scene.material, "a law whose energy and forces are finite at the "
+                                  "scene's state", hint=f"with material = svk-plane-stress the numbers are finite; "
+                                  f"with {scene.material} {reason}")
     names = [k for k in responsible(scene, bad) if k not in exclude]
     if len(names) == 1:
         name = names[0]

@@ -206,3 +206,14 @@ def test_a_parameter_set_twice_is_refused():
     """``material_parameters = "mu=1e5 mu=2e5"`` kept the last value silently."""
     with pytest.raises(ParameterError, match=r"^material_parameters = 'mu=1e5 mu=2e5' sets mu twice"):
         Sphere(material=RUBBER, material_parameters="mu=1e5 mu=2e5")
+
+
+def test_a_law_not_finite_at_the_scenes_state_is_blamed_not_the_wall():
+    """A law finite near ``C = I`` but not at a sphere inflated to R = 1.6 (``sqrt(4 - I1)``) was refused as "h =
+    0.01 together leave the model's numbers outside double precision": the refusal now names the material, since
+    the same scene with a built-in law is finite."""
+    law = mol_shell.Material("finite-near-I", energy=lambda C, p: p["mu"] / 2 * (ca.trace(C) - 3)
+                             + 1e-30 * ca.sqrt(4 - ca.trace(C)), parameters={"mu": 3e5}, thickness="incompressible")
+    mol_shell.simulate(Sphere(h=0.01, material=law, R=1.05), "cvode-bdf", n=9, t_end=1e-5, progress=False)
+    with pytest.raises(ParameterError, match=r"^material = 'finite-near-I' is outside a law whose energy and forces"):
+        mol_shell.simulate(Sphere(h=0.01, material=law, R=1.6), "cvode-bdf", n=9, t_end=1e-5, progress=False)
