@@ -59,7 +59,13 @@ def path_scene(ds, value):
     params[str(ds.attrs["parameter"])] = float(value)
     if str(ds.attrs["parameter"]) + "_history" in fields:  # the path's states are at rest under a constant load
         params[str(ds.attrs["parameter"]) + "_history"] = "constant"
-    return get_scene(name, **params)
+    scene = get_scene(name, **params)
+    then, now = str(ds.attrs.get("meridian", "")), scene.meridian().describe() if hasattr(scene, "meridian") else ""
+    if then and now and then != now:  # a points file read again, edited since: the states belong to the old shell
+        raise ParameterError.invalid("points", str(ds.attrs.get("points", name)), "describes another meridian now",
+                                     "the meridian the path (--from) was traced on",
+                                     hint=f"the path's: {then}; now: {now}")
+    return scene
 
 
 def _index(value, name, count, what):

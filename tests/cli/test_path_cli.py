@@ -136,3 +136,19 @@ def test_a_load_the_scene_refuses_is_refused_at_the_users_value(tmp_path, capsys
     """The unshearable scene takes no loads: the refusal named "pressure = 1.0", the unit load used inside."""
     assert main(["path", "unshearable", "--param", "pressure=0:1000", "--n", "8", "-o", str(tmp_path / "p.nc")]) == 2
     assert "pressure = 1000.0 is outside 0" in capsys.readouterr().err
+
+
+def test_a_points_file_edited_since_the_path_is_refused_by_from(tmp_path, capsys):
+    """``run --from`` reads the meridian's points file again: edited since the path, the states of the old shell
+    started the new one silently."""
+    points = tmp_path / "p.txt"
+    points.write_text("1.0 0.0\n0.9 0.3\n0.7 0.5\n0.4 0.55\n0.0 0.6\n")
+    traced = tmp_path / "p.nc"
+    assert main(["path", "meridian", "--set", f"points={points}", "--param", "pressure=0:100", "--n", "10",
+                 "--max-steps", "2", "-o", str(traced)]) == 0
+    run = ["run", "--from", str(traced), "--step", "1", "--t-end", "1e-5", "-o", str(tmp_path / "r.nc")]
+    assert main(run) == 0
+    points.write_text("1.0 0.0\n0.9 0.3\n0.7 0.5\n0.4 0.58\n0.0 0.65\n")
+    capsys.readouterr()
+    assert main(run) == 2
+    assert f"points = '{points}' describes another meridian now" in capsys.readouterr().err
