@@ -211,8 +211,10 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         resources.check_cases(int(np.prod([len(np.atleast_1d(np.asarray(v, dtype=object))) for v in vary.values()],
                                           dtype=float)), n)
     dims, coords, cases = design(scene, vary, integrator)
-    if times is None and integrator == "leapfrog":  # as simulate: on the step grid, t_end a multiple of dt
-        times = leapfrog_times(t_end, options.get("dt", DEFAULT_DT))
+    if times is None and integrator == "leapfrog":  # as simulate: on the step grid, t_end a multiple of dt; a dt
+        # varied: the coarsest one's grid (the others' too when they divide it; a case whose dt does not is refused)
+        steps = [float(v) for v in coords["dt"]] if "dt" in coords else [options.get("dt", DEFAULT_DT)]
+        times = leapfrog_times(t_end, max(steps))
     times = parse_times(times, t_end)
     resources.check_study(len(cases), n, times, integrator, fields=len(getattr(scene, "fields", range(5))),
                           dt=options.get("dt", DEFAULT_DT) if integrator == "leapfrog" else None,

@@ -239,3 +239,14 @@ def test_vary_that_is_neither_a_dict_nor_a_list_of_dicts_is_refused_by_name(vary
     """vary = None raised TypeError: 'NoneType' object is not iterable."""
     with pytest.raises(ParameterError, match="^vary = .* is not a dict or a list of dicts"):
         mol_shell.study("sphere", vary, n=5, t_end=1e-3)
+
+
+def test_a_varied_leapfrog_step_gets_saved_times_on_every_cases_grid():
+    """``vary={"dt": [1e-6, 1.6e-5]}`` with ``t_end`` alone: the saved times were snapped to the base dt's grid,
+    and the case at 1.6e-5 s was refused ("times = 0.00012 is outside multiples of dt"), though a run at that dt
+    takes the same t_end. They are now on the coarsest step's grid, which the finer one divides."""
+    ds = mol_shell.study(mol_shell.TwistedCylinder(), {"dt": [1e-6, 1.6e-5]}, "leapfrog", n=10, t_end=0.0012,
+                         scheduler="serial", progress=False)
+    assert list(ds.status.values) == ["complete", "complete"]
+    steps = ds.time.values / 1.6e-5
+    assert np.allclose(steps, np.round(steps), rtol=0, atol=1e-9) and ds.time.values[-1] == 0.0012
