@@ -10,7 +10,7 @@ import xarray as xr
 
 from mol_shell._core.errors import ParameterError
 from mol_shell.results.cf import coordinates, variables
-from mol_shell.results.dataset import read_netcdf, write_netcdf
+from mol_shell.results.dataset import TIME_COMMENT, read_netcdf, write_netcdf
 
 #: per-case numbers kept as variables even when every case has the same value
 STATS = ("n_steps", "n_rhs", "wall_time_s", "build_time_s", "case_wall_time_s", "failure_time", "complete", "R")
@@ -68,7 +68,8 @@ def assemble(dims, coords, cases, results, times):
             "message": "account of how the case ended", "worker": "host:pid of the process that ran the case"}
     for key, values in per_case.items():
         data[key] = (tuple(dims), np.array(values, dtype=object).reshape(shape), {"long_name": long[key]})
-    coords_out = {**grid, "time": ("time", np.asarray(times), {"units": "s", "long_name": "time"})}
+    coords_out = {**grid, "time": ("time", np.asarray(times), {"units": "s", "long_name": "time", "standard_name": "time",
+                                                                "axis": "T", "comment": TIME_COMMENT})}  # a run's
     attrs = {k: v for k, v in (ref.attrs if ref is not None else {}).items()  # texts only where every case agrees
              if k not in coords and (k in constant if isinstance(v, (int, float, np.integer, np.floating))
                                      else all(str(ds.attrs.get(k)) == str(v) for ds in done))}

@@ -29,6 +29,7 @@ from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
 from mol_shell.model.laws import locking_warnings, scene_material
+from mol_shell.results.cf import header
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.results.study_store import Store, assemble
 from mol_shell.runs import resources
@@ -238,7 +239,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     label_coords(out, coords, dims)
     failed = sum(1 for ds, info in results.values() if info["status"] != "complete")
     out.attrs.update({
-        "title": f"mol_shell parameter study of scene {scene.name}", "study_vary": ", ".join(coords),
+        **header(f"mol_shell parameter study of scene {scene.name}"), "study_vary": ", ".join(coords),
         "study_integrator": integrator, "n_cases": len(cases), "n_executed": len(pending), "n_reused": reused,
         "n_failed": failed, "scheduler": scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - start,
     })

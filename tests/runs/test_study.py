@@ -250,3 +250,14 @@ def test_a_varied_leapfrog_step_gets_saved_times_on_every_cases_grid():
     assert list(ds.status.values) == ["complete", "complete"]
     steps = ds.time.values / 1.6e-5
     assert np.allclose(steps, np.round(steps), rtol=0, atol=1e-9) and ds.time.values[-1] == 0.0012
+
+
+def test_a_study_file_carries_a_run_files_cf_attributes():
+    """A CF checker found the study's time without standard_name and axis, and no global history: the run's file
+    has them (and the comment on the time without an epoch)."""
+    ds = mol_shell.study(mol_shell.TwistedCylinder(), {"gamma": [0.05, 0.1]}, "leapfrog", n=8, t_end=1e-5,
+                         scheduler="serial", progress=False)
+    run = mol_shell.simulate(mol_shell.TwistedCylinder(gamma=0.05), n=8, t_end=1e-5, progress=False)
+    assert ds.time.attrs == run.time.attrs
+    assert ds.attrs["history"].endswith(f"created by mol_shell {mol_shell.__version__}")
+    assert ds.attrs["Conventions"] == "CF-1.8" and ds.attrs["title"].startswith("mol_shell parameter study")
