@@ -35,7 +35,7 @@ from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.views.modes import plot_modes
 from mol_shell.views.plotting import image_formats
 from mol_shell.views.stability_plot import plot_report
-from mol_shell.views.workprecision import write_outputs
+from mol_shell.views.workprecision import companion_files, write_outputs
 
 
 def register_compare(subparsers):
@@ -67,8 +67,7 @@ def cmd_compare(args):
         times = [float(t) for t in run["times"]]
     else:
         times = PAPER_TIMES if t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, t_end, 5)]
-    stem = str(args.output).rsplit(".", 1)[0]
-    check_companions(args.output, [stem + ".png", stem + ".md"])
+    check_companions(args.output, companion_files(args.output))
     start = time.perf_counter()
     ds = work_precision(scene, names, n=args.n or run.get("n", 40), times=times, repeats=args.repeats)
     png, md = write_outputs(ds, args.output, args.target)
@@ -90,14 +89,13 @@ def register_stability(subparsers):
 
 def cmd_stability(args):
     scene, _ = scene_and_run(args.scene, args.set)
-    stem = str(args.output).rsplit(".", 1)[0]
-    check_companions(args.output, [stem + ".png", stem + ".md"])
+    png, md = companion_files(args.output)  # as compare's: the figure and the table beside the file
+    check_companions(args.output, [png, md])
     ds = report(default_cases(scene, quick=args.quick), bisect=not args.no_bisect)
     say_stand_ins(scene)
     write_netcdf(ds, args.output)
-    stem = str(args.output).rsplit(".", 1)[0]
-    write_text(stem + ".md", stability_table(ds) + "\n")
-    plot_report(ds, stem + ".png")
+    write_text(md, stability_table(ds) + "\n")
+    plot_report(ds, png)
     print(stability_table(ds))
     return 0
 

@@ -101,38 +101,32 @@ def _finish(args, scene, what, run, tail=lambda ds: ""):
     counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
     print(f"wrote {args.output}: {plural(int(ds.attrs['n_cases']), what)} ({counts}); ran {ds.attrs['n_executed']}, "
           f"reused {ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s{tail(ds)}")
-    refused = _say_refused(ds, what)
-    _say_stopped(ds, what)
+    refused = _say_cases(ds, what)
     if refused and refused == len(statuses):
         return EXIT_USAGE  # every case's input is out of range: nothing was computed
     return 0 if ds.attrs["n_failed"] == 0 else EXIT_INCOMPLETE
 
 
-def _say_refused(ds, what):
-    """One line on stderr when cases were refused (their input out of range): how many, and the first reason, naming
-    the parameter (the file's ``message`` holds every case's). Returns the number of refused cases."""
-    status = ds.status.values.ravel()
-    messages = ds.message.values.ravel() if "message" in ds else np.full(status.shape, "")
-    reasons = list(dict.fromkeys(str(m) for st, m in zip(status, messages) if st == "refused"))
-    count = int(np.sum(status == "refused"))
-    if count:
+def _say_cases(ds, what):
+    """A line on stderr when cases were refused (their input out of range: how many, and the first reason, naming
+    the parameter), and one when cases stopped short (a model limit, an instability, a lost worker: how many, and
+    the first one's message, which says where and when); the file's ``message`` holds every case's. Returns the
+    number of refused cases."""
+    status = ds.status.values.ravel().astype(str)
+    messages = ds.message.values.ravel().astype(str) if "message" in ds else np.full(status.shape, "")
+    cases = plural(len(status), what)
+    reasons = list(dict.fromkeys(m for st, m in zip(status, messages) if st == "refused"))
+    refused = int(np.sum(status == "refused"))
+    if refused:
         others = len(reasons) - 1
         more = f" (and {others} other reason{'s' * (others > 1)}: the file's message variable)" if others else ""
-        print(f"mol-shell: error: {count} of {plural(len(status), what)} refused: {reasons[0]}{more}", file=sys.stderr)
-    return count
-
-
-def _say_stopped(ds, what):
-    """One line on stderr when cases stopped short (a model limit, an instability, a lost worker): how many, and the
-    first one's message, which says where and when (the file's ``message`` holds every case's)."""
-    status = ds.status.values.ravel()
-    messages = ds.message.values.ravel() if "message" in ds else np.full(status.shape, "")
+        print(f"mol-shell: error: {refused} of {cases} refused: {reasons[0]}{more}", file=sys.stderr)
     ended = ("complete", "refused", "max_steps", "returned")  # a path's max_steps and return are ends, not stops
-    stopped = [(str(st), str(m)) for st, m in zip(status, messages) if st not in ended]
+    stopped = [(st, m) for st, m in zip(status, messages) if st not in ended]
     if stopped:
-        kind, message = stopped[0]
-        print(f"mol-shell: {len(stopped)} of {plural(len(status), what)} stopped short; the first ({kind}): {message}",
+        print(f"mol-shell: {len(stopped)} of {cases} stopped short; the first ({stopped[0][0]}): {stopped[0][1]}",
               file=sys.stderr)
+    return refused
 
 
 def _path_study(args, scene, vary, n):

@@ -5,7 +5,7 @@ from __future__ import annotations
 from mol_shell.cli.args import check_companions, integer_arg, number_arg, plural
 from mol_shell.results.dataset import read_run
 from mol_shell.views.animate import DEFAULTS, RANGES, SUFFIXES, animate
-from mol_shell.views.export import FORMATS, N_PHI, N_PHI_MAX, export
+from mol_shell.views.export import FORMATS, N_PHI, N_PHI_MAX, companion_files, export
 from mol_shell.views.fields import check_run, field
 
 
@@ -29,9 +29,7 @@ def register_export(subparsers):
 
 def cmd_export(args):
     ds = read_drawable(args.file)
-    stem = str(args.output).rsplit(".", 1)[0]
-    check_companions(args.output, [stem + ".h5"] if str(args.output).lower().endswith(".xdmf") else
-                     [f"{stem}_{k:04d}.vtu" for k in range(ds.sizes["time"])])
+    check_companions(args.output, companion_files(args.output, ds.sizes["time"]))
     files = export(ds, args.output, args.n_phi, args.faces)
     extra = f" (+ {plural(len(files) - 1, 'file')})"
     print(f"wrote {args.output}{extra}: {plural(ds.sizes['time'], 'step')}, {ds.sizes['s']} x {args.n_phi} points "

@@ -120,6 +120,15 @@ def _compressing(create_dataset):
     return create
 
 
+def companion_files(path, steps):
+    """The files written beside ``path`` for ``steps`` saved times: ``<stem>.h5`` for ``.xdmf``, ``<stem>_NNNN.vtu``
+    for ``.pvd`` (the writers below name theirs so; the command line checks them before the work)."""
+    path = Path(path)
+    if path.suffix.lower() == ".xdmf":
+        return [path.with_suffix(".h5")]
+    return [path.with_name(f"{path.stem}_{k:04d}.vtu") for k in range(steps)]
+
+
 def write_xdmf(path, times, cells, reference, steps):
     """XDMF 3 temporal collection through :class:`meshio.xdmf.TimeSeriesWriter`: the reference mesh once, then
     each step's point and cell data (``displacement`` among them); data in ``<stem>.h5``, compressed."""
@@ -134,7 +143,7 @@ def write_xdmf(path, times, cells, reference, steps):
             for t, (_, point_data, cell_data) in zip(times, steps):
                 writer.write_data(repr(float(t)), point_data=point_data,
                                   cell_data={name: [v] for name, v in cell_data.items()})
-    return [path, path.with_suffix(".h5")]
+    return [path, *companion_files(path, 0)]
 
 
 def write_pvd(path, times, cells, reference, steps):
@@ -147,8 +156,7 @@ def write_pvd(path, times, cells, reference, steps):
     root = ET.Element("VTKFile", type="Collection", version="0.1")
     collection = ET.SubElement(root, "Collection")
     written = []
-    for k, (t, (points, point_data, cell_data)) in enumerate(zip(times, steps)):
-        vtu = path.with_name(f"{path.stem}_{k:04d}.vtu")
+    for vtu, t, (points, point_data, cell_data) in zip(companion_files(path, len(times)), times, steps):
         mesh = meshio.Mesh(points, [("quad", cells)], point_data=point_data,
                            cell_data={name: [v] for name, v in cell_data.items()})
         meshio.write(vtu, mesh, file_format="vtu")

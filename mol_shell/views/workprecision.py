@@ -32,10 +32,16 @@ def plot(ds, path, target=1e-6):
     save_figure(fig, path, dpi=120)
 
 
-def write_outputs(ds, path, target=1e-6):
-    """``path`` (netCDF), and beside it ``.png`` and ``.md`` with the same stem."""
-    write_netcdf(ds, path)
+def companion_files(path):
+    """``(png, md)``: the figure and the tables written beside ``path`` (its stem)."""
     stem = str(path).rsplit(".", 1)[0]
-    plot(ds, stem + ".png", target)
-    write_text(stem + ".md", markdown_table(ds, target) + "\n\nAll runs:\n\n" + full_table(ds) + "\n")
     return stem + ".png", stem + ".md"
+
+
+def write_outputs(ds, path, target=1e-6):
+    """``path`` (netCDF), and beside it :func:`companion_files`: ``.png`` and ``.md`` with the same stem."""
+    write_netcdf(ds, path)
+    png, md = companion_files(path)
+    plot(ds, png, target)
+    write_text(md, markdown_table(ds, target) + "\n\nAll runs:\n\n" + full_table(ds) + "\n")
+    return png, md
