@@ -81,11 +81,10 @@ class Material:
         object.__setattr__(self, "parameters", {k: float(v) for k, v in self.parameters.items()})
         self._check_energy()
         object.__setattr__(self, "steps", NEWTON_STEPS)  # the plane-stress solve's, set by the checks below
-        self._check_natural_state()
-        self._check_plane_stress()
+        self._check_plane_stress(self._check_natural_state())
 
     def _check_energy(self):
-        """The energy evaluates to a scalar at ``C = I`` (the natural state) and is stationary there."""
+        """The energy is a CasADi scalar of ``C`` (its natural state is checked by :meth:`_check_natural_state`)."""
         C = ca.SX.sym("C", 3, 3)
         try:
             W = self.energy(C, dict(self.parameters))
@@ -100,7 +99,8 @@ class Material:
         """The natural state ``C = I`` is stress-free and stable under the law's thickness treatment: ``W`` finite,
         its in-plane derivatives zero (to 1e-9 of the stiffness; a law linear in ``C`` fails here), ``mu >= 0``
         and ``lambda* + mu > 0`` (:meth:`small_strain_pair`; ``mu = 0`` is a fluid-like wall). A law failing one
-        was refused at its run, blamed on ``h``, or ran (a stressed or unstable natural state)."""
+        was refused at its run, blamed on ``h``, or ran (a stressed or unstable natural state). Returns the
+        stiffness scale ``|lambda*| + 2 |mu|`` (Pa)."""
         law, p = self.law(), dict(self.parameters)
         x = ca.SX.sym("x", 3)  # C11, C33, C13 (meridian, circumference)
         C = ((1.0 + x[0], 0.0, x[2]), (0.0, 1.0, 0.0), (x[2], 0.0, 1.0 + x[1]))
@@ -116,20 +116,19 @@ class Material:
         elif not (mu >= 0 and lam + mu > 0):  # mu = 0: a fluid-like wall, whose ellipticity is not checked
             reason = f"a stable natural state: mu >= 0 and lambda* + mu > 0 at C = I (here {mu:.4g} and {lam + mu:.4g} Pa)"
         else:
-            return
+            return scale
         raise ParameterError.not_a("energy", self.name, reason, "energies finite, stress-free and stable (mu >= 0, "
                                    "lambda* + mu > 0) at C = I", hint=f"thickness = {self.thickness}")
 
-    def _check_plane_stress(self):
+    def _check_plane_stress(self, scale):
         """Plane stress: the fewest unrolled Newton steps (6 to 32) that solve ``dW/dC_22 = 0`` to 1e-9 of the
-        stiffness at in-plane stretches 0.6 to 2 (:func:`~mol_shell.model.hyperelastic.plane_stress_steps`); a law
+        stiffness ``scale`` at in-plane stretches 0.6 to 2 (:func:`~mol_shell.model.hyperelastic.plane_stress_steps`); a law
         that 32 do not solve is refused naming ``thickness``. Six steps were taken for every law, unchecked: an
         Ogden volumetric term (``J^-9``) left 1e8 Pa of thickness stress, and energies 28 times too high."""
         if self.thickness != "plane-stress":
             return
-        lam, mu = self.small_strain_pair()
         energy, p = self.law().energy, dict(self.parameters)
-        steps, residual = plane_stress_steps(lambda C: energy(C, p), abs(lam) + 2 * abs(mu))
+        steps, residual = plane_stress_steps(lambda C: energy(C, p), scale)
         if steps is None:
             raise ParameterError("thickness", self.thickness, "plane-stress for laws whose condition dW/dC22 = 0 "
                                  "Newton's method solves from C22 = 1 in 32 steps; director or incompressible",
