@@ -32,6 +32,7 @@ All built-ins are exact formulas; :class:`PointsMeridian` interpolates a table w
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -61,7 +62,9 @@ class Meridian:
         """One line naming the meridian and its parameters (for a run's attrs)."""
         if isinstance(self, PointsMeridian):
             origin = f" from {self.source}" if self.source else ""
-            return f"PointsMeridian({len(self.points)} points{origin}, length {self.length:.6g} m)"
+            # the points' digest: a file edited since keeping its count and length is another meridian
+            digest = hashlib.sha256(np.ascontiguousarray(self.points, dtype=float).tobytes()).hexdigest()[:12]
+            return f"PointsMeridian({len(self.points)} points{origin}, length {self.length:.6g} m, sha256 {digest})"
         args = ", ".join(f"{f.name}={getattr(self, f.name):.10g}" for f in dataclasses.fields(self))
         return f"{type(self).__name__}({args})"
 

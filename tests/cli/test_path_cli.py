@@ -152,3 +152,18 @@ def test_a_points_file_edited_since_the_path_is_refused_by_from(tmp_path, capsys
     capsys.readouterr()
     assert main(run) == 2
     assert f"points = '{points}' describes another meridian now" in capsys.readouterr().err
+
+
+def test_a_points_file_edited_keeping_its_count_and_length_is_refused_by_from(tmp_path, capsys):
+    """The meridian was told apart by its point count and length: a mirrored file (same count, same length, another
+    shell) started the new run from the old shell's states."""
+    points = tmp_path / "p.txt"
+    points.write_text("1.0 0.0\n0.9 0.3\n0.7 0.5\n0.4 0.55\n0.0 0.6\n")
+    traced = tmp_path / "p.nc"
+    assert main(["path", "meridian", "--set", f"points={points}", "--param", "pressure=0:100", "--n", "10",
+                 "--max-steps", "2", "-o", str(traced)]) == 0
+    points.write_text("1.0 0.0\n0.9 -0.3\n0.7 -0.5\n0.4 -0.55\n0.0 -0.6\n")  # mirrored in z: same count, length
+    capsys.readouterr()
+    run = ["run", "--from", str(traced), "--step", "1", "--t-end", "1e-5", "-o", str(tmp_path / "r.nc")]
+    assert main(run) == 2
+    assert f"points = '{points}' describes another meridian now" in capsys.readouterr().err
