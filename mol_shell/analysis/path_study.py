@@ -25,7 +25,7 @@ from mol_shell._core.version import __version__
 from mol_shell.analysis.path import path
 from mol_shell.analysis.path_dataset import SYMMETRY_NOTE
 from mol_shell.results.cf import attr_value, header
-from mol_shell.results.dataset import writable_path, write_netcdf
+from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
 from mol_shell.runs.scheduling import connect, scheduler_name
@@ -91,7 +91,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
     clock = time.perf_counter()
     scene = as_scene(scene)
     if output is not None:
-        writable_path(output, "output")
+        writable_path(output, "output", suffixes=NETCDF_SUFFIXES)
     if isinstance(max_steps, (int, np.integer)) and not isinstance(max_steps, bool) and max_steps >= 1:
         # each case's path keeps its steps' states: refused once here, not case by case
         resources.check_analysis(n, max_steps + 1, f"tracing each path of up to {max_steps} steps", "states",

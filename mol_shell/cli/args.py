@@ -12,6 +12,7 @@ import numpy as np
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.results.dataset import NETCDF_SUFFIXES  # noqa: F401 (the outputs' suffixes, for the commands)
 from mol_shell.runs.resources import check_saved_times
 from mol_shell.runs.simulate import check_options, integrator_options
 from mol_shell.scenes import SCENES, get_scene, with_params
@@ -21,8 +22,6 @@ from mol_shell.scenes.files import load_scene
 #: the output gone (``mol-shell scenes | head -1``: 128 + SIGPIPE, as a command the pipe stopped)
 EXIT_INTERNAL, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED, EXIT_PIPE = 1, 2, 3, 130, 141
 
-#: file name suffixes of the outputs (``-o``) of the commands that write netCDF
-NETCDF_SUFFIXES = frozenset({"nc", "nc4", "cdf"})
 #: what the positional argument of a command that takes a scene is called in its help
 SCENE_METAVAR = "SCENE_OR_FILE"
 SCENE_HELP = ("a registered scene (" + ", ".join(SCENES) + "; meridian without --set points=FILE runs a built-in dome) "

@@ -234,6 +234,10 @@ def writable_path(path, name="path", suffixes=None, created=None):
     return path
 
 
+#: file name suffixes of netCDF files: what every writer of a netCDF output accepts
+NETCDF_SUFFIXES = frozenset({"nc", "nc4", "cdf"})
+
+
 def write_netcdf(ds, path):
     """Write a run as netCDF4 (model time in plain seconds, no CF calendar decoding).
 
@@ -241,14 +245,14 @@ def write_netcdf(ds, path):
     ``time`` is the unlimited (record) dimension, so it may come first (CF 2.4 asks other
     dimensions to stand left of T "whenever possible"); variables along it are chunked in blocks
     of about 1 MB (netCDF's default chunk of one record made large runs 10x slower to write).
-    Missing directories of ``path`` are created; a path that cannot be written raises
-    :class:`~mol_shell._core.errors.ParameterError`. The file is written under a temporary name and
+    Missing directories of ``path`` are created; a path that cannot be written, or that does not end in
+    one of :data:`NETCDF_SUFFIXES`, raises :class:`~mol_shell._core.errors.ParameterError`. The file is written under a temporary name and
     renamed onto ``path`` (:mod:`mol_shell._core.atomic`): a process killed while writing leaves the
     previous file intact.
     """
     if not isinstance(ds, xr.Dataset):
         raise ParameterError.not_a("ds", ds, "an xarray.Dataset", "a Dataset, as mol_shell.simulate returns")
-    path = writable_path(path)
+    path = writable_path(path, suffixes=NETCDF_SUFFIXES)
     encoding = {name: {"_FillValue": None} for name, var in ds.coords.items() if var.dtype.kind == "f"}
     unlimited = ["time"] if "time" in ds.dims else []
     for name, var in ds.variables.items():

@@ -30,7 +30,7 @@ from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
 from mol_shell.model.laws import locking_warnings, scene_material
 from mol_shell.results.cf import header
-from mol_shell.results.dataset import writable_path, write_netcdf
+from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
 from mol_shell.results.study_store import Store, assemble
 from mol_shell.runs import resources
 from mol_shell.runs.scheduling import connect, execute, scheduler_name
@@ -169,7 +169,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         Local processes (``scheduler=None`` only), this one included: it runs cases too, taking them from
         the back of the queue while ``workers - 1`` spawned processes take them from the front.
     output : path, optional
-        Write the combined Dataset here (netCDF) and keep every finished case in
+        Write the combined Dataset here (netCDF: ``.nc``, ``.nc4`` or ``.cdf``) and keep every finished case in
         ``<output stem>.cases/`` so a rerun skips them.
     progress : bool, optional
         Progress bar over cases; default only when stderr is a terminal.
@@ -192,8 +192,8 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     xarray.Dataset
         Every variable of a single run with the study's dims in front; per case
         ``status``, ``message``, ``worker`` and statistics (``n_steps``, ``wall_time_s``,
-        ``case_wall_time_s``, ``R``, ...); attrs ``n_cases``, ``n_executed`` (run by this
-        call), ``n_reused`` (loaded from ``output``), ``n_failed``.
+        ``case_wall_time_s``, ``R``, ...); attrs ``n_cases``, ``n_executed`` (handed to a run by
+        this call, those the run refused included), ``n_reused`` (loaded from ``output``), ``n_failed``.
     """
     start = time.perf_counter()
     scene = resolve_scene(scene)
@@ -205,7 +205,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
                                     and workers >= 1):
         raise ParameterError("workers", workers, "integers >= 1")
     if output is not None:
-        writable_path(output, "output")
+        writable_path(output, "output", suffixes=NETCDF_SUFFIXES)
     if scheduler is None or scheduler == "serial":  # the cases compile or load their kernels here: a cache that
         cache_dir()  # cannot be used is refused once, before the cases, not once per case
     if isinstance(vary, dict):  # the product's size, before its cases are made

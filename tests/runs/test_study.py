@@ -12,6 +12,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell.runs import scheduling
 from mol_shell.cli.study import parse_vary
 from mol_shell.runs.study import study
+from mol_shell.analysis.path_study import path_study
 
 study_module = importlib.import_module("mol_shell.runs.study")  # the module, even if mol_shell exports a function study
 
@@ -261,3 +262,19 @@ def test_a_study_file_carries_a_run_files_cf_attributes():
     assert ds.time.attrs == run.time.attrs
     assert ds.attrs["history"].endswith(f"created by mol_shell {mol_shell.__version__}")
     assert ds.attrs["Conventions"] == "CF-1.8" and ds.attrs["title"].startswith("mol_shell parameter study")
+
+
+def test_python_outputs_not_ending_in_a_netcdf_suffix_are_refused_before_any_case(tmp_path, monkeypatch):
+    """The command line refused ``-o s.txt``; Python's ``study(output="s.txt")`` wrote netCDF under that name (and its
+    cases into ``s.cases/``), and ``write_netcdf`` wrote any name."""
+    monkeypatch.setattr(study_module, "run_task", None)  # nothing may run
+    with pytest.raises(ParameterError, match=r"output = .*s\.txt' ends in \.txt.*allowed: a file ending in one of "
+                                             r"\.cdf, \.nc, \.nc4"):
+        study("twisted-cylinder", {"gamma": [1.0, 2.0]}, **SMALL, scheduler="serial", output=tmp_path / "s.txt")
+    with pytest.raises(ParameterError, match="output = .* has no suffix"):
+        path_study("sphere", {"nu": [0.3]}, "pressure", 0, 100, output=tmp_path / "p")
+    import xarray as xr
+
+    with pytest.raises(ParameterError, match=r"path = .*d\.png' ends in \.png"):
+        mol_shell.write_netcdf(xr.Dataset(), tmp_path / "d.png")
+    assert sorted(tmp_path.iterdir()) == []
