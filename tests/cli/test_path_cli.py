@@ -167,3 +167,14 @@ def test_a_points_file_edited_keeping_its_count_and_length_is_refused_by_from(tm
     run = ["run", "--from", str(traced), "--step", "1", "--t-end", "1e-5", "-o", str(tmp_path / "r.nc")]
     assert main(run) == 2
     assert f"points = '{points}' describes another meridian now" in capsys.readouterr().err
+
+
+def test_a_range_far_beyond_what_the_shell_carries_says_so_when_the_path_cannot_leave_its_start(tmp_path, capsys):
+    """pressure = 0:1e12 Pa on the default sphere (E = 1 MPa; Newton reaches about 3e7 Pa, at 71 times its radius):
+    the smallest first step, 1e12 / 20 steps / 2^10 = 4.88e7 Pa, is already past it. The message blamed the tangent
+    only."""
+    out = tmp_path / "p.nc"
+    assert main(["path", "sphere", "--param", "pressure=0:1e12", "--n", "10", "-o", str(out)]) == 3
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert "no equilibrium found at pressure = 4.88281e+07 Pa" in err, err
+    assert "or the range is too wide for a first step (a nearer stop or more steps shorten it)" in err, err
