@@ -144,10 +144,11 @@ class Store:
 
 
 def checksum(ds):
-    """SHA-256 of a case's values (every variable and coordinate) and of its ``case_*`` record.
+    """SHA-256 of a case's values (every variable and coordinate) and of its attributes (the ``case_*`` record and
+    the run's: its parameters, how it started, its status).
 
     NaN payloads are normalised, so the value survives a netCDF round trip; any changed byte of
-    data, a missing variable or a changed record changes it.
+    data, a missing variable, a changed record or a run attribute edited by hand changes it.
     """
     digest = hashlib.sha256()
     for name in sorted(map(str, ds.variables)):
@@ -159,11 +160,18 @@ def checksum(ds):
             digest.update(np.where(np.isnan(values), np.nan, values).tobytes())
         else:
             digest.update(repr(values.tolist()).encode())
-    for key in sorted(k for k in ds.attrs if k.startswith("case_") and k != "case_checksum"):
-        value = ds.attrs[key]
-        value = value.item() if isinstance(value, np.generic) else value  # as netCDF gives it back
-        digest.update(f"{key}={value!r};".encode())
+    for key in sorted(k for k in ds.attrs if k != "case_checksum"):
+        digest.update(f"{key}={_as_stored(ds.attrs[key])!r};".encode())
     return digest.hexdigest()
+
+
+def _as_stored(value):
+    """An attribute as netCDF gives it back: numpy numbers as Python's, sequences as lists (one element: that
+    element)."""
+    if isinstance(value, (list, tuple, np.ndarray)):
+        items = np.asarray(value).ravel().tolist()
+        return items[0] if len(items) == 1 else items
+    return value.item() if isinstance(value, np.generic) else value
 
 
 def grid_mode(da, dim="s"):

@@ -116,6 +116,23 @@ def test_truncated_or_corrupted_case_files_are_run_again(tmp_path):
     assert (final.attrs["n_executed"], final.attrs["n_reused"]) == (0, 5)
 
 
+def test_a_case_files_run_attribute_edited_by_hand_is_run_again(tmp_path):
+    """The checksum covered the values and the ``case_*`` record only: a stored case whose ``E`` attribute was edited
+    (as a user might, to "relabel" it) was reused, and the study reported the edited modulus beside the first run's
+    values. Now every attribute is in the checksum: that case runs again and the study equals the first one."""
+    netCDF4 = pytest.importorskip("netCDF4")
+    out = tmp_path / "s.nc"
+    vary = {"gamma": [0.02, 0.04]}
+    first = study("twisted-cylinder", vary, n=10, t_end=0.002, scheduler="serial", output=out)
+    stored = sorted((tmp_path / "s.cases").glob("*.nc"))[0]
+    with netCDF4.Dataset(stored, "a") as handle:
+        handle.setncattr("E", 2e6)
+    again = study("twisted-cylinder", vary, n=10, t_end=0.002, scheduler="serial", output=out)
+    assert (again.attrs["n_executed"], again.attrs["n_reused"]) == (1, 1)
+    assert float(again.attrs["E"]) == float(first.attrs["E"]) == 1e6
+    _same_cases(again, first)
+
+
 # -- dead workers ---------------------------------------------------------------------------------------
 SLOW_CASES = {"gamma": [0.05, 0.1, 0.15, 0.2]}
 SLOW_RUN = {"n": 40, "t_end": 1.5}  # ~5 s of leap-frog per case (the 0.5.0 stencil), after the worker's imports and build
