@@ -95,7 +95,7 @@ class Store:
     """Finished cases as ``<output stem>.cases/<key>.nc`` (the key hashes the whole case).
 
     Each file is written atomically (:func:`mol_shell.results.dataset.write_netcdf`) and carries a checksum
-    of its values and of the case's record (``case_checksum``); a file that cannot be read, or
+    of its values and attributes, the case's record among them (``case_checksum``); a file that cannot be read, or
     whose values no longer match it (truncated or corrupted), is not reused: the case runs again.
     """
 
