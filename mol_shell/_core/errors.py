@@ -79,6 +79,11 @@ class ParameterError(ValueError):
         return cls(name, name, listed, message=f"{name} is not an option of {integrator} (its options: {listed})")
 
 
+class UnknownParameterError(ParameterError, TypeError):
+    """A keyword that names no parameter of a scene: a :class:`ParameterError` (one line, exit 2 on the command
+    line) and, like Python's own refusal of an unexpected keyword argument, a ``TypeError``."""
+
+
 def by_interrupt(exc):
     """Whether ``exc`` is a Ctrl-C: a ``KeyboardInterrupt``, or an error a C extension raised because one arrived
     during its call (CasADi's wrappers then return with the interrupt set, and Python reports a ``SystemError``

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError, is_number
+from mol_shell._core.errors import ParameterError, UnknownParameterError, is_number
 from mol_shell._core.ranges import Choice, Interval, finite, non_negative, positive
 from mol_shell.model.edges import check_displacements, check_edge, resolve_edges
 from mol_shell.model.geometry import base_offset, thickness_factors
@@ -243,6 +243,13 @@ class ShellScene:
     initial = ()
     #: initial data not present as parameters are zero
     gamma = omega = psi0 = 0.0
+
+    def __new__(cls, *args, **kwargs):
+        """An unknown keyword is refused as :func:`with_params` refuses it (Python's own TypeError said only that)."""
+        fields = tuple(f.name for f in dataclasses.fields(cls))
+        for name in (k for k in kwargs if k not in fields):
+            raise UnknownParameterError("parameter", name, Choice(fields), hint=f"for scene {cls.name}")
+        return super().__new__(cls)
 
     def __post_init__(self):
         for f in dataclasses.fields(self):  # numpy scalars as Python's (np.float32 hashed equal to a float64), and
@@ -478,7 +485,7 @@ def with_params(scene, params):
             changes["material_parameters"] = own
             continue
         if name not in fields:
-            raise ParameterError("parameter", name, Choice(tuple(fields)), hint=f"for scene {scene.name}")
+            raise UnknownParameterError("parameter", name, Choice(tuple(fields)), hint=f"for scene {scene.name}")
         changes[name] = _coerce(name, value, fields[name].type)
     return dataclasses.replace(scene, **changes)
 

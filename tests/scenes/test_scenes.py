@@ -182,3 +182,16 @@ def test_auto_is_taken_wherever_auto_is_the_default():
     assert mol_shell.Cone(dilation="auto").dilation is None and mol_shell.TwistedCylinder(R="none").R is None
     with pytest.raises(ParameterError, match="^h = 'auto' is not a number"):
         mol_shell.Sphere(h="auto")  # not where a number is the default
+
+
+@pytest.mark.parametrize("cls", [mol_shell.Sphere, mol_shell.TwistedCylinder, mol_shell.Vessel, mol_shell.Unshearable])
+def test_an_unknown_keyword_names_the_scenes_parameters(cls):
+    """``Sphere(presure=100)`` was Python's "unexpected keyword argument 'presure'": now the one line every other
+    refusal gives (the parameters listed, the scene named), still a TypeError for code that caught that."""
+    with pytest.raises(TypeError) as caught:
+        cls(presure=100.0)
+    assert isinstance(caught.value, ParameterError)
+    message = str(caught.value)
+    assert message.startswith("parameter = 'presure' is outside {h, E, nu,") and " pressure" in message, message
+    assert message.endswith(f"(for scene {cls.name})")
+    assert cls(E=2e6).E == 2e6 and dataclasses.replace(cls(), E=3e6).E == 3e6  # known keywords as before
