@@ -36,6 +36,7 @@ bounds where a real shell buckles into circumferential waves.
 from __future__ import annotations
 
 import math
+import sys
 import time
 import warnings
 
@@ -244,7 +245,7 @@ class _Path:
                          "of a unit strain's force)")
 
 
-def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None):
+def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None, progress=None):
     """Follow the equilibria of ``scene`` at rest as the load ``parameter`` goes from ``start`` to ``stop``.
 
     Parameters
@@ -271,6 +272,9 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         Switch onto the branch leaving critical point ``branch`` (numbered as found, from 0) once it is located,
         and follow it; a limit point there is refused (``ParameterError`` naming ``branch``). A path that ends
         before it finds that point says so in ``attrs["message"]``.
+    progress : bool, optional
+        A progress line on stderr (tqdm): the steps taken, the load reached, the critical points found; by
+        default only when stderr is a terminal.
 
     Returns
     -------
@@ -292,7 +296,12 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
                              "state", hint=str(exc)) from None
     t = tracer.weigh(q, float(start))
     ds0 = math.sqrt(2.0) / steps if ds is None else float(ds)
-    record = _Record(eq, tracer)
+    bar = None
+    if sys.stderr.isatty() if progress is None else progress:  # steps, load reached, critical points: no total known
+        from tqdm import tqdm  # loaded where a progress line is shown
+
+        bar = tqdm(desc=f"path in {parameter} ({eq.units})", unit=" steps")
+    record = _Record(eq, tracer, bar)
     record.add(q, float(start), t, 0.0, iterations)
     lam, h, secant = float(start), ds0, None  # secant: the first step's chord, when it had to take one
     status, message = "max_steps", f"stopped after max_steps = {max_steps} step{'s' * (max_steps != 1)}"
@@ -360,6 +369,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         h = min(h * (1.6 if its <= 3 else 1.0 if its <= 5 else 0.5), ds0 * MAX_GROWTH)
     if branch is not None and record.branch == 0:
         message += f"; no switch: critical point {branch} was not reached ({len(record.points)} found)"
+    if record.bar is not None:
+        record.bar.close()
     ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)
     if "ellipticity_warning" in ds.attrs:
         warnings.warn(ds.attrs["ellipticity_warning"], MaterialWarning, stacklevel=2)
@@ -369,8 +380,9 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
 class _Record:
     """Steps and critical points of a path as it is traced."""
 
-    def __init__(self, eq, tracer):
-        self.eq, self.tracer = eq, tracer
+    def __init__(self, eq, tracer, bar=None):
+        #: a tqdm bar told of every step (closed by its ``__del__`` when the path ends by an exception)
+        self.eq, self.tracer, self.bar = eq, tracer, bar
         self.qs, self.lams, self.tls, self.arcs, self.iterations = [], [], [], [], []
         self.eigen, self.negative, self.det_sign = [], [], []
         self.stored, self.phi, self.volume, self.reactions = [], [], [], []
@@ -394,6 +406,10 @@ class _Record:
         self.stored.append(self.eq.stored_energy(q, lam))
         self.phi.append(phi)
         self.volume.append(vol)
+        if self.bar is not None and len(self.lams) > 1:  # the start is no step
+            self.bar.set_postfix_str(f"{self.eq.parameter} = {lam:.4g} {self.eq.units}, {len(self.points)} critical",
+                                     refresh=False)
+            self.bar.update(1)
 
     def work(self):
         """``int lambda dPhi`` along the steps (trapezoidal rule); for an edge displacement ``int R dlambda``."""

@@ -60,7 +60,7 @@ class PathTask:
 def run_path_task(task):
     """Worker entry point: ``(index, path Dataset or None, info)``; never raises for a failing case."""
     return case_result(task.index, lambda: path(task.scene, task.parameter, task.start, task.stop, n=task.n,
-                                                **task.options))
+                                                progress=False, **task.options))
 
 
 def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps=200, scheduler=None, workers=None,
