@@ -247,8 +247,8 @@ def write_netcdf(ds, path):
     of about 1 MB (netCDF's default chunk of one record made large runs 10x slower to write).
     Missing directories of ``path`` are created; a path that cannot be written, or that does not end in
     one of :data:`NETCDF_SUFFIXES`, raises :class:`~mol_shell._core.errors.ParameterError`. The file is
-    written under a temporary name and renamed onto ``path`` (:mod:`mol_shell._core.atomic`): a process killed while writing leaves the
-    previous file intact.
+    written under a temporary name and renamed onto ``path`` (:mod:`mol_shell._core.atomic`): a process killed
+    while writing leaves the previous file intact.
     """
     if not isinstance(ds, xr.Dataset):
         raise ParameterError.not_a("ds", ds, "an xarray.Dataset", "a Dataset, as mol_shell.simulate returns")
