@@ -289,10 +289,11 @@ class EquilibriumEquations:
     def mass(self, q):
         """The mass matrix on the free coordinates (sparse CSC, block diagonal: one block per node).
 
-        The inverse of the block ``dq_t/dp`` of the dynamics, inverted node by node. The velocities are linear in
-        the momenta (``q_t = M(q)^-1 p``; a path has no driven rates), so column ``j`` of every node's block is
-        ``q_t`` with the ``j``-th free momentum of every node 1 and the others 0: ``nf`` evaluations of the
-        right-hand side, where the dynamics' whole exact Jacobian took 3 to 4 times as long (n = 641).
+        The inverse of the block ``dq_t/dp`` of the dynamics, inverted node by node. The velocities are affine in
+        the momenta (``q_t = M(q)^-1 (p - b)``, ``b`` from an edge driven at a constant rate, such as a cylinder's
+        ``end_omega``), so column ``j`` of every node's block is ``q_t`` with the ``j``-th free momentum of every
+        node 1 and the others 0, less ``q_t`` at ``p = 0``: ``nf + 1`` evaluations of the right-hand side, where the
+        dynamics' whole exact Jacobian took 3 to 4 times as long (n = 641).
         """
         import scipy.sparse
 
@@ -301,10 +302,11 @@ class EquilibriumEquations:
         first = np.searchsorted(node, node)  # each node's free coordinates are contiguous (node-major)
         local = np.arange(self.size) - first
         blocks = np.tile(np.eye(self.nf), (self.n, 1, 1))
+        offset = self._motion(0.0, y)[0][self.q_idx]
         for j in range(int(local.max()) + 1):
             unit = y.copy()
             unit[self.p_idx[local == j]] = 1.0
-            column = self._motion(0.0, unit)[0][self.q_idx]
+            column = self._motion(0.0, unit)[0][self.q_idx] - offset
             rows = np.flatnonzero(np.isin(node, node[local == j]))
             blocks[node[rows], local[rows], j] = column[rows]
         inverse = np.linalg.inv(blocks)

@@ -297,7 +297,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     t = tracer.weigh(q, float(start))
     ds0 = math.sqrt(2.0) / steps if ds is None else float(ds)
     bar = None
-    if sys.stderr.isatty() if progress is None else progress:  # steps, load reached, critical points: no total known
+    if (sys.stderr is not None and sys.stderr.isatty()) if progress is None else progress:  # no total known
         from tqdm import tqdm  # loaded where a progress line is shown
 
         bar = tqdm(desc=f"path in {parameter} ({eq.units})", unit=" steps")
@@ -407,9 +407,14 @@ class _Record:
         self.phi.append(phi)
         self.volume.append(vol)
         if self.bar is not None and len(self.lams) > 1:  # the start is no step
-            self.bar.set_postfix_str(f"{self.eq.parameter} = {lam:.4g} {self.eq.units}, {len(self.points)} critical",
-                                     refresh=False)
-            self.bar.update(1)
+            self.show(step=1)
+
+    def show(self, step=0):
+        """Tell the progress bar of ``step`` more steps, the load reached and the critical points found so far."""
+        if self.bar is not None:
+            self.bar.set_postfix_str(f"{self.eq.parameter} = {self.lams[-1]:.4g} {self.eq.units}, "
+                                     f"{len(self.points)} critical", refresh=not step)
+            self.bar.update(step)
 
     def work(self):
         """``int lambda dPhi`` along the steps (trapezoidal rule); for an edge displacement ``int R dlambda``."""
@@ -426,6 +431,7 @@ class _Record:
         kind = "limit" if self.tls[i] * self.tls[j] < 0 else "bifurcation"
         for index in range(min(before, after), max(before, after)):  # the eigenvalues (ascending) that cross zero
             self._locate(i, j, origin, index, kind, before, after)
+        self.show()
 
     def _locate(self, i, j, origin, index, kind, before, after):
         """Illinois secant on eigenvalue ``index`` (ascending) between steps ``i`` and ``j``.

@@ -267,7 +267,7 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
         else:
             pending.append(task)
     if progress is None:
-        progress = sys.stderr.isatty()
+        progress = sys.stderr is not None and sys.stderr.isatty()  # None under pythonw and some services
     bar = None
     if progress:
         from tqdm import tqdm

@@ -17,14 +17,13 @@ from mol_shell.scenes.base import (
     UNITS,
     ShellScene,
     _check,
-    _coerce,
     check_radius,
     describe,
-    with_params,
     zeta1_used,
 )
 from mol_shell.scenes.cylinder import Axisymmetric, CylinderScene, SpinningRing, TwistedCylinder
 from mol_shell.scenes.segments import Vessel
+from mol_shell.scenes.setting import _coerce, with_params
 from mol_shell.scenes.shells import Cone, MeridianShell, Sphere, Torus
 from mol_shell.scenes.unshearable import UNSHEARABLE_INTEGRATORS, Unshearable
 

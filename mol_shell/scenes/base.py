@@ -1,6 +1,6 @@
 """The scene base class: material, thickness and edges, and the checks every parameter goes through.
 
-Vary a scene with :func:`dataclasses.replace` (or :func:`with_params` from
+Vary a scene with :func:`dataclasses.replace` (or :func:`~mol_shell.scenes.setting.with_params` from
 strings, as the CLI does); a bad value raises :class:`~mol_shell._core.errors.ParameterError`
 naming the parameter and its allowed range.
 """
@@ -8,6 +8,8 @@ naming the parameter and its allowed range.
 from __future__ import annotations
 
 import dataclasses
+import functools
+import inspect
 import math
 import numbers
 from dataclasses import dataclass
@@ -246,9 +248,9 @@ class ShellScene:
 
     def __new__(cls, *args, **kwargs):
         """An unknown keyword is refused as :func:`with_params` refuses it (Python's own TypeError said only that)."""
-        fields = tuple(f.name for f in dataclasses.fields(cls))
-        for name in (k for k in kwargs if k not in fields):
-            raise UnknownParameterError("parameter", name, Choice(fields), hint=f"for scene {cls.name}")
+        names = _keywords(cls)  # None: an __init__ of a subclass's own that takes any keyword
+        for name in (k for k in kwargs if names is not None and k not in names):
+            raise UnknownParameterError("parameter", name, Choice(names), hint=f"for scene {cls.name}")
         return super().__new__(cls)
 
     def __post_init__(self):
@@ -466,42 +468,16 @@ class ShellScene:
         return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}
 
 
+@functools.lru_cache(maxsize=None)
+def _keywords(cls):
+    """The keywords ``cls.__init__`` takes (the dataclass's fields, and a subclass's ``InitVar``), ``None`` for any."""
+    parameters = list(inspect.signature(cls.__init__).parameters.values())[1:]
+    return None if any(p.kind is p.VAR_KEYWORD for p in parameters) else tuple(p.name for p in parameters)
+
+
 def refuse_loads(scene, what):
     """A ParameterError naming the first load or drive of ``scene`` if it has any: ``what`` takes none."""
     for name in LOADS + DRIVES + ("end_omega",):
         value = getattr(scene, name, 0.0)
         if value:
             raise ParameterError(name, value, "0", hint=f"{what} takes no loads or driven edges")
-
-
-def with_params(scene, params):
-    """``dataclasses.replace`` that accepts strings (as from ``--set NAME=VALUE``) and names unknown parameters."""
-    fields = {f.name: f for f in dataclasses.fields(scene)}
-    changes = {}
-    own = parameter_values(getattr(scene, "material_parameters", "") or "")
-    for name, value in params.items():
-        if name.startswith("material.") and "material_parameters" in fields:  # one parameter of a law of one's own
-            own[name.removeprefix("material.")] = value
-            changes["material_parameters"] = own
-            continue
-        if name not in fields:
-            raise UnknownParameterError("parameter", name, Choice(tuple(fields)), hint=f"for scene {scene.name}")
-        changes[name] = _coerce(name, value, fields[name].type)
-    return dataclasses.replace(scene, **changes)
-
-
-def _coerce(name, value, annotation):
-    """A string from the command line as the field wants it; what does not convert is passed on unchanged,
-    so the scene's own check names the parameter and its allowed range."""
-    if not isinstance(value, str) or annotation in (str, "str", bool, "bool"):  # a flag: true/false as typed
-        return value
-    text = value.strip()
-    if text.lower() in ("none", "auto") and "None" in str(annotation):
-        return None
-    try:
-        number = float(text)
-    except ValueError:
-        return value
-    if "int" in str(annotation) and number.is_integer():
-        return int(number)
-    return number

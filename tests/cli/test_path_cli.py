@@ -178,3 +178,21 @@ def test_a_range_far_beyond_what_the_shell_carries_says_so_when_the_path_cannot_
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert "no equilibrium found at pressure = 4.88281e+07 Pa" in err, err
     assert "or the range is too wide for a first step (a nearer stop or more steps shorten it)" in err, err
+
+
+def test_a_path_written_before_the_points_digest_still_starts_a_run(tmp_path, capsys):
+    """Path files whose meridian description has no digest (written before it was added) are compared without it:
+    the unedited file was refused as "another meridian"."""
+    import netCDF4
+
+    points = tmp_path / "p.txt"
+    points.write_text("1.0 0.0\n0.9 0.3\n0.7 0.5\n0.4 0.55\n0.0 0.6\n")
+    traced = tmp_path / "p.nc"
+    assert main(["path", "meridian", "--set", f"points={points}", "--param", "pressure=0:100", "--n", "10",
+                 "--max-steps", "2", "-o", str(traced)]) == 0
+    with netCDF4.Dataset(traced, "a") as handle:  # as the earlier code wrote it
+        described = handle.getncattr("meridian")
+        assert ", sha256 " in described
+        handle.setncattr("meridian", described.split(", sha256 ")[0] + ")")
+    run = ["run", "--from", str(traced), "--step", "1", "--t-end", "1e-5", "-o", str(tmp_path / "r.nc")]
+    assert main(run) == 0, capsys.readouterr().err

@@ -195,3 +195,25 @@ def test_an_unknown_keyword_names_the_scenes_parameters(cls):
     assert message.startswith("parameter = 'presure' is outside {h, E, nu,") and " pressure" in message, message
     assert message.endswith(f"(for scene {cls.name})")
     assert cls(E=2e6).E == 2e6 and dataclasses.replace(cls(), E=3e6).E == 3e6  # known keywords as before
+
+
+def test_a_subclass_with_init_arguments_of_its_own_is_not_refused():
+    """The check reads the keywords of the class's own ``__init__``: a subclass's ``InitVar`` or an ``__init__`` of its
+    own that takes ``**kwargs`` passes, as Python would let it."""
+
+    @dataclasses.dataclass(frozen=True)
+    class Tagged(mol_shell.Sphere):
+        tag: dataclasses.InitVar[str] = ""
+
+        def __post_init__(self, tag):
+            object.__setattr__(self, "label", tag)
+            super().__post_init__()
+
+    class Loose(mol_shell.Sphere):
+        def __init__(self, tag=None, **kwargs):
+            super().__init__(**kwargs)
+            object.__setattr__(self, "tag", tag)
+
+    assert Tagged(tag="a", E=2e6).label == "a" and Loose(tag="b", E=3e6).tag == "b"
+    with pytest.raises(ParameterError, match="parameter = 'presure' is outside .* tag"):
+        Tagged(presure=1.0)

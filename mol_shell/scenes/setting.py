@@ -1,0 +1,45 @@
+"""Scene parameters set by name: from strings (``--set NAME=VALUE``, scene files, studies), unknown names refused."""
+
+from __future__ import annotations
+
+import dataclasses
+
+from mol_shell._core.errors import UnknownParameterError
+from mol_shell._core.ranges import Choice
+from mol_shell.model.laws import parameter_values
+
+
+def with_params(scene, params):
+    """``dataclasses.replace`` that accepts strings (as from ``--set NAME=VALUE``) and names unknown parameters."""
+    fields = {f.name: f for f in dataclasses.fields(scene)}
+    changes = {}
+    own = parameter_values(getattr(scene, "material_parameters", "") or "")
+    for name, value in params.items():
+        if name.startswith("material.") and "material_parameters" in fields:  # one parameter of a law of one's own
+            own[name.removeprefix("material.")] = value
+            changes["material_parameters"] = own
+            continue
+        if name not in fields:
+            raise UnknownParameterError("parameter", name, Choice(tuple(fields)), hint=f"for scene {scene.name}")
+        changes[name] = _coerce(name, value, fields[name].type)
+    return dataclasses.replace(scene, **changes)
+
+
+def _coerce(name, value, annotation):
+    """A string from the command line as the field wants it; what does not convert is passed on unchanged,
+    so the scene's own check names the parameter and its allowed range."""
+    if not isinstance(value, str) or annotation in (str, "str", bool, "bool"):  # a flag: true/false as typed
+        return value
+    text = value.strip()
+    if text.lower() in ("none", "auto") and "None" in str(annotation):
+        return None
+    try:
+        number = float(text)
+    except ValueError:
+        return value
+    if "int" in str(annotation) and number.is_integer():
+        return int(number)
+    return number
+
+
+__all__ = ["with_params"]
