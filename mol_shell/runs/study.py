@@ -266,6 +266,11 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
             reused += 1
         else:
             pending.append(task)
+    if store and store.rejected:  # damaged, or edited by hand: said, not silently run again
+        (where, why), more = store.rejected[0], len(store.rejected) - 1
+        warnings.warn(f"{len(store.rejected)} stored case file{'s' * bool(more)} could not be reused and "
+                      f"{'run' if more else 'runs'} again ({why}: {where}{f' and {more} more' if more else ''})",
+                      UserWarning, stacklevel=3)
     if progress is None:
         progress = sys.stderr is not None and sys.stderr.isatty()  # None under pythonw and some services
     bar = None

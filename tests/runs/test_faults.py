@@ -109,7 +109,8 @@ def test_truncated_or_corrupted_case_files_are_run_again(tmp_path):
     assert float(abs(mol_shell.read_netcdf(flipped).r - first.r.sel(gamma=0.06)).max()) > 0  # readable, wrong
     by_gamma[0.08].write_bytes(os.urandom(4000))
     (tmp_path / "s.cases" / f".{by_gamma[0.1].name}.999.deadbeef.part").write_bytes(b"\x89HDF half a file")
-    again = study("twisted-cylinder", vary, n=10, t_end=0.002, scheduler="serial", output=out)
+    with pytest.warns(UserWarning, match=r"4 stored case files could not be reused and run again \(.* and 3 more\)"):
+        again = study("twisted-cylinder", vary, n=10, t_end=0.002, scheduler="serial", output=out)
     assert (again.attrs["n_executed"], again.attrs["n_reused"]) == (4, 1)
     _same_cases(again, first)
     final = study("twisted-cylinder", vary, n=10, t_end=0.002, scheduler="serial", output=out)
@@ -127,7 +128,8 @@ def test_a_case_files_run_attribute_edited_by_hand_is_run_again(tmp_path):
     stored = sorted((tmp_path / "s.cases").glob("*.nc"))[0]
     with netCDF4.Dataset(stored, "a") as handle:
         handle.setncattr("E", 2e6)
-    again = study("twisted-cylinder", vary, n=10, t_end=0.002, scheduler="serial", output=out)
+    with pytest.warns(UserWarning, match=r"1 stored case file could not be reused and runs again \(checksum mismatch: "):
+        again = study("twisted-cylinder", vary, n=10, t_end=0.002, scheduler="serial", output=out)
     assert (again.attrs["n_executed"], again.attrs["n_reused"]) == (1, 1)
     assert float(again.attrs["E"]) == float(first.attrs["E"]) == 1e6
     _same_cases(again, first)
