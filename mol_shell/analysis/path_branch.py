@@ -34,7 +34,7 @@ def check_branch_point(record, index):
 
 def switch(tracer, point, t, ds, min_ds, failed):
     """``(q, lam, v, iterations)``: the first state on the branch leaving bifurcation ``point`` (a record of
-    ``_Record.points``) and the direction ``v`` it was reached along; ``t`` is the path's tangent there, ``failed``
+    ``PathRecord.points``) and the direction ``v`` it was reached along; ``t`` is the path's tangent there, ``failed``
     the exception class of a corrector that does not converge."""
     eq = tracer.eq
     tq, tl = t

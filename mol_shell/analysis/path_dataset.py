@@ -28,7 +28,7 @@ def _shape(eq, vector):
 
 
 def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
-    """Assemble the Dataset of a traced path (``record``: the steps and critical points of ``_Record``)."""
+    """Assemble the Dataset of a traced path (``record``: the steps and critical points of ``mol_shell.analysis.path_record.PathRecord``)."""
     system = eq.system
     steps = len(record.lams)
     fields = np.stack([system.unpack(eq.state(q, lam)) for q, lam in zip(record.qs, record.lams)])

@@ -10,6 +10,13 @@ EIGENVALUES = 6
 #: critical points are located to this width of the bracket: this fraction of ``|stop - start|`` in the load for a
 #: bifurcation, this much of the scaled arclength for a limit point
 LOCATE_RTOL = 1e-7
+#: secant iterations per critical point
+LOCATE_ITER = 30
+#: Newton iterations allowed to the corrector of a trial point there, and its tolerance: the bordered matrix is
+#: singular at a bifurcation, and near one Newton converges slowly to a residual that stalls above the path's
+#: tolerance (the eigenvalues at the trial point move by the residual's order only)
+LOCATE_NEWTON = 20
+LOCATE_TOL = 1e-9
 
 
 def stability(eq, q, lam, count=EIGENVALUES):

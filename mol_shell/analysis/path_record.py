@@ -1,0 +1,154 @@
+"""The record of a path as it is traced: its steps (states, loads, stability, energies, reactions) and its critical
+points, located between the steps where the count of negative eigenvalues changes (the secant method on the
+crossing eigenvalue: :meth:`PathRecord.locate_between`), and the progress line that tells of them.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mol_shell.analysis.path_stability import (
+    EIGENVALUES,
+    LOCATE_ITER,
+    LOCATE_NEWTON,
+    LOCATE_RTOL,
+    LOCATE_TOL,
+    family,
+    stability,
+)
+
+
+class PathRecord:
+    """Steps and critical points of a path as it is traced."""
+
+    def __init__(self, eq, tracer, bar=None, failed=Exception):
+        #: a tqdm bar told of every step (closed by its ``__del__`` when the path ends by an exception); ``failed``:
+        #: the exception the tracer's corrector raises (the path's ``PathFailed``)
+        self.eq, self.tracer, self.bar, self.failed = eq, tracer, bar, failed
+        self.qs, self.lams, self.tls, self.arcs, self.iterations = [], [], [], [], []
+        self.eigen, self.negative, self.det_sign = [], [], []
+        self.stored, self.phi, self.volume, self.reactions = [], [], [], []
+        self.points = []
+        #: 0 on the path from start, 1 on the branch switched to (``path(..., branch=K)``)
+        self.branch, self.branches = 0, []
+
+    def add(self, q, lam, t, arc, its):
+        w2, _, negative, sign = stability(self.eq, q, lam)
+        phi, vol = self.eq.conjugate(q, lam)
+        self.reactions.append(self.eq.reactions(q, lam))
+        self.qs.append(q)
+        self.lams.append(lam)
+        self.tls.append(t[1])
+        self.branches.append(self.branch)
+        self.arcs.append(arc)
+        self.iterations.append(its)
+        self.eigen.append(np.pad(w2, (0, EIGENVALUES - len(w2)), constant_values=np.nan))
+        self.negative.append(negative)
+        self.det_sign.append(sign)
+        self.stored.append(self.eq.stored_energy(q, lam))
+        self.phi.append(phi)
+        self.volume.append(vol)
+        if self.bar is not None and len(self.lams) > 1:  # the start is no step
+            self.show(step=1)
+
+    def show(self, step=0):
+        """Tell the progress bar of ``step`` more steps, the load reached and the critical points found so far."""
+        if self.bar is not None:
+            self.bar.set_postfix_str(f"{self.eq.parameter} = {self.lams[-1]:.4g} {self.eq.units}, "
+                                     f"{len(self.points)} critical", refresh=not step)
+            self.bar.update(step)
+
+    def work(self):
+        """``int lambda dPhi`` along the steps (trapezoidal rule); for an edge displacement ``int R dlambda``."""
+        lam, phi = np.asarray(self.lams), np.asarray(self.phi)
+        if self.eq.moved is not None:  # an edge displacement: the work of its reaction, int R d(displacement)
+            lam, phi = phi, lam
+        return np.concatenate([[0.0], np.cumsum((lam[1:] + lam[:-1]) / 2 * np.diff(phi))])
+
+    def locate_between(self, i, j, origin):
+        """Critical points between steps ``i`` and ``j``: one per eigenvalue whose sign changes between them."""
+        before, after = self.negative[i], self.negative[j]
+        if before == after and self.det_sign[i] == self.det_sign[j]:
+            return
+        kind = "limit" if self.tls[i] * self.tls[j] < 0 else "bifurcation"
+        for index in range(min(before, after), max(before, after)):  # the eigenvalues (ascending) that cross zero
+            self._locate(i, j, origin, index, kind, before, after)
+        self.show()
+
+    def _locate(self, i, j, origin, index, kind, before, after):
+        """Illinois secant on eigenvalue ``index`` (ascending) between steps ``i`` and ``j``.
+
+        A bifurcation is located in ``lambda``: each trial state by Newton at fixed ``lambda`` from the chord
+        between the bracket's two states, refused when it lands off that chord by more than a quarter of its
+        length (near a bifurcation another branch lies close by, and Newton may slide onto it); a refused trial
+        starts again from the bracket's end on the side of step ``i``, along its slope ``dq/dlambda``. A
+        limit point, where ``lambda`` turns, is located in the arclength from step ``i`` (each trial a corrector
+        solve). A point whose bracket did not close to ``LOCATE_RTOL`` is kept with ``located`` false (``LOCATE_RTOL``: :mod:`mol_shell.analysis.path_stability`).
+        """
+        tr = self.tracer
+        q0, l0, t = origin
+        qi, qj, li, lj = self.qs[i], self.qs[j], self.lams[i], self.lams[j]
+        if kind == "limit":
+            a, b = 0.0, tr.along(t, q0, l0, qj, lj)
+            width = 1.0
+
+            def trial(x):
+                q, lam, _ = tr.correct(q0, l0, t, x, max_iter=LOCATE_NEWTON, tol=LOCATE_TOL)
+                return q, lam
+        else:
+            a, b = li, lj
+            width = tr.l_scale
+            ends = {"a": (qi, li), "b": (qj, lj)}
+
+            def trial(x):
+                (qa, la), (qb, lb) = ends["a"], ends["b"]
+                chord = qa + (x - la) / (lb - la) * (qb - qa)
+                try:
+                    q = tr.at_load(chord, x)
+                    if tr.distance(chord, x, q, x) > 0.25 * tr.distance(qa, la, qb, lb) + 1e-9:
+                        raise self.failed("newton", "the trial state left the chord of the bracket")
+                except self.failed:  # from the end on the side of step i, along its slope
+                    q = tr.at_load(qa + (x - la) * tr.slope(qa, la), x)
+                return q, x
+        fa, fb = self.eigen[i][index], self.eigen[j][index]
+        q, lam = qj, lj
+        side, located = 0, False
+        for _ in range(LOCATE_ITER):
+            if not (np.isfinite(fa) and np.isfinite(fb)) or fa == fb:
+                break
+            x = b - fb * (b - a) / (fb - fa)
+            if not min(a, b) < x < max(a, b):
+                x = (a + b) / 2
+            try:
+                q, lam = trial(x)
+            except self.failed:
+                break
+            fx = stability(self.eq, q, lam)[0][index]
+            if fx * fa > 0:
+                a, fa = x, fx
+                fb = fb / 2 if side == -1 else fb  # Illinois: the end kept twice running counts half
+                side = -1
+                if kind != "limit":
+                    ends["a"] = (q, lam)
+            else:
+                b, fb = x, fx
+                fa = fa / 2 if side == 1 else fa
+                side = 1
+                if kind != "limit":
+                    ends["b"] = (q, lam)
+            if abs(b - a) <= LOCATE_RTOL * width or fx == 0:
+                located = True
+                break
+        w2, vectors, _, _ = stability(self.eq, q, lam)
+        k = index if index < len(w2) else int(np.argmin(np.abs(w2)))
+        # a closed bracket on a branch other than the steps' shows no eigenvalue near zero there
+        located = located and abs(w2[k]) <= 1e-3 * max(abs(self.eigen[i][index]), abs(self.eigen[j][index]))
+        mode = vectors[:, k]
+        name, share = family(self.eq, q, mode)
+        self.points.append({"kind": kind, "parameter": lam, "step": i % len(self.lams), "family": name,
+                            "chi_share": share, "eigenvalue": w2[k], "mode": mode, "q": q, "located": located,
+                            "reactions": self.eq.reactions(q, lam),
+                            "negative_before": before, "negative_after": after})
+
+
+__all__ = ["PathRecord"]
