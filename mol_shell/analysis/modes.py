@@ -215,10 +215,17 @@ def modes(scene, n=40, count=10, *, initial=None):
                                          f"s = {lost[1]:.6g} m (d2W/d(q_s)2 is not positive definite: {CONSEQUENCE}); "
                                          "its lowest modes are the grid's")
         warnings.warn(params["ellipticity_warning"], MaterialWarning, stacklevel=2)
-    return _dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params)
+    unstable = np.flatnonzero((w2[keep] < 0) & ~small[keep])  # a state past a critical point: omega^2 < 0
+    if unstable.size:
+        params["unstable_modes"] = int(unstable.size)
+        params["stability_warning"] = (
+            f"the state the modes are taken about is unstable: {unstable.size} mode{'s' * (unstable.size != 1)} with omega^2 < 0 "
+            f"(lowest {w2[keep][0]:.6g} s-2, growing as exp({np.sqrt(-w2[keep][0]):.6g} t / s)); their frequency is NaN")
+        warnings.warn(params["stability_warning"], UserWarning, stacklevel=2)
+    return _dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params, small[keep])
 
 
-def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params):
+def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params, zero):
     n = system.n
     modes_count = phi.shape[1]
     shapes = np.zeros((modes_count, 5, n))
@@ -235,7 +242,10 @@ def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params):
             sel = field == k
             fractions[m, k] = float(np.sum(phi[sel, m] * Mphi[sel, m]) / kinetic[m])
     data = {
-        "frequency": (("mode",), np.sqrt(np.maximum(w2, 0.0)), {"units": "rad s-1", "long_name": "natural angular frequency"}),
+        "frequency": (("mode",), np.where(zero, 0.0, np.sqrt(np.where(w2 >= 0, w2, np.nan))),
+                      {"units": "rad s-1", "long_name": "natural angular frequency (NaN: an unstable mode)"}),
+        "omega_squared": (("mode",), w2, {"units": "s-2", "long_name": "squared angular frequency, the eigenvalue of "
+                                          "K phi = omega^2 M phi (negative: unstable, growing as exp(sqrt(-omega^2) t))"}),
         "energy_fraction": (("mode", "field"), fractions, {"units": "1", "long_name":
                             "share of the mode's kinetic energy per field (cross terms shared half and half)"}),
     }

@@ -110,12 +110,20 @@ def cmd_modes(args):
     write_netcdf(ds, args.output)
     plot_modes(ds, png)
     print(f"wrote {args.output} and {png}: {plural(ds.sizes['mode'], 'mode')}, "
-          f"{plural(int(ds.attrs['zero_modes']), 'rigid motion')}; lowest {float(ds.frequency[0]):.6g} rad/s")
+          f"{plural(int(ds.attrs['zero_modes']), 'rigid motion')}; lowest {_frequency(ds, 0).strip()}")
     for m in range(ds.sizes["mode"]):  # every mode the file holds (--count asked for them)
         share = ds.energy_fraction.isel(mode=m).values
-        print(f"  mode {m + 1:2d}: {float(ds.frequency[m]):14.8g} rad/s  ({FIELDS[int(np.argmax(share))]}, "
+        print(f"  mode {m + 1:2d}: {_frequency(ds, m)}  ({FIELDS[int(np.argmax(share))]}, "
               f"{share.max():.0%} of the kinetic energy)")
     return 0
+
+
+def _frequency(ds, m):
+    """Mode ``m``'s frequency in rad/s, or, unstable (omega^2 < 0, frequency NaN), its omega^2 and growth rate."""
+    if np.isfinite(float(ds.frequency[m])) or "omega_squared" not in ds:
+        return f"{float(ds.frequency[m]):14.8g} rad/s"
+    w2 = float(ds.omega_squared[m])
+    return f"unstable: omega^2 = {w2:.6g} s-2 (grows as exp({np.sqrt(-w2):.6g} t / s))"
 
 
 def register_modes(sub):

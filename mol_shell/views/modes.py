@@ -45,7 +45,9 @@ def modes_figure(ds, count=6):
             if drawn:
                 ax.legend(fontsize=7, loc="best")
         dom = FIELDS[int(np.argmax(share))]
-        pair[0].set_title(f"mode {m + 1}: {float(mode.frequency):.5g} rad/s ({dom})", fontsize=9)
+        what = (f"{float(mode.frequency):.5g} rad/s" if np.isfinite(float(mode.frequency)) or "omega_squared" not in mode
+                else f"unstable, omega^2 = {float(mode.omega_squared):.5g} s-2")
+        pair[0].set_title(f"mode {m + 1}: {what} ({dom})", fontsize=9)
     for ax in axes[-1]:
         ax.set_xlabel("s (m)")
     fig.suptitle(f"{ds.attrs['scene']}: lowest modes (n = {ds.attrs['n']}, {ds.attrs['zero_modes']} rigid motions "

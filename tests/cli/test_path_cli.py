@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 import xarray as xr
 from reference_cap import cap_params, p_classical
@@ -196,3 +197,26 @@ def test_a_path_written_before_the_points_digest_still_starts_a_run(tmp_path, ca
         handle.setncattr("meridian", described.split(", sha256 ")[0] + ")")
     run = ["run", "--from", str(traced), "--step", "1", "--t-end", "1e-5", "-o", str(tmp_path / "r.nc")]
     assert main(run) == 0, capsys.readouterr().err
+
+
+def test_modes_about_a_state_past_a_bifurcation_say_it_is_unstable(tmp_path, capsys):
+    """On the branch past the sphere's first bifurcation the path records one negative eigenvalue (-434 s-2 at its
+    step 30). ``modes --from`` printed that mode at "0 rad/s" (the square root of max(omega^2, 0)), silently. The
+    path's own eigen solve (shift-invert on its equations) is the second route: the same omega^2."""
+    traced = tmp_path / "branch.nc"
+    assert main(["path", "sphere", "--param", "pressure=0:-775", "--n", "60", "--set", "h=0.012517", "--set", "nu=0.3",
+                 "--set", "material=svk-plane-stress", "--branch", "0", "--max-steps", "40", "-o", str(traced)]) == 0
+    path_ds = xr.open_dataset(traced)
+    step = 30
+    assert int(path_ds.negative_eigenvalues[step]) == 1
+    capsys.readouterr()
+    out = tmp_path / "modes.nc"
+    assert main(["modes", "--from", str(traced), "--step", str(step), "--n", "60", "--count", "2", "-o", str(out)]) == 0
+    text = capsys.readouterr()
+    assert "the state the modes are taken about is unstable: 1 mode with omega^2 < 0" in text.err
+    assert "mode  1: unstable: omega^2 = " in text.out and " 0 rad/s" not in text.out
+    ds = xr.open_dataset(out)
+    expected = np.sort(path_ds.smallest_eigenvalues.values[step])
+    assert np.isnan(float(ds.frequency[0])) and int(ds.attrs["unstable_modes"]) == 1
+    np.testing.assert_allclose(ds.omega_squared.values[:2], expected[:2], rtol=1e-6)
+    assert float(ds.frequency[1]) ** 2 == pytest.approx(expected[1], rel=1e-6)
