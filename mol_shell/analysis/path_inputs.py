@@ -57,7 +57,8 @@ def check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=
     if branch is not None and (not isinstance(branch, (int, np.integer)) or isinstance(branch, bool) or branch < 0):
         raise ParameterError("branch", branch, "integers >= 0 (a critical point of the path), or None")
     resources.check_analysis(n, max_steps + 1, f"tracing a path of up to {max_steps} steps", "states",
-                             fields=len(getattr(scene, "fields", range(5))))
+                             fields=len(getattr(scene, "fields", range(5))), name="max_steps", value=max_steps,
+                             fewer="allow fewer steps (--max-steps)")
 
 
 def loads_at_rest(scene, parameter):

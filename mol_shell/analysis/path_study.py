@@ -95,6 +95,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
     if isinstance(max_steps, (int, np.integer)) and not isinstance(max_steps, bool) and max_steps >= 1:
         # each case's path keeps its steps' states: refused once here, not case by case
         resources.check_analysis(n, max_steps + 1, f"tracing each path of up to {max_steps} steps", "states",
+                                 name="max_steps", value=max_steps, fewer="allow fewer steps (--max-steps)",
                                  fields=len(getattr(scene, "fields", range(5))))
     dims, coords, cases = design(scene, vary)
     fields = {f.name for f in dataclasses.fields(scene)}

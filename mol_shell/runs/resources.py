@@ -204,11 +204,14 @@ def estimate(n, n_times, t_end, integrator="leapfrog", *, fields=5, dt=None, ome
     return Estimate(n, n_times, size, out, memory, steps, lower, steps * per_step * rhs + build, build)
 
 
-def check_memory(est, *, times_name="times", times_value=None, n_name="n", what="the run", kept="saved times"):
+def check_memory(est, *, times_name="times", times_value=None, n_name="n", what="the run", kept="saved times",
+                 fewer="save fewer times (--times)", offset=0):
     """Refuse a run whose memory estimate exceeds what is available; the message names the estimate and the fix.
 
     The saved times (``times_name``; None: never) are named when fewer of them would fit (at least two), else the
-    nodes. ``what`` is the work the message speaks of, ``kept`` what its states are.
+    nodes. ``what`` is the work the message speaks of, ``kept`` what its states are; ``fewer`` the advice for
+    fewer of them, ``offset`` how many states the named parameter does not count (a path's start: ``max_steps + 1``
+    states).
     """
     available, source = available_memory()
     if est.memory_bytes <= available:
@@ -222,10 +225,10 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n", what=
     need = (f"needs about {show_bytes(est.memory_bytes)} (the output alone {show_bytes(est.output_bytes)}: "
             f"{est.n_times:.4g} {kept} x {est.n} nodes x {OUTPUT_PER_NODE} values x 8 bytes), "
             f"{show_bytes(available)} available ({source})")
-    if fits >= 2 and times_name is not None:
+    if fits >= 2 + offset and times_name is not None:
         value = times_value if times_value is not None else f"<{est.n_times} saved times>"
-        raise ParameterError(times_name, value, f"at most {fits:,} saved times at n = {est.n}",
-                             hint=f"{what} {need}; save fewer times (--times) or use fewer nodes (--n)")
+        allowed = f"at most {fits - offset:,} {'steps' if offset else kept} at n = {est.n}"
+        raise ParameterError(times_name, value, allowed, hint=f"{what} {need}; {fewer} or use fewer nodes (--n)")
     per_node = (est.memory_bytes - BUILD_BYTES_FIXED) / est.n
     max_n = int((available - BUILD_BYTES_FIXED) / per_node) if available > BUILD_BYTES_FIXED else 0
     raise ParameterError(n_name, est.n,
@@ -271,14 +274,17 @@ def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, ti
     return est
 
 
-def check_analysis(n, states, what, kept, *, integrator="cvode-bdf", fields=5):
+def check_analysis(n, states, what, kept, *, integrator="cvode-bdf", fields=5, name=None, value=None, fewer=None):
     """Before a graph is built for an analysis (``what``: natural modes, an equilibrium path, a comparison of
     integrators): refuse ``n`` when the graph, the spectrum, the matrices and the ``states`` kept (modes, path
     steps, saved times) would not fit in memory. ``integrator`` names the matrices kept (a comparison's most
-    demanding one; modes and paths factorise a sparse Jacobian, as an implicit integrator does)."""
+    demanding one; modes and paths factorise a sparse Jacobian, as an implicit integrator does). With ``name``
+    (the parameter that sets how many states: a path's ``max_steps``, whose ``value`` is ``states - 1``), it is
+    named when fewer states would fit, with the advice ``fewer``."""
     check_nodes(n)
     est = estimate(n, max(int(states), 2), 0.0, integrator, fields=fields)
-    check_memory(est, times_name=None, what=what, kept=kept)
+    check_memory(est, times_name=name, times_value=value, what=what, kept=kept, fewer=fewer or "",
+                 offset=int(states) - value if name is not None else 0)
 
 
 def measure_rhs_seconds(compiled, y0, repeats=20):

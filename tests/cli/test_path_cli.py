@@ -220,3 +220,12 @@ def test_modes_about_a_state_past_a_bifurcation_say_it_is_unstable(tmp_path, cap
     assert np.isnan(float(ds.frequency[0])) and int(ds.attrs["unstable_modes"]) == 1
     np.testing.assert_allclose(ds.omega_squared.values[:2], expected[:2], rtol=1e-6)
     assert float(ds.frequency[1]) ** 2 == pytest.approx(expected[1], rel=1e-6)
+
+
+def test_too_many_steps_for_memory_are_blamed_on_max_steps(tmp_path, capsys):
+    """``--max-steps 1e10`` at n = 20 was refused as "n = 20 is outside integers 3..3": no n would do."""
+    assert main(["path", "sphere", "--param", "pressure=0:100", "--n", "20", "--max-steps", "10000000000",
+                 "-o", str(tmp_path / "p.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("mol-shell: error: max_steps = 10000000000 is outside at most ") and " steps at n = 20" in err
+    assert "allow fewer steps (--max-steps)" in err and len(err.splitlines()) == 1
