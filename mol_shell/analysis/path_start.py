@@ -71,6 +71,27 @@ def path_scene(ds, value):
     return scene
 
 
+#: the largest perturbation, as a share of the shell's size (the largest |z| or r of the state)
+PERTURB_SHARE = 0.1
+
+
+def _check_perturbation(amplitude, fields, mode):
+    """Refuse an amplitude of the critical mode (largest entry 1) that is no perturbation: beyond
+    :data:`PERTURB_SHARE` of the shell's size, or one that takes ``r`` to 0 or below at a node off the axis. A run
+    from there failed on whatever check met it first (the step bound, a solver error at t = 0, r <= 0)."""
+    size = float(np.abs(fields[:2]).max())
+    low, high = -PERTURB_SHARE * size, PERTURB_SHARE * size
+    r, dr = fields[1], mode[1]
+    off_axis = r > 0
+    if np.any(off_axis & (dr < 0)):
+        high = min(high, float(np.min(r[off_axis & (dr < 0)] / -dr[off_axis & (dr < 0)])))
+    if np.any(off_axis & (dr > 0)):
+        low = max(low, float(np.max(-r[off_axis & (dr > 0)] / dr[off_axis & (dr > 0)])))
+    if not low < amplitude < high and amplitude != 0:
+        raise ParameterError("--perturb", amplitude, f"({low:.4g}, {high:.4g}) m or rad (a perturbation: at most "
+                             f"{PERTURB_SHARE:g} of the shell's size, {size:.4g} m, with r > 0 off the axis)")
+
+
 def _index(value, name, count, what):
     if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or not 0 <= value < count:
         allowed = f"integers 0..{count - 1} (the path's {what})" if count else f"none: the path has no {what}"
@@ -121,6 +142,7 @@ def path_start(ds, *, step=None, point=None, perturb=0.0):
         value = float(ds.point_parameter.values[k])
         fields = np.stack([ds[f"point_{f}"].values[k] for f in FIELDS])
         mode = np.stack([ds[f"point_mode_{f}"].values[k] for f in FIELDS])
+        _check_perturbation(float(perturb), fields, mode)
         fields = fields + float(perturb) * mode
         info = (f"equilibrium path critical point {k} ({ds.point_kind.values[k]}): {name} = {value:.10g} {units}"
                 + (f", perturbed by {float(perturb):g} x its critical mode" if perturb else ""))

@@ -64,6 +64,10 @@ def test_plot_of_a_path(cap_file, tmp_path, capsys):
     (["modes", "--from", "{f}", "--point", "5"], "--point"),
     (["modes", "--from", "{f}"], "--step"),
     (["run", "--from", "{f}", "--step", "2", "--perturb", "1e-3", "--t-end", "0.01"], "--perturb"),
+    # no perturbation: far beyond the shell's size, or r < 0 (each failed on another check: dt, SUNDIALS, r <= 0)
+    (["run", "--from", "{f}", "--point", "0", "--perturb", "1e300", "--t-end", "0.01"], "--perturb"),
+    (["run", "--from", "{f}", "--point", "0", "--perturb", "1e5", "--integrator", "cvode-bdf"], "--perturb"),
+    (["run", "--from", "{f}", "--point", "0", "--perturb", "-1e3", "--integrator", "dop853-c"], "--perturb"),
     (["modes", "sphere", "--step", "2"], "--step"),
     (["modes", "sphere", "--from", "{f}", "--step", "2"], "--from"),
     (["modes", "--from", "{f}", "--step", "2", "--n", "30"], "--n"),
