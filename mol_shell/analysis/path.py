@@ -56,7 +56,8 @@ from mol_shell.runs.building import as_scene
 #: meridian's size), then one step more
 TOL = 1e-10
 MAX_ITER = 8
-#: step control: the ratio of steps to the first one stays in ``[2^-MIN_HALVINGS, MAX_GROWTH]``
+#: step control: the ratio of steps to the first one stays in ``[2^-MIN_HALVINGS, MAX_GROWTH]`` (to the default
+#: first step when a smaller ``ds`` was asked for)
 MIN_HALVINGS = 10
 MAX_GROWTH = 2.0
 #: a corrector that ends farther than this many steps from its predictor has jumped to another branch
@@ -360,7 +361,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         if (lam - tracer.start) * tracer.direction < 0 and len(record.lams) > 2:
             status, message = "returned", f"the path came back below start = {start:g} {eq.units}"
             break
-        h = min(h * (1.6 if its <= 3 else 1.0 if its <= 5 else 0.5), ds0 * MAX_GROWTH)
+        # the cap: twice the first step, or twice the default first step when a smaller one was asked for
+        h = min(h * (1.6 if its <= 3 else 1.0 if its <= 5 else 0.5), max(ds0, math.sqrt(2.0) / steps) * MAX_GROWTH)
     if branch is not None and record.branch == 0:
         message += f"; no switch: critical point {branch} was not reached ({len(record.points)} found)"
     if record.bar is not None:

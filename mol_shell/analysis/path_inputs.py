@@ -25,6 +25,12 @@ from mol_shell.scenes import LOADS, UNITS
 RANGE_MIN = float(np.finfo(float).tiny)
 #: the largest: the largest double
 RANGE_MAX = float(np.finfo(float).max)
+#: the smallest range relative to ``max(|start|, |stop|)``: narrower, the loads a path steps through are a few
+#: thousand doubles apart or fewer, and the corrector's noise is larger than its steps
+RANGE_RELATIVE_MIN = 1e-9
+#: the smallest first step ``ds`` (scaled arclength): 100 times the corrector's tolerance (``path.TOL``), below
+#: which its noise turns steps around (``ds = 1e-300`` came back below start)
+DS_MIN = 1e-8
 
 
 def check_range(start, stop):
@@ -36,6 +42,10 @@ def check_range(start, stop):
         raise ParameterError("stop", stop, f"values with {RANGE_MIN:.17g} <= |stop - start| <= {RANGE_MAX:.17g} "
                              f"(start = {start:g})", hint="the range scales the load in the arclength: a subnormal "
                              "one has too few digits and its reciprocal overflows")
+    if width < RANGE_RELATIVE_MIN * max(abs(float(start)), abs(float(stop))):
+        raise ParameterError("stop", stop, f"values with |stop - start| >= {RANGE_RELATIVE_MIN:g} x max(|start|, "
+                             f"|stop|) (start = {start:.17g})", hint="a narrower range has too few doubles between "
+                             "its ends to step through")
 
 
 def check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=None):
@@ -52,8 +62,9 @@ def check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=
     for name, value, low in (("n", n, 3), ("steps", steps, 1), ("max_steps", max_steps, 1)):
         if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < low:
             raise ParameterError(name, value, f"integers >= {low}")
-    if ds is not None and not (is_number(ds) and math.isfinite(ds) and ds > 0):
-        raise ParameterError("ds", ds, "(0, inf), or None")
+    if ds is not None and not (is_number(ds) and math.isfinite(ds) and ds >= DS_MIN):
+        raise ParameterError("ds", ds, f"[{DS_MIN:g}, inf), or None", hint="the first step in the scaled arclength; "
+                             "smaller ones are below the corrector's noise")
     if branch is not None and (not isinstance(branch, (int, np.integer)) or isinstance(branch, bool) or branch < 0):
         raise ParameterError("branch", branch, "integers >= 0 (a critical point of the path), or None")
     resources.check_analysis(n, max_steps + 1, f"tracing a path of up to {max_steps} steps", "states",

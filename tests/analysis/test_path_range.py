@@ -53,3 +53,23 @@ def test_the_command_refuses_it_in_one_line_naming_param(tmp_path, capsys):
     assert code == 2 and len(err.splitlines()) == 1
     assert err.startswith("mol-shell: error: --param") and "2.2250738585072014e-308" in err
     assert not (tmp_path / "p.nc").exists()
+
+
+SPHERE = Sphere(h=0.01, nu=0.3, material="svk-plane-stress")
+
+
+def test_a_small_first_step_still_grows_to_the_default_steps():
+    """The steps were capped at twice the first one: with ``ds = 1e-3`` (the docs' advice for strongly nonlinear
+    ranges) a nearly linear path crept by 0.141 Pa a step and ran out of steps far from stop."""
+    ds = path(SPHERE, "pressure", 0.0, 100.0, n=20, ds=1e-3, max_steps=40)
+    assert ds.attrs["status"] == "complete" and float(ds.parameter[-1]) == 100.0
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    ({"ds": 1e-300}, "ds"),  # below the corrector's noise: the path came back below start
+    ({"start": 100.0, "stop": 100.000000000001}, "stop"),  # 1e-14 of start: an exit 3 ("left the predictor")
+])
+def test_steps_and_ranges_below_the_resolution_are_refused_by_name(kwargs, name):
+    args = {"start": 0.0, "stop": 100.0, **kwargs}
+    with pytest.raises(ParameterError, match=rf"^{name} = "):
+        path(SPHERE, "pressure", args.pop("start"), args.pop("stop"), n=10, **args)
