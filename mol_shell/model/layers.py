@@ -30,7 +30,7 @@ _ALLOWED = ("'T MATERIAL key=value ...; ...' (T the layer's thickness, m; keys "
             + "), or a list of dicts with thickness, material and those keys")
 
 
-def _word(value):
+def layer_word(value):
     """A layer's value in the string form: a bool as ``true``/``false`` (the words the flags take), else as it is."""
     return ("true" if value else "false") if isinstance(value, (bool, np.bool_)) else value
 
@@ -48,7 +48,7 @@ def layers_text(value):
             head = f"{float(layer.pop('thickness'))!r} {layer.pop('material')}"
         except (KeyError, TypeError, ValueError):
             raise ParameterError("layers", value, _ALLOWED, hint="each layer needs thickness and material") from None
-        parts.append(" ".join([head] + [f"{k}={_word(v)}" for k, v in layer.items()]))
+        parts.append(" ".join([head] + [f"{k}={layer_word(v)}" for k, v in layer.items()]))
     return "; ".join(parts)
 
 
@@ -64,6 +64,10 @@ def parse_layers(text):
             changes = dict(w.split("=", 1) for w in words[2:])
         except (IndexError, ValueError):
             raise ParameterError("layers", text, _ALLOWED, hint=f"layer {number}: cannot read {part.strip()!r}") from None
+        keys = [w.split("=", 1)[0] for w in words[2:]]
+        if len(set(keys)) < len(keys):
+            twice = next(k for k in keys if keys.count(k) > 1)
+            raise ParameterError("layers", text, _ALLOWED, hint=f"layer {number}: {twice} given twice")
         unknown = [k for k in changes if k not in LAYER_KEYS]
         if unknown or not (np.isfinite(thickness) and thickness > 0):
             raise ParameterError("layers", text, _ALLOWED, hint=f"layer {number}: unknown key {unknown[0]!r}" if unknown

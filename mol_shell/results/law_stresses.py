@@ -54,7 +54,7 @@ def law_of_attrs(attrs):
     fibre_E = float(attrs.get("fibre_E", 0.0))
     fibres = None
     if fibre_E > 0:
-        fibres = Fibres(fibre_E, float(attrs.get("fibre_angle", 0.0)), int(attrs.get("fibre_families", 1)),
+        fibres = Fibres(fibre_E, float(attrs.get("fibre_angle", 0.0)), int(float(attrs.get("fibre_families", 1))),
                         _flag(attrs.get("fibre_compression", 1)))
     if material in SVK_MATERIALS:
         if fibres is None:
@@ -81,8 +81,8 @@ def law_of_attrs(attrs):
 def _flag(value):
     """A checked true/false parameter as the attrs hold it: 0/1 (the run's own), or ``true``/``false`` (a layer's key
     in the ``layers`` string)."""
-    if isinstance(value, str):
-        return {"true": True, "false": False}[value.strip().lower()]
+    if isinstance(value, str):  # a file written before the layers were stored canonically may hold 1/0
+        return {"true": True, "false": False, "1": True, "0": False, "1.0": True, "0.0": False}[value.strip().lower()]
     return bool(int(value))
 
 

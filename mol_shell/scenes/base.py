@@ -28,7 +28,7 @@ from mol_shell.model.laws import (
     resolve_material,
     user_material,
 )
-from mol_shell.model.layers import MAX_LAYERS, layers_text, parse_layers
+from mol_shell.model.layers import MAX_LAYERS, layer_word, layers_text, parse_layers
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
 from mol_shell.model.thickness_profile import check_profile_fits, thickness_function
@@ -339,10 +339,14 @@ class ShellScene:
     def _check_layers(self):
         """``layers`` read (a list becomes the string form), each layer's parameters checked as a scene's, their
         thicknesses adding up to the wall ``2h`` (with ``h_profile`` the nominal wall: each layer keeps its share)."""
+        if isinstance(self.layers, (list, tuple)):  # a Material in a layer's dict: its registered name, as material
+            object.__setattr__(self, "layers", [{**x, "material": resolve_material(x["material"])} if isinstance(
+                x, dict) and "material" in x and not isinstance(x["material"], str) else x for x in self.layers])
         object.__setattr__(self, "layers", layers_text(self.layers))
         if not self.layers.strip():
             return
-        count = len(parse_layers(self.layers))
+        parsed = parse_layers(self.layers)
+        count = len(parsed)
         if count > MAX_LAYERS:  # before the layers' scenes are made: each is a scene checked in full
             allowed = Interval(1, MAX_LAYERS, True, True, integer=True, shown=f"1..{MAX_LAYERS} layers")
             raise ParameterError("layers", count, allowed, hint="each layer adds its Gauss points to every cell's "
@@ -352,6 +356,11 @@ class ShellScene:
         except ParameterError as exc:
             raise ParameterError("layers", self.layers, "layers whose parameters are in range",
                                  hint=str(exc)) from None
+        # stored as the layers' scenes took each key (fibre_compression=0 as false, fibre_families=2.0 as 2): the
+        # run's file is read back by its stresses and by later runs
+        words = [" ".join([f"{float(t)!r} {m}"] + [f"{k}={layer_word(getattr(scene, k))}" for k in changes])
+                 for (t, m, changes), (_, scene) in zip(parsed, layers)]
+        object.__setattr__(self, "layers", "; ".join(words))
         total = sum(t for t, _ in layers)  # to LAYERS_RTOL: the layers are then scaled to 2h (layered_thickness)
         if abs(total - 2 * self.h) > LAYERS_RTOL * 2 * self.h:
             raise ParameterError("layers", self.layers, f"thicknesses adding up to the wall, 2h = {2 * self.h:.10g} m, "

@@ -155,3 +155,28 @@ def test_a_layers_fibre_compression_takes_1_and_0_as_the_scenes_flag_does():
     scene = Sphere(h=0.01, layers=[{"thickness": 0.01, "material": "svk", "fibre_E": 1e6, "fibre_compression": 0},
                                    {"thickness": 0.01, "material": "svk", "fibre_E": 1e6, "fibre_compression": 1}])
     assert [layer.fibre_compression for _, layer in layer_scenes(scene)] == [False, True]
+
+
+@pytest.mark.parametrize("layer, stored", [
+    ("0.02 svk-plane-stress fibre_compression=0 fibre_E=1e6", "0.02 svk-plane-stress fibre_compression=false "
+                                                              "fibre_E=1000000.0"),
+    ("0.02 svk-plane-stress fibre_families=2.0 fibre_E=1e6", "0.02 svk-plane-stress fibre_families=2 fibre_E=1000000.0"),
+])
+def test_a_layers_flag_or_count_written_as_a_number_is_stored_as_the_layer_took_it(tmp_path, capsys, layer, stored):
+    """The run read ``fibre_compression=0`` as false and ``fibre_families=2.0`` as 2, but stored the text as given,
+    and its stresses, read from the file, ended in an internal error (KeyError '0', int('2.0')), the run lost."""
+    out = tmp_path / "y.nc"
+    assert main(["run", "sphere", "--n", "10", "--t-end", "1e-4", "--set", "h=0.01", "--set", f"layers={layer}",
+                 "-o", str(out)]) == 0, capsys.readouterr().err
+    ds = mol_shell.read_netcdf(out)
+    assert ds.attrs["layers"] == stored and "von_mises" in " ".join(ds.data_vars)
+
+
+def test_a_key_given_twice_in_a_layer_is_refused_and_a_material_object_is_taken():
+    with pytest.raises(ParameterError, match="layer 1: E given twice"):
+        Sphere(h=0.01, layers="0.02 svk-plane-stress E=1e6 E=2e6")
+    rubber = mol_shell.Material("layer-rubber-test", energy=lambda C, p: p["mu"] / 2 * (C[0, 0] + C[1, 1] + C[2, 2] - 3),
+                                parameters={"mu": 3e5}, thickness="incompressible")
+    scene = Sphere(h=0.01, layers=[{"thickness": 0.01, "material": rubber},
+                                   {"thickness": 0.01, "material": "svk-plane-stress"}])
+    assert scene.layers == "0.01 layer-rubber-test; 0.01 svk-plane-stress"  # was refused: "cannot read ... Material(...)"
