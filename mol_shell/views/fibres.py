@@ -99,7 +99,8 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
     time : float, optional
         Time of panel (b), s; the nearest saved time is drawn (default the last).
     s : float, optional
-        Where the section is, m; the nearest node (default the first, an end of the shell).
+        Where the section is, m; the nearest node (default the first, an end of the shell, or on a closed shell,
+        whose ends are poles, the widest section).
     count : int
         Fibres drawn (evenly spaced reference azimuths; the one at ``phi = 0`` in red), in [1, :data:`MAX_FIBRES`].
     thickness_scale : float, optional
@@ -112,8 +113,14 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
     check_run(ds)
     times, nodes = ds["time"].values, ds["s"].values
     k = len(times) - 1 if time is None else _nearest(times, float(time), "--time", "s")
-    i = 0 if s is None else _nearest(nodes, float(s), "--at-s", "m")
-    r0 = float(ds["r0"].values[i]) if "r0" in ds else 1.0
+    radii = ds["r0"].values if "r0" in ds else np.ones(len(nodes))
+    # the first end; on a closed shell (a pole there, r0 = 0: an empty section) the widest section
+    i = (0 if radii[0] > 0 else int(np.argmax(radii))) if s is None else _nearest(nodes, float(s), "--at-s", "m")
+    if not radii[i] > 0:
+        off = nodes[radii > 0]
+        raise ParameterError("--at-s", float(s), f"[{off.min():.6g}, {off.max():.6g}] m (sections off the axis: at a pole "
+                             "r = 0 and there is no section to draw)")
+    r0 = float(radii[i])
     theta0 = float(ds["theta0"].values[i]) if "theta0" in ds else 0.0
     depths = np.array(face_depths(ds))
     if thickness_scale is None:

@@ -29,3 +29,21 @@ def test_helices_on_a_cylinder_and_their_images(tmp_path):
     ds.to_netcdf(path)
     assert main(["plot", str(path), "--figure", "fibres", "-o", str(tmp_path / "f.png")]) == 0
     assert (tmp_path / "f.png").stat().st_size > 10_000
+
+
+def test_on_a_closed_shell_the_section_is_off_the_axis(tmp_path, capsys):
+    """A sphere's first node is a pole (r0 = 0): the fibres figure drew two empty panels titled "r = 0 m", exit 0.
+    Now the default section is the widest one, and a section asked for at a pole is refused by name."""
+    import matplotlib.pyplot as plt
+
+    ds = mol_shell.simulate(mol_shell.Sphere(material="svk-plane-stress", fibre_E=1e6, fibre_angle=0.5), n=10,
+                            t_end=1e-4)
+    fig = fibres_figure(ds)
+    widest = float(ds.s.values[int(np.argmax(ds.r0.values))])
+    assert f"the section at s = {widest:.4g} m" in fig._suptitle.get_text()
+    plt.close(fig)
+    path = tmp_path / "sphere.nc"
+    mol_shell.write_netcdf(ds, path)
+    assert main(["plot", str(path), "--figure", "fibres", "--at-s", "0", "-o", str(tmp_path / "f.png")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("mol-shell: error: --at-s = 0.0 is outside [") and "at a pole r = 0" in err
