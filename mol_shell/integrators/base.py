@@ -109,7 +109,8 @@ class Monitor:
             i = int(np.argmin(delta))
             where = f"s = {self._cells[i // self.system.samples_per_cell]:.6g} m"
             raise ModelLimitError(f"delta = {delta[i]:.3g} <= 0 at t = {t:.9g} s, {where}", t, where)
-        if getattr(self.system, "turning_limit", False):  # the law's own limit (SVK's compressive turning point)
+        # the law's own limit (SVK's compressive turning point), and ellipticity when the scene stops there
+        if getattr(self.system, "turning_limit", False) or getattr(self.system, "ellipticity_limit", False):
             g = np.asarray(self.system.limits(y)).ravel()
             bad = np.flatnonzero(g <= 0)
             if bad.size:

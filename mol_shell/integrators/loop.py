@@ -147,6 +147,9 @@ def run(integrator, system, compiled, y0, times, *, progress=None):
     try:
         # the set-up (loading compiled drivers, creating the solver, a first step) is timed apart from the
         # stepping: wall_time_s is the integration's own cost, as work-precision compares it
+        # a start outside the model's limits stops here, at t = 0 (a root-finding solver sees only crossings: a
+        # run started past the loss of ellipticity with ellipticity_limit on went on, warned only afterwards)
+        monitor.check(saved[0], 0.0)
         stepper = integrator.start(system, compiled, y0, times, monitor)
         start = time.perf_counter()
         for target in times[1:]:

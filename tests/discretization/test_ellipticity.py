@@ -142,6 +142,18 @@ def test_with_ellipticity_limit_a_run_stops_there_on_every_grid_and_integrator()
         assert t == pytest.approx(expected, abs=1e-5 if integrator == "leapfrog" else 5e-6), (integrator, n)
 
 
+@pytest.mark.parametrize("integrator", ["cvode-bdf", "leapfrog"])
+def test_with_ellipticity_limit_a_run_that_starts_past_the_loss_stops_at_t_0(integrator):
+    """Started already non-elliptic (a rubber sphere released at 0.6 of its radius), a root-finding solver saw no
+    crossing and ran to its end with a warning afterwards: the start is checked against the limits at t = 0."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = mol_shell.simulate(mol_shell.Sphere(R=0.6, material="neo-hookean-incompressible", ellipticity_limit=True),
+                                integrator, n=12, t_end=0.02, stresses=False)
+    assert ds.attrs["status"] == "limit" and "stopped being elliptic" in ds.attrs["message"]
+    assert ds.attrs["failure_time"] == 0.0 and ds.sizes["time"] == 1  # the start kept
+
+
 def test_ellipticity_limit_is_a_flag():
     with pytest.raises(ParameterError, match="ellipticity_limit"):
         mol_shell.Sphere(ellipticity_limit="sometimes")
