@@ -48,15 +48,21 @@ def check_range(start, stop):
                              "its ends to step through")
 
 
-def check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=None):
-    """Refuse the first bad input of a path, naming it (``ParameterError``)."""
+def check_shared(parameter, start, stop, scene_name=None):
+    """Refuse a path's parameter or range, naming it: what does not depend on the scene (a path study's cases share
+    it)."""
     if parameter not in PATH_PARAMETERS:
         raise ParameterError("parameter", parameter, "{" + ", ".join(PATH_PARAMETERS) + "}",
-                             hint=f"the loads of scene {scene.name} a path can be continued in")
+                             hint=f"the loads of scene {scene_name} a path can be continued in" if scene_name else "")
     for name, value in (("start", start), ("stop", stop)):
         if not is_number(value) or not math.isfinite(value):
             raise ParameterError.not_a(name, value, "a finite number", "(-inf, inf)")
     check_range(start, stop)
+
+
+def check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=None):
+    """Refuse the first bad input of a path, naming it (``ParameterError``)."""
+    check_shared(parameter, start, stop, scene.name)
     for value in (start, stop) if parameter in LOADS else ():  # the scene's own checks of a load, on the user's
         dataclasses.replace(scene, **{parameter: float(value)})  # values (not on the unit load used inside)
     for name, value, low in (("n", n, 3), ("steps", steps, 1), ("max_steps", max_steps, 1)):
@@ -76,7 +82,7 @@ def loads_at_rest(scene, parameter):
     """What each of the scene's other loads is in the path's states, when its history makes that differ from its
     magnitude: a path's states are at rest, under the loads at ``t = 0`` (``h(0) x`` the magnitude; a ramp, a sine
     and a later step give 0 there). One sentence per such load (none for ``drag``, which vanishes at rest), and one
-    for a spin ``omega``, left out."""
+    for a spin ``omega``, left out, and for a twist ``gamma`` or tilt ``psi0``, initial data only."""
     notes = []
     for load in LOADS:
         value = getattr(scene, load, 0.0)
@@ -90,4 +96,9 @@ def loads_at_rest(scene, parameter):
                          f"{load}_history = constant holds {value:g})")
     if getattr(scene, "omega", 0.0):  # initial data of a motion: the states are at rest
         notes.append(f"the scene's omega = {scene.omega:g} rad s-1 is left out: a path's states are at rest")
+    for name, unit in (("gamma", "rad m-1"), ("psi0", "rad")):  # initial data too: the path starts from them only
+        if getattr(scene, name, 0.0):
+            notes.append(f"the scene's {name} = {getattr(scene, name):g} {unit} is initial data: a path's states are "
+                         "equilibria at rest, where edges that leave chi free let a twist unwind (end1_dchi, end2_dchi "
+                         "on edges that hold chi keep one)")
     return notes

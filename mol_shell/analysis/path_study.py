@@ -24,6 +24,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell._core.version import __version__
 from mol_shell.analysis.path import path
 from mol_shell.analysis.path_dataset import SYMMETRY_NOTE
+from mol_shell.analysis.path_inputs import check_shared
 from mol_shell.results.cf import attr_value, header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
 from mol_shell.runs import resources
@@ -90,6 +91,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
     """
     clock = time.perf_counter()
     scene = as_scene(scene)
+    check_shared(parameter, start, stop)  # what every case shares: refused once, not as each case's status
     if output is not None:
         writable_path(output, "output", suffixes=NETCDF_SUFFIXES)
     if isinstance(max_steps, (int, np.integer)) and not isinstance(max_steps, bool) and max_steps >= 1:

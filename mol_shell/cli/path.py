@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import math
 import sys
 
@@ -27,6 +28,17 @@ from mol_shell.views.path_plot import plot_path, response_values, responses
 from mol_shell.views.path_study_plot import is_path_study, plot_path_study
 
 PARAM_FORM = "NAME=START:STOP with NAME in {" + ", ".join(PATH_PARAMETERS) + "}, START and STOP numbers, START != STOP"
+
+
+class _Once(argparse.Action):
+    """An option given at most once: a path follows one parameter (a second ``--param`` replaced the first)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        if getattr(namespace, self.dest, None) is not None:
+            raise argparse.ArgumentError(self, f"{option_string} = {values!r} follows {option_string} = "
+                                         f"{getattr(namespace, self.dest)!r}; allowed: one (a path follows one "
+                                         "parameter; vary the others with study)")
+        setattr(namespace, self.dest, values)
 
 
 def parse_param(text, option="--param"):
@@ -94,7 +106,7 @@ def register_path(sub):
     p = sub.add_parser("path", help="equilibrium path in one load through limit points, with stability and "
                        "critical points")
     p.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
-    p.add_argument("--param", required=True, metavar="NAME=START:STOP",
+    p.add_argument("--param", required=True, metavar="NAME=START:STOP", action=_Once,
                    help="the continued load or edge displacement and its range, NAME in {"
                    + ", ".join(PATH_PARAMETERS) + "}")
     p.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")

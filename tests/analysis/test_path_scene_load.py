@@ -111,3 +111,13 @@ def test_a_spin_is_left_out_of_a_paths_states_and_the_file_says_so():
     still = path(Cone(end1="clamped", end2="free"), "end2_force", 0.0, 10.0, n=N)
     assert np.array_equal(spun.z.values, still.z.values)
     assert "omega = 20 rad s-1 is left out: a path's states are at rest" in spun.attrs["loads_at_rest"]
+
+
+def test_a_twist_asked_for_is_said_to_be_initial_data():
+    """The twisted cylinder's gamma = 0.1 rad/m: with its ends free to turn, the path's states at rest are untwisted
+    (chi uniform), as they should be; it was silent where a spin was noted."""
+    from mol_shell import TwistedCylinder
+
+    ds = path(TwistedCylinder(), "pressure", 0.0, 100.0, n=N, max_steps=3)
+    assert np.ptp(ds.chi.values[-1]) < 1e-9  # untwisted: the twist unwound at rest
+    assert "gamma = 0.1 rad m-1 is initial data: a path's states are equilibria at rest" in ds.attrs["loads_at_rest"]

@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+import importlib
+
 import numpy as np
 import pytest
 import xarray as xr
 from reference_cap import cap_angle, cap_params, p_classical
 
-from mol_shell import Sphere, path
+from mol_shell import ParameterError, Sphere, path
 from mol_shell.analysis.path_study import path_study
 from mol_shell.cli.main import main
+
+path_study_module = importlib.import_module("mol_shell.analysis.path_study")
 
 STOP = -1.0 * p_classical()
 ANGLES = [cap_angle(4.5), cap_angle(5.5)]
@@ -118,3 +122,12 @@ def test_a_study_whose_paths_meet_no_critical_point_says_so_in_the_figure(studie
     none["point_kind"] = none.point_kind.where(False, "")
     texts = [t.get_text() for t in path_study_figure(none).axes[0].texts]
     assert any(t.startswith("no path met a critical point of pressure") for t in texts), texts
+
+
+@pytest.mark.parametrize("start, stop, name", [(0.0, float("nan"), "stop"), (5.0, 5.0, "stop"), ("a", 1.0, "start")])
+def test_a_range_every_case_shares_is_refused_up_front(start, stop, name, monkeypatch):
+    """A NaN stop returned a Dataset whose every case was "refused" (``mol_shell.path`` raises): the range is checked
+    once, before any case."""
+    monkeypatch.setattr(path_study_module, "run_path_task", None)  # nothing may run
+    with pytest.raises(ParameterError, match=rf"^{name} = "):
+        path_study(Sphere(nu=0.3), {"h": [0.01, 0.02]}, "pressure", start, stop, n=10, scheduler="serial")

@@ -233,3 +233,13 @@ def test_too_many_steps_for_memory_are_blamed_on_max_steps(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert err.startswith("mol-shell: error: max_steps = 10000000000 is outside at most ") and " steps at n = 20" in err
     assert "allow fewer steps (--max-steps)" in err and len(err.splitlines()) == 1
+
+
+def test_a_second_param_is_refused_not_followed_silently(tmp_path, capsys):
+    """``--param pressure=0:100 --param gravity=0:1`` traced gravity alone, the pressure range dropped silently."""
+    assert main(["path", "sphere", "--param", "pressure=0:100", "--param", "gravity=0:1", "--n", "8",
+                 "-o", str(tmp_path / "p.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == ("mol-shell: error: --param = 'gravity=0:1' follows --param = 'pressure=0:100'; allowed: one (a path "
+                   "follows one parameter; vary the others with study)")
+    assert not (tmp_path / "p.nc").exists()
