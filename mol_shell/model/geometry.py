@@ -230,7 +230,7 @@ class PointsMeridian(Meridian):
         dense = spline(np.linspace(0, u[-1], 40 * len(u)))
         if np.any(dense[1:-1, 0] <= 0):
             raise ParameterError.invalid(self.name, what, "gives a curve that crosses the axis", allowed)
-        if _self_intersects(dense):
+        if self_intersects(dense):
             raise ParameterError.invalid(self.name, what, "gives a curve that crosses itself", allowed)
 
     @property
@@ -264,7 +264,7 @@ class PointsMeridian(Meridian):
         return p[..., 0], p[..., 1], theta0, curvature
 
 
-def _self_intersects(points):
+def self_intersects(points):
     """Whether the polyline through ``points`` crosses itself (non-adjacent segments intersect)."""
     a, b = points[:-1], points[1:]
     n = len(a)

@@ -25,6 +25,7 @@ from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell._core.ranges import Interval
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.equilibrium import equilibrium_radius, spectrum_bounds
+from mol_shell.model.geometry import self_intersects
 from mol_shell.model.laws import ON_REDEFINED, user_material
 from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.scenes import CylinderScene, check_radius
@@ -334,16 +335,20 @@ def check_start_inside_limits(scene, requested, system, y0, how):
         return
     g = np.array(system.limits(y0)).ravel()
     bad = np.flatnonzero(~(g > 0))
-    if not bad.size:
+    fields = system.unpack(np.asarray(y0, dtype=float))
+    crossed = self_intersects(np.column_stack([fields[1], fields[0]]))  # the meridian (r, z) through the nodes
+    if not bad.size and not crossed:
         return
-    what, where = system.limit_names()[int(bad[0])]
+    # inside every pointwise limit, a meridian that crosses itself is still no shell (a sphere under external
+    # pressure far past buckling: Newton's state had its poles swapped, reported as R = 0.46 m)
+    what, where = system.limit_names()[int(bad[0])] if bad.size else ("its meridian crosses itself", "")
     loads = scene.loads_on()
     name = loads[0] if loads else next((k for k in _changed(scene) if k != "R"), "R")
     others = " with the other parameters as given" if len(loads) > 1 or not loads else ""
     static = str(how).startswith("static equilibrium")
     state = "the static equilibrium computed at t = 0" if static else f"the equilibrium radius R = {scene.R:.4g} m"
     raise ParameterError(name, getattr(scene, name), f"values whose equilibrium at t = 0 lies inside the model's "
-                         f"limits{others}", hint=f"{state} is past one: {what} at {where}")
+                         f"limits{others}", hint=f"{state} is past one: {what}" + (f" at {where}" if where else ""))
 
 
 def resolve(scene):

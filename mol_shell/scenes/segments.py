@@ -24,7 +24,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, positive
-from mol_shell.model.geometry import Meridian, _self_intersects
+from mol_shell.model.geometry import Meridian, self_intersects
 from mol_shell.scenes.shells import _Dilated
 from mol_shell.scenes.base import _check
 
@@ -101,7 +101,7 @@ def check_segmented(text, meridian):
     if np.any(r[1:-1] <= 1e-12 * scale):
         where = s[1 + int(np.argmax(r[1:-1] <= 1e-12 * scale))]
         raise ParameterError("segments", text, allowed, hint=f"it reaches the axis at s = {where:.4g} m")
-    if _self_intersects(np.column_stack([r, z])):
+    if self_intersects(np.column_stack([r, z])):
         raise ParameterError("segments", text, allowed, hint="it crosses itself")
 
 

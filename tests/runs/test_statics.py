@@ -219,3 +219,17 @@ def test_a_converged_state_is_polished_to_round_off():
     y, iterations, residual = newton(system, system.initial_state(scene))
     assert residual <= 10 * np.finfo(float).eps and iterations <= 8, (residual, iterations)
     assert np.ptp(system.unpack(y)[2]) > 0.01  # one helical family: inflated, it twists (chi solved for)
+
+
+def test_a_static_start_whose_meridian_crosses_itself_is_refused_naming_the_load(tmp_path, capsys):
+    """A rubber sphere under -1e4 Pa (far past its buckling pressure) at n = 8: Newton's equilibrium had its poles
+    swapped (z = 0.163 at s = 0, -0.163 at s = L), a meridian through itself, run as "R = 0.46 m" with exit 0."""
+    from mol_shell.cli.main import main
+
+    code = main(["run", "sphere", "--n", "8", "--set", "material=neo-hookean-incompressible", "--set", "pressure=-1e4",
+                 "--t-end", "1e-4", "-o", str(tmp_path / "r.nc")])
+    err = capsys.readouterr().err.strip().splitlines()[-1]
+    assert code == 2 and err == ("mol-shell: error: pressure = -10000.0 is outside values whose equilibrium at t = 0 "
+                                 "lies inside the model's limits (the static equilibrium computed at t = 0 is past one: "
+                                 "its meridian crosses itself)"), err
+    assert not (tmp_path / "r.nc").exists()
