@@ -273,6 +273,14 @@ def _diagnose(scene, reason, bad=_bad_numbers, exclude=()):
             return ParameterError("material", scene.material, "a law whose energy and forces are finite at the "
                                   "scene's state", hint=f"with material = svk-plane-stress the numbers are finite; "
                                   f"with {scene.material} {reason}")
+    if "layers" not in exclude and str(getattr(scene, "layers", "") or "").strip():
+        try:  # a layered wall: the same scene with one wall of its own law
+            single = dataclasses.replace(scene, layers="")
+        except ParameterError:
+            single = None
+        if single is not None and bad(single) is False:
+            return ParameterError("layers", scene.layers, "layers whose numbers are finite in double precision",
+                                  hint=f"with one wall of the scene's law they are; with these layers {reason}")
     names = [k for k in responsible(scene, bad) if k not in exclude]
     if len(names) == 1:
         name = names[0]

@@ -180,3 +180,12 @@ def test_a_key_given_twice_in_a_layer_is_refused_and_a_material_object_is_taken(
     scene = Sphere(h=0.01, layers=[{"thickness": 0.01, "material": rubber},
                                    {"thickness": 0.01, "material": "svk-plane-stress"}])
     assert scene.layers == "0.01 layer-rubber-test; 0.01 svk-plane-stress"  # was refused: "cannot read ... Material(...)"
+
+
+def test_a_layer_whose_numbers_overflow_is_blamed_not_h(tmp_path, capsys):
+    """A layer of E = 1e300: the refusal named "h = 0.01 together ...", a parameter no one changed to cause it."""
+    assert main(["run", "sphere", "--n", "8", "--t-end", "1e-4", "--set", "h=0.01", "--set",
+                 "layers=0.01 svk-plane-stress E=1e300; 0.01 svk-plane-stress", "-o", str(tmp_path / "l.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("mol-shell: error: layers = '0.01 svk-plane-stress E=1e+300; 0.01 svk-plane-stress' is "
+                          "outside layers whose numbers are finite in double precision"), err
