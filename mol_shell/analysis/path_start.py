@@ -104,8 +104,8 @@ def path_start(ds, *, step=None, point=None, perturb=0.0):
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A path (:func:`read_path`).
+    ds : xarray.Dataset or path
+        A path (:func:`read_path`), or its file.
     step, point : int
         One of them: the step (``0 .. steps - 1``) or the critical point (``0 .. points - 1``).
     perturb : float
@@ -123,6 +123,8 @@ def path_start(ds, *, step=None, point=None, perturb=0.0):
     info : str
         Where the state comes from (for the attrs of what is computed from it).
     """
+    if isinstance(ds, (str, os.PathLike)):
+        ds = read_path(ds, "ds")
     if (step is None) == (point is None):
         raise ParameterError("--step", step, "one of --step K or --point K with --from",
                              message="give one of --step K (a step) or --point K (a critical point) with --from")

@@ -39,7 +39,12 @@ from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: wher
 )
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, effective_lame, lame, locking_warning, quadrature_factors, shell_energy
-from mol_shell.model.user_laws import Material, parameter_text, parameter_values  # noqa: F401  (parameter_text: the stored form)
+from mol_shell.model.user_laws import (  # noqa: F401  (parameter_text: the stored form)
+    RESERVED,
+    Material,
+    parameter_text,
+    parameter_values,
+)
 
 def svk(C, p):
     """St Venant-Kirchhoff, ``lambda/2 (tr E)^2 + mu E:E`` with ``E = (C - I)/2`` (the generic route's check)."""
@@ -160,6 +165,7 @@ LAWS = {
 }
 #: every value of the scene parameter ``material``
 MATERIALS = tuple(SVK_MATERIALS) + tuple(LAWS)
+RESERVED.update(MATERIALS)
 #: scene parameters read by one law only
 LAW_PARAMETERS = {"mooney-rivlin": ("c10", "c01")}
 

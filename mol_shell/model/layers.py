@@ -44,10 +44,14 @@ def layers_text(value):
     parts = []
     for layer in value:
         layer = dict(layer)
+        missing = [key for key in ("thickness", "material") if key not in layer]
+        if missing:
+            raise ParameterError("layers", value, _ALLOWED, hint=f"layer {len(parts) + 1} has no {missing[0]}")
         try:
             head = f"{float(layer.pop('thickness'))!r} {layer.pop('material')}"
-        except (KeyError, TypeError, ValueError):
-            raise ParameterError("layers", value, _ALLOWED, hint="each layer needs thickness and material") from None
+        except (TypeError, ValueError):
+            raise ParameterError("layers", value, _ALLOWED, hint=f"layer {len(parts) + 1}: its thickness is not a "
+                                 "number") from None
         parts.append(" ".join([head] + [f"{k}={layer_word(v)}" for k, v in layer.items()]))
     return "; ".join(parts)
 
@@ -71,7 +75,7 @@ def parse_layers(text):
         unknown = [k for k in changes if k not in LAYER_KEYS]
         if unknown or not (np.isfinite(thickness) and thickness > 0):
             raise ParameterError("layers", text, _ALLOWED, hint=f"layer {number}: unknown key {unknown[0]!r}" if unknown
-                                 else f"layer {number}: a thickness {thickness:g} <= 0")
+                                 else f"layer {number}: a thickness {thickness:g}, not a positive finite number")
         out.append((thickness, material, changes))
     return out
 

@@ -41,6 +41,11 @@ from mol_shell.model.hyperelastic import (
 USER_TREATMENTS = ("plane-stress", "incompressible", "director")
 
 
+#: the built-in laws' names (filled in by :mod:`mol_shell.model.laws`): a Material of one of them is refused when it
+#: is made, not when a scene first uses it
+RESERVED = set()
+
+
 @dataclass(frozen=True, eq=False)
 class Material:
     """A hyperelastic law from its stored energy.
@@ -65,8 +70,10 @@ class Material:
     thickness: str = "plane-stress"
 
     def __post_init__(self):
-        if not isinstance(self.name, str) or not self.name.strip() or ":" in self.name:
-            raise ParameterError("name", self.name, "a name of its own (no ':'; not a built-in law's)")
+        if not isinstance(self.name, str) or not self.name.strip() or ":" in self.name or self.name in RESERVED:
+            raise ParameterError("name", self.name, "a name of its own (no ':'; not a built-in law's)",
+                                 hint="the built-in laws: " + ", ".join(sorted(RESERVED)) if self.name in RESERVED
+                                 else "")
         if not callable(self.energy):
             raise ParameterError.not_a("energy", self.energy, "a function energy(C, parameters)",
                                        "a function of C (casadi.SX 3x3) and the parameters")

@@ -115,3 +115,18 @@ def test_at_a_bifurcation_the_frequency_falls_like_the_square_root():
     assert slope == pytest.approx(0.5, abs=0.02)
     scene_k, n, fields, _ = path_start(ds, step=ds.sizes["step"] - 1)
     assert float(modes(scene_k, n=n, count=1, initial=fields).frequency[0]) ** 2 == pytest.approx(w2[-1], rel=1e-6)
+
+
+def test_path_start_takes_the_path_file_too(tmp_path):
+    """``path_start("m.nc", step=2)`` was an AttributeError ('str' object has no attribute 'attrs')."""
+    import mol_shell
+    from mol_shell.analysis.path_start import path_start
+
+    ds = mol_shell.path(mol_shell.Sphere(nu=0.3, material="svk-plane-stress"), "pressure", 0.0, 100.0, n=8,
+                        max_steps=3)
+    mol_shell.write_netcdf(ds, tmp_path / "m.nc")
+    scene, n, fields, info = path_start(tmp_path / "m.nc", step=2)
+    np.testing.assert_array_equal(fields[1], ds.r.values[2])
+    assert n == 8 and info.startswith("equilibrium path step 2")
+    with pytest.raises(mol_shell.ParameterError, match="does not exist"):
+        path_start(tmp_path / "none.nc", step=2)

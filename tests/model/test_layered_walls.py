@@ -189,3 +189,19 @@ def test_a_layer_whose_numbers_overflow_is_blamed_not_h(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert err.startswith("mol-shell: error: layers = '0.01 svk-plane-stress E=1e+300; 0.01 svk-plane-stress' is "
                           "outside layers whose numbers are finite in double precision"), err
+
+
+@pytest.mark.parametrize("layers, hint", [
+    ([{"thickness": "abc", "material": "svk"}, {"thickness": 0.01, "material": "svk"}], "layer 1: its thickness is not a number"),
+    ([{"material": "svk"}], "layer 1 has no thickness"),  # both said "each layer needs thickness and material"
+    ("0.01 svk; inf svk", "layer 2: a thickness inf, not a positive finite number"),  # was "a thickness inf <= 0"
+])
+def test_a_layers_bad_thickness_is_said_as_it_is(layers, hint):
+    with pytest.raises(ParameterError, match=rf"\({hint}\)$"):
+        Sphere(h=0.01, layers=layers)
+
+
+def test_a_material_with_a_built_in_name_is_refused_when_made():
+    """``Material("svk", ...)`` was made and refused only when a scene used it."""
+    with pytest.raises(ParameterError, match=r"^name = 'svk' is outside a name of its own .*the built-in laws: "):
+        mol_shell.Material("svk", energy=lambda C, p: C[0, 0] - 1, parameters={})
