@@ -243,6 +243,9 @@ def scene_from_dict(data, source="<scene file>", folder="."):
     for key, table in data.items():
         if key == "scene":
             continue
+        if key == "layers" and isinstance(table, list) and all(isinstance(x, dict) for x in table):  # [[layers]]
+            raise _fail(source, None, "[[layers]] tables are not read; allowed: [[layer]] tables, one per layer "
+                        "(or layers = 'T MATERIAL ...; ...' in [material])", key, table)
         if key in fields and not (key in TABLES and isinstance(table, dict)):  # material is both
             raise _fail(source, None, f"{key} = {toml_value(table)} belongs in [{table_of(cls, key)}]", key, table)
         if key not in TABLES:

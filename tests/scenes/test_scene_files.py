@@ -279,3 +279,12 @@ def test_compare_takes_the_files_saved_times(tmp_path, capsys):
     out = tmp_path / "c.nc"
     assert main(["compare", str(path), "--integrators", "dop853-c", "--repeats", "1", "-o", str(out)]) == 0
     assert read_netcdf(out).attrs["times"] == "0,1e-05,2e-05"
+
+
+def test_layers_tables_by_a_plural_name_point_to_layer(tmp_path):
+    """``[[layers]]`` (a typo of ``[[layer]]``) was refused as "layers = [...] belongs in [material]"."""
+    path = tmp_path / "typo.toml"
+    path.write_text('scene = "sphere"\n[material]\nh = 0.01\n[[layers]]\nthickness = 0.01\nmaterial = "svk"\n'
+                    '[[layers]]\nthickness = 0.01\nmaterial = "svk"\n')
+    with pytest.raises(ParameterError, match=r"typo.toml: \[\[layers\]\] tables are not read; allowed: \[\[layer\]\] "):
+        load_scene(path)
