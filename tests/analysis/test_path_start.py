@@ -125,7 +125,7 @@ def test_path_start_takes_the_path_file_too(tmp_path):
     ds = mol_shell.path(mol_shell.Sphere(nu=0.3, material="svk-plane-stress"), "pressure", 0.0, 100.0, n=8,
                         max_steps=3)
     mol_shell.write_netcdf(ds, tmp_path / "m.nc")
-    scene, n, fields, info = path_start(tmp_path / "m.nc", step=2)
+    _, n, fields, info = path_start(tmp_path / "m.nc", step=2)
     np.testing.assert_array_equal(fields[1], ds.r.values[2])
     assert n == 8 and info.startswith("equilibrium path step 2")
     with pytest.raises(mol_shell.ParameterError, match="does not exist"):

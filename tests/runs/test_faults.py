@@ -125,7 +125,7 @@ def test_a_case_files_run_attribute_edited_by_hand_is_run_again(tmp_path):
     out = tmp_path / "s.nc"
     vary = {"gamma": [0.02, 0.04]}
     first = study("twisted-cylinder", vary, n=10, t_end=0.002, scheduler="serial", output=out)
-    stored = sorted((tmp_path / "s.cases").glob("*.nc"))[0]
+    stored = min((tmp_path / "s.cases").glob("*.nc"))
     with netCDF4.Dataset(stored, "a") as handle:
         handle.setncattr("E", 2e6)
     with pytest.warns(UserWarning, match=r"1 stored case file could not be reused and runs again \(checksum mismatch: "):
