@@ -218,9 +218,10 @@ def modes(scene, n=40, count=10, *, initial=None):
     unstable = np.flatnonzero((w2[keep] < 0) & ~small[keep])  # a state past a critical point: omega^2 < 0
     if unstable.size:
         params["unstable_modes"] = int(unstable.size)
+        count = f"{unstable.size} mode{'s' * (unstable.size != 1)}"
         params["stability_warning"] = (
-            f"the state the modes are taken about is unstable: {unstable.size} mode{'s' * (unstable.size != 1)} with omega^2 < 0 "
-            f"(lowest {w2[keep][0]:.6g} s-2, growing as exp({np.sqrt(-w2[keep][0]):.6g} t / s)); their frequency is NaN")
+            f"the state the modes are taken about is unstable: {count} with omega^2 < 0 (lowest {w2[keep][0]:.6g} "
+            f"s-2, growing as exp({np.sqrt(-w2[keep][0]):.6g} t / s)); their frequency is NaN")
         warnings.warn(params["stability_warning"], UserWarning, stacklevel=2)
     return _dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params, small[keep])
 

@@ -118,8 +118,8 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
     i = (0 if radii[0] > 0 else int(np.argmax(radii))) if s is None else _nearest(nodes, float(s), "--at-s", "m")
     if not radii[i] > 0:
         off = nodes[radii > 0]
-        raise ParameterError("--at-s", float(s), f"[{off.min():.6g}, {off.max():.6g}] m (sections off the axis: at a pole "
-                             "r = 0 and there is no section to draw)")
+        raise ParameterError("--at-s", float(s), f"[{off.min():.6g}, {off.max():.6g}] m (sections off the axis: at "
+                             "a pole r = 0 and there is no section to draw)")
     r0 = float(radii[i])
     theta0 = float(ds["theta0"].values[i]) if "theta0" in ds else 0.0
     depths = np.array(face_depths(ds))
