@@ -33,7 +33,7 @@ from mol_shell.model.fibres import Fibres, fibre_energy
 from mol_shell.model.hyperelastic import condensed_energy, thickness_component
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.laws import LAWS, Law, scene_material, svk, thickness_treatment, user_material
-from mol_shell.model.layers import parse_layers
+from mol_shell.model.layers import layer_value, parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, lame
 
@@ -54,7 +54,7 @@ def law_of_attrs(attrs):
     fibre_E = float(attrs.get("fibre_E", 0.0))
     fibres = None
     if fibre_E > 0:
-        fibres = Fibres(fibre_E, float(attrs.get("fibre_angle", 0.0)), int(float(attrs.get("fibre_families", 1))),
+        fibres = Fibres(fibre_E, float(attrs.get("fibre_angle", 0.0)), int(layer_value("fibre_families", str(attrs.get("fibre_families", 1)))),
                         _flag(attrs.get("fibre_compression", 1)))
     if material in SVK_MATERIALS:
         if fibres is None:
@@ -82,7 +82,7 @@ def _flag(value):
     """A checked true/false parameter as the attrs hold it: 0/1 (the run's own), or ``true``/``false`` (a layer's key
     in the ``layers`` string)."""
     if isinstance(value, str):  # a file written before the layers were stored canonically may hold 1/0
-        return {"true": True, "false": False, "1": True, "0": False, "1.0": True, "0.0": False}[value.strip().lower()]
+        return {"true": True, "false": False}[layer_value("fibre_compression", value).strip().lower()]
     return bool(int(value))
 
 

@@ -190,3 +190,14 @@ def test_tension_only_fibres_of_a_layer_carry_tension_and_no_compression():
         tension_only = _dilated_meridional_force(R, f"{fibres} fibre_compression=false")
         np.testing.assert_allclose(tension_only, _dilated_meridional_force(R, same), rtol=1e-12, atol=0)
         assert np.all(np.abs(tension_only - _dilated_meridional_force(R, other)) > 1e-3 * np.abs(tension_only))
+
+
+def test_a_file_written_before_layers_were_stored_canonically_is_read():
+    """Files of the development code before December 6 hold a layer's flag and count as typed (1/0, 2.0)."""
+    from mol_shell.results.law_stresses import law_of_attrs
+
+    attrs = {"material": "svk-plane-stress", "E": 1e6, "nu": 0.3, "h": 0.01,
+             "layers": "0.02 svk-plane-stress fibre_compression=0 fibre_families=2.0 fibre_E=1e6"}
+    (_, ((_, route),), _) = law_of_attrs(attrs)
+    fibres = route[2]
+    assert fibres.families == 2 and fibres.compression is False
