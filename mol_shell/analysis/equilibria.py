@@ -62,17 +62,35 @@ def allowed_parameters(system):
     return tuple(out)
 
 
-def allowed_loads(system):
+def rigid_motions(system):
+    """The rigid motions no edge of ``system`` stops, each with the field it moves: axial translation (``z``) when no
+    edge fixes ``z``, spin about the axis (``chi``) when no edge imposes ``chi`` (a pole's tied ``chi`` does not)."""
+    out = {}
+    if 0 in system.active and not system.fixed[:, 0].any():
+        out["axial translation"] = 0
+    if 2 in system.active and not system.imposed[:, 2].any():
+        out["spin about the axis"] = 2
+    return out
+
+
+#: the loads whose net force (or moment) along a rigid motion is never zero: the motion's field and the loads
+UNBALANCED = {0: ("gravity", "end1_force", "end2_force"), 2: ("end1_torque", "end2_torque")}
+
+
+def allowed_loads(system, held=True):
     """The loads of :data:`PATH_LOADS` the edges of ``system`` let act (a force needs the edge's ``z`` free, a torque
-    its ``chi``)."""
+    its ``chi``) and, with ``held``, hold: gravity and end forces push a shell no edge holds axially, end torques
+    spin one no edge holds in ``chi``, so neither has an equilibrium there."""
     out = []
+    unbalanced = {load for field in rigid_motions(system).values() for load in UNBALANCED[field]} if held else set()
     for load in PATH_LOADS:
         if load.startswith("end"):
             node = 0 if load.startswith("end1") else system.n - 1
             field = 0 if load.endswith("force") else 2
             if field not in system.active or system.fixed[node, field]:
                 continue
-        out.append(load)
+        if load not in unbalanced:
+            out.append(load)
     return tuple(out)
 
 
@@ -119,9 +137,12 @@ class EquilibriumEquations:
         check_system(base, system)
         allowed = allowed_parameters(system)
         if parameter not in allowed:
-            raise ParameterError("parameter", parameter, "{" + ", ".join(allowed) + "}",
-                                 hint=f"the loads and edge displacements scene {scene.name} can take with edges "
-                                 f"{system.edges[0]} and {system.edges[1]}")
+            hint = (f"the loads and edge displacements scene {scene.name} can take with edges {system.edges[0]} and "
+                    f"{system.edges[1]}")
+            if parameter in allowed_loads(system, held=False):
+                what = next(what for what, field in rigid_motions(system).items() if parameter in UNBALANCED[field])
+                hint += f"; under {parameter} it has no equilibrium: no edge stops the shell's {what}"
+            raise ParameterError("parameter", parameter, "{" + ", ".join(allowed) + "}", hint=hint)
         self.n, self.nf, self.ny = system.n, system.nf, system.ny
         #: the state index the continued edge displacement moves (None for a load)
         self.moved = None
@@ -142,11 +163,9 @@ class EquilibriumEquations:
         fixed = system.fixed[:, active]
         free = [(i, k) for i in range(system.n) for k in range(nf) if not fixed[i, k]]
         self.rigid = {}
-        if 0 in active and not system.fixed[:, 0].any():
-            self.rigid["axial translation"] = (0, active.index(0))
-        if 2 in active and not system.imposed[:, 2].any():
-            node = next(i for i in range(system.n) if not system.fixed[i, 2])
-            self.rigid["spin about the axis"] = (node, active.index(2))
+        for what, field in rigid_motions(system).items():
+            node = next(i for i in range(system.n) if not system.fixed[i, field])
+            self.rigid[what] = (node, active.index(field))
         held = set(self.rigid.values())
         self.q_idx = np.array([ny * i + k for i, k in free])
         self.p_idx = self.q_idx + nf
