@@ -26,6 +26,8 @@ from mol_shell._core.errors import ParameterError
 MAX_LAYERS = 20
 #: the keys a layer may set (the rest are the scene's)
 LAYER_KEYS = ("E", "nu", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families", "fibre_compression")
+#: the keys whose value is a number (a dict's strings are refused, as a scene's are)
+NUMERIC_KEYS = tuple(key for key in LAYER_KEYS if key != "fibre_compression")
 _ALLOWED = ("'T MATERIAL key=value ...; ...' (T the layer's thickness, m; keys " + ", ".join(LAYER_KEYS)
             + "), or a list of dicts with thickness, material and those keys")
 
@@ -47,11 +49,18 @@ def layers_text(value):
         missing = [key for key in ("thickness", "material") if key not in layer]
         if missing:
             raise ParameterError("layers", value, _ALLOWED, hint=f"layer {len(parts) + 1} has no {missing[0]}")
+        number = len(parts) + 1
         try:
+            if isinstance(layer["thickness"], (str, bool)):  # a number, as every numeric parameter of a scene
+                raise TypeError
             head = f"{float(layer.pop('thickness'))!r} {layer.pop('material')}"
         except (TypeError, ValueError):
-            raise ParameterError("layers", value, _ALLOWED, hint=f"layer {len(parts) + 1}: its thickness is not a "
+            raise ParameterError("layers", value, _ALLOWED, hint=f"layer {number}: its thickness is not a "
                                  "number") from None
+        text = [k for k, v in layer.items() if k in NUMERIC_KEYS and isinstance(v, (str, bool))]
+        if text:
+            raise ParameterError("layers", value, _ALLOWED, hint=f"layer {number}: {text[0]} = {layer[text[0]]!r} is "
+                                 "not a number")
         parts.append(" ".join([head] + [f"{k}={layer_word(v)}" for k, v in layer.items()]))
     return "; ".join(parts)
 

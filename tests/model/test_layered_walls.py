@@ -195,6 +195,13 @@ def test_a_layer_whose_numbers_overflow_is_blamed_not_h(tmp_path, capsys):
     ([{"thickness": "abc", "material": "svk"}, {"thickness": 0.01, "material": "svk"}], "layer 1: its thickness is not a number"),
     ([{"material": "svk"}], "layer 1 has no thickness"),  # both said "each layer needs thickness and material"
     ("0.01 svk; inf svk", "layer 2: a thickness inf, not a positive finite number"),  # was "a thickness inf <= 0"
+    # a dict's numbers are numbers, as a scene's are (Sphere(E="2e6") is refused): these were read as numbers
+    ([{"thickness": "0.01", "material": "svk"}, {"thickness": 0.01, "material": "svk"}],
+     "layer 1: its thickness is not a number"),
+    ([{"thickness": 0.01, "material": "svk", "E": "2e6"}, {"thickness": 0.01, "material": "svk"}],
+     "layer 1: E = '2e6' is not a number"),
+    ([{"thickness": 0.01, "material": "svk"}, {"thickness": 0.01, "material": "svk", "fibre_families": True}],
+     "layer 2: fibre_families = True is not a number"),
 ])
 def test_a_layers_bad_thickness_is_said_as_it_is(layers, hint):
     with pytest.raises(ParameterError, match=rf"\({hint}\)$"):
