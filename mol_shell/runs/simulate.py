@@ -30,7 +30,7 @@ from mol_shell.runs.building import (  # noqa: F401
 )
 from mol_shell.runs.checks import check_start_inside_limits, checked_spectrum, initial_state
 from mol_shell.runs.ellipticity import check_ellipticity
-from mol_shell.runs.statics import static_equilibrium
+from mol_shell.runs.statics import static_equilibrium, unstable_directions
 from mol_shell.runs.unshearable import simulate_unshearable
 from mol_shell.scenes import UNSHEARABLE_INTEGRATORS, CylinderScene, Unshearable
 
@@ -193,6 +193,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     # refused by name if it cannot be formed in double precision
     y0, start_info = starting_state(scene, system, n, initial, asked=requested_scene)
     check_start_inside_limits(scene, requested, system, y0, start_info)
+    stability_note = _start_stability(scene, system, y0, start_info)
     omega_max, damping = checked_spectrum(scene, system, y0)
     if integrator == "leapfrog":
         dt = method.dt
@@ -227,6 +228,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         "leapfrog_dt_bound_s": 1.0 / omega_max,
         "initial_state": start_info,
     })
+    if stability_note:
+        attrs["stability_warning"] = stability_note
     ds = _material_warning(scene, build_dataset(system, scene, traj, velocities, totals, attrs, requested))
     ds = check_ellipticity(system, ds)
     if stresses is not False:
@@ -243,6 +246,22 @@ def _material_warning(scene, ds):
     if notes:
         ds.attrs["material_warning"] = "; ".join(notes)
     return ds
+
+
+def _start_stability(scene, system, y0, how):
+    """A warning (said, and returned for the attrs) when the start computed as a static equilibrium (``R`` or
+    ``dilation`` auto) is unstable: a load past a critical one, where the run leaves the start as round-off grows.
+    Not checked for a start with a twist held as initial data or set moving: neither is an equilibrium."""
+    if not how.startswith("static equilibrium") or getattr(scene, "gamma", 0.0) or np.any(system.initial_rates(scene)):
+        return None
+    count = unstable_directions(system, y0)
+    if not count:
+        return None
+    note = (f"the start computed as a static equilibrium (R or dilation auto) is unstable: its tangent stiffness "
+            f"has {count} negative eigenvalue{'s' * (count != 1)} (a load past a critical one); the run leaves it as "
+            "round-off grows (mol-shell path finds the critical loads, modes the growth rates)")
+    warnings.warn(note, UserWarning, stacklevel=3)
+    return note
 
 
 def _progress_bar(t_end):

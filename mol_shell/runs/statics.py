@@ -173,6 +173,44 @@ def _polished(system, y, f, Jr, p, solve, scale, res):
     return (trial, after) if after < res and np.all(np.array(system.limits(trial)).ravel() > 0) else (y, res)
 
 
+#: the widest band (node-major, in entries off the diagonal) for which a state's stability is checked: a band
+#: matrix's eigenvalues below zero cost ``O(N band^2)`` (LAPACK's ``dsbevx``); a meridian's couplings give about 10
+BAND_MAX = 200
+#: an eigenvalue of the tangent stiffness scaled to a unit diagonal counts as negative below minus this: round-off
+#: there is about 1e-15; a shell's softest stable direction about ``1 / n^2`` (2e-6 at n = 80)
+NEGATIVE = 1e-12
+
+
+def unstable_directions(system, y, hold=()):
+    """How many independent directions lower the energy of the state ``y`` at rest: the negative eigenvalues of the
+    tangent stiffness ``K = -dp_t/dq`` (its symmetric part) on the free coordinates with the gauges of
+    :func:`newton` held; ``None`` where its band is wider than :data:`BAND_MAX`.
+
+    ``K phi = omega^2 M phi`` has as many negative ``omega^2`` as ``K`` has negative eigenvalues (Sylvester's law
+    of inertia, ``M`` positive definite), and so has ``D K D`` for any diagonal ``D``: ``K`` is scaled to a unit
+    diagonal (its entries mix forces and moments) and only its eigenvalues below ``-NEGATIVE`` are computed.
+    """
+    import scipy.linalg  # optional heavy dependency: only statics needs it
+    import scipy.sparse
+
+    q = _free_entries(system, hold)
+    gauges = [g[0] for g in (_gauge(system, hold, 0), _gauge(system, hold, 2)) if g is not None]
+    solve = q[~np.isin(q, gauges)]
+    J = sparse_evaluator(system.jac)(0.0, y)[0].tocsr()
+    K = -J[solve + system.nf][:, solve]
+    K = ((K + K.T) / 2).tocoo()
+    d = 1.0 / np.sqrt(np.maximum(np.abs(K.diagonal()), 1e-300))
+    K = (scipy.sparse.diags(d) @ K @ scipy.sparse.diags(d)).tocoo()
+    band = int(np.abs(K.row - K.col).max()) if K.nnz else 0
+    if band > BAND_MAX or not np.all(np.isfinite(K.data)):
+        return None
+    upper = K.row <= K.col
+    packed = np.zeros((band + 1, K.shape[0]))
+    packed[band + K.row[upper] - K.col[upper], K.col[upper]] = K.data[upper]
+    lowest = -1.0 - float(np.abs(packed).sum(axis=0).max()) * 2  # below every eigenvalue (Gershgorin)
+    return len(scipy.linalg.eigvals_banded(packed, select="v", select_range=(lowest, -NEGATIVE)))
+
+
 def scaled_loads(scene, factor):
     """``scene`` with every load times ``factor``."""
     return dataclasses.replace(scene, **{k: getattr(scene, k) * factor for k in scene.loads_on()})

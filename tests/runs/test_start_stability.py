@@ -1,0 +1,61 @@
+"""A start computed as a static equilibrium (``R = auto``) past a critical load is said to be unstable.
+
+Expected values, derived apart from the code under test: a closed sphere of radius ``a`` and wall ``t = 2h`` buckles
+under external pressure near Zoelly's ``p_cl = 2 E t^2 / (a^2 sqrt(3 (1 - nu^2)))``: below it the membrane state is
+stable, beyond it unstable. The number of unstable directions is checked against a second route: the natural modes
+about the same state (``mol_shell.analysis.modes``: the dense generalised eigenproblem ``K phi = omega^2 M phi``
+with the rigid motions removed), whose modes with ``omega^2 < 0`` are as many as the negative eigenvalues of ``K``
+(Sylvester's law of inertia); the run's check counts those of the banded ``K`` scaled to a unit diagonal.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import pytest
+
+from mol_shell import Sphere, simulate
+from mol_shell.analysis.modes import modes
+from mol_shell.cli.main import main
+
+E, NU, A = 1.0e6, 0.3, 1.0
+H = A / 80  # a/t = 40
+P_CL = 2 * E * (2 * H) ** 2 / (A**2 * math.sqrt(3 * (1 - NU**2)))
+
+
+def sphere(factor):
+    return Sphere(a=A, h=H, E=E, nu=NU, material="svk-plane-stress", pressure=-factor * P_CL)
+
+
+def run(factor):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ds = simulate(sphere(factor), n=40, times=[0.0, 1e-4], stresses=False)
+    return ds, [str(w.message) for w in caught if "unstable" in str(w.message)]
+
+
+def test_below_the_critical_pressure_the_start_is_not_flagged():
+    ds, said = run(0.9)
+    assert not said and "stability_warning" not in ds.attrs
+
+
+@pytest.mark.parametrize("factor", [1.1, 1.5])
+def test_past_it_the_start_is_flagged_with_as_many_directions_as_the_modes_find(factor):
+    ds, said = run(factor)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        unstable = int(modes(sphere(factor), n=40).attrs["unstable_modes"])
+    assert unstable > 0
+    assert len(said) == 1 and said[0] == ds.attrs["stability_warning"]
+    assert f"has {unstable} negative eigenvalues" in said[0], said[0]
+
+
+def test_the_command_says_it_in_one_line_and_runs(tmp_path, capsys):
+    code = main(["run", "sphere", "--n", "40", "--times", "0,1e-4", "--set", f"a={A}", "--set", f"h={H}", "--set",
+                 f"E={E}", "--set", f"nu={NU}", "--set", "material=svk-plane-stress", "--set",
+                 f"pressure={-1.5 * P_CL}", "-o", str(tmp_path / "s.nc")])
+    err = capsys.readouterr().err
+    assert code == 0
+    lines = [line for line in err.splitlines() if "unstable" in line]
+    assert len(lines) == 1 and lines[0].startswith("mol-shell: warning: the start computed"), err
