@@ -175,8 +175,9 @@ class EquilibriumEquations:
         self.rigid_vectors = np.zeros((len(free), len(self.rigid)))
         for c, (_, k) in enumerate(self.rigid.values()):
             self.rigid_vectors[[m for m, (_, kk) in enumerate(free) if kk == k], c] = 1.0
-        self.gauge = [f"{what} (gauge: {('z', 'chi')[what.startswith('spin')]} held at s = {system.s[i]:.6g} m)"
-                      for what, (i, _) in self.rigid.items()]
+        self.gauge = [f"{what} (gauge: the states' mean {f} is the reference's; {f} held at s = {system.s[i]:.6g} m "
+                      "while iterating)" for what, (i, _) in self.rigid.items()
+                      for f in [("z", "chi")[what.startswith("spin")]]]
         self.size = len(self.q_idx)
 
     def _rest(self, y):
@@ -194,6 +195,18 @@ class EquilibriumEquations:
         if self.moved is not None:
             y[self.moved] += lam
         return y
+
+    def fields(self, q, lam=0.0):
+        """The fields ``(5, n)`` of :meth:`state`, each rigid motion's gauge traded for the reference's mean: the
+        free ``z`` (``chi``) shifted so that their mean is the reference's, as the static solve of ``R = auto``
+        leaves it (:func:`mol_shell.runs.statics.newton`). The same equilibrium, moved rigidly; the path iterates
+        with one node held."""
+        out = self.system.unpack(self.state(q, lam))
+        reference = self.system.unpack(self.y_ref)
+        for field in rigid_motions(self.system).values():
+            free = ~self.system.fixed[:, field]
+            out[field] += float(np.mean(reference[field, free] - out[field, free]))
+        return out
 
     def unknowns(self, y):
         return np.asarray(y)[self.q_idx].copy()

@@ -31,7 +31,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     """Assemble the Dataset of a traced path (``record``: the steps and critical points of ``mol_shell.analysis.path_record.PathRecord``)."""
     system = eq.system
     steps = len(record.lams)
-    fields = np.stack([system.unpack(eq.state(q, lam)) for q, lam in zip(record.qs, record.lams)])
+    fields = np.stack([eq.fields(q, lam) for q, lam in zip(record.qs, record.lams)])
     units = eq.units
     data = {}
     data["parameter"] = (("step",), np.array(record.lams), {
@@ -81,7 +81,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     points = record.points
     count = len(points)
     shapes = np.zeros((count, 5, eq.n))
-    states = (np.stack([eq.system.unpack(eq.state(p["q"], p["parameter"])) for p in points]) if count
+    states = (np.stack([eq.fields(p["q"], p["parameter"]) for p in points]) if count
               else np.zeros((0, 5, eq.n)))
     for m, point in enumerate(points):
         shapes[m] = _shape(eq, point["mode"])

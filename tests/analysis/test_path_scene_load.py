@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mol_shell import Cone, Sphere, path
+from mol_shell import Cone, Sphere, path, simulate
 from mol_shell.analysis.modes import modes
 from mol_shell.analysis.path_start import path_start
 from mol_shell.analysis.path_study import path_study
@@ -121,3 +121,16 @@ def test_a_twist_asked_for_is_said_to_be_initial_data():
     ds = path(TwistedCylinder(), "pressure", 0.0, 100.0, n=N, max_steps=3)
     assert np.ptp(ds.chi.values[-1]) < 1e-9  # untwisted: the twist unwound at rest
     assert "gamma = 0.1 rad m-1 is initial data: a path's states are equilibria at rest" in ds.attrs["loads_at_rest"]
+
+
+def test_a_paths_state_is_the_run_starts_equilibrium_to_round_off():
+    """A closed sphere translates freely along its axis: the path held one node's ``z`` and the run's static solve
+    (``R = auto``) keeps the reference's mean ``z``, so the same equilibrium came out shifted by 3.5e-4 m. The path
+    reports its states with the static solve's gauge (the rigid motion's mean kept): the two independent solves
+    (continuation against Newton from the natural sphere) then give one state."""
+    scene = Sphere(**WALL)
+    ds = path(scene, "pressure", 0.0, 2000.0, n=41, steps=2)
+    start = simulate(Sphere(**WALL, pressure=float(ds.parameter[-1])), n=41, times=[0.0, 1e-5], stresses=False)
+    for name in ("z", "r", "chi", "theta"):
+        assert np.allclose(ds[name].values[-1], start[name].values[0], rtol=0, atol=1e-12), name
+    assert abs(float(ds.z.values[-1].mean() - ds.z.values[0].mean())) < 1e-12  # the mean z stays the reference's
