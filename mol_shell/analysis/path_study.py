@@ -30,7 +30,7 @@ from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netc
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
 from mol_shell.runs.scheduling import connect, scheduler_name
-from mol_shell.runs.study import case_result, design, label_coords, run_cases
+from mol_shell.runs.study import case_inputs, case_result, design, label_coords, run_cases
 from mol_shell.scenes import UNITS, with_params
 
 #: statuses of a path that are final (stored, not run again on resume)
@@ -53,8 +53,8 @@ class PathTask:
     @property
     def key(self):
         spec = {"version": __version__, "kind": "path", "scene": type(self.scene).__name__,
-                "params": self.scene.params(), "parameter": self.parameter, "start": self.start, "stop": self.stop,
-                "n": self.n, "options": self.options}
+                "params": self.scene.params(), "inputs": case_inputs(self.scene), "parameter": self.parameter,
+                "start": self.start, "stop": self.stop, "n": self.n, "options": self.options}
         return hashlib.sha256(json.dumps(spec, sort_keys=True, default=repr).encode()).hexdigest()[:20]
 
 

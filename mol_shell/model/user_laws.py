@@ -21,6 +21,7 @@ dict) changes some of them for that scene, so a study varies them like a built-i
 
 from __future__ import annotations
 
+import hashlib
 import math
 from dataclasses import dataclass, field
 
@@ -164,6 +165,13 @@ class Material:
             shown = " ".join(f"{k}={v:g}" for k, v in changes.items())
             raise ParameterError("material_parameters", shown, exc.allowed,
                                  message=f"material_parameters = {shown!r} of material {self.name}: {exc}") from None
+
+    def fingerprint(self):
+        """A digest of what the law computes: its name, thickness treatment, parameters and the energy's expression
+        in a symbolic ``C`` (so an edited energy function, under the same name or import path, is another law)."""
+        W = ca.SX(self.energy(ca.SX.sym("C", 3, 3), dict(self.parameters)))
+        text = f"{self.name}|{self.thickness}|{sorted(self.parameters.items())}|{W}"
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
 
     def law(self):
         """The :class:`~mol_shell.model.laws.Law` that runs it (``C`` handed over as an ``SX`` matrix)."""

@@ -27,17 +27,21 @@ __all__ = ["PARALLEL_MIN_NODES", "as_scene", "build", "observe", "parse_times", 
 
 
 def _graph_key(scene):
-    """The parameters the equations depend on (initial data at their defaults), so graphs are shared."""
+    """``(scene, meridian)``: the parameters the equations depend on (initial data at their defaults), so graphs
+    are shared, and the meridian's description: a points file edited since (same name) is another shell (its
+    description carries the points' digest), which a key of the parameters alone handed the old graphs."""
     fields = {f.name: f for f in dataclasses.fields(scene)}
     initial = {k: fields[k].default for k in getattr(scene, "initial", ()) if k in fields}
     if isinstance(scene, CylinderScene):
         initial["R"] = scene.a  # the natural radius: a finite initial state for the checks of the graph
-    return dataclasses.replace(scene, **initial)
+    meridian = scene.meridian().describe() if callable(getattr(scene, "meridian", None)) else ""
+    return dataclasses.replace(scene, **initial), meridian
 
 
 @functools.lru_cache(maxsize=16)
 def _built(key, n):
     start = time.perf_counter()
+    key, _ = key
     system = ShellSystem(key, n)
     check_system(key, system)  # values whose numbers are not finite are refused before anything is compiled
     rhs = system.rhs_parallel if n >= PARALLEL_MIN_NODES else system.rhs_mapped

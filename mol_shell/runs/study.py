@@ -28,7 +28,8 @@ import numpy as np
 from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
-from mol_shell.model.laws import locking_warnings, scene_material
+from mol_shell.model.laws import locking_warnings, scene_material, user_material
+from mol_shell.model.layers import parse_layers
 from mol_shell.results.cf import header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
 from mol_shell.results.study_store import Store, assemble
@@ -65,8 +66,29 @@ class Task:
     def key(self):
         """Hash of the package version, scene class and parameters, integrator, grid, saved times and options."""
         spec = {"version": __version__, "scene": type(self.scene).__name__, "params": self.scene.params(),
-                "integrator": self.integrator, "n": self.n, "times": list(self.times), "options": self.options}
+                "inputs": case_inputs(self.scene), "integrator": self.integrator, "n": self.n,
+                "times": list(self.times), "options": self.options}
         return hashlib.sha256(json.dumps(spec, sort_keys=True, default=repr).encode()).hexdigest()[:20]
+
+
+def case_inputs(scene):
+    """What a case reads besides its parameters, for its key: the meridian's description (a points file's digest,
+    so an edited file is another case) and the fingerprint of each law of one's own it uses (an edited energy
+    function under the same name or import path). A file or law that cannot be read is said so: the case then
+    runs, and is refused by name."""
+    out = {}
+    try:
+        if callable(getattr(scene, "meridian", None)):
+            out["meridian"] = scene.meridian().describe()
+        names = [scene.material] if hasattr(scene, "material") else []
+        names += [material for _, material, _ in parse_layers(scene.layers)] if getattr(scene, "layers", "") else []
+        for name in dict.fromkeys(names):
+            user = user_material(name) if isinstance(name, str) else None
+            if user is not None:
+                out["law " + name] = user.fingerprint()
+    except ParameterError as exc:
+        out["unreadable"] = str(exc)
+    return out
 
 
 def run_scene(scene, integrator, *, n, times, **options):

@@ -9,6 +9,7 @@ loads, the natural state at rest (an equilibrium, so ``mol-shell modes`` takes i
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 from dataclasses import dataclass
@@ -228,7 +229,11 @@ class MeridianShell(_Dilated):
         if not self.points.strip():
             return _default_dome()
         p = Path(self.points).expanduser()
-        stamp = p.stat().st_mtime_ns if p.is_file() else 0
+        # the file's contents, not its time: two writes within one tick of the file system's clock keep the time
+        try:
+            stamp = hashlib.sha256(p.read_bytes()).hexdigest()
+        except OSError:  # missing or unreadable: read_points says so by name
+            stamp = ""
         return _points_meridian(str(p), stamp)
 
     def stand_ins(self):

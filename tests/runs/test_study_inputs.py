@@ -1,0 +1,65 @@
+"""A stored study case is reused only when everything it read is the same: the parameters, and the files and laws
+they name. A meridian's points file edited between two runs of a study (same path) made the second reuse the
+first's cases, geometry and all, silently; so did an edited energy of a law of one's own under the same name.
+Independent check: a plain run of the edited file (its reference radii ``r0``) against the study's."""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+
+import mol_shell
+from mol_shell.runs.study import case_inputs, study
+
+NARROW = "0 0\n0.5 0.1\n1 0.5\n0.5 0.9\n0 1\n"
+WIDE = "0 0\n0.8 0.1\n1.6 0.5\n0.8 0.9\n0 1\n"
+
+
+def _study(points, output):
+    return study(mol_shell.MeridianShell(points=str(points)), {"h": [0.005, 0.006]}, "leapfrog", n=10,
+                 t_end=1e-3, scheduler="serial", output=output, progress=False)
+
+
+def test_an_edited_points_file_is_another_case(tmp_path):
+    points, output = tmp_path / "points.txt", tmp_path / "study.nc"
+    points.write_text(NARROW)
+    first = _study(points, output)
+    points.write_text(WIDE)
+    second = _study(points, output)
+    assert (second.attrs["n_executed"], second.attrs["n_reused"]) == (2, 0)
+    plain = mol_shell.simulate(mol_shell.MeridianShell(points=str(points), h=0.005), n=10, t_end=1e-3,
+                               stresses=False)
+    assert np.allclose(second.r0.sel(h=0.005).values, plain.r0.values, rtol=1e-12, atol=0)
+    assert abs(float(first.r0.sel(h=0.005).max()) / float(plain.r0.max()) - 1) > 0.3  # the narrow shell
+    third = _study(points, output)  # unchanged since: reused
+    assert (third.attrs["n_executed"], third.attrs["n_reused"]) == (0, 2)
+
+
+def neo_hookean_like(scale):
+    def energy(C, p):
+        return scale * p["mu"] / 2 * (ca.trace(C) - 3)
+    return energy
+
+
+def test_a_law_of_ones_own_is_keyed_by_what_it_computes():
+    one = mol_shell.Material("study-key-law", energy=neo_hookean_like(1.0), parameters={"mu": 1e5},
+                             thickness="incompressible")
+    same = mol_shell.Material("study-key-law", energy=neo_hookean_like(1.0), parameters={"mu": 1e5},
+                              thickness="incompressible")
+    edited = mol_shell.Material("study-key-law", energy=neo_hookean_like(2.0), parameters={"mu": 1e5},
+                                thickness="incompressible")
+    assert one.fingerprint() == same.fingerprint() != edited.fingerprint()
+    before = case_inputs(mol_shell.Sphere(material=one))
+    after = case_inputs(mol_shell.Sphere(material=edited))
+    assert before["law study-key-law"] == one.fingerprint() and after["law study-key-law"] == edited.fingerprint()
+
+
+def test_in_one_process_an_edited_points_file_is_another_shell(tmp_path):
+    """The in-process caches (the meridian read, the built graphs) were keyed by the file's name and time: a run
+    after an edit (the same name, within one tick of the file system's clock) was the old shell's."""
+    points = tmp_path / "points.txt"
+    points.write_text(NARROW)
+    narrow = mol_shell.simulate(mol_shell.MeridianShell(points=str(points)), n=10, t_end=1e-4, stresses=False)
+    points.write_text(WIDE)
+    wide = mol_shell.simulate(mol_shell.MeridianShell(points=str(points)), n=10, t_end=1e-4, stresses=False)
+    assert float(narrow.r0.max()) < 1.0 < 1.4 < float(wide.r0.max())  # the tables' largest r: 1 and 1.6
