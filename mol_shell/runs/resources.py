@@ -309,25 +309,38 @@ def check_before_run(n, times, integrator, *, fields=5, dt=None, omega_max=None,
     return est
 
 
-def check_cases(count, n, n_times=2, *, name="vary", value=None):
-    """Refuse a study of ``count`` cases whose combined Dataset would not fit in memory (before the cases are made)."""
+def check_cases(count, n, n_times=2, *, name="vary", value=None, early=False):
+    """Refuse a study of ``count`` cases whose combined Dataset would not fit in memory (before the cases are made).
+    Not one case fitting is blamed on ``n``; ``early`` (before the saved times are known) leaves that to the
+    per-case check of :func:`check_study`, which names the range of ``n`` a run has."""
     if not (isinstance(n, (int, np.integer)) and n >= 3):
         return
     per_case = output_bytes(n_times, n) * ASSEMBLY_COPIES
     available, source = available_memory()
     if count * per_case + BUILD_BYTES_FIXED > available:
         fits = int(max(available - BUILD_BYTES_FIXED, 0) / per_case)
+        if fits < 1 and early:
+            return
+        if fits < 1:  # not one case: the grid is too fine, whatever is varied (output_bytes grows like n)
+            raise ParameterError("n", n, f"[3, {max(int(n * fits_fraction(available, per_case)), 3):,}] for a "
+                                 f"study with {n_times} saved times", hint=f"one case's Dataset would need about "
+                                 f"{show_bytes(per_case)}, {show_bytes(available)} available ({source})")
         raise ParameterError(name, value if value is not None else f"<{count:.4g} cases>",
                              f"at most {fits:,} cases at n = {n} with {n_times} saved times",
                              hint=f"the study's Dataset would need about {show_bytes(count * per_case)}, "
                              f"{show_bytes(available)} available ({source}); vary fewer values (--vary)")
 
 
+def fits_fraction(available, per_case):
+    """The share of a case's bytes that fits in ``available`` beside the fixed cost of a build."""
+    return max(available - BUILD_BYTES_FIXED, 0) / per_case
+
+
 def check_study(n_cases, n, times, integrator="leapfrog", *, fields=5, dt=None, workers=1):
     """A study: its combined output must fit in memory; warn when its cases take more than an hour in all."""
-    check_cases(n_cases, n, len(times))
     est = estimate(n, len(times), times[-1], integrator, fields=fields, dt=dt)
-    check_memory(est)  # one case (each worker runs one at a time)
+    check_memory(est)  # one case (each worker runs one at a time): a grid too fine for any is refused naming n
+    check_cases(n_cases, n, len(times))
     total = dataclasses.replace(est, seconds=est.seconds * n_cases / max(int(workers or 1), 1),
                                 steps=est.steps * n_cases)
     warn_if_long(total, what=f"study ({n_cases} cases on {max(int(workers or 1), 1)} workers)")

@@ -28,6 +28,7 @@ import numpy as np
 from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
+from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.laws import locking_warnings, scene_material, user_material
 from mol_shell.model.layers import parse_layers
 from mol_shell.results.cf import header
@@ -135,19 +136,22 @@ def resolve_scene(scene):
     return as_scene(scene)
 
 
-def design(scene, vary, integrator="leapfrog"):
+def design(scene, vary, integrator="leapfrog", options=None):
     """``(dims, coords, cases)`` of a study: a grid for a dict of lists, a ``case`` dim for a list of dicts.
 
-    Each case is ``(index, {name: value})``; names are scene parameters or integrator options.
+    Each case is ``(index, {name: value})``; names are scene parameters or integrator options. A case of a list
+    that leaves a name out has the base scene's value, or for an option the study's (``options``), else the
+    integrator's default.
     """
     allowed = set(_scene_fields(scene)) | _option_names(scene, integrator) | _material_names(scene)
     if isinstance(vary, dict):
         if not vary:
             raise ParameterError("vary", vary, "at least one parameter with values")
         names = list(vary)
+        for name in names:  # a name first: its values are typed as the name wants them
+            _check_name(name, allowed, scene, integrator)
         values = [[_typed(scene, k, v) for v in np.atleast_1d(np.asarray(vary[k], dtype=object)).tolist()] for k in names]
         for name, vals in zip(names, values):
-            _check_name(name, allowed, scene, integrator)
             if not vals or len(set(map(repr, vals))) != len(vals):
                 raise ParameterError(f"vary[{name!r}]", vals, "distinct values, at least one")
         cases = [(idx, dict(zip(names, (values[d][i] for d, i in enumerate(idx)))))
@@ -159,7 +163,8 @@ def design(scene, vary, integrator="leapfrog"):
     names = sorted({k for c in cases for k in c})
     for name in names:
         _check_name(name, allowed, scene, integrator)
-    coords = {k: [_typed(scene, k, c.get(k, _default(scene, k))) for c in cases] for k in names}
+    coords = {k: [_typed(scene, k, c[k] if k in c else _default(scene, k, integrator, options or {}))
+                  for c in cases] for k in names}
     return ["case"], coords, [((i,), {k: coords[k][i] for k in names}) for i in range(len(cases))]
 
 
@@ -232,8 +237,8 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         cache_dir()  # cannot be used is refused once, before the cases, not once per case
     if isinstance(vary, dict):  # the product's size, before its cases are made
         resources.check_cases(int(np.prod([len(np.atleast_1d(np.asarray(v, dtype=object))) for v in vary.values()],
-                                          dtype=float)), n)
-    dims, coords, cases = design(scene, vary, integrator)
+                                          dtype=float)), n, early=True)
+    dims, coords, cases = design(scene, vary, integrator, options)
     if times is None and integrator == "leapfrog":  # as simulate: on the step grid, t_end a multiple of dt; a dt
         # varied: the coarsest one's grid (the others' too when they divide it; a case whose dt does not is refused)
         steps = [float(v) for v in coords["dt"]] if "dt" in coords else [options.get("dt", DEFAULT_DT)]
@@ -360,12 +365,27 @@ def label_coords(ds, coords, dims):
 
 def _check_name(name, allowed, scene, integrator=None):
     if name not in allowed:
-        raise ParameterError("vary", name, "{" + ", ".join(sorted(allowed)) + "}",
-                             hint=f"parameters of scene {scene.name}" + (f" and options of {integrator}" if integrator else ""))
+        hint = f"parameters of scene {scene.name}" + (f" and options of {integrator}" if integrator else "")
+        if name in ("integrator", "n"):  # one per study
+            hint += f"; {name} is one per study (integrators are compared by mol-shell compare)"
+        raise ParameterError("vary", name, "{" + ", ".join(sorted(allowed)) + "}", hint=hint)
 
 
-def _default(scene, name):
-    return getattr(scene, name, None)
+def _default(scene, name, integrator, options):
+    """The value of ``name`` in a case that leaves it out: the scene's, the study's option, the integrator's
+    default; refused by name when there is none to show (an option whose default is left to the solver)."""
+    if hasattr(scene, name):
+        return getattr(scene, name)
+    if name in options:
+        return options[name]
+    fields = {f.name: f for f in dataclasses.fields(INTEGRATORS[integrator])} if integrator in INTEGRATORS else {}
+    value = fields[name].default if name in fields else None
+    if name == "dt" and value is None:  # the unshearable scene's leap-frog
+        value = DEFAULT_DT
+    if value is None or value is dataclasses.MISSING:
+        raise ParameterError("vary", f"<{name} missing from a case>", f"cases that each give {name}",
+                             hint=f"{integrator} has no value of {name} to record for a case without it")
+    return value
 
 
 def _typed(scene, name, value):
@@ -381,7 +401,7 @@ def _typed(scene, name, value):
             try:
                 return float(value)
             except ValueError:
-                raise ParameterError.not_a(f"--vary {name}", value, "a number", "numbers") from None
+                raise ParameterError.not_a(f"vary[{name!r}]", value, "a number", "numbers") from None
         return value
     annotation = str(fields[name].type)
     value = _coerce(name, value, fields[name].type)

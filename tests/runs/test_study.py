@@ -102,6 +102,20 @@ def test_irregular_design_has_a_case_dimension():
     np.testing.assert_allclose(ds.h, [BASE.h, 0.004, 0.004])
 
 
+def test_a_case_that_leaves_an_option_out_runs_with_the_studys_or_the_integrators_value():
+    """A list of cases where only some set ``dt`` (or ``rtol``) crashed (``float(None)``) or refused the others
+    (``rtol = None is not a number``); the docstring promises the base's value for what a case leaves out."""
+    ds = study(BASE, [{"gamma": 0.05}, {"nu": 0.3, "dt": 2e-6}], "leapfrog", n=12, t_end=0.002, scheduler="serial")
+    assert list(ds.status.values) == ["complete", "complete"]
+    np.testing.assert_allclose(ds.dt, [1e-6, 2e-6])  # leap-frog's default dt, then the case's
+    ds = study(BASE, [{"rtol": 1e-7}, {"gamma": 0.05}], "cvode-bdf", n=12, t_end=0.002, scheduler="serial",
+               rtol=1e-5)
+    assert list(ds.status.values) == ["complete", "complete"]
+    np.testing.assert_allclose(ds.rtol, [1e-7, 1e-5])  # the case's, then the study's
+    with pytest.raises(ParameterError, match=r"cases that each give max_order"):  # no value of its own to show
+        study(BASE, [{"max_order": 3}, {"gamma": 0.05}], "cvode-bdf", n=12, t_end=0.002, scheduler="serial")
+
+
 def test_vary_ranges_include_the_stop():
     vary = parse_vary(["gamma=0.02:0.2:0.02", "nu=0.3,0.45,0.49", "material=svk,svk-plane-stress"])
     assert vary["gamma"] == pytest.approx(np.arange(1, 11) * 0.02) and vary["gamma"][2] == 0.06
@@ -156,7 +170,21 @@ STUDY_BAD = [
     (["--vary", "gamma=1,,2"], "--vary = 'gamma=1,,2' has an empty entry"),
     (["--vary", "gamma=1,abc"], "gamma = 'abc' is not a number"),
     (["--vary", "gamma=0.1,0.2", "--scheduler", "garbage"], "scheduler = 'garbage' is not a scheduler address"),
+    # varying the integrator said "--vary integrator = 'leapfrog' is not a number"
+    (["--vary", "integrator=leapfrog,ida"], "vary = 'integrator' is outside {"),
 ]
+
+
+def test_a_grid_too_fine_for_one_case_is_blamed_on_n(tmp_path, capsys, monkeypatch):
+    """It said "vary = '<2 cases>' is outside at most 0 cases", naming what the user had not got wrong."""
+    from mol_shell.cli.main import main
+
+    monkeypatch.setattr(study_module, "run_task", None)  # nothing may run
+    code = main(["study", "sphere", "--vary", "h=0.01,0.02", "--n", "100000000", "--t-end", "0.001", "-o",
+                 str(tmp_path / "s.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("mol-shell: error: n = 100000000 is outside integers 3.."), err
+    assert len(err.splitlines()) == 1
 
 
 @pytest.mark.parametrize("extra,message", STUDY_BAD)
