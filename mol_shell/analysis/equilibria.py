@@ -34,7 +34,7 @@ from mol_shell.discretization.loading import check_end_loads, load_terms, volume
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.loads import cell_volume, gravity_potential
 from mol_shell.runs.checks import check_system, resolve
-from mol_shell.runs.statics import sparse_evaluator
+from mol_shell.runs.statics import UNBALANCED, sparse_evaluator
 from mol_shell.scenes import DISPLACEMENTS, DRIVES, LOADS, UNITS
 
 #: the loads a path can be continued in (drag is not a load at rest)
@@ -71,10 +71,6 @@ def rigid_motions(system):
     if 2 in system.active and not system.imposed[:, 2].any():
         out["spin about the axis"] = 2
     return out
-
-
-#: the loads whose net force (or moment) along a rigid motion is never zero: the motion's field and the loads
-UNBALANCED = {0: ("gravity", "end1_force", "end2_force"), 2: ("end1_torque", "end2_torque")}
 
 
 def allowed_loads(system, held=True):

@@ -224,6 +224,34 @@ SMALLEST_INCREMENT = 2.0**-6
 EASY = 8
 
 
+#: the loads whose net force (or moment) along a rigid motion is never zero, by the field the motion moves
+UNBALANCED = {0: ("gravity", "end1_force", "end2_force"), 2: ("end1_torque", "end2_torque")}
+#: a net force along a free rigid motion counts as zero below this share of the forces' sum of magnitudes (the
+#: elastic forces of any state sum to round-off there: the energy does not change under the rigid motion)
+BALANCED = 1e-9
+
+
+def check_balanced(scene, system, y0, hold=()):
+    """Refuse, naming the load, loads with a net force along a rigid motion no edge stops (a closed sphere under
+    gravity: it falls, and has no equilibrium); the net is the sum of the generalised forces on that field."""
+    y = np.array(y0, dtype=float)
+    y[: system.ny * system.n].reshape(system.n, system.ny)[:, system.nf:] = 0.0  # at rest
+    f = np.array(system.rhs_newton(0, y)).ravel()
+    for field, what in ((0, "axial translation"), (2, "spin about the axis")):
+        entries = _gauge(system, hold, field)
+        if entries is None:
+            continue
+        forces = f[entries + system.nf]
+        if abs(float(forces.sum())) > BALANCED * max(float(np.abs(forces).sum()), 1e-300):
+            loads = scene.loads_on()
+            name = next((k for k in UNBALANCED[field] if k in loads), loads[0] if loads else "scene")
+            raise ParameterError(name, getattr(scene, name, scene.name), "loads whose net "
+                                 f"{'force along' if field == 0 else 'moment about'} the axis is zero on a shell "
+                                 f"no edge holds in {('z', 'chi')[field == 2]}", hint=f"its edges ({system.edges[0]} "
+                                 f"and {system.edges[1]}) leave the {what} free, so there is no equilibrium under "
+                                 "the loads; hold an edge, or start from a state of one's own (R or dilation)")
+
+
 def static_equilibrium(scene, n, y0, hold=()):
     """The equilibrium state at rest under the scene's loads at ``t = 0``, starting from ``y0``.
 
@@ -234,6 +262,7 @@ def static_equilibrium(scene, n, y0, hold=()):
     loads need only the graphs (:class:`~mol_shell.discretization.system.ShellSystem`), no compiled kernels.
     """
     system, _ = build(scene, n)
+    check_balanced(scene, system, y0, hold)
     try:
         y, it, res = newton(system, y0, hold)
         return y, f"static equilibrium under the loads at t = 0 (Newton, {it} iterations, residual {res:.2g})"

@@ -59,3 +59,25 @@ def test_the_command_says_it_in_one_line_and_runs(tmp_path, capsys):
     assert code == 0
     lines = [line for line in err.splitlines() if "unstable" in line]
     assert len(lines) == 1 and lines[0].startswith("mol-shell: warning: the start computed"), err
+
+
+@pytest.mark.parametrize("loads, named", [
+    (["gravity=9.81", "pressure=10"], "gravity = 9.81"),  # named pressure, with Newton's failure
+    (["gravity=9.81"], "gravity = 9.81"),
+    (["end1_force=5"], "end1_force = 5.0"),
+])
+def test_loads_a_free_shell_cannot_hold_are_refused_naming_the_load(loads, named, tmp_path, capsys):
+    """A closed sphere (two poles) under gravity, or one end force, has a net axial force: it falls, no
+    equilibrium (statics of a free body). The run's static start said Newton failed and named the pressure."""
+    extra = [arg for load in loads for arg in ("--set", load)]
+    code = main(["run", "sphere", "--n", "10", "--t-end", "0.001", *extra, "-o", str(tmp_path / "e.nc")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2
+    assert err[-1].startswith(f"mol-shell: error: {named} is outside loads whose net force along the axis is zero")
+    assert "no equilibrium" in err[-1] and "Newton" not in err[-1], err
+
+
+def test_balanced_end_forces_on_a_free_shell_are_not_refused(tmp_path):
+    """Equal and opposite end forces (net zero) leave the sphere an equilibrium: the check is on the net."""
+    ds = simulate(Sphere(end1_force=5.0, end2_force=-5.0), n=10, times=[0.0, 1e-4], stresses=False)
+    assert ds.attrs["initial_state"].startswith("static equilibrium")
