@@ -19,6 +19,8 @@ from __future__ import annotations
 import dataclasses
 import functools
 import importlib
+import os
+import sys
 
 import casadi as ca
 import numpy as np
@@ -205,7 +207,7 @@ def resolve_material(value):
     if isinstance(value, str) and ":" in value:
         module, _, attr = value.partition(":")
         try:
-            found = getattr(importlib.import_module(module.strip()), attr.strip())
+            found = getattr(_import(module.strip()), attr.strip())
         except (ImportError, AttributeError, ValueError) as exc:
             raise ParameterError("material", value, _allowed(),
                                  hint=f"cannot import it ({type(exc).__name__}: {exc})") from None
@@ -216,6 +218,19 @@ def resolve_material(value):
         return value
     raise ParameterError("material", value, _allowed(),
                          hint="or a mol_shell.Material, or its import path 'package.module:attr'")
+
+
+def _import(module):
+    """``importlib.import_module(module)``, looked up in the working directory too when it is not on the path:
+    ``python -m mol_shell`` puts it there, the ``mol-shell`` script does not, and the two are one command."""
+    try:
+        return importlib.import_module(module)
+    except ModuleNotFoundError as exc:
+        here = os.getcwd()
+        if exc.name != module.split(".")[0] or "" in sys.path or here in sys.path:
+            raise
+        sys.path.append(here)
+        return importlib.import_module(module)
 
 
 def _allowed():

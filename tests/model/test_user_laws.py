@@ -1,6 +1,7 @@
 """Laws of one's own (mol_shell.Material): a stored energy written by the user runs like a built-in law."""
 
 import re
+import sys
 import textwrap
 
 import casadi as ca
@@ -10,7 +11,7 @@ import pytest
 import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
-from mol_shell.model.laws import small_strain_lame
+from mol_shell.model.laws import resolve_material, small_strain_lame, user_material
 from mol_shell.scenes import Sphere
 from mol_shell.scenes.files import load_scene
 
@@ -218,3 +219,19 @@ def test_a_law_not_finite_at_the_scenes_state_is_blamed_not_the_wall():
     mol_shell.simulate(Sphere(h=0.01, material=law, R=1.05), "cvode-bdf", n=9, t_end=1e-5, progress=False)
     with pytest.raises(ParameterError, match=r"^material = 'finite-near-I' is outside a law whose energy and forces"):
         mol_shell.simulate(Sphere(h=0.01, material=law, R=1.6), "cvode-bdf", n=9, t_end=1e-5, progress=False)
+
+
+def test_an_import_path_is_found_in_the_working_directory_as_python_m_finds_it(tmp_path, monkeypatch):
+    """``python -m mol_shell run ul.toml`` found ``material = "my_laws:rubber"`` beside it, the ``mol-shell``
+    script (whose ``sys.path`` does not hold the working directory) refused it: ModuleNotFoundError."""
+    (tmp_path / "cwd_only_laws.py").write_text(
+        "import casadi as ca\nimport mol_shell\n"
+        "rubber = mol_shell.Material('cwd-only-rubber', energy=lambda C, p: p['mu'] / 2 * (ca.trace(C) - 3),\n"
+        "                            parameters={'mu': 1e5}, thickness='incompressible')\n")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(sys, "path", [p for p in sys.path if p not in ("", str(tmp_path))])
+    monkeypatch.delitem(sys.modules, "cwd_only_laws", raising=False)
+    assert resolve_material("cwd_only_laws:rubber") == "cwd_only_laws:rubber"
+    assert user_material("cwd_only_laws:rubber").name == "cwd-only-rubber"
+    with pytest.raises(mol_shell.ParameterError, match="cannot import it"):  # a module that is nowhere
+        resolve_material("no_such_module_anywhere:rubber")
