@@ -87,6 +87,33 @@ def _blocks(system, y0):
     return q_idx, Minv.tocsc(), K.tocsc()
 
 
+def rigid_vectors(system, q_idx):
+    """The rigid motions of :func:`rigid_motions` on the free coordinates ``q_idx``: a column of ones on every free
+    ``z`` (axial translation), one on every free ``chi`` (spin; a pole's tied ``chi`` is no free coordinate)."""
+    fields = np.array(system.active)[np.asarray(q_idx) % system.ny]
+    translation = 0 in system.active and not system.fixed[:, 0].any()
+    spin = 2 in system.active and not system.imposed[:, 2].any()
+    columns = [(fields == k).astype(float) for k, free in ((0, translation), (2, spin)) if free]
+    return np.column_stack(columns) if columns else np.zeros((len(q_idx), 0))
+
+
+def _rigid_deflated(M, w2, phi, cluster, rigid):
+    """``(w2, phi)`` with the eigenpairs of ``cluster`` (eigenvalues near zero, more of them than rigid motions)
+    rotated so that the rigid motions are exactly ``rigid.shape[1]`` of them, at ``w2 = 0``, and the others are
+    ``M``-orthogonal to them: a Rayleigh-Ritz step within the cluster, which holds the rigid motions (exact null
+    vectors of ``K`` at an equilibrium). Near a critical point the solver returns any mix of the rigid motions
+    and the critical mode, whose eigenvalues are all zero to round-off: the spin was listed as mode 1."""
+    w2, phi = w2.copy(), phi.copy()
+    basis = phi[:, cluster]  # M-orthonormal
+    U, _, _ = np.linalg.svd(basis.T @ (M @ rigid), full_matrices=True)
+    r = rigid.shape[1]
+    rest = U[:, r:]
+    mu, Y = np.linalg.eigh(rest.T @ (w2[cluster][:, None] * rest))
+    phi[:, cluster] = np.column_stack([basis @ U[:, :r], basis @ rest @ Y])
+    w2[cluster] = np.concatenate([np.zeros(r), mu])
+    return w2, phi
+
+
 def rigid_motions(system):
     """How many rigid motions the edges allow: axial translation when no edge imposes ``z``, rotation about the axis
     when none imposes ``chi`` (a pole's tied ``chi`` does not)."""
@@ -193,7 +220,13 @@ def modes(scene, n=40, count=10, *, initial=None):
     # frequency falls to zero (a prestressed state at a critical point) stays listed, at frequency ~0
     candidates = np.flatnonzero(small)
     zero = np.zeros(len(w2), dtype=bool)
-    zero[candidates[np.argsort(np.abs(w2[candidates]))][: rigid_motions(system)]] = True
+    rigid = rigid_vectors(system, q_idx)
+    if len(candidates) > rigid.shape[1] > 0:  # a physical mode near zero too: the rigid motions taken out exactly
+        w2, phi = _rigid_deflated(M, w2, phi, candidates, rigid)
+        order = np.argsort(w2)
+        w2, phi, small = w2[order], phi[:, order], small[order]
+        candidates = np.flatnonzero(small)
+    zero[candidates[np.argsort(np.abs(w2[candidates]))][: rigid.shape[1]]] = True
     n_zero = int(zero.sum())
     keep = np.flatnonzero(~zero)[:count]
     if len(keep) < count:
