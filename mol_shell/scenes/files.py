@@ -343,7 +343,8 @@ def scene_toml(scene):
     """A scene (an instance, or a class for its defaults) as a commented scene file that :func:`load_scene` reads back.
 
     Values are written as TOML (``None`` as ``"auto"``), each with its unit and description as a comment; a
-    ``[run]`` table holds the command line's defaults (leap-frog, 40 nodes) and a commented ``t_end``.
+    ``[run]`` table holds the command line's defaults (leap-frog, 40 nodes, ``t_end`` = 0.01 s: a run of a second or
+    two), so the file runs as its header says.
     """
     cls = scene if isinstance(scene, type) else type(scene)
     fields = dataclasses.fields(cls)
@@ -368,5 +369,5 @@ def scene_toml(scene):
             note = _comment(name) if not name.endswith("_history") else ""
             lines.append(f"{entry:34s} # {note}" if note else entry)
     lines += ["", "[run]", *notes["run"], 'integrator = "leapfrog"', "n = 40",
-              f"# {'t_end = 0.01':32s} # s: final time (or times = [0, 0.005, 0.01])"]
+              f"{'t_end = 0.01':34s} # s: final time (or times = [0, 0.005, 0.01] in its place)"]
     return "\n".join(lines) + "\n"

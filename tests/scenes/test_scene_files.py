@@ -90,7 +90,7 @@ def test_printed_scene_files_load_and_run_as_the_built_in_scene(name, tmp_path, 
     path = tmp_path / f"{name}.toml"
     path.write_text(_printed(name, capsys))
     scene, run = load_scene(path, with_run=True)
-    assert scene == SCENES[name]() and run == {"integrator": "leapfrog", "n": 40}
+    assert scene == SCENES[name]() and run == {"integrator": "leapfrog", "n": 40, "t_end": 0.01}
     outs = []
     for what in (name, str(path)):
         outs.append(tmp_path / f"{len(outs)}.nc")
