@@ -53,6 +53,23 @@ CLI_OPTIONS = {"dt", "rtol", "atol", "max_step"}
 
 
 class Parser(argparse.ArgumentParser):
+    """argparse's parser with the command line's rules: an option is spelt in full (``--t-en`` was taken as
+    ``--t-end``), and a refusal is one line, exit code 2."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("allow_abbrev", False)
+        super().__init__(*args, **kwargs)
+
+    def parse_known_args(self, args=None, namespace=None):
+        namespace, extras = super().parse_known_args(args, namespace)
+        for token in extras:  # an option cut short: say which ones it begins (argparse only calls it unrecognized)
+            word = token.partition("=")[0]
+            full = [option for option in self._option_string_actions if option.startswith(word) and option != word]
+            if word.startswith("--") and full:
+                self.error(f"{word} is not an option of {self.prog}; allowed: options spelt in full, as "
+                           + (f"{', '.join(full[:-1])} or {full[-1]}" if len(full) > 1 else full[0]))
+        return namespace, extras
+
     def error(self, message):
         # "argument --dt: --dt = 0 is outside ..." names the option twice: keep our own message
         found = re.match(r"argument (\S+?): (.*)", message, flags=re.S)
