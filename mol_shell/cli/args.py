@@ -52,13 +52,33 @@ def scene_and_run(text, sets=None):
 CLI_OPTIONS = {"dt", "rtol", "atol", "max_step"}
 
 
+class Once(argparse.Action):
+    """The store action of :class:`Parser`: an option given at most once (``--n 10 --n 12`` took the last value,
+    silently); the options meant to be repeated say so (``action="append"``: ``--set``, ``--vary``)."""
+
+    #: why one, said after "allowed: one" ("": the option's name)
+    why = ""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        given = namespace.__dict__.setdefault("_given", {})  # dest: the option as given and its value
+        if option_string is not None and self.dest in given:
+            first, value = given[self.dest]
+            allowed = f"one ({self.why})" if self.why else f"one {first}"
+            raise argparse.ArgumentError(self, f"{option_string} = {show(values)} follows {first} = {show(value)}; "
+                                         f"allowed: {allowed}")
+        given[self.dest] = (option_string, values)
+        setattr(namespace, self.dest, values)
+
+
 class Parser(argparse.ArgumentParser):
     """argparse's parser with the command line's rules: an option is spelt in full (``--t-en`` was taken as
-    ``--t-end``), and a refusal is one line, exit code 2."""
+    ``--t-end``), a single-valued option is given once (:class:`Once`), and a refusal is one line, exit code 2."""
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("allow_abbrev", False)
         super().__init__(*args, **kwargs)
+        self.register("action", None, Once)
+        self.register("action", "store", Once)
 
     def parse_known_args(self, args=None, namespace=None):
         namespace, extras = super().parse_known_args(args, namespace)

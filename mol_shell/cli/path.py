@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 
@@ -15,6 +14,7 @@ from mol_shell.cli.args import (
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
+    Once,
     integer_arg,
     number_arg,
     parse_sets,
@@ -30,15 +30,10 @@ from mol_shell.views.path_study_plot import is_path_study, plot_path_study
 PARAM_FORM = "NAME=START:STOP with NAME in {" + ", ".join(PATH_PARAMETERS) + "}, START and STOP numbers, START != STOP"
 
 
-class _Once(argparse.Action):
-    """An option given at most once: a path follows one parameter (a second ``--param`` replaced the first)."""
+class _OneParameter(Once):
+    """``--param`` given at most once: a path follows one parameter (a second ``--param`` replaced the first)."""
 
-    def __call__(self, parser, namespace, values, option_string=None):
-        if getattr(namespace, self.dest, None) is not None:
-            raise argparse.ArgumentError(self, f"{option_string} = {values!r} follows {option_string} = "
-                                         f"{getattr(namespace, self.dest)!r}; allowed: one (a path follows one "
-                                         "parameter; vary the others with study)")
-        setattr(namespace, self.dest, values)
+    why = "a path follows one parameter; vary the others with study"
 
 
 def parse_param(text, option="--param"):
@@ -106,7 +101,7 @@ def register_path(sub):
     p = sub.add_parser("path", help="equilibrium path in one load through limit points, with stability and "
                        "critical points")
     p.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
-    p.add_argument("--param", required=True, metavar="NAME=START:STOP", action=_Once,
+    p.add_argument("--param", required=True, metavar="NAME=START:STOP", action=_OneParameter,
                    help="the continued load or edge displacement and its range, NAME in {"
                    + ", ".join(PATH_PARAMETERS) + "}")
     p.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")

@@ -7,7 +7,9 @@ import shlex
 
 import pytest
 
+from mol_shell.cli.args import Once
 from mol_shell.cli.main import main, make_parser
+from mol_shell.results.dataset import read_netcdf
 from mol_shell.scenes import SCENES
 
 
@@ -29,7 +31,7 @@ def test_a_printed_scene_file_runs_with_the_command_of_its_header(name, tmp_path
     assert "wrote out.nc" in capsys.readouterr().out and (tmp_path / "out.nc").stat().st_size > 0
 
 
-# -- options are spelt in full ------------------------------------------
+# -- options are spelt in full, and a single-valued option is given once ------------------------------------------
 def subcommands():
     parser = make_parser()
     (sub,) = [action for action in parser._actions if isinstance(action, argparse._SubParsersAction)]
@@ -47,3 +49,41 @@ def test_an_abbreviated_option_is_refused_naming_the_option_it_begins(tmp_path, 
     assert one_error(capsys).endswith("allowed: options spelt in full, as --toml")
     parser, commands = subcommands()
     assert not parser.allow_abbrev and not any(p.allow_abbrev for p in commands.values())
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["run", "sphere", "--n", "10", "--n", "12", "--t-end", "0.001"], "--n = 12 follows --n = 10; allowed: one --n"),
+    (["run", "sphere", "--n", "5", "--t-end", "0.001", "--t-end", "0.002"],
+     "--t-end = 0.002 follows --t-end = 0.001; allowed: one --t-end"),
+    (["run", "sphere", "--n", "5", "--t-end", "0.001", "-o", "b.nc"], "-o = 'b.nc' follows -o = 'a.nc'; allowed: one -o"),
+    (["run", "sphere", "--n", "5", "--t-end", "0.001", "--output", "b.nc"],
+     "--output = 'b.nc' follows -o = 'a.nc'; allowed: one -o"),
+    (["study", "sphere", "--vary", "nu=0.3,0.4", "--integrator", "leapfrog", "--integrator", "ida"],
+     "--integrator = 'ida' follows --integrator = 'leapfrog'; allowed: one --integrator"),
+    (["path", "sphere", "--param", "pressure=0:1", "--max-steps", "3", "--max-steps", "4"],
+     "--max-steps = 4 follows --max-steps = 3; allowed: one --max-steps"),
+    (["modes", "sphere", "--count", "2", "--count", "3"], "--count = 3 follows --count = 2; allowed: one --count"),
+    (["compare", "sphere", "--repeats", "1", "--repeats", "2"], "--repeats = 2 follows --repeats = 1; allowed: one --repeats"),
+])
+def test_a_single_valued_option_given_twice_is_refused(argv, message, tmp_path, monkeypatch, capsys):
+    """``--n 10 --n 12`` ran on 12 nodes, silently, where ``--set NAME=...`` twice was refused."""
+    monkeypatch.chdir(tmp_path)
+    assert main([*argv[:2], "-o", "a.nc", *argv[2:]]) == 2
+    assert one_error(capsys) == "mol-shell: error: " + message
+    assert not list(tmp_path.iterdir())
+
+
+def test_every_single_valued_option_of_every_command_is_given_once():
+    _, commands = subcommands()
+    for name, command in commands.items():
+        for action in command._actions:
+            if action.option_strings and action.nargs != 0 and not isinstance(action, argparse._AppendAction):
+                assert isinstance(action, Once), (name, action.option_strings)
+
+
+def test_repeatable_options_stay_repeatable(tmp_path, capsys):
+    out = tmp_path / "st.nc"
+    assert main(["study", "sphere", "--n", "5", "--t-end", "1e-5", "--workers", "1", "--vary", "nu=0.3,0.4",
+                 "--vary", "E=1e6,2e6", "--set", "rho=900", "--set", "a=1.5", "-o", str(out)]) == 0, capsys.readouterr()
+    ds = read_netcdf(out)
+    assert ds.sizes["nu"] == 2 and ds.sizes["E"] == 2 and ds.attrs["rho"] == 900 and ds.attrs["a"] == 1.5
