@@ -6,7 +6,8 @@ computed where they can be. ``-o FILE`` of every subcommand is checked first: mi
 directories are created, and a place that cannot be written is refused. A run that
 stops at a model limit writes what it computed and exits with code 3; one interrupted by
 Ctrl-C writes what it computed too and exits with code 130. Output cut short by its reader
-(``mol-shell scenes | head -1``) ends quietly with code 141. Warnings (a long run, a material law
+(``mol-shell scenes | head -1``) ends quietly with code 141; output that cannot be written (``> /dev/full``) is
+refused in one line with code 2, as an ``-o`` that cannot be. Warnings (a long run, a material law
 out of its range) are one line each, ``mol-shell: warning: ...``; notes (a built-in stand-in for
 data a user is expected to give) ``mol-shell: note: ...``.
 """
@@ -245,7 +246,53 @@ def negative_values_attached(argv):
     return out
 
 
+class OutputError(Exception):
+    """Standard output or error could not be written (a full disk, a terminal gone): not a bug, said in one line."""
+
+    def __init__(self, stream, error):
+        self.stream = stream
+        super().__init__(f"cannot write to {stream}: {error}")
+
+
+class _Guarded:
+    """``sys.stdout`` or ``sys.stderr`` while a command runs: an ``OSError`` writing it is an :class:`OutputError`
+    naming the stream (a reader gone, ``BrokenPipeError``, stays one: it ends quietly)."""
+
+    def __init__(self, stream, name):
+        self._stream, self._name = stream, name
+
+    def write(self, text):
+        return self._guard(self._stream.write, text)
+
+    def flush(self):
+        return self._guard(self._stream.flush)
+
+    def _guard(self, method, *args):
+        try:
+            return method(*args)
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise OutputError(self._name, exc) from None
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
 def main(argv=None):
+    streams = sys.stdout, sys.stderr
+    sys.stdout, sys.stderr = (None if stream is None else _Guarded(stream, name)
+                              for stream, name in zip(streams, ("standard output", "standard error")))
+    try:
+        return _command(argv)
+    except OutputError as exc:
+        failed = exc
+    finally:
+        sys.stdout, sys.stderr = streams
+    return _unwritable(failed)
+
+
+def _command(argv):
     # the command line draws into files only; matplotlib reads this when (and if) a command imports it, so a
     # run does not pay matplotlib's import (0.1 s)
     os.environ["MPLBACKEND"] = "Agg"
@@ -282,6 +329,8 @@ def main(argv=None):
     except ModelLimitError as exc:  # a run a command needs stopped at a limit (compare's reference)
         print(f"mol-shell: stopped: {exc}", file=sys.stderr)
         return EXIT_INCOMPLETE
+    except OutputError:  # said by main, once the streams are the command's own again
+        raise
     except Exception as exc:  # noqa: BLE001 - the last resort: one line, never a traceback (unless asked for)
         if by_interrupt(exc):  # a Ctrl-C that arrived inside a C extension's call
             print("mol-shell: interrupted", file=sys.stderr)
@@ -295,16 +344,33 @@ def main(argv=None):
 
 
 def _reader_gone():
-    """The reader of stdout has gone (``mol-shell scenes | head -1``): exit quietly, as command-line tools do.
+    """The reader of stdout has gone (``mol-shell scenes | head -1``): exit quietly, as command-line tools do."""
+    _to_devnull(sys.stdout)
+    return EXIT_PIPE
 
-    stdout is pointed at /dev/null so the interpreter's own flush at exit finds nowhere to fail.
-    """
+
+def _unwritable(exc):
+    """Standard output or error could not be written (``> /dev/full``): one line on stderr, when that is not the
+    stream that failed, and exit code 2, as for an ``-o`` that cannot be written."""
+    if exc.stream == "standard error":
+        _to_devnull(sys.stderr)
+        return EXIT_USAGE
+    _to_devnull(sys.stdout)
+    try:
+        print(f"mol-shell: error: {exc}", file=sys.stderr)
+    except OSError:  # stderr too: nowhere to say it
+        _to_devnull(sys.stderr)
+    return EXIT_USAGE
+
+
+def _to_devnull(stream):
+    """Point ``stream``'s file descriptor at /dev/null, so the interpreter's own flush at exit, of what the stream
+    still holds, finds nowhere to fail."""
     try:
         devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-    except (OSError, ValueError, AttributeError):  # a stdout without a file descriptor (captured): nothing to flush
+        os.dup2(devnull, stream.fileno())
+    except (OSError, ValueError, AttributeError):  # a stream without a file descriptor (captured): nothing to flush
         pass
-    return EXIT_PIPE
 
 
 #: the warnings said by this command: each once (a stability report's twenty runs of one law warned twenty times)

@@ -2,8 +2,13 @@
 given twice or abbreviated, output that cannot be written, and refusals that list everything allowed."""
 
 import argparse
+import errno
+import io
+import os
 import re
 import shlex
+import subprocess
+import sys
 
 import pytest
 
@@ -98,3 +103,32 @@ def test_max_steps_without_path_is_refused_as_t_end_with_path_is(tmp_path, capsy
     assert one_error(capsys) == ("mol-shell: error: --max-steps is an option of a study of paths (--path), not of "
                                  "one of runs")
     assert not list(tmp_path.iterdir())
+
+
+# -- output that cannot be written -----------------------------------------------------------------------------
+class FullStream(io.StringIO):
+    """A stream on a full disk."""
+
+    def write(self, text):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+
+FULL = f"mol-shell: error: cannot write to standard output: [Errno {errno.ENOSPC}] {os.strerror(errno.ENOSPC)}"
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full")
+@pytest.mark.parametrize("args", [["scenes", "sphere", "--toml"], ["scenes"], ["run", "--help"]])
+def test_a_full_standard_output_is_said_in_one_line_not_as_a_bug(args):
+    """``mol-shell scenes sphere --toml > /dev/full`` said "internal error: OSError ... (a bug of mol_shell ...)"."""
+    with open("/dev/full", "w") as full:
+        done = subprocess.run([sys.executable, "-m", "mol_shell", *args], stdout=full, stderr=subprocess.PIPE, text=True,
+                              timeout=120, check=False)
+    assert (done.returncode, done.stderr) == (2, FULL + "\n")
+
+
+def test_standard_output_or_error_that_cannot_be_written_ends_the_command_with_code_2(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(sys, "stdout", FullStream())
+    assert main(["scenes", "torus", "--toml"]) == 2
+    assert capsys.readouterr().err == FULL + "\n"
+    monkeypatch.setattr(sys, "stderr", FullStream())
+    assert main(["scenes", "nope"]) == 2  # the refusal cannot be said either: no exception escapes
