@@ -26,7 +26,7 @@ from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.cf import header
 from mol_shell.runs import resources
-from mol_shell.runs.simulate import as_scene, build, resolve, starting_state
+from mol_shell.runs.simulate import as_scene, build, check_loads, resolve, starting_state
 from mol_shell.scenes import Unshearable
 
 #: the paper's snapshot times (s)
@@ -145,6 +145,8 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
         raise ParameterError("times", times.tolist(), "saved times on the step grid of at least one sweep point",
                              hint="every point would be skipped")
     asked = as_scene(scene)
+    for name in integrators:
+        check_loads(asked, name)
     scene = resolve(asked)
     system, compiled = build(scene, n)
     y0, _ = starting_state(scene, system, n, asked=asked)  # where a run starts (R = auto under loads: the statics)

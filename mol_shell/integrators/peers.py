@@ -246,11 +246,14 @@ class CasadiIDAS(CasadiCVODES):
     plugin = "idas"
     #: the accelerations are algebraic: keep them out of the error test (as for any index-1 DAE)
     plugin_options = {"suppress_algebraic": True}
+    #: why it cannot run a scene with loads or driven edges (the integrators without it can: ``simulate`` and the
+    #: comparison refuse the pair before anything is built, listing them)
+    refuses_loads = "its semi-explicit DAE form takes no loads"
 
     def _dae(self, system):
         if system.n_extra:
-            raise ParameterError("integrator", self.name, "leapfrog, cvode-bdf, cvode-adams, ida, the scipy peers or "
-                                 "casadi-cvodes for a scene with loads", hint="its semi-explicit DAE form takes no loads")
+            raise ParameterError("integrator", self.name, "the integrators of mol_shell.INTEGRATORS but casadi-idas for "
+                                 "a scene with loads or driven edges", hint=self.refuses_loads)
         dae = ShellDAE(system)
         nf, n = system.nf, system.n
         x, a = ca.MX.sym("x", system.size), ca.MX.sym("a", nf * n)

@@ -70,13 +70,25 @@ def integrator_options(scene, integrator):
     return {f.name for f in dataclasses.fields(INTEGRATORS[integrator])}
 
 
+def check_loads(scene, integrator):
+    """Refuse an integrator that cannot run ``scene``'s loads or driven edges (its class says why in
+    ``refuses_loads``), listing the registered integrators that can."""
+    why = getattr(INTEGRATORS.get(integrator), "refuses_loads", "")
+    if why and getattr(scene, "loaded", False):
+        can = [name for name, cls in INTEGRATORS.items() if not getattr(cls, "refuses_loads", "")]
+        raise ParameterError("integrator", integrator, "{" + ", ".join(can) + "} for a scene with loads or driven edges",
+                             hint=why)
+
+
 def check_options(scene, integrator, options, offered=None):
-    """Refuse options ``integrator`` does not take, and an ``rtol`` outside :data:`RTOL_RANGE`.
+    """Refuse options ``integrator`` does not take, an integrator that cannot take ``scene``'s loads
+    (:func:`check_loads`), and an ``rtol`` outside :data:`RTOL_RANGE`.
 
     ``offered`` (a set of names) limits the options listed in the message to those a caller
     offers (the command line offers ``dt, rtol, atol, max_step``).
     """
     allowed = integrator_options(scene, integrator)
+    check_loads(scene, integrator)
     for name in options:
         if name not in allowed:
             raise ParameterError.not_an_option(name, integrator, allowed & offered if offered else allowed)

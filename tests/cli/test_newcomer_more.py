@@ -14,6 +14,7 @@ import pytest
 
 from mol_shell.cli.args import Once
 from mol_shell.cli.main import main, make_parser
+from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.dataset import read_netcdf
 from mol_shell.scenes import SCENES
 
@@ -132,3 +133,19 @@ def test_standard_output_or_error_that_cannot_be_written_ends_the_command_with_c
     assert capsys.readouterr().err == FULL + "\n"
     monkeypatch.setattr(sys, "stderr", FullStream())
     assert main(["scenes", "nope"]) == 2  # the refusal cannot be said either: no exception escapes
+
+
+# -- an integrator that cannot take a scene's loads: every one that can is listed --------------------------------
+@pytest.mark.parametrize("argv", [
+    ["run", "sphere", "--integrator", "casadi-idas", "--set", "pressure=10", "--n", "10", "--t-end", "0.001"],
+    ["compare", "sphere", "--integrators", "leapfrog,casadi-idas", "--set", "pressure=10", "--n", "5", "--t-end", "1e-4"],
+])
+def test_an_integrator_refusing_loads_lists_every_integrator_that_takes_them(argv, tmp_path, capsys):
+    """The list was hand-written: "leapfrog, cvode-bdf, cvode-adams, ida, the scipy peers or casadi-cvodes" left out
+    dop853-c, rk45-c, the sksundae-* routes and casadi-cvodes-c, which run a pressurised sphere as well."""
+    out = tmp_path / "x.nc"
+    assert main([*argv, "-o", str(out)]) == 2
+    can = [name for name in INTEGRATORS if name != "casadi-idas"]
+    assert one_error(capsys) == ("mol-shell: error: integrator = 'casadi-idas' is outside {" + ", ".join(can) + "} for a "
+                                 "scene with loads or driven edges (its semi-explicit DAE form takes no loads)")
+    assert {"dop853-c", "rk45-c", "sksundae-ida", "casadi-cvodes-c"} <= set(can) and not out.exists()
