@@ -40,7 +40,7 @@ from mol_shell.model.linalg import spd_solve
 from mol_shell.model.material import Thickness, centroidal_offset, inertias, shell_dissipation
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, RATE_UNITS, scene_attrs
-from mol_shell.runs.simulate import parse_times, resolve
+from mol_shell.runs.simulate import as_scene, parse_times, resolve
 from mol_shell.scenes.base import refuse_loads
 from mol_shell.scenes.cylinder import TwistedCylinder
 
@@ -138,7 +138,7 @@ def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
 
     Parameters
     ----------
-    scene : SpinningRing or TwistedCylinder
+    scene : SpinningRing or TwistedCylinder, or a registered name (``"spinning-ring"``)
         Its ``gamma`` must be 0 (no twist: section 5 shows that twisted uniform motions
         do not exist); ``R = None`` is resolved as by :func:`mol_shell.simulate`.
     times : array_like
@@ -163,6 +163,7 @@ def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
         densities times ``2 pi r0 L``), ``delta_min``; scene parameters, solver and
         statistics in attrs (``integrator = "ring-ode/<method>"``).
     """
+    scene = as_scene(scene) if isinstance(scene, str) else scene  # a name, as simulate takes it
     _check_arguments(scene, rtol, atol, n, method)
     if getattr(scene, "gamma", 0.0) != 0.0:
         raise ParameterError("gamma", scene.gamma, "{0} for the ring ODE", hint="twisted motions are not uniform in s")
@@ -200,7 +201,7 @@ def _check_arguments(scene, rtol, atol, n, method):
     """The arguments of :func:`simulate_ring`, each refused by name (before anything is built)."""
     if not isinstance(scene, TwistedCylinder):
         raise ParameterError.not_a("scene", getattr(scene, "name", scene), "a cylinder scene of section 5",
-                                   "mol_shell.SpinningRing() or mol_shell.TwistedCylinder(gamma=0)")
+                                   "mol_shell.SpinningRing() (or 'spinning-ring') or mol_shell.TwistedCylinder(gamma=0)")
     lo, hi = RTOL_RANGE
     for name, value, allowed, ok in (("rtol", rtol, f"[{lo:g}, {hi:g})", lambda v: lo <= v < hi),
                                      ("atol", atol, "(0, inf)", lambda v: 0 < v < math.inf)):

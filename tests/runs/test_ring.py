@@ -76,3 +76,15 @@ def test_bad_arguments_are_parameter_errors_naming_them(kwargs, words):
     scene = kwargs.pop("scene", mol_shell.SpinningRing())
     with pytest.raises(ParameterError, match="^" + words):
         simulate_ring(scene, [0.0, 0.001], **kwargs)
+
+
+def test_a_registered_name_is_taken_as_simulate_takes_it(ring):
+    """``simulate_ring("spinning-ring", ...)`` refused the scene's own name, which ``simulate`` takes."""
+    named = simulate_ring("spinning-ring", TIMES)
+    for field in FIELDS:
+        np.testing.assert_array_equal(named[field].values, ring[field].values, err_msg=field)
+    with pytest.raises(ParameterError, match=r"^scene = 'sphere' is not a cylinder scene of section 5; allowed: "
+                       r"mol_shell\.SpinningRing\(\) \(or 'spinning-ring'\)"):
+        simulate_ring("sphere", TIMES)
+    with pytest.raises(ParameterError, match=r"^scene = 'nope' is outside \{axisymmetric, .*spinning-ring"):
+        simulate_ring("nope", TIMES)
