@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mol_shell._core.constants import FIELDS
-from mol_shell._core.errors import ParameterError, is_number
+from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import loop
 from mol_shell.integrators.loop import RTOL, Option, non_negative, option
 
@@ -18,9 +18,10 @@ ATOL_ALLOWED = "(0, inf): one value, {field: value} or five values (z, r, chi, t
 def field_atol(a):
     """Absolute tolerance per field ``(z, r, chi, theta, psi)`` from one number, a dict or five numbers."""
     if isinstance(a, dict):
-        bad = set(a) - set(FIELDS)
+        bad = [key for key in a if key not in FIELDS]
         if bad:
-            raise ParameterError("atol", a, "{field: value} with fields in " + ", ".join(FIELDS))
+            raise ParameterError.invalid("atol", a, f"names {show(bad[0])}, which is not a field",
+                                         "{field: value} with field in {" + ", ".join(FIELDS) + "}")
         values = [a.get(name, 1e-9) for name in FIELDS]
     elif isinstance(a, (int, float)):
         values = [a] * len(FIELDS)
@@ -65,6 +66,8 @@ class Tolerances:
     max_step: float = option(0.0, non_negative(" s", " (0: unbounded)"))
 
     def __post_init__(self):
+        if isinstance(self.atol, dict):  # a field's name first: the declared range's check calls it "not a number"
+            self.field_atol()
         loop.check_declared(self)
         self.field_atol()  # names the wrong entry
 

@@ -12,6 +12,8 @@ import sys
 
 import pytest
 
+import mol_shell
+from mol_shell._core.errors import ParameterError
 from mol_shell.cli.args import Once
 from mol_shell.cli.main import main, make_parser
 from mol_shell.integrators import INTEGRATORS
@@ -149,3 +151,14 @@ def test_an_integrator_refusing_loads_lists_every_integrator_that_takes_them(arg
     assert one_error(capsys) == ("mol-shell: error: integrator = 'casadi-idas' is outside {" + ", ".join(can) + "} for a "
                                  "scene with loads or driven edges (its semi-explicit DAE form takes no loads)")
     assert {"dop853-c", "rk45-c", "sksundae-ida", "casadi-cvodes-c"} <= set(can) and not out.exists()
+
+
+# -- atol per field: a name that is not a field -------------------------------------------------------------------
+@pytest.mark.parametrize("integrator", ["cvode-bdf", "dop853-c", "sksundae-ida"])
+def test_an_atol_naming_no_field_says_which_name_and_the_fields(integrator):
+    """``atol={"rr": 1e-9}`` was refused as "is not a number"."""
+    with pytest.raises(ParameterError) as info:
+        mol_shell.simulate(mol_shell.Sphere(), integrator, n=5, t_end=0.001, atol={"r": 1e-9, "rr": 1e-9})
+    assert str(info.value) == ("atol = {'r': 1e-09, 'rr': 1e-09} names 'rr', which is not a field; allowed: "
+                               "{field: value} with field in {z, r, chi, theta, psi}")
+    assert info.value.name == "atol"
