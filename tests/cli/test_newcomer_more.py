@@ -9,7 +9,9 @@ import re
 import shlex
 import subprocess
 import sys
+from pathlib import Path
 
+import numpy as np
 import pytest
 
 import mol_shell
@@ -162,3 +164,43 @@ def test_an_atol_naming_no_field_says_which_name_and_the_fields(integrator):
     assert str(info.value) == ("atol = {'r': 1e-09, 'rr': 1e-09} names 'rr', which is not a field; allowed: "
                                "{field: value} with field in {z, r, chi, theta, psi}")
     assert info.value.name == "atol"
+
+
+# -- what the docs and the help say ------------------------------------------------------------------------------
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_the_scene_lists_of_the_readme_and_the_cli_page_name_every_scene():
+    """Both left out ``vessel``, which ``mol-shell scenes`` lists."""
+    readme = " ".join((ROOT / "README.md").read_text().split())
+    listed = readme[readme.index("**Shells of revolution**"):readme.index("**Shells of revolution**") + 700]
+    cli = " ".join((ROOT / "docs" / "cli.md").read_text().split())
+    scenes = cli[cli.index("* Scenes:"):cli.index("* Integrators:")]
+    for name in SCENES:
+        assert f"`{name}`" in listed and f"`{name}`" in scenes, name
+
+
+def test_the_readme_s_peak_torque_is_that_of_the_command_it_names(tmp_path):
+    """The peaks were quoted beside a command saving every 11 ms; they are those of 1 ms samples, which it names."""
+    readme = " ".join((ROOT / "README.md").read_text().split())
+    found = re.search(r"On 1 ms samples \(`(mol-shell run [^`]*)`\) the peak of \|axial torque\| is ([\d,]+) N m "
+                      r"\(reversed: -[\d,]+ N m at s = ([\d.]+) m, t = ([\d.]+) s\) and the peak von Mises stress "
+                      r"([\d.]+) kPa", readme)
+    argv = shlex.split(found.group(1))[1:]
+    argv[argv.index("-o") + 1] = str(tmp_path / "paper.nc")
+    assert main(argv) == 0
+    ds = read_netcdf(tmp_path / "paper.nc")
+    torque = ds.axial_torque.values
+    k, j = np.unravel_index(np.argmax(np.abs(torque)), torque.shape)
+    assert f"{abs(torque[k, j]):,.0f}" == found.group(2) and torque[k, j] < 0
+    assert (float(ds.s_cell[j]), float(ds.time[k])) == (float(found.group(3)), float(found.group(4)))
+    assert f"{ds.von_mises_stress.values.max() / 1e3:.1f}" == found.group(5)
+
+
+def test_the_netcdf_page_names_the_one_variable_of_a_run_that_holds_nan():
+    """docs/netcdf.md said a run never contains NaN; the unshearable DAE's held chi has a NaN reaction torque."""
+    scene = mol_shell.scenes.get_scene("unshearable", end1="chi", omega=0.0)
+    ds = mol_shell.simulate(scene, "ida", n=9, t_end=1e-3, progress=False)
+    assert [v for v in ds.variables if ds[v].dtype.kind == "f" and np.isnan(ds[v].values).any()] == ["reaction_torque"]
+    page = " ".join((ROOT / "docs" / "netcdf.md").read_text().split())
+    assert "never contains NaN" not in page and "the one variable that can is `reaction_torque`" in page
