@@ -166,13 +166,19 @@ def make_parser():
     parser = Parser(prog="mol-shell", description="Rotationally symmetric motions of Cosserat shells (Antman & Bourne 2010).")
     parser.add_argument("--version", action="version", version=f"mol-shell {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    run = sub.add_parser("run", help="run a scene and write netCDF")
+    run = sub.add_parser("run", help="run a scene and write netCDF",
+                         description="Run a scene and write netCDF. A scene file's [run] table gives the defaults of "
+                         "--integrator, --n, --t-end, --times, --dt, --rtol, --atol and --max-step; the options win.")
     run.add_argument("scene", metavar=SCENE_METAVAR, nargs="?", default=None, help=SCENE_HELP)
-    run.add_argument("--integrator", default=None, help="one of: " + ", ".join(INTEGRATORS) + " (default leapfrog)")
-    run.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")
-    run.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="final time, s")
+    run.add_argument("--integrator", default=None, help="one of: " + ", ".join(INTEGRATORS)
+                     + " (default: a scene file's [run] integrator, else leapfrog)")
+    run.add_argument("--n", type=integer_arg("--n", 3), default=None,
+                     help="nodes in s (default: a scene file's [run] n, else 40)")
+    run.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None,
+                     help="final time, s (default: a scene file's [run] t_end or times)")
     run.add_argument("--dt", type=number_arg("--dt", unit="s"), default=None,
-                     help="leap-frog step, s (default 1e-6); adaptive integrators refuse it")
+                     help="leap-frog step, s (default: a scene file's [run] dt, else 1e-6); adaptive integrators "
+                     "refuse it")
     run.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
     run.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
     run.add_argument("--rtol", type=number_arg("--rtol", *RTOL_RANGE, low_closed=True), default=None,

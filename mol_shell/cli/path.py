@@ -104,7 +104,8 @@ def register_path(sub):
     p.add_argument("--param", required=True, metavar="NAME=START:STOP", action=_OneParameter,
                    help="the continued load or edge displacement and its range, NAME in {"
                    + ", ".join(PATH_PARAMETERS) + "}")
-    p.add_argument("--n", type=integer_arg("--n", 3), default=None, help="nodes in s (default 40)")
+    p.add_argument("--n", type=integer_arg("--n", 3), default=None,
+                   help="nodes in s (default: a scene file's [run] n, else 40)")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
     p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=200,
                    help="the path ends after this many steps (default 200); short of STOP it says so in a note on "

@@ -163,7 +163,8 @@ def register_study(subparsers):
     p.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="final time, s")
     p.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
     p.add_argument("--dt", type=number_arg("--dt", unit="s"), default=None,
-                   help="leap-frog step, s (default 1e-6); adaptive integrators refuse it")
+                   help="leap-frog step, s (default: a scene file's [run] dt, else 1e-6); adaptive integrators "
+                   "refuse it")
     p.add_argument("--rtol", type=number_arg("--rtol", *RTOL_RANGE, low_closed=True), default=None,
                    help=f"relative tolerance in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}) (adaptive integrators)")
     p.add_argument("--atol", type=parse_atol, default=None, help="one value, or per field as r=1e-9,theta=1e-10")

@@ -197,6 +197,16 @@ def test_the_readme_s_peak_torque_is_that_of_the_command_it_names(tmp_path):
     assert f"{ds.von_mises_stress.values.max() / 1e3:.1f}" == found.group(5)
 
 
+@pytest.mark.parametrize("command, options", [("run", ("n", "dt", "integrator")), ("study", ("n", "dt")),
+                                              ("path", ("n",)), ("modes", ("n",))])
+def test_the_help_says_a_scene_file_s_run_table_gives_the_defaults(command, options, capsys):
+    """``run --help`` said ``--n`` (default 40) and ``--dt`` (default 1e-6), where a scene file's [run] values win."""
+    assert main([command, "--help"]) == 0
+    text = " ".join(capsys.readouterr().out.split())
+    for option in options:
+        assert f"(default: a scene file's [run] {option}, else " in text, (option, text)
+
+
 def test_the_netcdf_page_names_the_one_variable_of_a_run_that_holds_nan():
     """docs/netcdf.md said a run never contains NaN; the unshearable DAE's held chi has a NaN reaction torque."""
     scene = mol_shell.scenes.get_scene("unshearable", end1="chi", omega=0.0)
