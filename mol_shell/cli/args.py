@@ -81,16 +81,27 @@ class Parser(argparse.ArgumentParser):
         self.register("action", "store", Once)
 
     def parse_known_args(self, args=None, namespace=None):
+        self._tokens = list(sys.argv[1:] if args is None else args)
         namespace, extras = super().parse_known_args(args, namespace)
         for token in extras:  # an option cut short: say which ones it begins (argparse only calls it unrecognized)
-            word = token.partition("=")[0]
-            full = [option for option in self._option_string_actions if option.startswith(word) and option != word]
-            if word.startswith("--") and full:
-                self.error(f"{word} is not an option of {self.prog}; allowed: options spelt in full, as "
-                           + (f"{', '.join(full[:-1])} or {full[-1]}" if len(full) > 1 else full[0]))
+            cut = self._cut_short(token)
+            if cut:
+                self.error(cut)
         return namespace, extras
 
+    def _cut_short(self, token):
+        """The refusal of ``token`` when it is an option of this parser cut short (``--t-en``), else ``None``."""
+        word = str(token).partition("=")[0]
+        full = [option for option in self._option_string_actions if option.startswith(word) and option != word]
+        if not (word.startswith("--") and full) or word in self._option_string_actions:
+            return None
+        return (f"{word} is not an option of {self.prog}; allowed: options spelt in full, as "
+                + (f"{', '.join(full[:-1])} or {full[-1]}" if len(full) > 1 else full[0]))
+
     def error(self, message):
+        if message.startswith("the following arguments are required"):  # --vers was an option cut short
+            cut = next(filter(None, map(self._cut_short, getattr(self, "_tokens", ()))), None)
+            message = cut or message
         # "argument --dt: --dt = 0 is outside ..." names the option twice: keep our own message
         found = re.match(r"argument (\S+?): (.*)", message, flags=re.S)
         if found and any(found.group(2).startswith(opt + " ") for opt in found.group(1).split("/")):

@@ -59,6 +59,10 @@ def test_an_abbreviated_option_is_refused_naming_the_option_it_begins(tmp_path, 
     assert one_error(capsys).endswith("allowed: options spelt in full, as --toml")
     parser, commands = subcommands()
     assert not parser.allow_abbrev and not any(p.allow_abbrev for p in commands.values())
+    # before the command: it said "the following arguments are required: command"
+    assert main(["--vers"]) == 2
+    assert one_error(capsys) == "mol-shell: error: --vers is not an option of mol-shell; allowed: options spelt in " \
+        "full, as --version"
 
 
 @pytest.mark.parametrize("argv, message", [
