@@ -163,6 +163,13 @@ class _Sundials(Tolerances):
     order = None  # variable order: tests check that the tolerance is reached instead
     kind = "cvode"
 
+    def __post_init__(self):
+        super().__post_init__()
+        top = 12 if getattr(self, "method", "BDF") == "Adams" and self.kind != "ida" else 5
+        if self.max_order is not None and self.max_order > top:  # the declared range holds both methods' orders
+            raise ParameterError("max_order", self.max_order, f"integers in [1, {top}], or None",
+                                 hint=f"{self.name} is {'Adams' if top == 12 else 'BDF'}: orders up to {top}")
+
     def settings(self):
         import sksundae  # imported when used: with scipy.optimize it is 0.28 s of every process's start
 

@@ -13,6 +13,7 @@ import numpy as np
 from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: simulate's range)
 from mol_shell._core.errors import MaterialWarning, ParameterError, is_number
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.integrators.loop import declared
 from mol_shell.model.fibres import unused_fibres_warning
 from mol_shell.model.laws import locking_warnings
 from mol_shell.results.dataset import build_dataset
@@ -232,6 +233,9 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         warnings.warn(f"run incomplete: {traj.message}; keeping {len(traj.t)} saved times", RuntimeWarning, stacklevel=2)
     velocities, totals = observe(system, traj.y, traj.t)
     attrs = {"integrator": integrator, **method.settings(), **system.graph_stats()}
+    for name in declared(type(method)):  # every option, so that the file says how to run it again
+        if name not in attrs and f"{name}_option" not in attrs:
+            attrs[name] = getattr(method, name)
     attrs.update({
         "build_time_s": build_time,
         "omega_max_rad_s": omega_max,

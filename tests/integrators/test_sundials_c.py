@@ -82,6 +82,12 @@ def test_each_route_takes_exactly_its_own_options():
         INTEGRATORS["cvode-bdf"](jacobian="dq", linsolver="sparse")
     with pytest.raises((TypeError, ParameterError), match="linsolver"):
         INTEGRATORS["dop853-c"](linsolver="band")
+    # BDF's orders end at 5 (SUNDIALS' CV_BDF and IDA), Adams' at 12: 6..12 passed the check and the driver
+    # failed at its set-up ("could not set up the solver (stage 5)", a RuntimeError)
+    for name in ("cvode-bdf", "ida", "sksundae-cvode-bdf", "sksundae-ida"):
+        with pytest.raises(ParameterError, match=r"^max_order = 6 is outside integers in \[1, 5\]"):
+            INTEGRATORS[name](max_order=6)
+    assert INTEGRATORS["cvode-adams"](max_order=12).max_order == 12
 
 
 def test_a_driver_that_cannot_be_had_falls_back_with_one_line(paper, monkeypatch, tmp_path, capsys):

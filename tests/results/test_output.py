@@ -10,7 +10,8 @@ from scipy.integrate import quad
 
 import mol_shell
 import reference_ring as ref
-from mol_shell.integrators import Leapfrog
+from mol_shell.integrators import INTEGRATORS, Leapfrog
+from mol_shell.integrators.loop import declared
 from mol_shell.runs.simulate import build, resolve
 
 
@@ -252,3 +253,16 @@ def test_read_and_write_refuse_bad_arguments_by_name(tmp_path):
     with pytest.raises(ParameterError, match="^ds = 3 is not an xarray.Dataset"):
         mol_shell.write_netcdf(3, tmp_path / "w.nc")
     assert not (tmp_path / "w.nc").exists()
+
+
+def test_a_run_file_records_every_option_of_its_integrator(tmp_path):
+    """Options beyond the tolerances (``iteration``, ``jac_every``, ``max_order``, ...) were not in the file, so a run
+    could not be repeated from it; each declared option of the integrator is there now, read back from netCDF."""
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), "cvode-adams", n=12, t_end=0.002, iteration="newton",
+                            jac_every=7, max_order=4, stresses=False)
+    ds.to_netcdf(tmp_path / "o.nc")
+    attrs = xr.open_dataset(tmp_path / "o.nc").attrs
+    missing = [name for name in declared(INTEGRATORS["cvode-adams"]) if name not in attrs
+               and f"{name}_option" not in attrs]
+    assert not missing, missing
+    assert (attrs["iteration"], int(attrs["jac_every"]), int(attrs["max_order"])) == ("newton", 7, 4)
