@@ -150,7 +150,8 @@ def design(scene, vary, integrator="leapfrog", options=None):
         names = list(vary)
         for name in names:  # a name first: its values are typed as the name wants them
             _check_name(name, allowed, scene, integrator)
-        values = [[_typed(scene, k, v) for v in np.atleast_1d(np.asarray(vary[k], dtype=object)).tolist()] for k in names]
+        values = [[_typed(scene, k, v, integrator) for v in np.atleast_1d(np.asarray(vary[k], dtype=object)).tolist()]
+                  for k in names]
         for name, vals in zip(names, values):
             if not vals or len(set(map(repr, vals))) != len(vals):
                 raise ParameterError(f"vary[{name!r}]", vals, "distinct values, at least one")
@@ -163,7 +164,7 @@ def design(scene, vary, integrator="leapfrog", options=None):
     names = sorted({k for c in cases for k in c})
     for name in names:
         _check_name(name, allowed, scene, integrator)
-    coords = {k: [_typed(scene, k, c[k] if k in c else _default(scene, k, integrator, options or {}))
+    coords = {k: [_typed(scene, k, c[k] if k in c else _default(scene, k, integrator, options or {}), integrator)
                   for c in cases] for k in names}
     return ["case"], coords, [((i,), {k: coords[k][i] for k in names}) for i in range(len(cases))]
 
@@ -344,6 +345,12 @@ def _material_names(scene):
     return {f"material.{k}" for k in (user.parameters if user is not None else ())}
 
 
+def _option_type(integrator, name):
+    """The declared type of option ``name`` of ``integrator`` as text (``"int"``, ``"str"``, ...), ``""`` if none."""
+    fields = {f.name: f for f in dataclasses.fields(INTEGRATORS[integrator])} if integrator in INTEGRATORS else {}
+    return str(fields[name].type) if name in fields else ""
+
+
 def _option_names(scene, integrator):
     return integrator_options(scene, integrator)
 
@@ -388,8 +395,9 @@ def _default(scene, name, integrator, options):
     return value
 
 
-def _typed(scene, name, value):
-    """A value as the scene field's type wants it (strings from the command line are converted).
+def _typed(scene, name, value, integrator=None):
+    """A value as the scene field's type wants it, or the integrator option's (strings from the command line are
+    converted: ``jac_every=20`` an integer, ``linsolver=band`` a word).
 
     A string that is not a number, for a numeric parameter, is refused here (for every case at once).
     """
@@ -397,11 +405,17 @@ def _typed(scene, name, value):
         value = value.item()
     fields = {f.name: f for f in dataclasses.fields(scene)}
     if name not in fields:
+        kind = _option_type(integrator, name)
+        if isinstance(value, str) and ("str" in kind or "bool" in kind):
+            words = {"true": True, "false": False}
+            return words.get(value.strip().lower(), value) if "bool" in kind else value
         if isinstance(value, str):
             try:
-                return float(value)
+                value = float(value)
             except ValueError:
                 raise ParameterError.not_a(f"vary[{name!r}]", value, "a number", "numbers") from None
+        if "int" in kind and "float" not in kind and isinstance(value, float) and value.is_integer():
+            return int(value)  # the command line's 20 (or a range's 20.0) for an integer option
         return value
     annotation = str(fields[name].type)
     value = _coerce(name, value, fields[name].type)

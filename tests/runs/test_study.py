@@ -6,6 +6,7 @@ import os
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import mol_shell
 from mol_shell._core.errors import ParameterError
@@ -114,6 +115,20 @@ def test_a_case_that_leaves_an_option_out_runs_with_the_studys_or_the_integrator
     np.testing.assert_allclose(ds.rtol, [1e-7, 1e-5])  # the case's, then the study's
     with pytest.raises(ParameterError, match=r"cases that each give max_order"):  # no value of its own to show
         study(BASE, [{"max_order": 3}, {"gamma": 0.05}], "cvode-bdf", n=12, t_end=0.002, scheduler="serial")
+
+
+def test_the_command_line_varies_integer_and_word_options_of_the_integrator(tmp_path, capsys):
+    """``--vary jac_every=20,200`` was read as 20.0 and every case refused ("outside integers >= 0");
+    ``--vary linsolver=dense,band`` was "not a number"."""
+    from mol_shell.cli.main import main
+
+    code = main(["study", "twisted-cylinder", "--integrator", "cvode-bdf", "--vary", "jac_every=20:200:180",
+                 "--vary", "linsolver=dense,band", "--n", "12", "--t-end", "0.002", "--workers", "1", "-o",
+                 str(tmp_path / "s.nc")])
+    assert code == 0, capsys.readouterr().err
+    ds = xr.open_dataset(tmp_path / "s.nc")
+    assert ds.jac_every.values.tolist() == [20, 200] and ds.linsolver.values.tolist() == ["dense", "band"]
+    assert (ds.status.values == "complete").all()
 
 
 def test_vary_ranges_include_the_stop():
@@ -301,8 +316,6 @@ def test_python_outputs_not_ending_in_a_netcdf_suffix_are_refused_before_any_cas
         study("twisted-cylinder", {"gamma": [1.0, 2.0]}, **SMALL, scheduler="serial", output=tmp_path / "s.txt")
     with pytest.raises(ParameterError, match="output = .* has no suffix"):
         path_study("sphere", {"nu": [0.3]}, "pressure", 0, 100, output=tmp_path / "p")
-    import xarray as xr
-
     with pytest.raises(ParameterError, match=r"path = .*d\.png' ends in \.png"):
         mol_shell.write_netcdf(xr.Dataset(), tmp_path / "d.png")
     assert sorted(tmp_path.iterdir()) == []
