@@ -73,10 +73,13 @@ class ParameterError(ValueError):
         return cls(name, None, allowed, hint, message=f"{name} is missing: {allowed}")
 
     @classmethod
-    def not_an_option(cls, name, integrator, options):
-        """``rtol is not an option of leapfrog (its options: dt)``."""
+    def not_an_option(cls, name, integrator, options, more=()):
+        """``rtol is not an option of leapfrog (its options: dt)``; ``more``, options given elsewhere (a scene file's
+        ``[run]`` table, Python), listed after ``options`` (the command line's)."""
         listed = ", ".join(sorted(options))
-        return cls(name, name, listed, message=f"{name} is not an option of {integrator} (its options: {listed})")
+        rest = ", ".join(sorted(set(more) - set(options)))
+        also = f"; also {rest} in a scene file's [run] table or in Python" if rest else ""
+        return cls(name, name, listed, message=f"{name} is not an option of {integrator} (its options: {listed}{also})")
 
 
 class UnknownParameterError(ParameterError, TypeError):

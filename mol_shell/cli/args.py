@@ -261,7 +261,7 @@ def run_settings(args, run, scene, n):
         times = run.get("times")
     t_end = args.t_end if args.t_end is not None or args.times else run.get("t_end")
     integrator = args.integrator or run.get("integrator", "leapfrog")
-    from_file = {k: run[k] for k in ("dt", "rtol", "atol", "max_step") if k in run}
+    from_file = {k: v for k, v in run.items() if k not in ("integrator", "n", "t_end", "times")}
     if args.integrator and args.integrator != run.get("integrator", "leapfrog"):
         # the command line's integrator wins, and the file's options for another integrator go with that one
         allowed = integrator_options(scene, integrator) if integrator in INTEGRATORS else set(from_file)

@@ -92,7 +92,8 @@ def check_options(scene, integrator, options, offered=None):
     check_loads(scene, integrator)
     for name in options:
         if name not in allowed:
-            raise ParameterError.not_an_option(name, integrator, allowed & offered if offered else allowed)
+            raise ParameterError.not_an_option(name, integrator, allowed & offered if offered else allowed,
+                                               more=allowed if offered else ())
     if isinstance(scene, Unshearable) and "atol" in options:  # the unshearable DAE takes one number
         atol = options["atol"]
         if not is_number(atol):

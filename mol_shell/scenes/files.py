@@ -45,6 +45,7 @@ from pathlib import Path
 from mol_shell._core.constants import FIELDS, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.integrators.loop import declared
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES, summary
 from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS, ShellScene
@@ -188,9 +189,17 @@ def _run_options(source, run):
             raise _fail(source, "run", ParameterError(key, value, allowed))
         return float(value)
 
+    integrator = run.get("integrator", "leapfrog")
+    extra = declared(INTEGRATORS[integrator]) if integrator in INTEGRATORS else {}
     for key, value in run.items():
+        if key not in RUN and key in extra:  # an option of the integrator beyond the tolerances: its declared range
+            if not extra[key].check(value):
+                raise _fail(source, "run", ParameterError(key, value, extra[key].allowed))
+            out[key] = value
+            continue
         if key not in RUN:
-            raise _fail(source, "run", f"{key} is not a key of [run]; allowed: {', '.join(RUN)}", key, value)
+            others = f", and the options of {integrator}: {', '.join(sorted(set(extra) - set(RUN)))}" if extra else ""
+            raise _fail(source, "run", f"{key} is not a key of [run]; allowed: {', '.join(RUN)}{others}", key, value)
         if key == "integrator":
             if value not in INTEGRATORS:
                 raise _fail(source, "run", ParameterError(key, value, "{" + ", ".join(INTEGRATORS) + "}"))
@@ -291,7 +300,8 @@ def load_scene(path, *, with_run=False):
         The file. ``points`` (meridian scene) is read relative to its folder.
     with_run : bool
         Also return the ``[run]`` table as checked options: ``{"integrator", "n", "t_end", "times",
-        "dt", "rtol", "atol", "max_step"}`` (those given), so ``simulate(scene, **run)`` runs it as
+        "dt", "rtol", "atol", "max_step"}`` and any other option of the integrator (those given), so
+        ``simulate(scene, **run)`` runs it as
         ``mol-shell run FILE.toml`` does.
 
     Returns

@@ -288,3 +288,33 @@ def test_layers_tables_by_a_plural_name_point_to_layer(tmp_path):
                     '[[layers]]\nthickness = 0.01\nmaterial = "svk"\n')
     with pytest.raises(ParameterError, match=r"typo.toml: \[\[layers\]\] tables are not read; allowed: \[\[layer\]\] "):
         load_scene(path)
+
+
+def test_a_run_table_sets_any_option_of_its_integrator(tmp_path, capsys):
+    """cli.md promised the [run] table "the integrator and its options", but only dt, rtol, atol and max_step were
+    keys: ``jac_every = 20`` was "not a key of [run]". The integrator's declared options are keys now, checked
+    against their declared ranges, and reach the run (its file records them)."""
+    scene_file = tmp_path / "a.toml"
+    table = '[run]\nintegrator = "cvode-adams"\niteration = "newton"\njac_every = 20\nn = 12\nt_end = 0.002\n'
+    scene_file.write_text('scene = "twisted-cylinder"\n' + table)
+    _, run = load_scene(scene_file, with_run=True)
+    assert (run["iteration"], run["jac_every"]) == ("newton", 20)
+    assert main(["run", str(scene_file), "-o", str(tmp_path / "a.nc")]) == 0
+    ds = read_netcdf(tmp_path / "a.nc")
+    assert (ds.attrs["iteration"], int(ds.attrs["jac_every"])) == ("newton", 20)
+    scene_file.write_text('scene = "twisted-cylinder"\n' + table.replace("jac_every = 20", "jac_every = -1"))
+    assert main(["run", str(scene_file), "-o", str(tmp_path / "b.nc")]) == 2
+    assert capsys.readouterr().err.strip().endswith("[run] jac_every = -1 is outside integers >= 0 (0: SUNDIALS' 51)")
+    scene_file.write_text('scene = "twisted-cylinder"\n' + table.replace("jac_every", "jacevery"))
+    assert main(["run", str(scene_file), "-o", str(tmp_path / "c.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "jacevery is not a key of [run]" in err and "the options of cvode-adams: anderson" in err, err
+
+
+def test_an_option_the_command_line_lacks_is_said_to_be_set_elsewhere(tmp_path, capsys):
+    """The refusal listed the three options of the command line as all an integrator's options (it has 16)."""
+    assert main(["run", "sphere", "--integrator", "cvode-bdf", "--dt", "1e-6", "--n", "10", "--t-end", "0.001",
+                 "-o", str(tmp_path / "a.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("mol-shell: error: dt is not an option of cvode-bdf (its options: atol, max_step, rtol; "
+                          "also anderson,") and "jac_every" in err and "in a scene file's [run] table or in Python" in err
