@@ -315,8 +315,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
                     except PathFailed as again:
                         secant = exc = PathFailed("newton", f"{exc}; nor did Newton at a fixed load past it find an "
                                                   f"equilibrium ({again}): the tangent may not be defined there, or the "
-                                                  f"range is too wide for a first step (a nearer stop or more steps "
-                                                  f"shorten it)")
+                                                  f"range is too wide for a first step (a nearer stop or more "
+                                                  f"steps, --steps, shorten it)")
                     else:
                         record.add(q_new, lam_new, t_new, tracer.distance(q, lam, q_new, lam_new), its)
                         record.locate_between(-2, -1, (q, lam, secant))

@@ -59,7 +59,7 @@ def cmd_path(args):
     scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] n is the default of --n
     n = args.n or run.get("n", 40)
     try:
-        ds = path(scene, name, start, stop, n=n, max_steps=args.max_steps, branch=args.branch)
+        ds = path(scene, name, start, stop, n=n, steps=args.steps, max_steps=args.max_steps, branch=args.branch)
     except ParameterError as exc:
         if exc.name == "branch":
             raise ParameterError("--branch", args.branch, exc.allowed, message="--" + str(exc)) from None
@@ -107,6 +107,9 @@ def register_path(sub):
     p.add_argument("--n", type=integer_arg("--n", 3), default=None,
                    help="nodes in s (default: a scene file's [run] n, else 40)")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
+    p.add_argument("--steps", type=integer_arg("--steps", 1), default=20,
+                   help="the first step covers 1/STEPS of the range (default 20; the later ones adapt): more for a "
+                   "path whose start the first step overshoots")
     p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=200,
                    help="the path ends after this many steps (default 200); short of STOP it says so in a note on "
                    "stderr and in attrs status = max_steps, complete = 0, and exits 0")

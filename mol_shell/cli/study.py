@@ -32,6 +32,8 @@ from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT
 from mol_shell.runs.study import study
 from mol_shell.scenes import with_params
 
+#: the first step of each path of a study of paths is 1/STEPS of its range without --steps
+STEPS = 20
 #: the steps of each path of a study of paths without --max-steps
 MAX_STEPS = 200
 
@@ -72,9 +74,11 @@ def _number_or_text(text):
 
 
 def cmd_study(args):
-    if args.path is None and args.max_steps is not None:  # it was ignored
-        raise ParameterError("--max-steps", args.max_steps, "an option of a study of paths (--path)",
-                             message="--max-steps is an option of a study of paths (--path), not of one of runs")
+    for option in ("max_steps", "steps"):  # options of a study of paths: ignored by one of runs
+        if args.path is None and getattr(args, option) is not None:
+            name = "--" + option.replace("_", "-")
+            raise ParameterError(name, getattr(args, option), "an option of a study of paths (--path)",
+                                 message=f"{name} is an option of a study of paths (--path), not of one of runs")
     sets = parse_sets(args.set)
     base, run = scene_and_run(args.scene)  # a scene file's [run] table gives defaults, the options win
     n = args.n or run.get("n", 40)
@@ -144,7 +148,8 @@ def _path_study(args, scene, vary, n):
                                  message=f"{name} is an option of a study of runs, not of one of paths (--path)")
     name, start, stop = parse_param(args.path, "--path")
     return _finish(args, scene, "path", lambda: path_study(
-        scene, vary, name, start, stop, n=n, max_steps=args.max_steps or MAX_STEPS, scheduler=args.scheduler,
+        scene, vary, name, start, stop, n=n, steps=args.steps or STEPS, max_steps=args.max_steps or MAX_STEPS,
+        scheduler=args.scheduler,
         workers=args.workers,
         output=args.output), lambda ds: f"; first critical {name}: "
         + ", ".join("none" if np.isnan(v) else f"{v:.6g}" for v in ds.first_critical.values.ravel()))
@@ -178,6 +183,8 @@ def register_study(subparsers):
     p.add_argument("--path", default=None, metavar="NAME=START:STOP",
                    help="a study of equilibrium paths (mol-shell path) in place of runs: one path per case, their "
                    "critical points gathered (the run options --integrator, --t-end, ... are refused)")
+    p.add_argument("--steps", type=integer_arg("--steps", 1), default=None,
+                   help=f"with --path: the first step of each path covers 1/STEPS of the range (default {STEPS})")
     p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=None,
                    help=f"with --path only: each path ends after this many steps (default {MAX_STEPS})")
     p.add_argument("-o", "--output", required=True,

@@ -104,12 +104,13 @@ def test_repeatable_options_stay_repeatable(tmp_path, capsys):
 
 
 # -- study: --max-steps is an option of a study of paths -----------------------------------------------------------
-def test_max_steps_without_path_is_refused_as_t_end_with_path_is(tmp_path, capsys):
+@pytest.mark.parametrize("option", ["--max-steps", "--steps"])
+def test_max_steps_without_path_is_refused_as_t_end_with_path_is(option, tmp_path, capsys):
     """``study ... --max-steps 3`` without ``--path`` ran the study of runs and ignored it."""
     out = tmp_path / "st.nc"
-    assert main(["study", "sphere", "--vary", "nu=0.3,0.4", "--t-end", "1e-5", "--n", "5", "--max-steps", "3",
+    assert main(["study", "sphere", "--vary", "nu=0.3,0.4", "--t-end", "1e-5", "--n", "5", option, "3",
                  "-o", str(out)]) == 2
-    assert one_error(capsys) == ("mol-shell: error: --max-steps is an option of a study of paths (--path), not of "
+    assert one_error(capsys) == (f"mol-shell: error: {option} is an option of a study of paths (--path), not of "
                                  "one of runs")
     assert not list(tmp_path.iterdir())
 

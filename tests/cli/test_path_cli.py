@@ -7,6 +7,7 @@ import pytest
 import xarray as xr
 from reference_cap import cap_params, p_classical
 
+from mol_shell import Sphere, path
 from mol_shell.cli.main import main
 
 N = 21
@@ -182,7 +183,7 @@ def test_a_range_far_beyond_what_the_shell_carries_says_so_when_the_path_cannot_
     assert main(["path", "sphere", "--param", "pressure=0:1e12", "--n", "10", "-o", str(out)]) == 3
     err = capsys.readouterr().err.strip().splitlines()[-1]
     assert "no equilibrium found at pressure = 4.88281e+07 Pa" in err, err
-    assert "or the range is too wide for a first step (a nearer stop or more steps shorten it)" in err, err
+    assert "or the range is too wide for a first step (a nearer stop or more steps, --steps, shorten it)" in err, err
 
 
 def test_a_path_written_before_the_points_digest_still_starts_a_run(tmp_path, capsys):
@@ -243,3 +244,18 @@ def test_a_second_param_is_refused_not_followed_silently(tmp_path, capsys):
     assert err == ("mol-shell: error: --param = 'gravity=0:1' follows --param = 'pressure=0:100'; allowed: one (a path "
                    "follows one parameter; vary the others with study)")
     assert not (tmp_path / "p.nc").exists()
+
+
+def test_the_first_step_is_set_with_steps_as_in_python(tmp_path, capsys):
+    """The docs and the stop's message said "more --steps" and the command had no such option."""
+    loads = {}
+    for steps in (10, 40):
+        out = tmp_path / f"p{steps}.nc"
+        assert main(["path", "sphere", "--param", "pressure=0:1000", "--n", "20", "--steps", str(steps),
+                     "--max-steps", "1", "-o", str(out)]) == 0
+        loads[steps] = xr.open_dataset(out).parameter.values
+    same = path(Sphere(), "pressure", 0.0, 1000.0, n=20, steps=40, max_steps=1).parameter.values
+    np.testing.assert_array_equal(loads[40], same)
+    assert 0 < loads[40][1] < loads[10][1]  # the first step: a quarter of the range's share
+    assert main(["path", "sphere", "--param", "pressure=0:1000", "--steps", "0", "-o", str(tmp_path / "x.nc")]) == 2
+    assert capsys.readouterr().err.strip().splitlines()[-1].startswith("mol-shell: error: --steps = 0 is outside")
