@@ -150,7 +150,7 @@ def _gather(scene, dims, coords, cases, results, parameter):
         status[index], message[index], wall[index] = info["status"], info["message"], info["case_wall_time_s"]
         if ds is None:
             continue
-        steps[index] = ds.sizes["step"]
+        steps[index] = ds.sizes["step"] - 1  # its states less the start, as mol-shell path counts steps
         m = ds.sizes.get("point", 0)
         kind[index][:m] = ds.point_kind.values
         family[index][:m] = ds.point_family.values
@@ -167,7 +167,7 @@ def _gather(scene, dims, coords, cases, results, parameter):
     data = {
         "status": (sdims, status, {"long_name": "how the case's path ended (complete, max_steps, failed, limit, ...)"}),
         "message": (sdims, message, {"long_name": "what the case's path said"}),
-        "steps": (sdims, steps, {"units": "1", "long_name": "steps of the case's path"}),
+        "steps": (sdims, steps, {"units": "1", "long_name": "steps of the case's path (its states less the start)"}),
         "first_critical": (sdims, value[..., 0] if count else np.full(shape, np.nan), {"units": units, "long_name":
                            f"{parameter} at the first critical point the path met (NaN: none)"}),
         "case_wall_time_s": (sdims, wall, {"units": "s", "long_name": "wall time of the case"}),

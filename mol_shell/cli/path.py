@@ -213,6 +213,7 @@ def cmd_plot_path(args):
         raise ParameterError("--response", response, form)
     response_values(ds, response)
     plot_path(ds, args.output, response)
-    print(f"wrote {args.output}: {ds.attrs['parameter']} against {response}, {plural(ds.sizes['step'], 'step')}, "
-          f"{plural(ds.sizes['point'], 'critical point')}")
+    states = ds.sizes["step"]  # the start and its steps, counted as mol-shell path counts them
+    print(f"wrote {args.output}: {ds.attrs['parameter']} against {response}, {plural(states, 'state')} "
+          f"({plural(states - 1, 'step')}), {plural(ds.sizes['point'], 'critical point')}")
     return 0

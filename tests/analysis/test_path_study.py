@@ -36,6 +36,7 @@ def test_each_case_has_the_critical_points_of_its_own_path(studied):
         assert np.array_equal(ds.point_parameter.values[k, :m], own.point_parameter.values)
         assert list(ds.point_kind.values[k, :m]) == list(own.point_kind.values)
         assert ds.first_critical.values[k] == own.point_parameter.values[0]
+        assert ds.steps.values[k] == own.sizes["step"] - 1  # steps as mol-shell path counts them (it held states)
         assert np.all(np.isnan(ds.point_parameter.values[k, m:]))
         held = [v for v in own.data_vars if v.startswith("point_end")]  # the rim's reactions at the points
         assert held and all(np.array_equal(ds[v].values[k, :m], own[v].values) for v in held)

@@ -57,7 +57,10 @@ def test_plot_of_a_path(cap_file, tmp_path, capsys):
     assert main(["plot", str(cap_file), "--response", "r@0", "-o", str(out)]) == 0
     assert out.stat().st_size > 10000
     assert main(["plot", str(cap_file), "-o", str(out)]) == 0
-    assert "against load_conjugate" in capsys.readouterr().out
+    said = capsys.readouterr().out
+    assert "against load_conjugate" in said
+    states = xr.open_dataset(cap_file).sizes["step"]  # the states; the steps are one fewer (it said "N steps")
+    assert f"{states} states ({states - 1} steps)" in said, said
 
 
 @pytest.mark.parametrize("argv, option", [
