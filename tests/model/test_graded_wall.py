@@ -11,6 +11,7 @@ import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
 from mol_shell.discretization.system import ShellSystem
+from mol_shell.model.thickness_profile import TABLE_ENDS, thickness_function
 from mol_shell.runs import checks
 from mol_shell.runs.building import build
 from mol_shell.runs.checks import initial_state
@@ -178,14 +179,18 @@ def test_a_table_reaching_zero_between_the_sampled_points_is_refused():
     assert info.value.name == "h_profile" and "h = 0 m at s = 1.5 m" in str(info.value), str(info.value)
 
 
-def test_a_table_just_short_of_the_meridian_says_by_how_much():
-    """The unit half-circle is pi m long; a table ending at 3.14159 falls pi - 3.14159 m short, and both ranges
-    are printed with the digits that tell them apart."""
+def test_a_table_short_of_the_meridian_says_by_how_much_and_its_ends_may_be_typed_to_a_few_digits():
+    """The unit half-circle is pi m long. A table ending at 3.14 falls pi - 3.14 m short: refused, both ranges
+    printed with the digits that tell them apart. One ending at 3.14159 (2.7e-6 m short, within TABLE_ENDS of the
+    length) was refused too, so a user had to type pi to twelve digits: it is taken, its last h held to the end."""
     with pytest.raises(ParameterError) as info:
-        Sphere(h=0.01, h_profile="table 0:0.01 3.14159:0.01")
+        Sphere(h=0.01, h_profile="table 0:0.01 3.14:0.01")
     text = str(info.value)
-    assert f"[0, {math.pi:.12g}] m" in text and "[0, 3.14159] m" in text, text
-    assert f"{math.pi - 3.14159:.3g} m short" in text, text
+    assert f"[0, {math.pi:.12g}] m" in text and "[0, 3.14] m" in text, text
+    assert f"{math.pi - 3.14:.3g} m short" in text, text
+    assert (math.pi - 3.14159) / math.pi < TABLE_ENDS
+    h = thickness_function("table 0:0.01 3.14159:0.02", math.pi)
+    assert h(np.array([math.pi]))[0] == 0.02
 
 
 def test_a_profile_too_thin_for_double_precision_is_blamed_on_h_profile(capsys, tmp_path):
