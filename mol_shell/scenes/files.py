@@ -115,25 +115,40 @@ def history_text(name, value):
     """A history as the scenes take it: the string form as it is, an inline table converted to it."""
     if not isinstance(value, dict):
         return value  # the scene's check names anything that is not a valid string
-    bad = ParameterError(name, value, HISTORY_TABLES,
-                         message=f"{name} = {toml_value(value)} is outside {HISTORY_TABLES}")
     kind = value.get("kind")
-    if kind not in HISTORY_FORMS or set(value) != {"kind", *HISTORY_FORMS[kind]}:
-        raise bad
-    args = [value[key] for key in HISTORY_FORMS[kind]]
+
+    def bad(why):
+        """The refusal: the form of this kind (all the forms for an unknown kind) and what is wrong."""
+        forms = [form for form in HISTORY_TABLES.split("}, ") if f'kind = "{kind}"' in form]
+        allowed = forms[0].rstrip("}") + "}" if forms else HISTORY_TABLES
+        return ParameterError(name, value, allowed, message=f"{name} = {toml_value(value)} is outside {allowed} ({why})")
+
+    if kind not in HISTORY_FORMS:
+        raise bad(f"kind = {toml_value(kind)} is not one of {', '.join(HISTORY_FORMS)}" if "kind" in value
+                  else "it has no kind")
+    keys = HISTORY_FORMS[kind]
+    missing, extra = [k for k in keys if k not in value], sorted(set(value) - {"kind", *keys})
+    if missing or extra:
+        raise bad(f"{kind} takes {', '.join(keys) or 'no other key'}; "
+                  + (f"{', '.join(missing)} missing" if missing else f"not {', '.join(extra)}"))
+    args = [value[key] for key in keys]
     if kind == "table":
         t, h = args
-        if not (isinstance(t, list) and isinstance(h, list) and len(t) == len(h) and all(map(is_number, t + h))):
-            raise bad
+        if not (isinstance(t, list) and isinstance(h, list) and all(map(is_number, t + h))):
+            raise bad("t and h are lists of numbers")
+        if len(t) != len(h):
+            raise bad(f"t has {len(t)} values and h {len(h)}: one h for each t")
         text = "table " + " ".join(f"{float(a)!r}:{float(b)!r}" for a, b in zip(t, h))
     elif all(map(is_number, args)):
         text = " ".join([kind] + [repr(float(a)) for a in args])
     else:
-        raise bad
+        raise bad(f"{', '.join(keys)} {'is a number' if len(keys) == 1 else 'are numbers'}")
     try:
         parse_history(name, text)
-    except ParameterError:
-        raise bad from None
+    except ParameterError as exc:  # a value out of its range: the string form's rule for this kind says which
+        forms, start = str(exc.allowed), str(exc.allowed).find(f"'{kind}")
+        ends = [i for i in (forms.find(", '", start + 1), forms.find(" or '", start + 1)) if i > 0]
+        raise bad(f"as {forms[start:min(ends, default=len(forms))]}" if start >= 0 else str(exc)) from None
     return text
 
 

@@ -223,10 +223,25 @@ BAD = [
     ('scene = "sphere"\n[initial]\nR = 5\n', "[initial] R = 5.0 is outside (a/2, 2a) = (0.5, 2) m"),
     ('scene = "torus"\n[geometry]\nalpha2 = [1, 2]\n', "[geometry] alpha2 = [1, 2] is not a number"),
     ('scene = "sphere"\n[edges]\nend1 = "glued"\n', "[edges] end1 = 'glued' is outside {magnet, clamped"),
+    # each says what is wrong (they all said the same 400 characters of every form)
     ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "ramp", t1 = -1}\n',
-     '[loads] pressure_history = {kind = "ramp", t1 = -1} is outside {kind = "constant"}'),
+     "[loads] pressure_history = {kind = \"ramp\", t1 = -1} is outside {kind = \"ramp\", t1 = T1} (as 'ramp T1' "
+     "(t/T1 up to 1, T1 >= 1e-300 s))"),
     ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "ramp", t = 1}\n',
-     '[loads] pressure_history = {kind = "ramp", t = 1} is outside'),
+     '[loads] pressure_history = {kind = "ramp", t = 1} is outside {kind = "ramp", t1 = T1} (ramp takes t1; t1 '
+     'missing)'),
+    ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "ramp", t1 = 1, extra = 3}\n',
+     '[loads] pressure_history = {kind = "ramp", t1 = 1, extra = 3} is outside {kind = "ramp", t1 = T1} (ramp takes '
+     't1; not extra)'),
+    ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "table", t = [0, 2, 1], h = [0, 1, 1]}\n',
+     '[loads] pressure_history = {kind = "table", t = [0, 2, 1], h = [0, 1, 1]} is outside {kind = "table", '
+     "t = [t0, t1, ...], h = [h0, h1, ...]} (as 'table t0:h0 t1:h1 ...' (linear between, held beyond; times "
+     "increasing))"),
+    ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "table", t = [0, 1], h = [0, 1, 1]}\n',
+     '[loads] pressure_history = {kind = "table", t = [0, 1], h = [0, 1, 1]} is outside {kind = "table", '
+     't = [t0, t1, ...], h = [h0, h1, ...]} (t has 2 values and h 3: one h for each t)'),
+    ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "linear", t1 = 1}\n',
+     '[loads] pressure_history = {kind = "linear", t1 = 1} is outside {kind = "constant"}, {kind = "step", t0 = T0}'),
     ('scene = "sphere"\n[loads]\npressure_history = "ramp"\n', "[loads] pressure_history = 'ramp' is outside 'constant'"),
     ('scene = "sphere"\n[run]\nn = 2\n', "[run] n = 2 is outside integers >= 3"),
     ('scene = "sphere"\n[run]\nt_end = "long"\n', "[run] t_end = 'long' is not a number; allowed: (0, inf) s"),
