@@ -225,21 +225,21 @@ BAD = [
     ('scene = "sphere"\n[edges]\nend1 = "glued"\n', "[edges] end1 = 'glued' is outside {magnet, clamped"),
     # each says what is wrong (they all said the same 400 characters of every form)
     ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "ramp", t1 = -1}\n',
-     "[loads] pressure_history = {kind = \"ramp\", t1 = -1} is outside {kind = \"ramp\", t1 = T1} (as 'ramp T1' "
-     "(t/T1 up to 1, T1 >= 1e-300 s))"),
+     ("[loads] pressure_history = {kind = \"ramp\", t1 = -1} is outside {kind = \"ramp\", t1 = T1} (as 'ramp T1' "
+     "(t/T1 up to 1, T1 >= 1e-300 s))")),
     ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "ramp", t = 1}\n',
-     '[loads] pressure_history = {kind = "ramp", t = 1} is outside {kind = "ramp", t1 = T1} (ramp takes t1; t1 '
-     'missing)'),
+     ('[loads] pressure_history = {kind = "ramp", t = 1} is outside {kind = "ramp", t1 = T1} (ramp takes t1; t1 '
+     'missing)')),
     ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "ramp", t1 = 1, extra = 3}\n',
-     '[loads] pressure_history = {kind = "ramp", t1 = 1, extra = 3} is outside {kind = "ramp", t1 = T1} (ramp takes '
-     't1; not extra)'),
+     ('[loads] pressure_history = {kind = "ramp", t1 = 1, extra = 3} is outside {kind = "ramp", t1 = T1} (ramp takes '
+     't1; not extra)')),
     ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "table", t = [0, 2, 1], h = [0, 1, 1]}\n',
-     '[loads] pressure_history = {kind = "table", t = [0, 2, 1], h = [0, 1, 1]} is outside {kind = "table", '
+     ('[loads] pressure_history = {kind = "table", t = [0, 2, 1], h = [0, 1, 1]} is outside {kind = "table", '
      "t = [t0, t1, ...], h = [h0, h1, ...]} (as 'table t0:h0 t1:h1 ...' (linear between, held beyond; times "
-     "increasing))"),
+     "increasing))")),
     ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "table", t = [0, 1], h = [0, 1, 1]}\n',
-     '[loads] pressure_history = {kind = "table", t = [0, 1], h = [0, 1, 1]} is outside {kind = "table", '
-     't = [t0, t1, ...], h = [h0, h1, ...]} (t has 2 values and h 3: one h for each t)'),
+     ('[loads] pressure_history = {kind = "table", t = [0, 1], h = [0, 1, 1]} is outside {kind = "table", '
+     't = [t0, t1, ...], h = [h0, h1, ...]} (t has 2 values and h 3: one h for each t)')),
     ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "linear", t1 = 1}\n',
      '[loads] pressure_history = {kind = "linear", t1 = 1} is outside {kind = "constant"}, {kind = "step", t0 = T0}'),
     ('scene = "sphere"\n[loads]\npressure_history = "ramp"\n', "[loads] pressure_history = 'ramp' is outside 'constant'"),
