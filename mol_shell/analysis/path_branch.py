@@ -26,7 +26,8 @@ def check_branch_point(record, index):
     point = record.points[index]
     if point["kind"] != "bifurcation":
         bifurcations = [m for m, p in enumerate(record.points) if p["kind"] == "bifurcation"]
-        allowed = "{" + ", ".join(map(str, bifurcations)) + "} (the bifurcation points found up to it)"
+        allowed = ("{" + ", ".join(map(str, bifurcations)) + "} (the bifurcation points found up to it)" if bifurcations
+                   else "a bifurcation point, and none was found up to it")
         raise ParameterError("branch", index, allowed,
                              hint=f"critical point {index} is a limit point at {record.eq.parameter} = "
                              f"{point['parameter']:.6g} {record.eq.units}: the path turns there, no branch leaves")

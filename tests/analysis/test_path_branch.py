@@ -76,4 +76,5 @@ def test_branch_at_a_limit_point_exits_2_with_one_line(tmp_path, capsys):
     assert main(argv + ["-o", str(out)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "--branch = 0" in err and "limit point" in err
+    assert "is outside a bifurcation point, and none was found up to it" in err, err  # it said "outside {}"
     assert not out.exists()
