@@ -55,7 +55,8 @@ def register_animate(subparsers):
     parser.add_argument("--fps", type=number_arg("--fps", 0, 100, high_closed=True), default=DEFAULTS["fps"],
                         help="frames per second (default 4)")
     parser.add_argument("--width", type=integer_arg("--width", *RANGES["width"]), default=DEFAULTS["width"],
-                        help=f"width in pixels, {_range('width')} (default {DEFAULTS['width']})")
+                        help=f"width in pixels, {_range('width')} (default {DEFAULTS['width']}; height 0.9 of it; an .mp4's "
+                        "sides rounded to even numbers)")
     parser.add_argument("-o", "--output", required=True, help="shell.gif or shell.mp4")
     parser.set_defaults(func=cmd_animate, output_suffixes=set(SUFFIXES))
 

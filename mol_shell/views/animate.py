@@ -9,10 +9,14 @@ dashed straight lines are the same fibres in the reference configuration.
 
 from __future__ import annotations
 
+import logging
+import re
+import subprocess
 from pathlib import Path
 
 import numpy as np
 
+from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError
 from mol_shell.views.fields import check_run, field, surface_points
 
@@ -30,6 +34,14 @@ def check_integers(**values):
         low, high = RANGES[name]
         if not (isinstance(value, (int, np.integer)) and not isinstance(value, bool) and low <= value <= high):
             raise ParameterError("--" + name.replace("_", "-"), value, f"integers in [{low}, {high}]")
+
+
+def frame_pixels(width, even=False):
+    """``(width, height)`` of a frame in pixels: the height 0.9 of the width, to the nearest pixel; ``even``: both
+    to the nearest even number (H.264 in 4:2:0 colour, as players read it, needs even sizes)."""
+    if even:
+        return 2 * int(width / 2 + 0.5), 2 * int(0.9 * width / 2 + 0.5)
+    return int(width), int(0.9 * width + 0.5)
 
 
 def _short_label(name, units):
@@ -73,7 +85,7 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
     fps : float
         Frames per second.
     width : int
-        Width in pixels (height 0.9 of it), in [100, 4096].
+        Width in pixels (height 0.9 of it), in [100, 4096]; an MP4's width and height are rounded to even numbers.
     elev, azim : float
         Viewing angles, degrees (matplotlib's).
 
@@ -81,10 +93,15 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
     -------
     int
         Frames written.
+
+    Raises
+    ------
+    ParameterError
+        Named ``-o`` when ffmpeg fails to encode the MP4; the file is written under a temporary name and renamed onto
+        ``path`` when complete, so a failure leaves no file behind (and a previous one intact).
     """
-    import matplotlib
     import matplotlib.pyplot as plt
-    from matplotlib import animation, colormaps
+    from matplotlib import colormaps
     from matplotlib.cm import ScalarMappable
 
     check_integers(n_phi=n_phi, fibres=fibres, width=width)
@@ -106,7 +123,9 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
     zlo, zhi = float(surface[..., 2].min()), float(surface[..., 2].max())
 
     dpi = 100
-    fig = plt.figure(figsize=(width / dpi, 0.9 * width / dpi), dpi=dpi)
+    pixels = frame_pixels(width, even=suffix == "mp4")
+    # a hair over the pixels: matplotlib truncates inches x dpi, and 29 / 100 * 100 is 28.999999999999996
+    fig = plt.figure(figsize=tuple((n + 1e-3) / dpi for n in pixels), dpi=dpi)
     ax = fig.add_axes((0.0, 0.0, 0.78, 0.86), projection="3d", computed_zorder=False)
     cax = fig.add_axes((0.8, 0.15, 0.035, 0.62))
     fig.colorbar(ScalarMappable(norm, cmap), cax=cax).set_label(_short_label(field_name, units), fontsize=9)
@@ -144,20 +163,43 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
 
     count = ds.sizes["time"]
     try:
-        if suffix == "mp4":
-            import imageio_ffmpeg
-
-            matplotlib.rcParams["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
-            writer = animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
-            with writer.saving(fig, str(path), dpi):
-                for k in range(count):
-                    draw(k)
-                    writer.grab_frame()
-        else:
-            _write_gif(path, fig, draw, count, fps)
+        with atomic_path(path) as tmp:
+            if suffix == "mp4":
+                _write_mp4(tmp, path, fig, draw, count, fps, dpi)
+            else:
+                _write_gif(tmp, fig, draw, count, fps)
     finally:
         plt.close(fig)
     return count
+
+
+def _write_mp4(path, target, fig, draw, count, fps, dpi):
+    """H.264 by the ffmpeg of ``imageio-ffmpeg`` into ``path``; a failure of the encoder is refused in one line naming
+    ``-o`` = ``target`` (the file the user asked for)."""
+    import imageio_ffmpeg
+    import matplotlib
+    from matplotlib import animation
+
+    matplotlib.rcParams["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
+    # the container named, as the temporary file's name does not end in .mp4
+    writer = animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p", "-f", "mp4"])
+    log = logging.getLogger("matplotlib.animation")
+    level = log.level
+    log.setLevel(logging.ERROR)  # the encoder's own lines: the message below says what matters in one
+    try:
+        with writer.saving(fig, str(path), dpi):
+            for k in range(count):
+                draw(k)
+                writer.grab_frame()
+    except (subprocess.CalledProcessError, OSError) as exc:  # OSError: a pipe broken by an encoder that quit
+        said = [line.strip() for line in str(getattr(exc, "stderr", "") or "").splitlines() if line.strip()]
+        why = re.sub(r" @ 0x[0-9a-fA-F]+", "", said[0]) if said else str(exc)  # [libx264 @ 0x55d...] -> [libx264]
+        width, height = fig.canvas.get_width_height()
+        raise ParameterError.invalid("-o", str(target), f"could not be encoded ({why})",
+                                     f"a .gif, or an .mp4 that ffmpeg can encode ({width} x {height} pixels here)"
+                                     ) from None
+    finally:
+        log.setLevel(level)
 
 
 def _write_gif(path, fig, draw, count, fps, palette_frames=6):
@@ -176,4 +218,5 @@ def _write_gif(path, fig, draw, count, fps, palette_frames=6):
         strip.paste(frame, (0, i * frame.height))
     palette = strip.quantize(colors=256, method=Image.Quantize.MEDIANCUT)
     frames = [render(k).quantize(palette=palette, dither=Image.Dither.NONE) for k in range(count)]
-    frames[0].save(path, save_all=True, append_images=frames[1:], duration=int(round(1000 / fps)), loop=0)
+    frames[0].save(path, format="GIF", save_all=True, append_images=frames[1:], duration=round(1000 / fps),
+                   loop=0)
