@@ -13,9 +13,10 @@ ParaView's Warp By Vector (scale 1) and ``meshio.xdmf.TimeSeriesReader`` (points
 the motion. A ``.vtu`` of the PVD series holds the moved points themselves, and ``displacement`` too.
 
 Point data: ``displacement`` (m), the fields and their rates, ``phi`` (the reference azimuth, rad),
-``zeta`` (the depth of the surface, m) and, with stresses, the resultants and face stresses averaged
-to the nodes (face stresses as ``NAME_inner``, ``NAME_outer``). Cell data: the resultants and face
-stresses exactly as computed per cell. One step per saved time, at that time.
+``zeta`` (the depth of the point from the base surface, m: a graded wall's faces at its own ``-h(s)``, ``+h(s)``)
+and, with stresses, the resultants and face stresses averaged to the nodes (face stresses as ``NAME_inner``,
+``NAME_outer``). Cell data: the resultants and face stresses exactly as computed per cell. One
+step per saved time, at that time.
 """
 
 from __future__ import annotations
@@ -67,13 +68,13 @@ def mesh_series(ds, n_phi=N_PHI, faces=False):
     steps : generator of ``(points (P, 3), point_data {name: (P,) or (P, 3)}, cell_data {name: (cells,)})``
     """
     n = ds.sizes["s"]
-    depths = (0.0, *face_depths(ds)) if faces else (0.0,)
+    depths = (np.zeros(n), *face_depths(ds)) if faces else (np.zeros(n),)  # per node: a graded wall's follow h(s)
     surfaces = len(depths)
     nodal = {name: field(ds, name, "nodes")[0] for name in field_names(ds)}
     cellwise = {name: field(ds, name, "cells")[0] for name in field_names(ds)
                 if name not in ds or ds[name].dims != ("time", "s")}
     constant = {"phi": np.tile(azimuths(n_phi), n * surfaces),
-                "zeta": np.repeat(np.asarray(depths, dtype=float), n * n_phi)}
+                "zeta": np.repeat(np.concatenate(depths), n_phi)}
 
     def spread(values):  # per node (or cell) -> per point (or quad) of every surface
         return np.tile(np.repeat(values, n_phi), surfaces)

@@ -3,8 +3,9 @@
 ``mol-shell plot run.nc --figure fibres -o fig1.png``: (a) the section at ``s`` in the reference
 configuration, its fibres through the thickness radial; (b) the images of the same fibres at a
 chosen time, projected onto the plane of the section. A fibre is the segment ``r + zeta d``,
-``zeta1 <= zeta <= zeta1 + 2h``, of the material line at reference azimuth ``phi``; its projection
-starts at ``r a2(phi + chi)`` and runs along ``cos(psi) cos(theta) a2 + sin(psi) a3``: ``chi`` turns
+``zeta1 <= zeta <= zeta1 + 2h`` (a graded wall: ``-h(s) <= zeta <= h(s)`` at the section), of the material
+line at reference azimuth ``phi``; its projection starts at ``r a2(phi + chi)``
+and runs along ``cos(psi) cos(theta) a2 + sin(psi) a3``: ``chi`` turns
 the section, ``psi`` tilts its fibres out of the radial direction (the rotationally symmetric, not
 axisymmetric, deformation of the paper's Figure 1c). The thickness is drawn magnified (the
 magnification is in the title); magnifying ``zeta`` keeps each fibre's direction, so the tilt is
@@ -122,7 +123,7 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
                              "a pole r = 0 and there is no section to draw)")
     r0 = float(radii[i])
     theta0 = float(ds["theta0"].values[i]) if "theta0" in ds else 0.0
-    depths = np.array(face_depths(ds))
+    depths = np.array([faces[i] for faces in face_depths(ds)])  # this section's own: a graded wall's h(s)
     if thickness_scale is None:
         thickness_scale = max(1.0, round(DRAWN_THICKNESS * r0 / (depths[1] - depths[0])))
     elif not (np.isfinite(thickness_scale) and thickness_scale > 0):

@@ -11,6 +11,7 @@ import numpy as np
 
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError, show
+from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.results.stresses import FACES
 
 #: what a run the views draw holds finite: the coordinates, the fields and the reference meridian (a run stops
@@ -109,7 +110,8 @@ def azimuths(n_phi):
 
 
 def surface_points(ds, n_phi, zeta=0.0, times=None):
-    """Cartesian positions ``(time, s, phi, 3)`` of the material points at depth ``zeta`` (m).
+    """Cartesian positions ``(time, s, phi, 3)`` of the material points at depth ``zeta`` (m: one depth, or one per
+    node, as :func:`face_depths` gives a graded wall's faces).
 
     The rotationally symmetric map: the material line at reference azimuth ``phi`` sits at azimuth
     ``phi + chi(s, t)``; the base surface point is ``z k + r a2``, ``a2 = (cos, sin, 0)(phi + chi)``
@@ -124,8 +126,8 @@ def surface_points(ds, n_phi, zeta=0.0, times=None):
 
 def reference_points(ds, n_phi, zeta=0.0):
     """Cartesian positions ``(s, phi, 3)`` of the material points at depth ``zeta`` in the reference (natural)
-    shell: the map of :func:`surface_points` at ``z0, r0, theta0``, ``chi = psi = 0``. A run without the
-    reference meridian (the ring ODE's) takes its first saved state as the reference."""
+    shell: the map of :func:`surface_points` at ``z0, r0, theta0``, ``chi = psi = 0`` (``zeta`` one depth or one per
+    node). A run without the reference meridian (the ring ODE's) takes its first saved state as the reference."""
     if not all(name in ds for name in ("z0", "r0", "theta0")):
         return surface_points(ds, n_phi, zeta, times=[0])[0]
     z, r, theta = (np.asarray(ds[f].values, dtype=float)[..., None] for f in ("z0", "r0", "theta0"))
@@ -133,6 +135,8 @@ def reference_points(ds, n_phi, zeta=0.0):
 
 
 def _revolve(z, r, chi, theta, psi, n_phi, zeta):
+    zeta = np.asarray(zeta, dtype=float)
+    zeta = zeta[:, None] if zeta.ndim else zeta  # one depth per node: along s, the same for every phi
     angle = azimuths(n_phi) + chi
     cos_a, sin_a = np.cos(angle), np.sin(angle)
     radial = r + zeta * np.cos(psi) * np.cos(theta)  # along a2
@@ -144,6 +148,14 @@ def _revolve(z, r, chi, theta, psi, n_phi, zeta):
 
 
 def face_depths(ds):
-    """``(zeta1, zeta1 + 2h)`` of a run (m)."""
+    """The depths ``(inner, outer)`` of the faces from the base surface at each node (m, two arrays along ``s``):
+    ``zeta1`` and ``zeta1 + 2h`` of a uniform wall; a graded wall's (``h_profile``) own ``-h(s)`` and ``+h(s)`` about
+    its mid-surface, ``h(s)`` from the run's profile at the nodes, as the run took it (its ``zeta_face`` holds the
+    same at the cell centres)."""
+    s = np.asarray(ds["s"].values, dtype=float)
+    profile = str(ds.attrs.get("h_profile", "") or "")
+    if profile not in ("", "none"):
+        h = np.asarray(thickness_function(profile, float(s[-1] - s[0]))(s), dtype=float)
+        return -h, h
     zeta1, h = float(ds.attrs["zeta1_used"]), float(ds.attrs["h"])
-    return zeta1, zeta1 + 2 * h
+    return np.full(s.shape, zeta1), np.full(s.shape, zeta1 + 2 * h)

@@ -4,11 +4,13 @@ thickness, the radius drawn where a vessel is cylindrical, and plot's refusal li
 import stat
 
 import imageio_ffmpeg
+import meshio
 import numpy as np
 import pytest
 
 import mol_shell
 from mol_shell.cli.main import main
+from mol_shell.views.fibres import fibres_figure
 
 
 @pytest.fixture(scope="module")
@@ -52,3 +54,57 @@ def test_an_encoder_that_fails_is_said_in_one_line_and_leaves_no_file(short_run,
     (folder / "old.mp4").write_bytes(b"previous")
     assert main([*argv, "-o", str(folder / "old.mp4")]) == 2
     assert (folder / "old.mp4").read_bytes() == b"previous" and len(list(folder.iterdir())) == 1
+
+
+# -- a graded wall drawn at its own thickness ----------------------------------------------------------------
+PROFILE = "0.005 * (1 + 0.25 * s)"
+
+
+def profile_h(s):
+    """The half-thickness of :data:`PROFILE`, written out here: 5 mm at s = 0, growing by a quarter per metre."""
+    return 0.005 * (1 + 0.25 * np.asarray(s))
+
+
+@pytest.fixture(scope="module")
+def graded(tmp_path_factory):
+    """A vessel of two hemispheres and a 2 m cylinder (12 nodes) whose wall thickens along the meridian (h from 5 mm
+    to 11.4 mm; the nominal h is 6.28 mm), inflated for 0.1 ms."""
+    scene = mol_shell.SCENES["vessel"](segments="arc 1 -90, line 2, arc 1 -90", h_profile=PROFILE, pressure=100.0)
+    ds = mol_shell.simulate(scene, n=12, times=[0.0, 1e-4], progress=False, stresses=False)
+    path = tmp_path_factory.mktemp("graded") / "seg.nc"
+    mol_shell.write_netcdf(ds, path)
+    return ds, path
+
+
+def test_the_exported_faces_of_a_graded_wall_sit_at_its_own_thickness(graded, tmp_path):
+    """Read back by meshio: at every step each face point is h(s) from its base point, h(s) from PROFILE at the
+    node (not the nominal h), the base surface halfway between the faces, and the point data zeta is -h(s), +h(s)."""
+    ds, path = graded
+    out = tmp_path / "seg.pvd"
+    n, n_phi = ds.sizes["s"], 6
+    assert main(["export", str(path), "--faces", "--n-phi", str(n_phi), "-o", str(out)]) == 0
+    h = profile_h(ds["s"].values)[:, None]
+    assert h.min() < float(ds.attrs["h"]) < h.max()  # the nominal h would be wrong on both sides
+    for k in range(ds.sizes["time"]):
+        mesh = meshio.read(tmp_path / f"seg_{k:04d}.vtu")
+        base, inner, outer = mesh.points.reshape(3, n, n_phi, 3)
+        np.testing.assert_allclose(np.linalg.norm(outer - base, axis=-1), np.broadcast_to(h, (n, n_phi)), rtol=1e-9)
+        np.testing.assert_allclose(np.linalg.norm(inner - base, axis=-1), np.broadcast_to(h, (n, n_phi)), rtol=1e-9)
+        np.testing.assert_allclose((inner + outer) / 2, base, atol=1e-12)
+        zeta = mesh.point_data["zeta"].reshape(3, n, n_phi)
+        np.testing.assert_allclose(zeta, np.stack([0 * h, -h, h]) + np.zeros((3, n, n_phi)), rtol=1e-12)
+
+
+def test_the_fibre_figure_of_a_graded_wall_draws_the_section_s_own_thickness(graded):
+    """At a section of the cylinder (theta0 = 0 there, so the reference fibres are radial) the fibre in panel (a),
+    drawn 10x, is 10 x 2 h(s) long and runs from r0 - 10 h(s), h(s) from PROFILE at that node."""
+    ds, _ = graded
+    i = 5
+    s = float(ds["s"].values[i])
+    assert np.pi / 2 < s < np.pi / 2 + 2 and float(ds["theta0"].values[i]) == pytest.approx(0.0, abs=1e-12)
+    fig = fibres_figure(ds, s=s, count=4, thickness_scale=10.0)
+    red = [line for line in fig.axes[0].lines if line.get_color() == "tab:red"]
+    assert len(red) == 1
+    x, y = red[0].get_data()
+    assert np.hypot(np.diff(x), np.diff(y))[0] == pytest.approx(10 * 2 * profile_h(s), rel=1e-9)
+    assert x[0] == pytest.approx(float(ds["r0"].values[i]) - 10 * profile_h(s), rel=1e-9)
