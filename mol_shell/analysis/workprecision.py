@@ -204,13 +204,27 @@ def best_at(ds, name, target):
     return None if ok.size == 0 else int(ok[np.argmin(row.wall_time_s.values[ok])])
 
 
+def baseline_time(ds, baseline=("leapfrog", 1e-6)):
+    """``(wall time, "")`` of the ``baseline`` sweep point, or ``(None, why)`` when there is none to compare with: the
+    integrator not compared, the point not in its sweep, or a run that did not complete (a speed-up against a run
+    that stopped, unstable or at a limit, would be measured against a part of the work)."""
+    name, value = baseline
+    if name not in ds.integrator.values:
+        return None, ""
+    row = ds.sel(integrator=name)
+    hit = np.flatnonzero(np.isclose(row.setting.values, value))
+    if not hit.size:
+        return None, f"{name} {value:g} is not in the sweep"
+    status, wall = str(row.status.values[hit[0]]), float(row.wall_time_s.values[hit[0]])
+    if status != "complete" or not np.isfinite(wall):
+        return None, f"{name} {value:g} did not complete ({status or 'not run'}; its note in the file says why)"
+    return wall, ""
+
+
 def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
-    """Per integrator: the cheapest run reaching ``target``, and its speed against ``baseline``."""
-    base = None
-    if baseline[0] in ds.integrator.values:
-        row = ds.sel(integrator=baseline[0])
-        hit = np.flatnonzero(np.isclose(row.setting.values, baseline[1]))
-        base = float(row.wall_time_s.values[hit[0]]) if hit.size else None
+    """Per integrator: the cheapest run reaching ``target``, and its speed against ``baseline`` (``n/a``, with a note
+    under the table saying why, when the baseline point did not complete or is not in the sweep)."""
+    base, why = baseline_time(ds, baseline)
     lines = [f"Cheapest run with error <= {target:g} (scene {ds.attrs['scene']}, n = {ds.attrs['n']}, "
              f"saved times {ds.attrs['times']} s; reference {ds.attrs['reference']}, converged to "
              f"{ds.attrs['reference_error']:.2g}).", "",
@@ -223,9 +237,11 @@ def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
             continue
         p = ds.sel(integrator=name).isel(level=j)
         key = "dt" if name == "leapfrog" else "rtol"
-        speed = f"{base / float(p.wall_time_s):.1f}x" if base else ""
+        speed = f"{base / float(p.wall_time_s):.1f}x" if base else "n/a" if why else ""
         lines.append(f"| {name} | {key} = {float(p.setting):.0e} | {float(p.error):.2g} | {float(p.wall_time_s):.3g} | "
                      f"{int(p.n_steps)} | {int(p.n_rhs)} | {_int(p.n_jac)} | {speed} |")
+    if why:
+        lines += ["", f"Speed-up n/a: the baseline {why}, so no speed-up is measured against it."]
     return "\n".join(lines)
 
 

@@ -9,8 +9,10 @@ import numpy as np
 import pytest
 
 import mol_shell
+from mol_shell.analysis.workprecision import markdown_table, work_precision
 from mol_shell.cli.main import main
 from mol_shell.views.fibres import fibres_figure
+from mol_shell.views.workprecision import write_outputs
 
 
 @pytest.fixture(scope="module")
@@ -108,3 +110,35 @@ def test_the_fibre_figure_of_a_graded_wall_draws_the_section_s_own_thickness(gra
     x, y = red[0].get_data()
     assert np.hypot(np.diff(x), np.diff(y))[0] == pytest.approx(10 * 2 * profile_h(s), rel=1e-9)
     assert x[0] == pytest.approx(float(ds["r0"].values[i]) - 10 * profile_h(s), rel=1e-9)
+
+
+# -- compare: no speed-up against a baseline that did not complete ------------------------------------------
+def test_compare_gives_no_speed_up_against_a_leapfrog_baseline_that_went_unstable(tmp_path):
+    """A stiff viscous wall (eta_mu = 1000 Pa s) on 20 nodes: leap-frog at dt = 1e-6 goes unstable, so the table
+    (printed, and in the .md) says n/a with a note, not a ratio against the run's time to its blow-up; the dataset
+    holds no ratio."""
+    scene = mol_shell.SCENES["twisted-cylinder"](eta_mu=1000.0, eta_lambda=2000.0)
+    ds = work_precision(scene, ["leapfrog", "cvode-bdf"], n=20, times=[0.0, 0.0025, 0.005], repeats=1,
+                        sweeps={"leapfrog": {"dt": (1e-6,)}, "cvode-bdf": {"rtol": (1e-7,)}}, log=lambda *a: None)
+    assert list(ds.status.values[:, 0]) == ["unstable", "complete"] and float(ds.error[1, 0]) <= 1e-6
+    table = markdown_table(ds)
+    row = next(line for line in table.splitlines() if line.startswith("| cvode-bdf |"))
+    assert row.endswith("| n/a |") and "x |" not in table
+    assert table.splitlines()[-1] == ("Speed-up n/a: the baseline leapfrog 1e-06 did not complete (unstable; its note "
+                                      "in the file says why), so no speed-up is measured against it.")
+    write_outputs(ds, tmp_path / "wp.nc")
+    assert table in (tmp_path / "wp.md").read_text()
+    assert not any("speed" in name for name in [*ds.variables, *ds.attrs])
+
+
+def test_compare_gives_the_speed_up_against_a_baseline_that_completed():
+    """The ratio stays where the baseline ran: the paper's scene on 8 nodes, leap-frog at dt = 1e-6 completes."""
+    ds = work_precision("twisted-cylinder", ["leapfrog", "cvode-bdf"], n=8, times=[0.0, 1e-4], repeats=1,
+                        sweeps={"leapfrog": {"dt": (1e-6,)}, "cvode-bdf": {"rtol": (1e-7,)}}, log=lambda *a: None)
+    assert list(ds.status.values[:, 0]) == ["complete", "complete"]
+    table = markdown_table(ds, target=1.0)
+    base = float(ds.wall_time_s[0, 0])
+    for i, name in enumerate(("leapfrog", "cvode-bdf")):
+        row = next(line for line in table.splitlines() if line.startswith(f"| {name} |"))
+        assert row.endswith(f"| {base / float(ds.wall_time_s[i, 0]):.1f}x |")
+    assert "n/a" not in table
