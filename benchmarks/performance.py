@@ -210,7 +210,7 @@ for target in (1e-6, 1e-8):
         j = wp.best_at(ds, name, target)
         if j is not None:
             p = ds.sel(integrator=name).isel(level=j)
-            row[name] = {"wall_s": float(p.wall_time_s), "error": float(p.error), "setting": float(p.setting),
+            row[name] = {"wall_s": float(p.wall_time_s), "error": float(p.error), "setting": float(p[wp.swept(name)]),
                          "n_rhs": int(p.n_rhs)}
     out[f"{target:g}"] = row
 print(json.dumps(out))

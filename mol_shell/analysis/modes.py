@@ -291,7 +291,8 @@ def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params, zero):
     data["z0"] = (("s",), z0, {"units": "m", "long_name": "axial position of the reference base surface"})
     data["r0"] = (("s",), r0, {"units": "m", "long_name": "radius of the reference base surface"})
     data["theta0"] = (("s",), theta0, {"units": "rad", "long_name": "angle of the reference generator tangent"})
-    coords = {"mode": ("mode", np.arange(1, modes_count + 1), {"long_name": "mode number (ascending frequency)"}),
+    coords = {"mode": ("mode", np.arange(1, modes_count + 1), {"units": "1",
+                                                               "long_name": "mode number (ascending frequency)"}),
               "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"}),
               "field": ("field", list(FIELDS), {"long_name": "field"})}
 

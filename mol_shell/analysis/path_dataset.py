@@ -86,13 +86,13 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     for m, point in enumerate(points):
         shapes[m] = _shape(eq, point["mode"])
         shapes[m] /= max(np.abs(shapes[m]).max(), 1e-300)
-    data["point_kind"] = (("point",), np.array([p["kind"] for p in points], dtype=object),
+    data["point_kind"] = (("point",), np.array([p["kind"] for p in points], dtype=str),
                           {"long_name": "kind of critical point: limit (the load turns back) or bifurcation"})
     data["point_parameter"] = (("point",), np.array([p["parameter"] for p in points], dtype=float),
                                {"units": units, "long_name": f"{eq.parameter} at the critical point"})
     data["point_step"] = (("point",), np.array([p["step"] for p in points], dtype=np.int32),
                           {"units": "1", "long_name": "the step after which the critical point lies"})
-    data["point_family"] = (("point",), np.array([p["family"] for p in points], dtype=object), {"long_name":
+    data["point_family"] = (("point",), np.array([p["family"] for p in points], dtype=str), {"long_name":
                             "family of the critical mode: torsional when chi carries most of its kinetic energy, "
                             "else axisymmetric"})
     data["point_located"] = (("point",), np.array([p["located"] for p in points], dtype=np.int8), {"units": "1",
@@ -117,10 +117,10 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     data["z0"] = (("s",), z0, {"units": "m", "long_name": "axial position of the reference base surface"})
     data["r0"] = (("s",), r0, {"units": "m", "long_name": "radius of the reference base surface"})
     data["theta0"] = (("s",), theta0, {"units": "rad", "long_name": "angle of the reference generator tangent"})
-    coords = {"step": ("step", np.arange(steps, dtype=np.int32), {"long_name": "step along the path"}),
-              "point": ("point", np.arange(count, dtype=np.int32), {"long_name": "critical point"}),
+    coords = {"step": ("step", np.arange(steps, dtype=np.int32), {"units": "1", "long_name": "step along the path"}),
+              "point": ("point", np.arange(count, dtype=np.int32), {"units": "1", "long_name": "critical point"}),
               "eigenvalue": ("eigenvalue", np.arange(record.eigen[0].size, dtype=np.int32),
-                             {"long_name": "index of the eigenvalue nearest zero, ascending"}),
+                             {"units": "1", "long_name": "index of the eigenvalue nearest zero, ascending"}),
               "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"})}
     attrs = {**header(f"mol_shell equilibrium path of scene {scene.name} in {eq.parameter}"),
              "scene": scene.name, "n": eq.n, "parameter": eq.parameter, "parameter_units": units,

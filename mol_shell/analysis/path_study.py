@@ -171,10 +171,11 @@ def _gather(scene, dims, coords, cases, results, parameter):
         "first_critical": (sdims, value[..., 0] if count else np.full(shape, np.nan), {"units": units, "long_name":
                            f"{parameter} at the first critical point the path met (NaN: none)"}),
         "case_wall_time_s": (sdims, wall, {"units": "s", "long_name": "wall time of the case"}),
-        "point_kind": (sdims + ("point",), kind, {"long_name": "limit or bifurcation ('' past a case's last point)"}),
+        "point_kind": (sdims + ("point",), kind.astype(str),  # strings, also when no case met a point
+                       {"long_name": "limit or bifurcation ('' past a case's last point)"}),
         "point_parameter": (sdims + ("point",), value, {"units": units, "long_name": f"{parameter} at the critical "
                             "point (NaN past a case's last point)"}),
-        "point_family": (sdims + ("point",), family, {"long_name": "family of the critical mode"}),
+        "point_family": (sdims + ("point",), family.astype(str), {"long_name": "family of the critical mode"}),
         "point_located": (sdims + ("point",), located, {"units": "1", "long_name":
                           "1 where the point was located to the path's tolerance"}),
         "point_ellipticity_margin": (sdims + ("point",), margin, {"units": "1", "long_name":
@@ -188,7 +189,8 @@ def _gather(scene, dims, coords, cases, results, parameter):
     if dims == ["case"]:
         for name, vals in coords.items():
             coord_vars[name] = ("case", np.asarray(vals), {"units": UNITS.get(name, "1")})
-    coord_vars["point"] = ("point", np.arange(count, dtype=np.int32), {"long_name": "critical point, as met"})
+    coord_vars["point"] = ("point", np.arange(count, dtype=np.int32),
+                           {"units": "1", "long_name": "critical point, as met"})
     attrs = {**header(f"mol_shell study of equilibrium paths of scene {scene.name} in {parameter}"),
              "scene": scene.name, "critical_points": SYMMETRY_NOTE}
     ds = xr.Dataset(data, coords=coord_vars, attrs=attrs)

@@ -55,10 +55,19 @@ COMPARED = ("r", "theta", "chi")
 _INDEX = {"r": 1, "chi": 2, "theta": 3}
 
 
+def swept(name):
+    """What the sweep of integrator ``name`` varies: ``"dt"`` (leap-frog's step, s) or ``"rtol"``."""
+    return next(iter(SWEEPS.get(name, {"rtol": ()})))
+
+
 def options(name, value):
     """Integrator options for one sweep point."""
-    key = next(iter(SWEEPS.get(name, {"rtol": ()})))
-    return {"dt": value} if key == "dt" else {"rtol": value, "atol": 1e-3 * value}
+    return {"dt": value} if swept(name) == "dt" else {"rtol": value, "atol": 1e-3 * value}
+
+
+def settings(ds, name):
+    """The swept values of integrator ``name`` along ``level``: its ``rtol``, or leap-frog's ``dt`` (NaN: no point)."""
+    return ds[swept(name)].sel(integrator=name).values
 
 
 def fields_of(system, states):
@@ -153,13 +162,13 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
     ref, ref_err, ref_info = reference(system, compiled, y0, times)
     log(f"reference {ref_info['reference']}: converged to {ref_err:.2g} (against {ref_info['reference_check']})")
     levels = max(len(points) for points in plan.values())
-    keys = ("setting", "error", "wall_time_s", "n_steps", "n_rhs", "n_jac")
+    keys = ("rtol", "dt", "error", "wall_time_s", "n_steps", "n_rhs", "n_jac")
     data = {k: np.full((len(integrators), levels), np.nan) for k in keys}
     status = np.full((len(integrators), levels), "", dtype=object)
     note = np.full((len(integrators), levels), "", dtype=object)
     for i, name in enumerate(integrators):
         for j, (value, reason) in enumerate(plan[name]):
-            data["setting"][i, j] = value
+            data[swept(name)][i, j] = value
             if reason:
                 status[i, j], note[i, j] = "skipped", reason
                 log(f"{name:14s} {value:8.1e}  {reason}")
@@ -176,8 +185,10 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
                 note[i, j] = traj.message
             log(f"{name:14s} {value:8.1e}  error {data['error'][i, j]:9.3g}  wall {data['wall_time_s'][i, j]:8.4f} s  "
                 f"steps {traj.stats.get('n_steps', -1):>7}  {traj.status}")
-    units = {"setting": "1", "error": "1", "wall_time_s": "s", "n_steps": "1", "n_rhs": "1", "n_jac": "1"}
-    long = {"setting": "rtol (atol = 1e-3 rtol), or dt in s for leap-frog",
+    # the swept value in two variables, each with its own units (one variable held rtol and leap-frog's dt in s)
+    units = {"rtol": "1", "dt": "s", "error": "1", "wall_time_s": "s", "n_steps": "1", "n_rhs": "1", "n_jac": "1"}
+    long = {"rtol": "relative tolerance of the point (atol = 1e-3 rtol); NaN for leap-frog, whose sweep is of dt",
+            "dt": "time step of the point (leap-frog); NaN for the other integrators, whose sweep is of rtol",
             "error": "max over r, theta, chi of max|u - u_ref| / max|u_ref| over s and saved times",
             "wall_time_s": f"median wall time of {repeats} runs", "n_steps": "steps", "n_rhs": "right-hand side evaluations",
             "n_jac": "Jacobian evaluations"}
@@ -212,7 +223,7 @@ def baseline_time(ds, baseline=("leapfrog", 1e-6)):
     if name not in ds.integrator.values:
         return None, ""
     row = ds.sel(integrator=name)
-    hit = np.flatnonzero(np.isclose(row.setting.values, value))
+    hit = np.flatnonzero(np.isclose(settings(ds, name), value))
     if not hit.size:
         return None, f"{name} {value:g} is not in the sweep"
     status, wall = str(row.status.values[hit[0]]), float(row.wall_time_s.values[hit[0]])
@@ -236,9 +247,9 @@ def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
             lines.append(f"| {name} | none reached {target:g} in the sweep | | | | | | |")
             continue
         p = ds.sel(integrator=name).isel(level=j)
-        key = "dt" if name == "leapfrog" else "rtol"
+        key = swept(str(name))
         speed = f"{base / float(p.wall_time_s):.1f}x" if base else "n/a" if why else ""
-        lines.append(f"| {name} | {key} = {float(p.setting):.0e} | {float(p.error):.2g} | {float(p.wall_time_s):.3g} | "
+        lines.append(f"| {name} | {key} = {float(p[key]):.0e} | {float(p.error):.2g} | {float(p.wall_time_s):.3g} | "
                      f"{int(p.n_steps)} | {int(p.n_rhs)} | {_int(p.n_jac)} | {speed} |")
     if why:
         lines += ["", f"Speed-up n/a: the baseline {why}, so no speed-up is measured against it."]
@@ -248,11 +259,11 @@ def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
 def full_table(ds):
     lines = ["| integrator | setting | error | wall [s] | steps | RHS evals | status |", "|---|---|---|---|---|---|---|"]
     for name in ds.integrator.values:
-        row = ds.sel(integrator=name)
+        row, values = ds.sel(integrator=name), settings(ds, str(name))
         for j in range(ds.sizes["level"]):
-            if np.isnan(row.setting.values[j]):
+            if np.isnan(values[j]):
                 continue
-            lines.append(f"| {name} | {row.setting.values[j]:.0e} | {row.error.values[j]:.2g} | "
+            lines.append(f"| {name} | {swept(str(name))} = {values[j]:.0e} | {row.error.values[j]:.2g} | "
                          f"{row.wall_time_s.values[j]:.3g} | {_int(row.n_steps.values[j])} | "
                          f"{_int(row.n_rhs.values[j])} | {row.status.values[j]} |")
     return "\n".join(lines)

@@ -261,7 +261,7 @@ def test_compare_skips_leapfrog_steps_that_miss_the_saved_times(tmp_path):
     row = ds.sel(integrator="leapfrog")
     assert list(row.status.values) == ["skipped", "complete"]
     assert np.isnan(float(row.error[0])) and float(row.error[1]) < 0.05
-    assert "multiples of dt = 0.0001" in str(row.note.values[0]) and float(row.setting[0]) == 1e-4
+    assert "multiples of dt = 0.0001" in str(row.note.values[0]) and float(row.dt[0]) == 1e-4
     for name, var in {**ds.data_vars, **ds.coords}.items():
         assert var.attrs.get("long_name"), name
         if var.dtype.kind in "iuf":

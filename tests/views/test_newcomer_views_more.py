@@ -7,6 +7,7 @@ import imageio_ffmpeg
 import meshio
 import numpy as np
 import pytest
+import xarray as xr
 
 import mol_shell
 from mol_shell.analysis.workprecision import markdown_table, work_precision
@@ -142,3 +143,38 @@ def test_compare_gives_the_speed_up_against_a_baseline_that_completed():
         row = next(line for line in table.splitlines() if line.startswith(f"| {name} |"))
         assert row.endswith(f"| {base / float(ds.wall_time_s[i, 0]):.1f}x |")
     assert "n/a" not in table
+
+
+# -- units on every variable and coordinate of the files the commands write ------------------------------------
+def without_units(path):
+    """Names of the numeric variables and coordinates of the netCDF file ``path`` that have no ``units``."""
+    with xr.open_dataset(path, decode_times=False) as ds:
+        return sorted(name for name, var in ds.variables.items()
+                      if var.dtype.kind not in "OSU" and not str(var.attrs.get("units", "")).strip())
+
+
+def test_every_numeric_variable_and_coordinate_of_the_written_files_has_units(tmp_path):
+    """A run with stresses, a modes file, a path file, a path study and a compare file, read back: nothing numeric
+    without units (the path's step, point, eigenvalue and the modes' mode had none, and a path's point_kind without
+    points was written as numbers; string ones, as field, need none), and the compare file's swept value in rtol
+    (1) and dt (s), each true for every row it fills."""
+    run = mol_shell.simulate(mol_shell.TwistedCylinder(), n=6, times=[0.0, 2e-6], progress=False, stresses=True)
+    mol_shell.write_netcdf(run, tmp_path / "run.nc")
+    mol_shell.write_netcdf(mol_shell.modes("sphere", n=7, count=2), tmp_path / "modes.nc")
+    assert main(["path", "sphere", "--param", "pressure=0:1000", "--n", "7", "--max-steps", "3", "-o",
+                 str(tmp_path / "path.nc")]) == 0
+    assert main(["study", "sphere", "--vary", "h=0.005,0.006", "--path", "pressure=0:1000", "--n", "7", "--max-steps",
+                 "3", "-o", str(tmp_path / "path_study.nc")]) == 0
+    wp = work_precision("twisted-cylinder", ["leapfrog", "cvode-bdf"], n=6, times=[0.0, 1e-4], repeats=1,
+                        sweeps={"leapfrog": {"dt": (1e-5,)}, "cvode-bdf": {"rtol": (1e-6, 1e-7)}}, log=lambda *a: None)
+    write_outputs(wp, tmp_path / "wp.nc")
+    for name in ("run", "modes", "path", "path_study", "wp"):
+        assert without_units(tmp_path / f"{name}.nc") == [], name
+    with xr.open_dataset(tmp_path / "path.nc") as path:
+        assert all(path[c].attrs["units"] == "1" for c in ("step", "point", "eigenvalue"))
+    with xr.open_dataset(tmp_path / "modes.nc") as modes:
+        assert modes["mode"].attrs["units"] == "1" and modes["field"].dtype.kind in "OSU"
+    with xr.open_dataset(tmp_path / "wp.nc") as wp:
+        assert wp["dt"].attrs["units"] == "s" and wp["rtol"].attrs["units"] == "1" and "setting" not in wp
+        np.testing.assert_array_equal(wp["dt"].values, [[1e-5, np.nan], [np.nan, np.nan]])
+        np.testing.assert_array_equal(wp["rtol"].values, [[np.nan, np.nan], [1e-6, 1e-7]])
