@@ -211,7 +211,8 @@ def make_parser():
     plot.add_argument("--at-s", type=number_arg("--at-s", -np.inf, unit="m"), default=None,
                       help="fibres: the section at the node nearest to this s (default the first node); history and "
                       "the meridian figure: the radius drawn over time at the node nearest to this s (default the "
-                      "equator, the node of largest reference radius)")
+                      "equator: the node of largest reference radius, the middle one where several have it, as on "
+                      "a vessel's cylinder)")
     plot.add_argument("--fibres", type=integer_arg("--fibres", 1, MAX_FIBRES), default=None,
                       help=f"fibres: how many, 1 to {MAX_FIBRES} (default 24)")
     plot.add_argument("--thickness-scale", type=number_arg("--thickness-scale"), default=None,

@@ -2,7 +2,8 @@
 
 ``mol-shell plot run.nc --figure history [--at-s S]``, and the lower row of the default figure of every
 shell that is not the paper's unloaded cylinder. The radius is ``r`` at one node: at ``--at-s``, else at
-the equator (the node of largest reference radius ``r0``; the middle node of a cylinder). The balance:
+the equator: the node of largest reference radius ``r0`` or, where several nodes have it (a cylinder, the
+cylindrical part of a vessel), the middle one of them. The balance:
 the change of the total energy ``E(t) - E(0)`` (kinetic + stored), the work ``W`` done on the shell by
 the loads and the energy ``D`` dissipated (viscosity, drag), and what the balance
 ``E - E(0) - W + D = 0`` leaves, which measures the time integration.
@@ -16,17 +17,36 @@ from mol_shell.views.fibres import _nearest
 from mol_shell.views.fields import check_run
 from mol_shell.views.figures import save_figure
 
+#: nodes whose ``r0`` is within this fraction of the largest are on the widest part (a vessel's cylinder is exact to
+#: rounding; a sphere's neighbours of its equator node are 1 - cos(pi / (n - 1)) below it, 1.2e-6 at n = 2000)
+WIDEST = 1e-9
+
+
+def widest_nodes(ds):
+    """``(first, last)``: the longest run of consecutive nodes whose ``r0`` is within :data:`WIDEST` of its largest
+    value (the first such run of the longest length; every node when the run has no ``r0``)."""
+    if "r0" not in ds:
+        return 0, ds.sizes["s"] - 1
+    r0 = np.asarray(ds["r0"].values, dtype=float)
+    top = r0 >= r0.max() - WIDEST * np.abs(r0).max()
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], top.astype(int), [0]])))
+    starts, stops = edges[::2], edges[1::2] - 1  # runs of True: [starts, stops]
+    k = int(np.argmax(stops - starts))
+    return int(starts[k]), int(stops[k])
+
 
 def radius_node(ds, s=None):
-    """Index of the node whose radius is drawn: the one nearest ``s`` (m), else the equator (largest ``r0``)."""
+    """Index of the node whose radius is drawn: the one nearest ``s`` (m), else the equator: the middle node of
+    :func:`widest_nodes` (the one node of largest ``r0`` of a sphere; the middle of a cylinder, or of a vessel's
+    cylindrical part, where its knuckle's first node, at the same ``r0``, moves inwards under pressure)."""
     if s is not None:
         return _nearest(ds["s"].values, float(s), "--at-s", "m")
-    if "r0" not in ds:
+    first, last = widest_nodes(ds)
+    if first == 0 and last == ds.sizes["s"] - 1:  # a cylinder (every node): its middle node, upper of two
         return ds.sizes["s"] // 2
+    middle = [first + (last - first) // 2, first + (last - first + 1) // 2]  # one node, or the two of an even run
     r0 = ds["r0"].values
-    if np.ptp(r0) <= 1e-12 * np.abs(r0).max():  # a cylinder: every node is on the equator; the middle one
-        return ds.sizes["s"] // 2
-    return int(np.argmax(r0))
+    return max(middle, key=lambda i: (r0[i], -i))  # the wider; of two alike (a sphere's even n) the first, as before
 
 
 def cumulative(values, times):
@@ -66,8 +86,16 @@ def draw_radius(ax, ds, node):
         ax.axhline(float(ds["r0"].values[node]), color="0.7", lw=0.8, zorder=0, label="reference r0")
     ax.set_xlabel("t [s]")
     ax.set_ylabel("r [m]")
-    where = "equator" if node == radius_node(ds) else "chosen s"
-    ax.set_title(f"radius at the {where} against time", fontsize=9)
+    at = f"s = {float(ds['s'][node]):.4g} m"
+    first, last = widest_nodes(ds)
+    if node != radius_node(ds):
+        where = f"the chosen {at}"
+    elif first == last:
+        where = f"the equator ({at}, the largest r0)"
+    else:
+        where = (f"the equator ({at}, the middle of the widest part, r0 largest on s = {float(ds['s'][first]):.4g} to "
+                 f"{float(ds['s'][last]):.4g} m)")
+    ax.set_title(f"radius at {where} against time", fontsize=9)
     ax.legend(fontsize=7)
 
 

@@ -13,6 +13,7 @@ import mol_shell
 from mol_shell.analysis.workprecision import markdown_table, work_precision
 from mol_shell.cli.main import main
 from mol_shell.views.fibres import fibres_figure
+from mol_shell.views.history import history_figure, radius_node
 from mol_shell.views.workprecision import write_outputs
 
 
@@ -178,3 +179,33 @@ def test_every_numeric_variable_and_coordinate_of_the_written_files_has_units(tm
         assert wp["dt"].attrs["units"] == "s" and wp["rtol"].attrs["units"] == "1" and "setting" not in wp
         np.testing.assert_array_equal(wp["dt"].values, [[1e-5, np.nan], [np.nan, np.nan]])
         np.testing.assert_array_equal(wp["rtol"].values, [[np.nan, np.nan], [1e-6, 1e-7]])
+
+
+# -- the radius drawn at the middle of a vessel's cylinder -----------------------------------------------------
+def test_a_vessel_s_radius_is_drawn_at_the_middle_of_its_cylinder():
+    """Two hemispheres of radius 1 m and a 2 m cylinder on 21 nodes (ds = (pi + 2) / 20): every node on the cylinder,
+    s in [pi/2, pi/2 + 2] m, has the largest r0; the radius is drawn at the node nearest its middle s = pi/2 + 1 m,
+    where the pressure widens the wall, not at the first of them (at the head's junction), and the title says which
+    s it is."""
+    scene = mol_shell.SCENES["vessel"](segments="arc 1 -90, line 2, arc 1 -90", pressure=100.0,
+                                       material="svk-plane-stress", nu=0.3)
+    ds = mol_shell.simulate(scene, n=21, times=[0.0, 1e-3, 2e-3], progress=False, stresses=False)
+    s = ds["s"].values
+    node = radius_node(ds)
+    assert node == int(np.argmin(np.abs(s - (np.pi / 2 + 1)))) == 10
+    on_cylinder = np.flatnonzero((s > np.pi / 2 - 1e-9) & (s < np.pi / 2 + 2 + 1e-9))
+    assert on_cylinder[0] != node and on_cylinder[0] == int(np.argmax(ds["r0"].values))  # what was drawn before
+    assert float(ds["r"][-1, node]) > float(ds["r0"][node])  # inflated there
+    fig = history_figure(ds)
+    title = fig.axes[0].get_title()
+    assert f"s = {s[node]:.4g} m" in title and "middle of the widest part" in title, title
+
+
+@pytest.mark.parametrize(("n", "node"), [(9, 4), (20, 9)])
+def test_a_sphere_s_radius_is_still_drawn_at_its_equator_node(n, node):
+    """A closed sphere: odd n has its equator at node (n - 1) / 2; even n the two nodes beside it, of equal r0, and
+    the first of them, as before."""
+    ds = mol_shell.simulate(mol_shell.Sphere(pressure=100.0), n=n, times=[0.0, 1e-4], progress=False, stresses=False)
+    assert radius_node(ds) == node
+    title = history_figure(ds).axes[0].get_title()
+    assert f"s = {float(ds['s'][node]):.4g} m" in title, title
