@@ -90,6 +90,9 @@ def cmd_run(args):
     return 0
 
 
+#: what ``plot`` reads, as its refusal of another file says
+PLOT_FILES = "a netCDF file written by mol-shell run, mol-shell path or mol-shell study --path"
+PLOT_WHAT = "a mol_shell run, path or path-study file"
 #: options of ``plot`` and the figures that take them (``--at-s``: also the default figure of a shell that draws
 #: its radius over time)
 FIGURE_OPTIONS = {"time": ("fibres",), "at_s": ("fibres", "history"), "fibres": ("fibres",),
@@ -104,7 +107,7 @@ def cmd_plot(args):
     if args.response is not None:
         raise ParameterError("--response", args.response, "an option of a path's figure (mol-shell path files)",
                              message="--response is an option of a path's figure (files of mol-shell path) only")
-    ds = read_drawable(args.file)
+    ds = read_drawable(args.file, PLOT_FILES, PLOT_WHAT)
     history = shows_history(ds)
     for name, figures in FIGURE_OPTIONS.items():
         value = getattr(args, name)
@@ -200,7 +203,7 @@ def make_parser():
     plot = sub.add_parser("plot", help="the paper's figures 4-8 (unloaded cylinders), the deformed meridian with the "
                           "radius and the energy-work balance over time (other shells, pressurised ones), figure 1 "
                           "(--figure fibres) or the radius and balance alone (--figure history) from a run")
-    plot.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run or mol-shell path")
+    plot.add_argument("file", metavar="FILE", help=PLOT_FILES.replace("a netCDF", "netCDF"))
     plot.add_argument("--figure", type=choice_arg("--figure", ("snapshots", "fibres", "history")), default="snapshots",
                       help="snapshots (default): r, theta, chi against s (figures 4-8) for a cylinder without pressure, "
                       "else the deformed meridian, chi and psi against s, the radius at the equator against time and "

@@ -3,16 +3,16 @@
 from __future__ import annotations
 
 from mol_shell.cli.args import check_companions, integer_arg, number_arg, plural
-from mol_shell.results.dataset import read_run
+from mol_shell.results.dataset import RUN_FILE, read_run
 from mol_shell.views.animate import DEFAULTS, RANGES, SUFFIXES, animate
 from mol_shell.views.export import FORMATS, N_PHI, N_PHI_MAX, companion_files, export
 from mol_shell.views.fields import check_run, field
 
 
-def read_drawable(filename):
+def read_drawable(filename, allowed=RUN_FILE, what="a mol_shell run file"):
     """The run in ``filename``, refused in one line naming the file when it has no saved times or values that are
-    not finite (a hand-edited or damaged file)."""
-    ds = read_run(filename)
+    not finite (a hand-edited or damaged file), or is not a run (the refusal says ``what`` and ``allowed``)."""
+    ds = read_run(filename, allowed=allowed, what=what)
     check_run(ds, filename)
     return ds
 

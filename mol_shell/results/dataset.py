@@ -294,13 +294,16 @@ def _unreadable(exc):
     return "not a netCDF file" if "Unknown file format" in str(exc) or "HDF" in str(exc) else str(exc)
 
 
-def read_run(path, name="FILE"):
+RUN_FILE = "a netCDF file written by mol-shell run"
+
+
+def read_run(path, name="FILE", allowed=RUN_FILE, what="a mol_shell run file"):
     """Read a file written by ``mol-shell run`` (or :func:`write_netcdf` of a run); refuse anything else by name.
 
     A run file holds ``r``, ``theta`` and ``chi`` on ``(time, s)``. Parameter studies, work-precision
-    comparisons and stability reports are netCDF files too, but not runs.
+    comparisons, stability reports and modes are netCDF files too, but not runs. ``allowed`` and ``what``: what the
+    refusal says the caller accepts (a command that reads other files too, as ``plot``, names them).
     """
-    allowed = "a netCDF file written by mol-shell run"
     path = Path(os.fspath(path)) if path is not None and str(path) else None
     if path is None:
         raise ParameterError.invalid(name, "", "is empty", allowed)
@@ -311,7 +314,7 @@ def read_run(path, name="FILE"):
     try:
         ds = _load(path)
     except (OSError, ValueError, RuntimeError) as exc:
-        raise ParameterError.invalid(name, str(path), "is not a mol_shell run file", allowed,
+        raise ParameterError.invalid(name, str(path), f"is not {what}", allowed,
                                      hint=_unreadable(exc)) from None
     is_run = all(v in ds and ds[v].dims == ("time", "s") for v in ("r", "theta", "chi"))
     if not is_run:
@@ -319,6 +322,7 @@ def read_run(path, name="FILE"):
         kind = ("a parameter study (mol-shell study)" if "parameter study" in title else
                 "a work-precision comparison (mol-shell compare)" if "work-precision" in title else
                 "a stability report (mol-shell stability)" if "leapfrog_dt_bound" in ds else
+                "natural modes (mol-shell modes)" if "natural modes" in title else
                 f"dims {', '.join(map(str, ds.dims)) or 'none'}")
-        raise ParameterError.invalid(name, str(path), "is not a mol_shell run file", allowed, hint=f"it holds {kind}")
+        raise ParameterError.invalid(name, str(path), f"is not {what}", allowed, hint=f"it holds {kind}")
     return ds

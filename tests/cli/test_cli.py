@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from mol_shell.cli.args import parse_times_arg
-from mol_shell.cli.main import main
+from mol_shell.cli.main import PLOT_FILES, PLOT_WHAT, main
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.results.dataset import read_netcdf, read_run
 from child_process import sigint_default, wait_until_busy
@@ -209,15 +209,18 @@ def test_plot_refuses_files_that_are_not_runs(run_file, tmp_path, capsys):
     xr.Dataset({"error": (("integrator", "level"), np.zeros((2, 3)))},
                attrs={"title": "work-precision of mol_shell integrators"}).to_netcdf(compare_like)
     cases = [(tmp_path / "missing.nc", "does not exist", ""),
-             (text, "is not a mol_shell run file", "not a netCDF file"),
-             (study_like, "is not a mol_shell run file", "it holds a parameter study (mol-shell study)"),
-             (compare_like, "is not a mol_shell run file", "it holds a work-precision comparison (mol-shell compare)")]
+             (text, "is not a mol_shell run, path or path-study file", "not a netCDF file"),
+             (study_like, "is not a mol_shell run, path or path-study file",
+              "it holds a parameter study (mol-shell study)"),
+             (compare_like, "is not a mol_shell run, path or path-study file",
+              "it holds a work-precision comparison (mol-shell compare)")]
     for path, problem, what in cases:
         code = main(["plot", str(path), "-o", str(tmp_path / "p.png")])
         err = capsys.readouterr().err
         with pytest.raises(ParameterError) as refused:
-            read_run(path)
-        # the library's refusal, naming the file (shortened when the path is long) and what it is
+            read_run(path, allowed=PLOT_FILES, what=PLOT_WHAT)
+        # the library's refusal (with what plot reads: run, path and path-study files), naming the file (shortened
+        # when the path is long) and what it is
         assert refused.value.name == "FILE" and refused.value.value == str(path)
         assert str(refused.value).startswith(f"FILE = {show(str(path))} {problem}") and what in str(refused.value)
         assert code == 2 and err.splitlines() == [f"mol-shell: error: {refused.value}"], err

@@ -209,3 +209,25 @@ def test_a_sphere_s_radius_is_still_drawn_at_its_equator_node(n, node):
     assert radius_node(ds) == node
     title = history_figure(ds).axes[0].get_title()
     assert f"s = {float(ds['s'][node]):.4g} m" in title, title
+
+
+# -- plot's refusal lists what plot reads ------------------------------------------------------------------------
+def test_plot_refuses_another_file_listing_run_path_and_path_study_files(short_run, tmp_path, capsys):
+    """plot reads runs, paths and studies of paths: its refusal of a modes file or a missing one says so (one line,
+    exit 2); animate, which reads runs only, still asks for a run; and plot does read a path file."""
+    mol_shell.write_netcdf(mol_shell.modes("sphere", n=7, count=2), tmp_path / "modes.nc")
+    listed = "allowed: a netCDF file written by mol-shell run, mol-shell path or mol-shell study --path"
+    for name, problem in (("modes.nc", "is not a mol_shell run, path or path-study file"),
+                          ("missing.nc", "does not exist")):
+        assert main(["plot", str(tmp_path / name), "-o", str(tmp_path / "p.png")]) == 2
+        err = capsys.readouterr().err
+        assert len(err.splitlines()) == 1 and f"{problem}; {listed}" in err, err
+    assert main(["plot", str(tmp_path / "modes.nc"), "-o", str(tmp_path / "p.png")]) == 2
+    assert "(it holds natural modes (mol-shell modes))" in capsys.readouterr().err
+    assert main(["animate", str(tmp_path / "modes.nc"), "-o", str(tmp_path / "a.gif")]) == 2
+    err = capsys.readouterr().err
+    assert "is not a mol_shell run file; allowed: a netCDF file written by mol-shell run (" in err, err
+    assert main(["path", "sphere", "--param", "pressure=0:1000", "--n", "7", "--max-steps", "2", "-o",
+                 str(tmp_path / "path.nc")]) == 0
+    assert main(["plot", str(tmp_path / "path.nc"), "-o", str(tmp_path / "path.png")]) == 0
+    assert not (tmp_path / "p.png").exists() and (tmp_path / "path.png").stat().st_size > 0
