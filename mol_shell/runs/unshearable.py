@@ -44,7 +44,7 @@ from mol_shell.integrators.loop import run
 from mol_shell.model.edges import EDGE_FIELDS, IMPOSED, resolve_edges
 from mol_shell.results.dataset import build_dataset
 from mol_shell.runs import resources
-from mol_shell.runs.building import build, observe, parse_times, resolve
+from mol_shell.runs.building import as_scene, build, observe, parse_times, resolve
 from mol_shell.runs.checks import check_system, checked_spectrum
 from mol_shell.scenes.unshearable import Unshearable
 
@@ -80,9 +80,9 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         constraint defects, per time) and, constrained, ``lambda_chi`` on cells ``(time,
         s_cell)`` and ``lambda_psi`` on nodes ``(time, s)``.
     """
-    scene = resolve(scene)
+    scene = resolve(as_scene(scene) if isinstance(scene, str) else scene)  # a registered name, as simulate takes
     if not isinstance(scene, Unshearable):
-        raise ParameterError("scene", getattr(scene, "name", scene), "{unshearable}")
+        raise ParameterError("scene", getattr(scene, "name", scene), "{unshearable} (a mol_shell.Unshearable)")
     times = parse_times(times, t_end)
     resources.check_before_build(n, times, "ida" if constrained else "leapfrog", dt=None if constrained else dt)
     if constrained:

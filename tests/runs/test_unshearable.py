@@ -159,3 +159,13 @@ def test_edges_the_constraints_leave_no_room_for_are_refused_in_one_line(sets, k
     err = [line for line in capsys.readouterr().err.splitlines() if "warning" not in line]
     assert code == 2 and len(err) == 1 and key in err[0] and "allowed:" in err[0], err
     assert not (tmp_path / "u.nc").exists()
+
+
+def test_the_scenes_registered_name_is_taken_as_simulate_takes_it():
+    """``simulate_unshearable("unshearable", ...)`` said ``scene = 'unshearable' is outside {unshearable}``."""
+    by_name = mol_shell.simulate_unshearable("unshearable", t_end=1e-3, n=21)
+    by_object = mol_shell.simulate_unshearable(mol_shell.Unshearable(), t_end=1e-3, n=21)
+    assert by_name.attrs["status"] == "complete"
+    np.testing.assert_array_equal(by_name.r.values, by_object.r.values)
+    with pytest.raises(ParameterError, match=r"^scene = 'sphere' is outside \{unshearable\}"):
+        mol_shell.simulate_unshearable("sphere", t_end=1e-3, n=21)
