@@ -29,7 +29,7 @@ from mol_shell.results.cf import attr_value, header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
-from mol_shell.runs.scheduling import connect, scheduler_name
+from mol_shell.runs.scheduling import check_workers, connect, scheduler_name
 from mol_shell.runs.study import case_inputs, case_result, design, label_coords, run_cases
 from mol_shell.scenes import UNITS, with_params
 
@@ -92,6 +92,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
     clock = time.perf_counter()
     scene = as_scene(scene)
     check_shared(parameter, start, stop)  # what every case shares: refused once, not as each case's status
+    check_workers(workers, scheduler)
     if output is not None:
         writable_path(output, "output", suffixes=NETCDF_SUFFIXES)
     if isinstance(max_steps, (int, np.integer)) and not isinstance(max_steps, bool) and max_steps >= 1:

@@ -15,6 +15,7 @@ import warnings
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
+import numpy as np
 from threadpoolctl import threadpool_limits
 
 from mol_shell._core.errors import ParameterError
@@ -270,6 +271,19 @@ def _collect(future, task):
     except Exception as exc:  # noqa: BLE001 - e.g. a killed worker
         return task.index, None, {"status": "lost", "message": f"{type(exc).__name__}: {exc}",
                                   "case_wall_time_s": float("nan"), "worker": ""}
+
+
+def check_workers(workers, scheduler):
+    """Refuse ``workers`` that is not a count of local processes, or that is given with another scheduler (it was
+    ignored there: "serial" is this process alone, a cluster has its own workers)."""
+    if workers is None:
+        return
+    if not (isinstance(workers, (int, np.integer)) and not isinstance(workers, bool) and workers >= 1):
+        raise ParameterError("workers", workers, "integers >= 1")
+    if scheduler is not None:
+        raise ParameterError("workers", workers, "None with scheduler = " + repr(scheduler_name(scheduler)),
+                             hint="workers counts local processes (scheduler None); a cluster has its own workers, "
+                             "serial is this process alone")
 
 
 def scheduler_name(scheduler):

@@ -35,7 +35,7 @@ from mol_shell.results.cf import header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
 from mol_shell.results.study_store import Store, assemble
 from mol_shell.runs import resources
-from mol_shell.runs.scheduling import connect, execute, scheduler_name
+from mol_shell.runs.scheduling import check_workers, connect, execute, scheduler_name
 from mol_shell.runs.simulate import (
     DEFAULT_DT,
     as_scene,
@@ -229,9 +229,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     if not (isinstance(vary, dict) or (isinstance(vary, (list, tuple)) and all(isinstance(c, dict) for c in vary))):
         raise ParameterError.not_a("vary", vary, "a dict or a list of dicts",
                                    "{name: [values, ...]} (a grid), or [{name: value, ...}, ...] (cases)")
-    if workers is not None and not (isinstance(workers, (int, np.integer)) and not isinstance(workers, bool)
-                                    and workers >= 1):
-        raise ParameterError("workers", workers, "integers >= 1")
+    check_workers(workers, scheduler)
     if output is not None:
         writable_path(output, "output", suffixes=NETCDF_SUFFIXES)
     if scheduler is None or scheduler == "serial":  # the cases compile or load their kernels here: a cache that

@@ -131,6 +131,15 @@ def test_the_command_line_varies_integer_and_word_options_of_the_integrator(tmp_
     assert (ds.status.values == "complete").all()
 
 
+@pytest.mark.parametrize("scheduler", ["serial", "tcp://127.0.0.1:1"])
+def test_workers_with_another_scheduler_is_refused_not_ignored(scheduler):
+    """``workers`` counts local processes: with ``scheduler="serial"`` or a cluster it was silently ignored."""
+    with pytest.raises(ParameterError, match=r"^workers = 2 is outside None with scheduler = "):
+        study(BASE, {"gamma": [0.05, 0.1]}, **SMALL, scheduler=scheduler, workers=2)
+    with pytest.raises(ParameterError, match=r"^workers = 2 is outside None with scheduler = "):
+        path_study("sphere", {"nu": [0.3]}, "pressure", 0, 100, scheduler=scheduler, workers=2)
+
+
 def test_vary_ranges_include_the_stop():
     vary = parse_vary(["gamma=0.02:0.2:0.02", "nu=0.3,0.45,0.49", "material=svk,svk-plane-stress"])
     assert vary["gamma"] == pytest.approx(np.arange(1, 11) * 0.02) and vary["gamma"][2] == 0.06
@@ -177,7 +186,7 @@ STUDY_BAD = [
     (["--vary", "gamma=0.1,0.2", "--set", "gamma=0.3"], "--set = 'gamma=0.3' sets gamma, which --vary varies"),
     (["--vary", "gamma=0.1,0.2", "--workers", "0"], "--workers = 0 is outside integers >= 1"),
     (["--vary", "gamma=0.1,0.2", "--workers", "-3"], "--workers = -3 is outside integers >= 1"),
-    (["--vary", "gamma=0.1,0.2", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: dt)"),
+    (["--vary", "gamma=0.1,0.2", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: dt; also chunk"),
     (["--vary", "gamma=0.1,0.2", "--integrator", "cvode-bdf", "--dt", "1e-6"], "dt is not an option of cvode-bdf"),
     (["--vary", "rtol=1e-6,1e-7"], "vary = 'rtol' is outside {"),
     (["--vary", "gamma=0.1:0.05:0.01"], "--vary gamma = '0.1:0.05:0.01' is outside START:STOP:STEP"),
