@@ -138,17 +138,19 @@ def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, ato
             continue
         key = name.replace("-", "_")
         options = {"dt": _leapfrog_step(case, 0.5 * bound)} if name == "leapfrog" else {"rtol": rtol, "atol": atol}
-        start = time.perf_counter()
         try:
             ds = simulate(scene, name, n=case.n, times=_times(case, options), progress=False, **options)
             row[f"{key}_status"] = ds.attrs["status"]
-            row[f"{key}_steps"] = int(ds.attrs.get("n_steps", -1))
-            row[f"{key}_failures"] = ds.attrs.get("n_failed_steps", -1)
+            row[f"{key}_steps"] = int(ds.attrs["n_steps"]) if "n_steps" in ds.attrs else float("nan")
+            row[f"{key}_failures"] = ds.attrs.get("n_failed_steps", float("nan"))
             row[f"{key}_wall_s"] = ds.attrs["wall_time_s"]
-            row[f"{key}_energy_error"] = _energy_error(ds)
-        except (ParameterError, ModelLimitError) as exc:
-            row[f"{key}_status"] = f"refused: {exc}"
-            row[f"{key}_wall_s"] = time.perf_counter() - start
+            # one saved state (a run stopped at its start) has no energy error to show, not an error of 0
+            row[f"{key}_energy_error"] = _energy_error(ds) if ds.sizes["time"] > 1 else float("nan")
+            if ds.attrs["status"] != "complete":
+                row[f"{key}_message"] = str(ds.attrs.get("message", ""))
+        except (ParameterError, ModelLimitError) as exc:  # nothing ran: no steps, wall time or error to show
+            row[f"{key}_status"] = "refused"
+            row[f"{key}_message"] = str(exc)
     return row
 
 
@@ -211,7 +213,8 @@ META = {
     "bisection_horizon_s": ("s", "time over which the bisection's runs were checked"),
 }
 SUFFIXES = {
-    "_status": (None, "how the {} run ended"), "_steps": ("1", "{} steps"), "_failures": ("1", "{} failed steps"),
+    "_status": (None, "how the {} run ended"), "_message": (None, "what the {} run said where it did not complete"),
+    "_steps": ("1", "{} steps"), "_failures": ("1", "{} failed steps"),
     "_wall_s": ("s", "{} wall time"),
     "_energy_error": ("1", ("{} energy error: the energy-work balance's relative to the energy exchanged where loads "
                            "act, else the drift of the energy plus what viscosity dissipated, relative to E(0)")),
@@ -256,4 +259,9 @@ def markdown_table(ds, integrators=("leapfrog", "cvode_bdf", "ida"), spectrum=Tr
             except (ValueError, TypeError):
                 cells.append(str(v))
         lines.append(f"| {label} | " + " | ".join(c[:60] for c in cells) + " |")
+    notes = [f"- {label}, {name.replace('_', '-')}: {ds[f'{name}_message'].values[i]}"
+             for i, label in enumerate(ds.case.values) for name in integrators
+             if f"{name}_message" in ds and str(ds[f"{name}_message"].values[i])]
+    if notes:  # why a run did not complete: where and when it stopped, or why it was refused
+        lines += ["", "Runs that did not complete:", *notes]
     return "\n".join(lines)

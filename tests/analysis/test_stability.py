@@ -116,3 +116,23 @@ def test_a_loaded_shell_starting_at_rest_reports_its_energy_work_balance_and_eve
         assert 0 <= float(ds[f"{name}_energy_error"].values[0]) < 1e-3
     assert all("long_name" in ds[v].attrs for v in ds.variables)
     assert ds["leapfrog_wall_s"].attrs["units"] == "s" and "status" not in ds["cvode_bdf_status"].attrs.get("units", "")
+
+
+def test_a_run_refused_or_stopped_at_its_start_says_why_and_shows_no_numbers():
+    """Leap-frog refused on a stiff viscous case showed a wall time (0.06 s) and ``refused: ...`` cut at 60
+    characters; a twist whose start is past SVK's turning point showed ``limit``, 0 steps, an energy error of 0 and
+    failed steps -1, with no reason anywhere. Now: ``refused`` or ``limit`` with the run's own one line beside it
+    (in the file and under the table), and NaN where nothing was measured."""
+    base = mol_shell.TwistedCylinder()
+    ds = report([Case("viscous", dataclasses.replace(base, eta_mu=100.0, eta_lambda=200.0)),
+                 Case("twist", dataclasses.replace(base, gamma=1.5))], bisect=False)
+    assert str(ds.leapfrog_status.values[0]) == "refused" and "integrator = 'leapfrog'" in str(ds.leapfrog_message[0])
+    assert np.isnan(ds.leapfrog_wall_s.values[0]) and np.isnan(ds.leapfrog_steps.values[0])
+    for name in ("leapfrog", "cvode_bdf", "ida"):
+        assert str(ds[f"{name}_status"].values[1]) == "limit"
+        assert "at t = 0 s" in str(ds[f"{name}_message"].values[1])
+        assert np.isnan(ds[f"{name}_energy_error"].values[1])
+    assert np.isnan(ds.cvode_bdf_failures.values[1])  # it was -1
+    assert str(ds.cvode_bdf_message.values[0]) == ""  # a complete run says nothing
+    table = markdown_table(ds, spectrum=False)
+    assert "Runs that did not complete:" in table and "- twist, cvode-bdf: an in-plane stretch" in table
