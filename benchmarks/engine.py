@@ -30,8 +30,10 @@ import time
 from pathlib import Path
 
 import numpy as np
+from baselines import refuse_baseline  # benchmarks/ is this script's folder
 
 HERE = Path(__file__).resolve().parents[1]
+TARGETS = ("paper", "viscous", "overhead", "xlarge")
 
 RUN_PROBE = r"""
 import json, sys, warnings
@@ -240,17 +242,27 @@ def target_overhead():
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--baseline", required=True, help="a checkout of release 0.5.0")
-    parser.add_argument("--targets", default="paper,viscous,overhead", help="any of paper, viscous, overhead, xlarge")
-    parser.add_argument("--rounds", type=int, default=2)
-    parser.add_argument("--repeats", type=int, default=2, help="timed runs in each process, after one warm-up")
-    parser.add_argument("--n-viscous", type=int, default=640)
+    parser.add_argument("--baseline", required=True, help="a checkout of release 0.5.0 (a folder holding mol_shell/)")
+    parser.add_argument("--targets", default="paper,viscous,overhead",
+                        help=f"comma-separated, any of {', '.join(TARGETS)} (default: paper,viscous,overhead)")
+    parser.add_argument("--rounds", type=int, default=2,
+                        help="processes per configuration, baseline and this tree alternating; the fastest is "
+                             "reported (an integer >= 1, default: 2)")
+    parser.add_argument("--repeats", type=int, default=2,
+                        help="timed runs in each process, after one warm-up (an integer >= 0; 0: the warm-up alone is "
+                             "timed; default: 2)")
+    parser.add_argument("--n-viscous", type=int, default=640,
+                        help="grid of the viscous target's scene (an integer >= 3, default: 640)")
     parser.add_argument("--xlarge", action="store_true", help="also the viscous scene at n = 10,240 (rtol 1e-6)")
-    parser.add_argument("--threads", type=int, default=1, help="threads of the right-hand side at n = 10,240")
-    parser.add_argument("--json", default=None)
+    parser.add_argument("--threads", type=int, default=1,
+                        help="threads of the right-hand side at n = 10,240 (an integer >= 1, default: 1)")
+    parser.add_argument("--json", default=None, metavar="PATH",
+                        help="also write the numbers to this JSON file (default: none, the tables only)")
     args = parser.parse_args(argv)
-    if not (Path(args.baseline) / "mol_shell").is_dir():
-        print(f"benchmarks/engine.py: --baseline {args.baseline!r}: not a checkout of mol_shell", file=sys.stderr)
+    unknown = [t for t in args.targets.split(",") if t not in TARGETS]
+    if unknown:
+        parser.error(f"--targets {args.targets!r}: unknown {', '.join(unknown)}; allowed: {', '.join(TARGETS)}")
+    if refuse_baseline("benchmarks/engine.py", args.baseline):
         return 2
     start = time.perf_counter()
     out = {"date": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()), "load_before": os.getloadavg()}

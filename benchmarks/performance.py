@@ -29,10 +29,11 @@ import time
 from pathlib import Path
 
 import numpy as np
-
-from rhs_side_by_side import TIMED_EVALUATIONS  # benchmarks/ is this script's folder
+from baselines import refuse_baseline  # benchmarks/ is this script's folder
+from rhs_side_by_side import TIMED_EVALUATIONS
 
 HERE = Path(__file__).resolve().parents[1]
+TARGETS = ("rhs", "large", "full", "peers", "study")
 
 RHS_PROBE = r"""
 import json, sys, time
@@ -278,15 +279,30 @@ def target_study(rounds, t_end=0.02):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--baseline", required=True, help="a checkout of release 0.2.0")
-    parser.add_argument("--targets", default="rhs,large,peers,study")
-    parser.add_argument("--rounds", type=int, default=3)
-    parser.add_argument("--n-large", type=int, default=10240)
-    parser.add_argument("--steps", type=int, default=40, help="leap-frog steps timed at the large n")
-    parser.add_argument("--threads", type=int, default=os.cpu_count() or 1)
-    parser.add_argument("--study-t-end", type=float, default=0.02, help="simulated time of each study case (s)")
-    parser.add_argument("--json", default=None)
+    parser.add_argument("--baseline", required=True, help="a checkout of release 0.2.0 (a folder holding mol_shell/)")
+    parser.add_argument("--targets", default="rhs,large,peers,study",
+                        help=f"comma-separated, any of {', '.join(TARGETS)} (default: rhs,large,peers,study; "
+                             "full: the whole large run once, after large)")
+    parser.add_argument("--rounds", type=int, default=3,
+                        help="processes per configuration, baseline and this tree alternating; the fastest is "
+                             "reported (an integer >= 1, default: 3; the study target runs one fewer)")
+    parser.add_argument("--n-large", type=int, default=10240,
+                        help="grid of the large and full targets (an integer >= 3, default: 10240)")
+    parser.add_argument("--steps", type=int, default=40,
+                        help="leap-frog steps timed at the large n (an integer >= 1, default: 40)")
+    parser.add_argument("--threads", type=int, default=os.cpu_count() or 1,
+                        help="threads of the multi-threaded runs of the large and full targets (an integer >= 1, "
+                             f"default: the machine's cores, {os.cpu_count() or 1} here)")
+    parser.add_argument("--study-t-end", type=float, default=0.02,
+                        help="simulated time of each study case, s (default: 0.02)")
+    parser.add_argument("--json", default=None, metavar="PATH",
+                        help="also write the numbers to this JSON file (default: none, the tables only)")
     args = parser.parse_args(argv)
+    unknown = [t for t in args.targets.split(",") if t not in TARGETS]
+    if unknown:
+        parser.error(f"--targets {args.targets!r}: unknown {', '.join(unknown)}; allowed: {', '.join(TARGETS)}")
+    if refuse_baseline("benchmarks/performance.py", args.baseline):
+        return 2
     out = {"load_before": os.getloadavg()}
     print(load(), "(before)")
     targets = args.targets.split(",")
@@ -318,7 +334,8 @@ def main(argv=None):
     print("\n".join(summary))
     if args.json:
         Path(args.json).write_text(json.dumps(out, indent=1))
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

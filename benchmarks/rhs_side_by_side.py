@@ -14,6 +14,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from baselines import refuse_baseline  # benchmarks/ is this script's folder
+
 #: the end of a probe: the best of 9 rounds of 20,000 evaluations of ``compiled`` at ``y`` (microseconds in ``best``);
 #: benchmarks/performance.py uses it too
 TIMED_EVALUATIONS = r"""
@@ -55,10 +57,15 @@ def measure(tree, name, n):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--baseline", required=True, help="a checkout of the release to compare with (e.g. 0.2.0)")
-    parser.add_argument("--rounds", type=int, default=3)
-    parser.add_argument("--n", type=int, default=40)
+    parser.add_argument("--baseline", required=True,
+                        help="a checkout of the release to compare with, e.g. 0.2.0 (a folder holding mol_shell/)")
+    parser.add_argument("--rounds", type=int, default=3,
+                        help="processes per tree and scene, baseline and this tree alternating; the fastest is "
+                             "reported (an integer >= 1, default: 3)")
+    parser.add_argument("--n", type=int, default=40, help="grid of every scene (an integer >= 3, default: 40)")
     args = parser.parse_args(argv)
+    if refuse_baseline("benchmarks/rhs_side_by_side.py", args.baseline):
+        return 2
     here = Path(__file__).resolve().parents[1]
     base, new = [], []
     for _ in range(args.rounds):
@@ -70,7 +77,8 @@ def main(argv=None):
     for name in ("sphere", "cone", "torus"):
         t = min(measure(here, name, args.n)["us"] for _ in range(args.rounds))
         print(f"{name:7s} n = {args.n}: {t:.2f} us, per node {t / args.n:.3f} us; ratio to the paper cylinder {t / c:.3f}")
+    return 0
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())
