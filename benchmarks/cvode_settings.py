@@ -47,11 +47,15 @@ def error(ds, ref):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--scenes", nargs="+", default=list(SCENES))
-    parser.add_argument("--integrators", nargs="+", default=list(SETTINGS))
-    parser.add_argument("--json", default=None)
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--repeats", type=int, default=3,
+                        help="runs of each setting; the fastest is reported (an integer >= 1, default: 3)")
+    parser.add_argument("--scenes", nargs="+", default=list(SCENES), choices=list(SCENES), metavar="SCENE",
+                        help=f"scenes to run, any of: {', '.join(SCENES)} (default: all)")
+    parser.add_argument("--integrators", nargs="+", default=list(SETTINGS), choices=list(SETTINGS),
+                        metavar="INTEGRATOR", help=f"integrators to run, any of: {', '.join(SETTINGS)} (default: both)")
+    parser.add_argument("--json", default=None, metavar="PATH",
+                        help="also write the rows to this JSON file (default: none, the table only)")
     args = parser.parse_args()
     warnings.simplefilter("ignore")  # the scenes' law warnings: known, not measured here
     rows = []

@@ -58,11 +58,17 @@ def prepare(name, params, n):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--n", type=int, nargs="+", default=[40, 2560])
-    parser.add_argument("--laws", nargs="+", default=list(CASES))
-    parser.add_argument("--rounds", type=int, default=15)
-    parser.add_argument("--json", default=None, help="write the numbers here")
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--n", type=int, nargs="+", default=[40, 2560],
+                        help="grids to time, each an integer >= 3 (default: 40 2560)")
+    parser.add_argument("--laws", nargs="+", default=list(CASES), choices=list(CASES), metavar="LAW",
+                        help="laws to time (quote the names with spaces), any of: " + ", ".join(map(repr, CASES))
+                             + " (default: all; the column 'x SVK' needs svk among them)")
+    parser.add_argument("--rounds", type=int, default=15,
+                        help="interleaved batches of about 0.1 s per law; the fastest is reported (an integer >= 1, "
+                             "default: 15)")
+    parser.add_argument("--json", default=None, metavar="PATH",
+                        help="also write the numbers to this JSON file (default: none, the lines only)")
     args = parser.parse_args()
     rows = []
     for n in args.n:
