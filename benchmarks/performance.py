@@ -2,9 +2,9 @@
 
   1. rhs     one compiled RHS evaluation, paper scene, n = 40: this tree / baseline (and lean / reference kernel)
   2. large   leap-frog per step at n = 10,240 (the paper scene's grid for its stability study): baseline, this
-             tree's generic driver (around the compiled RHS) and its stencil (mol_shell.stencil, what the leap-frog
-             runs for this scene), each on 1 thread and on all threads; projected to the run to t = 0.143 s at
-             dt = 1.43 us. ``full`` (not in the default list) times that whole run once with this tree:
+             tree's generic driver (around the compiled RHS) and its stencil (mol_shell.discretization.stencil,
+             what the leap-frog runs for this scene), each on 1 thread and on all threads; projected to the run to
+             t = 0.143 s at dt = 1.43 us. ``full`` (not in the default list) times that whole run once with this tree:
              ``mol_shell.simulate`` from the build to the Dataset
   3. peers   work-precision on the paper scene (n = 40, the paper's saved times): the fastest mol_shell
              configuration against the fastest scipy peer at errors 1e-6 and 1e-8, in one process
@@ -68,7 +68,7 @@ build_s = time.perf_counter() - start
 if hasattr(compiled, "set_threads"):
     compiled.set_threads(threads)
 stepper = compiled  # "generic": the leap-frog driver around the compiled RHS (all that release 0.2.0 has)
-if driver == "stencil":  # what Leapfrog.integrate runs for this scene (mol_shell.stencil)
+if driver == "stencil":  # what Leapfrog.integrate runs for this scene (mol_shell.discretization.stencil)
     from mol_shell.discretization.stencil import StencilLeapfrog
     stepper = StencilLeapfrog(system, threads=threads)
 y0 = system.initial_state(scene)

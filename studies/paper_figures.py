@@ -10,7 +10,7 @@ A second run on a finer grid (--check-n, default 160) compares psi across grids.
 samples psi at the cell's two nodes, so the (-1)^i node pattern has the full transverse-shear
 stiffness (a mode at 5,063 rad/s on 40 nodes, just above the uniform shear mode at 5,050 rad/s)
 and stays at 3e-6 .. 5e-6 rad on every grid (column "(-1)^i node pattern", from
-mol_shell.study_data.grid_mode). psi itself is small (max |psi| over the run: 5.8e-5 rad at
+mol_shell.results.study_store.grid_mode). psi itself is small (max |psi| over the run: 5.8e-5 rad at
 N = 40, 8.2e-5 at 80, 1.0e-4 at 160, 1.6e-4 at 320) but is not pointwise converged: it is
 short-wave content radiated at the torsional fronts, which are as sharp as the grid because
 the initial data make chi_s jump at the free ends (its dominant frequency at s = L/2 rises with

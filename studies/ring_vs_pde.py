@@ -1,7 +1,7 @@
 """Section 5: the spinning ring, PDE (leap-frog, N nodes) against the reduced ODE (DOP853, rtol 1e-12).
 
 Uniform data r = 1.01 m, chi_t = 20 rad/s, psi = 0.05 rad (mol_shell.SpinningRing) stay uniform in
-the PDE, and every node follows the ODE of mol_shell.ring; the discrepancy is leap-frog's error
+the PDE, and every node follows the ODE of mol_shell.runs.ring; the discrepancy is leap-frog's error
 and falls as dt^2. Writes OUT/ring_vs_pde.nc (the ODE on a fine time grid, and the discrepancies)
 and OUT/ring_vs_pde.png; prints a table. ``main`` returns the netCDF's Dataset.
 Usage: python studies/ring_vs_pde.py [--n 10] [--t-end 0.1] [--quick] [--out out]

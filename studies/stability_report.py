@@ -1,13 +1,14 @@
 """Stability report on stiff and extreme cases of the paper scene (the same as `mol-shell stability`).
 
-Cases (mol_shell.stability.default_cases): the paper scene; Kelvin-Voigt viscosity eta_mu = 0.01,
+Cases (mol_shell.analysis.stability.default_cases): the paper scene; Kelvin-Voigt viscosity eta_mu = 0.01,
 1, 100 Pa s (eta_lambda = 2 eta_mu); nu = 0.3 .. 0.4999, and with plane stress; thin shells
 h = 1e-2 .. 1e-4 m; twists gamma = 0.5 .. 3 rad/m; a shear psi0 = 1.5 rad near the fold delta = 0;
 fast spin omega = 50, 200 rad/s; grids n = 160 .. 10,240. For each: the spectrum of the exact
 Jacobian at t = 0 (max |lambda|, fastest damping, stiffness ratio), the leap-frog bound
 1/max|lambda| against the largest stable step found by bisection, and runs of leap-frog (at half
 the bound), CVODE-BDF and IDA (rtol 1e-6): status, steps, failed steps, wall time, energy error
-(with the dissipated energy added back for viscous shells). About 10 minutes on 2 cores.
+(with the dissipated energy added back for viscous shells). About 8 minutes, the Jacobians of the large
+grids compiled on the way (docs/stability.md).
 Writes OUT/stability.nc, .md and .png. ``main`` returns the report's Dataset.
 Usage: python studies/stability_report.py [--max-n 10240] [--quick] [--out out] [--output FILE.nc]
 (--max-n 640 is `mol-shell stability --quick`; --quick here: two cases on n = 40, the paper scene

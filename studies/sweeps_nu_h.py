@@ -8,7 +8,7 @@ The leap-frog bound 1/max|eig| is set by the transverse-shear mode, whose freque
 sqrt(mu/rho)/h (sqrt(3 mu/rho)/h = 5,050 rad/s for the natural cylinder at the paper's h), so
 the bound is proportional to h up to the paper's h; at 4x that h the grid's axial wave, of
 frequency about 2 sqrt((lambda + 2 mu)/rho)/ds, is the faster one. psi is tabulated with its
-(-1)^i node pattern split off (mol_shell.study_data.grid_mode); psi is not pointwise converged
+(-1)^i node pattern split off (mol_shell.results.study_store.grid_mode); psi is not pointwise converged
 in N (see studies/paper_figures.py). Writes OUT/sweeps_nu_h.nc (amplitudes, dims grid x nu and grid x h),
 the full fields in OUT/sweep_{nu,h}_n<N>.nc (cases kept for resuming) and OUT/sweeps_nu_h.png;
 prints markdown tables. ``main`` returns the summaries of the two sweeps.

@@ -5,7 +5,7 @@ the paper's grid (N = 40) and a finer one (N = 160). Every case starts from its 
 radius R(gamma) and runs to t = 0.143 s with leap-frog, dt = 1e-6 s. Log-log slopes are fitted.
 Both R(gamma) - 1 and max |r - R| are even in gamma (the energy is), so they grow like gamma^2
 for small twists. psi is tabulated too, with its (-1)^i node pattern split off
-(mol_shell.study_data.grid_mode): since the cell energy samples psi at the nodes that pattern
+(mol_shell.results.study_store.grid_mode): since the cell energy samples psi at the nodes that pattern
 is no soft mode and stays a small part of psi (3e-6 .. 5e-6 rad at gamma = 0.1 on N = 40 .. 320);
 psi itself is small but not pointwise converged in N (see studies/paper_figures.py), so its
 slope is a property of each grid.

@@ -1,6 +1,6 @@
 """Section 4: a spinning azimuthally unshearable shell moves axisymmetrically; the free shell does not.
 
-Initial state (mol_shell.unshearable.Unshearable): r = 1 + 0.01 cos(2 pi s / L) m, theta =
+Initial state (mol_shell.scenes.unshearable.Unshearable): r = 1 + 0.01 cos(2 pi s / L) m, theta =
 arctan(r_s) (no transverse shear), chi = psi = 0, spin chi_t = 20 rad/s. The constrained shell
 (chi_s = 0, psi = 0 with Lagrange multipliers; DAE, IDA) and the free shell (the PDE, leap-frog)
 start from it on N = 81 nodes. The free shell's twist is converged there (max |chi_s| over

@@ -2,7 +2,7 @@
 
 The paper's scene (n = 40) to its last snapshot t = 0.143 s, saved at the paper's snapshot
 times; a tolerance sweep per integrator (dt for leap-frog); error and reference as in
-:mod:`mol_shell.workprecision`. Writes OUT/work_precision.nc, .png and .md, and prints the
+:mod:`mol_shell.analysis.workprecision`. Writes OUT/work_precision.nc, .png and .md, and prints the
 table (the cheapest run of each integrator with error <= 1e-6, speed-up against the paper's
 leap-frog at dt = 1e-6). ``main`` returns the Dataset.
 Usage: python studies/work_precision.py [--repeats 3] [--t-end 0.143] [--integrators a,b,...] [--quick] [--out out]
