@@ -11,6 +11,8 @@ the loads and the energy ``D`` dissipated (viscosity, drag), and what the balanc
 
 from __future__ import annotations
 
+import textwrap
+
 import numpy as np
 
 from mol_shell.views.fibres import _nearest
@@ -49,6 +51,8 @@ def radius_node(ds, s=None):
     return max(middle, key=lambda i: (r0[i], -i))  # the wider; of two alike (a sphere's even n) the first, as before
 
 
+#: characters per line of a panel's title (half the figure's width at its font size)
+TITLE_WIDTH = 70
 #: the label of ``D`` integrated from the saved dissipated power (a viscous run without loads carries no ``dissipated``)
 QUADRATURE_LABEL = "D, dissipated (trapezoidal rule on the saved times)"
 
@@ -101,7 +105,7 @@ def draw_radius(ax, ds, node):
     else:
         where = (f"the equator ({at}, the middle of the widest part, r0 largest on s = {float(ds['s'][first]):.4g} to "
                  f"{float(ds['s'][last]):.4g} m)")
-    ax.set_title(f"radius at {where} against time", fontsize=9)
+    ax.set_title(textwrap.fill(f"radius at {where} against time", TITLE_WIDTH), fontsize=9)  # a long one was cut
     ax.legend(fontsize=7)
 
 
