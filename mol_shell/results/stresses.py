@@ -56,13 +56,15 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import math
+import numbers
 import re
 
 import casadi as ca
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
-from mol_shell._core.ranges import Choice
+from mol_shell._core.ranges import Choice, Interval
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.laws import LAWS, ON_REDEFINED, thickness_treatment
@@ -249,6 +251,17 @@ def _block(outs, viscous):
     return values
 
 
+def _check_limit(limit):
+    """``limit`` of :func:`add_stresses`: ``None`` or an integer >= 1 (``4e6`` too), else a ParameterError naming it."""
+    allowed = Interval(1, math.inf, low_closed=True, integer=True, shown="integers >= 1, or None (no limit)")
+    if limit is None:
+        return
+    if isinstance(limit, (bool, np.bool_)) or not isinstance(limit, numbers.Real):
+        raise ParameterError.not_a("limit", limit, "an integer", allowed)
+    if limit not in allowed:
+        raise ParameterError("limit", limit, allowed)
+
+
 def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     """The run ``ds`` with its resultants and face stresses (a new Dataset; ``ds`` is not changed).
 
@@ -257,8 +270,8 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     ``zeta1 + 2h`` (``outer``): the Cauchy stress of the cell's two samples averaged, then its
     principal values. For a viscous run every variable includes the Kelvin-Voigt stress and its
     viscous part is added as ``NAME_viscous``. ``mol-shell run`` calls this (``--no-stresses`` to
-    skip); ``simulate(..., stresses=None|True|False)`` is to call it the same way (the keyword is
-    added to :func:`~mol_shell.runs.simulate.simulate` with the geometry work: ``None`` = up to ``limit``).
+    skip), and so does :func:`~mol_shell.runs.simulate.simulate` after a run: ``stresses=None`` (its default)
+    with the default ``limit``, ``True`` with ``limit=None``, ``False`` not at all.
 
     Parameters
     ----------
@@ -266,7 +279,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
         A run (fields and rates on ``(time, s)``, the scene's parameters in attrs).
     limit : int or None
         Skip (and say so in ``attrs["stresses"]``) when cell samples x saved times exceed it
-        (two samples per cell); ``None``: no limit. About 2 us per sample (3 with viscosity) and
+        (two samples per cell): an integer >= 1 (default :data:`MAX_SAMPLES`); ``None``: no limit. About 2 us per sample (3 with viscosity) and
         136 bytes per cell and saved time (224 with viscosity).
     compiled : bool
         Evaluate generated C (built once per ``n_quad`` and cached); False: CasADi's virtual machine.
@@ -275,6 +288,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     -------
     xarray.Dataset
     """
+    _check_limit(limit)
     needed = [*FIELDS, *(f + "_t" for f in FIELDS)]
     missing = [v for v in needed if v not in ds or ds[v].dims != ("time", "s")]
     if missing or not all(k in ds.attrs for k in ("E", "nu", "h", "zeta1_used", "n_quad")):
