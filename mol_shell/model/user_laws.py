@@ -51,6 +51,12 @@ RESERVED = set()
 class Material:
     """A hyperelastic law from its stored energy.
 
+    Use it as a scene's ``material``: ``mol_shell.Sphere(material=rubber)`` (the scene stores its ``name``,
+    registered in this process), or by its import path ``"package.module:attr"`` where a string is needed (a scene
+    file's ``material = "mylaws:rubber"``, ``--set material=mylaws:rubber``, a study's workers; ``mylaws``
+    importable: on ``PYTHONPATH`` or in the working directory); change its
+    parameters for one scene with ``material_parameters`` (``"mu=2e5"``). See docs/materials.md.
+
     Parameters
     ----------
     name : str

@@ -118,12 +118,13 @@ class ShellScene:
     eta_lambda, eta_mu : float
         Kelvin-Voigt viscosities, Pa s (``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t``);
         0 (default) is the elastic shell, and leaves the viscous terms out of the graph.
-    material : str
-        ``"svk"`` (the paper: 3-D St Venant-Kirchhoff with the inextensible director),
-        ``"svk-plane-stress"`` (thickness stress condensed out; see
-        :func:`mol_shell.model.material.effective_lame`), ``"neo-hookean"`` (compressible, ``E, nu``, plane
-        stress), ``"neo-hookean-incompressible"`` (shear modulus ``E/3``) or ``"mooney-rivlin"`` (incompressible,
-        ``c10, c01``); see :mod:`mol_shell.model.laws`.
+    material : str or mol_shell.Material
+        A built-in law: ``"svk"`` (default; the paper: 3-D St Venant-Kirchhoff with the inextensible director),
+        ``"svk-plane-stress"`` (thickness stress condensed out; :func:`mol_shell.model.material.effective_lame`),
+        ``"neo-hookean"`` (compressible, ``E, nu``, plane stress), ``"neo-hookean-incompressible"`` (shear modulus
+        ``E/3``) or ``"mooney-rivlin"`` (incompressible, ``c10, c01``) (:mod:`mol_shell.model.laws`); or a law of
+        one's own: a :class:`mol_shell.Material` (stored as its name), or its import path ``"package.module:attr"``
+        (scene files, ``--set``, a study's workers; stored as the path). See docs/materials.md.
     material_parameters : str or dict
         A law of one's own (:class:`mol_shell.Material`) with some of its parameters changed: ``"mu=3e5 k=1e4"`` or
         ``{"mu": 3e5}`` (stored as the string); ``""`` (default): the Material's own. Built-in laws take theirs as
@@ -155,8 +156,9 @@ class ShellScene:
         ``False`` (default): the run goes on and its saved states are checked afterwards
         (:mod:`mol_shell.runs.ellipticity`).
     end1, end2 : str or None
-        Edge conditions at ``s = 0`` and ``s = L``: ``magnet``, ``clamped``, ``pinned``, ``free``
-        (:mod:`mol_shell.model.edges`); ``None`` (``auto``): a pole on the axis, ``magnet`` elsewhere.
+        Edge conditions at ``s = 0`` and ``s = L``: ``magnet``, ``clamped``, ``pinned``, ``free``, or the fields it
+        imposes (``"r,theta"``; :mod:`mol_shell.model.edges`); ``None`` (default, ``auto``): a pole on the axis,
+        ``magnet`` elsewhere.
     pressure : float
         Pressure on the base surface, Pa, a follower load, positive inflating (edges closed by lids in
         their planes); ``pressure_history`` its time history (:mod:`mol_shell.model.loads`).
@@ -168,7 +170,6 @@ class ShellScene:
         Axial force (along ``k``) on an edge, N; the edge's ``z`` must be free (``free`` edge); ``*_history``.
     end1_torque, end2_torque : float
         Axial torque (about ``k``) on an edge, N m; the edge's ``chi`` must be free (``magnet`` or ``free``); ``*_history``.
-
     end1_spin, end2_spin : float
         Driven edge: its ``chi`` turned at this rate, rad s-1, times ``*_spin_history`` (``chi_t`` prescribed; the
         reaction torque is in the run's ``reaction_torque``). Not at a pole.

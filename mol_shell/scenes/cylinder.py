@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from types import MappingProxyType
 
 import numpy as np
 
@@ -20,15 +21,22 @@ class CylinderScene(ShellScene):
     Parameters
     ----------
     L : float
-        Length, m (paper: 4).
+        Length, m, ``> 0`` (default 4, the paper's).
     a : float
-        Natural radius of the base surface, m (paper: 1). The director points outward.
+        Natural radius of the base surface, m, ``> 0`` and above ``2h`` (default 1, the paper's). The director
+        points outward.
     R : float or None
         Initial radius, m, above ``-zeta1`` (the inner face at a positive radius). ``None`` (or
         ``"auto"``) computes the radius at which the uniformly twisted cylinder is in radial
         equilibrium (:func:`mol_shell.model.equilibrium.equilibrium_radius`); untwisted (``gamma = 0``) under
         loads the run starts from the static equilibrium found from it (:func:`mol_shell.runs.simulate.starting_state`).
     """
+
+    #: what R = auto is, and the scene's own words for a shared parameter (mol-shell scenes NAME)
+    defaults_mean = MappingProxyType({"R": "the radius of radial equilibrium of the cylinder twisted by gamma (under "
+                                           "the pressure at t = 0); untwisted under loads, the static equilibrium "
+                                           "found from it"})
+    descriptions = MappingProxyType({"a": "natural radius of the cylinder's base surface"})
 
     L: float = 4.0
     a: float = 1.0
@@ -74,15 +82,23 @@ class TwistedCylinder(CylinderScene):
 
     Parameters
     ----------
+    L : float
+        Length, m, ``> 0`` (default 4, the paper's): the distance between the magnets.
+    a : float
+        Natural radius of the base surface, m, ``> 0`` and above ``2h`` (default 1, the paper's).
+    R : float or None
+        Initial radius, m, above ``-zeta1``. ``None`` (default, ``"auto"``): the radius at which the cylinder
+        twisted by ``gamma`` is in radial equilibrium (under the pressure at ``t = 0``), as the paper starts;
+        with ``gamma = psi0 = 0`` under loads, the static equilibrium found from it.
     gamma : float
-        Initial twist ``chi_s``, rad/m (paper value lost; 0.1 fits its figures).
+        Initial twist ``chi_s``, rad/m (default 0.1: the paper's value is lost; 0.1 fits its figures).
     omega : float
-        Initial uniform spin rate ``chi_t``, rad/s.
+        Initial uniform spin rate ``chi_t``, rad/s (default 0).
     psi0 : float
-        Initial uniform shear angle ``psi``, rad, in (-pi/2, pi/2).
+        Initial uniform shear angle ``psi``, rad, in (-pi/2, pi/2) (default 0).
     end_omega : float
         Both ends turned at this rate from ``t = 0`` (the magnets spun up), rad s-1: ``end1_spin`` and
-        ``end2_spin`` where those are 0.
+        ``end2_spin`` where those are 0 (default 0).
     """
 
     gamma: float = 0.1
@@ -127,6 +143,21 @@ class SpinningRing(TwistedCylinder):
     The same boundary-value problem as :class:`TwistedCylinder` with uniform initial data
     ``r = R``, ``chi_t = omega``, ``psi = psi0``; the motion stays uniform in ``s`` and
     follows the ODEs of section 5.
+
+    Parameters
+    ----------
+    R : float or None
+        Initial radius, m (default 1.01: breathing about the natural radius); ``None`` (``"auto"``): as
+        :class:`TwistedCylinder`'s.
+    omega : float
+        Initial spin rate ``chi_t``, rad/s (default 20).
+    psi0 : float
+        Initial shear angle ``psi``, rad, in (-pi/2, pi/2) (default 0.05).
+    gamma : float
+        Initial twist ``chi_s``, rad/m (default 0; another value makes the motion non-uniform).
+    L, a, end_omega : float
+        Length and natural radius (m; defaults 4 and 1), the ends' spin rate (rad/s; default 0): as
+        :class:`TwistedCylinder`.
     """
 
     R: float | None = 1.01
@@ -143,6 +174,17 @@ class Axisymmetric(CylinderScene):
 
     Only ``z, r, theta`` are unknowns; the graph holds nothing of ``chi`` and ``psi``.
     Initial data: ``r = R`` (default 1.01 m, a breathing cylinder), ``z = s``, at rest.
+
+    Parameters
+    ----------
+    L : float
+        Length, m, ``> 0`` (default 4).
+    a : float
+        Natural radius of the base surface, m, ``> 0`` and above ``2h`` (default 1).
+    R : float or None
+        Initial radius, m, above ``-zeta1`` (default 1.01). ``None`` (``"auto"``): the radius of radial
+        equilibrium under the pressure at ``t = 0`` (``a`` without it); under loads, the static equilibrium
+        found from it.
     """
 
     R: float | None = 1.01

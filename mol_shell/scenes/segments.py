@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from types import MappingProxyType
 
 import numpy as np
 
@@ -142,7 +143,31 @@ class Vessel(_Dilated):
 
     The meridian starts at the bottom pole heading outward (director outward), so an equatorial closed shell has
     two poles.
+
+    Parameters
+    ----------
+    a : float
+        Radius of the cylinder's base surface, m, ``> 0`` (default 1); the heads end on it.
+    Lc : float
+        Length of the cylinder, m, ``>= 0`` (default 2; 0: the heads meet).
+    crown : float or None
+        Crown radius of the heads, m, ``>= a`` (``a``: hemispherical heads); ``None`` (default, ``"auto"``): ``2a``.
+    knuckle : float or None
+        Knuckle radius of the heads, m, in (0, a); ``None`` (default, ``"auto"``): ``0.2 a``.
+    segments : str
+        The meridian from the bottom pole as ``"arc RADIUS DEG, line LENGTH, ..."`` (m, degrees; each segment
+        turns the tangent on from the last), overriding ``a, Lc, crown, knuckle``; ``''`` (default): the heads
+        and cylinder they give.
+    dilation : float or None
+        Initial uniform dilation of the natural shell, in (0.5, 2); ``None`` (default, ``"auto"``): the static
+        equilibrium under the loads at ``t = 0`` (the natural shell without loads).
+    gamma, omega : float
+        Initial twist ``chi_s``, rad/m (``chi = gamma (s - L/2)``, ``L`` the meridian's length), and rigid spin
+        rate ``chi_t``, rad/s (defaults 0).
     """
+
+    descriptions = MappingProxyType({"a": "radius of the vessel's cylinder (its heads end on it)"})
+    defaults_mean = MappingProxyType({"segments": "the heads and cylinder of a, Lc, crown and knuckle"})
 
     a: float = 1.0
     Lc: float = 2.0

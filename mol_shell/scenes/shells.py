@@ -15,6 +15,7 @@ import os
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
+from types import MappingProxyType
 
 import numpy as np
 
@@ -81,18 +82,24 @@ class Sphere(_Excited):
     The meridian runs from the polar angle ``alpha1`` to ``alpha2``, measured from the pole at the
     bottom (``z = -a``) where ``s = 0``; an edge at polar angle 0 or pi is a pole. The director is the
     outward normal (``zeta > 0`` outside). Initial data: the natural sphere dilated to radius ``R``
-    (default ``a``: the natural state), at rest, optionally twisted and spun.
+    (default auto: the static equilibrium under the loads at ``t = 0``, the natural sphere without loads),
+    optionally twisted and spun.
 
     Parameters
     ----------
     a : float
-        Natural radius of the base surface, m.
+        Natural radius of the base surface, m, ``> 0`` (default 1).
     alpha1, alpha2 : float
-        Polar angles of the edges, rad, ``0 <= alpha1 < alpha2 <= pi``.
+        Polar angles of the edges, rad, ``0 <= alpha1 < alpha2 <= pi`` (defaults 0 and pi: closed).
     R : float or None
-        Initial radius of the base surface, m (``None``/auto: the static equilibrium under the loads at
-        ``t = 0``, the natural radius ``a`` without loads).
+        Initial radius of the base surface, m, in (a/2, 2a); ``None`` (default, ``"auto"``): the static
+        equilibrium under the loads at ``t = 0``, the natural radius ``a`` without loads.
+    gamma, omega : float
+        Initial twist ``chi_s``, rad/m (``chi = gamma (s - L/2)``, ``L`` the meridian's length), and rigid spin
+        rate ``chi_t``, rad/s (defaults 0).
     """
+
+    descriptions = MappingProxyType({"a": "natural radius of the sphere's base surface"})
 
     a: float = 1.0
     alpha1: float = 0.0
@@ -137,6 +144,19 @@ class Cone(_Dilated):
     Straight generator at the half-angle ``atan2(r2 - r1, H)`` from the axis; the director points away
     from the axis. Both radii must be positive (an apex is not a smooth shell), ``H >= 0`` (``H = 0``:
     an annular plate).
+
+    Parameters
+    ----------
+    r1, r2 : float
+        Radii of the base surface at ``s = 0`` (``z = 0``) and ``s = L`` (``z = H``), m, ``> 0`` (defaults 1, 0.5).
+    H : float
+        Axial length, m, ``>= 0`` (default 1); 0 only with ``r1 != r2``.
+    dilation : float or None
+        Initial uniform dilation of the natural shell, in (0.5, 2); ``None`` (default, ``"auto"``): the static
+        equilibrium under the loads at ``t = 0`` (the natural shell without loads).
+    gamma, omega : float
+        Initial twist ``chi_s``, rad/m (``chi = gamma (s - L/2)``, ``L`` the meridian's length), and rigid spin
+        rate ``chi_t``, rad/s (defaults 0).
     """
 
     r1: float = 1.0
@@ -164,7 +184,25 @@ class Torus(_Dilated):
     (polar angle in the tube from its lowest point; ``pi/2`` is the outer equator). Default: the
     outer half of the tube. The director is the tube's outward normal. The segment must stay off the
     axis (``r0 > 0``).
+
+    Parameters
+    ----------
+    a : float
+        Tube radius of the base surface, m, ``> 0`` (default 0.25).
+    b : float
+        Radius of the centre circle, m, ``> 0`` with ``b + a sin(alpha) > 0`` on the segment (default 1).
+    alpha1, alpha2 : float
+        Polar angles in the tube of the edges at ``s = 0`` and ``s = L``, rad: ``alpha1`` in [-pi, pi) (default 0),
+        ``alpha2`` in (alpha1, alpha1 + 2 pi] (default pi).
+    dilation : float or None
+        Initial uniform dilation of the natural shell, in (0.5, 2); ``None`` (default, ``"auto"``): the static
+        equilibrium under the loads at ``t = 0`` (the natural shell without loads).
+    gamma, omega : float
+        Initial twist ``chi_s``, rad/m (``chi = gamma (s - L/2)``, ``L`` the meridian's length), and rigid spin
+        rate ``chi_t``, rad/s (defaults 0).
     """
+
+    descriptions = MappingProxyType({"a": "tube radius (of the base surface about the centre circle)"})
 
     a: float = 0.25
     b: float = 1.0
@@ -210,6 +248,17 @@ class MeridianShell(_Dilated):
     the tangent turned by +90 degrees in the ``(z, r)`` plane: outward for rows ordered by increasing ``z``.
     ``points = ''`` (the default) is a built-in half ellipsoid (equatorial radius 1 m, height 0.6 m), so
     the scene runs as it is; a run says so (its ``meridian`` attr, and a note of the command line).
+
+    Parameters
+    ----------
+    points : str
+        Path of the file of points (``~`` expanded, stored absolute); ``''`` (default): the built-in dome.
+    dilation : float or None
+        Initial uniform dilation of the natural shell, in (0.5, 2); ``None`` (default, ``"auto"``): the static
+        equilibrium under the loads at ``t = 0`` (the natural shell without loads).
+    gamma, omega : float
+        Initial twist ``chi_s``, rad/m (``chi = gamma (s - L/2)``, ``L`` the meridian's length), and rigid spin
+        rate ``chi_t``, rad/s (defaults 0).
     """
 
     points: str = ""

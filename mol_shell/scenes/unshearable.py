@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from types import MappingProxyType
 
 import numpy as np
 
@@ -31,13 +32,19 @@ class Unshearable(CylinderScene):
 
     Parameters
     ----------
-    R : float
-        Mean initial radius, m.
+    L, a : float
+        Length and natural radius, m (defaults 4 and 1), as :class:`~mol_shell.scenes.CylinderScene`.
+    R : float or None
+        Mean initial radius, m (default 1), with the thinnest section's inner face ``R - |dR| + zeta1`` at a
+        positive radius; ``None`` (``"auto"``): the natural radius ``a`` (the radial equilibrium of the
+        untwisted, unloaded cylinder).
     dR : float
-        Amplitude of the initial radius variation, m.
+        Amplitude of the initial radius variation, m, in (-0.2, 0.2) (default 0.01).
     omega : float
-        Initial spin rate, rad/s.
+        Initial spin rate, rad/s (default 20).
     """
+
+    defaults_mean = MappingProxyType({"R": "a, the radial equilibrium of the untwisted, unloaded cylinder"})
 
     R: float | None = 1.0
     dR: float = 0.01
