@@ -15,7 +15,6 @@ data a user is expected to give) ``mol-shell: note: ...``.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import os
 import re
 import sys
@@ -60,8 +59,9 @@ from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.runs.resources import LongRunWarning
 from mol_shell.runs.simulate import simulate
-from mol_shell.scenes import SCENES, UNITS, describe, summary
+from mol_shell.scenes import SCENES, summary
 from mol_shell.scenes.files import scene_toml
+from mol_shell.scenes.listing import parameter_listing
 from mol_shell.views.fibres import MAX_FIBRES, plot_fibres
 from mol_shell.views.history import plot_history
 from mol_shell.views.plotting import image_formats, plot_meridian, plot_snapshots, shows_history
@@ -149,15 +149,7 @@ def cmd_scenes(args):
     if args.toml:
         print(scene_toml(cls), end="")
         return 0
-    print(f"{args.name}: {summary(cls)}")
-    rows = [("parameter", "default", "units", "what it is")]
-    for f in dataclasses.fields(cls):
-        default = f.default if f.default is not dataclasses.MISSING else "(required)"
-        default = "auto" if default is None else "''" if default == "" else default
-        rows.append((f.name, str(default), UNITS.get(f.name, "1"), describe(f.name).replace("``", "")))
-    widths = [max(len(row[k]) for row in rows) for k in range(3)]  # from the content: every column lines up
-    for name, default, units, text in rows:
-        print(f"  {name:<{widths[0]}}  {default:>{widths[1]}}  {units:<{widths[2]}}  {text}".rstrip())
+    print("\n".join(parameter_listing(cls)))
     return 0
 
 

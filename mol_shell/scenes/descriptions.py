@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import inspect
 
 UNITS = {
     "L": "m", "h": "m", "E": "Pa", "nu": "1", "rho": "kg m-3", "R": "m",
@@ -37,7 +38,8 @@ DESCRIPTIONS = {
     "segments": "meridian from the bottom pole: 'arc R DEG, line L, ...' (overrides a, Lc, crown, knuckle)",
     "dt": "leap-frog time step", "rtol": "relative tolerance", "atol": "absolute tolerance (m or rad per field)",
     "max_step": "largest step of the adaptive integrator",
-    "a": "natural radius (cylinder, sphere) or tube radius (torus)", "b": "radius of the torus' centre circle",
+    "a": "natural radius (cylinder, sphere), tube radius (torus) or the cylinder's radius (vessel)",
+    "b": "radius of the torus' centre circle",
     "alpha1": "polar angle of the edge at s = 0", "alpha2": "polar angle of the edge at s = L",
     "r1": "radius of the cone's edge at s = 0", "r2": "radius of the cone's edge at s = L",
     "H": "axial length of the cone", "dilation": "initial uniform dilation of the natural shell",
@@ -55,12 +57,54 @@ DESCRIPTIONS = {
 }
 
 
-def describe(name):
-    """What parameter ``name`` is, in a few words (``NAME_history``: the time history of ``NAME``)."""
+#: what a parameter left to the code (``auto``, None) or given as nothing (``''``) stands for; a scene's own
+#: ``defaults_mean`` says it where it differs
+DEFAULTS_MEAN = {
+    "zeta1": "the base surface at the wall's centroid",
+    "end1": "a pole on the axis, magnet elsewhere", "end2": "a pole on the axis, magnet elsewhere",
+    "R": "the static equilibrium under the loads at t = 0 (the natural radius a without loads)",
+    "dilation": "the static equilibrium under the loads at t = 0 (the natural shell without loads)",
+    "crown": "2a", "knuckle": "0.2a",
+    "material_parameters": "the Material's own", "h_profile": "the uniform wall h", "layers": "one layer of material",
+    "points": "a built-in dome (half ellipsoid, 1 m x 0.6 m)",
+}
+
+
+#: values a parameter takes beyond the choices its check lists (``mol-shell scenes NAME``)
+BEYOND_CHOICES = {"material": "or a mol_shell.Material: its import path 'package.module:attr'"}
+
+
+def _scene_own(scene, table, name):
+    """``name``'s entry in the class attribute ``table`` of ``scene`` (an instance or a class) or of the nearest base
+    class that has one, or None."""
+    cls = scene if isinstance(scene, type) else type(scene)
+    for base in inspect.getmro(cls):
+        entries = vars(base).get(table) or {}
+        if name in entries:
+            return entries[name]
+    return None
+
+
+def describe(name, scene=None):
+    """What parameter ``name`` is, in a few words (``NAME_history``: the time history of ``NAME``); with ``scene``,
+    the scene's own words where its ``descriptions`` have them (``a`` of the torus is its tube radius)."""
     if name.endswith("_history"):
         base = name[: -len("_history")]
         return f"time history of {base} (a factor on it): constant, step T0, ramp T1, sine F, table t0:h0 ..."
-    return DESCRIPTIONS.get(name, "")
+    own = None if scene is None else _scene_own(scene, "descriptions", name)
+    return own or DESCRIPTIONS.get(name, "")
 
 
-__all__ = ["DESCRIPTIONS", "UNITS", "describe"]
+def default_meaning(name, scene=None):
+    """What ``auto`` (None) or ``''`` stands for as the value of ``name``, in a few words ('' if nothing is said):
+    the scene's own ``defaults_mean`` first."""
+    own = None if scene is None else _scene_own(scene, "defaults_mean", name)
+    return own or DEFAULTS_MEAN.get(name, "")
+
+
+def is_numeric(field):
+    """Whether a scene's dataclass field holds a number (``float``, ``int``, or one of them or None: auto)."""
+    return set(str(field.type).replace(" ", "").split("|")) <= {"float", "int", "None"}
+
+
+__all__ = ["BEYOND_CHOICES", "DEFAULTS_MEAN", "DESCRIPTIONS", "UNITS", "default_meaning", "describe", "is_numeric"]

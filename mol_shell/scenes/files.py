@@ -48,7 +48,7 @@ from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES, summary
-from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS, ShellScene
+from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS, ShellScene, describe
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -348,9 +348,9 @@ def load_scene(path, *, with_run=False):
     return (scene, run) if with_run else scene
 
 
-def _comment(name):
+def _comment(name, cls=None):
     unit = UNITS.get(name, "1")
-    text = DESCRIPTIONS.get(name, "")
+    text = describe(name, cls) if cls is not None else DESCRIPTIONS.get(name, "")
     return f"{unit}: {text}" if unit != "1" else text
 
 
@@ -391,7 +391,7 @@ def scene_toml(scene):
             lines += ["", f"[{table}]", *notes.get(table, [])]
         for name in names:
             entry = f"{name} = {toml_value(value[name])}"
-            note = _comment(name) if not name.endswith("_history") else ""
+            note = _comment(name, cls) if not name.endswith("_history") else ""
             lines.append(f"{entry:34s} # {note}" if note else entry)
     lines += ["", "[run]", *notes["run"], 'integrator = "leapfrog"', "n = 40",
               f"{'t_end = 0.01':34s} # s: final time (or times = [0, 0.005, 0.01] in its place)"]

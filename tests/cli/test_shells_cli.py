@@ -20,8 +20,9 @@ def test_scenes_lists_every_registered_scene_and_a_scenes_parameters(capsys):
     assert main(["scenes", "torus"]) == 0
     head, columns, *rows = capsys.readouterr().out.splitlines()
     assert head.startswith("torus: ") and columns.split()[:3] == ["parameter", "default", "units"]
-    shown = {row.split()[0]: row.split()[1] for row in rows}  # name, default, unit, description
     torus = SCENES["torus"]()
+    rows = rows[: len(dataclasses.fields(torus))]  # then a note on auto and ''
+    shown = {row.split()[0]: row.split()[1] for row in rows}  # name, default, unit, description
     assert shown == {f.name: "auto" if getattr(torus, f.name) is None else "''" if getattr(torus, f.name) == "" else
                      str(getattr(torus, f.name)) for f in dataclasses.fields(torus)}  # '': an empty string shown
     assert main(["scenes", "drum"]) == 2
@@ -75,16 +76,19 @@ def test_modes_lists_every_mode_it_counts(tmp_path, capsys):
 
 def test_scene_summaries_are_plain_whole_clauses(capsys):
     """``mol-shell scenes`` cut the vessel's line in a parenthesis ("torispherical heads (crown") and showed the
-    double backticks of reStructuredText: each summary is plain text with its parentheses closed."""
-    from mol_shell.scenes import SCENES
+    double backticks of reStructuredText: each summary is plain text with its parentheses closed. ``mol-shell scenes
+    NAME`` shows the whole description, which the summary begins."""
+    from mol_shell.scenes import SCENES, description
 
     assert main(["scenes"]) == 0
     lines = capsys.readouterr().out.splitlines()[: len(SCENES)]
     for name, line in zip(SCENES, lines):
         assert main(["scenes", name]) == 0
-        head = capsys.readouterr().out.splitlines()[0]
+        out = capsys.readouterr().out.splitlines()
+        head = " ".join(x.strip() for x in out[: next(i for i, x in enumerate(out) if x.split()[:1] == ["parameter"])])
         text = line[18:].strip()
-        assert head == f"{name}: {text}"
+        assert head == f"{name}: {description(SCENES[name])}"  # the whole description, wrapped
+        assert head.startswith(f"{name}: {text.removesuffix(' ...')}")
         assert "``" not in line and line.count("(") == line.count(")") and len(text) <= 100, line
         assert text.endswith((".", " ...")), line
     vessel = dict(zip(SCENES, lines))["vessel"]
