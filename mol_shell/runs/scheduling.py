@@ -275,12 +275,12 @@ def _collect(future, task):
 
 def check_workers(workers, scheduler):
     """Refuse ``workers`` that is not a count of local processes, or that is given with another scheduler (it was
-    ignored there: "serial" is this process alone, a cluster has its own workers)."""
+    ignored there: "serial" is this process alone, which ``workers=1`` may say, a cluster has its own workers)."""
     if workers is None:
         return
     if not (isinstance(workers, (int, np.integer)) and not isinstance(workers, bool) and workers >= 1):
         raise ParameterError("workers", workers, "integers >= 1")
-    if scheduler is not None:
+    if scheduler is not None and not (scheduler == "serial" and workers == 1):  # serial is one process: 1 agrees
         raise ParameterError("workers", workers, "None with scheduler = " + repr(scheduler_name(scheduler)),
                              hint="workers counts local processes (scheduler None); a cluster has its own workers, "
                              "serial is this process alone")

@@ -138,6 +138,8 @@ def test_workers_with_another_scheduler_is_refused_not_ignored(scheduler):
         study(BASE, {"gamma": [0.05, 0.1]}, **SMALL, scheduler=scheduler, workers=2)
     with pytest.raises(ParameterError, match=r"^workers = 2 is outside None with scheduler = "):
         path_study("sphere", {"nu": [0.3]}, "pressure", 0, 100, scheduler=scheduler, workers=2)
+    if scheduler == "serial":  # one process: workers=1 says the same, and is taken
+        assert study(BASE, {"gamma": [0.05]}, **SMALL, scheduler="serial", workers=1).attrs["n_cases"] == 1
 
 
 def test_vary_ranges_include_the_stop():
