@@ -202,7 +202,7 @@ class EquilibriumEquations:
         for field in rigid_motions(self.system).values():
             free = ~self.system.fixed[:, field]
             out[field] += float(np.mean(reference[field, free] - out[field, free]))
-        return out
+        return self.system.tie(out)  # a pole's chi is its neighbour's (it is no free coordinate, so was not shifted)
 
     def unknowns(self, y):
         return np.asarray(y)[self.q_idx].copy()

@@ -81,7 +81,8 @@ class Parser(argparse.ArgumentParser):
         self.register("action", "store", Once)
 
     def parse_known_args(self, args=None, namespace=None):
-        self._tokens = list(sys.argv[1:] if args is None else args)
+        tokens = list(sys.argv[1:] if args is None else args)
+        self._tokens = tokens[: tokens.index("--")] if "--" in tokens else tokens  # after it, arguments only
         namespace, extras = super().parse_known_args(args, namespace)
         for token in extras:  # an option cut short: say which ones it begins (argparse only calls it unrecognized)
             cut = self._cut_short(token)
@@ -93,7 +94,7 @@ class Parser(argparse.ArgumentParser):
         """The refusal of ``token`` when it is an option of this parser cut short (``--t-en``), else ``None``."""
         word = str(token).partition("=")[0]
         full = [option for option in self._option_string_actions if option.startswith(word) and option != word]
-        if not (word.startswith("--") and full) or word in self._option_string_actions:
+        if not (word.startswith("--") and full) or word == "--" or word in self._option_string_actions:
             return None
         return (f"{word} is not an option of {self.prog}; allowed: options spelt in full, as "
                 + (f"{', '.join(full[:-1])} or {full[-1]}" if len(full) > 1 else full[0]))

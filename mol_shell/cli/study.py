@@ -54,7 +54,7 @@ def parse_vary(items, n=40):
         if ":" in spec:
             values = parse_range_or_list(spec, f"--vary {name}", words=("START", "STOP", "STEP"), item="V",
                                          count_check=lambda count: resources.check_cases(
-                                             count, n, name=f"--vary {name}", value=spec))
+                                             count, n, name=f"--vary {name}", value=spec, early=True))
         else:
             entries = [v.strip() for v in spec.split(",")]
             if not spec or any(not v for v in entries):

@@ -207,7 +207,7 @@ def unstable_directions(system, y, hold=()):
     upper = K.row <= K.col
     packed = np.zeros((band + 1, K.shape[0]))
     packed[band + K.row[upper] - K.col[upper], K.col[upper]] = K.data[upper]
-    lowest = -1.0 - float(np.abs(packed).sum(axis=0).max()) * 2  # below every eigenvalue (Gershgorin)
+    lowest = -1.0 - float(abs(K).sum(axis=1).max())  # below every eigenvalue (Gershgorin: the largest row sum)
     return len(scipy.linalg.eigvals_banded(packed, select="v", select_range=(lowest, -NEGATIVE)))
 
 

@@ -381,6 +381,8 @@ def _default(scene, name, integrator, options):
     default; refused by name when there is none to show (an option whose default is left to the solver)."""
     if hasattr(scene, name):
         return getattr(scene, name)
+    if name.startswith("material.") and hasattr(scene, "material_parameters"):  # the law's value in this scene
+        return scene_material(scene.material, scene.material_parameters).parameters[name.split(".", 1)[1]]
     if name in options:
         return options[name]
     fields = {f.name: f for f in dataclasses.fields(INTEGRATORS[integrator])} if integrator in INTEGRATORS else {}

@@ -201,12 +201,14 @@ STUDY_BAD = [
 ]
 
 
-def test_a_grid_too_fine_for_one_case_is_blamed_on_n(tmp_path, capsys, monkeypatch):
-    """It said "vary = '<2 cases>' is outside at most 0 cases", naming what the user had not got wrong."""
+@pytest.mark.parametrize("values", ["h=0.01,0.02", "h=0.01:0.02:0.01"])
+def test_a_grid_too_fine_for_one_case_is_blamed_on_n(values, tmp_path, capsys, monkeypatch):
+    """It said "vary = '<2 cases>' is outside at most 0 cases", naming what the user had not got wrong (and a range
+    gave a bound from the output alone, on 2 saved times)."""
     from mol_shell.cli.main import main
 
     monkeypatch.setattr(study_module, "run_task", None)  # nothing may run
-    code = main(["study", "sphere", "--vary", "h=0.01,0.02", "--n", "100000000", "--t-end", "0.001", "-o",
+    code = main(["study", "sphere", "--vary", values, "--n", "100000000", "--t-end", "0.001", "-o",
                  str(tmp_path / "s.nc")])
     err = capsys.readouterr().err
     assert code == 2 and err.startswith("mol-shell: error: n = 100000000 is outside integers 3.."), err

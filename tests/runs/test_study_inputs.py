@@ -9,7 +9,7 @@ import casadi as ca
 import numpy as np
 
 import mol_shell
-from mol_shell.runs.study import case_inputs, study
+from mol_shell.runs.study import case_inputs, design, study
 
 NARROW = "0 0\n0.5 0.1\n1 0.5\n0.5 0.9\n0 1\n"
 WIDE = "0 0\n0.8 0.1\n1.6 0.5\n0.8 0.9\n0 1\n"
@@ -63,3 +63,13 @@ def test_in_one_process_an_edited_points_file_is_another_shell(tmp_path):
     points.write_text(WIDE)
     wide = mol_shell.simulate(mol_shell.MeridianShell(points=str(points)), n=10, t_end=1e-4, stresses=False)
     assert float(narrow.r0.max()) < 1.0 and float(wide.r0.max()) > 1.4  # the tables' largest r: 1 and 1.6
+
+
+def test_a_case_that_leaves_out_a_laws_parameter_has_the_laws_value():
+    """``[{"material.mu": 2e5}, {"E": 2e6}]`` refused the second case ("no value of material.mu to record")."""
+    rubber = mol_shell.Material("study-default-law", energy=neo_hookean_like(1.0), parameters={"mu": 3e5},
+                                thickness="incompressible")
+    _, coords, _ = design(mol_shell.Sphere(material=rubber), [{"material.mu": 2e5}, {"E": 2e6}], "leapfrog")
+    assert coords["material.mu"] == [2e5, 3e5]
+    scene = mol_shell.Sphere(material=rubber, material_parameters="mu=4e5")  # the scene's own value wins
+    assert design(scene, [{"material.mu": 2e5}, {"E": 2e6}], "leapfrog")[1]["material.mu"] == [2e5, 4e5]
