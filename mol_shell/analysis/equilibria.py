@@ -34,7 +34,7 @@ from mol_shell.discretization.loading import check_end_loads, load_terms, volume
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.loads import cell_volume, gravity_potential
 from mol_shell.runs.checks import check_system, resolve
-from mol_shell.runs.statics import UNBALANCED, sparse_evaluator
+from mol_shell.runs.statics import UNBALANCED, rigid_motions, sparse_evaluator
 from mol_shell.scenes import DISPLACEMENTS, DRIVES, LOADS, UNITS
 
 #: the loads a path can be continued in (drag is not a load at rest)
@@ -60,17 +60,6 @@ def allowed_parameters(system):
         if field in system.active and system.imposed[node, field] and system.edges[0 if node == 0 else 1] != "pole":
             out.append(name)
     return tuple(out)
-
-
-def rigid_motions(system):
-    """The rigid motions no edge of ``system`` stops, each with the field it moves: axial translation (``z``) when no
-    edge fixes ``z``, spin about the axis (``chi``) when no edge imposes ``chi`` (a pole's tied ``chi`` does not)."""
-    out = {}
-    if 0 in system.active and not system.fixed[:, 0].any():
-        out["axial translation"] = 0
-    if 2 in system.active and not system.imposed[:, 2].any():
-        out["spin about the axis"] = 2
-    return out
 
 
 def allowed_loads(system, held=True):

@@ -32,6 +32,7 @@ from mol_shell.results.dataset import FIELD_META, scene_attrs
 from mol_shell.runs import resources
 from mol_shell.runs.ellipticity import CONSEQUENCE, sampled_margins
 from mol_shell.runs.simulate import as_scene, build, resolve, starting_state
+from mol_shell.runs.statics import rigid_motions
 
 #: above this many free coordinates the sparse shift-invert solver is used
 DENSE_MAX = 3000
@@ -88,12 +89,11 @@ def _blocks(system, y0):
 
 
 def rigid_vectors(system, q_idx):
-    """The rigid motions of :func:`rigid_motions` on the free coordinates ``q_idx``: a column of ones on every free
-    ``z`` (axial translation), one on every free ``chi`` (spin; a pole's tied ``chi`` is no free coordinate)."""
+    """The rigid motions (:func:`mol_shell.runs.statics.rigid_motions`) on the free coordinates ``q_idx``: a column
+    of ones on every free ``z`` (axial translation), one on every free ``chi`` (spin; a pole's tied ``chi`` is no
+    free coordinate)."""
     fields = np.array(system.active)[np.asarray(q_idx) % system.ny]
-    translation = 0 in system.active and not system.fixed[:, 0].any()
-    spin = 2 in system.active and not system.imposed[:, 2].any()
-    columns = [(fields == k).astype(float) for k, free in ((0, translation), (2, spin)) if free]
+    columns = [(fields == k).astype(float) for k in rigid_motions(system).values()]
     return np.column_stack(columns) if columns else np.zeros((len(q_idx), 0))
 
 
@@ -112,14 +112,6 @@ def _rigid_deflated(M, w2, phi, cluster, rigid):
     phi[:, cluster] = np.column_stack([basis @ U[:, :r], basis @ rest @ Y])
     w2[cluster] = np.concatenate([np.zeros(r), mu])
     return w2, phi
-
-
-def rigid_motions(system):
-    """How many rigid motions the edges allow: axial translation when no edge imposes ``z``, rotation about the axis
-    when none imposes ``chi`` (a pole's tied ``chi`` does not)."""
-    translation = 0 in system.active and not system.fixed[:, 0].any()
-    spin = 2 in system.active and not system.imposed[:, 2].any()
-    return int(translation) + int(spin)
 
 
 def check_equilibrium(system, y0, scene, asked=None):

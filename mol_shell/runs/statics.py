@@ -65,12 +65,21 @@ def _free_entries(system, hold):
                      if not fixed[i, j] and k not in hold])
 
 
+def rigid_motions(system):
+    """``{what: field}`` of the rigid motions no edge stops, by the field each moves: axial translation (``z``,
+    field 0) when no edge imposes or drives ``z``, spin about the axis (``chi``, field 2) when none imposes or
+    drives ``chi`` (a pole's ``chi``, tied to its neighbour's, imposes nothing). They make the tangent stiffness
+    singular; the statics, the paths and the modes take them out (one definition for all three)."""
+    driven = {k for _, k in system.drives}
+    return {what: field for what, field in (("axial translation", 0), ("spin about the axis", 2))
+            if field in system.active and not system.imposed[:, field].any() and field not in driven}
+
+
 def _gauge(system, hold, field):
-    """Positions in the state of the free entries of ``field`` (0: ``z``, 2: ``chi``) when it is solved for and no
-    edge imposes or drives it (the shell may translate along the axis, or spin about it: the Jacobian is singular),
-    else ``None``. A pole's ``chi``, tied to its neighbour's, imposes nothing and is not among them."""
-    if field not in system.active or field in hold or system.imposed[:, field].any() \
-            or any(k == field for _, k in system.drives):  # a driven edge holds the rigid motion too
+    """Positions in the state of the free entries of ``field`` (0: ``z``, 2: ``chi``) when it is solved for and
+    moves rigidly (:func:`rigid_motions`: the Jacobian is singular), else ``None``. A pole's tied ``chi`` is not
+    among them."""
+    if field in hold or field not in rigid_motions(system).values():
         return None
     column = system.active.index(field)
     return np.flatnonzero(~system.fixed[:, column]) * system.ny + column
