@@ -129,8 +129,8 @@ def history_text(name, value):
     keys = HISTORY_FORMS[kind]
     missing, extra = [k for k in keys if k not in value], sorted(set(value) - {"kind", *keys})
     if missing or extra:
-        raise bad(f"{kind} takes {', '.join(keys) or 'no other key'}; "
-                  + (f"{', '.join(missing)} missing" if missing else f"not {', '.join(extra)}"))
+        said = ([f"{', '.join(missing)} missing"] if missing else []) + ([f"not {', '.join(extra)}"] if extra else [])
+        raise bad(f"{kind} takes {', '.join(keys) or 'no other key'}; " + ", ".join(said))
     args = [value[key] for key in keys]
     if kind == "table":
         t, h = args

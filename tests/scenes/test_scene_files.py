@@ -229,7 +229,10 @@ BAD = [
      "(t/T1 up to 1, T1 >= 1e-300 s))")),
     ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "ramp", t = 1}\n',
      ('[loads] pressure_history = {kind = "ramp", t = 1} is outside {kind = "ramp", t1 = T1} (ramp takes t1; t1 '
-     'missing)')),
+     'missing, not t)')),
+    ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "ramp", T1 = 1}\n',  # both said
+     ('[loads] pressure_history = {kind = "ramp", T1 = 1} is outside {kind = "ramp", t1 = T1} (ramp takes t1; t1 '
+      'missing, not T1)')),
     ('scene = "sphere"\n[loads]\npressure = 1\npressure_history = {kind = "ramp", t1 = 1, extra = 3}\n',
      ('[loads] pressure_history = {kind = "ramp", t1 = 1, extra = 3} is outside {kind = "ramp", t1 = T1} (ramp takes '
      't1; not extra)')),
