@@ -272,6 +272,9 @@ def _start_stability(scene, system, y0, how):
     if not how.startswith("static equilibrium") or getattr(scene, "gamma", 0.0) or np.any(system.initial_rates(scene)):
         return None
     count = unstable_directions(system, y0)
+    if count is None:  # a band too wide, or a stiffness with a zero diagonal entry: said, not passed over
+        return ("the stability of the start computed as a static equilibrium was not checked (its tangent stiffness "
+                "is not a band matrix of positive diagonal)")
     if not count:
         return None
     note = (f"the start computed as a static equilibrium (R or dilation auto) is unstable: its tangent stiffness "

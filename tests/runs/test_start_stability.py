@@ -18,6 +18,7 @@ import pytest
 from mol_shell import Sphere, simulate
 from mol_shell.analysis.modes import modes
 from mol_shell.cli.main import main
+from mol_shell.runs import simulate as simulate_module
 
 E, NU, A = 1.0e6, 0.3, 1.0
 H = A / 80  # a/t = 40
@@ -81,3 +82,12 @@ def test_balanced_end_forces_on_a_free_shell_are_not_refused(tmp_path):
     """Equal and opposite end forces (net zero) leave the sphere an equilibrium: the check is on the net."""
     ds = simulate(Sphere(end1_force=5.0, end2_force=-5.0), n=10, times=[0.0, 1e-4], stresses=False)
     assert ds.attrs["initial_state"].startswith("static equilibrium")
+
+
+def test_a_start_whose_stability_cannot_be_checked_says_so_in_the_file(monkeypatch):
+    """``unstable_directions`` gives None for a stiffness it cannot read as a band of positive diagonal: the run
+    passed over it in silence; the file says the check was not made (no warning: nothing is known to be wrong)."""
+    monkeypatch.setattr(simulate_module, "unstable_directions", lambda system, y: None)
+    ds, said = run(1.5)
+    assert not said and ds.attrs["stability_warning"].startswith("the stability of the start computed as a static "
+                                                                 "equilibrium was not checked")
