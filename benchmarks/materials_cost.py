@@ -23,6 +23,7 @@ CASES = {
     "svk": dict(material="svk"),
     "svk-plane-stress": dict(material="svk-plane-stress"),
     "neo-hookean": dict(material="neo-hookean", nu=0.45),
+    "neo-hookean-log": dict(material="neo-hookean-log", nu=0.45),
     "neo-hookean-incompressible": dict(material="neo-hookean-incompressible"),
     "mooney-rivlin": dict(material="mooney-rivlin", c01=3e4),
     "svk-plane-stress + 1 fibre family": dict(material="svk-plane-stress", fibre_E=5e6, fibre_angle=0.6),

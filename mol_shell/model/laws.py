@@ -4,9 +4,14 @@
 per-cell thickness moments). Every other law is a :class:`Law`, integrated through the thickness point by point
 (:mod:`mol_shell.model.hyperelastic`) with its stresses and tangents by automatic differentiation:
 
-- ``neo-hookean``: ``W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2``, ``J = sqrt(det C)``, the Lame pair of
-  ``E, nu``; plane stress (the thickness stretch condensed by its own scalar Halley solve,
-  :func:`neo_hookean_solve`, the energy then written with its ``ln det C``, :func:`neo_hookean_held`);
+- ``neo-hookean``: ``W = mu/2 (I1 - 3) - mu ln J + lambda/4 (J^2 - 1 - 2 ln J)``, ``J = sqrt(det C)``, the Lame
+  pair of ``E, nu`` (Ciarlet and Geymonat's volumetric term: convex in ``J``, so the law is polyconvex); plane
+  stress in closed form (:func:`neo_hookean_condense`, the energy then written with that ``det C``,
+  :func:`neo_hookean_held`);
+- ``neo-hookean-log``: ``W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2`` (the volumetric term of Bonet and Wood,
+  FEBio and COMSOL; not convex in ``J`` beyond ``J = e^(1 + mu/lambda)``), the same Lame pair; plane stress by its
+  own scalar Halley solve (:func:`neo_hookean_log_solve`, the energy then written with its ``ln det C``,
+  :func:`neo_hookean_log_held`);
 - ``neo-hookean-incompressible``: ``W = mu/2 (I1 - 3)``, ``mu = E/3``, ``det C = 1``;
 - ``mooney-rivlin``: ``W = c10 (I1 - 3) + c01 (I2 - 3)``, ``det C = 1`` (``c10, c01`` in Pa; small-strain shear
   modulus ``2 (c10 + c01)``).
@@ -28,7 +33,6 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Choice
 from mol_shell.model.fibres import fibre_thickness_energy, scene_fibres
-from mol_shell.model.layers import layer_value, layered_thickness, parse_layers
 from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: where the laws are)
     NEWTON_STEPS,
     TREATMENTS,
@@ -39,6 +43,7 @@ from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: wher
     law_thickness_energy,
     with_thickness,
 )
+from mol_shell.model.layers import layer_value, layered_thickness, parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, effective_lame, lame, locking_warning, quadrature_factors, shell_energy
 from mol_shell.model.user_laws import (  # noqa: F401  (parameter_text: the stored form)
@@ -48,6 +53,7 @@ from mol_shell.model.user_laws import (  # noqa: F401  (parameter_text: the stor
     parameter_values,
 )
 
+
 def svk(C, p):
     """St Venant-Kirchhoff, ``lambda/2 (tr E)^2 + mu E:E`` with ``E = (C - I)/2`` (the generic route's check)."""
     E = [[0.5 * (C[i][j] - (1.0 if i == j else 0.0)) for j in range(3)] for i in range(3)]
@@ -56,13 +62,51 @@ def svk(C, p):
 
 
 def neo_hookean(C, p):
-    """Compressible neo-Hookean: ``mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2``."""
+    """Compressible neo-Hookean, Ciarlet and Geymonat's: ``mu/2 (I1 - 3) - mu ln J + lambda/4 (J^2 - 1 - 2 ln J)``,
+    written ``mu/2 (I1 - 3) - (mu/2 + lambda/4) ln det C + lambda/4 (det C - 1)``."""
+    i1, _, i3 = invariants(C)
+    lam, mu = p["lambda"], p["mu"]
+    return 0.5 * mu * (i1 - 3.0) - (0.5 * mu + 0.25 * lam) * ca.log(i3) + 0.25 * lam * (i3 - 1.0)
+
+
+def neo_hookean_condense(C, p):
+    """``(C_22, det C)`` of :func:`neo_hookean` in plane stress, in closed form.
+
+    ``det C = C_22 M + N`` (``M = C_11 C_33 - C_13^2``, ``N`` the determinant at ``C_22 = 0``), so
+    ``dW/dC_22 = mu/2 - (mu/2 + lambda/4) M / det C + lambda M / 4``, which vanishes at
+    ``det C = M (2 mu + lambda) / (2 mu + lambda M)``; then ``C_22 = (det C - N) / M``. Positive for ``lambda >= 0``
+    and ``M > 0``: exact, with no iteration and no range of validity.
+    """
+    lam, mu = p["lambda"], p["mu"]
+    m = C[0][0] * C[2][2] - C[0][2] * C[2][0]
+    d = m * (2.0 * mu + lam) / (2.0 * mu + lam * m)
+    return (d - determinant(with_thickness(C, 0.0))) / m, d
+
+
+def neo_hookean_held(C, values, p):
+    """:func:`neo_hookean` at ``C_22 = x`` for ``values = (x, D)`` of :func:`neo_hookean_condense`, ``D = det C``
+    there: ``mu/2 (I1 - 3) + f(D) + f'(D) (det C - D)`` with ``f(D) = -(mu/2 + lambda/4) ln D + lambda/4 (D - 1)``.
+
+    The last term vanishes at the root, and its derivative in ``C`` with ``D`` held is ``f'(D) d(det C)``, that of the
+    law's volumetric part: the same value and first derivatives (the forces then need no ``log``, one division per
+    point). Through ``values`` as functions of ``C`` the derivatives are the law's too (``det C = D`` identically).
+    """
+    x, d = values
+    lam, mu = p["lambda"], p["mu"]
+    i1 = C[0][0] + x + C[2][2]
+    k = 0.5 * mu + 0.25 * lam
+    return (0.5 * mu * (i1 - 3.0) - k * ca.log(d) + 0.25 * lam * (d - 1.0)
+            + (0.25 * lam - k / d) * (determinant(with_thickness(C, x)) - d))
+
+
+def neo_hookean_log(C, p):
+    """Compressible neo-Hookean with a ``(ln J)^2`` volumetric term: ``mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2``."""
     i1, _, i3 = invariants(C)
     log_j = 0.5 * ca.log(i3)
     return 0.5 * p["mu"] * (i1 - 3.0) - p["mu"] * log_j + 0.5 * p["lambda"] * log_j**2
 
 
-#: Halley steps of :func:`neo_hookean_solve`: from its start, 2 reach round-off in ``v`` for every
+#: Halley steps of :func:`neo_hookean_log_solve`: from its start, 2 reach round-off in ``v`` for every
 #: ``0 <= nu <= 0.49`` and in-plane determinant ``M`` of ``C`` in ``[1e-3, 1e3]`` (stretches 0.18..5.6; the start
 #: is within 1.6e-2 of the root there, 1.1e-7 after one step); tests/model/test_laws.py checks the residual
 HALLEY_STEPS = 2
@@ -71,7 +115,7 @@ START_RANGE, START_DEGREE = 7.0, 6
 
 
 @functools.lru_cache(maxsize=64)
-def neo_hookean_start(k):
+def neo_hookean_log_start(k):
     """Coefficients (power basis, of ``t = ln M / START_RANGE``) of the start's correction, for ``k = lambda/(2 mu)``.
 
     The root of ``mu e^v + lambda M v / 2 - mu M = 0`` solves ``e^v / M + k v = 1``: a function of ``ln M`` alone,
@@ -89,14 +133,14 @@ def neo_hookean_start(k):
     return tuple(float(c) for c in np.pad(power, (0, START_DEGREE + 1 - len(power))))
 
 
-def neo_hookean_solve(C, p, steps=HALLEY_STEPS):
-    """``(C_22, v, e^v)`` of the compressible neo-Hookean law in plane stress: ``v = ln det C`` at the root of a
+def neo_hookean_log_solve(C, p, steps=HALLEY_STEPS):
+    """``(C_22, v, e^v)`` of :func:`neo_hookean_log` in plane stress: ``v = ln det C`` at the root of a
     scalar equation, ``e^v = det C`` and ``C_22 = (e^v - N) / M``.
 
     ``det C = C_22 M + N`` (``M = C_11 C_33 - C_13^2``, ``N`` the determinant at ``C_22 = 0``) and
     ``dW/dC_22 = mu/2 + (lambda ln J - mu) M / (2 det C)``, so ``dW/dC_22 = 0`` reads
     ``f(v) = mu e^v + lambda M v / 2 - mu M = 0``: increasing and convex in ``v`` for ``lambda >= 0``. Started from
-    ``v0 = ln M / (1 + k) + g(ln M)`` (:func:`neo_hookean_start`; outside its range ``g`` keeps its end value,
+    ``v0 = ln M / (1 + k) + g(ln M)`` (:func:`neo_hookean_log_start`; outside its range ``g`` keeps its end value,
     a start no worse than the linearisation's); ``steps`` (at least 1) Halley iterations
     ``v -= 2 f f' / (2 f'^2 - f f'')`` (cubic convergence; ``f' = mu e^v + lambda M / 2``, ``f'' = mu e^v``: one
     ``exp`` each). The last step ``s`` is small (at most 1.1e-7 over the range of :data:`HALLEY_STEPS`), so
@@ -111,7 +155,7 @@ def neo_hookean_solve(C, p, steps=HALLEY_STEPS):
     k = 0.5 * float(lam) / float(mu)
     log_m = ca.log(m)
     t = 0.5 * (ca.fabs(log_m + START_RANGE) - ca.fabs(log_m - START_RANGE))  # ln M held in the range, no call
-    c = [ci / START_RANGE**i for i, ci in enumerate(neo_hookean_start(k))]  # in ln M itself; Estrin's scheme
+    c = [ci / START_RANGE**i for i, ci in enumerate(neo_hookean_log_start(k))]  # in ln M itself; Estrin's scheme
     t2 = t * t
     correction = (c[0] + c[1] * t) + t2 * ((c[2] + c[3] * t) + t2 * ((c[4] + c[5] * t) + t2 * c[6]))
     v = log_m * (1.0 / (1.0 + k)) + correction
@@ -125,13 +169,13 @@ def neo_hookean_solve(C, p, steps=HALLEY_STEPS):
     return (ev - n) / m, v, ev
 
 
-def neo_hookean_thickness(C, p, steps=HALLEY_STEPS):
-    """``C_22`` of the compressible neo-Hookean law in plane stress (:func:`neo_hookean_solve`)."""
-    return neo_hookean_solve(C, p, steps)[0]
+def neo_hookean_log_thickness(C, p, steps=HALLEY_STEPS):
+    """``C_22`` of :func:`neo_hookean_log` in plane stress (:func:`neo_hookean_log_solve`)."""
+    return neo_hookean_log_solve(C, p, steps)[0]
 
 
-def neo_hookean_held(C, values, p):
-    """:func:`neo_hookean` at ``C_22 = x`` for ``values = (x, v, e^v)`` of :func:`neo_hookean_solve`, where
+def neo_hookean_log_held(C, values, p):
+    """:func:`neo_hookean_log` at ``C_22 = x`` for ``values = (x, v, e^v)`` of :func:`neo_hookean_log_solve`, where
     ``v = ln det C``: ``mu/2 (I1 - 3) - mu v/2 + lambda v^2/8 + (lambda v/4 - mu/2) (det C / e^v - 1)``.
 
     The last term vanishes there, and its derivative in ``C`` at ``v`` held, ``(lambda v/4 - mu/2) d(det C)/e^v``,
@@ -159,8 +203,10 @@ def mooney_rivlin(C, p):
 
 #: the built-in laws beyond SVK, by the scene parameter ``material``
 LAWS = {
-    "neo-hookean": Law("neo-hookean", neo_hookean, ("lambda", "mu"), "plane-stress", neo_hookean_solve,
+    "neo-hookean": Law("neo-hookean", neo_hookean, ("lambda", "mu"), "plane-stress", neo_hookean_condense,
                        neo_hookean_held),
+    "neo-hookean-log": Law("neo-hookean-log", neo_hookean_log, ("lambda", "mu"), "plane-stress",
+                           neo_hookean_log_solve, neo_hookean_log_held),
     "neo-hookean-incompressible": Law("neo-hookean-incompressible", neo_hookean_incompressible, ("mu",),
                                       "incompressible"),
     "mooney-rivlin": Law("mooney-rivlin", mooney_rivlin, ("c10", "c01"), "incompressible"),
@@ -168,6 +214,8 @@ LAWS = {
 #: every value of the scene parameter ``material``
 MATERIALS = tuple(SVK_MATERIALS) + tuple(LAWS)
 RESERVED.update(MATERIALS)
+#: the compressible laws beyond SVK: the Lame pair of ``E, nu``, plane stress, ``0 <= nu < 0.5``
+COMPRESSIBLE = ("neo-hookean", "neo-hookean-log")
 #: scene parameters read by one law only
 LAW_PARAMETERS = {"mooney-rivlin": ("c10", "c01")}
 
@@ -264,7 +312,7 @@ def law_parameters(scene):
         material = scene_material(name, getattr(scene, "material_parameters", ""))
         return material.law(), dict(material.parameters)
     law = LAWS[name]
-    if name == "neo-hookean":
+    if name in COMPRESSIBLE:
         lam, mu = lame(scene.E, scene.nu)
         return law, {"lambda": lam, "mu": mu}
     if name == "neo-hookean-incompressible":
@@ -291,7 +339,7 @@ def small_strain_lame(scene):
     name = scene.material
     if name in SVK_MATERIALS:
         return effective_lame(scene.E, scene.nu, name)
-    if name == "neo-hookean":
+    if name in COMPRESSIBLE:
         return condensed(*lame(scene.E, scene.nu), "svk-plane-stress")
     if name not in LAWS:
         return scene_material(name, getattr(scene, "material_parameters", "")).small_strain_pair()

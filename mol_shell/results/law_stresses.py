@@ -29,10 +29,10 @@ from __future__ import annotations
 
 import casadi as ca
 
+from mol_shell._core.errors import ParameterError
 from mol_shell.model.fibres import Fibres, fibre_energy
 from mol_shell.model.hyperelastic import condensed_energy, thickness_component
-from mol_shell._core.errors import ParameterError
-from mol_shell.model.laws import LAWS, Law, scene_material, svk, thickness_treatment, user_material
+from mol_shell.model.laws import COMPRESSIBLE, LAWS, Law, scene_material, svk, thickness_treatment, user_material
 from mol_shell.model.layers import layer_value, parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, lame
@@ -68,7 +68,7 @@ def law_of_attrs(attrs):
             return material, None, fibres, False
         return material, tuple(sorted(user.parameters.items())), fibres, False
     E, nu = float(attrs["E"]), float(attrs["nu"])
-    if material == "neo-hookean":
+    if material in COMPRESSIBLE:
         lam, mu = lame(E, nu)
         params = {"lambda": lam, "mu": mu}
     elif material == "neo-hookean-incompressible":

@@ -77,3 +77,34 @@ def test_balloon_follows_the_membrane_law_to_stretch_two():
     assert keep.sum() >= 10
     assert np.max(np.abs(p[keep] / membrane(lam[keep]) - 1)) < 2e-3
     assert ds.attrs["status"] in ("max_steps", "complete")
+
+
+def compressible_membrane(lam, nu):
+    """``p(lam)`` of a thin sphere of the compressible neo-Hookean law (Ciarlet and Geymonat's) in plane stress.
+
+    Equibiaxial stretch ``lam``, thickness stretch ``l3`` from the vanishing thickness stress,
+    ``l3^2 = (2 mu + L)/(2 mu + L lam^4)`` (``L`` the Lame lambda), ``J = lam^2 l3``; the nominal tension per unit
+    reference length ``T = t [mu (lam - 1/lam) + L/2 (J^2 - 1)/lam]`` (tests/model/test_laws.py derives both), and
+    the equilibrium of a half sphere, ``p pi (lam a)^2 = 2 pi a T``, gives ``p = 2 T/(lam^2 a)``."""
+    big_l, mu = E * nu / ((1 + nu) * (1 - 2 * nu)), E / (2 * (1 + nu))
+    j2 = lam**4 * (2 * mu + big_l) / (2 * mu + big_l * lam**4)
+    return 2 * T * (mu * (lam - 1 / lam) + 0.5 * big_l * (j2 - 1) / lam) / (lam**2 * A)
+
+
+def test_compressible_balloon_follows_its_membrane_law_through_its_pressure_maximum():
+    """The compressible law's balloon (``nu = 0.3``) has a pressure maximum too (at large stretch ``J`` tends to a
+    constant and ``p`` falls like ``1/lam``); the path passes it (one limit point) and follows the membrane law to a
+    stretch of 2 within the same 2e-3 as the incompressible one, and the limit point's pressure is the law's maximum
+    (the closed form's, found here on a fine grid of stretches) within the discretisation error."""
+    nu = 0.3
+    grid = np.linspace(1.0, 3.0, 200001)
+    p_max = compressible_membrane(grid, nu).max()
+    scene = Sphere(a=A, h=H, E=E, nu=nu, material="neo-hookean")
+    ds = path(scene, "pressure", 0.0, 1.5 * p_max, n=40, steps=10, max_steps=30)
+    lam, p = stretch(ds), ds.parameter.values
+    assert list(ds.point_kind.values) == ["limit"]
+    assert 0 < float(ds.point_parameter[0]) / p_max - 1 < 2e-3
+    assert lam.max() > 2.0
+    keep = (lam > 1.02) & (lam <= 2.0)
+    assert keep.sum() >= 10
+    assert np.max(np.abs(p[keep] / compressible_membrane(lam[keep], nu) - 1)) < 2e-3

@@ -12,7 +12,7 @@ from mol_shell.scenes import Sphere
 from mol_shell.scenes.files import load_scene
 
 
-@pytest.mark.parametrize("material", ["neo-hookean-incompressible", "neo-hookean"])
+@pytest.mark.parametrize("material", ["neo-hookean-incompressible", "neo-hookean", "neo-hookean-log"])
 def test_neo_hookean_balloon_breathes_with_constant_energy(material):
     """A balloon released from 1.2 a: leap-frog keeps the energy to O(dt^2) (measured 1.0e-10 and 4.0e-11 relative;
     asserted < 1e-7) while ``r`` swings by some 10 % (0.098 and 0.086 m by 0.02 s)."""
@@ -28,6 +28,20 @@ def test_mooney_rivlin_viscous_pressurised_energy_balance():
     """Mooney-Rivlin (``c01 > 0``) with Kelvin-Voigt viscosity under pressure: ``E(t) - E(0) = work - dissipated``
     to the integrator's tolerance (measured 3.8e-14), with a real exchange (work -753 J, dissipated 10 J)."""
     scene = Sphere(h=0.01, material="mooney-rivlin", c10=1.5e5, c01=3e4, eta_mu=50.0, pressure=1000.0, R=1.1)
+    ds = mol_shell.simulate(scene, "dop853-c", n=12, times=np.linspace(0.0, 0.02, 5), rtol=1e-10, atol=1e-12,
+                            progress=False)
+    assert ds.attrs["complete"] == 1
+    assert ds.attrs["energy_balance_error"] < 1e-7
+    assert float(ds.dissipated.values[-1]) > 1e-3 * abs(float(ds.energy.values[0]))
+    assert abs(float(ds.work.values[-1])) > 1e-3 * abs(float(ds.energy.values[0]))
+
+
+@pytest.mark.parametrize("material", ["neo-hookean", "neo-hookean-log"])
+def test_compressible_viscous_fibre_reinforced_energy_balance(material):
+    """A compressible law in plane stress with one helical fibre family and Kelvin-Voigt viscosity under pressure:
+    ``E(t) - E(0) = work - dissipated`` to the integrator's tolerance, with a real exchange."""
+    scene = Sphere(h=0.01, material=material, nu=0.3, eta_mu=50.0, eta_lambda=20.0, pressure=1000.0, R=1.1,
+                   fibre_E=2e6, fibre_angle=0.5)
     ds = mol_shell.simulate(scene, "dop853-c", n=12, times=np.linspace(0.0, 0.02, 5), rtol=1e-10, atol=1e-12,
                             progress=False)
     assert ds.attrs["complete"] == 1

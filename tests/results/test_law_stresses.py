@@ -21,6 +21,7 @@ STRAINS = (1.15, 0.05, 0.12, 0.08, 0.03, 1.25, 0.3, 0.0)
 REF = (0.9, 0.25, 0.2, 1.01, 0.02)  # r0, theta0, theta0_s, beta1_0, beta2_0: a curved reference
 CASES = {
     "neo-hookean": dict(material="neo-hookean", nu=0.3),
+    "neo-hookean-log": dict(material="neo-hookean-log", nu=0.3),
     "neo-hookean-incompressible": dict(material="neo-hookean-incompressible"),
     "mooney-rivlin": dict(material="mooney-rivlin", c10=1.5e5, c01=4e4),
     "svk-plane-stress+fibres": dict(material="svk-plane-stress", nu=0.3, fibre_E=5e6, fibre_angle=0.6),
