@@ -46,8 +46,8 @@ class Law:
     optionally ``(C, params) -> C_22`` solving the law's plane-stress condition more cheaply than the generic
     Newton iteration on ``dW/dC_22`` (:func:`~mol_shell.model.hyperelastic.plane_stress_thickness`).
     ``held_energy``: optionally ``(C, values, params) -> W`` with ``values = condense(C, params)`` then a tuple,
-    ``C_22`` first, then what the solve found on the way (the compressible neo-Hookean: ``ln det C`` and
-    ``det C``): the energy at ``C_22 = values[0]`` written with them, of the same value and the same first
+    ``C_22`` first, then what the solve found on the way (``neo-hookean``: ``det C``; ``neo-hookean-log``:
+    ``ln det C`` and ``det C``): the energy at ``C_22 = values[0]`` written with them, of the same value and the same first
     derivatives in ``C`` at those values as ``energy`` (so it may skip work the solve has done).
     """
 
@@ -65,9 +65,9 @@ class Law:
 
 #: the thickness (director) index of ``C``
 THICK = 1
-#: Newton steps of the plane-stress condensation (quadratic convergence: a compressible neo-Hookean law, 0 <= nu <= 0.49,
-#: reaches |dW/dC_22| < 1e-12 mu within 6 steps from x = 1 for in-plane stretches 0.3..3; tests/model/test_laws.py
-#: checks the residual)
+#: Newton steps of the plane-stress condensation (quadratic convergence: the ``(ln J)^2`` neo-Hookean law,
+#: 0 <= nu <= 0.49, reaches |dW/dC_22| < 1e-12 mu within 6 steps from x = 1 for in-plane stretches 0.3..3;
+#: tests/model/test_laws.py checks the residual; Ciarlet and Geymonat's needs 20 there, and has its closed form)
 NEWTON_STEPS = 6
 
 

@@ -9,7 +9,7 @@ per-cell thickness moments). Every other law is a :class:`Law`, integrated throu
   stress in closed form (:func:`neo_hookean_condense`, the energy then written with that ``det C``,
   :func:`neo_hookean_held`);
 - ``neo-hookean-log``: ``W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2`` (the volumetric term of Bonet and Wood,
-  FEBio and COMSOL; not convex in ``J`` beyond ``J = e^(1 + mu/lambda)``), the same Lame pair; plane stress by its
+  FEBio and COMSOL; its ``J``-dependent part is not convex beyond ``J = e^(1 + mu/lambda)``), the same Lame pair; plane stress by its
   own scalar Halley solve (:func:`neo_hookean_log_solve`, the energy then written with its ``ln det C``,
   :func:`neo_hookean_log_held`);
 - ``neo-hookean-incompressible``: ``W = mu/2 (I1 - 3)``, ``mu = E/3``, ``det C = 1``;

@@ -202,3 +202,20 @@ def test_a_file_written_before_layers_were_stored_canonically_is_read():
     (_, ((_, route),), _) = law_of_attrs(attrs)
     fibres = route[2]
     assert fibres.families == 2 and fibres.compression is False
+
+
+@pytest.mark.parametrize("version", ["0.5.0", "0.6.0.dev0"])
+def test_a_neo_hookean_file_of_a_version_before_the_rename_gets_the_law_it_ran(version):
+    """Until 0.6.0.dev1 ``neo-hookean`` was the ``(ln J)^2`` law (now ``neo-hookean-log``): a file of those versions
+    gets that law's stresses, which it ran with (3.4 % off in the membrane forces with the other law), also for
+    a layer; a file of this version keeps ``neo-hookean``."""
+    ds = mol_shell.simulate(Sphere(h=0.01, material="neo-hookean-log", nu=0.3, R=1.2), "leapfrog", n=8,
+                            times=[0.0, 1e-4], progress=False)
+    old = ds.drop_vars([v for v in ds.data_vars if "s_cell" in ds[v].dims]).assign_attrs(
+        material="neo-hookean", mol_shell_version=version)
+    again = add_stresses(old)
+    np.testing.assert_allclose(again.membrane_force_hoop.values, ds.membrane_force_hoop.values, rtol=1e-12)
+    assert law_of_attrs({**old.attrs, "mol_shell_version": mol_shell.__version__})[0] == "neo-hookean"
+    layered = {**old.attrs, "material": "svk", "layers": "0.02 neo-hookean"}
+    assert law_of_attrs(layered)[1][0][1][0] == "neo-hookean-log"
+    assert law_of_attrs({**layered, "mol_shell_version": mol_shell.__version__})[1][0][1][0] == "neo-hookean"
