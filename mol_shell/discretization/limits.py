@@ -145,8 +145,11 @@ class ModelLimits:
             R[..., i, i], R[..., i, j], R[..., j, i], R[..., j, j] = np.cos(turn), -np.sin(turn), np.sin(turn), np.cos(turn)
             K = np.swapaxes(R, -1, -2) @ K @ R
         root, ok = self._natural_root
-        margins = np.linalg.eigvalsh(root @ K @ np.swapaxes(root, -1, -2)).min(axis=-1)
-        margins = np.where(ok[None] & finite[:, None], margins, np.nan)
+        scaled = root @ K @ np.swapaxes(root, -1, -2)
+        valid = np.all(np.isfinite(scaled), axis=(-2, -1))  # stiffnesses that under- or overflow: not checked
+        scaled = np.where(valid[..., None, None], scaled, np.eye(scaled.shape[-1]))
+        margins = np.linalg.eigvalsh(scaled).min(axis=-1)
+        margins = np.where(ok[None] & finite[:, None] & valid, margins, np.nan)
         return margins[0] if single else margins
 
     @cached_property
@@ -165,8 +168,10 @@ class ModelLimits:
         K0 = self._natural_symbols
         d = np.sqrt(np.abs(np.einsum("cii->ci", K0)))
         d = np.where(d > 0, d, 1.0)
-        w, V = np.linalg.eigh(K0 / d[:, :, None] / d[:, None, :])
-        ok = w.min(axis=1) > w.shape[-1] * np.finfo(float).eps * np.abs(w).max(axis=1)
+        S = K0 / d[:, :, None] / d[:, None, :]
+        finite = np.all(np.isfinite(S), axis=(1, 2))  # a law whose second derivatives under- or overflow (E ~ 1e-160)
+        w, V = np.linalg.eigh(np.where(finite[:, None, None], S, np.eye(S.shape[-1])))
+        ok = finite & (w.min(axis=1) > w.shape[-1] * np.finfo(float).eps * np.abs(w).max(axis=1))
         root = np.einsum("cij,cj,ckj->cik", V, 1 / np.sqrt(np.where(w > 0, w, 1.0)), V)
         return root / d[:, None, :], ok
 

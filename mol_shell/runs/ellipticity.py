@@ -46,8 +46,8 @@ def unchecked_note(system):
     bad = int(np.sum(~system._natural_root[1]))
     return None if bad == 0 else (f"ellipticity not checked in {bad} of {system.n - 1} cells: their natural state's "
                                   "principal symbol is not positive definite in double precision (a law without "
-                                  "shear stiffness, or stiffnesses that, scaled to their diagonal, lie more than "
-                                  "1e15 apart)")
+                                  "shear stiffness, stiffnesses that, scaled to their diagonal, lie more than "
+                                  "1e15 apart, or whose second derivatives under- or overflow)")
 
 
 def sampled_margins(system, Qs):

@@ -209,3 +209,16 @@ def test_a_wall_far_thinner_than_its_radius_is_checked_in_units_of_its_own_stiff
     tiny = mol_shell.simulate(mol_shell.Sphere(a=1e-5, h=1e-7, nu=0.3), "cvode-bdf", n=12, t_end=1e-9,
                              progress=False)
     assert tiny.ellipticity_margin.values[0] == pytest.approx(1.0, abs=1e-12)  # a 10 um sphere: units again
+
+
+def test_a_law_whose_second_derivatives_underflow_is_left_unchecked_not_a_crash():
+    """``neo-hookean`` with ``E = 1e-200`` Pa runs (its forces are finite), but its principal symbol is NaN (the
+    Jacobian of its condensation squares ``2 mu + lambda M``, which underflows): ``eigh`` raised LinAlgError after
+    the run, an internal error. Every cell is now left unchecked with the note, as a singular symbol is."""
+    system = ShellSystem(resolve(mol_shell.Sphere(material="neo-hookean", nu=0.3, E=1e-200)), 8)
+    assert not np.any(system._natural_root[1])
+    assert np.all(np.isnan(system.ellipticity_margins(system._natural_fields())))
+    with pytest.warns(mol_shell.MaterialWarning, match="under- or overflow"):
+        ds = mol_shell.simulate(mol_shell.Sphere(material="neo-hookean", nu=0.3, E=1e-200), "leapfrog", n=8,
+                                t_end=1e-3, stresses=False, progress=False)
+    assert ds.attrs["complete"] == 1 and np.all(np.isnan(ds.ellipticity_margin.values))
