@@ -256,7 +256,7 @@ def resolve_material(value):
         module, _, attr = value.partition(":")
         try:
             found = getattr(_import(module.strip()), attr.strip())
-        except (ImportError, AttributeError, ValueError) as exc:
+        except Exception as exc:  # noqa: BLE001 - the user's module may raise anything on import (or not parse)
             raise ParameterError("material", value, _allowed(),
                                  hint=f"cannot import it ({type(exc).__name__}: {exc})") from None
         if not isinstance(found, Material):

@@ -235,3 +235,22 @@ def test_an_import_path_is_found_in_the_working_directory_as_python_m_finds_it(t
     assert user_material("cwd_only_laws:rubber").name == "cwd-only-rubber"
     with pytest.raises(mol_shell.ParameterError, match="cannot import it"):  # a module that is nowhere
         resolve_material("no_such_module_anywhere:rubber")
+
+
+@pytest.mark.parametrize("source, error", [('raise RuntimeError("boom")\n', "RuntimeError: boom"),
+                                           ("x = (\n", "SyntaxError")])
+def test_a_module_that_raises_or_does_not_parse_is_refused_naming_material(tmp_path, monkeypatch, capsys,
+                                                                          source, error):
+    """A module of laws that raises on import, or is not Python, was an internal error ("a bug of mol_shell"): it is
+    the user's file, refused naming ``material`` with its exception, exit 2."""
+    from mol_shell.cli.main import main
+
+    name = f"broken_laws_{abs(hash(source))}"
+    (tmp_path / f"{name}.py").write_text(source)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code = main(["run", "sphere", "--n", "8", "--set", f"material={name}:rubber", "--t-end", "1e-4",
+                 "-o", str(tmp_path / "r.nc")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1 and err[0].startswith(f"mol-shell: error: material = '{name}:rubber'"), err
+    assert f"cannot import it ({error}" in err[0], err
