@@ -32,7 +32,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Choice
-from mol_shell.model.fibres import fibre_thickness_energy, scene_fibres
+from mol_shell.model.fibres import fibre_thickness_energy, scene_fibres, unused_fibres_warning
 from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: where the laws are)
     NEWTON_STEPS,
     TREATMENTS,
@@ -379,6 +379,16 @@ def locking_warnings(scene):
         note = locking_warning(scene.material, scene.nu)
         return [note] if note else []
     notes = [(k, t, locking_warning(sub.material, sub.nu)) for k, (t, sub) in enumerate(layer_scenes(scene), 1)]
+    return [f"layer {k} ({t:g} m): {note}" for k, t, note in notes if note]
+
+
+def unused_fibres_warnings(scene):
+    """The lines of :func:`~mol_shell.model.fibres.unused_fibres_warning` for ``scene``: its own; for a layered wall
+    one per layer whose fibre parameters ``fibre_E = 0`` leaves unused (named by its place and thickness)."""
+    if not getattr(scene, "layers", ""):
+        note = unused_fibres_warning(scene)
+        return [note] if note else []
+    notes = [(k, t, unused_fibres_warning(sub)) for k, (t, sub) in enumerate(layer_scenes(scene), 1)]
     return [f"layer {k} ({t:g} m): {note}" for k, t, note in notes if note]
 
 

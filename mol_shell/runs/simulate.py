@@ -14,8 +14,7 @@ from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: si
 from mol_shell._core.errors import MaterialWarning, ParameterError, is_number
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
-from mol_shell.model.fibres import unused_fibres_warning
-from mol_shell.model.laws import locking_warnings
+from mol_shell.model.laws import locking_warnings, unused_fibres_warnings
 from mol_shell.results.dataset import build_dataset
 from mol_shell.results.stresses import MAX_SAMPLES, add_stresses
 from mol_shell.runs import resources
@@ -257,7 +256,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
 def _material_warning(scene, ds):
     """``ds`` with the material's warning (:func:`~mol_shell.model.material.locking_warning`) said and recorded
     (once the run is done: a run refused on the way says only why)."""
-    notes = [note for note in (*locking_warnings(scene), unused_fibres_warning(scene)) if note]
+    notes = [*locking_warnings(scene), *unused_fibres_warnings(scene)]
     for note in notes:
         warnings.warn(note, MaterialWarning, stacklevel=3)
     if notes:

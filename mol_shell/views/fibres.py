@@ -11,9 +11,10 @@ axisymmetric, deformation of the paper's Figure 1c). The thickness is drawn magn
 magnification is in the title); magnifying ``zeta`` keeps each fibre's direction, so the tilt is
 drawn at its true angle.
 
-A run with fibre reinforcement (``fibre_E > 0``, :mod:`mol_shell.model.fibres`) gets a third panel: (c) the
-reinforcing fibres on the base surface seen from the side (the half facing the viewer), in the reference
-configuration (grey, dashed) and deformed at the same time (one colour per family). A fibre at angle ``alpha``
+A run with fibre reinforcement (``fibre_E > 0``, :mod:`mol_shell.model.fibres`; in a layered wall, any layer's)
+gets a third panel: (c) the reinforcing fibres on the base surface seen from the side (the half facing the
+viewer), in the reference configuration (grey, dashed) and deformed at the same time (one colour per family, and
+per layer: :func:`fibre_sets`). A fibre at angle ``alpha``
 from the meridian towards ``+phi`` follows ``dphi/ds = tan(alpha) / r0(s)`` on the reference surface; its image
 is ``z(s) k + r(s) a2(phi(s) + chi(s))``, drawn as ``(z, r sin(phi + chi))``: the helices of a twisting shell
 turn with ``chi``.
@@ -24,6 +25,7 @@ from __future__ import annotations
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
+from mol_shell.model.layers import parse_layers
 from mol_shell.views.fields import check_run, face_depths
 from mol_shell.views.figures import save_figure
 
@@ -41,14 +43,34 @@ def _nearest(values, value, name, unit):
     return int(np.argmin(np.abs(np.asarray(values) - value)))
 
 
-#: colours of the reinforcing fibre families in panel (c)
-FAMILY_COLOURS = ("tab:blue", "tab:green")
+#: colours of the reinforcing fibre families in panel (c), in the order of :func:`fibre_sets` and their families
+FAMILY_COLOURS = ("tab:blue", "tab:green", "tab:orange", "tab:purple", "tab:brown", "tab:pink")
 
 
-def reinforcing_fibres(ds, k, count=12):
+def fibre_sets(ds):
+    """``[(label, angle, families)]`` of a run's reinforcing fibres: the scene's (label ``""``) when ``fibre_E > 0``;
+    for a layered wall each layer's whose ``fibre_E > 0`` (label ``"layer k"``, counted from the lower face; a key
+    the layer leaves out is the scene's, as the run takes it)."""
+    attrs = ds.attrs
+    layers = str(attrs.get("layers", "") or "").strip()
+    if layers in ("", "none"):
+        if float(attrs.get("fibre_E", 0.0)) > 0:
+            return [("", float(attrs.get("fibre_angle", 0.0)), int(attrs.get("fibre_families", 1)))]
+        return []
+    out = []
+    for number, (_, _, changes) in enumerate(parse_layers(layers), start=1):
+        def value(key, default, changes=changes):
+            return float(changes.get(key, attrs.get(key, default)))
+        if value("fibre_E", 0.0) > 0:
+            out.append((f"layer {number}", value("fibre_angle", 0.0), int(value("fibre_families", 1))))
+    return out
+
+
+def reinforcing_fibres(ds, k, count=12, angle=None, families=None):
     """Per family, ``(reference, deformed)`` arrays ``(fibre, node, 2)`` of the side view ``(z, y)`` at time index
     ``k``, NaN where a point faces away (``cos(phi + chi) < 0``) or where ``r0`` is under 2 % of its largest value
-    (near a pole the helix winds without end)."""
+    (near a pole the helix winds without end). ``angle`` (rad) and ``families``: the run's scene-level ones unless
+    given (a layer's)."""
     nodes = ds["s"].values
     fine = np.linspace(nodes[0], nodes[-1], 8 * len(nodes))  # the nodal values interpolated linearly
 
@@ -57,8 +79,8 @@ def reinforcing_fibres(ds, k, count=12):
 
     r0 = at(ds["r0"].values) if "r0" in ds else np.ones_like(fine)
     z0 = at(ds["z0"].values) if "z0" in ds else fine
-    alpha = float(ds.attrs.get("fibre_angle", 0.0))
-    families = int(ds.attrs.get("fibre_families", 1))
+    alpha = float(ds.attrs.get("fibre_angle", 0.0)) if angle is None else angle
+    families = int(ds.attrs.get("fibre_families", 1)) if families is None else families
     keep = r0 > 0.02 * np.max(r0)
     inv = np.where(keep, 1.0 / np.where(keep, r0, 1.0), 0.0)
     turn = np.concatenate([[0.0], np.cumsum(np.diff(fine) * (inv[1:] + inv[:-1]) / 2)])  # int ds / r0
@@ -76,17 +98,25 @@ def reinforcing_fibres(ds, k, count=12):
     return out
 
 
-def _fibre_panel(ax, ds, k):
-    for j, (ref, cur) in enumerate(reinforcing_fibres(ds, k)):
-        for line in ref:
-            ax.plot(line[:, 0], line[:, 1], color="0.65", lw=0.8, ls=(0, (2, 1.5)))
-        for line in cur:
-            ax.plot(line[:, 0], line[:, 1], color=FAMILY_COLOURS[j], lw=1.3)
-    alpha = float(ds.attrs.get("fibre_angle", 0.0))
-    families = int(ds.attrs.get("fibre_families", 1))
+def _fibre_panel(ax, ds, k, sets):
+    colour = iter(FAMILY_COLOURS * 4)
+    for label, alpha, families in sets:
+        for j, (ref, cur) in enumerate(reinforcing_fibres(ds, k, angle=alpha, families=families)):
+            for line in ref:
+                ax.plot(line[:, 0], line[:, 1], color="0.65", lw=0.8, ls=(0, (2, 1.5)))
+            c = next(colour)
+            for number, line in enumerate(cur):
+                ax.plot(line[:, 0], line[:, 1], color=c, lw=1.3, label=None if number or not label else
+                        f"{label}: {'-' if j else '+'}{np.degrees(alpha):.3g} deg")
     ax.set_aspect("equal")
     ax.set_xlabel("z, m")
-    ax.set_title(f"(c) reinforcing fibres, {'+-' if families == 2 else ''}{np.degrees(alpha):.3g} deg, side view:\n"
+    if len(sets) == 1 and not sets[0][0]:
+        _, alpha, families = sets[0]
+        what = f"{'+-' if families == 2 else ''}{np.degrees(alpha):.3g} deg"
+    else:
+        what = "of each layer"
+        ax.legend(fontsize=8, loc="upper right")
+    ax.set_title(f"(c) reinforcing fibres {what}, side view:\n"
                  "dashed the reference, solid at the time of (b)", fontsize=10)
 
 
@@ -142,7 +172,8 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
     deformed = segments(r, np.cos(psi) * np.cos(theta), np.sin(psi), phi + chi)
     circle = np.linspace(0, 2 * np.pi, 361)
 
-    reinforced = float(ds.attrs.get("fibre_E", 0.0)) > 0
+    sets = fibre_sets(ds)
+    reinforced = bool(sets)
     fig, axes = plt.subplots(1, 3 if reinforced else 2, figsize=(13.8 if reinforced else 9.2, 5.0))
     panels = [(axes[0], reference, [r0 + z * np.cos(theta0) for z in zeta], r0, "(a) reference configuration"),
               (axes[1], deformed, [np.hypot(r + z * np.cos(psi) * np.cos(theta), z * np.sin(psi)) for z in zeta], r,
@@ -166,7 +197,7 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
         ax.set_xlabel("m")
         ax.set_title(label, fontsize=10)
     if reinforced:
-        _fibre_panel(axes[2], ds, k)
+        _fibre_panel(axes[2], ds, k, sets)
     scene = ds.attrs.get("scene", "run")
     fig.suptitle(f"{scene}: the section at s = {nodes[i]:.4g} m and its material fibres through the thickness "
                  f"(drawn {thickness_scale:g}x thicker)\nin (b) dashed: the fibres of (a); red: the fibre at phi = 0",
