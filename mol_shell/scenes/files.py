@@ -46,6 +46,7 @@ from mol_shell._core.constants import FIELDS, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
+from mol_shell.model.layers import LAYER_KEYS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES, summary
 from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS, ShellScene, describe
@@ -160,11 +161,23 @@ def _flag_of_file(source, table, name, value):
 
 
 def _layer_tables(source, layers):
-    """``[[layer]]`` tables as given, their true/false keys checked as TOML booleans (the rest: the scene's check)."""
-    for layer in layers if isinstance(layers, list) else ():
+    """``[[layer]]`` tables as given, their keys known, ``material`` a string and their true/false keys TOML booleans,
+    each refused naming the table (``[[layer]] N``, from the lower face); the values: the scene's check."""
+    for number, layer in enumerate(layers if isinstance(layers, list) else (), start=1):
+        where = f"{source}: [[layer]] {number} (from the lower face): "
         for key, value in (layer.items() if isinstance(layer, dict) else ()):
-            if key in FLAGS:
-                _flag_of_file(source, "layer", key, value)
+            if key not in ("thickness", "material", *LAYER_KEYS):
+                own = (" (a law of one's own takes the parameters of its Material in a layer, not the file's)"
+                       if key == "material_parameters" else "")
+                raise ParameterError(key, value, "", message=f"{where}unknown key {key}; allowed: thickness, "
+                                     f"material, {', '.join(LAYER_KEYS)}{own}")
+            try:
+                if key == "material" and not isinstance(value, str):
+                    raise ParameterError.not_a("material", value, "a string", "a law's name or import path")
+                if key in FLAGS and not isinstance(value, bool):
+                    raise ParameterError.not_a(key, value, "a TOML boolean", "{true, false}")
+            except ParameterError as exc:
+                raise ParameterError(exc.name, exc.value, exc.range or exc.allowed, message=where + str(exc)) from None
     return layers
 
 

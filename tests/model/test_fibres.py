@@ -159,5 +159,6 @@ def test_a_scene_files_flag_is_a_toml_boolean_as_on_the_command_line(capsys, tmp
     assert main(["run", str(path), "-o", str(tmp_path / "unused.nc")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     shown = {"0": "0", "1": "1", '"false"': "'false'"}[value]
-    assert len(err) == 1 and f"flag.toml: [{table}] fibre_compression = {shown} is not a TOML boolean; allowed: " \
+    where = "[material]" if table == "material" else "[[layer]] 1 (from the lower face):"
+    assert len(err) == 1 and f"flag.toml: {where} fibre_compression = {shown} is not a TOML boolean; allowed: " \
         "{true, false}" in err[0], err

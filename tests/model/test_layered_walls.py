@@ -212,3 +212,21 @@ def test_a_material_with_a_built_in_name_is_refused_when_made():
     """``Material("svk", ...)`` was made and refused only when a scene used it."""
     with pytest.raises(ParameterError, match=r"^name = 'svk' is outside a name of its own .*the built-in laws: "):
         mol_shell.Material("svk", energy=lambda C, p: C[0, 0] - 1, parameters={})
+
+
+@pytest.mark.parametrize("line, expected", [
+    ("material = 3", "[[layer]] 2 (from the lower face): material = 3 is not a string; allowed: a law's name"),
+    ("material_parameters = {mu = 2e5}", "[[layer]] 2 (from the lower face): unknown key material_parameters; "
+                                         "allowed: thickness, material, E, nu,"),
+    ("colour = 'red'", "[[layer]] 2 (from the lower face): unknown key colour; allowed: thickness, material,")])
+def test_a_layer_tables_bad_key_is_named_with_its_table(tmp_path, capsys, line, expected):
+    """A [[layer]] table's ``material = 3`` was blamed on ``[material] material``, and ``material_parameters`` (or any
+    unknown key) on the layers string ("cannot read ..."): named now with the table, counted from the lower face."""
+    from mol_shell.cli.main import main
+
+    path = tmp_path / "bad.toml"
+    path.write_text('scene = "sphere"\n[material]\nh = 0.01\n[[layer]]\nthickness = 0.01\nmaterial = "svk"\n'
+                    f'[[layer]]\nthickness = 0.01\n{line}\n')
+    assert main(["run", str(path), "--n", "8", "--t-end", "1e-4", "-o", str(tmp_path / "r.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"mol-shell: error: {path}: {expected}"), err
