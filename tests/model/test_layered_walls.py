@@ -216,8 +216,8 @@ def test_a_material_with_a_built_in_name_is_refused_when_made():
 
 @pytest.mark.parametrize("line, expected", [
     ("material = 3", "[[layer]] 2 (from the lower face): material = 3 is not a string; allowed: a law's name"),
-    ("material_parameters = {mu = 2e5}", "[[layer]] 2 (from the lower face): unknown key material_parameters; "
-                                         "allowed: thickness, material, E, nu,"),
+    ("material_parameters = {mu = 2e5}", ("[[layer]] 2 (from the lower face): unknown key material_parameters; "
+                                          "allowed: thickness, material, E, nu,")),
     ("colour = 'red'", "[[layer]] 2 (from the lower face): unknown key colour; allowed: thickness, material,")])
 def test_a_layer_tables_bad_key_is_named_with_its_table(tmp_path, capsys, line, expected):
     """A [[layer]] table's ``material = 3`` was blamed on ``[material] material``, and ``material_parameters`` (or any
