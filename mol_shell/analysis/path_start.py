@@ -22,6 +22,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.model.kinematics import FIELDS
+from mol_shell.model.laws import renamed_law, renamed_layers
 from mol_shell.results.dataset import read_netcdf
 from mol_shell.scenes import SCENES, get_scene
 
@@ -57,6 +58,11 @@ def path_scene(ds, value):
         raise ParameterError.invalid("--from", name, "names no registered scene", ALLOWED)
     fields = {f.name for f in dataclasses.fields(SCENES[name])}
     params = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in ds.attrs.items() if k in fields}
+    version = ds.attrs.get("mol_shell_version", "")
+    if "material" in params:  # a law renamed since the file was written: by its name now
+        params["material"] = renamed_law(params["material"], version)
+    if params.get("layers"):
+        params["layers"] = renamed_layers(params["layers"], version)
     params[str(ds.attrs["parameter"])] = float(value)
     if str(ds.attrs["parameter"]) + "_history" in fields:  # the path's states are at rest under a constant load
         params[str(ds.attrs["parameter"]) + "_history"] = "constant"

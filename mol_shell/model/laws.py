@@ -220,6 +220,29 @@ COMPRESSIBLE = ("neo-hookean", "neo-hookean-log")
 LAW_PARAMETERS = {"mooney-rivlin": ("c10", "c01")}
 
 
+#: ``(material, mol_shell_version) -> the law's name now``: files of versions whose ``neo-hookean`` was the
+#: ``(ln J)^2`` law (the development code wrote ``0.5.0`` until its version was set; 0.5.0 itself had SVK only)
+RENAMED = {("neo-hookean", "0.5.0"): "neo-hookean-log", ("neo-hookean", "0.6.0.dev0"): "neo-hookean-log"}
+
+
+def renamed_law(material, version):
+    """The name now of the law a file of ``version`` calls ``material`` (:data:`RENAMED`)."""
+    return RENAMED.get((str(material), str(version)), material)
+
+
+def renamed_layers(text, version):
+    """A file's ``layers`` string with each layer's law by its name now (:func:`renamed_law`)."""
+    if not any(name == material for name, _ in RENAMED for material in str(text).split()):
+        return text
+    parts = []
+    for part in str(text).split(";"):
+        words = part.split()
+        if len(words) > 1:
+            words[1] = renamed_law(words[1], version)
+        parts.append(" ".join(words))
+    return "; ".join(parts)
+
+
 #: the laws of one's own (:class:`~mol_shell.model.user_laws.Material`) of this process, by the ``material`` a
 #: scene stores: their name, or the import path they came by
 REGISTRY = {}

@@ -32,7 +32,16 @@ import casadi as ca
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.fibres import Fibres, fibre_energy
 from mol_shell.model.hyperelastic import condensed_energy, thickness_component
-from mol_shell.model.laws import COMPRESSIBLE, LAWS, Law, scene_material, svk, thickness_treatment, user_material
+from mol_shell.model.laws import (
+    COMPRESSIBLE,
+    LAWS,
+    Law,
+    renamed_law,
+    scene_material,
+    svk,
+    thickness_treatment,
+    user_material,
+)
 from mol_shell.model.layers import layer_value, parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, lame
@@ -41,19 +50,13 @@ from mol_shell.model.material import condensed, lame
 SVK_LAW = Law("svk", svk, ("lambda", "mu"), "director")
 
 
-#: ``(material, mol_shell_version) -> the law's name now``: files of versions whose ``neo-hookean`` was the
-#: ``(ln J)^2`` law (the development code wrote ``0.5.0`` until its version was set; 0.5.0 itself had SVK only)
-RENAMED = {("neo-hookean", "0.5.0"): "neo-hookean-log", ("neo-hookean", "0.6.0.dev0"): "neo-hookean-log"}
-
-
 def law_of_attrs(attrs):
     """The stress route of a run: ``None`` for an SVK law without fibres (SVK's own kernel), else the hashable
     ``(law name, params as sorted items, fibres, plane)``; ``plane``: ``S_22 = 0`` imposed after the fact
     (``svk-plane-stress``, SVK's convention). A material this version does not know gives ``None`` params; a law
-    renamed since the file was written (:data:`RENAMED`) is read by its name now.
+    renamed since the file was written (:func:`~mol_shell.model.laws.renamed_law`) is read by its name now.
     """
-    material = str(attrs.get("material", "svk"))
-    material = RENAMED.get((material, str(attrs.get("mol_shell_version", ""))), material)
+    material = renamed_law(str(attrs.get("material", "svk")), attrs.get("mol_shell_version", ""))
     if str(attrs.get("layers", "") or "") not in ("", "none"):  # ("layers", ((thickness, route of the layer), ...),
         return "layers", tuple((t, _layer_route(attrs, m, changes))  # plane): each layer as a run of its own
                                for t, m, changes in parse_layers(str(attrs["layers"]))), \

@@ -138,3 +138,26 @@ def test_a_paths_state_is_the_run_starts_equilibrium_to_round_off(extra):
     for name in ("z", "r", "chi", "theta"):
         assert np.allclose(ds[name].values[-1], start[name].values[0], rtol=0, atol=1e-12), name
     assert abs(float(ds.z.values[-1].mean() - ds.z.values[0].mean())) < 1e-12  # the mean z stays the reference's
+
+
+@pytest.mark.parametrize("layered", [False, True])
+def test_a_path_file_of_a_version_whose_neo_hookean_was_the_log_law_continues_with_that_law(layered):
+    """Until 0.6.0.dev1 ``neo-hookean`` was the ``(ln J)^2`` law (now ``neo-hookean-log``): ``--from`` a path of
+    those versions started under the new law, off equilibrium (a run from a step moved, 0.66 J of kinetic energy)
+    without a word. The scene is rebuilt with the law the path was traced with, a layer's too, and a run from a
+    step stays at rest; a file of this version keeps ``neo-hookean``."""
+    import mol_shell
+
+    wall = ({"layers": "0.01 neo-hookean-log nu=0.3; 0.01 svk-plane-stress nu=0.3", "h": 0.01} if layered else
+            {"material": "neo-hookean-log", "nu": 0.3, "h": 0.01})
+    ds = path(Sphere(**wall), "pressure", 0.0, 3000.0, n=N, steps=2)
+    old = ds.assign_attrs(mol_shell_version="0.6.0.dev0", **(
+        {"layers": ds.attrs["layers"].replace("neo-hookean-log", "neo-hookean")} if layered else
+        {"material": "neo-hookean"}))
+    scene, n, fields, _ = path_start(old, step=2)
+    assert (scene.layers.split()[1] if layered else scene.material) == "neo-hookean-log"
+    run = simulate(scene, "leapfrog", n=n, t_end=2e-3, initial=fields, progress=False)  # from the path's state
+    moved = np.abs(run.r.values - run.r.values[0]).max() / np.abs(run.r.values[0]).max()
+    assert moved <= 1e-9, moved
+    now, _, _, _ = path_start(old.assign_attrs(mol_shell_version=mol_shell.__version__), step=2)
+    assert (now.layers.split()[1] if layered else now.material) == "neo-hookean"
