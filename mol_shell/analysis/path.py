@@ -42,7 +42,7 @@ import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import MaterialWarning, ParameterError
+from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell.analysis.equilibria import EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, check_branch_point, switch
 from mol_shell.analysis.path_dataset import path_dataset
@@ -277,7 +277,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         Along ``step``: ``parameter``, the fields, ``arclength``, ``negative_eigenvalues``,
         ``smallest_eigenvalues``, ``stiffness_det_sign``, ``stored_energy``, ``load_work``, ``volume``;
         along ``point``: the critical points. ``attrs["status"]`` is ``complete`` (``stop`` reached),
-        ``max_steps``, ``failed`` or ``limit`` (``attrs["message"]`` says where).
+        ``max_steps``, ``failed``, ``limit`` or ``interrupted`` (Ctrl-C: the steps so far; ``attrs["message"]`` says
+        where).
     """
     scene = as_scene(scene)
     check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch)
@@ -300,69 +301,76 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     record.add(q, float(start), t, 0.0, iterations)
     lam, h, secant = float(start), ds0, None  # secant: the first step's chord, when it had to take one
     status, message = "max_steps", f"stopped after max_steps = {max_steps} step{'s' * (max_steps != 1)}"
-    while len(record.lams) <= max_steps:
-        try:
-            q_new, lam_new, its = tracer.correct(q, lam, t, h)
-            where = eq.limits_ok(q_new, lam_new)
-            if where is not None:
-                raise PathFailed("limit", f"{where[0]} at {where[1]}")
-        except PathFailed as exc:
-            if h <= ds0 * 2.0 ** -MIN_HALVINGS:
-                if exc.kind == "newton" and len(record.lams) == 1 and secant is None:  # the start's tangent failed
-                    try:
-                        q_new, lam_new, t_new, secant, its = secant_start(tracer, q, lam, steps, MIN_HALVINGS,
-                                                                         PathFailed)
-                    except PathFailed as again:
-                        secant = exc = PathFailed("newton", f"{exc}; nor did Newton at a fixed load past it find an "
-                                                  f"equilibrium ({again}): the tangent may not be defined there, or the "
-                                                  f"range is too wide for a first step (a nearer stop or more "
-                                                  f"steps, --steps, shorten it)")
-                    else:
-                        record.add(q_new, lam_new, t_new, tracer.distance(q, lam, q_new, lam_new), its)
-                        record.locate_between(-2, -1, (q, lam, secant))
-                        q, lam, t, h = q_new, lam_new, t_new, ds0
-                        if (lam - tracer.stop) * tracer.direction >= 0:
-                            status, message = "complete", f"reached {parameter} = {lam:.6g} {eq.units}"
-                            break
-                        continue
-                status = "limit" if exc.kind == "limit" else "failed"
-                message = (f"the path cannot continue from {parameter} = {lam:.6g} {eq.units}: {exc} "
-                           f"(at the smallest step, {h:.3g})")
-                break
-            h /= 2
-            continue
-        beyond = (lam_new - tracer.stop) * tracer.direction >= 0
-        if beyond:
+    try:  # Ctrl-C: the steps so far are the path, said interrupted (as a run keeps its saved times)
+        while len(record.lams) <= max_steps:
             try:
-                q_new, lam_new, its = tracer.correct(q, lam, t, h, fixed_lambda=tracer.stop)
-            except PathFailed:
+                q_new, lam_new, its = tracer.correct(q, lam, t, h)
+                where = eq.limits_ok(q_new, lam_new)
+                if where is not None:
+                    raise PathFailed("limit", f"{where[0]} at {where[1]}")
+            except PathFailed as exc:
+                if h <= ds0 * 2.0 ** -MIN_HALVINGS:
+                    if exc.kind == "newton" and len(record.lams) == 1 and secant is None:  # the start's tangent failed
+                        try:
+                            q_new, lam_new, t_new, secant, its = secant_start(tracer, q, lam, steps, MIN_HALVINGS,
+                                                                             PathFailed)
+                        except PathFailed as again:
+                            secant = exc = PathFailed("newton", f"{exc}; nor did Newton at a fixed load past it find an "
+                                                      f"equilibrium ({again}): the tangent may not be defined there, or the "
+                                                      f"range is too wide for a first step (a nearer stop or more "
+                                                      f"steps, --steps, shorten it)")
+                        else:
+                            record.add(q_new, lam_new, t_new, tracer.distance(q, lam, q_new, lam_new), its)
+                            record.locate_between(-2, -1, (q, lam, secant))
+                            q, lam, t, h = q_new, lam_new, t_new, ds0
+                            if (lam - tracer.stop) * tracer.direction >= 0:
+                                status, message = "complete", f"reached {parameter} = {lam:.6g} {eq.units}"
+                                break
+                            continue
+                    status = "limit" if exc.kind == "limit" else "failed"
+                    message = (f"the path cannot continue from {parameter} = {lam:.6g} {eq.units}: {exc} "
+                               f"(at the smallest step, {h:.3g})")
+                    break
                 h /= 2
                 continue
-        t_new = tracer.tangent(q_new, lam_new, previous=t)
-        arc = tracer.along(t, q, lam, q_new, lam_new)
-        record.add(q_new, lam_new, t_new, record.arcs[-1] + arc, its)
-        record.locate_between(-2, -1, (q, lam, t))
-        q, lam, t = q_new, lam_new, t_new
-        if branch is not None and record.branch == 0 and len(record.points) > branch:
-            check_branch_point(record, branch)
-            try:
-                q, lam, t, its = switch(tracer, record.points[branch], t, h, ds0 * 2.0 ** -MIN_HALVINGS,
-                                     PathFailed)
-            except BranchFailed as exc:
-                status, message = "failed", f"no switch onto the branch at critical point {branch}: {exc}"
+            beyond = (lam_new - tracer.stop) * tracer.direction >= 0
+            if beyond:
+                try:
+                    q_new, lam_new, its = tracer.correct(q, lam, t, h, fixed_lambda=tracer.stop)
+                except PathFailed:
+                    h /= 2
+                    continue
+            t_new = tracer.tangent(q_new, lam_new, previous=t)
+            arc = tracer.along(t, q, lam, q_new, lam_new)
+            record.add(q_new, lam_new, t_new, record.arcs[-1] + arc, its)
+            record.locate_between(-2, -1, (q, lam, t))
+            q, lam, t = q_new, lam_new, t_new
+            if branch is not None and record.branch == 0 and len(record.points) > branch:
+                check_branch_point(record, branch)
+                try:
+                    q, lam, t, its = switch(tracer, record.points[branch], t, h, ds0 * 2.0 ** -MIN_HALVINGS,
+                                         PathFailed)
+                except BranchFailed as exc:
+                    status, message = "failed", f"no switch onto the branch at critical point {branch}: {exc}"
+                    break
+                record.branch, record.branch_point = 1, branch
+                t = tracer.tangent(q, lam, previous=t)
+                record.add(q, lam, t, record.arcs[-1] + h, its)
+                continue
+            if beyond:
+                status, message = "complete", f"reached {parameter} = {lam:.6g} {eq.units}"
                 break
-            record.branch, record.branch_point = 1, branch
-            t = tracer.tangent(q, lam, previous=t)
-            record.add(q, lam, t, record.arcs[-1] + h, its)
-            continue
-        if beyond:
-            status, message = "complete", f"reached {parameter} = {lam:.6g} {eq.units}"
-            break
-        if (lam - tracer.start) * tracer.direction < 0 and len(record.lams) > 2:
-            status, message = "returned", f"the path came back below start = {start:g} {eq.units}"
-            break
-        # the cap: twice the first step, or twice the default first step when a smaller one was asked for
-        h = min(h * (1.6 if its <= 3 else 1.0 if its <= 5 else 0.5), max(ds0, math.sqrt(2.0) / steps) * MAX_GROWTH)
+            if (lam - tracer.start) * tracer.direction < 0 and len(record.lams) > 2:
+                status, message = "returned", f"the path came back below start = {start:g} {eq.units}"
+                break
+            # the cap: twice the first step, or twice the default first step when a smaller one was asked for
+            h = min(h * (1.6 if its <= 3 else 1.0 if its <= 5 else 0.5), max(ds0, math.sqrt(2.0) / steps) * MAX_GROWTH)
+    except (KeyboardInterrupt, SystemError) as exc:  # SystemError: a Ctrl-C inside a CasADi call
+        if not by_interrupt(exc):
+            raise
+        record.truncate()
+        status, message = "interrupted", (f"interrupted by the user at {parameter} = {record.lams[-1]:.6g} "
+                                          f"{eq.units}")
     if branch is not None and record.branch == 0:
         message += f"; no switch: critical point {branch} was not reached ({len(record.points)} found)"
     if record.bar is not None:

@@ -51,6 +51,15 @@ class PathRecord:
         if self.bar is not None and len(self.lams) > 1:  # the start is no step
             self.show(step=1)
 
+    def truncate(self):
+        """Every step's lists cut to the steps recorded whole (an interruption may land inside :meth:`add`)."""
+        lists = (self.qs, self.lams, self.tls, self.branches, self.arcs, self.iterations, self.eigen, self.negative,
+                 self.det_sign, self.stored, self.phi, self.volume, self.reactions)
+        whole = min(len(x) for x in lists)
+        for x in lists:
+            del x[whole:]
+        self.points = [p for p in self.points if p["step"] < whole]
+
     def show(self, step=0):
         """Tell the progress bar of ``step`` more steps, the load reached and the critical points found so far."""
         if self.bar is not None:

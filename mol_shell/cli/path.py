@@ -11,6 +11,7 @@ from mol_shell.analysis.path import path
 from mol_shell.analysis.path_start import is_path, path_start, read_path
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
+    EXIT_INTERRUPTED,
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
@@ -86,10 +87,10 @@ def cmd_path(args):
                      for kind, value, family, margin, reaction in zip(
                          ds.point_kind.values, ds.point_parameter.values, ds.point_family.values,
                          ds.point_ellipticity_margin.values, reactions))
-    if ds.attrs["status"] in ("failed", "limit"):
+    if ds.attrs["status"] in ("failed", "limit", "interrupted"):
         print(f"mol-shell: path stopped: {ds.attrs['message']}; wrote {summary} to {args.output}{points}",
               file=sys.stderr)
-        return EXIT_INCOMPLETE
+        return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {summary} ({ds.attrs['message']}){points}")
     if ds.attrs["status"] in ("max_steps", "returned"):  # what was asked for, but short of STOP: exit 0, said
         print(f"mol-shell: note: the path did not reach {name} = {stop:g}: {ds.attrs['message']}"
