@@ -62,6 +62,8 @@ MIN_HALVINGS = 10
 MAX_GROWTH = 2.0
 #: a corrector that ends farther than this many steps from its predictor has jumped to another branch
 STRAY = 0.5
+#: the least weight of the displacements in the arclength, as a share of the shell's size (:meth:`_Path.weigh`)
+WEIGHT_FLOOR = 1e-10
 
 
 class PathFailed(Exception):
@@ -129,9 +131,13 @@ class _Path:
         return v[:-1], float(v[-1])
 
     def weigh(self, q, lam):
-        """Weigh the displacements so that the first tangent is half load, half displacement; its tangent."""
+        """Weigh the displacements so that the first tangent is half load, half displacement; its tangent.
+
+        Not below :data:`WEIGHT_FLOOR` of the shell's size: a response smaller than that over the whole range is
+        linear to that share, and weighed more its round-off (the solves' ``eps`` times the stiffness's condition,
+        1e-12 of the size on a director-constrained sphere) strayed the corrector from the predictor."""
         tq, tl = self.tangent(q, lam)
-        self.q_scale = self.q_scale * max(np.linalg.norm(tq) / max(abs(tl), 1e-300), 1e-12)
+        self.q_scale = self.q_scale * max(np.linalg.norm(tq) / max(abs(tl), 1e-300), WEIGHT_FLOOR)
         return self.tangent(q, lam)
 
     def distance(self, q0, l0, q1, l1):
@@ -204,6 +210,23 @@ class _Path:
                 break
         raise PathFailed("newton", f"Newton at {self.eq.parameter} = {lam:.6g} did not converge")
 
+    def _polished(self, q, lam, F, Fq, steps=2):
+        """``q`` after up to ``steps`` more Newton steps, each kept while it lowers the residual: the tolerance leaves
+        an error of (residual / stiffness) along the softest modes (a free twisted tube's: 1e-8 rad), which a
+        path over a small load range took for its response and left its first predictor by 100 steps."""
+        import scipy.sparse.linalg
+
+        for _ in range(steps):
+            try:
+                trial = q + self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
+            except RuntimeError:
+                break
+            F_trial, Fq_trial, _ = self.eq.reduced(trial, lam)
+            if not (np.all(np.isfinite(F_trial)) and np.abs(F_trial).max() < np.abs(F).max()):
+                break
+            q, F, Fq = trial, F_trial, Fq_trial
+        return q
+
     def slope(self, q, lam):
         """``dq/dlambda`` along the path at fixed load (``-F_q^-1 F_lambda`` on the unknowns)."""
         import scipy.sparse.linalg
@@ -220,7 +243,7 @@ class _Path:
             if self.f_scale is None:
                 self.f_scale = float(np.abs(Fq.diagonal()).max()) * self.length
             if np.abs(F).max() <= TOL * self.f_scale:
-                return q, it
+                return self._polished(q, lam, F, Fq), it
             try:
                 step = self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
             except RuntimeError:  # exactly singular (a load so large the state's numbers overflow)
