@@ -80,8 +80,11 @@ class PathRecord:
         if before == after and self.det_sign[i] == self.det_sign[j]:
             return
         kind = "limit" if self.tls[i] * self.tls[j] < 0 else "bifurcation"
+        found = len(self.points)
         for index in range(min(before, after), max(before, after)):  # the eigenvalues (ascending) that cross zero
             self._locate(i, j, origin, index, kind, before, after)
+        if kind == "limit":
+            self._classify_turn(self.points[found:])
         self.show()
 
     def _locate(self, i, j, origin, index, kind, before, after):
@@ -160,4 +163,48 @@ class PathRecord:
                             "negative_before": before, "negative_after": after})
 
 
-__all__ = ["PathRecord"]
+    def _load_work(self, point):
+        """``(|phi . F_lambda| / (|phi| |F_lambda|), F_lambda)`` of a critical point: how much its mode works
+        against the load."""
+        g = np.asarray(self.eq.evaluate(point["q"], point["parameter"])[2], dtype=float).ravel()
+        scale = float(np.linalg.norm(g) * np.linalg.norm(point["mode"]))
+        return (abs(float(np.dot(g, point["mode"]))) / scale if scale > 0 else 0.0), g
+
+    def _classify_turn(self, points):
+        """The critical points of one step where the load turned: at most one is the fold, the one whose mode works
+        against the load (at a fold ``F_lambda`` is outside the range of ``K``, so ``phi . F_lambda != 0``); a mode
+        orthogonal to it (to :data:`ORTHOGONAL`) and every other crossing is a bifurcation (a vessel whose two heads
+        dent at nearly one load: one head first, antisymmetric, beside the fold of both). Points that coincide
+        (within :data:`COINCIDENT` of the arclength's scale) share an eigenspace whose computed vectors mix: their
+        modes are split, in the eigenspace of the ones nearest zero at the fold, into the one along the load's work
+        (the fold's) and those orthogonal to it."""
+        if not points:
+            return
+        works = [self._load_work(p) for p in points]
+        fold = int(np.argmax([w for w, _ in works]))
+        for k, point in enumerate(points):
+            if k != fold or works[k][0] <= ORTHOGONAL:
+                point["kind"] = "bifurcation"
+        first = points[fold]
+        group = [first] + [p for k, p in enumerate(points) if k != fold and self.tracer.distance(
+            first["q"], first["parameter"], p["q"], p["parameter"]) <= COINCIDENT]
+        if len(group) < 2 or first["kind"] != "limit":
+            return
+        w2, vectors, _, _ = stability(self.eq, first["q"], first["parameter"])  # one M-orthonormal basis
+        basis = vectors[:, np.argsort(np.abs(w2))[:len(group)]]
+        along = basis.T @ works[fold][1]  # the load's work in the shared eigenspace
+        rotation, _ = np.linalg.qr(np.column_stack([along, np.eye(len(group))]))
+        for point, column in zip(group, (basis @ rotation[:, :len(group)]).T):
+            point["mode"] = column / np.abs(column).max()
+            point["family"], point["chi_share"] = family(self.eq, point["q"], point["mode"])
+
+
+#: ``|phi . F_lambda| / (|phi| |F_lambda|)`` at or below which a critical mode is orthogonal to the load (round-off:
+#: a symmetry's mode gives 1e-15 to 1e-12; a fold's is of order 1e-3 or more)
+ORTHOGONAL = 1e-8
+#: critical points of one step closer than this in the path's scaled arclength share their eigenspace (the vessel's
+#: fold and its heads' antisymmetric bifurcation: 7e-8 and 3e-7 apart, located to 1e-7)
+COINCIDENT = 1e-5
+
+
+__all__ = ["COINCIDENT", "ORTHOGONAL", "PathRecord"]
