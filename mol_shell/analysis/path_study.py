@@ -100,7 +100,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
         resources.check_analysis(n, max_steps + 1, f"tracing each path of up to {max_steps} steps", "states",
                                  name="max_steps", value=max_steps, fewer="allow fewer steps (--max-steps)",
                                  fields=len(getattr(scene, "fields", range(5))))
-    dims, coords, cases = design(scene, vary)
+    dims, coords, cases = design(scene, vary, integrator=None)
     fields = {f.name for f in dataclasses.fields(scene)}
     for name in coords:
         if name not in fields:

@@ -139,11 +139,13 @@ def resolve_scene(scene):
 def design(scene, vary, integrator="leapfrog", options=None):
     """``(dims, coords, cases)`` of a study: a grid for a dict of lists, a ``case`` dim for a list of dicts.
 
-    Each case is ``(index, {name: value})``; names are scene parameters or integrator options. A case of a list
+    Each case is ``(index, {name: value})``; names are scene parameters or integrator options (none with
+    ``integrator=None``: a study of paths). A case of a list
     that leaves a name out has the base scene's value, or for an option the study's (``options``), else the
     integrator's default.
     """
-    allowed = set(_scene_fields(scene)) | _option_names(scene, integrator) | _material_names(scene)
+    allowed = set(_scene_fields(scene)) | _material_names(scene)  # integrator None: a study of paths, no options
+    allowed |= _option_names(scene, integrator) if integrator is not None else set()
     if isinstance(vary, dict):
         if not vary:
             raise ParameterError("vary", vary, "at least one parameter with values")

@@ -132,3 +132,15 @@ def test_a_range_every_case_shares_is_refused_up_front(start, stop, name, monkey
     monkeypatch.setattr(path_study_module, "run_path_task", None)  # nothing may run
     with pytest.raises(ParameterError, match=rf"^{name} = "):
         path_study(Sphere(nu=0.3), {"h": [0.01, 0.02]}, "pressure", start, stop, n=10, scheduler="serial")
+
+
+def test_an_unknown_name_in_a_path_study_lists_scene_parameters_only(tmp_path, capsys):
+    """``study --path`` with ``--vary foo=...`` listed the leap-frog's options (chunk, dt) as allowed, which the next
+    attempt (``--vary dt=...``) was refused: a study of paths lists its scene's parameters only."""
+    from mol_shell.cli.main import main
+
+    for name in ("foo", "dt"):
+        assert main(["study", "sphere", "--vary", f"{name}=1,2", "--path", "pressure=0:-100", "--n", "8",
+                     "-o", str(tmp_path / "s.nc")]) == 2
+        err = capsys.readouterr().err.strip()
+        assert f"vary = '{name}' is outside {{" in err and "chunk" not in err and " dt," not in err, err
