@@ -22,7 +22,7 @@ import statistics
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.cf import header
 from mol_shell.runs import resources
@@ -167,24 +167,40 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
     status = np.full((len(integrators), levels), "", dtype=object)
     note = np.full((len(integrators), levels), "", dtype=object)
     for i, name in enumerate(integrators):
-        for j, (value, reason) in enumerate(plan[name]):
+        for j, (value, _) in enumerate(plan[name]):
             data[swept(name)][i, j] = value
-            if reason:
-                status[i, j], note[i, j] = "skipped", reason
-                log(f"{name:14s} {value:8.1e}  {reason}")
-                continue
-            run_once(system, compiled, y0, times, name, value)  # warm-up: compiled pieces, caches
-            runs = [run_once(system, compiled, y0, times, name, value) for _ in range(repeats)]
-            traj = runs[-1]
-            data["error"][i, j] = relative_error(fields_of(system, traj.y), ref)
-            data["wall_time_s"][i, j] = statistics.median(r.stats["wall_time_s"] for r in runs)
-            for k in ("n_steps", "n_rhs", "n_jac"):
-                data[k][i, j] = traj.stats.get(k, np.nan)
-            status[i, j] = traj.status
-            if traj.status != "complete":
-                note[i, j] = traj.message
-            log(f"{name:14s} {value:8.1e}  error {data['error'][i, j]:9.3g}  wall {data['wall_time_s'][i, j]:8.4f} s  "
-                f"steps {traj.stats.get('n_steps', -1):>7}  {traj.status}")
+    interrupted = None
+    try:  # Ctrl-C: the points measured so far are the comparison, the rest not run (said)
+        for i, name in enumerate(integrators):
+            for j, (value, reason) in enumerate(plan[name]):
+                if reason:
+                    status[i, j], note[i, j] = "skipped", reason
+                    log(f"{name:14s} {value:8.1e}  {reason}")
+                    continue
+                run_once(system, compiled, y0, times, name, value)  # warm-up: compiled pieces, caches
+                runs = []
+                for _ in range(repeats):
+                    runs.append(run_once(system, compiled, y0, times, name, value))
+                    if runs[-1].status == "interrupted":  # Ctrl-C inside a run: its integrator kept it as data
+                        raise KeyboardInterrupt
+                traj = runs[-1]
+                data["error"][i, j] = relative_error(fields_of(system, traj.y), ref)
+                data["wall_time_s"][i, j] = statistics.median(r.stats["wall_time_s"] for r in runs)
+                for k in ("n_steps", "n_rhs", "n_jac"):
+                    data[k][i, j] = traj.stats.get(k, np.nan)
+                status[i, j] = traj.status
+                if traj.status != "complete":
+                    note[i, j] = traj.message
+                log(f"{name:14s} {value:8.1e}  error {data['error'][i, j]:9.3g}  wall {data['wall_time_s'][i, j]:8.4f} "
+                    f"s  steps {traj.stats.get('n_steps', -1):>7}  {traj.status}")
+    except (KeyboardInterrupt, SystemError) as exc:  # SystemError: a Ctrl-C inside a CasADi call
+        if not by_interrupt(exc):
+            raise
+        interrupted = f"interrupted by the user at {name} {value:g}: the points before it measured, the rest not run"
+        for i2, j2 in zip(*np.nonzero(status == "")):
+            if np.isfinite(data[swept(integrators[i2])][i2, j2]):
+                status[i2, j2], note[i2, j2] = "interrupted", "not run: the comparison was interrupted"
+                data["error"][i2, j2] = data["wall_time_s"][i2, j2] = np.nan
     # the swept value in two variables, each with its own units (one variable held rtol and leap-frog's dt in s)
     units = {"rtol": "1", "dt": "s", "error": "1", "wall_time_s": "s", "n_steps": "1", "n_rhs": "1", "n_jac": "1"}
     long = {"rtol": "relative tolerance of the point (atol = 1e-3 rtol); NaN for leap-frog, whose sweep is of dt",
@@ -200,7 +216,8 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
                                                             "interrupted, or skipped (not run; see note); empty: no point"})
     ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
     ds.attrs.update({**header(f"work-precision of mol_shell integrators, scene {scene.name}"), "scene": scene.name, "n": n, "times": ",".join(f"{t:g}" for t in times), "repeats": repeats,
-                     "reference_error": ref_err, **ref_info})
+                     "reference_error": ref_err, **ref_info,
+                     "status": "interrupted" if interrupted else "complete", "message": interrupted or ""})
     if isinstance(scene, Unshearable):  # every integrator here runs its free shell, ida too
         ds.attrs["model"] = ("the unshearable scene's free shell (the ODE every integrator runs); its constrained "
                              "DAE, run by `run --integrator ida`, is not compared")
@@ -244,7 +261,9 @@ def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
     for name in ds.integrator.values:
         j = best_at(ds, str(name), target)
         if j is None:
-            lines.append(f"| {name} | none reached {target:g} in the sweep | | | | | | |")
+            cut = "interrupted" in set(ds.status.sel(integrator=name).values.tolist())
+            lines.append(f"| {name} | {'interrupted before' if cut else 'none'} reached {target:g} in the sweep "
+                         "| | | | | | |")
             continue
         p = ds.sel(integrator=name).isel(level=j)
         key = swept(str(name))
@@ -253,6 +272,8 @@ def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
                      f"{int(p.n_steps)} | {int(p.n_rhs)} | {_int(p.n_jac)} | {speed} |")
     if why:
         lines += ["", f"Speed-up n/a: the baseline {why}, so no speed-up is measured against it."]
+    if ds.attrs.get("status") == "interrupted":
+        lines += ["", f"Not complete: {ds.attrs['message']}."]
     return "\n".join(lines)
 
 

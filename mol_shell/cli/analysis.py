@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import sys
 import time
 
 import numpy as np
@@ -20,6 +21,7 @@ from mol_shell.analysis.workprecision import (
     work_precision,
 )
 from mol_shell.cli.args import (
+    EXIT_INTERRUPTED,
     check_companions,
     NETCDF_SUFFIXES,
     SCENE_HELP,
@@ -73,6 +75,10 @@ def cmd_compare(args):
     png, md = write_outputs(ds, args.output, args.target)
     say_stand_ins(scene)
     print(markdown_table(ds, args.target))
+    if ds.attrs.get("status") == "interrupted":
+        print(f"mol-shell: comparison stopped: {ds.attrs['message']}; wrote {args.output}, {png}, {md}",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
     print(f"wrote {args.output}, {png}, {md} in {time.perf_counter() - start:.0f} s")
     return 0
 

@@ -350,3 +350,35 @@ def test_a_negative_number_in_exponent_form_reaches_the_option_s_range(option, v
     code = main(["run", "twisted-cylinder", "--n", "11", option, value, "-o", str(tmp_path / "x.nc")])
     err = capsys.readouterr().err.splitlines()
     assert code == 2 and err == [f"mol-shell: error: {option} = {value} is outside {allowed}"], err
+
+
+def test_compare_interrupted_keeps_the_points_measured_and_exits_130(tmp_path, capsys, monkeypatch):
+    """Ctrl-C during `compare` was taken for one point's ending (a NaN in the summary) and the sweep went on to the
+    end, exit 0. It stops there now: the points measured kept, the rest `interrupted` (not run), the files written,
+    exit 130."""
+    import mol_shell.analysis.workprecision as wp
+    from mol_shell.cli.main import main
+    from mol_shell.results.dataset import read_netcdf
+
+    original, calls = wp.run_once, [0]
+
+    def run_once(*args):
+        calls[0] += 1
+        if calls[0] == 5:  # dop853-c's second point: its warm-up done, its first timed run interrupted
+            raise KeyboardInterrupt
+        return original(*args)
+
+    monkeypatch.setattr(wp, "run_once", run_once)
+    monkeypatch.setattr(wp, "SWEEPS", {**wp.SWEEPS, "dop853-c": {"rtol": (1e-4, 1e-6, 1e-8)}})
+    out = tmp_path / "wp.nc"
+    code = main(["compare", "twisted-cylinder", "--integrators", "dop853-c,rk45-c", "--n", "8", "--t-end", "2e-3",
+                 "--repeats", "1", "-o", str(out)])
+    captured = capsys.readouterr()
+    assert code == 130 and "comparison stopped: interrupted by the user at dop853-c 1e-06" in captured.err
+    ds = read_netcdf(out)
+    assert ds.attrs["status"] == "interrupted"
+    assert list(ds.status.sel(integrator="dop853-c").values)[:3] == ["complete", "interrupted", "interrupted"]
+    assert set(ds.status.sel(integrator="dop853-c").values[3:].tolist()) <= {""}  # no such point in its sweep
+    assert set(ds.status.sel(integrator="rk45-c").values.tolist()) <= {"interrupted", ""}
+    assert np.isfinite(float(ds.error.sel(integrator="dop853-c").isel(level=0)))
+    assert "| rk45-c | interrupted before reached" in captured.out and "Not complete: interrupted" in captured.out
