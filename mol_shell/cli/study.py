@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 
 import numpy as np
@@ -178,8 +179,8 @@ def register_study(subparsers):
     p.add_argument("--scheduler", default=None,
                    help="dask.distributed scheduler address, or serial (default: local processes); "
                    f"refused if it does not answer within {SCHEDULER_TIMEOUT:g} s")
-    p.add_argument("--workers", type=integer_arg("--workers", 1), default=None,
-                   help="local processes, this one included (default: all cores)")
+    p.add_argument("--workers", type=integer_arg("--workers", 1, os.cpu_count() or 1), default=None,
+                   help="local processes, this one included, at most this machine's cores (default: all cores)")
     p.add_argument("--path", default=None, metavar="NAME=START:STOP",
                    help="a study of equilibrium paths (mol-shell path) in place of runs: one path per case, their "
                    "critical points gathered (the run options --integrator, --t-end, ... are refused)")

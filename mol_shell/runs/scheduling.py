@@ -274,12 +274,18 @@ def _collect(future, task):
 
 
 def check_workers(workers, scheduler):
-    """Refuse ``workers`` that is not a count of local processes, or that is given with another scheduler (it was
-    ignored there: "serial" is this process alone, which ``workers=1`` may say, a cluster has its own workers)."""
+    """Refuse ``workers`` that is not a count of local processes up to the machine's cores, or that is given with
+    another scheduler (it was ignored there: "serial" is this process alone, which ``workers=1`` may say, a cluster
+    has its own workers)."""
     if workers is None:
         return
+    cores = os.cpu_count() or 1
     if not (isinstance(workers, (int, np.integer)) and not isinstance(workers, bool) and workers >= 1):
-        raise ParameterError("workers", workers, "integers >= 1")
+        raise ParameterError("workers", workers, f"integers in [1, {cores}]")
+    if scheduler is None and workers > cores:  # 30 processes on 2 cores ran a study 4.7x slower than 2
+        raise ParameterError("workers", workers, f"integers in [1, {cores}]", hint=f"this machine's {cores} cores: "
+                             "each local process runs its cases on one core, and more processes than cores only "
+                             "share them, each with its own start and memory")
     if scheduler is not None and not (scheduler == "serial" and workers == 1):  # serial is one process: 1 agrees
         raise ParameterError("workers", workers, "None with scheduler = " + repr(scheduler_name(scheduler)),
                              hint="workers counts local processes (scheduler None); a cluster has its own workers, "
