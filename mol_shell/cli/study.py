@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import sys
 
 import numpy as np
@@ -29,7 +28,7 @@ from mol_shell.cli.args import (
 from mol_shell.cli.path import parse_param
 from mol_shell.results.study_store import Store
 from mol_shell.runs import resources
-from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT
+from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT, most_workers
 from mol_shell.runs.study import study
 from mol_shell.scenes import with_params
 
@@ -179,7 +178,7 @@ def register_study(subparsers):
     p.add_argument("--scheduler", default=None,
                    help="dask.distributed scheduler address, or serial (default: local processes); "
                    f"refused if it does not answer within {SCHEDULER_TIMEOUT:g} s")
-    p.add_argument("--workers", type=integer_arg("--workers", 1, os.cpu_count() or 1), default=None,
+    p.add_argument("--workers", type=integer_arg("--workers", 1, most_workers()), default=None,
                    help="local processes, this one included, at most this machine's cores (default: all cores)")
     p.add_argument("--path", default=None, metavar="NAME=START:STOP",
                    help="a study of equilibrium paths (mol-shell path) in place of runs: one path per case, their "

@@ -279,17 +279,22 @@ def check_workers(workers, scheduler):
     has its own workers)."""
     if workers is None:
         return
-    cores = os.cpu_count() or 1
+    most = most_workers()
     if not (isinstance(workers, (int, np.integer)) and not isinstance(workers, bool) and workers >= 1):
-        raise ParameterError("workers", workers, f"integers in [1, {cores}]")
-    if scheduler is None and workers > cores:  # 30 processes on 2 cores ran a study 4.7x slower than 2
-        raise ParameterError("workers", workers, f"integers in [1, {cores}]", hint=f"this machine's {cores} cores: "
-                             "each local process runs its cases on one core, and more processes than cores only "
-                             "share them, each with its own start and memory")
+        raise ParameterError("workers", workers, f"integers in [1, {most}]")
+    if scheduler is None and workers > most:  # 30 processes on 2 cores ran a study 4.7x slower than 2
+        raise ParameterError("workers", workers, f"integers in [1, {most}]", hint="at most this machine's cores (2 "
+                             "on one): each local process runs its cases on one core, and more processes than cores "
+                             "only share them, each with its own start and memory")
     if scheduler is not None and not (scheduler == "serial" and workers == 1):  # serial is one process: 1 agrees
         raise ParameterError("workers", workers, "None with scheduler = " + repr(scheduler_name(scheduler)),
                              hint="workers counts local processes (scheduler None); a cluster has its own workers, "
                              "serial is this process alone")
+
+
+def most_workers():
+    """The most local processes a study takes: the machine's cores, at least 2."""
+    return max(2, os.cpu_count() or 1)
 
 
 def scheduler_name(scheduler):
