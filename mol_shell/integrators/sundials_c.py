@@ -74,8 +74,18 @@ class _Compiled:
     def fixed_point(self):
         return getattr(self, "iteration", "newton") == "fixed-point"
 
+    #: options of Newton's iteration and their defaults: a fixed-point iteration takes none of them (they were kept
+    #: in the file and did nothing)
+    NEWTON_ONLY = {"jac_every": 0, "setup_every": 0, "max_newton": None, "newton_coef": 0.0}
+
     def __post_init__(self):
         super().__post_init__()
+        if self.fixed_point():
+            for name, default in self.NEWTON_ONLY.items():
+                value = getattr(self, name, default)
+                if value != default:
+                    raise ParameterError(name, value, f"{default} (its default) with iteration = 'fixed-point'",
+                                         hint="an option of Newton's iteration: iteration = 'newton' takes it")
         if self.jacobian == "dq" and self.linsolver == "sparse" and not self.fixed_point():
             raise ParameterError("jacobian", "dq", "{compiled, vm} with linsolver='sparse' (SUNDIALS' difference "
                                  "quotients need a dense or banded matrix)")

@@ -255,6 +255,12 @@ def _run_options(source, run):
         else:  # t_end, dt, max_step, atol
             value = positive(key, value, unit="" if key == "atol" else " s")
         out[key] = value
+    own = {key: value for key, value in out.items() if key in extra and key not in RUN}
+    if own:  # the integrator's checks across its options (max_order 9 on BDF, jac_every with a fixed-point iteration)
+        try:
+            INTEGRATORS[integrator](**own)
+        except ParameterError as exc:
+            raise _fail(source, "run", exc) from None
     return out
 
 

@@ -252,6 +252,11 @@ BAD = [
     ('scene = "sphere"\n[run]\nintegrator = "euler"\n', "[run] integrator = 'euler' is outside {leapfrog"),
     ('scene = "sphere"\n[run]\ntimes = [0, 1, 1]\n', "[run] times = [0.0, 1.0, 1.0] is outside increasing"),
     ('scene = "sphere"\n[run]\natol = {q = 1e-9}\n', "[run] atol = 'q' is outside {z, r, chi, theta, psi}"),
+    # the integrator's checks across options: they named no file and table (and jac_every was kept unused)
+    ('scene = "sphere"\n[run]\nintegrator = "cvode-bdf"\nmax_order = 9\n', "[run] max_order = 9 is outside integers "
+     "in [1, 5]"),
+    ('scene = "sphere"\n[run]\nintegrator = "cvode-adams"\njac_every = 20\n', "[run] jac_every = 20 is outside 0 "
+     "(its default) with iteration = 'fixed-point'"),
     ('scene = "sphere"\n[geometry\na = 1\n', "not valid TOML: Expected ']' at the end of a table declaration (at line 2"),
     ('scene = "drum"\n', "scene = 'drum' is outside {axisymmetric, cone, meridian"),
     ('[geometry]\na = 1\n', "scene is missing: give scene = NAME with NAME in {axisymmetric"),
