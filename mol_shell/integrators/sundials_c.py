@@ -76,12 +76,12 @@ class _Compiled:
 
     #: options of Newton's iteration and their defaults: a fixed-point iteration takes none of them (they were kept
     #: in the file and did nothing)
-    NEWTON_ONLY = {"jac_every": 0, "setup_every": 0, "max_newton": None, "newton_coef": 0.0}
+    NEWTON_ONLY = (("jac_every", 0), ("setup_every", 0), ("max_newton", None), ("newton_coef", 0.0))
 
     def __post_init__(self):
         super().__post_init__()
         if self.fixed_point():
-            for name, default in self.NEWTON_ONLY.items():
+            for name, default in self.NEWTON_ONLY:
                 value = getattr(self, name, default)
                 if value != default:
                     raise ParameterError(name, value, f"{default} (its default) with iteration = 'fixed-point'",
