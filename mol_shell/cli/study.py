@@ -129,7 +129,8 @@ def _say_cases(ds, what):
     refused = int(np.sum(status == "refused"))
     if refused:
         others = len(reasons) - 1
-        more = f" (and {others} other reason{'s' * (others > 1)}: the file's message variable)" if others else ""
+        more = (f"; {others} other reason{'s' * (others > 1)} in the file's variable message" if others > 1 else
+                f"; and {reasons[1]}" if others else "")
         print(f"mol-shell: error: {refused} of {cases} refused: {reasons[0]}{more}", file=sys.stderr)
     ended = ("complete", "refused", "max_steps", "returned")  # a path's max_steps and return are ends, not stops
     stopped = [(st, m) for st, m in zip(status, messages) if st not in ended]

@@ -177,8 +177,14 @@ def test_a_study_whose_every_case_is_refused_exits_2_naming_the_parameter(tmp_pa
     code = main(["study", "sphere", "--vary", "nu=0.7,0.8", "--n", "8", "--t-end", "0.001", "--scheduler", "serial",
                  "-o", str(tmp_path / "s.nc")])
     err = capsys.readouterr().err.splitlines()
-    assert code == 2 and err == [("mol-shell: error: 2 of 2 cases refused: nu = 0.7 is outside (-1, 0.5) (and 1 "
-                                  "other reason: the file's message variable)")], err
+    assert code == 2 and err == [("mol-shell: error: 2 of 2 cases refused: nu = 0.7 is outside (-1, 0.5); and "
+                                  "nu = 0.8 is outside (-1, 0.5)")], err  # ("1 other reason: the file's message
+    # variable" read as if the variable were the reason)
+    code = main(["study", "sphere", "--vary", "nu=0.7,0.8,0.9", "--n", "8", "--t-end", "0.001", "--scheduler",
+                 "serial", "-o", str(tmp_path / "s3.nc")])
+    err = capsys.readouterr().err.splitlines()
+    assert code == 2 and err == [("mol-shell: error: 3 of 3 cases refused: nu = 0.7 is outside (-1, 0.5); 2 other "
+                                  "reasons in the file's variable message")], err
     ds = mol_shell.read_netcdf(tmp_path / "s.nc")
     assert list(ds.message.values) == ["nu = 0.7 is outside (-1, 0.5)", "nu = 0.8 is outside (-1, 0.5)"]
 
