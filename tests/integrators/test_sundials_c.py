@@ -190,3 +190,18 @@ def test_a_limit_stops_at_the_time_and_place_of_scikit_sundaes_route(name):
     assert ours.attrs["failure_time"] == pytest.approx(theirs.attrs["failure_time"], abs=1e-7)
     place = [ds.attrs["message"].split(" at t = ")[1].split(", ")[1].split(":")[0] for ds in (ours, theirs)]
     assert place[0] == place[1] and "root found by" in ours.attrs["message"]
+
+
+@pytest.mark.parametrize("integrator", ["cvode-bdf", "ida", "sksundae-cvode-adams"])
+@pytest.mark.parametrize("atol", [1.0, {"r": 1.0}])
+def test_an_atol_of_r_above_the_radius_is_refused_not_a_model_limit(integrator, atol):
+    """``--atol 1`` on a shell of radius 0.995 m stopped at t = 3e-9 s as "r reached 0 (to within atol)": the
+    SUNDIALS routes watch r -> 0 at r = atol_r. Refused naming atol and the bound (the smallest radius); an atol of
+    the other fields that large, or 0.5, runs."""
+    import mol_shell
+
+    scene = mol_shell.TwistedCylinder()
+    with pytest.raises(ParameterError, match=r"^atol = .* is outside absolute tolerances of r below 0\.9948 m"):
+        mol_shell.simulate(scene, integrator, n=8, t_end=1e-4, atol=atol, progress=False)
+    ds = mol_shell.simulate(scene, integrator, n=8, t_end=1e-4, atol={"z": 1.0, "r": 0.5}, progress=False)
+    assert ds.attrs["complete"] == 1
