@@ -339,7 +339,8 @@ class _CompiledRun:
         if steps >= StepBudget.EVERY and needed > StepBudget.MARGIN * method.max_steps:
             raise failed(f"{method.name} would need about {needed:.3g} steps to reach t = {self.t_end:.6g} s at its "
                          f"mean step so far, more than max_steps = {method.max_steps}: the motion is too fast for this "
-                         f"horizon (stopped at t = {t:.9g} s)", t)
+                         f"horizon at rtol = {method.rtol:g} (a looser tolerance or a larger max_steps goes on; "
+                         f"stopped at t = {t:.9g} s)", t)
         self.t = t
 
     def to_hamiltonian(self, state, t):

@@ -197,6 +197,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     if times is None and integrator == "leapfrog":
         times = leapfrog_times(t_end, method.dt)
     times = parse_times(times, t_end)
+    _check_max_step(method, times[-1])
     est = resources.check_before_build(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None))
     requested, requested_scene = scene.params(), scene
     scene = resolve(scene)
@@ -252,6 +253,16 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     if stresses is not False:
         ds = add_stresses(ds, limit=None if stresses else MAX_SAMPLES)
     return ds
+
+
+def _check_max_step(method, t_end):
+    """Refuse a ``max_step`` with which ``max_steps`` steps cannot reach ``t_end`` (``--max-step 1e-12`` to 1 ms ran,
+    then stopped as "the motion is too fast for this horizon")."""
+    max_step, max_steps = getattr(method, "max_step", 0.0) or 0.0, getattr(method, "max_steps", None)
+    if max_step > 0 and max_steps and max_step * max_steps < t_end:
+        low = t_end / max_steps
+        raise ParameterError("max_step", max_step, f"[{low:.4g}, inf) s, or 0 (none)",
+                             hint=f"max_steps = {max_steps} steps of at most max_step must reach t = {t_end:g} s")
 
 
 def _check_radius_atol(method, system, y0):

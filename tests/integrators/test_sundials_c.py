@@ -205,3 +205,13 @@ def test_an_atol_of_r_above_the_radius_is_refused_not_a_model_limit(integrator, 
         mol_shell.simulate(scene, integrator, n=8, t_end=1e-4, atol=atol, progress=False)
     ds = mol_shell.simulate(scene, integrator, n=8, t_end=1e-4, atol={"z": 1.0, "r": 0.5}, progress=False)
     assert ds.attrs["complete"] == 1
+
+
+@pytest.mark.parametrize("integrator", ["cvode-bdf", "dop853-c", "scipy-rk45"])
+def test_a_max_step_that_max_steps_cannot_carry_to_t_end_is_refused_up_front(integrator):
+    """``--max-step 1e-12`` to 1 ms ran until its step budget said "the motion is too fast for this horizon", exit 3:
+    a million steps of 1e-12 s reach 1e-6 s. Refused before the build, naming max_step and its least value."""
+    import mol_shell
+
+    with pytest.raises(ParameterError, match=r"^max_step = 1e-12 is outside \[1e-09, inf\) s, or 0 \(none\)"):
+        mol_shell.simulate(mol_shell.TwistedCylinder(), integrator, n=8, t_end=1e-3, max_step=1e-12, progress=False)
