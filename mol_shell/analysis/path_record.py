@@ -52,13 +52,16 @@ class PathRecord:
             self.show(step=1)
 
     def truncate(self):
-        """Every step's lists cut to the steps recorded whole (an interruption may land inside :meth:`add`)."""
+        """Every step's lists cut to the steps recorded whole (an interruption may land inside :meth:`add`), and the
+        critical points to those located whole (one inside :meth:`locate_between` drops that step's points)."""
         lists = (self.qs, self.lams, self.tls, self.branches, self.arcs, self.iterations, self.eigen, self.negative,
                  self.det_sign, self.stored, self.phi, self.volume, self.reactions)
         whole = min(len(x) for x in lists)
         for x in lists:
             del x[whole:]
-        self.points = [p for p in self.points if p["step"] < whole]
+        # the points of steps kept, less those of a step whose locating was cut short (all of them or none)
+        last = whole - 2 if getattr(self, "locating", False) else whole
+        self.points = [p for p in self.points if p["step"] < last]
 
     def show(self, step=0):
         """Tell the progress bar of ``step`` more steps, the load reached and the critical points found so far."""
@@ -81,10 +84,12 @@ class PathRecord:
             return
         kind = "limit" if self.tls[i] * self.tls[j] < 0 else "bifurcation"
         found = len(self.points)
+        self.locating = True  # an interruption before the end leaves this step's points half done (truncate)
         for index in range(min(before, after), max(before, after)):  # the eigenvalues (ascending) that cross zero
             self._locate(i, j, origin, index, kind, before, after)
         if kind == "limit":
             self._classify_turn(self.points[found:])
+        self.locating = False
         self.show()
 
     def _locate(self, i, j, origin, index, kind, before, after):

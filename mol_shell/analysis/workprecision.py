@@ -92,7 +92,11 @@ def run_once(system, compiled, y0, times, name, value):
 def reference(system, compiled, y0, times, method=("cvode-adams", 1e-12), check=("ida", 1e-12)):
     """Reference fields and their convergence check (the relative difference of two independent runs)."""
     ref = run_once(system, compiled, y0, times, *method)
+    if ref.status == "interrupted":  # Ctrl-C, kept by the integrator as the run's end: nothing measured yet
+        raise KeyboardInterrupt
     other = run_once(system, compiled, y0, times, *check)
+    if other.status == "interrupted":
+        raise KeyboardInterrupt
     if ref.status != "complete" or other.status != "complete":
         failed = [run for run in (ref, other) if run.status != "complete"]
         when = min(float(getattr(run, "failure_time", float("nan"))) for run in failed)
@@ -177,7 +181,8 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
                     status[i, j], note[i, j] = "skipped", reason
                     log(f"{name:14s} {value:8.1e}  {reason}")
                     continue
-                run_once(system, compiled, y0, times, name, value)  # warm-up: compiled pieces, caches
+                if run_once(system, compiled, y0, times, name, value).status == "interrupted":  # the warm-up
+                    raise KeyboardInterrupt  # (compiled pieces, caches)
                 runs = []
                 for _ in range(repeats):
                     runs.append(run_once(system, compiled, y0, times, name, value))
@@ -198,8 +203,10 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
             raise
         interrupted = f"interrupted by the user at {name} {value:g}: the points before it measured, the rest not run"
         for i2, j2 in zip(*np.nonzero(status == "")):
-            if np.isfinite(data[swept(integrators[i2])][i2, j2]):
-                status[i2, j2], note[i2, j2] = "interrupted", "not run: the comparison was interrupted"
+            if j2 < len(plan[integrators[i2]]):  # a point of the sweep (the rest of the row is padding)
+                reason = plan[integrators[i2]][j2][1]
+                status[i2, j2], note[i2, j2] = ("skipped", reason) if reason else (
+                    "interrupted", "not run: the comparison was interrupted")
                 data["error"][i2, j2] = data["wall_time_s"][i2, j2] = np.nan
     # the swept value in two variables, each with its own units (one variable held rtol and leap-frog's dt in s)
     units = {"rtol": "1", "dt": "s", "error": "1", "wall_time_s": "s", "n_steps": "1", "n_rhs": "1", "n_jac": "1"}

@@ -269,6 +269,15 @@ def run_settings(args, run, scene, n):
         for key in sorted(set(from_file) - set(allowed)):
             print(f"mol-shell: note: the scene file's [run] {key} = {from_file.pop(key)!r} is not an option of "
                   f"{integrator} (--integrator): left out", file=sys.stderr)
+        while integrator in INTEGRATORS and from_file:  # options it has but refuses as set (jac_every without Newton)
+            try:
+                INTEGRATORS[integrator](**{k: v for k, v in from_file.items() if k in allowed})
+                break
+            except ParameterError as exc:
+                if exc.name not in from_file:
+                    break
+                print(f"mol-shell: note: the scene file's [run] {exc.name} = {from_file.pop(exc.name)!r} is not "
+                      f"taken by {integrator} (--integrator) as it is set ({exc}): left out", file=sys.stderr)
     options = from_file | integrator_option_args(args)
     check_options(scene, integrator, options, offered=CLI_OPTIONS)
     return times, t_end, integrator, options

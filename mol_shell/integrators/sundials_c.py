@@ -84,8 +84,10 @@ class _Compiled:
             for name, default in self.NEWTON_ONLY:
                 value = getattr(self, name, default)
                 if value != default:
-                    raise ParameterError(name, value, f"{default} (its default) with iteration = 'fixed-point'",
-                                         hint="an option of Newton's iteration: iteration = 'newton' takes it")
+                    raise ParameterError(name, value, f"its default ({default}) with iteration = 'fixed-point'",
+                                         message=f"{name} = {value} is an option of Newton's iteration, which "
+                                         f"{self.name} runs only with iteration = 'newton' (its iteration here is "
+                                         "'fixed-point', the default)")
         if self.jacobian == "dq" and self.linsolver == "sparse" and not self.fixed_point():
             raise ParameterError("jacobian", "dq", "{compiled, vm} with linsolver='sparse' (SUNDIALS' difference "
                                  "quotients need a dense or banded matrix)")

@@ -25,6 +25,7 @@ import dataclasses
 import functools
 import importlib
 import os
+import re
 import sys
 
 import casadi as ca
@@ -232,7 +233,7 @@ def renamed_law(material, version):
 
 def renamed_layers(text, version):
     """A file's ``layers`` string with each layer's law by its name now (:func:`renamed_law`)."""
-    if not any(name == material for name, _ in RENAMED for material in str(text).split()):
+    if not any((material, str(version)) in RENAMED for material in re.split(r"[;\s]+", str(text))):
         return text
     parts = []
     for part in str(text).split(";"):
@@ -279,7 +280,7 @@ def resolve_material(value):
         module, _, attr = value.partition(":")
         try:
             found = getattr(_import(module.strip()), attr.strip())
-        except Exception as exc:  # noqa: BLE001 - the user's module may raise anything on import (or not parse)
+        except (Exception, SystemExit) as exc:  # noqa: BLE001 - the user's module may raise anything on import
             raise ParameterError("material", value, _allowed(),
                                  hint=f"cannot import it ({type(exc).__name__}: {exc})") from None
         if not isinstance(found, Material):

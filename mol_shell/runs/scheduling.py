@@ -293,8 +293,9 @@ def check_workers(workers, scheduler):
 
 
 def most_workers():
-    """The most local processes a study takes: the machine's cores, at least 2."""
-    return max(2, os.cpu_count() or 1)
+    """The most local processes a study takes: the cores this process may run on, at least 2."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    return max(2, cores)
 
 
 def scheduler_name(scheduler):

@@ -261,7 +261,9 @@ def _check_max_step(method, t_end):
     max_step, max_steps = getattr(method, "max_step", 0.0) or 0.0, getattr(method, "max_steps", None)
     if max_step > 0 and max_steps and max_step * max_steps < t_end:
         low = t_end / max_steps
-        raise ParameterError("max_step", max_step, f"[{low:.4g}, inf) s, or 0 (none)",
+        shown = float(f"{low:.4g}")
+        shown = shown if shown >= low else float(f"{low * (1 + 5e-4):.4g}")  # rounded up: the bound shown is taken
+        raise ParameterError("max_step", max_step, f"[{shown:.4g}, inf) s, or 0 (none)",
                              hint=f"max_steps = {max_steps} steps of at most max_step must reach t = {t_end:g} s")
 
 

@@ -22,6 +22,8 @@ turn with ``chi``.
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
@@ -99,7 +101,7 @@ def reinforcing_fibres(ds, k, count=12, angle=None, families=None):
 
 
 def _fibre_panel(ax, ds, k, sets):
-    colour = iter(FAMILY_COLOURS * 4)
+    colour = itertools.cycle(FAMILY_COLOURS)  # up to 20 layers of 2 families: the colours come round again
     for label, alpha, families in sets:
         for j, (ref, cur) in enumerate(reinforcing_fibres(ds, k, angle=alpha, families=families)):
             for line in ref:

@@ -61,3 +61,20 @@ def test_an_interruption_in_the_middle_of_a_step_append():
     record.points = [{"step": 0}, {"step": 1}]
     record.truncate()
     assert record.lams == [1] and record.qs == [1] and record.points == [{"step": 0}]
+
+
+def test_an_interruption_while_a_steps_points_are_located_drops_that_steps_points():
+    """Ctrl-C inside ``locate_between`` (after the step was recorded whole) kept the points located so far, two folds
+    possibly both ``limit``: that step's points are dropped, the earlier ones kept."""
+    record = PathRecord.__new__(PathRecord)
+    lists = ("qs", "lams", "tls", "arcs", "iterations", "eigen", "negative", "det_sign", "stored", "phi", "volume",
+             "reactions", "branches")
+    for name in lists:
+        setattr(record, name, [0, 1, 2, 3])
+    record.points = [{"step": 0}, {"step": 2}, {"step": 2}]
+    record.locating = True  # the points between steps 2 and 3 were being located
+    record.truncate()
+    assert record.points == [{"step": 0}] and record.lams == [0, 1, 2, 3]
+    record.points, record.locating = [{"step": 0}, {"step": 2}], False
+    record.truncate()
+    assert record.points == [{"step": 0}, {"step": 2}]

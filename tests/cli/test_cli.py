@@ -362,11 +362,12 @@ def test_compare_interrupted_keeps_the_points_measured_and_exits_130(tmp_path, c
 
     original, calls = wp.run_once, [0]
 
-    def run_once(*args):
+    def run_once(*args):  # an interrupt as the integrators keep it: the run's end, status "interrupted"
         calls[0] += 1
+        traj = original(*args)
         if calls[0] == 5:  # dop853-c's second point: its warm-up done, its first timed run interrupted
-            raise KeyboardInterrupt
-        return original(*args)
+            traj.status = "interrupted"
+        return traj
 
     monkeypatch.setattr(wp, "run_once", run_once)
     monkeypatch.setattr(wp, "SWEEPS", {**wp.SWEEPS, "dop853-c": {"rtol": (1e-4, 1e-6, 1e-8)}})
@@ -382,3 +383,25 @@ def test_compare_interrupted_keeps_the_points_measured_and_exits_130(tmp_path, c
     assert set(ds.status.sel(integrator="rk45-c").values.tolist()) <= {"interrupted", ""}
     assert np.isfinite(float(ds.error.sel(integrator="dop853-c").isel(level=0)))
     assert "| rk45-c | interrupted before reached" in captured.out and "Not complete: interrupted" in captured.out
+
+
+@pytest.mark.parametrize("call", [1, 2, 3])
+def test_compare_interrupted_in_a_reference_or_a_warm_up_run_exits_130(tmp_path, capsys, monkeypatch, call):
+    """An interrupt in a reference run (calls 1, 2) was reported as the reference not completing (exit 3); in a
+    warm-up run (call 3) it was lost and the sweep went on (exit 0)."""
+    import mol_shell.analysis.workprecision as wp
+    from mol_shell.cli.main import main
+
+    original, calls = wp.run_once, [0]
+
+    def run_once(*args):
+        calls[0] += 1
+        traj = original(*args)
+        if calls[0] == call:
+            traj.status = "interrupted"
+        return traj
+
+    monkeypatch.setattr(wp, "run_once", run_once)
+    code = main(["compare", "twisted-cylinder", "--integrators", "dop853-c", "--n", "8", "--t-end", "2e-3",
+                 "--repeats", "1", "-o", str(tmp_path / "wp.nc")])
+    assert code == 130, capsys.readouterr().err

@@ -456,3 +456,14 @@ def test_incompressible_held_energy_gives_the_substituted_laws_forces_and_jacobi
     values = system.law_params
     w = float(condensed_energy(law, C, values))
     assert abs(w - float(law.energy(with_thickness(C, incompressible_thickness(C)), values))) <= 1e-12 * abs(w)
+
+
+def test_renamed_layers_reads_layers_joined_without_spaces():
+    """A layers string of an older file, ``"0.001 neo-hookean;0.001 svk"``, came back unchanged (its early check split
+    on spaces only): each layer's law is renamed, however the layers are joined."""
+    from mol_shell.model.laws import renamed_layers
+
+    for text in ("0.001 neo-hookean;0.001 svk", "0.001 svk; 0.001 neo-hookean", " 0.001  neo-hookean ; 0.001 svk"):
+        words = renamed_layers(text, "0.6.0.dev0").replace(";", " ; ").split()
+        assert "neo-hookean-log" in words and "neo-hookean" not in words, text
+    assert renamed_layers("0.001 neo-hookean;0.001 svk", "0.6.0.dev1") == "0.001 neo-hookean;0.001 svk"

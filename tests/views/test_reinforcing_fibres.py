@@ -68,7 +68,7 @@ def test_fibres_of_a_layer_are_drawn_and_a_layers_unused_fibre_key_is_said(tmp_p
     said = [str(w.message) for w in caught if issubclass(w.category, mol_shell.MaterialWarning)]
     assert any(m.startswith("layer 1 (0.012 m): fibre_angle = 0.4 is unused") for m in said), said
     assert fibre_sets(ds) == [("layer 2", 0.5, 2)]
-    (ref, _), (ref2, _) = reinforcing_fibres(ds, 1, count=4, angle=0.5, families=2)
+    (ref, _), _ = reinforcing_fibres(ds, 1, count=4, angle=0.5, families=2)
     s = np.linspace(0.0, 4.0, 64)
     np.testing.assert_allclose(ref[0][:, 1], np.where(np.cos(np.tan(0.5) * s) >= 0, np.sin(np.tan(0.5) * s), np.nan),
                                atol=1e-12)
@@ -78,3 +78,18 @@ def test_fibres_of_a_layer_are_drawn_and_a_layers_unused_fibre_key_is_said(tmp_p
     assert labels == ["layer 2: +28.6 deg", "layer 2: -28.6 deg"]
     plt.close(fig)
     assert fibre_sets(ds.assign_attrs(layers="0.02 svk-plane-stress")) == []
+
+
+def test_twenty_layers_of_two_families_each_get_a_colour():
+    """13 or more two-family layers ran out of colours (StopIteration, an internal error): they come round again."""
+    import matplotlib.pyplot as plt
+
+    from mol_shell.views.fibres import _fibre_panel
+
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(fibre_E=1e7, fibre_angle=0.7), "leapfrog", n=8,
+                            times=[0.0, 1e-4], progress=False)
+    sets = [(f"layer {k}", 0.1 * k, 2) for k in range(1, 21)]
+    fig, ax = plt.subplots()
+    _fibre_panel(ax, ds, 1, sets)
+    assert len(ax.get_legend().get_texts()) == 40
+    plt.close(fig)
