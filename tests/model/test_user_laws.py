@@ -238,7 +238,7 @@ def test_an_import_path_is_found_in_the_working_directory_as_python_m_finds_it(t
 
 
 @pytest.mark.parametrize("source, error", [('raise RuntimeError("boom")\n', "RuntimeError: boom"),
-                                           ("x = (\n", "SyntaxError")])
+                                           ("x = (\n", "SyntaxError"), ("import sys\nsys.exit(3)\n", "SystemExit: 3")])
 def test_a_module_that_raises_or_does_not_parse_is_refused_naming_material(tmp_path, monkeypatch, capsys,
                                                                           source, error):
     """A module of laws that raises on import, or is not Python, was an internal error ("a bug of mol_shell"): it is
