@@ -298,7 +298,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     -------
     xarray.Dataset
         Along ``step``: ``parameter``, the fields, ``arclength``, ``negative_eigenvalues``,
-        ``smallest_eigenvalues``, ``stiffness_det_sign``, ``stored_energy``, ``load_work``, ``volume``;
+        ``smallest_eigenvalues``, ``stiffness_det_sign``, ``stored_energy``, ``load_work``, ``volume`` (a closed shell's);
         along ``point``: the critical points. ``attrs["status"]`` is ``complete`` (``stop`` reached),
         ``max_steps``, ``failed``, ``limit`` or ``interrupted`` (Ctrl-C: the steps so far; ``attrs["message"]`` says
         where).

@@ -245,7 +245,7 @@ def baseline_time(ds, baseline=("leapfrog", 1e-6)):
     that stopped, unstable or at a limit, would be measured against a part of the work)."""
     name, value = baseline
     if name not in ds.integrator.values:
-        return None, ""
+        return None, f"{name} was not among the integrators compared (--integrators)"
     row = ds.sel(integrator=name)
     hit = np.flatnonzero(np.isclose(settings(ds, name), value))
     if not hit.size:

@@ -247,3 +247,14 @@ def test_a_viscous_run_without_loads_says_its_balance_is_the_quadratures():
     assert 70 < residuals[0] / residuals[1] < 130, residuals
     title = history_figure(ds).axes[1].get_title()
     assert "trapezoidal rule on 101 saved times: the balance measures that rule, not the run" in title, title
+
+
+def test_compare_without_the_baseline_says_why_its_speed_up_column_is_empty():
+    """``compare --integrators dop853-c`` left the speed-up column empty with no word: n/a, and why, under the table."""
+    ds = work_precision("twisted-cylinder", ["dop853-c"], n=8, times=[0.0, 1e-3], repeats=1,
+                        sweeps={"dop853-c": {"rtol": (1e-6, 1e-8)}}, log=lambda *a: None)
+    table = markdown_table(ds)
+    row = next(line for line in table.splitlines() if line.startswith("| dop853-c |"))
+    assert row.endswith("| n/a |"), row
+    assert table.splitlines()[-1] == ("Speed-up n/a: the baseline leapfrog was not among the integrators compared "
+                                      "(--integrators), so no speed-up is measured against it.")
