@@ -298,7 +298,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     -------
     xarray.Dataset
         Along ``step``: ``parameter``, the fields, ``arclength``, ``negative_eigenvalues``,
-        ``smallest_eigenvalues``, ``stiffness_det_sign``, ``stored_energy``, ``load_work``, ``volume`` (a closed shell's);
+        ``smallest_eigenvalues``, ``stiffness_det_sign``, ``stored_energy``, ``load_work``, ``volume`` (a closed
+        shell's);
         along ``point``: the critical points. ``attrs["status"]`` is ``complete`` (``stop`` reached),
         ``max_steps``, ``failed``, ``limit`` or ``interrupted`` (Ctrl-C: the steps so far; ``attrs["message"]`` says
         where).
@@ -338,10 +339,10 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
                             q_new, lam_new, t_new, secant, its = secant_start(tracer, q, lam, steps, MIN_HALVINGS,
                                                                              PathFailed)
                         except PathFailed as again:
-                            secant = exc = PathFailed("newton", f"{exc}; nor did Newton at a fixed load past it find an "
-                                                      f"equilibrium ({again}): the tangent may not be defined there, or the "
-                                                      f"range is too wide for a first step (a nearer stop or more "
-                                                      f"steps, --steps, shorten it)")
+                            secant = exc = PathFailed("newton", f"{exc}; nor did Newton at a fixed load past it "
+                                                      f"find an equilibrium ({again}): the tangent may not be "
+                                                      f"defined there, or the range is too wide for a first step "
+                                                      f"(a nearer stop or more steps, --steps, shorten it)")
                         else:
                             record.add(q_new, lam_new, t_new, tracer.distance(q, lam, q_new, lam_new), its)
                             record.locate_between(-2, -1, (q, lam, secant))

@@ -31,6 +31,8 @@ class PathRecord:
         self.points = []
         #: 0 on the path from start, 1 on the branch switched to (``path(..., branch=K)``)
         self.branch, self.branches = 0, []
+        #: whether a step's critical points are being located (an interruption then leaves them half done)
+        self.locating = False
 
     def add(self, q, lam, t, arc, its):
         w2, _, negative, sign = stability(self.eq, q, lam)
@@ -60,7 +62,7 @@ class PathRecord:
         for x in lists:
             del x[whole:]
         # the points of steps kept, less those of a step whose locating was cut short (all of them or none)
-        last = whole - 2 if getattr(self, "locating", False) else whole
+        last = whole - 2 if self.locating else whole
         self.points = [p for p in self.points if p["step"] < last]
 
     def show(self, step=0):
@@ -84,7 +86,7 @@ class PathRecord:
             return
         kind = "limit" if self.tls[i] * self.tls[j] < 0 else "bifurcation"
         found = len(self.points)
-        self.locating = True  # an interruption before the end leaves this step's points half done (truncate)
+        self.locating = True
         for index in range(min(before, after), max(before, after)):  # the eigenvalues (ascending) that cross zero
             self._locate(i, j, origin, index, kind, before, after)
         if kind == "limit":
@@ -166,7 +168,6 @@ class PathRecord:
                             "chi_share": share, "eigenvalue": w2[k], "mode": mode, "q": q, "located": located,
                             "reactions": self.eq.reactions(q, lam),
                             "negative_before": before, "negative_after": after})
-
 
     def _load_work(self, point):
         """``(|phi . F_lambda| / (|phi| |F_lambda|), F_lambda)`` of a critical point: how much its mode works

@@ -47,8 +47,8 @@ class Law:
     Newton iteration on ``dW/dC_22`` (:func:`~mol_shell.model.hyperelastic.plane_stress_thickness`).
     ``held_energy``: optionally ``(C, values, params) -> W`` with ``values = condense(C, params)`` then a tuple,
     ``C_22`` first, then what the solve found on the way (``neo-hookean``: ``det C``; ``neo-hookean-log``:
-    ``ln det C`` and ``det C``): the energy at ``C_22 = values[0]`` written with them, of the same value and the same first
-    derivatives in ``C`` at those values as ``energy`` (so it may skip work the solve has done).
+    ``ln det C`` and ``det C``): the energy at ``C_22 = values[0]`` written with them, of the same value and the
+    same first derivatives in ``C`` at those values as ``energy`` (so it may skip work the solve has done).
     """
 
     name: str

@@ -9,8 +9,8 @@ per-cell thickness moments). Every other law is a :class:`Law`, integrated throu
   stress in closed form (:func:`neo_hookean_condense`, the energy then written with that ``det C``,
   :func:`neo_hookean_held`);
 - ``neo-hookean-log``: ``W = mu/2 (I1 - 3) - mu ln J + lambda/2 (ln J)^2`` (the volumetric term of Bonet and Wood,
-  FEBio and COMSOL; its ``J``-dependent part is not convex beyond ``J = e^(1 + mu/lambda)``), the same Lame pair; plane stress by its
-  own scalar Halley solve (:func:`neo_hookean_log_solve`, the energy then written with its ``ln det C``,
+  FEBio and COMSOL; its ``J``-dependent part is not convex beyond ``J = e^(1 + mu/lambda)``), the same Lame pair;
+  plane stress by its own scalar Halley solve (:func:`neo_hookean_log_solve`, the energy then written with its ``ln det C``,
   :func:`neo_hookean_log_held`);
 - ``neo-hookean-incompressible``: ``W = mu/2 (I1 - 3)``, ``mu = E/3``, ``det C = 1``;
 - ``mooney-rivlin``: ``W = c10 (I1 - 3) + c01 (I2 - 3)``, ``det C = 1`` (``c10, c01`` in Pa; small-strain shear
@@ -215,8 +215,13 @@ LAWS = {
 #: every value of the scene parameter ``material``
 MATERIALS = tuple(SVK_MATERIALS) + tuple(LAWS)
 RESERVED.update(MATERIALS)
-#: the compressible laws beyond SVK: the Lame pair of ``E, nu``, plane stress, ``0 <= nu < 0.5``
-COMPRESSIBLE = ("neo-hookean", "neo-hookean-log")
+#: the compressible laws beyond SVK (the Lame pair of ``E, nu``, plane stress) and why each takes ``0 <= nu < 0.5``
+#: (said when a scene's ``nu`` is refused)
+COMPRESSIBLE_WHY = {
+    "neo-hookean": "its thickness stretch in plane stress is positive at every stretch for 0 <= nu < 0.5",
+    "neo-hookean-log": "its thickness stretch is condensed by 2 Halley steps, checked converged for 0 <= nu < 0.5",
+}
+COMPRESSIBLE = tuple(COMPRESSIBLE_WHY)
 #: scene parameters read by one law only
 LAW_PARAMETERS = {"mooney-rivlin": ("c10", "c01")}
 

@@ -21,6 +21,7 @@ from mol_shell._core.ranges import Choice, Interval, finite, non_negative, posit
 from mol_shell.model.edges import check_displacements, check_edge, resolve_edges
 from mol_shell.model.geometry import base_offset, thickness_factors
 from mol_shell.model.laws import (
+    COMPRESSIBLE_WHY,
     MATERIALS,
     layer_scenes,
     parameter_text,
@@ -123,8 +124,8 @@ class ShellScene:
         ``"svk-plane-stress"`` (thickness stress condensed out; :func:`mol_shell.model.material.effective_lame`),
         ``"neo-hookean"`` (compressible, ``E, nu``, plane stress; Ciarlet and Geymonat's volumetric term),
         ``"neo-hookean-log"`` (the same with a ``(ln J)^2`` volumetric term), ``"neo-hookean-incompressible"``
-        (shear modulus ``E/3``) or ``"mooney-rivlin"`` (incompressible, ``c10, c01``) (:mod:`mol_shell.model.laws`); or a law of
-        one's own: a :class:`mol_shell.Material` (stored as its name), or its import path ``"package.module:attr"``
+        (shear modulus ``E/3``) or ``"mooney-rivlin"`` (incompressible, ``c10, c01``) (:mod:`mol_shell.model.laws`);
+        or a law of one's own: a :class:`mol_shell.Material` (stored as its name), or its import path ``"package.module:attr"``
         (scene files, ``--set``, a study's workers; stored as the path). See docs/materials.md.
     material_parameters : str or dict
         A law of one's own (:class:`mol_shell.Material`) with some of its parameters changed: ``"mu=3e5 k=1e4"`` or
@@ -262,12 +263,9 @@ class ShellScene:
             object.__setattr__(self, f.name, None if auto else value.item() if isinstance(value, np.generic) else value)
         _check("h", self.h, Interval(0.0, math.inf, unit="m", shown="(0, inf) m, and the thickness off the axis"))
         _check("E", self.E, positive("Pa"))
-        if self.material == "neo-hookean":  # its closed-form condensation needs 2 mu + lambda M > 0
-            _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True), hint="material = neo-hookean: its thickness "
-                   "stretch in plane stress is positive at every stretch for 0 <= nu < 0.5")
-        elif self.material == "neo-hookean-log":  # its plane-stress condensation is shown converged for these
-            _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True), hint="material = neo-hookean-log: its "
-                   "thickness stretch is condensed by 2 Halley steps, checked converged for 0 <= nu < 0.5")
+        if self.material in COMPRESSIBLE_WHY:  # the compressible laws' plane-stress condensations hold for these
+            _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True),
+                   hint=f"material = {self.material}: {COMPRESSIBLE_WHY[self.material]}")
         else:
             _check("nu", self.nu, Interval(-1.0, 0.5))
         _check("rho", self.rho, positive("kg/m^3"))

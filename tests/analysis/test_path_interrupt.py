@@ -58,7 +58,7 @@ def test_an_interruption_in_the_middle_of_a_step_append():
     record.qs, record.lams, record.tls, record.arcs, record.iterations = [1, 2], [1, 2], [1, 2], [1, 2], [1, 2]
     record.eigen, record.negative, record.det_sign = [1, 2], [1, 2], [1]
     record.stored, record.phi, record.volume, record.reactions, record.branches = [1], [1], [1], [1], [1, 2]
-    record.points = [{"step": 0}, {"step": 1}]
+    record.points, record.locating = [{"step": 0}, {"step": 1}], False
     record.truncate()
     assert record.lams == [1] and record.qs == [1] and record.points == [{"step": 0}]
 

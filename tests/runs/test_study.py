@@ -192,9 +192,9 @@ def test_a_study_whose_every_case_is_refused_exits_2_naming_the_parameter(tmp_pa
 STUDY_BAD = [
     (["--vary", "gamma=0.1,0.2", "--vary", "gamma=0.3"], "--vary = 'gamma=0.3' varies gamma a second time"),
     (["--vary", "gamma=0.1,0.2", "--set", "gamma=0.3"], "--set = 'gamma=0.3' sets gamma, which --vary varies"),
-    (["--vary", "gamma=0.1,0.2", "--workers", "0"], f"--workers = 0 is outside integers in [1, {max(2, os.cpu_count())}]"),
-    (["--vary", "gamma=0.1,0.2", "--workers", "-3"], f"--workers = -3 is outside integers in [1, {max(2, os.cpu_count())}]"),
-    (["--vary", "gamma=0.1,0.2", "--workers", "1000"], f"--workers = 1000 is outside integers in [1, {max(2, os.cpu_count())}]"),
+    (["--vary", "gamma=0.1,0.2", "--workers", "0"], f"--workers = 0 is outside integers in [1, {scheduling.most_workers()}]"),
+    (["--vary", "gamma=0.1,0.2", "--workers", "-3"], f"--workers = -3 is outside integers in [1, {scheduling.most_workers()}]"),
+    (["--vary", "gamma=0.1,0.2", "--workers", "1000"], f"--workers = 1000 is outside integers in [1, {scheduling.most_workers()}]"),
     (["--vary", "gamma=0.1,0.2", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: dt; also chunk"),
     (["--vary", "gamma=0.1,0.2", "--integrator", "cvode-bdf", "--dt", "1e-6"], "dt is not an option of cvode-bdf"),
     (["--vary", "rtol=1e-6,1e-7"], "vary = 'rtol' is outside {"),
