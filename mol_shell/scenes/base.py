@@ -263,7 +263,8 @@ class ShellScene:
             object.__setattr__(self, f.name, None if auto else value.item() if isinstance(value, np.generic) else value)
         _check("h", self.h, Interval(0.0, math.inf, unit="m", shown="(0, inf) m, and the thickness off the axis"))
         _check("E", self.E, positive("Pa"))
-        if self.material in COMPRESSIBLE_WHY:  # the compressible laws' plane-stress condensations hold for these
+        if isinstance(self.material, str) and self.material in COMPRESSIBLE_WHY:  # their condensations hold there
+            # (a material of the wrong type, unhashable, is refused by its own check below)
             _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True),
                    hint=f"material = {self.material}: {COMPRESSIBLE_WHY[self.material]}")
         else:
