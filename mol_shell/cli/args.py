@@ -183,7 +183,10 @@ def _number_text(text):
 
 def number_arg(name, low=0.0, high=np.inf, *, low_closed=False, high_closed=False, unit=""):
     """An argparse ``type``: a float in the interval, or a one-line error naming ``name`` and the interval."""
-    allowed = f"{'[' if low_closed else '('}{low:g}, {high:g}{']' if high_closed else ')'}" + (f" {unit}" if unit else "")
+    if low == -np.inf and high == np.inf:
+        allowed = "finite numbers" + (f" [{unit}]" if unit else "")
+    else:
+        allowed = f"{'[' if low_closed else '('}{low:g}, {high:g}{']' if high_closed else ')'}" + (f" {unit}" if unit else "")
 
     def convert(text):
         try:
@@ -192,7 +195,9 @@ def number_arg(name, low=0.0, high=np.inf, *, low_closed=False, high_closed=Fals
             raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is not a number; allowed: {allowed}") from None
         above = value >= low if low_closed else value > low
         below = value <= high if high_closed else value < high
-        if not (np.isfinite(value) and above and below):
+        if not np.isfinite(value):
+            raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is not a finite number; allowed: {allowed}")
+        if not (above and below):
             raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is outside {allowed}")
         return value
 
