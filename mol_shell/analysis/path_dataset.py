@@ -10,13 +10,17 @@ from mol_shell.analysis.path_inputs import loads_at_rest
 from mol_shell.analysis.path_stability import LOCATE_RTOL
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import attr_value, coordinates, header, variables
-from mol_shell.results.dataset import FIELD_META
+from mol_shell.results.dataset import FIELD_META, scene_attrs
 from mol_shell.runs.ellipticity import CONSEQUENCE, LONG_NAME, sampled_margins, state_minimum, unchecked_note
 from mol_shell.scenes import DESCRIPTIONS
 
 #: what every path file says about its critical loads
 SYMMETRY_NOTE = ("critical points are those of rotationally symmetric modes only (the model has no circumferential "
                  "waves): where the real shell buckles into a non-symmetric mode they are upper bounds")
+
+
+#: the scenes' initial-data parameters that ``None`` leaves to the code (a run's start, not a path's state)
+INITIAL_DATA = ("R", "dilation")
 
 
 def _shape(eq, vector):
@@ -147,9 +151,12 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
             f"{units}) at s = {where:.6g} m (cell centre; the first {'step' if every == 1 else 'checked step'} where "
             f"d2W/d(q_s)2 is not positive definite: {CONSEQUENCE}); critical points past it are the grid's")
     params = scene.params()
-    for name, value in params.items():
-        if name != eq.parameter:
+    for name, value in scene_attrs(scene, system.edges, system.thickness.zeta1).items():
+        if name not in (eq.parameter, f"units_{eq.parameter}"):
             attrs[name] = value
+    for name in INITIAL_DATA:  # a run's initial data left to the code: no path state is a run's start
+        if attrs.get(name, "") is None:
+            attrs[name] = "auto"
     history = eq.parameter + "_history"
     if history in params:  # every state is at rest under a constant load (a run or modes --from starts there)
         attrs[history] = "constant"

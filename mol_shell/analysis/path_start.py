@@ -58,6 +58,9 @@ def path_scene(ds, value):
         raise ParameterError.invalid("--from", name, "names no registered scene", ALLOWED)
     fields = {f.name for f in dataclasses.fields(SCENES[name])}
     params = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in ds.attrs.items() if k in fields}
+    for k in fields & params.keys():  # left to the code when the path was traced (stored as the values used): again
+        if ds.attrs.get(f"{k}_requested") == "auto":
+            params[k] = None
     version = ds.attrs.get("mol_shell_version", "")
     if "material" in params:  # a law renamed since the file was written: by its name now
         params["material"] = renamed_law(params["material"], version)

@@ -31,8 +31,9 @@ TIME_COMMENT = ("model time in seconds from the start of the run, without a cale
 def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=None):
     """Every parameter of ``scene`` as the run used it, each with its ``units_NAME``, for a Dataset's attrs.
 
-    A parameter left to the code (``None``, "auto": the edges, ``zeta1``, ``R`` or ``dilation``) is stored as
-    the value used (the edge kinds ``edges`` chosen, the number ``zeta1``, and what the scene's
+    A parameter left to the code (``None``, "auto": the edges, ``zeta1``, a vessel's ``crown`` and ``knuckle``,
+    ``R`` or ``dilation``) is stored as the value used (the edge kinds ``edges`` chosen, the number ``zeta1``, the
+    scene's :meth:`~mol_shell.scenes.ShellScene.geometry_values`, and what the scene's
     :meth:`~mol_shell.scenes.ShellScene.auto_values` says of the nodal ``(z, r)`` of ``initial`` against
     ``reference``) with ``NAME_requested = "auto"`` beside it. ``requested``: the parameters as asked, when
     ``scene`` had some of them computed before (``R`` of a cylinder: :func:`mol_shell.runs.checks.resolve`).
@@ -42,6 +43,7 @@ def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=Non
     used["end1"], used["end2"] = edges
     if "zeta1" in used:
         used["zeta1"] = float(zeta1)
+    used.update(scene.geometry_values())
     if initial is not None:
         used.update(scene.auto_values(initial, reference))
     meta = {}

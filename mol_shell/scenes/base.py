@@ -396,6 +396,10 @@ class ShellScene:
         """
         return {}
 
+    def geometry_values(self):
+        """``{name: value}``: the geometric parameters left to the code (``None``, "auto") as the meridian uses them."""
+        return {}
+
     def stand_ins(self):
         """One line for each built-in stand-in the scene runs with in place of data a user is expected to give
         (the meridian scene without a file of points); the command line prints them as notes."""

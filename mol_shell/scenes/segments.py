@@ -202,11 +202,22 @@ class Vessel(_Dilated):
         if self.segments.strip():
             check_segmented(self.segments, mer)
 
+    def _heads(self):
+        """The heads' crown and knuckle radii, the defaults (``2a``, ``0.2a``) for those left to the code."""
+        return (2 * self.a if self.crown is None else self.crown,
+                0.2 * self.a if self.knuckle is None else self.knuckle)
+
+    def geometry_values(self):
+        """``crown``/``knuckle`` left to the code, as the meridian uses them (none when ``segments`` replaces them)."""
+        if self.segments.strip():
+            return {}
+        crown, knuckle = self._heads()
+        return {name: value for name, value in (("crown", crown), ("knuckle", knuckle)) if getattr(self, name) is None}
+
     def meridian(self):
         if self.segments.strip():
             return SegmentedMeridian(tuple(parse_segments(self.segments)))
-        crown = 2 * self.a if self.crown is None else self.crown
-        knuckle = 0.2 * self.a if self.knuckle is None else self.knuckle
+        crown, knuckle = self._heads()
         bottom = head(self.a, crown, knuckle)
         middle = [("line", self.Lc)] if self.Lc > 0 else []
         return SegmentedMeridian(tuple(bottom + middle + bottom[::-1]))

@@ -99,6 +99,31 @@ def test_modes_store_the_values_used_too():
     assert ds.attrs["R"] == 1.0 and ds.attrs["R_requested"] == "auto" and ds.attrs["end1"] == "pole"
 
 
+def test_a_vessel_stores_the_head_radii_it_used():
+    """The vessel's crown and knuckle left to the code are its documented defaults 2a and 0.2a; the stored values
+    rebuild the same meridian."""
+    scene = mol_shell.Vessel(a=0.5)
+    ds = run(scene, n=12)
+    assert ds.attrs["crown"] == 1.0 and ds.attrs["crown_requested"] == "auto"
+    assert ds.attrs["knuckle"] == 0.1 and ds.attrs["knuckle_requested"] == "auto"
+    again = mol_shell.Vessel(a=0.5, crown=ds.attrs["crown"], knuckle=ds.attrs["knuckle"])
+    assert again.meridian().describe() == scene.meridian().describe()
+    drawn = run(mol_shell.Vessel(segments="arc 0.5 90, line 1, arc 0.5 90"), n=12)
+    assert drawn.attrs["crown"] == "none" and "crown_requested" not in drawn.attrs  # segments replace the heads
+
+
+def test_a_path_stores_the_values_used_and_no_placeholder():
+    """A path's edges, lower face and vessel heads are the values used, as in a run file; a run's initial data
+    (R, dilation) left to the code reads auto, since no path state is a run's start."""
+    for scene in (mol_shell.Sphere(), mol_shell.Vessel()):
+        ds = mol_shell.path(scene, "pressure", 0.0, 50.0, n=10, max_steps=2, progress=False)
+        assert (ds.attrs["end1"], ds.attrs["end2"]) == ("pole", "pole") and ds.attrs["end1_requested"] == "auto"
+        assert ds.attrs["zeta1"] == ds.attrs["zeta1_used"] < 0 and ds.attrs["units_zeta1"] == "m"
+        assert "none" not in ds.attrs.values(), [k for k, v in ds.attrs.items() if v == "none"]
+    assert ds.attrs["crown"] == 2.0 and ds.attrs["knuckle"] == 0.2 and ds.attrs["dilation"] == "auto"
+    assert "pressure" not in ds.attrs and "units_pressure" not in ds.attrs  # the path's values, not the scene's
+
+
 # -- item 11: reactions at edges that are not driven -------------------------------------------------------
 def test_a_free_edge_carries_no_reaction_and_a_held_one_is_computed():
     """A cone spun at its first edge (a magnet: ``z`` held, ``chi`` driven): the torque and force at the free
