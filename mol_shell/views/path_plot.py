@@ -17,6 +17,14 @@ from mol_shell.views.figures import save_figure
 #: the critical mode as drawn: its largest displacement this fraction of the meridian's size
 MODE_SCALE = 0.1
 MARKERS = {"limit": "^", "bifurcation": "o"}
+#: what ``load_conjugate`` is for each continued parameter (mol_shell.analysis.equilibria), for the axis label
+CONJUGATE_MEANING = {"pressure": "enclosed volume", "gravity": "minus the mass-weighted height",
+                     "end1_force": "z of edge 1", "end2_force": "z of edge 2", "end1_torque": "chi of edge 1",
+                     "end2_torque": "chi of edge 2", "end1_dz": "reaction force at edge 1",
+                     "end2_dz": "reaction force at edge 2", "end1_dchi": "reaction torque at edge 1",
+                     "end2_dchi": "reaction torque at edge 2"}
+#: critical points nearer than this share of the axes' ranges (in both directions) share one label
+CLOSE = 0.04
 
 
 def responses(ds):
@@ -38,7 +46,49 @@ def response_values(ds, response):
         var = ds[field]
         return var.values[:, node], f"{field} at s = {float(ds.s[node]):.4g} m [{var.attrs.get('units', '')}]"
     var = ds[response]
-    return var.values, f"{response} [{var.attrs.get('units', '')}]"
+    meaning = CONJUGATE_MEANING.get(str(ds.attrs.get("parameter"))) if response == "load_conjugate" else None
+    return var.values, (f"{meaning} ({response})" if meaning else response) + f" [{var.attrs.get('units', '')}]"
+
+
+def critical_response(ds, x, m):
+    """The response at critical point ``m``, which lies between steps ``k = point_step`` and ``k + 1``: by linear
+    interpolation in the load (limit points, whose load turns there: the nearer step's)."""
+    lam, kind, k, at = ds.parameter.values, str(ds.point_kind.values[m]), int(ds.point_step.values[m]), \
+        float(ds.point_parameter.values[m])
+    if kind == "limit" or k + 1 >= len(lam) or lam[k + 1] == lam[k]:
+        return x[k] if k + 1 >= len(lam) or abs(lam[k] - at) <= abs(lam[k + 1] - at) else x[k + 1]
+    return x[k] + (at - lam[k]) / (lam[k + 1] - lam[k]) * (x[k + 1] - x[k])
+
+
+def _pieces(ds, x, marks):
+    """The path as ``(xs, loads, stable)`` pieces: each step's segment split at its critical points (in the order
+    found), the piece before the first as stable as the step it leaves, after the last as the step it reaches,
+    between two unstable."""
+    lam, stable = ds.parameter.values, ds.negative_eigenvalues.values == 0
+    steps = ds.point_step.values if "point_step" in ds else np.zeros(0, int)
+    out = []
+    for k in range(len(lam) - 1):
+        ends = [(x[k], lam[k])] + [marks[m] for m in np.flatnonzero(steps == k)] + [(x[k + 1], lam[k + 1])]
+        for j in range(len(ends) - 1):
+            ok = stable[k] if j == 0 else stable[k + 1] if j == len(ends) - 2 else False
+            if len(ends) == 2:
+                ok = stable[k] and stable[k + 1]
+            out.append(([ends[j][0], ends[j + 1][0]], [ends[j][1], ends[j + 1][1]], ok))
+    return out
+
+
+def _label_groups(points, spans):
+    """Indices of ``points`` grouped so that each is within :data:`CLOSE` of its group's first point."""
+    groups = []
+    for m, (px, py) in enumerate(points):
+        for group in groups:
+            gx, gy = points[group[0]]
+            if abs(px - gx) <= CLOSE * spans[0] and abs(py - gy) <= CLOSE * spans[1]:
+                group.append(m)
+                break
+        else:
+            groups.append([m])
+    return groups
 
 
 def path_figure(ds, response="load_conjugate"):
@@ -48,31 +98,22 @@ def path_figure(ds, response="load_conjugate"):
     x, xlabel = response_values(ds, response)
     lam = ds.parameter.values
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.6))
-    stable = ds.negative_eigenvalues.values == 0
-    # each segment drawn in the style of its less stable end
-    for k in range(len(lam) - 1):
-        ok = stable[k] and stable[k + 1]
-        left.plot(x[k:k + 2], lam[k:k + 2], "-" if ok else "--", color="tab:blue" if ok else "tab:red", lw=1.5)
-    left.plot(x, lam, ".", color="0.3", ms=3)
     npoints = ds.sizes.get("point", 0)
-    for m in range(npoints):
-        kind = str(ds.point_kind.values[m])
-        k = int(ds.point_step.values[m])
-        # the point lies between steps k and k + 1: the response there by linear interpolation in the load (limit
-        # points: the nearer step's)
-        if kind == "limit" or k + 1 >= len(lam) or lam[k + 1] == lam[k]:
-            xm = x[k] if k + 1 >= len(lam) or abs(lam[k] - ds.point_parameter.values[m]) <= abs(
-                lam[k + 1] - ds.point_parameter.values[m]) else x[k + 1]
-        else:
-            w = (ds.point_parameter.values[m] - lam[k]) / (lam[k + 1] - lam[k])
-            xm = x[k] + w * (x[k + 1] - x[k])
-        left.plot(xm, ds.point_parameter.values[m], MARKERS.get(kind, "s"), color="k", mfc="none", ms=9)
-        left.annotate(str(m), (xm, ds.point_parameter.values[m]), textcoords="offset points", xytext=(6, 4),
-                      fontsize=8)
+    marks = [(critical_response(ds, x, m), float(ds.point_parameter.values[m])) for m in range(npoints)]
+    for xs, loads, ok in _pieces(ds, x, marks):
+        left.plot(xs, loads, "-" if ok else "--", color="tab:blue" if ok else "tab:red", lw=1.5)
+    left.plot(x, lam, ".", color="0.3", ms=3)
+    for m, (xm, lm) in enumerate(marks):
+        left.plot(xm, lm, MARKERS.get(str(ds.point_kind.values[m]), "s"), color="k", mfc="none", ms=9)
+    spans = [max(float(np.ptp(np.r_[values, [p[i] for p in marks]])), 1e-300) for i, values in enumerate((x, lam))]
+    for group in _label_groups(marks, spans):  # points at nearly one place: one label, "0-2" or "0, 2"
+        text = (f"{group[0]}-{group[-1]}" if len(group) > 2 and group == list(range(group[0], group[-1] + 1))
+                else ", ".join(map(str, group)))
+        left.annotate(text, marks[group[0]], textcoords="offset points", xytext=(7, 5), fontsize=8)
     units = ds.parameter.attrs.get("units", "")
     left.set_xlabel(xlabel)
     left.set_ylabel(f"{ds.attrs['parameter']} [{units}]")
-    left.set_title(f"{ds.attrs.get('scene', '')}: {ds.attrs['parameter']} against {response}\n"
+    left.set_title(f"{ds.attrs.get('scene', '')}: {ds.attrs['parameter']} against {xlabel.rpartition(' [')[0]}\n"
                    "solid stable, dashed unstable; ^ limit, o bifurcation", fontsize=9)
     r0, z0 = ds.r0.values, ds.z0.values
     right.plot(r0, z0, color="0.7", lw=1, label="reference")
@@ -92,7 +133,9 @@ def path_figure(ds, response="load_conjugate"):
     right.set_ylabel("z [m]")
     right.set_title("critical modes on the meridian (bold; thin: the equilibrium there)" if npoints else
                     "no critical points on this path", fontsize=9)
-    right.legend(fontsize=7, loc="best")
+    if npoints:  # below the meridian: inside, it covers the modes
+        right.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=1 if npoints < 4 else 2,
+                     frameon=False)
     fig.tight_layout()
     return fig
 
