@@ -416,11 +416,14 @@ def locking_warnings(scene):
 
 def unused_fibres_warnings(scene):
     """The lines of :func:`~mol_shell.model.fibres.unused_fibres_warning` for ``scene``: its own; for a layered wall
-    one per layer whose fibre parameters ``fibre_E = 0`` leaves unused (named by its place and thickness)."""
+    one per layer whose fibre parameters ``fibre_E = 0`` leaves unused (named by its place and thickness), or one
+    for all when every layer has the same (the scene's fibre keys, which each layer takes)."""
     if not getattr(scene, "layers", ""):
         note = unused_fibres_warning(scene)
         return [note] if note else []
     notes = [(k, t, unused_fibres_warning(sub)) for k, (t, sub) in enumerate(layer_scenes(scene), 1)]
+    if len(notes) > 1 and all(note == notes[0][2] for _, _, note in notes) and notes[0][2]:
+        return [f"every layer: {notes[0][2]}"]
     return [f"layer {k} ({t:g} m): {note}" for k, t, note in notes if note]
 
 

@@ -93,3 +93,16 @@ def test_twenty_layers_of_two_families_each_get_a_colour():
     _fibre_panel(ax, ds, 1, sets)
     assert len(ax.get_legend().get_texts()) == 40
     plt.close(fig)
+
+
+def test_a_scene_level_fibre_key_unused_by_every_layer_is_said_once():
+    """A scene-level ``fibre_angle`` without ``fibre_E`` reaches every layer; it was warned once per layer, the
+    same line repeated. A layer of its own keeps its own line."""
+    from mol_shell.model.laws import unused_fibres_warnings
+
+    layers = "0.012 neo-hookean-incompressible; 0.008 svk-plane-stress nu=0.3"
+    said = unused_fibres_warnings(mol_shell.Sphere(h=0.01, layers=layers, fibre_angle=0.5))
+    assert said == ["every layer: fibre_angle = 0.5 is unused: fibre_E = 0 (no fibres); set fibre_E > 0 (Pa) to "
+                    "reinforce the wall"]
+    own = unused_fibres_warnings(mol_shell.Sphere(h=0.01, layers=layers + " fibre_angle=0.4"))
+    assert len(own) == 1 and own[0].startswith("layer 2 (0.008 m): fibre_angle = 0.4 is unused")
