@@ -385,7 +385,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
                 status, message = "complete", f"reached {parameter} = {lam:.6g} {eq.units}"
                 break
             if (lam - tracer.start) * tracer.direction < 0 and len(record.lams) > 2:
-                status, message = "returned", f"the path came back below start = {start:g} {eq.units}"
+                status, message = "returned", (f"the path came back past start = {start:g} {eq.units}, away "
+                                               f"from stop = {stop:g} {eq.units}")
                 break
             # the cap: twice the first step, or twice the default first step when a smaller one was asked for
             h = min(h * (1.6 if its <= 3 else 1.0 if its <= 5 else 0.5), max(ds0, math.sqrt(2.0) / steps) * MAX_GROWTH)

@@ -30,7 +30,7 @@ from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netc
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
 from mol_shell.runs.scheduling import check_workers, connect, scheduler_name
-from mol_shell.runs.study import case_inputs, case_result, design, label_coords, run_cases
+from mol_shell.runs.study import carried_materials, case_inputs, case_result, design, label_coords, run_cases
 from mol_shell.scenes import UNITS, with_params
 
 #: statuses of a path that are final (stored, not run again on resume)
@@ -49,6 +49,7 @@ class PathTask:
     stop: float
     n: int
     options: dict
+    materials: tuple = ()  # the laws of one's own it names, for a worker process (carried_materials)
 
     @property
     def key(self):
@@ -61,7 +62,7 @@ class PathTask:
 def run_path_task(task):
     """Worker entry point: ``(index, path Dataset or None, info)``; never raises for a failing case."""
     return case_result(task.index, lambda: path(task.scene, task.parameter, task.start, task.stop, n=task.n,
-                                                progress=False, **task.options))
+                                                progress=False, **task.options), task.materials)
 
 
 def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps=200, scheduler=None, workers=None,
@@ -117,7 +118,8 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
         except ParameterError as exc:
             results[index] = (None, {"status": "refused", "message": str(exc), "case_wall_time_s": 0.0, "worker": ""})
             continue
-        tasks.append(PathTask(index, label, case_scene, parameter, float(start), float(stop), int(n), options))
+        tasks.append(PathTask(index, label, case_scene, parameter, float(start), float(stop), int(n), options,
+                              carried_materials(case_scene)))
     client = connect(scheduler) if tasks else None
     pending, reused = run_cases(run_path_task, tasks, results, output=output, final=FINAL, scheduler=scheduler,
                                 workers=workers, client=client, progress=progress, total=len(cases), desc="paths")

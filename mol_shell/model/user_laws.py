@@ -11,8 +11,9 @@ A scene takes it as ``material``:
 
 - the :class:`Material` itself (Python): the scene stores its ``name``, registered in this process;
 - an import path ``"package.module:attr"`` (a scene file's ``material = "..."``, the command line's
-  ``--set material=...``, and anything run in other processes such as a study's spawned workers): the module is
-  imported where the scene is made, and the scene stores the path.
+  ``--set material=...``): the module is imported where the scene is made, and the scene stores the path.
+
+A study's cases carry the laws they name to its worker processes (:func:`mol_shell.runs.study.carried_materials`).
 
 The parameters are numbers in the :class:`Material`; a scene's ``material_parameters`` (``"mu=3e5 k=1e4"`` or a
 dict) changes some of them for that scene, so a study varies them like a built-in law's (``vary={"material.mu":
@@ -53,7 +54,7 @@ class Material:
 
     Use it as a scene's ``material``: ``mol_shell.Sphere(material=rubber)`` (the scene stores its ``name``,
     registered in this process), or by its import path ``"package.module:attr"`` where a string is needed (a scene
-    file's ``material = "mylaws:rubber"``, ``--set material=mylaws:rubber``, a study's workers; ``mylaws``
+    file's ``material = "mylaws:rubber"``, ``--set material=mylaws:rubber``; ``mylaws``
     importable: on ``PYTHONPATH`` or in the working directory); change its
     parameters for one scene with ``material_parameters`` (``"mu=2e5"``). See docs/materials.md.
 

@@ -18,6 +18,7 @@ import hashlib
 import itertools
 import json
 import os
+import pickle
 import socket
 import sys
 import time
@@ -25,11 +26,16 @@ import warnings
 
 import numpy as np
 
+try:  # the dask extra's: a law of one's own made in a script reaches worker processes by value
+    import cloudpickle
+except ImportError:  # pragma: no cover - without the extra, by reference
+    cloudpickle = None
+
 from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.model.laws import locking_warnings, scene_material, user_material
+from mol_shell.model.laws import REGISTRY, locking_warnings, resolve_material, scene_material, user_material
 from mol_shell.model.layers import parse_layers
 from mol_shell.results.cf import header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
@@ -62,6 +68,7 @@ class Task:
     n: int
     times: tuple
     options: dict
+    materials: tuple = ()  # the laws of one's own it names, for a worker process (:func:`carried_materials`)
 
     @property
     def key(self):
@@ -70,6 +77,57 @@ class Task:
                 "inputs": case_inputs(self.scene), "integrator": self.integrator, "n": self.n,
                 "times": list(self.times), "options": self.options}
         return hashlib.sha256(json.dumps(spec, sort_keys=True, default=repr).encode()).hexdigest()[:20]
+
+
+def _laws_named(scene):
+    """The laws ``scene`` names: its ``material`` and its layers' (built-in names, user names, import paths)."""
+    names = [scene.material] if hasattr(scene, "material") else []
+    names += [material for _, material, _ in parse_layers(scene.layers)] if getattr(scene, "layers", "") else []
+    return [name for name in dict.fromkeys(names) if isinstance(name, str)]
+
+
+def carried_materials(scene):
+    """``((name, payload), ...)``: the laws of one's own that ``scene`` names by a name registered in this process
+    (an import path is imported where it is needed), for a study's worker processes, where that name means nothing
+    (a script's ``Material`` made under ``if __name__ == "__main__":``, or a dask worker's). The payload is the
+    pickled ``Material``, by value with cloudpickle where it is installed (the dask extra), else by reference
+    (its energy function must then be found at the top level of its module); or, where it cannot be pickled, the
+    reason, said by the cases that need it."""
+    out = []
+    for name in _laws_named(scene):
+        try:
+            user = user_material(name) if ":" not in name else None
+        except ParameterError:  # unknown here: the case is refused naming it where it runs
+            continue
+        if user is None:
+            continue
+        try:
+            payload = (cloudpickle.dumps if cloudpickle is not None else pickle.dumps)(user)
+        except Exception as exc:  # noqa: BLE001 - a law pickle cannot carry (a lambda without cloudpickle, say)
+            payload = f"{type(exc).__name__}: {exc}"
+        out.append((name, payload))
+    return tuple(out)
+
+
+def restore_materials(materials):
+    """Register the laws of :func:`carried_materials` in this process (a worker) where their names are unknown or
+    name another law; a law that could not be carried is refused naming ``material``."""
+    for name, payload in materials:
+        try:
+            if isinstance(payload, str):
+                raise ValueError(payload)
+            law = pickle.loads(payload)
+        except Exception as exc:  # noqa: BLE001 - the payload's function may be missing here
+            if name in REGISTRY:  # this process made it: the study's own
+                continue
+            reason = str(exc) if isinstance(exc, ValueError) and isinstance(payload, str) else \
+                f"{type(exc).__name__}: {exc}"
+            raise ParameterError.invalid(
+                "material", name, "could not be sent to the study's worker processes",
+                "a law whose energy function is defined at the top level of a module or script, or its import path "
+                "'module:attr'", hint=reason + "; or run the study with workers=1") from None
+        if name not in REGISTRY or REGISTRY[name] is not law and REGISTRY[name].fingerprint() != law.fingerprint():
+            resolve_material(law)
 
 
 def case_inputs(scene):
@@ -81,10 +139,8 @@ def case_inputs(scene):
     try:
         if callable(getattr(scene, "meridian", None)):
             out["meridian"] = scene.meridian().describe()
-        names = [scene.material] if hasattr(scene, "material") else []
-        names += [material for _, material, _ in parse_layers(scene.layers)] if getattr(scene, "layers", "") else []
-        for name in dict.fromkeys(names):
-            user = user_material(name) if isinstance(name, str) else None
+        for name in _laws_named(scene):
+            user = user_material(name)
             if user is not None:
                 out["law " + name] = user.fingerprint()
     except ParameterError as exc:
@@ -104,16 +160,18 @@ def run_task(task):
     ``case_wall_time_s`` and ``worker``.
     """
     return case_result(task.index, lambda: run_scene(task.scene, task.integrator, n=task.n, times=task.times,
-                                                     **task.options))
+                                                     **task.options), task.materials)
 
 
-def case_result(index, work):
+def case_result(index, work, materials=()):
     """``(index, work() or None, info)`` for a study's worker: the Dataset's ``status`` and ``message`` (a refusal,
     an interruption or any other exception recorded as data, never raised), the case's wall time and the worker
-    (host:pid). Shared by the studies of runs and of paths."""
+    (host:pid). Shared by the studies of runs and of paths. ``materials``: :func:`carried_materials`, registered
+    first."""
     start = time.perf_counter()
     ds = None
     try:
+        restore_materials(materials)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
             warnings.simplefilter("ignore", MaterialWarning)  # said once by the study, in its own process
@@ -332,7 +390,8 @@ def _task(scene, index, label, changes, integrator, n, times, options):
     scene_changes = {k: v for k, v in changes.items() if k in fields}
     opts = {**options, **{k: v for k, v in changes.items() if k not in fields}}
     case_scene = with_params(scene, scene_changes)
-    return Task(index, label, case_scene, integrator, int(n), tuple(float(t) for t in times), opts)
+    return Task(index, label, case_scene, integrator, int(n), tuple(float(t) for t in times), opts,
+                carried_materials(case_scene))
 
 
 def _scene_fields(scene):

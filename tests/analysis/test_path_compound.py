@@ -38,3 +38,11 @@ def test_each_pair_is_one_fold_and_one_bifurcation_with_symmetric_and_antisymmet
                 assert np.abs(r - r[::-1]).max() <= 1e-5 * scale and np.abs(z + z[::-1]).max() <= 1e-5 * scale
             else:  # antisymmetric: one head first
                 assert np.abs(r + r[::-1]).max() <= 1e-5 * scale and np.abs(z - z[::-1]).max() <= 1e-5 * scale
+
+
+def test_a_path_that_comes_back_past_its_start_says_so_in_the_right_direction(vessel):
+    """The vessel's path snaps through and comes back to pressures above its start (0 Pa) before -2000 Pa: it ends
+    as ``returned``, past the start and away from the stop (it said "below start", the wrong way for a decreasing
+    load)."""
+    assert vessel.attrs["status"] == "returned" and vessel.parameter.values[-1] > 0.0
+    assert vessel.attrs["message"] == "the path came back past start = 0 Pa, away from stop = -2000 Pa"

@@ -7,8 +7,10 @@ from __future__ import annotations
 
 import casadi as ca
 import numpy as np
+import pytest
 
 import mol_shell
+from mol_shell import ParameterError
 from mol_shell.runs.study import case_inputs, design, study
 
 NARROW = "0 0\n0.5 0.1\n1 0.5\n0.5 0.9\n0 1\n"
@@ -73,3 +75,36 @@ def test_a_case_that_leaves_out_a_laws_parameter_has_the_laws_value():
     assert coords["material.mu"] == [2e5, 3e5]
     scene = mol_shell.Sphere(material=rubber, material_parameters="mu=4e5")  # the scene's own value wins
     assert design(scene, [{"material.mu": 2e5}, {"E": 2e6}], "leapfrog")[1]["material.mu"] == [2e5, 4e5]
+
+
+def test_a_law_made_in_a_function_reaches_the_worker_processes_of_a_study_and_of_a_path_study():
+    """A script's ``Material`` made under ``if __name__ == "__main__":`` (here: in a function, with a closure for its
+    energy) is registered in this process only: the spawned worker knew no law by that name and refused its cases
+    (``material = 'study-worker-law' is outside {svk, ...}``) while this process ran its own. Each case now carries
+    the law, and the worker's cases equal the serial study's."""
+    from mol_shell.analysis.path_study import path_study
+
+    rubber = mol_shell.Material("study-worker-law", energy=neo_hookean_like(1.0), parameters={"mu": 3e5},
+                                thickness="incompressible")
+    scene = mol_shell.Sphere(h=0.01, material=rubber, R=1.2)
+    vary = {"material.mu": [2e5, 2.5e5, 3e5, 3.5e5]}
+    local = study(scene, vary, "leapfrog", n=8, t_end=1e-3, workers=2, progress=False)
+    serial = study(scene, vary, "leapfrog", n=8, t_end=1e-3, scheduler="serial", progress=False)
+    assert list(local.status.values) == ["complete"] * 4, list(local.message.values)
+    assert len(set(local.worker.values)) == 2  # both processes ran cases
+    np.testing.assert_array_equal(local.r.values, serial.r.values)
+    paths = path_study(mol_shell.Sphere(h=0.01, material=rubber), {"h": [0.01, 0.011, 0.012, 0.013]}, "pressure",
+                       0.0, 100.0, n=8, workers=2, progress=False)
+    assert list(paths.status.values) == ["complete"] * 4, list(paths.message.values)
+
+
+def test_a_law_that_cannot_be_carried_is_refused_naming_material_where_it_is_unknown():
+    from mol_shell.runs.study import restore_materials
+
+    with pytest.raises(ParameterError, match="material = 'nowhere-law' could not be sent to the study's worker "
+                                             "processes.*PicklingError: no"):
+        restore_materials((("nowhere-law", "PicklingError: no"),))
+    here = mol_shell.Material("study-law-made-here", energy=neo_hookean_like(1.0), parameters={"mu": 1e5},
+                              thickness="incompressible")
+    mol_shell.Sphere(material=here)  # registered in this process: its own cases run
+    restore_materials((("study-law-made-here", "PicklingError: no"),))
