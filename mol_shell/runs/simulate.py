@@ -215,11 +215,14 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         if dt * omega_max >= 1.0:
             raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound 1/max|eig J(y0)|")
         growth = parasitic_growth_rate(damping, omega_max, dt)
-        if growth * times[-1] > LEAPFROG_MAX_LOG_GROWTH:
+        span = min(times[-1], method.restart or math.inf)  # the parasitic root starts again at each restart
+        if growth * span > LEAPFROG_MAX_LOG_GROWTH:
             raise ParameterError(
                 "integrator", integrator, "{cvode-bdf, ida} for this case",
                 hint=f"leap-frog's parasitic root grows damped modes like exp({growth:.4g}/s * t) at dt = {dt:g} s; "
-                f"up to t = {times[-1]:g} s that is exp({growth * times[-1]:.3g}); viscosity makes the system stiff",
+                f"up to t = {span:g} s (the run's end or its next restart) that is exp({growth * span:.3g}); "
+                f"viscosity makes the system stiff (or restart the leap-frog every "
+                f"{LEAPFROG_MAX_LOG_GROWTH / growth:.3g} s or less: option restart)",
             )
     resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
                                omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)

@@ -113,7 +113,7 @@ WORDING = [
     (["--t-end", "abc"], "--t-end = 'abc' is not a number; allowed: (0, inf) s"),
     (["--dt", "inf", "--t-end", "0.01"], "--dt = inf is not a finite number; allowed: (0, inf) s"),
     (["--t-end", "0.01", "--perturb", "nan"], "--perturb = nan is not a finite number; allowed: finite numbers"),
-    (["--t-end", "0.01", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: dt; also chunk in a scene file's [run] table or in Python)"),
+    (["--t-end", "0.01", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: dt; also chunk, restart in a scene file's [run] table or in Python)"),
     (["--t-end", "0.01", "--atol", "1e-9"], "atol is not an option of leapfrog (its options: dt; also chunk"),
     (["--t-end", "0.01", "--max-step", "1e-3"], "max_step is not an option of leapfrog (its options: dt; also chunk"),
     (["--t-end", "0.01", "--integrator", "cvode-bdf", "--dt", "1e-6"],
