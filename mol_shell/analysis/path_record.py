@@ -87,15 +87,20 @@ class PathRecord:
         kind = "limit" if self.tls[i] * self.tls[j] < 0 else "bifurcation"
         found = len(self.points)
         self.locating = True
-        for index in range(min(before, after), max(before, after)):  # the eigenvalues (ascending) that cross zero
-            self._locate(i, j, origin, index, kind, before, after)
+        # the eigenvalues (ascending) that cross zero; more than a step keeps: computed again at both ends
+        count = max(EIGENVALUES, max(before, after) + 1)
+        spectra = {s: self.eigen[s] if count == EIGENVALUES else stability(self.eq, self.qs[s], self.lams[s], count)[0]
+                   for s in (i, j)}
+        for index in range(min(before, after), max(before, after)):
+            self._locate(i, j, origin, index, kind, before, after, spectra, count)
         if kind == "limit":
             self._classify_turn(self.points[found:])
         self.locating = False
         self.show()
 
-    def _locate(self, i, j, origin, index, kind, before, after):
-        """Illinois secant on eigenvalue ``index`` (ascending) between steps ``i`` and ``j``.
+    def _locate(self, i, j, origin, index, kind, before, after, spectra, count):
+        """Illinois secant on eigenvalue ``index`` (ascending) between steps ``i`` and ``j``, whose ``count``
+        eigenvalues nearest zero are ``spectra[i]``, ``spectra[j]``.
 
         A bifurcation is located in ``lambda``: each trial state by Newton at fixed ``lambda`` from the chord
         between the bracket's two states, refused when it lands off that chord by more than a quarter of its
@@ -129,7 +134,7 @@ class PathRecord:
                 except self.failed:  # from the end on the side of step i, along its slope
                     q = tr.at_load(qa + (x - la) * tr.slope(qa, la), x)
                 return q, x
-        fa, fb = self.eigen[i][index], self.eigen[j][index]
+        fa, fb = spectra[i][index], spectra[j][index]
         q, lam = qj, lj
         side, located = 0, False
         for _ in range(LOCATE_ITER):
@@ -142,7 +147,7 @@ class PathRecord:
                 q, lam = trial(x)
             except self.failed:
                 break
-            fx = stability(self.eq, q, lam)[0][index]
+            fx = stability(self.eq, q, lam, count)[0][index]
             if fx * fa > 0:
                 a, fa = x, fx
                 fb = fb / 2 if side == -1 else fb  # Illinois: the end kept twice running counts half
@@ -158,10 +163,10 @@ class PathRecord:
             if abs(b - a) <= LOCATE_RTOL * width or fx == 0:
                 located = True
                 break
-        w2, vectors, _, _ = stability(self.eq, q, lam)
+        w2, vectors, _, _ = stability(self.eq, q, lam, count)
         k = index if index < len(w2) else int(np.argmin(np.abs(w2)))
         # a closed bracket on a branch other than the steps' shows no eigenvalue near zero there
-        located = located and abs(w2[k]) <= 1e-3 * max(abs(self.eigen[i][index]), abs(self.eigen[j][index]))
+        located = located and abs(w2[k]) <= 1e-3 * max(abs(spectra[i][index]), abs(spectra[j][index]))
         mode = vectors[:, k]
         name, share = family(self.eq, q, mode)
         self.points.append({"kind": kind, "parameter": lam, "step": i % len(self.lams), "family": name,
