@@ -44,7 +44,7 @@ import numpy as np
 
 from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell.analysis.equilibria import EquilibriumEquations
-from mol_shell.analysis.path_branch import BranchFailed, check_branch_point, switch
+from mol_shell.analysis.path_branch import BranchFailed, no_branch_reason, switch
 from mol_shell.analysis.path_dataset import path_dataset
 from mol_shell.analysis.path_inputs import check_inputs
 from mol_shell.analysis.path_record import PathRecord
@@ -307,6 +307,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     scene = as_scene(scene)
     check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch)
     clock = time.perf_counter()
+    no_switch = None  # why --branch could not switch at the point it names (a limit point)
     eq = EquilibriumEquations(scene, parameter, n)
     tracer = _Path(eq, start, stop)
     try:
@@ -370,7 +371,10 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
             record.locate_between(-2, -1, (q, lam, t))
             q, lam, t = q_new, lam_new, t_new
             if branch is not None and record.branch == 0 and len(record.points) > branch:
-                check_branch_point(record, branch)
+                no_switch = no_branch_reason(record, branch)
+            if no_switch is not None:  # the path goes on without the switch, said in its message
+                branch = None
+            elif branch is not None and record.branch == 0 and len(record.points) > branch:
                 try:
                     q, lam, t, its = switch(tracer, record.points[branch], t, h, ds0 * 2.0 ** -MIN_HALVINGS,
                                          PathFailed)
@@ -398,6 +402,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
                                           f"{eq.units}")
     if branch is not None and record.branch == 0:
         message += f"; no switch: critical point {branch} was not reached ({len(record.points)} found)"
+    if no_switch is not None:
+        message += f"; no switch: {no_switch}"
     if record.bar is not None:
         record.bar.close()
     ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)

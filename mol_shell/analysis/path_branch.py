@@ -14,23 +14,23 @@ from __future__ import annotations
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError
 
 
 class BranchFailed(Exception):
     """No converged state on the bifurcating branch near the point."""
 
 
-def check_branch_point(record, index):
-    """Refuse ``branch = index`` when that critical point is a limit point (no branch leaves there)."""
+def no_branch_reason(record, index):
+    """Why no branch can be followed from critical point ``index`` (a limit point: the path turns there, no branch
+    leaves), naming the bifurcation points found up to it; ``None`` for a bifurcation point."""
     point = record.points[index]
-    if point["kind"] != "bifurcation":
-        bifurcations = [m for m, p in enumerate(record.points) if p["kind"] == "bifurcation"]
-        allowed = ("{" + ", ".join(map(str, bifurcations)) + "} (the bifurcation points found up to it)" if bifurcations
-                   else "a bifurcation point, and none was found up to it")
-        raise ParameterError("branch", index, allowed,
-                             hint=f"critical point {index} is a limit point at {record.eq.parameter} = "
-                             f"{point['parameter']:.6g} {record.eq.units}: the path turns there, no branch leaves")
+    if point["kind"] == "bifurcation":
+        return None
+    bifurcations = [m for m, p in enumerate(record.points) if p["kind"] == "bifurcation"]
+    found = ("the bifurcation points found up to it: " + ", ".join(map(str, bifurcations)) if bifurcations
+             else "no bifurcation point was found up to it")
+    return (f"critical point {index} is a limit point at {record.eq.parameter} = {point['parameter']:.6g} "
+            f"{record.eq.units}: the path turns there, no branch leaves ({found})")
 
 
 def switch(tracer, point, t, ds, min_ds, failed):

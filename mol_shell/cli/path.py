@@ -92,6 +92,9 @@ def cmd_path(args):
               file=sys.stderr)
         return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {summary} ({ds.attrs['message']}){points}")
+    if "; no switch: " in ds.attrs["message"]:  # --branch asked for what the path could not do
+        print(f"mol-shell: note: --branch {args.branch}: {ds.attrs['message'].partition('; no switch: ')[2]}",
+              file=sys.stderr)
     if ds.attrs["status"] in ("max_steps", "returned"):  # what was asked for, but short of STOP: exit 0, said
         print(f"mol-shell: note: the path did not reach {name} = {stop:g}: {ds.attrs['message']}"
               + (" (raise --max-steps to go on)" if ds.attrs["status"] == "max_steps" else ""), file=sys.stderr)

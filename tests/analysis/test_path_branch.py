@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 from reference_cap import cap_params, p_classical
 
+import mol_shell
 from mol_shell import Sphere, path
 from mol_shell.cli.main import main
 
@@ -68,13 +69,19 @@ def test_the_branch_is_subcritical_and_unstable(switched):
     assert np.all(ds.negative_eigenvalues.values[on][:3] == 1)
 
 
-def test_branch_at_a_limit_point_exits_2_with_one_line(tmp_path, capsys):
+def test_branch_at_a_limit_point_keeps_the_path_and_says_why_there_is_no_switch(tmp_path, capsys):
+    """No branch leaves a limit point. ``--branch 0`` there exited 2 after the whole path was traced, writing
+    nothing; the path is now written, followed on past the point without a switch, and the note says why (as for
+    a point the path did not reach)."""
     argv = ["path", "sphere", "--param", f"pressure=0:{-0.7 * p_classical():.6g}", "--n", "21", "--branch", "0"]
     for k, v in cap_params(5.0).items():
         argv += ["--set", f"{k}={v!r}" if isinstance(v, float) else f"{k}={v}"]
     out = tmp_path / "b.nc"
-    assert main(argv + ["-o", str(out)]) == 2
-    err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "--branch = 0" in err and "limit point" in err
-    assert "is outside a bifurcation point, and none was found up to it" in err, err  # it said "outside {}"
-    assert not out.exists()
+    assert main(argv + ["-o", str(out)]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    notes = [line for line in err if line.startswith("mol-shell: note: --branch 0: ")]
+    assert len(notes) == 1 and "critical point 0 is a limit point" in notes[0]
+    assert "no bifurcation point was found up to it" in notes[0]
+    ds = mol_shell.read_netcdf(out)
+    assert str(ds.point_kind.values[0]) == "limit" and np.all(ds.branch.values == 0)
+    assert "; no switch: critical point 0 is a limit point" in ds.attrs["message"]
