@@ -48,6 +48,10 @@ def read_path(filename, name="--from"):
     if not is_path(ds):
         raise ParameterError.invalid(name, str(path), "is not an equilibrium path", ALLOWED,
                                      hint=f"it holds dims {', '.join(map(str, ds.dims)) or 'none'}")
+    scene = str(ds.attrs.get("scene", ""))
+    if scene not in SCENES:  # edited or damaged: the states belong to no scene this code knows
+        raise ParameterError.invalid(name, str(path), "has no scene attribute" if "scene" not in ds.attrs else
+                                     f"names no registered scene in its attribute scene = {scene!r}", ALLOWED)
     return ds
 
 

@@ -202,6 +202,8 @@ def writable_path(path, name="path", suffixes=None, created=None):
     allowed = "a file path in a writable place (missing directories are created)"
     if path is None or not str(path).strip():
         raise ParameterError.invalid(name, "" if path is None else str(path), "is empty", allowed)
+    if not isinstance(path, (str, os.PathLike)):
+        raise ParameterError.not_a(name, path, "a file path", allowed)
     path = Path(os.fspath(path)).expanduser()
     if path.is_dir():
         raise ParameterError.invalid(name, str(path), "is a directory", allowed)

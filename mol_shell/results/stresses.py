@@ -62,6 +62,7 @@ import re
 
 import casadi as ca
 import numpy as np
+import xarray as xr
 
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Choice, Interval
@@ -289,6 +290,9 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     xarray.Dataset
     """
     _check_limit(limit)
+    if not isinstance(ds, xr.Dataset):  # a file name: read_netcdf first
+        raise ParameterError.not_a("ds", ds, "an xarray.Dataset",
+                                   "a Dataset from simulate or mol-shell run (mol_shell.read_netcdf(PATH) reads a file)")
     needed = [*FIELDS, *(f + "_t" for f in FIELDS)]
     missing = [v for v in needed if v not in ds or ds[v].dims != ("time", "s")]
     if missing or not all(k in ds.attrs for k in ("E", "nu", "h", "zeta1_used", "n_quad")):

@@ -16,6 +16,7 @@ from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.discretization.compiled import CompiledRHS
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.laws import ON_REDEFINED
+from mol_shell.runs import resources
 from mol_shell.runs.checks import check_system, resolve
 from mol_shell.scenes import SCENES, CylinderScene, ShellScene, get_scene
 
@@ -53,8 +54,13 @@ ON_REDEFINED.append(_built.cache_clear)  # a mol_shell.Material's name given to 
 
 
 def build(scene, n=40):
-    """The discretised system and its compiled RHS for ``scene`` on ``n`` nodes (cached in-process)."""
-    system, compiled, _ = _built(_graph_key(scene), int(n) if isinstance(n, (int, np.integer)) else n)
+    """The discretised system and its compiled RHS for ``scene`` (an object or a registered name) on ``n`` nodes
+    (cached in-process); ``n`` is refused by name when the graphs would not fit in memory."""
+    scene = as_scene(scene)
+    resources.check_analysis(n, 2, f"building the graphs of n = {n:,} nodes" if isinstance(n, (int, np.integer))
+                             else "building the graphs", "states", integrator="leapfrog",
+                             fields=len(getattr(scene, "fields", range(5))))
+    system, compiled, _ = _built(_graph_key(scene), int(n))
     return system, compiled
 
 

@@ -353,6 +353,11 @@ def given_state(system, fields):
     if Q.shape != (5, system.n) or not np.all(np.isfinite(Q)):
         raise ParameterError("initial", Q, f"finite arrays of shape (5, {system.n}): z, r, chi, theta, psi at the "
                              "nodes")
+    off_axis = np.asarray(system.reference[1]) > 0
+    if np.any(Q[1][off_axis] <= 0):  # the shell's equations divide by r there
+        i = int(np.flatnonzero(off_axis & (Q[1] <= 0))[0])
+        raise ParameterError("initial", f"r = {Q[1][i]:g} m at s = {system.s[i]:.6g} m",
+                             "fields with r > 0 at every node off the axis (row 1 of initial is r)")
     Q = system.tie(Q)
     try:
         return system.pack(Q, np.zeros_like(Q))

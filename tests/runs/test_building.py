@@ -35,3 +35,24 @@ def test_leapfrog_refuses_saved_times_no_step_apart():
         step_counts(np.array([0.0, 1e-12]))
     with pytest.raises(ParameterError, match="at least one step"):
         mol_shell.simulate("twisted-cylinder", n=5, times=[0, 1e-6, 1e-6 + 1e-13])
+
+
+def test_build_refuses_what_it_cannot_build_by_name_before_any_memory_is_taken():
+    """``mol_shell.build`` had no guard of its own: ``n = 10**7`` took 5 GB and minutes before a MemoryError (the
+    commands refused it at once), ``None`` or a scene's name ended in dataclasses' TypeError."""
+    import time
+
+    import pytest
+
+    import mol_shell
+
+    start = time.perf_counter()
+    with pytest.raises(mol_shell.ParameterError, match=r"^n = 10000000 is outside integers 3\.\."):
+        mol_shell.build(mol_shell.Sphere(R=1.02), n=10**7)
+    assert time.perf_counter() - start < 1.0
+    with pytest.raises(mol_shell.ParameterError, match="^scene = None is not a scene"):
+        mol_shell.build(None)
+    with pytest.raises(mol_shell.ParameterError, match=r"^n = 2.5 is outside integers >= 3"):
+        mol_shell.build("sphere", n=2.5)
+    system, _ = mol_shell.build("sphere", n=12)  # a registered name, as simulate takes
+    assert system.n == 12
