@@ -37,6 +37,13 @@ def is_number(value):
     return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
 
 
+def scalar(value):
+    """``value`` with a NumPy 0-d array taken as the number it holds (``np.array(12)`` as ``12``): NumPy hands them
+    out (``x.sum()`` of an array, ``np.array(t)``), and a check that reads them as arrays refused ``n = 12`` as
+    outside ``integers >= 3``. Anything else is returned as it is."""
+    return value.item() if isinstance(value, np.ndarray) and value.ndim == 0 else value
+
+
 class ParameterError(ValueError):
     """A parameter is outside its allowed range (or of the wrong kind, or missing).
 

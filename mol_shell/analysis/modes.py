@@ -24,7 +24,7 @@ import warnings
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import MaterialWarning, ParameterError
+from mol_shell._core.errors import MaterialWarning, ParameterError, scalar
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.laws import locking_warnings
 from mol_shell.results.cf import attr_value, coordinates, header, variables
@@ -177,6 +177,7 @@ def modes(scene, n=40, count=10, *, initial=None):
     import scipy.sparse.linalg
 
     asked = as_scene(scene)
+    n, count = scalar(n), scalar(count)
     scene = resolve(asked)
     if not isinstance(count, (int, np.integer)) or isinstance(count, bool) or count < 1:
         raise ParameterError("count", count, "integers >= 1")

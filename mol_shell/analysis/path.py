@@ -42,7 +42,7 @@ import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
+from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, scalar
 from mol_shell.analysis.equilibria import EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, no_branch_reason, switch
 from mol_shell.analysis.path_dataset import path_dataset
@@ -305,6 +305,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         where).
     """
     scene = as_scene(scene)
+    start, stop, n, steps, max_steps, ds, branch = map(scalar, (start, stop, n, steps, max_steps, ds, branch))
     check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch)
     clock = time.perf_counter()
     no_switch = None  # why --branch could not switch at the point it names (a limit point)

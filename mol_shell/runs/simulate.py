@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: simulate's range)
-from mol_shell._core.errors import MaterialWarning, ParameterError, is_number
+from mol_shell._core.errors import MaterialWarning, ParameterError, is_number, scalar
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
 from mol_shell.model.laws import locking_warnings, unused_fibres_warnings
@@ -180,6 +180,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         ``ellipticity_margin``): the first one's time and place, also in ``attrs["ellipticity_warning"]``.
     """
     scene = as_scene(scene)
+    n, t_end, dt = scalar(n), scalar(t_end), scalar(dt)
+    options = {k: scalar(v) for k, v in options.items()}
     if dt is not None:
         options["dt"] = dt
     check_options(scene, integrator, options)
@@ -217,13 +219,13 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         growth = parasitic_growth_rate(damping, omega_max, dt)
         span = min(times[-1], method.restart or math.inf)  # the parasitic root starts again at each restart
         if growth * span > LEAPFROG_MAX_LOG_GROWTH:
+            allowed = (f"another integrator (cvode-bdf or ida: implicit, for stiff viscous shells), or restarts of the "
+                       f"leap-frog every {LEAPFROG_MAX_LOG_GROWTH / growth:.3g} s or less (option restart)")
             raise ParameterError(
-                "integrator", integrator, "{cvode-bdf, ida} for this case",
-                hint=f"leap-frog's parasitic root grows damped modes like exp({growth:.4g}/s * t) at dt = {dt:g} s; "
-                f"up to t = {span:g} s (the run's end or its next restart) that is exp({growth * span:.3g}); "
-                f"viscosity makes the system stiff (or restart the leap-frog every "
-                f"{LEAPFROG_MAX_LOG_GROWTH / growth:.3g} s or less: option restart)",
-            )
+                "integrator", integrator, allowed,
+                message=f"integrator = {integrator!r} cannot run this case: its parasitic root grows damped modes like "
+                f"exp({growth:.4g}/s * t) at dt = {dt:g} s, and up to t = {span:g} s (the run's end or its next "
+                f"restart) that is exp({growth * span:.3g}) (viscosity makes the system stiff); allowed: {allowed}")
     resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
                                omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)
     if progress is None:

@@ -47,3 +47,13 @@ def test_a_path_file_without_its_scene_is_refused_naming_from(path_file, tmp_pat
     assert main(["run", "--from", str(f), "--step", "1", "--t-end", "1e-4", "-o", str(tmp_path / "x.nc")]) == 2
     err = capsys.readouterr().err.strip()
     assert err == f"mol-shell: error: --from = '{f}' {why}; allowed: a netCDF file written by mol-shell path", err
+
+
+def test_numpy_0d_arrays_are_taken_as_the_numbers_they_hold():
+    """``np.array(12)`` was refused as ``n = 12 is outside integers >= 3``, ``np.array(1e-3)`` as not a number."""
+    ds = mol_shell.simulate(mol_shell.Sphere(), n=np.array(12), t_end=np.array(1e-4), progress=False, stresses=False)
+    assert ds.sizes["s"] == 12 and float(ds.time[-1]) == 1e-4
+    p = mol_shell.path(mol_shell.Sphere(), "pressure", np.array(0.0), np.array(50.0), n=np.array(8),
+                       max_steps=np.array(2), progress=False)
+    assert p.sizes["s"] == 8 and float(p.parameter[0]) == 0.0
+    assert mol_shell.modes(mol_shell.Sphere(), n=np.array(10), count=np.array(2)).sizes["mode"] == 2
