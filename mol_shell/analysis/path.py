@@ -285,10 +285,12 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     max_steps : int
         The path ends after this many steps.
     ds : float, optional
-        The first step in the scaled arclength (default ``sqrt(2)/steps``).
+        The first step in the scaled arclength (default ``sqrt(2)/steps``; at most ``sqrt(2)``, the whole range
+        along the first tangent: a larger one is taken as that).
     branch : int, optional
         Switch onto the branch leaving critical point ``branch`` (numbered as found, from 0) once it is located,
-        and follow it; a limit point there is refused (``ParameterError`` naming ``branch``). A path that ends
+        and follow it; at a limit point, where no branch leaves, the path goes on without a switch and its message
+        says why. A path that ends
         before it finds that point says so in ``attrs["message"]``.
     progress : bool, optional
         A progress line on stderr (tqdm): the steps taken, the load reached, the critical points found; by
@@ -317,7 +319,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         raise ParameterError("start", start, "loads at which Newton finds an equilibrium from the scene's initial "
                              "state", hint=str(exc)) from None
     t = tracer.weigh(q, float(start))
-    ds0 = math.sqrt(2.0) / steps if ds is None else float(ds)
+    ds0 = math.sqrt(2.0) / steps if ds is None else min(float(ds), math.sqrt(2.0))  # at most the whole range
     bar = None
     if (sys.stderr is not None and sys.stderr.isatty()) if progress is None else progress:  # no total known
         from tqdm import tqdm  # loaded where a progress line is shown

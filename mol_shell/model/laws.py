@@ -33,7 +33,13 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Choice
-from mol_shell.model.fibres import fibre_thickness_energy, scene_fibres, unused_fibres_warning
+from mol_shell.model.fibres import (
+    FIBRE_DEFAULTS,
+    FIBRE_PARAMETERS,
+    fibre_thickness_energy,
+    scene_fibres,
+    unused_fibres_warning,
+)
 from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: where the laws are)
     NEWTON_STEPS,
     TREATMENTS,
@@ -421,7 +427,12 @@ def unused_fibres_warnings(scene):
     if not getattr(scene, "layers", ""):
         note = unused_fibres_warning(scene)
         return [note] if note else []
-    notes = [(k, t, unused_fibres_warning(sub)) for k, (t, sub) in enumerate(layer_scenes(scene), 1)]
+    notes = []
+    for k, ((t, sub), (_, _, own)) in enumerate(zip(layer_scenes(scene), parse_layers(scene.layers)), 1):
+        if "fibre_E" in own:  # a layer that turns its fibres off itself: the scene's fibre keys it takes are moot
+            sub = dataclasses.replace(sub, **{name: FIBRE_DEFAULTS[name] for name in FIBRE_PARAMETERS[1:]
+                                              if name not in own})
+        notes.append((k, t, unused_fibres_warning(sub)))
     if len(notes) > 1 and all(note == notes[0][2] for _, _, note in notes) and notes[0][2]:
         return [f"every layer: {notes[0][2]}"]
     return [f"layer {k} ({t:g} m): {note}" for k, t, note in notes if note]

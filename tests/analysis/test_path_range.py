@@ -92,3 +92,14 @@ def test_steps_and_ranges_below_the_resolution_are_refused_by_name(kwargs, name)
     args = {"start": 0.0, "stop": 100.0, **kwargs}
     with pytest.raises(ParameterError, match=rf"^{name} = "):
         path(SPHERE, "pressure", args.pop("start"), args.pop("stop"), n=10, **args)
+
+
+def test_a_first_step_beyond_the_whole_range_is_taken_as_the_whole_range():
+    """``ds = 1e9`` (the scaled arclength of the whole range is about sqrt(2)) ended an easy path as failed at
+    pressure = 5 Pa; it is now the first step of ``steps = 1``, and the path is that path."""
+    import mol_shell
+
+    big = mol_shell.path(mol_shell.Sphere(), "pressure", 0.0, 100.0, n=12, ds=1e9, progress=False)
+    one = mol_shell.path(mol_shell.Sphere(), "pressure", 0.0, 100.0, n=12, steps=1, progress=False)
+    assert big.attrs["status"] == one.attrs["status"] == "complete"
+    np.testing.assert_array_equal(big.r.values, one.r.values)
