@@ -262,6 +262,29 @@ class _Path:
                          f"(Newton from the scene's initial state, residual {np.abs(F).max() / self.f_scale:.2g} "
                          "of a unit strain's force)")
 
+    def start_equilibrium(self, q, lam):
+        """:meth:`equilibrium` at ``lam``; where Newton from ``q`` fails, continuation in the parameter from 0 to
+        ``lam`` (increments of a quarter, halved on failure down to 1/64, doubled after a success), as a run's
+        ``R = auto`` does: a start the load reaches from rest is found (a sphere at 1e6 Pa was refused)."""
+        try:
+            return self.equilibrium(q, lam)
+        except PathFailed as direct:
+            if lam == 0.0:
+                raise
+            done, increment, total = 0.0, 0.25, 0
+            while done < 1.0:
+                factor = min(1.0, done + increment)
+                try:
+                    q, its = self.equilibrium(q, factor * lam)
+                except PathFailed:
+                    increment /= 2
+                    if increment < 1.0 / 64:
+                        raise PathFailed("newton", f"{direct}; continuation from {self.eq.parameter} = 0 stopped at "
+                                         f"{done * lam:g} {self.eq.units}") from None
+                    continue
+                done, total, increment = factor, total + its, 2 * increment
+            return q, total
+
 
 def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None, progress=None):
     """Follow the equilibria of ``scene`` at rest as the load ``parameter`` goes from ``start`` to ``stop``.
@@ -314,10 +337,10 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     eq = EquilibriumEquations(scene, parameter, n)
     tracer = _Path(eq, start, stop)
     try:
-        q, iterations = tracer.equilibrium(eq.unknowns(eq.y_ref), float(start))
+        q, iterations = tracer.start_equilibrium(eq.unknowns(eq.y_ref), float(start))
     except PathFailed as exc:
-        raise ParameterError("start", start, "loads at which Newton finds an equilibrium from the scene's initial "
-                             "state", hint=str(exc)) from None
+        raise ParameterError("start", start, "loads at which the shell has an equilibrium that Newton finds from the "
+                             "scene's initial state or by continuation from 0", hint=str(exc)) from None
     t = tracer.weigh(q, float(start))
     ds0 = math.sqrt(2.0) / steps if ds is None else min(float(ds), math.sqrt(2.0))  # at most the whole range
     bar = None

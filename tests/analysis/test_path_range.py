@@ -103,3 +103,17 @@ def test_a_first_step_beyond_the_whole_range_is_taken_as_the_whole_range():
     one = mol_shell.path(mol_shell.Sphere(), "pressure", 0.0, 100.0, n=12, steps=1, progress=False)
     assert big.attrs["status"] == one.attrs["status"] == "complete"
     np.testing.assert_array_equal(big.r.values, one.r.values)
+
+
+def test_a_start_newton_misses_from_rest_is_reached_by_continuation_and_is_the_run_s_equilibrium():
+    """A sphere at 1e6 Pa (inflated to 2.7 times its radius): Newton from the natural state fails there, and the
+    path was refused (start is outside loads at which Newton finds an equilibrium) though a run's ``R = auto``
+    reaches that equilibrium by continuation. The path's start now does too: its first state is the run's
+    starting state (the static solve of :mod:`mol_shell.runs.statics`, an independent route) to round-off."""
+    import mol_shell
+
+    p = mol_shell.path(Sphere(), "pressure", 1e6, 1.000001e6, n=12, max_steps=1, progress=False)
+    run = mol_shell.simulate(Sphere(pressure=1e6), "cvode-bdf", n=12, t_end=1e-6, progress=False, stresses=False)
+    assert run.attrs["R"] > 2.5  # far from the natural sphere
+    for field in ("r", "z"):
+        np.testing.assert_allclose(p[field].values[0], run[field].values[0], rtol=0, atol=1e-12)
