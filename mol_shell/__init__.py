@@ -5,7 +5,7 @@ only from those before it): ``_core``, ``model``, ``discretization``, ``integrat
 ``results``, ``runs``, ``analysis``, ``views``, ``cli``.
 """
 
-from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError
+from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning
 from mol_shell._core.version import __version__
 from mol_shell.analysis.modes import modes
 from mol_shell.analysis.path import path
@@ -35,7 +35,7 @@ from mol_shell.scenes import (
 from mol_shell.scenes.files import load_scene
 
 __all__ = [
-    "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "Material", "MaterialWarning", "MeridianShell", "ModelLimitError", "ParameterError", "ShellScene",
+    "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "Material", "MaterialWarning", "MeridianShell", "ModelLimitError", "ParameterError", "SceneWarning", "ShellScene",
     "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "Unshearable", "Vessel", "__version__", "build", "get_scene",
     "load_scene", "modes", "path", "read_netcdf",
     "simulate", "simulate_ring", "simulate_unshearable", "study", "write_netcdf",

@@ -115,6 +115,12 @@ class MaterialWarning(UserWarning):
     """
 
 
+class SceneWarning(UserWarning):
+    """A scene parameter that has no effect as the scene is set (a load's history without the load): one line
+    naming it and what would use it; the command line prints it as ``mol-shell: warning: ...``, and a run records it
+    in its Dataset's attrs (``scene_warning``)."""
+
+
 class ModelLimitError(RuntimeError):
     """A run reached a limit of the model (``delta <= 0``, ``r <= 0``) or produced NaN/Inf.
 

@@ -23,7 +23,7 @@ import warnings
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE
-from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, by_interrupt
+from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, by_interrupt
 from mol_shell._core.version import __version__
 from mol_shell.cli.analysis import register_compare, register_modes, register_stability
 from mol_shell.cli.args import (
@@ -311,6 +311,7 @@ def _command(argv):
             warnings.simplefilter("ignore", RuntimeWarning)
             warnings.simplefilter("always", LongRunWarning)
             warnings.simplefilter("always", MaterialWarning)
+            warnings.simplefilter("always", SceneWarning)
             warnings.showwarning = _one_line_warning
             _SAID.clear()  # once per command (tests call main many times in one process)
             if getattr(args, "output", None) is not None:  # every subcommand: before anything is computed

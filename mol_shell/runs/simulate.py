@@ -11,7 +11,7 @@ import warnings
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: simulate's range)
-from mol_shell._core.errors import MaterialWarning, ParameterError, is_number, scalar
+from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning, is_number, scalar
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
 from mol_shell.model.laws import locking_warnings, unused_fibres_warnings
@@ -294,6 +294,11 @@ def _material_warning(scene, ds):
         warnings.warn(note, MaterialWarning, stacklevel=3)
     if notes:
         ds.attrs["material_warning"] = "; ".join(notes)
+    unused = scene.unused_histories() if hasattr(scene, "unused_histories") else []
+    for note in unused:
+        warnings.warn(note, SceneWarning, stacklevel=3)
+    if unused:
+        ds.attrs["scene_warning"] = "; ".join(unused)
     return ds
 
 

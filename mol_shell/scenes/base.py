@@ -91,6 +91,8 @@ def zeta1_used(h, zeta1=None, a=1.0):
 def check_radius(R, h, zeta1=None, hint="", a=1.0):
     """``R > -zeta1_used``: the inner face ``r + zeta1`` of the initial cylinder at a positive radius."""
     low = -zeta1_used(h, zeta1, a)
+    if isinstance(R, str):  # a word other than auto
+        raise ParameterError.not_a("R", R, "a number", f"({low:.4g}, inf) m, or auto")
     _check("R", R, Interval(low, math.inf, unit="m", shown=f"({low:.4g}, inf) m: the inner face r + zeta1 must be at "
                                                        f"a positive radius (zeta1 = {-low:.4g} m)" + (f"; {hint}" if hint else "")))
 
@@ -290,7 +292,7 @@ class ShellScene:
         self._check_layers()
         if self.zeta1 is not None:
             _check("zeta1", self.zeta1, Interval(-2 * self.h, 0.0, True, True, unit="m",
-                                                 shown=f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m"))
+                                                 shown=f"[-2h, 0] = [{-2 * self.h:.4g}, 0] m, or auto"))
         for end in ("end1", "end2"):
             object.__setattr__(self, end, check_edge(end, getattr(self, end)))
         for name in DISPLACEMENTS:
@@ -408,6 +410,17 @@ class ShellScene:
     def at_equilibrium(self):
         """Whether the run starts from the static equilibrium under the loads at ``t = 0`` (``R``/``dilation`` auto)."""
         return False
+
+    def unused_histories(self):
+        """One line for each load or drive whose ``NAME_history`` is set (not constant) while ``NAME`` is 0: the
+        history then multiplies nothing (a load meant for it mistyped, say)."""
+        out = []
+        for name in LOADS + DRIVES:
+            history = getattr(self, f"{name}_history", "constant")
+            if isinstance(history, str) and history.strip() != "constant" and getattr(self, name, 0.0) == 0:
+                out.append(f"{name}_history = {history!r} is unused: {name} = 0; set {name} to the "
+                           "magnitude the history multiplies")
+        return out
 
     def loads_on(self):
         """The names of the loads that are on (not 0), in the order of :data:`LOADS`."""

@@ -119,7 +119,7 @@ class Sphere(_Excited):
             object.__setattr__(self, "R", None)
         if self.R is not None:
             _check("R", self.R, Interval(0.5 * self.a, 2 * self.a, unit="m",
-                                         shown=f"(a/2, 2a) = ({self.a / 2:.4g}, {2 * self.a:.4g}) m"))
+                                         shown=f"(a/2, 2a) = ({self.a / 2:.4g}, {2 * self.a:.4g}) m, or auto"))
 
     def meridian(self):
         return ArcMeridian(self.a, 0.0, self.alpha1, self.alpha2)

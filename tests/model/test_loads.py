@@ -429,3 +429,22 @@ def test_a_table_history_is_the_ramp_it_describes():
         assert float(rate(s)) == pytest.approx(slope, rel=1e-12, abs=1e-12)
         assert float(h(s + 1e-7) - h(s - 1e-7)) / 2e-7 == pytest.approx(slope, rel=1e-6, abs=1e-9)
     assert float(h(0.005)) == pytest.approx(1.3) and float(h(1.0)) == pytest.approx(1.0) and float(h(-1.0)) == 0.0
+
+
+def test_a_history_without_its_load_is_warned_and_recorded():
+    """``pressure_history = "ramp 0.01"`` with ``pressure = 0`` multiplies nothing: it ran silently (a mistyped load
+    keeps its history), where an unused fibre angle is warned. Said once per run and kept in the attrs; a history
+    with its load is not."""
+    import warnings as _warnings
+
+    scene = mol_shell.TwistedCylinder(pressure_history="ramp 0.01")
+    with _warnings.catch_warnings(record=True) as caught:
+        _warnings.simplefilter("always")
+        ds = mol_shell.simulate(scene, n=8, t_end=1e-4, progress=False, stresses=False)
+    said = [str(w.message) for w in caught if issubclass(w.category, mol_shell.SceneWarning)]
+    assert said == ["pressure_history = 'ramp 0.01' is unused: pressure = 0; set pressure to the magnitude "
+                    "the history multiplies"]
+    assert ds.attrs["scene_warning"] == said[0]
+    loaded = mol_shell.TwistedCylinder(pressure=10.0, pressure_history="ramp 0.01", end2_spin_history="sine 5")
+    assert loaded.unused_histories() == ["end2_spin_history = 'sine 5' is unused: end2_spin = 0; set "
+                                         "end2_spin to the magnitude the history multiplies"]
