@@ -105,8 +105,10 @@ class Material:
             W = self.energy(C, dict(self.parameters))
             W = ca.SX(W)
         except Exception as exc:  # noqa: BLE001 - any failure of the user's function is a refusal of it
-            raise ParameterError.not_a("energy", self.name, "a function energy(C, parameters) of casadi.SX",
-                                       "a function returning a CasADi scalar", hint=f"{type(exc).__name__}: {exc}") from None
+            raise ParameterError.invalid("energy", getattr(self.energy, "__name__", repr(self.energy)),
+                                         f"of material {self.name} raised {type(exc).__name__}: {exc}",
+                                         "a function energy(C, parameters) of casadi.SX returning a CasADi scalar"
+                                         ) from None
         if W.numel() != 1:
             raise ParameterError.not_a("energy", self.name, "a scalar energy", "a function returning one number")
 

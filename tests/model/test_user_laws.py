@@ -93,6 +93,11 @@ def test_a_bad_material_is_one_line_exit_2(capsys, tmp_path, value, words):
 def test_a_material_that_is_not_a_law_is_refused():
     with pytest.raises(ParameterError, match="energy"):
         mol_shell.Material("broken", energy=lambda C, p: C, parameters={})
+    def failing(C, p):
+        return 1 / 0
+    # the function and what it raised are named (it quoted the material's name as if it were the energy)
+    with pytest.raises(ParameterError, match=r"^energy = 'failing' of material broken raised ZeroDivisionError"):
+        mol_shell.Material("broken", energy=failing, parameters={})
     with pytest.raises(ParameterError, match="thickness"):
         mol_shell.Material("odd", energy=neo_hookean, parameters={"mu": 1.0}, thickness="membrane")
     # refused when made (it was made, and refused when a scene first used it)
