@@ -9,9 +9,15 @@ import sys
 
 import numpy as np
 
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.integrators.loop import declared
 from mol_shell.results.dataset import NETCDF_SUFFIXES  # noqa: F401 (the outputs' suffixes, for the commands)
 from mol_shell.runs.resources import check_saved_times
 from mol_shell.runs.simulate import check_options, integrator_options
@@ -48,8 +54,9 @@ def scene_and_run(text, sets=None):
         return with_params(scene, parse_sets(sets)), run
     return get_scene(text, **parse_sets(sets)), {}
 
-#: integrator options the command line offers (as --dt, --rtol, --atol, --max-step)
-CLI_OPTIONS = {"dt", "rtol", "atol", "max_step"}
+#: integrator options the command line has flags for; the others go by --option NAME=VALUE
+FLAGS = {"dt": "--dt", "rtol": "--rtol", "atol": "--atol", "max_step": "--max-step", "n": "--n",
+         "t_end": "--t-end", "times": "--times", "integrator": "--integrator"}
 
 
 class Once(argparse.Action):
@@ -254,6 +261,32 @@ def parse_atol(text):
     return out
 
 
+def option_value(text):
+    """A ``--option`` value as a scene file's TOML reads it (``200``, ``1e-3``, ``true``, ``"band"``); a bare word
+    (``band``) is the string it spells."""
+    try:
+        return tomllib.loads(f"value = {text}")["value"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def option_args(args, integrator):
+    """``--option NAME=VALUE`` as ``{name: value}``: an option of ``integrator`` beyond the flags, checked against
+    its declared range as a scene file's ``[run]`` table is; refused by name otherwise."""
+    given = parse_sets(getattr(args, "option", None), name="--option")
+    out = {}
+    for name, text in given.items():
+        if name in FLAGS:
+            raise ParameterError.invalid("--option", f"{name}={text}", f"sets {name}, which has its own flag",
+                                         f"{FLAGS[name]} {text}")
+        value = option_value(text)
+        spec = declared(INTEGRATORS[integrator]).get(name) if integrator in INTEGRATORS else None
+        if spec is not None and not spec.check(value):
+            raise ParameterError(f"--option {name}", value, spec.allowed)
+        out[name] = value
+    return out
+
+
 def integrator_option_args(args):
     """``--dt/--rtol/--atol/--max-step`` given on the command line, as options."""
     return {k: getattr(args, k) for k in ("dt", "rtol", "atol", "max_step") if getattr(args, k, None) is not None}
@@ -283,8 +316,8 @@ def run_settings(args, run, scene, n):
                     break
                 print(f"mol-shell: note: the scene file's [run] {exc.name} = {from_file.pop(exc.name)!r} is not "
                       f"taken by {integrator} (--integrator) as it is set ({exc}): left out", file=sys.stderr)
-    options = from_file | integrator_option_args(args)
-    check_options(scene, integrator, options, offered=CLI_OPTIONS)
+    options = from_file | option_args(args, integrator) | integrator_option_args(args)
+    check_options(scene, integrator, options)
     return times, t_end, integrator, options
 
 

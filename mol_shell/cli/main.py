@@ -163,7 +163,7 @@ def make_parser():
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     run = sub.add_parser("run", help="run a scene and write netCDF",
                          description="Run a scene and write netCDF. A scene file's [run] table gives the defaults of "
-                         "--integrator, --n, --t-end, --times, --dt, --rtol, --atol and --max-step; the options win.")
+                         "--integrator, --n, --t-end, --times, --dt, --rtol, --atol, --max-step and --option; the options win.")
     run.add_argument("scene", metavar=SCENE_METAVAR, nargs="?", default=None, help=SCENE_HELP)
     run.add_argument("--integrator", default=None, help="one of: " + ", ".join(INTEGRATORS)
                      + " (default: a scene file's [run] integrator, else leapfrog)")
@@ -181,6 +181,9 @@ def make_parser():
     run.add_argument("--atol", type=parse_atol, default=None,
                      help="absolute tolerance (adaptive integrators): one value, or per field as r=1e-9,theta=1e-10")
     run.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
+    run.add_argument("--option", action="append", metavar="NAME=VALUE",
+                     help="another option of the integrator, repeatable: restart=0 (leapfrog), jac_every=200, "
+                     "linsolver=band, iteration=newton, ... (docs/integrators.md; as a scene file's [run] keys)")
     run.add_argument("--stresses", action=argparse.BooleanOptionalAction, default=None,
                      help="resultants and face stresses after the run (default: when cell samples x saved times "
                      "<= 4e6; --stresses always, --no-stresses never)")

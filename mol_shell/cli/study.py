@@ -175,6 +175,9 @@ def register_study(subparsers):
                    help=f"relative tolerance in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}) (adaptive integrators)")
     p.add_argument("--atol", type=parse_atol, default=None, help="one value, or per field as r=1e-9,theta=1e-10")
     p.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
+    p.add_argument("--option", action="append", metavar="NAME=VALUE",
+                     help="another option of the integrator, repeatable: restart=0 (leapfrog), jac_every=200, "
+                     "linsolver=band, iteration=newton, ... (docs/integrators.md; as a scene file's [run] keys)")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="base scene parameter, repeatable")
     p.add_argument("--scheduler", default=None,
                    help="dask.distributed scheduler address, or serial (default: local processes); "

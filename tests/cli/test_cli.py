@@ -113,11 +113,11 @@ WORDING = [
     (["--t-end", "abc"], "--t-end = 'abc' is not a number; allowed: (0, inf) s"),
     (["--dt", "inf", "--t-end", "0.01"], "--dt = inf is not a finite number; allowed: (0, inf) s"),
     (["--t-end", "0.01", "--perturb", "nan"], "--perturb = nan is not a finite number; allowed: finite numbers"),
-    (["--t-end", "0.01", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: dt; also chunk, restart in a scene file's [run] table or in Python)"),
-    (["--t-end", "0.01", "--atol", "1e-9"], "atol is not an option of leapfrog (its options: dt; also chunk"),
-    (["--t-end", "0.01", "--max-step", "1e-3"], "max_step is not an option of leapfrog (its options: dt; also chunk"),
+    (["--t-end", "0.01", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: chunk, dt, restart)"),
+    (["--t-end", "0.01", "--atol", "1e-9"], "atol is not an option of leapfrog (its options: chunk, dt, restart)"),
+    (["--t-end", "0.01", "--max-step", "1e-3"], "max_step is not an option of leapfrog (its options: chunk, dt, restart)"),
     (["--t-end", "0.01", "--integrator", "cvode-bdf", "--dt", "1e-6"],
-     "dt is not an option of cvode-bdf (its options: atol, max_step, rtol; also anderson, constraints, events"),
+     "dt is not an option of cvode-bdf (its options: anderson, atol, constraints, events"),
     (["--t-end", "0.01", "--integrator", "cvode-bdf", "--rtol", "1"], "--rtol = 1 is outside [1e-14, 1)"),
     (["--times", "0:0.01:0.003"], "--times = '0:0.01:0.003' does not end on its grid: (T1 - T0)/DT = 3.333 is not whole"),
     (["--times", "0,,0.002"], "--times = '0,,0.002' has an empty entry"),
@@ -408,3 +408,29 @@ def test_compare_interrupted_in_a_reference_or_a_warm_up_run_exits_130(tmp_path,
     code = main(["compare", "twisted-cylinder", "--integrators", "dop853-c", "--n", "8", "--t-end", "2e-3",
                  "--repeats", "1", "-o", str(tmp_path / "wp.nc")])
     assert code == 130, capsys.readouterr().err
+
+
+def test_option_sets_any_integrator_option_on_the_command_line(tmp_path, capsys):
+    """Options beyond --dt/--rtol/--atol/--max-step (the leap-frog's restart, CVODE's linsolver, jac_every) could be
+    set only in a scene file's [run] table or in Python. --option NAME=VALUE sets them, read as the table's TOML
+    (a bare word is a string), checked against the option's range, over the file's value."""
+    out = tmp_path / "x.nc"
+    assert main(["run", "twisted-cylinder", "--n", "12", "--t-end", "0.001", "--integrator", "cvode-bdf",
+                 "--option", "linsolver=band", "--option", "jac_every=50", "-o", str(out)]) == 0
+    ds = read_netcdf(out)
+    assert ds.attrs["linsolver"] == "band" and ds.attrs["jac_every"] == 50
+    scene = tmp_path / "s.toml"
+    scene.write_text('scene = "twisted-cylinder"\n[material]\neta_mu = 100.0\neta_lambda = 200.0\n'
+                     '[run]\nn = 12\nt_end = 0.002\nrestart = 0.5\n')
+    assert main(["run", str(scene), "--option", "restart=5e-4", "-o", str(out)]) == 0  # refused at restart = 0.5
+    ds = read_netcdf(out)
+    assert ds.attrs["restart"] == 5e-4 and ds.attrs["n_restarts"] == 3
+    capsys.readouterr()
+    for option, said in (("restart=-1", "--option restart = -1 is outside [0, inf) s; 0: never"),
+                         ("rtol=1e-6", "--option = 'rtol=1e-6' sets rtol, which has its own flag; allowed: --rtol 1e-6"),
+                         ("linsolver=band", "linsolver is not an option of leapfrog (its options: chunk, dt, restart)"),
+                         ("restart", "--option = 'restart' is outside NAME=VALUE")):
+        assert main(["run", "twisted-cylinder", "--n", "12", "--t-end", "0.001", "--option", option,
+                     "-o", str(out)]) == 2
+        err = capsys.readouterr().err.strip()
+        assert err == f"mol-shell: error: {said}", err

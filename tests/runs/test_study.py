@@ -195,7 +195,7 @@ STUDY_BAD = [
     (["--vary", "gamma=0.1,0.2", "--workers", "0"], f"--workers = 0 is outside integers in [1, {scheduling.most_workers()}]"),
     (["--vary", "gamma=0.1,0.2", "--workers", "-3"], f"--workers = -3 is outside integers in [1, {scheduling.most_workers()}]"),
     (["--vary", "gamma=0.1,0.2", "--workers", "1000"], f"--workers = 1000 is outside integers in [1, {scheduling.most_workers()}]"),
-    (["--vary", "gamma=0.1,0.2", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: dt; also chunk"),
+    (["--vary", "gamma=0.1,0.2", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: chunk, dt, restart)"),
     (["--vary", "gamma=0.1,0.2", "--integrator", "cvode-bdf", "--dt", "1e-6"], "dt is not an option of cvode-bdf"),
     (["--vary", "rtol=1e-6,1e-7"], "vary = 'rtol' is outside {"),
     (["--vary", "gamma=0.1:0.05:0.01"], "--vary gamma = '0.1:0.05:0.01' is outside START:STOP:STEP"),

@@ -117,7 +117,7 @@ def test_simulate_refuses_bad_arguments_before_computing():
         (dict(scene=scene, times="0,0.01"), r"^times = '0,0.01' is not a list of numbers"),
         (dict(scene=scene, t_end=0.01, dt="1e-6"), r"^dt = '1e-6' is not a number"),
         (dict(scene=scene, integrator="cvode-bdf", t_end=0.01, dt=1e-6), r"^dt is not an option of cvode-bdf \(its options: "),
-        (dict(scene=scene, t_end=0.01, rtol=1e-6), r"^rtol is not an option of leapfrog \(its options: chunk, dt\)$"),
+        (dict(scene=scene, t_end=0.01, rtol=1e-6), r"^rtol is not an option of leapfrog \(its options: chunk, dt, restart\)$"),
         (dict(scene=scene, integrator="cvode-bdf", t_end=0.01, rtol=1.0), r"^rtol = 1.0 is outside \[1e-14, 1\)$"),
         (dict(scene=scene, integrator="cvode-bdf", t_end=0.01, rtol=1e-20), r"^rtol = 1e-20 is outside \[1e-14, 1\)$"),
         (dict(scene="unshearable", integrator="ida", t_end=0.01, dt=1e-6), r"^dt is not an option of ida"),
