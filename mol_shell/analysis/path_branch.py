@@ -15,7 +15,6 @@ from __future__ import annotations
 import numpy as np
 
 
-
 class BranchFailed(Exception):
     """No converged state on the bifurcating branch near the point."""
 

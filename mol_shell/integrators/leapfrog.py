@@ -60,7 +60,7 @@ class Leapfrog:
 
     def restart_steps(self):
         """Steps between two restarts (at least 2); 0 for never."""
-        return max(2, int(round(self.restart / self.dt))) if self.restart > 0 else 0
+        return max(2, round(self.restart / self.dt)) if self.restart > 0 else 0
 
     #: steps leap-frog can count exactly (the step index k and the time k dt in double precision): 2^53
     MAX_STEPS = 2**53
@@ -124,7 +124,7 @@ class _LeapfrogStepper:
             try:
                 self.monitor.check(self.yb, self.k * self.dt)
             except ModelLimitError as exc:
-                self.k = int(round(exc.time / self.dt))
+                self.k = round(exc.time / self.dt)
                 raise
             if self.k == self.steps[target]:
                 self.t = target

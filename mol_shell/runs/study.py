@@ -113,19 +113,19 @@ def restore_materials(materials):
     """Register the laws of :func:`carried_materials` in this process (a worker) where their names are unknown or
     name another law; a law that could not be carried is refused naming ``material``."""
     for name, payload in materials:
-        try:
-            if isinstance(payload, str):
-                raise ValueError(payload)
-            law = pickle.loads(payload)
-        except Exception as exc:  # noqa: BLE001 - the payload's function may be missing here
+        reason = payload if isinstance(payload, str) else None
+        if reason is None:
+            try:
+                law = pickle.loads(payload)
+            except Exception as exc:  # noqa: BLE001 - the payload's function may be missing here
+                reason = f"{type(exc).__name__}: {exc}"
+        if reason is not None:
             if name in REGISTRY:  # this process made it: the study's own
                 continue
-            reason = str(exc) if isinstance(exc, ValueError) and isinstance(payload, str) else \
-                f"{type(exc).__name__}: {exc}"
             raise ParameterError.invalid(
                 "material", name, "could not be sent to the study's worker processes",
                 "a law whose energy function is defined at the top level of a module or script, or its import path "
-                "'module:attr'", hint=reason + "; or run the study with workers=1") from None
+                "'module:attr'", hint=reason + "; or run the study with workers=1")
         if name not in REGISTRY or REGISTRY[name] is not law and REGISTRY[name].fingerprint() != law.fingerprint():
             resolve_material(law)
 

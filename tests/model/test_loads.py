@@ -442,9 +442,9 @@ def test_a_history_without_its_load_is_warned_and_recorded():
         _warnings.simplefilter("always")
         ds = mol_shell.simulate(scene, n=8, t_end=1e-4, progress=False, stresses=False)
     said = [str(w.message) for w in caught if issubclass(w.category, mol_shell.SceneWarning)]
-    assert said == ["pressure_history = 'ramp 0.01' is unused: pressure = 0; set pressure to the magnitude "
-                    "the history multiplies"]
+    assert said == [("pressure_history = 'ramp 0.01' is unused: pressure = 0; set pressure to the magnitude "
+                     "the history multiplies")]
     assert ds.attrs["scene_warning"] == said[0]
     loaded = mol_shell.TwistedCylinder(pressure=10.0, pressure_history="ramp 0.01", end2_spin_history="sine 5")
-    assert loaded.unused_histories() == ["end2_spin_history = 'sine 5' is unused: end2_spin = 0; set "
-                                         "end2_spin to the magnitude the history multiplies"]
+    assert loaded.unused_histories() == [("end2_spin_history = 'sine 5' is unused: end2_spin = 0; set "
+                                          "end2_spin to the magnitude the history multiplies")]

@@ -102,8 +102,8 @@ def test_a_scene_level_fibre_key_unused_by_every_layer_is_said_once():
 
     layers = "0.012 neo-hookean-incompressible; 0.008 svk-plane-stress nu=0.3"
     said = unused_fibres_warnings(mol_shell.Sphere(h=0.01, layers=layers, fibre_angle=0.5))
-    assert said == ["every layer: fibre_angle = 0.5 is unused: fibre_E = 0 (no fibres); set fibre_E > 0 (Pa) to "
-                    "reinforce the wall"]
+    assert said == [("every layer: fibre_angle = 0.5 is unused: fibre_E = 0 (no fibres); set fibre_E > 0 (Pa) to "
+                     "reinforce the wall")]
     own = unused_fibres_warnings(mol_shell.Sphere(h=0.01, layers=layers + " fibre_angle=0.4"))
     assert len(own) == 1 and own[0].startswith("layer 2 (0.008 m): fibre_angle = 0.4 is unused")
 
@@ -120,5 +120,5 @@ def test_a_layer_that_turns_its_fibres_off_is_not_told_the_scene_s_fibre_keys_ar
     own = mol_shell.Sphere(h=0.01, fibre_E=5e6, fibre_angle=0.7,
                            layers="0.012 svk-plane-stress nu=0.3; 0.008 neo-hookean-incompressible fibre_E=0 "
                                   "fibre_angle=0.2")
-    assert unused_fibres_warnings(own) == ["layer 2 (0.008 m): fibre_angle = 0.2 is unused: fibre_E = 0 (no fibres); "
-                                           "set fibre_E > 0 (Pa) to reinforce the wall"]
+    assert unused_fibres_warnings(own) == [("layer 2 (0.008 m): fibre_angle = 0.2 is unused: fibre_E = 0 "
+                                            "(no fibres); set fibre_E > 0 (Pa) to reinforce the wall")]
