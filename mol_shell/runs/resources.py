@@ -325,8 +325,9 @@ def check_cases(count, n, n_times=2, *, name="vary", value=None, early=False):
             raise ParameterError("n", n, f"[3, {max(int(n * fits_fraction(available, per_case)), 3):,}] for a "
                                  f"study with {n_times} saved times", hint=f"one case's Dataset would need about "
                                  f"{show_bytes(per_case)}, {show_bytes(available)} available ({source})")
+        kept = f"at least {n_times} states each (saved times or path steps)" if early else f"{n_times} saved times"
         raise ParameterError(name, value if value is not None else f"<{count:.4g} cases>",
-                             f"at most {fits:,} cases at n = {n} with {n_times} saved times",
+                             f"at most {fits:,} cases at n = {n} with {kept}",
                              hint=f"the study's Dataset would need about {show_bytes(count * per_case)}, "
                              f"{show_bytes(available)} available ({source}); vary fewer values (--vary)")
 

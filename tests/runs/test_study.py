@@ -339,3 +339,15 @@ def test_python_outputs_not_ending_in_a_netcdf_suffix_are_refused_before_any_cas
     with pytest.raises(ParameterError, match=r"path = .*d\.png' ends in \.png"):
         mol_shell.write_netcdf(xr.Dataset(), tmp_path / "d.png")
     assert sorted(tmp_path.iterdir()) == []
+
+
+def test_a_grid_too_large_for_memory_is_refused_in_words_for_runs_and_paths(tmp_path, capsys):
+    """Checked as --vary is read, before the saved times or path steps are known: the bound is the smallest case
+    (two states); it said "with 2 saved times" of a study of paths, which has none."""
+    from mol_shell.cli.main import main
+
+    assert main(["study", "sphere", "--vary", "h=0.001:0.01:1e-9", "--path", "pressure=0:1000",
+                 "-o", str(tmp_path / "s.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("mol-shell: error: --vary h = '0.001:0.01:1e-9' is outside at most ") and \
+        "cases at n = 40 with at least 2 states each (saved times or path steps)" in err, err
