@@ -45,7 +45,8 @@ def register_compare(subparsers):
     parser.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
     parser.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
     parser.add_argument("--integrators", default=",".join(DEFAULT_INTEGRATORS),
-                        help="comma-separated list (default: all)")
+                        help="comma-separated list (default: all but sksundae-cvode-bdf and sksundae-ida, 0.5.0's "
+                        "Python-loop routes, which take minutes at tight tolerances)")
     parser.add_argument("--n", type=integer_arg("--n", 3), default=None,
                         help="nodes in s (default: a scene file's [run] n, else 40)")
     parser.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None,
