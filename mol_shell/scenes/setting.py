@@ -13,11 +13,17 @@ def with_params(scene, params):
     """``dataclasses.replace`` that accepts strings (as from ``--set NAME=VALUE``) and names unknown parameters."""
     fields = {f.name: f for f in dataclasses.fields(scene)}
     changes = {}
-    own = parameter_values(getattr(scene, "material_parameters", "") or "")
+    # a law of one's own: material_parameters given replaces the scene's, and each material.NAME sets one
+    # parameter on top of that, whatever their order (either one was dropped when both were given)
+    given = params.get("material_parameters") if "material_parameters" in fields else None
+    own = parameter_values((getattr(scene, "material_parameters", "") if given is None else given) or "")
     for name, value in params.items():
         if name.startswith("material.") and "material_parameters" in fields:  # one parameter of a law of one's own
             own[name.removeprefix("material.")] = value
             changes["material_parameters"] = own
+            continue
+        if name == "material_parameters" and name in fields:
+            changes.setdefault(name, own)
             continue
         if name not in fields:
             raise UnknownParameterError("parameter", name, Choice(tuple(fields)), hint=f"for scene {scene.name}")

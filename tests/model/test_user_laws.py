@@ -12,6 +12,7 @@ import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
 from mol_shell.model.laws import resolve_material, small_strain_lame, user_material
+from mol_shell.scenes import with_params
 from mol_shell.scenes import Sphere
 from mol_shell.scenes.files import load_scene
 
@@ -259,3 +260,24 @@ def test_a_module_that_raises_or_does_not_parse_is_refused_naming_material(tmp_p
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1 and err[0].startswith(f"mol-shell: error: material = '{name}:rubber'"), err
     assert f"cannot import it ({error}" in err[0], err
+
+
+def test_material_parameters_and_material_name_together_both_apply_in_either_order():
+    """``--set material_parameters=... --set material.mu=...`` dropped one of the two (which one by their order),
+    silently: the run and a study's coordinate claimed values that were not used. ``material_parameters`` given
+    replaces the scene's, and each ``material.NAME`` sets one parameter on top, whatever the order; the stored energy
+    of the start is the one of a Material made with those parameters directly."""
+    def gent(C, p):
+        return p["mu"] / 2 * (ca.trace(C) - 3) + p["k"] * (ca.trace(C) - 3) ** 2
+
+    law = mol_shell.Material("two-parameter-law", energy=gent, parameters={"mu": 3e5, "k": 1e4},
+                             thickness="incompressible")
+    direct = mol_shell.Material("two-parameter-direct", energy=gent, parameters={"mu": 2e5, "k": 1.0},
+                                thickness="incompressible")
+    base = mol_shell.Sphere(h=0.01, R=1.2, material=law)
+    orders = ({"material_parameters": "k=1", "material.mu": "2e5"}, {"material.mu": "2e5", "material_parameters": "k=1"})
+    scenes = [with_params(base, params) for params in orders]
+    assert [s.material_parameters for s in scenes] == ["k=1.0 mu=200000.0"] * 2
+    energies = [float(mol_shell.simulate(s, n=8, t_end=1e-5, progress=False, stresses=False).stored_energy[0])
+                for s in (*scenes, mol_shell.Sphere(h=0.01, R=1.2, material=direct))]
+    assert energies[0] == energies[1] and energies[0] == pytest.approx(energies[2], rel=1e-12)
