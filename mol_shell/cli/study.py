@@ -142,7 +142,7 @@ def _say_cases(ds, what):
 
 def _path_study(args, scene, vary, n):
     """``mol-shell study ... --path NAME=START:STOP``: one equilibrium path per case, the critical points gathered."""
-    for option in ("integrator", "t_end", "times", "dt", "rtol", "atol", "max_step"):
+    for option in ("integrator", "t_end", "times", "dt", "rtol", "atol", "max_step", "option"):
         if getattr(args, option) is not None:
             name = "--" + option.replace("_", "-")
             raise ParameterError(name, getattr(args, option), "options of a study of runs",

@@ -76,7 +76,8 @@ class _Compiled:
 
     #: options of Newton's iteration and their defaults: a fixed-point iteration takes none of them (they were kept
     #: in the file and did nothing)
-    NEWTON_ONLY = (("jac_every", 0), ("setup_every", 0), ("max_newton", None), ("newton_coef", 0.0))
+    NEWTON_ONLY = (("jac_every", 0), ("setup_every", 0), ("max_newton", None), ("newton_coef", 0.0),
+                   ("jacobian", "auto"), ("linsolver", "auto"))
 
     def __post_init__(self):
         super().__post_init__()
@@ -85,7 +86,7 @@ class _Compiled:
                 value = getattr(self, name, default)
                 if value != default:
                     raise ParameterError(name, value, f"its default ({default}) with iteration = 'fixed-point'",
-                                         message=f"{name} = {value} is an option of Newton's iteration, which "
+                                         message=f"{name} = {value!r} is an option of Newton's iteration, which "
                                          f"{self.name} runs only with iteration = 'newton' (its iteration here is "
                                          "'fixed-point', the default)")
         if self.jacobian == "dq" and self.linsolver == "sparse" and not self.fixed_point():

@@ -67,6 +67,8 @@ def test_the_command(tmp_path, capsys):
         assert ds.alpha2.attrs["long_name"].endswith("(varied)")  # it had none
     assert main([*argv, "--t-end", "1", "-o", str(tmp_path / "x.nc")]) == 2
     assert "--t-end is an option of a study of runs" in capsys.readouterr().err
+    assert main([*argv, "--option", "foo=bar", "-o", str(tmp_path / "x.nc")]) == 2  # was ignored, exit 0
+    assert "--option is an option of a study of runs, not of one of paths" in capsys.readouterr().err
 
 
 def test_the_study_s_figure_draws_each_case_s_critical_loads(studied, tmp_path, capsys):

@@ -89,8 +89,10 @@ def test_each_route_takes_exactly_its_own_options():
             INTEGRATORS[name](max_order=6)
     assert INTEGRATORS["cvode-adams"](max_order=12).max_order == 12
     # Newton's options with a fixed-point iteration (cvode-adams' default) were kept in the file and did nothing
-    for name, value in (("jac_every", 200), ("setup_every", 5), ("max_newton", 4), ("newton_coef", 0.2)):
-        with pytest.raises(ParameterError, match=rf"^{name} = {value} is an option of Newton's iteration, which "
+    # (and the Newton matrix's Jacobian and linear solver, which it did not use either)
+    for name, value in (("jac_every", 200), ("setup_every", 5), ("max_newton", 4), ("newton_coef", 0.2),
+                        ("jacobian", "compiled"), ("linsolver", "band")):
+        with pytest.raises(ParameterError, match=rf"^{name} = {value!r} is an option of Newton's iteration, which "
                            "cvode-adams runs only with iteration = 'newton'"):
             INTEGRATORS["cvode-adams"](**{name: value})
         assert getattr(INTEGRATORS["cvode-adams"](iteration="newton", **{name: value}), name) == value
