@@ -51,7 +51,8 @@ def parse_vary(items, n=40):
             raise ParameterError("--vary", item, form)
         if name in vary:
             raise ParameterError.invalid("--vary", item, f"varies {name} a second time", "each parameter once")
-        if ":" in spec:
+        if ":" in spec and "," not in spec and not name.startswith("material") and name != "layers":
+            # START:STOP:STEP; a list's entries may hold colons (a law's import path, module:attr)
             values = parse_range_or_list(spec, f"--vary {name}", words=("START", "STOP", "STEP"), item="V",
                                          count_check=lambda count: resources.check_cases(
                                              count, n, name=f"--vary {name}", value=spec, early=True))

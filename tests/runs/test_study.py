@@ -148,6 +148,15 @@ def test_vary_ranges_include_the_stop():
     assert vary["nu"] == [0.3, 0.45, 0.49] and vary["material"] == ["svk", "svk-plane-stress"]
 
 
+def test_vary_lists_may_hold_import_paths():
+    """A law of one's own is named by its import path ``module:attr`` on the command line; the colon read as a
+    range's (``--vary material = 'svk,my_laws:rubber' is outside START:STOP:STEP``)."""
+    assert parse_vary(["material=svk,my_laws:rubber"])["material"] == ["svk", "my_laws:rubber"]
+    assert parse_vary(["material=my_laws:rubber"])["material"] == ["my_laws:rubber"]
+    with pytest.raises(ParameterError, match="START:STOP:STEP"):  # a range is still a range
+        parse_vary(["gamma=0.02:0.2"])
+
+
 def test_command_line(tmp_path, monkeypatch, capsys):
     from mol_shell.cli.main import main
 
