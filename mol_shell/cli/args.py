@@ -278,7 +278,7 @@ def option_args(args, integrator):
     for name, text in given.items():
         if name in FLAGS:
             raise ParameterError.invalid("--option", f"{name}={text}", f"sets {name}, which has its own flag",
-                                         f"{FLAGS[name]} {text}")
+                                         f"{FLAGS[name]} in its place")
         value = option_value(text)
         spec = declared(INTEGRATORS[integrator]).get(name) if integrator in INTEGRATORS else None
         if spec is not None and not spec.check(value):
