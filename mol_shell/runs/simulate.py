@@ -33,6 +33,7 @@ from mol_shell.runs.ellipticity import check_ellipticity
 from mol_shell.runs.statics import static_equilibrium, unstable_directions
 from mol_shell.runs.unshearable import simulate_unshearable
 from mol_shell.scenes import UNSHEARABLE_INTEGRATORS, CylinderScene, Unshearable
+from mol_shell.scenes.setting import unused_histories
 
 #: leap-frog is refused when damped modes could grow by more than exp(this) (1e6) over the run
 LEAPFROG_MAX_LOG_GROWTH = float(np.log(1e6))
@@ -294,7 +295,7 @@ def _material_warning(scene, ds):
         warnings.warn(note, MaterialWarning, stacklevel=3)
     if notes:
         ds.attrs["material_warning"] = "; ".join(notes)
-    unused = scene.unused_histories() if hasattr(scene, "unused_histories") else []
+    unused = unused_histories(scene)
     for note in unused:
         warnings.warn(note, SceneWarning, stacklevel=3)
     if unused:

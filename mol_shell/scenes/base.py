@@ -411,17 +411,6 @@ class ShellScene:
         """Whether the run starts from the static equilibrium under the loads at ``t = 0`` (``R``/``dilation`` auto)."""
         return False
 
-    def unused_histories(self):
-        """One line for each load or drive whose ``NAME_history`` is set (not constant) while ``NAME`` is 0: the
-        history then multiplies nothing (a load meant for it mistyped, say)."""
-        out = []
-        for name in LOADS + DRIVES:
-            history = getattr(self, f"{name}_history", "constant")
-            if isinstance(history, str) and history.strip() != "constant" and getattr(self, name, 0.0) == 0:
-                out.append(f"{name}_history = {history!r} is unused: {name} = 0; set {name} to the "
-                           "magnitude the history multiplies")
-        return out
-
     def loads_on(self):
         """The names of the loads that are on (not 0), in the order of :data:`LOADS`."""
         return [load for load in LOADS if getattr(self, load) != 0]

@@ -7,6 +7,7 @@ import dataclasses
 from mol_shell._core.errors import UnknownParameterError
 from mol_shell._core.ranges import Choice
 from mol_shell.model.laws import parameter_values
+from mol_shell.scenes.base import DRIVES, LOADS
 
 
 def with_params(scene, params):
@@ -49,3 +50,15 @@ def _coerce(name, value, annotation):
 
 
 __all__ = ["with_params"]
+
+
+def unused_histories(scene):
+    """One line for each load or drive of ``scene`` whose ``NAME_history`` is set (not constant) while ``NAME`` is 0:
+    the history then multiplies nothing (a load meant for it mistyped, say)."""
+    out = []
+    for name in LOADS + DRIVES:
+        history = getattr(scene, f"{name}_history", "constant")
+        if isinstance(history, str) and history.strip() != "constant" and getattr(scene, name, 0.0) == 0:
+            out.append(f"{name}_history = {history!r} is unused: {name} = 0; set {name} to the magnitude the history "
+                       "multiplies")
+    return out

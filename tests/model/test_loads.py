@@ -446,5 +446,7 @@ def test_a_history_without_its_load_is_warned_and_recorded():
                      "the history multiplies")]
     assert ds.attrs["scene_warning"] == said[0]
     loaded = mol_shell.TwistedCylinder(pressure=10.0, pressure_history="ramp 0.01", end2_spin_history="sine 5")
-    assert loaded.unused_histories() == [("end2_spin_history = 'sine 5' is unused: end2_spin = 0; set "
+    from mol_shell.scenes.setting import unused_histories
+
+    assert unused_histories(loaded) == [("end2_spin_history = 'sine 5' is unused: end2_spin = 0; set "
                                           "end2_spin to the magnitude the history multiplies")]

@@ -12,8 +12,7 @@ import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
 from mol_shell.model.laws import resolve_material, small_strain_lame, user_material
-from mol_shell.scenes import with_params
-from mol_shell.scenes import Sphere
+from mol_shell.scenes import Sphere, with_params
 from mol_shell.scenes.files import load_scene
 
 E = 1e6
