@@ -26,11 +26,6 @@ import warnings
 
 import numpy as np
 
-try:  # the dask extra's: a law of one's own made in a script reaches worker processes by value
-    import cloudpickle
-except ImportError:  # pragma: no cover - without the extra, by reference
-    cloudpickle = None
-
 from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
@@ -93,6 +88,10 @@ def carried_materials(scene):
     pickled ``Material``, by value with cloudpickle where it is installed (the dask extra), else by reference
     (its energy function must then be found at the top level of its module); or, where it cannot be pickled, the
     reason, said by the cases that need it."""
+    try:  # the dask extra's: a law made anywhere in a script reaches worker processes by value
+        from cloudpickle import dumps
+    except ImportError:  # pragma: no cover - without the extra, by reference
+        dumps = pickle.dumps
     out = []
     for name in _laws_named(scene):
         try:
@@ -102,7 +101,7 @@ def carried_materials(scene):
         if user is None:
             continue
         try:
-            payload = (cloudpickle.dumps if cloudpickle is not None else pickle.dumps)(user)
+            payload = dumps(user)
         except Exception as exc:  # noqa: BLE001 - a law pickle cannot carry (a lambda without cloudpickle, say)
             payload = f"{type(exc).__name__}: {exc}"
         out.append((name, payload))

@@ -30,6 +30,7 @@ LAYERS = next(c["layers"] for c in CONTRACTS if c["type"] == "layers")
 #: few commands, so ``import mol_shell`` and the CLI's start stay fast. Import times measured on a 2-core machine.
 LAZY_EXTERNAL = {
     "distributed": "the dask extra, optional: only studies run on a dask cluster need it",
+    "cloudpickle": "the dask extra's, optional: only a study of a law of one's own made in a script pickles it",
     "sksundae": "SUNDIALS (about 1 s to import): only the CVODE/IDA integrators and the DAE route need it",
     "scipy": "its integrate/interpolate/sparse submodules (0.4-1 s each): only some integrators, statics, modes, meridians",
     "matplotlib": "pyplot (0.7 s, and it picks a backend): only figures; the CLI chooses the backend first",
