@@ -398,19 +398,18 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
             q, lam, t = q_new, lam_new, t_new
             if branch is not None and record.branch == 0 and len(record.points) > branch:
                 no_switch = no_branch_reason(record, branch)
-            if no_switch is not None:  # the path goes on without the switch, said in its message
-                branch = None
-            elif branch is not None and record.branch == 0 and len(record.points) > branch:
-                try:
-                    q, lam, t, its = switch(tracer, record.points[branch], t, h, ds0 * 2.0 ** -MIN_HALVINGS,
-                                         PathFailed)
-                except BranchFailed as exc:
-                    status, message = "failed", f"no switch onto the branch at critical point {branch}: {exc}"
-                    break
-                record.branch, record.branch_point = 1, branch
-                t = tracer.tangent(q, lam, previous=t)
-                record.add(q, lam, t, record.arcs[-1] + h, its)
-                continue
+                if no_switch is None:
+                    try:
+                        q, lam, t, its = switch(tracer, record.points[branch], t, h, ds0 * 2.0 ** -MIN_HALVINGS,
+                                                PathFailed)
+                    except BranchFailed as exc:
+                        status, message = "failed", f"no switch onto the branch at critical point {branch}: {exc}"
+                        break
+                    record.branch, record.branch_point = 1, branch
+                    t = tracer.tangent(q, lam, previous=t)
+                    record.add(q, lam, t, record.arcs[-1] + h, its)
+                    continue
+                branch = None  # a limit point: the path goes on without the switch, said in its message
             if beyond:
                 status, message = "complete", f"reached {parameter} = {lam:.6g} {eq.units}"
                 break
