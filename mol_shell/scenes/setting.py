@@ -49,9 +49,6 @@ def _coerce(name, value, annotation):
     return number
 
 
-__all__ = ["with_params"]
-
-
 def unused_histories(scene):
     """One line for each load or drive of ``scene`` whose ``NAME_history`` is set (not constant) while ``NAME`` is 0:
     the history then multiplies nothing (a load meant for it mistyped, say)."""
@@ -62,3 +59,6 @@ def unused_histories(scene):
             out.append(f"{name}_history = {history!r} is unused: {name} = 0; set {name} to the magnitude the history "
                        "multiplies")
     return out
+
+
+__all__ = ["unused_histories", "with_params"]
