@@ -17,7 +17,7 @@ import numpy as np
 import xarray as xr
 
 from mol_shell._core.constants import DENSE_MAX_STATES
-from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
 from mol_shell.integrators import INTEGRATORS, Leapfrog
 from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.runs.simulate import LEAPFROG_MAX_LOG_GROWTH, build, resolve, simulate, starting_state
@@ -184,12 +184,23 @@ def _dissipated(ds):
 
 
 def report(cases, **kwargs):
-    """Run every case; one Dataset with a ``case`` dimension (strings for statuses)."""
-    rows = []
-    for case in cases:
-        start = time.perf_counter()
-        rows.append(run_case(case, **kwargs))
-        print(f"{case.label:28s} done in {time.perf_counter() - start:6.1f} s", flush=True)
+    """Run every case; one Dataset with a ``case`` dimension (strings for statuses). Ctrl-C stops it with the cases
+    finished so far (``attrs["status"] = "interrupted"``, the message naming the cases not run)."""
+    rows, cases, interrupted = [], list(cases), ""
+    try:
+        for case in cases:
+            start = time.perf_counter()
+            row = run_case(case, **kwargs)
+            if any(v == "interrupted" for k, v in row.items() if k.endswith("_status")):  # a run kept it as data
+                raise KeyboardInterrupt
+            rows.append(row)
+            print(f"{case.label:28s} done in {time.perf_counter() - start:6.1f} s", flush=True)
+    except (KeyboardInterrupt, SystemError) as exc:  # SystemError: a Ctrl-C inside a CasADi call
+        if not by_interrupt(exc) or not rows:
+            raise
+        left = [case.label for case in cases[len(rows):]]
+        interrupted = (f"interrupted by the user at case {left[0]!r}: the {len(rows)} case{'s' * (len(rows) != 1)} "
+                       f"before it measured, {len(left)} not run")
     keys = sorted({k for row in rows for k in row if k != "label"})
     data = {}
     for key in keys:
@@ -199,6 +210,7 @@ def report(cases, **kwargs):
         data[key] = ("case", values, _meta(key))
     ds = xr.Dataset(data, coords={"case": ("case", [row["label"] for row in rows], {"long_name": "case"})})
     ds.attrs["bisected"] = int(kwargs.get("bisect", True))
+    ds.attrs.update({"status": "interrupted" if interrupted else "complete", "message": interrupted})
     return ds
 
 

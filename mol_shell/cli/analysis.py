@@ -104,6 +104,10 @@ def cmd_stability(args):
     write_text(md, stability_table(ds) + "\n")
     plot_report(ds, png)
     print(stability_table(ds))
+    if ds.attrs.get("status") == "interrupted":
+        print(f"mol-shell: stability report stopped: {ds.attrs['message']}; wrote {args.output}, {png}, {md}",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
     return 0
 
 

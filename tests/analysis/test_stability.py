@@ -136,3 +136,34 @@ def test_a_run_refused_or_stopped_at_its_start_says_why_and_shows_no_numbers():
     assert str(ds.cvode_bdf_message.values[0]) == ""  # a complete run says nothing
     table = markdown_table(ds, spectrum=False)
     assert "Runs that did not complete:" in table and "- twist, cvode-bdf: an in-plane stretch" in table
+
+
+def test_ctrl_c_keeps_the_cases_finished(monkeypatch, tmp_path, capsys):
+    """Ctrl-C during `mol-shell stability` exited 130 with nothing written, though cases had printed "done". The
+    cases finished are kept (file, table, figure), the message names the case interrupted, exit 130."""
+    from mol_shell.analysis import stability
+    from mol_shell.cli.main import main
+
+    real = stability.run_case
+    calls = []
+
+    def interrupted_at_the_second(case, **kwargs):
+        calls.append(case.label)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(case, **kwargs)
+
+    monkeypatch.setattr(stability, "run_case", interrupted_at_the_second)
+    cases = [Case("paper", mol_shell.TwistedCylinder(), n=12, t_end=0.002),
+             Case("nu=0.3", mol_shell.TwistedCylinder(nu=0.3), n=12, t_end=0.002),
+             Case("h=0.01", mol_shell.TwistedCylinder(h=0.01), n=12, t_end=0.002)]
+    monkeypatch.setattr(stability, "default_cases", lambda scene, quick=False: cases)
+    monkeypatch.setattr("mol_shell.cli.analysis.default_cases", lambda scene, quick=False: cases)
+    out = tmp_path / "st.nc"
+    assert main(["stability", "twisted-cylinder", "--no-bisect", "-o", str(out)]) == 130
+    err = capsys.readouterr().err
+    assert "stability report stopped: interrupted by the user at case 'nu=0.3': the 1 case before it measured, " \
+           "2 not run" in err, err
+    ds = mol_shell.read_netcdf(out)
+    assert list(ds.case.values) == ["paper"] and ds.attrs["status"] == "interrupted"
+    assert (tmp_path / "st.md").exists() and (tmp_path / "st.png").exists()
