@@ -22,7 +22,7 @@ from mol_shell.results.dataset import NETCDF_SUFFIXES  # noqa: F401 (the outputs
 from mol_shell.runs.resources import check_saved_times
 from mol_shell.runs.simulate import check_options, integrator_options
 from mol_shell.scenes import SCENES, get_scene, with_params
-from mol_shell.scenes.files import load_scene
+from mol_shell.scenes.files import check_run_together, load_scene
 
 #: exit codes: an internal error (a bug), bad input, a run stopped at a model limit, Ctrl-C, and the reader of
 #: the output gone (``mol-shell scenes | head -1``: 128 + SIGPIPE, as a command the pipe stopped)
@@ -50,7 +50,7 @@ def scene_and_run(text, sets=None):
     """The scene a command names, a registered name or a scene file ``FILE.toml``, with ``--set`` values on top,
     and the file's ``[run]`` table (``{}`` for a name): the defaults of the command's own options."""
     if str(text).endswith(".toml"):
-        scene, run = load_scene(text, with_run=True)
+        scene, run = load_scene(text, with_run=True, together=False)  # run_settings checks them with ours
         return with_params(scene, parse_sets(sets)), run
     return get_scene(text, **parse_sets(sets)), {}
 
@@ -316,8 +316,16 @@ def run_settings(args, run, scene, n):
                     break
                 print(f"mol-shell: note: the scene file's [run] {exc.name} = {from_file.pop(exc.name)!r} is not "
                       f"taken by {integrator} (--integrator) as it is set ({exc}): left out", file=sys.stderr)
-    options = from_file | option_args(args, integrator) | integrator_option_args(args)
-    check_options(scene, integrator, options)
+    given = option_args(args, integrator) | integrator_option_args(args)
+    options = from_file | given
+    try:
+        check_options(scene, integrator, options)
+    except ParameterError as exc:
+        if exc.name in from_file and exc.name not in given:  # the file's option: said with the file and table
+            raise ParameterError(exc.name, exc.value, exc.allowed, message=f"{args.scene}: [run] {exc}") from None
+        raise
+    if str(args.scene).endswith(".toml"):  # the file's options across each other, ours applied: the file's named
+        check_run_together(args.scene, integrator, options, given)
     return times, t_end, integrator, options
 
 

@@ -205,8 +205,9 @@ def _type_ok(field, value):
             or ("str" in kind and isinstance(value, str)) or (kind == "bool" and isinstance(value, bool)))
 
 
-def _run_options(source, run):
-    """The ``[run]`` table checked: ``{name: value}`` with ``simulate``'s keyword names."""
+def _run_options(source, run, together=True):
+    """The ``[run]`` table checked: ``{name: value}`` with ``simulate``'s keyword names; ``together``: also the
+    integrator's checks across its options (the command line makes them after its own options are applied)."""
     out = {}
 
     def positive(key, value, low=0.0, high=math.inf, closed=False, unit=" s"):
@@ -255,16 +256,25 @@ def _run_options(source, run):
         else:  # t_end, dt, max_step, atol
             value = positive(key, value, unit="" if key == "atol" else " s")
         out[key] = value
-    own = {key: value for key, value in out.items() if key in extra and key not in RUN}
-    if own:  # the integrator's checks across its options (max_order 9 on BDF, jac_every with a fixed-point iteration)
-        try:
-            INTEGRATORS[integrator](**own)
-        except ParameterError as exc:
-            raise _fail(source, "run", exc) from None
+    if together:
+        check_run_together(source, integrator, out)
     return out
 
 
-def scene_from_dict(data, source="<scene file>", folder="."):
+def check_run_together(source, integrator, run, given=()):
+    """The integrator's checks across its options of ``run`` (max_order 9 on BDF, jac_every with a fixed-point
+    iteration): refused naming the file ``source`` and ``[run]`` when the option blamed is the file's (not in
+    ``given``, the command line's), else as the integrator says."""
+    extra = declared(INTEGRATORS[integrator]) if integrator in INTEGRATORS else {}
+    own = {key: value for key, value in run.items() if key in extra and key not in RUN}
+    if own:
+        try:
+            INTEGRATORS[integrator](**own)
+        except ParameterError as exc:
+            raise (exc if exc.name in given else _fail(source, "run", exc)) from None
+
+
+def scene_from_dict(data, source="<scene file>", folder=".", together=True):
     """The scene (and the ``[run]`` options) of a parsed scene file; see the module's docstring."""
     folder = Path(folder)
     names = "{" + ", ".join(sorted(SCENES)) + "}"
@@ -313,7 +323,7 @@ def scene_from_dict(data, source="<scene file>", folder="."):
             except ParameterError as exc:
                 raise _fail(source, key, exc) from None
             where[param] = key
-    run = _run_options(source, data.get("run", {}))
+    run = _run_options(source, data.get("run", {}), together)
     try:
         scene = cls(**given)
     except ParameterError as exc:
@@ -325,7 +335,7 @@ def scene_from_dict(data, source="<scene file>", folder="."):
     return scene, run
 
 
-def load_scene(path, *, with_run=False):
+def load_scene(path, *, with_run=False, together=True):
     """The scene a TOML scene file describes (see :mod:`mol_shell.scenes.files` for the layout).
 
     Parameters
@@ -337,6 +347,9 @@ def load_scene(path, *, with_run=False):
         "dt", "rtol", "atol", "max_step"}`` and any other option of the integrator (those given), so
         ``simulate(scene, **run)`` runs it as
         ``mol-shell run FILE.toml`` does.
+    together : bool
+        Check the ``[run]`` options across each other as the integrator does (False: the caller does, after
+        options of its own replace some: the command line's ``--integrator`` and ``--option``).
 
     Returns
     -------
@@ -363,7 +376,7 @@ def load_scene(path, *, with_run=False):
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ParameterError("scene file", str(path), "TOML", message=f"{path}: not valid TOML: {exc}") from None
-    scene, run = scene_from_dict(data, str(path), path.parent)
+    scene, run = scene_from_dict(data, str(path), path.parent, together)
     return (scene, run) if with_run else scene
 
 

@@ -353,3 +353,25 @@ def test_the_refusal_of_an_option_lists_all_the_integrator_s_options(tmp_path, c
     err = capsys.readouterr().err.strip()
     assert err.startswith("mol-shell: error: dt is not an option of cvode-bdf (its options: anderson, atol, ") \
         and "jac_every" in err and "rtol" in err, err
+
+
+def test_the_command_line_can_mend_a_file_s_run_options(tmp_path, capsys):
+    """A file's [run] options were checked across each other for its own integrator as it was read, before
+    --integrator or --option applied: cvode-adams with jac_every (Newton's) could not be run as cvode-bdf or with
+    --option iteration=newton. They are checked with the command line's applied, and a file's own mistake still names
+    the file and [run] (a file's dt on cvode-bdf did not)."""
+    f = tmp_path / "adams.toml"
+    f.write_text('scene = "twisted-cylinder"\n[run]\nintegrator = "cvode-adams"\njac_every = 20\nn = 8\nt_end = 0.0005\n')
+    out = str(tmp_path / "x.nc")
+    assert main(["run", str(f), "-o", out]) == 2
+    assert capsys.readouterr().err.startswith(f"mol-shell: error: {f}: [run] jac_every = 20 is an option of Newton's")
+    assert main(["run", str(f), "--integrator", "cvode-bdf", "-o", out]) == 0
+    assert main(["run", str(f), "--option", "iteration=newton", "-o", out]) == 0
+    assert read_netcdf(out).attrs["jac_every"] == 20
+    with pytest.raises(ParameterError, match=r"\[run\] jac_every = 20 is an option of Newton's"):
+        load_scene(f, with_run=True)  # Python reads the file as it stands
+    g = tmp_path / "bdf.toml"
+    g.write_text('scene = "twisted-cylinder"\n[run]\nintegrator = "cvode-bdf"\ndt = 1e-6\nn = 8\nt_end = 0.0005\n')
+    capsys.readouterr()
+    assert main(["run", str(g), "-o", out]) == 2
+    assert capsys.readouterr().err.startswith(f"mol-shell: error: {g}: [run] dt is not an option of cvode-bdf")
