@@ -195,7 +195,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
             raise ParameterError("initial", "given", "None for the unshearable scene (its own formulation)")
         ds = simulate_unshearable(scene, n=n, times=times, t_end=t_end, constrained=integrator == "ida",
                                   progress=progress, **options)
-        return _material_warning(scene, ds)
+        return _scene_warnings(scene, ds)
     method = INTEGRATORS[integrator](**options)
     if times is None and integrator == "leapfrog":
         times = leapfrog_times(t_end, method.dt)
@@ -254,7 +254,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     })
     if stability_note:
         attrs["stability_warning"] = stability_note
-    ds = _material_warning(scene, build_dataset(system, scene, traj, velocities, totals, attrs, requested))
+    ds = _scene_warnings(scene, build_dataset(system, scene, traj, velocities, totals, attrs, requested))
     ds = check_ellipticity(system, ds)
     if stresses is not False:
         ds = add_stresses(ds, limit=None if stresses else MAX_SAMPLES)
@@ -287,9 +287,10 @@ def _check_radius_atol(method, system, y0):
                              "at r = atol_r")
 
 
-def _material_warning(scene, ds):
-    """``ds`` with the material's warning (:func:`~mol_shell.model.material.locking_warning`) said and recorded
-    (once the run is done: a run refused on the way says only why)."""
+def _scene_warnings(scene, ds):
+    """``ds`` with the material's warnings (:func:`~mol_shell.model.material.locking_warning`, unused fibre keys) and
+    the scene's (a load's history without the load) said and recorded (once the run is done: a run refused on the
+    way says only why)."""
     notes = [*locking_warnings(scene), *unused_fibres_warnings(scene)]
     for note in notes:
         warnings.warn(note, MaterialWarning, stacklevel=3)

@@ -108,10 +108,18 @@ def carried_materials(scene):
     return tuple(out)
 
 
+#: ``name -> (payload, law)`` restored in this process: a study's later cases find their law registered as it was
+#: (neither unpickled nor compared again; a law registered since under that name is another one)
+_RESTORED = {}
+
+
 def restore_materials(materials):
     """Register the laws of :func:`carried_materials` in this process (a worker) where their names are unknown or
     name another law; a law that could not be carried is refused naming ``material``."""
     for name, payload in materials:
+        done = _RESTORED.get(name)
+        if done is not None and done[0] == payload and REGISTRY.get(name) is done[1]:
+            continue
         reason = payload if isinstance(payload, str) else None
         if reason is None:
             try:
@@ -125,8 +133,9 @@ def restore_materials(materials):
                 "material", name, "could not be sent to the study's worker processes",
                 "a law whose energy function is defined at the top level of a module or script, or its import path "
                 "'module:attr'", hint=reason + "; or run the study with workers=1")
-        if name not in REGISTRY or REGISTRY[name] is not law and REGISTRY[name].fingerprint() != law.fingerprint():
+        if name not in REGISTRY or REGISTRY[name].fingerprint() != law.fingerprint():
             resolve_material(law)
+        _RESTORED[name] = (payload, REGISTRY[name])
 
 
 def case_inputs(scene):

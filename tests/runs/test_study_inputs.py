@@ -108,3 +108,18 @@ def test_a_law_that_cannot_be_carried_is_refused_naming_material_where_it_is_unk
                               thickness="incompressible")
     mol_shell.Sphere(material=here)  # registered in this process: its own cases run
     restore_materials((("study-law-made-here", "PicklingError: no"),))
+
+
+def test_a_carried_law_is_restored_once_per_process(monkeypatch):
+    """Each case carries its laws; a process that has restored one (a worker's first case, or this process) finds
+    it registered as it was and neither unpickles nor compares it again for the study's later cases."""
+    from mol_shell.runs import study as study_module
+
+    law = mol_shell.Material("study-restored-once", energy=neo_hookean_like(1.0), parameters={"mu": 1e5},
+                             thickness="incompressible")
+    carried = study_module.carried_materials(mol_shell.Sphere(material=law))
+    real, loads = study_module.pickle.loads, []
+    monkeypatch.setattr(study_module.pickle, "loads", lambda data: loads.append(1) or real(data))
+    for _ in range(5):
+        study_module.restore_materials(carried)
+    assert len(loads) == 1 and study_module.REGISTRY["study-restored-once"] is law
