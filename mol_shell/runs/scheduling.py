@@ -11,6 +11,7 @@ import collections
 import contextlib
 import multiprocessing
 import os
+import sys
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -148,11 +149,12 @@ def _execute_local(run_task, tasks, workers):
     running (the table says which) runs again in a new pool, up to :data:`LOST_RETRIES` times, and the cases it
     had not started run there as they were.
     """
+    _refuse_in_starting_worker()
     attempts = {task.index: 0 for task in tasks}
-    pending = list(tasks)
+    pending, alone = list(tasks), False
     with _one_thread_per_process():
         while pending:
-            spawned = max(1, min(workers or os.cpu_count() or 1, len(pending))) - 1
+            spawned = 0 if alone else max(1, min(workers or os.cpu_count() or 1, len(pending))) - 1
             if not spawned:  # this process alone
                 for task in pending:
                     yield _retried(run_task(task), attempts[task.index])
@@ -186,6 +188,10 @@ def _execute_local(run_task, tasks, workers):
                 # every result in: the workers exit on their own (0.2 s that the study need not wait for); on an
                 # interruption or error, what has not started is cancelled and the workers are waited for
                 pool.shutdown(wait=bool(running), cancel_futures=True)
+            if failed and not any(claims.owner(slot) > 0 for slot in range(len(pending))):
+                alone = True  # the workers died before any case: a new pool would too
+                warnings.warn(_NO_START.format(left=len((set(failed) | set(queue)) - mine)), RuntimeWarning,
+                              stacklevel=5)  # the caller of study (through execute and run_cases)
             again, lost = [], []
             for slot in sorted((set(failed) | set(queue)) - mine):
                 task = pending[slot]
@@ -200,6 +206,24 @@ def _execute_local(run_task, tasks, workers):
                                                    "case_wall_time_s": float("nan"), "worker": ""}),
                                attempts[task.index])
             pending = again
+
+
+#: why a study's workers could not start, said once (the cases then run in the calling process)
+_NO_START = ("the local worker processes stopped before their first case (see what they printed above; a script "
+             'that starts a study outside if __name__ == "__main__": is the usual cause), so this process runs the '
+             "study's remaining cases ({left})")
+
+
+def _refuse_in_starting_worker():
+    """Stop a spawned worker that is still importing the user's main script, which starts a study at its top
+    level: one line saying what to change, where multiprocessing raised a long RuntimeError (and the study went
+    on spawning workers that died the same way). ``_inheriting`` is the flag multiprocessing's own check reads."""
+    if getattr(multiprocessing.current_process(), "_inheriting", False):
+        script = next((m.__file__ for m in map(sys.modules.get, ("__mp_main__", "__main__"))  # the first: as it runs
+                       if getattr(m, "__file__", None)), "the main script")
+        raise SystemExit(f"mol_shell: a study's worker process re-ran {script} as it started (Python's spawned "
+                         "processes import the main script), and the script starts a study at its top level: put "
+                         'the study under if __name__ == "__main__":')
 
 
 def _next_here(queue, running, claims):

@@ -1,0 +1,37 @@
+"""A script that calls ``study`` with local workers but outside ``if __name__ == "__main__":``.
+
+Python's spawned workers re-run such a script as they start; each then tried to start a study of its own, died
+with multiprocessing's long RuntimeError, and the study went on spawning new workers (eleven tracebacks in one
+run), finishing serially without a word. Now the worker stops with one line saying what to change, and the study
+runs the remaining cases in the calling process, said once.
+"""
+
+import os
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+SCRIPT = textwrap.dedent("""
+    import mol_shell
+
+    ds = mol_shell.study("twisted-cylinder", {"gamma": [0.05, 0.06, 0.07, 0.08]}, n=8, t_end=1e-4, workers=2,
+                         progress=False)
+    print("STATUS", sorted(set(ds.status.values.tolist())), ds.status.size)
+""")
+
+
+@pytest.mark.timeout(120)
+def test_unguarded_study_script_runs_its_cases_once_with_one_line_on_each_side(tmp_path):
+    script = tmp_path / "sweep.py"
+    script.write_text(SCRIPT)
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, cwd=tmp_path,
+                          env=dict(os.environ, PYTHONPATH=str(Path(__file__).parents[2])), timeout=110)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert "STATUS ['complete'] 4" in proc.stdout, (proc.stdout, proc.stderr[-3000:])
+    assert proc.stdout.count("STATUS") == 1, proc.stdout  # the worker did not run the script's study
+    assert "Traceback" not in proc.stderr, proc.stderr[-3000:]
+    assert proc.stderr.count('if __name__ == "__main__":') == 2, proc.stderr  # the worker's line, the warning
+    assert "this process runs the study's remaining cases" in proc.stderr, proc.stderr
