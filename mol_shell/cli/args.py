@@ -316,17 +316,27 @@ def run_settings(args, run, scene, n):
                     break
                 print(f"mol-shell: note: the scene file's [run] {exc.name} = {from_file.pop(exc.name)!r} is not "
                       f"taken by {integrator} (--integrator) as it is set ({exc}): left out", file=sys.stderr)
-    given = option_args(args, integrator) | integrator_option_args(args)
+    named = option_args(args, integrator)
+    given = named | integrator_option_args(args)
     options = from_file | given
     try:
         check_options(scene, integrator, options)
     except ParameterError as exc:
         if exc.name in from_file and exc.name not in given:  # the file's option: said with the file and table
             raise ParameterError(exc.name, exc.value, exc.allowed, message=f"{args.scene}: [run] {exc}") from None
-        raise
-    if str(args.scene).endswith(".toml"):  # the file's options across each other, ours applied: the file's named
+        raise _as_option(exc, named) from None
+    try:  # across each other, ours applied: a file's option blamed is said with the file (check_run_together)
         check_run_together(args.scene, integrator, options, given)
+    except ParameterError as exc:
+        raise _as_option(exc, named) from None
     return times, t_end, integrator, options
+
+
+def _as_option(exc, named):
+    """``exc`` about an option the command line set by ``--option NAME=VALUE`` (in ``named``), said so."""
+    if exc.name not in named:
+        return exc
+    return ParameterError(f"--option {exc.name}", exc.value, exc.allowed, message=f"--option {exc}")
 
 
 def check_companions(output, paths):

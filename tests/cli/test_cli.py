@@ -428,9 +428,28 @@ def test_option_sets_any_integrator_option_on_the_command_line(tmp_path, capsys)
     capsys.readouterr()
     for option, said in (("restart=-1", "--option restart = -1 is outside [0, inf) s; 0: never"),
                          ("rtol=1e-6", "--option = 'rtol=1e-6' sets rtol, which has its own flag; allowed: --rtol in its place"),
-                         ("linsolver=band", "linsolver is not an option of leapfrog (its options: chunk, dt, restart)"),
+                         ("linsolver=band", "--option linsolver is not an option of leapfrog (its options: chunk, dt, restart)"),
                          ("restart", "--option = 'restart' is outside NAME=VALUE")):
         assert main(["run", "twisted-cylinder", "--n", "12", "--t-end", "0.001", "--option", option,
                      "-o", str(out)]) == 2
         err = capsys.readouterr().err.strip()
         assert err == f"mol-shell: error: {said}", err
+
+
+@pytest.mark.parametrize(("options", "said"), [
+    (["--integrator", "cvode-bdf", "--option", "max_order=6"],
+     "--option max_order = 6 is outside integers in [1, 5], or None (cvode-bdf is BDF: orders up to 5)"),
+    (["--integrator", "cvode-adams", "--option", "jac_every=5"], "--option jac_every = 5 is an option of Newton's"),
+])
+@pytest.mark.parametrize("command", ["run", "study"])
+def test_an_option_the_integrator_refuses_as_set_is_named_with_option_before_the_run(command, options, said,
+                                                                                     tmp_path, capsys):
+    """A value inside an --option's declared range that its integrator refuses as set (BDF's orders stop at 5,
+    jac_every needs Newton's iteration) was said without ``--option`` (as if from Python) and only once the run
+    started; now checked with the other options, named as given."""
+    vary = ["--vary", "gamma=0.05,0.1"] if command == "study" else []
+    assert main([command, "twisted-cylinder", "--n", "8", "--t-end", "0.001", *vary, *options,
+                 "-o", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"mol-shell: error: {said}"), err
+    assert not (tmp_path / "x.nc").exists()
