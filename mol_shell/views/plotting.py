@@ -8,7 +8,7 @@ import shutil
 import numpy as np
 
 from mol_shell.views.fields import check_run
-from mol_shell.views.figures import save_figure
+from mol_shell.views.figures import save_figure, wrapped_title
 from mol_shell.views.history import draw_balance, draw_radius, radius_node
 
 # Axis ranges of the paper's figures 4-8; used when the data fit inside them.
@@ -103,7 +103,10 @@ def snapshot_figure(ds, fields=("r", "theta", "chi"), max_times=MAX_TIMES, colum
     ncols = min(columns, len(idx))
     blocks = math.ceil(len(idx) / ncols)
     nrows = blocks * len(fields)
-    fig, axes = plt.subplots(nrows, ncols, figsize=(2.6 * ncols + 0.8, 1.9 * nrows + 1.2), squeeze=False)
+    width = 2.6 * ncols + 0.8
+    title = wrapped_title(width, title_of(ds.attrs, len(idx), ds.sizes["time"]))
+    lines = title.count("\n") + 1
+    fig, axes = plt.subplots(nrows, ncols, figsize=(width, 1.9 * nrows + 0.8 + 0.2 * lines), squeeze=False)
     s = ds["s"].values
     for row, name in enumerate(fields):
         limits = _limits(ds[name].values, name)
@@ -128,10 +131,8 @@ def snapshot_figure(ds, fields=("r", "theta", "chi"), max_times=MAX_TIMES, colum
         block, col = divmod(k, ncols)
         for row in range(len(fields)):
             axes[block * len(fields) + row, col].set_visible(False)
-    title = title_of(ds.attrs, len(idx), ds.sizes["time"])
     fig.suptitle(title, fontsize=10)
-    top = (0.2 * (title.count("\n") + 1) + 0.15) / fig.get_figheight()  # room for the title's lines
-    fig.tight_layout(rect=(0, 0, 1, 1 - top))
+    fig.tight_layout()  # which leaves room for the title's lines
     return fig
 
 
@@ -185,8 +186,8 @@ def meridian_figure(ds, max_times=8, s=None):
     draw_radius(fig.add_subplot(grid[1, :3]), ds, radius_node(ds, s))
     draw_balance(fig.add_subplot(grid[1, 3:]), ds)
     move = float(np.hypot(ds.r - ds.r0, ds.z - ds.z0).max())
-    fig.suptitle(title_of(ds.attrs, len(idx), ds.sizes["time"]) + f"\nmeridian to scale; largest displacement {move:.3g} m",
-                 fontsize=9)
+    title = title_of(ds.attrs, len(idx), ds.sizes["time"]) + f"\nmeridian to scale; largest displacement {move:.3g} m"
+    fig.suptitle(wrapped_title(fig.get_figwidth(), title, fontsize=9), fontsize=9)
     fig.tight_layout()
     return fig
 
