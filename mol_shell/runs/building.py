@@ -86,7 +86,8 @@ _SPACING = (f"at least {MIN_INTERVAL:.2g} s (sqrt of the smallest double: an ada
 
 
 def parse_times(times=None, t_end=None):
-    """Saved times as an array starting at 0; ``t_end`` alone gives 11 evenly spaced times.
+    """Saved times as an array starting at 0; ``t_end`` alone gives 11 evenly spaced times (to 12 significant
+    digits, so that ``ds.sel(time=...)`` finds the numbers a user would type).
 
     Consecutive times are :data:`MIN_INTERVAL` s and :data:`MIN_INTERVAL_ULPS` epsilons of the later one apart, at
     least: closer ones cannot be told apart by an integrator.
@@ -102,7 +103,8 @@ def parse_times(times=None, t_end=None):
             raise ParameterError.missing("t_end", "give t_end in (0, inf) s, or times")
         if t_end < low:
             raise ParameterError("t_end", t_end, f"[{low:.2g}, inf) s", hint=f"its 10 saved intervals {_SPACING}")
-        return np.linspace(0.0, float(t_end), 11)
+        even = [float(f"{t:.12g}") for t in np.linspace(0.0, float(t_end), 11)[:-1]]  # as typed: ds.sel finds them
+        return np.array([*even, float(t_end)])
     allowed = "increasing finite times starting at 0, at least two, in one list"
     try:
         if isinstance(times, str):

@@ -56,3 +56,20 @@ def test_build_refuses_what_it_cannot_build_by_name_before_any_memory_is_taken()
         mol_shell.build("sphere", n=2.5)
     system, _ = mol_shell.build("sphere", n=12)  # a registered name, as simulate takes
     assert system.n == 12
+
+
+@pytest.mark.parametrize("t_end", [0.07, 0.143, 3e-5, 1.0 / 3.0])
+def test_times_from_t_end_alone_are_the_numbers_a_user_types(t_end):
+    """``t_end`` alone gives 11 even times; they came from linspace unrounded (0.014000000000000002 for
+    t_end = 0.07), so ``ds.sel(time=0.014)`` of an adaptive integrator's run failed where a leap-frog run's
+    (rounded to 12 digits) worked. Each is now k t_end / 10 to 12 significant digits, the last t_end itself."""
+    times = parse_times(None, t_end)
+    assert times[-1] == t_end and times[0] == 0.0 and len(times) == 11
+    for k, t in enumerate(times[1:-1], start=1):
+        assert t == float(f"{k * t_end / 10:.12g}"), (k, t)
+
+
+def test_an_adaptive_run_is_selected_by_the_times_it_printed():
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), "cvode-bdf", n=8, t_end=0.07, progress=False, stresses=False)
+    assert float(ds.sel(time=0.014).time) == 0.014
+    assert [f"{t:g}" for t in ds.time.values] == [f"{0.007 * k:g}" for k in range(11)]
