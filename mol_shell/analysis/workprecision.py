@@ -140,15 +140,24 @@ def skip_reason(name, value, times):
     return ""
 
 
-def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_TIMES, repeats=3, sweeps=None, log=print):
+def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=3, sweeps=None, log=print):
     """Measure every sweep point; returns a Dataset with dims ``(integrator, level)``.
 
+    ``integrators``: names; ``None``, :data:`DEFAULT_INTEGRATORS` but those that cannot run the scene's loads
+    or driven edges (said by ``log`` and in the attribute ``left_out``; named, such an integrator is refused).
     Everything that can be checked is checked before the (expensive) reference runs. A leap-frog
     step whose grid misses a saved time is not run: its point is NaN with status ``skipped`` and
     the reason in ``note``.
     """
     sweeps = {**SWEEPS, **(sweeps or {})}
-    integrators = check_integrators(integrators)
+    asked = as_scene(scene)
+    default, left_out = integrators is None, []
+    integrators = check_integrators(DEFAULT_INTEGRATORS if default else integrators)
+    if default and getattr(asked, "loaded", False):
+        left_out = [name for name in integrators if getattr(INTEGRATORS[name], "refuses_loads", "")]
+        integrators = [name for name in integrators if name not in left_out]
+        for name in left_out:
+            log(f"{name:14s} left out: {INTEGRATORS[name].refuses_loads}")
     if not (isinstance(repeats, (int, np.integer)) and not isinstance(repeats, bool) and 1 <= repeats <= MAX_REPEATS):
         raise ParameterError("repeats", repeats, f"integers 1..{MAX_REPEATS}", hint="the median of the repeats is "
                              "timed at every point of every sweep")
@@ -160,7 +169,6 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
     if all(reason for points in plan.values() for _, reason in points):
         raise ParameterError("times", times.tolist(), "saved times on the step grid of at least one sweep point",
                              hint="every point would be skipped")
-    asked = as_scene(scene)
     for name in integrators:
         check_loads(asked, name)
     scene = resolve(asked)
@@ -227,7 +235,8 @@ def work_precision(scene, integrators=DEFAULT_INTEGRATORS, *, n=40, times=PAPER_
     ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
     ds.attrs.update({**header(f"work-precision of mol_shell integrators, scene {scene.name}"), "scene": scene.name, "n": n, "times": ",".join(f"{t:g}" for t in times), "repeats": repeats,
                      "reference_error": ref_err, **ref_info,
-                     "status": "interrupted" if interrupted else "complete", "message": interrupted or ""})
+                     "status": "interrupted" if interrupted else "complete", "message": interrupted or "",
+                     "left_out": "; ".join(f"{name}: {INTEGRATORS[name].refuses_loads}" for name in left_out)})
     if isinstance(scene, Unshearable):  # every integrator here runs its free shell, ida too
         ds.attrs["model"] = ("the unshearable scene's free shell (the ODE every integrator runs); its constrained "
                              "DAE, run by `run --integrator ida`, is not compared")
@@ -282,6 +291,8 @@ def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
                      f"{int(p.n_steps)} | {int(p.n_rhs)} | {_int(p.n_jac)} | {speed} |")
     if why:
         lines += ["", f"Speed-up n/a: the baseline {why}, so no speed-up is measured against it."]
+    if ds.attrs.get("left_out"):
+        lines += ["", f"Left out of the default set (they cannot run the scene): {ds.attrs['left_out']}."]
     if ds.attrs.get("status") == "interrupted":
         lines += ["", f"Not complete: {ds.attrs['message']}."]
     return "\n".join(lines)

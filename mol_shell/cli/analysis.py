@@ -14,7 +14,6 @@ from mol_shell.analysis.stability import default_cases, report
 from mol_shell.analysis.stability import markdown_table as stability_table
 from mol_shell.analysis.workprecision import (
     MAX_REPEATS,
-    DEFAULT_INTEGRATORS,
     PAPER_TIMES,
     check_integrators,
     markdown_table,
@@ -22,10 +21,10 @@ from mol_shell.analysis.workprecision import (
 )
 from mol_shell.cli.args import (
     EXIT_INTERRUPTED,
-    check_companions,
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
+    check_companions,
     integer_arg,
     number_arg,
     plural,
@@ -44,9 +43,10 @@ def register_compare(subparsers):
     parser = subparsers.add_parser("compare", help="work-precision: error against run time for integrators")
     parser.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
     parser.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
-    parser.add_argument("--integrators", default=",".join(DEFAULT_INTEGRATORS),
+    parser.add_argument("--integrators", default=None,
                         help="comma-separated list (default: all but sksundae-cvode-bdf and sksundae-ida, 0.5.0's "
-                        "Python-loop routes, which take minutes at tight tolerances)")
+                        "Python-loop routes, which take minutes at tight tolerances, and for a scene with loads or "
+                        "driven edges but those that cannot run them, said as they are left out)")
     parser.add_argument("--n", type=integer_arg("--n", 3), default=None,
                         help="nodes in s (default: a scene file's [run] n, else 40)")
     parser.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None,
@@ -62,8 +62,9 @@ def register_compare(subparsers):
 
 
 def cmd_compare(args):
-    text = args.integrators.strip()
-    names = check_integrators([s.strip() for s in text.split(",")] if text else [], "--integrators")
+    text = None if args.integrators is None else args.integrators.strip()
+    names = None if text is None else check_integrators([s.strip() for s in text.split(",")] if text else [],
+                                                        "--integrators")
     scene, run = scene_and_run(args.scene, args.set)
     t_end = args.t_end if args.t_end is not None else run.get("t_end")
     if args.t_end is None and run.get("times") is not None:  # the file's saved times (they were left out)
