@@ -14,6 +14,7 @@ from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: si
 from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning, is_number, scalar
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
+from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.laws import locking_warnings, unused_fibres_warnings
 from mol_shell.results.dataset import build_dataset
 from mol_shell.results.stresses import MAX_SAMPLES, add_stresses
@@ -336,7 +337,8 @@ def starting_state(scene, system, n, initial=None, asked=None):
     initial rates (``omega``, driven edges). With ``initial`` (fields ``z, r, chi, theta, psi`` at the nodes,
     ``(5, n)``), that state at rest."""
     if initial is not None:
-        return given_state(system, initial), "the fields given (initial), at rest"
+        return given_state(system, initial, system.unpack(initial_state(scene, system))), ("the fields given "
+                                                                                          "(initial), at rest")
     y0 = initial_state(scene, system)
     # a cylinder's R = auto: the radial equilibrium of its uniform twist (the paper's start, kept with a twist or a
     # tilt psi0 as initial data: released, it moves anyway); untwisted and untilted under loads, the static solve
@@ -352,9 +354,10 @@ def starting_state(scene, system, n, initial=None, asked=None):
     return system.moving(y, scene), how + "; then set moving at the scene's initial rates (omega, driven edges)"
 
 
-def given_state(system, fields):
+def given_state(system, fields, imposed=None):
     """The state vector of ``fields`` (``(5, n)``) at rest; a pole's ``chi`` tied; refused by name unless finite
-    and of that shape, with zero in the fields the scene does not move."""
+    and of that shape, with zero in the fields the scene does not move, and (``imposed``: the scene's own initial
+    fields) with the values its edges impose (``r = 0`` at a pole, a clamped edge's place)."""
     try:
         Q = np.array(fields, dtype=float)
     except (TypeError, ValueError):
@@ -367,6 +370,16 @@ def given_state(system, fields):
         i = int(np.flatnonzero(off_axis & (Q[1] <= 0))[0])
         raise ParameterError("initial", f"r = {Q[1][i]:g} m at s = {system.s[i]:.6g} m",
                              "fields with r > 0 at every node off the axis (row 1 of initial is r)")
+    if imposed is not None:  # the edges' values: a state off them broke the edge and ran into a limit
+        scale = max(1.0, float(np.max(np.abs(system.reference))))
+        wrong = system.imposed.T & (np.abs(Q - imposed) > 1e-9 * scale)
+        if np.any(wrong):
+            k, i = (int(x[0]) for x in np.nonzero(wrong))
+            edge = system.edges[0] if i == 0 else system.edges[1]
+            unit = "m" if FIELDS[k] in ("z", "r") else "rad"
+            raise ParameterError("initial", f"{FIELDS[k]} = {Q[k][i]:.6g} {unit} at s = {system.s[i]:.6g} m",
+                                 f"fields with the values the scene's edges impose: {FIELDS[k]} = {imposed[k][i]:.6g} "
+                                 f"{unit} there ({'end1' if i == 0 else 'end2'} is {edge!r})")
     Q = system.tie(Q)
     try:
         return system.pack(Q, np.zeros_like(Q))
