@@ -45,13 +45,22 @@ def read_path(filename, name="--from"):
         ds = read_netcdf(path)
     except (OSError, ValueError, RuntimeError):
         raise ParameterError.invalid(name, str(path), "is not a netCDF file", ALLOWED) from None
-    if not is_path(ds):
-        raise ParameterError.invalid(name, str(path), "is not an equilibrium path", ALLOWED,
-                                     hint=f"it holds dims {', '.join(map(str, ds.dims)) or 'none'}")
+    return checked_path(ds, name, str(path))
+
+
+def checked_path(ds, name="ds", shown=None):
+    """``ds`` if it is an equilibrium path of a registered scene, else refused naming ``name`` (its value said as
+    ``shown``: a file's name, or the kind of object given)."""
+    allowed = ALLOWED if shown is not None else "the Dataset of mol_shell.path, or its netCDF file"
+    module = type(ds).__module__.split(".")[0]
+    shown = shown if shown is not None else f"<{'' if module == 'builtins' else module + '.'}{type(ds).__name__}>"
+    if not (hasattr(ds, "attrs") and hasattr(ds, "dims") and hasattr(ds, "data_vars")) or not is_path(ds):
+        dims = ", ".join(map(str, getattr(ds, "dims", ()))) or "none"
+        raise ParameterError.invalid(name, shown, "is not an equilibrium path", allowed, hint=f"it holds dims {dims}")
     scene = str(ds.attrs.get("scene", ""))
     if scene not in SCENES:  # edited or damaged: the states belong to no scene this code knows
-        raise ParameterError.invalid(name, str(path), "has no scene attribute" if "scene" not in ds.attrs else
-                                     f"names no registered scene in its attribute scene = {scene!r}", ALLOWED)
+        raise ParameterError.invalid(name, shown, "has no scene attribute" if "scene" not in ds.attrs else
+                                     f"names no registered scene in its attribute scene = {scene!r}", allowed)
     return ds
 
 
@@ -136,8 +145,7 @@ def path_start(ds, *, step=None, point=None, perturb=0.0):
     info : str
         Where the state comes from (for the attrs of what is computed from it).
     """
-    if isinstance(ds, (str, os.PathLike)):
-        ds = read_path(ds, "ds")
+    ds = read_path(ds, "ds") if isinstance(ds, (str, os.PathLike)) else checked_path(ds, "ds")
     if (step is None) == (point is None):
         raise ParameterError("--step", step, "one of --step K or --point K with --from",
                              message="give one of --step K (a step) or --point K (a critical point) with --from")

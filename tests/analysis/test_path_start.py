@@ -18,11 +18,11 @@ import numpy as np
 import pytest
 from reference_cap import cap_params, p_classical
 
+import mol_shell
 from mol_shell import Sphere, path
 from mol_shell.analysis.modes import modes
-from mol_shell.analysis.path_start import path_scene, path_start
+from mol_shell.analysis.path_start import path_scene, path_start, read_path
 from mol_shell.results.dataset import write_netcdf
-from mol_shell.analysis.path_start import read_path
 
 N = 21
 LAMBDA = 5.0
@@ -130,3 +130,16 @@ def test_path_start_takes_the_path_file_too(tmp_path):
     assert n == 8 and info.startswith("equilibrium path step 2")
     with pytest.raises(mol_shell.ParameterError, match="does not exist"):
         path_start(tmp_path / "none.nc", step=2)
+
+
+@pytest.mark.parametrize("given", ["run", 3, None])
+def test_path_start_of_something_else_than_a_path_is_refused_naming_ds(given):
+    """``path_start`` of a run's Dataset (simulate's docstring points to it) ended in ``KeyError: 'parameter'``; an
+    in-memory Dataset is now checked as a file is."""
+    from mol_shell.analysis.path_start import path_start
+
+    if given == "run":
+        given = mol_shell.simulate(mol_shell.TwistedCylinder(), t_end=2e-4, n=8, progress=False, stresses=False)
+    with pytest.raises(mol_shell.ParameterError, match=r"^ds = '<[\w.]+>' is not an equilibrium path; allowed: the "
+                       r"Dataset of mol_shell.path, or its netCDF file"):
+        path_start(given, step=0)
