@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import reprlib
+import sys
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -26,7 +28,13 @@ def show(value):
         if value.size > 6:
             return f"<array of {value.size} values, {_REPR.repr(value.ravel()[:3].tolist())[:-1]}, ...]>"
         value = value.tolist()
-    return _REPR.repr(value)
+    text = _REPR.repr(value)
+    if "\n" in text:  # a Dataset, a DataFrame: its kind (and sizes) on the one line of a message
+        module = type(value).__module__.split(".")[0]
+        sizes = getattr(value, "sizes", None)
+        size = f" ({', '.join(f'{k}: {v}' for k, v in dict(sizes).items())})" if isinstance(sizes, Mapping) else ""
+        text = f"<{'' if module == 'builtins' else module + '.'}{type(value).__name__}{size}>"
+    return text
 
 
 def is_number(value):
@@ -143,3 +151,13 @@ class NumericalInstabilityError(ModelLimitError):
     """The energy of an unloaded shell grew: the time step or the method is unstable."""
 
     status = "unstable"
+
+
+def wants_progress(progress):
+    """Whether a progress bar is shown: ``progress`` itself (a bool), or for ``None`` whether stderr is a terminal
+    (it is ``None`` under pythonw and some services). Anything else is refused by name."""
+    if progress is None:
+        return sys.stderr is not None and sys.stderr.isatty()
+    if not isinstance(progress, (bool, np.bool_)):
+        raise ParameterError.not_a("progress", progress, "a bool", "True, False, or None (a bar on a terminal)")
+    return bool(progress)

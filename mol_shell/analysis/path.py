@@ -36,13 +36,12 @@ bounds where a real shell buckles into circumferential waves.
 from __future__ import annotations
 
 import math
-import sys
 import time
 import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, scalar
+from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, scalar, wants_progress
 from mol_shell.analysis.equilibria import EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, no_branch_reason, switch
 from mol_shell.analysis.path_dataset import path_dataset
@@ -344,7 +343,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     t = tracer.weigh(q, float(start))
     ds0 = math.sqrt(2.0) / steps if ds is None else min(float(ds), math.sqrt(2.0))  # at most the whole range
     bar = None
-    if (sys.stderr is not None and sys.stderr.isatty()) if progress is None else progress:  # no total known
+    if wants_progress(progress):  # no total known
         from tqdm import tqdm  # loaded where a progress line is shown
 
         bar = tqdm(desc=f"path in {parameter} ({eq.units})", unit=" steps")

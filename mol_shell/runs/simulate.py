@@ -5,13 +5,12 @@ from __future__ import annotations
 import cmath
 import dataclasses
 import math
-import sys
 import warnings
 
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: simulate's range)
-from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning, is_number, scalar
+from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning, is_number, scalar, wants_progress
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
 from mol_shell.model.kinematics import FIELDS
@@ -189,6 +188,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     check_options(scene, integrator, options)
     if integrator == "leapfrog":
         options.setdefault("dt", DEFAULT_DT)
+    progress = wants_progress(progress)
     if stresses is not None and not isinstance(stresses, (bool, np.bool_)):
         raise ParameterError.not_a("stresses", stresses, "a bool", "True, False or None (cheap runs only)")
     if isinstance(scene, Unshearable):  # its own formulation: the constrained DAE, or the free shell
@@ -230,8 +230,6 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
                 f"restart) that is exp({growth * span:.3g}) (viscosity makes the system stiff); allowed: {allowed}")
     resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
                                omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)
-    if progress is None:
-        progress = sys.stderr is not None and sys.stderr.isatty()  # None under pythonw and some services
     bar = _progress_bar(times[-1]) if progress else None
     try:
         traj = method.integrate(system, compiled, y0, times, progress=bar)

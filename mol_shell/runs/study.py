@@ -20,13 +20,12 @@ import json
 import os
 import pickle
 import socket
-import sys
 import time
 import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
+from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, wants_progress
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
 from mol_shell.integrators import INTEGRATORS
@@ -365,8 +364,7 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
         warnings.warn(f"{len(store.rejected)} stored case file{'s' * bool(more)} could not be reused and "
                       f"{'run' if more else 'runs'} again ({why}: {where}{f' and {more} more' if more else ''})",
                       UserWarning, stacklevel=3)
-    if progress is None:
-        progress = sys.stderr is not None and sys.stderr.isatty()  # None under pythonw and some services
+    progress = wants_progress(progress)
     bar = None
     if progress:
         from tqdm import tqdm

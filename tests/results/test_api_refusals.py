@@ -76,3 +76,27 @@ def test_initial_fields_off_the_values_the_edges_impose_are_refused_by_name():
     state[3, -1] += 1e-3  # theta at a clamped end2
     with pytest.raises(mol_shell.ParameterError, match=r"theta = 0.001 rad at s = 4 m.*end2 is 'clamped'"):
         mol_shell.simulate(clamped, t_end=2e-4, n=12, initial=state, progress=False)
+
+
+def test_a_dataset_given_where_it_does_not_belong_is_named_on_one_line():
+    """``simulate(ds)``, ``read_netcdf(ds)``, ``load_scene(ds)`` and ``modes(initial=ds)`` printed xarray's repr of
+    the Dataset, cut in its middle, inside a two-line message; it is now its kind and sizes."""
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), t_end=2e-4, n=8, progress=False, stresses=False)
+    for call in (lambda: mol_shell.simulate(ds, t_end=1e-3), lambda: mol_shell.read_netcdf(ds),
+                 lambda: mol_shell.load_scene(ds), lambda: mol_shell.modes(mol_shell.Sphere(), n=8, initial=ds)):
+        with pytest.raises(mol_shell.ParameterError) as info:
+            call()
+        text = str(info.value)
+        assert "\n" not in text and "= <xarray.Dataset (time: 11, s: 8, end: 2)> is not" in text, text
+
+
+@pytest.mark.parametrize("call", ["simulate", "study", "path"])
+def test_progress_takes_a_bool_or_none(call):
+    """``progress="no"`` showed a bar (any true value did), where ``stresses="yes"`` was refused: both now are."""
+    scene = mol_shell.TwistedCylinder()
+    calls = {"simulate": lambda p: mol_shell.simulate(scene, t_end=2e-4, n=8, progress=p),
+             "study": lambda p: mol_shell.study(scene, {"gamma": [0.05]}, n=8, t_end=2e-4, scheduler="serial",
+                                                progress=p),
+             "path": lambda p: mol_shell.path(mol_shell.Sphere(), "pressure", 0.0, 10.0, n=8, steps=2, progress=p)}
+    with pytest.raises(mol_shell.ParameterError, match=r"^progress = 'no' is not a bool; allowed: True, False, or None"):
+        calls[call]("no")
