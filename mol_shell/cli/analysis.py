@@ -33,8 +33,8 @@ from mol_shell.cli.args import (
 )
 from mol_shell.cli.path import add_start_options, start_of
 from mol_shell.results.dataset import writable_path, write_netcdf
+from mol_shell.views.figures import image_formats
 from mol_shell.views.modes import plot_modes
-from mol_shell.views.plotting import image_formats
 from mol_shell.views.stability_plot import plot_report
 from mol_shell.views.workprecision import companion_files, write_outputs
 

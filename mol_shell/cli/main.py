@@ -63,8 +63,9 @@ from mol_shell.scenes import SCENES, summary
 from mol_shell.scenes.files import scene_toml
 from mol_shell.scenes.listing import parameter_listing
 from mol_shell.views.fibres import MAX_FIBRES, plot_fibres
+from mol_shell.views.figures import image_formats
 from mol_shell.views.history import plot_history
-from mol_shell.views.plotting import image_formats, plot_meridian, plot_snapshots, shows_history
+from mol_shell.views.plotting import plot_meridian, plot_snapshots, shows_history
 
 
 def cmd_run(args):

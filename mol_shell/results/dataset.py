@@ -320,13 +320,28 @@ def read_run(path, name="FILE", allowed=RUN_FILE, what="a mol_shell run file"):
     except (OSError, ValueError, RuntimeError) as exc:
         raise ParameterError.invalid(name, str(path), f"is not {what}", allowed,
                                      hint=_unreadable(exc)) from None
-    is_run = all(v in ds and ds[v].dims == ("time", "s") for v in ("r", "theta", "chi"))
-    if not is_run:
-        title = str(ds.attrs.get("title", ""))
-        kind = ("a parameter study (mol-shell study)" if "parameter study" in title else
-                "a work-precision comparison (mol-shell compare)" if "work-precision" in title else
-                "a stability report (mol-shell stability)" if "leapfrog_dt_bound" in ds else
-                "natural modes (mol-shell modes)" if "natural modes" in title else
-                f"dims {', '.join(map(str, ds.dims)) or 'none'}")
-        raise ParameterError.invalid(name, str(path), f"is not {what}", allowed, hint=f"it holds {kind}")
+    if not is_run(ds):
+        raise ParameterError.invalid(name, str(path), f"is not {what}", allowed, hint=f"it holds {holdings(ds)}")
     return ds
+
+
+def is_run(ds):
+    """Whether Dataset ``ds`` is one run's: ``r``, ``theta`` and ``chi`` on ``(time, s)`` (a study's case selected
+    with ``isel`` is; the study, a path, modes and the reduced ring ODE's run are not)."""
+    return all(v in ds and ds[v].dims == ("time", "s") for v in ("r", "theta", "chi"))
+
+
+def holdings(ds):
+    """What a Dataset that is not a run holds, in a few words, as a refusal says it (``a parameter study
+    (mol-shell study) over gamma``)."""
+    title = str(ds.attrs.get("title", ""))
+    vary = [str(d) for d in ds.dims if d not in ("time", "s", "s_cell", "zeta", "end")]
+    return ("a study of equilibrium paths (mol-shell study --path)" if "study of equilibrium paths" in title else
+            "a parameter study (mol-shell study)" + (f" over {', '.join(vary)}" if vary else "")
+            if "parameter study" in title else
+            "an equilibrium path (mol-shell path)" if "equilibrium path" in title else
+            "a work-precision comparison (mol-shell compare)" if "work-precision" in title else
+            "a stability report (mol-shell stability)" if "leapfrog_dt_bound" in ds else
+            "natural modes (mol-shell modes)" if "natural modes" in title else
+            "the reduced ring ODE's run (simulate_ring), without s" if "reduced ODE" in title else
+            f"dims {', '.join(map(str, ds.dims)) or 'none'}")

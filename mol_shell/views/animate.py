@@ -12,13 +12,13 @@ from __future__ import annotations
 import logging
 import re
 import subprocess
-from pathlib import Path
 
 import numpy as np
 
 from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError
-from mol_shell.views.fields import check_run, field, surface_points
+from mol_shell.results.dataset import writable_path
+from mol_shell.views.fields import field, run_of, surface_points
 
 SUFFIXES = ("gif", "mp4")
 DEFAULTS = {"field": "chi", "n_phi": 48, "fibres": 12, "fps": 4, "width": 480}
@@ -72,9 +72,11 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A run; stresses (:func:`mol_shell.results.stresses.add_stresses`) can colour the shell too.
+    ds : xarray.Dataset or str or os.PathLike
+        A run, or the path of its netCDF file; stresses (:func:`mol_shell.results.stresses.add_stresses`) can colour
+        the shell too.
     path : str or os.PathLike
+        ``.gif`` or ``.mp4``; missing directories are created.
     field_name : str
         What colours the shell (:func:`mol_shell.views.fields.field_names`): node fields are averaged
         to the cells, face stresses are ``NAME_inner`` / ``NAME_outer``. One colour scale for all frames.
@@ -105,9 +107,10 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
     from matplotlib.cm import ScalarMappable
 
     check_integers(n_phi=n_phi, fibres=fibres, width=width)
-    check_run(ds)
+    ds = run_of(ds)
     values, units, _ = field(ds, field_name, "cells")
-    suffix = Path(path).suffix.lower().lstrip(".")
+    path = writable_path(path, "path", suffixes=SUFFIXES)  # before the frames: its missing directories created
+    suffix = path.suffix.lower().lstrip(".")
     cmap_name, norm = _scale(values)
     cmap = colormaps[cmap_name]
     surface = surface_points(ds, n_phi)

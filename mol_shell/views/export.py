@@ -29,13 +29,14 @@ from xml.etree import ElementTree as ET
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
+from mol_shell.results.dataset import writable_path
 from mol_shell.views.fields import (
     azimuths,
-    check_run,
     face_depths,
     field,
     field_names,
     reference_points,
+    run_of,
     surface_points,
 )
 
@@ -172,10 +173,10 @@ def export(ds, path, n_phi=N_PHI, faces=False):
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A run (with or without stresses).
+    ds : xarray.Dataset or str or os.PathLike
+        A run (with or without stresses), or the path of its netCDF file.
     path : str or os.PathLike
-        ``.xdmf`` (plus ``<stem>.h5``) or ``.pvd`` (plus ``<stem>_NNNN.vtu``).
+        ``.xdmf`` (plus ``<stem>.h5``) or ``.pvd`` (plus ``<stem>_NNNN.vtu``); missing directories are created.
     n_phi : int
         Azimuthal samples, in [3, :data:`N_PHI_MAX`].
     faces : bool
@@ -188,10 +189,9 @@ def export(ds, path, n_phi=N_PHI, faces=False):
     """
     if not (isinstance(n_phi, (int, np.integer)) and not isinstance(n_phi, bool) and 3 <= n_phi <= N_PHI_MAX):
         raise ParameterError("--n-phi", n_phi, f"integers in [3, {N_PHI_MAX}]")
-    check_run(ds)
-    suffix = Path(path).suffix.lower().lstrip(".")
-    if suffix not in FORMATS:
-        raise ParameterError.invalid("-o", str(path), "has no known file type", "a file ending in .xdmf or .pvd")
+    ds = run_of(ds)
+    path = writable_path(path, "path", suffixes=FORMATS)  # before the work: its missing directories created
+    suffix = path.suffix.lower().lstrip(".")
     cells, reference, steps = mesh_series(ds, n_phi, faces)
     writer = write_xdmf if suffix == "xdmf" else write_pvd
     return writer(path, ds["time"].values, cells, reference, steps)

@@ -28,8 +28,8 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.layers import parse_layers
-from mol_shell.views.fields import check_run, face_depths
-from mol_shell.views.figures import save_figure
+from mol_shell.views.fields import face_depths, run_of
+from mol_shell.views.figures import figure_path, save_figure
 
 #: the drawn thickness 2h M is about this fraction of the radius when no magnification is given
 DRAWN_THICKNESS = 0.2
@@ -127,8 +127,8 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
 
     Parameters
     ----------
-    ds : xarray.Dataset
-        A run.
+    ds : xarray.Dataset or str or os.PathLike
+        A run, or the path of its netCDF file.
     time : float, optional
         Time of panel (b), s; the nearest saved time is drawn (default the last).
     s : float, optional
@@ -143,7 +143,7 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
 
     if not (isinstance(count, (int, np.integer)) and not isinstance(count, bool) and 1 <= count <= MAX_FIBRES):
         raise ParameterError("--fibres", count, f"integers in [1, {MAX_FIBRES}]")
-    check_run(ds)
+    ds = run_of(ds)
     times, nodes = ds["time"].values, ds["s"].values
     k = len(times) - 1 if time is None else _nearest(times, float(time), "--time", "s")
     radii = ds["r0"].values if "r0" in ds else np.ones(len(nodes))
@@ -209,7 +209,9 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
 
 
 def plot_fibres(ds, path, **options):
-    """Write :func:`fibres_figure` to ``path``."""
+    """Write :func:`fibres_figure` to ``path`` (a run's Dataset or file; ``path`` checked before anything is drawn)."""
+    ds = run_of(ds)
+    path = figure_path(path)
     fig = fibres_figure(ds, **options)
     save_figure(fig, path, dpi=120)
     return path

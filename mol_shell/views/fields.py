@@ -7,11 +7,15 @@ here as ``NAME_inner`` and ``NAME_outer``.
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
+import xarray as xr
 
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.model.thickness_profile import thickness_function
+from mol_shell.results.dataset import holdings, is_run, read_run
 from mol_shell.results.stresses import FACES
 
 #: what a run the views draw holds finite: the coordinates, the fields and the reference meridian (a run stops
@@ -19,25 +23,58 @@ from mol_shell.results.stresses import FACES
 FINITE = ("time", "s", *FIELDS, "z0", "r0", "theta0")
 
 
+#: what the views' functions draw, as their refusal of anything else says
+RUN_ALLOWED = ("a run's Dataset (mol_shell.simulate, read_netcdf; a study's case: study.isel(...)) or the path of "
+               "its netCDF file")
+
+
+def run_of(ds):
+    """The run a views function draws: ``ds`` itself (an ``xarray.Dataset``), or the run file at the path ``ds``
+    (read by :func:`mol_shell.results.dataset.read_run`), checked by :func:`check_run`.
+
+    Raises
+    ------
+    ParameterError
+        Named ``ds``: neither a Dataset nor a path, a file that does not exist or holds no run, or a Dataset the
+        views cannot draw (:func:`check_run`).
+    """
+    if isinstance(ds, (str, os.PathLike)):
+        ds = read_run(ds, name="ds", allowed=RUN_ALLOWED)
+    elif not isinstance(ds, xr.Dataset):
+        raise ParameterError.not_a("ds", ds, "a run's Dataset or a file path", RUN_ALLOWED)
+    check_run(ds)
+    return ds
+
+
 def check_run(ds, source=None):
-    """Refuse a run the views cannot draw, in one line naming the file (``source``, default the file ``ds`` was
-    read from): one without saved times or with fewer than two nodes, or whose coordinates, fields
-    (:data:`FINITE`) are not finite somewhere.
+    """Refuse a Dataset the views cannot draw, in one line: one that is not a single run's (a study, a path,
+    modes: :func:`mol_shell.results.dataset.is_run`), one without saved times or with fewer than two nodes, or whose
+    coordinates, fields (:data:`FINITE`) are not finite somewhere. ``source``: the file the command line read ``ds``
+    from, then named ``FILE``.
 
     Raises
     ------
     ParameterError
         ``FILE = 'run.nc' has no saved times; allowed: ...`` or ``FILE = 'run.nc': r is not finite at t = 0 s,
-        s = 0 m (11 of 11 values); allowed: ...``; named ``ds`` for a run that was not read from a file.
+        s = 0 m (11 of 11 values); allowed: ...``; from Python named ``ds`` (its value the file it was read from,
+        if any): ``ds is a parameter study (mol-shell study) over gamma, not one run; allowed: a run's Dataset ...``.
     """
-    source = source if source is not None else ds.encoding.get("source")
-    name, value = ("FILE", str(source)) if source is not None else ("ds", "run")
+    name = "FILE" if source is not None else "ds"
+    source = source if source is not None else ds.encoding.get("source") if isinstance(ds, xr.Dataset) else None
+    value = None if source is None else str(source)
+    said = name if value is None else f"{name} = {show(value)}"  # a Dataset made in Python: named ds alone
+
+    def refuse(problem, allowed):
+        raise ParameterError(name, value, allowed, message=f"{said} {problem}; allowed: {allowed}")
+
+    if not is_run(ds):
+        refuse(f"is {holdings(ds)}, not one run", RUN_ALLOWED)
     allowed = "a run file with saved times, two nodes or more and finite values, as mol-shell run writes it"
     times, nodes = ds.sizes.get("time", 0), ds.sizes.get("s", 0)
     if times == 0:
-        raise ParameterError.invalid(name, value, "has no saved times", allowed)
+        refuse("has no saved times", allowed)
     if nodes < 2:
-        raise ParameterError.invalid(name, value, f"has {nodes} node{'' if nodes == 1 else 's'} in s", allowed)
+        refuse(f"has {nodes} node{'' if nodes == 1 else 's'} in s", allowed)
     for var in (v for v in FINITE if v in ds.variables):
         values = np.asarray(ds[var].values, dtype=float)
         bad = ~np.isfinite(values)
@@ -47,8 +84,8 @@ def check_run(ds, source=None):
         at = {"time": f"t = {float(ds['time'][first[0]]):.6g} s" if var != "time" else f"saved time {first[0]}",
               "s": f"s = {float(ds['s'][first[-1]]):.6g} m" if var != "s" else f"node {first[-1]}"}
         where = ", ".join(at[dim] for dim in ds[var].dims if dim in at)
-        raise ParameterError(name, value, allowed, message=f"{name} = {show(value)}: {var} is not finite at {where} "
-                             f"({int(bad.sum())} of {bad.size} values); allowed: {allowed}")
+        refuse_at = f"{said}: {var} is not finite at {where} ({int(bad.sum())} of {bad.size} values)"
+        raise ParameterError(name, value, allowed, message=f"{refuse_at}; allowed: {allowed}")
 
 
 def field_names(ds):

@@ -16,8 +16,8 @@ import textwrap
 import numpy as np
 
 from mol_shell.views.fibres import _nearest
-from mol_shell.views.fields import check_run
-from mol_shell.views.figures import save_figure
+from mol_shell.views.fields import run_of
+from mol_shell.views.figures import figure_path, save_figure
 
 #: nodes whose ``r0`` is within this fraction of the largest are on the widest part (a vessel's cylinder is exact to
 #: rounding; a sphere's neighbours of its equator node are 1 - cos(pi / (n - 1)) below it, 1.2e-6 at n = 2000)
@@ -135,7 +135,7 @@ def history_figure(ds, s=None):
     """The radius against time and the energy-work balance (a matplotlib ``Figure``, not saved)."""
     import matplotlib.pyplot as plt
 
-    check_run(ds)
+    ds = run_of(ds)
     node = radius_node(ds, s)
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2))
     draw_radius(ax, ds, node)
@@ -146,6 +146,8 @@ def history_figure(ds, s=None):
 
 
 def plot_history(ds, path, s=None):
-    """Write :func:`history_figure` to ``path``."""
+    """Write :func:`history_figure` to ``path`` (a run's Dataset or file; ``path`` checked before anything is drawn)."""
+    ds = run_of(ds)
+    path = figure_path(path)
     save_figure(history_figure(ds, s), path, dpi=120)
     return path

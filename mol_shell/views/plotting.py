@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import math
-import shutil
 
 import numpy as np
 
-from mol_shell.views.fields import check_run
-from mol_shell.views.figures import save_figure, wrapped_title
+from mol_shell._core.errors import ParameterError, show
+from mol_shell.views.fields import run_of
+from mol_shell.views.figures import figure_path, save_figure, wrapped_title
 from mol_shell.views.history import draw_balance, draw_radius, radius_node
 
 # Axis ranges of the paper's figures 4-8; used when the data fit inside them.
@@ -18,18 +18,6 @@ LABELS = {"r": "r [m]", "theta": r"$\theta$ [rad]", "chi": r"$\chi$ [rad]"}
 COLUMNS = 6
 #: saved times drawn at most (evenly picked beyond that, and the figure says so)
 MAX_TIMES = 24
-
-
-def image_formats():
-    """File suffixes matplotlib can write (``png``, ``pdf``, ``svg``, ...); ``pgf`` only where its TeX system
-    (``xelatex`` by default) is installed: matplotlib lists it everywhere and fails at the save without one."""
-    import matplotlib
-    from matplotlib.backend_bases import FigureCanvasBase
-
-    formats = set(FigureCanvasBase.get_supported_filetypes())
-    if shutil.which(str(matplotlib.rcParams["pgf.texsystem"])) is None:
-        formats.discard("pgf")
-    return formats
 
 
 def _limits(values, name):
@@ -81,14 +69,33 @@ def title_of(attrs, shown, count):
     return title
 
 
+def snapshot_fields(fields):
+    """``fields`` as a tuple of names the snapshots draw (:data:`LABELS`: ``r``, ``theta``, ``chi``; one name alone
+    as a string too), else refused naming ``fields``."""
+    fields = (fields,) if isinstance(fields, str) else fields
+    allowed = "one or more of {" + ", ".join(LABELS) + "}"
+    try:
+        fields = tuple(fields)
+    except TypeError:
+        raise ParameterError.not_a("fields", fields, "a tuple of names", allowed) from None
+    unknown = [name for name in fields if not isinstance(name, str) or name not in LABELS]
+    if unknown or not fields:
+        problem = f"names {show(unknown[0])}, not a field the snapshots draw" if unknown else "is empty"
+        raise ParameterError.invalid("fields", fields, problem, allowed)
+    return fields
+
+
 def plot_snapshots(ds, path, fields=("r", "theta", "chi"), max_times=MAX_TIMES, columns=COLUMNS):
     """Plot ``fields`` against ``s``, one panel per saved time (up to ``max_times``; beyond, evenly picked).
 
     Panels are laid out ``columns`` times to a row, one row per field, with the paper's axis
     ranges where the data fit them. The title says when not every saved time is drawn, and
-    when the run is incomplete.
+    when the run is incomplete. ``ds``: a run's Dataset or the path of its netCDF file; ``path``: an image
+    (:func:`mol_shell.views.figures.figure_path`), checked before anything is drawn.
     """
-
+    ds = run_of(ds)
+    fields = snapshot_fields(fields)
+    path = figure_path(path)
     fig = snapshot_figure(ds, fields, max_times, columns)
     save_figure(fig, path, dpi=120)
     return path
@@ -98,7 +105,8 @@ def snapshot_figure(ds, fields=("r", "theta", "chi"), max_times=MAX_TIMES, colum
     """The figure of :func:`plot_snapshots` (a matplotlib ``Figure``, not saved)."""
     import matplotlib.pyplot as plt
 
-    check_run(ds)
+    ds = run_of(ds)
+    fields = snapshot_fields(fields)
     idx = shown_times(ds.sizes["time"], max_times)
     ncols = min(columns, len(idx))
     blocks = math.ceil(len(idx) / ncols)
@@ -162,7 +170,7 @@ def meridian_figure(ds, max_times=8, s=None):
     """
     import matplotlib.pyplot as plt
 
-    check_run(ds)
+    ds = run_of(ds)
     idx = shown_times(ds.sizes["time"], max_times)
     fig = plt.figure(figsize=(13, 8.6))
     grid = fig.add_gridspec(2, 6, height_ratios=[1.15, 1])
@@ -193,6 +201,8 @@ def meridian_figure(ds, max_times=8, s=None):
 
 
 def plot_meridian(ds, path, max_times=8, s=None):
-    """Write :func:`meridian_figure` to ``path``."""
+    """Write :func:`meridian_figure` to ``path`` (checked first, as by :func:`plot_snapshots`)."""
+    ds = run_of(ds)
+    path = figure_path(path)
     save_figure(meridian_figure(ds, max_times, s), path, dpi=120)
     return path

@@ -1,0 +1,100 @@
+"""What the views' functions take: a run's Dataset or its file, an output path whose folders are made; a study, an
+unknown field or an image type matplotlib cannot write refused by name before anything is drawn or written."""
+
+import warnings
+
+import pytest
+from PIL import Image
+
+import mol_shell
+from mol_shell import ParameterError
+from mol_shell.views.animate import animate
+from mol_shell.views.export import export
+from mol_shell.views.fibres import plot_fibres
+from mol_shell.views.history import plot_history
+from mol_shell.views.plotting import plot_meridian, plot_snapshots, snapshot_figure
+
+SMALL = {"n_phi": 6, "fibres": 2, "width": 100}
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    """The paper's scene on 8 nodes over 20 us (3 saved times), as a Dataset and a file; a study of two cases."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = mol_shell.simulate(mol_shell.TwistedCylinder(), n=8, times=[0, 1e-5, 2e-5], progress=False,
+                                stresses=False)
+        study = mol_shell.study(mol_shell.TwistedCylinder(), {"gamma": [0.05, 0.1]}, n=8, times=[0, 1e-5],
+                                scheduler="serial", progress=False)
+    path = tmp_path_factory.mktemp("inputs") / "run.nc"
+    mol_shell.write_netcdf(ds, path)
+    return ds, path, study
+
+
+def test_missing_directories_of_the_output_are_created(runs, tmp_path):
+    ds = runs[0]
+    files = export(ds, tmp_path / "new" / "dir" / "x.xdmf", n_phi=6)
+    assert [f.name for f in files] == ["x.xdmf", "x.h5"] and all(f.is_file() for f in files)
+    assert animate(ds, tmp_path / "new_dir" / "a.gif", **SMALL) == 3
+    with Image.open(tmp_path / "new_dir" / "a.gif") as gif:
+        assert gif.format == "GIF" and gif.size == (100, 90)
+    plot_snapshots(ds, tmp_path / "figs" / "s.png")
+    assert (tmp_path / "figs" / "s.png").stat().st_size > 1000
+
+
+def test_a_study_is_refused_by_name_and_nothing_is_written(runs, tmp_path):
+    study = runs[2]
+    calls = {"export": lambda: export(study, tmp_path / "e" / "st.xdmf"),
+             "animate": lambda: animate(study, tmp_path / "st.gif", **SMALL),
+             "snapshot_figure": lambda: snapshot_figure(study),
+             "plot_fibres": lambda: plot_fibres(study, tmp_path / "f.png"),
+             "plot_history": lambda: plot_history(study, tmp_path / "h.png")}
+    for name, call in calls.items():
+        with pytest.raises(ParameterError) as refused:
+            call()
+        text = str(refused.value)
+        assert refused.value.name == "ds" and "\n" not in text, name
+        assert text.startswith("ds is a parameter study (mol-shell study) over gamma, not one run; allowed: a run's "
+                               "Dataset") and "isel" in text, (name, text)
+    assert list(tmp_path.iterdir()) == []  # no e/, no st.xdmf, st.h5
+    one = study.isel(gamma=1)  # a case of it is a run
+    assert export(one, tmp_path / "one.xdmf", n_phi=6)[0].is_file()
+
+
+def test_a_run_file_is_taken_for_its_dataset(runs, tmp_path):
+    ds, path, _ = runs
+    plot_snapshots(str(path), tmp_path / "s.png")
+    plot_meridian(path, tmp_path / "m.png")
+    plot_history(path, tmp_path / "h.png")
+    plot_fibres(str(path), tmp_path / "f.png")
+    assert animate(str(path), tmp_path / "a.gif", **SMALL) == ds.sizes["time"]
+    assert all((tmp_path / name).stat().st_size > 1000 for name in ("s.png", "m.png", "h.png", "f.png", "a.gif"))
+    with pytest.raises(ParameterError, match=r"^ds = '.*missing\.nc' does not exist; allowed: a run's Dataset"):
+        plot_snapshots(tmp_path / "missing.nc", tmp_path / "x.png")
+    with pytest.raises(ParameterError, match=r"^ds = 3 is not a run's Dataset or a file path; allowed: "):
+        animate(3, tmp_path / "x.gif")
+    assert not (tmp_path / "x.png").exists() and not (tmp_path / "x.gif").exists()
+
+
+def test_an_unknown_field_of_the_snapshots_is_refused_naming_fields(runs, tmp_path):
+    with pytest.raises(ParameterError) as refused:
+        plot_snapshots(runs[0], tmp_path / "s.png", fields=("rr",))
+    assert refused.value.name == "fields"
+    assert str(refused.value) == ("fields = ('rr',) names 'rr', not a field the snapshots draw; allowed: one or more "
+                                  "of {r, theta, chi}")
+    with pytest.raises(ParameterError, match=r"^fields = \(\) is empty; allowed: one or more of \{r, theta, chi\}$"):
+        snapshot_figure(runs[0], fields=())
+    assert not (tmp_path / "s.png").exists()
+    fig = snapshot_figure(runs[0], fields=("chi", "r"))
+    assert len([ax for ax in fig.axes if ax.get_visible()]) == 2 * 3
+
+
+def test_an_image_type_matplotlib_cannot_write_is_refused_before_drawing(runs, tmp_path, monkeypatch):
+    drawn = []
+    monkeypatch.setattr("mol_shell.views.plotting.snapshot_figure", lambda *a, **k: drawn.append(1))
+    with pytest.raises(ParameterError) as refused:
+        plot_snapshots(runs[0], tmp_path / "s.xyz")
+    text = str(refused.value)
+    assert refused.value.name == "path" and text.startswith(f"path = '{tmp_path / 's.xyz'}' ends in .xyz")
+    assert all(f".{kind}," in text for kind in ("pdf", "png")) and ".svg" in text
+    assert drawn == [] and list(tmp_path.iterdir()) == []
