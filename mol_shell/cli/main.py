@@ -54,7 +54,7 @@ from mol_shell.cli.path import (
     start_of,
 )
 from mol_shell.cli.study import register_study
-from mol_shell.cli.views import read_drawable, register_animate, register_export
+from mol_shell.cli.views import read_drawable, register_animate, register_export, said_as_options
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.runs.resources import LongRunWarning
@@ -122,15 +122,16 @@ def cmd_plot(args):
             raise ParameterError(option, value, f"options of {where}",
                                  message=f"{option} is {only} (options of --figure fibres: --time, --at-s, --fibres, "
                                  "--thickness-scale; of --figure history: --at-s)")
-    if args.figure == "fibres":
-        options = {"time": args.time, "s": args.at_s, "thickness_scale": args.thickness_scale}
-        plot_fibres(ds, args.output, count=24 if args.fibres is None else args.fibres, **options)
-    elif args.figure == "history":
-        plot_history(ds, args.output, s=args.at_s)
-    elif history:
-        plot_meridian(ds, args.output, s=args.at_s)
-    else:
-        plot_snapshots(ds, args.output)
+    with said_as_options():
+        if args.figure == "fibres":
+            options = {"time": args.time, "s": args.at_s, "thickness_scale": args.thickness_scale}
+            plot_fibres(ds, args.output, count=24 if args.fibres is None else args.fibres, **options)
+        elif args.figure == "history":
+            plot_history(ds, args.output, s=args.at_s)
+        elif history:
+            plot_meridian(ds, args.output, s=args.at_s)
+        else:
+            plot_snapshots(ds, args.output)
     print(f"wrote {args.output}")
     return 0
 

@@ -23,6 +23,7 @@ from mol_shell.cli.args import (
     say_stand_ins,
     scene_and_run,
 )
+from mol_shell.cli.views import said_as_options
 from mol_shell.results.dataset import read_netcdf, write_netcdf
 from mol_shell.scenes import DISPLACEMENTS, with_params
 from mol_shell.views.path_plot import plot_path, response_values, responses
@@ -215,8 +216,9 @@ def cmd_plot_path(args):
         ok = response in names
     if not ok:
         raise ParameterError("--response", response, form)
-    response_values(ds, response)
-    plot_path(ds, args.output, response)
+    with said_as_options():
+        response_values(ds, response)
+        plot_path(ds, args.output, response)
     states = ds.sizes["step"]  # the start and its steps, counted as mol-shell path counts them
     print(f"wrote {args.output}: {ds.attrs['parameter']} against {response}, {plural(states, 'state')} "
           f"({plural(states - 1, 'step')}), {plural(ds.sizes['point'], 'critical point')}")

@@ -1,12 +1,37 @@
-"""Commands of the views: export (ParaView) and animate."""
+"""Commands of the views: export (ParaView) and animate; how the views' refusals are said on the command line."""
 
 from __future__ import annotations
 
+from contextlib import contextmanager
+
+from mol_shell._core.errors import ParameterError
 from mol_shell.cli.args import check_companions, integer_arg, number_arg, plural
 from mol_shell.results.dataset import RUN_FILE, read_run
-from mol_shell.views.animate import DEFAULTS, RANGES, SUFFIXES, animate
+from mol_shell.views.animate import DEFAULTS, MAX_FPS, RANGES, SUFFIXES, animate
 from mol_shell.views.export import FORMATS, N_PHI, N_PHI_MAX, companion_files, export
-from mol_shell.views.fields import check_run, field
+from mol_shell.views.fields import check_run
+
+#: the keywords of the views' functions, as their refusals name them, and the options that set them here
+OPTIONS = {"ds": "FILE", "path": "-o", "field": "--field", "n_phi": "--n-phi", "fibres": "--fibres",
+           "width": "--width", "fps": "--fps", "time": "--time", "s": "--at-s", "count": "--fibres",
+           "thickness_scale": "--thickness-scale", "response": "--response"}
+
+
+@contextmanager
+def said_as_options(**options):
+    """A :class:`ParameterError` of a views function, which names the Python keyword (``n_phi = 2 is outside ...``),
+    said with the command line's option instead (``--n-phi = 2 is outside ...``): :data:`OPTIONS`, and ``options``
+    over them (a keyword the command sets by another option)."""
+    options = OPTIONS | options
+    try:
+        yield
+    except ParameterError as exc:
+        option = options.get(exc.name)
+        if option is None:
+            raise
+        text = str(exc)
+        said = option + text[len(exc.name):] if text.startswith(exc.name) else text
+        raise ParameterError(option, exc.value, exc.range or exc.allowed, message=said) from None
 
 
 def read_drawable(filename, allowed=RUN_FILE, what="a mol_shell run file"):
@@ -30,7 +55,8 @@ def register_export(subparsers):
 def cmd_export(args):
     ds = read_drawable(args.file)
     check_companions(args.output, companion_files(args.output, ds.sizes["time"]))
-    files = export(ds, args.output, args.n_phi, args.faces)
+    with said_as_options():
+        files = export(ds, args.output, args.n_phi, args.faces)
     extra = f" (+ {plural(len(files) - 1, 'file')})"
     print(f"wrote {args.output}{extra}: {plural(ds.sizes['time'], 'step')}, {ds.sizes['s']} x {args.n_phi} points "
           "per surface")
@@ -52,7 +78,7 @@ def register_animate(subparsers):
                         help=f"azimuthal samples, {_range('n_phi')} (default {DEFAULTS['n_phi']})")
     parser.add_argument("--fibres", type=integer_arg("--fibres", *RANGES["fibres"]), default=DEFAULTS["fibres"],
                         help=f"material fibres drawn, {_range('fibres')} (default {DEFAULTS['fibres']})")
-    parser.add_argument("--fps", type=number_arg("--fps", 0, 100, high_closed=True), default=DEFAULTS["fps"],
+    parser.add_argument("--fps", type=number_arg("--fps", 0, MAX_FPS, high_closed=True), default=DEFAULTS["fps"],
                         help="frames per second (default 4)")
     parser.add_argument("--width", type=integer_arg("--width", *RANGES["width"]), default=DEFAULTS["width"],
                         help=f"width in pixels, {_range('width')} (default {DEFAULTS['width']}; height 0.9 of it; an .mp4's "
@@ -63,7 +89,8 @@ def register_animate(subparsers):
 
 def cmd_animate(args):
     ds = read_drawable(args.file)
-    field(ds, args.field)  # refuse an unknown name before anything is drawn
-    count = animate(ds, args.output, args.field, n_phi=args.n_phi, fibres=args.fibres, fps=args.fps, width=args.width)
+    with said_as_options():  # an unknown --field is refused before anything is drawn
+        count = animate(ds, args.output, args.field, n_phi=args.n_phi, fibres=args.fibres, fps=args.fps,
+                        width=args.width)
     print(f"wrote {args.output}: {plural(count, 'frame')}")
     return 0

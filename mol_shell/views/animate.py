@@ -16,9 +16,10 @@ import subprocess
 import numpy as np
 
 from mol_shell._core.atomic import atomic_path
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.results.dataset import writable_path
-from mol_shell.views.fields import field, run_of, surface_points
+from mol_shell.views.fields import field as field_values
+from mol_shell.views.fields import run_of, surface_points
 
 SUFFIXES = ("gif", "mp4")
 DEFAULTS = {"field": "chi", "n_phi": 48, "fibres": 12, "fps": 4, "width": 480}
@@ -28,12 +29,16 @@ DEFAULTS = {"field": "chi", "n_phi": 48, "fibres": 12, "fps": 4, "width": 480}
 RANGES = {"n_phi": (3, 1024), "fibres": (1, 360), "width": (100, 4096)}
 
 
+#: the largest frame rate (frames per second; the command line's ``--fps`` takes the same)
+MAX_FPS = 100
+
+
 def check_integers(**values):
-    """Refuse a value of ``n_phi``, ``fibres`` or ``width`` outside :data:`RANGES`, naming its option."""
+    """Refuse a value of ``n_phi``, ``fibres`` or ``width`` outside :data:`RANGES`, naming its keyword."""
     for name, value in values.items():
         low, high = RANGES[name]
         if not (isinstance(value, (int, np.integer)) and not isinstance(value, bool) and low <= value <= high):
-            raise ParameterError("--" + name.replace("_", "-"), value, f"integers in [{low}, {high}]")
+            raise ParameterError(name, value, f"integers in [{low}, {high}]")
 
 
 def frame_pixels(width, even=False):
@@ -66,7 +71,7 @@ def _scale(values):
     return "viridis", mcolors.Normalize(lo, hi)
 
 
-def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibres=DEFAULTS["fibres"],
+def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibres=DEFAULTS["fibres"],
             fps=DEFAULTS["fps"], width=DEFAULTS["width"], elev=16.0, azim=-62.0):
     """Write an animation of run ``ds`` to ``path`` (``.gif`` or ``.mp4``), one frame per saved time.
 
@@ -77,7 +82,7 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
         the shell too.
     path : str or os.PathLike
         ``.gif`` or ``.mp4``; missing directories are created.
-    field_name : str
+    field : str
         What colours the shell (:func:`mol_shell.views.fields.field_names`): node fields are averaged
         to the cells, face stresses are ``NAME_inner`` / ``NAME_outer``. One colour scale for all frames.
     n_phi : int
@@ -85,7 +90,7 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
     fibres : int
         Material fibres drawn (evenly spaced reference azimuths), in [1, 360].
     fps : float
-        Frames per second.
+        Frames per second, in (0, :data:`MAX_FPS`].
     width : int
         Width in pixels (height 0.9 of it), in [100, 4096]; an MP4's width and height are rounded to even numbers.
     elev, azim : float
@@ -99,7 +104,8 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
     Raises
     ------
     ParameterError
-        Named ``-o`` when ffmpeg fails to encode the MP4; the file is written under a temporary name and renamed onto
+        Named by its keyword (``field``, ``n_phi``, ...) for a value outside its range; named ``path`` when ffmpeg
+        fails to encode the MP4; the file is written under a temporary name and renamed onto
         ``path`` when complete, so a failure leaves no file behind (and a previous one intact).
     """
     import matplotlib.pyplot as plt
@@ -107,8 +113,10 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
     from matplotlib.cm import ScalarMappable
 
     check_integers(n_phi=n_phi, fibres=fibres, width=width)
+    if not (is_number(fps) and 0 < fps <= MAX_FPS):
+        raise ParameterError("fps", fps, f"(0, {MAX_FPS}] frames per second")
     ds = run_of(ds)
-    values, units, _ = field(ds, field_name, "cells")
+    values, units, _ = field_values(ds, field, "cells", option="field")
     path = writable_path(path, "path", suffixes=SUFFIXES)  # before the frames: its missing directories created
     suffix = path.suffix.lower().lstrip(".")
     cmap_name, norm = _scale(values)
@@ -131,7 +139,7 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
     fig = plt.figure(figsize=tuple((n + 1e-3) / dpi for n in pixels), dpi=dpi)
     ax = fig.add_axes((0.0, 0.0, 0.78, 0.86), projection="3d", computed_zorder=False)
     cax = fig.add_axes((0.8, 0.15, 0.035, 0.62))
-    fig.colorbar(ScalarMappable(norm, cmap), cax=cax).set_label(_short_label(field_name, units), fontsize=9)
+    fig.colorbar(ScalarMappable(norm, cmap), cax=cax).set_label(_short_label(field, units), fontsize=9)
     cax.tick_params(labelsize=8)
     title = fig.text(0.03, 0.96, "", fontsize=9, va="top")
 
@@ -178,7 +186,7 @@ def animate(ds, path, field_name=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], 
 
 def _write_mp4(path, target, fig, draw, count, fps, dpi):
     """H.264 by the ffmpeg of ``imageio-ffmpeg`` into ``path``; a failure of the encoder is refused in one line naming
-    ``-o`` = ``target`` (the file the user asked for)."""
+    ``path`` = ``target`` (the file the user asked for)."""
     import imageio_ffmpeg
     import matplotlib
     from matplotlib import animation
@@ -198,7 +206,7 @@ def _write_mp4(path, target, fig, draw, count, fps, dpi):
         said = [line.strip() for line in str(getattr(exc, "stderr", "") or "").splitlines() if line.strip()]
         why = re.sub(r" @ 0x[0-9a-fA-F]+", "", said[0]) if said else str(exc)  # [libx264 @ 0x55d...] -> [libx264]
         width, height = fig.canvas.get_width_height()
-        raise ParameterError.invalid("-o", str(target), f"could not be encoded ({why})",
+        raise ParameterError.invalid("path", str(target), f"could not be encoded ({why})",
                                      f"a .gif, or an .mp4 that ffmpeg can encode ({width} x {height} pixels here)"
                                      ) from None
     finally:

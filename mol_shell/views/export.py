@@ -188,7 +188,7 @@ def export(ds, path, n_phi=N_PHI, faces=False):
         The files written.
     """
     if not (isinstance(n_phi, (int, np.integer)) and not isinstance(n_phi, bool) and 3 <= n_phi <= N_PHI_MAX):
-        raise ParameterError("--n-phi", n_phi, f"integers in [3, {N_PHI_MAX}]")
+        raise ParameterError("n_phi", n_phi, f"integers in [3, {N_PHI_MAX}]")
     ds = run_of(ds)
     path = writable_path(path, "path", suffixes=FORMATS)  # before the work: its missing directories created
     suffix = path.suffix.lower().lstrip(".")

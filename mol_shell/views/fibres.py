@@ -142,16 +142,16 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
     import matplotlib.pyplot as plt
 
     if not (isinstance(count, (int, np.integer)) and not isinstance(count, bool) and 1 <= count <= MAX_FIBRES):
-        raise ParameterError("--fibres", count, f"integers in [1, {MAX_FIBRES}]")
+        raise ParameterError("count", count, f"integers in [1, {MAX_FIBRES}]")
     ds = run_of(ds)
     times, nodes = ds["time"].values, ds["s"].values
-    k = len(times) - 1 if time is None else _nearest(times, float(time), "--time", "s")
+    k = len(times) - 1 if time is None else _nearest(times, float(time), "time", "s")
     radii = ds["r0"].values if "r0" in ds else np.ones(len(nodes))
     # the first end; on a closed shell (a pole there, r0 = 0: an empty section) the widest section
-    i = (0 if radii[0] > 0 else int(np.argmax(radii))) if s is None else _nearest(nodes, float(s), "--at-s", "m")
+    i = (0 if radii[0] > 0 else int(np.argmax(radii))) if s is None else _nearest(nodes, float(s), "s", "m")
     if not radii[i] > 0:
         off = nodes[radii > 0]
-        raise ParameterError("--at-s", float(s), f"[{off.min():.6g}, {off.max():.6g}] m (sections off the axis: at "
+        raise ParameterError("s", float(s), f"[{off.min():.6g}, {off.max():.6g}] m (sections off the axis: at "
                              "a pole r = 0 and there is no section to draw)")
     r0 = float(radii[i])
     theta0 = float(ds["theta0"].values[i]) if "theta0" in ds else 0.0
@@ -159,7 +159,7 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
     if thickness_scale is None:
         thickness_scale = max(1.0, round(DRAWN_THICKNESS * r0 / (depths[1] - depths[0])))
     elif not (np.isfinite(thickness_scale) and thickness_scale > 0):
-        raise ParameterError("--thickness-scale", thickness_scale, "(0, inf)")
+        raise ParameterError("thickness_scale", thickness_scale, "(0, inf)")
     zeta = thickness_scale * depths
     r, chi, theta, psi = (float(ds[f].values[k, i]) for f in ("r", "chi", "theta", "psi"))
     phi = 2 * np.pi * np.arange(count) / count

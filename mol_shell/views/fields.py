@@ -96,12 +96,13 @@ def field_names(ds):
     return names
 
 
-def field(ds, name, where="cells", option="--field"):
+def field(ds, name, where="cells", option="field"):
     """Values of ``name`` on the cells ``(time, n - 1)`` or on the nodes ``(time, n)``, with units and a label.
 
     Node values go to a cell as the mean of its two nodes; cell values to an interior node as the
     mean of its two cells (an end node takes its cell's value). An unknown name is refused by
-    :class:`~mol_shell._core.errors.ParameterError` naming ``option`` and the names the run offers.
+    :class:`~mol_shell._core.errors.ParameterError` naming ``option`` (the caller's keyword) and the names the run
+    offers.
 
     Returns
     -------

@@ -42,7 +42,7 @@ def radius_node(ds, s=None):
     :func:`widest_nodes` (the one node of largest ``r0`` of a sphere; the middle of a cylinder, or of a vessel's
     cylindrical part, where its knuckle's first node, at the same ``r0``, moves inwards under pressure)."""
     if s is not None:
-        return _nearest(ds["s"].values, float(s), "--at-s", "m")
+        return _nearest(ds["s"].values, float(s), "s", "m")
     first, last = widest_nodes(ds)
     if first == 0 and last == ds.sizes["s"] - 1:  # a cylinder (every node): its middle node, upper of two
         return ds.sizes["s"] // 2

@@ -40,7 +40,7 @@ def response_values(ds, response):
         first, last = float(ds.s[0]), float(ds.s[-1])
         low, high = f"{first:.6g}", f"{last:.6g}"  # the ends as said: a value typed as shown is taken
         if not min(first, float(low)) <= float(at) <= max(last, float(high)):
-            raise ParameterError("--response", response, f"FIELD@S with S in [{low}, {high}] m (the meridian's arc "
+            raise ParameterError("response", response, f"FIELD@S with S in [{low}, {high}] m (the meridian's arc "
                                  "length; S is drawn at the node nearest it)")
         node = int(np.argmin(np.abs(ds.s.values - float(at))))
         var = ds[field]

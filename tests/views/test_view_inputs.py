@@ -8,6 +8,7 @@ from PIL import Image
 
 import mol_shell
 from mol_shell import ParameterError
+from mol_shell.cli.main import main
 from mol_shell.views.animate import animate
 from mol_shell.views.export import export
 from mol_shell.views.fibres import plot_fibres
@@ -98,3 +99,32 @@ def test_an_image_type_matplotlib_cannot_write_is_refused_before_drawing(runs, t
     assert refused.value.name == "path" and text.startswith(f"path = '{tmp_path / 's.xyz'}' ends in .xyz")
     assert all(f".{kind}," in text for kind in ("pdf", "png")) and ".svg" in text
     assert drawn == [] and list(tmp_path.iterdir()) == []
+
+
+def test_python_names_keywords_and_the_command_line_its_options(runs, tmp_path, capsys):
+    ds, path, _ = runs
+    from_python = [(lambda: export(ds, tmp_path / "x.vtu"), "path = ", "ends in .vtu"),
+                   (lambda: export(ds, tmp_path / "x.xdmf", n_phi=2), "n_phi = 2 is outside", "[3, 1024]"),
+                   (lambda: animate(ds, tmp_path / "a.gif", field="axial_torq"), "field = 'axial_torq' is outside",
+                    "{z, z_t, r"),
+                   (lambda: plot_fibres(ds, tmp_path / "f.png", time=1.0), "time = 1 is outside", "[0, 2e-05] s"),
+                   (lambda: plot_fibres(ds, tmp_path / "f.png", s=9.0), "s = 9 is outside", "[0, 4] m"),
+                   (lambda: plot_fibres(ds, tmp_path / "f.png", thickness_scale=-1.0),
+                    "thickness_scale = -1.0 is outside", "(0, "),
+                   (lambda: plot_history(ds, tmp_path / "h.png", s=9.0), "s = 9 is outside", "[0, 4] m")]
+    for call, start, words in from_python:
+        with pytest.raises(ParameterError) as refused:
+            call()
+        assert str(refused.value).startswith(start) and words in str(refused.value), str(refused.value)
+        assert "--" not in str(refused.value).split(" is ")[0]
+    from_the_command_line = [(["animate", str(path), "--field", "axial_torq", "-o", str(tmp_path / "a.gif")],
+                              "--field = 'axial_torq' is outside {z, z_t, r"),
+                             (["plot", str(path), "--figure", "fibres", "--time", "1", "-o", str(tmp_path / "f.png")],
+                              "--time = 1 is outside [0, 2e-05] s"),
+                             (["plot", str(path), "--figure", "history", "--at-s", "9", "-o", str(tmp_path / "h.png")],
+                              "--at-s = 9 is outside [0, 4] m")]
+    for argv, start in from_the_command_line:
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert err.startswith(f"mol-shell: error: {start}") and len(err.splitlines()) == 1, err
+    assert list(tmp_path.iterdir()) == []

@@ -64,13 +64,15 @@ def test_the_fibre_figure_refuses_too_many_fibres(files, tmp_path, capsys):
                  str(tmp_path / "f.png")]) == 0
 
 
-def test_the_functions_refuse_the_same_ranges(files, tmp_path):
+def test_the_functions_refuse_the_same_ranges_naming_their_keywords(files, tmp_path):
     ds = mol_shell.read_netcdf(files["run"])
-    with pytest.raises(ParameterError, match=r"--n-phi = 1025 is outside integers in \[3, 1024\]"):
+    with pytest.raises(ParameterError, match=r"^n_phi = 1025 is outside integers in \[3, 1024\]$"):
         export(ds, tmp_path / "x.xdmf", n_phi=1025)
-    with pytest.raises(ParameterError, match=r"--width = 5000 is outside integers in \[100, 4096\]"):
+    with pytest.raises(ParameterError, match=r"^width = 5000 is outside integers in \[100, 4096\]$"):
         animate(ds, tmp_path / "x.gif", width=5000)
-    with pytest.raises(ParameterError, match=r"--fibres = 361 is outside integers in \[1, 360\]"):
+    with pytest.raises(ParameterError, match=r"^fps = 0 is outside \(0, 100\] frames per second$"):
+        animate(ds, tmp_path / "x.gif", fps=0)
+    with pytest.raises(ParameterError, match=r"^count = 361 is outside integers in \[1, 360\]$"):
         fibres_figure(ds, count=361)
 
 
