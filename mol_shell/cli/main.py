@@ -216,7 +216,8 @@ def make_parser():
     plot.add_argument("--fibres", type=integer_arg("--fibres", 1, MAX_FIBRES), default=None,
                       help=f"fibres: how many, 1 to {MAX_FIBRES} (default 24)")
     plot.add_argument("--thickness-scale", type=number_arg("--thickness-scale"), default=None,
-                      help="fibres: magnification of the drawn thickness (default: 0.2 of the radius)")
+                      help="fibres: magnification of the drawn thickness, up to the section's radius over the wall's "
+                      "thickness (the drawn wall at most as thick as the radius; default: 0.2 of the radius)")
     plot.add_argument("--response", default=None, help="a path file (mol-shell path): the response the load is drawn "
                       "against, a variable along step (default load_conjugate) or FIELD@S (a field at the node "
                       "nearest S, S in [0, L] m: the meridian's arc length)")

@@ -26,7 +26,7 @@ import itertools
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.model.layers import parse_layers
 from mol_shell.views.fields import face_depths, run_of
 from mol_shell.views.figures import figure_path, save_figure
@@ -137,7 +137,8 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
     count : int
         Fibres drawn (evenly spaced reference azimuths; the one at ``phi = 0`` in red), in [1, :data:`MAX_FIBRES`].
     thickness_scale : float, optional
-        Magnification of the thickness; default: the drawn thickness is 0.2 of the reference radius.
+        Magnification of the thickness, at most the section's reference radius over the wall's thickness there (the
+        drawn wall stays off the axis); default: the drawn thickness is 0.2 of the reference radius.
     """
     import matplotlib.pyplot as plt
 
@@ -156,10 +157,16 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
     r0 = float(radii[i])
     theta0 = float(ds["theta0"].values[i]) if "theta0" in ds else 0.0
     depths = np.array([faces[i] for faces in face_depths(ds)])  # this section's own: a graded wall's h(s)
+    wall = float(depths[1] - depths[0])
     if thickness_scale is None:
-        thickness_scale = max(1.0, round(DRAWN_THICKNESS * r0 / (depths[1] - depths[0])))
-    elif not (np.isfinite(thickness_scale) and thickness_scale > 0):
-        raise ParameterError("thickness_scale", thickness_scale, "(0, inf)")
+        thickness_scale = max(1.0, round(DRAWN_THICKNESS * r0 / wall))
+    else:
+        most = r0 / wall  # the drawn wall as thick as the section's radius: its inner face reaches the axis
+        shown = float(f"{most:.6g}")  # the bound as said: a value typed as shown is taken
+        if not (is_number(thickness_scale) and 0 < thickness_scale <= max(most, shown)):
+            raise ParameterError("thickness_scale", thickness_scale, f"(0, {shown:g}] (the drawn wall at most as "
+                                 f"thick as the section's radius: r0 = {r0:.6g} m, wall {wall:.6g} m thick at s = "
+                                 f"{nodes[i]:.6g} m)")
     zeta = thickness_scale * depths
     r, chi, theta, psi = (float(ds[f].values[k, i]) for f in ("r", "chi", "theta", "psi"))
     phi = 2 * np.pi * np.arange(count) / count

@@ -128,3 +128,18 @@ def test_python_names_keywords_and_the_command_line_its_options(runs, tmp_path, 
         err = capsys.readouterr().err
         assert err.startswith(f"mol-shell: error: {start}") and len(err.splitlines()) == 1, err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_the_thickness_scale_is_bounded_by_the_sections_radius(runs, tmp_path, capsys):
+    ds, path, _ = runs
+    most = float(ds.r0[0]) / (2 * float(ds.attrs["h"]))  # the paper's wall, 2h = 12.6 mm, on a radius of 1 m
+    assert 79 < most < 80
+    assert main(["plot", str(path), "--figure", "fibres", "--thickness-scale", "1e6", "-o", str(tmp_path / "b.png")]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"mol-shell: error: --thickness-scale = 1000000.0 is outside (0, {most:.6g}] (the drawn "
+                          "wall at most as thick as the section's radius: r0 = ") and len(err.splitlines()) == 1, err
+    assert not (tmp_path / "b.png").exists()
+    with pytest.raises(ParameterError, match=r"^thickness_scale = 80 is outside \(0, 79\.5"):
+        plot_fibres(ds, tmp_path / "b.png", thickness_scale=80)
+    plot_fibres(ds, tmp_path / "b.png", thickness_scale=float(f"{most:.6g}"))  # the bound as said is taken
+    assert (tmp_path / "b.png").stat().st_size > 1000
