@@ -7,7 +7,7 @@ from contextlib import contextmanager
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.args import check_companions, integer_arg, number_arg, plural
 from mol_shell.results.dataset import RUN_FILE, read_run
-from mol_shell.views.animate import DEFAULTS, MAX_FPS, RANGES, SUFFIXES, animate
+from mol_shell.views.animate import DEFAULTS, MAX_FPS, MOVING, RANGES, SUFFIXES, animate, default_field
 from mol_shell.views.export import FORMATS, N_PHI, N_PHI_MAX, companion_files, export
 from mol_shell.views.fields import check_run
 
@@ -72,8 +72,10 @@ def register_animate(subparsers):
     parser = subparsers.add_parser("animate", help="the deformed shell in 3-D, one frame per saved time (GIF or MP4)")
     parser.add_argument("file", metavar="FILE", help="netCDF file written by mol-shell run")
     parser.add_argument("--field", default=DEFAULTS["field"],
-                        help="what colours the shell: a field (chi, r, ...), a rate, a resultant (axial_torque, ...) "
-                        "or a face stress (von_mises_stress_outer, ...); default chi")
+                        help="what colours the shell: a field (chi, r, ...), a displacement (r_displacement, "
+                        "z_displacement), a rate, a resultant (axial_torque, ...) or a face stress "
+                        f"(von_mises_stress_outer, ...); default: the first of {', '.join(MOVING)} that varies over the "
+                        "run beyond round-off (the frames and the command's output say which)")
     parser.add_argument("--n-phi", type=integer_arg("--n-phi", *RANGES["n_phi"]), default=DEFAULTS["n_phi"],
                         help=f"azimuthal samples, {_range('n_phi')} (default {DEFAULTS['n_phi']})")
     parser.add_argument("--fibres", type=integer_arg("--fibres", *RANGES["fibres"]), default=DEFAULTS["fibres"],
@@ -92,5 +94,6 @@ def cmd_animate(args):
     with said_as_options():  # an unknown --field is refused before anything is drawn
         count = animate(ds, args.output, args.field, n_phi=args.n_phi, fibres=args.fibres, fps=args.fps,
                         width=args.width)
-    print(f"wrote {args.output}: {plural(count, 'frame')}")
+    chosen = f", {default_field(ds)[1]}" if args.field is None else ""
+    print(f"wrote {args.output}: {plural(count, 'frame')}{chosen}")
     return 0

@@ -19,10 +19,32 @@ from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.results.dataset import writable_path
 from mol_shell.views.fields import field as field_values
-from mol_shell.views.fields import run_of, surface_points
+from mol_shell.views.fields import field_names, run_of, surface_points
 
 SUFFIXES = ("gif", "mp4")
-DEFAULTS = {"field": "chi", "n_phi": 48, "fibres": 12, "fps": 4, "width": 480}
+DEFAULTS = {"field": None, "n_phi": 48, "fibres": 12, "fps": 4, "width": 480}
+#: what colours the shell when no field is given: the first of these that varies over the run beyond round-off
+#: (:func:`default_field`; a pressurised sphere's chi is 0 to 1e-12 rad everywhere, and coloured the shell nothing)
+MOVING = ("chi", "r_displacement", "z_displacement", "theta", "psi")
+#: a field varies when its values span more than this, relative to 1 rad for angles and to the shell's size for
+#: lengths (round-off of a run is 1e-16 to 1e-12 of them)
+ROUND_OFF = 1e-9
+
+
+def default_field(ds):
+    """``(name, why)``: the first of :data:`MOVING` that the run ``ds`` offers and whose values over its saved times
+    and nodes span more than :data:`ROUND_OFF` (of 1 rad, or of the shell's size for a displacement), and a few words
+    saying so for the figure; ``chi`` when none does."""
+    size = max(float(np.ptp(ds[name].values)) for name in ("r0", "z0", "r", "z") if name in ds) or 1.0
+    offered = set(field_names(ds, derived=True))
+    for name in (name for name in MOVING if name in offered):
+        values = field_values(ds, name, "nodes")[0]
+        scale = size if name.endswith("displacement") else 1.0
+        if np.ptp(values) > ROUND_OFF * scale:
+            skipped = MOVING[: MOVING.index(name)]
+            why = f" ({', '.join(skipped)} {'does' if len(skipped) == 1 else 'do'} not vary)" if skipped else ""
+            return name, f"coloured by {name}{why}"
+    return "chi", f"coloured by chi (none of {', '.join(MOVING)} varies beyond round-off)"
 #: the allowed ranges of the integer options: generous for a picture (a frame of 4096 px at 1024 azimuthal samples
 #: and 360 fibres takes seconds), while the time and the memory a frame takes stay bounded (``--width 20000`` ran
 #: for minutes, 100000 ran out of memory)
@@ -82,9 +104,11 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
         the shell too.
     path : str or os.PathLike
         ``.gif`` or ``.mp4``; missing directories are created.
-    field : str
-        What colours the shell (:func:`mol_shell.views.fields.field_names`): node fields are averaged
-        to the cells, face stresses are ``NAME_inner`` / ``NAME_outer``. One colour scale for all frames.
+    field : str, optional
+        What colours the shell (:func:`mol_shell.views.fields.field_names`, and ``r_displacement``,
+        ``z_displacement``): node fields are averaged to the cells, face stresses are ``NAME_inner`` /
+        ``NAME_outer``. One colour scale for all frames. Default: :func:`default_field`, the first of :data:`MOVING`
+        that varies over the run, named in the frames' title.
     n_phi : int
         Azimuthal samples of the surface, in [3, 1024].
     fibres : int
@@ -116,6 +140,7 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
     if not (is_number(fps) and 0 < fps <= MAX_FPS):
         raise ParameterError("fps", fps, f"(0, {MAX_FPS}] frames per second")
     ds = run_of(ds)
+    field, chosen = default_field(ds) if field is None else (field, "")
     values, units, _ = field_values(ds, field, "cells", option="field")
     path = writable_path(path, "path", suffixes=SUFFIXES)  # before the frames: its missing directories created
     suffix = path.suffix.lower().lstrip(".")
@@ -170,7 +195,7 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
         ax.view_init(elev=elev, azim=azim)
         ax.set_axis_off()
         title.set_text(f"{ds.attrs.get('scene', 'run')}   t = {float(ds['time'][k]):.4g} s\n"
-                       "material fibres: black; in the reference state: dashed")
+                       "material fibres: black; in the reference state: dashed" + (f"\n{chosen}" if chosen else ""))
 
     count = ds.sizes["time"]
     try:

@@ -88,9 +88,17 @@ def check_run(ds, source=None):
         raise ParameterError(name, value, allowed, message=f"{refuse_at}; allowed: {allowed}")
 
 
-def field_names(ds):
-    """Names :func:`field` accepts: node variables, cell variables, and face variables per face."""
+#: displacements :func:`field` derives from a run with its reference meridian: name -> (field, reference, long_name)
+DISPLACEMENTS = {"r_displacement": ("r", "r0", "radial displacement r - r0"),
+                 "z_displacement": ("z", "z0", "axial displacement z - z0")}
+
+
+def field_names(ds, derived=False):
+    """Names :func:`field` accepts: node variables, cell variables, and face variables per face; ``derived``: also
+    the :data:`DISPLACEMENTS` a run with its reference meridian offers (after its node variables)."""
     names = [v for v in ds.data_vars if ds[v].dims == ("time", "s")]
+    if derived:
+        names += [name for name, (var, ref, _) in DISPLACEMENTS.items() if var in ds and ref in ds]
     names += [v for v in ds.data_vars if ds[v].dims == ("time", "s_cell")]
     names += [f"{v}_{face}" for v in ds.data_vars if ds[v].dims == ("time", "s_cell", "zeta") for face in FACES]
     return names
@@ -102,7 +110,7 @@ def field(ds, name, where="cells", option="field"):
     Node values go to a cell as the mean of its two nodes; cell values to an interior node as the
     mean of its two cells (an end node takes its cell's value). An unknown name is refused by
     :class:`~mol_shell._core.errors.ParameterError` naming ``option`` (the caller's keyword) and the names the run
-    offers.
+    offers. ``r_displacement`` and ``z_displacement`` (:data:`DISPLACEMENTS`) are derived from the reference meridian.
 
     Returns
     -------
@@ -111,7 +119,7 @@ def field(ds, name, where="cells", option="field"):
     label : str
         ``long_name [units]``, or the name with spaces when the variable has no ``long_name``.
     """
-    names = field_names(ds)
+    names = field_names(ds, derived=True)
     if name not in names:
         why = str(ds.attrs.get("stresses", ""))
         if "axial_torque" in ds:
@@ -128,7 +136,12 @@ def field(ds, name, where="cells", option="field"):
     for k, suffix in enumerate(FACES):
         if name.endswith("_" + suffix) and name not in ds:
             base, face = name[: -len(suffix) - 1], k
-    var = ds[base] if face is None else ds[base].isel(zeta=face)
+    if name in DISPLACEMENTS and name not in ds:
+        current, reference, long_name = DISPLACEMENTS[name]
+        var = (ds[current] - ds[reference]).transpose("time", "s")
+        var.attrs = {"units": ds[current].attrs.get("units", "m"), "long_name": long_name}
+    else:
+        var = ds[base] if face is None else ds[base].isel(zeta=face)
     values = np.asarray(var.values, dtype=float)
     on_nodes = var.dims == ("time", "s")
     if where == "cells" and on_nodes:

@@ -3,15 +3,17 @@ unknown field or an image type matplotlib cannot write refused by name before an
 
 import warnings
 
+import numpy as np
 import pytest
 from PIL import Image
 
 import mol_shell
 from mol_shell import ParameterError
 from mol_shell.cli.main import main
-from mol_shell.views.animate import animate
+from mol_shell.views.animate import animate, default_field
 from mol_shell.views.export import export
 from mol_shell.views.fibres import plot_fibres
+from mol_shell.views.fields import field
 from mol_shell.views.history import plot_history
 from mol_shell.views.plotting import plot_meridian, plot_snapshots, snapshot_figure
 
@@ -143,3 +145,28 @@ def test_the_thickness_scale_is_bounded_by_the_sections_radius(runs, tmp_path, c
         plot_fibres(ds, tmp_path / "b.png", thickness_scale=80)
     plot_fibres(ds, tmp_path / "b.png", thickness_scale=float(f"{most:.6g}"))  # the bound as said is taken
     assert (tmp_path / "b.png").stat().st_size > 1000
+
+
+def test_the_animation_is_coloured_by_default_by_a_field_that_moves(runs, tmp_path, capsys):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sphere = mol_shell.simulate(mol_shell.Sphere(pressure=1e4), n=9, times=[0, 1e-4, 2e-4], progress=False,
+                                    stresses=False)
+    assert float(np.ptp(sphere.chi.values)) < 1e-12  # a pressurised sphere does not twist: chi coloured nothing
+    moved = float(np.abs(sphere.r - sphere.r0).max())
+    assert moved > 1e-7
+    values, units, label = field(sphere, "r_displacement", "nodes")
+    np.testing.assert_array_equal(values, (sphere.r - sphere.r0).values)
+    assert units == "m" and label == "radial displacement r - r0 [m]"
+    assert default_field(sphere) == ("r_displacement", "coloured by r_displacement (chi does not vary)")
+    assert default_field(runs[0]) == ("chi", "coloured by chi")  # the paper's twisting cylinder
+    mol_shell.write_netcdf(sphere, tmp_path / "sphere.nc")
+    out = tmp_path / "s.gif"
+    argv = ["animate", str(tmp_path / "sphere.nc"), "--n-phi", "6", "--fibres", "2", "--width", "100", "-o", str(out)]
+    assert main(argv) == 0
+    assert capsys.readouterr().out == f"wrote {out}: 3 frames, coloured by r_displacement (chi does not vary)\n"
+    assert main([*argv[:-2], "--field", "chi", "-o", str(out)]) == 0
+    assert capsys.readouterr().out == f"wrote {out}: 3 frames\n"
+    assert main(["animate", "--help"]) == 0
+    assert "default: the first of chi, r_displacement, z_displacement, theta, psi that varies" in \
+        " ".join(capsys.readouterr().out.split())
