@@ -257,6 +257,7 @@ def write_netcdf(ds, path):
     if not isinstance(ds, xr.Dataset):
         raise ParameterError.not_a("ds", ds, "an xarray.Dataset", "a Dataset, as mol_shell.simulate returns")
     path = writable_path(path, suffixes=NETCDF_SUFFIXES)
+    ds = _netcdf_attrs(ds)
     encoding = {name: {"_FillValue": None} for name, var in ds.coords.items() if var.dtype.kind == "f"}
     unlimited = ["time"] if "time" in ds.dims else []
     for name, var in ds.variables.items():
@@ -266,6 +267,36 @@ def write_netcdf(ds, path):
             encoding.setdefault(name, {})["chunksizes"] = tuple(block if d == "time" else ds.sizes[d] for d in var.dims)
     with atomic_path(path) as tmp:  # a run killed while writing leaves the previous file intact
         ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding, unlimited_dims=unlimited)
+
+
+def _netcdf_attrs(ds):
+    """``ds`` (a shallow copy where needed) with attributes netCDF can hold: a bool as 0 or 1 and ``None`` as
+    ``"none"`` (as this package writes its own); anything but numbers, strings and flat lists of them is refused
+    naming the attribute (netCDF4 raised a TypeError naming its internal type, ``b1``, after the file was begun)."""
+    def fixed(attrs, where):
+        out = {}
+        for key, value in attrs.items():
+            value = attr_value(value.item() if isinstance(value, np.bool_) else value)
+            flat = np.asarray(value, dtype=object).ravel() if isinstance(value, (list, tuple, np.ndarray)) else ()
+            if not isinstance(value, (str, int, float, list, tuple, np.ndarray)) or any(
+                    not isinstance(v, (str, int, float, np.integer, np.floating)) or isinstance(v, bool) for v in flat):
+                raise ParameterError.not_a(f"{where}[{key!r}]", value, "a netCDF attribute",
+                                           "a number, a string, or a flat list of numbers or of strings")
+            out[key] = value
+        return out
+
+    if all(_plain(v) for v in ds.attrs.values()) and all(_plain(v) for var in ds.variables.values()
+                                                          for v in var.attrs.values()):
+        return ds
+    out = ds.copy(deep=False)
+    out.attrs = fixed(ds.attrs, "ds.attrs")
+    for name, var in out.variables.items():
+        var.attrs = fixed(var.attrs, f"ds[{name!r}].attrs")
+    return out
+
+
+def _plain(value):
+    return isinstance(value, (str, float)) or isinstance(value, int) and not isinstance(value, bool)
 
 
 def read_netcdf(path):

@@ -33,7 +33,7 @@ SCENES = {cls.name: cls for cls in (TwistedCylinder, SpinningRing, Axisymmetric,
 
 def get_scene(name, **params):
     """The scene registered as ``name`` with parameters replaced by ``params``."""
-    if name not in SCENES:
+    if not isinstance(name, str) or name not in SCENES:  # (a list is not even hashable)
         raise ParameterError("scene", name, "{" + ", ".join(sorted(SCENES)) + "}")
     cls = SCENES[name]
     if cls is MeridianShell and "points" in params:  # the scene is made with its file first

@@ -1,6 +1,8 @@
 """Bad input to the library's functions is a ParameterError naming the parameter, as on the command line: a new
 user met raw TypeErrors and ValueErrors from inside numpy, scipy and dataclasses (December 6)."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -100,3 +102,25 @@ def test_progress_takes_a_bool_or_none(call):
              "path": lambda p: mol_shell.path(mol_shell.Sphere(), "pressure", 0.0, 10.0, n=8, steps=2, progress=p)}
     with pytest.raises(mol_shell.ParameterError, match=r"^progress = 'no' is not a bool; allowed: True, False, or None"):
         calls[call]("no")
+
+
+def test_attributes_netcdf_cannot_hold_are_converted_or_refused_by_name(tmp_path):
+    """A user's own attributes on a run: ``True`` ended in netCDF4's ``TypeError: illegal data type for attribute
+    b'flag' ... got b1``, ``None`` and dicts in TypeErrors. A bool is written as 0/1 and None as "none" (as the
+    package writes its own); a dict or a list holding None is refused naming the attribute, nothing written."""
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), t_end=2e-4, n=8, progress=False, stresses=False)
+    mine = ds.copy()
+    mine.attrs.update(flag=True, note=None, sizes=[1, 2])
+    mol_shell.write_netcdf(mine, tmp_path / "a.nc")
+    back = mol_shell.read_netcdf(tmp_path / "a.nc")
+    assert back.attrs["flag"] == 1 and back.attrs["note"] == "none" and list(back.attrs["sizes"]) == [1, 2]
+    assert mine.attrs["flag"] is True  # the caller's Dataset is left as it was
+    for where, bad in (("ds.attrs['cfg']", lambda d: d.attrs.update(cfg={"a": 1})),
+                       ("ds['r'].attrs['x']", lambda d: d["r"].attrs.update(x=[1, None]))):
+        other = ds.copy(deep=True)
+        bad(other)
+        with pytest.raises(mol_shell.ParameterError, match=rf"^{re.escape(where)} = .* is not a netCDF attribute"):
+            mol_shell.write_netcdf(other, tmp_path / "b.nc")
+        assert not (tmp_path / "b.nc").exists()
+    with pytest.raises(mol_shell.ParameterError, match=r"^scene = \['sphere'\] is outside \{"):
+        mol_shell.get_scene(["sphere"])
