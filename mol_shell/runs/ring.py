@@ -147,7 +147,7 @@ def _check_uniform(scene):
                              hint="a graded wall makes the motion depend on s; mol_shell.simulate runs it")
 
 
-def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
+def simulate_ring(scene, times=None, rtol=1e-12, atol=1e-12, *, t_end=None, n=None, method=None):
     """Solve the reduced ODE of section 5 for the uniform data of ``scene``.
 
     Parameters
@@ -155,8 +155,10 @@ def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
     scene : SpinningRing or TwistedCylinder, or a registered name (``"spinning-ring"``)
         Its ``gamma`` must be 0 (no twist: section 5 shows that twisted uniform motions
         do not exist); ``R = None`` is resolved as by :func:`mol_shell.simulate`.
-    times : array_like
+    times : array_like, optional
         Saved times (s), starting at 0.
+    t_end : float, optional
+        Final time (s); alone it gives 11 evenly spaced saved times, as :func:`mol_shell.simulate` does.
     rtol, atol : float
         Tolerances of the ODE solver (``atol`` applies to ``r, chi, psi`` and, scaled by
         the initial momentum magnitude, to the momenta).
@@ -185,7 +187,7 @@ def simulate_ring(scene, times, rtol=1e-12, atol=1e-12, *, n=None, method=None):
     requested = scene.params()
     scene = resolve(scene)
     _check_uniform(scene)
-    times = parse_times(times)
+    times = parse_times(times, t_end)
     system = ring_system(scene)
     y0 = ring_initial_state(system, scene)
     method = method or ("Radau" if system.viscous else "DOP853")

@@ -110,3 +110,16 @@ def test_walls_uniform_along_s_still_run_and_agree_with_the_pde(changes):
     ring = mol_shell.simulate_ring(scene, times=times)
     pde = mol_shell.simulate(scene, n=21, times=times, stresses=False)
     assert float(np.abs(pde.r - ring.r).max()) < 1e-8
+
+
+def test_the_ring_ode_takes_t_end_as_every_other_run_does():
+    """``simulate_ring(SpinningRing(), t_end=0.01)`` was a TypeError (``times`` was required); ``t_end`` alone now
+    gives the 11 saved times ``simulate`` gives, and the motion is the one ``times`` gives."""
+    from mol_shell.runs.building import parse_times
+
+    by_end = mol_shell.simulate_ring(mol_shell.SpinningRing(), t_end=0.01)
+    by_times = mol_shell.simulate_ring(mol_shell.SpinningRing(), parse_times(None, 0.01))
+    assert np.array_equal(by_end.time.values, parse_times(None, 0.01))
+    assert np.array_equal(by_end.r.values, by_times.r.values)
+    with pytest.raises(mol_shell.ParameterError, match="t_end is missing"):
+        mol_shell.simulate_ring(mol_shell.SpinningRing())
