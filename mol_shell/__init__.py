@@ -14,6 +14,7 @@ from mol_shell.model.user_laws import Material
 from mol_shell.results.dataset import read_netcdf, write_netcdf
 from mol_shell.results.stresses import add_stresses
 from mol_shell.runs.building import build
+from mol_shell.runs.resources import LongRunWarning
 from mol_shell.runs.ring import simulate_ring
 from mol_shell.runs.simulate import simulate
 from mol_shell.runs.study import study
@@ -35,7 +36,7 @@ from mol_shell.scenes import (
 from mol_shell.scenes.files import load_scene
 
 __all__ = [
-    "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "Material", "MaterialWarning", "MeridianShell", "ModelLimitError", "ParameterError", "SceneWarning", "ShellScene",
+    "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "LongRunWarning", "Material", "MaterialWarning", "MeridianShell", "ModelLimitError", "ParameterError", "SceneWarning", "ShellScene",
     "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "Unshearable", "Vessel", "__version__", "build", "get_scene",
     "load_scene", "modes", "path", "read_netcdf",
     "simulate", "simulate_ring", "simulate_unshearable", "study", "write_netcdf",

@@ -277,3 +277,20 @@ def test_a_huge_mode_count_is_blamed_on_count_not_on_n(capsys, tmp_path):
     err = capsys.readouterr().err.splitlines()
     assert code == 2 and len(err) == 1 and err[0].startswith("mol-shell: error: count = 1000000000 is outside "
                                                              "integers 1.."), err
+
+
+def test_a_script_filters_the_long_run_warning_by_its_name_from_the_package():
+    """A script could not name ``LongRunWarning`` (it was only in ``mol_shell.runs.resources``) to filter it; every
+    warning class the package raises is at its top level."""
+    import warnings
+
+    import mol_shell
+    from mol_shell.runs import resources
+
+    assert mol_shell.LongRunWarning is resources.LongRunWarning and "LongRunWarning" in mol_shell.__all__
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        warnings.filterwarnings("ignore", category=mol_shell.LongRunWarning)
+        assert resources.warn_if_long(resources.estimate(40, 11, 1e4, "leapfrog", dt=1e-6))  # days of steps: filtered
+    for name in ("MaterialWarning", "SceneWarning", "LongRunWarning"):
+        assert issubclass(getattr(mol_shell, name), Warning)
