@@ -160,7 +160,17 @@ def build_dataset(system, scene, traj, velocities, totals, attrs, requested=None
                             requested))
     meta.update(traj.stats)
     meta.update(attrs)
+    for name in list(meta):  # the dimensional numbers beside the parameters: the run's, the integrator's options
+        unit = DERIVED_UNITS.get(name, UNITS.get(name))
+        if unit is not None and f"units_{name}" not in meta:
+            meta[f"units_{name}"] = unit
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in meta.items()})
+
+
+#: units of a run's numbers that are not scene parameters (:data:`mol_shell.scenes.UNITS` has those and the
+#: integrators' options): the inertia densities of eq. (7.8), moments 0, 1, 2 of rho through the thickness
+DERIVED_UNITS = {"failure_time": "s", "rho_A": "kg m-2", "rho_I": "kg m-1", "rho_J": "kg", "zeta1_used": "m",
+                 "meridian_length": "m", "first_step": "s", "restart": "s"}
 
 
 def reaction_columns(count, edges, field):
