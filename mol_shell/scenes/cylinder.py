@@ -11,6 +11,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, finite, positive
 from mol_shell.model.geometry import CylinderMeridian
+from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.scenes.base import ShellScene, _check, check_radius, zeta1_used
 
 
@@ -69,6 +70,19 @@ class CylinderScene(ShellScene):
     def zeta1_used(self):
         """``zeta1``, or the offset with ``int zeta (a + zeta) dzeta = 0`` (``rhoI = 0``, as the paper)."""
         return zeta1_used(self.h, self.zeta1, self.a)
+
+    def _check_profile(self):
+        """A graded wall's ``h(s)`` below ``a/2``, the bound of a uniform ``h`` (the wall thinner than the natural
+        radius); the general check (the faces off the axis) let ``h(s)`` reach ``a``."""
+        if isinstance(self.h_profile, str) and self.h_profile:
+            s = np.linspace(0.0, self.L, 801)
+            hs = thickness_function(self.h_profile, self.L)(s)
+            k = int(np.argmax(np.where(np.isfinite(hs), hs, np.inf)))
+            if not hs[k] < self.a / 2:
+                raise ParameterError("h_profile", self.h_profile, f"values with h(s) below a/2 = {self.a / 2:.4g} m, as "
+                                     "h's (the thickness 2h must stay below the natural radius a)",
+                                     hint=f"h = {hs[k]:.4g} m at s = {s[k]:.4g} m")
+        super()._check_profile()
 
 
 @dataclass(frozen=True)

@@ -210,3 +210,18 @@ def test_a_profile_too_thin_for_double_precision_is_blamed_on_h_profile(capsys, 
     assert 0 < edge < 0.01
     assert checks._is_bad(dataclasses.replace(scene, h_profile=repr(edge * 3)), 5) is False
     assert checks._is_bad(dataclasses.replace(scene, h_profile=repr(edge / 10)), 5) is True
+
+
+@pytest.mark.parametrize(("profile", "refused"), [("0.5", True), ("2", True), ("0.3 + 0.1 * s", True),
+                                                  ("0.49", False), ("0.005 * (1 + 0.5 * s)", False)])
+def test_a_cylinder_s_graded_wall_has_the_bound_of_its_uniform_wall(profile, refused):
+    """``h = 0.5`` on a cylinder of a = 1 m is refused (the wall 2h must stay below a), but ``h_profile = "0.5"``, a
+    wall 1 m thick, ran, and ``"2"`` was refused with another bound (h < a, the faces off the axis). The profile
+    now has h's bound: max h(s) below a/2 (``0.3 + 0.1 s`` reaches 0.7 m at s = 4 m)."""
+    scene = mol_shell.TwistedCylinder(material="svk-plane-stress")
+    if refused:
+        with pytest.raises(mol_shell.ParameterError, match=r"^h_profile = .* is outside values with h\(s\) below "
+                           r"a/2 = 0.5 m, as h's"):
+            dataclasses.replace(scene, h_profile=profile)
+    else:
+        assert dataclasses.replace(scene, h_profile=profile).h_profile == profile
