@@ -110,7 +110,7 @@ def check_profile_fits(text, h, meridian, samples=801):
     """
     s = np.linspace(0.0, meridian.length, samples)
     r0, _, th0, th0s = meridian.at(s)
-    keep = r0 > 1e-9 * max(1.0, float(np.max(np.abs(r0))))  # off the poles (their factor is 0 by geometry)
+    keep = r0 > 1e-9 * float(np.max(np.abs(r0)))  # off the poles (their factor is 0 by geometry), at any size
     with np.errstate(divide="ignore", invalid="ignore"):
         bound = np.minimum(np.where(th0s != 0, 1 / np.abs(th0s), np.inf),
                            np.where(keep & (np.cos(th0) != 0), r0 / np.abs(np.cos(th0)), np.inf))

@@ -456,7 +456,7 @@ class ShellScene:
         s = np.linspace(0.0, mer.length, 401)
         s = np.concatenate([s, (s[:-1] + s[1:]) / 2])
         r0 = mer.at(s)[0]
-        keep = r0 > 1e-9 * max(1.0, float(np.max(np.abs(r0))))  # off the poles (their factor is 0 by geometry)
+        keep = r0 > 1e-9 * float(np.max(np.abs(r0)))  # off the poles (their factor is 0 by geometry), at any size
         z1 = self.zeta1_used()
         if not all(np.all(f > 0) for f in thickness_factors(mer, np.array([z1, z1 + 2 * self.h]), s[keep])):
             raise ParameterError("h", self.h, "values whose thickness interval stays off the axis and inside every "

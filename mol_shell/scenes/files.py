@@ -367,7 +367,7 @@ def load_scene(path, *, with_run=False, together=True):
     except TypeError:
         raise ParameterError.not_a("scene file", path, "a file path", "a readable TOML file") from None
     try:
-        text = path.read_bytes().decode("utf-8")
+        text = path.read_bytes().decode("utf-8-sig")  # a byte-order mark (Windows editors write one) is not TOML
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         raise ParameterError("scene file", str(path), "a readable TOML file",

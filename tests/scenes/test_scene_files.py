@@ -3,6 +3,7 @@ the examples run and do what their comments say, and every refusal is one line n
 
 import dataclasses
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -375,3 +376,25 @@ def test_the_command_line_can_mend_a_file_s_run_options(tmp_path, capsys):
     capsys.readouterr()
     assert main(["run", str(g), "-o", out]) == 2
     assert capsys.readouterr().err.startswith(f"mol-shell: error: {g}: [run] dt is not an option of cvode-bdf")
+
+
+def test_a_scene_file_saved_with_a_byte_order_mark_is_read(tmp_path):
+    """A file saved by Windows Notepad starts with a UTF-8 byte-order mark: it was refused as ``not valid TOML:
+    Invalid statement (at line 1, column 1)``, with nothing to see in the file."""
+    plain, marked = tmp_path / "plain.toml", tmp_path / "marked.toml"
+    text = 'scene = "sphere"\n[geometry]\na = 2.0\n[run]\nn = 8\nt_end = 0.001\n'
+    plain.write_text(text, encoding="utf-8")
+    marked.write_bytes(b"\xef\xbb\xbf" + text.encode("utf-8"))
+    assert load_scene(marked, with_run=True) == load_scene(plain, with_run=True)
+
+
+@pytest.mark.parametrize("a", [1e-9, 1e-4])
+def test_a_shell_too_small_for_its_wall_is_refused_naming_its_size_in_the_file(a, tmp_path):
+    """A sphere of radius 1e-9 m with the default wall (h = 6.3 mm) passed the scene's check (its test of the
+    faces left out every node as a pole: r below 1e-9 m) and was refused only as the system was built, naming the
+    default h and no file. The scene now refuses it, naming the file, its table and ``a``."""
+    path = tmp_path / "tiny.toml"
+    path.write_text(f'scene = "sphere"\n[geometry]\na = {a!r}\n[run]\nn = 8\nt_end = 0.001\n')
+    with pytest.raises(ParameterError, match=rf"^{re.escape(str(path))}: \[geometry\] a = {a:g} is outside values for "
+                       r"which h = 0.006283 m fits"):
+        load_scene(path)
