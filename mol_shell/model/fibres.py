@@ -28,6 +28,7 @@ from dataclasses import dataclass
 
 import casadi as ca
 
+from mol_shell._core.ranges import Interval
 from mol_shell.model.hyperelastic import shell_cauchy_green
 from mol_shell.model.kinematics import column_polynomials
 
@@ -35,6 +36,17 @@ from mol_shell.model.kinematics import column_polynomials
 FIBRE_PARAMETERS = ("fibre_E", "fibre_angle", "fibre_families", "fibre_compression")
 #: their defaults
 FIBRE_DEFAULTS = {"fibre_E": 0.0, "fibre_angle": 0.0, "fibre_families": 1, "fibre_compression": True}
+#: fibre angles from the meridian: each direction of the tangent plane once (alpha and alpha + pi are one fibre)
+FIBRE_ANGLES = Interval(-math.pi / 2, math.pi / 2, True, True, unit="rad", shown="[-pi/2, pi/2] rad")
+
+
+def fibre_angle_hint(angle):
+    """What a ``fibre_angle`` outside :data:`FIBRE_ANGLES` may have meant: the same fibre in range, or degrees."""
+    if not (isinstance(angle, (int, float)) and math.isfinite(angle)):
+        return ""
+    same = math.remainder(angle, math.pi)
+    degrees = f"; {angle:g} degrees would be {math.radians(angle):.6g} rad" if abs(angle) <= 90 else ""
+    return f"in rad: the same fibre is {same:.6g} rad{degrees}"
 
 
 @dataclass(frozen=True)

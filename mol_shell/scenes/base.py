@@ -19,6 +19,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError, UnknownParameterError, is_number
 from mol_shell._core.ranges import Choice, Interval, finite, non_negative, positive
 from mol_shell.model.edges import check_displacements, check_edge, resolve_edges
+from mol_shell.model.fibres import FIBRE_ANGLES, fibre_angle_hint
 from mol_shell.model.geometry import base_offset, thickness_factors
 from mol_shell.model.laws import (
     COMPRESSIBLE_WHY,
@@ -320,9 +321,10 @@ class ShellScene:
         object.__setattr__(self, "material_parameters", parameter_text(values))
 
     def _check_fibres(self):
-        """``fibre_E >= 0``, a finite ``fibre_angle``, ``fibre_families`` 1 or 2, ``fibre_compression`` true or false."""
+        """``fibre_E >= 0``, ``fibre_angle`` in [-pi/2, pi/2] (every fibre direction once; 45 was taken as rad),
+        ``fibre_families`` 1 or 2, ``fibre_compression`` true or false."""
         _check("fibre_E", self.fibre_E, non_negative("Pa"))
-        _check("fibre_angle", self.fibre_angle, finite("rad"))
+        _check("fibre_angle", self.fibre_angle, FIBRE_ANGLES, hint=fibre_angle_hint(self.fibre_angle))
         families = Interval(1, 2, True, True, integer=True, shown="{1, 2}")
         if not isinstance(self.fibre_families, numbers.Integral) or isinstance(self.fibre_families, (bool, np.bool_)):
             raise ParameterError.not_a("fibre_families", self.fibre_families, "an integer", families)

@@ -162,3 +162,15 @@ def test_a_scene_files_flag_is_a_toml_boolean_as_on_the_command_line(capsys, tmp
     where = "[material]" if table == "material" else "[[layer]] 1 (from the lower face):"
     assert len(err) == 1 and f"flag.toml: {where} fibre_compression = {shown} is not a TOML boolean; allowed: " \
         "{true, false}" in err[0], err
+
+
+@pytest.mark.parametrize(("angle", "same"), [(45.0, 45.0 - 14 * math.pi), (2.0, 2.0 - math.pi), (-1.6, -1.6 + math.pi)])
+def test_a_fibre_angle_outside_minus_to_plus_half_pi_is_refused_with_what_it_may_mean(angle, same):
+    """``fibre_angle = 45`` ran as 45 rad (the vessel's segments take degrees, so the slip is easy). Angles from the
+    meridian cover every fibre direction in [-pi/2, pi/2] (alpha and alpha + pi are one fibre); beyond, refused
+    with the same fibre in range and, for at most 90, the angle read as degrees."""
+    with pytest.raises(mol_shell.ParameterError, match=r"^fibre_angle = .* is outside \[-pi/2, pi/2\] rad \(in rad: "
+                       rf"the same fibre is {same:.6g} rad"):
+        mol_shell.TwistedCylinder(fibre_E=1e7, fibre_angle=angle)
+    for edge in (-math.pi / 2, math.pi / 2, 0.7):
+        assert mol_shell.TwistedCylinder(fibre_E=1e7, fibre_angle=edge).fibre_angle == edge
