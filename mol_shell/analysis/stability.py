@@ -26,16 +26,20 @@ from mol_shell.scenes import Cone, Sphere, Torus, TwistedCylinder
 
 @dataclasses.dataclass(frozen=True)
 class Case:
-    """One row of the report: a labelled scene on ``n`` nodes, run to ``t_end``."""
+    """One row of the report: a labelled scene on ``n`` nodes, run to ``t_end``; with ``skip``, a case that does not
+    apply to the base scene (``skip`` says why): a row of the table with that reason, nothing run."""
 
     label: str
     scene: object
     n: int = 40
     t_end: float = 0.01
+    skip: str = ""
 
 
 #: saved times per run (the energy balance of viscous runs is integrated on them)
 SAVED = 100
+#: the grid cases of the full report and of ``quick``
+FULL_SIZES, QUICK_SIZES = (160, 640, 2560, 10240), (160, 640)
 
 
 def shell_cases():
@@ -63,10 +67,10 @@ def default_cases(base=None, quick=False):
     cases += [Case(f"gamma={g:g}", rep(base, gamma=g)) for g in (0.5, 1.5, 3.0)]
     cases += [Case("psi0=1.5 (delta0 = 0.07)", rep(base, psi0=1.5))]  # sheared to near the fold delta = 0
     cases += [Case(f"omega={w:g}", rep(base, omega=w)) for w in (50.0, 200.0)]
-    sizes = (160, 640) if quick else (160, 640, 2560, 10240)
+    sizes = QUICK_SIZES if quick else FULL_SIZES
     cases += [Case(f"n={n}", base, n=n, t_end=0.002) for n in sizes]
     cases += shell_cases()
-    return [case for case in cases if case.scene is not None]
+    return [case for case in cases if case.scene is not None or case.skip]
 
 
 def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, iterations=8, min_steps=100):
@@ -120,7 +124,8 @@ def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, ato
     y0, _ = starting_state(scene, system, case.n, asked=case.scene)  # where its runs start (R = auto: the statics)
     jac = np.array(system.jac(0, y0)) if system.size <= DENSE_MAX_STATES else None
     omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
-    row = {"label": case.label, "n": case.n, "t_end": case.t_end, "omega_max": omega_max, "damping_max": damping}
+    row = {"label": case.label, "n": case.n, "t_end": case.t_end, "omega_max": omega_max, "damping_max": damping,
+           "case_status": "measured", "case_note": ""}
     if jac is not None:
         mags = np.abs(np.linalg.eigvals(jac))
         # the rigid rotation chi -> chi + c is a double zero eigenvalue (a Jordan block), which
@@ -154,6 +159,14 @@ def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, ato
     return row
 
 
+def _not_run(case, status, why, integrators=("cvode-bdf", "ida"), **_):
+    """The row of a case that did not run: ``status`` in the column of each integrator :func:`run_case` would have
+    run, ``why`` in ``case_note``."""
+    names = [name.replace("-", "_") for name in ("leapfrog", *integrators) if name in INTEGRATORS]
+    return {"label": case.label, "n": case.n, "t_end": case.t_end, "case_status": status, "case_note": why,
+            **{f"{name}_status": status for name in names}}
+
+
 def _energy_error(ds):
     """The run's energy-work balance error where it accounts loads (relative to the energy exchanged:
     a loaded shell starting at rest has ``E(0) = 0``, and the error relative to it read 1e25-1e29); else the
@@ -185,16 +198,27 @@ def _dissipated(ds):
 
 def report(cases, **kwargs):
     """Run every case; one Dataset with a ``case`` dimension (strings for statuses). Ctrl-C stops it with the cases
-    finished so far (``attrs["status"] = "interrupted"``, the message naming the cases not run)."""
+    finished so far (``attrs["status"] = "interrupted"``, the message naming the cases not run).
+
+    A case that cannot run is a row that says why (``case_status``, ``case_note``; each integrator's status the
+    same): ``not applicable`` (``Case.skip``) or ``not run`` (its scene refused, or no starting state, as a
+    twisted pressurised sphere without a static equilibrium: the error's one line). The first case is the base
+    scene as given: its error is the input's and is raised (``mol-shell run`` would refuse it alike)."""
     rows, cases, interrupted = [], list(cases), ""
     try:
-        for case in cases:
+        for number, case in enumerate(cases):
             start = time.perf_counter()
-            row = run_case(case, **kwargs)
+            try:
+                row = _not_run(case, "not applicable", case.skip, **kwargs) if case.skip else run_case(case, **kwargs)
+            except (ParameterError, ModelLimitError) as exc:
+                if number == 0:
+                    raise
+                row = _not_run(case, "not run", f"the case's scene could not start: {exc}", **kwargs)
             if any(v == "interrupted" for k, v in row.items() if k.endswith("_status")):  # a run kept it as data
                 raise KeyboardInterrupt
             rows.append(row)
-            print(f"{case.label:28s} done in {time.perf_counter() - start:6.1f} s", flush=True)
+            done = "done" if row["case_status"] == "measured" else row["case_status"]
+            print(f"{case.label:28s} {done} in {time.perf_counter() - start:6.1f} s", flush=True)
     except (KeyboardInterrupt, SystemError) as exc:  # SystemError: a Ctrl-C inside a CasADi call
         if not by_interrupt(exc) or not rows:
             raise
@@ -210,6 +234,7 @@ def report(cases, **kwargs):
         data[key] = ("case", values, _meta(key))
     ds = xr.Dataset(data, coords={"case": ("case", [row["label"] for row in rows], {"long_name": "case"})})
     ds.attrs["bisected"] = int(kwargs.get("bisect", True))
+    ds.attrs["cases_not_measured"] = sum(row["case_status"] != "measured" for row in rows)
     ds.attrs.update({"status": "interrupted" if interrupted else "complete", "message": interrupted})
     return ds
 
@@ -223,6 +248,8 @@ META = {
     "leapfrog_dt_bound": ("s", "leap-frog's step bound 1 / max |eigenvalue|"),
     "leapfrog_dt_stable": ("s", "largest leap-frog step found stable by bisection"),
     "bisection_horizon_s": ("s", "time over which the bisection's runs were checked"),
+    "case_status": (None, "measured, not applicable (the variation does not apply to the base scene) or not run"),
+    "case_note": (None, "why a case was not measured"),
 }
 SUFFIXES = {
     "_status": (None, "how the {} run ended"), "_message": (None, "what the {} run said where it did not complete"),
@@ -262,7 +289,8 @@ def markdown_table(ds, integrators=("leapfrog", "cvode_bdf", "ida"), spectrum=Tr
         cells = []
         for key, _, fmt in cols:
             v = ds[key].values[i]
-            if key == "leapfrog_dt_stable" and isinstance(v, float) and math.isnan(v) and ds.attrs.get("bisected", 1):
+            if (key == "leapfrog_dt_stable" and isinstance(v, float) and math.isnan(v) and ds.attrs.get("bisected", 1)
+                    and np.isfinite(float(ds["bisection_horizon_s"].values[i]))):
                 short = float(ds["bisection_horizon_s"].values[i]) < 200 * float(ds["leapfrog_dt_bound"].values[i])
                 cells.append("n/a: folds within 100 steps" if short else "< bound/2")
                 continue
@@ -276,4 +304,8 @@ def markdown_table(ds, integrators=("leapfrog", "cvode_bdf", "ida"), spectrum=Tr
              if f"{name}_message" in ds and str(ds[f"{name}_message"].values[i])]
     if notes:  # why a run did not complete: where and when it stopped, or why it was refused
         lines += ["", "Runs that did not complete:", *notes]
+    skipped = [f"- {label}, {ds.case_status.values[i]}: {ds.case_note.values[i]}"
+               for i, label in enumerate(ds.case.values) if "case_status" in ds and str(ds.case_note.values[i])]
+    if skipped:  # cases that did not run at all: why
+        lines += ["", "Cases not measured:", *skipped]
     return "\n".join(lines)

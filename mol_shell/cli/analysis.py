@@ -109,6 +109,9 @@ def cmd_stability(args):
         print(f"mol-shell: stability report stopped: {ds.attrs['message']}; wrote {args.output}, {png}, {md}",
               file=sys.stderr)
         return EXIT_INTERRUPTED
+    skipped = int(ds.attrs.get("cases_not_measured", 0))
+    print(f"wrote {args.output}, {png}, {md}" + (f" ({plural(skipped, 'case')} not measured: why, under the table)"
+                                                 if skipped else ""))
     return 0
 
 

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.model.equilibrium import spectrum_bounds
+from mol_shell.analysis.stability import Case, markdown_table, report, stable_leapfrog_step
 from mol_shell.integrators import Leapfrog
+from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.model.material import lame
 from mol_shell.runs.simulate import build, resolve
-from mol_shell.analysis.stability import Case, markdown_table, report, stable_leapfrog_step
 
 
 @pytest.mark.parametrize("changes", [{}, {"nu": 0.499}, {"h": 1e-3}])
@@ -167,3 +167,29 @@ def test_ctrl_c_keeps_the_cases_finished(monkeypatch, tmp_path, capsys):
     ds = mol_shell.read_netcdf(out)
     assert list(ds.case.values) == ["paper"] and ds.attrs["status"] == "interrupted"
     assert (tmp_path / "st.md").exists() and (tmp_path / "st.png").exists()
+
+
+def test_a_case_without_a_start_is_recorded_and_the_report_written(monkeypatch, tmp_path, capsys):
+    """A pressurised sphere twisted by gamma = 1.5 rad/m has no static equilibrium to start from: the stability
+    command stopped after 14 cases with exit 2, wrote nothing and blamed the file's pressure. The case is a row
+    `not run` with the reason and its name, the report is written (.nc, .md, .png) and the command exits 0, as for a
+    run that stops at a limit. The base scene's own error is still the input's (raised: exit 2)."""
+    from mol_shell.cli.main import main
+
+    base = mol_shell.Sphere(pressure=1000.0, pressure_history="ramp 0.05", nu=0.3, material="svk-plane-stress")
+    cases = [Case("sphere", base, n=12, t_end=2e-4), Case("gamma=1.5", dataclasses.replace(base, gamma=1.5), n=12,
+                                                           t_end=2e-4)]
+    monkeypatch.setattr("mol_shell.cli.analysis.default_cases", lambda scene, quick=False: cases)
+    out = tmp_path / "st.nc"
+    assert main(["stability", "sphere", "--no-bisect", "-o", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "gamma=1.5                    not run" in printed and "1 case not measured" in printed
+    ds = mol_shell.read_netcdf(out)
+    assert list(ds.case.values) == ["sphere", "gamma=1.5"] and str(ds.case_status.values[1]) == "not run"
+    assert str(ds.cvode_bdf_status.values[0]) == "complete" and str(ds.ida_status.values[1]) == "not run"
+    assert "could not start: pressure = 1000.0 is outside loads under which the shell has a static equilibrium" \
+        in str(ds.case_note.values[1])
+    assert "- gamma=1.5, not run: the case's scene could not start" in (tmp_path / "st.md").read_text()
+    assert (tmp_path / "st.png").exists()
+    with pytest.raises(mol_shell.ParameterError, match="pressure"):  # the base scene cannot start: the input's error
+        report(cases[::-1], integrators=(), bisect=False)
