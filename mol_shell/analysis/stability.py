@@ -20,6 +20,7 @@ from mol_shell._core.constants import DENSE_MAX_STATES
 from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
 from mol_shell.integrators import INTEGRATORS, Leapfrog
 from mol_shell.model.equilibrium import spectrum_bounds
+from mol_shell.model.layers import parse_layers
 from mol_shell.runs.simulate import LEAPFROG_MAX_LOG_GROWTH, build, resolve, simulate, starting_state
 from mol_shell.scenes import Cone, Sphere, Torus, TwistedCylinder
 
@@ -52,7 +53,8 @@ def shell_cases():
 
 def default_cases(base=None, quick=False):
     """The issue's set: paper scene, viscosity, near-incompressibility, thin shells, large twist, spin, fine grids,
-    and the shells of :func:`shell_cases`. Variations a base scene has no parameter for are left out."""
+    and the shells of :func:`shell_cases`. Variations a base scene has no parameter for are left out; a thickness
+    case scales the wall as a whole (:func:`thickness_case`), or says why it cannot (``Case.skip``)."""
     base = base or TwistedCylinder()
     names = {f.name for f in dataclasses.fields(base)}
 
@@ -63,7 +65,7 @@ def default_cases(base=None, quick=False):
     cases += [Case(f"viscous eta_mu={eta:g}", rep(base, eta_mu=eta, eta_lambda=2 * eta)) for eta in (0.01, 1.0, 100.0)]
     cases += [Case(f"nu={nu:g}", rep(base, nu=nu)) for nu in (0.3, 0.49, 0.499, 0.4999)]
     cases += [Case(f"nu={nu:g} plane-stress", rep(base, nu=nu, material="svk-plane-stress")) for nu in (0.499, 0.4999)]
-    cases += [Case(f"h={h:g}", rep(base, h=h)) for h in (1e-2, 1e-3, 1e-4)]
+    cases += [thickness_case(base, h) for h in (1e-2, 1e-3, 1e-4)]
     cases += [Case(f"gamma={g:g}", rep(base, gamma=g)) for g in (0.5, 1.5, 3.0)]
     cases += [Case("psi0=1.5 (delta0 = 0.07)", rep(base, psi0=1.5))]  # sheared to near the fold delta = 0
     cases += [Case(f"omega={w:g}", rep(base, omega=w)) for w in (50.0, 200.0)]
@@ -71,6 +73,41 @@ def default_cases(base=None, quick=False):
     cases += [Case(f"n={n}", base, n=n, t_end=0.002) for n in sizes]
     cases += shell_cases()
     return [case for case in cases if case.scene is not None or case.skip]
+
+
+def thickness_case(base, h):
+    """The case of half-thickness ``h``: the wall made ``k = h / base.h`` times as thick, as a whole.
+
+    A uniform wall takes ``h``; a graded wall (``h_profile``) keeps its grading, its ``h(s)`` times ``k``; a layered
+    one keeps its layers' shares, each thickness times ``k``; a ``zeta1`` set keeps its place in the wall (times
+    ``k``). A wall so scaled that the scene refuses (a thicker graded wall reaching the axis) is a skipped case
+    naming the scene's reason."""
+    label, k = f"h={h:g}", h / base.h
+    changes, scaled = {"h": h}, []
+    if base.h_profile:
+        changes["h_profile"], scaled = _scaled_profile(base.h_profile, k), scaled + ["h_profile"]
+    if base.layers:
+        changes["layers"] = "; ".join(" ".join([f"{t * k:.12g}", material, *(f"{key}={value}" for key, value in
+                                                                            keys.items())])
+                                      for t, material, keys in parse_layers(base.layers))
+        scaled.append("layers")
+    if base.zeta1 is not None:
+        changes["zeta1"], scaled = base.zeta1 * k, scaled + ["zeta1"]
+    if scaled and k != 1:
+        label += f" ({', '.join(scaled)} x {k:.3g})"
+    try:
+        return Case(label, dataclasses.replace(base, **changes))
+    except ParameterError as exc:
+        return Case(label, None, skip=f"the wall {k:.3g} times as thick is refused: {exc}")
+
+
+def _scaled_profile(text, k):
+    """``h_profile`` times ``k``: a table's ``h`` values, or the expression."""
+    words = text.split()
+    if words and words[0] == "table":
+        pairs = [w.split(":") for w in words[1:]]
+        return "table " + " ".join(f"{s}:{float(value) * k:.12g}" for s, value in pairs)
+    return f"{k:.12g} * ({text})"
 
 
 def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, iterations=8, min_steps=100):

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell.analysis.stability import Case, markdown_table, report, stable_leapfrog_step
+from mol_shell.analysis.stability import Case, default_cases, markdown_table, report, stable_leapfrog_step
 from mol_shell.integrators import Leapfrog
 from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.model.material import lame
@@ -167,6 +167,28 @@ def test_ctrl_c_keeps_the_cases_finished(monkeypatch, tmp_path, capsys):
     ds = mol_shell.read_netcdf(out)
     assert list(ds.case.values) == ["paper"] and ds.attrs["status"] == "interrupted"
     assert (tmp_path / "st.md").exists() and (tmp_path / "st.png").exists()
+
+
+def _by_label(cases, start):
+    """The one case whose label starts with ``start``."""
+    (case,) = [case for case in cases if case.label.startswith(start)]
+    return case
+
+
+def test_a_thickness_case_scales_a_graded_wall_and_its_spectrum_follows():
+    """A graded wall (h_profile = 0.005 (1 + 0.5 s), s in [0, 4] m) in the h cases kept the file's profile: the rows
+    h=0.01, 0.001 and 0.0001 were copies of the base row. Now each scales h(s) by h_case / h (0.2 and 0.02 here), and
+    the top of the spectrum, the transverse-shear mode of a thin wall (~ 1/h), grows 10-fold from one to the other."""
+    base = mol_shell.TwistedCylinder(h=0.005, h_profile="0.005 * (1 + 0.5 * s)", material="svk-plane-stress", nu=0.3)
+    cases = default_cases(base, quick=True)
+    thin, thinner = _by_label(cases, "h=0.001 "), _by_label(cases, "h=0.0001 ")
+    assert thin.label == "h=0.001 (h_profile x 0.2)" and thinner.label == "h=0.0001 (h_profile x 0.02)"
+    ds = report([dataclasses.replace(case, n=12, t_end=2e-4) for case in (thin, thinner)], integrators=(), bisect=False)
+    top = ds["omega_max"].values
+    assert top[1] / top[0] == pytest.approx(10.0, rel=0.05)
+    assert _by_label(cases, "h=0.01 ").scene.h_profile == "2 * (0.005 * (1 + 0.5 * s))"
+    tabled = default_cases(dataclasses.replace(base, h_profile="table 0:0.005 4:0.015"))
+    assert _by_label(tabled, "h=0.001 ").scene.h_profile == "table 0:0.001 4:0.003"
 
 
 def test_a_case_without_a_start_is_recorded_and_the_report_written(monkeypatch, tmp_path, capsys):
