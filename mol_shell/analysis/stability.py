@@ -20,7 +20,9 @@ from mol_shell._core.constants import DENSE_MAX_STATES
 from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
 from mol_shell.integrators import INTEGRATORS, Leapfrog
 from mol_shell.model.equilibrium import spectrum_bounds
+from mol_shell.model.laws import COMPRESSIBLE
 from mol_shell.model.layers import parse_layers
+from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.runs.simulate import LEAPFROG_MAX_LOG_GROWTH, build, resolve, simulate, starting_state
 from mol_shell.scenes import Cone, Sphere, Torus, TwistedCylinder
 
@@ -53,18 +55,19 @@ def shell_cases():
 
 def default_cases(base=None, quick=False):
     """The issue's set: paper scene, viscosity, near-incompressibility, thin shells, large twist, spin, fine grids,
-    and the shells of :func:`shell_cases`. Variations a base scene has no parameter for are left out; a thickness
-    case scales the wall as a whole (:func:`thickness_case`), or says why it cannot (``Case.skip``)."""
+    and the shells of :func:`shell_cases`. Variations a base scene has no parameter for are left out; a variation
+    that does not apply to the base scene as it is (:func:`thickness_case`, :func:`law_case`) is kept as a row
+    that says why (``Case.skip``), never as a relabelled copy of the base scene."""
     base = base or TwistedCylinder()
     names = {f.name for f in dataclasses.fields(base)}
 
     def rep(scene, **changes):
         return dataclasses.replace(scene, **changes) if set(changes) <= names else None
 
-    cases = [Case("paper" if isinstance(base, TwistedCylinder) else base.name, base)]
+    cases = [Case("paper" if base == TwistedCylinder() else base.name, base)]
     cases += [Case(f"viscous eta_mu={eta:g}", rep(base, eta_mu=eta, eta_lambda=2 * eta)) for eta in (0.01, 1.0, 100.0)]
-    cases += [Case(f"nu={nu:g}", rep(base, nu=nu)) for nu in (0.3, 0.49, 0.499, 0.4999)]
-    cases += [Case(f"nu={nu:g} plane-stress", rep(base, nu=nu, material="svk-plane-stress")) for nu in (0.499, 0.4999)]
+    cases += [law_case(base, f"nu={nu:g}", nu=nu) for nu in (0.3, 0.49, 0.499, 0.4999)]
+    cases += [law_case(base, f"nu={nu:g} plane-stress", nu=nu, material="svk-plane-stress") for nu in (0.499, 0.4999)]
     cases += [thickness_case(base, h) for h in (1e-2, 1e-3, 1e-4)]
     cases += [Case(f"gamma={g:g}", rep(base, gamma=g)) for g in (0.5, 1.5, 3.0)]
     cases += [Case("psi0=1.5 (delta0 = 0.07)", rep(base, psi0=1.5))]  # sheared to near the fold delta = 0
@@ -108,6 +111,31 @@ def _scaled_profile(text, k):
         pairs = [w.split(":") for w in words[1:]]
         return "table " + " ".join(f"{s}:{float(value) * k:.12g}" for s, value in pairs)
     return f"{k:.12g} * ({text})"
+
+
+def law_case(base, label, **changes):
+    """A change of ``nu`` (and of the law, ``material``) where it means something: skipped, with the reason, where
+    no law of the wall reads ``nu`` (incompressible laws, laws of one's own, layers that set their own ``nu``) or
+    where a layered wall's layers name their own laws. A law swapped for a law of one's own drops that law's
+    ``material_parameters`` (they are its parameters, not the new law's)."""
+    if base.layers:
+        layers = parse_layers(base.layers)
+        if "material" in changes:
+            return Case(label, None, skip="a layered wall: each layer names its own law (layers)")
+        if not any(_reads_nu(material) and "nu" not in keys for _, material, keys in layers):
+            return Case(label, None, skip="no layer's law reads the wall's nu (each is incompressible or sets its own)")
+    elif not _reads_nu(changes.get("material", base.material)):
+        return Case(label, None, skip=f"material = {base.material} does not read nu")
+    elif changes.get("material") == base.material:
+        return Case(label, None, skip=f"the wall's law is {base.material} already: the row nu={changes['nu']:g}")
+    if "material" in changes and base.material_parameters:
+        changes["material_parameters"] = ""
+    return Case(label, dataclasses.replace(base, **changes))
+
+
+def _reads_nu(material):
+    """Whether the law ``material`` reads the scene's ``nu`` (the SVK laws and the compressible neo-Hookeans)."""
+    return material in SVK_MATERIALS or material in COMPRESSIBLE
 
 
 def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, iterations=8, min_steps=100):

@@ -191,6 +191,40 @@ def test_a_thickness_case_scales_a_graded_wall_and_its_spectrum_follows():
     assert _by_label(tabled, "h=0.001 ").scene.h_profile == "table 0:0.001 4:0.003"
 
 
+def test_cases_that_do_not_apply_to_a_layered_wall_or_a_law_of_ones_own_say_why():
+    """A layered wall (0.012 m + 0.008 m, 2h = 0.02 m) and a law of one's own with material_parameters were refused
+    up front: the h=0.001 case could not hold the file's layers, and the plane-stress cases handed svk-plane-stress
+    the law's parameters; the nu cases of such walls were copies of the base row. Now the layers scale with h (their
+    shares kept), a case that cannot apply is a row saying why (no layer reads the wall's nu; each layer names its
+    own law; a law of one's own reads no nu; the law swapped in is the wall's already), a law swap drops the
+    parameters of the law swapped out, and a base scene that is not the paper's is not labelled "paper"."""
+    layered = mol_shell.Sphere(h=0.01, pressure=500.0, layers="0.012 neo-hookean-incompressible; 0.008 "
+                               "svk-plane-stress nu=0.3 fibre_E=5e6 fibre_angle=0.5")
+    cases = default_cases(layered, quick=True)
+    thin = _by_label(cases, "h=0.001 ")
+    assert thin.label == "h=0.001 (layers x 0.1)" and thin.scene.layers.startswith("0.0012 neo-hookean-incompressible; "
+                                                                                    "0.0008 svk-plane-stress nu=0.3")
+    assert "no layer's law reads the wall's nu" in _by_label(cases, "nu=0.3").skip
+    assert "each layer names its own law" in _by_label(cases, "nu=0.499 plane-stress").skip
+    rubber = mol_shell.Material("stability-rubber-test", energy=lambda C, p: p["mu"] / 2 * (C[0, 0] + C[1, 1] + C[2, 2]
+                                                                                            - 3),
+                                parameters={"mu": 3e5}, thickness="incompressible")
+    own = default_cases(mol_shell.Sphere(h=0.01, material=rubber, material_parameters="mu=2e5"), quick=True)
+    assert "does not read nu" in _by_label(own, "nu=0.3").skip
+    plane = default_cases(mol_shell.TwistedCylinder(nu=0.3, material="svk-plane-stress"), quick=True)
+    assert plane[0].label == "twisted-cylinder" and default_cases(quick=True)[0].label == "paper"  # not the paper's
+    assert "svk-plane-stress already" in _by_label(plane, "nu=0.499 plane-stress").skip  # the row nu=0.499 again
+    swapped = _by_label(own, "nu=0.499 plane-stress").scene
+    assert swapped.material == "svk-plane-stress" and swapped.material_parameters == ""
+    assert _by_label(own, "h=0.001").scene.material_parameters == "mu=200000.0"
+    ds = report([Case("sphere", layered, n=8, t_end=2e-4), _by_label(cases, "nu=0.3")], integrators=(), bisect=False)
+    assert [str(s) for s in ds.case_status.values] == ["measured", "not applicable"]
+    assert str(ds.leapfrog_status.values[1]) == "not applicable" and np.isnan(ds.omega_max.values[1])
+    table = markdown_table(ds)
+    assert "Cases not measured:\n- nu=0.3, not applicable: no layer's law reads the wall's nu" in table
+    assert "< bound/2" not in table  # a case not run has no bisection to report
+
+
 def test_a_case_without_a_start_is_recorded_and_the_report_written(monkeypatch, tmp_path, capsys):
     """A pressurised sphere twisted by gamma = 1.5 rad/m has no static equilibrium to start from: the stability
     command stopped after 14 cases with exit 2, wrote nothing and blamed the file's pressure. The case is a row
