@@ -17,6 +17,7 @@ import dataclasses
 import hashlib
 import itertools
 import json
+import math
 import os
 import pickle
 import socket
@@ -25,7 +26,7 @@ import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, wants_progress
+from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, is_number, wants_progress
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
 from mol_shell.integrators import INTEGRATORS
@@ -306,9 +307,12 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
                                           dtype=float)), n, early=True)
     dims, coords, cases = design(scene, vary, integrator, options)
     if times is None and integrator == "leapfrog":  # as simulate: on the step grid, t_end a multiple of dt; a dt
-        # varied: the coarsest one's grid (the others' too when they divide it; a case whose dt does not is refused)
+        # varied: the grid of the coarsest one t_end is a multiple of (the others' too when they divide it; a case
+        # whose dt does not is refused, as one t_end is not a multiple of: the whole study only when none is)
         steps = [float(v) for v in coords["dt"]] if "dt" in coords else [options.get("dt", DEFAULT_DT)]
-        times = leapfrog_times(t_end, max(steps))
+        whole = [d for d in steps if is_number(t_end) and math.isfinite(t_end) and t_end > 0 and d > 0
+                 and round(t_end / d) >= 1 and abs(round(t_end / d) * d - t_end) <= 1e-9 * t_end]  # as leapfrog_times
+        times = leapfrog_times(t_end, max(whole or steps))
     times = parse_times(times, t_end)
     resources.check_study(len(cases), n, times, integrator, fields=len(getattr(scene, "fields", range(5))),
                           dt=options.get("dt", DEFAULT_DT) if integrator == "leapfrog" else None,

@@ -360,3 +360,17 @@ def test_a_grid_too_large_for_memory_is_refused_in_words_for_runs_and_paths(tmp_
     err = capsys.readouterr().err.strip()
     assert err.startswith("mol-shell: error: --vary h = '0.001:0.01:1e-9' is outside at most ") and \
         "cases at n = 40 with at least 2 states each (saved times or path steps)" in err, err
+
+
+def test_a_varied_dt_that_t_end_is_no_multiple_of_refuses_its_case_not_the_study():
+    """``{"dt": [1e-6, 3e-6]}`` with ``t_end = 0.01`` refused the whole study (the saved times were taken on the
+    coarsest step's grid, 3e-6 s, of which 0.01 is no multiple), while ``{"dt": [1e-6, 1e-3]}`` refused only its
+    second case. The times now come from the coarsest step t_end is a multiple of; a case whose step misses them
+    is refused as data, and the study only when no step fits."""
+    scene = mol_shell.TwistedCylinder(material="svk-plane-stress")
+    ds = mol_shell.study(scene, {"dt": [1e-6, 3e-6]}, t_end=0.01, n=8, scheduler="serial", progress=False)
+    assert ds.status.values.tolist() == ["complete", "refused"]
+    assert "multiples of dt = 3e-06 s" in str(ds.message.values[1])
+    assert float(ds.time.values[-1]) == 0.01
+    with pytest.raises(mol_shell.ParameterError, match="multiples of dt"):
+        mol_shell.study(scene, {"dt": [3e-6, 7e-6]}, t_end=0.01, n=8, scheduler="serial", progress=False)
