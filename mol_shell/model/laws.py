@@ -409,6 +409,24 @@ def layer_scenes(scene):
     return out
 
 
+def unused_law_parameters(scene):
+    """One line for each of ``E, nu, c10, c01`` set away from the scene's default that its law does not read: a law
+    of one's own reads its own parameters, Mooney-Rivlin ``c10, c01`` alone, the incompressible neo-Hookean ``E``,
+    the others ``E, nu``. (A layered wall's layers say their own: not looked at.)"""
+    name, defaults = scene.material, {f.name: f.default for f in dataclasses.fields(scene)}
+    if getattr(scene, "layers", "") or not isinstance(name, str):
+        return []
+    if name in LAWS and name not in COMPRESSIBLE:
+        reads = ("c10", "c01") if name == "mooney-rivlin" else ("E",)
+        why = f"material = {name!r} reads {' and '.join(reads)} only"
+    elif name in LAWS or name in SVK_MATERIALS:
+        reads, why = ("E", "nu"), f"material = {name!r} reads E and nu, not c10 and c01"
+    else:
+        reads, why = (), f"material = {name!r} is a law of one's own: it reads its parameters (material_parameters)"
+    return [f"{key} = {getattr(scene, key):g} is unused: {why}" for key in ("E", "nu", "c10", "c01")
+            if key in defaults and key not in reads and getattr(scene, key) != defaults[key]]
+
+
 def locking_warnings(scene):
     """The lines of :func:`~mol_shell.model.material.locking_warning` for ``scene``: its law's; for a layered wall one
     per layer that is ``svk`` at ``nu >= 0.45`` (named by its place and thickness), and none for the scene-level

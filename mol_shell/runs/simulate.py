@@ -14,7 +14,7 @@ from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
 from mol_shell.model.kinematics import FIELDS
-from mol_shell.model.laws import locking_warnings, unused_fibres_warnings
+from mol_shell.model.laws import locking_warnings, unused_fibres_warnings, unused_law_parameters
 from mol_shell.results.dataset import build_dataset
 from mol_shell.results.stresses import MAX_SAMPLES, add_stresses
 from mol_shell.runs import resources
@@ -295,7 +295,7 @@ def _scene_warnings(scene, ds):
         warnings.warn(note, MaterialWarning, stacklevel=3)
     if notes:
         ds.attrs["material_warning"] = "; ".join(notes)
-    unused = unused_histories(scene)
+    unused = [*unused_histories(scene), *unused_law_parameters(scene)]
     for note in unused:
         warnings.warn(note, SceneWarning, stacklevel=3)
     if unused:

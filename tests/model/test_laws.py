@@ -46,12 +46,14 @@ from mol_shell.model.laws import (
     HALLEY_STEPS,
     LAWS,
     Law,
+    law_parameters,
     neo_hookean,
     neo_hookean_condense,
     neo_hookean_log,
     neo_hookean_log_solve,
     neo_hookean_log_thickness,
     svk,
+    unused_law_parameters,
 )
 from mol_shell.model.material import Thickness, effective_lame, lame, quadrature_factors, thickness_energy
 from mol_shell.scenes import Sphere
@@ -470,3 +472,32 @@ def test_renamed_layers_reads_layers_joined_without_spaces():
         words = renamed_layers(text, "0.6.0.dev0").replace(";", " ; ").split()
         assert "neo-hookean-log" in words and "neo-hookean" not in words, text
     assert renamed_layers("0.001 neo-hookean;0.001 svk", "0.6.0.dev1") == "0.001 neo-hookean;0.001 svk"
+
+
+@pytest.mark.parametrize(("changes", "said"), [
+    ({"material": "mooney-rivlin", "E": 5e6}, ["E = 5e+06 is unused: material = 'mooney-rivlin' reads c10 and c01"]),
+    ({"material": "neo-hookean-incompressible", "nu": 0.3}, ["nu = 0.3 is unused"]),
+    ({"material": "svk-plane-stress", "c10": 1e5}, ["c10 = 100000 is unused: material = 'svk-plane-stress' reads E"]),
+    ({"material": "neo-hookean", "E": 5e6, "nu": 0.3}, []),
+    ({"material": "mooney-rivlin", "c10": 2e5}, []),
+])
+def test_a_parameter_the_wall_s_law_does_not_read_is_said_unused(changes, said):
+    """``Sphere(material=mooney-rivlin, E=5e6)`` ran with E stored in the file and no effect, unsaid. A parameter of
+    ``E, nu, c10, c01`` set away from its default that the law does not read is now a SceneWarning and the run's
+    ``scene_warning`` (the parameters each law reads: :func:`~mol_shell.model.laws.law_parameters`)."""
+    import warnings
+
+    import mol_shell
+
+    scene = Sphere(**changes)
+    law, params = law_parameters(scene)
+    read = {"E", "nu"} if law is None or set(params) == {"lambda", "mu"} else (
+        {"c10", "c01"} if set(params) == {"c10", "c01"} else {"E"})
+    lines = unused_law_parameters(scene)
+    assert {line.split(" = ")[0] for line in lines} == {k for k in changes if k != "material"} - read
+    assert all(any(line.startswith(text) for line in lines) for text in said), lines
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        ds = mol_shell.simulate(scene, n=8, t_end=1e-4, progress=False, stresses=False)
+    told = [str(w.message) for w in seen if w.category is mol_shell.SceneWarning]
+    assert told == lines and ds.attrs.get("scene_warning", "") == "; ".join(lines)
