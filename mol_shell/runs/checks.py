@@ -363,7 +363,15 @@ def resolve(scene):
     """The scene with ``R`` computed when it was left to the code."""
     if isinstance(scene, CylinderScene) and scene.R is None:
         R = checked_equilibrium_radius(scene)
-        check_radius(R, scene.h, scene.zeta1, hint="the computed equilibrium radius; set R", a=scene.a)
+        try:
+            check_radius(R, scene.h, scene.zeta1, hint="the computed equilibrium radius; set R", a=scene.a)
+        except ParameterError as exc:  # a parameter the user set made it so (a twist far too large): named
+            name = next((k for k in _changed(scene) if k != "R"), None)
+            if name is None:
+                raise
+            others = " with the other parameters as given" if len(_changed(scene)) > 1 else ""
+            raise ParameterError(name, getattr(scene, name), "values whose equilibrium radius (R = auto) keeps the "
+                                 f"wall off the axis{others}", hint=f"{exc}") from None
         return dataclasses.replace(scene, R=R)
     return scene
 

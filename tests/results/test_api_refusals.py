@@ -124,3 +124,14 @@ def test_attributes_netcdf_cannot_hold_are_converted_or_refused_by_name(tmp_path
         assert not (tmp_path / "b.nc").exists()
     with pytest.raises(mol_shell.ParameterError, match=r"^scene = \['sphere'\] is outside \{"):
         mol_shell.get_scene(["sphere"])
+
+
+def test_a_twist_whose_equilibrium_radius_reaches_the_axis_is_refused_naming_the_twist():
+    """``TwistedCylinder(gamma=1e3)`` was refused as ``R = 5.4e-06 is outside (0.006296, inf) m``, naming R, which
+    the user left to the code; the parameter that made it so is named, with the computed R in the reason."""
+    with pytest.raises(mol_shell.ParameterError, match=r"^gamma = 1000.0 is outside values whose equilibrium radius "
+                       r"\(R = auto\) keeps the wall off the axis \(R = 5.39\d*e-06 is outside") as info:
+        mol_shell.simulate(mol_shell.TwistedCylinder(gamma=1e3), t_end=1e-3, n=8)
+    assert info.value.name == "gamma"
+    with pytest.raises(mol_shell.ParameterError, match=r"^R = 1e-06 is outside \(0.006296, inf\) m"):
+        mol_shell.TwistedCylinder(R=1e-6)  # set by the user: named as before
