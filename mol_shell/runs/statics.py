@@ -23,6 +23,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell.discretization.compiled import buffered
 from mol_shell.discretization.system import ShellSystem
+from mol_shell.model.loads import history
 from mol_shell.runs.building import build
 
 #: Newton stops when the residual is below this fraction of a unit strain's force (``max diag K`` x scale)
@@ -289,8 +290,14 @@ def static_equilibrium(scene, n, y0, hold=()):
                 loads = scene.loads_on()
                 name, value = (loads[0], getattr(scene, loads[0])) if loads else ("scene", scene.name)
                 others = " (with the other loads as given)" if len(loads) > 1 else ""
-                raise ParameterError(name, value, "loads under which the shell has a static equilibrium inside the "
-                                     f"model's limits{others}", hint=f"Newton failed ({direct}); continuation "
+                allowed = f"loads under which the shell has a static equilibrium inside the model's limits{others}"
+                histories = scene.load_histories()
+                if not any(history(histories[load], 0.0) for load in loads) and getattr(scene, "gamma", 0):
+                    # every load starts from 0 (a ramp): not theirs, but the twist held as initial data
+                    name, value = "gamma", scene.gamma
+                    allowed = ("twists that the shell, its loads 0 at t = 0, holds at a static equilibrium inside the "
+                               "model's limits")
+                raise ParameterError(name, value, allowed, hint=f"Newton failed ({direct}); continuation "
                                      f"stopped at {done:g} of the loads, no increment down to "
                                      f"{SMALLEST_INCREMENT:g} of them converging ({exc}); to start from a state "
                                      "of one's own, set R or dilation") from None

@@ -233,3 +233,17 @@ def test_a_static_start_whose_meridian_crosses_itself_is_refused_naming_the_load
                                  "lies inside the model's limits (the static equilibrium computed at t = 0 is past one: "
                                  "its meridian crosses itself)"), err
     assert not (tmp_path / "r.nc").exists()
+
+
+def test_no_start_under_a_ramp_is_blamed_on_the_twist_held_not_on_the_load():
+    """A twisted sphere (gamma = 1.5) under a pressure ramped from 0 has no static start: the message named
+    ``pressure = 1000`` and said the continuation "stopped at 0 of the loads", a load that is 0 at t = 0. The
+    twist, held as initial data while the other fields come to rest, is named; a load on at t = 0 still is."""
+    import mol_shell
+
+    ramped = mol_shell.Sphere(pressure=1e3, pressure_history="ramp 0.05", gamma=1.5)
+    with pytest.raises(mol_shell.ParameterError, match=r"^gamma = 1.5 is outside twists that the shell, its loads 0 "
+                       r"at t = 0, holds at a static equilibrium"):
+        mol_shell.simulate(ramped, t_end=1e-4, n=8)
+    with pytest.raises(mol_shell.ParameterError, match=r"^pressure = -10000000.0 is outside loads under which"):
+        mol_shell.simulate(mol_shell.Sphere(pressure=-1e7, gamma=1.5), t_end=1e-4, n=8)
