@@ -355,7 +355,7 @@ def starting_state(scene, system, n, initial=None, asked=None):
 def given_state(system, fields, imposed=None):
     """The state vector of ``fields`` (``(5, n)``) at rest; a pole's ``chi`` tied; refused by name unless finite
     and of that shape, with zero in the fields the scene does not move, and (``imposed``: the scene's own initial
-    fields) with the values its edges impose (``r = 0`` at a pole, a clamped edge's place)."""
+    fields) with the values a pole imposes (``r = 0``, ``theta = theta0``, ``psi = 0``)."""
     try:
         Q = np.array(fields, dtype=float)
     except (TypeError, ValueError):
@@ -368,9 +368,13 @@ def given_state(system, fields, imposed=None):
         i = int(np.flatnonzero(off_axis & (Q[1] <= 0))[0])
         raise ParameterError("initial", f"r = {Q[1][i]:g} m at s = {system.s[i]:.6g} m",
                              "fields with r > 0 at every node off the axis (row 1 of initial is r)")
-    if imposed is not None:  # the edges' values: a state off them broke the edge and ran into a limit
+    if imposed is not None:  # a pole's values (r = 0, theta = theta0, psi = 0), which the geometry forces: a state
+        # off them broke the pole and ran into a limit (other edges hold what a state has: a path's clamped edges
+        # where it started, a driven edge where it went)
         scale = max(1.0, float(np.max(np.abs(system.reference))))
-        wrong = system.imposed.T & (np.abs(Q - imposed) > 1e-9 * scale)
+        poles = np.zeros(system.n, dtype=bool)
+        poles[[i for i, edge in ((0, system.edges[0]), (-1, system.edges[1])) if edge == "pole"]] = True
+        wrong = system.imposed.T & poles & (np.abs(Q - imposed) > 1e-9 * scale)
         if np.any(wrong):
             k, i = (int(x[0]) for x in np.nonzero(wrong))
             edge = system.edges[0] if i == 0 else system.edges[1]

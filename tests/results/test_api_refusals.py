@@ -63,21 +63,25 @@ def test_numpy_0d_arrays_are_taken_as_the_numbers_they_hold():
 
 def test_initial_fields_off_the_values_the_edges_impose_are_refused_by_name():
     """A twisted cylinder's last state given as a sphere's ``initial`` (r = 0.995 m at its poles) was taken: the run
-    stopped 29 us later at ``delta <= 0``, far from the cause. Fields must now hold what the edges impose (a pole's
-    r = 0, a clamped edge's place); a state of the same scene is taken as before."""
+    stopped 29 us later at ``delta <= 0``, far from the cause. A pole's values (r = 0, theta = theta0, psi = 0),
+    which the geometry forces, must now hold; other edges take what the state has (a path's clamped edges stay
+    where it started, a driven edge where it went), as before."""
     cyl = mol_shell.simulate(mol_shell.TwistedCylinder(), t_end=2e-4, n=12, progress=False, stresses=False)
     last = np.stack([cyl[f].isel(time=-1).values for f in ("z", "r", "chi", "theta", "psi")])
-    with pytest.raises(mol_shell.ParameterError, match=r"^initial = 'r = 0.99\d* m at s = 0 m' is outside fields with the values "
-                       r"the scene's edges impose: r = 0 m there \(end1 is 'pole'\)"):
+    with pytest.raises(mol_shell.ParameterError, match=r"^initial = 'r = 0.99\d* m at s = 0 m' is outside fields with "
+                       r"the values the scene's edges impose: r = 0 m there \(end1 is 'pole'\)"):
         mol_shell.simulate(mol_shell.Sphere(), t_end=2e-4, n=12, initial=last, progress=False)
-    clamped = mol_shell.TwistedCylinder(end1="clamped", end2="clamped")
-    own = mol_shell.simulate(clamped, t_end=2e-4, n=12, progress=False, stresses=False)
+    sphere = mol_shell.simulate(mol_shell.Sphere(), t_end=2e-4, n=12, progress=False, stresses=False)
+    state = np.stack([sphere[f].isel(time=-1).values for f in ("z", "r", "chi", "theta", "psi")])
+    state[3, -1] += 1e-3  # theta at the top pole
+    with pytest.raises(mol_shell.ParameterError, match=r"theta = -1.5698 rad at s = 3.14159 m.*theta = -1.5708 rad there \(end2 is 'pole'"):
+        mol_shell.simulate(mol_shell.Sphere(), t_end=2e-4, n=12, initial=state, progress=False)
+    driven = mol_shell.TwistedCylinder(end2_axial_speed=0.5)  # its own last state: end2 moved 1e-4 m, taken
+    own = mol_shell.simulate(driven, t_end=2e-4, n=12, progress=False, stresses=False)
     state = np.stack([own[f].isel(time=-1).values for f in ("z", "r", "chi", "theta", "psi")])
-    again = mol_shell.simulate(clamped, t_end=2e-4, n=12, initial=state, progress=False, stresses=False)
-    assert again.attrs["status"] == "complete"
-    state[3, -1] += 1e-3  # theta at a clamped end2
-    with pytest.raises(mol_shell.ParameterError, match=r"theta = 0.001 rad at s = 4 m.*end2 is 'clamped'"):
-        mol_shell.simulate(clamped, t_end=2e-4, n=12, initial=state, progress=False)
+    assert state[0, -1] > driven.L
+    again = mol_shell.simulate(driven, t_end=2e-4, n=12, initial=state, progress=False, stresses=False)
+    assert again.attrs["status"] == "complete" and float(again.z.isel(time=0).values[-1]) == state[0, -1]
 
 
 def test_a_dataset_given_where_it_does_not_belong_is_named_on_one_line():
