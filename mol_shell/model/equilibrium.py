@@ -8,6 +8,7 @@ import casadi as ca
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from mol_shell._core.constants import DENSE_MAX_STATES
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.laws import scene_shell_energy
 from mol_shell.model.loads import history
@@ -17,8 +18,8 @@ from mol_shell.model.material import Thickness
 #: OpenBLAS threads gain nothing, and on a machine whose other core is busy (a study's second process, a
 #: compiler) their spinning made the spectrum 80 times slower (0.67 s instead of 8 ms a run)
 ONE_THREAD_MAX_ROWS = 1000
-#: the largest matrix whose eigenvalues :func:`spectrum_bounds` computes densely: 0.17 s at 800 rows on one core,
-#: 1.0 s at 1,600 (a viscous shell at n = 160, whose spectrum has no half-size form), where ARPACK took 0.025 s
+#: the largest matrix whose eigenvalues :func:`spectrum_bounds` computes densely (a dissipative system's: up to
+#: DENSE_MAX_STATES): 0.17 s at 800 rows on one core, 1.0 s at 1,600, where ARPACK took 0.04 s
 DENSE_EIG_MAX_ROWS = 800
 
 
@@ -63,22 +64,25 @@ def spectrum_bounds(jac, y, dissipative=True, positions=None):
     The first bounds the leap-frog step (``dt max|lambda| < 1`` for the imaginary-axis
     spectrum of an elastic shell); the second is the fastest damping rate, which
     leap-frog's parasitic root turns into growth ``exp(max(-Re lambda) t)``.
-    Dense for matrices of up to :data:`DENSE_EIG_MAX_ROWS` rows; above, ARPACK's largest-magnitude eigenvalues
-    (relative accuracy ~1e-3, enough for a step bound that the energy monitor backs up), whose real
-    parts estimate the fastest damping (the most damped modes are the shortest); an
-    elastic system (``dissipative=False``) has none. ``positions`` (a mask of the position entries of ``y``, the
+    Dense for matrices of up to :data:`DENSE_EIG_MAX_ROWS` rows (a dissipative system's up to DENSE_MAX_STATES:
+    ARPACK's largest-magnitude eigenvalues missed its fastest damping by 3x at n = 160, and ARPACK's smallest
+    real parts did not converge reliably); above, ARPACK's largest-magnitude eigenvalues (relative accuracy ~1e-3,
+    enough for a step bound that the energy monitor backs up; a fixed start vector, so the same every time), whose
+    real parts estimate the fastest damping (the most damped modes are the shortest); an elastic system
+    (``dissipative=False``) has none. ``positions`` (a mask of the position entries of ``y``, the
     rest being rates or momenta) lets a state at rest use :func:`rest_spectrum`, from a matrix of half the size.
     """
     J = jac(0, y)
     size, ev = J.size1(), None
     sp = J.sparsity()
     rows, starts, values = np.array(sp.row()), np.array(sp.colind()), np.array(J.nonzeros()).ravel()
-    if size <= DENSE_EIG_MAX_ROWS or (positions is not None and size <= 2 * DENSE_EIG_MAX_ROWS):
+    dense_max = DENSE_MAX_STATES if dissipative else DENSE_EIG_MAX_ROWS
+    if size <= dense_max or (positions is not None and size <= 2 * DENSE_EIG_MAX_ROWS):
         dense = np.zeros(J.shape)  # from the nonzeros: casadi's own conversion took 0.16 s at 1,600 rows
         dense[rows, np.repeat(np.arange(J.size2()), np.diff(starts))] = values
         with blas_threads(size):
             ev = rest_spectrum(dense, positions) if positions is not None else None
-            if ev is None and size <= DENSE_EIG_MAX_ROWS:
+            if ev is None and size <= dense_max:
                 ev = np.linalg.eigvals(dense)
     if ev is None:
         import scipy.sparse.linalg  # large grids only: 0.27 s of a process's start otherwise
@@ -88,7 +92,8 @@ def spectrum_bounds(jac, y, dissipative=True, positions=None):
             # the top of a wave spectrum is clustered: a wide Krylov space and a loose tolerance find
             # max |lambda| to ~1e-3 in 0.1-1 s at n = 2560 (k = 6, tol = 1e-6 took 2.6-11 s)
             ev = scipy.sparse.linalg.eigs(mat, k=4, ncv=min(60, mat.shape[0] - 1), which="LM",
-                                          return_eigenvectors=False, tol=1e-4, maxiter=20000)
+                                          return_eigenvectors=False, tol=1e-4, maxiter=20000,
+                                          v0=np.random.default_rng(0).standard_normal(mat.shape[0]))
         except scipy.sparse.linalg.ArpackNoConvergence as exc:  # keep what converged
             ev = exc.eigenvalues
             if len(ev) == 0:
