@@ -184,9 +184,12 @@ def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, i
 
 def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, atol=1e-9):
     """Measure one case; returns a dict of numbers (NaN where not applicable)."""
-    scene = resolve(case.scene)
-    system, compiled = build(scene, case.n)
-    y0, _ = starting_state(scene, system, case.n, asked=case.scene)  # where its runs start (R = auto: the statics)
+    try:
+        scene = resolve(case.scene)
+        system, compiled = build(scene, case.n)
+        y0, _ = starting_state(scene, system, case.n, asked=case.scene)  # where its runs start (R = auto: the statics)
+    except (ParameterError, ModelLimitError) as exc:
+        raise NoStart(exc) from None
     jac = np.array(system.jac(0, y0)) if system.size <= DENSE_MAX_STATES else None
     omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
     row = {"label": case.label, "n": case.n, "t_end": case.t_end, "omega_max": omega_max, "damping_max": damping,
@@ -222,6 +225,15 @@ def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, ato
             row[f"{key}_status"] = "refused"
             row[f"{key}_message"] = str(exc)
     return row
+
+
+class NoStart(ParameterError):
+    """A case's scene refused, or without a starting state (:func:`run_case`): a row ``not run``, not the report's
+    end (the base scene's is the input's error)."""
+
+    def __init__(self, cause):
+        super().__init__("case", None, "", message=str(cause))
+        self.cause = cause
 
 
 def _not_run(case, status, why, integrators=("cvode-bdf", "ida"), **_):
@@ -275,9 +287,9 @@ def report(cases, **kwargs):
             start = time.perf_counter()
             try:
                 row = _not_run(case, "not applicable", case.skip, **kwargs) if case.skip else run_case(case, **kwargs)
-            except (ParameterError, ModelLimitError) as exc:
-                if number == 0:
-                    raise
+            except NoStart as exc:
+                if number == 0:  # the base scene as given: the input's error, as mol-shell run says it
+                    raise exc.cause from None
                 row = _not_run(case, "not run", f"the case's scene could not start: {exc}", **kwargs)
             if any(v == "interrupted" for k, v in row.items() if k.endswith("_status")):  # a run kept it as data
                 raise KeyboardInterrupt

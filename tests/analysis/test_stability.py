@@ -243,11 +243,11 @@ def test_a_case_without_a_start_is_recorded_and_the_report_written(monkeypatch, 
     ds = mol_shell.read_netcdf(out)
     assert list(ds.case.values) == ["sphere", "gamma=1.5"] and str(ds.case_status.values[1]) == "not run"
     assert str(ds.cvode_bdf_status.values[0]) == "complete" and str(ds.ida_status.values[1]) == "not run"
-    assert "could not start: pressure = 1000.0 is outside loads under which the shell has a static equilibrium" \
-        in str(ds.case_note.values[1])
+    assert "could not start: gamma = 1.5 is outside twists that the shell, its loads 0 at t = 0, holds at a static " \
+        "equilibrium" in str(ds.case_note.values[1])
     assert "- gamma=1.5, not run: the case's scene could not start" in (tmp_path / "st.md").read_text()
     assert (tmp_path / "st.png").exists()
-    with pytest.raises(mol_shell.ParameterError, match="pressure"):  # the base scene cannot start: the input's error
+    with pytest.raises(mol_shell.ParameterError, match="gamma"):  # the base scene cannot start: the input's error
         report(cases[::-1], integrators=(), bisect=False)
 
 
