@@ -29,7 +29,7 @@ from mol_shell.results.cf import attr_value, header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
-from mol_shell.runs.scheduling import check_workers, connect, scheduler_name
+from mol_shell.runs.scheduling import check_workers, connect, refuse_in_starting_worker, scheduler_name
 from mol_shell.runs.study import carried_materials, case_inputs, case_result, design, label_coords, run_cases
 from mol_shell.scenes import UNITS, with_params
 
@@ -90,6 +90,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
         (the first critical point's load, NaN without one), ``case_wall_time_s``; per point: ``point_kind``,
         ``point_parameter``, ``point_family``, ``point_located``, ``point_ellipticity_margin``.
     """
+    refuse_in_starting_worker()
     clock = time.perf_counter()
     scene = as_scene(scene)
     check_shared(parameter, start, stop)  # what every case shares: refused once, not as each case's status

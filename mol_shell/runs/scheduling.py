@@ -149,7 +149,7 @@ def _execute_local(run_task, tasks, workers):
     running (the table says which) runs again in a new pool, up to :data:`LOST_RETRIES` times, and the cases it
     had not started run there as they were.
     """
-    _refuse_in_starting_worker()
+    refuse_in_starting_worker()
     attempts = {task.index: 0 for task in tasks}
     pending, alone = list(tasks), False
     with _one_thread_per_process():
@@ -214,10 +214,12 @@ _NO_START = ("the local worker processes stopped before their first case (see wh
              "study's remaining cases ({left})")
 
 
-def _refuse_in_starting_worker():
+def refuse_in_starting_worker():
     """Stop a spawned worker that is still importing the user's main script, which starts a study at its top
     level: one line saying what to change, where multiprocessing raised a long RuntimeError (and the study went
-    on spawning workers that died the same way). ``_inheriting`` is the flag multiprocessing's own check reads."""
+    on spawning workers that died the same way). Called first thing by the studies (before any check, file or
+    case: with every case stored, the worker ran the whole script); ``_inheriting`` is the flag multiprocessing's
+    own check reads."""
     if getattr(multiprocessing.current_process(), "_inheriting", False):
         script = next((m.__file__ for m in map(sys.modules.get, ("__mp_main__", "__main__"))  # the first: as it runs
                        if getattr(m, "__file__", None)), "the main script")

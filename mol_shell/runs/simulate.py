@@ -109,6 +109,14 @@ def check_options(scene, integrator, options, offered=None):
             raise ParameterError("rtol", value, f"[{lo:g}, {hi:g})")
 
 
+def steps_to(t_end, dt):
+    """The whole number of steps ``dt`` that make ``t_end`` (to 1e-9 of it), or 0 if there is none."""
+    if not (is_number(t_end) and is_number(dt) and math.isfinite(t_end / dt) and t_end > 0 and dt > 0):
+        return 0
+    steps = round(t_end / dt)
+    return steps if steps >= 1 and abs(steps * dt - t_end) <= 1e-9 * t_end else 0
+
+
 def leapfrog_times(t_end, dt, count=10):
     """Default saved times of a fixed-step run: ``count`` intervals to ``t_end``, each a whole number of steps.
 
@@ -118,8 +126,8 @@ def leapfrog_times(t_end, dt, count=10):
     parse_times(None, t_end)  # validates t_end
     if not t_end / dt <= INTEGRATORS["leapfrog"].MAX_STEPS:  # beyond it steps cannot be counted in double precision
         raise ParameterError("t_end", t_end, f"(0, {INTEGRATORS['leapfrog'].MAX_STEPS * dt:.4g}] s at dt = {dt:g} s")
-    steps = round(t_end / dt)
-    if steps < 1 or abs(steps * dt - t_end) > 1e-9 * t_end:
+    steps = steps_to(t_end, dt)
+    if not steps:
         raise ParameterError("t_end", t_end, f"positive multiples of dt = {dt:g} s (leap-frog has a fixed step)")
     marks = np.unique(np.rint(np.linspace(0, steps, min(count, steps) + 1)).astype(np.int64))
     return np.array([float(f"{k * dt:.12g}") for k in marks])

@@ -17,7 +17,6 @@ import dataclasses
 import hashlib
 import itertools
 import json
-import math
 import os
 import pickle
 import socket
@@ -26,7 +25,7 @@ import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, is_number, wants_progress
+from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, wants_progress
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
 from mol_shell.integrators import INTEGRATORS
@@ -36,7 +35,7 @@ from mol_shell.results.cf import header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
 from mol_shell.results.study_store import Store, assemble
 from mol_shell.runs import resources
-from mol_shell.runs.scheduling import check_workers, connect, execute, scheduler_name
+from mol_shell.runs.scheduling import check_workers, connect, execute, refuse_in_starting_worker, scheduler_name
 from mol_shell.runs.simulate import (
     DEFAULT_DT,
     as_scene,
@@ -45,6 +44,7 @@ from mol_shell.runs.simulate import (
     leapfrog_times,
     parse_times,
     simulate,
+    steps_to,
 )
 from mol_shell.scenes import DESCRIPTIONS, UNITS, _coerce, with_params
 
@@ -291,6 +291,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         ``case_wall_time_s``, ``R``, ...); attrs ``n_cases``, ``n_executed`` (handed to a run by
         this call, those the run refused included), ``n_reused`` (loaded from ``output``), ``n_failed``.
     """
+    refuse_in_starting_worker()
     start = time.perf_counter()
     scene = resolve_scene(scene)
     check_options(scene, integrator, options)  # also refuses an unknown integrator
@@ -310,9 +311,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         # varied: the grid of the coarsest one t_end is a multiple of (the others' too when they divide it; a case
         # whose dt does not is refused, as one t_end is not a multiple of: the whole study only when none is)
         steps = [float(v) for v in coords["dt"]] if "dt" in coords else [options.get("dt", DEFAULT_DT)]
-        whole = [d for d in steps if is_number(t_end) and math.isfinite(t_end) and t_end > 0 and d > 0
-                 and round(t_end / d) >= 1 and abs(round(t_end / d) * d - t_end) <= 1e-9 * t_end]  # as leapfrog_times
-        times = leapfrog_times(t_end, max(whole or steps))
+        times = leapfrog_times(t_end, max([d for d in steps if steps_to(t_end, d)] or steps))
     times = parse_times(times, t_end)
     resources.check_study(len(cases), n, times, integrator, fields=len(getattr(scene, "fields", range(5))),
                           dt=options.get("dt", DEFAULT_DT) if integrator == "leapfrog" else None,

@@ -35,3 +35,30 @@ def test_unguarded_study_script_runs_its_cases_once_with_one_line_on_each_side(t
     assert "Traceback" not in proc.stderr, proc.stderr[-3000:]
     assert proc.stderr.count('if __name__ == "__main__":') == 2, proc.stderr  # the worker's line, the warning
     assert "this process runs the study's remaining cases" in proc.stderr, proc.stderr
+
+
+SLOW_WORKER = textwrap.dedent("""
+    import time
+
+    import mol_shell
+
+    if __name__ == "__mp_main__":  # a worker that starts late (a busy machine): the cases are done and stored
+        time.sleep(3)
+    ds = mol_shell.study(mol_shell.TwistedCylinder(material="svk-plane-stress"), {"gamma": [0.05, 0.06]}, n=8,
+                         t_end=1e-4, workers=2, progress=False, output="out/st.nc")
+    print("STATUS", __name__, ds.status.size)
+""")
+
+
+@pytest.mark.timeout(120)
+def test_a_late_worker_of_an_unguarded_script_stops_before_its_study_does_anything(tmp_path):
+    """The worker's stop was reached only where the study spawns its own workers: a worker that started after
+    every case was stored found nothing to run, never got there, and ran the user's whole script (its study, its
+    prints, its output file written again). The studies now stop such a worker before anything else."""
+    script = tmp_path / "sweep.py"
+    script.write_text(SLOW_WORKER)
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, cwd=tmp_path,
+                          env=dict(os.environ, PYTHONPATH=str(Path(__file__).parents[2])), timeout=110, check=False)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert proc.stdout.count("STATUS") == 1 and "STATUS __main__ 2" in proc.stdout, (proc.stdout, proc.stderr)
+    assert "Traceback" not in proc.stderr, proc.stderr[-3000:]
