@@ -37,7 +37,8 @@ FIBRE_PARAMETERS = ("fibre_E", "fibre_angle", "fibre_families", "fibre_compressi
 #: their defaults
 FIBRE_DEFAULTS = {"fibre_E": 0.0, "fibre_angle": 0.0, "fibre_families": 1, "fibre_compression": True}
 #: fibre angles from the meridian: each direction of the tangent plane once (alpha and alpha + pi are one fibre)
-FIBRE_ANGLES = Interval(-math.pi / 2, math.pi / 2, True, True, unit="rad", shown="[-pi/2, pi/2] rad")
+#: (to 1e-3 rad: pi/2 as typed, 1.5708 or 1.571, is the hoop direction)
+FIBRE_ANGLES = Interval(-math.pi / 2 - 1e-3, math.pi / 2 + 1e-3, True, True, unit="rad", shown="[-pi/2, pi/2] rad")
 
 
 def fibre_angle_hint(angle):

@@ -172,5 +172,5 @@ def test_a_fibre_angle_outside_minus_to_plus_half_pi_is_refused_with_what_it_may
     with pytest.raises(mol_shell.ParameterError, match=r"^fibre_angle = .* is outside \[-pi/2, pi/2\] rad \(in rad: "
                        rf"the same fibre is {same:.6g} rad"):
         mol_shell.TwistedCylinder(fibre_E=1e7, fibre_angle=angle)
-    for edge in (-math.pi / 2, math.pi / 2, 0.7):
+    for edge in (-math.pi / 2, math.pi / 2, 0.7, 1.5708, -1.571):  # pi/2 as typed is the hoop direction
         assert mol_shell.TwistedCylinder(fibre_E=1e7, fibre_angle=edge).fibre_angle == edge
