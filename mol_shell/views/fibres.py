@@ -161,12 +161,12 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
     if thickness_scale is None:
         thickness_scale = max(1.0, round(DRAWN_THICKNESS * r0 / wall))
     else:
-        most = r0 / wall  # the drawn wall as thick as the section's radius: its inner face reaches the axis
+        most = max(1.0, r0 / wall)  # the drawn wall as thick as the section's radius (at least true to scale)
         shown = float(f"{most:.6g}")  # the bound as said: a value typed as shown is taken
         if not (is_number(thickness_scale) and 0 < thickness_scale <= max(most, shown)):
             raise ParameterError("thickness_scale", thickness_scale, f"(0, {shown:g}] (the drawn wall at most as "
-                                 f"thick as the section's radius: r0 = {r0:.6g} m, wall {wall:.6g} m thick at s = "
-                                 f"{nodes[i]:.6g} m)")
+                                 f"thick as the section's radius, or true to scale: r0 = {r0:.6g} m, wall "
+                                 f"{wall:.6g} m thick at s = {nodes[i]:.6g} m)")
     zeta = thickness_scale * depths
     r, chi, theta, psi = (float(ds[f].values[k, i]) for f in ("r", "chi", "theta", "psi"))
     phi = 2 * np.pi * np.arange(count) / count

@@ -139,12 +139,27 @@ def test_the_thickness_scale_is_bounded_by_the_sections_radius(runs, tmp_path, c
     assert main(["plot", str(path), "--figure", "fibres", "--thickness-scale", "1e6", "-o", str(tmp_path / "b.png")]) == 2
     err = capsys.readouterr().err
     assert err.startswith(f"mol-shell: error: --thickness-scale = 1000000.0 is outside (0, {most:.6g}] (the drawn "
-                          "wall at most as thick as the section's radius: r0 = ") and len(err.splitlines()) == 1, err
+                          "wall at most as thick as the section's radius, or true to scale: r0 = ") and len(
+                              err.splitlines()) == 1, err
     assert not (tmp_path / "b.png").exists()
     with pytest.raises(ParameterError, match=r"^thickness_scale = 80 is outside \(0, 79\.5"):
         plot_fibres(ds, tmp_path / "b.png", thickness_scale=80)
     plot_fibres(ds, tmp_path / "b.png", thickness_scale=float(f"{most:.6g}"))  # the bound as said is taken
     assert (tmp_path / "b.png").stat().st_size > 1000
+
+
+def test_a_thick_wall_near_a_pole_is_drawn_true_to_scale_when_asked(tmp_path):
+    """Near a pole of a thick wall the section's radius is below the wall's thickness: the bound r0 / wall (0.72
+    at the sphere's second node here) refused thickness_scale = 1, the true scale, which the default draws."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        ds = mol_shell.simulate(mol_shell.Sphere(h=0.3), n=8, times=[0, 1e-5], progress=False, stresses=False)
+    s = float(ds.s.values[1])
+    assert float(ds.r0.values[1]) < 2 * 0.3  # thinner section than wall
+    plot_fibres(ds, tmp_path / "t.png", s=s, thickness_scale=1.0)
+    assert (tmp_path / "t.png").stat().st_size > 1000
+    with pytest.raises(ParameterError, match=r"^thickness_scale = 1.5 is outside \(0, 1\]"):
+        plot_fibres(ds, tmp_path / "u.png", s=s, thickness_scale=1.5)
 
 
 def test_the_animation_is_coloured_by_default_by_a_field_that_moves(runs, tmp_path, capsys):
