@@ -30,11 +30,16 @@ def show(value):
         value = value.tolist()
     text = _REPR.repr(value)
     if "\n" in text:  # a Dataset, a DataFrame: its kind (and sizes) on the one line of a message
-        module = type(value).__module__.split(".")[0]
         sizes = getattr(value, "sizes", None)
         size = f" ({', '.join(f'{k}: {v}' for k, v in dict(sizes).items())})" if isinstance(sizes, Mapping) else ""
-        text = f"<{'' if module == 'builtins' else module + '.'}{type(value).__name__}{size}>"
+        text = f"<{kind_of(value)}{size}>"
     return text
+
+
+def kind_of(value):
+    """The type of ``value`` as a message names it: ``xarray.Dataset``, ``int`` (builtins without their module)."""
+    module = type(value).__module__.split(".")[0]
+    return f"{'' if module == 'builtins' else module + '.'}{type(value).__name__}"
 
 
 def is_number(value):

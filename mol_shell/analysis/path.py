@@ -331,6 +331,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     scene = as_scene(scene)
     start, stop, n, steps, max_steps, ds, branch = map(scalar, (start, stop, n, steps, max_steps, ds, branch))
     check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch)
+    show_bar = wants_progress(progress)  # refused (not a bool) before the set-up's work
     clock = time.perf_counter()
     no_switch = None  # why --branch could not switch at the point it names (a limit point)
     eq = EquilibriumEquations(scene, parameter, n)
@@ -343,7 +344,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     t = tracer.weigh(q, float(start))
     ds0 = math.sqrt(2.0) / steps if ds is None else min(float(ds), math.sqrt(2.0))  # at most the whole range
     bar = None
-    if wants_progress(progress):  # no total known
+    if show_bar:  # no total known
         from tqdm import tqdm  # loaded where a progress line is shown
 
         bar = tqdm(desc=f"path in {parameter} ({eq.units})", unit=" steps")

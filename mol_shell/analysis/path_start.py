@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError, is_number
+from mol_shell._core.errors import ParameterError, is_number, kind_of
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.laws import renamed_law, renamed_layers
 from mol_shell.results.dataset import read_netcdf
@@ -52,8 +52,7 @@ def checked_path(ds, name="ds", shown=None):
     """``ds`` if it is an equilibrium path of a registered scene, else refused naming ``name`` (its value said as
     ``shown``: a file's name, or the kind of object given)."""
     allowed = ALLOWED if shown is not None else "the Dataset of mol_shell.path, or its netCDF file"
-    module = type(ds).__module__.split(".")[0]
-    shown = shown if shown is not None else f"<{'' if module == 'builtins' else module + '.'}{type(ds).__name__}>"
+    shown = shown if shown is not None else f"<{kind_of(ds)}>"
     if not (hasattr(ds, "attrs") and hasattr(ds, "dims") and hasattr(ds, "data_vars")) or not is_path(ds):
         dims = ", ".join(map(str, getattr(ds, "dims", ()))) or "none"
         raise ParameterError.invalid(name, shown, "is not an equilibrium path", allowed, hint=f"it holds dims {dims}")

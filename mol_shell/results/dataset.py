@@ -287,8 +287,11 @@ def _netcdf_attrs(ds):
         out = {}
         for key, value in attrs.items():
             value = attr_value(value.item() if isinstance(value, np.bool_) else value)
-            flat = np.asarray(value, dtype=object).ravel() if isinstance(value, (list, tuple, np.ndarray)) else ()
-            if not isinstance(value, (str, int, float, list, tuple, np.ndarray)) or any(
+            many = isinstance(value, (list, tuple, np.ndarray))
+            flat = np.asarray(value, dtype=object).ravel() if many else ()
+            kinds = {isinstance(v, str) for v in flat}  # all strings or all numbers: netCDF has no mixed attribute
+            if not isinstance(value, (str, int, float, list, tuple, np.ndarray)) or many and (
+                    np.ndim(np.asarray(value, dtype=object)) != 1 or len(kinds) > 1) or any(
                     not isinstance(v, (str, int, float, np.integer, np.floating)) or isinstance(v, bool) for v in flat):
                 raise ParameterError.not_a(f"{where}[{key!r}]", value, "a netCDF attribute",
                                            "a number, a string, or a flat list of numbers or of strings")

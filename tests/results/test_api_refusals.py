@@ -120,7 +120,9 @@ def test_attributes_netcdf_cannot_hold_are_converted_or_refused_by_name(tmp_path
     assert back.attrs["flag"] == 1 and back.attrs["note"] == "none" and list(back.attrs["sizes"]) == [1, 2]
     assert mine.attrs["flag"] is True  # the caller's Dataset is left as it was
     for where, bad in (("ds.attrs['cfg']", lambda d: d.attrs.update(cfg={"a": 1})),
-                       ("ds['r'].attrs['x']", lambda d: d["r"].attrs.update(x=[1, None]))):
+                       ("ds['r'].attrs['x']", lambda d: d["r"].attrs.update(x=[1, None])),
+                       ("ds.attrs['grid']", lambda d: d.attrs.update(grid=np.ones((2, 2)))),  # xarray's ValueError
+                       ("ds.attrs['mixed']", lambda d: d.attrs.update(mixed=["a", 1]))):  # was written as strings
         other = ds.copy(deep=True)
         bad(other)
         with pytest.raises(mol_shell.ParameterError, match=rf"^{re.escape(where)} = .* is not a netCDF attribute"):
