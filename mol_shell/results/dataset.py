@@ -160,11 +160,18 @@ def build_dataset(system, scene, traj, velocities, totals, attrs, requested=None
                             requested))
     meta.update(traj.stats)
     meta.update(attrs)
-    for name in list(meta):  # the dimensional numbers beside the parameters: the run's, the integrator's options
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs=with_units(meta))
+
+
+def with_units(meta):
+    """A run's attrs, netCDF-ready (:func:`~mol_shell.results.cf.attr_value`), each dimensional number with its
+    ``units_NAME`` beside it: the scene's parameters, the run's own (:data:`DERIVED_UNITS`), the integrator's options."""
+    out = {k: attr_value(v) for k, v in meta.items()}
+    for name in list(out):
         unit = DERIVED_UNITS.get(name, UNITS.get(name))
-        if unit is not None and f"units_{name}" not in meta:
-            meta[f"units_{name}"] = unit
-    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in meta.items()})
+        if unit is not None and f"units_{name}" not in out:
+            out[f"units_{name}"] = unit
+    return out
 
 
 #: units of a run's numbers that are not scene parameters (:data:`mol_shell.scenes.UNITS` has those and the

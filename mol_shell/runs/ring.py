@@ -38,8 +38,8 @@ from mol_shell.model.kinematics import delta, kinetic_energy_density
 from mol_shell.model.laws import scene_shell_energy, viscosities
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.material import Thickness, centroidal_offset, inertias, shell_dissipation
-from mol_shell.results.cf import attr_value, coordinates, header, variables
-from mol_shell.results.dataset import FIELD_META, RATE_UNITS, scene_attrs
+from mol_shell.results.cf import coordinates, header, variables
+from mol_shell.results.dataset import FIELD_META, RATE_UNITS, scene_attrs, with_units
 from mol_shell.runs.simulate import as_scene, parse_times, resolve
 from mol_shell.scenes.base import refuse_loads
 from mol_shell.scenes.cylinder import TwistedCylinder
@@ -288,4 +288,4 @@ def _ring_dataset(system, scene, t, y, attrs, n, requested=None):
     edges = resolve_edges(scene.end1, scene.end2, scene.meridian().poles)
     meta.update(scene_attrs(scene, edges, scene.zeta1_used(), requested=requested))
     meta.update(attrs)
-    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in meta.items()})
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs=with_units(meta))

@@ -26,3 +26,9 @@ def test_the_run_s_own_numbers_carry_units(integrator):
     moments = inertias(scene.rho, Thickness(a["zeta1_used"], scene.h, scene.n_quad), scene.a)
     for name, moment in zip(("rho_A", "rho_I", "rho_J"), moments):
         assert math.isclose(a[name], moment, rel_tol=1e-12, abs_tol=1e-12 * a["rho_A"] * scene.h), name  # rho_I: 0
+
+
+def test_the_ring_ode_s_numbers_carry_units_too():
+    ds = mol_shell.simulate_ring(mol_shell.SpinningRing(), t_end=0.01)
+    for name, unit in {"rho_A": "kg m-2", "rho_I": "kg m-1", "rho_J": "kg", "failure_time": "s"}.items():
+        assert ds.attrs[f"units_{name}"] == unit, name
