@@ -54,6 +54,16 @@ class _Doubles(ast.NodeTransformer):
 TABLE_ENDS = 1e-4
 
 
+def table_points(text):
+    """The ``s`` of a table's points (``"table s0:h0 s1:h1 ..."``), where a piecewise-linear ``h`` has its least and
+    greatest values; none for an expression (or a table that does not read: :func:`thickness_function` says why)."""
+    words = text.split()
+    try:
+        return np.array([float(w.split(":")[0]) for w in words[1:]]) if words and words[0] == "table" else np.array([])
+    except ValueError:
+        return np.array([])
+
+
 def thickness_function(text, length):
     """``h(s)`` (a function of an array ``s``) from ``text``; a ParameterError naming ``h_profile`` otherwise.
 

@@ -11,7 +11,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, finite, positive
 from mol_shell.model.geometry import CylinderMeridian
-from mol_shell.model.thickness_profile import thickness_function
+from mol_shell.model.thickness_profile import table_points, thickness_function
 from mol_shell.scenes.base import ShellScene, _check, check_radius, zeta1_used
 
 
@@ -76,6 +76,7 @@ class CylinderScene(ShellScene):
         radius); the general check (the faces off the axis) let ``h(s)`` reach ``a``."""
         if isinstance(self.h_profile, str) and self.h_profile:
             s = np.linspace(0.0, self.L, 801)
+            s = np.concatenate([s, [p for p in table_points(self.h_profile) if 0.0 < p < self.L]])  # a table's peak
             hs = thickness_function(self.h_profile, self.L)(s)
             k = int(np.argmax(np.where(np.isfinite(hs), hs, np.inf)))
             if not hs[k] < self.a / 2:

@@ -213,6 +213,8 @@ def test_a_profile_too_thin_for_double_precision_is_blamed_on_h_profile(capsys, 
 
 
 @pytest.mark.parametrize(("profile", "refused"), [("0.5", True), ("2", True), ("0.3 + 0.1 * s", True),
+                                                  ("table 0:0.01 2.001:0.01 2.0025:0.6 2.004:0.01 4:0.01", True),  # a peak
+                                                  # between the samples
                                                   ("0.49", False), ("0.005 * (1 + 0.5 * s)", False)])
 def test_a_cylinder_s_graded_wall_has_the_bound_of_its_uniform_wall(profile, refused):
     """``h = 0.5`` on a cylinder of a = 1 m is refused (the wall 2h must stay below a), but ``h_profile = "0.5"``, a
