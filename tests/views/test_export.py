@@ -137,3 +137,37 @@ def test_bad_input_is_refused_in_one_line(run, tmp_path, capsys):
         assert code == 2 and err.startswith("mol-shell: error: ") and len(err.splitlines()) == 1, (argv, err)
         assert words in err, (argv, err)
     assert not (tmp_path / "a.xdmf").exists() and not (tmp_path / "a.h5").exists()
+
+
+@pytest.mark.parametrize("suffix", ["xdmf", "pvd"])
+def test_an_export_that_fails_on_the_way_leaves_the_previous_one_whole(run, tmp_path, monkeypatch, suffix):
+    """The XDMF + HDF5 and PVD + VTU files were written in place: an export that failed (or was interrupted) on the
+    way left a new .h5 or some new .vtu beside the old collection, or half of them. Exports are now written into a
+    hidden folder and moved into place when whole, the collection last; a failure leaves the previous files as
+    they were and nothing else."""
+    from mol_shell.views import export as exporting
+
+    ds, _ = run
+    target = tmp_path / f"shell.{suffix}"
+    exporting.export(ds, target, n_phi=8)
+    before = {f.name: f.read_bytes() for f in tmp_path.iterdir()}
+    original, calls = meshio.write, [0]
+
+    def failing(*args, **kwargs):  # the PVD writer: a disk full at the second step
+        calls[0] += 1
+        if calls[0] == 2:
+            raise OSError(28, "No space left on device")
+        return original(*args, **kwargs)
+
+    def failing_data(self, *args, **kwargs):  # the XDMF writer: the same at its second step
+        calls[0] += 1
+        if calls[0] == 2:
+            raise OSError(28, "No space left on device")
+        return original_data(self, *args, **kwargs)
+
+    original_data = meshio.xdmf.TimeSeriesWriter.write_data
+    monkeypatch.setattr(meshio, "write", failing)
+    monkeypatch.setattr(meshio.xdmf.TimeSeriesWriter, "write_data", failing_data)
+    with pytest.raises(OSError, match="No space left"):
+        exporting.export(ds, target, n_phi=12)
+    assert {f.name: f.read_bytes() for f in tmp_path.iterdir()} == before
