@@ -23,6 +23,7 @@ from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.model.laws import COMPRESSIBLE
 from mol_shell.model.layers import parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
+from mol_shell.runs.checks import profile_scaled
 from mol_shell.runs.simulate import LEAPFROG_MAX_LOG_GROWTH, build, resolve, simulate, starting_state
 from mol_shell.scenes import Cone, Sphere, Torus, TwistedCylinder
 
@@ -88,7 +89,7 @@ def thickness_case(base, h):
     label, k = f"h={h:g}", h / base.h
     changes, scaled = {"h": h}, []
     if base.h_profile:
-        changes["h_profile"], scaled = _scaled_profile(base.h_profile, k), scaled + ["h_profile"]
+        changes["h_profile"], scaled = profile_scaled(base.h_profile, k), scaled + ["h_profile"]
     if base.layers:
         changes["layers"] = "; ".join(" ".join([f"{t * k:.12g}", material, *(f"{key}={value}" for key, value in
                                                                             keys.items())])
@@ -102,15 +103,6 @@ def thickness_case(base, h):
         return Case(label, dataclasses.replace(base, **changes))
     except ParameterError as exc:
         return Case(label, None, skip=f"the wall {k:.3g} times as thick is refused: {exc}")
-
-
-def _scaled_profile(text, k):
-    """``h_profile`` times ``k``: a table's ``h`` values, or the expression."""
-    words = text.split()
-    if words and words[0] == "table":
-        pairs = [w.split(":") for w in words[1:]]
-        return "table " + " ".join(f"{s}:{float(value) * k:.12g}" for s, value in pairs)
-    return f"{k:.12g} * ({text})"
 
 
 def law_case(base, label, **changes):

@@ -211,7 +211,7 @@ def _refusal(scene, reason, bad=_bad_numbers):
     return error.name, error.value, error.range or error.allowed, "", str(error)
 
 
-def _profile_scaled(text, factor):
+def profile_scaled(text, factor):
     """``h_profile`` text for ``factor`` times the profile ``text``: a table's values scaled, an expression multiplied."""
     words = text.split()
     if words and words[0] == "table":
@@ -233,7 +233,7 @@ def _profile_diagnosis(scene, reason, bad, decades=0.5):
 
     def bad_at(factor):
         try:
-            return bad(dataclasses.replace(scene, h_profile=_profile_scaled(text, factor))) is not False
+            return bad(dataclasses.replace(scene, h_profile=profile_scaled(text, factor))) is not False
         except (ParameterError, ValueError, ArithmeticError):
             return True
 
