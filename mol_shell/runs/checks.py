@@ -216,8 +216,8 @@ def profile_scaled(text, factor):
     words = text.split()
     if words and words[0] == "table":
         pairs = [w.split(":") for w in words[1:]]
-        return "table " + " ".join(f"{a}:{factor * float(b)!r}" for a, b in pairs)
-    return f"{factor!r} * ({text})"
+        return "table " + " ".join(f"{a}:{factor * float(b):.12g}" for a, b in pairs)  # as typed: 0.003, not
+    return f"{factor:.12g} * ({text})"  # 0.0030000000000000005
 
 
 def _profile_diagnosis(scene, reason, bad, decades=0.5):
