@@ -321,8 +321,7 @@ class ShellScene:
         object.__setattr__(self, "material_parameters", parameter_text(values))
 
     def _check_fibres(self):
-        """``fibre_E >= 0``, ``fibre_angle`` in [-pi/2, pi/2] (every fibre direction once; 45 was taken as rad),
-        ``fibre_families`` 1 or 2, ``fibre_compression`` true or false."""
+        """``fibre_E >= 0``, ``fibre_angle`` in [-pi/2, pi/2], ``fibre_families`` 1 or 2, ``fibre_compression`` a bool."""
         _check("fibre_E", self.fibre_E, non_negative("Pa"))
         _check("fibre_angle", self.fibre_angle, FIBRE_ANGLES, hint=fibre_angle_hint(self.fibre_angle))
         families = Interval(1, 2, True, True, integer=True, shown="{1, 2}")
