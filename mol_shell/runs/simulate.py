@@ -111,7 +111,7 @@ def check_options(scene, integrator, options, offered=None):
 
 def steps_to(t_end, dt):
     """The whole number of steps ``dt`` that make ``t_end`` (to 1e-9 of it), or 0 if there is none."""
-    if not (is_number(t_end) and is_number(dt) and math.isfinite(t_end / dt) and t_end > 0 and dt > 0):
+    if not (is_number(t_end) and is_number(dt) and t_end > 0 and dt > 0 and math.isfinite(t_end / dt)):
         return 0
     steps = round(t_end / dt)
     return steps if steps >= 1 and abs(steps * dt - t_end) <= 1e-9 * t_end else 0

@@ -374,3 +374,5 @@ def test_a_varied_dt_that_t_end_is_no_multiple_of_refuses_its_case_not_the_study
     assert float(ds.time.values[-1]) == 0.01
     with pytest.raises(mol_shell.ParameterError, match="multiples of dt"):
         mol_shell.study(scene, {"dt": [3e-6, 7e-6]}, t_end=0.01, n=8, scheduler="serial", progress=False)
+    zero = mol_shell.study(scene, {"dt": [0.0, 1e-6]}, t_end=1e-3, n=8, scheduler="serial", progress=False)
+    assert zero.status.values.tolist() == ["refused", "complete"]  # not a ZeroDivisionError
