@@ -26,7 +26,7 @@ from mol_shell.cli.args import (
 from mol_shell.cli.views import said_as_options
 from mol_shell.results.dataset import read_netcdf, write_netcdf
 from mol_shell.scenes import DISPLACEMENTS, with_params
-from mol_shell.views.path_plot import plot_path, response_values, responses
+from mol_shell.views.path_plot import check_response, plot_path, response_values
 from mol_shell.views.path_study_plot import is_path_study, plot_path_study
 
 PARAM_FORM = "NAME=START:STOP with NAME in {" + ", ".join(PATH_PARAMETERS) + "}, START and STOP numbers, START != STOP"
@@ -204,19 +204,8 @@ def cmd_plot_path(args):
     _refuse_run_options(args, "a path's: --response")
     ds = read_path(args.file, "FILE")
     response = args.response or "load_conjugate"
-    names = responses(ds)
-    form = "{" + ", ".join(names) + "} or FIELD@S with FIELD in {z, r, chi, theta, psi} and S in m"
-    if "@" in response:
-        field, _, at = response.partition("@")
-        try:
-            ok = field in ("z", "r", "chi", "theta", "psi") and math.isfinite(float(at))
-        except ValueError:
-            ok = False
-    else:
-        ok = response in names
-    if not ok:
-        raise ParameterError("--response", response, form)
     with said_as_options():
+        check_response(ds, response)
         response_values(ds, response)
         plot_path(ds, args.output, response)
     states = ds.sizes["step"]  # the start and its steps, counted as mol-shell path counts them

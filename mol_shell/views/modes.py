@@ -7,14 +7,33 @@ metres and radians are drawn to their own scales, never on one).
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
+import xarray as xr
 
 from mol_shell._core.constants import FIELDS
+from mol_shell._core.errors import ParameterError, kind_of
+from mol_shell.results.dataset import holdings, is_run, read_netcdf
 from mol_shell.views.figures import save_figure
 
 #: the fields drawn in each of a mode's two panels, and the panel's unit
 PANELS = ((("z", "r"), "m"), (("chi", "theta", "psi"), "rad"))
 COLORS = dict(zip(FIELDS, ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple")))
+
+
+def modes_of(ds):
+    """The modes a figure draws: ``ds`` (checked: natural modes, as :func:`mol_shell.modes` returns), or the file at
+    ``ds``; anything else refused naming ``ds``."""
+    shown = str(ds) if isinstance(ds, (str, os.PathLike)) else f"<{kind_of(ds)}>"
+    if isinstance(ds, (str, os.PathLike)):
+        ds = read_netcdf(ds)
+    if not (isinstance(ds, xr.Dataset) and "mode" in ds.dims and all(ds[f].dims[0] == "mode" for f in FIELDS
+                                                                      if f in ds) and all(f in ds for f in FIELDS)):
+        what = ("a run (mol-shell run)" if is_run(ds) else holdings(ds)) if isinstance(ds, xr.Dataset) else "not a Dataset"
+        raise ParameterError.invalid("ds", shown, f"is {what}, not natural modes",
+                                     "the Dataset of mol_shell.modes, or its netCDF file")
+    return ds
 
 
 def modes_figure(ds, count=6):
@@ -23,6 +42,7 @@ def modes_figure(ds, count=6):
     A field below 1e-3 of the mode's largest entry is left out of its panel."""
     import matplotlib.pyplot as plt
 
+    ds = modes_of(ds)
     count = min(count, ds.sizes["mode"])
     cols = 3 if count > 4 else count
     rows = -(-count // cols)

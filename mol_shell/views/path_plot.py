@@ -9,9 +9,14 @@ point its equilibrium (thin) with the critical mode added (bold), the mode scale
 
 from __future__ import annotations
 
+import math
+import os
+
 import numpy as np
 
+from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError
+from mol_shell.analysis.path_start import checked_path, read_path
 from mol_shell.views.figures import save_figure
 
 #: the critical mode as drawn: its largest displacement this fraction of the meridian's size
@@ -31,6 +36,28 @@ def responses(ds):
     """The responses a path can be drawn against: its scalar variables along ``step`` (the load aside) and
     ``FIELD@S`` (a field at the node nearest ``s``)."""
     return tuple(name for name, var in ds.data_vars.items() if var.dims == ("step",) and name != "parameter")
+
+
+def check_response(ds, response):
+    """Refuse, naming ``response``, anything but one of :func:`responses` or ``FIELD@S``."""
+    form = "{" + ", ".join(responses(ds)) + "} or FIELD@S with FIELD in {" + ", ".join(FIELDS) + "} and S in m"
+    if not isinstance(response, str):
+        raise ParameterError.not_a("response", response, "a string", form)
+    if "@" in response:
+        field, _, at = response.partition("@")
+        try:
+            ok = field in FIELDS and math.isfinite(float(at))
+        except ValueError:
+            ok = False
+    else:
+        ok = response in responses(ds)
+    if not ok:
+        raise ParameterError("response", response, form)
+
+
+def path_of(ds):
+    """The path a figure draws: ``ds`` (checked: an equilibrium path), or the path file at ``ds``; named ``ds``."""
+    return read_path(ds, "ds") if isinstance(ds, (str, os.PathLike)) else checked_path(ds, "ds")
 
 
 def response_values(ds, response):
@@ -92,9 +119,11 @@ def _label_groups(points, spans):
 
 
 def path_figure(ds, response="load_conjugate"):
-    """The figure (a matplotlib ``Figure``, not saved)."""
+    """The figure (a matplotlib ``Figure``, not saved) of path ``ds`` (or its file)."""
     import matplotlib.pyplot as plt
 
+    ds = path_of(ds)
+    check_response(ds, response)
     x, xlabel = response_values(ds, response)
     lam = ds.parameter.values
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.6))
