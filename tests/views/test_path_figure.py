@@ -28,7 +28,8 @@ def path_file(loads, negatives, points):
          "point_kind": ("point", [p[0] for p in points]), "point_step": ("point", [p[1] for p in points]),
          "point_parameter": ("point", [float(p[2]) for p in points], {"units": "Pa"}),
          "point_family": ("point", ["axisymmetric"] * count),
-         "r0": ("s", r0), "z0": ("s", z0),
+         "r0": ("s", r0), "z0": ("s", z0),  # a path's states along it (the figure checks it is given a path)
+         "r": (("step", "s"), np.tile(r0, (len(loads), 1))), "z": (("step", "s"), np.tile(z0, (len(loads), 1))),
          "point_r": (("point", "s"), np.tile(r0, (count, 1))), "point_z": (("point", "s"), np.tile(z0, (count, 1))),
          "point_mode_r": (("point", "s"), mode), "point_mode_z": (("point", "s"), 0.5 * mode)},
         coords={"s": s}, attrs={"parameter": "pressure", "scene": "sphere"})
