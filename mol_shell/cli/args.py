@@ -21,7 +21,7 @@ from mol_shell.integrators.loop import declared
 from mol_shell.results.dataset import NETCDF_SUFFIXES  # noqa: F401 (the outputs' suffixes, for the commands)
 from mol_shell.runs.resources import check_saved_times
 from mol_shell.runs.simulate import check_options, integrator_options
-from mol_shell.scenes import SCENES, get_scene, with_params
+from mol_shell.scenes import SCENES, get_scene
 from mol_shell.scenes.files import check_run_together, load_scene
 
 #: exit codes: an internal error (a bug), bad input, a run stopped at a model limit, Ctrl-C, and the reader of
@@ -50,8 +50,8 @@ def scene_and_run(text, sets=None):
     """The scene a command names, a registered name or a scene file ``FILE.toml``, with ``--set`` values on top,
     and the file's ``[run]`` table (``{}`` for a name): the defaults of the command's own options."""
     if str(text).endswith(".toml"):
-        scene, run = load_scene(text, with_run=True, together=False)  # run_settings checks them with ours
-        return with_params(scene, parse_sets(sets)), run
+        # --set over the file's values, before the scene is made; run_settings checks [run] with our options
+        return load_scene(text, with_run=True, together=False, overrides=parse_sets(sets))
     return get_scene(text, **parse_sets(sets)), {}
 
 #: integrator options the command line has flags for; the others go by --option NAME=VALUE

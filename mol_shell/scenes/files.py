@@ -50,6 +50,7 @@ from mol_shell.model.layers import LAYER_KEYS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES, summary
 from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS, ShellScene, describe
+from mol_shell.scenes.setting import with_params
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -274,8 +275,11 @@ def check_run_together(source, integrator, run, given=()):
             raise (exc if exc.name in given else _fail(source, "run", exc)) from None
 
 
-def scene_from_dict(data, source="<scene file>", folder=".", together=True):
-    """The scene (and the ``[run]`` options) of a parsed scene file; see the module's docstring."""
+def scene_from_dict(data, source="<scene file>", folder=".", together=True, overrides=None):
+    """The scene (and the ``[run]`` options) of a parsed scene file; see the module's docstring. ``overrides``
+    (``--set NAME=VALUE``, as :func:`~mol_shell.scenes.with_params` takes them) replace the file's values before
+    the scene is made: a file's value they replace is not read (a law that fails to import, say)."""
+    overrides = dict(overrides or {})
     folder = Path(folder)
     names = "{" + ", ".join(sorted(SCENES)) + "}"
     if "scene" not in data:
@@ -316,6 +320,9 @@ def scene_from_dict(data, source="<scene file>", folder=".", together=True):
                             + (", ".join(takes) or f"none ([{key}] of {name} is empty)"), param, value)
             if table_of(cls, param) != key:
                 raise _fail(source, key, f"{param} belongs in [{table_of(cls, param)}], not [{key}]", param, value)
+            if param in overrides:  # replaced: not read
+                where[param] = key
+                continue
             if param in FLAGS:
                 _flag_of_file(source, key, param, value)
             try:
@@ -325,17 +332,19 @@ def scene_from_dict(data, source="<scene file>", folder=".", together=True):
             where[param] = key
     run = _run_options(source, data.get("run", {}), together)
     try:
-        scene = cls(**given)
+        scene = with_params(cls(), {**given, **overrides}) if overrides else cls(**given)
     except ParameterError as exc:
+        if exc.name in overrides or exc.name == "parameter":  # the command line's own: said as it says it
+            raise
         raise _fail(source, where.get(exc.name, table_of(cls, exc.name) if exc.name in fields else None), exc) from None
     for param, value in given.items():
-        if not _type_ok(fields[param], getattr(scene, param)):
+        if param not in overrides and not _type_ok(fields[param], getattr(scene, param)):
             raise _fail(source, where[param], ParameterError.not_a(param, value, f"of type {fields[param].type}",
                                                                     f"values of type {fields[param].type}"))
     return scene, run
 
 
-def load_scene(path, *, with_run=False, together=True):
+def load_scene(path, *, with_run=False, together=True, overrides=None):
     """The scene a TOML scene file describes (see :mod:`mol_shell.scenes.files` for the layout).
 
     Parameters
@@ -350,6 +359,8 @@ def load_scene(path, *, with_run=False, together=True):
     together : bool
         Check the ``[run]`` options across each other as the integrator does (False: the caller does, after
         options of its own replace some: the command line's ``--integrator`` and ``--option``).
+    overrides : dict, optional
+        Parameters over the file's (the command line's ``--set``), applied before the scene is made.
 
     Returns
     -------
@@ -376,7 +387,7 @@ def load_scene(path, *, with_run=False, together=True):
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ParameterError("scene file", str(path), "TOML", message=f"{path}: not valid TOML: {exc}") from None
-    scene, run = scene_from_dict(data, str(path), path.parent, together)
+    scene, run = scene_from_dict(data, str(path), path.parent, together, overrides)
     return (scene, run) if with_run else scene
 
 

@@ -398,3 +398,22 @@ def test_a_shell_too_small_for_its_wall_is_refused_naming_its_size_in_the_file(a
     with pytest.raises(ParameterError, match=rf"^{re.escape(str(path))}: \[geometry\] a = {a:g} is outside values for "
                        r"which h = 0.006283 m fits"):
         load_scene(path)
+
+
+def test_set_replaces_a_file_s_value_before_the_file_s_value_is_read(tmp_path, capsys):
+    """A scene file whose law does not import (``material = "nomod:rubber"``) was refused before ``--set
+    material=...`` could replace it: the file was made into a scene first. ``--set`` values now go in before the
+    scene is made, so a value they replace is never read; a refusal of one of them is said as the command line's."""
+    path = tmp_path / "bad.toml"
+    path.write_text('scene = "sphere"\n[material]\nmaterial = "nomod:rubber"\nnu = 0.3\n[run]\nn = 8\nt_end = 1e-4\n')
+    out = tmp_path / "a.nc"
+    assert main(["run", str(path), "-o", str(out)]) == 2
+    assert "[material] material = 'nomod:rubber'" in capsys.readouterr().err
+    assert main(["run", str(path), "--set", "material=svk-plane-stress", "-o", str(out)]) == 0
+    ds = read_netcdf(out)
+    assert ds.attrs["material"] == "svk-plane-stress" and ds.attrs["nu"] == 0.3  # the file's other values kept
+    capsys.readouterr()
+    assert main(["run", str(path), "--set", "material=svk-plane-stress", "--set", "nu=0.7", "-o", str(out)]) == 2
+    assert capsys.readouterr().err.strip() == "mol-shell: error: nu = 0.7 is outside (-1, 0.5)"
+    scene = load_scene(path, overrides={"material": "svk", "gamma": "0.2"})
+    assert scene.material == "svk" and scene.gamma == 0.2 and scene.nu == 0.3
