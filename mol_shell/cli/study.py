@@ -30,7 +30,6 @@ from mol_shell.results.study_store import Store
 from mol_shell.runs import resources
 from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT, most_workers
 from mol_shell.runs.study import study
-from mol_shell.scenes import with_params
 
 #: the first step of each path of a study of paths is 1/STEPS of its range without --steps
 STEPS = 20
@@ -81,14 +80,13 @@ def cmd_study(args):
             raise ParameterError(name, getattr(args, option), "an option of a study of paths (--path)",
                                  message=f"{name} is an option of a study of paths (--path), not of one of runs")
     sets = parse_sets(args.set)
-    base, run = scene_and_run(args.scene)  # a scene file's [run] table gives defaults, the options win
+    scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] table gives defaults, the options win
     n = args.n or run.get("n", 40)
     vary = parse_vary(args.vary, n)
     both = [name for name in vary if name in sets]
     if both:
         raise ParameterError.invalid("--set", f"{both[0]}={sets[both[0]]}", f"sets {both[0]}, which --vary varies",
                                      "parameters not in --vary")
-    scene = with_params(base, sets)
     if args.path is not None:
         return _path_study(args, scene, vary, n)
     times, t_end, integrator, options = run_settings(args, run, scene, n)
