@@ -17,11 +17,10 @@ from mol_shell.scenes.base import (
     UNITS,
     ShellScene,
     _check,
-    check_radius,
     describe,
     zeta1_used,
 )
-from mol_shell.scenes.cylinder import Axisymmetric, CylinderScene, SpinningRing, TwistedCylinder
+from mol_shell.scenes.cylinder import Axisymmetric, CylinderScene, SpinningRing, TwistedCylinder, check_radius
 from mol_shell.scenes.segments import Vessel
 from mol_shell.scenes.setting import _coerce, with_params
 from mol_shell.scenes.shells import Cone, MeridianShell, Sphere, Torus

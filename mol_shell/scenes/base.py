@@ -89,15 +89,6 @@ def zeta1_used(h, zeta1=None, a=1.0):
     return centroidal_offset(h, a) if zeta1 is None else zeta1
 
 
-def check_radius(R, h, zeta1=None, hint="", a=1.0):
-    """``R > -zeta1_used``: the inner face ``r + zeta1`` of the initial cylinder at a positive radius."""
-    low = -zeta1_used(h, zeta1, a)
-    if isinstance(R, str):  # a word other than auto
-        raise ParameterError.not_a("R", R, "a number", f"({low:.4g}, inf) m, or auto")
-    _check("R", R, Interval(low, math.inf, unit="m", shown=f"({low:.4g}, inf) m: the inner face r + zeta1 must be at "
-                                                       f"a positive radius (zeta1 = {-low:.4g} m)" + (f"; {hint}" if hint else "")))
-
-
 @dataclass(frozen=True)
 class ShellScene:
     """Material, thickness and edges shared by every scene; subclasses add a meridian and initial data.

@@ -12,7 +12,16 @@ from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, finite, positive
 from mol_shell.model.geometry import CylinderMeridian
 from mol_shell.model.thickness_profile import table_points, thickness_function
-from mol_shell.scenes.base import ShellScene, _check, check_radius, zeta1_used
+from mol_shell.scenes.base import ShellScene, _check, zeta1_used
+
+
+def check_radius(R, h, zeta1=None, hint="", a=1.0):
+    """``R > -zeta1_used``: the inner face ``r + zeta1`` of the initial cylinder at a positive radius."""
+    low = -zeta1_used(h, zeta1, a)
+    if isinstance(R, str):  # a word other than auto
+        raise ParameterError.not_a("R", R, "a number", f"({low:.4g}, inf) m, or auto")
+    _check("R", R, Interval(low, math.inf, unit="m", shown=f"({low:.4g}, inf) m: the inner face r + zeta1 must be at "
+                                                       f"a positive radius (zeta1 = {-low:.4g} m)" + (f"; {hint}" if hint else "")))
 
 
 @dataclass(frozen=True)
