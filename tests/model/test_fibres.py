@@ -67,7 +67,7 @@ def test_one_fibre_family_inflated_tube_twists_as_lamination_theory_says():
     t = 2 * H
     ex, eth, gamma = np.linalg.solve(t * (Q + E_F * np.outer(v, v)), [P * A / 2, P * A, 0.0])
     axial, hoop, chi_s = _inflated_tube(1)
-    assert chi_s == pytest.approx(gamma / A, rel=2e-3)  # measured 1.1e-4 (strain^2 and (h/a)^2 terms)
+    assert chi_s == pytest.approx(gamma / A, rel=2e-3)  # measured 1.2e-4 (strain^2 and (h/a)^2 terms)
     assert hoop == pytest.approx(eth, rel=2e-3)
     assert axial == pytest.approx(ex, rel=2e-2)  # e_x is small beside the others (-2.3e-6)
     assert abs(chi_s) > 0.3 * abs(hoop)  # a real coupling: the twist is of the order of the hoop strain
