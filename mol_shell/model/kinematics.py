@@ -29,6 +29,13 @@ def trigonometry(theta, psi, trig=None):
     return trig if trig is not None else (cos(theta), sin(theta), cos(psi), sin(psi))
 
 
+def trigonometry_rates(trig, theta_t, psi_t):
+    """The time derivatives of :func:`trigonometry`'s ``(cos theta, sin theta, cos psi, sin psi)`` given as ``trig``,
+    from the rates ``theta_t, psi_t``."""
+    ct, st, cs, sn = trig
+    return (-st * theta_t, ct * theta_t, -sn * psi_t, cs * psi_t)
+
+
 def betas(z_s, r_s, chi_s, r, theta, trig=None):
     """Components of ``r_s`` in the ``b`` basis, eq. (2.18).
 

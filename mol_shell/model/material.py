@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
-from mol_shell.model.kinematics import column_polynomials, scaled_deformation_gradient
+from mol_shell.model.kinematics import column_polynomials, scaled_deformation_gradient, trigonometry_rates
 
 
 def lame(young, poisson):
@@ -295,7 +295,7 @@ def thickness_dissipation_moments(strains, rates, eta_lambda, eta_mu, moments, b
     if trig is None:
         rate = ca.vertsplit(ca.jtimes(flat, e_sym, r_sym))
     else:  # d(cos theta)/dt = -sin theta theta_t, ...
-        t_rate = ca.vertcat(-t_sym[1] * r_sym[6], t_sym[0] * r_sym[6], -t_sym[3] * r_sym[7], t_sym[2] * r_sym[7])
+        t_rate = ca.vertcat(*trigonometry_rates(ca.vertsplit(t_sym), r_sym[6], r_sym[7]))
         rate = ca.vertsplit(ca.jtimes(flat, ca.vertcat(e_sym, t_sym), ca.vertcat(r_sym, t_rate)))
     m_sym = ca.SX.sym("m", sum(kmax + 1 for _, _, kmax in MOMENTS))
     total = _svk_sums(rate[0:3], rate[3:6], rate[6:9], rate[9], rate[10], _moment_rows(ca.vertsplit(m_sym)),
