@@ -21,17 +21,23 @@ the thickness direction. The shell's ``F = [(a + zeta b) j1, c2, (c + zeta d) j3
 
 The thickness integral is the same Gauss-Legendre rule as :func:`~mol_shell.model.material.thickness_energy`
 (``sum_q vol_q W(C_q)``); the mass per reference area does not change.
+
+Kelvin-Voigt viscosity of an incompressible law (:func:`incompressible_dissipation`): the thickness is kinematic,
+``C_22(C)`` as above at every instant, so the thickness strain rate is the time derivative of
+``E_22 = (C_22(C) - 1)/2``, not a free variable to be condensed; the Rayleigh function is ``eta_mu E_t : E_t`` with
+that ``E_t`` (a bulk viscosity ``eta_lambda`` has nothing to act on under ``det C = 1``).
 """
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import casadi as ca
 import numpy as np
 
-from mol_shell.model.kinematics import column_polynomials
+from mol_shell.model.kinematics import column_polynomials, trigonometry_rates
 from mol_shell.model.material import quadrature_factors
 
 #: thickness treatments (:mod:`mol_shell.model.hyperelastic`)
@@ -259,3 +265,86 @@ def law_shell_energy(strains, law, params, thickness, r0=1.0, theta0=0.0, theta0
     arguments with ``(law, params)`` in place of the Lame pair."""
     factors = quadrature_factors(thickness, r0, theta0, theta0_s, beta1_0)
     return law_thickness_energy(strains, law, params, factors, beta2_0) / r0
+
+
+def incompressible_strain(C):
+    """The Green strain ``E = (C - I)/2`` (nested 3x3) at ``C`` with ``C_22 = incompressible_thickness(C)``."""
+    Cx = with_thickness(C, incompressible_thickness(C))
+    return tuple(tuple(0.5 * (Cx[i][j] - (1.0 if i == j else 0.0)) for j in range(3)) for i in range(3))
+
+
+def incompressible_dissipation(strains, rates, eta_mu, factors, beta2_0=0.0, trig=None):
+    """``sum_q vol_q eta_mu E_t : E_t`` with ``E`` of :func:`incompressible_strain`: the Kelvin-Voigt Rayleigh function
+    of an incompressible law (``2 D`` its power), exact at finite strain (CasADi ``strains``/``rates``).
+
+    ``C`` at each point is :func:`shell_cauchy_green`'s (as in :func:`law_thickness_energy`), its thickness component
+    set by ``det C = 1``; ``E_t`` is ``E``'s derivative along ``rates`` (``ca.jtimes``), so ``E_t,22`` follows the
+    in-plane and shear rates (``-2 e`` for an equibiaxial ``e`` at small strain). ``factors``: as in
+    :func:`~mol_shell.model.material.thickness_dissipation` (numbers or a cell's symbols); ``trig``: the sample's
+    ``(cos theta, sin theta, cos psi, sin psi)`` if known (their rates follow from those of ``theta`` and ``psi``).
+    """
+    e_sym, r_sym, t_sym = ca.SX.sym("e", 8), ca.SX.sym("edot", 8), ca.SX.sym("trig", 4)
+    f_sym = [ca.SX.sym(f"f{i}", 4) for i in range(len(factors))]  # zeta (a graded wall's are symbols), j1, j3, vol
+    b_sym = ca.SX.sym("beta2_0")
+    b = 0.0 if isinstance(beta2_0, (int, float)) and beta2_0 == 0 else b_sym  # left out when it is 0
+    a, bz, c, d, c2 = column_polynomials(ca.vertsplit(e_sym), b, None if trig is None else ca.vertsplit(t_sym))
+    inputs, directions = e_sym, r_sym
+    if trig is not None:
+        inputs = ca.vertcat(e_sym, t_sym)
+        directions = ca.vertcat(r_sym, *trigonometry_rates(ca.vertsplit(t_sym), r_sym[6], r_sym[7]))
+    total = 0.0
+    for f in f_sym:
+        E = incompressible_strain(shell_cauchy_green(a, bz, c, d, c2, f[0], f[1], f[2]))
+        Et = ca.jtimes(ca.vertcat(*[E[i][j] for i in range(3) for j in range(3)]), inputs, directions)
+        total = total + f[3] * (eta_mu * ca.sumsqr(Et))
+    fn = ca.Function("incompressible_dissipation", [e_sym, r_sym, t_sym, b_sym, *f_sym], [total])
+    values = [ca.vertcat(zeta, j1, j3, vol) for zeta, j1, j3, vol in factors]
+    return fn(ca.vertcat(*strains), ca.vertcat(*rates), ca.vertcat(*(trig if trig is not None else [0.0] * 4)),
+              beta2_0, *values)
+
+
+def law_shell_dissipation(strains, rates, eta_mu, thickness, r0=1.0, theta0=0.0, theta0_s=0.0, beta1_0=1.0,
+                          beta2_0=0.0):
+    """:func:`incompressible_dissipation` per unit reference area: :func:`~mol_shell.model.material.shell_dissipation`
+    of an incompressible law (``eta_mu`` alone)."""
+    factors = quadrature_factors(thickness, r0, theta0, theta0_s, beta1_0)
+    return incompressible_dissipation(strains, rates, eta_mu, factors, beta2_0) / r0
+
+
+#: the components of ``C`` and ``E_t`` other than the thickness one, each symmetric pair once
+IN_PLANE = ((0, 0), (2, 2), (0, 2), (0, 1), (1, 2))
+
+
+@functools.lru_cache(maxsize=1)
+def _incompressible_viscous():
+    """``(c, x, eta_mu) -> S`` of :func:`incompressible_viscous_stress` (``c, x``: :data:`IN_PLANE` of ``C, E_t``)."""
+    c, x, eta = ca.SX.sym("c", 5), ca.SX.sym("x", 5), ca.SX.sym("eta_mu")
+    where = {k: n for n, k in enumerate(IN_PLANE)}
+
+    def nested(v, thick):
+        return [[thick if i == j == THICK else v[where[min(i, j), max(i, j)]] for j in range(3)] for i in range(3)]
+
+    C = nested(ca.vertsplit(c), 1.0)
+    x22 = 0.5 * ca.jtimes(incompressible_thickness(C), c, 2.0 * x)  # C_t = 2 E_t, each pair one variable
+    Et = nested(ca.vertsplit(x), x22)
+    D = eta * sum(Et[i][j] * Et[i][j] for i in range(3) for j in range(3))
+    g = ca.gradient(D, x)
+    S = ca.vertcat(*[(1.0 if i == j else 0.5) * g[n] for n, (i, j) in enumerate(IN_PLANE)])
+    return ca.Function("incompressible_viscous_stress", [c, x, eta], [S, D])
+
+
+def incompressible_viscous_stress(C, E_t, eta_mu):
+    """``(S_v, D)``: the viscous second Piola-Kirchhoff stress of an incompressible law (nested 3x3) and the Rayleigh
+    function ``D = eta_mu E_t : E_t`` per unit reference volume at ``C`` for the kinematic rates ``E_t``.
+
+    ``E_t``'s thickness component is not read: it is ``(1/2) dC_22/dt`` with ``C_22`` of
+    :func:`incompressible_thickness`, linear in the other rates. ``S_v`` is ``D``'s derivative in the five
+    independent rates (:data:`IN_PLANE`; an off-diagonal pair shares it), ``S_v,22 = 0``, so ``S_v : E_t = 2 D``
+    (``D`` quadratic); it is ``2 eta_mu (E_t - E_t,22 (C^-1)/(C^-1)_22)`` off the thickness component, at small strain
+    ``2 eta_mu (E_t - E_t,22 I)``. ``C``, ``E_t`` nested 3x3 (symmetric) of CasADi expressions or numbers.
+    """
+    S, D = _incompressible_viscous()(ca.vertcat(*[C[i][j] for i, j in IN_PLANE]),
+                                     ca.vertcat(*[E_t[i][j] for i, j in IN_PLANE]), eta_mu)
+    where = {k: n for n, k in enumerate(IN_PLANE)}
+    return tuple(tuple(0.0 if i == j == THICK else S[where[min(i, j), max(i, j)]] for j in range(3))
+                 for i in range(3)), D
