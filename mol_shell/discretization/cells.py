@@ -19,7 +19,7 @@ import numpy as np
 from mol_shell._core.constants import NF
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.fibres import fibre_thickness_energy
-from mol_shell.model.hyperelastic import law_thickness_energy, law_thickness_values
+from mol_shell.model.hyperelastic import incompressible_dissipation, law_thickness_energy, law_thickness_values
 from mol_shell.model.kinematics import delta
 from mol_shell.model.material import (
     svk_turning_limit,
@@ -343,15 +343,29 @@ class CellKernels:
         ql, qr, geo = self._cell_symbols()
         return ca.Function("cell_delta", [ql, qr, geo], [self._cell_observables()(ql, qr, geo)[1]])
 
+    @property
+    def incompressible_viscosity(self):
+        """Whether the Kelvin-Voigt stress follows ``det C = 1``
+        (:func:`~mol_shell.model.hyperelastic.incompressible_dissipation`, ``eta_mu`` alone): a single incompressible
+        law. A layered wall keeps the condensed pair of the scene's material for every layer
+        (:func:`~mol_shell.model.laws.viscosities`), as before."""
+        return self.law is not None and self.law.thickness == "incompressible" and self.layer_laws is None
+
     def cell_dissipation(self, ql, qr, vl, vr, data, reference=None):
         """Rayleigh function of the cell (Kelvin-Voigt), sampled like :meth:`cell_energy`; ``2 D`` is its power.
 
-        The viscous stress does not depend on the law, so every law takes the thickness moments' form
+        An incompressible law (:attr:`incompressible_viscosity`): ``eta_mu E_t : E_t`` with the thickness rate that
+        ``det C = 1`` sets, point by point in both forms
+        (:func:`~mol_shell.model.hyperelastic.incompressible_dissipation`). Every other law (and a layered wall) takes the condensed pair
+        ``(eta_lambda, eta_mu)`` of the scene's material in the thickness moments' form
         (:func:`~mol_shell.model.material.thickness_dissipation_moments`, the same quadrature to round-off);
         ``reference`` (default: the system's choice) selects the per-point form.
         """
         factors, beta2_0, moments = self._factors_and_moments(data)
         pairs = list(zip(self.cell_samples(ql, qr), self.cell_samples(vl, vr)))
+        if self.incompressible_viscosity:
+            return sum(incompressible_dissipation(e, e_t, self.eta_mu, factors, beta2_0)
+                       for e, e_t in pairs) / len(pairs)
         if self.reference_kernel if reference is None else reference:
             return sum(thickness_dissipation(e, e_t, self.eta_lambda, self.eta_mu, factors, beta2_0)
                        for e, e_t in pairs) / len(pairs)
@@ -368,16 +382,21 @@ class CellKernels:
 
     def viscous_forces_shared_kernel(self):
         """:meth:`viscous_forces_kernel` on the nodes' trigonometry (:meth:`node_trig_kernel`) and the shared cell
-        data (:attr:`shared_cell_data`): ``(q_left, q_right, v_left, v_right, t_left, t_right, geo)``, the
-        thickness moments' form (the viscous stress is the same for every law)."""
+        data (:attr:`shared_cell_data`): ``(q_left, q_right, v_left, v_right, t_left, t_right, geo)``: the
+        thickness moments' form, or an incompressible law's per-point one (:meth:`cell_dissipation`)."""
         ql, qr, _ = self._cell_symbols()
         vl, vr = ca.SX.sym("vl", NF), ca.SX.sym("vr", NF)
         tl, tr = ca.SX.sym("tl", 4), ca.SX.sym("tr", 4)
         geo = ca.SX.sym("geo", self.shared_cell_data.shape[0])
-        beta2_0, moments = self.shared_moments(geo)
         pairs = list(zip(self.cell_samples(ql, qr), self.cell_samples(vl, vr), sample_trigs(tl, tr)))
-        D = sum(thickness_dissipation_moments(e, e_t, self.eta_lambda, self.eta_mu, moments, beta2_0, trig)
-                for e, e_t, trig in pairs) / len(pairs)
+        if self.incompressible_viscosity:  # a law's shared data hold every row of the cell data
+            factors, beta2_0, _ = self._factors_and_moments(geo)
+            D = sum(incompressible_dissipation(e, e_t, self.eta_mu, factors, beta2_0, trig)
+                    for e, e_t, trig in pairs) / len(pairs)
+        else:
+            beta2_0, moments = self.shared_moments(geo)
+            D = sum(thickness_dissipation_moments(e, e_t, self.eta_lambda, self.eta_mu, moments, beta2_0, trig)
+                    for e, e_t, trig in pairs) / len(pairs)
         return self._viscous_outputs("viscous_shared", D, [ql, qr, vl, vr, tl, tr, geo])
 
     def _viscous_outputs(self, name, D, inputs):

@@ -13,7 +13,8 @@ per unit reference area, from the same model functions
 
     q_t = M(q)^-1 p,    p_t = dT/dq|_{q_t} - dWhat/dq - dD/dq_t,    q = (r, chi, psi),
 
-(``D`` the Kelvin-Voigt Rayleigh function when the scene is viscous). ``chi`` is cyclic,
+(``D`` the Kelvin-Voigt Rayleigh function when the scene is viscous: the kernels', so an incompressible law's
+follows ``det C = 1``, :func:`~mol_shell.model.hyperelastic.law_shell_dissipation`). ``chi`` is cyclic,
 so ``p_chi`` (the axial angular momentum per unit area) is conserved. The PDE of
 :class:`~mol_shell.scenes.SpinningRing` started from uniform data must follow this ODE at
 every node: the discrete energy's ``s``-derivatives of ``What`` vanish at uniform states and
@@ -34,8 +35,9 @@ from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Choice
 from mol_shell.model.edges import resolve_edges
+from mol_shell.model.hyperelastic import law_shell_dissipation
 from mol_shell.model.kinematics import delta, kinetic_energy_density
-from mol_shell.model.laws import scene_shell_energy, viscosities
+from mol_shell.model.laws import scene_shell_energy, thickness_treatment, viscosities
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.material import Thickness, centroidal_offset, inertias, shell_dissipation
 from mol_shell.results.cf import coordinates, header, variables
@@ -109,8 +111,10 @@ def ring_system(scene):
     dissipation = ca.SX(0)
     if viscous:
         rates = (0.0, 0.0, 0.0, 0.0, 0.0, r_t, 0.0, psi_t)
-        eta_lambda, eta_mu = viscosities(scene)
-        D = shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0)
+        if thickness_treatment(scene.material) == "incompressible" and not getattr(scene, "layers", ""):
+            D = law_shell_dissipation(strains, rates, scene.eta_mu, thickness, r0)  # det C = 1: eta_mu alone
+        else:
+            D = shell_dissipation(strains, rates, *viscosities(scene), thickness, r0)
         forces -= ca.substitute(ca.gradient(D, v), v, v_of_p)
         dissipation = ca.substitute(2 * D, v, v_of_p)
     t, y = ca.SX.sym("t"), ca.SX.sym("y", 6)
