@@ -14,8 +14,9 @@ import casadi as ca
 import numpy as np
 
 from mol_shell.discretization.cells import cell_samples as kernel_samples
+from mol_shell.model.hyperelastic import incompressible_viscous_stress
 from mol_shell.model.kinematics import deformation_gradient
-from mol_shell.model.material import condensed, green_strain
+from mol_shell.model.material import green_strain
 from mol_shell.results.tensors import cauchy_stress, matmul, thickness_stretched
 
 
@@ -63,7 +64,8 @@ def second_piola(E, first, second, plane_stress=False):
 
     ``plane_stress``: the condensed law of ``material = "svk-plane-stress"`` has ``S22 = 0`` (the
     stress along the director that the condensation eliminated); its other entries are the
-    condensed law's. Nested 3x3 tuples in the ``b0`` basis.
+    condensed law's. Nested 3x3 tuples in the ``b0`` basis. (An incompressible law's viscous stress is not of this
+    form: :func:`~mol_shell.model.hyperelastic.incompressible_viscous_stress`.)
     """
     trace = E[0][0] + E[1][1] + E[2][2]
     S = [[first * trace * (i == j) + 2.0 * second * E[i][j] for j in range(3)] for i in range(3)]
@@ -113,7 +115,7 @@ def resultants_from_integrals(v1, v2, w1, w2, strains, r0):
 
 
 def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0.0, eta_mu=0.0, plane_stress=False,
-                    elastic=None, layers=None):
+                    elastic=None, layers=None, incompressible=False):
     """Resultants and face stresses of one sample, elastic and viscous parts (CasADi ``SX`` in, ``SX`` out).
 
     Parameters
@@ -139,6 +141,10 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
     layers : list, optional
         ``[(lower face, upper face, elastic)]`` of a layered wall, from ``zeta1`` to ``zeta1 + 2h``: each layer its
         own ``n_quad`` points and stress (in place of ``elastic``).
+    incompressible : bool
+        The viscous stress of an incompressible law: ``det C = 1`` sets the thickness rate, ``eta_mu`` alone
+        (:func:`~mol_shell.model.hyperelastic.incompressible_viscous_stress`; ``eta_lambda, plane_stress`` unused for
+        it); else :func:`second_piola` of ``E_t`` with the condensed pair.
 
     Returns
     -------
@@ -163,7 +169,11 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
             flat = ca.vertcat(*[E[i][j] for i in range(3) for j in range(3)])
             Et_flat = ca.jtimes(flat, e, ca.vertcat(*rates))
             Et = [[Et_flat[3 * i + j] for j in range(3)] for i in range(3)]
-            out["viscous"] = second_piola(Et, eta_lambda, eta_mu, plane_stress)
+            if incompressible:
+                C = tuple(tuple(2 * E[i][j] + (i == j) for j in range(3)) for i in range(3))
+                out["viscous"] = incompressible_viscous_stress(C, Et, eta_mu)[0]
+            else:
+                out["viscous"] = second_piola(Et, eta_lambda, eta_mu, plane_stress)
         return F, out, stretch
 
     layers = layers or [(zeta1, zeta1 + 2 * h, elastic)]

@@ -49,6 +49,9 @@ averaged over the cell's two samples, then its principal values and von Mises st
 units of ``h(s)`` and ``zeta_face`` the depths. With
 ``material = "svk-plane-stress"`` the stress ``S22`` along the director is 0 (the condensation).
 With Kelvin-Voigt viscosity the stresses include ``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t``
+(the pair condensed as the material's elastic one, :func:`~mol_shell.model.material.condensed`; an incompressible
+law's ``S_visc`` is the derivative of its Rayleigh function ``eta_mu E_t : E_t`` with the thickness rate that
+``det C = 1`` sets, :func:`~mol_shell.model.hyperelastic.incompressible_viscous_stress`, ``S_visc,22 = 0``)
 and the viscous part is also given alone (``*_viscous``).
 """
 
@@ -131,19 +134,21 @@ def kernel(n_quad, viscous=False, route=None, graded=False):
     Material data are inputs (:data:`PARAMETERS`), so one compiled kernel serves every run with
     ``n_quad`` points; the elastic kernel ignores ``e_t`` and the viscosities. ``route``
     (:func:`~mol_shell.results.law_stresses.law_of_attrs`): another law or fibres, whose stress is in the graph
-    (``lam, mu, plane_stress`` inputs unused; the viscous stress condensed unless under the director constraint).
-    ``graded``: a layered wall's layers scaled to the sample's ``h`` (:func:`route_elastic`).
+    (``lam, mu, plane_stress`` inputs unused; the viscous stress condensed unless under the director constraint, an
+    incompressible law's from ``det C = 1`` with ``eta_mu`` alone, a layered wall's condensed as the scene's
+    material asks). ``graded``: a layered wall's layers scaled to the sample's ``h`` (:func:`route_elastic`).
     """
     e, et, ref, par = ca.SX.sym("e", 8), ca.SX.sym("et", 8), ca.SX.sym("ref", 5), ca.SX.sym("par", len(PARAMETERS))
     zeta1, h, lam, mu, eta_l, eta_m, plane = ca.vertsplit(par)
     elastic, layers, name = None, None, f"ms_stress_q{n_quad}"
+    incompressible = route is not None and route[0] != "layers" and route_law(route).thickness == "incompressible"
     if route is not None:
         graded = graded and route[0] == "layers"
         elastic, layers, plane = route_elastic(route, zeta1, h if graded else None)
         digest = hashlib.sha256(repr(route).encode()).hexdigest()[:12]  # stable across processes: the C cache
         name = f"ms_stress_{re.sub(r'[^A-Za-z0-9]', '_', route[0])}_{digest}_q{n_quad}" + ("_graded" if graded else "")
     out = sample_stresses(ca.vertsplit(e), ca.vertsplit(et) if viscous else None, ca.vertsplit(ref), zeta1, h, n_quad,
-                          lam, mu, eta_l, eta_m, plane, elastic=elastic, layers=layers)
+                          lam, mu, eta_l, eta_m, plane, elastic=elastic, layers=layers, incompressible=incompressible)
     pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))
     outputs, names = [], []
     for kind in ("elastic", "viscous") if viscous else ("elastic",):

@@ -9,10 +9,12 @@ import numpy as np
 import pytest
 
 import mol_shell
+from mol_shell.model.hyperelastic import law_shell_dissipation
+from mol_shell.model.kinematics import deformation_gradient
 from mol_shell.model.laws import scene_shell_energy
 from mol_shell.model.material import Thickness, effective_lame
 from mol_shell.results.law_stresses import law_of_attrs, route_stress
-from mol_shell.results.stresses import RESULTANT_META, add_stresses, route_elastic, sample_stresses
+from mol_shell.results.stresses import PARAMETERS, RESULTANT_META, add_stresses, kernel, route_elastic, sample_stresses
 from mol_shell.scenes import Sphere
 
 H = 0.01
@@ -72,9 +74,12 @@ def test_resultants_are_finite_differences_of_the_integrated_energy(case):
 
     and ``axial_force = 2 pi r0 dW/dz_s``, ``axial_torque = 2 pi r0 dW/dchi_s``. Central differences with step 1e-4 (round-off ~1e-15 W / step, truncation ~step^2):
     agreement to 1e-6 relative of each quantity's scale (the hoop bending moment: the closed form below)."""
-    scene = _scene(case)
-    g = _energy_gradient(scene)
-    R = _resultants(scene)
+    _check_virtual_work(_energy_gradient(_scene(case)), _resultants(_scene(case)))
+
+
+def _check_virtual_work(g, R):
+    """The relations of :func:`test_resultants_are_finite_differences_of_the_integrated_energy` between the
+    resultants ``R`` and the gradient ``g`` of the energy (or of the Rayleigh function in the rates)."""
     _, _, chi_s, _, _, r, theta, _ = STRAINS
     r0 = REF[0]
     c, s = math.cos(theta), math.sin(theta)
@@ -89,6 +94,59 @@ def test_resultants_are_finite_differences_of_the_integrated_energy(case):
         scale = forces * (2 * math.pi * r0 if k >= 6 else 1.0) if k not in (3, 4) else max(abs(Mb), abs(Mt))
         assert got == pytest.approx(fd, abs=1e-6 * scale), (k, fd, got)
     assert abs(Mt) > 1e-3 * abs(Mb) and abs(Q) > 1e-3 * forces and abs(Ns) > 1e-2 * forces  # nothing trivial
+
+
+def test_incompressible_viscous_stress_is_the_rayleigh_functions_derivative():
+    """Kelvin-Voigt viscosity of an incompressible law (``eta_mu = 1000``, ``eta_lambda = 2000`` Pa s, which it cannot
+    feel) through the run's stress kernel, at a general sample with made-up rates:
+
+    - at each face ``S_v = J F_l^-1 sigma_v F_l^-T`` (``F_l`` the kinematic ``F`` with its director column times the
+      thickness stretch ``sqrt(C_22)``, ``det C = 1``) has ``S_v,22 = 0`` and the stress power ``S_v : E_t = 2 D``,
+      ``D = eta_mu E_t : E_t`` per unit volume with the thickness rate ``det C = 1`` sets: ``E(t)`` of the strains
+      ``e + t e_t`` computed here in NumPy (``C_22 = (1 - N)/M``), ``E_t`` by central differences (step 1e-6: 1e-7
+      relative allowed);
+    - the viscous resultants are the rates' derivatives of the integrated Rayleigh function
+      (:func:`~mol_shell.model.hyperelastic.law_shell_dissipation`, the kernels' route), as the elastic ones are the
+      strains' derivatives of the energy (the same relations, 1e-6 of the scale).
+
+    The code before condensed the pair as for plane stress: a power ``lambda* (tr E_t)^2 + 2 eta_mu E_t : E_t`` with
+    the kinematic ``E_t`` (``E_t,22 = 0``)."""
+    eta_mu, rates = 1000.0, (0.3, -0.2, 0.5, 0.4, -0.6, 0.25, 0.1, 0.2)
+    scene = Sphere(h=H, E=1e6, zeta1=-H, material="neo-hookean-incompressible", eta_mu=eta_mu, eta_lambda=2000.0)
+    assert PARAMETERS == ("zeta1", "h", "lam", "mu", "eta_lambda", "eta_mu", "plane_stress")
+    par = [-H, H, 0.0, 0.0, scene.eta_lambda, eta_mu, 1.0]
+    out = kernel(4, True, law_of_attrs(scene.params()))(e=STRAINS, e_t=rates, ref=REF, par=par)
+    sigma = np.array(out["sigma_viscous"]).ravel()
+
+    def strain(e, zeta, incompressible):
+        F = np.array(deformation_gradient(tuple(e), zeta, *REF), dtype=float)
+        C = F.T @ F
+        if incompressible:
+            m = C[0, 0] * C[2, 2] - C[0, 2] ** 2
+            C[1, 1] = 0.0
+            C[1, 1] = (1.0 - np.linalg.det(C)) / m
+        return F, C, (C - np.eye(3)) / 2
+
+    step = 1e-6
+    for face, zeta in enumerate((-H, H)):
+        F, C, _ = strain(STRAINS, zeta, True)
+        F_l = F.copy()
+        F_l[:, 1] *= math.sqrt(C[1, 1])
+        sig = np.empty((3, 3))
+        for c, (i, j) in enumerate(((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))):
+            sig[i, j] = sig[j, i] = sigma[6 * face + c]
+        inverse = np.linalg.inv(F_l)
+        S = np.linalg.det(F_l) * inverse @ sig @ inverse.T
+        rate = {kind: (strain(np.add(STRAINS, step * np.array(rates)), zeta, kind)[2]
+                       - strain(np.subtract(STRAINS, step * np.array(rates)), zeta, kind)[2]) / (2 * step)
+                for kind in (False, True)}
+        assert abs(S[1, 1]) < 1e-12 * np.abs(S).max()
+        assert np.sum(S * rate[False]) == pytest.approx(2 * eta_mu * np.sum(rate[True] ** 2), rel=1e-7), face
+    e, et = ca.SX.sym("e", 8), ca.SX.sym("et", 8)
+    D = law_shell_dissipation(ca.vertsplit(e), ca.vertsplit(et), eta_mu, Thickness(-H, H, 4), *REF)
+    g = np.array(ca.Function("g", [e, et], [ca.gradient(D, et)])(STRAINS, rates)).ravel()
+    R = dict(zip(RESULTANT_META, np.array(out["resultants_viscous"]).ravel()))
+    _check_virtual_work(g, R)
 
 
 def test_generic_route_with_the_svk_energy_is_svks_kernel():
