@@ -386,8 +386,9 @@ def small_strain_lame(scene):
 
 
 def viscosities(scene):
-    """The Kelvin-Voigt pair as the kernels use it: condensed like the elastic part for a plane-stress or
-    incompressible law (:func:`~mol_shell.model.material.condensed`), unchanged under the director constraint."""
+    """The Kelvin-Voigt pair of :func:`~mol_shell.model.material.thickness_dissipation`, condensed like the elastic part
+    (:func:`~mol_shell.model.material.condensed`) but under the director constraint; not for a single incompressible
+    law, whose ``eta_mu`` acts alone (:func:`~mol_shell.model.hyperelastic.incompressible_dissipation`)."""
     how = "svk" if thickness_treatment(scene.material) == "director" else "svk-plane-stress"
     return condensed(scene.eta_lambda, scene.eta_mu, how)
 
@@ -410,9 +411,9 @@ def layer_scenes(scene):
 
 
 def unused_law_parameters(scene):
-    """One line for each of ``E, nu, c10, c01`` set away from the scene's default that its law does not read: a law
+    """One line for each of ``E, nu, c10, c01`` set away from the scene's default that its law does not read (a law
     of one's own reads its own parameters, Mooney-Rivlin ``c10, c01`` alone, the incompressible neo-Hookean ``E``,
-    the others ``E, nu``. (A layered wall's layers say their own: not looked at.)"""
+    the others ``E, nu``), and for ``eta_lambda > 0`` on an incompressible law. (Layered walls: not looked at.)"""
     name, defaults = scene.material, {f.name: f.default for f in dataclasses.fields(scene)}
     if getattr(scene, "layers", "") or not isinstance(name, str):
         return []
@@ -423,8 +424,12 @@ def unused_law_parameters(scene):
         reads, why = ("E", "nu"), f"material = {name!r} reads E and nu, not c10 and c01"
     else:
         reads, why = (), f"material = {name!r} is a law of one's own: it reads its parameters (material_parameters)"
-    return [f"{key} = {getattr(scene, key):g} is unused: {why}" for key in ("E", "nu", "c10", "c01")
-            if key in defaults and key not in reads and getattr(scene, key) != defaults[key]]
+    lines = [f"{key} = {getattr(scene, key):g} is unused: {why}" for key in ("E", "nu", "c10", "c01")
+             if key in defaults and key not in reads and getattr(scene, key) != defaults[key]]
+    if getattr(scene, "eta_lambda", 0.0) > 0 and thickness_treatment(name) == "incompressible":
+        lines.append(f"eta_lambda = {scene.eta_lambda:g} is unused: material = {name!r} is incompressible (det C = 1), "
+                     "its Kelvin-Voigt stress has eta_mu alone")
+    return lines
 
 
 def locking_warnings(scene):

@@ -21,6 +21,7 @@ import pytest
 
 import mol_shell
 from mol_shell.discretization.system import ShellSystem
+from mol_shell.model.laws import unused_law_parameters
 from mol_shell.runs.simulate import resolve
 from mol_shell.scenes import Sphere
 
@@ -79,3 +80,20 @@ def test_the_cells_dissipation_is_the_finite_stretch_closed_form(stretch, shared
     expected = 2 * eta_mu * (2 * l**2 + 4 * l**-10) * l_t**2 * volume
     assert powers[0] == pytest.approx(expected, rel=2e-5)
     assert powers[1] == powers[0]
+
+
+@pytest.mark.parametrize("material", ["neo-hookean-incompressible", "mooney-rivlin"])
+def test_eta_lambda_on_an_incompressible_law_is_said_unused_once(material):
+    """``eta_lambda`` acts on nothing under ``det C = 1``: set on an incompressible law it is a SceneWarning (once)
+    and the run's ``scene_warning``, as an unread ``E, nu, c10, c01`` is; not on a compressible law, nor at 0."""
+    scene = Sphere(material=material, eta_mu=10.0, eta_lambda=20.0)
+    lines = unused_law_parameters(scene)
+    assert [line for line in lines if line.startswith("eta_lambda = 20 is unused")] == lines and len(lines) == 1
+    assert "det C = 1" in lines[0] and "eta_mu alone" in lines[0]
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        ds = mol_shell.simulate(scene, n=8, t_end=1e-5, progress=False, stresses=False)
+    told = [str(w.message) for w in seen if w.category is mol_shell.SceneWarning]
+    assert told == lines and ds.attrs.get("scene_warning", "") == lines[0]
+    assert unused_law_parameters(Sphere(material=material, eta_mu=10.0)) == []
+    assert unused_law_parameters(Sphere(material="neo-hookean", nu=0.3, eta_mu=10.0, eta_lambda=20.0)) == []
