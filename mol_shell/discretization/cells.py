@@ -356,9 +356,9 @@ class CellKernels:
 
         An incompressible law (:attr:`incompressible_viscosity`): ``eta_mu E_t : E_t`` with the thickness rate that
         ``det C = 1`` sets, point by point in both forms
-        (:func:`~mol_shell.model.hyperelastic.incompressible_dissipation`). Every other law (and a layered wall) takes the condensed pair
-        ``(eta_lambda, eta_mu)`` of the scene's material in the thickness moments' form
-        (:func:`~mol_shell.model.material.thickness_dissipation_moments`, the same quadrature to round-off);
+        (:func:`~mol_shell.model.hyperelastic.incompressible_dissipation`). Every other law (and a layered wall)
+        takes the pair ``(eta_lambda, eta_mu)`` condensed as the scene's material asks, in the thickness moments'
+        form (:func:`~mol_shell.model.material.thickness_dissipation_moments`, the same quadrature to round-off);
         ``reference`` (default: the system's choice) selects the per-point form.
         """
         factors, beta2_0, moments = self._factors_and_moments(data)

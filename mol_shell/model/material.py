@@ -68,9 +68,12 @@ def condensed(first, second, material="svk"):
 
     ``"svk"``: unchanged. ``"svk-plane-stress"``: ``(2 lambda mu / (lambda + 2 mu), mu)``, the law
     with its ``22`` (thickness) stress eliminated. Applied to the elastic moduli and, separately, to
-    the Kelvin-Voigt viscosities (``S22 = 0`` for each part). For the sum of the two this is exact
-    under proportional damping (``eta_lambda / eta_mu = lambda / mu``); otherwise the thickness
-    stress of the sum relaxes instead of vanishing, and condensing each part is our modelling choice.
+    the Kelvin-Voigt viscosities of a plane-stress law (``S22 = 0`` for each part). For the sum of the two this is
+    exact under proportional damping (``eta_lambda / eta_mu = lambda / mu``); otherwise the thickness
+    stress of the sum relaxes instead of vanishing, and condensing each part is our modelling choice (docs/materials.md:
+    a sphere's breathing at ``nu = 0.3``, ``eta_lambda = 10 eta_mu`` decays at 5.33 1/s, at 8.96 1/s with the sum's
+    thickness stress relaxing). Not for an incompressible law, whose thickness rate is kinematic
+    (:func:`~mol_shell.model.hyperelastic.incompressible_dissipation`).
     """
     if material == "svk":
         return first, second
@@ -334,7 +337,8 @@ def svk_turning_limit(strains, moments, beta2_0=0.0, trig=None):
 
 
 def thickness_dissipation(strains, rates, eta_lambda, eta_mu, factors, beta2_0=0.0):
-    """``sum_q vol_q [eta_lambda/2 (tr E_t)^2 + eta_mu E_t : E_t]`` (CasADi ``strains``/``rates``)."""
+    """``sum_q vol_q [eta_lambda/2 (tr E_t)^2 + eta_mu E_t : E_t]`` (CasADi ``strains``/``rates``), ``E_t,22 = 0``
+    (the director's; a plane-stress law passes its condensed pair, :func:`condensed`)."""
     e_sym, r_sym = ca.SX.sym("e", 8), ca.SX.sym("edot", 8)
     f_sym = [ca.SX.sym(f"f{i}", 4) for i in range(len(factors))]  # zeta (a graded wall's are symbols), j1, j3, vol
     b_sym = ca.SX.sym("beta2_0")
@@ -359,7 +363,10 @@ def shell_dissipation(strains, rates, eta_lambda, eta_mu, thickness, r0=1.0, the
 
         D = (1/r0) int [eta_lambda/2 (tr E_t)^2 + eta_mu E_t : E_t] (1 - zeta theta0_s)(r0 + zeta cos theta0) dzeta,
 
-    ``E_t = dE/dstrains . rates`` and ``rates`` are the time derivatives of ``strains``.
+    ``E_t = dE/dstrains . rates`` and ``rates`` are the time derivatives of ``strains``; ``E_t,22 = 0`` under the
+    director, and a plane-stress law passes the pair condensed (:func:`condensed`: each part's thickness stress
+    eliminated). An incompressible law's ``D`` has the thickness rate ``det C = 1`` sets and ``eta_mu`` alone:
+    :func:`~mol_shell.model.hyperelastic.law_shell_dissipation`.
     ``beta1_0, beta2_0``: the reference configuration's strains, as in :func:`shell_energy`.
     The generalised viscous forces are ``-dD/d(rates)``; the energy decays at the rate ``2 D``.
     Needs CasADi symbols for ``strains``/``rates`` (it differentiates ``E``).
