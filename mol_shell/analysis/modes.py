@@ -26,7 +26,7 @@ import xarray as xr
 
 from mol_shell._core.errors import MaterialWarning, ParameterError, scalar
 from mol_shell.model.kinematics import FIELDS
-from mol_shell.model.laws import locking_warnings
+from mol_shell.model.law_warnings import locking_warnings
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, scene_attrs
 from mol_shell.runs import resources

@@ -35,19 +35,15 @@ from mol_shell.model.hyperelastic import condensed_energy, thickness_component
 from mol_shell.model.laws import (
     COMPRESSIBLE,
     LAWS,
-    Law,
+    SVK_LAW,
     renamed_law,
     scene_material,
-    svk,
     thickness_treatment,
     user_material,
 )
 from mol_shell.model.layers import layer_value, parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, lame
-
-#: the SVK energy as a law (the director treatment; the Lame pair as the scene's material condenses it)
-SVK_LAW = Law("svk", svk, ("lambda", "mu"), "director")
 
 
 def law_of_attrs(attrs):

@@ -14,7 +14,7 @@ from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
 from mol_shell.model.kinematics import FIELDS
-from mol_shell.model.laws import locking_warnings, unused_fibres_warnings, unused_law_parameters
+from mol_shell.model.law_warnings import locking_warnings, unused_fibres_warnings, unused_law_parameters
 from mol_shell.results.dataset import build_dataset
 from mol_shell.results.stresses import MAX_SAMPLES, add_stresses
 from mol_shell.runs import resources

@@ -29,7 +29,8 @@ from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.model.laws import REGISTRY, locking_warnings, resolve_material, scene_material, user_material
+from mol_shell.model.law_warnings import locking_warnings
+from mol_shell.model.laws import REGISTRY, resolve_material, scene_material, user_material
 from mol_shell.model.layers import parse_layers
 from mol_shell.results.cf import header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf

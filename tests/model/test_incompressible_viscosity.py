@@ -21,7 +21,7 @@ import pytest
 
 import mol_shell
 from mol_shell.discretization.system import ShellSystem
-from mol_shell.model.laws import unused_law_parameters
+from mol_shell.model.law_warnings import unused_law_parameters
 from mol_shell.runs.simulate import resolve
 from mol_shell.scenes import Sphere
 

@@ -42,6 +42,7 @@ from mol_shell.model.hyperelastic import (
     thickness_component,
     with_thickness,
 )
+from mol_shell.model.law_warnings import unused_law_parameters
 from mol_shell.model.laws import (
     HALLEY_STEPS,
     LAWS,
@@ -53,7 +54,6 @@ from mol_shell.model.laws import (
     neo_hookean_log_solve,
     neo_hookean_log_thickness,
     svk,
-    unused_law_parameters,
 )
 from mol_shell.model.material import Thickness, effective_lame, lame, quadrature_factors, thickness_energy
 from mol_shell.scenes import Sphere

@@ -73,7 +73,7 @@ def test_layers_add_up_to_the_wall_to_what_a_user_types_and_the_message_shows_th
 
 def test_the_director_law_is_warned_about_per_layer_not_for_the_scene_defaults_the_layers_replace():
     """A wall of rubber-like layers with no svk layer was warned about as svk at nu = 0.49 (the scene's defaults)."""
-    from mol_shell.model.laws import locking_warnings
+    from mol_shell.model.law_warnings import locking_warnings
 
     assert locking_warnings(Sphere(h=0.01, layers="0.012 neo-hookean-incompressible; 0.008 svk-plane-stress nu=0.3")) == []
     notes = locking_warnings(Sphere(h=0.01, material="svk-plane-stress",

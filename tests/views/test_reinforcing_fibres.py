@@ -98,7 +98,7 @@ def test_twenty_layers_of_two_families_each_get_a_colour():
 def test_a_scene_level_fibre_key_unused_by_every_layer_is_said_once():
     """A scene-level ``fibre_angle`` without ``fibre_E`` reaches every layer; it was warned once per layer, the
     same line repeated. A layer of its own keeps its own line."""
-    from mol_shell.model.laws import unused_fibres_warnings
+    from mol_shell.model.law_warnings import unused_fibres_warnings
 
     layers = "0.012 neo-hookean-incompressible; 0.008 svk-plane-stress nu=0.3"
     said = unused_fibres_warnings(mol_shell.Sphere(h=0.01, layers=layers, fibre_angle=0.5))
@@ -112,7 +112,7 @@ def test_a_layer_that_turns_its_fibres_off_is_not_told_the_scene_s_fibre_keys_ar
     """The scene's fibre keys reach every layer; a layer that sets ``fibre_E=0`` itself chose no fibres, and was
     warned that the scene's ``fibre_angle``, ``fibre_families`` were unused there. A key it sets itself is still
     said."""
-    from mol_shell.model.laws import unused_fibres_warnings
+    from mol_shell.model.law_warnings import unused_fibres_warnings
 
     scene = mol_shell.Sphere(h=0.01, fibre_E=5e6, fibre_angle=0.7, fibre_families=2,
                              layers="0.012 svk-plane-stress nu=0.3; 0.008 neo-hookean-incompressible fibre_E=0")
