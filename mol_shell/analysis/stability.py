@@ -150,7 +150,10 @@ def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, i
 
     def run(dt, horizon):
         end = math.ceil(horizon / dt) * dt  # on the step grid
-        return Leapfrog(dt=dt, chunk=100).integrate(system, compiled, y0, np.array([0.0, end]))
+        result = Leapfrog(dt=dt, chunk=100).integrate(system, compiled, y0, np.array([0.0, end]))
+        if result.status == "interrupted":  # Ctrl-C, kept by the integrator as the run's end: not an unstable step
+            raise KeyboardInterrupt
+        return result
 
     def stable(dt):
         return run(dt, horizon).status == "complete"
@@ -205,6 +208,8 @@ def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, ato
         options = {"dt": _leapfrog_step(case, 0.5 * bound)} if name == "leapfrog" else {"rtol": rtol, "atol": atol}
         try:
             ds = simulate(scene, name, n=case.n, times=_times(case, options), progress=False, **options)
+            if ds.attrs["status"] == "interrupted":  # Ctrl-C: the report stops here, not after the other integrators
+                raise KeyboardInterrupt
             row[f"{key}_status"] = ds.attrs["status"]
             row[f"{key}_steps"] = int(ds.attrs["n_steps"]) if "n_steps" in ds.attrs else float("nan")
             row[f"{key}_failures"] = ds.attrs.get("n_failed_steps", float("nan"))

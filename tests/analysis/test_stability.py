@@ -264,3 +264,17 @@ def test_the_quick_option_says_what_it_leaves_out_and_how_long_it_takes(capsys):
     quick = {case.n for case in default_cases(quick=True)}
     assert full - quick == {2560, 10240} and len(default_cases(quick=True)) == 24
     assert "leave out the grid cases n = 2560 and 10240" in text and "about 1 min" in text and "8 min" in text
+
+
+def test_ctrl_c_in_a_bisection_run_stops_the_report_and_is_not_read_as_an_unstable_step(monkeypatch):
+    """An interrupted leap-frog run of the bisection (its integrator keeps Ctrl-C as the run's end, status
+    ``interrupted``) raises KeyboardInterrupt for the report to stop on; it used to count as an unstable step, the
+    bisection went on and the report was written complete, with NaN for the stable step, exit 0."""
+    from mol_shell.analysis import stability
+
+    class Interrupted:
+        status, failure_time = "interrupted", 1e-3
+
+    monkeypatch.setattr(stability.Leapfrog, "integrate", lambda self, *args, **kwargs: Interrupted())
+    with pytest.raises(KeyboardInterrupt):
+        stability.stable_leapfrog_step(None, None, None, 1e-4)
