@@ -7,7 +7,7 @@ from contextlib import contextmanager
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.args import check_companions, integer_arg, number_arg, plural
 from mol_shell.results.dataset import RUN_FILE, read_run
-from mol_shell.views.animate import DEFAULTS, MAX_FPS, MOVING, RANGES, SUFFIXES, animate, default_field
+from mol_shell.views.animate import DEFAULTS, MAX_FPS, MIN_FPS, MOVING, RANGES, SUFFIXES, animate, default_field
 from mol_shell.views.export import FORMATS, N_PHI, N_PHI_MAX, companion_files, export
 from mol_shell.views.fields import check_run
 
@@ -80,8 +80,8 @@ def register_animate(subparsers):
                         help=f"azimuthal samples, {_range('n_phi')} (default {DEFAULTS['n_phi']})")
     parser.add_argument("--fibres", type=integer_arg("--fibres", *RANGES["fibres"]), default=DEFAULTS["fibres"],
                         help=f"material fibres drawn, {_range('fibres')} (default {DEFAULTS['fibres']})")
-    parser.add_argument("--fps", type=number_arg("--fps", 0, MAX_FPS, high_closed=True), default=DEFAULTS["fps"],
-                        help="frames per second (default 4)")
+    parser.add_argument("--fps", type=number_arg("--fps", MIN_FPS, MAX_FPS, low_closed=True, high_closed=True),
+                        default=DEFAULTS["fps"], help=f"frames per second, [{MIN_FPS:g}, {MAX_FPS}] (default 4)")
     parser.add_argument("--width", type=integer_arg("--width", *RANGES["width"]), default=DEFAULTS["width"],
                         help=f"width in pixels, {_range('width')} (default {DEFAULTS['width']}; height 0.9 of it; an .mp4's "
                         "sides rounded to even numbers)")

@@ -53,6 +53,9 @@ RANGES = {"n_phi": (3, 1024), "fibres": (1, 360), "width": (100, 4096)}
 
 #: the largest frame rate (frames per second; the command line's ``--fps`` takes the same)
 MAX_FPS = 100
+#: the smallest: a frame of 500 s (a GIF stores a frame's duration in hundredths of a second, at most 655.35 s;
+#: 0.001 overflowed it)
+MIN_FPS = 0.002
 
 
 def check_integers(**values):
@@ -137,8 +140,8 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
     from matplotlib.cm import ScalarMappable
 
     check_integers(n_phi=n_phi, fibres=fibres, width=width)
-    if not (is_number(fps) and 0 < fps <= MAX_FPS):
-        raise ParameterError("fps", fps, f"(0, {MAX_FPS}] frames per second")
+    if not (is_number(fps) and MIN_FPS <= fps <= MAX_FPS):
+        raise ParameterError("fps", fps, f"[{MIN_FPS:g}, {MAX_FPS}] frames per second")
     ds = run_of(ds)
     field, chosen = default_field(ds) if field is None else (field, "")
     values, units, _ = field_values(ds, field, "cells", option="field")

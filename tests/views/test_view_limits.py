@@ -70,8 +70,10 @@ def test_the_functions_refuse_the_same_ranges_naming_their_keywords(files, tmp_p
         export(ds, tmp_path / "x.xdmf", n_phi=1025)
     with pytest.raises(ParameterError, match=r"^width = 5000 is outside integers in \[100, 4096\]$"):
         animate(ds, tmp_path / "x.gif", width=5000)
-    with pytest.raises(ParameterError, match=r"^fps = 0 is outside \(0, 100\] frames per second$"):
+    with pytest.raises(ParameterError, match=r"^fps = 0 is outside \[0.002, 100\] frames per second$"):
         animate(ds, tmp_path / "x.gif", fps=0)
+    with pytest.raises(ParameterError, match=r"^fps = 0.001 is outside \[0.002, 100\]"):  # overflowed a GIF's frame
+        animate(ds, tmp_path / "x.gif", fps=0.001)
     with pytest.raises(ParameterError, match=r"^count = 361 is outside integers in \[1, 360\]$"):
         fibres_figure(ds, count=361)
 
@@ -110,3 +112,15 @@ def test_the_refusal_of_at_s_says_which_figures_take_it(files, tmp_path, capsys)
                   "--at-s is an option of --figure fibres, of --figure history and of the default figure of a shell "
                   "that is not an unloaded cylinder, not of the paper's figures 4-8")
     assert "only; and" not in err
+
+
+def test_the_slowest_frame_rate_writes_a_gif_and_a_slower_one_is_refused_on_the_command_line(files, tmp_path, capsys):
+    """A GIF stores a frame's duration in hundredths of a second (at most 655.35 s): ``--fps 0.001`` overflowed it
+    (an internal error); the range's low end, 0.002 (500 s a frame), writes the file."""
+    from PIL import Image
+
+    refused(capsys, ["animate", str(files["run"]), "--fps", "0.001", "-o", str(tmp_path / "a.gif")],
+            "--fps = 0.001 is outside [0.002, 100]")
+    assert main(["animate", str(files["run"]), "--fps", "0.002", "--width", "100", "-o", str(tmp_path / "b.gif")]) == 0
+    with Image.open(tmp_path / "b.gif") as gif:
+        assert gif.info["duration"] == 500_000
