@@ -162,8 +162,9 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
         raise ParameterError("repeats", repeats, f"integers 1..{MAX_REPEATS}", hint="the median of the repeats is "
                              "timed at every point of every sweep")
     times = np.asarray(times, dtype=float)
-    for name in integrators:
-        resources.check_analysis(n, len(times), f"each {name} run of the comparison", "saved times", integrator=name)
+    for k, name in enumerate(integrators):  # the build is the comparison's: announced once
+        resources.check_analysis(n, len(times), f"each {name} run of the comparison", "saved times", integrator=name,
+                                 announce=k == 0)
     plan = {name: [(value, skip_reason(name, value, times)) for value in next(iter(sweeps[name].values()))]
             for name in integrators}
     if all(reason for points in plan.values() for _, reason in points):

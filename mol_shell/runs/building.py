@@ -59,7 +59,7 @@ def build(scene, n=40):
     scene = as_scene(scene)
     resources.check_analysis(n, 2, f"building the graphs of n = {n:,} nodes" if isinstance(n, (int, np.integer))
                              else "building the graphs", "states", integrator="leapfrog",
-                             fields=len(getattr(scene, "fields", range(5))))
+                             fields=len(getattr(scene, "fields", range(5))), announce=False)
     system, compiled, _ = _built(_graph_key(scene), int(n))
     return system, compiled
 

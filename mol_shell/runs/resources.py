@@ -52,6 +52,9 @@ BUILD_BYTES_FIXED = 300e6
 BUILD_S_PER_NODE = 1.0e-3
 #: a build projected to take longer than this (s) is announced before it starts (n = 100,000 took 107 s in silence)
 LONG_BUILD_S = 30.0
+#: the same for an analysis (modes, a path, a comparison), which builds and evaluates the exact Jacobian before it
+#: says anything: measured 1.0 ms per node for modes at n = 30,000 (31 s in silence)
+LONG_ANALYSIS_BUILD_S = 20.0
 #: one compiled right-hand side per node (s): 17.35 us per leap-frog step at n = 40, 0.55 us per node at 16,000
 RHS_S_PER_NODE = 0.5e-6
 #: right-hand sides per step and the imaginary-axis stability interval ``|lambda| dt`` of explicit Runge-Kutta
@@ -274,17 +277,22 @@ def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, ti
     return est
 
 
-def check_analysis(n, states, what, kept, *, integrator="cvode-bdf", fields=5, name=None, value=None, fewer=None):
+def check_analysis(n, states, what, kept, *, integrator="cvode-bdf", fields=5, name=None, value=None, fewer=None,
+                   announce=True):
     """Before a graph is built for an analysis (``what``: natural modes, an equilibrium path, a comparison of
     integrators): refuse ``n`` when the graph, the spectrum, the matrices and the ``states`` kept (modes, path
     steps, saved times) would not fit in memory. ``integrator`` names the matrices kept (a comparison's most
     demanding one; modes and paths factorise a sparse Jacobian, as an implicit integrator does). With ``name``
     (the parameter that sets how many states: a path's ``max_steps``, whose ``value`` is ``states - 1``), it is
-    named when fewer states would fit, with the advice ``fewer``."""
+    named when fewer states would fit, with the advice ``fewer``. ``announce``: warn when the build takes over
+    :data:`LONG_ANALYSIS_BUILD_S` (not for a plain build, whose caller announces it)."""
     check_nodes(n)
     est = estimate(n, max(int(states), 2), 0.0, integrator, fields=fields)
     check_memory(est, times_name=name, times_value=value, what=what, kept=kept, fewer=fewer or "",
                  offset=int(states) - value if name is not None else 0)
+    if announce and est.build_seconds > LONG_ANALYSIS_BUILD_S:  # modes at n = 30,000: 31 s in silence
+        warnings.warn(f"building the graphs and the Jacobian at n = {int(n):,} takes about "
+                      f"{show_seconds(est.build_seconds)} before {what}", LongRunWarning, stacklevel=3)
 
 
 def measure_rhs_seconds(compiled, y0, repeats=20):

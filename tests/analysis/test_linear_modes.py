@@ -391,3 +391,21 @@ def test_torsional_modes_are_exact_for_any_base_surface(zeta1, eta_mu):
     lam = breathing_eigenvalue(c)
     check_eigenpair(J, breathing_mode(c, lam, N, scene.L), lam)
     check_spectrum(J, lam)
+
+
+def test_the_inverse_mass_matrix_is_inverted_block_by_block():
+    """``block_inverse`` inverts a sparse matrix by the connected components of its pattern (a node's coordinates
+    for the inverse mass matrix): the exact inverse of a permuted block-diagonal matrix with blocks of several
+    sizes. It replaced scipy's column-by-column sparse inverse, quadratic in n (modes at n = 30,000: minutes)."""
+    import scipy.sparse
+
+    from mol_shell.analysis.modes import block_inverse
+
+    rng = np.random.default_rng(3)
+    blocks = [rng.standard_normal((m, m)) + 4 * np.eye(m) for m in (5, 5, 3, 1, 5, 4, 5)]
+    A = scipy.sparse.block_diag(blocks).tocsc()
+    order = rng.permutation(A.shape[0])
+    A = A[order][:, order].tocsc()
+    B = block_inverse(A)
+    assert B.nnz == sum(m * m for m in (5, 5, 3, 1, 5, 4, 5))
+    np.testing.assert_allclose((A @ B).toarray(), np.eye(A.shape[0]), atol=1e-13)

@@ -139,6 +139,20 @@ def test_a_long_build_is_announced_before_it_starts(no_build):
             mol_shell.simulate("twisted-cylinder", n=40, t_end=1e-3, progress=False)
 
 
+def test_a_long_analysis_build_is_announced_once_before_it_starts(no_build):
+    """Modes at n = 30,000 built the graphs and the exact Jacobian for 31 s in silence (minutes before the inverse
+    mass matrix was inverted block by block): an analysis whose build is projected past LONG_ANALYSIS_BUILD_S says
+    so, once (not again for the build inside it), before any graph; n = 400 does not."""
+    with pytest.warns(LongRunWarning) as said, pytest.raises(Built):
+        mol_shell.modes("sphere", n=30_000)
+    lines = [str(w.message) for w in said if issubclass(w.category, LongRunWarning)]
+    assert lines == ["building the graphs and the Jacobian at n = 30,000 takes about 30 s before computing 10 modes"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", LongRunWarning)
+        with pytest.raises(Built):
+            mol_shell.modes("sphere", n=400)
+
+
 def test_a_comparison_takes_at_most_100_repeats(capsys, tmp_path, no_build):
     """``--repeats 1000000000`` was accepted, and the comparison would have run for years."""
     code = main(["compare", "sphere", "--integrators", "leapfrog", "--repeats", "1000000000", "-o",
