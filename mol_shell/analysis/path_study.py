@@ -1,8 +1,8 @@
 """Studies of equilibrium paths: one path per case of a parameter grid, their critical points in one Dataset.
 
 ``path_study(scene, vary, parameter, start, stop)`` runs :func:`mol_shell.analysis.path.path` for every case of
-``vary`` (the design of :func:`mol_shell.runs.study.design`: the product of the values, or a list of cases) on the
-back ends of run studies (:func:`mol_shell.runs.scheduling.execute`: this process, local processes, or a dask
+``vary`` (the design of :func:`mol_shell.runs.study_design.design`: the product of the values, or a list of cases)
+on the back ends of run studies (:func:`mol_shell.runs.scheduling.execute`: this process, local processes, or a dask
 cluster), keeps each finished path in ``<output stem>.cases/`` (:class:`mol_shell.results.study_store.Store`: a rerun
 reuses it), and gathers the critical points: dims ``(*study dims, point)``, the points of each case in the order its
 path met them, padded (``point_kind = ""``, ``point_parameter = NaN``) to the longest. ``first_critical`` is the
@@ -30,7 +30,8 @@ from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netc
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
 from mol_shell.runs.scheduling import check_workers, connect, refuse_in_starting_worker, scheduler_name
-from mol_shell.runs.study import carried_materials, case_inputs, case_result, design, label_coords, run_cases
+from mol_shell.runs.study import carried_materials, case_inputs, case_result, run_cases
+from mol_shell.runs.study_design import design, label_coords
 from mol_shell.scenes import UNITS, with_params
 
 #: statuses of a path that are final (stored, not run again on resume)

@@ -1,0 +1,145 @@
+"""The design of a parameter study: which cases its varied parameters make, each value typed as its parameter wants
+it, and the units and long names of the varied coordinates (:func:`mol_shell.runs.study.study` and
+:func:`mol_shell.analysis.path_study.path_study` share it)."""
+
+from __future__ import annotations
+
+import dataclasses
+import itertools
+
+import numpy as np
+
+from mol_shell._core.errors import ParameterError
+from mol_shell.integrators import INTEGRATORS
+from mol_shell.model.laws import scene_material
+from mol_shell.runs.simulate import DEFAULT_DT, integrator_options
+from mol_shell.scenes import DESCRIPTIONS, UNITS, _coerce
+
+
+def design(scene, vary, integrator="leapfrog", options=None):
+    """``(dims, coords, cases)`` of a study: a grid for a dict of lists, a ``case`` dim for a list of dicts.
+
+    Each case is ``(index, {name: value})``; names are scene parameters or integrator options (none with
+    ``integrator=None``: a study of paths). A case of a list
+    that leaves a name out has the base scene's value, or for an option the study's (``options``), else the
+    integrator's default.
+    """
+    allowed = set(scene_fields(scene)) | material_names(scene)  # integrator None: a study of paths, no options
+    allowed |= _option_names(scene, integrator) if integrator is not None else set()
+    if isinstance(vary, dict):
+        if not vary:
+            raise ParameterError("vary", vary, "at least one parameter with values")
+        names = list(vary)
+        for name in names:  # a name first: its values are typed as the name wants them
+            _check_name(name, allowed, scene, integrator)
+        values = [[_typed(scene, k, v, integrator) for v in np.atleast_1d(np.asarray(vary[k], dtype=object)).tolist()]
+                  for k in names]
+        for name, vals in zip(names, values):
+            if not vals or len(set(map(repr, vals))) != len(vals):
+                raise ParameterError(f"vary[{name!r}]", vals, "distinct values, at least one")
+        cases = [(idx, dict(zip(names, (values[d][i] for d, i in enumerate(idx)))))
+                 for idx in itertools.product(*(range(len(v)) for v in values))]
+        return names, {k: v for k, v in zip(names, values)}, cases
+    cases = [dict(c) for c in vary]
+    if not cases:
+        raise ParameterError("vary", vary, "at least one case")
+    names = sorted({k for c in cases for k in c})
+    for name in names:
+        _check_name(name, allowed, scene, integrator)
+    coords = {k: [_typed(scene, k, c[k] if k in c else _default(scene, k, integrator, options or {}), integrator)
+                  for c in cases] for k in names}
+    return ["case"], coords, [((i,), {k: coords[k][i] for k in names}) for i in range(len(cases))]
+
+
+def scene_fields(scene):
+    """The names of ``scene``'s parameters (its dataclass fields)."""
+    return [f.name for f in dataclasses.fields(scene)]
+
+
+def material_names(scene):
+    """``material.NAME`` for each parameter of the scene's law of one's own (none for a built-in law)."""
+    user = scene_material(scene.material) if hasattr(scene, "material_parameters") else None
+    return {f"material.{k}" for k in (user.parameters if user is not None else ())}
+
+
+def _option_type(integrator, name):
+    """The declared type of option ``name`` of ``integrator`` as text (``"int"``, ``"str"``, ...), ``""`` if none."""
+    fields = {f.name: f for f in dataclasses.fields(INTEGRATORS[integrator])} if integrator in INTEGRATORS else {}
+    return str(fields[name].type) if name in fields else ""
+
+
+def _option_names(scene, integrator):
+    return integrator_options(scene, integrator)
+
+
+def label_coords(ds, coords, dims):
+    """Units and long names of the varied parameters (and of the ``case`` index)."""
+    for name in coords:
+        if name not in ds.coords:
+            continue
+        attrs = {"long_name": f"{DESCRIPTIONS.get(name, name)} (varied)"}
+        if name.startswith("material."):  # a Material's parameter: its units are the law's author's
+            attrs["long_name"] = f"parameter {name.removeprefix('material.')} of the material (varied)"
+        elif ds[name].dtype.kind in "iuf":
+            attrs["units"] = UNITS.get(name, "1")
+        ds[name].attrs.update(attrs)
+    if "case" in dims and "case" in ds.coords:
+        ds["case"].attrs.update({"units": "1", "long_name": "index of the case in the list of cases"})
+
+
+def _check_name(name, allowed, scene, integrator=None):
+    if name not in allowed:
+        hint = f"parameters of scene {scene.name}" + (f" and options of {integrator}" if integrator else "")
+        if name in ("integrator", "n"):  # one per study
+            hint += f"; {name} is one per study (integrators are compared by mol-shell compare)"
+        raise ParameterError("vary", name, "{" + ", ".join(sorted(allowed)) + "}", hint=hint)
+
+
+def _default(scene, name, integrator, options):
+    """The value of ``name`` in a case that leaves it out: the scene's, the study's option, the integrator's
+    default; refused by name when there is none to show (an option whose default is left to the solver)."""
+    if hasattr(scene, name):
+        return getattr(scene, name)
+    if name.startswith("material.") and hasattr(scene, "material_parameters"):  # the law's value in this scene
+        return scene_material(scene.material, scene.material_parameters).parameters[name.split(".", 1)[1]]
+    if name in options:
+        return options[name]
+    fields = {f.name: f for f in dataclasses.fields(INTEGRATORS[integrator])} if integrator in INTEGRATORS else {}
+    value = fields[name].default if name in fields else None
+    if name == "dt" and value is None:  # the unshearable scene's leap-frog
+        value = DEFAULT_DT
+    if value is None or value is dataclasses.MISSING:
+        raise ParameterError("vary", f"<{name} missing from a case>", f"cases that each give {name}",
+                             hint=f"{integrator} has no value of {name} to record for a case without it")
+    return value
+
+
+def _typed(scene, name, value, integrator=None):
+    """A value as the scene field's type wants it, or the integrator option's (strings from the command line are
+    converted: ``jac_every=20`` an integer, ``linsolver=band`` a word).
+
+    A string that is not a number, for a numeric parameter, is refused here (for every case at once).
+    """
+    if isinstance(value, np.generic):
+        value = value.item()
+    fields = {f.name: f for f in dataclasses.fields(scene)}
+    if name not in fields:
+        kind = _option_type(integrator, name)
+        if isinstance(value, str) and ("str" in kind or "bool" in kind):
+            words = {"true": True, "false": False}
+            return words.get(value.strip().lower(), value) if "bool" in kind else value
+        if isinstance(value, str):
+            try:
+                value = float(value)
+            except ValueError:
+                raise ParameterError.not_a(f"vary[{name!r}]", value, "a number", "numbers") from None
+        if "int" in kind and "float" not in kind and isinstance(value, float) and value.is_integer():
+            return int(value)  # the command line's 20 (or a range's 20.0) for an integer option
+        return value
+    annotation = str(fields[name].type)
+    value = _coerce(name, value, fields[name].type)
+    if isinstance(value, str) and annotation != "str":
+        dataclasses.replace(scene, **{name: value})  # raises: "gamma = 'abc' is not a number; allowed: ..."
+    if "int" in annotation and isinstance(value, float) and value.is_integer():
+        return int(value)
+    return value
