@@ -6,14 +6,15 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import math
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.laws import scene_material
 from mol_shell.runs.simulate import DEFAULT_DT, integrator_options
-from mol_shell.scenes import DESCRIPTIONS, UNITS, _coerce
+from mol_shell.scenes import DESCRIPTIONS, UNITS, _coerce, with_params
 
 
 def design(scene, vary, integrator="leapfrog", options=None):
@@ -46,7 +47,8 @@ def design(scene, vary, integrator="leapfrog", options=None):
     names = sorted({k for c in cases for k in c})
     for name in names:
         _check_name(name, allowed, scene, integrator)
-    coords = {k: [_typed(scene, k, c[k] if k in c else _default(scene, k, integrator, options or {}), integrator)
+    coords = {k: [_typed(scene, k, c[k], integrator) if k in c else
+                  _typed(scene, k, _default(scene, k, integrator, options or {}), integrator, left_out=True)
                   for c in cases] for k in names}
     return ["case"], coords, [((i,), {k: coords[k][i] for k in names}) for i in range(len(cases))]
 
@@ -114,11 +116,15 @@ def _default(scene, name, integrator, options):
     return value
 
 
-def _typed(scene, name, value, integrator=None):
+def _typed(scene, name, value, integrator=None, left_out=False):
     """A value as the scene field's type wants it, or the integrator option's (strings from the command line are
     converted: ``jac_every=20`` an integer, ``linsolver=band`` a word).
 
-    A string that is not a number, for a numeric parameter, is refused here (for every case at once).
+    Refused here, for every case at once: a string that is not a number, for a numeric parameter; NaN, and an
+    infinity the parameter refuses (with its own message); ``"auto"`` (``None``) for a numeric parameter left to the
+    code (``R``, ``zeta1``, ...: its coordinate holds numbers, :func:`_auto_refused`). An edge left to the code
+    (``end1``, ``end2``) is the word ``"auto"`` in the coordinate. ``left_out``: the value is the base scene's, for a
+    case of a list that leaves ``name`` out.
     """
     if isinstance(value, np.generic):
         value = value.item()
@@ -135,11 +141,47 @@ def _typed(scene, name, value, integrator=None):
                 raise ParameterError.not_a(f"vary[{name!r}]", value, "a number", "numbers") from None
         if "int" in kind and "float" not in kind and isinstance(value, float) and value.is_integer():
             return int(value)  # the command line's 20 (or a range's 20.0) for an integer option
+        _refuse_non_finite(scene, name, value, integrator)
         return value
     annotation = str(fields[name].type)
     value = _coerce(name, value, fields[name].type)
     if isinstance(value, str) and annotation != "str":
         dataclasses.replace(scene, **{name: value})  # raises: "gamma = 'abc' is not a number; allowed: ..."
+    if value is None and "str" in annotation:  # an edge left to the code: a word among the edge kinds
+        return "auto"
+    if value is None and "None" in annotation:
+        raise _auto_refused(name, left_out)
     if "int" in annotation and isinstance(value, float) and value.is_integer():
         return int(value)
+    _refuse_non_finite(scene, name, value, integrator)
     return value
+
+
+def _refuse_non_finite(scene, name, value, integrator):
+    """Refuse NaN, and an infinity where the parameter refuses it anyway, before any case runs (each case refused it
+    as it ran, and NaN stood in the study's coordinate): with the parameter's own message where it has one (the
+    scene's check, a law's, the integrator's), else as not a number."""
+    if not is_number(value) or math.isfinite(value):
+        return
+    try:
+        if name in scene_fields(scene) or name.startswith("material."):
+            with_params(scene, {name: value})
+        elif integrator in INTEGRATORS:
+            INTEGRATORS[integrator](**{name: value})
+    except ParameterError:
+        raise
+    except (TypeError, ValueError):
+        pass  # no check of its own said why: NaN is refused below
+    if math.isnan(value):
+        raise ParameterError.not_a(name, value, "a number", "numbers", hint="a study varies over values it can run")
+
+
+def _auto_refused(name, left_out):
+    """The refusal of ``"auto"`` (``None``: left to the code) among the values of a numeric parameter: the coordinate
+    holds numbers (NaN stood there, and the value the code chose was recorded nowhere)."""
+    how = (f"a case that leaves {name} out has the base scene's {name} = auto: give {name} in every case of the list, "
+           "or in none; " if left_out else "")
+    return ParameterError.invalid(
+        name, "auto", "cannot be varied: a study's coordinate holds numbers", "numbers",
+        hint=f"{how}to compare with {name} left to the code, run that case alone or in a study that does not vary "
+        f"{name}: its Dataset holds the {name} each case used")

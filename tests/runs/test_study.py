@@ -142,6 +142,18 @@ def test_workers_with_another_scheduler_is_refused_not_ignored(scheduler):
         assert study(BASE, {"gamma": [0.05]}, **SMALL, scheduler="serial", workers=1).attrs["n_cases"] == 1
 
 
+def test_auto_and_nan_among_the_values_are_refused_before_any_case(monkeypatch):
+    """A list of cases where one leaves ``R`` out runs that one at the base scene's ``R = auto``: refused as ``R=auto``
+    among numbers is (the coordinate cannot hold it); NaN is refused by a study of paths too; an edge left to the
+    code is the word ``auto`` in its coordinate (it was ``None``, written as an empty string)."""
+    monkeypatch.setattr(study_module, "run_task", None)  # nothing may run
+    with pytest.raises(ParameterError, match=r"^R = 'auto' cannot be varied.*a case that leaves R out"):
+        study(BASE, [{"R": 1.0}, {"gamma": 0.2}], **SMALL, scheduler="serial")
+    with pytest.raises(ParameterError, match=r"^nu = nan is outside"):
+        path_study("sphere", {"nu": [0.3, float("nan")]}, "pressure", 0, 100, scheduler="serial")
+    assert study_module.design(BASE, {"end2": ["auto", "clamped"]})[1] == {"end2": ["auto", "clamped"]}
+
+
 def test_vary_ranges_include_the_stop():
     vary = parse_vary(["gamma=0.02:0.2:0.02", "nu=0.3,0.45,0.49", "material=svk,svk-plane-stress"])
     assert vary["gamma"] == pytest.approx(np.arange(1, 11) * 0.02) and vary["gamma"][2] == 0.06
@@ -214,6 +226,12 @@ STUDY_BAD = [
     (["--vary", "gamma=0.1,0.2", "--scheduler", "garbage"], "scheduler = 'garbage' is not a scheduler address"),
     # varying the integrator said "--vary integrator = 'leapfrog' is not a number"
     (["--vary", "integrator=leapfrog,ida"], "vary = 'integrator' is outside {"),
+    # NaN ran as a refused case and stood in the coordinate (gamma = abc was refused up front); inf likewise
+    (["--vary", "gamma=nan,0.1"], "gamma = nan is outside finite values (rad/m)"),
+    (["--vary", "gamma=0.1,inf"], "gamma = inf is outside finite values (rad/m)"),
+    (["--vary", "dt=1e-6,nan"], "dt = nan is outside (0, inf) s"),
+    # R = auto beside numbers: the coordinate held NaN (None in memory), the radius used was recorded nowhere
+    (["--vary", "R=auto,1.0"], "R = 'auto' cannot be varied: a study's coordinate holds numbers; allowed: numbers"),
 ]
 
 
