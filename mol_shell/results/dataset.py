@@ -175,9 +175,10 @@ def with_units(meta):
 
 
 #: units of a run's numbers that are not scene parameters (:data:`mol_shell.scenes.UNITS` has those and the
-#: integrators' options): the inertia densities of eq. (7.8), moments 0, 1, 2 of rho through the thickness
+#: integrators' options): the inertia densities of eq. (7.8), moments 0, 1, 2 of rho through the thickness; the
+#: fastest mode's angular frequency, whose name ends in ``_s`` (a name that does is in seconds otherwise)
 DERIVED_UNITS = {"failure_time": "s", "rho_A": "kg m-2", "rho_I": "kg m-1", "rho_J": "kg", "zeta1_used": "m",
-                 "meridian_length": "m", "first_step": "s", "restart": "s"}
+                 "meridian_length": "m", "first_step": "s", "restart": "s", "omega_max_rad_s": "rad s-1"}
 
 
 def reaction_columns(count, edges, field):

@@ -1,4 +1,5 @@
-"""The data side of parameter studies: one Dataset from many cases, finished cases on disk, summaries."""
+"""The data side of parameter studies: finished cases on disk, summaries (the Dataset of a study:
+:mod:`mol_shell.results.study_dataset`)."""
 
 from __future__ import annotations
 
@@ -9,86 +10,7 @@ import numpy as np
 import xarray as xr
 
 from mol_shell._core.errors import ParameterError
-from mol_shell.results.cf import coordinates, variables
-from mol_shell.results.dataset import TIME_COMMENT, read_netcdf, write_netcdf
-
-#: per-case numbers kept as variables even when every case has the same value
-STATS = ("n_steps", "n_rhs", "wall_time_s", "build_time_s", "case_wall_time_s", "failure_time", "complete", "R")
-
-
-def assemble(dims, coords, cases, results, times):
-    """One Dataset from per-case results; runs that stopped early are NaN after their last saved time."""
-    shape = tuple(len(coords[d]) for d in dims) if dims != ["case"] else (len(cases),)
-    grid = {d: (d, list(coords[d])) for d in dims} if dims != ["case"] else {
-        k: ("case", list(v)) for k, v in coords.items()}
-    if dims == ["case"]:
-        grid["case"] = ("case", np.arange(len(cases)))
-    done = [ds for ds, _ in results.values() if ds is not None and ds.data_vars]
-    ref = done[0] if done else None
-    data = {}
-    if ref is not None:
-        names = list(dict.fromkeys(k for ds in done for k in ds.data_vars))
-        for name in names:
-            var = next(ds[name] for ds in done if name in ds)
-            if var.dtype.kind != "f":
-                continue
-            sizes = [len(times) if d == "time" else var.sizes[d] for d in var.dims]
-            arr = np.full(shape + tuple(sizes), np.nan)
-            for index, _ in cases:
-                ds = results.get(index, (None, None))[0]
-                if ds is not None and name in ds:
-                    vals = ds[name].values
-                    arr[index][tuple(slice(0, k) for k in vals.shape)] = vals
-            data[name] = (tuple(dims) + var.dims, arr, dict(var.attrs))
-    per_case = {"status": [], "message": [], "worker": []}
-    numbers = {}
-    for index, _ in cases:
-        ds, info = results.get(index, (None, {"status": "lost", "message": "not run", "worker": ""}))
-        for key in per_case:
-            per_case[key].append(str(info.get(key, "")))
-        attrs = dict(ds.attrs) if ds is not None else {}
-        attrs["case_wall_time_s"] = info.get("case_wall_time_s", np.nan)
-        for key, value in attrs.items():
-            if key in coords:
-                continue
-            if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
-                numbers.setdefault(key, {})[index] = value.item() if isinstance(value, np.generic) else value
-    constant = {}
-    ran = sum(results.get(index, (None, None))[0] is not None for index, _ in cases)
-    for key, vals in numbers.items():
-        distinct = set(vals.values())
-        if key in STATS or len(distinct) > 1 or len(vals) < ran:  # differs, or only some cases have it
-            arr = np.full(shape, np.nan)
-            for index, v in vals.items():
-                arr[index] = v
-            data[key] = (tuple(dims), arr, {"units": _units(done, key), "long_name": f"{key} of each case"})
-        else:
-            constant[key] = distinct.pop()
-    long = {"status": "how the case ended: complete, limit, unstable, refused, error, lost or interrupted",
-            "message": "account of how the case ended", "worker": "host:pid of the process that ran the case"}
-    for key, values in per_case.items():
-        data[key] = (tuple(dims), np.array(values, dtype=object).reshape(shape), {"long_name": long[key]})
-    coords_out = {**grid, "time": ("time", np.asarray(times), {"units": "s", "long_name": "time", "standard_name": "time",
-                                                                "axis": "T", "comment": TIME_COMMENT})}  # a run's
-    attrs = {k: v for k, v in (ref.attrs if ref is not None else {}).items()  # texts only where every case agrees
-             if k not in coords and (k in constant if isinstance(v, (int, float, np.integer, np.floating))
-                                     else all(str(ds.attrs.get(k)) == str(v) for ds in done))}
-    attrs.update(constant)
-    for key in ("status", "message", "complete", "title", "history"):
-        attrs.pop(key, None)
-    return xr.Dataset(variables(data), coords=coordinates(coords_out, keep=ref.coords if ref is not None else None),
-                      attrs=attrs)
-
-
-def _units(done, key):
-    """The unit of a per-case number: as a case that has it says (``units_KEY``), else seconds for ``*_s`` and
-    ``failure_time``, else 1."""
-    said = next((ds.attrs[f"units_{key}"] for ds in done if f"units_{key}" in ds.attrs), None)
-    if said is not None:
-        return str(said)
-    if key.endswith("_s") or key in ("failure_time",):
-        return "s"
-    return "1"
+from mol_shell.results.dataset import read_netcdf, write_netcdf
 
 
 class Store:
@@ -197,7 +119,8 @@ def summarize(ds):
     into ``psi_grid_mode_max`` and ``psi_smooth_max`` (see :func:`grid_mode`), ``chi_s_max``,
     and ``energy_drift`` (max relative change of the total energy).
     """
-    R = ds["R"] if "R" in ds.data_vars else float(ds.attrs["R"])
+    R = ds["R"] if "R" in ds.variables else float(ds.attrs["R"])
+    s = ds["s_case"] if "s_case" in ds.coords else ds["s"]  # the grids of a study of L differ between cases
     both = ("time", "s")
     mode, rest = grid_mode(ds.psi)
     e0 = ds.energy.isel(time=0, drop=True)
@@ -207,7 +130,7 @@ def summarize(ds):
         "psi_max": (abs(ds.psi).max(both), "rad", "largest |psi|"),
         "psi_grid_mode_max": (abs(mode).max("time"), "rad", "largest amplitude of the (-1)^i node pattern of psi"),
         "psi_smooth_max": (abs(rest).max(both), "rad", "largest |psi| without its (-1)^i node pattern"),
-        "chi_s_max": (abs(ds.chi.diff("s") / ds.s.diff("s")).max(both), "rad m-1", "largest |chi_s|"),
+        "chi_s_max": (abs(ds.chi.diff("s") / s.diff("s")).max(both), "rad m-1", "largest |chi_s|"),
         "energy_drift": (abs(ds.energy - e0).max("time") / abs(e0), "1", "largest relative change of the energy"),
     }
     return xr.Dataset({k: v.assign_attrs(units=u, long_name=n) for k, (v, u, n) in out.items()})

@@ -32,7 +32,8 @@ from mol_shell.model.laws import REGISTRY, resolve_material, user_material
 from mol_shell.model.layers import parse_layers
 from mol_shell.results.cf import header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
-from mol_shell.results.study_store import Store, assemble
+from mol_shell.results.study_dataset import assemble
+from mol_shell.results.study_store import Store
 from mol_shell.runs import resources
 from mol_shell.runs.scheduling import check_workers, connect, execute, refuse_in_starting_worker, scheduler_name
 from mol_shell.runs.simulate import (

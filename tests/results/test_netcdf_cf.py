@@ -59,3 +59,18 @@ def test_coordinates_have_no_fill_value_and_time_stays_numbers(run_file):
     with xr.open_dataset(run_file) as ds:  # xarray's default decoding
         assert ds.time.dtype == np.float64 and float(ds.time[-1]) == pytest.approx(1e-5)
         assert ds.r.dims == ("time", "s")
+
+
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")
+def test_a_study_file_reports_only_the_epoch_less_time(tmp_path):
+    """A study of h (its faces differ between cases: ``zeta_case``) with a refused case (NaN in its grid, -1 in its
+    counts): its integers are 32-bit (CF 1.8 has no 64-bit ones; they were floats), and the checker reports only the
+    time (run from the command line it also warns that ``R``, the radius each case used, stands beside ``r``:
+    docs/netcdf.md)."""
+    path = tmp_path / "study.nc"
+    mol_shell.study(mol_shell.TwistedCylinder(), {"h": [0.004, 0.008, -1.0]}, n=8, t_end=1e-5, scheduler="serial",
+                    progress=False, output=path)
+    with netCDF4.Dataset(path) as nc:
+        assert nc["n_steps"].dtype == np.int32 and nc["zeta_case"].dimensions == ("h", "zeta")
+    items = checker_report(path, tmp_path / "report.json")
+    assert items == CALENDAR_ITEMS, items
