@@ -378,9 +378,11 @@ def read_run(path, name="FILE", allowed=RUN_FILE, what="a mol_shell run file"):
 
 
 def is_run(ds):
-    """Whether Dataset ``ds`` is one run's: ``r``, ``theta`` and ``chi`` on ``(time, s)`` (a study's case selected
-    with ``isel`` is; the study, a path, modes and the reduced ring ODE's run are not)."""
-    return all(v in ds and ds[v].dims == ("time", "s") for v in ("r", "theta", "chi"))
+    """Whether Dataset ``ds`` is one run's: ``r``, ``theta`` and ``chi`` on ``(time, s)``, with the coordinate ``s``
+    (a study's case selected with ``isel`` is, unless its study's grids differ between cases, whose ``s`` has no
+    coordinate: :func:`mol_shell.results.study_dataset.study_case` gives that case as a run; the study, a path,
+    modes and the reduced ring ODE's run are not)."""
+    return all(v in ds and ds[v].dims == ("time", "s") for v in ("r", "theta", "chi")) and "s" in ds.coords
 
 
 def holdings(ds):
@@ -389,6 +391,9 @@ def holdings(ds):
     title = str(ds.attrs.get("title", ""))
     vary = [str(d) for d in ds.dims if d not in ("time", "s", "s_cell", "zeta", "end")]
     return ("a study of equilibrium paths (mol-shell study --path)" if "study of equilibrium paths" in title else
+            "a case of a parameter study whose grids differ between cases, without its coordinate s "
+            "(mol_shell.results.study_dataset.study_case(STUDY, ...) gives a case as its run)"
+            if "parameter study" in title and not vary and "s_case" in ds.coords else
             "a parameter study (mol-shell study)" + (f" over {', '.join(vary)}" if vary else "")
             if "parameter study" in title else
             "an equilibrium path (mol-shell path)" if "equilibrium path" in title else

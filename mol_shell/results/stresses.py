@@ -76,6 +76,7 @@ from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, lame
 from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.results.cf import coordinates, variables
+from mol_shell.results.dataset import holdings
 from mol_shell.results.law_stresses import law_of_attrs, route_law, route_stress
 from mol_shell.results.stress_samples import cell_samples, reference_cells, sample_stresses
 from mol_shell.results.tensors import principal_stresses, von_mises
@@ -298,6 +299,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     if not isinstance(ds, xr.Dataset):  # a file name: read_netcdf first
         raise ParameterError.not_a("ds", ds, "an xarray.Dataset",
                                    "a Dataset from simulate or mol-shell run (mol_shell.read_netcdf(PATH) reads a file)")
+    _refuse_study(ds)
     needed = [*FIELDS, *(f + "_t" for f in FIELDS)]
     missing = [v for v in needed if v not in ds or ds[v].dims != ("time", "s")]
     if missing or not all(k in ds.attrs for k in ("E", "nu", "h", "zeta1_used", "n_quad")):
@@ -373,6 +375,29 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     if not all(np.isfinite(v).all() for v in data.values()):
         out.attrs["stresses"] += "; NaN where det F <= 0 at a face or the state is not finite"
     return out
+
+
+def _refuse_study(ds):
+    """Refuse a study's Dataset (its fields on ``(*study dims, time, s)``) as one, and a case of it taken with
+    ``sel`` (its parameters coordinates and variables, not attrs), saying how to take one case as its run (it was
+    "not a mol_shell run ... missing z, r, chi", though it holds them)."""
+    if "status" not in ds or "r" not in ds or ds["r"].dims[-2:] != ("time", "s"):
+        return
+    dims = ds["status"].dims
+    if not dims:  # one case, selected: fine where its parameters are all attrs (a study of gamma, say)
+        if "study_vary" not in ds.attrs or "s" in ds.coords and all(
+                k in ds.attrs for k in ("E", "nu", "h", "zeta1_used", "n_quad")):
+            return
+        names = ["case"] if "case" in ds.coords else [n.strip() for n in str(ds.attrs["study_vary"]).split(",")]
+        which = ", ".join(f"{n}={ds[n].values.item()!r}" for n in names if n in ds.coords and ds[n].ndim == 0)
+        raise ParameterError.invalid("ds", "Dataset", "is a case of a parameter study taken with sel or isel, its "
+                                     "parameters coordinates and variables", "one run (a Dataset from simulate or "
+                                     "mol-shell run)", hint=f"mol_shell.results.study_dataset.study_case(STUDY, "
+                                     f"{which or '...'}) gives the case as its run")
+    example = ", ".join(f"{d}={ds[d].values.ravel()[0].item()!r}" if d in ds.coords else f"{d}=0" for d in dims)
+    raise ParameterError.invalid("ds", "Dataset", f"is {holdings(ds)}, not one run", "one run (a Dataset from simulate "
+                                 "or mol-shell run)", hint="one case of the study as its run: mol_shell.results."
+                                 f"study_dataset.study_case(ds, {example})")
 
 
 # a mol_shell.Material's name given to another law: its stress kernels afresh (keyed by the law's name)

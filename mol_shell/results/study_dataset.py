@@ -11,6 +11,8 @@ What the cases share is stored once, as a run file stores it; what differs betwe
   one, with its ``units_NAME``; one that differs between cases, or that only some have (``material_warning``), is a
   variable on the study's dimensions with ``units`` and a ``long_name``. The statistics (:data:`STATS`) are always
   per case. Integers stay integers, :data:`INT_FILL` where a case has none.
+
+:func:`study_case` gives one case back as its run's Dataset.
 """
 
 from __future__ import annotations
@@ -20,7 +22,8 @@ import math
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import is_number
+from mol_shell._core.errors import ParameterError, is_number
+from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import coordinates, variables
 from mol_shell.results.dataset import DERIVED_UNITS, TIME_COMMENT
 from mol_shell.scenes import DESCRIPTIONS, UNITS
@@ -35,6 +38,9 @@ NOT_CARRIED = ("title", "history", "status", "message")
 INT_FILL = -1
 #: what a per-case grid's or attribute's long name says after the run's
 EACH = " of each case"
+#: the global attributes of a study that its cases' runs do not have
+STUDY_ATTRS = ("study_vary", "study_integrator", "n_cases", "n_executed", "n_reused", "n_failed", "scheduler",
+               "study_wall_time_s")
 #: long names of what a run's attributes hold besides the scene's parameters (:data:`mol_shell.scenes.DESCRIPTIONS`)
 LONG_NAMES = {
     "n": "nodes in s",
@@ -229,3 +235,53 @@ def _long_name(key):
     if key in DESCRIPTIONS:
         return f"{DESCRIPTIONS[key]} as used"
     return f"the case's {key} (an attribute of its run)"
+
+
+def study_case(ds, **where):
+    """One case of a study of runs as its run's Dataset, for what takes one run (:func:`mol_shell.add_stresses`,
+    the views, a comparison with a run of :func:`mol_shell.simulate`).
+
+    ``ds.sel(**where)``, every dimension of the study named (by value; ``case=INDEX`` for a list of cases), with each
+    ``NAME_case`` as the coordinate ``NAME`` again, the case's varied parameters and per-case numbers and words in
+    attrs (with ``units_NAME`` where a run has it), as its run had them, the study's own attributes (``study_vary``,
+    ``n_cases``, ...) and ``worker`` left out, and its saved times up to its last one (a run that stopped early has
+    no NaN after it). A case without a run (refused, error, lost) is refused naming its status and message.
+    """
+    if not isinstance(ds, xr.Dataset) or "status" not in ds or not all(f in ds for f in ("r", "theta", "chi")):
+        raise ParameterError.not_a("ds", ds, "a study of runs", "a Dataset from mol_shell.study or mol-shell study "
+                                   "(mol_shell.read_netcdf(PATH) reads a file)")
+    dims = list(ds["status"].dims)
+    if sorted(where) != sorted(dims):
+        raise ParameterError.invalid("where", ", ".join(f"{k}={v}" for k, v in where.items()) or "nothing",
+                                     "does not name one case", "a value of each of " + ", ".join(dims),
+                                     hint="e.g. " + ", ".join(f"{d}={ds[d].values.ravel()[0]!r}" for d in dims))
+    try:
+        case = ds.sel(where)
+    except (KeyError, ValueError, TypeError) as exc:
+        raise ParameterError.invalid("where", ", ".join(f"{k}={v}" for k, v in where.items()), "is not a case of "
+                                     "the study", "the values of its coordinates " + ", ".join(dims),
+                                     hint=f"{type(exc).__name__}: {exc}") from None
+    field = next(f for f in FIELDS if f in case and case[f].dims == ("time", "s"))
+    saved = np.flatnonzero(np.isfinite(case[field].values).any(axis=1))
+    if not saved.size:
+        raise ParameterError.invalid("where", ", ".join(f"{k}={v}" for k, v in where.items()), "is a case without a "
+                                     "run", "a case that ran", hint=f"{case.status.values}: {case.message.values}")
+    attrs = {k: v for k, v in ds.attrs.items() if k not in STUDY_ATTRS}
+    attrs["title"] = f"mol_shell run of scene {ds.attrs.get('scene', '')}, a case of a study"
+    scalars = [str(name) for name, var in case.variables.items() if var.ndim == 0]
+    for name in scalars:
+        var = case.variables[name]
+        if name in ("worker", "case"):
+            continue
+        attrs[name] = var.values.item()
+        if "units" in var.attrs and (name in DERIVED_UNITS or name in UNITS):  # as a run's attrs (with_units)
+            attrs[f"units_{name}"] = var.attrs["units"]
+    case = case.drop_vars(scalars).isel(time=slice(0, int(saved[-1]) + 1))
+    for name in [str(n) for n in case.coords if str(n).endswith("_case")]:
+        base = name.removesuffix("_case")
+        grid = case[name]
+        if grid.dims == (base,):
+            meta = {**grid.attrs, "long_name": str(grid.attrs.get("long_name", base)).removesuffix(EACH)}
+            case = case.drop_vars(name).assign_coords(coordinates({base: (base, grid.values, meta)}))
+    case.attrs = attrs
+    return case

@@ -1,11 +1,15 @@
 """What a study's Dataset (and file) says of each case: the grids that differ between cases, the numbers and words
-of the cases' runs (docs/netcdf.md, "Study files")."""
+of the cases' runs, one case back as its run (docs/netcdf.md, "Study files")."""
 
 import netCDF4
 import numpy as np
 import pytest
+import xarray as xr
 
 import mol_shell
+from mol_shell.results.dataset import is_run
+from mol_shell.results.stresses import add_stresses
+from mol_shell.results.study_dataset import study_case
 from mol_shell.results.study_store import summarize
 
 SMALL = {"n": 10, "t_end": 1e-5, "scheduler": "serial", "progress": False}
@@ -25,11 +29,17 @@ def test_a_study_of_a_length_or_a_thickness_keeps_each_case_s_grid(tmp_path):
         # a case and its run line up face by face (a dimension without an index aligns by position)
         diff = ds.sel(h=0.008).von_mises_stress - run.von_mises_stress
         assert float(abs(diff).max()) == 0.0 and np.array_equal(diff.zeta, run.zeta)
+    case = study_case(mol_shell.read_netcdf(out), h=0.008)
+    xr.testing.assert_identical(case.von_mises_stress, run.von_mises_stress)
+    assert case.attrs["h"] == 0.008 and case.attrs["units_h"] == "m" and case.attrs["zeta1_used"] == run.zeta1_used
+    xr.testing.assert_allclose(add_stresses(case).von_mises_stress, run.von_mises_stress, rtol=1e-12)
     st = mol_shell.study(mol_shell.TwistedCylinder(), {"L": [3.0, 4.0]}, **SMALL)
     assert "s" not in st.coords and "s_cell" not in st.coords
     assert st.s_case.sel(L=4.0).values[-1] == 4.0 and st.s_cell_case.sel(L=3.0).values[-1] < 3.0
     np.testing.assert_array_equal(st.s_case, st.z0)  # the reference cylinder: z0 = s
     assert float(summarize(st).chi_s_max.sel(L=4.0)) == pytest.approx(0.1, rel=1e-6)  # gamma, along each case's s
+    assert not is_run(st.isel(L=1))  # no s to draw against: said, and study_case gives it
+    assert study_case(st, L=4.0).s.values[-1] == 4.0
 
 
 def test_per_case_numbers_words_and_units(tmp_path):
@@ -61,3 +71,19 @@ def test_per_case_numbers_words_and_units(tmp_path):
 def test_a_run_file_gives_omega_max_its_units():
     ds = mol_shell.simulate(mol_shell.TwistedCylinder(), n=8, t_end=1e-5, progress=False, stresses=False)
     assert ds.attrs["units_omega_max_rad_s"] == "rad s-1"
+
+
+def test_add_stresses_of_a_study_says_how_to_take_one_case():
+    """It said "ds = 'Dataset' is not a mol_shell run; ... (missing z, r, chi, ...)" of a study, which holds them."""
+    st = mol_shell.study(mol_shell.TwistedCylinder(), [{"nu": 0.3}, {"h": 0.004}], **SMALL)
+    with pytest.raises(mol_shell.ParameterError, match=r"^ds = 'Dataset' is a parameter study \(mol-shell study\) "
+                       r"over case, not one run; .*study_case\(ds, case=0\)"):
+        add_stresses(st)
+    with pytest.raises(mol_shell.ParameterError, match=r"^ds = 'Dataset' is a case of a parameter study taken with sel "
+                       r".*study_case\(STUDY, case=1\) gives the case as its run"):
+        add_stresses(st.sel(case=1))  # its h a coordinate: "missing attrs E, nu, h, ..." said the wrong thing
+    case = study_case(st, case=1)
+    assert case.attrs["h"] == 0.004 and "worker" not in case.attrs and "n_cases" not in case.attrs
+    assert add_stresses(case).attrs["stresses"].startswith("included")
+    with pytest.raises(mol_shell.ParameterError, match=r"^where = 'nothing' does not name one case"):
+        study_case(st)
