@@ -27,6 +27,7 @@ from mol_shell.analysis.path_dataset import SYMMETRY_NOTE
 from mol_shell.analysis.path_inputs import check_shared
 from mol_shell.results.cf import attr_value, header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
+from mol_shell.results.study_dataset import case_attrs
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
 from mol_shell.runs.scheduling import check_workers, connect, refuse_in_starting_worker, scheduler_name
@@ -36,6 +37,8 @@ from mol_shell.scenes import UNITS, with_params
 
 #: statuses of a path that are final (stored, not run again on resume)
 FINAL = ("complete", "max_steps", "returned", "failed", "limit", "refused", "error")
+#: a path's attributes the study says once itself (``path_parameter``, ...) or per case as variables (``status``)
+PATH_OWN = ("parameter", "parameter_units", "start", "stop", "n", "complete", "critical_points")
 
 
 @dataclasses.dataclass(frozen=True)
@@ -89,7 +92,10 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
     xarray.Dataset
         Dims: the study's, and ``point``. Per case: ``status``, ``message``, ``steps``, ``first_critical``
         (the first critical point's load, NaN without one), ``case_wall_time_s``; per point: ``point_kind``,
-        ``point_parameter``, ``point_family``, ``point_located``, ``point_ellipticity_margin``.
+        ``point_parameter``, ``point_family``, ``point_located``, ``point_ellipticity_margin``. Attrs: the scene's
+        parameters as the paths used them, as a path file has them (where the cases differ, a variable per case:
+        :func:`mol_shell.results.study_dataset.case_attrs`), and ``path_parameter``, ``path_start``, ``path_stop``
+        (with ``units_path_start``, ``units_path_stop``).
     """
     refuse_in_starting_worker()
     clock = time.perf_counter()
@@ -127,10 +133,12 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
                                 workers=workers, client=client, progress=progress, total=len(cases), desc="paths")
     out = _gather(scene, dims, coords, cases, results, parameter)
     failed = sum(1 for _, info in results.values() if info["status"] not in ("complete", "max_steps", "returned"))
+    units = UNITS.get(parameter, "1")
     out.attrs.update({k: attr_value(v) for k, v in {
         "study_vary": ", ".join(coords), "path_parameter": parameter, "path_start": float(start),
-        "path_stop": float(stop), "n": int(n), "n_cases": len(cases), "n_executed": len(pending), "n_reused": reused,
-        "n_failed": failed, "scheduler": scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - clock,
+        "units_path_start": units, "path_stop": float(stop), "units_path_stop": units, "n": int(n),
+        "n_cases": len(cases), "n_executed": len(pending), "n_reused": reused, "n_failed": failed,
+        "scheduler": scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - clock,
     }.items()})
     if output is not None:
         write_netcdf(out, output)
@@ -189,15 +197,20 @@ def _gather(scene, dims, coords, cases, results, parameter):
     for name, (values, attrs) in sorted(reactions.items()):
         data[name] = (sdims + ("point",), values, {**attrs, "long_name": attrs["long_name"] + " (NaN past a case's "
                       "last point, and where a case's edge leaves the field free)"})
-    coord_vars = {d: (d, np.asarray(coords[d]) if d != "case" else np.arange(len(cases)),
-                      {"units": UNITS.get(d, "1")}) for d in dims}
-    if dims == ["case"]:
+    coord_vars = {d: (d, np.asarray(coords[d]) if d != "case" else np.arange(len(cases))) for d in dims}
+    if dims == ["case"]:  # (units and long names: label_coords, numbers only)
         for name, vals in coords.items():
-            coord_vars[name] = ("case", np.asarray(vals), {"units": UNITS.get(name, "1")})
+            coord_vars[name] = ("case", np.asarray(vals))
     coord_vars["point"] = ("point", np.arange(count, dtype=np.int32),
                            {"units": "1", "long_name": "critical point, as met"})
-    attrs = {**header(f"mol_shell study of equilibrium paths of scene {scene.name} in {parameter}"),
+    records = {index: results[index][0].attrs for index, _ in cases if results[index][0] is not None}
+    carried, shared, fills = case_attrs(dims, shape, records, skip=(*coords, *PATH_OWN),
+                                        long_names={"wall_time_s": "wall time of tracing the path"})
+    data.update(carried)  # the scene's parameters as used where the cases agree, per case where they differ
+    attrs = {**shared, **header(f"mol_shell study of equilibrium paths of scene {scene.name} in {parameter}"),
              "scene": scene.name, "critical_points": SYMMETRY_NOTE}
     ds = xr.Dataset(data, coords=coord_vars, attrs=attrs)
+    for name, fill in fills.items():
+        ds[name].encoding["_FillValue"] = fill
     label_coords(ds, coords, dims)  # the varied parameters' long names, as a study of runs has them
     return ds

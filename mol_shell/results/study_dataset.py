@@ -161,7 +161,7 @@ def case_grids(dims, shape, done):
     return shared, per_case
 
 
-def case_attrs(dims, shape, records, skip=(), stats=()):
+def case_attrs(dims, shape, records, skip=(), stats=(), long_names=None):
     """``(variables, attrs, fills)`` of what the finished cases' runs (or paths) said in their global attributes
     (``records``: ``{index: attrs}``).
 
@@ -172,7 +172,7 @@ def case_attrs(dims, shape, records, skip=(), stats=()):
     ``{name: fill}`` for the variables' ``_FillValue``); ``complete`` is 0 there. A name in ``skip`` (a varied parameter, a coordinate of the study) is
     left out with its ``units_NAME`` and ``NAME_requested``, and so are :data:`NOT_CARRIED` and every ``units_*``
     on its own. A name given as a number by some cases and in words by others (``energy_balance_error`` where some
-    cases have no loads) is a number, NaN where it is words.
+    cases have no loads) is a number, NaN where it is words. ``long_names``: the caller's, before :data:`LONG_NAMES`.
     """
     left_out = set(NOT_CARRIED) | set(skip) | {f"units_{k}" for k in skip} | {f"{k}_requested" for k in skip}
     keys = [k for k in dict.fromkeys(k for attrs in records.values() for k in attrs)
@@ -192,7 +192,7 @@ def case_attrs(dims, shape, records, skip=(), stats=()):
             if unit is not None:
                 attrs[f"units_{key}"] = unit
             continue
-        meta = {"long_name": _long_name(key)}
+        meta = {"long_name": (long_names or {}).get(key) or _long_name(key)}
         if numbers and all(isinstance(v, int) and abs(v) < 2**31 for v in numbers.values()):
             fill = 0 if key == "complete" else INT_FILL
             values = np.full(shape, fill, dtype=np.int32)  # CF 1.8 has no 64-bit integers

@@ -65,6 +65,13 @@ def test_the_command(tmp_path, capsys):
     with xr.open_dataset(out) as ds:
         assert ds.sizes["alpha2"] == 2 and ds.first_critical.attrs["units"] == "Pa"
         assert ds.alpha2.attrs["long_name"].endswith("(varied)")  # it had none
+        # the scene's parameters as the paths used them, as a path file has them (the file had none: the wall could
+        # not be told from the default one), the varied one a coordinate only; the path's range with its units
+        for name, value in cap_params(5.0).items():
+            if name != "alpha2":
+                assert ds.attrs[name] == value and ds.attrs[f"units_{name}"] in ("m", "Pa", "1"), name
+        assert "alpha2" not in ds.attrs and "units_alpha2" not in ds.attrs and ds.attrs["edge_sL"] == "clamped"
+        assert ds.attrs["units_path_start"] == ds.attrs["units_path_stop"] == "Pa"
     assert main([*argv, "--t-end", "1", "-o", str(tmp_path / "x.nc")]) == 2
     assert "--t-end is an option of a study of runs" in capsys.readouterr().err
     assert main([*argv, "--option", "foo=bar", "-o", str(tmp_path / "x.nc")]) == 2  # was ignored, exit 0
