@@ -17,6 +17,7 @@ Outputs: an :class:`xarray.Dataset` (netCDF), a log-log PNG and a markdown table
 
 from __future__ import annotations
 
+import dataclasses
 import statistics
 
 import numpy as np
@@ -24,10 +25,11 @@ import xarray as xr
 
 from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.results.cf import header
+from mol_shell.results.cf import attr_value, header
+from mol_shell.results.dataset import scene_attrs, with_units
 from mol_shell.runs import resources
 from mol_shell.runs.simulate import as_scene, build, check_loads, resolve, starting_state
-from mol_shell.scenes import Unshearable
+from mol_shell.scenes import SCENES, Unshearable
 
 #: the paper's snapshot times (s)
 PAPER_TIMES = (0.0, 0.02, 0.07, 0.106, 0.143)
@@ -234,10 +236,14 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
     ds["status"] = (dims, status.astype(str), {"long_name": "how the run ended: complete, limit, unstable, failed, "
                                                             "interrupted, or skipped (not run; see note); empty: no point"})
     ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
-    ds.attrs.update({**header(f"work-precision of mol_shell integrators, scene {scene.name}"), "scene": scene.name, "n": n, "times": ",".join(f"{t:g}" for t in times), "repeats": repeats,
+    ds.attrs.update({**header(f"work-precision of mol_shell integrators, scene {scene.name}"), "scene": scene.name,
+                     "n": n, "times": ",".join(f"{t:g}" for t in times), "repeats": repeats,
                      "reference_error": ref_err, **ref_info,
                      "status": "interrupted" if interrupted else "complete", "message": interrupted or "",
                      "left_out": "; ".join(f"{name}: {INTEGRATORS[name].refuses_loads}" for name in left_out)})
+    start = system.unpack(y0)[:2]  # the scene's parameters as the runs used them, as a run file has them
+    ds.attrs.update(with_units(scene_attrs(scene, system.edges, system.thickness.zeta1, start, system.reference[:2],
+                                           requested=asked.params())))
     if isinstance(scene, Unshearable):  # every integrator here runs its free shell, ida too
         ds.attrs["model"] = ("the unshearable scene's free shell (the ODE every integrator runs); its constrained "
                              "DAE, run by `run --integrator ida`, is not compared")
@@ -275,7 +281,7 @@ def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
     base, why = baseline_time(ds, baseline)
     lines = [f"Cheapest run with error <= {target:g} (scene {ds.attrs['scene']}, n = {ds.attrs['n']}, "
              f"saved times {ds.attrs['times']} s; reference {ds.attrs['reference']}, converged to "
-             f"{ds.attrs['reference_error']:.2g}).", "",
+             f"{ds.attrs['reference_error']:.2g}).", parameters_line(ds), "",
              "| integrator | setting | error | wall [s] | steps | RHS evals | Jacobian evals | speed-up vs "
              f"{baseline[0]} {baseline[1]:g} |", "|---|---|---|---|---|---|---|---|"]
     for name in ds.integrator.values:
@@ -297,6 +303,32 @@ def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
     if ds.attrs.get("status") == "interrupted":
         lines += ["", f"Not complete: {ds.attrs['message']}."]
     return "\n".join(lines)
+
+
+def parameters_set(ds):
+    """``name = value unit`` of each scene parameter in ``ds``'s attrs that differs from its scene's default (one left
+    to the code, with ``NAME_requested = "auto"``, is not); ``[]`` where ``ds`` does not name a registered scene."""
+    fields = dataclasses.fields(SCENES[ds.attrs["scene"]]) if ds.attrs.get("scene") in SCENES else ()
+    out = []
+    for field in fields:
+        if field.name not in ds.attrs or ds.attrs.get(f"{field.name}_requested") == "auto":
+            continue
+        value = ds.attrs[field.name]
+        value = value.item() if isinstance(value, np.generic) else value
+        if field.default is not dataclasses.MISSING and attr_value(field.default) == value:
+            continue
+        unit = str(ds.attrs.get(f"units_{field.name}", "1"))
+        shown = f"{value:g}" if isinstance(value, (int, float)) else repr(value)
+        out.append(f"{field.name} = {shown}" + ("" if unit == "1" or isinstance(value, str) else f" {unit}"))
+    return out
+
+
+def parameters_line(ds):
+    """The scene's parameters the comparison ran with, as far as they are not the scene's defaults, in one line."""
+    changed = parameters_set(ds)
+    return (f"Scene parameters: {', '.join(changed)}; the others the scene's defaults (each as used in the .nc's "
+            "attributes)." if changed else "Scene parameters: the scene's defaults (each as used in the .nc's "
+            "attributes).")
 
 
 def full_table(ds):
