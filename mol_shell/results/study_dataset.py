@@ -169,10 +169,11 @@ def case_attrs(dims, shape, records, skip=(), stats=(), long_names=None):
     gives it); one that differs, that only some cases have, or that is named in ``stats``, is one of ``variables``
     on the study's ``dims``: numbers with ``units``, words (``""`` where a case has none), each with a long name.
     Integers stay integers (32-bit: CF 1.8 has no 64-bit ones), :data:`INT_FILL` where a case has none (``fills``:
-    ``{name: fill}`` for the variables' ``_FillValue``); ``complete`` is 0 there. A name in ``skip`` (a varied parameter, a coordinate of the study) is
-    left out with its ``units_NAME`` and ``NAME_requested``, and so are :data:`NOT_CARRIED` and every ``units_*``
-    on its own. A name given as a number by some cases and in words by others (``energy_balance_error`` where some
-    cases have no loads) is a number, NaN where it is words. ``long_names``: the caller's, before :data:`LONG_NAMES`.
+    ``{name: fill}`` for the variables' ``_FillValue``); ``complete`` is 0 there. A name in ``skip`` (a varied
+    parameter, a coordinate of the study) is left out with its ``units_NAME`` and ``NAME_requested``, and so are
+    :data:`NOT_CARRIED` and every ``units_*`` on its own. A name given as a number by some cases and in words by
+    others (``energy_balance_error`` where some cases have no loads) is a number, NaN where it is words.
+    ``long_names``: the caller's, before :data:`LONG_NAMES`.
     """
     left_out = set(NOT_CARRIED) | set(skip) | {f"units_{k}" for k in skip} | {f"{k}_requested" for k in skip}
     keys = [k for k in dict.fromkeys(k for attrs in records.values() for k in attrs)
