@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import ctypes
+import re
 import reprlib
 import sys
 from collections.abc import Mapping
@@ -108,15 +110,28 @@ class UnknownParameterError(ParameterError, TypeError):
 
 
 def by_interrupt(exc):
-    """Whether ``exc`` is a Ctrl-C: a ``KeyboardInterrupt``, or an error a C extension raised because one arrived
-    during its call (CasADi's wrappers then return with the interrupt set, and Python reports a ``SystemError``
-    caused by it)."""
+    """Whether ``exc`` is a Ctrl-C: a ``KeyboardInterrupt``, or an error raised because one arrived inside a call into
+    C, which reports it in its own way: CasADi's wrappers return with the interrupt set (Python raises a
+    ``SystemError`` caused by it), ctypes raises an ``ArgumentError`` naming it in its text (``argument 1:
+    KeyboardInterrupt: ``: it arrived while ctypes converted an argument, with no cause recorded), CasADi a
+    ``RuntimeError`` whose last line names it (raised inside a CasADi call, by its own check for signals or a Python
+    function it called). Causes and contexts are followed."""
     seen = set()
     while exc is not None and id(exc) not in seen:
-        if isinstance(exc, KeyboardInterrupt):
+        if isinstance(exc, KeyboardInterrupt) or _names_interrupt(exc):
             return True
         seen.add(id(exc))
         exc = exc.__cause__ or exc.__context__
+    return False
+
+
+def _names_interrupt(exc):
+    """An error of a C extension that wraps a ``KeyboardInterrupt`` in its text only (:func:`by_interrupt`)."""
+    if isinstance(exc, ctypes.ArgumentError):
+        return re.match(r"argument \d+: KeyboardInterrupt:", str(exc)) is not None
+    if isinstance(exc, RuntimeError):
+        lines = str(exc).strip().splitlines()
+        return bool(lines) and re.fullmatch(r"KeyboardInterrupt(?::.*)?", lines[-1].strip()) is not None
     return False
 
 

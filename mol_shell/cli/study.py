@@ -7,7 +7,7 @@ import sys
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, by_interrupt
 from mol_shell.analysis.path_study import path_study
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
@@ -101,7 +101,9 @@ def _finish(args, scene, what, run, tail=lambda ds: ""):
     refused (its input out of range; the first reason on stderr), else EXIT_INCOMPLETE."""
     try:
         ds = run()
-    except KeyboardInterrupt:
+    except BaseException as exc:  # a KeyboardInterrupt, or an error that wraps one (by_interrupt)
+        if not by_interrupt(exc):
+            raise
         print(f"mol-shell: study interrupted; finished cases are kept in {Store(args.output).folder}; "
               "run the same command again to resume", file=sys.stderr)
         return 130

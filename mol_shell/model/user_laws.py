@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 import casadi as ca
 import numpy as np
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, by_interrupt
 from mol_shell.model.hyperelastic import (
     NEWTON_STEPS,
     Law,
@@ -104,7 +104,9 @@ class Material:
         try:
             W = self.energy(C, dict(self.parameters))
             W = ca.SX(W)
-        except Exception as exc:  # noqa: BLE001 - any failure of the user's function is a refusal of it
+        except Exception as exc:  # any failure of the user's function is a refusal of it
+            if by_interrupt(exc):  # a Ctrl-C inside a CasADi call of the function (wrapped): not its failure
+                raise
             raise ParameterError.invalid("energy", getattr(self.energy, "__name__", repr(self.energy)),
                                          f"of material {self.name} raised {type(exc).__name__}: {exc}",
                                          "a function energy(C, parameters) of casadi.SX returning a CasADi scalar"

@@ -7,6 +7,7 @@ import textwrap
 import casadi as ca
 import numpy as np
 import pytest
+from wrapped_interrupts import WRAPPED
 
 import mol_shell
 from mol_shell._core.errors import ParameterError
@@ -103,6 +104,17 @@ def test_a_material_that_is_not_a_law_is_refused():
     # refused when made (it was made, and refused when a scene first used it)
     with pytest.raises(ParameterError, match=r"name = 'svk' is outside a name of its own \(no ':'; not a built-in"):
         mol_shell.Material("svk", energy=neo_hookean, parameters={"mu": 1.0}, thickness="incompressible")
+
+
+@pytest.mark.parametrize("kind", ["ctypes", "casadi"])
+def test_a_ctrl_c_inside_the_energy_function_is_not_its_failure(kind):
+    """An interrupt that a C call inside the user's function reports in its own way (wrapped_interrupts) is passed
+    on as it is, not refused as "energy ... raised ArgumentError" (a ParameterError, exit 2)."""
+    def interrupted(C, p):
+        raise WRAPPED[kind]()
+
+    with pytest.raises(type(WRAPPED[kind]())):
+        mol_shell.Material("interrupted", energy=interrupted, parameters={})
 
 
 @pytest.mark.parametrize("energy, parameters, thickness, words", [
