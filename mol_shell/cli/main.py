@@ -332,8 +332,8 @@ def _command(argv):
         _remove_empty(created)
         print(f"mol-shell: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
-    except KeyboardInterrupt:
-        print("mol-shell: interrupted", file=sys.stderr)
+    except KeyboardInterrupt as exc:  # its text: what was kept ("after writing run.nc": a write is never cut short)
+        print(f"mol-shell: interrupted{' ' if str(exc) else ''}{exc}", file=sys.stderr)
         return EXIT_INTERRUPTED
     except ModelLimitError as exc:  # a run a command needs stopped at a limit (compare's reference)
         print(f"mol-shell: stopped: {exc}", file=sys.stderr)

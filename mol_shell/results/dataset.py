@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from mol_shell._core import interrupts
 from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.edges import IMPOSED
@@ -270,7 +271,10 @@ def write_netcdf(ds, path):
     Missing directories of ``path`` are created; a path that cannot be written, or that does not end in
     one of :data:`NETCDF_SUFFIXES`, raises :class:`~mol_shell._core.errors.ParameterError`. The file is
     written under a temporary name and renamed onto ``path`` (:mod:`mol_shell._core.atomic`): a process killed
-    while writing leaves the previous file intact.
+    while writing leaves the previous file intact. A Ctrl-C while it is written lets the write finish and is raised
+    after it (``KeyboardInterrupt("after writing PATH")``): xarray and netCDF4 hold process-wide locks that an
+    interrupt in the middle left taken, and the write's clean-up then waited for them forever
+    (:func:`mol_shell._core.interrupts.held`).
     """
     if not isinstance(ds, xr.Dataset):
         raise ParameterError.not_a("ds", ds, "an xarray.Dataset", "a Dataset, as mol_shell.simulate returns")
@@ -283,7 +287,7 @@ def write_netcdf(ds, path):
             other = int(np.prod([ds.sizes[d] for d in var.dims if d != "time"], dtype=np.int64))
             block = max(1, min(ds.sizes["time"], 2**17 // max(other, 1)))
             encoding.setdefault(name, {})["chunksizes"] = tuple(block if d == "time" else ds.sizes[d] for d in var.dims)
-    with atomic_path(path) as tmp:  # a run killed while writing leaves the previous file intact
+    with interrupts.held(f"after writing {path}"), atomic_path(path) as tmp:  # a killed run: the previous file
         ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding, unlimited_dims=unlimited)
 
 
@@ -341,7 +345,9 @@ def read_netcdf(path):
 
 
 def _load(path):
-    with xr.open_dataset(path, engine="netcdf4", decode_times=False) as ds:
+    """The whole file in memory; a Ctrl-C while it is read is raised once the file is closed (as for writing, the
+    libraries' locks: :func:`write_netcdf`)."""
+    with interrupts.held(), xr.open_dataset(path, engine="netcdf4", decode_times=False) as ds:
         return ds.load()
 
 

@@ -1,0 +1,107 @@
+"""Ctrl-C (SIGINT) where Python's own ``KeyboardInterrupt`` would do harm: held back while a file is written or
+read, and noted, not raised, while a run steps.
+
+Python raises ``KeyboardInterrupt`` wherever the main thread is when the signal arrives. Two kinds of place cannot
+take it there:
+
+* a netCDF file being written or read: xarray and netCDF4 hold process-wide locks (``threading.Lock``) around the C
+  library's calls, and an interrupt between taking one and the ``try`` that gives it back leaves it taken; the
+  clean-up that follows then waits for it forever (a study hung on Ctrl-C, SIGTERM ignored, a ``.part`` file
+  left). :func:`held` lets such a block finish and raises ``KeyboardInterrupt`` after it.
+* a run's steps, which call CasADi and ctypes many times a second: CasADi's conversion of a NumPy argument catches
+  every exception (a bare ``except:``) and so loses the interrupt (the run went on to its end), ctypes reports
+  one raised while it converts an argument as an ``ArgumentError``, CasADi's ``DM.__array__`` as a
+  ``SystemError``. :func:`watched` notes the signal in a flag that the run's loop reads between its chunks.
+
+Both act in the main thread only (the only one Python runs signal handlers in), and only where a Python handler
+is in place: a process that ignores SIGINT, or that SIGINT kills, is left as it is. A signal noted is passed on to
+the handler that was replaced (:func:`held`), or left to the caller (:func:`watched`).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+
+
+class Watch:
+    """The SIGINT handler while a block runs: ``caught`` once a SIGINT arrived; ``raising``: also raise
+    ``KeyboardInterrupt`` where it lands (for a block that waits in one long call which stops itself on one: CasADi's
+    integrators run Python's signal handlers as they step). ``previous``: the handler it replaced."""
+
+    def __init__(self, raising=False):
+        self.caught, self.raising, self.previous = False, raising, None
+
+    def __call__(self, signum, frame):
+        self.caught = True
+        if self.raising:
+            raise KeyboardInterrupt
+
+
+def _install(watch):
+    """Put ``watch`` in place of SIGINT's handler; False where it cannot be (another thread than the main one) or
+    should not be (SIGINT ignored, or left to kill the process)."""
+    if threading.current_thread() is not threading.main_thread():
+        return False
+    previous = signal.getsignal(signal.SIGINT)
+    if not callable(previous):  # SIG_IGN, SIG_DFL, or a handler not set from Python (None)
+        return False
+    watch.previous = previous
+    signal.signal(signal.SIGINT, watch)  # runs the previous handler first for a signal already pending
+    return True
+
+
+def _restore(watch):
+    """Put the replaced handler back. A signal still pending is noted by ``watch`` first (``signal.signal`` runs the
+    handlers of pending signals before it changes one), never raised: the handler would otherwise stay ``watch``."""
+    watch.raising = False
+    signal.signal(signal.SIGINT, watch.previous)
+
+
+def _pass_on(watch, note=""):
+    """Hand a SIGINT that ``watch`` noted to the handler it replaced: Python's own raises ``KeyboardInterrupt``
+    (saying ``note``), another (an enclosing :class:`Watch`, the user's) is called as the signal would have."""
+    if not watch.caught:
+        return
+    if watch.previous is signal.default_int_handler:
+        raise KeyboardInterrupt(*([note] if note else []))
+    watch.previous(signal.SIGINT, None)
+
+
+@contextlib.contextmanager
+def held(note=""):
+    """Hold SIGINT back while the block runs; once it has finished, raise ``KeyboardInterrupt`` (its message
+    ``note``, e.g. what the block wrote) if one arrived meanwhile. The block is never interrupted halfway: for
+    writing and reading files through libraries that hold locks (module docstring). A block that fails for its
+    own reason raises that error, with the interrupt raised from within its handling (the error then its
+    ``__context__``)."""
+    watch = Watch()
+    if not _install(watch):
+        yield watch
+        return
+    try:
+        yield watch
+    except BaseException:
+        _restore(watch)
+        _pass_on(watch)
+        raise
+    _restore(watch)
+    _pass_on(watch, note)
+
+
+@contextlib.contextmanager
+def watched(raising=False):
+    """Note SIGINT in the yielded :class:`Watch` (``caught``) while the block runs, for the block to act on where
+    it can (a run's loop, between its chunks); ``raising``: also raise ``KeyboardInterrupt`` where the signal lands.
+    A signal noted is not passed on: the block has acted on it (a run ends ``"interrupted"``, keeping its data)."""
+    watch = Watch(raising)
+    installed = _install(watch)
+    try:
+        yield watch
+    finally:
+        if installed:
+            _restore(watch)
+
+
+__all__ = ["Watch", "held", "watched"]
