@@ -15,7 +15,9 @@ take it there:
 
 Both act in the main thread only (the only one Python runs signal handlers in), and only where a Python handler
 is in place: a process that ignores SIGINT, or that SIGINT kills, is left as it is. A signal noted is passed on to
-the handler that was replaced (:func:`held`), or left to the caller (:func:`watched`).
+the handler that was replaced (:func:`held`), or left to the caller (:func:`watched`). The command line watches a
+whole command with a handler that raises as Python's does and notes the signal too, so that a run started after
+an interrupt some call lost (in the run's set-up) stops at once.
 """
 
 from __future__ import annotations
@@ -60,13 +62,20 @@ def _restore(watch):
 
 
 def _pass_on(watch, note=""):
-    """Hand a SIGINT that ``watch`` noted to the handler it replaced: Python's own raises ``KeyboardInterrupt``
-    (saying ``note``), another (an enclosing :class:`Watch`, the user's) is called as the signal would have."""
+    """Hand a SIGINT that ``watch`` noted to the handler it replaced: Python's own, or an enclosing raising
+    :class:`Watch`, raises ``KeyboardInterrupt`` (saying ``note``); an enclosing noting one notes it; another handler
+    (the user's) is called as the signal would have called it."""
     if not watch.caught:
         return
-    if watch.previous is signal.default_int_handler:
-        raise KeyboardInterrupt(*([note] if note else []))
-    watch.previous(signal.SIGINT, None)
+    outer = watch.previous
+    if isinstance(outer, Watch):
+        outer.caught = True
+        if not outer.raising:
+            return
+    elif outer is not signal.default_int_handler:
+        outer(signal.SIGINT, None)
+        return
+    raise KeyboardInterrupt(*([note] if note else []))
 
 
 @contextlib.contextmanager
@@ -93,10 +102,14 @@ def held(note=""):
 @contextlib.contextmanager
 def watched(raising=False):
     """Note SIGINT in the yielded :class:`Watch` (``caught``) while the block runs, for the block to act on where
-    it can (a run's loop, between its chunks); ``raising``: also raise ``KeyboardInterrupt`` where the signal lands.
-    A signal noted is not passed on: the block has acted on it (a run ends ``"interrupted"``, keeping its data)."""
+    it can (a run's loop, between its chunks); ``raising``: also raise ``KeyboardInterrupt`` where the signal lands
+    (the command line's, for a whole command: Python's behaviour, with the signal noted). A signal that an
+    enclosing watch noted already counts as caught (its ``KeyboardInterrupt`` was lost on the way: the command went
+    on into this block). A signal noted is not passed on: the block has acted on it (a run ends
+    ``"interrupted"``, keeping its data)."""
     watch = Watch(raising)
     installed = _install(watch)
+    watch.caught = isinstance(watch.previous, Watch) and watch.previous.caught
     try:
         yield watch
     finally:

@@ -22,6 +22,7 @@ import warnings
 
 import numpy as np
 
+from mol_shell._core import interrupts
 from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, by_interrupt
 from mol_shell._core.version import __version__
@@ -292,7 +293,8 @@ def main(argv=None):
     sys.stdout, sys.stderr = (None if stream is None else _Guarded(stream, name)
                               for stream, name in zip(streams, ("standard output", "standard error")))
     try:
-        return _command(argv)
+        with interrupts.watched(raising=True):  # Ctrl-C raises as usual, and is noted where a C call loses it
+            return _command(argv)
     except OutputError as exc:
         failed = exc
     finally:

@@ -27,6 +27,7 @@ from typing import Callable, Protocol
 
 import numpy as np
 
+from mol_shell._core import interrupts
 from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
 from mol_shell.integrators.base import Monitor, Trajectory
@@ -134,11 +135,21 @@ def run(integrator, system, compiled, y0, times, *, progress=None):
     """Run ``integrator`` from ``times[0] = 0`` through ``times``: the one loop, for every integrator.
 
     Returns a :class:`~mol_shell.integrators.base.Trajectory` of the saved times reached; a failure of any
-    kind (:data:`FAILURE_KINDS`) ends the run there with its status, message and time.
+    kind (:data:`FAILURE_KINDS`) ends the run there with its status, message and time. A Ctrl-C (SIGINT) is noted
+    by a handler of the loop's own wherever it lands (:func:`mol_shell._core.interrupts.watched`: inside a
+    CasADi or ctypes call, which lose or wrap a ``KeyboardInterrupt``) and ends the run ``"interrupted"`` at the end
+    of the chunk it arrived in; an integrator whose chunk is one long CasADi call that stops itself on a signal
+    (``interrupt_inside``) has it raised there too.
     """
     times = np.asarray(times, dtype=float)
     if times[0] != 0:
         raise ParameterError("times", float(times[0]), "first saved time must be 0")
+    with interrupts.watched(raising=getattr(integrator, "interrupt_inside", False)) as watch:
+        return _steps(integrator, system, compiled, y0, times, progress, watch)
+
+
+def _steps(integrator, system, compiled, y0, times, progress, watch):
+    """:func:`run`'s loop, with SIGINT noted in ``watch``."""
     monitor = Monitor(system, y0)
     saved, reached = [np.array(y0, dtype=float)], [0.0]
     status, message, failure = "complete", "completed", float("nan")
@@ -150,10 +161,12 @@ def run(integrator, system, compiled, y0, times, *, progress=None):
         # a start outside the model's limits stops here, at t = 0 (a root-finding solver sees only crossings: a
         # run started past the loss of ellipticity with ellipticity_limit on went on, warned only afterwards)
         monitor.check(saved[0], 0.0)
+        _stop_if_caught(watch)  # before the solver's set-up (an interrupt in the run's own set-up, or lost before it)
         stepper = integrator.start(system, compiled, y0, times, monitor)
         start = time.perf_counter()
         for target in times[1:]:
             while stepper.t < target:
+                _stop_if_caught(watch)
                 before = stepper.t
                 stepper.advance(float(target))
                 if progress is not None:
@@ -163,16 +176,25 @@ def run(integrator, system, compiled, y0, times, *, progress=None):
                 monitor.check(y, float(target))
             saved.append(y)
             reached.append(float(target))
-    except ModelLimitError as exc:
-        status, message, failure = exc.status, str(exc), exc.time
-    except (KeyboardInterrupt, SystemError) as exc:  # SystemError: a Ctrl-C inside a CasADi call (by_interrupt)
-        if not by_interrupt(exc):
+        _stop_if_caught(watch)  # a signal in the last chunk: the run was interrupted, whatever it reached
+    except BaseException as exc:  # every error that is a Ctrl-C's (by_interrupt), or came after one
+        watch.raising = False  # the run ends here: a second Ctrl-C is noted, not raised in the middle of it
+        if isinstance(exc, ModelLimitError) and not watch.caught:
+            status, message, failure = exc.status, str(exc), exc.time
+        elif watch.caught or by_interrupt(exc):  # a solver that failed because of the interrupt was interrupted
+            t = float(stepper.t)
+            status, message, failure = "interrupted", f"interrupted by the user at t = {t:.9g} s", t
+        else:
             raise
-        t = float(stepper.t)
-        status, message, failure = "interrupted", f"interrupted by the user at t = {t:.9g} s", t
     stats = {"wall_time_s": time.perf_counter() - start, "setup_time_s": start - setup, **stepper.stats()}
     return Trajectory(np.array(reached), np.array(saved), status=status, message=message, stats=stats,
                       failure_time=failure)
+
+
+def _stop_if_caught(watch):
+    """End the run (as a ``KeyboardInterrupt`` would) once a SIGINT has been noted."""
+    if watch.caught:
+        raise KeyboardInterrupt
 
 
 __all__ = ["FAILURE_KINDS", "Option", "RTOL", "Stepper", "check_declared", "declared", "option", "run"]

@@ -15,7 +15,10 @@ the saved times only (:class:`~mol_shell.integrators.Monitor`); none of these ha
 
 from __future__ import annotations
 
+import contextlib
+import io
 import re
+import sys
 import time
 import weakref
 from dataclasses import dataclass
@@ -158,6 +161,9 @@ class CasadiCVODES(_Peer):
     name = "casadi-cvodes"
     plugin = "cvodes"
     plugin_options = {}
+    #: every saved time comes from one CasADi call, which stops itself on Ctrl-C (CasADi runs Python's signal
+    #: handlers as it steps): the run loop's handler raises KeyboardInterrupt there (:func:`loop.run`)
+    interrupt_inside = True
 
     def _dae(self, system):
         sym = ca.SX if not system.mapped else ca.MX
@@ -216,13 +222,19 @@ class _CasadiStepper:
 
     def advance(self, target):
         start = time.perf_counter()
+        said = io.StringIO()  # CasADi's account of a failed callback ("rhs failed: KeyboardInterrupt")
         try:
-            out = self.F(**self.initial)
+            with contextlib.redirect_stderr(said):
+                out = self.F(**self.initial)
         except RuntimeError as exc:  # CasADi raises when SUNDIALS fails: only t = 0 is kept
             self.wall = time.perf_counter() - start
+            if re.search(r"failed: KeyboardInterrupt", said.getvalue()):  # a Ctrl-C inside, said as SUNDIALS' failure
+                raise KeyboardInterrupt from exc
+            sys.stderr.write(said.getvalue())
             err = ModelLimitError(self.method._failure_message(exc, self.opts), float("nan"), "whole shell")
             err.status = "failed"
             raise err from None
+        sys.stderr.write(said.getvalue())
         self.wall = time.perf_counter() - start
         self.states = self.method._states(self.system, out["xf"])
         self.t = float(self.times[-1])
