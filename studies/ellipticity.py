@@ -68,7 +68,7 @@ def main(argv=None):
         coords={"case": np.arange(len(rows))},
         attrs={"title": "breathing sphere: the loss of ellipticity and the grid", "critical_stretch": critical,
                "nu": NU, "R": 1.05})
-    out.to_netcdf(os.path.join(args.out, "ellipticity.nc"))
+    mol_shell.write_netcdf(out, os.path.join(args.out, "ellipticity.nc"))
     print(f"closed form: the equator's stretch {critical:.5f} (hoop polarisation)")
     print("| material | n | status | loss at [ms] | stopped at [ms] | smallest equator stretch | smallest margin |")
     print("|---|---|---|---|---|---|---|")

@@ -94,7 +94,7 @@ def main(argv=None):
                      "t_end_elastic": CASES["elastic"][1], "rtol": 1e-6, "atol": 1e-9,
                      "source": f"mol_shell {mol_shell.__version__}, studies/implicit_scaling.py"})
     os.makedirs(os.path.dirname(args.output) or ".", exist_ok=True)
-    ds.to_netcdf(args.output)
+    mol_shell.write_netcdf(ds, args.output)
     stem = args.output.rsplit(".", 1)[0]
     table = markdown(ds)
     with open(stem + ".md", "w") as fh:

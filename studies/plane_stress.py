@@ -66,7 +66,7 @@ def main(argv=None):
     data = {k: (("material", "nu"), [[rows[m, nu][k] for nu in nus] for m in MATERIALS]) for k in keys}
     data["r_final"] = (("material", "nu", "s"), [[finals[m, nu].values for nu in nus] for m in MATERIALS])
     out = xr.Dataset(data, coords={"material": list(MATERIALS), "nu": list(nus), "s": finals["svk", nus[0]].s.values})
-    out.to_netcdf(os.path.join(args.out, "plane_stress.nc"))
+    mol_shell.write_netcdf(out, os.path.join(args.out, "plane_stress.nc"))
     print("| material | nu | R [m] | max abs(eig) [1/s] | r range at the paper's times [m] | max abs(theta) "
           "| max abs(psi) |")
     print("|---|---|---|---|---|---|---|")

@@ -46,7 +46,7 @@ def main(argv=None):
                           {"long_name": "max over s and t of |PDE - ODE|", "units": "1 (field units)"})
     out["nonuniformity"] = (("dt",), [uniform[dt] for dt in steps], {"long_name": "max over fields of max |x - mean_s x| / max(1, max |x|)", "units": "1"})
     out = out.assign_coords(dt=("dt", list(steps), {"units": "s"}), field=("field", list(FIELDS)))
-    out.to_netcdf(os.path.join(args.out, "ring_vs_pde.nc"))
+    mol_shell.write_netcdf(out, os.path.join(args.out, "ring_vs_pde.nc"))
     e = ring.energy.values
     print(f"ODE: {ring.attrs['n_rhs']} RHS evaluations, {ring.attrs['wall_time_s']:.2f} s; relative energy change "
           f"{np.abs(e - e[0]).max() / e[0]:.1e}; r in {float(ring.r.min()):.5f} .. {float(ring.r.max()):.5f} m, "

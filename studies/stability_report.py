@@ -44,7 +44,7 @@ def main(argv=None):
     output = args.output or os.path.join(args.out, "stability.nc")
     os.makedirs(os.path.dirname(output) or ".", exist_ok=True)
     ds = report(cases(args.max_n, args.quick))
-    ds.to_netcdf(output)
+    mol_shell.write_netcdf(ds, output)
     stem = output.rsplit(".", 1)[0]
     with open(stem + ".md", "w") as fh:
         fh.write(markdown_table(ds) + "\n")

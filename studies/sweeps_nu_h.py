@@ -72,7 +72,7 @@ def main(argv=None):
                    compat="no_conflicts", join="outer")
     out.attrs.update(title="mol_shell: nu and h sweeps of the twisted cylinder", gamma=0.1,
                      source=f"mol_shell {mol_shell.__version__}", t_end=float(TIMES[-1]), dt=args.dt)
-    out.to_netcdf(os.path.join(out_dir, "sweeps_nu_h.nc"))
+    mol_shell.write_netcdf(out, os.path.join(out_dir, "sweeps_nu_h.nc"))
     for name, m in summaries.items():
         print(f"\n| {name} | N | R [m] | max abs(r - R) [m] | max abs(theta) [rad] | max abs(psi) [rad] "
               "| psi without node pattern | chi(s=0) at 0.143 s | leap-frog dt bound [s] | status |")

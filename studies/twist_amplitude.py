@@ -65,7 +65,7 @@ def main(argv=None):
     out.grid.attrs.update(long_name="nodes in s", units="1")
     out.attrs.update(title="mol_shell: twist amplitude gamma against radius change and psi amplitude",
                      source=f"mol_shell {mol_shell.__version__}", t_end=float(TIMES[-1]), dt=args.dt)
-    out.to_netcdf(os.path.join(out_dir, "twist_amplitude.nc"))
+    mol_shell.write_netcdf(out, os.path.join(out_dir, "twist_amplitude.nc"))
     slopes = {}
     g = np.log(np.asarray(gammas))
     for n in grids:
