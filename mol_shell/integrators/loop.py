@@ -145,7 +145,11 @@ def run(integrator, system, compiled, y0, times, *, progress=None):
     if times[0] != 0:
         raise ParameterError("times", float(times[0]), "first saved time must be 0")
     with interrupts.watched(raising=getattr(integrator, "interrupt_inside", False)) as watch:
-        return _steps(integrator, system, compiled, y0, times, progress, watch)
+        traj = _steps(integrator, system, compiled, y0, times, progress, watch)
+    if watch.caught and traj.status == "complete":  # after the loop's last look, before its handler was put back
+        t = float(traj.t[-1])
+        traj.status, traj.message, traj.failure_time = "interrupted", f"interrupted by the user at t = {t:.9g} s", t
+    return traj
 
 
 def _steps(integrator, system, compiled, y0, times, progress, watch):

@@ -152,3 +152,23 @@ def test_an_interrupt_lost_in_the_set_up_stops_the_run_at_its_start(monkeypatch,
     err = [line for line in capsys.readouterr().err.splitlines() if not line.startswith("mol-shell: warning: ")]
     said = f"mol-shell: run stopped: interrupted by the user at t = 0 s; wrote 1 saved time to {out}"
     assert code == 130 and err == [said], err
+
+
+def test_an_interrupt_as_the_run_ends_keeps_every_saved_time_and_is_said(monkeypatch, sigint_python, paper):
+    """A signal after the loop's last look at its flag (here as the stepper's counters are read, the handler still
+    the loop's) ends a complete run ``interrupted`` at its last saved time: it was neither lost (the run said complete
+    and the command went on) nor raised out of the run with its data (Python's handler)."""
+    system, compiled, y0 = paper
+    real = peers._ScipyStepper.stats
+
+    def stats(self):
+        signal.raise_signal(signal.SIGINT)
+        return real(self)
+
+    monkeypatch.setattr(peers._ScipyStepper, "stats", stats)
+    try:
+        traj = INTEGRATORS["scipy-rk45"]().integrate(system, compiled, y0, TIMES[:3])
+    except KeyboardInterrupt:
+        pytest.fail("the interrupt was raised out of the run, and its saved times with it")
+    assert traj.status == "interrupted" and len(traj.t) == 3
+    assert traj.failure_time == pytest.approx(TIMES[2]) and traj.message.startswith("interrupted by the user at t =")
