@@ -419,7 +419,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
                 break
             # the cap: twice the first step, or twice the default first step when a smaller one was asked for
             h = min(h * (1.6 if its <= 3 else 1.0 if its <= 5 else 0.5), max(ds0, math.sqrt(2.0) / steps) * MAX_GROWTH)
-    except (KeyboardInterrupt, SystemError) as exc:  # SystemError: a Ctrl-C inside a CasADi call
+    except BaseException as exc:  # a Ctrl-C, or an error of a C call that wraps one (by_interrupt)
         if not by_interrupt(exc):
             raise
         record.truncate()

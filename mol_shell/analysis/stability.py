@@ -293,7 +293,7 @@ def report(cases, **kwargs):
             rows.append(row)
             done = "done" if row["case_status"] == "measured" else row["case_status"]
             print(f"{case.label:28s} {done} in {time.perf_counter() - start:6.1f} s", flush=True)
-    except (KeyboardInterrupt, SystemError) as exc:  # SystemError: a Ctrl-C inside a CasADi call
+    except BaseException as exc:  # a Ctrl-C, or an error of a C call that wraps one (by_interrupt)
         if not by_interrupt(exc) or not rows:
             raise
         left = [case.label for case in cases[len(rows):]]

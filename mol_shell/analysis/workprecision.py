@@ -212,7 +212,7 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
                     note[i, j] = traj.message
                 log(f"{name:14s} {value:8.1e}  error {data['error'][i, j]:9.3g}  wall {data['wall_time_s'][i, j]:8.4f} "
                     f"s  steps {traj.stats.get('n_steps', -1):>7}  {traj.status}")
-    except (KeyboardInterrupt, SystemError) as exc:  # SystemError: a Ctrl-C inside a CasADi call
+    except BaseException as exc:  # a Ctrl-C, or an error of a C call that wraps one (by_interrupt)
         if not by_interrupt(exc):
             raise
         interrupted = f"interrupted by the user at {name} {value:g}: the points before it measured, the rest not run"

@@ -4,6 +4,8 @@ times). A path interrupted after about 150 steps wrote nothing and exited 130.""
 from __future__ import annotations
 
 import numpy as np
+import pytest
+from wrapped_interrupts import WRAPPED
 
 from mol_shell import Sphere, path
 from mol_shell.analysis import path as path_module
@@ -13,21 +15,23 @@ from mol_shell.cli.main import main
 SCENE = Sphere(nu=0.3, material="svk-plane-stress")
 
 
-def _interrupt_after(monkeypatch, owner, name, calls):
-    """``owner.name`` raising KeyboardInterrupt at its ``calls``-th call (the others as before)."""
+def _interrupt_after(monkeypatch, owner, name, calls, kind="keyboard"):
+    """``owner.name`` raising KeyboardInterrupt (or, ``kind``, an error of a C call that wraps one: wrapped_interrupts)
+    at its ``calls``-th call (the others as before)."""
     original, count = getattr(owner, name), [0]
 
     def wrapped(*args, **kwargs):
         count[0] += 1
         if count[0] == calls:
-            raise KeyboardInterrupt
+            raise WRAPPED[kind]() if kind in WRAPPED else KeyboardInterrupt
         return original(*args, **kwargs)
 
     monkeypatch.setattr(owner, name, wrapped)
 
 
-def test_an_interrupted_path_keeps_its_steps_and_exits_130(monkeypatch, tmp_path, capsys):
-    _interrupt_after(monkeypatch, path_module._Path, "correct", 6)
+@pytest.mark.parametrize("kind", ["keyboard", "ctypes", "casadi"])  # ctypes, casadi: the interrupt in a C call
+def test_an_interrupted_path_keeps_its_steps_and_exits_130(monkeypatch, tmp_path, capsys, kind):
+    _interrupt_after(monkeypatch, path_module._Path, "correct", 6, kind)
     out = tmp_path / "p.nc"
     code = main(["path", "sphere", "--param", "pressure=0:-300", "--set", "nu=0.3", "--set",
                  "material=svk-plane-stress", "--n", "10", "-o", str(out)])

@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+from wrapped_interrupts import WRAPPED
 
 import mol_shell
 from mol_shell.analysis.stability import Case, default_cases, markdown_table, report, stable_leapfrog_step
@@ -138,9 +139,11 @@ def test_a_run_refused_or_stopped_at_its_start_says_why_and_shows_no_numbers():
     assert "Runs that did not complete:" in table and "- twist, cvode-bdf: an in-plane stretch" in table
 
 
-def test_ctrl_c_keeps_the_cases_finished(monkeypatch, tmp_path, capsys):
+@pytest.mark.parametrize("kind", ["keyboard", "ctypes", "casadi"])  # ctypes, casadi: the interrupt in a C call
+def test_ctrl_c_keeps_the_cases_finished(monkeypatch, tmp_path, capsys, kind):
     """Ctrl-C during `mol-shell stability` exited 130 with nothing written, though cases had printed "done". The
-    cases finished are kept (file, table, figure), the message names the case interrupted, exit 130."""
+    cases finished are kept (file, table, figure), the message names the case interrupted, exit 130 (also when a C
+    call reported the interrupt as its own error: wrapped_interrupts)."""
     from mol_shell.analysis import stability
     from mol_shell.cli.main import main
 
@@ -150,7 +153,7 @@ def test_ctrl_c_keeps_the_cases_finished(monkeypatch, tmp_path, capsys):
     def interrupted_at_the_second(case, **kwargs):
         calls.append(case.label)
         if len(calls) == 2:
-            raise KeyboardInterrupt
+            raise WRAPPED[kind]() if kind in WRAPPED else KeyboardInterrupt
         return real(case, **kwargs)
 
     monkeypatch.setattr(stability, "run_case", interrupted_at_the_second)

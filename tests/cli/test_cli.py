@@ -388,6 +388,30 @@ def test_compare_interrupted_keeps_the_points_measured_and_exits_130(tmp_path, c
     assert "| rk45-c | interrupted before reached" in captured.out and "Not complete: interrupted" in captured.out
 
 
+@pytest.mark.parametrize("kind", ["ctypes", "casadi"])
+def test_compare_interrupted_inside_a_c_call_between_runs_keeps_the_points_measured(tmp_path, capsys, monkeypatch,
+                                                                                     kind):
+    """An interrupt that a C call reports as its own error (wrapped_interrupts) as a point's error is measured: the
+    comparison stops there as for a KeyboardInterrupt (it was an internal error, exit 1, nothing written)."""
+    import mol_shell.analysis.workprecision as wp
+
+    original, calls = wp.relative_error, [0]
+
+    def relative_error(*args):
+        calls[0] += 1
+        if calls[0] == 3:  # the reference's own check (1), the first point (2), the second point
+            raise WRAPPED[kind]()
+        return original(*args)
+
+    monkeypatch.setattr(wp, "relative_error", relative_error)
+    out = tmp_path / "wp.nc"
+    code = main(["compare", "twisted-cylinder", "--integrators", "dop853-c", "--n", "8", "--t-end", "2e-3",
+                 "--repeats", "1", "-o", str(out)])
+    assert code == 130 and "comparison stopped: interrupted by the user at dop853-c" in capsys.readouterr().err
+    ds = read_netcdf(out)
+    assert ds.attrs["status"] == "interrupted" and list(ds.status.values.ravel()[:2]) == ["complete", "interrupted"]
+
+
 @pytest.mark.parametrize("call", [1, 2, 3])
 def test_compare_interrupted_in_a_reference_or_a_warm_up_run_exits_130(tmp_path, capsys, monkeypatch, call):
     """An interrupt in a reference run (calls 1, 2) was reported as the reference not completing (exit 3); in a
