@@ -8,10 +8,12 @@ take it there:
   library's calls, and an interrupt between taking one and the ``try`` that gives it back leaves it taken; the
   clean-up that follows then waits for it forever (a study hung on Ctrl-C, SIGTERM ignored, a ``.part`` file
   left). :func:`held` lets such a block finish and raises ``KeyboardInterrupt`` after it.
-* a run's steps, which call CasADi and ctypes many times a second: CasADi's conversion of a NumPy argument catches
-  every exception (a bare ``except:``) and so loses the interrupt (the run went on to its end), ctypes reports
-  one raised while it converts an argument as an ``ArgumentError``, CasADi's ``DM.__array__`` as a
-  ``SystemError``. :func:`watched` notes the signal in a flag that the run's loop reads between its chunks.
+* a run's steps, which call CasADi and ctypes many times a second: a ``KeyboardInterrupt`` could be lost on the
+  way (2 of 24 interrupts of ``mol-shell run ... --option chunk=1`` 2.4-3.4 s after its start: the run went on
+  to its end, the process then in a CasADi call; the call that dropped it was not pinned down), ctypes reports one
+  raised while it converts an argument as an ``ArgumentError``, CasADi's ``DM.__array__`` as a ``SystemError``,
+  its integrators as a failure of SUNDIALS. :func:`watched` notes the signal in a flag that the run's loop reads
+  between its chunks.
 
 Both act in the main thread only (the only one Python runs signal handlers in), and only where a Python handler
 is in place: a process that ignores SIGINT, or that SIGINT kills, is left as it is. A signal noted is passed on to

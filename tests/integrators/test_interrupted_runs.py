@@ -46,8 +46,8 @@ def paper():
 
 
 def _signal_then_lose_it():
-    """SIGINT, its KeyboardInterrupt caught and dropped, as a C extension does that clears the error of a Python call
-    it makes (CasADi converting an argument: the tester's run went on to its end, exit 0)."""
+    """SIGINT, its KeyboardInterrupt caught and dropped, as code that runs the handler inside its call and clears the
+    error does (the tester's run went on to its end, exit 0, the process then in a CasADi call)."""
     try:
         signal.raise_signal(signal.SIGINT)
     except KeyboardInterrupt:
