@@ -17,7 +17,7 @@ import numpy as np
 from mol_shell._core.errors import ModelLimitError
 from mol_shell.integrators import loop
 from mol_shell.integrators.base import StepBudget
-from mol_shell.integrators.loop import integer_at_least, option
+from mol_shell.integrators.loop import integers, option
 from mol_shell.integrators.tolerances import Tolerances
 
 
@@ -49,8 +49,8 @@ class RungeKuttaC(Tolerances):
     energy and progress updates.
     """
 
-    max_steps: int = option(1_000_000, integer_at_least(1))
-    chunk: int = option(2000, integer_at_least(1))
+    max_steps: int = option(1_000_000, integers(1))
+    chunk: int = option(2000, integers(1))
 
     name = "dop853-c"
     #: the scipy.integrate class whose tableau and step control this runs (imported when used: scipy.integrate

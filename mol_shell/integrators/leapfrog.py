@@ -24,7 +24,7 @@ import numpy as np
 from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.discretization.stencil import leapfrog_stepper
 from mol_shell.integrators import loop
-from mol_shell.integrators.loop import integer_at_least, non_negative, option, positive
+from mol_shell.integrators.loop import Option, integers, option, positive, real
 
 
 @dataclass(frozen=True)
@@ -38,15 +38,15 @@ class Leapfrog:
     chunk : int
         Steps run in C between two checks of the energy (and progress updates); the limits are checked every step.
     restart : float
-        Seconds between two starts of the scheme from its last level by one midpoint step (1 s by default; 0:
-        never, the paper's scheme throughout; at most one per 100 steps), so its parasitic solution cannot grow
+        Seconds between two starts of the scheme from its last level by one midpoint step (1 s by default; 0 or
+        inf: never, the paper's scheme throughout; at most one per 100 steps), so its parasitic solution cannot grow
         beyond ``restart`` seconds' worth of the motion's Lyapunov rate (module docstring). Runs shorter than
         ``restart`` are unchanged.
     """
 
     dt: float = option(1e-6, positive(" s"))
-    chunk: int = option(2000, integer_at_least(1))
-    restart: float = option(1.0, non_negative(" s", zero="; 0: never"))
+    chunk: int = option(2000, integers(1))
+    restart: float = option(1.0, Option("[0, inf] s; 0 or inf: never", lambda v: real(v) >= 0, convert=real))
 
     name = "leapfrog"
     order = 2
@@ -64,8 +64,12 @@ class Leapfrog:
     MIN_RESTART_STEPS = 100
 
     def restart_steps(self):
-        """Steps between two restarts (at least :data:`MIN_RESTART_STEPS`); 0 for never."""
-        return max(self.MIN_RESTART_STEPS, round(self.restart / self.dt)) if self.restart > 0 else 0
+        """Steps between two restarts (at least :data:`MIN_RESTART_STEPS`); 0 for never: ``restart`` 0, or beyond
+        the :data:`MAX_STEPS` steps a run can count (``restart = 1e308`` or inf: ``round`` of its steps overflowed)."""
+        steps = self.restart / self.dt
+        if not 0 < steps <= self.MAX_STEPS:
+            return 0
+        return max(self.MIN_RESTART_STEPS, round(steps))
 
     #: steps leap-frog can count exactly (the step index k and the time k dt in double precision): 2^53
     MAX_STEPS = 2**53

@@ -21,6 +21,7 @@ Each ends the run with the saved times reached kept and ``failure_time`` set.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field, fields
 from typing import Callable, Protocol
@@ -45,34 +46,54 @@ FAILURE_KINDS = {
 class Option:
     """An integrator option's type and allowed range, declared once beside its field.
 
-    ``check(value) -> bool`` decides; ``allowed`` is the range as the error message states it.
+    ``check(value) -> bool`` decides; ``allowed`` is the range as the error message states it; ``convert``, if given,
+    makes an accepted value the type the option is stored as (a float option given ``10**20`` holds ``1e20``: the
+    run's netCDF attributes cannot hold a Python integer beyond 64 bits).
     """
 
     allowed: str
     check: Callable[[object], bool]
     doc: str = ""
+    convert: Callable[[object], object] | None = None
+
+
+#: the largest integer option: they are stored as 64-bit integers (the run's netCDF attributes, the drivers' step
+#: counters, ``long long`` in C)
+INT64_MAX = 2**63 - 1
 
 
 def _number(value):
     return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
 
 
+def real(value):
+    """A number option's value as a float: an integer beyond the floats' range as +-inf (``float(10**400)`` raises),
+    anything but a number NaN, so a range's comparisons refuse it."""
+    if not _number(value):
+        return math.nan
+    try:
+        return float(value)
+    except OverflowError:
+        return math.inf if value > 0 else -math.inf
+
+
 def positive(unit=""):
-    return Option(f"(0, inf){unit}", lambda v: _number(v) and bool(np.isfinite(v)) and v > 0)
+    return Option(f"(0, inf){unit}", lambda v: 0 < real(v) < math.inf, convert=real)
 
 
 def non_negative(unit="", zero=""):
-    return Option(f"[0, inf){unit}{zero}", lambda v: _number(v) and bool(np.isfinite(v)) and v >= 0)
+    return Option(f"[0, inf){unit}{zero}", lambda v: 0 <= real(v) < math.inf, convert=real)
 
 
-def integer_at_least(low):
-    return Option(f"integers >= {low}", lambda v: isinstance(v, (int, np.integer)) and not isinstance(v, bool)
-                  and v >= low)
+def integers(low, high=INT64_MAX):
+    """``[low, high]``, Python or NumPy integers (not bools); at most :data:`INT64_MAX`, as they are stored."""
+    return Option(f"integers in [{low}, {high}]", lambda v: isinstance(v, (int, np.integer))
+                  and not isinstance(v, (bool, np.bool_)) and low <= v <= high, convert=int)
 
 
 def interval(low, high, unit=""):
     """``[low, high)``: a relative tolerance below ``low`` is under round-off, one at ``high`` controls nothing."""
-    return Option(f"[{low:g}, {high:g}){unit}", lambda v: _number(v) and low <= v < high)
+    return Option(f"[{low:g}, {high:g}){unit}", lambda v: low <= real(v) < high, convert=real)
 
 
 def choice(*values):
@@ -96,13 +117,16 @@ def declared(cls):
 
 
 def check_declared(instance):
-    """Refuse, by name and with its allowed range, an option value outside its declared range."""
+    """Refuse, by name and with its allowed range, an option value outside its declared range; store an accepted
+    one as its declared type (:attr:`Option.convert`)."""
     for name, spec in declared(type(instance)).items():
         value = getattr(instance, name)
         if not spec.check(value):
             if not _number(value) and "inf" in spec.allowed:
                 raise ParameterError.not_a(name, value, "a number", spec.allowed)
             raise ParameterError(name, value, spec.allowed)
+        if spec.convert is not None and value is not None:  # stored as its type (the run's attributes are written)
+            object.__setattr__(instance, name, spec.convert(value))
 
 
 class _NotStarted:

@@ -31,7 +31,7 @@ from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.discretization.dae import ShellDAE
 from mol_shell.integrators import loop
 from mol_shell.integrators.base import StepBudget
-from mol_shell.integrators.loop import choice, integer_at_least, option
+from mol_shell.integrators.loop import choice, integers, option
 from mol_shell.integrators.sundials import pieces
 from mol_shell.integrators.tolerances import Tolerances
 
@@ -50,7 +50,7 @@ class _Peer(Tolerances):
 class ScipyRK45(_Peer):
     """``scipy.integrate.RK45`` (Dormand-Prince 5(4)), stepped in Python."""
 
-    max_steps: int = option(1_000_000, integer_at_least(1))
+    max_steps: int = option(1_000_000, integers(1))
 
     name = "scipy-rk45"
     solver = "RK45"

@@ -45,7 +45,7 @@ from mol_shell.discretization.compiled import CompiledFunctions, buffered
 from mol_shell.discretization.dae import ShellDAE
 from mol_shell.integrators import loop  # noqa: E402
 from mol_shell.integrators.base import StepBudget  # noqa: E402
-from mol_shell.integrators.loop import BOOL, Option, choice, integer_at_least, non_negative, option  # noqa: E402
+from mol_shell.integrators.loop import BOOL, Option, choice, integers, non_negative, option  # noqa: E402
 from mol_shell.integrators.tolerances import Tolerances  # noqa: E402
 
 #: the scikit-sundae version whose constraint defect the workaround targets (and that passes the tests)
@@ -158,7 +158,7 @@ class _Sundials(Tolerances):
                                                 lambda v: v is None or (isinstance(v, (int, np.integer))
                                                                         and not isinstance(v, bool) and 1 <= v <= 12)))
     first_step: float = option(0.0, non_negative(" s", " (0: SUNDIALS estimates it)"))
-    max_steps: int = option(1_000_000, integer_at_least(1))
+    max_steps: int = option(1_000_000, integers(1))
 
     order = None  # variable order: tests check that the tolerance is reached instead
     kind = "cvode"

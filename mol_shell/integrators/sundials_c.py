@@ -169,11 +169,21 @@ def _count(v):
     return isinstance(v, (int, np.integer)) and not isinstance(v, bool) and v >= 0
 
 
+#: the most steps between Jacobians or factorisations: SUNDIALS tests ``nst > nstlj + msbj`` (``>= nstlp + msbp``) in a
+#: C ``long``, which a value near its top (2^63 - 1) overflows (undefined in C: a Jacobian at every step, in practice);
+#: 2^31 - 1 steps are never reached, and keep that sum below 2^63 - 1 for any step count a run can make
+FREQUENCY_MAX = 2**31 - 1
+
+
+def _frequency(v):
+    return _count(v) and v <= FREQUENCY_MAX
+
+
 #: CVODE's steps between Jacobians and between factorisations: SUNDIALS' 51 and 20 (0). Longer reuse (200 and 100)
 #: was 1.1-1.4x faster up to n = 640 and 1.35x to 2x slower at n = 2,560 and 10,240, where a stale Jacobian stalls
 #: Newton's iteration and shortens the steps (benchmarks/cvode_settings.py, docs/integrators.md)
-JAC_EVERY = option(0, Option("integers >= 0 (0: SUNDIALS' 51)", _count))
-SETUP_EVERY = option(0, Option("integers >= 0 (0: SUNDIALS' 20)", _count))
+JAC_EVERY = option(0, Option(f"integers in [0, {FREQUENCY_MAX}] (0: SUNDIALS' 51)", _frequency, convert=int))
+SETUP_EVERY = option(0, Option(f"integers in [0, {FREQUENCY_MAX}] (0: SUNDIALS' 20)", _frequency, convert=int))
 ANDERSON = option(0, Option("integers in [0, 10]", lambda v: _count(v) and v <= 10))
 
 

@@ -10,9 +10,15 @@ import numpy as np
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import loop
-from mol_shell.integrators.loop import RTOL, Option, non_negative, option
+from mol_shell.integrators.loop import RTOL, Option, non_negative, option, real
 
-ATOL_ALLOWED = "(0, inf): one value, {field: value} or five values (z, r, chi, theta, psi)"
+ATOL_RANGE = "(0, inf)"
+ATOL_ALLOWED = f"{ATOL_RANGE}: one value, {{field: value}} or five values (z, r, chi, theta, psi)"
+
+
+def atol_ok(value):
+    """Whether one absolute tolerance is a number in :data:`ATOL_RANGE` (a big integer as its float)."""
+    return 0 < real(value) < np.inf
 
 
 def field_atol(a):
@@ -23,7 +29,7 @@ def field_atol(a):
             raise ParameterError.invalid("atol", a, f"names {show(bad[0])}, which is not a field",
                                          "{field: value} with field in {" + ", ".join(FIELDS) + "}")
         values = [a.get(name, 1e-9) for name in FIELDS]
-    elif isinstance(a, (int, float)):
+    elif isinstance(a, (int, float, np.integer, np.floating)):
         values = [a] * len(FIELDS)
     else:
         try:
@@ -32,9 +38,9 @@ def field_atol(a):
             raise ParameterError("atol", a, ATOL_ALLOWED) from None
         if len(values) != len(FIELDS):
             raise ParameterError("atol", a, "one value, {field: value}, or five values (z, r, chi, theta, psi)")
-    if not all(isinstance(v, (int, float)) and np.isfinite(v) and v > 0 for v in values):
-        raise ParameterError("atol", a, "(0, inf)")
-    return np.array(values, dtype=float)
+    if not all(map(atol_ok, values)):
+        raise ParameterError("atol", a, ATOL_RANGE)
+    return np.array([real(v) for v in values], dtype=float)
 
 
 def _atol_ok(value):
@@ -62,12 +68,12 @@ class Tolerances:
     """
 
     rtol: float = option(1e-6, RTOL)
-    atol: object = option(1e-9, Option(ATOL_ALLOWED, _atol_ok))
+    atol: object = option(1e-9, Option(ATOL_ALLOWED, _atol_ok, convert=lambda a: real(a) if is_number(a) else a))
     max_step: float = option(0.0, non_negative(" s", " (0: unbounded)"))
 
     def __post_init__(self):
-        if isinstance(self.atol, dict):  # a field's name first: the declared range's check calls it "not a number"
-            self.field_atol()
+        if isinstance(self.atol, (dict, list, tuple)):  # a field's name or an entry first: the declared range's
+            self.field_atol()  # check calls them "not a number"
         loop.check_declared(self)
         self.field_atol()  # names the wrong entry
 

@@ -45,7 +45,7 @@ from pathlib import Path
 from mol_shell._core.constants import FIELDS, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.integrators.loop import declared
+from mol_shell.integrators.loop import declared, real
 from mol_shell.model.layers import LAYER_KEYS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES, summary
@@ -215,9 +215,10 @@ def _run_options(source, run, together=True):
         allowed = f"{'[' if closed else '('}{low:g}, {high:g}){unit}"
         if not is_number(value):
             raise _fail(source, "run", ParameterError.not_a(key, value, "a number", allowed))
-        if not (math.isfinite(value) and (value >= low if closed else value > low) and value < high):
+        number = real(value)  # an integer beyond the floats' range as inf (math.isfinite raised on it)
+        if not (math.isfinite(number) and (number >= low if closed else number > low) and number < high):
             raise _fail(source, "run", ParameterError(key, value, allowed))
-        return float(value)
+        return number
 
     integrator = run.get("integrator", "leapfrog")
     extra = declared(INTEGRATORS[integrator]) if integrator in INTEGRATORS else {}
@@ -253,7 +254,7 @@ def _run_options(source, run, together=True):
                 if name not in FIELDS:
                     raise _fail(source, "run", ParameterError("atol", name, "{" + ", ".join(FIELDS) + "}"))
                 positive(f"atol.{name}", tol, unit="")
-            value = {name: float(tol) for name, tol in value.items()}
+            value = {name: real(tol) for name, tol in value.items()}
         else:  # t_end, dt, max_step, atol
             value = positive(key, value, unit="" if key == "atol" else " s")
         out[key] = value

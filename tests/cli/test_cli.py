@@ -450,7 +450,7 @@ def test_option_sets_any_integrator_option_on_the_command_line(tmp_path, capsys)
     ds = read_netcdf(out)
     assert ds.attrs["restart"] == 5e-4 and ds.attrs["n_restarts"] == 3
     capsys.readouterr()
-    for option, said in (("restart=-1", "--option restart = -1 is outside [0, inf) s; 0: never"),
+    for option, said in (("restart=-1", "--option restart = -1 is outside [0, inf] s; 0 or inf: never"),
                          ("rtol=1e-6", "--option = 'rtol=1e-6' sets rtol, which has its own flag; allowed: --rtol in its place"),
                          ("linsolver=band", "--option linsolver is not an option of leapfrog (its options: chunk, dt, restart)"),
                          ("restart", "--option = 'restart' is outside NAME=VALUE")):

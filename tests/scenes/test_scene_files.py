@@ -339,7 +339,7 @@ def test_a_run_table_sets_any_option_of_its_integrator(tmp_path, capsys):
     assert (ds.attrs["iteration"], int(ds.attrs["jac_every"])) == ("newton", 20)
     scene_file.write_text('scene = "twisted-cylinder"\n' + table.replace("jac_every = 20", "jac_every = -1"))
     assert main(["run", str(scene_file), "-o", str(tmp_path / "b.nc")]) == 2
-    assert capsys.readouterr().err.strip().endswith("[run] jac_every = -1 is outside integers >= 0 (0: SUNDIALS' 51)")
+    assert capsys.readouterr().err.strip().endswith("[run] jac_every = -1 is outside integers in [0, 2147483647] (0: SUNDIALS' 51)")
     scene_file.write_text('scene = "twisted-cylinder"\n' + table.replace("jac_every", "jacevery"))
     assert main(["run", str(scene_file), "-o", str(tmp_path / "c.nc")]) == 2
     err = capsys.readouterr().err.strip()
