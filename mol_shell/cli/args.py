@@ -14,7 +14,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-from mol_shell._core.constants import FIELDS
+from mol_shell._core.constants import ATOL_MIN, FIELDS
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
@@ -241,10 +241,10 @@ def choice_arg(name, options):
 def parse_atol(text):
     """``--atol``: one number, or ``FIELD=VALUE,...`` per field (the others keep the default 1e-9)."""
 
-    allowed = f"(0, inf), or FIELD=VALUE,... with FIELD in {{{', '.join(FIELDS)}}}"
+    allowed = f"[{ATOL_MIN:g}, inf), or FIELD=VALUE,... with FIELD in {{{', '.join(FIELDS)}}}"
     if "=" not in text:
         try:
-            return number_arg("--atol")(text)
+            return number_arg("--atol", ATOL_MIN, low_closed=True)(text)
         except argparse.ArgumentTypeError:
             raise argparse.ArgumentTypeError(f"--atol = {_number_text(text)} is outside {allowed}") from None
     out = {}
@@ -255,7 +255,7 @@ def parse_atol(text):
             number = float(value)
         except ValueError:
             number = float("nan")
-        if name not in FIELDS or name in out or not (np.isfinite(number) and number > 0):
+        if name not in FIELDS or name in out or not (np.isfinite(number) and number >= ATOL_MIN):
             raise argparse.ArgumentTypeError(f"--atol = {text!r} is outside {allowed}, each field once")
         out[name] = number
     return out

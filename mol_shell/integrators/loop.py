@@ -85,6 +85,13 @@ def non_negative(unit="", zero=""):
     return Option(f"[0, inf){unit}{zero}", lambda v: 0 <= real(v) < math.inf, convert=real)
 
 
+def zero_or_at_least(low, unit="", zero=""):
+    """``0`` (``zero`` says what it means) or ``[low, inf)``; ``low`` is stated to 4 digits: one that has no more
+    (:func:`~mol_shell._core.constants.stated_up`), so that the range stated is the one applied."""
+    return Option(f"0{zero} or [{low:.4g}, inf){unit}", lambda v: real(v) == 0 or low <= real(v) < math.inf,
+                  convert=real)
+
+
 def integers(low, high=INT64_MAX):
     """``[low, high]``, Python or NumPy integers (not bools); at most :data:`INT64_MAX`, as they are stored."""
     return Option(f"integers in [{low}, {high}]", lambda v: isinstance(v, (int, np.integer))

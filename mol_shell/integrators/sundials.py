@@ -39,18 +39,22 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")  # SuperLU_MT spins otherwise (70x
 import casadi as ca  # noqa: E402
 import numpy as np  # noqa: E402
 
-from mol_shell._core.constants import DENSE_MAX_STATES
+from mol_shell._core.constants import DENSE_MAX_STATES, MIN_STEP, stated_up
 from mol_shell._core.errors import ModelLimitError, ParameterError  # noqa: E402
 from mol_shell.discretization.compiled import CompiledFunctions, buffered
 from mol_shell.discretization.dae import ShellDAE
 from mol_shell.integrators import loop  # noqa: E402
 from mol_shell.integrators.base import StepBudget  # noqa: E402
-from mol_shell.integrators.loop import BOOL, Option, choice, integers, non_negative, option  # noqa: E402
+from mol_shell.integrators.loop import BOOL, Option, choice, integers, option, zero_or_at_least  # noqa: E402
 from mol_shell.integrators.tolerances import Tolerances  # noqa: E402
 
 #: the scikit-sundae version whose constraint defect the workaround targets (and that passes the tests)
 SKSUNDAE_TESTED = "1.2.0"
 ROOT_RETURN, CONSTRAINT_FAIL = 2, {"cvode": -15, "ida": -11}
+#: the least first step other than 0 (s): :data:`~mol_shell._core.constants.MIN_STEP` (its square underflows below
+#: it: IDA stopped with status -22 at 1e-320 s, CVODE's BDF failed its Newton iteration at t = 0 from 1e-290 s),
+#: rounded up to the digits its range states
+FIRST_STEP_MIN = stated_up(MIN_STEP)
 
 
 class _Unconstrained:
@@ -144,7 +148,7 @@ class _Sundials(Tolerances):
     max_order : int or None
         Largest order (BDF and IDA <= 5, Adams <= 12).
     first_step : float
-        First step, s (0: SUNDIALS estimates it).
+        First step, s (0: SUNDIALS estimates it); at least :data:`FIRST_STEP_MIN`.
     max_steps : int
         Steps after which the run stops with status ``"failed"`` (scikit-sundae's ``max_num_steps``
         counts per call, and in one-step mode every call is one step).
@@ -157,7 +161,7 @@ class _Sundials(Tolerances):
     max_order: int | None = option(None, Option("integers in [1, 12] (Adams), [1, 5] (BDF, IDA), or None",
                                                 lambda v: v is None or (isinstance(v, (int, np.integer))
                                                                         and not isinstance(v, bool) and 1 <= v <= 12)))
-    first_step: float = option(0.0, non_negative(" s", " (0: SUNDIALS estimates it)"))
+    first_step: float = option(0.0, zero_or_at_least(FIRST_STEP_MIN, " s", " (SUNDIALS estimates it)"))
     max_steps: int = option(1_000_000, integers(1))
 
     order = None  # variable order: tests check that the tolerance is reached instead

@@ -7,18 +7,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mol_shell._core.constants import FIELDS
+from mol_shell._core.constants import ATOL_MIN, FIELDS
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import loop
 from mol_shell.integrators.loop import RTOL, Option, non_negative, option, real
 
-ATOL_RANGE = "(0, inf)"
+#: the absolute tolerances' range (:data:`~mol_shell._core.constants.ATOL_MIN`: below it the error norms overflow)
+ATOL_RANGE = f"[{ATOL_MIN:g}, inf)"
 ATOL_ALLOWED = f"{ATOL_RANGE}: one value, {{field: value}} or five values (z, r, chi, theta, psi)"
 
 
 def atol_ok(value):
     """Whether one absolute tolerance is a number in :data:`ATOL_RANGE` (a big integer as its float)."""
-    return 0 < real(value) < np.inf
+    return ATOL_MIN <= real(value) < np.inf
 
 
 def field_atol(a):

@@ -6,12 +6,11 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import math
-import sys
 import time
 
 import numpy as np
 
+from mol_shell._core.constants import MIN_STEP, stated_up
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.discretization.compiled import CompiledRHS
 from mol_shell.discretization.system import ShellSystem
@@ -75,13 +74,16 @@ def as_scene(scene):
     return scene
 
 
-#: the shortest interval between saved times (s): sqrt of the smallest normal double, 1.5e-154 s. An adaptive
-#: integrator's step-size selection squares the step (h^2 y''); below this it underflows and SUNDIALS refuses to
-#: start (CV_ILL_INPUT, measured from 1e-161 s on with IDA)
-MIN_INTERVAL = math.sqrt(sys.float_info.min)
+#: the shortest interval between saved times (s): :data:`~mol_shell._core.constants.MIN_STEP`, sqrt of the smallest
+#: normal double, 1.5e-154 s. An adaptive integrator's step-size selection squares the step (h^2 y''); below this it
+#: underflows and SUNDIALS refuses to start (CV_ILL_INPUT, measured from 1e-161 s on with IDA)
+MIN_INTERVAL = MIN_STEP
 #: saved times closer than this many machine epsilons of the later one are the same time to any tolerance
 MIN_INTERVAL_ULPS = 1e3
-_SPACING = (f"at least {MIN_INTERVAL:.2g} s (sqrt of the smallest double: an adaptive step's square underflows "
+#: the shortest interval and the least t_end (its 10 intervals) as the messages state them, with 2 digits: rounded
+#: up, and applied as stated (1.49e-153 s was accepted as t_end outside the range stated, [1.5e-153, inf) s)
+_SHORTEST, _LEAST_END = stated_up(MIN_INTERVAL, 2), stated_up(10 * MIN_INTERVAL, 2)
+_SPACING = (f"at least {_SHORTEST:.2g} s (sqrt of the smallest double: an adaptive step's square underflows "
             f"below it) and {MIN_INTERVAL_ULPS:g} machine epsilons of the later time apart")
 
 
@@ -92,7 +94,7 @@ def parse_times(times=None, t_end=None):
     Consecutive times are :data:`MIN_INTERVAL` s and :data:`MIN_INTERVAL_ULPS` epsilons of the later one apart, at
     least: closer ones cannot be told apart by an integrator.
     """
-    low = 10 * MIN_INTERVAL  # t_end alone: 10 intervals
+    low = _LEAST_END  # t_end alone: 10 intervals
     if t_end is not None:
         if not is_number(t_end):
             raise ParameterError.not_a("t_end", t_end, "a number", "(0, inf) s")
@@ -118,7 +120,7 @@ def parse_times(times=None, t_end=None):
     if times.size < 2 or not np.all(np.isfinite(times)) or times[0] != 0 or np.any(np.diff(times) <= 0):
         raise ParameterError("times", times, allowed)
     gaps = np.diff(times)
-    close = gaps < np.maximum(MIN_INTERVAL, MIN_INTERVAL_ULPS * np.finfo(float).eps * times[1:])
+    close = gaps < np.maximum(_SHORTEST, MIN_INTERVAL_ULPS * np.finfo(float).eps * times[1:])
     if np.any(close):
         i = int(np.argmax(close))
         raise ParameterError("times", times, f"{allowed}, consecutive ones {_SPACING}",

@@ -31,7 +31,7 @@ import casadi as ca
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.constants import RTOL_RANGE
+from mol_shell._core.constants import ATOL_MIN, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Choice
 from mol_shell.model.edges import resolve_edges
@@ -225,7 +225,7 @@ def _check_arguments(scene, rtol, atol, n, method):
                                    "mol_shell.SpinningRing() (or 'spinning-ring') or mol_shell.TwistedCylinder(gamma=0)")
     lo, hi = RTOL_RANGE
     for name, value, allowed, ok in (("rtol", rtol, f"[{lo:g}, {hi:g})", lambda v: lo <= v < hi),
-                                     ("atol", atol, "(0, inf)", lambda v: 0 < v < math.inf)):
+                                     ("atol", atol, f"[{ATOL_MIN:g}, inf)", lambda v: ATOL_MIN <= v < math.inf)):
         if not is_number(value):
             raise ParameterError.not_a(name, value, "a number", allowed)
         if not ok(value):

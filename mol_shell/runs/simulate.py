@@ -13,6 +13,7 @@ from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: si
 from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning, is_number, scalar, wants_progress
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
+from mol_shell.integrators.tolerances import ATOL_RANGE, atol_ok
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.law_warnings import locking_warnings, unused_fibres_warnings, unused_law_parameters
 from mol_shell.results.dataset import build_dataset
@@ -97,9 +98,9 @@ def check_options(scene, integrator, options, offered=None):
     if isinstance(scene, Unshearable) and "atol" in options:  # the unshearable DAE takes one number
         atol = options["atol"]
         if not is_number(atol):
-            raise ParameterError.not_a("atol", atol, "a number", f"(0, inf), one value for the {scene.name} scene")
-        if not (np.isfinite(atol) and atol > 0):
-            raise ParameterError("atol", atol, "(0, inf)")
+            raise ParameterError.not_a("atol", atol, "a number", f"{ATOL_RANGE}, one value for the {scene.name} scene")
+        if not atol_ok(atol):
+            raise ParameterError("atol", atol, ATOL_RANGE)
     if "rtol" in options:
         lo, hi = RTOL_RANGE
         value = options["rtol"]

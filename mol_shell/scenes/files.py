@@ -42,7 +42,7 @@ import os
 import sys
 from pathlib import Path
 
-from mol_shell._core.constants import FIELDS, RTOL_RANGE
+from mol_shell._core.constants import ATOL_MIN, FIELDS, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared, real
@@ -253,10 +253,12 @@ def _run_options(source, run, together=True):
             for name, tol in value.items():
                 if name not in FIELDS:
                     raise _fail(source, "run", ParameterError("atol", name, "{" + ", ".join(FIELDS) + "}"))
-                positive(f"atol.{name}", tol, unit="")
+                positive(f"atol.{name}", tol, ATOL_MIN, closed=True, unit="")
             value = {name: real(tol) for name, tol in value.items()}
-        else:  # t_end, dt, max_step, atol
-            value = positive(key, value, unit="" if key == "atol" else " s")
+        elif key == "atol":
+            value = positive(key, value, ATOL_MIN, closed=True, unit="")
+        else:  # t_end, dt, max_step
+            value = positive(key, value)
         out[key] = value
     if together:
         check_run_together(source, integrator, out)

@@ -2,17 +2,21 @@
 ``[run]``): an integer option is bounded by what it is stored or passed as (``chunk = 99999999999999999999`` was
 accepted and lost the run in write_netcdf; ``jac_every`` of that size overflowed the driver's C long), a float option
 takes a big integer as its float value (``first_step = 99999999999999999999`` failed in ``np.isfinite``), the
-leap-frog's ``restart`` works over its whole range (1e308 overflowed ``round``; inf is "never" as 0 is)."""
+leap-frog's ``restart`` works over its whole range (1e308 overflowed ``round``; inf is "never" as 0 is), and
+``atol`` and ``first_step`` stop where SUNDIALS' and SciPy's norms do (1e-320 failed at t = 0 with status -22)."""
 
 import math
 
 import numpy as np
 import pytest
 
+import mol_shell
+from mol_shell._core.constants import ATOL_MIN, MIN_STEP
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import INT64_MAX, declared
+from mol_shell.integrators.sundials import FIRST_STEP_MIN
 from mol_shell.integrators.sundials_c import FREQUENCY_MAX
 from mol_shell.results.dataset import read_netcdf
 
@@ -54,6 +58,33 @@ def test_restart_anywhere_in_its_range_works_and_beyond_any_run_is_never():
             leapfrog(restart=bad)
 
 
+def test_atol_and_first_step_bounds_are_refused_below_and_taken_at(tmp_path):
+    assert ATOL_MIN == 1e-100 and FIRST_STEP_MIN == 1.492e-154 >= MIN_STEP
+    cvode = INTEGRATORS["cvode-bdf"]
+    assert cvode(atol=ATOL_MIN, first_step=FIRST_STEP_MIN).first_step == FIRST_STEP_MIN
+    assert cvode(atol={"r": ATOL_MIN}).field_atol()[1] == ATOL_MIN
+    for bad in (1e-320, 5e-324, ATOL_MIN * (1 - 1e-15), {"r": 1e-300}, [1e-9, 1e-9, 1e-101, 1e-9, 1e-9]):
+        with pytest.raises(ParameterError, match=r"^atol = .* is outside \[1e-100, inf\)"):
+            cvode(atol=bad)
+    for bad in (1e-300, 1e-320, 1.4916e-154, -1.0):
+        with pytest.raises(ParameterError, match=r"^first_step = .* is outside 0 \(SUNDIALS estimates it\) or "
+                                                 r"\[1.492e-154, inf\) s$"):
+            INTEGRATORS["ida"](first_step=bad)
+
+
+@pytest.mark.parametrize("integrator", ["cvode-bdf", "ida"])
+def test_atol_and_first_step_are_refused_just_below_their_bounds_and_run_at_them(integrator):
+    """At the bounds the runs complete; below them (cvode-bdf failed at t = 0 from atol = 1e-142 and from a first step
+    of 1e-290 s, IDA with status -22 from atol = 1e-170) the values are refused before anything is built."""
+    for option, bound in (("atol", ATOL_MIN), ("first_step", FIRST_STEP_MIN)):
+        with pytest.raises(ParameterError) as info:
+            mol_shell.simulate("sphere", integrator, n=8, t_end=1e-5, progress=False, **{option: bound * (1 - 1e-15)})
+        assert info.value.name == option
+    ds = mol_shell.simulate("sphere", integrator, n=8, t_end=1e-5, atol=ATOL_MIN, first_step=FIRST_STEP_MIN,
+                            progress=False, stresses=False)
+    assert ds.attrs["complete"] == 1 and ds.attrs["atol"] == ATOL_MIN and ds.attrs["first_step"] == FIRST_STEP_MIN
+
+
 INT64_RANGE = "integers in [1, 9223372036854775807]"
 
 
@@ -63,6 +94,8 @@ INT64_RANGE = "integers in [1, 9223372036854775807]"
      f"--option max_steps = 99999999999999999999 is outside {INT64_RANGE}"),
     ("cvode-bdf", "jac_every=99999999999999999999",
      "--option jac_every = 99999999999999999999 is outside integers in [0, 2147483647] (0: SUNDIALS' 51)"),
+    ("ida", "first_step=1e-320",
+     "--option first_step = 1e-320 is outside 0 (SUNDIALS estimates it) or [1.492e-154, inf) s"),
 ])
 def test_an_option_beyond_its_bounds_is_refused_by_name_on_the_command_line(integrator, option, said, tmp_path,
                                                                             capsys):
@@ -70,6 +103,18 @@ def test_an_option_beyond_its_bounds_is_refused_by_name_on_the_command_line(inte
     assert main(["run", "sphere", "--n", "8", "--t-end", "1e-5", "--integrator", integrator, "--option", option,
                  "-o", str(out)]) == 2
     assert capsys.readouterr().err.strip() == f"mol-shell: error: {said}"
+    assert not out.exists()
+
+
+def test_atol_below_its_bound_is_refused_on_the_command_line_and_in_a_scene_file(tmp_path, capsys):
+    out = tmp_path / "x.nc"
+    assert main(["run", "sphere", "--n", "8", "--t-end", "1e-5", "--integrator", "cvode-bdf", "--atol", "1e-320",
+                 "-o", str(out)]) == 2
+    assert capsys.readouterr().err.strip().startswith("mol-shell: error: --atol = 1e-320 is outside [1e-100, inf)")
+    scene = tmp_path / "s.toml"
+    scene.write_text('scene = "sphere"\n[run]\nintegrator = "ida"\nn = 8\nt_end = 1e-5\natol = {r = 1e-320}\n')
+    assert main(["run", str(scene), "-o", str(out)]) == 2
+    assert capsys.readouterr().err.strip().endswith("[run] atol.r = 1e-320 is outside [1e-100, inf)")
     assert not out.exists()
 
 
