@@ -28,7 +28,7 @@ from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.cf import attr_value, header
 from mol_shell.results.dataset import scene_attrs, with_units
 from mol_shell.runs import resources
-from mol_shell.runs.simulate import as_scene, build, check_loads, resolve, starting_state
+from mol_shell.runs.simulate import as_scene, build, check_loads, parse_times, resolve, starting_state
 from mol_shell.scenes import SCENES, Unshearable
 
 #: the paper's snapshot times (s)
@@ -163,7 +163,7 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
     if not (isinstance(repeats, (int, np.integer)) and not isinstance(repeats, bool) and 1 <= repeats <= MAX_REPEATS):
         raise ParameterError("repeats", repeats, f"integers 1..{MAX_REPEATS}", hint="the median of the repeats is "
                              "timed at every point of every sweep")
-    times = np.asarray(times, dtype=float)
+    times = parse_times(times)  # as a run's: times closer than an integrator can tell apart failed at t = 0
     for k, name in enumerate(integrators):  # the build is the comparison's: announced once
         resources.check_analysis(n, len(times), f"each {name} run of the comparison", "saved times", integrator=name,
                                  announce=k == 0)

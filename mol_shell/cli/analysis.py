@@ -33,6 +33,7 @@ from mol_shell.cli.args import (
 )
 from mol_shell.cli.path import add_start_options, start_of
 from mol_shell.results.dataset import writable_path, write_netcdf
+from mol_shell.runs.building import parse_times
 from mol_shell.views.figures import image_formats
 from mol_shell.views.modes import plot_modes
 from mol_shell.views.stability_plot import plot_report
@@ -70,7 +71,8 @@ def cmd_compare(args):
     if args.t_end is None and run.get("times") is not None:  # the file's saved times (they were left out)
         times = [float(t) for t in run["times"]]
     else:
-        times = PAPER_TIMES if t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, t_end, 5)]
+        # t_end checked as run checks it (1e-320 reached the reference runs, which failed at t = 0: exit 3)
+        times = PAPER_TIMES if t_end is None else parse_times(None, t_end, intervals=4).tolist()
     check_companions(args.output, companion_files(args.output))
     start = time.perf_counter()
     ds = work_precision(scene, names, n=args.n or run.get("n", 40), times=times, repeats=args.repeats)

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 import time
 
 import numpy as np
@@ -14,6 +15,7 @@ from mol_shell._core.constants import MIN_STEP, stated_up
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.discretization.compiled import CompiledRHS
 from mol_shell.discretization.system import ShellSystem
+from mol_shell.integrators.loop import real
 from mol_shell.model.laws import ON_REDEFINED
 from mol_shell.runs import resources
 from mol_shell.runs.checks import check_system, resolve
@@ -80,32 +82,35 @@ def as_scene(scene):
 MIN_INTERVAL = MIN_STEP
 #: saved times closer than this many machine epsilons of the later one are the same time to any tolerance
 MIN_INTERVAL_ULPS = 1e3
-#: the shortest interval and the least t_end (its 10 intervals) as the messages state them, with 2 digits: rounded
-#: up, and applied as stated (1.49e-153 s was accepted as t_end outside the range stated, [1.5e-153, inf) s)
-_SHORTEST, _LEAST_END = stated_up(MIN_INTERVAL, 2), stated_up(10 * MIN_INTERVAL, 2)
-_SPACING = (f"at least {_SHORTEST:.2g} s (sqrt of the smallest double: an adaptive step's square underflows "
+#: the shortest interval as the messages state it, with 5 digits: rounded up, and applied as stated (as is the least
+#: t_end, with 2: 1.49e-153 s was accepted outside the range stated for it, [1.5e-153, inf) s); the times a t_end
+#: at its least gives, rounded to 12 digits, are 1.5e-154 s apart within their rounding, above it
+_SHORTEST = stated_up(MIN_INTERVAL, 5)
+_SPACING = (f"at least {_SHORTEST:.5g} s (sqrt of the smallest double: an adaptive step's square underflows "
             f"below it) and {MIN_INTERVAL_ULPS:g} machine epsilons of the later time apart")
 
 
-def parse_times(times=None, t_end=None):
-    """Saved times as an array starting at 0; ``t_end`` alone gives 11 evenly spaced times (to 12 significant
-    digits, so that ``ds.sel(time=...)`` finds the numbers a user would type).
+def parse_times(times=None, t_end=None, intervals=10):
+    """Saved times as an array starting at 0; ``t_end`` alone gives ``intervals + 1`` evenly spaced times (to 12
+    significant digits, so that ``ds.sel(time=...)`` finds the numbers a user would type).
 
     Consecutive times are :data:`MIN_INTERVAL` s and :data:`MIN_INTERVAL_ULPS` epsilons of the later one apart, at
     least: closer ones cannot be told apart by an integrator.
     """
-    low = _LEAST_END  # t_end alone: 10 intervals
+    low = stated_up(intervals * MIN_INTERVAL, 2)  # t_end alone: its intervals
     if t_end is not None:
         if not is_number(t_end):
             raise ParameterError.not_a("t_end", t_end, "a number", "(0, inf) s")
-        if not (np.isfinite(t_end) and t_end > 0):
+        if not (math.isfinite(real(t_end)) and t_end > 0):  # real: 10**400 as inf (np.isfinite raised on it)
             raise ParameterError("t_end", t_end, "(0, inf) s")
     if times is None:
         if t_end is None:
             raise ParameterError.missing("t_end", "give t_end in (0, inf) s, or times")
         if t_end < low:
-            raise ParameterError("t_end", t_end, f"[{low:.2g}, inf) s", hint=f"its 10 saved intervals {_SPACING}")
-        even = [float(f"{t:.12g}") for t in np.linspace(0.0, float(t_end), 11)[:-1]]  # as typed: ds.sel finds them
+            raise ParameterError("t_end", t_end, f"[{low:.2g}, inf) s",
+                                 hint=f"its {intervals} saved intervals {_SPACING}")
+        # as typed: ds.sel finds them
+        even = [float(f"{t:.12g}") for t in np.linspace(0.0, float(t_end), intervals + 1)[:-1]]
         return np.array([*even, float(t_end)])
     allowed = "increasing finite times starting at 0, at least two, in one list"
     try:
