@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import math
 
 import casadi as ca
 import numpy as np
@@ -21,6 +22,9 @@ ONE_THREAD_MAX_ROWS = 1000
 #: the largest matrix whose eigenvalues :func:`spectrum_bounds` computes densely (a dissipative system's: up to
 #: DENSE_MAX_STATES): 0.17 s at 800 rows on one core, 1.0 s at 1,600, where ARPACK took 0.04 s
 DENSE_EIG_MAX_ROWS = 800
+#: Newton's iteration for the radius has converged to round-off when its step, below this fraction of R, no longer
+#: shrinks
+STALLED = 1e-10
 
 
 def blas_threads(rows):
@@ -46,15 +50,18 @@ def equilibrium_radius(scene, tol=1e-14, max_iter=50):
         energy = energy - p0 * history(scene.load_histories()["pressure"], 0.0) * r * r / (2 * a)
     force = ca.gradient(energy, r)
     newton = ca.Function("newton", [r], [force, ca.jacobian(force, r)])
-    R = a
+    R, last = a, math.inf
     for _ in range(max_iter):
         g, dg = (float(x) for x in newton(R))
         if dg <= 0:
             break
         step = g / dg
         R -= step
-        if abs(step) < tol * R:
+        # converged, or at round-off: a small step that no longer shrinks (moduli near the smallest normal double
+        # leave the force a few digits, and E = 3e-308 ran out of iterations while 2.3e-308 converged)
+        if abs(step) < tol * R or STALLED * R > abs(step) >= last:
             return R
+        last = abs(step)
     raise ParameterError("gamma", scene.gamma, "twists for which a twisted cylinder has a radial equilibrium")
 
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, UnknownParameterError, is_number
-from mol_shell._core.ranges import Choice, Interval, finite, non_negative, positive
+from mol_shell._core.ranges import Choice, Interval, finite, modulus, non_negative, subnormal
 from mol_shell.model.edges import check_displacements, check_edge, resolve_edges
 from mol_shell.model.fibres import FIBRE_ANGLES, fibre_angle_hint
 from mol_shell.model.geometry import base_offset, thickness_factors
@@ -74,6 +74,8 @@ def _check(name, value, allowed, ok=None, hint=""):
     if not is_number(value):
         raise ParameterError.not_a(name, value, "a number", allowed, hint)
     if not (math.isfinite(value) and value in allowed and (ok is None or ok(value))):
+        if getattr(allowed, "normal", False) and subnormal(value) and not hint:
+            hint = "a subnormal number: the products it enters lose their digits or vanish"
         raise ParameterError(name, value, allowed, hint)
 
 
@@ -256,14 +258,14 @@ class ShellScene:
             auto = f.default is None and isinstance(value, str) and value.strip().lower() in ("auto", "none")
             object.__setattr__(self, f.name, None if auto else value.item() if isinstance(value, np.generic) else value)
         _check("h", self.h, Interval(0.0, math.inf, unit="m", shown="(0, inf) m, and the thickness off the axis"))
-        _check("E", self.E, positive("Pa"))
+        _check("E", self.E, modulus("Pa"))
         if isinstance(self.material, str) and self.material in COMPRESSIBLE_WHY:  # their condensations hold there
             # (a material of the wrong type, unhashable, is refused by its own check below)
             _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True),
                    hint=f"material = {self.material}: {COMPRESSIBLE_WHY[self.material]}")
         else:
             _check("nu", self.nu, Interval(-1.0, 0.5))
-        _check("rho", self.rho, positive("kg/m^3"))
+        _check("rho", self.rho, modulus("kg/m^3"))
         lo, hi = N_QUAD_RANGE
         allowed = Interval(lo, hi, True, True, integer=True)
         if not isinstance(self.n_quad, numbers.Integral) or isinstance(self.n_quad, (bool, np.bool_)):
@@ -273,13 +275,13 @@ class ShellScene:
                                  hint="one point makes the director's inertia singular" if self.n_quad == 1 else
                                  "more points gain nothing and take minutes to compile" if self.n_quad > hi else "")
         object.__setattr__(self, "n_quad", int(self.n_quad))
-        _check("eta_lambda", self.eta_lambda, non_negative("Pa s"))
-        _check("eta_mu", self.eta_mu, non_negative("Pa s"))
+        _check("eta_lambda", self.eta_lambda, modulus("Pa s", zero=True))
+        _check("eta_mu", self.eta_mu, modulus("Pa s", zero=True))
         if self.material not in MATERIALS:  # a law of one's own: its name, kept in this process, or import path
             object.__setattr__(self, "material", resolve_material(self.material))
         self._check_material_parameters()
-        _check("c10", self.c10, positive("Pa"))
-        _check("c01", self.c01, non_negative("Pa"))
+        _check("c10", self.c10, modulus("Pa"))
+        _check("c01", self.c01, modulus("Pa", zero=True))
         self._check_fibres()
         self._check_layers()
         if self.zeta1 is not None:
@@ -313,7 +315,7 @@ class ShellScene:
 
     def _check_fibres(self):
         """``fibre_E >= 0``, ``fibre_angle`` in [-pi/2, pi/2], ``fibre_families`` 1 or 2, ``fibre_compression`` a bool."""
-        _check("fibre_E", self.fibre_E, non_negative("Pa"))
+        _check("fibre_E", self.fibre_E, modulus("Pa", zero=True))
         _check("fibre_angle", self.fibre_angle, FIBRE_ANGLES, hint=fibre_angle_hint(self.fibre_angle))
         families = Interval(1, 2, True, True, integer=True, shown="{1, 2}")
         if not isinstance(self.fibre_families, numbers.Integral) or isinstance(self.fibre_families, (bool, np.bool_)):

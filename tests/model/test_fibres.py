@@ -116,7 +116,7 @@ def test_energy_conserved_and_balanced_with_fibres():
 
 @pytest.mark.parametrize("setting, line", [
     ("fibre_families=3", "fibre_families = 3 is outside {1, 2}"),
-    ("fibre_E=-1", "fibre_E = -1.0 is outside [0, inf) Pa"),
+    ("fibre_E=-1", "fibre_E = -1.0 is outside 0 or [2.2250738585072014e-308, inf) Pa"),
     ("fibre_compression=maybe", "fibre_compression = 'maybe' is outside {true, false}"),
     ("fibre_compression=0", "fibre_compression = '0' is outside {true, false}"),  # as typed (it showed 0.0)
     ("fibre_compression=1", "fibre_compression = '1' is outside {true, false}"),

@@ -183,11 +183,13 @@ def test_a_key_given_twice_in_a_layer_is_refused_and_a_material_object_is_taken(
 
 
 def test_a_layer_whose_numbers_overflow_is_blamed_not_h(tmp_path, capsys):
-    """A layer of E = 1e300: the refusal named "h = 0.01 together ...", a parameter no one changed to cause it."""
+    """A layer of E = 1e300: the refusal named "h = 0.01 together ...", a parameter no one changed to cause it. (At
+    1e300 only the plane-stress condensation overflowed, 2 lambda mu; it no longer multiplies the moduli, and the
+    right-hand side overflows from about 1e307.)"""
     assert main(["run", "sphere", "--n", "8", "--t-end", "1e-4", "--set", "h=0.01", "--set",
-                 "layers=0.01 svk-plane-stress E=1e300; 0.01 svk-plane-stress", "-o", str(tmp_path / "l.nc")]) == 2
+                 "layers=0.01 svk-plane-stress E=1e307; 0.01 svk-plane-stress", "-o", str(tmp_path / "l.nc")]) == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith("mol-shell: error: layers = '0.01 svk-plane-stress E=1e+300; 0.01 svk-plane-stress' is "
+    assert err.startswith("mol-shell: error: layers = '0.01 svk-plane-stress E=1e+307; 0.01 svk-plane-stress' is "
                           "outside layers whose numbers are finite in double precision"), err
 
 
