@@ -230,31 +230,44 @@ def _profile_diagnosis(scene, reason, bad, decades=0.5):
         return None
     values = thickness_function(text, scene.meridian().length)(np.linspace(0.0, scene.meridian().length, 1001))
     low, high = float(np.min(values)), float(np.max(values))
+    if not low > 0:
+        return None
+    # in decades: the factor towards the nominal h overflows for a profile of subnormal values (h_profile = 1e-320
+    # then blamed R), so the profile is scaled by powers of 10 applied in steps of at most 1e300
 
-    def bad_at(factor):
+    def at(decades_up):
+        steps = max(1, math.ceil(abs(decades_up) / 300))
+        scaled = text
+        for _ in range(steps):
+            scaled = profile_scaled(scaled, 10.0 ** (decades_up / steps))
+        return scaled
+
+    def bad_at(decades_up):
         try:
-            return bad(dataclasses.replace(scene, h_profile=profile_scaled(text, factor))) is not False
+            return bad(dataclasses.replace(scene, h_profile=at(decades_up))) is not False
         except (ParameterError, ValueError, ArithmeticError):
             return True
 
-    good = next((f for f in (scene.h / low, scene.h / high) if math.isfinite(f) and f > 0 and not bad_at(f)), None)
+    towards = (math.log10(scene.h) - math.log10(low), math.log10(scene.h) - math.log10(high))
+    good = next((d for d in towards if math.isfinite(d) and not bad_at(d)), None)
     if good is None:
         return None
-    span = abs(math.log10(good))
-    lo, hi = 0.0, 1.0  # exponent t of the factor good**t: bad at lo, good at hi
-    for _ in range(max(1, math.ceil(math.log2(span / decades))) if span > decades else 1):
+    lo, hi = 0.0, 1.0  # the fraction t of good's decades: bad at lo, good at hi
+    for _ in range(max(1, math.ceil(math.log2(abs(good) / decades))) if abs(good) > decades else 1):
         mid = 0.5 * (lo + hi)
-        if bad_at(good ** mid):
+        if bad_at(good * mid):
             lo = mid
         else:
             hi = mid
-    edge = good ** hi
-    if edge > 1:  # too thin: the least h(s) must grow
-        allowed = Interval(low * edge, math.inf, low_closed=True, unit="m",
-                           shown=f"profiles whose least h(s) is within about [{low * edge:.4g}, inf) m")
+    edge = good * hi  # decades
+    if edge > 0:  # too thin: the least h(s) must grow
+        least = 10.0 ** (math.log10(low) + edge)
+        allowed = Interval(least, math.inf, low_closed=True, unit="m",
+                           shown=f"profiles whose least h(s) is within about [{least:.4g}, inf) m")
     else:
-        allowed = Interval(0.0, high * edge, high_closed=True, unit="m",
-                           shown=f"profiles whose greatest h(s) is within about (0, {high * edge:.4g}] m")
+        greatest = 10.0 ** (math.log10(high) + edge)
+        allowed = Interval(0.0, greatest, high_closed=True, unit="m",
+                           shown=f"profiles whose greatest h(s) is within about (0, {greatest:.4g}] m")
     return ParameterError("h_profile", text, allowed, hint=f"h(s) in [{low:.4g}, {high:.4g}] m, with the other "
                           f"parameters as given: beyond it {reason}")
 

@@ -212,6 +212,23 @@ def test_a_profile_too_thin_for_double_precision_is_blamed_on_h_profile(capsys, 
     assert checks._is_bad(dataclasses.replace(scene, h_profile=repr(edge / 10)), 5) is True
 
 
+def test_a_profile_of_subnormal_values_is_blamed_on_h_profile_with_the_same_edge(capsys, tmp_path):
+    """h_profile = 1e-320 was refused naming R = 1.0, which nobody set: the factor towards the nominal h, h/1e-320,
+    overflowed. The edge is that of h_profile = 1e-300 (the same finiteness test, to its half-decade)."""
+    assert main(["run", "twisted-cylinder", "--n", "6", "--t-end", "1e-5", "--set", "h_profile=1e-320",
+                 "-o", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("mol-shell: error: h_profile = '1e-320' is outside profiles whose "
+                                               "least h(s) is within about ["), err
+    edges = []
+    for profile in ("1e-320", "1e-300"):
+        with pytest.raises(ParameterError) as info:
+            mol_shell.simulate(mol_shell.TwistedCylinder(h_profile=profile), n=5, times=[0, 1e-6])
+        assert info.value.name == "h_profile"
+        edges.append(info.value.range.low)
+    assert edges[1] / 10 < edges[0] < edges[1] * 10, edges
+
+
 @pytest.mark.parametrize(("profile", "refused"), [("0.5", True), ("2", True), ("0.3 + 0.1 * s", True),
                                                   ("table 0:0.01 2.001:0.01 2.0025:0.6 2.004:0.01 4:0.01", True),  # a peak
                                                   # between the samples
