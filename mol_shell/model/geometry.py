@@ -140,6 +140,9 @@ class ArcMeridian(Meridian):
 #: coordinates of a table of points beyond this (m) are refused: the spline's and the shell's products of them
 #: (r^2, r^3 in the inertias) overflow double precision
 MAX_COORDINATE = 1e100
+#: 8-point Gauss-Legendre nodes and weights on [-1, 1], for arc lengths (computed once: a meridian's arc-length Newton
+#: called numpy's leggauss at every iteration, a quarter of building a points meridian)
+GAUSS8 = np.polynomial.legendre.leggauss(8)
 #: a table turning by more than this between consecutive chords doubles back on itself (a cusp, not a shell)
 MAX_TURN_DEG = 170.0
 
@@ -220,7 +223,7 @@ class PointsMeridian(Meridian):
         spline = CubicSpline(u, pts, bc_type=tuple(bc))
         object.__setattr__(self, "_spline", spline)
         # arc length per segment by 8-point Gauss-Legendre (the speed is smooth within a segment)
-        x, w = np.polynomial.legendre.leggauss(8)
+        x, w = GAUSS8
         lengths = []
         for a, b in zip(u[:-1], u[1:]):
             uu = (a + b) / 2 + (b - a) / 2 * x
@@ -241,14 +244,16 @@ class PointsMeridian(Meridian):
         """Spline parameter ``u`` at arc length ``s`` (Newton on the arc length, from the linear guess)."""
         s = np.clip(np.asarray(s, dtype=float), 0.0, self.length)
         u = np.interp(s, self._s, self._u)
+        x, w = GAUSS8
         for _ in range(30):
             seg = np.clip(np.searchsorted(self._u, u, side="right") - 1, 0, len(self._u) - 2)
-            x, w = np.polynomial.legendre.leggauss(8)
             a = self._u[seg]
             uu = a[..., None] + (u - a)[..., None] / 2 * (1 + x)
-            speed = np.linalg.norm(self._spline(uu, 1), axis=-1)
+            d1 = self._spline(uu, 1)
+            speed = np.hypot(d1[..., 0], d1[..., 1])
             arc = self._s[seg] + (u - a) / 2 * np.sum(w * speed, axis=-1)
-            step = (arc - s) / np.linalg.norm(self._spline(u, 1), axis=-1)
+            d1 = self._spline(u, 1)
+            step = (arc - s) / np.hypot(d1[..., 0], d1[..., 1])
             u = u - step
             if np.all(np.abs(step) < 1e-14 * max(1.0, self._u[-1])):
                 break
@@ -345,7 +350,7 @@ def base_offset(meridian, h, samples=400):
     ``s`` (the paper's placement); for a cone or a torus ``rhoI(s)`` only vanishes on average and the
     model carries it (it is ``O(h^3)``). Returns the root nearest 0.
     """
-    x, w = np.polynomial.legendre.leggauss(8)
+    x, w = GAUSS8
     edges = np.linspace(0.0, meridian.length, samples + 1)
     mid, half = (edges[:-1] + edges[1:]) / 2, np.diff(edges) / 2
     s = (mid[:, None] + half[:, None] * x[None, :]).ravel()
