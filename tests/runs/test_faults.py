@@ -137,7 +137,7 @@ def test_a_case_files_run_attribute_edited_by_hand_is_run_again(tmp_path):
 
 # -- dead workers ---------------------------------------------------------------------------------------
 SLOW_CASES = {"gamma": [0.05, 0.1, 0.15, 0.2]}
-SLOW_RUN = {"n": 40, "t_end": 1.5}  # ~5 s of leap-frog per case (the 0.5.0 stencil), after the worker's imports and build
+SLOW_RUN = {"n": 40, "t_end": 0.8}  # ~3.5 s of CPU per case, after a worker's imports (~1 s) and build (~0.4 s)
 
 
 def _kill_when_busy(pids_of_busy, killed, settle=2.0, timeout=120):
@@ -168,12 +168,12 @@ def test_local_worker_killed_during_a_case_is_run_again():
     me = psutil.Process()
 
     def busy():
-        """Workers in a case: past their imports and build (about 1.5 s of CPU), 2.5 s into a case of ~5 s. CPU time,
+        """Workers in a case: past their imports and build (about 1.5 s of CPU), 1.5 s into a case of ~3.5 s. CPU time,
         not wall time: on a loaded machine (parallel tests) a worker's imports alone can take several seconds."""
         found = []
         for p in me.children():
             try:
-                if "spawn_main" in " ".join(p.cmdline()) and sum(p.cpu_times()[:2]) > 4.0:
+                if "spawn_main" in " ".join(p.cmdline()) and sum(p.cpu_times()[:2]) > 3.0:
                     found.append(p.pid)
             except psutil.NoSuchProcess:
                 pass
@@ -252,7 +252,7 @@ def test_dask_worker_killed_during_a_case(allowed_failures):
                 return [pids[w] for w, keys in client.processing().items() if keys and w in pids]
 
             killed = []
-            thread = _kill_when_busy(busy, killed, settle=4.0)
+            thread = _kill_when_busy(busy, killed, settle=2.5)  # into the imports, build and case of ~5 s
             ds = study("twisted-cylinder", SLOW_CASES, **SLOW_RUN, scheduler=client)
             thread.join(timeout=1)
     assert killed, "no worker was killed"
