@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import functools
 import io
 import math
 import os
@@ -65,6 +66,13 @@ INTEGRATORS = {"unshearable": ("leapfrog", "ida")}
 
 PAIRS = [(name, f.name) for name, cls in sorted(mol_shell.SCENES.items()) for f in dataclasses.fields(cls)]
 COUNTS = {"examples": 0, "cli": {}, "api": {}, "slowest": []}
+
+
+@functools.lru_cache(maxsize=None)
+def default_ranges(scene_cls):
+    """``scene_ranges`` of a scene class's default instance, read once: each read probes every field's check (a
+    points meridian's takes 5-10 ms per field), and the examples ask for it again and again."""
+    return scene_ranges(scene_cls)
 
 
 @pytest.fixture(scope="module", autouse=True)
@@ -130,7 +138,7 @@ def _edges(rng):
 
 def values_for(scene_cls, name):
     """A strategy of values for parameter ``name``: inside, at the edges, outside, special, of the wrong type."""
-    rng = scene_ranges(scene_cls())[name]
+    rng = default_ranges(scene_cls)[name]
     parts = [st.sampled_from(SPECIAL), st.sampled_from(WRONG_TYPES),
              st.floats(allow_nan=True, allow_infinity=True, allow_subnormal=True)]
     if isinstance(rng, Interval):
@@ -286,7 +294,7 @@ def check_api(scene, name, value, integrator, rng):
 @given(data=st.data())
 def test_any_value_of_any_parameter(scene, name, data):
     cls = mol_shell.SCENES[scene]
-    rng = scene_ranges(cls())[name]
+    rng = default_ranges(cls)[name]
     value = data.draw(values_for(cls, name), label=name)
     choices = INTEGRATORS.get(scene, ("leapfrog", "cvode-bdf"))
     if PROFILE == "ci" and changes_graph(cls, name, value):
@@ -442,7 +450,7 @@ def test_every_wrong_type_and_special_value_is_refused_or_stored_as_a_plain_numb
                 assert exc.name == f.name and "\n" not in str(exc), (f.name, value, str(exc))
                 continue
             plain = isinstance(stored, (int, float, np.integer, np.floating)) and not isinstance(stored, bool)
-            grammar = scene_ranges(cls)[f.name] is None  # a history or a file name: checked by its own parser
-            flag = isinstance(stored, bool) and stored in scene_ranges(cls)[f.name]  # a yes/no parameter
+            grammar = default_ranges(cls)[f.name] is None  # a history or a file name: checked by its own parser
+            flag = isinstance(stored, bool) and stored in default_ranges(cls)[f.name]  # a yes/no parameter
             assert plain and math.isfinite(stored) or flag or stored is None or isinstance(stored, str) and \
-                (grammar or stored in scene_ranges(cls)[f.name]), (f.name, value, stored)
+                (grammar or stored in default_ranges(cls)[f.name]), (f.name, value, stored)
