@@ -45,7 +45,7 @@ from mol_shell.results.dataset import read_netcdf
 from mol_shell._core.ranges import Choice, Interval
 from mol_shell.scenes.ranges import scene_ranges
 
-settings.register_profile("ci", max_examples=3, derandomize=True, deadline=None, database=None,
+settings.register_profile("ci", max_examples=2, derandomize=True, deadline=None, database=None,
                           suppress_health_check=[HealthCheck.too_slow], print_blob=True)
 settings.register_profile("long", max_examples=30, deadline=None, database=None,
                           suppress_health_check=[HealthCheck.too_slow], print_blob=True)
