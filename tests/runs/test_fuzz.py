@@ -68,7 +68,7 @@ PAIRS = [(name, f.name) for name, cls in sorted(mol_shell.SCENES.items()) for f 
 COUNTS = {"examples": 0, "cli": {}, "api": {}, "slowest": []}
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def default_ranges(scene_cls):
     """``scene_ranges`` of a scene class's default instance, read once: each read probes every field's check (a
     points meridian's takes 5-10 ms per field), and the examples ask for it again and again."""
