@@ -103,11 +103,14 @@ def register_stability(subparsers):
 
 
 def cmd_stability(args):
-    scene, _ = scene_and_run(args.scene, args.set)
+    scene, run = scene_and_run(args.scene, args.set)
     png, md = companion_files(args.output)  # as compare's: the figure and the table beside the file
     check_companions(args.output, [png, md])
     ds = report(default_cases(scene, quick=args.quick), bisect=not args.no_bisect)
     say_stand_ins(scene)
+    if run:  # the file's [run] n = 12 was dropped without a word: the report's cases set their own
+        print(f"mol-shell: note: the stability report runs its own cases (each with its own n, times and "
+              f"integrators); {args.scene}'s [run] table ({', '.join(sorted(run))}) is not used", file=sys.stderr)
     write_netcdf(ds, args.output)
     write_text(md, stability_table(ds) + "\n")
     plot_report(ds, png)

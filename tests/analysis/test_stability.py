@@ -281,3 +281,27 @@ def test_ctrl_c_in_a_bisection_run_stops_the_report_and_is_not_read_as_an_unstab
     monkeypatch.setattr(stability.Leapfrog, "integrate", lambda self, *args, **kwargs: Interrupted())
     with pytest.raises(KeyboardInterrupt):
         stability.stable_leapfrog_step(None, None, None, 1e-4)
+
+
+def test_a_scene_files_run_table_is_said_to_be_unused(monkeypatch, tmp_path, capsys):
+    """`mol-shell stability FILE.toml` took the file's scene and dropped its [run] table (n = 12, t_end) without a
+    word, though `run`, `modes` and `path` take their defaults from it: the report's cases set their own grids,
+    times and integrators. It now says so in a note, once the report is written."""
+    from mol_shell.cli.main import main
+
+    scene_file = tmp_path / "s.toml"
+    scene_file.write_text('scene = "twisted-cylinder"\n[run]\nn = 12\nt_end = 0.001\n')
+    seen = []
+
+    def cases(scene, quick=False):
+        seen.append(scene)
+        return [Case("paper", scene, n=8, t_end=1e-4)]
+
+    monkeypatch.setattr("mol_shell.cli.analysis.default_cases", cases)
+    assert main(["stability", str(scene_file), "--no-bisect", "-o", str(tmp_path / "st.nc")]) == 0
+    err = capsys.readouterr().err
+    assert seen == [mol_shell.TwistedCylinder()]  # the file's scene is the base
+    assert f"mol-shell: note: the stability report runs its own cases (each with its own n, times and integrators); " \
+        f"{scene_file}'s [run] table (n, t_end) is not used" in err, err
+    assert main(["stability", "twisted-cylinder", "--no-bisect", "-o", str(tmp_path / "st2.nc")]) == 0
+    assert "[run] table" not in capsys.readouterr().err  # a scene by name has no [run] table to leave out
