@@ -56,8 +56,37 @@ def check_response(ds, response):
 
 
 def path_of(ds):
-    """The path a figure draws: ``ds`` (checked: an equilibrium path), or the path file at ``ds``; named ``ds``."""
-    return read_path(ds, "ds") if isinstance(ds, (str, os.PathLike)) else checked_path(ds, "ds")
+    """The path a figure draws: ``ds`` (checked: an equilibrium path whose critical points lie on its steps), or the
+    path file at ``ds``; named ``ds``."""
+    shown = str(ds) if isinstance(ds, (str, os.PathLike)) else None
+    ds = read_path(ds, "ds") if shown is not None else checked_path(ds, "ds")
+    _check_points_on_steps(ds, shown)
+    return ds
+
+
+def _check_points_on_steps(ds, shown):
+    """Refuse a path whose critical points do not lie on its steps: point ``m`` lies between the states at positions
+    ``point_step`` and ``point_step + 1``, its load within (a bifurcation) or next to (a limit point: the load turns
+    there) theirs. A path cut after it was written (``ds.isel(step=slice(0, 30))``, or its stable steps selected)
+    keeps every point with the step it had: the figure failed with an IndexError, or drew the points on other
+    steps."""
+    lam = ds.parameter.values
+    count = len(lam)
+    for m, (k, at) in enumerate(zip(ds.point_step.values if "point_step" in ds else (), ds.point_parameter.values
+                                    if "point_parameter" in ds else ())):
+        k = int(k)
+        fits = 0 <= k < count
+        if fits and k + 1 < count:  # the load within the step's, give or take the steps beside it (a limit's turn)
+            near = np.abs(np.diff(lam[max(k - 1, 0):k + 3]))
+            pad = 2.0 * float(near.max()) + 1e-12 * max(abs(lam[k]), abs(lam[k + 1]), 1.0)
+            fits = min(lam[k], lam[k + 1]) - pad <= at <= max(lam[k], lam[k + 1]) + pad
+        if not fits:
+            raise ParameterError.invalid(
+                "ds", shown if shown is not None else ds.encoding.get("source", "<xarray.Dataset>"),
+                f"holds {count} states, and its critical point {m} (at {ds.attrs.get('parameter')} = {float(at):.6g}) "
+                f"is not between its states {k} and {k + 1}", "an equilibrium path as mol-shell path wrote it",
+                hint="a path cut or thinned after it was written: keep the points of the steps kept (ds.isel(point=...)) "
+                "or draw the whole file")
 
 
 def response_values(ds, response):

@@ -63,6 +63,27 @@ def test_plot_of_a_path(cap_file, tmp_path, capsys):
     assert f"{states} states ({states - 1} steps)" in said, said
 
 
+def test_a_path_cut_after_it_was_written_is_refused_by_plot_in_one_line(cap_file, tmp_path, capsys):
+    """A path cut with xarray (``isel(step=slice(0, K))``) or thinned to its stable steps keeps its critical points
+    with the steps they had: `plot` failed with an internal IndexError (exit 1), or drew the points on other states.
+    Such a file is refused naming it and the point that does not fit (exit 2); the whole file, and a cut that keeps
+    the points' steps, are drawn."""
+    with xr.open_dataset(cap_file) as full:
+        full = full.load()
+    first = int(full.point_step.values[0])
+    assert full.sizes["point"] >= 1 and first + 2 < full.sizes["step"]
+    cut, kept, thinned = tmp_path / "cut.nc", tmp_path / "kept.nc", tmp_path / "thinned.nc"
+    full.isel(step=slice(0, first)).to_netcdf(cut)  # the first point lies beyond the states kept
+    full.isel(step=slice(0, first + 2), point=[0]).to_netcdf(kept)  # the point and its steps kept
+    full.isel(step=slice(None, None, 2)).to_netcdf(thinned)  # every other state: the point falls among far states
+    for damaged in (cut, thinned):
+        assert main(["plot", str(damaged), "-o", str(tmp_path / "x.png")]) == 2
+        err = capsys.readouterr().err.strip()
+        assert len(err.splitlines()) == 1 and f"FILE = '{damaged}' holds " in err and "critical point 0" in err, err
+    assert main(["plot", str(kept), "-o", str(tmp_path / "k.png")]) == 0
+    assert "1 critical point" in capsys.readouterr().out
+
+
 @pytest.mark.parametrize("argv, option", [
     (["modes", "--from", "{f}", "--step", "99"], "--step"),
     (["modes", "--from", "{f}", "--point", "5"], "--point"),
