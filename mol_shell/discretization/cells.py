@@ -21,6 +21,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell.model.fibres import fibre_thickness_energy
 from mol_shell.model.hyperelastic import incompressible_dissipation, law_thickness_energy, law_thickness_values
 from mol_shell.model.kinematics import delta
+from mol_shell.model.laws import SVK_LAW
 from mol_shell.model.material import (
     svk_turning_limit,
     thickness_dissipation,
@@ -328,8 +329,14 @@ class CellKernels:
     @property
     def turning_limit(self):
         """Whether the runs watch SVK's compressive turning point (:func:`~mol_shell.model.material.svk_turning_limit`):
-        for the SVK laws without fibres (their own kernel), unless the scene's ``law_limit`` is off."""
-        return self.law is None and self.fibres is None and bool(getattr(self.scene, "law_limit", True))
+        for the SVK laws without fibres (their own kernel), and for a layered wall whose every layer is one (the
+        criterion is the in-plane stretch, whatever the layers' moduli: a layered SVK wall ran past it), unless the
+        scene's ``law_limit`` is off. A wall with a layer of another law is not watched (docs/materials.md)."""
+        if self.layer_laws is not None:
+            svk = all(law is SVK_LAW and fibres is None for law, _, fibres in self.layer_laws)
+        else:
+            svk = self.law is None and self.fibres is None
+        return svk and bool(getattr(self.scene, "law_limit", True))
 
     def cell_turning(self):
         """``(q_left, q_right, geo) -> det(C_t - I/3)`` at the cell's samples (must stay > 0; SVK only)."""
