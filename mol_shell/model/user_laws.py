@@ -101,16 +101,21 @@ class Material:
     def _check_energy(self):
         """The energy is a CasADi scalar of ``C`` (its natural state is checked by :meth:`_check_natural_state`)."""
         C = ca.SX.sym("C", 3, 3)
+        allowed = "a function energy(C, parameters) of casadi.SX returning a CasADi scalar"
         try:
             W = self.energy(C, dict(self.parameters))
-            W = ca.SX(W)
         except Exception as exc:  # any failure of the user's function is a refusal of it
             if by_interrupt(exc):  # a Ctrl-C inside a CasADi call of the function (wrapped): not its failure
                 raise
+            said = " ".join(str(exc).split("\n")[0].split())  # one line: CasADi's messages run over a dozen
             raise ParameterError.invalid("energy", getattr(self.energy, "__name__", repr(self.energy)),
-                                         f"of material {self.name} raised {type(exc).__name__}: {exc}",
-                                         "a function energy(C, parameters) of casadi.SX returning a CasADi scalar"
+                                         f"of material {self.name} raised {type(exc).__name__}: {said}", allowed
                                          ) from None
+        if not isinstance(W, (ca.SX, ca.DM, int, float, np.number, np.ndarray)) or isinstance(W, bool):
+            # None or a string: CasADi's SX() refused it in a dozen lines of its prototypes
+            raise ParameterError.invalid("energy", self.name, f"returned {type(W).__name__}, not a CasADi expression",
+                                         allowed)
+        W = ca.SX(W)
         if W.numel() != 1:
             raise ParameterError.not_a("energy", self.name, "a scalar energy", "a function returning one number")
 
@@ -121,8 +126,10 @@ class Material:
         was refused at its run, blamed on ``h``, or ran (a stressed or unstable natural state). Returns the
         stiffness scale ``|lambda*| + 2 |mu|`` (Pa)."""
         law, p = self.law(), dict(self.parameters)
-        x = ca.SX.sym("x", 3)  # C11, C33, C13 (meridian, circumference)
-        C = ((1.0 + x[0], 0.0, x[2]), (0.0, 1.0, 0.0), (x[2], 0.0, 1.0 + x[1]))
+        # C11, C33, C13 (meridian, circumference), C12, C23 (with the thickness direction: the director's shear
+        # gives C12; a law stressed in C12 at C = I turned the unloaded shell by 0.87 rad in 10 ms)
+        x = ca.SX.sym("x", 5)
+        C = ((1.0 + x[0], x[3], x[2]), (x[3], 1.0, x[4]), (x[2], x[4], 1.0 + x[1]))
         W = condensed_energy(law, with_thickness(C, C[1][1]), p)
         value, slope = (np.array(v, dtype=float).ravel() for v in ca.Function("w", [x], [W, ca.gradient(W, x)])(0))
         lam, mu = self.small_strain_pair() if np.all(np.isfinite([*value, *slope])) else (math.nan, math.nan)
@@ -130,7 +137,7 @@ class Material:
         if not math.isfinite(scale):
             reason = "an energy finite near C = I"
         elif np.abs(slope).max() > 1e-9 * scale:
-            reason = (f"a stress-free natural state: dW/dC = 0 at C = I in the wall's plane (here up to "
+            reason = (f"a stress-free natural state: dW/dC = 0 at C = I (here up to "
                       f"{np.abs(slope).max():.4g} Pa, the stiffness {scale:.4g} Pa)")
         elif not (mu >= 0 and lam + mu > 0):  # mu = 0: a fluid-like wall, whose ellipticity is not checked
             reason = f"a stable natural state: mu >= 0 and lambda* + mu > 0 at C = I (here {mu:.4g} and {lam + mu:.4g} Pa)"

@@ -292,3 +292,25 @@ def test_material_parameters_and_material_name_together_both_apply_in_either_ord
     energies = [float(mol_shell.simulate(s, n=8, t_end=1e-5, progress=False, stresses=False).stored_energy[0])
                 for s in (*scenes, mol_shell.Sphere(h=0.01, R=1.2, material=direct))]
     assert energies[0] == energies[1] and energies[0] == pytest.approx(energies[2], rel=1e-12)
+
+
+@pytest.mark.parametrize("thickness", ["incompressible", "director", "plane-stress"])
+def test_an_energy_stressed_in_the_thickness_shear_at_c_equal_i_is_refused(thickness):
+    """The natural state was checked in C11, C33 and C13 only: W = mu/2 (I1 - 3) - mu ln J + s C12 was accepted, and
+    the unloaded sphere turned theta by 0.87 rad in 10 ms. dW/dC12 = s (and dW/dC23) are checked too now."""
+    for term in (lambda C: C[0, 1], lambda C: C[1, 2]):
+        with pytest.raises(ParameterError, match=r"not a stress-free natural state: dW/dC = 0 at C = I \(here up to "
+                                                 r"1e\+05 Pa"):
+            mol_shell.Material("pre", energy=lambda C, p, t=term: p["mu"] / 2 * (ca.trace(C) - 3)
+                     - p["mu"] * ca.log(ca.sqrt(ca.det(C))) + p["s"] * t(C),
+                     parameters={"mu": 3e5, "s": 1e5}, thickness=thickness)
+
+
+@pytest.mark.parametrize("returned", [None, "W", [1, 2]])
+def test_an_energy_that_returns_no_expression_is_refused_in_one_line(returned):
+    """An energy returning None or a string was refused with CasADi's dozen lines of SX() prototypes."""
+    with pytest.raises(ParameterError) as info:
+        mol_shell.Material("bad", energy=lambda C, p: returned, parameters={"mu": 1.0})
+    text = str(info.value)
+    assert "\n" not in text and info.value.name == "energy", text
+    assert f"returned {type(returned).__name__}, not a CasADi expression" in text
