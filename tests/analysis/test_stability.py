@@ -305,3 +305,19 @@ def test_a_scene_files_run_table_is_said_to_be_unused(monkeypatch, tmp_path, cap
         f"{scene_file}'s [run] table (n, t_end) is not used" in err, err
     assert main(["stability", "twisted-cylinder", "--no-bisect", "-o", str(tmp_path / "st2.nc")]) == 0
     assert "[run] table" not in capsys.readouterr().err  # a scene by name has no [run] table to leave out
+
+
+def test_a_shell_that_stays_at_rest_has_no_energy_error(monkeypatch, tmp_path):
+    """`mol-shell stability sphere` (the unloaded sphere at its natural state, which never moves) reported energy
+    errors of about 250 for every integrator: E(0) is round-off (1e-26 J), and so is every change of it. Such a row
+    has no energy error now (NaN, an empty cell); a shell that moves (the paper's) keeps its measured one."""
+    from mol_shell.cli.main import main
+
+    cases = [Case("sphere at rest", mol_shell.Sphere(), n=8, t_end=1e-3),
+             Case("paper", mol_shell.TwistedCylinder(), n=8, t_end=1e-3)]
+    monkeypatch.setattr("mol_shell.cli.analysis.default_cases", lambda scene, quick=False: cases)
+    assert main(["stability", "sphere", "--no-bisect", "-o", str(tmp_path / "st.nc")]) == 0
+    ds = mol_shell.read_netcdf(tmp_path / "st.nc")
+    for name in ("leapfrog", "cvode_bdf", "ida"):
+        errors = ds[f"{name}_energy_error"].values
+        assert np.isnan(errors[0]) and 0 <= errors[1] < 1e-3, (name, errors)
