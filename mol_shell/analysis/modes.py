@@ -24,7 +24,7 @@ import warnings
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import MaterialWarning, ParameterError, scalar
+from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, scalar
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.law_warnings import locking_warnings
 from mol_shell.results.cf import attr_value, coordinates, header, variables
@@ -239,6 +239,11 @@ def modes(scene, n=40, count=10, *, initial=None):
         w2, phi = w2[order], phi[:, order]
         M = M.toarray() if size <= DENSE_MAX else M
         method = "sparse shift-invert"
+    if not np.all(np.isfinite(w2)):  # rho = 1e-300: inertias in the subnormals, their inverse infinite (NaN modes)
+        raise ModelLimitError(
+            f"the modes of n = {system.n} nodes are not finite in double precision (omega^2 = {w2[~np.isfinite(w2)][0]}"
+            f"): the mass matrix (rho = {scene.rho:g} kg m-3) or the stiffness is beyond what doubles hold", 0.0,
+            "the mass and stiffness matrices")
     top = max(abs(w2).max(), 1e-300)
     small = np.abs(w2) <= ZERO_TOL * (top if method == "dense" else abs(K.diagonal()).max())
     # the rigid motions are the edges' (at most that many of the eigenvalues nearest zero): a physical mode whose

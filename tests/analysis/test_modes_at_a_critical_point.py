@@ -13,7 +13,9 @@ from __future__ import annotations
 import warnings
 
 import numpy as np
+import pytest
 
+import mol_shell
 from mol_shell import Sphere, path
 from mol_shell.analysis.modes import modes
 from mol_shell.analysis.path_start import path_start
@@ -36,3 +38,16 @@ def test_the_first_mode_at_a_bifurcation_is_the_paths_critical_mode_not_a_rigid_
     reference = np.concatenate([ds.point_mode_r.values[0], ds.point_mode_z.values[0]])
     cosine = abs(shape @ reference) / (np.linalg.norm(shape) * np.linalg.norm(reference))
     assert cosine > 0.999, cosine
+
+
+def test_modes_that_are_not_finite_in_double_precision_stop_with_a_reason():
+    """rho = 1e-300 (inside rho's range: normal doubles) puts the inertias in the subnormals: `mol-shell modes` wrote
+    omega^2 = nan as an "unstable" mode, miscounted the rigid motions and exited 0. It stops now (ModelLimitError, exit
+    3 from the command line) saying why; rho = 1e-280 still gives finite modes."""
+    from mol_shell._core.errors import ModelLimitError
+
+    with pytest.raises(ModelLimitError, match=r"the modes of n = 11 nodes are not finite in double precision "
+                                              r"\(omega\^2 = nan\): the mass matrix \(rho = 1e-300 kg m-3\)"):
+        mol_shell.modes(mol_shell.Sphere(rho=1e-300), n=11, count=3)
+    ds = mol_shell.modes(mol_shell.Sphere(rho=1e-280), n=11, count=3)
+    assert np.isfinite(ds.frequency.values).all() and ds.attrs["zero_modes"] == 2
