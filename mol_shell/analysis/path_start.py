@@ -168,4 +168,10 @@ def path_start(ds, *, step=None, point=None, perturb=0.0):
         fields = fields + float(perturb) * mode
         info = (f"equilibrium path critical point {k} ({ds.point_kind.values[k]}): {name} = {value:.10g} {units}"
                 + (f", perturbed by {float(perturb):g} x its critical mode" if perturb else ""))
+    where = f"step {k}" if step is not None else f"critical point {k}"
+    bad = [f for f, values in zip(("parameter", *FIELDS), ([value], *fields)) if not np.all(np.isfinite(values))]
+    if bad:  # a file edited or damaged since: refused by its name, not as the `initial` fields it would become
+        prefix = "point_" if point is not None and bad[0] != "parameter" else ""
+        raise ParameterError.invalid("--from", ds.encoding.get("source", "<xarray.Dataset>"),
+                                     f"holds values of {prefix}{bad[0]} at {where} that are not finite", ALLOWED)
     return path_scene(ds, value), int(ds.sizes["s"]), fields, info

@@ -84,6 +84,23 @@ def test_a_path_cut_after_it_was_written_is_refused_by_plot_in_one_line(cap_file
     assert "1 critical point" in capsys.readouterr().out
 
 
+def test_a_path_file_whose_state_is_not_finite_is_refused_naming_the_file(cap_file, tmp_path, capsys):
+    """A path file whose r was damaged to NaN was refused as `initial = <array of 105 values ...> is outside finite
+    arrays`: a name the user never typed, neither the file nor the variable. It names both now."""
+    with xr.open_dataset(cap_file) as full:
+        damaged = full.load()
+    damaged["r"][:] = np.nan
+    damaged["point_theta"][:] = np.nan
+    bad = tmp_path / "rnan.nc"
+    damaged.to_netcdf(bad)
+    assert main(["modes", "--from", str(bad), "--step", "1", "-o", str(tmp_path / "m.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"mol-shell: error: --from = '{bad}' holds values of r at step 1 that are not finite; allowed: a " \
+        "netCDF file written by mol-shell path", err
+    assert main(["run", "--from", str(bad), "--point", "0", "--t-end", "0.01", "-o", str(tmp_path / "r.nc")]) == 2
+    assert "holds values of point_theta at critical point 0 that are not finite" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("argv, option", [
     (["modes", "--from", "{f}", "--step", "99"], "--step"),
     (["modes", "--from", "{f}", "--point", "5"], "--point"),
