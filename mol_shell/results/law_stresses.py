@@ -84,6 +84,19 @@ def law_of_attrs(attrs):
     return material, tuple(sorted(params.items())), fibres, False
 
 
+def unloadable_law(attrs):
+    """Why the run's own law (``material = my_laws:rubber``) cannot be loaded in this process (its module is not
+    importable here, a Material made in another session), or ``None``: the stresses need the law's energy."""
+    material = renamed_law(str(attrs.get("material", "svk")), attrs.get("mol_shell_version", ""))
+    if material in SVK_MATERIALS or material in LAWS:
+        return None
+    try:
+        scene_material(material, str(attrs.get("material_parameters", "") or ""))
+    except ParameterError as exc:
+        return str(exc)
+    return None
+
+
 def _flag(value):
     """A checked true/false parameter as the attrs hold it: 0/1 (the run's own), or ``true``/``false`` (a layer's key
     in the ``layers`` string)."""

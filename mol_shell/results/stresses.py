@@ -62,12 +62,13 @@ import hashlib
 import math
 import numbers
 import re
+import warnings
 
 import casadi as ca
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, SceneWarning
 from mol_shell._core.ranges import Choice, Interval
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.model.kinematics import FIELDS
@@ -77,7 +78,7 @@ from mol_shell.model.material import condensed, lame
 from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.results.cf import coordinates, variables
 from mol_shell.results.dataset import holdings
-from mol_shell.results.law_stresses import law_of_attrs, route_law, route_stress
+from mol_shell.results.law_stresses import law_of_attrs, route_law, route_stress, unloadable_law
 from mol_shell.results.stress_samples import cell_samples, reference_cells, sample_stresses
 from mol_shell.results.tensors import principal_stresses, von_mises
 
@@ -204,8 +205,13 @@ def _material(attrs):
         raise ParameterError("layers", attrs["layers"], "layers of the built-in laws",
                              hint="stresses and resultants are computed for the built-in laws")
     if route is not None and route[0] != "layers" and route[1] is None:  # a material this version does not know: refuse rather than guess
+        reason = unloadable_law(attrs)
+        if reason:  # a law of one's own whose module this process cannot import: say why
+            raise ParameterError("material", material, "a law this process can load (its module importable here)",
+                                 message=f"material = {material!r} cannot be loaded in this process, and the stresses "
+                                 f"need its energy: {reason}")
         raise ParameterError("material", material, Choice(tuple(SVK_MATERIALS) + tuple(LAWS)),
-                             hint="stresses and resultants are computed for the built-in laws")
+                             hint="stresses and resultants are computed for the built-in laws and laws of one's own")
     if route is not None and route[0] == "layers":  # the viscosities condensed as the run's (the scene's material)
         how = "svk" if thickness_treatment(material) == "director" else "svk-plane-stress"
     else:
@@ -310,7 +316,11 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     material = str(ds.attrs.get("material", "svk"))
     if limit is not None and law_of_attrs(ds.attrs) is not None and law_of_attrs(ds.attrs)[1] is None:  # unknown
         out = ds.copy()
-        out.attrs["stresses"] = f"skipped: not computed for material = {material} (the built-in laws only)"
+        reason = unloadable_law(ds.attrs)
+        out.attrs["stresses"] = (f"skipped: material = {material} cannot be loaded in this process ({reason})" if reason
+                                 else f"skipped: not computed for material = {material} (a law this version does not "
+                                 "know)")
+        warnings.warn(f"stresses not computed: {out.attrs['stresses'][len('skipped: '):]}", SceneWarning, stacklevel=2)
         return out
     if limit is not None and samples > limit:
         out = ds.copy()

@@ -3,6 +3,8 @@ against a central finite difference of the integrated energy (the model's own en
 ``mol_shell.model.laws.scene_shell_energy``, not the stress code), and a balloon against membrane theory."""
 
 import math
+import os
+from pathlib import Path
 
 import casadi as ca
 import numpy as np
@@ -277,3 +279,46 @@ def test_a_neo_hookean_file_of_a_version_before_the_rename_gets_the_law_it_ran(v
     layered = {**old.attrs, "material": "svk", "layers": "0.02 neo-hookean"}
     assert law_of_attrs(layered)[1][0][1][0] == "neo-hookean-log"
     assert law_of_attrs({**layered, "mol_shell_version": mol_shell.__version__})[1][0][1][0] == "neo-hookean"
+
+
+def test_a_law_this_process_cannot_import_is_said_so_not_called_unknown(tmp_path, monkeypatch):
+    """A run of `material = MODULE:NAME` read where MODULE cannot be imported (another folder, another session): its
+    stresses were skipped as "not computed for material = ... (the built-in laws only)", silently, and with
+    limit=None refused as a law that is not built in. Both now say that the law cannot be loaded here, and why."""
+    import subprocess
+    import sys
+    import textwrap
+
+    (tmp_path / "gone_laws.py").write_text(
+        "import casadi as ca\nimport mol_shell\n"
+        "rubber = mol_shell.Material('gone-rubber', energy=lambda C, p: p['mu'] / 2 * (ca.trace(C) - 3) "
+        "- p['mu'] * ca.log(ca.sqrt(ca.det(C))) + p['lam'] / 2 * ca.log(ca.sqrt(ca.det(C))) ** 2, "
+        "parameters={'mu': 3e5, 'lam': 1e6})\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    ds = mol_shell.simulate(mol_shell.Sphere(material="gone_laws:rubber", R=1.1, h=0.01), n=8, t_end=1e-3,
+                            stresses=False, progress=False)
+    mol_shell.write_netcdf(ds, tmp_path / "run.nc")
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    script = textwrap.dedent("""
+        import warnings, mol_shell
+        ds = mol_shell.read_netcdf("../run.nc")
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            print(mol_shell.add_stresses(ds).attrs["stresses"])
+        print(*[str(w.message) for w in said], sep="\\n")
+        try:
+            mol_shell.add_stresses(ds, limit=None)
+        except mol_shell.ParameterError as exc:
+            print("refused:", exc)
+    """)
+    root = str(Path(mol_shell.__file__).parents[1])
+    done = subprocess.run([sys.executable, "-c", script], cwd=elsewhere, capture_output=True, text=True, timeout=120,
+                          check=False, env={**os.environ, "PYTHONPATH": root})
+    lines = done.stdout.splitlines()
+    assert done.returncode == 0 and len(lines) == 3, done.stderr
+    assert lines[0].startswith("skipped: material = gone_laws:rubber cannot be loaded in this process") and \
+        "No module named 'gone_laws'" in lines[0], lines[0]
+    assert lines[1].startswith("stresses not computed: material = gone_laws:rubber cannot be loaded"), lines[1]
+    assert lines[2].startswith("refused: material = 'gone_laws:rubber' cannot be loaded in this process, and the "
+                               "stresses need its energy: ") and "No module named 'gone_laws'" in lines[2], lines[2]
