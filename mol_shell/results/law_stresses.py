@@ -88,7 +88,7 @@ def unloadable_law(attrs):
     """Why the run's own law (``material = my_laws:rubber``) cannot be loaded in this process (its module is not
     importable here, a Material made in another session), or ``None``: the stresses need the law's energy."""
     material = renamed_law(str(attrs.get("material", "svk")), attrs.get("mol_shell_version", ""))
-    if material in SVK_MATERIALS or material in LAWS:
+    if material in SVK_MATERIALS or material in LAWS or ":" not in material:  # a name, not an import path: unknown
         return None
     try:
         scene_material(material, str(attrs.get("material_parameters", "") or ""))

@@ -318,8 +318,8 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
         out = ds.copy()
         reason = unloadable_law(ds.attrs)
         out.attrs["stresses"] = (f"skipped: material = {material} cannot be loaded in this process ({reason})" if reason
-                                 else f"skipped: not computed for material = {material} (a law this version does not "
-                                 "know)")
+                                 else f"skipped: not computed for material = {material} (neither a built-in law nor "
+                                 "a mol_shell.Material made in this process)")
         warnings.warn(f"stresses not computed: {out.attrs['stresses'][len('skipped: '):]}", SceneWarning, stacklevel=2)
         return out
     if limit is not None and samples > limit:
