@@ -314,13 +314,15 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     n_t, n = ds.sizes["time"], ds.sizes["s"]
     samples = 2 * (n - 1) * n_t
     material = str(ds.attrs.get("material", "svk"))
-    if limit is not None and law_of_attrs(ds.attrs) is not None and law_of_attrs(ds.attrs)[1] is None:  # unknown
+    route = law_of_attrs(ds.attrs) if limit is not None else None
+    if route is not None and route[1] is None:  # a law this process cannot load, or that this version does not know
         out = ds.copy()
         reason = unloadable_law(ds.attrs)
-        out.attrs["stresses"] = (f"skipped: material = {material} cannot be loaded in this process ({reason})" if reason
-                                 else f"skipped: not computed for material = {material} (neither a built-in law nor "
-                                 "a mol_shell.Material made in this process)")
-        warnings.warn(f"stresses not computed: {out.attrs['stresses'][len('skipped: '):]}", SceneWarning, stacklevel=2)
+        why = (f"material = {material} cannot be loaded in this process ({reason})" if reason else
+               f"not computed for material = {material} (neither a built-in law nor a mol_shell.Material made in "
+               "this process)")
+        out.attrs["stresses"] = f"skipped: {why}"
+        warnings.warn(f"stresses not computed: {why}", SceneWarning, stacklevel=2)
         return out
     if limit is not None and samples > limit:
         out = ds.copy()
