@@ -228,7 +228,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         ``Client``: that dask.distributed cluster.
     workers : int, optional
         Local processes (``scheduler=None`` only), this one included: it runs cases too, taking them from
-        the back of the queue while ``workers - 1`` spawned processes take them from the front.
+        the back of the queue while ``workers - 1`` started processes take them from the front.
     output : path, optional
         Write the combined Dataset here (netCDF: ``.nc``, ``.nc4`` or ``.cdf``) and keep every finished case in
         ``<output stem>.cases/`` so a rerun skips them.
@@ -239,10 +239,11 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
 
     Notes
     -----
-    Local processes are started with ``spawn`` (safe with threads and CasADi): a script that
-    calls ``study`` must guard its entry point with ``if __name__ == "__main__":``. The calling process
-    runs its share of the cases on one thread (compiled kernels and BLAS), as the spawned ones do; it
-    computes from the start while a worker spends about a second starting, so short studies gain most. A dask
+    Local processes are forked on Linux (each a copy of this process, started at once) and spawned
+    elsewhere, or as the environment variable ``MOL_SHELL_START_METHOD`` says (``fork``, ``spawn`` or
+    ``forkserver``); a spawned worker imports the calling script again, so a script that calls ``study``
+    should guard its entry point with ``if __name__ == "__main__":``. Every process, this one included,
+    runs its share of the cases on one thread (compiled kernels and BLAS). A dask
     cluster's workers need ``mol_shell`` importable and gcc (each compiles its right-hand side
     once into its own cache). Stored cases are keyed by their settings and the package version
     (a new version computes every case again); a model changed in place without a new version

@@ -168,12 +168,15 @@ def test_local_worker_killed_during_a_case_is_run_again():
     me = psutil.Process()
 
     def busy():
-        """Workers in a case: past their imports and build (about 1.5 s of CPU), 1.5 s into a case of ~3.5 s. CPU time,
-        not wall time: on a loaded machine (parallel tests) a worker's imports alone can take several seconds."""
+        """Workers in a case: past their imports (a spawned one's, about 1 s of CPU) and build (0.4 s), 1.5 s into a
+        case of ~3.5 s. CPU time, not wall time: on a loaded machine (parallel tests) a worker's imports alone can
+        take several seconds. A forked worker has this process's command line and starts without imports."""
         found = []
         for p in me.children():
             try:
-                if "spawn_main" in " ".join(p.cmdline()) and sum(p.cpu_times()[:2]) > 3.0:
+                command = p.cmdline()
+                start = 1.5 if "spawn_main" in " ".join(command) else 0.4 if command == me.cmdline() else None
+                if start is not None and sum(p.cpu_times()[:2]) > start + 1.5:
                     found.append(p.pid)
             except psutil.NoSuchProcess:
                 pass

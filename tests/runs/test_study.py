@@ -3,6 +3,7 @@
 import dataclasses
 import importlib
 import os
+import sys
 
 import numpy as np
 import pytest
@@ -41,8 +42,8 @@ def test_grid_on_local_processes_with_a_refused_and_a_stopped_case():
     assert np.isfinite(r[:3]).all() and np.isnan(r[-1]).all()
     assert float(ds.n_steps.sel(R=0.99, nu=0.3)) == 10000 and float(ds.wall_time_s.sel(R=0.99, nu=0.3)) > 0
     pids = {w.split(":")[1] for w in ds.worker.values[:, :2].ravel()}
-    assert str(os.getpid()) in pids and len(pids) <= 2  # this process from the back, at most one spawned worker
-    # (whether the worker, starting in ~0.5 s, gets one of these four 0.1 s cases depends on the machine:
+    assert str(os.getpid()) in pids and len(pids) <= 2  # this process from the back, at most one started worker
+    # (whether the worker gets one of these four 0.1 s cases depends on the machine:
     # tests/test_faults.py's 16 cases of 0.25 s check that both take some)
     # a case equals the single run
     one = mol_shell.simulate(mol_shell.TwistedCylinder(gamma=0.0, R=0.99, nu=0.49), n=10, t_end=0.01, progress=False)
@@ -298,6 +299,23 @@ def test_unreachable_scheduler_is_refused_quickly(monkeypatch):
     with pytest.raises(ParameterError, match=rf"^scheduler = 'tcp://127.0.0.1:{port}' does not answer within 1 s"):
         study(BASE, {"gamma": [0.1, 0.2]}, **SMALL, scheduler=f"tcp://127.0.0.1:{port}")
     assert time.perf_counter() - start < 30
+
+
+def test_local_workers_are_forked_on_linux_unless_the_environment_or_threaded_kernels_say_otherwise(monkeypatch):
+    """A forked worker starts as a copy of this process (no imports, its first case at once); OpenMP's thread pool is
+    not safe across a fork, so kernels on more than one thread (``MOL_SHELL_THREADS``) get spawned workers."""
+    monkeypatch.delenv(scheduling.START_VARIABLE, raising=False)
+    monkeypatch.delenv("MOL_SHELL_THREADS", raising=False)
+    assert scheduling.start_method() == ("fork" if sys.platform.startswith("linux") else "spawn")
+    monkeypatch.setenv("MOL_SHELL_THREADS", "2")
+    assert scheduling.start_method() == "spawn"
+    monkeypatch.setenv(scheduling.START_VARIABLE, "spawn")
+    assert scheduling.start_method() == "spawn"
+    monkeypatch.setenv(scheduling.START_VARIABLE, "threads")
+    with pytest.raises(ParameterError, match=r"^MOL_SHELL_START_METHOD = 'threads' is outside \{.*spawn.*\} \(the "
+                                             r"environment variable"):
+        study(BASE, {"gamma": [0.1, 0.2]}, **SMALL, workers=2)
+    study(BASE, {"gamma": [0.1]}, **SMALL, scheduler="serial")  # read for local processes only
 
 
 def test_python_study_refuses_bad_workers_and_options():

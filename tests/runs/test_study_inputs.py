@@ -77,12 +77,14 @@ def test_a_case_that_leaves_out_a_laws_parameter_has_the_laws_value():
     assert design(scene, [{"material.mu": 2e5}, {"E": 2e6}], "leapfrog")[1]["material.mu"] == [2e5, 4e5]
 
 
-def test_a_law_made_in_a_function_reaches_the_worker_processes_of_a_study_and_of_a_path_study():
+def test_a_law_made_in_a_function_reaches_the_worker_processes_of_a_study_and_of_a_path_study(monkeypatch):
     """A script's ``Material`` made under ``if __name__ == "__main__":`` (here: in a function, with a closure for its
     energy) is registered in this process only: the spawned worker knew no law by that name and refused its cases
     (``material = 'study-worker-law' is outside {svk, ...}``) while this process ran its own. Each case now carries
-    the law, and the worker's cases equal the serial study's."""
+    the law, and the worker's cases equal the serial study's. (Workers spawned here: a forked one has the law.)"""
     from mol_shell.analysis.path_study import path_study
+
+    monkeypatch.setenv("MOL_SHELL_START_METHOD", "spawn")
 
     rubber = mol_shell.Material("study-worker-law", energy=neo_hookean_like(1.0), parameters={"mu": 3e5},
                                 thickness="incompressible")

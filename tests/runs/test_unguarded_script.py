@@ -3,7 +3,8 @@
 Python's spawned workers re-run such a script as they start; each then tried to start a study of its own, died
 with multiprocessing's long RuntimeError, and the study went on spawning new workers (eleven tracebacks in one
 run), finishing serially without a word. Now the worker stops with one line saying what to change, and the study
-runs the remaining cases in the calling process, said once.
+runs the remaining cases in the calling process, said once. A forked worker (Linux's default) does not run the
+script again: there such a script simply works.
 """
 
 import os
@@ -14,12 +15,15 @@ from pathlib import Path
 
 import pytest
 
+#: the environment of a script whose study spawns its workers (the default where fork is not safe, e.g. macOS)
+SPAWNED = dict(os.environ, PYTHONPATH=str(Path(__file__).parents[2]), MOL_SHELL_START_METHOD="spawn")
+
 SCRIPT = textwrap.dedent("""
     import mol_shell
 
     ds = mol_shell.study("twisted-cylinder", {"gamma": [0.05, 0.06, 0.07, 0.08]}, n=8, t_end=1e-4, workers=2,
                          progress=False)
-    print("STATUS", sorted(set(ds.status.values.tolist())), ds.status.size)
+    print("STATUS", sorted(set(ds.status.values.tolist())), ds.status.size, len(set(ds.worker.values.tolist())))
 """)
 
 
@@ -28,9 +32,9 @@ def test_unguarded_study_script_runs_its_cases_once_with_one_line_on_each_side(t
     script = tmp_path / "sweep.py"
     script.write_text(SCRIPT)
     proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, cwd=tmp_path,
-                          env=dict(os.environ, PYTHONPATH=str(Path(__file__).parents[2])), timeout=110, check=False)
+                          env=SPAWNED, timeout=110, check=False)
     assert proc.returncode == 0, proc.stderr[-3000:]
-    assert "STATUS ['complete'] 4" in proc.stdout, (proc.stdout, proc.stderr[-3000:])
+    assert "STATUS ['complete'] 4 1" in proc.stdout, (proc.stdout, proc.stderr[-3000:])  # all in this process
     assert proc.stdout.count("STATUS") == 1, proc.stdout  # the worker did not run the script's study
     assert "Traceback" not in proc.stderr, proc.stderr[-3000:]
     assert proc.stderr.count('if __name__ == "__main__":') == 2, proc.stderr  # the worker's line, the warning
@@ -58,7 +62,20 @@ def test_a_late_worker_of_an_unguarded_script_stops_before_its_study_does_anythi
     script = tmp_path / "sweep.py"
     script.write_text(SLOW_WORKER)
     proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, cwd=tmp_path,
-                          env=dict(os.environ, PYTHONPATH=str(Path(__file__).parents[2])), timeout=110, check=False)
+                          env=SPAWNED, timeout=110, check=False)
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert proc.stdout.count("STATUS") == 1 and "STATUS __main__ 2" in proc.stdout, (proc.stdout, proc.stderr)
     assert "Traceback" not in proc.stderr, proc.stderr[-3000:]
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="workers are forked on Linux only")
+@pytest.mark.timeout(120)
+def test_a_forked_worker_runs_an_unguarded_scripts_cases_without_running_the_script(tmp_path):
+    script = tmp_path / "sweep.py"
+    script.write_text(SCRIPT.replace("[0.05, 0.06, 0.07, 0.08]", "[0.05 + 0.01 * k for k in range(12)]").replace("1e-4", "1e-2"))
+    env = {k: v for k, v in os.environ.items() if k not in ("MOL_SHELL_START_METHOD", "MOL_SHELL_THREADS")}
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, cwd=tmp_path,
+                          env=dict(env, PYTHONPATH=str(Path(__file__).parents[2])), timeout=110, check=False)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert proc.stdout.count("STATUS") == 1 and "STATUS ['complete'] 12 2" in proc.stdout, (proc.stdout, proc.stderr)
+    assert "__main__" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr[-3000:]
