@@ -9,7 +9,7 @@
   3. peers   work-precision on the paper scene (n = 40, the paper's saved times): the fastest mol_shell
              configuration against the fastest scipy peer at errors 1e-6 and 1e-8, in one process
   4. study   100 cases of the paper scene (gamma varied) at n = 40 to t = 0.02 s: serial against 2 local
-             workers (forked, the default on Linux, and spawned), and the gcc builds each run made (cache
+             workers (spawned, the default, and forked), and the gcc builds each run made (cache
              ``builds.log``)
 
 Every measurement runs in its own process with ``PYTHONPATH`` set to its tree, baseline and this tree
@@ -242,13 +242,13 @@ def target_study(rounds, t_end=0.02):
     with tempfile.TemporaryDirectory() as cache:
         env = {"MOL_SHELL_CACHE": cache}
         log = Path(cache, "builds.log")
-        runs = {"serial": [], "2 local workers": [], "2 local workers, spawned": [], "two independent halves": []}
+        runs = {"serial": [], "2 local workers": [], "2 local workers, forked": [], "two independent halves": []}
         builds = []
         for _ in range(rounds):
             runs["2 local workers"].append(probe(HERE, STUDY_PROBE, "local", 2, t_end, env=env))
             builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
-            runs["2 local workers, spawned"].append(probe(HERE, STUDY_PROBE, "local", 2, t_end,
-                                                          env=dict(env, MOL_SHELL_START_METHOD="spawn")))
+            runs["2 local workers, forked"].append(probe(HERE, STUDY_PROBE, "local", 2, t_end,
+                                                         env=dict(env, MOL_SHELL_START_METHOD="fork")))
             runs["serial"].append(probe(HERE, STUDY_PROBE, "serial", 1, t_end, env=env))
             builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
             runs["two independent halves"].append(pair(HERE, HALF_PROBE, env, "serial", 1, t_end))

@@ -137,33 +137,24 @@ START_VARIABLE = "MOL_SHELL_START_METHOD"
 
 
 def start_method():
-    """How a study's local worker processes start: :data:`START_VARIABLE` where it is set, else ``fork`` on Linux
-    when the workers run their kernels on one thread, else ``spawn``.
+    """How a study's local worker processes start: ``spawn``, or the start method :data:`START_VARIABLE` names.
 
-    A forked worker begins as a copy of this process, its imports, graphs and loaded kernels included, and runs its
-    first case at once; a spawned one spends 0.6-0.8 s starting (the interpreter, the imports, the first case's
-    graphs) while this process computes: 0.2-0.4 s of a 5 s study of 100 cases on two cores. The copy is safe
-    where it is made: BLAS's thread pool (OpenBLAS) makes itself safe across a fork, and OpenMP's, which is not,
-    is never entered by a worker whose kernels run on one thread (``MOL_SHELL_THREADS = 1``, the study's default:
-    :func:`_one_thread_per_process`); elsewhere (macOS: system libraries are not safe across a fork) workers are
-    spawned. Raises :class:`ParameterError` for a method this platform lacks."""
+    ``fork`` (Linux) starts each worker as a copy of this process, its imports done: its first case starts 0.47 s
+    sooner than a spawned worker's. Over 18 interleaved pairs of the benchmark's 100-case study (about 5.2 s on two
+    cores) that gained 0.09 s on average, with the pairs scattered by +-0.2 s: not enough to make ``fork``, which is
+    not safe in every process (threads that hold locks as it forks), the default. OpenMP's thread pool is one of
+    those, so ``fork`` is refused where the kernels run on more than one thread (``MOL_SHELL_THREADS``). Raises
+    :class:`ParameterError` for a method this platform lacks."""
     methods = multiprocessing.get_all_start_methods()
-    asked = os.environ.get(START_VARIABLE, "")
-    if asked:
-        if asked not in methods:
-            raise ParameterError(START_VARIABLE, asked, "{" + ", ".join(methods) + "}",
-                                 hint="the environment variable that says how a study's local worker processes start")
-        return asked
-    one_thread = os.environ.get("MOL_SHELL_THREADS", "1").strip() == "1"
-    return "fork" if sys.platform.startswith("linux") and "fork" in methods and one_thread else "spawn"
-
-
-def _submit(pool, *call):
-    """``pool.submit(*call)``. The pool's first submit starts its workers; Python 3.12 and later warn of any fork of
-    a process that holds threads, which here are BLAS's (:func:`start_method` says why the fork is safe)."""
-    with warnings.catch_warnings():
-        warnings.filterwarnings("ignore", r"This process .* is multi-threaded, use of fork", DeprecationWarning)
-        return pool.submit(*call)
+    threaded = os.environ.get("MOL_SHELL_THREADS", "1").strip() != "1"
+    allowed = [m for m in methods if not (m == "fork" and threaded)]
+    asked = os.environ.get(START_VARIABLE, "") or "spawn"
+    if asked not in allowed:
+        raise ParameterError(START_VARIABLE, asked, "{" + ", ".join(allowed) + "}", hint=(
+            "the environment variable that says how a study's local worker processes start" + (
+                "; fork only with MOL_SHELL_THREADS = 1: OpenMP's threads are not safe across a fork"
+                if threaded and asked == "fork" else "")))
+    return asked
 
 
 #: cases handed to each worker ahead of time: the one it runs and two waiting, so it never waits for
@@ -176,7 +167,7 @@ def _execute_local(run_task, tasks, workers):
 
     The workers are handed cases from the front of the queue, :data:`AHEAD` each; this process, which has
     the package imported and its kernels loaded, runs them from the back, so it computes from the first moment
-    while a spawned worker spends most of a second starting (a forked one starts at once). Who runs a case is settled in
+    while a worker spends about half a second starting (a forked one starts at once). Who runs a case is settled in
     a table shared with the workers (:class:`_Claims`): a worker claims a case as it starts it and skips one this
     process has claimed, so at the end this process also takes the handed-over cases no worker has started, and
     the two finish within about a case of each other. A worker that dies breaks its pool: the case it was
@@ -208,7 +199,7 @@ def _execute_local(run_task, tasks, workers):
                             yield _retried(_collect(future, pending[slot]), attempts[pending[slot].index])
                     while queue and not failed and len(running) < AHEAD * spawned:
                         slot = queue.popleft()
-                        running[_submit(pool, _claimed, run_task, pending[slot], slot)] = slot
+                        running[pool.submit(_claimed, run_task, pending[slot], slot)] = slot
                     slot = _next_here(queue, running, claims) if not failed else None
                     if slot is not None:
                         mine.add(slot)

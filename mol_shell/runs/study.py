@@ -239,11 +239,10 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
 
     Notes
     -----
-    Local processes are forked on Linux (each a copy of this process, started at once) and spawned
-    elsewhere, or as the environment variable ``MOL_SHELL_START_METHOD`` says (``fork``, ``spawn`` or
-    ``forkserver``); a spawned worker imports the calling script again, so a script that calls ``study``
-    should guard its entry point with ``if __name__ == "__main__":``. Every process, this one included,
-    runs its share of the cases on one thread (compiled kernels and BLAS). A dask
+    Local processes are spawned (or started as the environment variable ``MOL_SHELL_START_METHOD`` says:
+    ``spawn``, ``fork`` or ``forkserver``); a spawned worker imports the calling script again, so a script that
+    calls ``study`` must guard its entry point with ``if __name__ == "__main__":``. Every process, this one
+    included, runs its share of the cases on one thread (compiled kernels and BLAS). A dask
     cluster's workers need ``mol_shell`` importable and gcc (each compiles its right-hand side
     once into its own cache). Stored cases are keyed by their settings and the package version
     (a new version computes every case again); a model changed in place without a new version

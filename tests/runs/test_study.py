@@ -3,7 +3,6 @@
 import dataclasses
 import importlib
 import os
-import sys
 
 import numpy as np
 import pytest
@@ -301,16 +300,20 @@ def test_unreachable_scheduler_is_refused_quickly(monkeypatch):
     assert time.perf_counter() - start < 30
 
 
-def test_local_workers_are_forked_on_linux_unless_the_environment_or_threaded_kernels_say_otherwise(monkeypatch):
-    """A forked worker starts as a copy of this process (no imports, its first case at once); OpenMP's thread pool is
-    not safe across a fork, so kernels on more than one thread (``MOL_SHELL_THREADS``) get spawned workers."""
+def test_local_workers_are_spawned_unless_the_environment_asks_for_another_start_method(monkeypatch):
+    """``MOL_SHELL_START_METHOD`` chooses how local workers start; ``fork`` is refused with kernels on more than one
+    thread (OpenMP's pool is not safe across a fork), a method the platform lacks in one line, both up front."""
     monkeypatch.delenv(scheduling.START_VARIABLE, raising=False)
     monkeypatch.delenv("MOL_SHELL_THREADS", raising=False)
-    assert scheduling.start_method() == ("fork" if sys.platform.startswith("linux") else "spawn")
+    assert scheduling.start_method() == "spawn"
+    monkeypatch.setenv(scheduling.START_VARIABLE, "forkserver")
+    assert scheduling.start_method() == "forkserver"
+    monkeypatch.setenv(scheduling.START_VARIABLE, "fork")
+    assert scheduling.start_method() == "fork"
     monkeypatch.setenv("MOL_SHELL_THREADS", "2")
-    assert scheduling.start_method() == "spawn"
-    monkeypatch.setenv(scheduling.START_VARIABLE, "spawn")
-    assert scheduling.start_method() == "spawn"
+    with pytest.raises(ParameterError, match=r"^MOL_SHELL_START_METHOD = 'fork' is outside \{spawn, forkserver\} .*"
+                                             r"fork only with MOL_SHELL_THREADS = 1"):
+        study(BASE, {"gamma": [0.1, 0.2]}, **SMALL, workers=2)
     monkeypatch.setenv(scheduling.START_VARIABLE, "threads")
     with pytest.raises(ParameterError, match=r"^MOL_SHELL_START_METHOD = 'threads' is outside \{.*spawn.*\} \(the "
                                              r"environment variable"):

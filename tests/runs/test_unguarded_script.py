@@ -3,10 +3,11 @@
 Python's spawned workers re-run such a script as they start; each then tried to start a study of its own, died
 with multiprocessing's long RuntimeError, and the study went on spawning new workers (eleven tracebacks in one
 run), finishing serially without a word. Now the worker stops with one line saying what to change, and the study
-runs the remaining cases in the calling process, said once. A forked worker (Linux's default) does not run the
-script again: there such a script simply works.
+runs the remaining cases in the calling process, said once. A forked worker (``MOL_SHELL_START_METHOD=fork``,
+Linux) does not run the script again: there such a script simply works.
 """
 
+import multiprocessing
 import os
 import subprocess
 import sys
@@ -15,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-#: the environment of a script whose study spawns its workers (the default where fork is not safe, e.g. macOS)
+#: the environment of a script whose study spawns its workers (the default)
 SPAWNED = dict(os.environ, PYTHONPATH=str(Path(__file__).parents[2]), MOL_SHELL_START_METHOD="spawn")
 
 SCRIPT = textwrap.dedent("""
@@ -68,14 +69,14 @@ def test_a_late_worker_of_an_unguarded_script_stops_before_its_study_does_anythi
     assert "Traceback" not in proc.stderr, proc.stderr[-3000:]
 
 
-@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="workers are forked on Linux only")
+@pytest.mark.skipif("fork" not in multiprocessing.get_all_start_methods(), reason="no fork on this platform")
 @pytest.mark.timeout(120)
 def test_a_forked_worker_runs_an_unguarded_scripts_cases_without_running_the_script(tmp_path):
     script = tmp_path / "sweep.py"
     script.write_text(SCRIPT.replace("[0.05, 0.06, 0.07, 0.08]", "[0.05 + 0.01 * k for k in range(12)]").replace("1e-4", "1e-2"))
-    env = {k: v for k, v in os.environ.items() if k not in ("MOL_SHELL_START_METHOD", "MOL_SHELL_THREADS")}
+    env = {k: v for k, v in SPAWNED.items() if k != "MOL_SHELL_THREADS"}
     proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, cwd=tmp_path,
-                          env=dict(env, PYTHONPATH=str(Path(__file__).parents[2])), timeout=110, check=False)
+                          env=dict(env, MOL_SHELL_START_METHOD="fork"), timeout=110, check=False)
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert proc.stdout.count("STATUS") == 1 and "STATUS ['complete'] 12 2" in proc.stdout, (proc.stdout, proc.stderr)
     assert "__main__" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr[-3000:]
