@@ -285,6 +285,15 @@ class _Path:
             return q, total
 
 
+def _closed(tracer, origin, q, lam, arc, record):
+    """Whether a branch has come back to the critical point it left (``origin``): within the last step's length
+    of it, once it has been farther than three such steps from it. A branch that closes into a loop (the vessel's
+    two heads snapping in turn) would otherwise go round it until ``max_steps``."""
+    away = tracer.distance(origin[0], origin[1], q, lam)
+    record.farthest = max(record.farthest, away)
+    return away < arc and record.farthest > 3.0 * arc
+
+
 def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None, progress=None):
     """Follow the equilibria of ``scene`` at rest as the load ``parameter`` goes from ``start`` to ``stop``.
 
@@ -325,8 +334,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         ``smallest_eigenvalues``, ``stiffness_det_sign``, ``stored_energy``, ``load_work``, ``volume`` (a closed
         shell's);
         along ``point``: the critical points. ``attrs["status"]`` is ``complete`` (``stop`` reached),
-        ``max_steps``, ``failed``, ``limit`` or ``interrupted`` (Ctrl-C: the steps so far; ``attrs["message"]`` says
-        where).
+        ``max_steps``, ``returned`` (back past ``start``, or a branch back at the point it left: a loop),
+        ``failed``, ``limit`` or ``interrupted`` (Ctrl-C: the steps so far; ``attrs["message"]`` says where).
     """
     scene = as_scene(scene)
     start, stop, n, steps, max_steps, ds, branch = map(scalar, (start, stop, n, steps, max_steps, ds, branch))
@@ -334,6 +343,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     show_bar = wants_progress(progress)  # refused (not a bool) before the set-up's work
     clock = time.perf_counter()
     no_switch = None  # why --branch could not switch at the point it names (a limit point)
+    origin = None  # on a branch: the critical point it left (state, load, the step after which it did)
     eq = EquilibriumEquations(scene, parameter, n)
     tracer = _Path(eq, start, stop)
     try:
@@ -406,12 +416,18 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
                         status, message = "failed", f"no switch onto the branch at critical point {branch}: {exc}"
                         break
                     record.branch, record.branch_point = 1, branch
+                    origin = (record.points[branch]["q"], record.points[branch]["parameter"], len(record.lams))
                     t = tracer.tangent(q, lam, previous=t)
                     record.add(q, lam, t, record.arcs[-1] + h, its)
                     continue
                 branch = None  # a limit point: the path goes on without the switch, said in its message
             if beyond:
                 status, message = "complete", f"reached {parameter} = {lam:.6g} {eq.units}"
+                break
+            if origin is not None and _closed(tracer, origin, q, lam, arc, record):
+                status, message = "returned", (
+                    f"the branch closed: it came back to critical point {record.branch_point} ({parameter} = "
+                    f"{origin[1]:.6g} {eq.units}) {len(record.lams) - origin[2]} steps after it left it, round a loop")
                 break
             if (lam - tracer.start) * tracer.direction < 0 and len(record.lams) > 2:
                 status, message = "returned", (f"the path came back past start = {start:g} {eq.units}, away "

@@ -31,6 +31,8 @@ class PathRecord:
         self.points = []
         #: 0 on the path from start, 1 on the branch switched to (``path(..., branch=K)``)
         self.branch, self.branches = 0, []
+        #: on the branch: the farthest (scaled) it has been from the critical point it left
+        self.farthest = 0.0
         #: whether a step's critical points are being located (an interruption then leaves them half done)
         self.locating = False
 

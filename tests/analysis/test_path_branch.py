@@ -85,3 +85,23 @@ def test_branch_at_a_limit_point_keeps_the_path_and_says_why_there_is_no_switch(
     ds = mol_shell.read_netcdf(out)
     assert str(ds.point_kind.values[0]) == "limit" and np.all(ds.branch.values == 0)
     assert "; no switch: critical point 0 is a limit point" in ds.attrs["message"]
+
+
+def test_a_branch_that_closes_into_a_loop_ends_where_it_left_the_path():
+    """The vessel's two heads are equal, so the antisymmetric branch (one head buckling first) is a loop: the heads
+    snap in turn, the branch passes through the mirror image of each state it left (``r(s) - r(L - s)`` of both
+    signs, each limit load found twice, once per head), and it comes back to the bifurcation it left. It went round
+    the loop until ``max_steps``; it now ends there, said ``returned``."""
+    ds = path(mol_shell.Vessel(), "pressure", 0.0, -2000.0, n=13, branch=0, max_steps=300, progress=False)
+    assert ds.attrs["status"] == "returned", ds.attrs["message"]
+    assert "the branch closed: it came back to critical point 0" in ds.attrs["message"]
+    on = ds.branch.values == 1
+    half = ds.sizes["s"] // 2
+    lopsided = antisymmetric(ds.r.values[on])[:, :half].sum(axis=1)
+    assert lopsided.min() < -0.5 * np.abs(lopsided).max() and lopsided.max() > 0.5 * np.abs(lopsided).max()
+    away = np.abs(ds.r.values[on] - ds.point_r.values[0]).max(axis=1)
+    assert away[-1] < 0.2 * away.max()  # back at the bifurcation, within a step
+    kinds, loads = ds.point_kind.values, ds.point_parameter.values
+    on_branch = np.sort(loads[(kinds == "limit") & (ds.point_step.values > ds.point_step.values[0] + 1)])
+    assert len(on_branch) >= 4 and len(on_branch) % 2 == 0, loads
+    np.testing.assert_allclose(on_branch[0::2], on_branch[1::2], rtol=1e-5)  # each head's fold, once each
