@@ -50,7 +50,7 @@ from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: wher
 from mol_shell.model.layers import layer_value, layered_thickness, parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, effective_lame, lame, quadrature_factors, shell_energy
-from mol_shell.model.user_laws import (  # noqa: F401  (parameter_text: the stored form)
+from mol_shell.model.user_laws import (
     RESERVED,
     Material,
     parameter_text,
@@ -344,7 +344,7 @@ def law_parameters(scene):
     if name in SVK_MATERIALS:
         return None, None
     if name not in LAWS:
-        material = scene_material(name, getattr(scene, "material_parameters", ""))
+        material = own_material(scene)
         return material.law(), dict(material.parameters)
     law = LAWS[name]
     if name in COMPRESSIBLE:
@@ -377,7 +377,7 @@ def small_strain_lame(scene):
     if name in COMPRESSIBLE:
         return condensed(*lame(scene.E, scene.nu), "svk-plane-stress")
     if name not in LAWS:
-        return scene_material(name, getattr(scene, "material_parameters", "")).small_strain_pair()
+        return own_material(scene).small_strain_pair()
     mu = scene.E / 3.0 if name == "neo-hookean-incompressible" else 2.0 * (scene.c10 + scene.c01)
     return 2.0 * mu, mu
 
@@ -394,13 +394,32 @@ def viscosities(scene):
 SVK_LAW = Law("svk", svk, ("lambda", "mu"), "director")
 
 
+def own_parameters(material, values):
+    """The part of ``values`` (``{name: number}``, a scene's ``material_parameters``) that the law ``material`` has
+    (``{}`` for a built-in law): a layered wall's parameters go to the layers whose law has each, and its own
+    ``material`` (the run's scales) takes those it has."""
+    user = user_material(material)
+    return {k: v for k, v in values.items() if user is not None and k in user.parameters}
+
+
+def own_material(scene):
+    """:func:`scene_material` of the scene's ``material`` with those of its ``material_parameters`` it has (a single
+    wall's are its law's, checked; a layered wall's may be its layers' laws' alone)."""
+    values = parameter_values(getattr(scene, "material_parameters", "") or "")
+    return scene_material(scene.material, own_parameters(scene.material, values))
+
+
 def layer_scenes(scene):
     """``[(thickness, scene of the layer)]`` of a layered scene: the scene with the layer's material and keys (its
-    checks run on them), without layers."""
+    checks run on them), without layers, and with those of the scene's ``material_parameters`` its law has (every
+    layer was given all of them, and a built-in layer refused them)."""
     out = []
+    values = parameter_values(getattr(scene, "material_parameters", "") or "")
     for number, (thickness, material, changes) in enumerate(parse_layers(scene.layers), start=1):
         try:
             typed = {k: layer_value(k, v) for k, v in changes.items()}
+            if values:
+                typed["material_parameters"] = parameter_text(own_parameters(material, values))
             out.append((thickness, dataclasses.replace(scene, layers="", material=material, **typed)))
         except ParameterError as exc:
             raise ParameterError(exc.name, exc.value, exc.allowed, message=f"layer {number}: {exc}") from None

@@ -36,6 +36,9 @@ from mol_shell.model.laws import (
     COMPRESSIBLE,
     LAWS,
     SVK_LAW,
+    own_parameters,
+    parameter_text,
+    parameter_values,
     renamed_law,
     scene_material,
     thickness_treatment,
@@ -90,8 +93,9 @@ def unloadable_law(attrs):
     material = renamed_law(str(attrs.get("material", "svk")), attrs.get("mol_shell_version", ""))
     if material in SVK_MATERIALS or material in LAWS or ":" not in material:  # a name, not an import path: unknown
         return None
-    try:
-        scene_material(material, str(attrs.get("material_parameters", "") or ""))
+    try:  # with the parameters it has (a layered run's may be its layers' laws')
+        values = parameter_values(str(attrs.get("material_parameters", "") or ""))
+        scene_material(material, own_parameters(material, values))
     except ParameterError as exc:
         return str(exc)
     return None
@@ -106,8 +110,15 @@ def _flag(value):
 
 
 def _layer_route(attrs, material, changes):
-    """The route of one layer: the run's attrs with the layer's material and keys (SVK without fibres included)."""
+    """The route of one layer: the run's attrs with the layer's material and keys (SVK without fibres included), and
+    those of the run's ``material_parameters`` the layer's law has (:func:`~mol_shell.model.laws.own_parameters`)."""
     sub = {**attrs, "layers": "", "material": material, **changes}
+    try:
+        values = parameter_values(str(attrs.get("material_parameters", "") or ""))
+        sub["material_parameters"] = parameter_text(own_parameters(renamed_law(material, attrs.get(
+            "mol_shell_version", "")), values))
+    except ParameterError:  # a law not loadable here, or parameters not read: the route says it (an unknown law)
+        pass
     route = law_of_attrs(sub)
     if route is None:
         lam, mu = condensed(*lame(float(sub["E"]), float(sub["nu"])), material)

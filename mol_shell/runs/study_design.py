@@ -12,7 +12,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.model.laws import scene_material
+from mol_shell.model.wall_parameters import wall_parameter, wall_parameter_names
 from mol_shell.runs.simulate import DEFAULT_DT, integrator_options
 from mol_shell.scenes import DESCRIPTIONS, UNITS, _coerce, with_params
 
@@ -59,9 +59,9 @@ def scene_fields(scene):
 
 
 def material_names(scene):
-    """``material.NAME`` for each parameter of the scene's law of one's own (none for a built-in law)."""
-    user = scene_material(scene.material) if hasattr(scene, "material_parameters") else None
-    return {f"material.{k}" for k in (user.parameters if user is not None else ())}
+    """``material.NAME`` for each parameter of the scene's law of one's own (a layered wall's: of its layers' laws;
+    none for built-in laws)."""
+    return {f"material.{k}" for k in (wall_parameter_names(scene) if hasattr(scene, "material_parameters") else ())}
 
 
 def _option_type(integrator, name):
@@ -103,7 +103,7 @@ def _default(scene, name, integrator, options):
     if hasattr(scene, name):
         return getattr(scene, name)
     if name.startswith("material.") and hasattr(scene, "material_parameters"):  # the law's value in this scene
-        return scene_material(scene.material, scene.material_parameters).parameters[name.split(".", 1)[1]]
+        return wall_parameter(scene, name.split(".", 1)[1])
     if name in options:
         return options[name]
     fields = {f.name: f for f in dataclasses.fields(INTEGRATORS[integrator])} if integrator in INTEGRATORS else {}

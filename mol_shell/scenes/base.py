@@ -25,6 +25,7 @@ from mol_shell.model.laws import (
     COMPRESSIBLE_WHY,
     MATERIALS,
     layer_scenes,
+    own_parameters,
     parameter_text,
     parameter_values,
     resolve_material,
@@ -34,6 +35,7 @@ from mol_shell.model.layers import MAX_LAYERS, layer_word, layers_text, parse_la
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
 from mol_shell.model.thickness_profile import check_profile_fits, thickness_function
+from mol_shell.model.wall_parameters import check_layer_parameters
 from mol_shell.scenes.descriptions import DESCRIPTIONS, UNITS, describe  # noqa: F401 - the scenes' vocabulary
 
 #: the loads a scene can carry (each with a ``NAME_history`` but drag)
@@ -303,14 +305,16 @@ class ShellScene:
             raise self._blame(exc) from None
 
     def _check_material_parameters(self):
-        """``material_parameters`` read (a dict becomes the string form) and checked against a law of one's own."""
+        """``material_parameters`` read (a dict becomes the string form) and checked against a law of one's own (a
+        layered wall's: those its own law has here, the names against its layers' laws in :meth:`_check_layers`)."""
         values = parameter_values(self.material_parameters)
-        if values and user_material(self.material) is None:
+        layered = bool(self.layers.strip() if isinstance(self.layers, str) else self.layers)
+        if values and user_material(self.material) is None and not layered:
             raise ParameterError("material_parameters", self.material_parameters, "'' (a built-in law)",
                                  hint=f"material = {self.material} takes its parameters as scene parameters "
                                  "(E, nu, c10, c01)")
-        if values:
-            user_material(self.material).with_parameters(values)
+        if values and user_material(self.material) is not None:
+            user_material(self.material).with_parameters(own_parameters(self.material, values) if layered else values)
         object.__setattr__(self, "material_parameters", parameter_text(values))
 
     def _check_fibres(self):
@@ -356,6 +360,7 @@ class ShellScene:
         except ParameterError as exc:
             raise ParameterError("layers", self.layers, "layers whose parameters are in range",
                                  hint=str(exc)) from None
+        check_layer_parameters(self)  # a material_parameters no layer's law has: named as it
         # stored as the layers' scenes took each key (fibre_compression=0 as false, fibre_families=2.0 as 2): the
         # run's file is read back by its stresses and by later runs
         words = [" ".join([f"{float(t)!r} {m}"] + [f"{k}={layer_word(getattr(scene, k))}" for k in changes])

@@ -9,9 +9,10 @@ import pytest
 import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
-from mol_shell.model.laws import layer_scenes
+from mol_shell.model.laws import layer_laws, layer_scenes
 from mol_shell.model.layers import MAX_LAYERS
-from mol_shell.scenes import Sphere
+from mol_shell.runs.study_design import material_names
+from mol_shell.scenes import Sphere, with_params
 from mol_shell.scenes.files import load_scene
 
 TIMES = np.linspace(0, 0.01, 3)
@@ -151,8 +152,6 @@ def test_layers_given_twice_in_a_scene_file_are_refused(capsys, tmp_path):
 
 def test_a_layers_fibre_compression_takes_1_and_0_as_the_scenes_flag_does():
     """``fibre_compression = 0`` was taken by a scene (netCDF stores flags as 0/1) and refused in a layer dict."""
-    from mol_shell.model.laws import layer_scenes
-
     scene = Sphere(h=0.01, layers=[{"thickness": 0.01, "material": "svk", "fibre_E": 1e6, "fibre_compression": 0},
                                    {"thickness": 0.01, "material": "svk", "fibre_E": 1e6, "fibre_compression": 1}])
     assert [layer.fibre_compression for _, layer in layer_scenes(scene)] == [False, True]
@@ -256,3 +255,34 @@ def test_a_wall_of_svk_layers_stops_where_the_single_svk_wall_does():
     assert "in-plane stretch reached 1/sqrt(3)" in two.attrs["message"] and two.attrs["complete"] == 0
     off = run(layers="0.02 svk-plane-stress nu=0.3", law_limit=False)  # asked not to watch it: runs on
     assert off.attrs["complete"] == 1
+
+
+def test_material_parameters_go_to_the_layers_whose_law_has_them():
+    """``material.NAME`` and ``material_parameters`` on a wall of a Material layer and a built-in one were given to
+    every layer, and the built-in one refused them: each case of a study was refused ("layer 2: material_parameters =
+    'mu=200000.0' is outside '' (a built-in law) ..."), and on a wall whose own material is built in ``material.mu``
+    could not be varied. Each layer takes those its law has now: the case is the wall with the built-in
+    incompressible neo-Hookean layer at ``E = 3 mu`` to round-off; a name no layer's law has is one line naming it."""
+    rubber = mol_shell.Material("layer-parameters-rubber", parameters={"mu": 3e5}, thickness="incompressible",
+                                energy=lambda C, p: p["mu"] / 2 * (C[0, 0] + C[1, 1] + C[2, 2] - 3))
+    svk = {"thickness": 0.01, "material": "svk-plane-stress", "nu": 0.3}
+    times = [0.0, 2e-4, 4e-4]
+    wall = Sphere(h=0.01, R=1.1, material=rubber, layers=[{"thickness": 0.01, "material": rubber}, svk])
+    ds = mol_shell.study(wall, {"material.mu": [2e5, 4e5]}, "leapfrog", n=6, times=times, scheduler="serial",
+                         progress=False)
+    assert list(ds.status.values) == ["complete"] * 2, list(ds.message.values)
+    builtin = mol_shell.simulate(Sphere(h=0.01, R=1.1, layers=[{"thickness": 0.01, "E": 6e5,
+                                                                "material": "neo-hookean-incompressible"}, svk]),
+                                 "leapfrog", n=6, times=times, progress=False)
+    np.testing.assert_allclose(ds.r.values[0], builtin.r.values, rtol=0, atol=1e-12)
+    assert np.max(np.abs(ds.r.values[1] - ds.r.values[0])) > 1e-6  # each case its mu
+    wall = Sphere(h=0.01, R=1.1, layers=wall.layers)  # the wall's own material built in (svk): mu varied as well
+    assert material_names(wall) == {"material.mu"}
+    layers = layer_laws(with_params(wall, {"material.mu": "2e5"}))[1]
+    assert layers[0][1] == {"mu": 2e5} and layers[1][1] == layer_laws(wall)[1][1][1]
+    with pytest.raises(ParameterError, match=r"^material_parameters = 'k=1' is outside \{mu \(layer 1\)\}, the "
+                       r"parameters of the layers' laws \(no layer's law has k; each parameter goes to the layers"):
+        with_params(wall, {"material.k": "1"})
+    with pytest.raises(ParameterError, match=r"^material_parameters = 'mu=200000' is outside the parameters of the "
+                       r"layers' laws, none here \(no layer's law is a mol_shell.Material; a built-in layer takes E, nu"):
+        Sphere(h=0.01, material=rubber, material_parameters="mu=2e5", layers="0.01 svk; 0.01 svk-plane-stress")

@@ -1,0 +1,57 @@
+"""The parameters of laws of one's own on a wall: which laws a scene's ``material_parameters`` (and ``material.NAME``)
+set. A single wall's are its ``material``'s; a layered wall's go to each layer whose law has the parameter (they were
+given to every layer, and a built-in layer refused them), and one that no layer's law has is refused by name."""
+
+from __future__ import annotations
+
+from mol_shell._core.errors import ParameterError
+from mol_shell.model.laws import parameter_values, user_material
+from mol_shell.model.layers import parse_layers
+
+
+def wall_laws(scene):
+    """The laws whose parameters ``scene``'s ``material_parameters`` set: a layered wall's layers' (from the lower
+    face), else its ``material``."""
+    if getattr(scene, "layers", ""):
+        return [material for _, material, _ in parse_layers(scene.layers)]
+    return [scene.material]
+
+
+def wall_parameter_names(scene):
+    """``{name: [numbers of the laws of wall_laws(scene), from 1]}`` of the parameters of its laws of one's own."""
+    out = {}
+    for number, material in enumerate(wall_laws(scene), start=1):
+        user = user_material(material)
+        for name in (user.parameters if user is not None else ()):
+            out.setdefault(name, []).append(number)
+    return out
+
+
+def wall_parameter(scene, name):
+    """The value of parameter ``name`` in ``scene``: its ``material_parameters``', else that of the first of its laws
+    (:func:`wall_laws`) that has it."""
+    values = parameter_values(getattr(scene, "material_parameters", "") or "")
+    if name in values:
+        return values[name]
+    return next(user.parameters[name] for user in map(user_material, wall_laws(scene))
+                if user is not None and name in user.parameters)
+
+
+def check_layer_parameters(scene):
+    """A ParameterError naming ``material_parameters`` for a parameter of a layered ``scene`` that no layer's law has
+    (its own ``material`` sets only the run's scales): its allowed range the parameters the layers' laws have, each
+    with the layers that take it."""
+    values = parameter_values(getattr(scene, "material_parameters", "") or "")
+    taken = wall_parameter_names(scene)
+    unused = [k for k in values if k not in taken]
+    if not getattr(scene, "layers", "") or not unused:
+        return
+    shown = " ".join(f"{k}={values[k]:g}" for k in unused)
+    if not taken:
+        raise ParameterError("material_parameters", shown, "the parameters of the layers' laws, none here", hint=(
+            "no layer's law is a mol_shell.Material; a built-in layer takes E, nu, c10, c01 in the layers string: "
+            "'0.01 svk-plane-stress E=2e6; ...'"))
+    allowed = "{" + ", ".join(f"{k} (layer{'s' if len(v) > 1 else ''} {', '.join(map(str, v))})"
+                              for k, v in sorted(taken.items())) + "}, the parameters of the layers' laws"
+    raise ParameterError("material_parameters", shown, allowed, hint=f"no layer's law has {', '.join(unused)}; each "
+                         "parameter goes to the layers whose law has it")
