@@ -100,6 +100,31 @@ class ModelLimits:
             names += [(what, f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, len(self.active))]
         return names
 
+    def energy_not_finite(self, y):
+        """``(law, where, detail)`` for the first cell whose stored energy is not finite at the finite state ``y``, or
+        ``None``: the law's energy outside its domain there (a law of one's own with ``log(I1 - 2.9)`` on a compressed
+        start). ``law`` names it (``material 'NAME'``, or the wall's ``layers``); ``detail`` gives the cell's energy
+        and the mid-surface stretches there, along the meridian and round it. One evaluation of the cell energies,
+        made where the total is not finite (the check of a run's start), never in the stepping."""
+        Q = self.tie(self.unpack(np.asarray(y, dtype=float)))
+        with np.errstate(all="ignore"):
+            cells = self._cell_observables().map(self.n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)[0]
+            energies = np.array(cells, dtype=float).ravel()
+            bad = np.flatnonzero(~np.isfinite(energies))
+            if not bad.size:
+                return None
+            i = int(bad[0])
+            z0, r0 = self.reference[0], self.reference[1]
+            meridian = math.hypot(Q[0, i + 1] - Q[0, i], Q[1, i + 1] - Q[1, i]) / math.hypot(z0[i + 1] - z0[i],
+                                                                                              r0[i + 1] - r0[i])
+            hoop = (Q[1, i] + Q[1, i + 1]) / (r0[i] + r0[i + 1])
+        layers = str(getattr(self.scene, "layers", "") or "").strip()
+        law = f"the wall's layers ({layers!r})" if layers else f"material {str(self.scene.material)!r}"
+        where = f"s = {(self.s[i] + self.s[i + 1]) / 2:.6g} m (cell centre)"
+        detail = (f"{energies[i]:g} J in that cell, at the stretches {meridian:.4g} along the meridian and {hoop:.4g} "
+                  "round it")
+        return law, where, detail
+
     @cached_property
     def principal_symbol(self):
         """``(g, m, geo) -> vec K`` of one cell (map it over the cells): ``K = d2W/dg2``, the Hessian of one sample's stored energy

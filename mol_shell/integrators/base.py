@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -68,12 +69,24 @@ class Monitor:
         """``E - work + dissipated``: constant for the exact motion (``E`` alone without loads)."""
         return float(out[1]) + float(out[2]) - float(out[6]) + float(out[7])
 
+    def _check_law_domain(self, y, t):
+        """Raise :class:`ModelLimitError` naming the law and the first cell where its stored energy is not finite
+        (:meth:`~mol_shell.discretization.limits.ModelLimits.energy_not_finite`): a start outside the law's domain
+        (a law of one's own with ``log(I1 - 2.9)`` on a compressed start), which the energy's growth called a
+        numerical instability, with no place."""
+        found = getattr(self.system, "energy_not_finite", lambda y: None)(y)
+        if found is not None:
+            law, where, detail = found
+            raise ModelLimitError(f"the energy of {law} is not finite at t = {t:.9g} s, {where}: {detail}, outside "
+                                  "the law's domain", t, where)
+
     def check(self, y, t):
         """Raise :class:`ModelLimitError` naming time and place if ``y`` breaks a limit.
 
         The energy comes first: an unloaded shell cannot gain energy, so a state whose energy grew
         is a numerical instability (:class:`NumericalInstabilityError`, status ``"unstable"``) even
-        when the blow-up has also carried it past a limit of the model.
+        when the blow-up has also carried it past a limit of the model. A start (``t = 0``) whose stored energy is not
+        finite is outside the law's domain, not unstable: :meth:`_check_law_domain` names the law and the cell.
         """
         if not np.all(np.isfinite(y)):
             bad = np.flatnonzero(~np.isfinite(y))[0]
@@ -81,6 +94,8 @@ class Monitor:
             place = f"s = {self.system.s[bad // self.system.ny]:.6g} m" if bad < self.system.ny * self.system.n else "whole shell"
             raise ModelLimitError(f"non-finite state at t = {t:.9g} s, {place}", t, place)
         out = self._observe(y, t)
+        if t == 0 and not math.isfinite(float(out[2])):  # the start: the law's energy is not finite somewhere
+            self._check_law_domain(y, t)
         energy = self._balance(out)
         # the balance is a difference of the energies in play: its error grows with them (with the loads' work
         # from a state at rest, whose balance starts at 0), so the growth allowed is relative to them too

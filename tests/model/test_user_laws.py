@@ -314,3 +314,34 @@ def test_an_energy_that_returns_no_expression_is_refused_in_one_line(returned):
     text = str(info.value)
     assert "\n" not in text and info.value.name == "energy", text
     assert f"returned {type(returned).__name__}, not a CasADi expression" in text
+
+
+def test_a_start_outside_the_laws_domain_stops_naming_the_law_and_the_cell(tmp_path, monkeypatch, capsys):
+    """A law finite near ``C = I`` whose energy is not finite on a compressed start (``log(I1 - 2.9)`` with the
+    director's ``C22 = 1``: ``I1 = 1 + 2 x 0.9^2 = 2.62`` at R = 0.9) has finite forces there, so the start's checks
+    passed; the run stopped at t = 0 as "numerical instability: the total energy grew to nan J", with no place. It
+    stops as a limit (exit 3) naming the law, that its energy is not finite, the first cell and its stretches."""
+    (tmp_path / "log_domain_laws.py").write_text(textwrap.dedent('''
+        import casadi as ca
+        import mol_shell
+
+        def energy(C, p):
+            J, I1 = ca.sqrt(ca.det(C)), ca.trace(C)
+            return (p["mu"] / 2 * (I1 - 3) - p["mu"] * ca.log(J) + p["lam"] / 2 * ca.log(J) ** 2
+                    + 1e-30 * ca.log(I1 - 2.9))
+
+        log_law = mol_shell.Material("log-domain", energy=energy, parameters={"mu": 3e5, "lam": 5e5},
+                                     thickness="director")
+    '''))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code = main(["run", "sphere", "--set", "h=0.01", "--set", "material=log_domain_laws:log_law", "--set", "R=0.9",
+                 "--n", "8", "--t-end", "1e-4", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 3, err
+    said = re.search(r"run stopped: (.*); wrote 1 saved time", err)
+    assert said is not None, err
+    message = said.group(1)
+    assert message.startswith("the energy of material 'log_domain_laws:log_law' is not finite at t = 0 s, s = "), message
+    assert message.endswith("s = 0.224399 m (cell centre): nan J in that cell, at the stretches 0.9 along the "
+                            "meridian and 0.9 round it, outside the law's domain"), message
+    assert "instability" not in message
