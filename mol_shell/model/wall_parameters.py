@@ -5,7 +5,7 @@ given to every layer, and a built-in layer refused them), and one that no layer'
 from __future__ import annotations
 
 from mol_shell._core.errors import ParameterError
-from mol_shell.model.laws import parameter_values, user_material
+from mol_shell.model.laws import own_parameters, parameter_text, parameter_values, user_material
 from mol_shell.model.layers import parse_layers
 
 
@@ -55,3 +55,19 @@ def check_layer_parameters(scene):
                               for k, v in sorted(taken.items())) + "}, the parameters of the layers' laws"
     raise ParameterError("material_parameters", shown, allowed, hint=f"no layer's law has {', '.join(unused)}; each "
                          "parameter goes to the layers whose law has it")
+
+
+def checked_material_parameters(scene):
+    """``scene.material_parameters`` in its string form (a dict read too), checked against the scene's law of one's
+    own: refused for a single wall of a built-in law; a layered wall's own ``material`` takes those it has here, the
+    names are checked against its layers' laws by :func:`check_layer_parameters`."""
+    values = parameter_values(scene.material_parameters)
+    layered = bool(scene.layers.strip() if isinstance(scene.layers, str) else scene.layers)
+    user = user_material(scene.material)
+    if values and user is None and not layered:
+        raise ParameterError("material_parameters", scene.material_parameters, "'' (a built-in law)",
+                             hint=f"material = {scene.material} takes its parameters as scene parameters "
+                             "(E, nu, c10, c01)")
+    if values and user is not None:
+        user.with_parameters(own_parameters(scene.material, values) if layered else values)
+    return parameter_text(values)

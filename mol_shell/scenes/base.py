@@ -25,17 +25,13 @@ from mol_shell.model.laws import (
     COMPRESSIBLE_WHY,
     MATERIALS,
     layer_scenes,
-    own_parameters,
-    parameter_text,
-    parameter_values,
     resolve_material,
-    user_material,
 )
 from mol_shell.model.layers import MAX_LAYERS, layer_word, layers_text, parse_layers
 from mol_shell.model.loads import parse_history
 from mol_shell.model.material import centroidal_offset
 from mol_shell.model.thickness_profile import check_profile_fits, thickness_function
-from mol_shell.model.wall_parameters import check_layer_parameters
+from mol_shell.model.wall_parameters import check_layer_parameters, checked_material_parameters
 from mol_shell.scenes.descriptions import DESCRIPTIONS, UNITS, describe  # noqa: F401 - the scenes' vocabulary
 
 #: the loads a scene can carry (each with a ``NAME_history`` but drag)
@@ -305,17 +301,8 @@ class ShellScene:
             raise self._blame(exc) from None
 
     def _check_material_parameters(self):
-        """``material_parameters`` read (a dict becomes the string form) and checked against a law of one's own (a
-        layered wall's: those its own law has here, the names against its layers' laws in :meth:`_check_layers`)."""
-        values = parameter_values(self.material_parameters)
-        layered = bool(self.layers.strip() if isinstance(self.layers, str) else self.layers)
-        if values and user_material(self.material) is None and not layered:
-            raise ParameterError("material_parameters", self.material_parameters, "'' (a built-in law)",
-                                 hint=f"material = {self.material} takes its parameters as scene parameters "
-                                 "(E, nu, c10, c01)")
-        if values and user_material(self.material) is not None:
-            user_material(self.material).with_parameters(own_parameters(self.material, values) if layered else values)
-        object.__setattr__(self, "material_parameters", parameter_text(values))
+        """``material_parameters`` read (a dict becomes the string form) and checked against a law of one's own."""
+        object.__setattr__(self, "material_parameters", checked_material_parameters(self))
 
     def _check_fibres(self):
         """``fibre_E >= 0``, ``fibre_angle`` in [-pi/2, pi/2], ``fibre_families`` 1 or 2, ``fibre_compression`` a bool."""
