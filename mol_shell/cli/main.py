@@ -85,7 +85,9 @@ def cmd_run(args):
         return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {plural(ds.sizes['time'], 'time')} x {ds.sizes['s']} nodes, "
           f"{plural(int(ds.attrs['n_steps']), 'step')} in {ds.attrs['wall_time_s']:.3g} s"
-          + (f", R = {ds.attrs['R']:.10g} m" if isinstance(ds.attrs.get("R"), (int, float, np.number)) else ""))
+          + (f", R = {ds.attrs['R']:.10g} m" if isinstance(ds.attrs.get("R"), (int, float, np.number)) else "")
+          + (" (the start: the static equilibrium found from it)"
+             if "R" in ds.attrs and str(ds.attrs.get("initial_state", "")).startswith("static") else ""))
     if str(ds.attrs.get("stresses", "")).startswith("skipped"):
         why = str(ds.attrs["stresses"])
         print(f"stresses {why}" + (" (or run with --stresses)" if "exceed the limit" in why else ""))

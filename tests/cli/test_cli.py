@@ -90,6 +90,19 @@ def test_run_and_plot_through_python_m(tmp_path):
     assert png.stat().st_size > 10_000
 
 
+def test_a_loaded_cylinders_R_is_said_to_be_where_its_static_start_was_found_from(tmp_path, capsys):
+    """An untwisted cylinder under pressure starts from the static equilibrium found from R, whose mid-length radius
+    differs from R (end effects); ``R = ...`` was printed as if it were the start's radius."""
+    out = tmp_path / "c.nc"
+    assert main(["run", "twisted-cylinder", "--set", "gamma=0", "--set", "end2=free", "--set", "pressure=10",
+                 "--set", "material=svk-plane-stress", "--set", "nu=0.3", "--n", "11", "--t-end", "1e-5",
+                 "-o", str(out)]) == 0
+    said = capsys.readouterr().out
+    assert "R = 1.000" in said and "(the start: the static equilibrium found from it)" in said, said
+    ds = read_netcdf(out)
+    assert float(ds.r[0, 5]) != pytest.approx(float(ds.attrs["R"]), rel=1e-6)
+
+
 def test_model_limit_writes_data_and_exits_3(tmp_path):
     nc = tmp_path / "limit.nc"
     cmd = [sys.executable, "-m", "mol_shell", "run", "twisted-cylinder", "--set", "R=3", "--set", "gamma=0",
