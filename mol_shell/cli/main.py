@@ -212,7 +212,8 @@ def make_parser():
     plot.add_argument("--time", type=number_arg("--time", 0.0, low_closed=True, unit="s"), default=None,
                       help="fibres: the saved time nearest to this (default the last)")
     plot.add_argument("--at-s", type=number_arg("--at-s", -np.inf, unit="m"), default=None,
-                      help="fibres: the section at the node nearest to this s (default the first node); history and "
+                      help="fibres: the section at the node nearest to this s (default the first node, or on a shell with a "
+                      "pole there the widest section); history and "
                       "the meridian figure: the radius drawn over time at the node nearest to this s (default the "
                       "equator: the node of largest reference radius, the middle one where several have it, as on "
                       "a vessel's cylinder)")
