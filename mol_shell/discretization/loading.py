@@ -35,9 +35,14 @@ def check_end_loads(system, scene):
             raise ParameterError(end + "_force", getattr(scene, end + "_force"), "0 for this edge",
                                  hint=f"{end} is a {kind} edge: its z is imposed (a force needs {end}=free)")
         if getattr(scene, end + "_torque", 0.0) and (system.fixed[node, 2] or 2 not in system.active):
+            # the reason as an end's spin gives it (ShellSystem's drives): no chi on this scene (axisymmetric), a pole
+            why = ("this scene has no chi" if 2 not in system.active else
+                   f"{end} is a pole: its chi is tied to its neighbour's" if kind == "pole" else
+                   f"{end} = {kind!r} imposes its chi")
             raise ParameterError(end + "_torque", getattr(scene, end + "_torque"), "0 for this edge",
-                                 hint=f"{end} is a {kind} edge: its chi is imposed or tied (a torque needs "
-                                 "magnet or free)")
+                                 hint=why + ("" if 2 not in system.active else
+                                             "; a torque needs an edge that leaves chi free: magnet, free, or a set "
+                                             "without chi"))
 
 
 def edge_displacements(system, scene):

@@ -78,17 +78,26 @@ class _Compiled:
     #: in the file and did nothing)
     NEWTON_ONLY = (("jac_every", 0), ("setup_every", 0), ("max_newton", None), ("newton_coef", 0.0),
                    ("jacobian", "auto"), ("linsolver", "auto"))
+    #: options of the fixed-point iteration: Newton's takes none of them (``anderson`` was kept in the file beside
+    #: iteration = 'newton' and did nothing)
+    FIXED_POINT_ONLY = (("anderson", 0),)
 
     def __post_init__(self):
         super().__post_init__()
-        if self.fixed_point():
-            for name, default in self.NEWTON_ONLY:
-                value = getattr(self, name, default)
-                if value != default:
-                    raise ParameterError(name, value, f"its default ({default}) with iteration = 'fixed-point'",
-                                         message=f"{name} = {value!r} is an option of Newton's iteration, which "
-                                         f"{self.name} runs only with iteration = 'newton' (its iteration here is "
-                                         "'fixed-point', the default)")
+        iteration = getattr(self, "iteration", None)  # IDA has no choice of iteration
+        if iteration is not None:
+            default = next(f.default for f in dataclasses.fields(self) if f.name == "iteration")
+            fixed = self.fixed_point()
+            what, other = ("Newton's iteration", "newton") if fixed else ("the fixed-point iteration", "fixed-point")
+            for name, unused in self.NEWTON_ONLY if fixed else self.FIXED_POINT_ONLY:
+                value = getattr(self, name, unused)
+                if value != unused:
+                    raise ParameterError(name, value, f"its default ({unused}) with iteration = {iteration!r}",
+                                         message=f"{name} = {value!r} is an option of {what}, which {self.name} runs "
+                                         f"only with iteration = {other!r} (its iteration here is {iteration!r}, "
+                                         f"{'the default' if iteration == default else 'as set'})")
+            if not fixed and (self.jac_every or self.setup_every):  # the file records the count used
+                object.__setattr__(self, "setup_every", min(self.setup_every or 20, self.jac_every or 51))
         if self.jacobian == "dq" and self.linsolver == "sparse" and not self.fixed_point():
             raise ParameterError("jacobian", "dq", "{compiled, vm} with linsolver='sparse' (SUNDIALS' difference "
                                  "quotients need a dense or banded matrix)")
@@ -143,11 +152,9 @@ class _Compiled:
     def newton_settings(self):
         """``(max Newton iterations, nonlinear convergence coefficient, Jacobian every, set-up every, cj ratio)``."""
         default_newton = 4 if self.kind == "ida" else 3
+        # a fixed-point iteration has neither (refused); setup_every is held at most jac_every in __post_init__ (a
+        # fresh Jacobian is factorised: msbp above msbj would mean nothing)
         jac_every, setup_every = int(getattr(self, "jac_every", 0)), int(getattr(self, "setup_every", 0))
-        if getattr(self, "iteration", "newton") != "newton":  # no Jacobian, no linear solver
-            jac_every = setup_every = 0
-        elif jac_every or setup_every:  # a fresh Jacobian is factorised: msbp above msbj would mean nothing
-            setup_every = min(setup_every or 20, jac_every or 51)
         return (self.max_newton or default_newton, float(self.newton_coef), jac_every, setup_every,
                 float(getattr(self, "cj_ratio", 0.0)))
 
@@ -192,9 +199,9 @@ class _CVODEOptions:
     """The options both CVODE methods take beyond scikit-sundae's route (:class:`mol_shell.integrators.sundials.CVODEBDF`):
     ``max_newton`` (Newton iterations per step), ``newton_coef`` (safety factor of the nonlinear convergence test),
     ``jac_every`` (steps between Jacobian evaluations, SUNDIALS' msbj; 0: 51), ``setup_every`` (steps between
-    factorisations, msbp; 0: 20; at most ``jac_every``), ``iteration`` (``"newton"``, or ``"fixed-point"``: no
-    Jacobian and no linear solver, for non-stiff motions) and ``anderson`` (Anderson acceleration depth of the
-    fixed-point iteration)."""
+    factorisations, msbp; 0: 20; held at most ``jac_every``, and holds the count used), ``iteration`` (``"newton"``, or
+    ``"fixed-point"``: no Jacobian and no linear solver, for non-stiff motions) and ``anderson`` (Anderson acceleration
+    depth of the fixed-point iteration; refused above 0 with Newton's)."""
 
     linsolver: str = LINSOLVER
     jacobian: str = JACOBIAN

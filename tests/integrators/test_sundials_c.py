@@ -99,6 +99,53 @@ def test_each_route_takes_exactly_its_own_options():
         assert getattr(INTEGRATORS["cvode-bdf"](**{name: value}), name) == value
 
 
+
+def test_anderson_is_refused_with_newton_by_name_as_newtons_options_are_with_a_fixed_point():
+    """Anderson acceleration belongs to CVODE's fixed-point iteration (SUNDIALS' SUNNonlinSol_FixedPoint): with
+    Newton's (cvode-bdf's default) ``anderson = 5`` ran and was kept in the file beside iteration = 'newton'."""
+    for name, options, how in (("cvode-bdf", {}, "the default"), ("cvode-adams", {"iteration": "newton"}, "as set")):
+        with pytest.raises(ParameterError, match=r"^anderson = 5 is an option of the fixed-point iteration, which "
+                           rf"{name} runs only with iteration = 'fixed-point' \(its iteration here is 'newton', "
+                           rf"{how}\)$") as info:
+            INTEGRATORS[name](anderson=5, **options)
+        assert info.value.name == "anderson" and "\n" not in str(info.value)
+        assert INTEGRATORS[name](anderson=0, **options).anderson == 0  # its default: nothing to refuse
+    for name, options in (("cvode-bdf", {"iteration": "fixed-point"}), ("cvode-adams", {})):
+        assert INTEGRATORS[name](anderson=5, **options).anderson == 5  # a fixed-point iteration takes it
+
+
+def test_a_refusal_calls_the_iteration_the_default_only_when_it_is():
+    """cvode-bdf's default iteration is Newton's: a fixed-point one asked for was called "the default"."""
+    for name, options, how in (("cvode-bdf", {"iteration": "fixed-point"}, "as set"), ("cvode-adams", {}, "the default"),
+                               ("cvode-adams", {"iteration": "fixed-point"}, "the default")):
+        with pytest.raises(ParameterError, match=rf"\(its iteration here is 'fixed-point', {how}\)$"):
+            INTEGRATORS[name](jac_every=10, **options)
+
+
+@pytest.mark.parametrize("given, used", [({"setup_every": 100, "jac_every": 10}, (10, 10)),
+                                         ({"setup_every": 5, "jac_every": 10}, (10, 5)),
+                                         ({"setup_every": 0, "jac_every": 10}, (10, 10)),  # SUNDIALS' 20, held at 10
+                                         ({"setup_every": 100}, (0, 51)),  # jac_every 0: SUNDIALS' 51
+                                         ({"jac_every": 200}, (200, 20)),  # setup_every 0: SUNDIALS' 20
+                                         ({}, (0, 0))])  # both SUNDIALS' own (51, 20)
+def test_setup_every_is_recorded_as_used_at_most_jac_every(given, used):
+    """CVODE evaluates a Jacobian only at a set-up, so a set-up every 100 steps with a Jacobian every 10 sets up
+    every 10 (docs/integrators.md: held at most jac_every; 0 stands for SUNDIALS' 51 and 20): the run used 10 and
+    its file said setup_every=100. The option holds the count the driver is given, and the file records it."""
+    method = INTEGRATORS["cvode-bdf"](**given)
+    assert (method.jac_every, method.setup_every) == used
+    assert method.newton_settings()[2:4] == used
+    assert INTEGRATORS["cvode-bdf"](jac_every=used[0], setup_every=used[1]).newton_settings() == method.newton_settings()
+
+
+def test_the_file_records_the_setup_every_used(tmp_path):
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), "cvode-bdf", n=11, times=[0.0, 1e-4], setup_every=100,
+                            jac_every=10, progress=False, stresses=False)
+    assert (ds.attrs["setup_every"], ds.attrs["jac_every"]) == (10, 10)
+    path = tmp_path / "run.nc"
+    ds.to_netcdf(path)
+    assert read_netcdf(path).attrs["setup_every"] == 10
+
 def test_a_driver_that_cannot_be_had_falls_back_with_one_line(paper, monkeypatch, tmp_path, capsys):
     system, compiled, y0 = paper
     monkeypatch.setenv("MOL_SHELL_SUNDIALS_LIBS", str(tmp_path))  # no libraries there

@@ -312,6 +312,27 @@ def test_refusals_name_the_parameter(make, name):
     assert name in str(info.value)
 
 
+
+def test_a_torque_refused_gives_the_edges_real_reason():
+    """The axisymmetric scene has no chi: a torque at a free end was refused as "end1 is a free edge: its chi is
+    imposed or tied (a torque needs magnet or free)". It is refused as an end's spin is there (this scene has no
+    chi); a clamped edge imposes chi, a pole ties it."""
+    free_chi = "; a torque needs an edge that leaves chi free: magnet, free, or a set without chi)"
+    cases = ((mol_shell.Axisymmetric(end1="free", end1_torque=100.0), "end1_torque",
+              "end1_torque = 100.0 is outside 0 for this edge (this scene has no chi)"),
+             (mol_shell.Axisymmetric(end1="free", end1_spin=1.0), "end1_spin",
+              "end1_spin = 1.0 is outside 0 for this edge (this scene has no chi)"),
+             (mol_shell.TwistedCylinder(end2="clamped", end2_torque=1.0), "end2_torque",
+              "end2_torque = 1.0 is outside 0 for this edge (end2 = 'clamped' imposes its chi" + free_chi),
+             (Sphere(end1_torque=1.0), "end1_torque",
+              "end1_torque = 1.0 is outside 0 for this edge (end1 is a pole: its chi is tied to its neighbour's"
+              + free_chi))
+    for scene, name, message in cases:
+        with pytest.raises(ParameterError) as info:
+            _build(scene)
+        assert info.value.name == name and str(info.value) == message, str(info.value)
+    assert _build(mol_shell.TwistedCylinder(end1="z,r", end1_torque=1.0)).n_extra == 2  # chi left free: a load
+
 # ---------------------------------------------------------------------------------------
 # 7. gravity: a clamped torus
 # ---------------------------------------------------------------------------------------
