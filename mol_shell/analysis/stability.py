@@ -23,6 +23,8 @@ from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.model.laws import COMPRESSIBLE
 from mol_shell.model.layers import parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
+from mol_shell.results.cf import header
+from mol_shell.results.dataset import scene_attrs, with_units
 from mol_shell.runs.checks import profile_scaled
 from mol_shell.runs.simulate import LEAPFROG_MAX_LOG_GROWTH, build, resolve, simulate, starting_state
 from mol_shell.scenes import Cone, Sphere, Torus, TwistedCylinder
@@ -189,6 +191,9 @@ def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, ato
     omega_max, damping = spectrum_bounds(system.jac, y0, system.viscous)
     row = {"label": case.label, "n": case.n, "t_end": case.t_end, "omega_max": omega_max, "damping_max": damping,
            "case_status": "measured", "case_note": ""}
+    # the scene's parameters as its runs used them, as a run or compare file has them (report keeps the base case's)
+    row[SCENE] = with_units(scene_attrs(scene, system.edges, system.thickness.zeta1, system.unpack(y0)[:2],
+                                        system.reference[:2], requested=case.scene.params()))
     if jac is not None:
         mags = np.abs(np.linalg.eigvals(jac))
         # the rigid rotation chi -> chi + c is a double zero eigenvalue (a Jordan block), which
@@ -286,6 +291,10 @@ def _dissipated(ds):
     return np.concatenate([[0.0], np.cumsum(np.diff(t) * 0.5 * (p[1:] + p[:-1]))])
 
 
+#: the key of a row of :func:`run_case` that holds the case scene's parameters as used (attributes, not a variable)
+SCENE = "_scene_attrs"
+
+
 def report(cases, **kwargs):
     """Run every case; one Dataset with a ``case`` dimension (strings for statuses). Ctrl-C stops it with the cases
     finished so far (``attrs["status"] = "interrupted"``, the message naming the cases not run).
@@ -293,7 +302,9 @@ def report(cases, **kwargs):
     A case that cannot run is a row that says why (``case_status``, ``case_note``; each integrator's status the
     same): ``not applicable`` (``Case.skip``) or ``not run`` (its scene refused, or no starting state, as a
     twisted pressurised sphere without a static equilibrium: the error's one line). The first case is the base
-    scene as given: its error is the input's and is raised (``mol-shell run`` would refuse it alike)."""
+    scene as given: its error is the input's and is raised (``mol-shell run`` would refuse it alike); the file's
+    global attributes are those of every mol_shell file (``Conventions``, ``mol_shell_version``, ``history``, ...)
+    and the base scene's parameters as its case used them, as a run or compare file has them."""
     rows, cases, interrupted = [], list(cases), ""
     try:
         for number, case in enumerate(cases):
@@ -315,6 +326,7 @@ def report(cases, **kwargs):
         left = [case.label for case in cases[len(rows):]]
         interrupted = (f"interrupted by the user at case {left[0]!r}: the {len(rows)} case{'s' * (len(rows) != 1)} "
                        f"before it measured, {len(left)} not run")
+    used = [row.pop(SCENE, None) for row in rows]  # attributes, not variables: the base case's (the first) kept
     keys = sorted({k for row in rows for k in row if k != "label"})
     data = {}
     for key in keys:
@@ -323,6 +335,11 @@ def report(cases, **kwargs):
             values = [str(v) if not isinstance(v, float) or not math.isnan(v) else "" for v in values]
         data[key] = ("case", values, _meta(key))
     ds = xr.Dataset(data, coords={"case": ("case", [row["label"] for row in rows], {"long_name": "case"})})
+    base = cases[0].scene  # the scene as given (a case of one's own that did not run: its parameters as asked)
+    name = getattr(base, "name", "")
+    ds.attrs.update(header(f"stability report of mol_shell integrators, base scene {name}"), scene=name,
+                    base_case=cases[0].label)
+    ds.attrs.update(used[0] if used and used[0] else with_units(base.params() if base is not None else {}))
     ds.attrs["bisected"] = int(kwargs.get("bisect", True))
     ds.attrs["cases_not_measured"] = sum(row["case_status"] != "measured" for row in rows)
     ds.attrs.update({"status": "interrupted" if interrupted else "complete", "message": interrupted})

@@ -89,6 +89,23 @@ def relative_error(fields, ref):
     return float((np.abs(fields - ref).max(axis=(1, 2)) / scale).max())
 
 
+#: what the compare file's counts of right-hand side evaluations count (a run file's ``n_rhs`` leaves out those of
+#: SUNDIALS' difference-quotient Jacobians, which it counts in ``n_rhs_jacobian``)
+RHS_LONG_NAMES = {
+    "n_rhs": "right-hand side (IDA: residual) evaluations, all of them: the integrator's own and those of its "
+             "difference-quotient Jacobians (n_rhs_jacobian), i.e. a run file's n_rhs + n_rhs_jacobian",
+    "n_rhs_jacobian": "of n_rhs, the evaluations spent on difference-quotient Jacobians (a run file's n_rhs_jacobian; "
+                      "0 where the Jacobian is exact or none is used)"}
+
+
+def rhs_evaluations(stats):
+    """``(all, of them for Jacobians)``: every right-hand side evaluation of a run, its difference-quotient
+    Jacobians' (``n_rhs_jacobian``, reported by the compiled SUNDIALS routes; the other routes' Jacobians are exact,
+    or they have none) included, and those alone; NaN where the run reports no count."""
+    jacobian = stats.get("n_rhs_jacobian", 0)
+    return stats.get("n_rhs", np.nan) + jacobian, jacobian
+
+
 def run_once(system, compiled, y0, times, name, value):
     method = INTEGRATORS[name](**options(name, value))
     return method.integrate(system, compiled, y0, np.asarray(times))
@@ -180,7 +197,7 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
     ref, ref_err, ref_info = reference(system, compiled, y0, times)
     log(f"reference {ref_info['reference']}: converged to {ref_err:.2g} (against {ref_info['reference_check']})")
     levels = max(len(points) for points in plan.values())
-    keys = ("rtol", "dt", "error", "wall_time_s", "n_steps", "n_rhs", "n_jac")
+    keys = ("rtol", "dt", "error", "wall_time_s", "n_steps", "n_rhs", "n_rhs_jacobian", "n_jac")
     data = {k: np.full((len(integrators), levels), np.nan) for k in keys}
     status = np.full((len(integrators), levels), "", dtype=object)
     note = np.full((len(integrators), levels), "", dtype=object)
@@ -205,8 +222,9 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
                 traj = runs[-1]
                 data["error"][i, j] = relative_error(fields_of(system, traj.y), ref)
                 data["wall_time_s"][i, j] = statistics.median(r.stats["wall_time_s"] for r in runs)
-                for k in ("n_steps", "n_rhs", "n_jac"):
+                for k in ("n_steps", "n_jac"):
                     data[k][i, j] = traj.stats.get(k, np.nan)
+                data["n_rhs"][i, j], data["n_rhs_jacobian"][i, j] = rhs_evaluations(traj.stats)
                 status[i, j] = traj.status
                 if traj.status != "complete":
                     note[i, j] = traj.message
@@ -223,12 +241,13 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
                     "interrupted", "not run: the comparison was interrupted")
                 data["error"][i2, j2] = data["wall_time_s"][i2, j2] = np.nan
     # the swept value in two variables, each with its own units (one variable held rtol and leap-frog's dt in s)
-    units = {"rtol": "1", "dt": "s", "error": "1", "wall_time_s": "s", "n_steps": "1", "n_rhs": "1", "n_jac": "1"}
+    units = {"rtol": "1", "dt": "s", "error": "1", "wall_time_s": "s", "n_steps": "1", "n_rhs": "1",
+             "n_rhs_jacobian": "1", "n_jac": "1"}
     long = {"rtol": "relative tolerance of the point (atol = 1e-3 rtol); NaN for leap-frog, whose sweep is of dt",
             "dt": "time step of the point (leap-frog); NaN for the other integrators, whose sweep is of rtol",
             "error": "max over r, theta, chi of max|u - u_ref| / max|u_ref| over s and saved times",
-            "wall_time_s": f"median wall time of {repeats} runs", "n_steps": "steps", "n_rhs": "right-hand side evaluations",
-            "n_jac": "Jacobian evaluations"}
+            "wall_time_s": f"median wall time of {repeats} runs", "n_steps": "steps", **RHS_LONG_NAMES,
+            "n_jac": "Jacobian evaluations (exact or by difference quotients)"}
     dims = ("integrator", "level")
     coords = {"integrator": ("integrator", list(integrators), {"long_name": "integrator (mol-shell run --integrator)"}),
               "level": ("level", np.arange(levels), {"units": "1", "long_name": "index of the point in the integrator's sweep"})}
@@ -282,20 +301,22 @@ def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
     lines = [f"Cheapest run with error <= {target:g} (scene {ds.attrs['scene']}, n = {ds.attrs['n']}, "
              f"saved times {ds.attrs['times']} s; reference {ds.attrs['reference']}, converged to "
              f"{ds.attrs['reference_error']:.2g}).", parameters_line(ds), "",
-             "| integrator | setting | error | wall [s] | steps | RHS evals | Jacobian evals | speed-up vs "
-             f"{baseline[0]} {baseline[1]:g} |", "|---|---|---|---|---|---|---|---|"]
+             "| integrator | setting | error | wall [s] | steps | RHS evals (all) | of them in DQ Jacobians | "
+             f"Jacobian evals | speed-up vs {baseline[0]} {baseline[1]:g} |", "|---|---|---|---|---|---|---|---|---|"]
     for name in ds.integrator.values:
         j = best_at(ds, str(name), target)
         if j is None:
             cut = "interrupted" in set(ds.status.sel(integrator=name).values.tolist())
             lines.append(f"| {name} | {'interrupted before' if cut else 'none'} reached {target:g} in the sweep "
-                         "| | | | | | |")
+                         "| | | | | | | |")
             continue
         p = ds.sel(integrator=name).isel(level=j)
         key = swept(str(name))
         speed = f"{base / float(p.wall_time_s):.1f}x" if base else "n/a" if why else ""
         lines.append(f"| {name} | {key} = {float(p[key]):.0e} | {float(p.error):.2g} | {float(p.wall_time_s):.3g} | "
-                     f"{int(p.n_steps)} | {int(p.n_rhs)} | {_int(p.n_jac)} | {speed} |")
+                     f"{int(p.n_steps)} | {int(p.n_rhs)} | {_int(p.get('n_rhs_jacobian', np.nan))} | {_int(p.n_jac)} | "
+                     f"{speed} |")
+    lines += ["", RHS_NOTE]
     if why:
         lines += ["", f"Speed-up n/a: the baseline {why}, so no speed-up is measured against it."]
     if ds.attrs.get("left_out"):
@@ -303,6 +324,12 @@ def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
     if ds.attrs.get("status") == "interrupted":
         lines += ["", f"Not complete: {ds.attrs['message']}."]
     return "\n".join(lines)
+
+
+#: under the tables: what the counts of right-hand side evaluations count
+RHS_NOTE = ("RHS evals (all): every right-hand side (IDA: residual) evaluation, those of SUNDIALS' difference-quotient "
+            "(DQ) Jacobians included (a run file's n_rhs + n_rhs_jacobian); of them in DQ Jacobians: those alone (0 "
+            "where the Jacobian is exact or none is used). Jacobian evals: Jacobians formed, exact or by DQ.")
 
 
 def parameters_set(ds):
@@ -332,15 +359,17 @@ def parameters_line(ds):
 
 
 def full_table(ds):
-    lines = ["| integrator | setting | error | wall [s] | steps | RHS evals | status |", "|---|---|---|---|---|---|---|"]
+    lines = ["| integrator | setting | error | wall [s] | steps | RHS evals (all) | of them in DQ Jacobians | status |",
+             "|---|---|---|---|---|---|---|---|"]
     for name in ds.integrator.values:
         row, values = ds.sel(integrator=name), settings(ds, str(name))
+        jacobian = row.n_rhs_jacobian.values if "n_rhs_jacobian" in row else np.full(ds.sizes["level"], np.nan)
         for j in range(ds.sizes["level"]):
             if np.isnan(values[j]):
                 continue
             lines.append(f"| {name} | {swept(str(name))} = {values[j]:.0e} | {row.error.values[j]:.2g} | "
                          f"{row.wall_time_s.values[j]:.3g} | {_int(row.n_steps.values[j])} | "
-                         f"{_int(row.n_rhs.values[j])} | {row.status.values[j]} |")
+                         f"{_int(row.n_rhs.values[j])} | {_int(jacobian[j])} | {row.status.values[j]} |")
     return "\n".join(lines)
 
 

@@ -107,6 +107,7 @@ def cmd_stability(args):
     png, md = companion_files(args.output)  # as compare's: the figure and the table beside the file
     check_companions(args.output, [png, md])
     ds = report(default_cases(scene, quick=args.quick), bisect=not args.no_bisect)
+    ds.attrs["quick"] = int(args.quick)  # what was run: the grid cases left out (--quick) or not
     say_stand_ins(scene)
     if run:  # the file's [run] n = 12 was dropped without a word: the report's cases set their own
         print(f"mol-shell: note: the stability report runs its own cases (each with its own n, times and "
