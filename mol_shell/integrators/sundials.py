@@ -185,6 +185,14 @@ class _Sundials(Tolerances):
             return self.linsolver
         return "dense" if size <= 100 else "band" if size <= DENSE_MAX_STATES else "sparse"
 
+    def dense_matrices(self, size):
+        """The N x N matrices a dense linear solver keeps at ``size`` unknowns (the memory estimate's,
+        :func:`mol_shell.runs.resources.solver_bytes`): SUNDIALS' matrix (factorised in place), CVODE's saved
+        Jacobian and the array scikit-sundae's Jacobian callback fills; 0 for a banded or sparse solver."""
+        if self.choose_linsolver(size) != "dense":
+            return 0
+        return 2 if self.kind == "ida" else 3
+
     # -- running -----------------------------------------------------------------------------
     def integrate(self, system, compiled, y0, times, *, progress=None):
         """Run from ``times[0]`` through ``times``; returns a :class:`Trajectory` of ``(q, p)`` states."""

@@ -109,6 +109,14 @@ class _Compiled:
             return self.linsolver
         return "dense" if size <= 100 else "band"
 
+    def dense_matrices(self, size):
+        """The N x N matrices a dense linear solver (``dense``, ``lapack-dense``) keeps at ``size`` unknowns: the
+        Newton matrix, factorised in place, and CVODE's saved Jacobian beside it (IDA keeps none); 0 for a banded
+        or sparse solver and for CVODE's fixed-point iteration."""
+        if (self.fixed_point() and self.kind != "ida") or self.choose_linsolver(size) not in ("dense", "lapack-dense"):
+            return 0
+        return 1 if self.kind == "ida" else 2
+
     def jacobian_kind(self, size):
         """``"compiled"``, ``"vm"`` or ``"dq"``: ``"auto"`` is difference quotients for a dense or banded matrix (the
         driver's own for a banded one, SUNDIALS' for a dense one; measured cheaper than the compiled exact Jacobian:

@@ -139,6 +139,9 @@ class Estimate:
         Leap-frog: exact (``t_end / dt``); adaptive: a lower bound (``steps_lower_bound`` is true).
     seconds : float
         Projected wall time (graph building, and stepping at the measured or estimated RHS cost).
+    dense_bytes, dense_matrices, linsolver : float, int, str
+        What a dense linear solver's N x N matrices add to ``memory_bytes``, how many it keeps, and the
+        ``linsolver`` option that chose it (0, 0 and None without one).
     """
 
     n: int
@@ -150,6 +153,9 @@ class Estimate:
     steps_lower_bound: bool
     seconds: float
     build_seconds: float
+    dense_bytes: float = 0.0
+    dense_matrices: int = 0
+    linsolver: str | None = None
 
     def describe(self):
         steps = f"{'at least ' if self.steps_lower_bound else ''}{self.steps:.3g} steps"
@@ -172,14 +178,17 @@ def output_bytes(n_times, n, stresses=True):
     return (float(n_times) * per_time + 3 * n) * BYTES
 
 
-def solver_bytes(integrator, size, n):
+def solver_bytes(integrator, size, n, dense=0):
     """State vectors, and the Jacobian where the integrator keeps one (scikit-sundae hands dense and banded
-    solvers a full N x N array; sparse solvers keep the non-zeros and their LU factors)."""
+    solvers a full N x N array; sparse solvers keep the non-zeros and their LU factors). ``dense``: the N x N
+    matrices a dense linear solver keeps, whatever ``n`` (the integrator's ``dense_matrices(size)``: CVODE's
+    matrix and saved Jacobian, IDA's one matrix, factorised in place)."""
     vectors = SOLVER_VECTORS.get(integrator, SOLVER_VECTORS_DEFAULT) * size * BYTES
     if integrator == "leapfrog":
         return vectors
-    jacobian = size * size * BYTES if size <= DENSE_MAX_STATES else 40 * size * 12 * 4
-    return vectors + jacobian
+    if dense:
+        return vectors + dense * float(size) * size * BYTES
+    return vectors + (size * size * BYTES if size <= DENSE_MAX_STATES else 40 * size * 12 * 4)
 
 
 def spectrum_bytes(size):
@@ -187,12 +196,22 @@ def spectrum_bytes(size):
     return 4 * size * size * BYTES if size <= DENSE_MAX_STATES else 60 * size * 2 * BYTES
 
 
-def estimate(n, n_times, t_end, integrator="leapfrog", *, fields=5, dt=None, omega_max=None, rhs_seconds=None):
-    """An :class:`Estimate` of a run; ``omega_max`` (1/s) and ``rhs_seconds`` sharpen it once known."""
+def dense_matrices(method, size):
+    """The N x N matrices ``method`` (an integrator, or None: its defaults) keeps at ``size`` unknowns: a dense
+    linear solver's, none for banded, sparse or no linear solvers."""
+    count = getattr(method, "dense_matrices", None)
+    return int(count(size)) if count is not None else 0
+
+
+def estimate(n, n_times, t_end, integrator="leapfrog", *, fields=5, dt=None, omega_max=None, rhs_seconds=None,
+             method=None):
+    """An :class:`Estimate` of a run; ``omega_max`` (1/s) and ``rhs_seconds`` sharpen it once known; ``method``
+    (the integrator with its options) counts a dense linear solver's matrices."""
     n, n_times, t_end = int(n), int(n_times), float(t_end)
     size = 2 * fields * n
     out = output_bytes(n_times, n)
-    memory = (out * ASSEMBLY_COPIES + solver_bytes(integrator, size, n) + spectrum_bytes(size)
+    dense = dense_matrices(method, size) if integrator != "leapfrog" else 0
+    memory = (out * ASSEMBLY_COPIES + solver_bytes(integrator, size, n, dense) + spectrum_bytes(size)
               + BUILD_BYTES_FIXED + BUILD_BYTES_PER_NODE * n)
     rhs = rhs_seconds if rhs_seconds is not None else RHS_S_PER_NODE * n
     if integrator == "leapfrog" and dt:
@@ -204,7 +223,8 @@ def estimate(n, n_times, t_end, integrator="leapfrog", *, fields=5, dt=None, ome
             if omega_max is not None and math.isfinite(omega_max):
                 steps = max(steps, t_end * omega_max / interval)
     build = BUILD_S_PER_NODE * n
-    return Estimate(n, n_times, size, out, memory, steps, lower, steps * per_step * rhs + build, build)
+    return Estimate(n, n_times, size, out, memory, steps, lower, steps * per_step * rhs + build, build,
+                    dense * float(size) * size * BYTES, dense, getattr(method, "linsolver", None))
 
 
 def check_memory(est, *, times_name="times", times_value=None, n_name="n", what="the run", kept="saved times",
@@ -219,6 +239,8 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n", what=
     available, source = available_memory()
     if est.memory_bytes <= available:
         return
+    if est.dense_bytes and est.memory_bytes - est.dense_bytes <= available:
+        raise dense_refusal(est, available, source, what)
     if est.n_times < 1e15:
         per_time = est.output_bytes * ASSEMBLY_COPIES / max(est.n_times, 1)
         fixed = est.memory_bytes - per_time * est.n_times
@@ -239,6 +261,22 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n", what=
                          + (f"{est.n_times:,} {kept}" if est.n_times < 1e15 else f"{est.n_times:.3g} {kept}"),
                          hint=f"{what} {need}; use fewer nodes (--n)" + (" or save fewer times (--times)"
                                                                         if times_name == "times" else ""))
+
+
+def dense_refusal(est, available, source, what="the run"):
+    """The :class:`ParameterError` naming ``linsolver`` when a dense solver's matrices are what does not fit: the
+    largest ``n`` they fit at (memory ``F + a n + b n^2``: the fixed part, the rest per node, the matrices)."""
+    quadratic = est.dense_bytes / float(est.n) ** 2
+    linear = max(est.memory_bytes - est.dense_bytes - BUILD_BYTES_FIXED, 0.0) / est.n
+    room = max(available - BUILD_BYTES_FIXED, 0.0)
+    max_n = int((math.sqrt(linear * linear + 4 * quadratic * room) - linear) / (2 * quadratic))
+    dense = f"a dense solver up to n = {max_n:,} here" if max_n >= 3 else "no dense solver here"
+    return ParameterError(
+        "linsolver", est.linsolver, f"{{auto, band, sparse}} at n = {est.n:,} ({dense})",
+        hint=f"{what} needs about {show_bytes(est.memory_bytes)}, of which {show_bytes(est.dense_bytes)} for the dense "
+        f"solver's {est.dense_matrices} {'matrix' if est.dense_matrices == 1 else 'matrices'} of {est.size:,} x "
+        f"{est.size:,} unknowns x 8 bytes, "
+        f"{show_bytes(available)} available ({source}); the default, auto, is banded or sparse above 100 unknowns")
 
 
 def warn_if_long(est, what="run"):
@@ -265,10 +303,11 @@ def check_saved_times(count, n, *, name="--times", value=None, integrator="leapf
         check_memory(estimate(n, count, 0.0, integrator), times_name=name, times_value=value)
 
 
-def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, times_value=None):
-    """Before any graph is built: refuse what does not fit in memory, warn about what takes over an hour."""
+def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, times_value=None, method=None):
+    """Before any graph is built: refuse what does not fit in memory (``method``, the integrator with its options:
+    a dense linear solver's matrices too), warn about what takes over an hour."""
     check_nodes(n)
-    est = estimate(n, len(times), times[-1], integrator, fields=fields, dt=dt)
+    est = estimate(n, len(times), times[-1], integrator, fields=fields, dt=dt, method=method)
     check_memory(est, times_value=times_value)
     if not warn_if_long(est) and est.build_seconds > LONG_BUILD_S:
         warnings.warn(f"building the graphs and the spectrum at n = {n:,} takes about "

@@ -211,7 +211,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         times = leapfrog_times(t_end, method.dt)
     times = parse_times(times, t_end)
     _check_max_step(method, times[-1])
-    est = resources.check_before_build(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None))
+    est = resources.check_before_build(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
+                                       method=method)
     requested, requested_scene = scene.params(), scene
     scene = resolve(scene)
     system, compiled = build(scene, n)

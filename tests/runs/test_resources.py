@@ -86,6 +86,60 @@ def test_millions_of_nodes_are_refused_before_any_graph(capsys, tmp_path, no_bui
     assert len(err.splitlines()) == 1
 
 
+#: N x N doubles a dense linear solver keeps: CVODE its Newton matrix and the saved Jacobian (LU in place), IDA one
+#: matrix; scikit-sundae's route adds the array its Jacobian callback fills (SUNDIALS' cvLs/idaLs, sksundae's np_JJ)
+DENSE_MATRICES = {"cvode-bdf": 2, "cvode-adams": 2, "ida": 1, "sksundae-cvode-bdf": 3, "sksundae-ida": 2}
+
+
+@pytest.mark.parametrize("integrator, options", [
+    ("cvode-bdf", ["linsolver=dense"]), ("cvode-adams", ["iteration=newton", "linsolver=dense"]),
+    ("ida", ["linsolver=lapack-dense"]), ("sksundae-cvode-bdf", ["linsolver=dense"]),
+    ("sksundae-ida", ["linsolver=dense"]),
+])
+def test_a_dense_linear_solver_too_large_for_memory_is_refused_naming_linsolver(integrator, options, monkeypatch,
+                                                                                capsys, tmp_path, no_build):
+    """``--n 6000 --option linsolver=dense`` asked for N x N matrices of N = 2 x 5 x 6,000 = 60,000 unknowns (28.8 GB
+    each) and ended in a segmentation fault (exit 139, nothing said): the estimate counted the matrix only up to
+    2,000 unknowns. Now one line naming linsolver, the matrices' bytes and the largest n a dense solver fits at,
+    exit 2, before any graph is built."""
+    monkeypatch.setenv(resources.MEMORY_ENV, "16G")
+    k = DENSE_MATRICES[integrator]
+    matrices = k * (2 * 5 * 6000) ** 2 * 8  # 28.8 GB a matrix
+    args = [arg for option in options for arg in ("--option", option)]
+    code = main(["run", "twisted-cylinder", "--n", "6000", "--integrator", integrator, *args, "--t-end", "1e-5",
+                 "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.splitlines()) == 1, err
+    value = options[-1].split("=")[1]
+    assert err.startswith(f"mol-shell: error: linsolver = '{value}' is outside {{auto, band, sparse}} at n = 6,000 ("
+                          ), err
+    assert f"of which {matrices / 1e9:.3g} GB for the dense solver's {k} matri" in err, err
+    assert "17.2 GB available ($MOL_SHELL_MEMORY)" in err, err
+    # the largest n: k (10 n)^2 x 8 bytes within 16 GiB less the rest (300 MB and 40 kB per node: a few per cent)
+    largest = int(err.split("a dense solver up to n = ")[1].split(" ")[0].replace(",", ""))
+    bound = (16 * 1024**3 / (k * 800)) ** 0.5
+    assert 0.95 * bound < largest < bound, (largest, bound)
+    with pytest.raises(ParameterError, match=r"^linsolver = .* is outside \{auto, band, sparse\} at n = 6,000"):
+        mol_shell.simulate("twisted-cylinder", integrator, n=6000, t_end=1e-5,
+                           **dict(option.split("=") for option in options))
+
+
+def test_the_default_linear_solver_is_estimated_as_before(monkeypatch, no_build):
+    """The default (``auto``: banded or sparse above 100 unknowns) and CVODE-Adams' fixed-point iteration keep no
+    N x N matrix: the estimate at n = 6,000 is the one without a method, and such a run gets to its build."""
+    monkeypatch.setenv(resources.MEMORY_ENV, "16G")
+    plain = resources.estimate(6000, 11, 1e-5, "cvode-bdf").memory_bytes
+    for name in ("cvode-bdf", "cvode-adams", "ida", "sksundae-cvode-bdf", "sksundae-ida"):
+        method = mol_shell.integrators.INTEGRATORS[name]()
+        assert method.dense_matrices(60000) == 0
+        assert resources.estimate(6000, 11, 1e-5, name, method=method).memory_bytes == resources.estimate(
+            6000, 11, 1e-5, name).memory_bytes
+    assert resources.estimate(6000, 11, 1e-5, "cvode-bdf").memory_bytes == plain < 2e9
+    for name in ("cvode-bdf", "ida"):
+        with pytest.raises(Built):
+            mol_shell.simulate("twisted-cylinder", name, n=6000, t_end=1e-5)
+
+
 def _work_precision(**kwargs):
     from mol_shell.analysis.workprecision import work_precision
 
