@@ -58,10 +58,10 @@ class Monitor:
         sc = system.scene
         area = 2 * np.pi * float(np.sum(system.weights * system.reference[1]))  # of the reference base surface
         scale = area * 2 * sc.h * (system.lam + 2 * system.mu)  # energy of a unit strain
-        self.energy_limit = None
+        self.energy_limit = self.energy_start = None
         if y0 is not None:
             out = self._observe(y0, 0.0)
-            e0 = self._balance(out)
+            e0 = self.energy_start = self._balance(out)
             self.energy_limit = e0 + self.ENERGY_GROWTH * abs(e0) + 1e-9 * scale
 
     @staticmethod
@@ -100,11 +100,15 @@ class Monitor:
         # the balance is a difference of the energies in play: its error grows with them (with the loads' work
         # from a state at rest, whose balance starts at 0), so the growth allowed is relative to them too
         in_play = max(abs(float(out[1])) + abs(float(out[2])), abs(float(out[6])), abs(float(out[7])))
-        limit = None if self.energy_limit is None else self.energy_limit + self.ENERGY_GROWTH * in_play
-        if limit is not None and not energy <= limit:
+        share = self.ENERGY_GROWTH * in_play
+        if self.energy_limit is not None and not energy <= self.energy_limit + share:
+            # the limit named is the start's (a user can check it against E(0)); the share of the energies in play
+            # is said apart: after a blow-up it is 1% of the blown-up energies and would hide the start's scale
             raise NumericalInstabilityError(
-                f"numerical instability: the total energy grew to {energy:.6g} J (limit {limit:.6g} J; "
-                f"less the work of any loads, it cannot grow) at t = {t:.9g} s",
+                f"numerical instability: the total energy grew to {energy:.6g} J at t = {t:.9g} s, from "
+                f"{self.energy_start:.6g} J at the start (limit {self.energy_limit:.6g} J: the start's energy + "
+                f"{self.ENERGY_GROWTH:.0%}, plus {self.ENERGY_GROWTH:.0%} of the energies in play now, {share:.6g} J, "
+                "for round-off; less the work of any loads, it cannot grow)",
                 t,
                 "whole shell",
             )

@@ -5,7 +5,10 @@ its round-off and truncation grow with them. An allowance fixed at the start (``
 energy, when the balance starts at 0) called a correct run of a pressurised sphere "unstable".
 """
 
+import re
+
 import numpy as np
+import pytest
 
 import mol_shell
 from mol_shell.integrators.leapfrog import Leapfrog
@@ -40,3 +43,22 @@ def test_a_loaded_blow_up_is_still_called_unstable():
     dt = 1.5 / omega_max
     traj = Leapfrog(dt=dt, chunk=50).integrate(system, compiled, y0, dt * np.arange(0, 2001, 100))
     assert traj.status == "unstable" and "energy grew" in traj.message, traj.message
+
+
+def test_an_unstable_run_names_the_start_s_energy_as_its_limit():
+    """DOP853 at rtol 0.9, atol 1e3 blows the twisted cylinder's energy (E(0) = 525 J, no loads) up by a hundred
+    orders of magnitude. The message named "limit 6.9e92 J": the allowance's share of the energies in play (1% of
+    them), which grows with the blow-up. The limit named is now the start's energy + 1% (what a user can check
+    against E(0)); the share, 1% of the energy now (kinetic + stored, no loads), is said apart."""
+    with pytest.warns(RuntimeWarning, match="run incomplete: numerical instability"):
+        ds = mol_shell.simulate("twisted-cylinder", "dop853-c", n=10, t_end=0.143, rtol=0.9, atol=1e3, progress=False)
+    message = ds.attrs["message"]
+    assert ds.attrs["status"] == "unstable", message
+    e0 = float(ds.energy.values[0])
+    grew = float(re.search(r"energy grew to (\S+) J", message).group(1))
+    limit = float(re.search(r"\(limit (\S+) J", message).group(1))
+    share = float(re.search(r"of the energies in play now, (\S+) J", message).group(1))
+    assert grew > 1e6 * e0, message  # blown up: 1% of it would be far from E(0)
+    assert 1.009 * e0 <= limit <= 1.011 * e0, (limit, e0)  # 1.01 E(0) + 1e-9 of a unit strain's energy
+    assert f"from {e0:.6g} J at the start" in message, message
+    np.testing.assert_allclose(share, 0.01 * grew, rtol=1e-5)
