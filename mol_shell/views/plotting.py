@@ -11,21 +11,35 @@ from mol_shell.views.fields import run_of
 from mol_shell.views.figures import figure_path, save_figure, wrapped_title
 from mol_shell.views.history import draw_balance, draw_radius, radius_node
 
-# Axis ranges of the paper's figures 4-8; used when the data fit inside them.
+# Axis ranges of the paper's figures 4-8; used when the data fit inside them and fill enough of them (PAPER_SHARE).
 PAPER_LIMITS = {"r": (0.985, 1.005), "theta": (-0.02, 0.02), "chi": (-0.2, 0.2)}
+#: the least share of a paper's range the data span for it to be used: smaller motions get limits of their own,
+#: else they are drawn as flat lines (gamma = 0.001 rad/m twists chi over 1 % of the paper's -0.2 to 0.2 rad)
+PAPER_SHARE = 0.2
 LABELS = {"r": "r [m]", "theta": r"$\theta$ [rad]", "chi": r"$\chi$ [rad]"}
 #: saved times per row of panels
 COLUMNS = 6
 #: saved times drawn at most (evenly picked beyond that, and the figure says so)
 MAX_TIMES = 24
+#: the figure title's distance below the figure's top edge at most (inches): the default, 2 % of the height, grew
+#: with the rows of panels until the title overprinted the top panels' titles (tight_layout counts no such gap)
+TITLE_GAP = 0.14
 
 
 def _limits(values, name):
+    """The axis range of field ``name``: the paper's where the data fit inside it and span at least
+    :data:`PAPER_SHARE` of it, or are constant (a flat line at any scale); else the data's own with a 5 % margin
+    (a constant outside the paper's range: centred in a range as wide as the paper's)."""
     lo, hi = PAPER_LIMITS[name]
     vmin, vmax = float(np.nanmin(values)), float(np.nanmax(values))
-    if lo <= vmin and vmax <= hi:
+    span = vmax - vmin
+    flat = span <= 64 * np.finfo(float).eps * max(abs(vmin), abs(vmax))
+    if lo <= vmin and vmax <= hi and (flat or span >= PAPER_SHARE * (hi - lo)):
         return lo, hi
-    pad = 0.05 * max(vmax - vmin, 1e-12)
+    if flat:
+        middle = 0.5 * (vmin + vmax)
+        return middle - 0.5 * (hi - lo), middle + 0.5 * (hi - lo)
+    pad = 0.05 * span
     return vmin - pad, vmax + pad
 
 
@@ -89,9 +103,10 @@ def plot_snapshots(ds, path, fields=("r", "theta", "chi"), max_times=MAX_TIMES, 
     """Plot ``fields`` against ``s``, one panel per saved time (up to ``max_times``; beyond, evenly picked).
 
     Panels are laid out ``columns`` times to a row, one row per field, with the paper's axis
-    ranges where the data fit them. The title says when not every saved time is drawn, and
-    when the run is incomplete. ``ds``: a run's Dataset or the path of its netCDF file; ``path``: an image
-    (:func:`mol_shell.views.figures.figure_path`), checked before anything is drawn.
+    ranges where the data fit them and span a fair share of them (:data:`PAPER_SHARE`), else the data's own.
+    The title says when not every saved time is drawn, and when the run is incomplete. ``ds``: a run's Dataset or
+    the path of its netCDF file; ``path``: an image (:func:`mol_shell.views.figures.figure_path`), checked before
+    anything is drawn.
     """
     ds = run_of(ds)
     fields = snapshot_fields(fields)
@@ -115,18 +130,19 @@ def snapshot_figure(ds, fields=("r", "theta", "chi"), max_times=MAX_TIMES, colum
     title = wrapped_title(width, title_of(ds.attrs, len(idx), ds.sizes["time"]))
     lines = title.count("\n") + 1
     fig, axes = plt.subplots(nrows, ncols, figsize=(width, 1.9 * nrows + 0.8 + 0.2 * lines), squeeze=False)
-    s = ds["s"].values
+    s, times = ds["s"].values, ds["time"].values
     for row, name in enumerate(fields):
-        limits = _limits(ds[name].values, name)
+        values = ds[name].values
+        limits = _limits(values, name)
         for k, i in enumerate(idx):
             block, col = divmod(k, ncols)
             ax = axes[block * len(fields) + row, col]
-            ax.plot(s, ds[name].values[i], "k.-", lw=1, ms=3)
+            ax.plot(s, values[i], "k.-", lw=1, ms=3)
             ax.set_xlim(s[0], s[-1])
             ax.set_ylim(*limits)
             ax.axhline(0.0 if name != "r" else 1.0, color="0.8", lw=0.6, zorder=0)
             if row == 0:
-                ax.set_title(f"t = {float(ds['time'][i]):.4g} s", fontsize=10)
+                ax.set_title(f"t = {float(times[i]):.4g} s", fontsize=10)
             if col == 0:
                 ax.set_ylabel(LABELS[name])
             else:
@@ -139,8 +155,9 @@ def snapshot_figure(ds, fields=("r", "theta", "chi"), max_times=MAX_TIMES, colum
         block, col = divmod(k, ncols)
         for row in range(len(fields)):
             axes[block * len(fields) + row, col].set_visible(False)
-    fig.suptitle(title, fontsize=10)
-    fig.tight_layout()  # which leaves room for the title's lines
+    height = fig.get_figheight()
+    fig.suptitle(title, fontsize=10, y=max(0.98, 1.0 - TITLE_GAP / height))  # 0.98: matplotlib's default
+    fig.tight_layout()  # which leaves room for the title's lines, counting them from the top edge
     return fig
 
 
