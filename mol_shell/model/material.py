@@ -83,6 +83,18 @@ def condensed(first, second, material="svk"):
     raise ValueError(f"material = {material!r} is outside {{{', '.join(MATERIALS)}}}")
 
 
+def plane_stress_thickness(E11, E33, first, second):
+    """``C_22 = 1 + 2 E_22`` of St Venant-Kirchhoff in plane stress (``material = "svk-plane-stress"``) from the
+    in-plane normal strains and the condensed pair ``(lambda*, mu)`` of :func:`condensed`.
+
+    ``S_22 = lambda tr E + 2 mu E_22 = 0`` (the 3-D law; the shears do not enter) gives
+    ``E_22 = -lambda/(lambda + 2 mu) (E_11 + E_33) = -lambda*/(2 mu) (E_11 + E_33)``, i.e.
+    ``-nu/(1 - nu) (E_11 + E_33)``. The thickness stretch is its square root, which has no real value where
+    ``E_11 + E_33 >= (1 - nu)/(2 nu)`` (an equibiaxial stretch of 1.47 at ``nu = 0.3``, 1.23 at ``nu = 0.49``).
+    """
+    return 1.0 - first / second * (E11 + E33)
+
+
 def green_strain(F):
     """``E = (F^T F - I)/2`` for ``F`` given as nested 3x3 tuples of scalars."""
     return tuple(

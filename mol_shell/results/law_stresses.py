@@ -18,8 +18,9 @@ pressure: ``S = 2 dW/dC - p C^-1`` with ``p`` such that ``S_22 = 0``; under the 
 reaction of the inextensible director. ``svk-plane-stress`` with fibres keeps SVK's convention ``S_22 = 0``.
 
 The Cauchy stress at the faces is ``F_l S F_l^T / det F_l`` with ``F_l`` the kinematic ``F`` whose director column is
-multiplied by the law's thickness stretch ``sqrt(C_22)`` (1 under the director constraint and for the SVK laws, as
-there): ``det F_l`` is the law's ``J`` (1 for an incompressible law), so a stretched rubber wall shows its true
+multiplied by the law's thickness stretch ``sqrt(C_22)`` (1 under the director constraint; ``svk-plane-stress``'s
+from the 3-D law's ``S_22 = 0``, :func:`~mol_shell.model.material.plane_stress_thickness`, as SVK's own kernel has
+it): ``det F_l`` is the law's ``J`` (1 for an incompressible law), so a stretched rubber wall shows its true
 stress. The transverse shears keep their kinematic values in ``C`` (the thickness stretch changes them by a factor
 ``sqrt(C_22)`` in the true configuration: a difference of the order of the transverse shear strain times the
 thickness strain).
@@ -46,7 +47,7 @@ from mol_shell.model.laws import (
 )
 from mol_shell.model.layers import layer_value, parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
-from mol_shell.model.material import condensed, lame
+from mol_shell.model.material import condensed, lame, plane_stress_thickness
 
 
 def law_of_attrs(attrs):
@@ -155,7 +156,12 @@ def energy_stress(law, params, fibres=None, plane=False):
     keys = list(sym)
     grad = ca.gradient(W, ca.vertcat(*[sym[k] for k in keys]))
     S_of = {k: (2.0 if k[0] == k[1] else 1.0) * grad[n] for n, k in enumerate(keys)}
-    stretch = ca.sqrt(thickness_component(law, C, params)) if law.thickness != "director" else ca.SX(1.0)
+    if law.thickness != "director":
+        stretch = ca.sqrt(thickness_component(law, C, params))
+    elif plane:  # svk-plane-stress (with fibres, or a layer): SVK's own thickness stretch, as its kernel's
+        stretch = ca.sqrt(plane_stress_thickness((C[0][0] - 1) / 2, (C[2][2] - 1) / 2, params["lambda"], params["mu"]))
+    else:
+        stretch = ca.SX(1.0)
     f = ca.Function("law_stress", [ca.vertcat(*[sym[k] for k in keys])], [ca.vertcat(*[S_of[k] for k in keys]), stretch])
 
     def stress(Cp):

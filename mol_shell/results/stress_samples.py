@@ -16,7 +16,7 @@ import numpy as np
 from mol_shell.discretization.cells import cell_samples as kernel_samples
 from mol_shell.model.hyperelastic import incompressible_viscous_stress
 from mol_shell.model.kinematics import deformation_gradient
-from mol_shell.model.material import green_strain
+from mol_shell.model.material import green_strain, plane_stress_thickness
 from mol_shell.results.tensors import cauchy_stress, matmul, thickness_stretched
 
 
@@ -71,6 +71,16 @@ def second_piola(E, first, second, plane_stress=False):
     S = [[first * trace * (i == j) + 2.0 * second * E[i][j] for j in range(3)] for i in range(3)]
     S[1][1] = S[1][1] * (1 - plane_stress)  # also for a symbolic flag (the compiled kernel's input)
     return tuple(tuple(row) for row in S)
+
+
+def svk_stretch(E, first, second, plane_stress=False):
+    """The thickness stretch of SVK's own kernel: ``1.0`` under the director constraint (``plane_stress`` false),
+    else ``sqrt(C_22)`` of :func:`~mol_shell.model.material.plane_stress_thickness` (a symbolic flag: CasADi's
+    ``if_else``, exactly 1 when it is 0)."""
+    if isinstance(plane_stress, (bool, int, float)) and not plane_stress:
+        return 1.0
+    stretch = ca.sqrt(plane_stress_thickness(E[0][0], E[2][2], first, second))
+    return ca.if_else(plane_stress, stretch, 1.0) if isinstance(plane_stress, ca.SX) else stretch
 
 
 def thickness_rule(zeta1, h, n_quad):
@@ -133,7 +143,7 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
     lam, mu, eta_lambda, eta_mu : float or casadi.SX
         Condensed Lame constants and viscosities (:func:`~mol_shell.model.material.condensed`).
     plane_stress : bool or casadi.SX
-        ``S22 = 0`` (:func:`second_piola`).
+        ``S22 = 0`` (:func:`second_piola`), and the face stresses with the wall's thinning (:func:`svk_stretch`).
     elastic : callable, optional
         ``C -> (S, lambda_3)`` in place of SVK's ``S`` (``lam, mu`` unused): another law's stress and thickness
         stretch (:func:`mol_shell.results.law_stresses.energy_stress`); the face stresses then use ``F`` with its
@@ -161,7 +171,7 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
         F = deformation_gradient(ca.vertsplit(e), zeta, r0, theta0, theta0_s, beta1_0, beta2_0)
         E = green_strain(F)
         if elastic is None:
-            out, stretch = {"elastic": second_piola(E, lam, mu, plane_stress)}, 1.0
+            out, stretch = {"elastic": second_piola(E, lam, mu, plane_stress)}, svk_stretch(E, lam, mu, plane_stress)
         else:
             S, stretch = elastic(tuple(tuple(2 * E[i][j] + (i == j) for j in range(3)) for i in range(3)))
             out = {"elastic": S}
@@ -191,7 +201,7 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
                           tuple(x + a * y for x, y in zip(w1, t3)), tuple(x + zeta * a * y for x, y in zip(w2, t3))]
     parts = {kind: resultants_from_integrals(*sums[kind], ca.vertsplit(e), r0) for kind in kinds}
     faces = [stresses(zeta1, layers[0][2]), stresses(zeta1 + 2 * h, layers[-1][2])]
-    for kind in kinds:  # SVK's own (stretch 1.0): F as it is
+    for kind in kinds:  # the director-constrained SVK's (stretch 1.0): F as it is
         parts["sigma_" + kind] = [cauchy_stress(thickness_stretched(F, stretch) if isinstance(stretch, ca.SX) else F,
                                                 S[kind]) for F, S, stretch in faces]
     strains = ca.vertcat(*strains)
@@ -207,4 +217,4 @@ def _substitute(value, e, strains):
 
 
 __all__ = ["cell_samples", "reference_cells", "resultants_from_integrals", "sample_stresses", "second_piola",
-           "thickness_rule"]
+           "svk_stretch", "thickness_rule"]

@@ -4,7 +4,8 @@ For every cell and saved time the cell's samples (strains ``(q_{i+1} - q_i)/ds``
 ``theta`` at the midpoint, ``psi`` at each of the two nodes: the samples the discrete energy
 uses) give the deformation gradient ``F`` of :func:`~mol_shell.model.kinematics.deformation_gradient`
 through the thickness, the second Piola-Kirchhoff stress ``S = lambda tr(E) I + 2 mu E`` (7.9),
-the first Piola-Kirchhoff stress ``T = F S`` and the Cauchy stress ``sigma = F S F^T / det F``.
+the first Piola-Kirchhoff stress ``T = F S`` and the Cauchy stress ``sigma = F S F^T / det F`` (at the faces, ``F``
+with the law's thickness stretch: below).
 The reference data per cell come from the same difference formulas applied to the nodal
 reference meridian (``r0, z0, theta0``; the cylinder ``r0 = 1, z0 = s, theta0 = 0`` when the
 run does not carry one). One CasADi kernel per sample, compiled with gcc (cached on disk),
@@ -47,7 +48,10 @@ Face stresses: the Cauchy stress at ``zeta1`` (inner face) and ``zeta1 + 2h`` (o
 averaged over the cell's two samples, then its principal values and von Mises stress. A graded wall
 (``h_profile``) has each cell's own faces ``-h(s), +h(s)`` about the mid-surface: ``zeta`` is then the face in
 units of ``h(s)`` and ``zeta_face`` the depths. With
-``material = "svk-plane-stress"`` the stress ``S22`` along the director is 0 (the condensation).
+``material = "svk-plane-stress"`` the stress ``S22`` along the director is 0 (the condensation), and the faces'
+Cauchy stress takes ``F`` with its director column times the 3-D law's thickness stretch ``sqrt(C_22)``
+(:func:`~mol_shell.model.material.plane_stress_thickness`; ``det F = lambda1 lambda2 lambda3``), as the other laws'
+(:mod:`mol_shell.results.law_stresses`); ``svk``'s is 1.
 With Kelvin-Voigt viscosity the stresses include ``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t``
 (the pair condensed as the material's elastic one, :func:`~mol_shell.model.material.condensed`; an incompressible
 law's ``S_visc`` is the derivative of its Rayleigh function ``eta_mu E_t : E_t`` with the thickness rate that
@@ -386,6 +390,9 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     out.attrs["stresses"] = "included (mol_shell.add_stresses)"
     if not all(np.isfinite(v).all() for v in data.values()):
         out.attrs["stresses"] += "; NaN where det F <= 0 at a face or the state is not finite"
+        if "svk-plane-stress" in f"{material} {ds.attrs.get('layers', '')}":  # SVK's thinning has a bound
+            out.attrs["stresses"] += (" (svk-plane-stress: also where its thickness stretch has no real value, "
+                                      "C_22 = 1 - 2 nu/(1 - nu) (E_11 + E_33) <= 0)")
     return out
 
 

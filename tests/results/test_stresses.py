@@ -155,7 +155,9 @@ def traction_integrals(strains, ref, scene, lam, mu):
     """The resultants from the 3-D Cauchy stress integrated over the deformed sections (24 Gauss points:
     exact to round-off for these smooth integrands over the width ``2h``; the package uses 4).
 
-    Cauchy ``sigma = F S F^T / J`` with this file's St Venant-Kirchhoff law; the force on a section element
+    Cauchy ``sigma = F S F^T / J`` with this file's St Venant-Kirchhoff law (at the faces of a plane-stress wall
+    with the director column of ``F`` times the thickness stretch ``sqrt(1 + 2 E_22)``, ``E_22`` from the 3-D law's
+    ``S_22 = 0``: the wall's thinning; the director's length is 1 in the kinematics); the force on a section element
     is ``sigma n da = J sigma F^-T N dA`` (Nanson) with the reference normals ``N = b0_1`` (the ``s``-section,
     ``dA = (r0 + zeta cos theta0) dzeta dphi``) and ``N = b0_3`` (the ``phi``-section,
     ``dA = (beta1_0 - zeta theta0_s) dzeta ds``); moments about the axis and about the base surface point.
@@ -176,7 +178,14 @@ def traction_integrals(strains, ref, scene, lam, mu):
             S[1, 1] = 0.0
         J = np.linalg.det(F)
         sigma = F @ S @ F.T / J
-        return J * sigma @ np.linalg.inv(F).T @ np.eye(3)[column], sigma
+        return J * sigma @ np.linalg.inv(F).T @ np.eye(3)[column], face_cauchy(F, S)
+
+    def face_cauchy(F, S):  # the true stress: plane stress thins the wall, S_22 = lambda tr E + 2 mu E_22 = 0 in 3-D
+        if scene.material == "svk-plane-stress":
+            E = 0.5 * (F.T @ F - np.eye(3))
+            lam3d, mu3d = lame(scene.E, scene.nu)
+            F = F @ np.diag([1.0, math.sqrt(1 - 2 * lam3d / (lam3d + 2 * mu3d) * (E[0, 0] + E[2, 2])), 1.0])
+        return F @ S @ F.T / np.linalg.det(F)
 
     zeta1 = centroidal_offset(scene.h)
     x, w = np.polynomial.legendre.leggauss(24)
