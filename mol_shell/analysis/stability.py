@@ -377,6 +377,19 @@ def _meta(key):
     return {"long_name": long_name} if units is None else {"units": units, "long_name": long_name}
 
 
+def stopped_at_start(ds, i):
+    """The stable-step cell of case ``i`` whose bisection had nothing to judge because its runs stop at t = 0 (a start
+    past SVK's compressive turning point: a law limit, not a fold): the reason its runs' messages give."""
+    for key in ds.data_vars:
+        message = str(ds[key].values[i]) if key.endswith("_message") else ""
+        if "at t = 0 s" in message:
+            what = ("a limit of the law" if "a limit of the law" in message else
+                    "a limit of the model" if "a limit of the model" in message else
+                    f"status {ds[key[: -len('_message')] + '_status'].values[i]}")
+            return f"n/a: stopped at t = 0 by {what}"
+    return "n/a: stopped at t = 0"
+
+
 def markdown_table(ds, integrators=("leapfrog", "cvode_bdf", "ida"), spectrum=True):
     """The report as a markdown table (columns that exist): the spectrum and each integrator's run."""
     cols = [("n", "n", "{:d}")]
@@ -399,8 +412,10 @@ def markdown_table(ds, integrators=("leapfrog", "cvode_bdf", "ida"), spectrum=Tr
             v = ds[key].values[i]
             if (key == "leapfrog_dt_stable" and isinstance(v, float) and math.isnan(v) and ds.attrs.get("bisected", 1)
                     and np.isfinite(float(ds["bisection_horizon_s"].values[i]))):
-                short = float(ds["bisection_horizon_s"].values[i]) < 200 * float(ds["leapfrog_dt_bound"].values[i])
-                cells.append("n/a: folds within 100 steps" if short else "< bound/2")
+                horizon = float(ds["bisection_horizon_s"].values[i])
+                short = horizon < 200 * float(ds["leapfrog_dt_bound"].values[i])
+                cells.append(stopped_at_start(ds, i) if horizon == 0 else
+                             "n/a: folds within 100 steps" if short else "< bound/2")
                 continue
             try:
                 cells.append(fmt.format(int(v) if fmt == "{:d}" else v) if not (isinstance(v, float) and math.isnan(v)) else "")

@@ -33,7 +33,8 @@ def check_end_loads(system, scene):
         kind = system.edges[0 if end == "end1" else 1]
         if getattr(scene, end + "_force", 0.0) and system.imposed[node, 0]:
             raise ParameterError(end + "_force", getattr(scene, end + "_force"), "0 for this edge",
-                                 hint=f"{end} is a {kind} edge: its z is imposed (a force needs {end}=free)")
+                                 hint=f"{end} = {kind!r} imposes its z; a force needs an edge that leaves z free: "
+                                 "free, or a set without z")
         if getattr(scene, end + "_torque", 0.0) and (system.fixed[node, 2] or 2 not in system.active):
             # the reason as an end's spin gives it (ShellSystem's drives): no chi on this scene (axisymmetric), a pole
             why = ("this scene has no chi" if 2 not in system.active else

@@ -188,10 +188,14 @@ class _Sundials(Tolerances):
     def dense_matrices(self, size):
         """The N x N matrices a dense linear solver keeps at ``size`` unknowns (the memory estimate's,
         :func:`mol_shell.runs.resources.solver_bytes`): SUNDIALS' matrix (factorised in place), CVODE's saved
-        Jacobian and the array scikit-sundae's Jacobian callback fills; 0 for a banded or sparse solver."""
-        if self.choose_linsolver(size) != "dense":
-            return 0
-        return 2 if self.kind == "ida" else 3
+        Jacobian and the array scikit-sundae's Jacobian callback fills; for ``linsolver="band"`` that array alone
+        (scikit-sundae hands a banded solver's callback a full N x N array: 26.8 GiB at n = 6,000 was a MemoryError
+        after the build; ``auto`` bands only up to DENSE_MAX_STATES, where the estimate counts the array anyway);
+        0 for a sparse solver."""
+        chosen = self.choose_linsolver(size)
+        if chosen == "dense":
+            return 2 if self.kind == "ida" else 3
+        return 1 if self.linsolver == "band" else 0
 
     # -- running -----------------------------------------------------------------------------
     def integrate(self, system, compiled, y0, times, *, progress=None):

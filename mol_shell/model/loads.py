@@ -31,7 +31,7 @@ HISTORIES = ("constant", "step T0", "ramp T1", "sine F", "table t0:h0 t1:h1 ..."
 #: the highest frequency of a ``sine`` history, Hz: a period of a picosecond, far beyond any shell's frequencies (and
 #: 1e6 leap-frog steps of the paper's dt per period); beyond, a run only samples the sine's phase at random
 MAX_FREQUENCY = 1e12
-HISTORY_ALLOWED = ("'constant', 'step T0' (0 before T0 s, then 1), 'ramp T1' (t/T1 up to 1, T1 >= 1e-300 s), "
+HISTORY_ALLOWED = ("'constant', 'step T0' (0 before T0 s, then 1; T0 >= 0 s), 'ramp T1' (t/T1 up to 1, T1 >= 1e-300 s), "
                    "'sine F' (sin(2 pi F t), 0 < F <= 1e12 Hz) or 'table t0:h0 t1:h1 ...' (linear between, held "
                    "beyond; times increasing)")
 

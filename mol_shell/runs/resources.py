@@ -70,11 +70,31 @@ class LongRunWarning(RuntimeWarning):
 
 
 def parse_bytes(text):
-    """``"8G"`` -> 8 * 1024**3; plain numbers are bytes."""
-    found = re.fullmatch(r"\s*([0-9.]+(?:e[+-]?[0-9]+)?)\s*([kmgt]?)i?b?\s*", str(text), flags=re.I)
+    """``"8G"`` -> 8 * 1024**3; plain numbers are bytes (a sign is read, so that a negative size is refused by
+    :func:`memory_limit` with the range, not as a typo)."""
+    found = re.fullmatch(r"\s*([-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:e[+-]?[0-9]+)?)\s*([kmgt]?)i?b?\s*", str(text),
+                         flags=re.I)
     if not found:
         raise ParameterError.invalid(MEMORY_ENV, text, "is not a size", "bytes, or a number with k, M, G or T")
     return float(found.group(1)) * 1024 ** "_kmgt".index(found.group(2).lower() or "_")
+
+
+def smallest_run_bytes():
+    """What the smallest run needs (leap-frog, n = 3, two saved times): the fixed part of a build, mostly."""
+    return estimate(3, 2, 0.0).memory_bytes
+
+
+def memory_limit(text):
+    """:data:`MEMORY_ENV`'s value in bytes: a finite size at least what the smallest run needs (a smaller one
+    refused every run, blaming ``n`` with the range ``3..3``)."""
+    value = parse_bytes(text)
+    least = smallest_run_bytes()
+    if not (math.isfinite(value) and value >= least):
+        mib = math.ceil(least / 1024**2)
+        raise ParameterError(MEMORY_ENV, text, f"finite sizes of at least {mib}M",
+                             hint=f"{show_bytes(mib * 1024**2)}: what the smallest run, n = 3, needs; unset it to use "
+                             "the machine's available memory")
+    return value
 
 
 def _meminfo():
@@ -106,7 +126,7 @@ def _cgroup_room():
 def available_memory():
     """``(bytes, where from)``: :data:`MEMORY_ENV` if set, else the machine's available memory (and a cgroup limit)."""
     if os.environ.get(MEMORY_ENV):
-        return parse_bytes(os.environ[MEMORY_ENV]), f"${MEMORY_ENV}"
+        return memory_limit(os.environ[MEMORY_ENV]), f"${MEMORY_ENV}"
     found = [(v, src) for v, src in ((_meminfo(), "MemAvailable"), (_cgroup_room(), "cgroup limit")) if v is not None]
     if not found:
         try:
@@ -270,13 +290,21 @@ def dense_refusal(est, available, source, what="the run"):
     linear = max(est.memory_bytes - est.dense_bytes - BUILD_BYTES_FIXED, 0.0) / est.n
     room = max(available - BUILD_BYTES_FIXED, 0.0)
     max_n = int((math.sqrt(linear * linear + 4 * quadratic * room) - linear) / (2 * quadratic))
+    needs = f"{what} needs about {show_bytes(est.memory_bytes)}, of which {show_bytes(est.dense_bytes)} for the "
+    fits = f"{show_bytes(available)} available ({source})"
+    if est.linsolver == "band":  # scikit-sundae's route: its Jacobian callback fills a full N x N array for a band
+        band = f"band up to n = {max_n:,} here" if max_n >= 3 else "no band solver here"
+        return ParameterError(
+            "linsolver", est.linsolver, f"{{auto, sparse}} at n = {est.n:,} ({band})",
+            hint=f"{needs}full {est.size:,} x {est.size:,} array x 8 bytes that scikit-sundae's route fills for a "
+            f"banded solver's Jacobian, {fits}; the default, auto, is sparse above {DENSE_MAX_STATES:,} unknowns "
+            "there, and cvode-bdf and ida band in C without that array")
     dense = f"a dense solver up to n = {max_n:,} here" if max_n >= 3 else "no dense solver here"
     return ParameterError(
         "linsolver", est.linsolver, f"{{auto, band, sparse}} at n = {est.n:,} ({dense})",
-        hint=f"{what} needs about {show_bytes(est.memory_bytes)}, of which {show_bytes(est.dense_bytes)} for the dense "
-        f"solver's {est.dense_matrices} {'matrix' if est.dense_matrices == 1 else 'matrices'} of {est.size:,} x "
-        f"{est.size:,} unknowns x 8 bytes, "
-        f"{show_bytes(available)} available ({source}); the default, auto, is banded or sparse above 100 unknowns")
+        hint=f"{needs}dense solver's {est.dense_matrices} {'matrix' if est.dense_matrices == 1 else 'matrices'} of "
+        f"{est.size:,} x {est.size:,} unknowns x 8 bytes, {fits}; the default, auto, is banded or sparse above 100 "
+        "unknowns")
 
 
 def warn_if_long(est, what="run"):

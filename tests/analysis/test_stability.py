@@ -139,6 +139,21 @@ def test_a_run_refused_or_stopped_at_its_start_says_why_and_shows_no_numbers():
     assert "Runs that did not complete:" in table and "- twist, cvode-bdf: an in-plane stretch" in table
 
 
+@pytest.mark.filterwarnings("ignore:run incomplete:RuntimeWarning")
+def test_a_case_stopped_at_its_start_by_a_law_limit_is_not_called_a_fold():
+    """gamma = 1.5 rad/m: the static radius (0.547 m, docs/stability.md) puts the hoop stretch below 1/sqrt(3) = 0.577,
+    where SVK's compressive stress turns back, so every run stops at t = 0 and the bisection's horizon is 0. Its
+    stable-step cell said "n/a: folds within 100 steps"; it says the runs' own reason now, a limit of the law."""
+    ds = report([Case("twist", dataclasses.replace(mol_shell.TwistedCylinder(), gamma=1.5), n=12, t_end=0.002)],
+                integrators=())
+    assert float(ds.bisection_horizon_s.values[0]) == 0.0 and np.isnan(ds.leapfrog_dt_stable.values[0])
+    assert str(ds.leapfrog_status.values[0]) == "limit" and "(a limit of the law) at t = 0 s" in str(
+        ds.leapfrog_message.values[0])
+    header, _, row = [[cell.strip() for cell in line.split("|")[1:-1]] for line in markdown_table(ds).split("\n")[:3]]
+    assert dict(zip(header, row))["LF dt stable (bisection) [s]"] == "n/a: stopped at t = 0 by a limit of the law"
+    assert "folds" not in markdown_table(ds)
+
+
 @pytest.mark.parametrize("kind", ["keyboard", "ctypes", "casadi"])  # ctypes, casadi: the interrupt in a C call
 def test_ctrl_c_keeps_the_cases_finished(monkeypatch, tmp_path, capsys, kind):
     """Ctrl-C during `mol-shell stability` exited 130 with nothing written, though cases had printed "done". The

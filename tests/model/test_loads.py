@@ -429,6 +429,31 @@ def test_a_sine_history_beyond_a_terahertz_and_a_ramp_too_short_to_invert_are_re
             parse_history("pressure_history", bad)
 
 
+def test_a_step_before_t_0_is_refused_with_the_step_times_range():
+    """``step -1`` was refused with the forms allowed but no word that a step's T0 must be >= 0 (a step at a negative
+    time is the constant history; 0 is the load from the start, a time of the run)."""
+    from mol_shell._core.errors import ParameterError
+    from mol_shell.model.loads import parse_history
+
+    assert parse_history("pressure_history", "step 0") == ("step", (0.0,))
+    for bad in ("step -1", "step -1e-300", "step inf"):
+        with pytest.raises(ParameterError, match=r"^pressure_history = .* is outside .*'step T0' \(0 before T0 s, "
+                           r"then 1; T0 >= 0 s\)"):
+            mol_shell.TwistedCylinder(pressure=1.0, pressure_history=bad)
+
+
+def test_a_force_refused_names_every_edge_that_takes_one():
+    """A force at an edge that imposes z said "a force needs end1=free", though an edge given as a set without z
+    (``end1 = "r,theta"``) takes one too: it says so now, as the torque's refusal does for chi."""
+    for end, kind in (("end1", "magnet"), ("end2", "clamped"), ("end2", "z,r")):
+        scene = mol_shell.TwistedCylinder(**{end: kind, f"{end}_force": 1.0})
+        with pytest.raises(ParameterError) as info:
+            _build(scene)
+        assert str(info.value) == (f"{end}_force = 1.0 is outside 0 for this edge ({end} = {kind!r} imposes its z; "
+                                   "a force needs an edge that leaves z free: free, or a set without z)")
+    assert _build(mol_shell.TwistedCylinder(end1="r,theta", end1_force=1.0)).n_extra == 2  # z left free: a load
+
+
 def test_a_table_history_is_the_ramp_it_describes():
     """``table 0:0 0.005:1`` is ``ramp 0.005``, and so is ``table 0:0 0.002:0.4 0.005:1 0.02:1`` (its points on the
     same line, held after): every table ended in an internal error (CasADi's pw_lin takes no MX time). Leap-frog

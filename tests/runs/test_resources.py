@@ -124,6 +124,31 @@ def test_a_dense_linear_solver_too_large_for_memory_is_refused_naming_linsolver(
                            **dict(option.split("=") for option in options))
 
 
+@pytest.mark.parametrize("integrator", ["sksundae-cvode-bdf", "sksundae-ida"])
+def test_scikit_sundaes_banded_solver_counts_its_full_array(integrator, monkeypatch, capsys, tmp_path, no_build):
+    """scikit-sundae hands a banded solver's Jacobian callback a full N x N array (``np.zeros((N, N))``): at n = 6,000
+    that is (10 x 6,000)^2 x 8 bytes = 28.8 GB (26.8 GiB), and ``linsolver=band`` ended after the build in "internal
+    error: MemoryError" (exit 1). The estimate counts the array now: one line naming linsolver and the n a band fits
+    at, exit 2, before any graph; the compiled route bands in C without it and gets to its build."""
+    monkeypatch.setenv(resources.MEMORY_ENV, "16G")
+    code = main(["run", "twisted-cylinder", "--n", "6000", "--integrator", integrator, "--option", "linsolver=band",
+                 "--t-end", "1e-5", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert err.startswith("mol-shell: error: linsolver = 'band' is outside {auto, sparse} at n = 6,000 (band up to "
+                          "n = "), err
+    assert f"of which {(10 * 6000) ** 2 * 8 / 1e9:.3g} GB for the full 60,000 x 60,000 array" in err, err
+    # the largest n: (10 n)^2 x 8 bytes within 16 GiB less the rest (300 MB and 40 kB per node: a few per cent)
+    largest = int(err.split("band up to n = ")[1].split(" ")[0].replace(",", ""))
+    bound = (16 * 1024**3 / 800) ** 0.5
+    assert 0.95 * bound < largest < bound, (largest, bound)
+    with pytest.raises(ParameterError, match=r"^linsolver = 'band' is outside \{auto, sparse\} at n = 6,000"):
+        mol_shell.simulate("twisted-cylinder", integrator, n=6000, t_end=1e-5, linsolver="band")
+    with pytest.raises(Built):  # SUNDIALS' own band matrix: N x (ml + mu + 1) doubles
+        mol_shell.simulate("twisted-cylinder", integrator.removeprefix("sksundae-"), n=6000, t_end=1e-5,
+                           linsolver="band")
+
+
 def test_the_default_linear_solver_is_estimated_as_before(monkeypatch, no_build):
     """The default (``auto``: banded or sparse above 100 unknowns) and CVODE-Adams' fixed-point iteration keep no
     N x N matrix: the estimate at n = 6,000 is the one without a method, and such a run gets to its build."""
@@ -336,6 +361,42 @@ def test_memory_sizes_parse():
     assert resources.parse_bytes("1e9") == 1e9
     with pytest.raises(ParameterError, match="MOL_SHELL_MEMORY = 'lots' is not a size"):
         resources.parse_bytes("lots")
+
+
+@pytest.mark.parametrize("value", ["0", "1k", "286M", "-1", "-8G", "1e400"])
+def test_a_memory_limit_too_small_for_any_run_is_refused_naming_it(value, monkeypatch, capsys, tmp_path, no_build):
+    """``MOL_SHELL_MEMORY=0`` was refused as "n = 40 is outside integers 3..3", though n = 3 did not fit either, and
+    ``1e400`` (infinite) passed as no limit. A limit below what the smallest run needs (the fixed 300 MB of a build,
+    286.1 MiB, and a little for n = 3: 287M), a negative one and an infinite one are refused naming
+    MOL_SHELL_MEMORY and its range, one line, exit 2."""
+    monkeypatch.setenv(resources.MEMORY_ENV, value)
+    code = main(["run", "twisted-cylinder", "--t-end", "1e-4", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert err.startswith(f"mol-shell: error: MOL_SHELL_MEMORY = '{value}' is outside finite sizes of at least "
+                          "287M ("), err
+    assert 300e6 / 1024**2 < 287 < 300e6 / 1024**2 + 1
+
+
+@pytest.mark.parametrize("value", ["abc", "1.2.3", ".", "5 X"])
+def test_a_memory_limit_that_is_not_a_size_is_refused_naming_it(value, monkeypatch, capsys, tmp_path, no_build):
+    """``1.2.3`` matched the pattern of a number and ended in a ValueError; every such value is one line, exit 2."""
+    monkeypatch.setenv(resources.MEMORY_ENV, value)
+    code = main(["run", "twisted-cylinder", "--t-end", "1e-4", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err == (f"mol-shell: error: MOL_SHELL_MEMORY = '{value}' is not a size; allowed: bytes, or "
+                                 "a number with k, M, G or T\n"), err
+
+
+def test_a_memory_limit_that_fits_a_run_is_used(monkeypatch, no_build):
+    """``0.5G`` and ``16G`` (powers of 1024) are limits a run at the default n = 40 fits in: it gets to its build."""
+    for value, size in (("0.5G", 0.5 * 1024**3), ("16G", 16 * 1024**3), ("287M", 287 * 1024**2)):
+        monkeypatch.setenv(resources.MEMORY_ENV, value)
+        assert resources.available_memory() == (size, "$MOL_SHELL_MEMORY")
+    for value in ("0.5G", "16G"):
+        monkeypatch.setenv(resources.MEMORY_ENV, value)
+        with pytest.raises(Built):
+            mol_shell.simulate("twisted-cylinder", t_end=1e-4)
 
 
 def test_a_huge_mode_count_is_blamed_on_count_not_on_n(capsys, tmp_path):
