@@ -15,9 +15,10 @@ else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 from mol_shell._core.constants import ATOL_MIN, FIELDS
-from mol_shell._core.errors import ParameterError, show
+from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.integrators.loop import declared
+from mol_shell.integrators.loop import declared, refusal, typed_value
+from mol_shell.integrators.tolerances import MAX_STEP_NOTE
 from mol_shell.results.dataset import NETCDF_SUFFIXES  # noqa: F401 (the outputs' suffixes, for the commands)
 from mol_shell.runs.resources import check_saved_times
 from mol_shell.runs.simulate import check_options, integrator_options
@@ -188,12 +189,14 @@ def _number_text(text):
         return show(text)
 
 
-def number_arg(name, low=0.0, high=np.inf, *, low_closed=False, high_closed=False, unit=""):
-    """An argparse ``type``: a float in the interval, or a one-line error naming ``name`` and the interval."""
+def number_arg(name, low=0.0, high=np.inf, *, low_closed=False, high_closed=False, unit="", note=""):
+    """An argparse ``type``: a float in the interval, or a one-line error naming ``name`` and the interval (and
+    ``note``, what a value means: ``" (0: unbounded)"``)."""
     if low == -np.inf and high == np.inf:
         allowed = "finite numbers" + (f" [{unit}]" if unit else "")
     else:
         allowed = f"{'[' if low_closed else '('}{low:g}, {high:g}{']' if high_closed else ')'}" + (f" {unit}" if unit else "")
+    allowed += note
 
     def convert(text):
         try:
@@ -209,6 +212,12 @@ def number_arg(name, low=0.0, high=np.inf, *, low_closed=False, high_closed=Fals
         return value
 
     return convert
+
+
+def max_step_arg():
+    """The argparse ``type`` of ``--max-step``: ``[0, inf) s``, 0 for no bound, as the integrators take it (its
+    declared range, :class:`~mol_shell.integrators.tolerances.Tolerances`)."""
+    return number_arg("--max-step", 0.0, low_closed=True, unit="s", note=MAX_STEP_NOTE)
 
 
 def integer_arg(name, low=1, high=None):
@@ -272,7 +281,8 @@ def option_value(text):
 
 def option_args(args, integrator):
     """``--option NAME=VALUE`` as ``{name: value}``: an option of ``integrator`` beyond the flags, checked against
-    its declared range as a scene file's ``[run]`` table is; refused by name otherwise."""
+    its declared range as a scene file's ``[run]`` table is; refused by name otherwise. ``none`` or ``auto`` (any
+    case) is ``None`` for an option that takes it (:func:`~mol_shell.integrators.loop.typed_value`)."""
     given = parse_sets(getattr(args, "option", None), name="--option")
     out = {}
     for name, text in given.items():
@@ -281,8 +291,10 @@ def option_args(args, integrator):
                                          f"{FLAGS[name]} in its place")
         value = option_value(text)
         spec = declared(INTEGRATORS[integrator]).get(name) if integrator in INTEGRATORS else None
-        if spec is not None and not spec.check(value):
-            raise ParameterError(f"--option {name}", value, spec.allowed)
+        if spec is not None:
+            value = typed_value(spec, value)  # none (any case) where the option takes None
+            if not spec.check(value):
+                raise refusal(f"--option {name}", value, spec, typed=text.strip() if is_number(value) else None)
         out[name] = value
     return out
 

@@ -39,6 +39,7 @@ from mol_shell.cli.args import (
     Parser,
     choice_arg,
     integer_arg,
+    max_step_arg,
     number_arg,
     parse_atol,
     plural,
@@ -185,7 +186,8 @@ def make_parser():
                      help=f"relative tolerance in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}) (adaptive integrators)")
     run.add_argument("--atol", type=parse_atol, default=None,
                      help="absolute tolerance (adaptive integrators): one value, or per field as r=1e-9,theta=1e-10")
-    run.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
+    run.add_argument("--max-step", type=max_step_arg(), default=None,
+                     help="largest step, s (adaptive; 0: unbounded, the default)")
     run.add_argument("--option", action="append", metavar="NAME=VALUE",
                      help="another option of the integrator, repeatable: restart=0 (leapfrog), jac_every=200, "
                      "linsolver=band, iteration=newton, ... (docs/integrators.md; as a scene file's [run] keys)")

@@ -16,6 +16,7 @@ from mol_shell.cli.args import (
     SCENE_HELP,
     SCENE_METAVAR,
     integer_arg,
+    max_step_arg,
     number_arg,
     parse_atol,
     parse_range_or_list,
@@ -175,7 +176,8 @@ def register_study(subparsers):
     p.add_argument("--rtol", type=number_arg("--rtol", *RTOL_RANGE, low_closed=True), default=None,
                    help=f"relative tolerance in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}) (adaptive integrators)")
     p.add_argument("--atol", type=parse_atol, default=None, help="one value, or per field as r=1e-9,theta=1e-10")
-    p.add_argument("--max-step", type=number_arg("--max-step", unit="s"), default=None, help="largest step, s (adaptive)")
+    p.add_argument("--max-step", type=max_step_arg(), default=None,
+                   help="largest step, s (adaptive; 0: unbounded, the default)")
     p.add_argument("--option", action="append", metavar="NAME=VALUE",
                      help="another option of the integrator, repeatable: restart=0 (leapfrog), jac_every=200, "
                      "linsolver=band, iteration=newton, ... (docs/integrators.md; as a scene file's [run] keys)")

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mol_shell._core.errors import ModelLimitError
+from mol_shell._core.errors import ModelLimitError, is_number
 from mol_shell.integrators import loop
 from mol_shell.integrators.base import StepBudget
 from mol_shell.integrators.loop import integers, option
@@ -114,9 +114,10 @@ class _RungeKuttaStepper:
         if code == 1:
             self.monitor.check(self.y, t[0])  # raises, naming the limit and the place
             raise ModelLimitError(f"a limit of the model was reached at t = {t[0]:.9g} s", t[0], "whole shell")
-        if code == -2:
-            raise failed(f"{m.name} failed at t = {t[0]:.9g} s: the step fell below SciPy's minimum "
-                         f"({self.h[0]:.3g} s): not finite, or stiff?", t[0])
+        if code == -2:  # the step fell below 10 ulp(t), round-off at t: the tolerance asks more than doubles hold
+            raise failed(f"{m.name} failed at t = {t[0]:.9g} s: its step fell below round-off at t ({self.h[0]:.3g} s, "
+                         f"SciPy's minimum): {self.tolerance()} cannot be met there in double precision (a looser "
+                         "tolerance goes on), or the right-hand side is not finite near this state", t[0])
         if code == -1:
             raise failed(f"{m.name}: the right-hand side failed at t = {t[0]:.9g} s", t[0])
         if counts[0] >= m.max_steps:
@@ -125,8 +126,15 @@ class _RungeKuttaStepper:
         if counts[0] >= StepBudget.EVERY and needed > StepBudget.MARGIN * m.max_steps:
             raise failed(f"{m.name} would need about {needed:.3g} steps to reach t = {self.t_end:.6g} s "
                          f"at its mean step so far, more than max_steps = {m.max_steps}: the motion is "
-                         f"too fast for this horizon (stopped at t = {t[0]:.9g} s)", t[0])
+                         f"too fast for this horizon at {self.tolerance()} (a looser tolerance or a larger "
+                         f"max_steps goes on; stopped at t = {t[0]:.9g} s)", t[0])
         self.monitor.check(self.y, t[0])  # the energy (instability) and finiteness, once a chunk
+
+    def tolerance(self):
+        """``rtol = 1e-14, atol = 1e-20`` (``atol`` per field where it was given so), as failures name it."""
+        tolerances = self.method.tolerances()
+        atol = tolerances["atol"]
+        return f"rtol = {tolerances['rtol']:g}, atol = " + (f"{atol:g}" if is_number(atol) else "{" + atol + "}")
 
     def state(self, target):
         return self.y.copy()

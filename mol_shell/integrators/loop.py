@@ -30,7 +30,7 @@ import numpy as np
 
 from mol_shell._core import interrupts
 from mol_shell._core.constants import RTOL_RANGE
-from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
+from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt, show
 from mol_shell.integrators.base import Monitor, Trajectory
 
 #: how a run can end other than ``"complete"``, and what each means
@@ -123,15 +123,47 @@ def declared(cls):
     return {f.name: f.metadata["option"] for f in fields(cls) if "option" in f.metadata}
 
 
+#: the words a command line (``--option max_order=none``) or a scene file's ``[run]`` table writes for ``None``, in
+#: any case: TOML has no null, and scene parameters take the same two words for theirs
+NONE_WORDS = ("none", "auto")
+
+
+def typed_value(spec, value):
+    """An option's value as a command line or a scene file gives it: :data:`NONE_WORDS` as ``None`` where the option
+    declared by ``spec`` takes ``None`` (``max_order``, ``max_newton``) and not the word itself; else ``value``."""
+    if (isinstance(value, str) and value.strip().lower() in NONE_WORDS and not spec.check(value)
+            and spec.check(None)):
+        return None
+    return value
+
+
+def _integer(value):
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+
+
+def refusal(name, value, spec, typed=None):
+    """The :class:`ParameterError` for ``value`` outside the option ``spec`` declares, by ``name``: a value that is not
+    even of the option's kind says so (``chunk = 1e12``, a float, "is not an integer", not "outside integers in [1,
+    ...]", which it is not). ``typed``: the value as the user wrote it (``1e12``), for the message."""
+    shown = typed if typed is not None else show(value)
+    if spec.allowed.startswith("integers") and value is not None and not _integer(value):
+        whole = isinstance(value, (float, np.floating)) and abs(value) < 2.0**64 and float(value).is_integer()
+        hint = f"a float: write it as the integer {int(value)}" if whole else ""
+        return ParameterError(name, value, spec.allowed, hint,
+                              message=f"{name} = {shown} is not an integer; allowed: {spec.allowed}")
+    if not _number(value) and "inf" in spec.allowed:
+        return ParameterError(name, value, spec.allowed, message=f"{name} = {shown} is not a number; allowed: "
+                              f"{spec.allowed}")
+    return ParameterError(name, value, spec.allowed, message=f"{name} = {shown} is outside {spec.allowed}")
+
+
 def check_declared(instance):
-    """Refuse, by name and with its allowed range, an option value outside its declared range; store an accepted
-    one as its declared type (:attr:`Option.convert`)."""
+    """Refuse, by name and with its allowed range, an option value outside its declared range (:func:`refusal`);
+    store an accepted one as its declared type (:attr:`Option.convert`)."""
     for name, spec in declared(type(instance)).items():
         value = getattr(instance, name)
         if not spec.check(value):
-            if not _number(value) and "inf" in spec.allowed:
-                raise ParameterError.not_a(name, value, "a number", spec.allowed)
-            raise ParameterError(name, value, spec.allowed)
+            raise refusal(name, value, spec)
         if spec.convert is not None and value is not None:  # stored as its type (the run's attributes are written)
             object.__setattr__(instance, name, spec.convert(value))
 
@@ -232,4 +264,5 @@ def _stop_if_caught(watch):
         raise KeyboardInterrupt
 
 
-__all__ = ["FAILURE_KINDS", "Option", "RTOL", "Stepper", "check_declared", "declared", "option", "run"]
+__all__ = ["FAILURE_KINDS", "NONE_WORDS", "Option", "RTOL", "Stepper", "check_declared", "declared", "option",
+           "refusal", "run", "typed_value"]

@@ -26,12 +26,13 @@ from dataclasses import dataclass
 import casadi as ca
 import numpy as np
 
+from mol_shell._core.constants import RTOL_RANGE, stated_up
 from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.discretization.dae import ShellDAE
 from mol_shell.integrators import loop
 from mol_shell.integrators.base import StepBudget
-from mol_shell.integrators.loop import choice, integers, option
+from mol_shell.integrators.loop import choice, integers, interval, option
 from mol_shell.integrators.sundials import pieces
 from mol_shell.integrators.tolerances import Tolerances
 
@@ -46,10 +47,21 @@ class _Peer(Tolerances):
         return loop.run(self, system, compiled, y0, times, progress=progress)
 
 
+#: the least relative tolerance SciPy's solvers take: ``scipy.integrate`` raises a smaller one to 100 x machine epsilon
+#: (2.220446049250313e-14, with a warning) and the run would record a tolerance it did not use; stated to 4 digits,
+#: rounded up (2.221e-14), so that the range stated is the one applied
+SCIPY_RTOL_MIN = stated_up(100 * np.finfo(float).eps)
+
+
 @dataclass(frozen=True)
 class ScipyRK45(_Peer):
-    """``scipy.integrate.RK45`` (Dormand-Prince 5(4)), stepped in Python."""
+    """``scipy.integrate.RK45`` (Dormand-Prince 5(4)), stepped in Python.
 
+    ``rtol`` in ``[SCIPY_RTOL_MIN, 1)`` (all four peers): SciPy would raise a smaller one to its floor, and the run
+    record a tolerance it did not use, so it is refused.
+    """
+
+    rtol: float = option(1e-6, interval(SCIPY_RTOL_MIN, RTOL_RANGE[1], " (SciPy's floor: 100 x machine epsilon)"))
     max_steps: int = option(1_000_000, integers(1))
 
     name = "scipy-rk45"

@@ -15,6 +15,8 @@ from mol_shell.integrators.loop import RTOL, Option, non_negative, option, real
 #: the absolute tolerances' range (:data:`~mol_shell._core.constants.ATOL_MIN`: below it the error norms overflow)
 ATOL_RANGE = f"[{ATOL_MIN:g}, inf)"
 ATOL_ALLOWED = f"{ATOL_RANGE}: one value, {{field: value}} or five values (z, r, chi, theta, psi)"
+#: what ``max_step = 0`` means, as every range of ``max_step`` states it (Python, ``--max-step``, a ``[run]`` table)
+MAX_STEP_NOTE = " (0: unbounded)"
 
 
 def atol_ok(value):
@@ -70,7 +72,7 @@ class Tolerances:
 
     rtol: float = option(1e-6, RTOL)
     atol: object = option(1e-9, Option(ATOL_ALLOWED, _atol_ok, convert=lambda a: real(a) if is_number(a) else a))
-    max_step: float = option(0.0, non_negative(" s", " (0: unbounded)"))
+    max_step: float = option(0.0, non_negative(" s", MAX_STEP_NOTE))
 
     def __post_init__(self):
         if isinstance(self.atol, (dict, list, tuple)):  # a field's name or an entry first: the declared range's

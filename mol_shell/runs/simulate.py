@@ -104,10 +104,13 @@ def check_options(scene, integrator, options, offered=None):
     if "rtol" in options:
         lo, hi = RTOL_RANGE
         value = options["rtol"]
+        # an integrator's own range where it declares a narrower one (the scipy-* peers: SciPy's floor)
+        own = declared(INTEGRATORS[integrator]).get("rtol") if integrator in INTEGRATORS else None
+        allowed = own.allowed if own is not None else f"[{lo:g}, {hi:g})"
         if not is_number(value):
-            raise ParameterError.not_a("rtol", value, "a number", f"[{lo:g}, {hi:g})")
-        if not (lo <= value < hi):
-            raise ParameterError("rtol", value, f"[{lo:g}, {hi:g})")
+            raise ParameterError.not_a("rtol", value, "a number", allowed)
+        if not (lo <= value < hi) or (own is not None and not own.check(value)):
+            raise ParameterError("rtol", value, allowed)
 
 
 def steps_to(t_end, dt):
@@ -278,7 +281,7 @@ def _check_max_step(method, t_end):
         low = t_end / max_steps
         shown = float(f"{low:.4g}")
         shown = shown if shown >= low else float(f"{low * (1 + 5e-4):.4g}")  # rounded up: the bound shown is taken
-        raise ParameterError("max_step", max_step, f"[{shown:.4g}, inf) s, or 0 (none)",
+        raise ParameterError("max_step", max_step, f"[{shown:.4g}, inf) s, or 0 (unbounded)",
                              hint=f"max_steps = {max_steps} steps of at most max_step must reach t = {t_end:g} s")
 
 

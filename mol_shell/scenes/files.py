@@ -45,7 +45,8 @@ from pathlib import Path
 from mol_shell._core.constants import ATOL_MIN, FIELDS, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.integrators.loop import declared, real
+from mol_shell.integrators.loop import declared, real, refusal, typed_value
+from mol_shell.integrators.tolerances import MAX_STEP_NOTE
 from mol_shell.model.layers import LAYER_KEYS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES, summary
@@ -224,8 +225,9 @@ def _run_options(source, run, together=True):
     extra = declared(INTEGRATORS[integrator]) if integrator in INTEGRATORS else {}
     for key, value in run.items():
         if key not in RUN and key in extra:  # an option of the integrator beyond the tolerances: its declared range
+            value = typed_value(extra[key], value)  # "none" (any case) where the option takes None
             if not extra[key].check(value):
-                raise _fail(source, "run", ParameterError(key, value, extra[key].allowed))
+                raise _fail(source, "run", refusal(key, value, extra[key]))
             out[key] = value
             continue
         if key not in RUN:
@@ -257,7 +259,9 @@ def _run_options(source, run, together=True):
             value = {name: real(tol) for name, tol in value.items()}
         elif key == "atol":
             value = positive(key, value, ATOL_MIN, closed=True, unit="")
-        else:  # t_end, dt, max_step
+        elif key == "max_step":  # 0: unbounded, as the integrators take it
+            value = positive(key, value, closed=True, unit=" s" + MAX_STEP_NOTE)
+        else:  # t_end, dt
             value = positive(key, value)
         out[key] = value
     if together:

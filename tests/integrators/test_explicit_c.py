@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 import mol_shell
-from mol_shell._core.errors import ParameterError
-from mol_shell.integrators import INTEGRATORS
+from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell.integrators import INTEGRATORS, explicit
 from mol_shell.runs.simulate import build, resolve
 
 
@@ -58,3 +58,48 @@ def test_a_bad_chunk_is_refused():
     for bad in (0, -3, 2.5, True):
         with pytest.raises(ParameterError, match="chunk"):
             INTEGRATORS["dop853-c"](chunk=bad)
+
+
+@pytest.mark.parametrize("name", ["dop853-c", "rk45-c"])
+def test_a_tolerance_the_steps_cannot_meet_is_named_when_the_run_stops(name):
+    """``--rtol 1e-14 --atol 1e-20`` stopped with "the motion is too fast for this horizon", as if the motion were to
+    blame. The twisted cylinder starts at rest in its equilibrium: at atol = 1e-9 a step covers each saved interval;
+    held to atol = 1e-40, entries that are round-off about the equilibrium keep the steps near 1e-13 s and the run
+    stops after its first chunk, naming the tolerance (as CVODE's projection names rtol) and what goes on."""
+    calm = mol_shell.simulate("twisted-cylinder", name, n=5, t_end=1e-4, rtol=1e-14, atol=1e-9, progress=False,
+                              stresses=False)
+    assert calm.attrs["complete"] == 1 and calm.attrs["n_steps"] <= 20
+    with pytest.warns(RuntimeWarning, match="run incomplete"):
+        ds = mol_shell.simulate("twisted-cylinder", name, n=5, t_end=1e-4, rtol=1e-14, atol=1e-40, progress=False,
+                                stresses=False)
+    message = ds.attrs["message"]
+    assert ds.attrs["status"] == "failed" and ds.attrs["n_steps"] == 2000, message  # one chunk
+    assert "too fast for this horizon at rtol = 1e-14, atol = 1e-40 (a looser tolerance or a larger max_steps goes on"\
+        in message, message
+
+
+class _UnderflowingDriver:
+    """A compiled right-hand side whose Runge-Kutta driver returns -2 (the step fell below 10 ulp(t)) at t = 0.25 s."""
+
+    def runge_kutta(self, state, t_end, rtol, atol, max_step, tableau, max_steps, stats):
+        t, h = state[0], state[3]
+        t[0], h[0] = 0.25, 1e-16
+        return -2
+
+
+def test_a_step_below_round_off_names_the_tolerance():
+    """The step fell below round-off at t (SciPy's minimum, 10 ulp(t)): said "not finite, or stiff?". Stiffness bounds
+    an explicit pair's step by its stability, not by round-off; a tolerance the doubles cannot meet at t shrinks it
+    there (or a right-hand side that is not finite), and the message names the tolerance, per field as given."""
+    stepper = object.__new__(explicit._RungeKuttaStepper)
+    stepper.method = INTEGRATORS["dop853-c"](rtol=1e-14, atol={"r": 1e-30})
+    stepper.compiled, stepper.monitor, stepper.t_end = _UnderflowingDriver(), None, 1.0
+    stepper.time, stepper.h, stepper.counts = np.zeros(1), np.ones(1), np.zeros(3, dtype=np.int64)
+    stepper.y = stepper.f = stepper.atol = stepper.tableau = None
+    with pytest.raises(ModelLimitError) as info:
+        stepper.advance(1.0)
+    assert info.value.status == "failed" and info.value.time == 0.25
+    assert str(info.value) == ("dop853-c failed at t = 0.25 s: its step fell below round-off at t (1e-16 s, SciPy's "
+                               "minimum): rtol = 1e-14, atol = {z=1e-09,r=1e-30,chi=1e-09,theta=1e-09,psi=1e-09} "
+                               "cannot be met there in double precision (a looser tolerance goes on), or the "
+                               "right-hand side is not finite near this state")

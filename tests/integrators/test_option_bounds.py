@@ -129,3 +129,114 @@ def test_a_restart_beyond_the_run_runs_from_a_scene_file_and_the_command_line(re
     assert ds.attrs["complete"] == 1 and ds.attrs["n_restarts"] == 0 and ds.attrs["restart"] == float(restart)
     assert main(["run", "sphere", "--n", "8", "--t-end", "1e-5", "--option", f"restart={restart}", "-o", str(out)]) == 0
     assert read_netcdf(out).attrs["restart"] == float(restart)
+
+
+# -- a new user's findings: what the messages say about rtol, max_step, None and integers ---------------------------
+#: SciPy's least relative tolerance (``scipy.integrate._ivp.common.validate_tol`` raises a smaller one to it)
+SCIPY_FLOOR = float(100 * np.finfo(float).eps)
+
+
+@pytest.mark.parametrize("name", ["scipy-rk45", "scipy-dop853", "scipy-radau", "scipy-bdf"])
+def test_the_scipy_peers_refuse_an_rtol_below_scipys_floor(name):
+    """``--rtol 1e-14`` ran with SciPy's warning passed through: SciPy raised it to 2.22e-14 and the file recorded
+    1e-14. Refused below the floor, stated to 4 digits rounded up (2.221e-14: the least stated value is taken)."""
+    allowed = "[2.221e-14, 1) (SciPy's floor: 100 x machine epsilon)"
+    assert 2.221e-14 >= SCIPY_FLOOR > 2.220e-14
+    for bad in (1e-14, 2.22e-14, SCIPY_FLOOR * (1 - 1e-15)):
+        with pytest.raises(ParameterError) as info:
+            INTEGRATORS[name](rtol=bad)
+        assert str(info.value) == f"rtol = {bad!r} is outside {allowed}"
+    assert INTEGRATORS[name](rtol=2.221e-14).rtol == 2.221e-14
+    with pytest.raises(ParameterError, match=r"^rtol = 1e-14 is outside \[2.221e-14, 1\) \(SciPy's floor"):
+        mol_shell.simulate("sphere", name, n=8, t_end=1e-5, rtol=1e-14, progress=False)  # check_options says the same
+    assert INTEGRATORS["dop853-c"](rtol=1e-14).rtol == 1e-14  # the others take the whole RTOL_RANGE as given
+
+
+def test_scipy_rk45_at_scipys_floor_runs_at_the_rtol_it_records_without_scipys_warning(tmp_path, capsys):
+    out = tmp_path / "x.nc"
+    assert main(["run", "sphere", "--n", "5", "--t-end", "1e-6", "--integrator", "scipy-rk45", "--rtol", "1e-14",
+                 "-o", str(out)]) == 2
+    assert capsys.readouterr().err.strip() == ("mol-shell: error: rtol = 1e-14 is outside [2.221e-14, 1) (SciPy's "
+                                               "floor: 100 x machine epsilon)")
+    assert not out.exists()
+    scene = tmp_path / "s.toml"
+    scene.write_text('scene = "sphere"\n[run]\nintegrator = "scipy-rk45"\nn = 5\nt_end = 1e-6\nrtol = 1e-14\n')
+    assert main(["run", str(scene), "-o", str(out)]) == 2
+    assert capsys.readouterr().err.strip().endswith("s.toml: [run] rtol = 1e-14 is outside [2.221e-14, 1) (SciPy's "
+                                                    "floor: 100 x machine epsilon)")
+    assert main(["run", "sphere", "--n", "5", "--t-end", "1e-6", "--integrator", "scipy-rk45", "--rtol", "2.221e-14",
+                 "-o", str(out)]) == 0
+    assert "rtol" not in capsys.readouterr().err  # SciPy's "rtol is too small" is not passed through
+    ds = read_netcdf(out)
+    assert ds.attrs["complete"] == 1 and ds.attrs["rtol"] == 2.221e-14
+
+
+def test_max_step_0_is_no_bound_on_every_route_and_every_message_says_so(tmp_path, capsys):
+    """``--max-step 0`` was refused as outside (0, inf) s, while the refusal of a too small max_step offered "0
+    (none)", and 0 is the integrators' default (no bound). 0 is taken everywhere; the ranges say what it means."""
+    out, scene = tmp_path / "x.nc", tmp_path / "s.toml"
+    allowed = "[0, inf) s (0: unbounded)"
+    assert declared(INTEGRATORS["cvode-bdf"])["max_step"].allowed == allowed
+    assert main(["run", "sphere", "--n", "5", "--t-end", "1e-6", "--integrator", "cvode-bdf", "--max-step", "0",
+                 "-o", str(out)]) == 0
+    assert read_netcdf(out).attrs["max_step"] == 0.0
+    scene.write_text('scene = "sphere"\n[run]\nintegrator = "dop853-c"\nn = 5\nt_end = 1e-6\nmax_step = 0\n')
+    assert main(["run", str(scene), "-o", str(out)]) == 0
+    assert read_netcdf(out).attrs["max_step"] == 0.0
+    capsys.readouterr()
+    assert main(["run", "sphere", "--n", "5", "--t-end", "1e-6", "--integrator", "cvode-bdf", "--max-step", "-1",
+                 "-o", str(out)]) == 2
+    assert capsys.readouterr().err.strip() == f"mol-shell: error: --max-step = -1 is outside {allowed}"
+    scene.write_text('scene = "sphere"\n[run]\nintegrator = "dop853-c"\nn = 5\nt_end = 1e-6\nmax_step = -1\n')
+    assert main(["run", str(scene), "-o", str(out)]) == 2
+    assert capsys.readouterr().err.strip().endswith(f"[run] max_step = -1 is outside {allowed}")
+    with pytest.raises(ParameterError, match=r"^max_step = -1 is outside \[0, inf\) s \(0: unbounded\)$"):
+        INTEGRATORS["ida"](max_step=-1)
+    # too small for max_steps to reach t_end: the least value, or 0, which the command line takes
+    with pytest.raises(ParameterError, match=r"^max_step = 1e-12 is outside \[1e-07, inf\) s, or 0 \(unbounded\)"):
+        mol_shell.simulate("sphere", "dop853-c", n=5, t_end=1e-6, max_step=1e-12, max_steps=10, progress=False)
+
+
+@pytest.mark.parametrize(("integrator", "option"), [("cvode-bdf", "max_order"), ("sksundae-cvode-adams", "max_order"),
+                                                    ("ida", "max_newton")])
+def test_none_spelt_on_the_command_line_or_in_a_scene_file_is_none(integrator, option, tmp_path, capsys):
+    """``max_order``'s range ends "or None", but ``--option max_order=None`` was refused as the string 'None' (TOML
+    has no null). none or auto, in any case, is None where the option takes None, as scene parameters take them."""
+    out, scene = tmp_path / "x.nc", tmp_path / "s.toml"
+    for word in ("None", "none", "AUTO"):
+        assert main(["run", "sphere", "--n", "5", "--t-end", "1e-6", "--integrator", integrator, "--option",
+                     f"{option}={word}", "-o", str(out)]) == 0, capsys.readouterr().err
+        assert read_netcdf(out).attrs["complete"] == 1
+    scene.write_text(f'scene = "sphere"\n[run]\nintegrator = "{integrator}"\nn = 5\nt_end = 1e-6\n{option} = "none"\n')
+    assert main(["run", str(scene), "-o", str(out)]) == 0, capsys.readouterr().err
+    capsys.readouterr()
+    # a word that is not None's stays refused; so does none where the option does not take None
+    for given in (f"{option}=nothing", "jac_every=none"):
+        assert main(["run", "sphere", "--n", "5", "--t-end", "1e-6", "--integrator", integrator, "--option", given,
+                     "-o", str(out)]) == 2
+        assert capsys.readouterr().err.startswith(f"mol-shell: error: --option {given.split('=')[0]}")
+
+
+def test_a_float_for_an_integer_option_is_said_to_be_no_integer(tmp_path, capsys):
+    """``--option chunk=1e12`` (TOML's float) said "outside integers in [1, 9223372036854775807]", which 10^12 is not
+    outside: it is not an integer. As ``--n 1e12`` says it."""
+    allowed = f"allowed: {INT64_RANGE}"
+    out, scene = tmp_path / "x.nc", tmp_path / "s.toml"
+    for text, said in (("1e12", f"1e12 is not an integer; {allowed} (a float: write it as the integer 1000000000000)"),
+                       ("2.5", f"2.5 is not an integer; {allowed}"),
+                       ("'many'", f"'many' is not an integer; {allowed}")):
+        assert main(["run", "sphere", "--n", "5", "--t-end", "1e-6", "--integrator", "dop853-c", "--option",
+                     f"chunk={text}", "-o", str(out)]) == 2
+        assert capsys.readouterr().err.strip() == f"mol-shell: error: --option chunk = {said}"
+    scene.write_text('scene = "sphere"\n[run]\nintegrator = "dop853-c"\nn = 5\nt_end = 1e-6\nchunk = 1e12\n')
+    assert main(["run", str(scene), "-o", str(out)]) == 2
+    assert capsys.readouterr().err.strip().endswith(f"[run] chunk = 1000000000000.0 is not an integer; {allowed} "
+                                                    "(a float: write it as the integer 1000000000000)")
+    with pytest.raises(ParameterError, match=r"^max_steps = 1000000000000.0 is not an integer; allowed: integers in"):
+        INTEGRATORS["rk45-c"](max_steps=1e12)
+    with pytest.raises(ParameterError, match=r"^jac_every = 50.0 is not an integer; allowed: integers in \[0, "):
+        INTEGRATORS["cvode-bdf"](jac_every=50.0)
+    assert main(["run", "sphere", "--n", "5", "--t-end", "1e-6", "--integrator", "dop853-c", "--option",
+                 "chunk=1000000000000", "-o", str(out)]) == 0  # the integer itself is inside the range
+    assert read_netcdf(out).attrs["chunk"] == 10**12
+    assert not any(tmp_path.glob("*.png"))

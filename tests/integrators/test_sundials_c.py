@@ -263,5 +263,5 @@ def test_a_max_step_that_max_steps_cannot_carry_to_t_end_is_refused_up_front(int
     a million steps of 1e-12 s reach 1e-6 s. Refused before the build, naming max_step and its least value."""
     import mol_shell
 
-    with pytest.raises(ParameterError, match=r"^max_step = 1e-12 is outside \[1e-09, inf\) s, or 0 \(none\)"):
+    with pytest.raises(ParameterError, match=r"^max_step = 1e-12 is outside \[1e-09, inf\) s, or 0 \(unbounded\)"):
         mol_shell.simulate(mol_shell.TwistedCylinder(), integrator, n=8, t_end=1e-3, max_step=1e-12, progress=False)
