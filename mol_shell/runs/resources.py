@@ -293,18 +293,18 @@ def dense_refusal(est, available, source, what="the run"):
     needs = f"{what} needs about {show_bytes(est.memory_bytes)}, of which {show_bytes(est.dense_bytes)} for the "
     fits = f"{show_bytes(available)} available ({source})"
     if est.linsolver == "band":  # scikit-sundae's route: its Jacobian callback fills a full N x N array for a band
-        band = f"band up to n = {max_n:,} here" if max_n >= 3 else "no band solver here"
-        return ParameterError(
-            "linsolver", est.linsolver, f"{{auto, sparse}} at n = {est.n:,} ({band})",
-            hint=f"{needs}full {est.size:,} x {est.size:,} array x 8 bytes that scikit-sundae's route fills for a "
-            f"banded solver's Jacobian, {fits}; the default, auto, is sparse above {DENSE_MAX_STATES:,} unknowns "
-            "there, and cvode-bdf and ida band in C without that array")
-    dense = f"a dense solver up to n = {max_n:,} here" if max_n >= 3 else "no dense solver here"
-    return ParameterError(
-        "linsolver", est.linsolver, f"{{auto, band, sparse}} at n = {est.n:,} ({dense})",
-        hint=f"{needs}dense solver's {est.dense_matrices} {'matrix' if est.dense_matrices == 1 else 'matrices'} of "
-        f"{est.size:,} x {est.size:,} unknowns x 8 bytes, {fits}; the default, auto, is banded or sparse above 100 "
-        "unknowns")
+        allowed, fit, no_fit, default = "{auto, sparse}", "band up to", "no band solver here", (
+            f"sparse above {DENSE_MAX_STATES:,} unknowns there, and cvode-bdf and ida band in C without that array")
+        matrices = (f"full {est.size:,} x {est.size:,} array x 8 bytes that scikit-sundae's route fills for a banded "
+                    "solver's Jacobian")
+    else:
+        allowed, fit, no_fit, default = ("{auto, band, sparse}", "a dense solver up to", "no dense solver here",
+                                         "banded or sparse above 100 unknowns")
+        matrices = (f"dense solver's {est.dense_matrices} {'matrix' if est.dense_matrices == 1 else 'matrices'} of "
+                    f"{est.size:,} x {est.size:,} unknowns x 8 bytes")
+    return ParameterError("linsolver", est.linsolver,
+                          f"{allowed} at n = {est.n:,} ({f'{fit} n = {max_n:,} here' if max_n >= 3 else no_fit})",
+                          hint=f"{needs}{matrices}, {fits}; the default, auto, is {default}")
 
 
 def warn_if_long(est, what="run"):
