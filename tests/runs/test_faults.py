@@ -188,8 +188,10 @@ def test_local_worker_killed_during_a_case_is_run_again():
     thread.join(timeout=1)
     assert killed, "no worker was killed"
     assert (ds.status == "complete").all(), ds.message.values
-    assert any("run 2 times" in m for m in ds.message.values)
-    assert str(killed[0]) not in {w.split(":")[1] for w in ds.worker.values}
+    again = [w for w, m in zip(ds.worker.values.ravel(), ds.message.values.ravel()) if "run 2 times" in m]
+    # the case the killed worker was running came from another process (on a fast machine the worker may have
+    # finished a case before it, recorded under its pid)
+    assert again and str(killed[0]) not in {w.split(":")[1] for w in again}
 
 
 @pytest.mark.timeout(120)
