@@ -105,7 +105,7 @@ class ModelLimits:
         ``None``: the law's energy outside its domain there (a law of one's own with ``log(I1 - 2.9)`` on a compressed
         start). ``law`` names it (``material 'NAME'``, or the wall's ``layers``); ``detail`` gives the cell's energy
         and the mid-surface stretches there, along the meridian and round it. One evaluation of the cell energies,
-        made where the total is not finite (the check of a run's start), never in the stepping."""
+        made where the total is not finite (a check of the run: its start, a saved time), never in the stepping."""
         Q = self.tie(self.unpack(np.asarray(y, dtype=float)))
         with np.errstate(all="ignore"):
             cells = self._cell_observables().map(self.n - 1)(Q[:, :-1], Q[:, 1:], self.cell_data)[0]

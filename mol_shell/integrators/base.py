@@ -72,8 +72,8 @@ class Monitor:
     def _check_law_domain(self, y, t):
         """Raise :class:`ModelLimitError` naming the law and the first cell where its stored energy is not finite
         (:meth:`~mol_shell.discretization.limits.ModelLimits.energy_not_finite`): a start outside the law's domain
-        (a law of one's own with ``log(I1 - 2.9)`` on a compressed start), which the energy's growth called a
-        numerical instability, with no place."""
+        (a law of one's own with ``log(I1 - 2.9)`` on a compressed start, or compressed there by the motion), which the
+        energy's growth called a numerical instability, with no place."""
         found = getattr(self.system, "energy_not_finite", lambda y: None)(y)
         if found is not None:
             law, where, detail = found
@@ -85,8 +85,9 @@ class Monitor:
 
         The energy comes first: an unloaded shell cannot gain energy, so a state whose energy grew
         is a numerical instability (:class:`NumericalInstabilityError`, status ``"unstable"``) even
-        when the blow-up has also carried it past a limit of the model. A start (``t = 0``) whose stored energy is not
-        finite is outside the law's domain, not unstable: :meth:`_check_law_domain` names the law and the cell.
+        when the blow-up has also carried it past a limit of the model. A finite state whose stored energy is not
+        finite is outside the law's domain (at the start, or reached during the run), not unstable:
+        :meth:`_check_law_domain` names the law and the cell.
         """
         if not np.all(np.isfinite(y)):
             bad = np.flatnonzero(~np.isfinite(y))[0]
@@ -94,7 +95,7 @@ class Monitor:
             place = f"s = {self.system.s[bad // self.system.ny]:.6g} m" if bad < self.system.ny * self.system.n else "whole shell"
             raise ModelLimitError(f"non-finite state at t = {t:.9g} s, {place}", t, place)
         out = self._observe(y, t)
-        if t == 0 and not math.isfinite(float(out[2])):  # the start: the law's energy is not finite somewhere
+        if not math.isfinite(float(out[2])):  # a finite state where the law's energy is not finite somewhere
             self._check_law_domain(y, t)
         energy = self._balance(out)
         # the balance is a difference of the energies in play: its error grows with them (with the loads' work

@@ -1,5 +1,6 @@
 """Laws of one's own (mol_shell.Material): a stored energy written by the user runs like a built-in law."""
 
+import math
 import re
 import sys
 import textwrap
@@ -345,3 +346,35 @@ def test_a_start_outside_the_laws_domain_stops_naming_the_law_and_the_cell(tmp_p
     assert message.endswith("s = 0.224399 m (cell centre): nan J in that cell, at the stretches 0.9 along the "
                             "meridian and 0.9 round it, outside the law's domain"), message
     assert "instability" not in message
+
+
+def test_a_motion_that_leaves_the_laws_domain_stops_naming_the_law_the_time_and_the_cell(tmp_path, monkeypatch,
+                                                                                         capsys):
+    """The same law at rest, then a step of external pressure at 1 ms: the motion compresses the sphere until
+    ``I1 = 1 + 2 lambda^2`` (director, equal stretches) reaches 2.9, at ``lambda = sqrt(0.95) = 0.9747``. It stopped
+    there as "numerical instability: the total energy grew to nan J"; it stops as a limit naming the law, the time
+    after the step, and the cell, whose stretches are at that bound."""
+    (tmp_path / "log_domain_motion.py").write_text(textwrap.dedent('''
+        import casadi as ca
+        import mol_shell
+
+        def energy(C, p):
+            J, I1 = ca.sqrt(ca.det(C)), ca.trace(C)
+            return (p["mu"] / 2 * (I1 - 3) - p["mu"] * ca.log(J) + p["lam"] / 2 * ca.log(J) ** 2
+                    + 1e-30 * ca.log(I1 - 2.9))
+
+        log_law = mol_shell.Material("log-domain-motion", energy=energy, parameters={"mu": 3e5, "lam": 5e5},
+                                     thickness="director")
+    '''))
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code = main(["run", "sphere", "--set", "h=0.01", "--set", "material=log_domain_motion:log_law", "--set",
+                 "pressure=-2e5", "--set", "pressure_history=step 0.001", "--n", "8", "--t-end", "0.01",
+                 "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 3, err
+    said = re.search(r"is not finite at t = (\S+) s, s = \S+ m \(cell centre\): nan J in that cell, at the stretches "
+                     r"(\S+) along the meridian and (\S+) round it, outside the law's domain", err)
+    assert said is not None and "instability" not in err, err
+    assert float(said.group(1)) > 0.001
+    for stretch in map(float, said.groups()[1:]):
+        assert abs(stretch - math.sqrt(0.95)) < 0.005, err
