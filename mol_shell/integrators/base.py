@@ -153,8 +153,9 @@ class StepBudget:
     #: the step size may still grow this much before the projection is trusted
     MARGIN = 10.0
 
-    def __init__(self, name, t_end, max_steps):
-        self.name, self.t_end, self.max_steps = name, float(t_end), int(max_steps)
+    def __init__(self, name, t_end, max_steps, tolerance=""):
+        #: ``tolerance``: the run's tolerances as a failure names them (``rtol = 1e-14, atol = 1e-20``), or ""
+        self.name, self.t_end, self.max_steps, self.tolerance = name, float(t_end), int(max_steps), tolerance
         self.steps, self.t_mark = 0, 0.0
 
     def _fail(self, message, t):
@@ -175,4 +176,6 @@ class StepBudget:
         if needed > self.MARGIN * self.max_steps:
             raise self._fail(f"{self.name} would need about {needed:.3g} steps to reach t = {self.t_end:.6g} s at the "
                              f"mean step of its last {self.EVERY} steps ({h:.3g} s), more than max_steps = "
-                             f"{self.max_steps}: the motion is too fast for this horizon (stopped at t = {t:.9g} s)", t)
+                             f"{self.max_steps}: the motion is too fast for this horizon"
+                             + (f" at {self.tolerance} (a looser tolerance or a larger max_steps goes on; stopped at "
+                                if self.tolerance else " (stopped at ") + f"t = {t:.9g} s)", t)

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mol_shell._core.errors import ModelLimitError, is_number
+from mol_shell._core.errors import ModelLimitError
 from mol_shell.integrators import loop
 from mol_shell.integrators.base import StepBudget
 from mol_shell.integrators.loop import integers, option
@@ -131,10 +131,8 @@ class _RungeKuttaStepper:
         self.monitor.check(self.y, t[0])  # the energy (instability) and finiteness, once a chunk
 
     def tolerance(self):
-        """``rtol = 1e-14, atol = 1e-20`` (``atol`` per field where it was given so), as failures name it."""
-        tolerances = self.method.tolerances()
-        atol = tolerances["atol"]
-        return f"rtol = {tolerances['rtol']:g}, atol = " + (f"{atol:g}" if is_number(atol) else "{" + atol + "}")
+        """The method's tolerances as failures name them (:meth:`Tolerances.tolerance_text`)."""
+        return self.method.tolerance_text()
 
     def state(self, target):
         return self.y.copy()

@@ -98,7 +98,7 @@ class _ScipyStepper:
         self.solver = getattr(scipy.integrate, method.solver)(lambda t, y: f(y, t).copy(), 0.0,
                                                                np.array(y0, dtype=float), float(times[-1]), **options)
         self.steps, self.dense = 0, None
-        self.budget = StepBudget(method.name, times[-1], method.max_steps)
+        self.budget = StepBudget(method.name, times[-1], method.max_steps, method.tolerance_text())
 
     @property
     def t(self):

@@ -366,7 +366,7 @@ class _Run:
         if not init.success:
             raise RuntimeError(f"{method.name} could not start: {init.message}")
         self.t, self.n_steps, self.res = 0.0, 0, init
-        self.budget = StepBudget(method.name, times[-1], method.max_steps)
+        self.budget = StepBudget(method.name, times[-1], method.max_steps, method.tolerance_text())
         return self
 
     def advance(self, target):

@@ -89,6 +89,12 @@ class Tolerances:
             f"{name}={float(value):g}" for name, value in zip(FIELDS, self.field_atol()))
         return {"rtol": self.rtol, "atol": atol, "max_step": self.max_step}
 
+    def tolerance_text(self):
+        """``rtol = 1e-14, atol = 1e-20`` (``atol`` per field where it was given so), as failures name it."""
+        tolerances = self.tolerances()
+        atol = tolerances["atol"]
+        return f"rtol = {tolerances['rtol']:g}, atol = " + (f"{atol:g}" if is_number(atol) else "{" + atol + "}")
+
     def field_atol(self):
         """Absolute tolerance per field ``(z, r, chi, theta, psi)``."""
         return field_atol(self.atol)

@@ -103,3 +103,15 @@ def test_a_step_below_round_off_names_the_tolerance():
                                "minimum): rtol = 1e-14, atol = {z=1e-09,r=1e-30,chi=1e-09,theta=1e-09,psi=1e-09} "
                                "cannot be met there in double precision (a looser tolerance goes on), or the "
                                "right-hand side is not finite near this state")
+
+
+def test_the_scipy_peers_step_budget_names_the_tolerance_too():
+    """The same run on ``scipy-rk45`` (its own step budget, every 1,000 steps) said "too fast for this horizon" without
+    the tolerance; it names it now, as the compiled pairs and CVODE do."""
+    with pytest.warns(RuntimeWarning, match="run incomplete"):
+        ds = mol_shell.simulate("twisted-cylinder", "scipy-rk45", n=5, t_end=1e-4, rtol=2.3e-14, atol=1e-40,
+                                progress=False, stresses=False)
+    message = ds.attrs["message"]
+    assert ds.attrs["status"] == "failed" and ds.attrs["n_steps"] == 1000, message
+    assert "too fast for this horizon at rtol = 2.3e-14, atol = 1e-40 (a looser tolerance or a larger max_steps goes "\
+        "on; stopped at t = " in message, message
