@@ -317,12 +317,10 @@ def test_an_energy_that_returns_no_expression_is_refused_in_one_line(returned):
     assert f"returned {type(returned).__name__}, not a CasADi expression" in text
 
 
-def test_a_start_outside_the_laws_domain_stops_naming_the_law_and_the_cell(tmp_path, monkeypatch, capsys):
-    """A law finite near ``C = I`` whose energy is not finite on a compressed start (``log(I1 - 2.9)`` with the
-    director's ``C22 = 1``: ``I1 = 1 + 2 x 0.9^2 = 2.62`` at R = 0.9) has finite forces there, so the start's checks
-    passed; the run stopped at t = 0 as "numerical instability: the total energy grew to nan J", with no place. It
-    stops as a limit (exit 3) naming the law, that its energy is not finite, the first cell and its stretches."""
-    (tmp_path / "log_domain_laws.py").write_text(textwrap.dedent('''
+def _log_domain_law(tmp_path, monkeypatch, module):
+    """A module ``module`` on the path with ``log_law``: neo-Hookean plus ``1e-30 log(I1 - 2.9)``, finite near
+    ``C = I`` and not finite where ``I1 <= 2.9`` (with the director's ``C22 = 1``: equal stretches below sqrt(0.95))."""
+    (tmp_path / f"{module}.py").write_text(textwrap.dedent(f'''
         import casadi as ca
         import mol_shell
 
@@ -331,10 +329,18 @@ def test_a_start_outside_the_laws_domain_stops_naming_the_law_and_the_cell(tmp_p
             return (p["mu"] / 2 * (I1 - 3) - p["mu"] * ca.log(J) + p["lam"] / 2 * ca.log(J) ** 2
                     + 1e-30 * ca.log(I1 - 2.9))
 
-        log_law = mol_shell.Material("log-domain", energy=energy, parameters={"mu": 3e5, "lam": 5e5},
+        log_law = mol_shell.Material("{module}", energy=energy, parameters={{"mu": 3e5, "lam": 5e5}},
                                      thickness="director")
     '''))
     monkeypatch.syspath_prepend(str(tmp_path))
+
+
+def test_a_start_outside_the_laws_domain_stops_naming_the_law_and_the_cell(tmp_path, monkeypatch, capsys):
+    """A law finite near ``C = I`` whose energy is not finite on a compressed start (``log(I1 - 2.9)`` with the
+    director's ``C22 = 1``: ``I1 = 1 + 2 x 0.9^2 = 2.62`` at R = 0.9) has finite forces there, so the start's checks
+    passed; the run stopped at t = 0 as "numerical instability: the total energy grew to nan J", with no place. It
+    stops as a limit (exit 3) naming the law, that its energy is not finite, the first cell and its stretches."""
+    _log_domain_law(tmp_path, monkeypatch, "log_domain_laws")
     code = main(["run", "sphere", "--set", "h=0.01", "--set", "material=log_domain_laws:log_law", "--set", "R=0.9",
                  "--n", "8", "--t-end", "1e-4", "-o", str(tmp_path / "x.nc")])
     err = capsys.readouterr().err
@@ -354,19 +360,7 @@ def test_a_motion_that_leaves_the_laws_domain_stops_naming_the_law_the_time_and_
     ``I1 = 1 + 2 lambda^2`` (director, equal stretches) reaches 2.9, at ``lambda = sqrt(0.95) = 0.9747``. It stopped
     there as "numerical instability: the total energy grew to nan J"; it stops as a limit naming the law, the time
     after the step, and the cell, whose stretches are at that bound."""
-    (tmp_path / "log_domain_motion.py").write_text(textwrap.dedent('''
-        import casadi as ca
-        import mol_shell
-
-        def energy(C, p):
-            J, I1 = ca.sqrt(ca.det(C)), ca.trace(C)
-            return (p["mu"] / 2 * (I1 - 3) - p["mu"] * ca.log(J) + p["lam"] / 2 * ca.log(J) ** 2
-                    + 1e-30 * ca.log(I1 - 2.9))
-
-        log_law = mol_shell.Material("log-domain-motion", energy=energy, parameters={"mu": 3e5, "lam": 5e5},
-                                     thickness="director")
-    '''))
-    monkeypatch.syspath_prepend(str(tmp_path))
+    _log_domain_law(tmp_path, monkeypatch, "log_domain_motion")
     code = main(["run", "sphere", "--set", "h=0.01", "--set", "material=log_domain_motion:log_law", "--set",
                  "pressure=-2e5", "--set", "pressure_history=step 0.001", "--n", "8", "--t-end", "0.01",
                  "-o", str(tmp_path / "x.nc")])
