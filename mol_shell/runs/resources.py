@@ -198,16 +198,16 @@ def output_bytes(n_times, n, stresses=True):
     return (float(n_times) * per_time + 3 * n) * BYTES
 
 
-def solver_bytes(integrator, size, n, dense=0):
+def solver_bytes(integrator, size, n, dense_bytes=0.0):
     """State vectors, and the Jacobian where the integrator keeps one (scikit-sundae hands dense and banded
-    solvers a full N x N array; sparse solvers keep the non-zeros and their LU factors). ``dense``: the N x N
-    matrices a dense linear solver keeps, whatever ``n`` (the integrator's ``dense_matrices(size)``: CVODE's
-    matrix and saved Jacobian, IDA's one matrix, factorised in place)."""
+    solvers a full N x N array; sparse solvers keep the non-zeros and their LU factors). ``dense_bytes``: the N x N
+    matrices a dense linear solver keeps, whatever ``n`` (:func:`dense_matrices`: CVODE's matrix and saved
+    Jacobian, IDA's one matrix, factorised in place), in place of that estimate."""
     vectors = SOLVER_VECTORS.get(integrator, SOLVER_VECTORS_DEFAULT) * size * BYTES
     if integrator == "leapfrog":
         return vectors
-    if dense:
-        return vectors + dense * float(size) * size * BYTES
+    if dense_bytes:
+        return vectors + dense_bytes
     return vectors + (size * size * BYTES if size <= DENSE_MAX_STATES else 40 * size * 12 * 4)
 
 
@@ -231,7 +231,8 @@ def estimate(n, n_times, t_end, integrator="leapfrog", *, fields=5, dt=None, ome
     size = 2 * fields * n
     out = output_bytes(n_times, n)
     dense = dense_matrices(method, size) if integrator != "leapfrog" else 0
-    memory = (out * ASSEMBLY_COPIES + solver_bytes(integrator, size, n, dense) + spectrum_bytes(size)
+    dense_bytes = dense * float(size) * size * BYTES
+    memory = (out * ASSEMBLY_COPIES + solver_bytes(integrator, size, n, dense_bytes) + spectrum_bytes(size)
               + BUILD_BYTES_FIXED + BUILD_BYTES_PER_NODE * n)
     rhs = rhs_seconds if rhs_seconds is not None else RHS_S_PER_NODE * n
     if integrator == "leapfrog" and dt:
@@ -243,8 +244,8 @@ def estimate(n, n_times, t_end, integrator="leapfrog", *, fields=5, dt=None, ome
             if omega_max is not None and math.isfinite(omega_max):
                 steps = max(steps, t_end * omega_max / interval)
     build = BUILD_S_PER_NODE * n
-    return Estimate(n, n_times, size, out, memory, steps, lower, steps * per_step * rhs + build, build,
-                    dense * float(size) * size * BYTES, dense, getattr(method, "linsolver", None))
+    return Estimate(n, n_times, size, out, memory, steps, lower, steps * per_step * rhs + build, build, dense_bytes,
+                    dense, getattr(method, "linsolver", None))
 
 
 def check_memory(est, *, times_name="times", times_value=None, n_name="n", what="the run", kept="saved times",
