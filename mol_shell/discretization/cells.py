@@ -329,11 +329,11 @@ class CellKernels:
     @property
     def turning_limit(self):
         """Whether the runs watch SVK's compressive turning point (:func:`~mol_shell.model.material.svk_turning_limit`):
-        for the SVK laws without fibres (their own kernel), and for a layered wall whose every layer is one (the
-        criterion is the in-plane stretch, whatever the layers' moduli: a layered SVK wall ran past it), unless the
-        scene's ``law_limit`` is off. A wall with a layer of another law is not watched (docs/materials.md)."""
+        for the SVK laws without fibres (their own kernel), and for a layered wall with a layer of one (the criterion
+        is the in-plane stretch of the base surface, which every layer shares, whatever the layers' moduli and the other
+        layers' laws: layered walls ran past it before), unless the scene's ``law_limit`` is off (docs/materials.md)."""
         if self.layer_laws is not None:
-            svk = all(law is SVK_LAW and fibres is None for law, _, fibres in self.layer_laws)
+            svk = any(law is SVK_LAW and fibres is None for law, _, fibres in self.layer_laws)
         else:
             svk = self.law is None and self.fibres is None
         return svk and bool(getattr(self.scene, "law_limit", True))

@@ -143,8 +143,9 @@ class ShellScene:
         the meridian) or an expression of ``s``; each cell integrated through its own ``[-h, h]`` about the
         mid-surface (``zeta1`` must be auto), ``h`` the nominal half-thickness. ``""`` (default): the uniform wall.
     law_limit : bool
-        Stop a run, as a limit of the model, where the law leaves its range: for the SVK laws (without fibres) an
-        in-plane stretch of ``1/sqrt(3)`` in compression, past which their stress turns back
+        Stop a run, as a limit of the model, where the law leaves its range: for the SVK laws (without fibres; a
+        layered wall with a layer of one) an in-plane stretch of ``1/sqrt(3)`` in compression, past which their stress
+        turns back
         (:func:`~mol_shell.model.material.svk_turning_limit`). ``False``: the law as written, without that stop.
     ellipticity_limit : bool
         Stop a run, as a limit of the model, where the shell's equations stop being elliptic in ``s`` (the leading

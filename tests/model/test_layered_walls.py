@@ -1,6 +1,7 @@
 """Layered walls (mol_shell.model.layers): layers through the thickness, each with its law, integrated layer by layer."""
 
 import contextlib
+import re
 import time
 
 import numpy as np
@@ -255,6 +256,28 @@ def test_a_wall_of_svk_layers_stops_where_the_single_svk_wall_does():
     assert "in-plane stretch reached 1/sqrt(3)" in two.attrs["message"] and two.attrs["complete"] == 0
     off = run(layers="0.02 svk-plane-stress nu=0.3", law_limit=False)  # asked not to watch it: runs on
     assert off.attrs["complete"] == 1
+
+
+def test_a_wall_with_an_svk_layer_beside_another_law_stops_at_the_svk_turning_point():
+    """A wall of an SVK layer and a neo-Hookean one ran on past the SVK layer's turning point (only walls whose every
+    layer was SVK were watched), its SVK stress turning back unseen. Such a wall is watched now: the imploding sphere
+    stops, and at the stop's time and cell the wall, run again without the stop, has its smaller in-plane stretch at
+    the turning point 1/sqrt(3) (the hoop stretch there: mid-cell radius over the reference's)."""
+    wall = dict(h=0.01, material="svk-plane-stress", nu=0.3, pressure=-2e5, R=1.0,
+                layers="0.01 svk-plane-stress nu=0.3; 0.01 neo-hookean nu=0.3")
+    with pytest.warns(RuntimeWarning, match="run incomplete"):
+        stopped = mol_shell.simulate(Sphere(**wall), n=9, t_end=0.02, progress=False)
+    message = stopped.attrs["message"]
+    assert "in-plane stretch reached 1/sqrt(3)" in message and stopped.attrs["complete"] == 0
+    t_stop = float(re.search(r"at t = ([0-9.e+-]+) s", message).group(1))
+    s_cell = float(re.search(r"s = ([0-9.e+-]+) m \(cell centre\)", message).group(1))
+    with pytest.warns(mol_shell.MaterialWarning):  # past the stop the wall is let go on
+        free = mol_shell.simulate(Sphere(**wall, law_limit=False), n=9, times=[0.0, t_stop], progress=False)
+    z, r, s = free["z"].values, free["r"].values, free["s"].values
+    cell = int(np.argmin(np.abs((s[1:] + s[:-1]) / 2 - s_cell)))
+    hoop = (r[1, cell] + r[1, cell + 1]) / (r[0, cell] + r[0, cell + 1])
+    meridian = np.hypot(*np.diff(np.stack([z[1], r[1]]))[:, cell]) / np.hypot(*np.diff(np.stack([z[0], r[0]]))[:, cell])
+    assert min(hoop, meridian) == pytest.approx(1 / np.sqrt(3), abs=2e-3)
 
 
 def test_material_parameters_go_to_the_layers_whose_law_has_them():
