@@ -25,7 +25,9 @@ an interrupt some call lost (in the run's set-up) stops at once.
 from __future__ import annotations
 
 import contextlib
+import os
 import signal
+import sys
 import threading
 
 
@@ -120,3 +122,22 @@ def watched(raising=False):
 
 
 __all__ = ["Watch", "held", "watched"]
+
+
+def started_as_command():
+    """Whether this process is the command line (``mol-shell ...`` or ``python -m mol_shell ...``), whose Ctrl-C
+    while the package is still being imported (about a second) exits as it does later: one line and code 130,
+    where a script that imports the package gets its ``KeyboardInterrupt``. ``sys.orig_argv`` holds the ``-m``
+    that ``sys.argv`` has lost while the package is imported."""
+    argv = list(getattr(sys, "orig_argv", []))
+    if "-m" in argv[:-1] and argv[argv.index("-m") + 1].split(".")[0] == "mol_shell":
+        return True
+    return bool(sys.argv) and os.path.basename(sys.argv[0]) in ("mol-shell", "mol-shell.exe")
+
+
+def exit_if_command(exit_code=130):
+    """For a ``KeyboardInterrupt`` caught while the package is imported: the command line's ``mol-shell:
+    interrupted`` and ``exit_code``; anything else returns (the caller raises it again)."""
+    if started_as_command():
+        print("mol-shell: interrupted", file=sys.stderr)
+        raise SystemExit(exit_code)
