@@ -31,7 +31,7 @@ def _run(tmp_path, module, args):
     env = {**os.environ, "INTERRUPT_AT": module,
            "PYTHONPATH": os.pathsep.join([str(tmp_path), *filter(None, [os.environ.get("PYTHONPATH")])])}
     env.pop("PYTHONSTARTUP", None)
-    return subprocess.run([sys.executable, *args], env=env, capture_output=True, text=True, timeout=120)
+    return subprocess.run([sys.executable, *args], env=env, capture_output=True, text=True, timeout=120, check=False)
 
 
 @pytest.mark.parametrize("module", ["mol_shell.scenes.segments", "mol_shell.cli.path"])
