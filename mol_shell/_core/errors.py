@@ -5,7 +5,6 @@ from __future__ import annotations
 import ctypes
 import re
 import reprlib
-import sys
 from collections.abc import Mapping
 
 import numpy as np
@@ -172,12 +171,3 @@ class NumericalInstabilityError(ModelLimitError):
 
     status = "unstable"
 
-
-def wants_progress(progress):
-    """Whether a progress bar is shown: ``progress`` itself (a bool), or for ``None`` whether stderr is a terminal
-    (it is ``None`` under pythonw and some services). Anything else is refused by name."""
-    if progress is None:
-        return sys.stderr is not None and sys.stderr.isatty()
-    if not isinstance(progress, (bool, np.bool_)):
-        raise ParameterError.not_a("progress", progress, "a bool", "True, False, or None (a bar on a terminal)")
-    return bool(progress)

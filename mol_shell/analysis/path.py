@@ -41,7 +41,8 @@ import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, scalar, wants_progress
+from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, scalar
+from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell.analysis.equilibria import EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, no_branch_reason, switch
 from mol_shell.analysis.path_dataset import path_dataset
@@ -324,8 +325,9 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         says why. A path that ends
         before it finds that point says so in ``attrs["message"]``.
     progress : bool, optional
-        A progress line on stderr (tqdm): the steps taken, the load reached, the critical points found; by
-        default only when stderr is a terminal.
+        Progress on stderr: the steps taken, the load reached, the critical points found. ``True`` a bar (tqdm),
+        ``False`` nothing; default (``None``) a bar when stderr is a terminal, else a line every
+        :data:`mol_shell._core.progress.LOG_INTERVAL_S` s of a longer path and a last one at its end.
 
     Returns
     -------
@@ -340,7 +342,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     scene = as_scene(scene)
     start, stop, n, steps, max_steps, ds, branch = map(scalar, (start, stop, n, steps, max_steps, ds, branch))
     check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch)
-    show_bar = wants_progress(progress)  # refused (not a bool) before the set-up's work
+    mode = progress_mode(progress)  # refused (not a bool) before the set-up's work
     clock = time.perf_counter()
     no_switch = None  # why --branch could not switch at the point it names (a limit point)
     origin = None  # on a branch: the critical point it left (state, load, the step after which it did)
@@ -353,11 +355,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
                              "scene's initial state or by continuation from 0", hint=str(exc)) from None
     t = tracer.weigh(q, float(start))
     ds0 = math.sqrt(2.0) / steps if ds is None else min(float(ds), math.sqrt(2.0))  # at most the whole range
-    bar = None
-    if show_bar:  # no total known
-        from tqdm import tqdm  # loaded where a progress line is shown
-
-        bar = tqdm(desc=f"path in {parameter} ({eq.units})", unit=" steps")
+    bar = progress_meter(mode, f"path in {parameter} ({eq.units})", count="{n} steps", unit=" steps")  # no total
     record = PathRecord(eq, tracer, bar, PathFailed)
     record.add(q, float(start), t, 0.0, iterations)
     lam, h, secant = float(start), ds0, None  # secant: the first step's chord, when it had to take one

@@ -22,7 +22,8 @@ class PathRecord:
     """Steps and critical points of a path as it is traced."""
 
     def __init__(self, eq, tracer, bar=None, failed=Exception):
-        #: a tqdm bar told of every step (closed by its ``__del__`` when the path ends by an exception); ``failed``:
+        #: a progress bar or lines (:func:`mol_shell._core.progress.progress_meter`) told of every step (a tqdm bar
+        #: is closed by its ``__del__`` when the path ends by an exception); ``failed``:
         #: the exception the tracer's corrector raises (the path's ``PathFailed``)
         self.eq, self.tracer, self.bar, self.failed = eq, tracer, bar, failed
         self.qs, self.lams, self.tls, self.arcs, self.iterations = [], [], [], [], []

@@ -84,8 +84,8 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
         As for :func:`mol_shell.analysis.path.path`, the same for every case.
     scheduler, workers, output, progress
         As for :func:`mol_shell.runs.study.study` (``output``: the gathered Dataset, and each case's path in
-        ``<output stem>.cases/``, reused by a rerun; ``progress``: a bar of finished paths, by default on a
-        terminal).
+        ``<output stem>.cases/``, reused by a rerun; ``progress``: finished paths, as a study's cases:
+        by default a bar on a terminal, else a line a minute).
 
     Returns
     -------

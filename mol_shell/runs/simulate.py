@@ -10,7 +10,8 @@ import warnings
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: simulate's range)
-from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning, is_number, scalar, wants_progress
+from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning, is_number, scalar
+from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
 from mol_shell.integrators.tolerances import ATOL_RANGE, atol_ok
@@ -159,7 +160,9 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         stability bound ``1 / max |eig J(y0)|``. Adaptive integrators choose their own steps and
         refuse ``dt`` (bound them with ``max_step``).
     progress : bool, optional
-        Progress bar over simulated time; default: only when stderr is a terminal.
+        Progress over simulated time on stderr: ``True`` a bar (tqdm), ``False`` nothing; default (``None``) a bar
+        when stderr is a terminal, else a line every :data:`mol_shell._core.progress.LOG_INTERVAL_S` s of a longer
+        run and a last one at its end.
     stresses : bool, optional
         Resultants and face stresses after the run (:func:`mol_shell.results.stresses.add_stresses`):
         ``None`` (default) up to :data:`mol_shell.results.stresses.MAX_SAMPLES` cell samples x saved times,
@@ -200,7 +203,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     check_options(scene, integrator, options)
     if integrator == "leapfrog":
         options.setdefault("dt", DEFAULT_DT)
-    progress = wants_progress(progress)
+    progress = progress_mode(progress)
     if stresses is not None and not isinstance(stresses, (bool, np.bool_)):
         raise ParameterError.not_a("stresses", stresses, "a bool", "True, False or None (cheap runs only)")
     if isinstance(scene, Unshearable):  # its own formulation: the constrained DAE, or the free shell
@@ -243,7 +246,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
                 f"restart) that is exp({growth * span:.3g}) (viscosity makes the system stiff); allowed: {allowed}")
     resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
                                omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)
-    bar = _progress_bar(times[-1]) if progress else None
+    bar = _progress_bar(progress, times[-1])
     try:
         traj = method.integrate(system, compiled, y0, times, progress=bar)
     finally:
@@ -335,10 +338,9 @@ def _start_stability(scene, system, y0, how):
     return note
 
 
-def _progress_bar(t_end):
-    from tqdm import tqdm
-
-    return tqdm(total=float(t_end), unit="s", unit_scale=False, desc="simulating", bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
+def _progress_bar(mode, t_end):
+    return progress_meter(mode, "simulating", count="t = {n:.4g} of {total:.4g} s", total=float(t_end), unit="s",
+                          unit_scale=False, bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
 
 
 def starting_state(scene, system, n, initial=None, asked=None):

@@ -24,7 +24,8 @@ import warnings
 
 import numpy as np
 
-from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, wants_progress
+from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
+from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
 from mol_shell.model.law_warnings import locking_warnings
@@ -233,7 +234,9 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         Write the combined Dataset here (netCDF: ``.nc``, ``.nc4`` or ``.cdf``) and keep every finished case in
         ``<output stem>.cases/`` so a rerun skips them.
     progress : bool, optional
-        Progress bar over cases; default only when stderr is a terminal.
+        Progress over cases on stderr: ``True`` a bar (tqdm), ``False`` nothing; default (``None``) a bar when
+        stderr is a terminal, else a line every :data:`mol_shell._core.progress.LOG_INTERVAL_S` s of a longer
+        study (the cases done, the last one's status) and a last one at its end.
     **options
         Passed to every run (``dt``, ``rtol``, ``atol``, ...).
 
@@ -314,10 +317,10 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
     ``(pending, reused)``: the tasks that ran and how many finished cases were read back instead.
 
     With ``output``, a case stored by an earlier run (:class:`Store`, keyed by the task) is reused and each case
-    that ends in a status of ``final`` is stored as it finishes, so an interrupted study resumes. A progress bar
-    (tqdm) when ``progress`` (``None``: on a terminal). A case interrupted by Ctrl-C stops the study
-    (``KeyboardInterrupt``, after the workers are shut down); ``client`` is closed unless it is ``scheduler``
-    itself (the user's)."""
+    that ends in a status of ``final`` is stored as it finishes, so an interrupted study resumes. Progress as
+    :func:`mol_shell._core.progress.progress_mode` says (``None``: a bar on a terminal, else a line a minute). A
+    case interrupted by Ctrl-C stops the study (``KeyboardInterrupt``, after the workers are shut down); ``client``
+    is closed unless it is ``scheduler`` itself (the user's)."""
     store = Store(output) if output is not None else None
     pending, reused = [], 0
     for task in tasks:
@@ -332,12 +335,8 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
         warnings.warn(f"{len(store.rejected)} stored case file{'s' * bool(more)} could not be reused and "
                       f"{'run' if more else 'runs'} again ({why}: {where}{f' and {more} more' if more else ''})",
                       UserWarning, stacklevel=3)
-    progress = wants_progress(progress)
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=total, initial=total - len(pending), desc=desc, unit="case")
+    bar = progress_meter(progress_mode(progress), desc, count="{n} of {total} cases", postfix="last case {}",
+                         total=total, initial=total - len(pending), unit="case")
     by_index = {task.index: task for task in pending}
     finished = execute(run, pending, scheduler, workers, client)
     try:
