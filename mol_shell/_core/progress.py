@@ -53,7 +53,7 @@ class ProgressLines:
     ``set_postfix_str`` and ``close``.
 
     A line says ``mol-shell: DESC: COUNT (P %), POSTFIX, E elapsed, about R left``: ``COUNT`` is ``count`` formatted
-    with ``n`` (the progress so far) and ``total``; the percentage and the time left (from the rate since the start,
+    with ``n`` (the progress so far) and ``total``, or ``count(n, total)``; the percentage and the time left (from the rate since the start,
     progress from ``initial`` on) only with a ``total``; ``POSTFIX`` is ``postfix`` formatted with the last
     :meth:`set_postfix_str`'s text. Nothing is written before ``interval`` s have passed; :meth:`close`, once a line
     was written, writes the last one (``..., ended after E``). ``interval`` defaults to :data:`LOG_INTERVAL_S`,
@@ -90,7 +90,7 @@ class ProgressLines:
 
     def text(self, elapsed, final=False):
         """One line's text (no ``mol-shell:`` and no newline) after ``elapsed`` s."""
-        parts = [self.count.format(n=self.n, total=self.total)]
+        parts = [self.count(self.n, self.total) if callable(self.count) else self.count.format(n=self.n, total=self.total)]
         if self.total:
             parts[0] += f" ({100.0 * self.n / self.total:.0f} %)"
         if self.postfix:

@@ -295,6 +295,11 @@ def _closed(tracer, origin, q, lam, arc, record):
     return away < arc and record.farthest > 3.0 * arc
 
 
+def _steps_done(n, total):
+    """A path's progress line's count (a path has no total)."""
+    return f"{n:.0f} step{'s' * (n != 1)}"
+
+
 def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None, progress=None):
     """Follow the equilibria of ``scene`` at rest as the load ``parameter`` goes from ``start`` to ``stop``.
 
@@ -355,7 +360,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
                              "scene's initial state or by continuation from 0", hint=str(exc)) from None
     t = tracer.weigh(q, float(start))
     ds0 = math.sqrt(2.0) / steps if ds is None else min(float(ds), math.sqrt(2.0))  # at most the whole range
-    bar = progress_meter(mode, f"path in {parameter} ({eq.units})", count="{n} steps", unit=" steps")  # no total
+    bar = progress_meter(mode, f"path in {parameter} ({eq.units})", count=_steps_done, unit=" steps")  # no total
     record = PathRecord(eq, tracer, bar, PathFailed)
     record.add(q, float(start), t, 0.0, iterations)
     lam, h, secant = float(start), ds0, None  # secant: the first step's chord, when it had to take one

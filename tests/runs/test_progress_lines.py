@@ -12,6 +12,7 @@ import pytest
 import mol_shell
 from mol_shell._core import progress as progress_module
 from mol_shell._core.progress import ProgressLines, progress_meter, progress_mode
+from mol_shell.analysis.path import _steps_done
 
 
 class Clock:
@@ -86,6 +87,15 @@ def test_a_path_line_has_no_total_hence_no_percentage_nor_time_left():
     meter.close()
     head = "mol-shell: path in pressure (Pa): 17 steps, pressure = -120 Pa, 1 critical"  # 61 s = 1.02 min
     assert lines_of(out) == [f"{head}, 1.02 min elapsed", f"{head}, ended after 1.02 min"]
+
+
+def test_a_path_of_one_step_says_step():
+    """The path's count is a function of the steps: "1 step", as its messages say, not tqdm's "1 steps"."""
+    clock, out = Clock(), io.StringIO()
+    meter = ProgressLines("path in pressure (Pa)", _steps_done, interval=60.0, clock=clock, stream=out)
+    clock.now += 61.0
+    meter.update(1)
+    assert lines_of(out) == ["mol-shell: path in pressure (Pa): 1 step, 1.02 min elapsed"]
 
 
 class Terminal(io.StringIO):
