@@ -146,9 +146,10 @@ def _rigid_deflated(M, w2, phi, cluster, rigid):
     return w2, phi
 
 
-def check_equilibrium(system, y0, scene, asked=None):
+def check_equilibrium(system, y0, scene, asked=None, given=False):
     """Refuse (ParameterError) a state that is moving or out of equilibrium, saying how far and where, and what
-    of the scene (``asked``: as given, ``R`` or ``dilation`` perhaps auto) to change."""
+    of the scene (``asked``: as given, ``R`` or ``dilation`` perhaps auto) to change; ``given``: the state is the
+    caller's fields (``modes(..., initial=...)``), refused by that name (the scene's initial state is not used)."""
     f = np.array(system.rhs_newton(0, y0)).ravel()[: system.ny * system.n].reshape(system.n, system.ny)
     nf = system.nf
     rates, forces = np.abs(f[:, :nf]), np.abs(f[:, nf:])
@@ -164,6 +165,16 @@ def check_equilibrium(system, y0, scene, asked=None):
     if forces.max() > EQUILIBRIUM_TOL * scale:
         i, k = np.unravel_index(int(np.argmax(forces)), forces.shape)
         field = FIELDS[system.active[k]]
+        where = (f"residual force {forces.max():.3g} on {field} at s = {system.s[i]:.4g} m "
+                 f"({forces.max() / scale:.2g} of a unit strain's)")
+        if given:  # a path's step is one; a critical point the path did not locate may not be
+            error = ParameterError("initial", None, "equilibria at rest under the scene's loads",
+                                   hint=f"{where}; a path's step or located critical point is one: "
+                                   "mol_shell.analysis.path_start.path_start",
+                                   message=f"initial (the fields given) is outside equilibria at rest under the "
+                                   f"loads of scene {scene.name!r}")
+            error.residual = where  # for a caller that names where the fields came from (modes --from)
+            raise error
         asked = scene if asked is None else asked
         if getattr(scene, "gamma", 0.0) and "pole" in system.edges:
             fix = "a twist (gamma) is no equilibrium of a shell closed at a pole: gamma = 0"
@@ -175,8 +186,7 @@ def check_equilibrium(system, y0, scene, asked=None):
         else:
             fix = "the modes are taken about an equilibrium at rest"
         raise ParameterError("scene", scene.name, "a scene whose initial state is an equilibrium",
-                             hint=f"residual force {forces.max():.3g} on {field} at s = {system.s[i]:.4g} m "
-                             f"({forces.max() / scale:.2g} of a unit strain's); {fix}")
+                             hint=f"{where}; {fix}")
 
 
 def modes(scene, n=40, count=10, *, initial=None):
@@ -219,7 +229,7 @@ def modes(scene, n=40, count=10, *, initial=None):
     resources.check_analysis(n, kept, f"computing {kept} modes", "modes", fields=len(getattr(scene, "fields", range(5))))
     system, _ = build(scene, n)
     y0, _ = starting_state(scene, system, n, initial, asked=asked)
-    check_equilibrium(system, y0, scene, asked)
+    check_equilibrium(system, y0, scene, asked, given=initial is not None)
     q_idx, Minv, K = _blocks(system, y0)
     size = len(q_idx)
     if size <= DENSE_MAX:

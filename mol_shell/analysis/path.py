@@ -191,19 +191,21 @@ class _Path:
         raise PathFailed("newton", f"Newton did not converge in {max_iter} iterations")
 
     def at_load(self, q, lam, max_iter=LOCATE_NEWTON, tol=LOCATE_TOL):
-        """Newton at fixed ``lambda`` from ``q`` (no damping): ``q``; :class:`PathFailed` when it does not converge."""
+        """Newton at fixed ``lambda`` from ``q`` (no damping): ``q``; :class:`PathFailed` when it does not converge.
+
+        Past the tolerance, up to one more step, kept only when it lowers the residual (:meth:`_polished`): near a
+        critical point ``K`` is nearly singular, and a residual at the tolerance leaves an error along the critical
+        mode of (residual / smallest eigenvalue), which that step removes; at the critical point itself the step
+        amplifies the round-off of a converged state along that mode (a cylinder's trial state at its bifurcation,
+        residual 1e-16 of a unit strain's force, moved 1e-2 m onto a state whose residual was 2e-7) and is dropped."""
         import scipy.sparse.linalg
 
-        done = False
         for _ in range(max_iter):
             F, Fq, _ = self.eq.reduced(q, lam)
             if not np.all(np.isfinite(F)):
                 break
-            if done:
-                return q
-            # one more step after the tolerance: near a critical point K is nearly singular, and a residual at the
-            # tolerance leaves an error along the critical mode of (residual / smallest eigenvalue)
-            done = np.abs(F).max() <= tol * self.f_scale
+            if np.abs(F).max() <= tol * self.f_scale:
+                return self._polished(q, lam, F, Fq, steps=1)
             try:
                 q = q + self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
             except RuntimeError:  # exactly singular

@@ -31,6 +31,9 @@ RANGE_RELATIVE_MIN = 1e-9
 #: the smallest first step ``ds`` (scaled arclength): 100 times the corrector's tolerance (``path.TOL``), below
 #: which its noise turns steps around (``ds = 1e-300`` came back below start)
 DS_MIN = 1e-8
+#: the most ``steps``: the default first step, ``sqrt(2) / steps``, not below :data:`DS_MIN` (``steps = 1e23`` stopped
+#: at a first step of 1.4e-23 whose corrector was noise: "left the predictor's neighbourhood", exit 3)
+STEPS_MAX = int(math.sqrt(2.0) / DS_MIN)
 
 
 def check_range(start, stop):
@@ -68,6 +71,10 @@ def check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=
     for name, value, low in (("n", n, 3), ("steps", steps, 1), ("max_steps", max_steps, 1)):
         if not isinstance(value, (int, np.integer)) or isinstance(value, bool) or value < low:
             raise ParameterError(name, value, f"integers >= {low}")
+    if steps > STEPS_MAX:
+        raise ParameterError("steps", steps, f"integers 1..{STEPS_MAX}", hint=f"the first step, sqrt(2) / steps of the "
+                             f"scaled arclength, at least ds's least, {DS_MIN:g}: smaller ones are below the "
+                             "corrector's noise")
     if ds is not None and not (is_number(ds) and math.isfinite(ds) and ds >= DS_MIN):
         raise ParameterError("ds", ds, f"[{DS_MIN:g}, inf), or None", hint="the first step in the scaled arclength; "
                              "smaller ones are below the corrector's noise")

@@ -9,6 +9,7 @@ import numpy as np
 
 from mol_shell._core.atomic import write_text
 from mol_shell._core.constants import FIELDS
+from mol_shell._core.errors import ParameterError
 from mol_shell.analysis.modes import modes
 from mol_shell.analysis.stability import FULL_SIZES, QUICK_SIZES, default_cases, report
 from mol_shell.analysis.stability import markdown_table as stability_table
@@ -31,7 +32,7 @@ from mol_shell.cli.args import (
     say_stand_ins,
     scene_and_run,
 )
-from mol_shell.cli.path import add_start_options, start_of
+from mol_shell.cli.path import add_start_options, not_an_equilibrium, start_of, unlocated_note
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.runs.building import parse_times
 from mol_shell.views.figures import image_formats
@@ -129,9 +130,18 @@ def cmd_stability(args):
 def cmd_modes(args):
     scene, run, initial, info = start_of(args)
     png = writable_path(args.png or str(args.output).rsplit(".", 1)[0] + ".png", "--png", suffixes=image_formats())
-    ds = modes(scene, n=args.n or run.get("n", 40), count=args.count, initial=initial)
+    try:
+        ds = modes(scene, n=args.n or run.get("n", 40), count=args.count, initial=initial)
+    except ParameterError as exc:
+        if hasattr(exc, "residual") and initial is not None:  # a path's state, named by --point, --set or --from
+            raise not_an_equilibrium(args, exc) from None
+        raise
+    note = unlocated_note(args)
     if info:
-        ds.attrs["initial_state"] = info
+        ds.attrs["initial_state"] = info + ("; not located (point_located = 0): the search's last estimate"
+                                            if note else "")
+    if note:
+        print(f"mol-shell: note: {note}", file=sys.stderr)
     say_stand_ins(scene)
     write_netcdf(ds, args.output)
     plot_modes(ds, png)

@@ -8,7 +8,8 @@ import sys
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.analysis.equilibria import PATH_PARAMETERS
 from mol_shell.analysis.path import path
-from mol_shell.analysis.path_start import is_path, path_start, read_path
+from mol_shell.analysis.path_inputs import STEPS_MAX
+from mol_shell.analysis.path_start import ALLOWED, is_path, path_start, read_path
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
     EXIT_INTERRUPTED,
@@ -56,6 +57,11 @@ def parse_param(text, option="--param"):
     return name, start, stop
 
 
+def not_located(step):
+    """How a point the secant did not close on (``point_located = 0``) is marked: where its estimate lies."""
+    return f"; not located: the search's last estimate, between steps {step} and {step + 1}"
+
+
 def cmd_path(args):
     name, start, stop = parse_param(args.param)
     scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] n is the default of --n
@@ -84,10 +90,11 @@ def cmd_path(args):
     reactions = ds[held].values if name in DISPLACEMENTS and held in ds else [None] * ds.sizes["point"]
     points = "".join(f"\n  {kind} at {name} = {value:.6g} ({family}"
                      + ("" if reaction is None else f"; reaction {reaction:.6g} {ds[held].attrs['units']}")
-                     + f"{past if margin <= 0 else ''})"
-                     for kind, value, family, margin, reaction in zip(
+                     + f"{past if margin <= 0 else ''}{'' if located else not_located(step)})"
+                     for kind, value, family, margin, reaction, located, step in zip(
                          ds.point_kind.values, ds.point_parameter.values, ds.point_family.values,
-                         ds.point_ellipticity_margin.values, reactions))
+                         ds.point_ellipticity_margin.values, reactions, ds.point_located.values,
+                         ds.point_step.values))
     if ds.attrs["status"] in ("failed", "limit", "interrupted"):
         print(f"mol-shell: path stopped: {ds.attrs['message']}; wrote {summary} to {args.output}{points}",
               file=sys.stderr)
@@ -112,7 +119,7 @@ def register_path(sub):
     p.add_argument("--n", type=integer_arg("--n", 3), default=None,
                    help="nodes in s (default: a scene file's [run] n, else 40)")
     p.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
-    p.add_argument("--steps", type=integer_arg("--steps", 1), default=20,
+    p.add_argument("--steps", type=integer_arg("--steps", 1, STEPS_MAX), default=20,
                    help="the first step covers 1/STEPS of the range (default 20; the later ones adapt): more for a "
                    "path whose start the first step overshoots")
     p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=200,
@@ -161,6 +168,50 @@ def start_of(args):
     if args.n is not None and args.n != n:
         raise ParameterError("--n", args.n, f"{{{n}}} with --from (the path's nodes)")
     return with_params(scene, parse_sets(args.set)), {"n": n}, fields, info
+
+
+def _unlocated(args):
+    """``(ds, k)`` when the command starts from a critical point ``k`` the path did not locate (``--point K``,
+    ``point_located = 0``; a file written before that variable: every point located), else ``(None, None)``."""
+    if args.from_path is None or args.point is None:
+        return None, None
+    ds = read_path(args.from_path)
+    located = ds["point_located"].values[args.point] if "point_located" in ds else 1
+    return (None, None) if int(located) else (ds, args.point)
+
+
+def unlocated_note(args):
+    """A note for modes about a critical point the path did not locate (an equilibrium, but not a critical one),
+    else ``""``."""
+    ds, k = _unlocated(args)
+    if ds is None:
+        return ""
+    step = int(ds.point_step.values[k])
+    return (f"critical point {k} was not located (point_located = 0): the modes are about the search's last estimate, "
+            f"an equilibrium at {ds.attrs['parameter']} = {float(ds.point_parameter[k]):.6g} "
+            f"{ds.attrs.get('parameter_units', '')} between steps {step} and {step + 1} whose crossing eigenvalue is "
+            f"{float(ds.point_eigenvalue[k]):.3g} s-2 (0 at a located point; --step {step} or --step {step + 1} for a step's)")
+
+
+def not_an_equilibrium(args, exc):
+    """The refusal of a ``--from`` state that modes found out of equilibrium (``exc``, named ``initial``), named by
+    what chose the state: ``--point`` (a point the path did not locate: its last estimate, from a path written before
+    the search kept only equilibria), ``--set`` (loads moved off the path's), or the file."""
+    residual = exc.residual
+    ds, k = _unlocated(args)
+    if ds is not None:
+        step = int(ds.point_step.values[k])
+        return ParameterError.invalid(
+            "--point", k, f"is a critical point the path did not locate (point_located = 0): its state, the search's "
+            f"last estimate between steps {step} and {step + 1}, is no equilibrium ({residual})",
+            f"a located critical point, or a step: --step {step} or --step {step + 1} (the steps around it)")
+    where = f"step {args.step}" if args.step is not None else f"critical point {args.point}"
+    if args.set:
+        return ParameterError.invalid("--set", " ".join(args.set), f"takes the path's state at {where} out of "
+                                      f"equilibrium ({residual})", "settings that keep the path's loads (the modes "
+                                      "are taken about an equilibrium)")
+    return ParameterError.invalid("--from", args.from_path, f"holds a state at {where} that is no equilibrium under "
+                                  f"its scene ({residual})", ALLOWED)
 
 
 # -- the figure of a path ---------------------------------------------------------------------------------------

@@ -8,6 +8,7 @@ import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import ParameterError, by_interrupt
+from mol_shell.analysis.path_inputs import STEPS_MAX
 from mol_shell.analysis.path_study import path_study
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
@@ -190,7 +191,7 @@ def register_study(subparsers):
     p.add_argument("--path", default=None, metavar="NAME=START:STOP",
                    help="a study of equilibrium paths (mol-shell path) in place of runs: one path per case, their "
                    "critical points gathered (the run options --integrator, --t-end, ... are refused)")
-    p.add_argument("--steps", type=integer_arg("--steps", 1), default=None,
+    p.add_argument("--steps", type=integer_arg("--steps", 1, STEPS_MAX), default=None,
                    help=f"with --path: the first step of each path covers 1/STEPS of the range (default {STEPS})")
     p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=None,
                    help=f"with --path only: each path ends after this many steps (default {MAX_STEPS})")

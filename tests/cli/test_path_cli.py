@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 import xarray as xr
 from reference_cap import cap_params, p_classical
 
-from mol_shell import Sphere, path
+import mol_shell.cli.path as cli_path
+from mol_shell import ParameterError, Sphere, modes, path
+from mol_shell.analysis.path_inputs import DS_MIN, STEPS_MAX
+from mol_shell.analysis.path_start import path_start
 from mol_shell.cli.main import main
 
 N = 21
@@ -300,3 +305,84 @@ def test_the_first_step_is_set_with_steps_as_in_python(tmp_path, capsys):
     assert 0 < loads[40][1] < loads[10][1]  # the first step: a quarter of the range's share
     assert main(["path", "sphere", "--param", "pressure=0:1000", "--steps", "0", "-o", str(tmp_path / "x.nc")]) == 2
     assert capsys.readouterr().err.strip().splitlines()[-1].startswith("mol-shell: error: --steps = 0 is outside")
+
+
+def test_a_point_the_path_did_not_locate_is_marked_in_the_listing(tmp_path, capsys, monkeypatch):
+    """The listing printed a point whose search stopped early (``point_located = 0``) exactly like a located one; it
+    is marked now, with the steps around its estimate, as points past the loss of ellipticity are."""
+    def unlocated(*args, **kwargs):  # the path's first point, as a search that stopped early keeps it
+        ds = path(*args, **kwargs)
+        ds["point_located"][0] = 0
+        return ds
+
+    monkeypatch.setattr(cli_path, "path", unlocated)
+    assert main(["path", "sphere", "--param", f"pressure=0:{-0.7 * p_classical():.6g}", "--n", str(N), *sets(),
+                 "--max-steps", "40", "-o", str(tmp_path / "p.nc")]) == 0
+    ds = xr.open_dataset(tmp_path / "p.nc")
+    step = int(ds.point_step[0])
+    line = capsys.readouterr().out.splitlines()[1]
+    assert line.startswith("  limit at pressure = ") and line.endswith(
+        f"; not located: the search's last estimate, between steps {step} and {step + 1})"), line
+
+
+def _unlocated_copy(cap_file, tmp_path, dr=0.0):
+    """The cap's path file with its critical point marked as not located and its state's r moved by ``dr`` at its
+    middle node (the pole and the clamped edge impose theirs)."""
+    with xr.open_dataset(cap_file) as full:
+        ds = full.load()
+    ds["point_located"][0] = 0
+    ds["point_r"][0, N // 2] = ds["point_r"][0, N // 2] + dr
+    out = tmp_path / "unlocated.nc"
+    ds.to_netcdf(out)
+    return out, int(ds.point_step[0])
+
+
+def test_modes_at_an_unlocated_point_that_is_no_equilibrium_refuse_naming_point(cap_file, tmp_path, capsys):
+    """A point the search did not locate kept its last trial state, which (before the locating Newton checked its
+    last step) could be no equilibrium: ``modes --from --point K`` blamed the scene (``scene = 'axisymmetric' is
+    outside a scene whose initial state is an equilibrium ... R = auto ...``). It names --point and the steps."""
+    bad, step = _unlocated_copy(cap_file, tmp_path, dr=1e-4)
+    assert main(["modes", "--from", str(bad), "--point", "0", "-o", str(tmp_path / "m.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and err.startswith("mol-shell: error: --point = 0 is a critical point the "
+                                                         "path did not locate (point_located = 0)"), err
+    assert "is no equilibrium (residual force " in err and f"--step {step} or --step {step + 1}" in err
+    assert "scene" not in err and "R = auto" not in err
+
+
+def test_modes_at_an_unlocated_point_that_is_an_equilibrium_say_it_was_not_located(cap_file, tmp_path, capsys):
+    unlocated, step = _unlocated_copy(cap_file, tmp_path)
+    out = tmp_path / "m.nc"
+    assert main(["modes", "--from", str(unlocated), "--point", "0", "--count", "2", "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "mol-shell: note: critical point 0 was not located (point_located = 0): the modes are about the " \
+        "search's last estimate" in err and f"--step {step} or --step {step + 1}" in err, err
+    assert "not located" in xr.open_dataset(out).attrs["initial_state"]
+
+
+def test_fields_that_are_no_equilibrium_are_refused_naming_initial(cap_file):
+    """``modes(scene, initial=fields)`` with fields out of equilibrium blamed the scene and suggested R = auto,
+    which the fields given replace."""
+    scene, n, fields, _ = path_start(xr.open_dataset(cap_file), step=2)
+    fields[1, N // 2] += 1e-4  # r at the middle node (the pole and the clamped edge impose theirs)
+    with pytest.raises(ParameterError, match=r"^initial \(the fields given\) is outside equilibria at rest under "
+                       r"the loads of scene 'sphere' \(residual force ") as refused:
+        modes(scene, n=n, count=1, initial=fields)
+    assert refused.value.name == "initial" and "R = auto" not in str(refused.value)
+
+
+def test_more_steps_than_the_smallest_first_step_allows_are_refused(tmp_path, capsys):
+    """``--steps 99999999999999999999999`` took a first step of 1.4e-23 (scaled arclength), below the corrector's
+    noise, and stopped with exit 3 ("left the predictor's neighbourhood"). The first step, sqrt(2) / steps, may not be
+    below the least ``ds`` the path takes (``DS_MIN``)."""
+    assert math.sqrt(2) / STEPS_MAX >= DS_MIN > math.sqrt(2) / (STEPS_MAX + 1)
+    for steps in ("99999999999999999999999", str(STEPS_MAX + 1)):
+        assert main(["path", "sphere", "--param", "pressure=0:100", "--steps", steps, "--max-steps", "3",
+                     "-o", str(tmp_path / "p.nc")]) == 2
+        err = capsys.readouterr().err.strip()
+        assert err == f"mol-shell: error: --steps = {steps} is outside integers in [1, {STEPS_MAX}]", err
+    assert not (tmp_path / "p.nc").exists()
+    with pytest.raises(ParameterError, match=rf"^steps = {STEPS_MAX + 1} is outside integers 1\.\.{STEPS_MAX} "):
+        path(Sphere(), "pressure", 0.0, 100.0, n=8, steps=STEPS_MAX + 1, max_steps=3)
+    ds = path(Sphere(), "pressure", 0.0, 100.0, n=8, steps=STEPS_MAX, max_steps=1, progress=False)
+    assert ds.sizes["step"] == 2
