@@ -15,6 +15,8 @@ import os
 import secrets
 from pathlib import Path
 
+from mol_shell._core.errors import ParameterError, show
+
 #: temporary files are ``.<name>.<pid>.<random>.part`` next to the target
 PART_SUFFIX = ".part"
 
@@ -73,3 +75,39 @@ def write_text(path, text):
     with atomic_path(path) as tmp:
         Path(tmp).write_text(text)
     return Path(path)
+
+
+def same_file(a, b):
+    """Whether paths ``a`` and ``b`` name one existing file (:func:`os.path.samefile`: a symbolic or hard link, or
+    ``./run.nc`` and ``run.nc``, is the file itself); ``False`` when either does not exist."""
+    try:
+        return os.path.samefile(os.path.expanduser(os.fspath(a)), os.path.expanduser(os.fspath(b)))
+    except (OSError, TypeError, ValueError):
+        return False
+
+
+def keep_inputs(inputs, writes, name, value):
+    """Refuse, naming the output ``name = value`` (``-o``), a write over one of the files the work reads: a run's
+    netCDF named ``run.h5`` and exported to ``run.xdmf`` was replaced by the export's HDF5 data, its run lost.
+
+    Parameters
+    ----------
+    inputs : dict
+        ``{label: path}`` of the files read (``FILE``, ``--from``; ``None`` for one not given).
+    writes : iterable of str or os.PathLike
+        The files the work would write: the output and the files written beside it.
+    name, value : str
+        The option (or keyword) that names the output, and its value, as the refusal says them.
+
+    Raises
+    ------
+    ParameterError
+        A file of ``writes`` is one of ``inputs`` (:func:`same_file`).
+    """
+    for path in writes:
+        for label, source in inputs.items():
+            if source is not None and same_file(path, source):
+                whose = "is" if same_file(path, value) else f"would write {Path(path).name} beside it, which is"
+                raise ParameterError.invalid(
+                    name, str(value), f"{whose} the input file {label} = {show(str(source))}: its data would be lost",
+                    f"an output that writes none of the command's input files (give {name} another name)")

@@ -26,6 +26,7 @@ from mol_shell.cli.args import (
     SCENE_HELP,
     SCENE_METAVAR,
     check_companions,
+    check_outputs,
     integer_arg,
     number_arg,
     plural,
@@ -74,7 +75,7 @@ def cmd_compare(args):
     else:
         # t_end checked as run checks it (1e-320 reached the reference runs, which failed at t = 0: exit 3)
         times = PAPER_TIMES if t_end is None else parse_times(None, t_end, intervals=4).tolist()
-    check_companions(args.output, companion_files(args.output))
+    check_companions(args, companion_files(args.output))
     start = time.perf_counter()
     ds = work_precision(scene, names, n=args.n or run.get("n", 40), times=times, repeats=args.repeats)
     png, md = write_outputs(ds, args.output, args.target)
@@ -106,7 +107,7 @@ def register_stability(subparsers):
 def cmd_stability(args):
     scene, run = scene_and_run(args.scene, args.set)
     png, md = companion_files(args.output)  # as compare's: the figure and the table beside the file
-    check_companions(args.output, [png, md])
+    check_companions(args, [png, md])
     ds = report(default_cases(scene, quick=args.quick), bisect=not args.no_bisect)
     ds.attrs["quick"] = int(args.quick)  # what was run: the grid cases left out (--quick) or not
     say_stand_ins(scene)
@@ -130,6 +131,10 @@ def cmd_stability(args):
 def cmd_modes(args):
     scene, run, initial, info = start_of(args)
     png = writable_path(args.png or str(args.output).rsplit(".", 1)[0] + ".png", "--png", suffixes=image_formats())
+    if args.png:  # the figure is not the --from file either
+        check_outputs(args, name="--png", value=png)
+    else:
+        check_outputs(args, [png])
     try:
         ds = modes(scene, n=args.n or run.get("n", 40), count=args.count, initial=initial)
     except ParameterError as exc:

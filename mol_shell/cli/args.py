@@ -14,6 +14,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
+from mol_shell._core.atomic import keep_inputs
 from mol_shell._core.constants import ATOL_MIN, FIELDS
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
@@ -351,10 +352,35 @@ def _as_option(exc, named):
     return ParameterError(f"--option {exc.name}", exc.value, exc.allowed, message=f"--option {exc}")
 
 
-def check_companions(output, paths):
+def input_files(args):
+    """``{label: path}`` of the files a command reads, as its options name them: ``FILE`` (plot, export, animate),
+    ``--from`` (run, modes), a scene file ``SCENE_OR_FILE`` and a meridian's ``--set points=FILE``."""
+    scene = getattr(args, "scene", None)
+    files = {"FILE": getattr(args, "file", None), "--from": getattr(args, "from_path", None),
+             "SCENE_OR_FILE": scene if scene is not None and str(scene).endswith(".toml") else None}
+    for item in getattr(args, "set", None) or []:
+        key, _, value = str(item).partition("=")
+        if key.strip() == "points" and value.strip():
+            files["--set points"] = value.strip()
+    return files
+
+
+def check_outputs(args, paths=(), name="-o", value=None):
+    """Refuse, naming ``-o`` (or ``name = value``), an output or a file written beside it (``paths``) that is one of
+    the command's input files (:func:`input_files`): ``export run.h5 -o run.xdmf`` replaced the run by the export's
+    HDF5 data. Every command checks its ``-o`` so before anything is computed; the files beside it where it knows
+    them."""
+    keep_inputs(input_files(args), [args.output if value is None else value, *paths], name,
+                args.output if value is None else value)
+
+
+def check_companions(args, paths):
     """Refuse, naming ``-o``, a file a command writes beside its output (``.png``, ``.md``, ``.h5``,
-    ``_NNNN.vtu``) where a directory stands: found only after the work, it was an internal error."""
+    ``_NNNN.vtu``) where a directory stands (found only after the work, it was an internal error), or that is one
+    of the command's input files (:func:`check_outputs`)."""
+    output = args.output
     for path in paths:
         if os.path.isdir(path):
             raise ParameterError.invalid("-o", str(output), f"writes {path} beside it, where a directory stands",
                                          "an output whose companion files can be written (move that directory away)")
+    check_outputs(args, paths)

@@ -3,7 +3,8 @@
 Errors in the user's input print one line naming the parameter and its allowed
 range, and exit with code 2 (no traceback); they are found before anything is
 computed where they can be. ``-o FILE`` of every subcommand is checked first: missing
-directories are created, and a place that cannot be written is refused. A run that
+directories are created, and a place that cannot be written, or a file the command reads (``FILE``, ``--from``),
+is refused. A run that
 stops at a model limit writes what it computed and exits with code 3; one interrupted by
 Ctrl-C writes what it computed too and exits with code 130. Output cut short by its reader
 (``mol-shell scenes | head -1``) ends quietly with code 141; output that cannot be written (``> /dev/full``) is
@@ -37,6 +38,7 @@ from mol_shell.cli.args import (
     SCENE_HELP,
     SCENE_METAVAR,
     Parser,
+    check_outputs,
     choice_arg,
     integer_arg,
     max_step_arg,
@@ -332,6 +334,7 @@ def _command(argv):
             if getattr(args, "output", None) is not None:  # every subcommand: before anything is computed
                 suffixes = getattr(args, "output_suffixes", None)
                 writable_path(args.output, "-o", suffixes=suffixes() if callable(suffixes) else suffixes, created=created)
+                check_outputs(args)  # not over the command's input (the files beside it: where the command knows them)
             code = args.func(args)
             sys.stdout.flush()  # here, where a reader that has gone (| head -1) can be told from a bug
             return code

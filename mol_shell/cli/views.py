@@ -54,7 +54,7 @@ def register_export(subparsers):
 
 def cmd_export(args):
     ds = read_drawable(args.file)
-    check_companions(args.output, companion_files(args.output, ds.sizes["time"]))
+    check_companions(args, companion_files(args.output, ds.sizes["time"]))
     with said_as_options():
         files = export(ds, args.output, args.n_phi, args.faces)
     extra = f" (+ {plural(len(files) - 1, 'file')})"

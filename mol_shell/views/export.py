@@ -29,7 +29,7 @@ from xml.etree import ElementTree as ET
 
 import numpy as np
 
-from mol_shell._core.atomic import fsync_path, temporary_name
+from mol_shell._core.atomic import fsync_path, keep_inputs, temporary_name
 from mol_shell._core.errors import ParameterError
 from mol_shell.results.dataset import writable_path
 from mol_shell.views.fields import (
@@ -179,6 +179,7 @@ def export(ds, path, n_phi=N_PHI, faces=False):
         A run (with or without stresses), or the path of its netCDF file.
     path : str or os.PathLike
         ``.xdmf`` (plus ``<stem>.h5``) or ``.pvd`` (plus ``<stem>_NNNN.vtu``); missing directories are created.
+        None of these files may be the run's own file (``ds`` a path, or a Dataset read from one).
     n_phi : int
         Azimuthal samples, in [3, :data:`N_PHI_MAX`].
     faces : bool
@@ -191,12 +192,15 @@ def export(ds, path, n_phi=N_PHI, faces=False):
     """
     if not (isinstance(n_phi, (int, np.integer)) and not isinstance(n_phi, bool) and 3 <= n_phi <= N_PHI_MAX):
         raise ParameterError("n_phi", n_phi, f"integers in [3, {N_PHI_MAX}]")
+    source = ds if isinstance(ds, (str, os.PathLike)) else getattr(ds, "encoding", {}).get("source")
     ds = run_of(ds)
     path = writable_path(path, "path", suffixes=FORMATS)  # before the work: its missing directories created
     for companion in companion_files(path, ds.sizes["time"]):
         if companion.is_dir():
             raise ParameterError.invalid("path", str(path), f"would write {companion.name} where a directory stands",
                                          "a path whose companion files can be written")
+    # netCDF4 files are HDF5: a run named run.h5 was replaced by the HDF5 data of run.xdmf
+    keep_inputs({"ds": source}, [path, *companion_files(path, ds.sizes["time"])], "path", path)
     suffix = path.suffix.lower().lstrip(".")
     cells, reference, steps = mesh_series(ds, n_phi, faces)
     writer = write_xdmf if suffix == "xdmf" else write_pvd
