@@ -9,8 +9,12 @@ its tangent, so the tangent is continuous and the curvature ``theta0_s`` jumps a
                                           r0 = r_a + (cos theta_a - cos theta0) / k,   z0 = z_a + (sin theta0 - sin theta_a) / k;
     line:                                 r0 = r_a + sin(theta_a) (s - s_a),            z0 = z_a + cos(theta_a) (s - s_a).
 
-The vessel scene starts at the bottom pole heading outward (``theta = pi/2``), so the director ``d0`` is the
-outward normal everywhere (``-k`` at the bottom pole, as the sphere's). A torispherical head is a crown arc of radius ``Rc`` turning by ``phi1`` and a knuckle of radius ``rk``
+The vessel scene starts at the bottom pole heading outward (``theta = pi/2``), so the director ``d0`` (the tangent
+turned +90 degrees in the ``(z, r)`` plane) is the outward normal everywhere (``-k`` at the bottom pole, as the
+sphere's) for a meridian that goes up from it: the heads' arcs turn by negative angles. Segments that turn it down
+instead (``arc 1 90, line 2, arc 1 90``) would run from the top pole with the director into the vessel, its faces'
+"inner" and "outer" swapped: such a meridian (enclosing a negative volume: :func:`goes_down`) is run mirrored in ``z``,
+every angle's sign reversed (:func:`upward`), the same vessel drawn up from its bottom pole. A torispherical head is a crown arc of radius ``Rc`` turning by ``phi1`` and a knuckle of radius ``rk``
 turning by ``pi/2 - phi1``, with ``sin(phi1) = (a - rk) / (Rc - rk)`` so that the knuckle ends on the cylinder
 ``r = a`` (``Rc sin(phi1) + rk (1 - sin(phi1)) = a``); ``Rc = a`` is the hemispherical head, one arc ``(a, -pi/2)``.
 """
@@ -83,6 +87,29 @@ class SegmentedMeridian(Meridian):
         return f"SegmentedMeridian({parts}; length {self.length:.6g} m)"
 
 
+def goes_down(meridian):
+    """Whether ``meridian`` encloses a negative volume ``pi int r0^2 dz0`` with the axis (and the plane ``z = z0(L)``
+    of its end, when that is off the axis): it goes down from its first pole, its director pointing into that
+    volume. The integral in units of the length (no overflow at any scale), by Gauss-Legendre with 16 points a
+    segment: exact to round-off on lines and arcs; a flat disc (``0``) does not go down."""
+    x, w = np.polynomial.legendre.leggauss(16)
+    scale, total = meridian.length, 0.0
+    for s0, length, *_ in meridian._rows:
+        r, _, theta, _ = meridian.at(s0 + length * (x + 1) / 2)
+        total += length / scale / 2 * float(np.sum(w * (r / scale) ** 2 * np.cos(theta)))
+    return total < -1e-12
+
+
+def upward(meridian):
+    """``meridian``, or, when it goes down from its first pole (:func:`goes_down`: its director would point into the
+    volume it encloses), its mirror image in ``z``: every arc's angle negated, the same shell drawn up from its
+    bottom pole with the director out of it."""
+    if not goes_down(meridian):
+        return meridian
+    return SegmentedMeridian(tuple((*seg[:2], -seg[2]) if seg[0] == "arc" else seg for seg in meridian.segments),
+                             meridian.start)
+
+
 def head(a, crown, knuckle):
     """The segments of a torispherical head from its pole to the cylinder ``r = a``: a crown arc (radius ``crown``)
     and a knuckle (radius ``knuckle``); ``crown = a`` is the hemisphere (the knuckle then turns by 0 and is left out)."""
@@ -142,7 +169,10 @@ class Vessel(_Dilated):
     the bottom pole given as ``segments`` (``"arc R DEG, line L, ..."``, degrees; it overrides the others).
 
     The meridian starts at the bottom pole heading outward (director outward), so an equatorial closed shell has
-    two poles.
+    two poles. Segments that turn it down from there (positive angles: ``"arc 1 90, line 2, arc 1 90"``) are run
+    mirrored in ``z``, as the same segments with negative angles, so that the director points out of the vessel and
+    the stresses' "inner" face is the one toward the enclosed volume whatever the angles' sign (the command line
+    says so in a note).
 
     Parameters
     ----------
@@ -202,6 +232,17 @@ class Vessel(_Dilated):
         if self.segments.strip():
             check_segmented(self.segments, mer)
 
+    def stand_ins(self):
+        """A note when ``segments`` turn the meridian down from its first pole and it runs mirrored (:func:`upward`)."""
+        if not self.segments.strip():
+            return []
+        given = SegmentedMeridian(tuple(parse_segments(self.segments)))
+        if upward(given) is given:
+            return []
+        return [(f"segments = {self.segments!r} turn the meridian down from its first pole (its director into the "
+                 "vessel): run mirrored in z, every angle's sign reversed, up from the bottom pole with the director "
+                 "outward, so that the inner face is the one toward the enclosed volume")]
+
     def _heads(self):
         """The heads' crown and knuckle radii, the defaults (``2a``, ``0.2a``) for those left to the code."""
         return (2 * self.a if self.crown is None else self.crown,
@@ -216,7 +257,7 @@ class Vessel(_Dilated):
 
     def meridian(self):
         if self.segments.strip():
-            return SegmentedMeridian(tuple(parse_segments(self.segments)))
+            return upward(SegmentedMeridian(tuple(parse_segments(self.segments))))
         crown, knuckle = self._heads()
         bottom = head(self.a, crown, knuckle)
         middle = [("line", self.Lc)] if self.Lc > 0 else []
