@@ -88,14 +88,28 @@ def cmd_run(args):
               file=sys.stderr)
         return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {plural(ds.sizes['time'], 'time')} x {ds.sizes['s']} nodes, "
-          f"{plural(int(ds.attrs['n_steps']), 'step')} in {ds.attrs['wall_time_s']:.3g} s"
-          + (f", R = {ds.attrs['R']:.10g} m" if isinstance(ds.attrs.get("R"), (int, float, np.number)) else "")
-          + (" (the start: the static equilibrium found from it)"
-             if "R" in ds.attrs and str(ds.attrs.get("initial_state", "")).startswith("static") else ""))
+          f"{plural(int(ds.attrs['n_steps']), 'step')} in {ds.attrs['wall_time_s']:.3g} s" + radius_said(ds, info))
+    if ds.attrs.get("initial_data_note"):
+        print(f"mol-shell: note: {ds.attrs['initial_data_note']}", file=sys.stderr)
     if str(ds.attrs.get("stresses", "")).startswith("skipped"):
         why = str(ds.attrs["stresses"])
         print(f"stresses {why}" + (" (or run with --stresses)" if "exceed the limit" in why else ""))
     return 0
+
+
+def radius_said(ds, given=None):
+    """``, R = ... m`` of a run's summary: with what the start is where the code computed it (the static equilibrium
+    under the loads) or a start was ``given`` (a path's state): ``R`` is then the start's radius, its mean where
+    ``r(t = 0)`` is not one number."""
+    R = ds.attrs.get("R")
+    if not isinstance(R, (int, float, np.number)):
+        return ""
+    how = given or ("the static equilibrium under the loads"
+                    if str(ds.attrs.get("initial_state", "")).startswith("static") else "")
+    if not how or "R_requested" not in ds.attrs:
+        return f", R = {R:.10g} m"
+    r0 = ds.r.isel(time=0).values
+    return f", R = {R:.10g} m (the start's {'radius' if np.all(r0 == r0[0]) else 'mean radius'}: {how})"
 
 
 #: what ``plot`` reads, as its refusal of another file says

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from pathlib import Path
 
@@ -10,11 +11,12 @@ import xarray as xr
 
 from mol_shell._core import interrupts
 from mol_shell._core.atomic import atomic_path
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.model.edges import IMPOSED
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import attr_value, coordinates, header, variables
 from mol_shell.scenes import UNITS
+from mol_shell.scenes.base import mean_over
 
 FIELD_META = {
     "z": ("m", "axial position of the base surface"),
@@ -29,15 +31,19 @@ TIME_COMMENT = ("model time in seconds from the start of the run, without a cale
                 "readers keep it as numbers, not dates); see docs/netcdf.md")
 
 
-def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=None):
+def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=None, given=None):
     """Every parameter of ``scene`` as the run used it, each with its ``units_NAME``, for a Dataset's attrs.
 
     A parameter left to the code (``None``, "auto": the edges, ``zeta1``, a vessel's ``crown`` and ``knuckle``,
     ``R`` or ``dilation``) is stored as the value used (the edge kinds ``edges`` chosen, the number ``zeta1``, the
     scene's :meth:`~mol_shell.scenes.ShellScene.geometry_values`, and what the scene's
     :meth:`~mol_shell.scenes.ShellScene.auto_values` says of the nodal ``(z, r)`` of ``initial`` against
-    ``reference``) with ``NAME_requested = "auto"`` beside it. ``requested``: the parameters as asked, when
+    ``reference``: the start's radius or scale, a static equilibrium found from a cylinder's computed ``R``
+    included) with ``NAME_requested = "auto"`` beside it. ``requested``: the parameters as asked, when
     ``scene`` had some of them computed before (``R`` of a cylinder: :func:`mol_shell.runs.checks.resolve`).
+    ``given``: the initial data a start given as fields has in place of the scene's (:func:`given_values`; ``R``
+    and ``dilation`` the start's, by ``auto_values``), each stored as the start has it, with the scene's value in
+    ``NAME_requested`` (and its ``units_NAME_requested``) beside it where they differ.
     """
     used = scene.params()
     asked = dict(used if requested is None else requested)
@@ -46,17 +52,83 @@ def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=Non
         used["zeta1"] = float(zeta1)
     used.update(scene.geometry_values())
     if initial is not None:
-        used.update(scene.auto_values(initial, reference))
+        used.update(_as_computed(scene, asked, given is not None).auto_values(initial, reference))
+    used.update(given or {})
     meta = {}
     for name, value in used.items():
         meta[name] = value
         meta[f"units_{name}"] = UNITS.get(name, "1")
-        if asked.get(name, value) is None and value is not None:
+        wanted = asked.get(name, value)
+        if wanted is None and value is not None:
             meta[f"{name}_requested"] = "auto"
+        elif name in getattr(scene, "initial", ()) and value is not None and wanted != value:
+            if _differ(wanted, value):  # initial data the start does not have (given as fields)
+                meta[f"{name}_requested"] = wanted
+                meta[f"units_{name}_requested"] = meta[f"units_{name}"]
+            else:  # the same to round-off (a mean psi of 1e-161 rad): as asked
+                meta[name] = wanted
     return meta
 
 
-def build_dataset(system, scene, traj, velocities, totals, attrs, requested=None):
+#: initial data that :meth:`~mol_shell.scenes.ShellScene.auto_values` gives as the start has it
+STARTING_SIZE = ("R", "dilation")
+
+
+def _as_computed(scene, asked, given=False):
+    """``scene`` with ``R``/``dilation`` left to the code again where they were asked so and computed before (a
+    cylinder's ``R``: :func:`mol_shell.runs.checks.resolve`) or, ``given``, where a start given as fields stands in
+    for them: its ``auto_values`` then give them as the start has them."""
+    names = [k for k in STARTING_SIZE if k in getattr(scene, "initial", ()) and getattr(scene, k, None) is not None
+             and (given or asked.get(k, 0.0) is None)]
+    return dataclasses.replace(scene, **dict.fromkeys(names)) if names else scene
+
+
+def _differ(wanted, value):
+    """Whether an initial-data parameter as asked and as the start has it differ: by more than 1e-12 of it and 1e-12
+    in SI units (a start given as the scene's own fields, read back by a fit, and a mean shear angle of 1e-161 rad
+    from a solve are the same)."""
+    try:
+        return not np.isclose(float(wanted), float(value), rtol=1e-12, atol=1e-12)
+    except (TypeError, ValueError):
+        return wanted != value
+
+
+def given_values(scene, start, s, r0):
+    """``{name: value}``: the scene's initial data ``gamma``, ``psi0`` and ``omega`` as a start given as fields
+    (``start``: ``z, r, chi, theta, psi`` at the nodes ``s``, at rest: a path's step) has them, in place of the
+    scene's: its twist (the least-squares slope of ``chi`` over the nodes off the axis, ``r0 > 0``: a pole's ``chi``
+    is tied), its mean shear angle, and 0 (at rest). ``R`` and ``dilation``: :func:`scene_attrs` (``auto_values``)."""
+    names = getattr(scene, "initial", ())
+    out = {}
+    if "gamma" in names:
+        off = np.asarray(r0) > 0
+        x, chi = np.asarray(s, dtype=float)[off], np.asarray(start[2], dtype=float)[off]
+        dx = x - x.mean()
+        out["gamma"] = float(np.sum(dx * (chi - chi.mean())) / np.sum(dx * dx)) if x.size > 1 else 0.0
+    if "psi0" in names:
+        out["psi0"] = mean_over(start[4], s)
+    if "omega" in names:
+        out["omega"] = 0.0
+    return out
+
+
+def given_note(meta):
+    """One sentence naming the initial data a start given as fields stands in for (``NAME_requested`` a number
+    beside ``NAME`` in ``meta``), or ``""``."""
+    def shown(name, value):
+        unit = meta.get(f"units_{name}", "1")
+        return f"{value:.6g}" + ("" if unit == "1" else f" {unit}")
+
+    names = [k.removesuffix("_requested") for k in meta if k.endswith("_requested") and is_number(meta[k])]
+    said = [f"{name} = {shown(name, meta[name])} (the scene's {shown(name, meta[f'{name}_requested'])})"
+            for name in names if is_number(meta.get(name))]
+    if not said:
+        return ""
+    return ("the start given as fields (at rest) stands in for the scene's initial data: the file holds it as used, "
+            "the scene's values beside it as NAME_requested: " + ", ".join(said))
+
+
+def build_dataset(system, scene, traj, velocities, totals, attrs, requested=None, given=False):
     """Assemble the Dataset of one run.
 
     Parameters
@@ -75,6 +147,9 @@ def build_dataset(system, scene, traj, velocities, totals, attrs, requested=None
         Integrator name and settings, graph statistics and the like.
     requested : dict, optional
         The scene's parameters as asked, before ``R`` was computed (see :func:`scene_attrs`).
+    given : bool
+        Whether the run started from fields given in place of the scene's initial data (a path's step): those are
+        stored as the start has them (:func:`given_values`), with ``initial_data_note`` saying so.
     """
     fields = system.unpack(traj.y)
     data = {}
@@ -157,8 +232,12 @@ def build_dataset(system, scene, traj, velocities, totals, attrs, requested=None
         "meridian": system.meridian.describe(),
         "meridian_length": system.L,
     }
+    start = given_values(scene, fields[0], system.s, system.reference[1]) if given else None
     meta.update(scene_attrs(scene, system.edges, system.thickness.zeta1, fields[0, :2], system.reference[:2],
-                            requested))
+                            requested, start))
+    note = given_note(meta)
+    if note:
+        meta["initial_data_note"] = note
     meta.update(traj.stats)
     meta.update(attrs)
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs=with_units(meta))

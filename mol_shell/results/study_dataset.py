@@ -76,8 +76,9 @@ LONG_NAMES = {
     "ellipticity_lost_position": "arc length where the shell's equations first lost ellipticity (NaN: none)",
     "ellipticity_checked_every": "saved times between checks of ellipticity",
     "stresses": "whether the stresses are included",
-    "R": "the scene's R as used (computed where R was left to the code); a start from the static equilibrium "
-         "under loads (initial_state) is found from it, and its r(t = 0) differs",
+    "R": "the radius the case starts at (computed where R was left to the code: r(t = 0) of a uniform start, the "
+         "static equilibrium under loads included, else the start's mean radius)",
+    "initial_data_note": "what a start given as fields stands in for of the scene's initial data ('': none)",
     "branch_point": "step of the path's branch point (-1: none)",
     "n_rejected": "rejected steps of the integrator",
     "rhs_instructions": "instructions of the right-hand side's graph (CasADi SX)",

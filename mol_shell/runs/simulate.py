@@ -173,7 +173,9 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         serially whatever it says. Results do not depend on it (each cell is one thread's work).
     initial : array_like, optional
         Fields ``z, r, chi, theta, psi`` at the nodes, ``(5, n)``: the run starts from them at rest in place of the
-        scene's initial data (e.g. a path's step, :func:`mol_shell.analysis.path_start.path_start`).
+        scene's initial data (e.g. a path's step, :func:`mol_shell.analysis.path_start.path_start`); the file
+        records that data as the start has it (``omega = 0``, ``gamma`` its twist, ...), the scene's value in
+        ``NAME_requested`` beside it where they differ, and ``initial_data_note`` says so.
     **options
         Passed to the integrator's dataclass (e.g. ``rtol`` in ``RTOL_RANGE``, ``atol``, ``max_step``);
         an option the integrator does not take is refused by name.
@@ -183,7 +185,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     xarray.Dataset
         Dims ``time`` and ``s``; fields, rates, energies, angular momentum and
         ``delta_min``; every scene parameter as used (``R``, ``dilation``, ``zeta1`` as numbers, ``end1``,
-        ``end2`` as the edge kinds chosen; ``NAME_requested = "auto"`` beside one left to the code) and the
+        ``end2`` as the edge kinds chosen; ``R`` the start's radius, ``r(t = 0)`` of a uniform cylinder, the static
+        equilibrium under loads included; ``NAME_requested = "auto"`` beside one left to the code) and the
         run's statistics in attrs. If the run hit a model limit or was interrupted, the
         Dataset holds what was computed and ``attrs["complete"] == 0``.
 
@@ -269,7 +272,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     })
     if stability_note:
         attrs["stability_warning"] = stability_note
-    ds = _scene_warnings(scene, build_dataset(system, scene, traj, velocities, totals, attrs, requested))
+    ds = build_dataset(system, scene, traj, velocities, totals, attrs, requested, given=initial is not None)
+    ds = _scene_warnings(scene, ds)
     ds = check_ellipticity(system, ds)
     if stresses is not False:
         ds = add_stresses(ds, limit=None if stresses else MAX_SAMPLES)
@@ -362,6 +366,8 @@ def starting_state(scene, system, n, initial=None, asked=None):
         return y0, "as given by the scene's parameters"
     # a twist asked for (gamma) is initial data, kept while the other fields come to rest under the loads
     y, how = static_equilibrium(scene, n, y0, hold=(2,) if getattr(scene, "gamma", 0.0) else ())
+    if radial and np.any(system.unpack(y)[1] != scene.R):  # the solve began at the radial equilibrium, and moved
+        how += f", found from the radial equilibrium at r = {scene.R:.10g} m"  # (attrs' R: the start's radius)
     if not np.any(system.initial_rates(scene)):
         return y, how
     return system.moving(y, scene), how + "; then set moving at the scene's initial rates (omega, driven edges)"

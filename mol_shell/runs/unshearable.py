@@ -80,7 +80,9 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         constraint defects, per time) and, constrained, ``lambda_chi`` on cells ``(time,
         s_cell)`` and ``lambda_psi`` on nodes ``(time, s)``.
     """
-    scene = resolve(as_scene(scene) if isinstance(scene, str) else scene)  # a registered name, as simulate takes
+    scene = as_scene(scene) if isinstance(scene, str) else scene  # a registered name, as simulate takes
+    requested = scene.params() if isinstance(scene, Unshearable) else None  # R = auto: R_requested beside R
+    scene = resolve(scene)
     if not isinstance(scene, Unshearable):
         raise ParameterError("scene", getattr(scene, "name", scene), "{unshearable} (a mol_shell.Unshearable)")
     times = parse_times(times, t_end)
@@ -113,7 +115,7 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
                 attrs["reaction_torque_note"] = ("not computed for the constrained DAE: the held chi's support "
                                                  "shares the torque with the constraint chi_s = 0 (lambda_chi)")
 
-    ds = build_dataset(shell, scene, traj, velocities, totals, attrs)
+    ds = build_dataset(shell, scene, traj, velocities, totals, attrs, requested)
     ds.attrs["title"] = f"mol_shell run of scene unshearable ({'constrained DAE' if constrained else 'free shell'})"
     return _add_defects(ds, shell, multipliers)
 

@@ -84,6 +84,15 @@ def fitted_scale(initial, reference):
     return float(np.sum(z * z0 + r * r0) / np.sum(z0 * z0 + r0 * r0))
 
 
+def mean_over(values, coordinate):
+    """The mean of nodal ``values`` over the meridian (trapezoidal in ``coordinate``, the nodes' ``s`` or ``z``):
+    exactly their value where they are all one (a uniform start)."""
+    v, x = np.asarray(values, dtype=float), np.asarray(coordinate, dtype=float)
+    if np.all(v == v[0]) or x[-1] == x[0]:
+        return float(v[0])
+    return float(np.trapezoid(v, x) / (x[-1] - x[0]))
+
+
 def zeta1_used(h, zeta1=None, a=1.0):
     """The lower face of a cylinder's thickness interval as the model uses it (``zeta1``, or the centroidal offset)."""
     return centroidal_offset(h, a) if zeta1 is None else zeta1

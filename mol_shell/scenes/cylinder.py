@@ -12,7 +12,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, finite, positive
 from mol_shell.model.geometry import CylinderMeridian
 from mol_shell.model.thickness_profile import table_points, thickness_function
-from mol_shell.scenes.base import ShellScene, _check, zeta1_used
+from mol_shell.scenes.base import ShellScene, _check, mean_over, zeta1_used
 
 
 def check_radius(R, h, zeta1=None, hint="", a=1.0):
@@ -61,6 +61,12 @@ class CylinderScene(ShellScene):
             raise ParameterError("R", None, "a radius in m for the initial fields",
                                  hint="R = auto is computed by mol_shell.runs.checks.resolve(scene), as simulate does")
         return self.R
+
+    def auto_values(self, initial, reference):
+        """``R`` = auto: the radius the run starts at, ``r(t = 0)`` where the start is uniform (the radial
+        equilibrium of the twisted cylinder, or the static equilibrium under loads found from it, whose twist the
+        loads may change: one fibre family), else its mean over the length (edges that hold the radius)."""
+        return {"R": mean_over(initial[1], reference[0])} if self.R is None else {}
 
     def _validate(self):
         _check("L", self.L, positive("m"))
