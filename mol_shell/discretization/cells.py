@@ -19,8 +19,13 @@ import numpy as np
 from mol_shell._core.constants import NF
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.fibres import fibre_thickness_energy
-from mol_shell.model.hyperelastic import incompressible_dissipation, law_thickness_energy, law_thickness_values
-from mol_shell.model.kinematics import delta
+from mol_shell.model.hyperelastic import (
+    incompressible_dissipation,
+    law_thickness_energy,
+    law_thickness_values,
+    shell_cauchy_green,
+)
+from mol_shell.model.kinematics import column_polynomials, delta
 from mol_shell.model.laws import SVK_LAW
 from mol_shell.model.material import (
     svk_turning_limit,
@@ -344,6 +349,21 @@ class CellKernels:
         _, beta2_0, moments = self._factors_and_moments(geo)
         values = [svk_turning_limit(e, moments, beta2_0) for e in self.cell_samples(ql, qr)]
         return ca.Function("cell_turning", [ql, qr, geo], [ca.vertcat(*values)])
+
+    def cell_point_tensors(self):
+        """``(q_left, q_right, geo) -> (C_11, C_33, C_13, C_12, C_23)`` at each thickness point of each of the cell's
+        samples, a column each (``C_22 = 1``, the director's, for the law's treatment to set): where a run stopped,
+        to say why the law's thickness has no solution there
+        (:meth:`~mol_shell.discretization.limits.ModelLimits.energy_not_finite`)."""
+        ql, qr, geo = self._cell_symbols()
+        factors, beta2_0, _ = self._factors_and_moments(geo)
+        columns = []
+        for e in self.cell_samples(ql, qr):
+            a, b, c, d, c2 = column_polynomials(e, beta2_0)
+            for zeta, j1, j3, _ in factors:
+                C = shell_cauchy_green(a, b, c, d, c2, zeta, j1, j3)
+                columns.append(ca.vertcat(C[0][0], C[2][2], C[0][2], C[0][1], C[1][2]))
+        return ca.Function("cell_point_tensors", [ql, qr, geo], [ca.horzcat(*columns)])
 
     def cell_delta(self):
         """``(q_left, q_right, geo) -> ds x delta``, ``delta = r beta1 cos(psi)`` at the cell's samples (must stay > 0)."""

@@ -123,7 +123,23 @@ class ModelLimits:
         where = f"s = {(self.s[i] + self.s[i + 1]) / 2:.6g} m (cell centre)"
         detail = (f"{energies[i]:g} J in that cell, at the stretches {meridian:.4g} along the meridian and {hoop:.4g} "
                   "round it")
-        return law, where, detail
+        why = self._thickness_unsolved(Q, i)
+        return law, where, detail + (f"; {why}" if why else "")
+
+    def _thickness_unsolved(self, Q, i):
+        """Why the law's thickness treatment has no solution in cell ``i`` of the fields ``Q`` (a plane-stress law of
+        one's own with no root ``C_22 > 0``, or one its Newton steps do not reach: ``Law.unsolved``), at the first
+        thickness point where it has none; ``None`` for the other laws, a layered wall, or where it has one."""
+        law = self.law
+        if law is None or self.layer_laws is not None or law.unsolved is None:
+            return None
+        with np.errstate(all="ignore"):
+            points = np.array(self.cell_point_tensors()(Q[:, i], Q[:, i + 1], self.cell_data[:, i]), dtype=float)
+        for c11, c33, c13, c12, c23 in points.T:
+            why = law.unsolved(((c11, c12, c13), (c12, 1.0, c23), (c13, c23, c33)), self.law_params)
+            if why:
+                return why
+        return None
 
     @cached_property
     def principal_symbol(self):

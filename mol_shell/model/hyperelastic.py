@@ -52,9 +52,12 @@ class Law:
     optionally ``(C, params) -> C_22`` solving the law's plane-stress condition more cheaply than the generic
     Newton iteration on ``dW/dC_22`` (:func:`~mol_shell.model.hyperelastic.plane_stress_thickness`).
     ``held_energy``: optionally ``(C, values, params) -> W`` with ``values = condense(C, params)`` then a tuple,
-    ``C_22`` first, then what the solve found on the way (``neo-hookean``: ``det C``; ``neo-hookean-log``:
-    ``ln det C`` and ``det C``): the energy at ``C_22 = values[0]`` written with them, of the same value and the
-    same first derivatives in ``C`` at those values as ``energy`` (so it may skip work the solve has done).
+    ``C_22`` first, then what the solve found on the way (``neo-hookean``: ``det C - 1`` and ``-mu/(2M)``;
+    ``neo-hookean-log``: ``ln det C`` and ``det C``; a law of one's own: ``|dW/dC_22|`` left): the energy at
+    ``C_22 = values[0]`` written with them, of the same value and the same first derivatives in ``C`` at those values
+    as ``energy`` (so it may skip work the solve has done).
+    ``unsolved``: optionally ``(C, params) -> why`` for ``C`` of numbers: why the thickness treatment has no solution
+    there (``None`` where it has one), said when a run stops where the energy is not finite.
     """
 
     name: str
@@ -63,6 +66,7 @@ class Law:
     thickness: str
     condense: Callable | None = None
     held_energy: Callable | None = None
+    unsolved: Callable | None = None
 
     def __post_init__(self):
         if self.thickness not in TREATMENTS:
@@ -110,11 +114,13 @@ def incompressible_thickness(C):
     return (1.0 - n) / (C[0][0] * C[2][2] - C[0][2] * C[2][0])
 
 
-def plane_stress_thickness(energy, C, steps=NEWTON_STEPS):
+def plane_stress_thickness(energy, C, steps=NEWTON_STEPS, residual=False):
     """``C_22`` with ``dW/dC_22 = 0``: Newton's method on ``u = ln C_22`` from ``u = 0``, ``steps`` times.
 
     ``energy(C)`` is the law with its parameters bound. Returns the last iterate (a CasADi expression of
-    ``C``'s other components); :func:`plane_stress_residual` measures how far it is from the root.
+    ``C``'s other components); :func:`plane_stress_residual` measures how far it is from the root. With
+    ``residual``, ``(C_22, |dW/dC_22| there)``: a law of one's own uses it to tell where the solve failed (no root
+    ``C_22 > 0``, or one the steps do not reach; :class:`~mol_shell.model.user_laws.Material`).
     """
     x = ca.SX.sym("c22")
     w = energy(with_thickness(C, x))
@@ -124,21 +130,58 @@ def plane_stress_thickness(energy, C, steps=NEWTON_STEPS):
     for _ in range(steps):
         fu = ca.substitute(f, x, ca.exp(u))
         u = u - fu[0] / fu[1]
-    return ca.exp(u)
+    if not residual:
+        return ca.exp(u)
+    last = ca.exp(u)
+    return last, ca.fabs(ca.substitute(g, x, last))
 
 
 #: the step counts tried for a law of one's own (:func:`plane_stress_steps`), and the in-plane states
-#: ``(C_11, C_33, C_13)`` it must converge at: equibiaxial stretches 0.6 to 2, uniaxial ones, and a shear
+#: ``(C_11, C_33, C_13)`` it must converge at where its condition has a root: equibiaxial stretches 0.6 to 2,
+#: uniaxial ones, and a shear
 PLANE_STRESS_STEPS = (6, 8, 12, 16, 24, 32)
 PLANE_STRESS_STATES = tuple((a * a, a * a, 0.0) for a in (0.6, 0.8, 1.25, 1.6, 2.0)) + (
     (0.49, 1.0, 0.0), (2.25, 1.0, 0.0), (1.0, 1.0, 0.3), (1.44, 0.81, 0.2))
+#: states near the natural one (stretches 0.9 and 1.1, a shear of 0.1) where the condition must have a root: a
+#: law without one there cannot run in plane stress at all
+NATURAL_STATES = ((0.81, 0.81, 0.0), (1.21, 1.21, 0.0), (0.81, 1.0, 0.0), (1.21, 1.0, 0.0), (1.0, 1.0, 0.1))
+#: the thickness components ``C_22`` (1e-8 to 1e8, two a decade) at which ``dW/dC_22`` is sampled for a sign change
+ROOT_GRID = np.geomspace(1e-8, 1e8, 33)
+
+
+@dataclass(frozen=True)
+class PlaneStressCheck:
+    """What :func:`plane_stress_steps` found at the states of :data:`NATURAL_STATES` and :data:`PLANE_STRESS_STATES`
+    (each ``(C_11, C_33, C_13)``): ``steps``, the fewest of :data:`PLANE_STRESS_STEPS` that converge wherever the
+    largest does; ``residual``, the largest ``|dW/dC_22|`` they leave there (relative to the stiffness); ``rootless``,
+    the states where the condition has no root ``C_22 > 0``; ``unreached``, ``(state, residual)`` where it has one
+    that the largest count does not reach."""
+
+    steps: int
+    residual: float
+    rootless: tuple
+    unreached: tuple
+
+
+def has_root(slopes):
+    """Whether ``dW/dC_22`` sampled at increasing ``C_22`` (the last axis) changes sign from negative to positive: ``W``
+    has a minimum between (a root of the plane-stress condition with ``C_22 > 0``)."""
+    slopes = np.asarray(slopes, dtype=float)
+    index = np.arange(slopes.shape[-1])
+    first = np.where(slopes < 0, index, slopes.shape[-1]).min(axis=-1, keepdims=True)
+    return np.any((slopes > 0) & (index > first), axis=-1)
 
 
 def plane_stress_steps(energy, scale, tol=1e-9):
-    """``(steps, residual)``: the fewest of :data:`PLANE_STRESS_STEPS` after which :func:`plane_stress_thickness`
-    leaves ``|dW/dC_22| <= tol x scale`` at every state of :data:`PLANE_STRESS_STATES`, and the largest residual
-    there (relative to ``scale``); ``steps`` is ``None`` when even the last count does not (a volumetric term
-    like Ogden's ``J^-9`` makes Newton from ``C_22 = 1`` crawl: six steps left 1e8 Pa at a stretch of 1.3)."""
+    """:class:`PlaneStressCheck` of the law ``energy(C)``: where its plane-stress condition has a root (a sign change
+    of ``dW/dC_22`` on :data:`ROOT_GRID`, :func:`has_root`), whether and in how many of :data:`PLANE_STRESS_STEPS`
+    :func:`plane_stress_thickness` reaches it, ``|dW/dC_22| <= tol x scale``.
+
+    A volumetric term like Ogden's ``J^-9`` makes Newton from ``C_22 = 1`` crawl (six steps left 1e8 Pa at a stretch
+    of 1.3, 16 reach it); St Venant-Kirchhoff's condition has no root beyond an equibiaxial stretch of 1.47 at
+    ``nu = 0.3``, where no count converges and none is asked to (until December 7 one was, at every state, and SVK
+    was refused for ``nu >= 0.2``)."""
+    states = np.array(NATURAL_STATES + PLANE_STRESS_STATES)
     c = ca.SX.sym("c", 3)
     C = ((c[0], 0.0, c[2]), (0.0, 1.0, 0.0), (c[2], 0.0, c[1]))
     x = ca.SX.sym("c22")
@@ -150,14 +193,20 @@ def plane_stress_steps(energy, scale, tol=1e-9):
         u = u - fu[0] / fu[1]
         if k in PLANE_STRESS_STEPS:
             residuals.append(ca.substitute(g, x, ca.exp(u)))
-    table = ca.Function("residuals", [c], [ca.vertcat(*residuals)]).map(len(PLANE_STRESS_STATES))
-    with np.errstate(invalid="ignore"):
-        worst = np.abs(np.array(table(np.array(PLANE_STRESS_STATES).T))).max(axis=1) / scale
-    worst = np.where(np.isfinite(worst), worst, np.inf)
-    for steps, residual in zip(PLANE_STRESS_STEPS, worst):
-        if residual <= tol:
-            return steps, float(residual)
-    return None, float(worst[-1])
+    table = ca.Function("residuals", [c], [ca.vertcat(*residuals)]).map(len(states))
+    sampled = ca.Function("slopes", [c, x], [g]).map(len(states) * len(ROOT_GRID))
+    with np.errstate(invalid="ignore", over="ignore"):
+        found = np.abs(np.array(table(states.T))) / scale  # (step counts, states)
+        slopes = np.array(sampled(np.repeat(states, len(ROOT_GRID), axis=0).T, np.tile(ROOT_GRID, len(states))))
+    found = np.where(np.isfinite(found), found, np.inf)
+    rooted = has_root(np.nan_to_num(slopes.reshape(len(states), len(ROOT_GRID)), nan=0.0))
+    reached = rooted & (found[-1] <= tol)
+    steps = next((n for n, row in zip(PLANE_STRESS_STEPS, found) if np.all(row[reached] <= tol)),
+                 PLANE_STRESS_STEPS[-1])
+    residual = float(found[PLANE_STRESS_STEPS.index(steps), reached].max(initial=0.0))
+    return PlaneStressCheck(steps, residual, tuple(tuple(float(v) for v in s) for s in states[~rooted]),
+                            tuple((tuple(float(v) for v in s), float(r))
+                                  for s, r in zip(states[rooted & ~reached], found[-1, rooted & ~reached])))
 
 
 def plane_stress_residual(energy, C, x):

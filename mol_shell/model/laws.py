@@ -74,33 +74,48 @@ def neo_hookean(C, p):
 
 
 def neo_hookean_condense(C, p):
-    """``(C_22, det C)`` of :func:`neo_hookean` in plane stress, in closed form.
+    """``(C_22, det C - 1, -mu/(2M))`` of :func:`neo_hookean` in plane stress, in closed form.
 
     ``det C = C_22 M + N`` (``M = C_11 C_33 - C_13^2``, ``N`` the determinant at ``C_22 = 0``), so
     ``dW/dC_22 = mu/2 - (mu/2 + lambda/4) M / det C + lambda M / 4``, which vanishes at
     ``det C = M (2 mu + lambda) / (2 mu + lambda M)``; then ``C_22 = (det C - N) / M``. Positive for ``lambda >= 0``
     and ``M > 0``: exact, with no iteration and no range of validity.
+
+    Returned as ``delta = det C - 1 = 2 mu (M - 1) / (2 mu + lambda M)``, to the relative precision of ``M - 1``
+    (``det C`` itself, a number near 1 when ``lambda >> mu``, keeps ``delta`` to the absolute round-off of 1 only,
+    which the volumetric term's ``lambda`` multiplies), and the volumetric part's slope there,
+    ``f'(det C) = lambda/4 - (mu/2 + lambda/4)/det C = -mu/(2M)`` (from ``dW/dC_22 = 0``): the same number as
+    the difference of two terms of size ``lambda``, which left the forces a round-off of ``1e-16 lambda/mu`` of
+    their scale and the statics unable to converge near ``nu = 0.5`` (``1e-8`` at ``nu = 0.49999999``).
     """
     lam, mu = p["lambda"], p["mu"]
     m = C[0][0] * C[2][2] - C[0][2] * C[2][0]
-    d = m * (2.0 * mu + lam) / (2.0 * mu + lam * m)
-    return (d - determinant(with_thickness(C, 0.0))) / m, d
+    # two divisions a point: quotients with a numerator other than 1, which CasADi does not fold into the products
+    # that use them (x * (1/y) becomes x/y, a division each)
+    q = (2.0 * mu) / (2.0 * mu + lam * m)
+    g = (-0.5 * mu) / m
+    delta = ((C[0][0] * C[2][2] - 1.0) - C[0][2] * C[2][0]) * q
+    d = m * q * (1.0 + 0.5 * lam / mu)  # C_22 from det C itself: 1 + delta loses digits where det C << 1
+    return (d - determinant(with_thickness(C, 0.0))) * g * (-2.0 / mu), delta, g
 
 
 def neo_hookean_held(C, values, p):
-    """:func:`neo_hookean` at ``C_22 = x`` for ``values = (x, D)`` of :func:`neo_hookean_condense`, ``D = det C``
-    there: ``mu/2 (I1 - 3) + f(D) + f'(D) (det C - D)`` with ``f(D) = -(mu/2 + lambda/4) ln D + lambda/4 (D - 1)``.
+    """:func:`neo_hookean` at ``C_22 = x`` for ``values = (x, delta, g)`` of :func:`neo_hookean_condense`
+    (``D = 1 + delta = det C`` there, ``g = f'(D)``): ``mu/2 (I1 - 3) + f(D) + g (det C - D)`` with
+    ``f(D) = -(mu/2 + lambda/4) ln D + lambda/4 (D - 1) = -mu/2 ln D + lambda/4 (delta - ln(1 + delta))``.
 
-    The last term vanishes at the root, and its derivative in ``C`` with ``D`` held is ``f'(D) d(det C)``, that of the
-    law's volumetric part: the same value and first derivatives (the forces then need no ``log``, one division per
-    point). Through ``values`` as functions of ``C`` the derivatives are the law's too (``det C = D`` identically).
+    The last term vanishes at the root, and its derivative in ``C`` with the values held is ``f'(D) d(det C)``, that
+    of the law's volumetric part: the same value and first derivatives (the forces then need no ``log``, and no
+    division per point). Through ``values`` as functions of ``C`` the derivatives are the law's too
+    (``det C = D`` identically). ``f`` is written with ``log1p(delta)``: its value to round-off relative to ``mu``
+    for every ``lambda/mu``.
     """
-    x, d = values
+    x, delta, g = values
     lam, mu = p["lambda"], p["mu"]
     i1 = C[0][0] + x + C[2][2]
-    k = 0.5 * mu + 0.25 * lam
-    return (0.5 * mu * (i1 - 3.0) - k * ca.log(d) + 0.25 * lam * (d - 1.0)
-            + (0.25 * lam - k / d) * (determinant(with_thickness(C, x)) - d))
+    log_d = ca.log1p(delta)
+    return (0.5 * mu * (i1 - 3.0) - 0.5 * mu * log_d + 0.25 * lam * (delta - log_d)
+            + g * ((determinant(with_thickness(C, x)) - 1.0) - delta))
 
 
 def neo_hookean_log(C, p):

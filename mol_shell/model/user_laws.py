@@ -31,9 +31,12 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, by_interrupt
 from mol_shell.model.hyperelastic import (
+    NATURAL_STATES,
     NEWTON_STEPS,
+    ROOT_GRID,
     Law,
     condensed_energy,
+    has_root,
     plane_stress_steps,
     plane_stress_thickness,
     with_thickness,
@@ -41,6 +44,19 @@ from mol_shell.model.hyperelastic import (
 
 #: the thickness treatments a user law may ask for (:mod:`mol_shell.model.hyperelastic`)
 USER_TREATMENTS = ("plane-stress", "incompressible", "director")
+#: a plane-stress law's solve counts as failed (no root ``C_22 > 0``, or one its steps do not reach: its energy is
+#: then NaN, and a run stops there) where it leaves ``|dW/dC_22|`` above this fraction of the stiffness
+#: ``|lambda*| + 2 |mu|``: its forces are then off by about as much, relative; a converged solve leaves round-off
+#: (1e-15), the steps being chosen for 1e-9 at stretches 0.6 to 2
+UNSOLVED = 1e-6
+
+
+def state_text(state):
+    """``(C_11, C_33, C_13)`` as the in-plane stretches (and shear) it is."""
+    c11, c33, c13 = state
+    shear = f" with C13 = {c13:g}" if c13 else ""
+    kind = " (equibiaxial)" if c11 == c33 and not c13 else (" (uniaxial)" if c33 == 1.0 and not c13 else "")
+    return f"in-plane stretches {math.sqrt(c11):.3g} and {math.sqrt(c33):.3g}{shear}{kind}"
 
 
 #: the built-in laws' names (filled in by :mod:`mol_shell.model.laws`): a Material of one of them is refused when it
@@ -96,6 +112,7 @@ class Material:
         object.__setattr__(self, "parameters", {k: float(v) for k, v in self.parameters.items()})
         self._check_energy()
         object.__setattr__(self, "steps", NEWTON_STEPS)  # the plane-stress solve's, set by the checks below
+        object.__setattr__(self, "stiffness", None)  # |lambda*| + 2 |mu| (Pa), plane stress: set likewise
         self._check_plane_stress(self._check_natural_state())
 
     def _check_energy(self):
@@ -148,20 +165,36 @@ class Material:
 
     def _check_plane_stress(self, scale):
         """Plane stress: the fewest unrolled Newton steps (6 to 32) that solve ``dW/dC_22 = 0`` to 1e-9 of the
-        stiffness ``scale`` at in-plane stretches 0.6 to 2 (:func:`~mol_shell.model.hyperelastic.plane_stress_steps`); a law
-        that 32 do not solve is refused naming ``thickness``. Six steps were taken for every law, unchecked: an
-        Ogden volumetric term (``J^-9``) left 1e8 Pa of thickness stress, and energies 28 times too high."""
+        stiffness ``scale`` wherever 32 do, at in-plane stretches 0.6 to 2
+        (:func:`~mol_shell.model.hyperelastic.plane_stress_steps`). Refused naming ``thickness``, and saying where and
+        why, when next to the natural state (stretches 0.9 and 1.1) the condition has no root ``C_22 > 0`` or 32 steps
+        do not reach it. Farther out the law is taken where the solve works: where it does not (no root: St
+        Venant-Kirchhoff's beyond an equibiaxial stretch of 1.47 at ``nu = 0.3``; or a root the steps do not reach)
+        the law's energy is NaN there (:data:`UNSOLVED`), and a run that gets there stops as at the edge of the law's
+        domain, naming the law, time and cell. Six steps were taken for every law, unchecked, until December 6 (an Ogden
+        volumetric term, ``J^-9``, left 1e8 Pa of thickness stress, and energies 28 times too high); until December
+        7 convergence was asked for at every stretch to 2, and SVK, whose condition has no root there, was refused
+        for ``nu >= 0.2`` (blaming the step count)."""
         if self.thickness != "plane-stress":
             return
         energy, p = self.law().energy, dict(self.parameters)
-        steps, residual = plane_stress_steps(lambda C: energy(C, p), scale)
-        if steps is None:
-            raise ParameterError("thickness", self.thickness, "plane-stress for laws whose condition dW/dC22 = 0 "
-                                 "Newton's method solves from C22 = 1 in 32 steps; director or incompressible",
-                                 hint=f"material {self.name}: after 32 steps dW/dC22 is still {residual:.3g} of the "
-                                 "stiffness at in-plane stretches 0.6 to 2" if math.isfinite(residual) else
-                                 f"material {self.name}: dW/dC22 is not finite at in-plane stretches 0.6 to 2")
-        object.__setattr__(self, "steps", steps)
+        found = plane_stress_steps(lambda C: energy(C, p), scale)
+        allowed = ("plane-stress for laws whose condition dW/dC22 = 0 has a root C22 > 0 next to the natural state "
+                   "(in-plane stretches 0.9 and 1.1) that Newton's method from C22 = 1 reaches in 32 steps; "
+                   "director or incompressible")
+        rootless = [state for state in found.rootless if state in NATURAL_STATES]
+        unreached = [(state, r) for state, r in found.unreached if state in NATURAL_STATES]
+        if rootless:
+            raise ParameterError("thickness", self.thickness, allowed, hint=f"material {self.name}: dW/dC22 = 0 has no "
+                                 f"root C22 > 0 at {state_text(rootless[0])}")
+        if unreached:
+            (state, residual), = unreached[:1]
+            left = f"leave dW/dC22 = {residual:.3g} of the stiffness" if math.isfinite(residual) else (
+                "leave dW/dC22 not finite")
+            raise ParameterError("thickness", self.thickness, allowed, hint=f"material {self.name}: at "
+                                 f"{state_text(state)} 32 Newton steps from C22 = 1 {left}")
+        object.__setattr__(self, "steps", found.steps)
+        object.__setattr__(self, "stiffness", scale)
 
     def with_parameters(self, changes):
         """This law with some of its parameters changed (``{name: number}``; names it does not have are refused,
@@ -202,10 +235,40 @@ class Material:
                     M[i, j] = C[i][j]
             return energy(M, p)
 
-        steps = getattr(self, "steps", NEWTON_STEPS)
-        condense = None if self.thickness != "plane-stress" or steps == NEWTON_STEPS else (
-            lambda C, p: plane_stress_thickness(lambda c: nested_energy(c, p), C, steps=steps))
-        return Law(self.name, nested_energy, tuple(self.parameters), self.thickness, condense=condense)
+        steps, stiffness = getattr(self, "steps", NEWTON_STEPS), getattr(self, "stiffness", None)
+        if self.thickness != "plane-stress" or stiffness is None:  # (the checks of plane stress run without)
+            condense = None if self.thickness != "plane-stress" or steps == NEWTON_STEPS else (
+                lambda C, p: plane_stress_thickness(lambda c: nested_energy(c, p), C, steps=steps))
+            return Law(self.name, nested_energy, tuple(self.parameters), self.thickness, condense=condense)
+        tol = UNSOLVED * stiffness
+
+        def condense(C, p):
+            return plane_stress_thickness(lambda c: nested_energy(c, p), C, steps=steps, residual=True)
+
+        def held(C, values, p):  # NaN where the solve failed: the energy only (the forces, C_22 held, do not see it)
+            return nested_energy(with_thickness(C, values[0]), p) + ca.if_else(values[1] <= tol, 0.0, math.nan)
+
+        return Law(self.name, nested_energy, tuple(self.parameters), self.thickness, condense=condense,
+                   held_energy=held, unsolved=self.unsolved)
+
+    def unsolved(self, C, p):
+        """Why the plane-stress thickness of this law is not found at ``C`` (nested 3x3 of numbers, the parameters
+        ``p``), or ``None``: no root ``C_22 > 0`` of ``dW/dC_22 = 0`` (on
+        :data:`~mol_shell.model.hyperelastic.ROOT_GRID`), or one that its Newton steps do not reach (to
+        :data:`UNSOLVED` of the stiffness)."""
+        if self.thickness != "plane-stress" or getattr(self, "stiffness", None) is None:
+            return None
+        law, x = self.law(), ca.SX.sym("c22")
+        g = ca.gradient(law.energy(with_thickness(C, x), p), x)
+        with np.errstate(all="ignore"):
+            slopes = np.array(ca.Function("slope", [x], [g]).map(len(ROOT_GRID))(ROOT_GRID), dtype=float).ravel()
+            left = float(ca.evalf(law.condense(C, p)[1])) / self.stiffness
+        if not has_root(np.nan_to_num(slopes, nan=0.0)):
+            return "its plane-stress condition dW/dC22 = 0 has no root C22 > 0 there"
+        if not left <= UNSOLVED:
+            return (f"its {self.steps} Newton steps from C22 = 1 leave dW/dC22 = {left:.3g} of the stiffness there, "
+                    "short of the root of its plane-stress condition")
+        return None
 
     def small_strain_pair(self):
         """``(lambda*, mu)`` of the law at ``C = I``, thickness condensed: ``mu = d2W/dC13^2`` (``C13 = C31``) and

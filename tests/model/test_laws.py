@@ -167,8 +167,10 @@ def test_neo_hookean_closed_form_condensation_is_exact_at_extreme_stretches(nu):
     p = {"lambda": lam, "mu": mu}
     for stretch in (0.05, 0.2, 5.0, 20.0):
         C = ((stretch**2, 0.02, 0.0), (0.02, 1.0, 0.01), (0.0, 0.01, stretch**2))
-        x, d = (float(v) for v in neo_hookean_condense(C, p))
-        assert x > 0 and d > 0
+        x, delta, _ = (float(v) for v in neo_hookean_condense(C, p))
+        assert x > 0 and 1 + delta > 0
+        m = C[0][0] * C[2][2] - C[0][2] ** 2  # det C - 1 = M (2 mu + lambda)/(2 mu + lambda M) - 1
+        assert delta == pytest.approx(m * (2 * mu + lam) / (2 * mu + lam * m) - 1, rel=1e-13)
         s = ca.SX.sym("c22")
         residual = float(ca.substitute(ca.gradient(neo_hookean(with_thickness(C, s), p), s), s, x))
         assert abs(residual) <= 1e-13 * (mu + lam * stretch**4)  # the size of its terms, (lambda/4) M the largest
