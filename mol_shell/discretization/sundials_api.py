@@ -11,6 +11,7 @@ SUNDIALS_PROTOTYPES = r"""
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <float.h>
 
 #define CASADI_SYMBOL_EXPORT __attribute__((visibility("default")))
 

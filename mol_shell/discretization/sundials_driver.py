@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from mol_shell.discretization.compiled import load_cached
-from mol_shell.discretization.sundials_source import SUNDIALS_DRIVER
+from mol_shell.discretization.sundials_source import STALL_STEPS, SUNDIALS_DRIVER
 
 #: the libraries the driver links, by the start of their file names
 LIBRARIES = ("core", "cvode", "ida", "nvecserial", "sunmatrixdense", "sunmatrixband", "sunmatrixsparse",
@@ -33,7 +33,7 @@ FLAGS = ("-O2", "-fPIC", "-shared")
 #: iopts/opts layout of ms_create (see the C source)
 LINSOLVERS = {"dense": 0, "band": 1, "sparse": 2, "lapack-dense": 3, "lapack-band": 4}
 #: codes of ms_advance
-REACHED, ROOT, R_FLOOR, MAX_STEPS, CHUNK, CALLS = 0, 1, 2, 3, 4, 5
+REACHED, ROOT, R_FLOOR, MAX_STEPS, CHUNK, CALLS, STALLED = 0, 1, 2, 3, 4, 5, 6
 #: SUNDIALS' flags for a failed constraint (CV_CONSTR_FAIL, IDA_CONSTR_FAIL)
 CONSTRAINT_FAIL = {"cvode": -15, "ida": -11}
 

@@ -16,8 +16,14 @@ callback (CasADi's virtual machine, no compiler) is also accepted: it is called 
 from mol_shell.discretization.sundials_api import SUNDIALS_PROTOTYPES
 from mol_shell.discretization.sundials_jacobians import JACOBIAN_SOURCE
 
+#: steps in a row of at most 10 ulp(t) before a solve stops (the driver's code 6, ``STALLED``)
+STALL_STEPS = 100
+
 _HEAD = r"""#define MS_ONE_STEP 2
 #define MS_ROOT_RETURN 2
+/* consecutive steps of at most 10 ulp(t) (SUNDIALS warns of t + h == t and goes on; a state where the forces are
+   not finite nearby took 1e6 such steps of IDA, minutes) before the solve stops (6) */
+#define MS_STALL_STEPS @STALL_STEPS@
 
 /* ---- a CasADi-generated function and its work arrays ---- */
 typedef int (*ms_casadi_fn)(const double** arg, double** res, casadi_int* iw, double* w, int mem);
@@ -76,6 +82,16 @@ static int ms_eval(ms_fn* fn, double t, const double* y, const double* yp, const
   return fn->f(fn->arg, fn->res, fn->iw, fn->w, 0);
 }
 
+/* 1 (SUNDIALS' recoverable failure: a smaller step is tried) when an evaluation is not finite: a NaN the error test
+   and the Newton test cannot see (every comparison with it is false) was taken as converged, and IDA stepped on in
+   NaN for minutes; repeated, the solver stops with its "repeatedly" flag */
+static int ms_finite(const double* v, int n) {
+  double sum = 0.0;
+  int i;
+  for (i = 0; i < n; ++i) sum += v[i] * 0.0; /* 0 for finite entries, NaN for NaN or an infinity */
+  return sum == 0.0 ? 0 : 1;
+}
+
 static int ms_count_call(ms_run* r, double t) {
   r->calls_in_step += 1;
   if (r->calls_in_step > r->max_calls || !isfinite(t)) { r->too_many_calls = 1; return -1; }
@@ -96,7 +112,8 @@ static int ms_limits(ms_run* r, const double* y, double* g) {
 _LOOP = r"""static int ms_cv_rhs(double t, N_Vector y, N_Vector ydot, void* data) {
   ms_run* r = (ms_run*) data;
   if (ms_count_call(r, t)) return -1;
-  return ms_eval(&r->rhs, t, N_VGetArrayPointer(y), 0, 0, N_VGetArrayPointer(ydot)) ? -1 : 0;
+  if (ms_eval(&r->rhs, t, N_VGetArrayPointer(y), 0, 0, N_VGetArrayPointer(ydot))) return -1;
+  return ms_finite(N_VGetArrayPointer(ydot), r->n);
 }
 
 static int ms_cv_jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void* data, N_Vector t1, N_Vector t2,
@@ -118,7 +135,8 @@ static int ms_cv_root(double t, N_Vector y, double* g, void* data) {
 static int ms_ida_res(double t, N_Vector y, N_Vector yp, N_Vector res, void* data) {
   ms_run* r = (ms_run*) data;
   if (ms_count_call(r, t)) return -1;
-  return ms_eval(&r->rhs, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), 0, N_VGetArrayPointer(res)) ? -1 : 0;
+  if (ms_eval(&r->rhs, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), 0, N_VGetArrayPointer(res))) return -1;
+  return ms_finite(N_VGetArrayPointer(res), r->n);
 }
 
 static int ms_ida_jac(double t, double cj, N_Vector y, N_Vector yp, N_Vector res, SUNMatrix J, void* data,
@@ -300,13 +318,14 @@ static double ms_now(void) {
 
 /* Steps towards target (never past it) until it is reached (0), a root of a limit is found (1: t_event and the
    roots), an accepted step leaves r <= r_floor on a constrained entry (2), max_steps steps were taken in all (3),
-   the wall-time budget of this call is spent (4), or SUNDIALS fails (its negative flag; 5 if a right-hand side
-   or residual was called max_calls times within one step or at a non-finite time). y (and yp) hold the state at
+   the wall-time budget of this call is spent (4), MS_STALL_STEPS steps in a row are 10 ulp(t) or less (6: the
+   step below round-off at t), or SUNDIALS fails (its negative flag; 5 if a right-hand side or residual was called
+   max_calls times within one step or at a non-finite time). y (and yp) hold the state at
    t (the last step's end). */
 CASADI_SYMBOL_EXPORT int ms_advance(ms_run* r, double target, long long max_steps, double seconds, double* t_out,
                                     double* y, double* yp) {
   double start = ms_now(), tret = r->t;
-  int flag = 0, code = 0, i;
+  int flag = 0, code = 0, i, stalled = 0;
   if (r->ida) IDASetStopTime(r->mem, target); else CVodeSetStopTime(r->mem, target);
   while (r->t < target) {
     r->calls_in_step = 0;
@@ -325,7 +344,9 @@ CASADI_SYMBOL_EXPORT int ms_advance(ms_run* r, double target, long long max_step
       if (isfinite(tret)) r->t = tret;
       break;
     }
+    stalled = tret - r->t > 10 * DBL_EPSILON * fabs(tret) ? 0 : stalled + 1; /* a step of 10 ulp(t) or less */
     r->t = tret;
+    if (stalled >= MS_STALL_STEPS) { code = 6; break; }
     if (r->nr > 0) {
       const double* v = N_VGetArrayPointer(r->y);
       for (i = 0; i < r->nr; ++i) if (v[r->r_idx[i]] <= r->r_floor) { code = 2; break; }
@@ -442,4 +463,5 @@ CASADI_SYMBOL_EXPORT void ms_free(ms_run* r) {
 }
 """
 
-SUNDIALS_DRIVER = SUNDIALS_PROTOTYPES + _HEAD + JACOBIAN_SOURCE + _LOOP
+SUNDIALS_DRIVER = (SUNDIALS_PROTOTYPES + _HEAD.replace("@STALL_STEPS@", str(STALL_STEPS)) + JACOBIAN_SOURCE
+                   + _LOOP)

@@ -28,17 +28,24 @@ from mol_shell.integrators.explicit import failed
 from mol_shell.integrators import loop
 from mol_shell.integrators.loop import Option, choice, option
 
+#: a right-hand side or residual that is not finite (the compiled driver's recoverable failure, SUNDIALS' flags -9 and
+#: -10 of CVODE, -9 of IDA)
+NOT_FINITE = ("the {} was not finite {} (a state outside the model's or the law's domain: a law of one's own whose "
+              "forces are NaN there, or a load or stiffness beyond double precision)")
 #: what SUNDIALS' failure flags mean (CVODE, IDA), for the run's message
 FLAGS = {
     "cvode": {-1: "max_num_steps steps in one call", -2: "accuracy asked for is too high",
               -3: "error test failed repeatedly or with |h| = hmin",
               -4: "Newton iterations failed to converge repeatedly or with |h| = hmin",
               -5: "linear solver set-up failed", -6: "linear solve failed", -8: "right-hand side failed",
+              -9: NOT_FINITE.format("right-hand side", "at the first step"),
+              -10: NOT_FINITE.format("right-hand side", "however small the step"),
               -12: "root function failed", -15: "constraints could not be met"},
     "ida": {-1: "max_num_steps steps in one call", -2: "accuracy asked for is too high",
             -3: "error test failed repeatedly or with |h| = hmin",
             -4: "Newton iterations failed to converge repeatedly",
             -5: "linear solver set-up failed", -6: "linear solve failed", -8: "residual failed",
+            -9: NOT_FINITE.format("residual", "however small the step"),
             -10: "root function failed", -11: "constraints could not be met"},
 }
 
@@ -360,6 +367,11 @@ class _CompiledRun:
             raise failed(f"{method.name} evaluated the right-hand side {sundials._Run.MAX_CALLS_PER_STEP} times without "
                          f"completing a step after t = {self.t:.9g} s (its step size underflowed): the motion is too "
                          "fast for double precision", self.t)
+        if code == drv.STALLED:
+            raise failed(f"{method.name} failed at t = {t:.9g} s: its step fell below round-off at t (10 ulp(t) or "
+                         f"less for {drv.STALL_STEPS} steps in a row): {method.tolerance_text()} cannot be met there in double "
+                         "precision (a looser tolerance goes on), or the right-hand side is not finite near this "
+                         "state", t)
         if code < 0:
             raise self._failure(code, t)
         steps = solve.stats()["n_steps"]
@@ -367,7 +379,7 @@ class _CompiledRun:
         if steps >= StepBudget.EVERY and needed > StepBudget.MARGIN * method.max_steps:
             raise failed(f"{method.name} would need about {needed:.3g} steps to reach t = {self.t_end:.6g} s at its "
                          f"mean step so far, more than max_steps = {method.max_steps}: the motion is too fast for this "
-                         f"horizon at rtol = {method.rtol:g} (a looser tolerance or a larger max_steps goes on; "
+                         f"horizon at {method.tolerance_text()} (a looser tolerance or a larger max_steps goes on; "
                          f"stopped at t = {t:.9g} s)", t)
         self.t = t
 
