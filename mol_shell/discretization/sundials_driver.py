@@ -23,7 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from mol_shell.discretization.compiled import load_cached
-from mol_shell.discretization.sundials_source import STALL_STEPS, SUNDIALS_DRIVER
+from mol_shell.discretization.sundials_source import STALL_STEPS, SUNDIALS_DRIVER  # noqa: F401 (STALL_STEPS: for drv.)
 
 #: the libraries the driver links, by the start of their file names
 LIBRARIES = ("core", "cvode", "ida", "nvecserial", "sunmatrixdense", "sunmatrixband", "sunmatrixsparse",
