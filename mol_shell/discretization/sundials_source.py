@@ -82,16 +82,6 @@ static int ms_eval(ms_fn* fn, double t, const double* y, const double* yp, const
   return fn->f(fn->arg, fn->res, fn->iw, fn->w, 0);
 }
 
-/* 1 (SUNDIALS' recoverable failure: a smaller step is tried) when an evaluation is not finite: a NaN the error test
-   and the Newton test cannot see (every comparison with it is false) was taken as converged, and IDA stepped on in
-   NaN for minutes; repeated, the solver stops with its "repeatedly" flag */
-static int ms_finite(const double* v, int n) {
-  double sum = 0.0;
-  int i;
-  for (i = 0; i < n; ++i) sum += v[i] * 0.0; /* 0 for finite entries, NaN for NaN or an infinity */
-  return sum == 0.0 ? 0 : 1;
-}
-
 static int ms_count_call(ms_run* r, double t) {
   r->calls_in_step += 1;
   if (r->calls_in_step > r->max_calls || !isfinite(t)) { r->too_many_calls = 1; return -1; }
@@ -112,8 +102,7 @@ static int ms_limits(ms_run* r, const double* y, double* g) {
 _LOOP = r"""static int ms_cv_rhs(double t, N_Vector y, N_Vector ydot, void* data) {
   ms_run* r = (ms_run*) data;
   if (ms_count_call(r, t)) return -1;
-  if (ms_eval(&r->rhs, t, N_VGetArrayPointer(y), 0, 0, N_VGetArrayPointer(ydot))) return -1;
-  return ms_finite(N_VGetArrayPointer(ydot), r->n);
+  return ms_eval(&r->rhs, t, N_VGetArrayPointer(y), 0, 0, N_VGetArrayPointer(ydot)) ? -1 : 0;
 }
 
 static int ms_cv_jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void* data, N_Vector t1, N_Vector t2,
@@ -135,8 +124,7 @@ static int ms_cv_root(double t, N_Vector y, double* g, void* data) {
 static int ms_ida_res(double t, N_Vector y, N_Vector yp, N_Vector res, void* data) {
   ms_run* r = (ms_run*) data;
   if (ms_count_call(r, t)) return -1;
-  if (ms_eval(&r->rhs, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), 0, N_VGetArrayPointer(res))) return -1;
-  return ms_finite(N_VGetArrayPointer(res), r->n);
+  return ms_eval(&r->rhs, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), 0, N_VGetArrayPointer(res)) ? -1 : 0;
 }
 
 static int ms_ida_jac(double t, double cj, N_Vector y, N_Vector yp, N_Vector res, SUNMatrix J, void* data,

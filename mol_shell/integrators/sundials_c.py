@@ -28,24 +28,17 @@ from mol_shell.integrators.explicit import failed
 from mol_shell.integrators import loop
 from mol_shell.integrators.loop import Option, choice, option
 
-#: a right-hand side or residual that is not finite (the compiled driver's recoverable failure, SUNDIALS' flags -9 and
-#: -10 of CVODE, -9 of IDA)
-NOT_FINITE = ("the {} was not finite {} (a state outside the model's or the law's domain: a law of one's own whose "
-              "forces are NaN there, or a load or stiffness beyond double precision)")
 #: what SUNDIALS' failure flags mean (CVODE, IDA), for the run's message
 FLAGS = {
     "cvode": {-1: "max_num_steps steps in one call", -2: "accuracy asked for is too high",
               -3: "error test failed repeatedly or with |h| = hmin",
               -4: "Newton iterations failed to converge repeatedly or with |h| = hmin",
               -5: "linear solver set-up failed", -6: "linear solve failed", -8: "right-hand side failed",
-              -9: NOT_FINITE.format("right-hand side", "at the first step"),
-              -10: NOT_FINITE.format("right-hand side", "however small the step"),
               -12: "root function failed", -15: "constraints could not be met"},
     "ida": {-1: "max_num_steps steps in one call", -2: "accuracy asked for is too high",
             -3: "error test failed repeatedly or with |h| = hmin",
             -4: "Newton iterations failed to converge repeatedly",
             -5: "linear solver set-up failed", -6: "linear solve failed", -8: "residual failed",
-            -9: NOT_FINITE.format("residual", "however small the step"),
             -10: "root function failed", -11: "constraints could not be met"},
 }
 
