@@ -263,8 +263,8 @@ def test_a_wall_with_an_svk_layer_beside_another_law_stops_at_the_svk_turning_po
     layer was SVK were watched), its SVK stress turning back unseen. Such a wall is watched now: the imploding sphere
     stops, and at the stop's time and cell the wall, run again without the stop, has its smaller in-plane stretch at
     the turning point 1/sqrt(3) (the hoop stretch there: mid-cell radius over the reference's)."""
-    wall = dict(h=0.01, material="svk-plane-stress", nu=0.3, pressure=-2e5, R=1.0,
-                layers="0.01 svk-plane-stress nu=0.3; 0.01 neo-hookean nu=0.3")
+    wall = {"h": 0.01, "material": "svk-plane-stress", "nu": 0.3, "pressure": -2e5, "R": 1.0,
+            "layers": "0.01 svk-plane-stress nu=0.3; 0.01 neo-hookean nu=0.3"}
     with pytest.warns(RuntimeWarning, match="run incomplete"):
         stopped = mol_shell.simulate(Sphere(**wall), n=9, t_end=0.02, progress=False)
     message = stopped.attrs["message"]
