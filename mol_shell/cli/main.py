@@ -61,6 +61,7 @@ from mol_shell.cli.study import register_study
 from mol_shell.cli.views import read_drawable, register_animate, register_export, said_as_options
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.peers import SCIPY_RTOL_MIN
+from mol_shell.integrators.tolerances import ATOL_RANGE, Tolerances
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.runs.resources import LongRunWarning
 from mol_shell.runs.simulate import simulate
@@ -200,10 +201,13 @@ def make_parser():
     run.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
     run.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
     run.add_argument("--rtol", type=number_arg("--rtol", *RTOL_RANGE, low_closed=True), default=None,
-                     help=f"relative tolerance in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}) (adaptive integrators; the "
-                     f"scipy peers from {SCIPY_RTOL_MIN:.4g}, SciPy's floor)")
+                     help=f"relative tolerance in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}), default {Tolerances.rtol:g} "
+                     f"(adaptive integrators; the scipy peers from {SCIPY_RTOL_MIN:.4g}, SciPy's floor)")
     run.add_argument("--atol", type=parse_atol, default=None,
-                     help="absolute tolerance (adaptive integrators): one value, or per field as r=1e-9,theta=1e-10")
+                     help=f"absolute tolerance in {ATOL_RANGE}, default {Tolerances.atol:g} (adaptive integrators): "
+                     "absolute, in the state's units (m for z and r, rad for chi, theta and psi; their rates, m/s and "
+                     "rad/s, for the momenta, which are scaled by their mass); one value, or per field as "
+                     "r=1e-9,theta=1e-10")
     run.add_argument("--max-step", type=max_step_arg(), default=None,
                      help="largest step, s (adaptive; 0: unbounded, the default)")
     run.add_argument("--option", action="append", metavar="NAME=VALUE",

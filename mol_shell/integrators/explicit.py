@@ -10,6 +10,7 @@ run with one saved interval the step sequence is SciPy's.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -28,17 +29,67 @@ def failed(message, t):
     return err
 
 
+#: SciPy's minimum step at ``t = 0`` (10 ulp(0), 4.9e-323 s): a starting step below it underflows
+MIN_STEP_AT_ZERO = 10 * float(np.nextafter(0.0, 1.0))
+
+
+def _log_rms(v, scale):
+    """``log10 sqrt(mean((v / scale)^2))``, finite where that norm is beyond doubles (``-inf`` for ``v = 0``).
+
+    ``v / scale`` is formed as ``(v / m) / scale`` with ``m = max |v|`` and squared after another division by its
+    largest entry, so that a right-hand side of 1e300 (``E = 1e300``) in a tolerance of 1e-9 is ``1e309``, not ``inf``.
+    """
+    m = float(np.max(np.abs(v)))
+    if m == 0 or not np.isfinite(m):
+        return -math.inf if m == 0 else math.inf
+    with np.errstate(over="ignore"):
+        u = np.abs(v / m) / scale
+    mu = float(np.max(u))
+    if not np.isfinite(mu):
+        return math.inf
+    return math.log10(m) + math.log10(mu) + 0.5 * math.log10(float(np.mean((u / mu) ** 2)))
+
+
 def initial_step(f, y0, f0, order, rtol, atol, t_end, max_step):
-    """Hairer, Norsett and Wanner's starting step (Solving ODEs I, II.4), as SciPy chooses it."""
+    """Hairer, Norsett and Wanner's starting step (Solving ODEs I, II.4), as SciPy chooses it.
+
+    Where its norms or their ratios leave double precision (``|f| / atol`` beyond 1e154, whose square overflows:
+    ``E = 1e150`` or ``rho = 1e-150``), the same estimate is formed from their logarithms; the step returned is 0 when
+    the estimate itself is below :data:`MIN_STEP_AT_ZERO` (it underflows: ``h0 = 0.01 |y| / |f|`` with ``|f| ~ 1e309``).
+    """
     scale = atol + np.abs(y0) * rtol
-    d0, d1 = (float(np.sqrt(np.mean((v / scale) ** 2))) for v in (y0, f0))
-    h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+        d0, d1 = (float(np.sqrt(np.mean((v / scale) ** 2))) for v in (y0, f0))
+        h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
+        if np.isfinite(d1) and h0 > 0:  # SciPy's own arithmetic, to the last bit
+            h0 = min(h0, t_end)
+            f1 = f(y0 + h0 * f0, h0)
+            d2 = float(np.sqrt(np.mean(((f1 - f0) / scale) ** 2))) / h0
+            if np.isfinite(d2):
+                h1 = max(1e-6, h0 * 1e-3) if d1 <= 1e-15 and d2 <= 1e-15 else (0.01 / max(d1, d2)) ** (1 / (order + 1))
+                h = min(100 * h0, h1, t_end)
+                return min(h, max_step) if max_step > 0 else h
+    # beyond double precision somewhere: the same estimate in log10
+    l0, l1 = _log_rms(y0, scale), _log_rms(f0, scale)
+    h0 = 1e-6 if l0 < -5 or l1 < -5 else 10.0 ** min(l0 - l1 - 2, math.log10(t_end))
     h0 = min(h0, t_end)
-    f1 = f(y0 + h0 * f0, h0)
-    d2 = float(np.sqrt(np.mean(((f1 - f0) / scale) ** 2))) / h0
-    h1 = max(1e-6, h0 * 1e-3) if d1 <= 1e-15 and d2 <= 1e-15 else (0.01 / max(d1, d2)) ** (1 / (order + 1))
+    if not h0 >= MIN_STEP_AT_ZERO:
+        return 0.0
+    l2 = _log_rms(f(y0 + h0 * f0, h0) - f0, scale) - math.log10(h0)
+    if math.isnan(l2):  # f is not finite a step away: the estimate from d1 alone
+        l2 = l1
+    h1 = max(1e-6, h0 * 1e-3) if l1 <= -15 and l2 <= -15 else 10.0 ** ((-2 - max(l1, l2)) / (order + 1))
     h = min(100 * h0, h1, t_end)
-    return min(h, max_step) if max_step > 0 else h
+    h = min(h, max_step) if max_step > 0 else h
+    return h if h >= MIN_STEP_AT_ZERO else 0.0
+
+
+def _magnitude(v, scale):
+    """``|v / scale|``'s largest entry as ``1e+309`` (its power of ten: it may be beyond doubles)."""
+    with np.errstate(divide="ignore"):
+        logs = np.log10(np.abs(v)) - np.log10(scale)
+    top = float(np.max(logs))
+    return f"1e{math.floor(top):+d}" if np.isfinite(top) else "not finite"
 
 
 @dataclass(frozen=True)
@@ -100,6 +151,12 @@ class _RungeKuttaStepper:
         self.f = evaluate(self.y, 0.0).copy()
         h0 = initial_step(lambda v, t: evaluate(v, t).copy(), self.y, self.f, method.scipy_method().error_estimator_order,
                           method.rtol, self.atol, self.t_end, float(method.max_step))
+        if h0 == 0:  # the starting step underflows: the motion is too fast for double precision at this state
+            scale = self.atol + np.abs(self.y) * method.rtol
+            raise failed(f"{method.name} failed at t = 0 s: its initial step underflows (below {MIN_STEP_AT_ZERO:.2g} s, "
+                         f"10 ulp(0)): the right-hand side at the start is {_magnitude(self.f, scale)} times its "
+                         f"tolerance ({method.tolerance_text()}) per second, and h0 ~ 0.01 |y| / |f| is beyond double "
+                         "precision (a stiffness or density near the edge of doubles: E / rho ~ 1e300?)", 0.0)
         self.time, self.h = np.zeros(1), np.array([h0])
 
     @property

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import math
 import re
 import sys
 import time
@@ -106,12 +107,38 @@ class _ScipyStepper:
 
     def advance(self, target):
         solver = self.solver
-        message = solver.step()
+        try:
+            message = solver.step()
+        except RuntimeError as exc:  # SuperLU's "Factor is exactly singular": raised, not returned as a failure
+            if "singular" not in str(exc):
+                raise
+            raise self._singular(exc) from None
         self.steps += 1
         self.dense = None
         self.budget.step(solver.t)  # max_steps, or a projection far beyond it, ends the run
         if solver.status == "failed":
             raise ModelLimitError(f"{self.name} failed at t = {solver.t:.9g} s: {message}", solver.t, "whole shell")
+
+    def _singular(self, exc):
+        """The :class:`ModelLimitError` (``"failed"``) for a Newton matrix that SuperLU found singular: with a step at
+        round-off and a Jacobian near the edge of doubles (``E = 1e200``, ``rho = 1e-300``), ``I - c h J`` or
+        ``I / (c h) - J`` has entries that overflow (``inf``, ``nan``): not a matrix in double precision."""
+        solver = self.solver
+        t, h = float(solver.t), float(getattr(solver, "h_abs", math.nan))
+        floor = 10 * float(np.nextafter(t, math.inf) - t)  # SciPy steps at least 10 ulp(t), whatever h_abs says
+        step = (f"the step h = {h:.3g} s" if h >= floor else
+                f"SciPy's minimum step {floor:.3g} s (10 ulp(t); its step estimate, {h:.3g} s, underflowed below it)")
+        J = getattr(solver, "J", None)
+        values = np.abs(J.data if hasattr(J, "data") else np.asarray(J if J is not None else [math.nan], dtype=float))
+        finite = values[np.isfinite(values)]
+        entries = (f"{finite.max():.3g} /s" if finite.size else "none finite") + (
+            f", {values.size - finite.size} not finite" if finite.size < values.size else "")
+        err = ModelLimitError(f"{self.name} failed at t = {t:.9g} s: its Newton matrix is singular in double precision "
+                              f"(SuperLU: {exc}) at {step}, with the Jacobian's entries up to {entries}: "
+                              "the motion is too fast for double precision at this state (a stiffness or density near "
+                              "the edge of doubles)", t, "whole shell")
+        err.status = "failed"
+        return err
 
     def state(self, target):
         solver = self.solver

@@ -9,9 +9,62 @@ from mol_shell.analysis.workprecision import full_table, markdown_table
 from mol_shell.results.dataset import write_netcdf
 from mol_shell.views.figures import save_figure
 
+#: the wall-time labels tried, richest first: ``k x 10^e`` for each ``k`` of a set, then every decade, every second ...
+LABELLED_MANTISSAS = ((1, 2, 3, 4, 5, 6, 7, 8, 9), (1, 2, 5), (1, 3), (1,))
+DECADE_STRIDES = (2, 3, 5, 10, 20, 50, 100)
+#: the least free space between two neighbouring labels, as a share of their mean width
+LABEL_SPACE = 0.3
 
-def plot(ds, path, target=1e-6):
-    """Log-log error against wall time, one line per integrator."""
+
+def _label_sets(lo, hi):
+    """Candidate wall-time ticks in ``[lo, hi]``, richest first (:data:`LABELLED_MANTISSAS`, decades by
+    :data:`DECADE_STRIDES`), then, for a span too short for two of them, evenly spaced values with 1, 2, 2.5 or 5 as
+    their last digit (4 to 2 of them)."""
+    from matplotlib.ticker import MaxNLocator
+
+    decades = range(int(np.floor(np.log10(lo))), int(np.ceil(np.log10(hi))) + 1)
+    for mantissas in LABELLED_MANTISSAS:
+        yield np.array([k * 10.0**e for e in decades for k in mantissas])
+    for stride in DECADE_STRIDES:
+        yield np.array([10.0**e for e in decades if e % stride == 0])
+    for bins in (4, 3, 2):
+        yield MaxNLocator(bins, steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi)
+
+
+def uncrowded_log_ticks(ax, fig):
+    """Label the log x-axis at the richest of :func:`_label_sets` that has two labels or more in view whose
+    neighbours leave :data:`LABEL_SPACE` between them, measured with the figure's renderer; the minor ticks stay
+    unlabelled. Matplotlib labels the minor ticks of an axis spanning up to about a decade and a half (2, 3, 4, 6 x
+    10^e) and crowded them: "3x10^-3 4x10^-3" overlapped."""
+    from matplotlib.ticker import FixedLocator, LogFormatterSciNotation, LogLocator, NullFormatter
+
+    lo, hi = sorted(ax.get_xlim())
+    if not (0 < lo < hi < np.inf):
+        return
+    formatter = LogFormatterSciNotation(labelOnlyBase=False, minor_thresholds=(np.inf, np.inf))  # every tick given
+    renderer = fig.canvas.get_renderer()
+    size = ax.xaxis.get_ticklabels()[0].get_fontsize() if ax.xaxis.get_ticklabels() else None
+    for ticks in _label_sets(lo, hi):
+        ticks = ticks[(ticks >= lo) & (ticks <= hi)]
+        if ticks.size < 2:
+            continue
+        formatter.set_locs(ticks)
+        probes = [ax.text(0, 0, formatter(t), fontsize=size) for t in ticks]
+        widths = np.array([p.get_window_extent(renderer).width for p in probes])
+        for p in probes:
+            p.remove()
+        centres = ax.transData.transform(np.c_[ticks, np.ones_like(ticks)])[:, 0]
+        halves = (widths[1:] + widths[:-1]) / 2
+        if np.all(np.diff(centres) >= (1 + LABEL_SPACE) * halves):
+            ax.xaxis.set_major_locator(FixedLocator(ticks))
+            ax.xaxis.set_major_formatter(formatter)
+            ax.xaxis.set_minor_locator(LogLocator(base=10, subs=np.arange(2, 10), numticks=100))
+            ax.xaxis.set_minor_formatter(NullFormatter())
+            return
+
+
+def figure(ds, target=1e-6):
+    """Log-log error against wall time, one line per integrator: the open figure (:func:`plot` saves it)."""
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7, 5))
@@ -29,7 +82,14 @@ def plot(ds, path, target=1e-6):
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    save_figure(fig, path, dpi=120)
+    uncrowded_log_ticks(ax, fig)
+    fig.tight_layout()
+    return fig
+
+
+def plot(ds, path, target=1e-6):
+    """Log-log error against wall time, one line per integrator, saved to ``path``."""
+    save_figure(figure(ds, target), path, dpi=120)
 
 
 def companion_files(path):

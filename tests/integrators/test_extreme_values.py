@@ -1,0 +1,82 @@
+"""Values inside every range that put the motion at the edge of double precision (``E = 1e300``, ``rho = 1e-300``):
+every integrator stops there as a failed run (exit 3, the saved time 0 kept), naming itself, the time and why; none
+ends in an internal error (``ZeroDivisionError`` in the compiled pairs' starting step, SuperLU's "Factor is exactly
+singular" in SciPy's implicit solvers).
+"""
+
+import numpy as np
+import pytest
+from scipy.integrate._ivp.common import select_initial_step
+
+from mol_shell.cli.main import main
+from mol_shell.integrators import explicit
+from mol_shell.results.dataset import read_netcdf
+
+#: DOP853's error estimator order (SciPy's ``DOP853.error_estimator_order``)
+ORDER = 7
+
+
+def _constant(value):
+    return lambda y, t: np.full_like(y, value)
+
+
+def test_the_starting_step_beyond_the_squares_range_is_hairer_s():
+    """``f = 1e300`` (constant), ``y0 = 2e-14``, ``atol = 1e-9``, ``rtol = 1e-6``: ``d1 = |f| / scale ~ 1e309`` has no
+    double, and its square overflowed to inf (``h0 = 0``, then ``/ h0``: ZeroDivisionError). The estimate itself is
+    finite: ``h0 = 0.01 d0 / d1 = 0.01 |y0| / |f| = 2e-316`` (the scale cancels), ``f(y0 + h0 f0) - f0 = 0`` so ``d2 = 0``
+    and ``h1 = (0.01 / d1)^(1/8) ~ 1e-39``; the step is ``min(100 h0, h1) = |y0| / |f| = 2e-314`` s."""
+    y0 = np.full(4, 2e-14)
+    h = explicit.initial_step(_constant(1e300), y0, np.full(4, 1e300), ORDER, 1e-6, np.full(4, 1e-9), 0.01, 0.0)
+    assert h == pytest.approx(2e-14 / 1e300, rel=1e-6)  # subnormal: about 11 digits
+
+
+def test_a_starting_step_below_ten_ulp_of_zero_underflows():
+    """``f = 1e308``: ``h0 = 0.01 |y0| / |f| = 2e-324``, below SciPy's minimum step at t = 0 (10 ulp(0) = 4.9e-323):
+    the estimate underflows and ``initial_step`` says so by returning 0."""
+    y0 = np.full(4, 2e-14)
+    assert explicit.initial_step(_constant(1e308), y0, np.full(4, 1e308), ORDER, 1e-6, np.full(4, 1e-9), 0.01, 0.0) == 0
+
+
+def test_an_ordinary_start_is_scipys_to_the_last_bit():
+    """Where nothing overflows the step is SciPy's own ``select_initial_step`` (the step sequence test relies on it)."""
+    y0 = np.array([1.0, -0.5, 2.0])
+    f = lambda t, y: np.array([y[1], -4.0 * y[0], 0.3 * y[2]])
+    atol = np.full(3, 1e-9)
+    ours = explicit.initial_step(lambda y, t: f(t, y), y0, f(0, y0), ORDER, 1e-6, atol, 1.0, 0.0)
+    theirs = select_initial_step(f, 0.0, y0, 1.0, np.inf, f(0, y0), 1, ORDER, 1e-6, atol)
+    assert ours == theirs
+
+
+def _run(tmp_path, capsys, integrator, value):
+    out = tmp_path / "x.nc"
+    code = main(["run", "twisted-cylinder", "--n", "11", "--t-end", "0.01", "--set", value, "--integrator", integrator,
+                 "-o", str(out)])
+    lines = [line for line in capsys.readouterr().err.splitlines() if not line.startswith("mol-shell: warning: ")]
+    ds = read_netcdf(out)
+    return code, lines, ds
+
+
+@pytest.mark.parametrize("integrator", ["rk45-c", "dop853-c"])
+def test_the_compiled_pairs_stop_when_the_starting_step_underflows(tmp_path, capsys, integrator):
+    """``rho = 1e-300``: the rates of the start are ``p / m`` and forces over a mass ~ rho, ``|f| / atol ~ 1e314`` per
+    second, so ``h0 = 0.01 |y| / |f|`` underflows; a failed run at t = 0, time 0 kept (it was an internal error)."""
+    code, lines, ds = _run(tmp_path, capsys, integrator, "rho=1e-300")
+    assert code == 3 and len(lines) == 1, lines
+    assert lines[0].startswith(f"mol-shell: run stopped: {integrator} failed at t = 0 s: its initial step underflows "
+                               "(below 4.9e-323 s, 10 ulp(0)): the right-hand side at the start is 1e+"), lines
+    assert ds.attrs["complete"] == 0 and ds.attrs["status"] == "failed" and ds.sizes["time"] == 1
+
+
+@pytest.mark.parametrize("integrator, value", [("scipy-radau", "E=1e200"), ("scipy-bdf", "rho=1e-300")])
+def test_scipy_s_implicit_solvers_stop_at_a_singular_newton_matrix(tmp_path, capsys, integrator, value):
+    """``E = 1e200`` or ``rho = 1e-300``: SciPy's starting step underflows to 0 (``|f|`` beyond 1e300), so it steps at its
+    minimum, 10 ulp(0) = 4.94e-323 s; ``I / (c h) - J`` (Radau: 1 / 4.94e-323 overflows) or ``I - c h J`` (BDF, with
+    a Jacobian whose entries ~ E / rho overflow) holds inf and NaN, and SuperLU calls it singular. A failed run at t = 0,
+    time 0 kept (it was an internal error, SuperLU's RuntimeError)."""
+    code, lines, ds = _run(tmp_path, capsys, integrator, value)
+    assert code == 3 and len(lines) == 1, lines
+    assert lines[0].startswith(f"mol-shell: run stopped: {integrator} failed at t = 0 s: its Newton matrix is singular "
+                               "in double precision (SuperLU: Factor is exactly singular) at SciPy's minimum step "
+                               "4.94e-323 s (10 ulp(t); its step estimate, 0 s, underflowed below it), with the "
+                               "Jacobian's entries up to "), lines
+    assert ds.attrs["complete"] == 0 and ds.attrs["status"] == "failed" and ds.sizes["time"] == 1
