@@ -28,18 +28,22 @@ from mol_shell.integrators.explicit import failed
 from mol_shell.integrators import loop
 from mol_shell.integrators.loop import Option, choice, option
 
+#: CV_ILL_INPUT / IDA_ILL_INPUT in a step: an input SUNDIALS checks is not valid there (the step, the time or the
+#: error weights: a state or a tolerance's scale that is not finite, e.g. E = 1e300 or rho = 1e-300)
+ILL_INPUT = ("SUNDIALS found an input of the step invalid (a step, time or error weight that is not finite in double "
+             "precision: the motion's scales are beyond it)")
 #: what SUNDIALS' failure flags mean (CVODE, IDA), for the run's message
 FLAGS = {
     "cvode": {-1: "max_num_steps steps in one call", -2: "accuracy asked for is too high",
               -3: "error test failed repeatedly or with |h| = hmin",
               -4: "Newton iterations failed to converge repeatedly or with |h| = hmin",
               -5: "linear solver set-up failed", -6: "linear solve failed", -8: "right-hand side failed",
-              -12: "root function failed", -15: "constraints could not be met"},
+              -12: "root function failed", -15: "constraints could not be met", -22: ILL_INPUT},
     "ida": {-1: "max_num_steps steps in one call", -2: "accuracy asked for is too high",
             -3: "error test failed repeatedly or with |h| = hmin",
             -4: "Newton iterations failed to converge repeatedly",
             -5: "linear solver set-up failed", -6: "linear solve failed", -8: "residual failed",
-            -10: "root function failed", -11: "constraints could not be met"},
+            -10: "root function failed", -11: "constraints could not be met", -22: ILL_INPUT},
 }
 
 

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from scipy.integrate._ivp.common import select_initial_step
 
+import mol_shell
 from mol_shell.cli.main import main
 from mol_shell.integrators import explicit
 from mol_shell.results.dataset import read_netcdf
@@ -80,3 +81,12 @@ def test_scipy_s_implicit_solvers_stop_at_a_singular_newton_matrix(tmp_path, cap
                                "4.94e-323 s (10 ulp(t); its step estimate, 0 s, underflowed below it), with the "
                                "Jacobian's entries up to "), lines
     assert ds.attrs["complete"] == 0 and ds.attrs["status"] == "failed" and ds.sizes["time"] == 1
+
+
+def test_idas_invalid_input_at_extreme_moduli_is_said_in_words():
+    """At E = 1e300 the compiled IDA stops at t = 0 with SUNDIALS' IDA_ILL_INPUT (-22): the run's message said only
+    "SUNDIALS error (status -22)"; it says what SUNDIALS found invalid."""
+    with pytest.warns(RuntimeWarning, match="run incomplete"):
+        ds = mol_shell.simulate(mol_shell.get_scene("twisted-cylinder", E=1e300), "ida", n=11, t_end=0.01,
+                                progress=False)
+    assert "status -22" in ds.attrs["message"] and "input of the step invalid" in ds.attrs["message"], ds.attrs["message"]
