@@ -1,8 +1,10 @@
 """Where the cases of a study run: in this process, on local worker processes, or on a dask cluster.
 
 :func:`execute` yields each case's result as it finishes; a local worker that dies has its unfinished cases
-run again in a new pool, a dask worker's are retried by dask (or recorded as ``lost``). :func:`connect` refuses
-an address that does not answer before anything runs. Used by :func:`mol_shell.runs.study.study`.
+run again in a new pool, a dask worker's are retried by dask (or recorded as ``lost``). Ctrl-C is this process's
+alone: local workers ignore SIGINT from their start, and an interrupted study stops them (:func:`_stop`).
+:func:`connect` refuses an address that does not answer before anything runs. Used by
+:func:`mol_shell.runs.study.study`.
 """
 
 from __future__ import annotations
@@ -11,7 +13,9 @@ import collections
 import contextlib
 import multiprocessing
 import os
+import signal
 import sys
+import time
 import warnings
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
@@ -19,6 +23,7 @@ from concurrent.futures.process import BrokenProcessPool
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from mol_shell._core import interrupts
 from mol_shell._core.errors import ParameterError
 
 #: seconds to wait for a dask scheduler to answer before the study is refused
@@ -172,7 +177,8 @@ def _execute_local(run_task, tasks, workers):
     process has claimed, so at the end this process also takes the handed-over cases no worker has started, and
     the two finish within about a case of each other. A worker that dies breaks its pool: the case it was
     running (the table says which) runs again in a new pool, up to :data:`LOST_RETRIES` times, and the cases it
-    had not started run there as they were.
+    had not started run there as they were. Ctrl-C reaches this process only (:func:`_starting_workers`): its case
+    ends ``"interrupted"`` (or the interrupt lands here), and the workers are stopped, not waited for (:func:`_stop`).
     """
     refuse_in_starting_worker()
     attempts = {task.index: 0 for task in tasks}
@@ -189,6 +195,7 @@ def _execute_local(run_task, tasks, workers):
             pool = ProcessPoolExecutor(max_workers=spawned, mp_context=context, initializer=_worker_start,
                                        initargs=(claims,))
             queue, running, failed, mine = collections.deque(range(len(pending))), {}, [], set()
+            ended = False
             try:
                 while queue or running:
                     for future in [f for f in running if f.done()]:
@@ -197,9 +204,11 @@ def _execute_local(run_task, tasks, workers):
                             failed.append(slot)
                         elif future.result() is not None:  # None: skipped, claimed by this process
                             yield _retried(_collect(future, pending[slot]), attempts[pending[slot].index])
-                    while queue and not failed and len(running) < AHEAD * spawned:
-                        slot = queue.popleft()
-                        running[pool.submit(_claimed, run_task, pending[slot], slot)] = slot
+                    if queue and not failed and len(running) < AHEAD * spawned:
+                        with _starting_workers():  # the pool starts its processes in its submits
+                            while queue and not failed and len(running) < AHEAD * spawned:
+                                slot = queue.popleft()
+                                running[pool.submit(_claimed, run_task, pending[slot], slot)] = slot
                     slot = _next_here(queue, running, claims) if not failed else None
                     if slot is not None:
                         mine.add(slot)
@@ -208,11 +217,13 @@ def _execute_local(run_task, tasks, workers):
                         wait(running, return_when=FIRST_COMPLETED)
                     elif failed:
                         break
+                ended = True
             finally:
                 claims.close()  # interrupted, or done: a worker starts nothing more
-                # every result in: the workers exit on their own (0.2 s that the study need not wait for); on an
-                # interruption or error, what has not started is cancelled and the workers are waited for
-                pool.shutdown(wait=bool(running), cancel_futures=True)
+                if ended:  # every result in (or the pool broken): the workers exit on their own (0.2 s that the
+                    pool.shutdown(wait=False, cancel_futures=True)  # study need not wait for)
+                else:  # Ctrl-C, an error, or the caller stopped reading: the workers' cases are not waited for
+                    _stop(pool)
             if failed and not any(claims.owner(slot) > 0 for slot in range(len(pending))):
                 alone = True  # the workers died before any case: a new pool would too
                 warnings.warn(_NO_START.format(left=len((set(failed) | set(queue)) - mine)), RuntimeWarning,
@@ -294,11 +305,63 @@ class _Claims:
 
 _CLAIMS = None
 
+#: seconds that a stopped study's local workers have to end after SIGTERM before they are killed
+STOP_WAIT = 2.0
+
+
+@contextlib.contextmanager
+def _starting_workers():
+    """Around the calls that start a pool's processes: Ctrl-C is for this process alone. SIGINT is blocked in this
+    thread, and every process started meanwhile inherits the mask (a spawned one through its exec, the forkserver
+    too, whose children inherit it from there), so the signal of a terminal's Ctrl-C, sent to the whole process
+    group, stays pending in a worker until :func:`_worker_start` ignores it (it then never arrives): a worker
+    interrupted in its imports printed a KeyboardInterrupt traceback, one interrupted as it sent a result back left
+    half a message in the pool's pipe, for which the pool then waited forever. Setting SIGINT to ``SIG_IGN`` here
+    instead would lose a Ctrl-C that arrives meanwhile; this way this process notes one
+    (:func:`mol_shell._core.interrupts.held`) and raises ``KeyboardInterrupt`` once the processes are started."""
+    with interrupts.held():
+        if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - Windows: no process groups, no mask
+            yield
+            return
+        mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            yield
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+
 
 def _worker_start(claims):
-    """A worker's initializer: the claims table."""
+    """A worker's initializer: SIGINT ignored, then unblocked (a Ctrl-C pending since the worker started is dropped:
+    :func:`_starting_workers`), and the claims table."""
     global _CLAIMS
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     _CLAIMS = claims
+
+
+def _stop(pool):
+    """End the workers of a study that stops early (Ctrl-C, an error): SIGTERM, and SIGKILL for one still alive
+    after :data:`STOP_WAIT` s, instead of a shutdown that waits for the cases they run (minutes, perhaps) and can wait
+    forever: a worker ended as it wrote a result leaves part of it in the result pipe, where the pool's thread waits
+    for the rest. Closing this process's end of that pipe, its last writer once the workers are gone, turns that wait
+    into an end of file, which breaks the pool, and the pool's thread then ends (Python's exit waits for it). Ctrl-C
+    meanwhile is held back until the workers are gone. Uses the pool's ``_processes`` and ``_result_queue``, which
+    Python 3.11 keeps private (3.14 has ``terminate_workers``)."""
+    with interrupts.held():
+        processes = list((getattr(pool, "_processes", None) or {}).values())
+        for process in processes:
+            process.terminate()
+        deadline = time.monotonic() + STOP_WAIT
+        for process in processes:
+            process.join(max(0.0, deadline - time.monotonic()))
+            if process.exitcode is None:
+                process.kill()
+                process.join(STOP_WAIT)
+        writer = getattr(getattr(pool, "_result_queue", None), "_writer", None)
+        if writer is not None:
+            writer.close()
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _claimed(run_task, task, slot):
