@@ -41,6 +41,15 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 
+#: an end whose radius is within this fraction of the meridian's size (or of 1 m, if smaller) is on the axis: a pole
+POLE_TOLERANCE = 1e-12
+
+
+def on_axis(r, scale):
+    """Whether a radius ``r`` (m) of a meridian of radii up to ``scale`` (m) is on the axis: ``|r| <= 1e-12
+    max(1 m, scale)`` (:data:`POLE_TOLERANCE`), so ``sin(pi) = 1.2e-16`` of a unit sphere is."""
+    return bool(abs(float(r)) <= POLE_TOLERANCE * max(1.0, abs(float(scale))))
+
 
 class Meridian:
     """Interface of a reference meridian; subclasses define :meth:`at` and :attr:`length`."""
@@ -55,8 +64,8 @@ class Meridian:
     def poles(self):
         """``(start, end)``: whether the meridian meets the axis (``r0 = 0``) at ``s = 0`` / ``s = length``."""
         r0, _, _, _ = self.at(np.array([0.0, self.length]))
-        scale = max(1.0, float(np.max(np.abs(self.at(np.linspace(0, self.length, 9))[0]))))
-        return bool(abs(r0[0]) <= 1e-12 * scale), bool(abs(r0[1]) <= 1e-12 * scale)
+        scale = float(np.max(np.abs(self.at(np.linspace(0, self.length, 9))[0])))
+        return on_axis(r0[0], scale), on_axis(r0[1], scale)
 
     def describe(self):
         """One line naming the meridian and its parameters (for a run's attrs)."""
@@ -152,12 +161,14 @@ class PointsMeridian(Meridian):
     """A meridian through a table of points ``(r, z)``, re-parametrised by arc length.
 
     A parametric cubic spline through the points (chord-length parameter, not-a-knot ends, or the
-    tangent clamped perpendicular to the axis at an end with ``r = 0``) has continuous curvature;
+    tangent clamped perpendicular to the axis at a pole) has continuous curvature;
     arc length is integrated by Gauss-Legendre per spline segment and inverted by Newton's method.
 
     Refused (ParameterError naming ``name``): fewer than 4 points, non-finite values, repeated
     consecutive points, ``r < 0``, ``r = 0`` anywhere but at an end, a curve that crosses itself or
-    the axis. ``source`` (a file, or what the table is) is named in messages and in :meth:`describe`;
+    the axis. An end on the axis by :func:`on_axis` (``|r| <= 1e-12`` of the table's size, or of 1 m) is a pole:
+    its ``r`` is set to 0 (``sin(pi) = 1.2e-16`` as ``0``). ``source`` (a file, or what the table is) is named in
+    messages and in :meth:`describe`;
     ``lines`` (the line of ``source`` each row was read from, counted from 1) places a refused row
     where a user finds it; without it rows are counted from 1.
     """
@@ -212,6 +223,15 @@ class PointsMeridian(Meridian):
             i = 1 + int(np.argmax(r[1:-1] == 0))
             raise ParameterError.invalid(self.name, what, f"touches the axis between its ends, on {self._row(i)}",
                                          allowed)
+        # an end on the axis by the poles' rule (sin(pi) = 1.2e-16 of a unit sphere) is a pole: put exactly on it, so
+        # the spline leaves the axis at a right angle there (it was clamped only for r == 0: a cone tip of 2.4 degrees)
+        ends = [0, len(r) - 1]
+        pole = [on_axis(r[i], np.max(r)) for i in ends]
+        if any(pole):
+            pts = pts.copy()
+            pts[[i for i, p in zip(ends, pole) if p], 0] = 0.0
+            r = pts[:, 0]
+        object.__setattr__(self, "_pole", tuple(pole))
         u = np.concatenate([[0.0], np.cumsum(chord)])
         bc = ["not-a-knot", "not-a-knot"]
         if r[0] == 0:
@@ -239,6 +259,11 @@ class PointsMeridian(Meridian):
     @property
     def length(self):
         return float(self._s[-1])
+
+    @property
+    def poles(self):
+        """``(start, end)``: the ends found on the axis when the table was read (and put on it, ``r = 0``)."""
+        return self._pole
 
     def _param(self, s):
         """Spline parameter ``u`` at arc length ``s`` (Newton on the arc length, from the linear guess)."""

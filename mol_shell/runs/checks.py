@@ -151,6 +151,22 @@ def _changed(scene):
     return out
 
 
+def _changed_texts(scene):
+    """Text parameters of ``scene`` (a file of points, a profile) that differ from its class's defaults:
+    ``{name: (value, default)}``; edges and histories, which scale no number, left out."""
+    try:
+        default = type(scene)()
+    except (TypeError, ParameterError):
+        return {}
+    out = {}
+    for f in dataclasses.fields(scene):
+        value, base = getattr(scene, f.name), getattr(default, f.name)
+        if (isinstance(value, str) and isinstance(base, str) and value != base and not f.name.endswith("_history")
+                and f.name not in ("end1", "end2")):
+            out[f.name] = (value, base)
+    return out
+
+
 def _bad_numbers(scene):
     return _is_bad(scene, PROBE_NODES)
 
@@ -310,8 +326,19 @@ def _diagnose(scene, reason, bad=_bad_numbers, exclude=()):
     changed = _changed(scene)
     names = names or sorted(changed, key=lambda k: -abs(math.log10(abs(changed[k][0]) + 1e-300)
                                                          - math.log10(abs(changed[k][1]) + 1e-300)))
-    if not names:
-        return ParameterError.invalid("scene", getattr(scene, "name", type(scene).__name__), f"has {reason}",
+    if not names:  # no number changed: a text parameter (a file of points, a profile) that, set back, is fine
+        for name, (value, base) in _changed_texts(scene).items():
+            try:
+                fine = bad(dataclasses.replace(scene, **{name: base})) is False
+            except ParameterError:
+                fine = False
+            if fine:
+                return ParameterError.invalid(name, value, f"leaves the model's numbers outside double precision: "
+                                              f"{reason}", "values whose discretised numbers are finite in double "
+                                              "precision", hint=f"they are with {name} = {show(base)}, the default")
+        given = ", ".join(f"{k} = {show(v)}" for k, (v, _) in _changed_texts(scene).items()) or "the defaults"
+        return ParameterError.invalid("scene", getattr(scene, "name", type(scene).__name__), f"with {given} leaves "
+                                      f"the model's numbers outside double precision: {reason}",
                                       "parameters whose discretised numbers are finite in double precision")
     listed = ", ".join(f"{k} = {show(getattr(scene, k))}" for k in names)
     return ParameterError(names[0], getattr(scene, names[0]), "values for which the model's numbers are finite",

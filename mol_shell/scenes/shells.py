@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import math
 import os
+import sys
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -22,6 +23,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, finite, non_negative, positive
 from mol_shell.model.geometry import ArcMeridian, ConeMeridian, PointsMeridian, read_points
+from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.scenes.base import ShellScene, _check, fitted_scale
 
 
@@ -228,6 +230,21 @@ class Torus(_Dilated):
         return ArcMeridian(self.a, self.b, self.alpha1, self.alpha2)
 
 
+#: the largest axial moment of inertia of a shell from points, kg m^2: a node's spin inertia ``mA r^2`` (a part of it)
+#: must stay finite, with room for the few products of it the kinetic energy's kernel forms (measured: a 5-node
+#: cylinder's edge node overflows the right-hand side when its ``mA r^2`` reaches the largest double)
+MAX_AXIAL_INERTIA = 1e-2 * sys.float_info.max
+
+
+def axial_inertia_log10(meridian, rho, h):
+    """``log10`` of a bound on the shell's moment of inertia about the axis: ``2 pi rho int int (r0 + zeta cos
+    theta0)^3 (1 - zeta theta0_s) dzeta ds <= 8 pi rho h (r_max + 2h)^3 L`` (``|zeta| <= 2h``, ``1 - zeta theta0_s < 2``
+    inside the centres of curvature), in logarithms so that it is finite whatever the table's size."""
+    r_max = float(np.max(np.abs(meridian.at(np.linspace(0.0, meridian.length, 201))[0])))
+    return (math.log10(8 * math.pi) + math.log10(rho) + math.log10(h) + 3 * math.log10(r_max + 2 * h)
+            + math.log10(meridian.length))
+
+
 #: what the meridian scene runs without a file of points (``points = ''``)
 DEFAULT_DOME = "the built-in dome (a half ellipsoid of equatorial radius 1 m and height 0.6 m, points = '')"
 
@@ -244,7 +261,9 @@ class MeridianShell(_Dilated):
 
     The points are interpolated by a cubic spline with continuous curvature and re-parametrised by
     arc length (:class:`~mol_shell.model.geometry.PointsMeridian`); ``s = 0`` is the first row.
-    An end with ``r = 0`` is a pole (the curve leaves the axis at a right angle there). The director is
+    An end on the axis (``r = 0``, or within 1e-12 of the table's size: ``sin(pi)``) is a pole, put on the axis, and
+    the curve leaves it at a right angle there. Coordinates are refused beyond the size at which the shell's moment
+    of inertia about the axis overflows with the given ``rho`` and ``h`` (about 1e76 m with the defaults). The director is
     the tangent turned by +90 degrees in the ``(z, r)`` plane: outward for rows ordered by increasing ``z``.
     ``points = ''`` (the default) is a built-in half ellipsoid (equatorial radius 1 m, height 0.6 m), so
     the scene runs as it is; a run says so (its ``meridian`` attr, and a note of the command line).
@@ -272,7 +291,24 @@ class MeridianShell(_Dilated):
                                        "a file with two columns r z (m), at least 4 rows, or '' (a built-in dome)")
         if self.points.strip():  # absolute: a run's or a path's file names it wherever it is read again (--from)
             object.__setattr__(self, "points", os.path.abspath(os.path.expanduser(self.points)))
-        self.meridian()
+        self._check_size(self.meridian())
+
+    def _check_size(self, meridian):
+        """A table so large that the shell's spin inertia overflows with this ``rho`` and ``h`` (a 1e90 m table, inside
+        the points' 1e100 m) is refused naming ``points`` and the size that fits (the inertia grows as size^4)."""
+        h = self.h
+        if isinstance(self.h_profile, str) and self.h_profile.strip():
+            h = float(np.max(thickness_function(self.h_profile, meridian.length)(np.linspace(0, meridian.length, 201))))
+        excess = axial_inertia_log10(meridian, self.rho, h) - math.log10(MAX_AXIAL_INERTIA)
+        if excess <= 0:
+            return
+        size = float(np.max(np.abs(meridian.points)))
+        fits = 10.0 ** (math.log10(size) - excess / 4)
+        raise ParameterError.invalid(
+            "points", self.points, f"has coordinates up to {size:.3g} m: the shell's moment of inertia about the axis "
+            f"(about 1e{excess + math.log10(MAX_AXIAL_INERTIA):.0f} kg m2 with rho = {self.rho:g} kg/m3, "
+            f"h = {h:.4g} m) overflows double precision",
+            f"a table with coordinates up to about {fits:.2g} m with this rho and h (the inertia grows as size^4)")
 
     def meridian(self):
         if not self.points.strip():
