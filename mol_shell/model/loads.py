@@ -36,8 +36,26 @@ HISTORY_ALLOWED = ("'constant', 'step T0' (0 before T0 s, then 1; T0 >= 0 s), 'r
                    "beyond; times increasing)")
 
 
-def parse_history(name, spec):
-    """``(kind, data)`` of a history string; refuses anything else naming ``name`` and the forms allowed."""
+#: a driven edge's rate may not jump after the start: the jump is an impulse the model does not represent
+RATE_ALLOWED = ("a history without a jump after t = 0 on a driven edge's rate: 'constant', 'step 0', 'ramp T1', 'sine F' "
+                "or 'table t0:h0 t1:h1 ...'")
+
+
+def parse_history(name, spec, rate=False):
+    """``(kind, data)`` of a history string; refuses anything else naming ``name`` and the forms allowed.
+
+    ``rate``: the history of a driven edge's rate (``*_spin_history``, ``*_axial_speed_history``), which refuses a
+    ``step T0`` at ``T0 > 0``: the jump of the prescribed rate is an impulse that the model does not represent (its
+    kinetic energy would enter the balance from nowhere, and the runs stopped on a false numerical instability)."""
+    parsed = _parse_history(name, spec)
+    if rate and parsed[0] == "step" and parsed[1][0] > 0:
+        raise ParameterError(name, spec, RATE_ALLOWED, hint=f"the rate's jump at {parsed[1][0]:g} s is an impulse the "
+                             f"model does not represent; for a quick start use 'ramp T' with a short T, or delayed "
+                             f"'table {parsed[1][0]:g}:0 {parsed[1][0] * 1.05:g}:1'")
+    return parsed
+
+
+def _parse_history(name, spec):
     if spec is None:
         return ("constant", ())
     if not isinstance(spec, str):

@@ -302,7 +302,7 @@ class ShellScene:
         for load in LOADS + DRIVES:
             _check(load, getattr(self, load), non_negative(UNITS[load]) if load == "drag" else finite(UNITS[load]))
             if load != "drag":
-                parse_history(load + "_history", getattr(self, load + "_history"))
+                parse_history(load + "_history", getattr(self, load + "_history"), rate=load in DRIVES)
         try:
             self._validate()
             self._check_displacements()
