@@ -56,6 +56,7 @@ from mol_shell.cli.path import (
     looks_like_path_study,
     register_path,
     start_of,
+    unlocated_note,
 )
 from mol_shell.cli.study import register_study
 from mol_shell.cli.views import read_drawable, register_animate, register_export, said_as_options
@@ -79,8 +80,12 @@ def cmd_run(args):
     times, t_end, integrator, options = run_settings(args, run, scene, args.n or run.get("n", 40))
     ds = simulate(scene, integrator, n=args.n or run.get("n", 40), t_end=t_end, times=times, progress=None,
                   stresses=args.stresses, initial=initial, **options)
+    note = unlocated_note(args, "the run starts from")
     if info:
-        ds.attrs["initial_state"] = info
+        ds.attrs["initial_state"] = info + ("; not located (point_located = 0): the search's last estimate"
+                                            if note else "")
+    if note:
+        print(f"mol-shell: note: {note}", file=sys.stderr)
     write_netcdf(ds, args.output)
     say_stand_ins(scene)
     if not ds.attrs["complete"]:

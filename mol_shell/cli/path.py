@@ -180,14 +180,14 @@ def _unlocated(args):
     return (None, None) if int(located) else (ds, args.point)
 
 
-def unlocated_note(args):
-    """A note for modes about a critical point the path did not locate (an equilibrium, but not a critical one),
-    else ``""``."""
+def unlocated_note(args, subject="the modes are about"):
+    """A note for modes (or a run: ``subject``) about a critical point the path did not locate (an equilibrium, but
+    not a critical one), else ``""``."""
     ds, k = _unlocated(args)
     if ds is None:
         return ""
     step = int(ds.point_step.values[k])
-    return (f"critical point {k} was not located (point_located = 0): the modes are about the search's last estimate, "
+    return (f"critical point {k} was not located (point_located = 0): {subject} the search's last estimate, "
             f"an equilibrium at {ds.attrs['parameter']} = {float(ds.point_parameter[k]):.6g} "
             f"{ds.attrs.get('parameter_units', '')} between steps {step} and {step + 1} whose crossing eigenvalue is "
             f"{float(ds.point_eigenvalue[k]):.3g} s-2 (0 at a located point; --step {step} or --step {step + 1} for a step's)")

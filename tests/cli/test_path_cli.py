@@ -360,6 +360,18 @@ def test_modes_at_an_unlocated_point_that_is_an_equilibrium_say_it_was_not_locat
     assert "not located" in xr.open_dataset(out).attrs["initial_state"]
 
 
+def test_a_run_from_an_unlocated_point_says_it_was_not_located(cap_file, tmp_path, capsys):
+    """``run --from --point K`` at a point the path did not locate started from its state without a word, where
+    ``modes`` says so: the run's note and its file's ``initial_state`` say it too."""
+    unlocated, step = _unlocated_copy(cap_file, tmp_path)
+    out = tmp_path / "r.nc"
+    assert main(["run", "--from", str(unlocated), "--point", "0", "--t-end", "1e-4", "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "mol-shell: note: critical point 0 was not located (point_located = 0): the run starts from the " \
+        "search's last estimate" in err and f"--step {step} or --step {step + 1}" in err, err
+    assert "not located" in xr.open_dataset(out).attrs["initial_state"]
+
+
 def test_fields_that_are_no_equilibrium_are_refused_naming_initial(cap_file):
     """``modes(scene, initial=fields)`` with fields out of equilibrium blamed the scene and suggested R = auto,
     which the fields given replace."""
