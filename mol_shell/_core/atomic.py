@@ -1,11 +1,13 @@
 """Files that are either the previous version or the new one, never half of either.
 
 Every file mol_shell writes for later use (run and study netCDF files, finished study cases,
-compiled libraries in the cache) is written under a temporary name in the same directory,
-flushed to disk (``fsync``) and then renamed onto its name with :func:`os.replace`, which is
-atomic on POSIX file systems. A process killed while writing leaves the previous file intact
-(and a hidden ``.NAME.*.part`` file behind, which nothing reads); a reader never sees a
-half-written file, even while several processes write the same name at once.
+compiled libraries in the cache, figures) is written under its own name in a hidden temporary directory
+``.NAME.*.part`` beside it, flushed to disk (``fsync``) and then renamed onto its name with :func:`os.replace`,
+which is atomic on POSIX file systems. The writer sees the final name, so a file that records its own name
+carries that one (an ``.svgz`` figure's gzip header, an ``.eps`` figure's ``%%Title``), never the temporary one.
+A process killed while writing leaves the previous file intact (and the hidden ``.NAME.*.part`` directory
+behind, which nothing reads); a reader never sees a half-written file, even while several processes write the
+same name at once.
 """
 
 from __future__ import annotations
@@ -17,12 +19,13 @@ from pathlib import Path
 
 from mol_shell._core.errors import ParameterError, show
 
-#: temporary files are ``.<name>.<pid>.<random>.part`` next to the target
+#: temporary directories are ``.<name>.<pid>.<random>.part`` next to the target
 PART_SUFFIX = ".part"
 
 
 def temporary_name(path):
-    """A fresh hidden name next to ``path`` (same directory, so the rename stays on one file system)."""
+    """A fresh hidden name next to ``path`` (same directory, so the rename stays on one file system): the directory
+    :func:`atomic_path` writes ``path`` in."""
     path = Path(path)
     return path.with_name(f".{path.name}.{os.getpid()}.{secrets.token_hex(4)}{PART_SUFFIX}")
 
@@ -46,9 +49,11 @@ def fsync_path(path, directory=False):
 def atomic_path(path):
     """Yield a temporary path to write ``path`` through; on success it replaces ``path`` atomically.
 
-    The writer creates the temporary file itself (so it gets the usual permissions). When the
-    ``with`` block raises (or the writer never created the file), the temporary file is removed
-    and ``path`` is left as it was.
+    The temporary path has ``path``'s own file name, in a fresh hidden directory beside it
+    (:func:`temporary_name`): what a writer records of the name it writes (gzip's ``FNAME``, PostScript's
+    ``%%Title``) is the final one. The writer creates the temporary file itself (so it gets the usual
+    permissions). When the ``with`` block raises (or the writer never created the file), the temporary file
+    and directory are removed and ``path`` is left as it was.
 
     Examples
     --------
@@ -56,7 +61,9 @@ def atomic_path(path):
     ...     ds.to_netcdf(tmp)
     """
     path = Path(path)
-    tmp = temporary_name(path)
+    stage = temporary_name(path)
+    stage.mkdir()
+    tmp = stage / path.name
     try:
         yield tmp
         if not tmp.exists():
@@ -66,7 +73,11 @@ def atomic_path(path):
     except BaseException:
         with contextlib.suppress(OSError):
             tmp.unlink()
+        with contextlib.suppress(OSError):
+            stage.rmdir()
         raise
+    with contextlib.suppress(OSError):
+        stage.rmdir()
     fsync_path(path.parent, directory=True)
 
 

@@ -64,6 +64,7 @@ from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.peers import SCIPY_RTOL_MIN
 from mol_shell.integrators.tolerances import ATOL_RANGE, Tolerances
 from mol_shell.results.dataset import writable_path, write_netcdf
+from mol_shell.results.stresses import nan_stresses
 from mol_shell.runs.resources import LongRunWarning
 from mol_shell.runs.simulate import simulate
 from mol_shell.scenes import SCENES, summary
@@ -97,6 +98,10 @@ def cmd_run(args):
           f"{plural(int(ds.attrs['n_steps']), 'step')} in {ds.attrs['wall_time_s']:.3g} s" + radius_said(ds, info))
     if ds.attrs.get("initial_data_note"):
         print(f"mol-shell: note: {ds.attrs['initial_data_note']}", file=sys.stderr)
+    nan, total, why = nan_stresses(ds)
+    if nan:  # NaN in a run file is never unflagged: attrs["stresses"] says why, and so does this line
+        print(f"mol-shell: note: {nan} of {total} stress samples (saved time x cell x face) are NaN; "
+              f"attrs['stresses'] of {args.output} says why: {why}", file=sys.stderr)
     if str(ds.attrs.get("stresses", "")).startswith("skipped"):
         why = str(ds.attrs["stresses"])
         print(f"stresses {why}" + (" (or run with --stresses)" if "exceed the limit" in why else ""))

@@ -343,7 +343,9 @@ NETCDF_SUFFIXES = frozenset({"nc", "nc4", "cdf"})
 def write_netcdf(ds, path):
     """Write a run as netCDF4 (model time in plain seconds, no CF calendar decoding).
 
-    Coordinate variables get no ``_FillValue`` (CF 2.5.1; xarray would write NaN for floats).
+    Coordinate variables get no ``_FillValue`` (CF 2.5.1; xarray would write NaN for floats). Integer variables and
+    coordinates are written as 32-bit ``int`` (CF 1.8 has no 64-bit or unsigned integers; numpy's default is int64),
+    for every file written here: run, study, modes, path, compare and stability files alike.
     ``time`` is the unlimited (record) dimension, so it may come first (CF 2.4 asks other
     dimensions to stand left of T "whenever possible"); variables along it are chunked in blocks
     of about 1 MB (netCDF's default chunk of one record made large runs 10x slower to write).
@@ -360,6 +362,9 @@ def write_netcdf(ds, path):
     path = writable_path(path, suffixes=NETCDF_SUFFIXES)
     ds = _netcdf_attrs(ds)
     encoding = {name: {"_FillValue": None} for name, var in ds.coords.items() if var.dtype.kind == "f"}
+    for name, var in ds.variables.items():  # CF 1.8 has no 64-bit or unsigned integers: numpy's default int64
+        if _wide_integer(var):
+            encoding.setdefault(name, {})["dtype"] = "int32"
     unlimited = ["time"] if "time" in ds.dims else []
     for name, var in ds.variables.items():
         if "time" in var.dims and var.dtype.kind in "fiu":
@@ -368,6 +373,15 @@ def write_netcdf(ds, path):
             encoding.setdefault(name, {})["chunksizes"] = tuple(block if d == "time" else ds.sizes[d] for d in var.dims)
     with interrupts.held(f"after writing {path}"), atomic_path(path) as tmp:  # a killed run: the previous file
         ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding, unlimited_dims=unlimited)
+
+
+def _wide_integer(var):
+    """Whether ``var`` holds integers netCDF would store in a type CF 1.8 lacks (64-bit, unsigned) that fit
+    32 bits; those are written as ``int32`` (values beyond it, which no count reaches, keep their type)."""
+    if var.dtype.kind not in "iu" or var.dtype.kind == "i" and var.dtype.itemsize <= 4:
+        return False
+    values = var.values
+    return values.size == 0 or bool(values.min() >= -(2**31) and values.max() < 2**31)
 
 
 def _netcdf_attrs(ds):

@@ -396,6 +396,22 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     return out
 
 
+def nan_stresses(ds):
+    """``(nan, total, why)``: the stress samples of a run (saved time x cell x face) where a stress or resultant is NaN,
+    of all, and why (``attrs["stresses"]`` after its first ``"; "``); ``(0, total, "")`` when none is."""
+    names = [v for v in ds.data_vars if "s_cell" in ds[v].dims and ds[v].dtype.kind == "f"]
+    if not names:
+        return 0, 0, ""
+    shape = tuple(ds.sizes[d] for d in ("time", "s_cell", "zeta") if d in ds.dims)
+    dims = ("time", "s_cell", "zeta")[:len(shape)]
+    bad = np.zeros(shape, dtype=bool)
+    for name in names:
+        bad |= np.isnan(ds[name].transpose(*(d for d in dims if d in ds[name].dims)).values).reshape(
+            tuple(ds.sizes[d] if d in ds[name].dims else 1 for d in dims))
+    why = str(ds.attrs.get("stresses", "")).partition("; ")[2]
+    return int(bad.sum()), bad.size, why if bad.any() else ""
+
+
 def _refuse_study(ds):
     """Refuse a study's Dataset (its fields on ``(*study dims, time, s)``) as one, and a case of it taken with
     ``sel`` (its parameters coordinates and variables, not attrs), saying how to take one case as its run (it was

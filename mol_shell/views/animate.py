@@ -83,10 +83,12 @@ def _short_label(name, units):
 
 
 def _scale(values):
-    """Colour map and limits over all frames: diverging and symmetric when the values change sign."""
+    """Colour map and limits over all frames: diverging and symmetric when the values change sign. NaN (stresses
+    past a law's limit: ``attrs["stresses"]``) take no part and are drawn as gaps (the map's transparent "bad")."""
     import matplotlib.colors as mcolors
 
-    lo, hi = float(np.nanmin(values)), float(np.nanmax(values))
+    finite = values[np.isfinite(values)]
+    lo, hi = (float(finite.min()), float(finite.max())) if finite.size else (0.0, 0.0)
     if lo < 0 < hi:
         top = max(-lo, hi)
         return "RdBu_r", mcolors.Normalize(-top, top)

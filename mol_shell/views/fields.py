@@ -19,8 +19,16 @@ from mol_shell.results.dataset import holdings, is_run, read_run
 from mol_shell.results.stresses import FACES
 
 #: what a run the views draw holds finite: the coordinates, the fields and the reference meridian (a run stops
-#: before a state that is not finite, so only a hand-edited or damaged file has such values)
+#: before a state that is not finite, so only a hand-edited or damaged file has such values); checked first
 FINITE = ("time", "s", *FIELDS, "z0", "r0", "theta0")
+
+#: variables of a run that hold NaN by design (docs/netcdf.md): a reaction where no reaction is computed, the
+#: ellipticity margin of a state not checked; a run's stresses (on ``s_cell``) may too, where its ``attrs["stresses"]``
+#: says so (:data:`STRESS_NAN`). Inf is refused everywhere.
+MAY_BE_NAN = ("reaction_force", "reaction_torque", "ellipticity_margin")
+
+#: what ``attrs["stresses"]`` says of a run whose stresses hold NaN (:func:`mol_shell.results.stresses.add_stresses`)
+STRESS_NAN = "NaN where"
 
 
 #: what the views' functions draw, as their refusal of anything else says
@@ -49,7 +57,8 @@ def run_of(ds):
 def check_run(ds, source=None):
     """Refuse a Dataset the views cannot draw, in one line: one that is not a single run's (a study, a path,
     modes: :func:`mol_shell.results.dataset.is_run`), one without saved times or with fewer than two nodes, or whose
-    coordinates, fields (:data:`FINITE`) are not finite somewhere. ``source``: the file the command line read ``ds``
+    values are not finite somewhere: Inf anywhere, NaN anywhere but in :data:`MAY_BE_NAN` and in stresses that
+    ``attrs["stresses"]`` declares NaN (the views draw those as gaps). ``source``: the file the command line read ``ds``
     from, then named ``FILE``.
 
     Raises
@@ -75,17 +84,28 @@ def check_run(ds, source=None):
         refuse("has no saved times", allowed)
     if nodes < 2:
         refuse(f"has {nodes} node{'' if nodes == 1 else 's'} in s", allowed)
-    for var in (v for v in FINITE if v in ds.variables):
+    nan_stresses = STRESS_NAN in str(ds.attrs.get("stresses", ""))
+    others = [v for v in ds.variables if v not in FINITE and ds[v].dtype.kind in "fc" and ds[v].ndim]
+    for var in [v for v in FINITE if v in ds.variables] + others:
         values = np.asarray(ds[var].values, dtype=float)
-        bad = ~np.isfinite(values)
+        nan_ok = var in MAY_BE_NAN or nan_stresses and "s_cell" in ds[var].dims
+        bad = np.isinf(values) if nan_ok else ~np.isfinite(values)
         if not bad.any():
             continue
-        first = np.unravel_index(np.argmax(bad), values.shape)
-        at = {"time": f"t = {float(ds['time'][first[0]]):.6g} s" if var != "time" else f"saved time {first[0]}",
-              "s": f"s = {float(ds['s'][first[-1]]):.6g} m" if var != "s" else f"node {first[-1]}"}
-        where = ", ".join(at[dim] for dim in ds[var].dims if dim in at)
-        refuse_at = f"{said}: {var} is not finite at {where} ({int(bad.sum())} of {bad.size} values)"
+        first = dict(zip(ds[var].dims, np.unravel_index(np.argmax(bad), values.shape)))
+        where = ", ".join(_at(ds, var, dim, int(k)) for dim, k in first.items())
+        refuse_at = (f"{said}: {var} is not finite at {where} ({int(bad.sum())} of {bad.size} values"
+                     + (", Inf: NaN may be there, Inf not" if nan_ok else "") + ")")
         raise ParameterError(name, value, allowed, message=f"{refuse_at}; allowed: {allowed}")
+
+
+def _at(ds, var, dim, k):
+    """Where index ``k`` along ``dim`` of ``var`` is, as a refusal says it."""
+    if dim == "zeta" and k < len(FACES):
+        return f"{FACES[k]} face"
+    if dim == var or dim not in ds.coords:
+        return f"{ {'time': 'saved time', 's': 'node'}.get(dim, dim)} {k}"
+    return f"{'t' if dim == 'time' else dim} = {float(ds[dim][k]):.6g} {'s' if dim == 'time' else 'm'}"
 
 
 #: displacements :func:`field` derives from a run with its reference meridian: name -> (field, reference, long_name)
