@@ -377,7 +377,7 @@ def test_a_run_killed_while_writing_leaves_the_previous_file_intact(tmp_path):
     assert proc.stdout.readline().strip() == "writing", proc.stderr.read()
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:
-        sizes = [p.stat().st_size for p in tmp_path.iterdir() if p.is_file()]
+        sizes = [p.stat().st_size for p in tmp_path.rglob("*") if p.is_file()]  # the temporary: in .run.nc.*.part/
         if max(sizes) > 20e6:  # 20 MB of the new file written (under whatever name)
             proc.send_signal(signal.SIGKILL)
             break
