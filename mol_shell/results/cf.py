@@ -62,3 +62,12 @@ def variables(entries):
     """
     return {name: xr.Variable(dims, np.asarray(values), *attrs, **FAST_PATH)
             for name, (dims, values, *attrs) in entries.items()}
+
+
+def wide_integer(var):
+    """Whether ``var`` holds integers netCDF would store in a type CF 1.8 lacks (64-bit, unsigned) that fit
+    32 bits; those are written as ``int32`` (values beyond it, which no count reaches, keep their type)."""
+    if var.dtype.kind not in "iu" or var.dtype.kind == "i" and var.dtype.itemsize <= 4:
+        return False
+    values = var.values
+    return values.size == 0 or bool(values.min() >= -(2**31) and values.max() < 2**31)

@@ -14,7 +14,7 @@ from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.model.edges import IMPOSED
 from mol_shell.model.kinematics import FIELDS
-from mol_shell.results.cf import attr_value, coordinates, header, variables
+from mol_shell.results.cf import attr_value, coordinates, header, variables, wide_integer
 from mol_shell.scenes import UNITS
 from mol_shell.scenes.base import mean_over
 
@@ -363,7 +363,7 @@ def write_netcdf(ds, path):
     ds = _netcdf_attrs(ds)
     encoding = {name: {"_FillValue": None} for name, var in ds.coords.items() if var.dtype.kind == "f"}
     for name, var in ds.variables.items():  # CF 1.8 has no 64-bit or unsigned integers: numpy's default int64
-        if _wide_integer(var):
+        if wide_integer(var):
             encoding.setdefault(name, {})["dtype"] = "int32"
     unlimited = ["time"] if "time" in ds.dims else []
     for name, var in ds.variables.items():
@@ -373,15 +373,6 @@ def write_netcdf(ds, path):
             encoding.setdefault(name, {})["chunksizes"] = tuple(block if d == "time" else ds.sizes[d] for d in var.dims)
     with interrupts.held(f"after writing {path}"), atomic_path(path) as tmp:  # a killed run: the previous file
         ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding, unlimited_dims=unlimited)
-
-
-def _wide_integer(var):
-    """Whether ``var`` holds integers netCDF would store in a type CF 1.8 lacks (64-bit, unsigned) that fit
-    32 bits; those are written as ``int32`` (values beyond it, which no count reaches, keep their type)."""
-    if var.dtype.kind not in "iu" or var.dtype.kind == "i" and var.dtype.itemsize <= 4:
-        return False
-    values = var.values
-    return values.size == 0 or bool(values.min() >= -(2**31) and values.max() < 2**31)
 
 
 def _netcdf_attrs(ds):
