@@ -28,7 +28,7 @@ from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterEr
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.law_warnings import locking_warnings
 from mol_shell.results.cf import attr_value, coordinates, header, variables
-from mol_shell.results.dataset import FIELD_META, scene_attrs
+from mol_shell.results.dataset import FIELD_META, given_note, given_values, scene_attrs
 from mol_shell.runs import resources
 from mol_shell.runs.ellipticity import CONSEQUENCE, sampled_margins
 from mol_shell.runs.simulate import as_scene, build, resolve, starting_state
@@ -271,8 +271,13 @@ def modes(scene, n=40, count=10, *, initial=None):
     keep = np.flatnonzero(~zero)[:count]
     if len(keep) < count:
         raise ParameterError("count", count, f"integers 1..{len(np.flatnonzero(~zero))} for n = {system.n}")
-    initial = system.unpack(np.asarray(y0, dtype=float))[:2]
-    params = scene_attrs(scene, system.edges, system.thickness.zeta1, initial, system.reference[:2], asked.params())
+    start = system.unpack(np.asarray(y0, dtype=float))
+    given = given_values(scene, start, system.s, system.reference[1]) if initial is not None else None
+    params = scene_attrs(scene, system.edges, system.thickness.zeta1, start[:2], system.reference[:2], asked.params(),
+                         given)
+    given_said = given_note(params)
+    if given_said:  # a path's state, at rest: the scene's omega or gamma are not the start's
+        params["initial_data_note"] = given_said
     note = "; ".join(locking_warnings(scene))
     if note:
         warnings.warn(note, MaterialWarning, stacklevel=2)

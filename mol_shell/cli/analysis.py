@@ -147,6 +147,8 @@ def cmd_modes(args):
                                             if note else "")
     if note:
         print(f"mol-shell: note: {note}", file=sys.stderr)
+    if ds.attrs.get("initial_data_note"):
+        print(f"mol-shell: note: {ds.attrs['initial_data_note']}", file=sys.stderr)
     say_stand_ins(scene)
     write_netcdf(ds, args.output)
     plot_modes(ds, png)

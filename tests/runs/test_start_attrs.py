@@ -77,6 +77,20 @@ def test_a_run_from_a_spun_spheres_path_records_omega_0_beside_the_scenes(tmp_pa
     assert "mol-shell: note: " + ds.attrs["initial_data_note"] in err, err
 
 
+def test_modes_from_a_spun_spheres_path_record_omega_0_beside_the_scenes(tmp_path, capsys):
+    """``modes --from`` a path's step recorded the scene's ``omega = 5`` about a state at rest, as ``run`` did: it
+    records what the modes are about, the scene's value beside it, and says so."""
+    _, path = path_then_run(tmp_path, "sphere", ["omega=5"], "pressure=0:100")
+    capsys.readouterr()
+    out = tmp_path / "m.nc"
+    assert main(["modes", "--from", str(path), "--step", "2", "--count", "2", "-o", str(out)]) == 0
+    err = capsys.readouterr().err
+    ds = read_netcdf(out)
+    assert ds.attrs["omega"] == 0.0 and ds.attrs["omega_requested"] == 5.0
+    assert "omega = 0 rad s-1 (the scene's 5 rad s-1)" in ds.attrs["initial_data_note"]
+    assert "mol-shell: note: " + ds.attrs["initial_data_note"] in err, err
+
+
 def test_a_run_from_a_twisted_cylinders_path_records_the_twist_it_has(tmp_path, capsys):
     """The path let the scene's gamma = 0.1 unwind (magnets leave chi free): its states have chi = 0."""
     ds, _ = path_then_run(tmp_path, "twisted-cylinder", [], "pressure=0:100")
