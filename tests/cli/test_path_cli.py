@@ -350,24 +350,17 @@ def test_modes_at_an_unlocated_point_that_is_no_equilibrium_refuse_naming_point(
     assert "scene" not in err and "R = auto" not in err
 
 
-def test_modes_at_an_unlocated_point_that_is_an_equilibrium_say_it_was_not_located(cap_file, tmp_path, capsys):
+@pytest.mark.parametrize(("command", "options", "subject"), [
+    ("modes", ["--count", "2"], "the modes are about"),
+    ("run", ["--t-end", "1e-4"], "the run starts from"),  # it started there without a word, where modes said it
+])
+def test_a_start_at_an_unlocated_point_that_is_an_equilibrium_says_it_was_not_located(cap_file, tmp_path, capsys,
+                                                                                        command, options, subject):
     unlocated, step = _unlocated_copy(cap_file, tmp_path)
     out = tmp_path / "m.nc"
-    assert main(["modes", "--from", str(unlocated), "--point", "0", "--count", "2", "-o", str(out)]) == 0
+    assert main([command, "--from", str(unlocated), "--point", "0", *options, "-o", str(out)]) == 0
     err = capsys.readouterr().err
-    assert "mol-shell: note: critical point 0 was not located (point_located = 0): the modes are about the " \
-        "search's last estimate" in err and f"--step {step} or --step {step + 1}" in err, err
-    assert "not located" in xr.open_dataset(out).attrs["initial_state"]
-
-
-def test_a_run_from_an_unlocated_point_says_it_was_not_located(cap_file, tmp_path, capsys):
-    """``run --from --point K`` at a point the path did not locate started from its state without a word, where
-    ``modes`` says so: the run's note and its file's ``initial_state`` say it too."""
-    unlocated, step = _unlocated_copy(cap_file, tmp_path)
-    out = tmp_path / "r.nc"
-    assert main(["run", "--from", str(unlocated), "--point", "0", "--t-end", "1e-4", "-o", str(out)]) == 0
-    err = capsys.readouterr().err
-    assert "mol-shell: note: critical point 0 was not located (point_located = 0): the run starts from the " \
+    assert f"mol-shell: note: critical point 0 was not located (point_located = 0): {subject} the " \
         "search's last estimate" in err and f"--step {step} or --step {step + 1}" in err, err
     assert "not located" in xr.open_dataset(out).attrs["initial_state"]
 
