@@ -291,7 +291,7 @@ class MeridianShell(_Dilated):
                                        "a file with two columns r z (m), at least 4 rows, or '' (a built-in dome)")
         if self.points.strip():  # absolute: a run's or a path's file names it wherever it is read again (--from)
             object.__setattr__(self, "points", os.path.abspath(os.path.expanduser(self.points)))
-        self._check_size(self.meridian())
+            self._check_size(self.meridian())  # the built-in dome's 1 m overflows only by rho or h, named by range
 
     def _check_size(self, meridian):
         """A table so large that the shell's spin inertia overflows with this ``rho`` and ``h`` (a 1e90 m table, inside
