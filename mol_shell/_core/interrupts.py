@@ -6,7 +6,7 @@ take it there:
 
 * a netCDF file being written or read: xarray and netCDF4 hold process-wide locks (``threading.Lock``) around the C
   library's calls, and an interrupt between taking one and the ``try`` that gives it back leaves it taken; the
-  clean-up that follows then waits for it forever (a study hung on Ctrl-C, SIGTERM ignored, a ``.part`` file
+  clean-up that follows then waits for it forever (a study hung on Ctrl-C, SIGTERM ignored, a ``.NAME.*.part`` temporary
   left). :func:`held` lets such a block finish and raises ``KeyboardInterrupt`` after it.
 * a run's steps, which call CasADi and ctypes many times a second: a ``KeyboardInterrupt`` could be lost on the
   way (2 of 24 interrupts of ``mol-shell run ... --option chunk=1`` 2.4-3.4 s after its start: the run went on

@@ -61,7 +61,7 @@ def initial_step(f, y0, f0, order, rtol, atol, t_end, max_step):
     with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
         d0, d1 = (float(np.sqrt(np.mean((v / scale) ** 2))) for v in (y0, f0))
         h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
-        if np.isfinite(d1) and h0 > 0:  # SciPy's own arithmetic, to the last bit
+        if np.isfinite(d1) and h0 > 0:  # SciPy's formula, in the arithmetic this function always had
             h0 = min(h0, t_end)
             f1 = f(y0 + h0 * f0, h0)
             d2 = float(np.sqrt(np.mean(((f1 - f0) / scale) ** 2))) / h0

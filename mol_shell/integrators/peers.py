@@ -357,9 +357,10 @@ class CasadiCVODESCompiled(CasadiCVODES):
         return {"t": tt, "x": u, "p": d, "ode": lib.functions["ode"](tt, u * d) / d}
 
     def _scale(self, system, y0):
-        """``d = atol_vector / abstol``, cached per system, tolerance and initial state."""
+        """``d = atol_vector / abstol``, cached per system, tolerances and initial state (``rtol`` too: the
+        accumulators' entries are ``rtol`` times the start's energies)."""
         store = _CASADI_GRAPHS.setdefault(system, {})
-        key = ("scale", str(self.atol), np.asarray(y0).tobytes())
+        key = ("scale", str(self.atol), float(self.rtol), np.asarray(y0).tobytes())
         if key not in store:
             store[key] = self.atol_vector(system, y0, momenta=True) / self.field_atol().min()
         return store[key]

@@ -124,7 +124,7 @@ class Tolerances:
         Their error is then controlled at the run's energies, so ``E - E(0) - work + dissipated`` holds to about
         ``rtol`` of them. ``atol`` (1e-9) times a unit strain's energy, as before, was 1.1e-3 J on a cone, 3 % of its
         driver's work: a kink in a drive's history then left ``work`` 0.0081 J off and CVODE stopped on a false
-        numerical instability. Step counts of ordinary runs change by a few % (docs/loads.md)."""
+        numerical instability. Step counts of ordinary runs changed by -6 to +20 % (docs/loads.md)."""
         area = 2 * np.pi * float(np.sum(system.weights * system.reference[1]))
         unit = area * 2 * system.scene.h * (system.lam + 2 * system.mu)
         out = system.observables(y0, 0.0)

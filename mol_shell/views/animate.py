@@ -222,7 +222,7 @@ def _write_mp4(path, target, fig, draw, count, fps, dpi):
     from matplotlib import animation
 
     matplotlib.rcParams["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
-    # the container named, as the temporary file's name does not end in .mp4
+    # the container named, whatever the output's name says
     writer = animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p", "-f", "mp4"])
     log = logging.getLogger("matplotlib.animation")
     level = log.level

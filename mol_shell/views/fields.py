@@ -26,6 +26,9 @@ FINITE = ("time", "s", *FIELDS, "z0", "r0", "theta0")
 #: ellipticity margin of a state not checked; a run's stresses (on ``s_cell``) may too, where its ``attrs["stresses"]``
 #: says so (:data:`STRESS_NAN`). Inf is refused everywhere.
 MAY_BE_NAN = ("reaction_force", "reaction_torque", "ellipticity_margin")
+#: ... and, of a run that stopped (``complete = 0``) where a law's energy is not finite (a start outside a law of
+#: one's own's domain, kept as its one saved time), the stored and total energies
+ENERGY_MAY_BE_NAN = ("stored_energy", "energy")
 
 #: what ``attrs["stresses"]`` says of a run whose stresses hold NaN (:func:`mol_shell.results.stresses.add_stresses`)
 STRESS_NAN = "NaN where"
@@ -85,10 +88,12 @@ def check_run(ds, source=None):
     if nodes < 2:
         refuse(f"has {nodes} node{'' if nodes == 1 else 's'} in s", allowed)
     nan_stresses = STRESS_NAN in str(ds.attrs.get("stresses", ""))
+    stopped = not int(ds.attrs.get("complete", 1))
     others = [v for v in ds.variables if v not in FINITE and ds[v].dtype.kind in "fc" and ds[v].ndim]
     for var in [v for v in FINITE if v in ds.variables] + others:
         values = np.asarray(ds[var].values, dtype=float)
-        nan_ok = var in MAY_BE_NAN or nan_stresses and "s_cell" in ds[var].dims
+        nan_ok = (var in MAY_BE_NAN or nan_stresses and "s_cell" in ds[var].dims
+                  or stopped and var in ENERGY_MAY_BE_NAN)
         bad = np.isinf(values) if nan_ok else ~np.isfinite(values)
         if not bad.any():
             continue
