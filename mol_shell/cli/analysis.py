@@ -33,7 +33,7 @@ from mol_shell.cli.args import (
     say_stand_ins,
     scene_and_run,
 )
-from mol_shell.cli.path import add_start_options, not_an_equilibrium, start_of, unlocated_note
+from mol_shell.cli.path import add_start_options, not_an_equilibrium, say_start, start_of
 from mol_shell.results.dataset import writable_path, write_netcdf
 from mol_shell.runs.building import parse_times
 from mol_shell.views.figures import image_formats
@@ -141,14 +141,7 @@ def cmd_modes(args):
         if hasattr(exc, "residual") and initial is not None:  # a path's state, named by --point, --set or --from
             raise not_an_equilibrium(args, exc) from None
         raise
-    note = unlocated_note(args)
-    if info:
-        ds.attrs["initial_state"] = info + ("; not located (point_located = 0): the search's last estimate"
-                                            if note else "")
-    if note:
-        print(f"mol-shell: note: {note}", file=sys.stderr)
-    if ds.attrs.get("initial_data_note"):
-        print(f"mol-shell: note: {ds.attrs['initial_data_note']}", file=sys.stderr)
+    say_start(args, ds, info, "the modes are about")
     say_stand_ins(scene)
     write_netcdf(ds, args.output)
     plot_modes(ds, png)

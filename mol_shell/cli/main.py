@@ -55,8 +55,8 @@ from mol_shell.cli.path import (
     looks_like_path,
     looks_like_path_study,
     register_path,
+    say_start,
     start_of,
-    unlocated_note,
 )
 from mol_shell.cli.study import register_study
 from mol_shell.cli.views import read_drawable, register_animate, register_export, said_as_options
@@ -81,12 +81,7 @@ def cmd_run(args):
     times, t_end, integrator, options = run_settings(args, run, scene, args.n or run.get("n", 40))
     ds = simulate(scene, integrator, n=args.n or run.get("n", 40), t_end=t_end, times=times, progress=None,
                   stresses=args.stresses, initial=initial, **options)
-    note = unlocated_note(args, "the run starts from")
-    if info:
-        ds.attrs["initial_state"] = info + ("; not located (point_located = 0): the search's last estimate"
-                                            if note else "")
-    if note:
-        print(f"mol-shell: note: {note}", file=sys.stderr)
+    say_start(args, ds, info, "the run starts from")
     write_netcdf(ds, args.output)
     say_stand_ins(scene)
     if not ds.attrs["complete"]:
@@ -96,8 +91,6 @@ def cmd_run(args):
         return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {plural(ds.sizes['time'], 'time')} x {ds.sizes['s']} nodes, "
           f"{plural(int(ds.attrs['n_steps']), 'step')} in {ds.attrs['wall_time_s']:.3g} s" + radius_said(ds, info))
-    if ds.attrs.get("initial_data_note"):
-        print(f"mol-shell: note: {ds.attrs['initial_data_note']}", file=sys.stderr)
     nan, total, why = nan_stresses(ds)
     if nan:  # NaN in a run file is never unflagged: attrs["stresses"] says why, and so does this line
         print(f"mol-shell: note: {nan} of {total} stress samples (saved time x cell x face) are NaN; "

@@ -193,6 +193,19 @@ def unlocated_note(args, subject="the modes are about"):
             f"{float(ds.point_eigenvalue[k]):.3g} s-2 (0 at a located point; --step {step} or --step {step + 1} for a step's)")
 
 
+def say_start(args, ds, info, subject):
+    """What ``run`` or ``modes`` (``subject``: "the run starts from", "the modes are about") tell of a start from a
+    path: ``info`` into ``initial_state`` (with "not located" at a point the path did not locate), and a note for
+    that point and for initial data the path's state stands in for (``initial_data_note``)."""
+    note = unlocated_note(args, subject)
+    if info:
+        ds.attrs["initial_state"] = info + ("; not located (point_located = 0): the search's last estimate"
+                                            if note else "")
+    for said in (note, ds.attrs.get("initial_data_note")):
+        if said:
+            print(f"mol-shell: note: {said}", file=sys.stderr)
+
+
 def not_an_equilibrium(args, exc):
     """The refusal of a ``--from`` state that modes found out of equilibrium (``exc``, named ``initial``), named by
     what chose the state: ``--point`` (a point the path did not locate: its last estimate, from a path written before

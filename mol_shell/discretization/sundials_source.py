@@ -16,12 +16,12 @@ callback (CasADi's virtual machine, no compiler) is also accepted: it is called 
 from mol_shell.discretization.sundials_api import SUNDIALS_PROTOTYPES
 from mol_shell.discretization.sundials_jacobians import JACOBIAN_SOURCE
 
-#: steps in a row of at most 10 ulp(t) before a solve stops (the driver's code 6, ``STALLED``)
+#: steps in a row of at most 10 eps |t| before a solve stops (the driver's code 6, ``STALLED``)
 STALL_STEPS = 100
 
 _HEAD = r"""#define MS_ONE_STEP 2
 #define MS_ROOT_RETURN 2
-/* consecutive steps of at most 10 ulp(t) (SUNDIALS warns of t + h == t and goes on; a state where the forces are
+/* consecutive steps of at most 10 eps |t| (SUNDIALS warns of t + h == t and goes on; a state where the forces are
    not finite nearby took 1e6 such steps of IDA, minutes) before the solve stops (6) */
 #define MS_STALL_STEPS @STALL_STEPS@
 
@@ -306,7 +306,7 @@ static double ms_now(void) {
 
 /* Steps towards target (never past it) until it is reached (0), a root of a limit is found (1: t_event and the
    roots), an accepted step leaves r <= r_floor on a constrained entry (2), max_steps steps were taken in all (3),
-   the wall-time budget of this call is spent (4), MS_STALL_STEPS steps in a row are 10 ulp(t) or less (6: the
+   the wall-time budget of this call is spent (4), MS_STALL_STEPS steps in a row are 10 eps |t| or less (6: the
    step below round-off at t), or SUNDIALS fails (its negative flag; 5 if a right-hand side or residual was called
    max_calls times within one step or at a non-finite time). y (and yp) hold the state at
    t (the last step's end). */
@@ -332,7 +332,7 @@ CASADI_SYMBOL_EXPORT int ms_advance(ms_run* r, double target, long long max_step
       if (isfinite(tret)) r->t = tret;
       break;
     }
-    stalled = tret - r->t > 10 * DBL_EPSILON * fabs(tret) ? 0 : stalled + 1; /* a step of 10 ulp(t) or less */
+    stalled = tret - r->t > 10 * DBL_EPSILON * fabs(tret) ? 0 : stalled + 1; /* a step of 10 eps |t| or less */
     r->t = tret;
     if (stalled >= MS_STALL_STEPS) { code = 6; break; }
     if (r->nr > 0) {

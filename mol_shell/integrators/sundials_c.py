@@ -365,8 +365,8 @@ class _CompiledRun:
                          f"completing a step after t = {self.t:.9g} s (its step size underflowed): the motion is too "
                          "fast for double precision", self.t)
         if code == drv.STALLED:
-            raise failed(f"{method.name} failed at t = {t:.9g} s: its step fell below round-off at t (10 ulp(t) or "
-                         f"less for {drv.STALL_STEPS} steps in a row): {method.tolerance_text()} cannot be met there in double "
+            raise failed(f"{method.name} failed at t = {t:.9g} s: its step fell below round-off at t (at most 10 eps |t| "
+                         f"for {drv.STALL_STEPS} steps in a row): {method.tolerance_text()} cannot be met there in double "
                          "precision (a looser tolerance goes on), or the right-hand side is not finite near this "
                          "state", t)
         if code < 0:

@@ -110,6 +110,8 @@ FACE_META = {
     "principal_stress_min": ("Pa", "smallest principal Cauchy stress"),
     "von_mises_stress": ("Pa", "von Mises equivalent Cauchy stress"),
 }
+#: how ``attrs["stresses"]`` begins to say that some stresses are NaN (the views allow NaN there: ``check_run``)
+STRESS_NAN = "NaN where"
 #: face names in the order of the ``zeta`` coordinate
 FACES = ("inner", "outer")
 
@@ -389,7 +391,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     out = ds.assign_coords(coordinates(coords)).assign(variables(entries))
     out.attrs["stresses"] = "included (mol_shell.add_stresses)"
     if not all(np.isfinite(v).all() for v in data.values()):
-        out.attrs["stresses"] += "; NaN where det F <= 0 at a face or the state is not finite"
+        out.attrs["stresses"] += f"; {STRESS_NAN} det F <= 0 at a face or the state is not finite"
         if "svk-plane-stress" in f"{material} {ds.attrs.get('layers', '')}":  # SVK's thinning has a bound
             out.attrs["stresses"] += (" (svk-plane-stress: also where its thickness stretch has no real value, "
                                       "C_22 = 1 - 2 nu/(1 - nu) (E_11 + E_33) <= 0)")

@@ -16,7 +16,7 @@ from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.results.dataset import holdings, is_run, read_run
-from mol_shell.results.stresses import FACES
+from mol_shell.results.stresses import FACES, STRESS_NAN
 
 #: what a run the views draw holds finite: the coordinates, the fields and the reference meridian (a run stops
 #: before a state that is not finite, so only a hand-edited or damaged file has such values); checked first
@@ -30,8 +30,6 @@ MAY_BE_NAN = ("reaction_force", "reaction_torque", "ellipticity_margin")
 #: one's own's domain, kept as its one saved time), the stored and total energies
 ENERGY_MAY_BE_NAN = ("stored_energy", "energy")
 
-#: what ``attrs["stresses"]`` says of a run whose stresses hold NaN (:func:`mol_shell.results.stresses.add_stresses`)
-STRESS_NAN = "NaN where"
 
 
 #: what the views' functions draw, as their refusal of anything else says

@@ -31,7 +31,7 @@ def _sqrt_domain_law(tmp_path, monkeypatch):
 def test_a_run_into_forces_that_are_not_finite_stops_where_its_step_underflows(tmp_path, monkeypatch, integrator):
     """A step of external pressure at 1 ms compresses the sphere until ``I1`` reaches 2.9, where the forces turn NaN.
     IDA then took steps of about 1e-21 s (SUNDIALS warns of t + h = t and goes on) until max_steps: 1e6 steps, five
-    minutes at n = 8, and cvode-adams the same in seconds. A run whose steps stay within 10 ulp(t) for 100 steps
+    minutes at n = 8, and cvode-adams the same in seconds. A run whose steps stay within 10 eps |t| for 100 steps
     in a row stops there now (exit 3 from the command line), saying its step fell below round-off at t, after the
     pressure step, with the saved times before it kept."""
     _sqrt_domain_law(tmp_path, monkeypatch)
