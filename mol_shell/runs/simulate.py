@@ -11,7 +11,7 @@ import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: simulate's range)
 from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning, is_number, scalar
-from mol_shell._core.progress import progress_meter, progress_mode
+from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
 from mol_shell.integrators.tolerances import ATOL_RANGE, atol_ok
@@ -206,7 +206,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     check_options(scene, integrator, options)
     if integrator == "leapfrog":
         options.setdefault("dt", DEFAULT_DT)
-    progress = progress_mode(progress)
+    mode = progress_mode(progress)  # refused here if not a bool or None; the unshearable route takes it as given
     if stresses is not None and not isinstance(stresses, (bool, np.bool_)):
         raise ParameterError.not_a("stresses", stresses, "a bool", "True, False or None (cheap runs only)")
     if isinstance(scene, Unshearable):  # its own formulation: the constrained DAE, or the free shell
@@ -249,7 +249,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
                 f"restart) that is exp({growth * span:.3g}) (viscosity makes the system stiff); allowed: {allowed}")
     resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
                                omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)
-    bar = _progress_bar(progress, times[-1])
+    bar = time_meter(mode, times[-1])
     try:
         traj = method.integrate(system, compiled, y0, times, progress=bar)
     finally:
@@ -340,11 +340,6 @@ def _start_stability(scene, system, y0, how):
             "round-off grows (mol-shell path finds the critical loads, modes the growth rates)")
     warnings.warn(note, UserWarning, stacklevel=3)
     return note
-
-
-def _progress_bar(mode, t_end):
-    return progress_meter(mode, "simulating", count="t = {n:.4g} of {total:.4g} s", total=float(t_end), unit="s",
-                          unit_scale=False, bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
 
 
 def starting_state(scene, system, n, initial=None, asked=None):

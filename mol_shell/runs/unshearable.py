@@ -31,12 +31,14 @@ Coriolis torques and couples and vanish without spin.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import time
 
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.unshearable_dae import NODE, UnshearableDAE
 from mol_shell.integrators import Leapfrog
 from mol_shell.integrators.constrained import ConstrainedIDA, ida_solver
@@ -71,7 +73,7 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
     max_step : float
         Largest IDA step (0: unbounded).
     progress : bool, optional
-        Unused; accepted for the study runner's sake.
+        As :func:`mol_shell.simulate`'s: a bar on a terminal, else a line a minute of a longer run (``None``).
 
     Returns
     -------
@@ -92,9 +94,11 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
     shell, compiled = build(scene, n)
     Q0, V0 = scene.initial_fields(shell.s)
     check_system(scene, shell, shell.pack(Q0, shell.momenta(Q0, V0)))  # numbers finite in double precision
+    mode = progress_mode(progress)
     start = time.perf_counter()
     if constrained:
-        traj, V, multipliers, stats = _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step)
+        with _meter(mode, times[-1]) as bar:
+            traj, V, multipliers, stats = _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step, bar)
         attrs = {"integrator": "ida", "rtol": rtol, "atol": atol, "constrained": 1, **stats}
     else:
         y0 = shell.pack(Q0, shell.momenta(Q0, V0))
@@ -102,7 +106,8 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         if dt * omega_max >= 1.0:
             raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound")
         method = Leapfrog(dt=dt)
-        traj = method.integrate(shell, compiled, y0, method.step_counts(times) * dt)
+        with _meter(mode, times[-1]) as bar:
+            traj = method.integrate(shell, compiled, y0, method.step_counts(times) * dt, progress=bar)
         multipliers = None
         attrs = {"integrator": "leapfrog", "dt": dt, "constrained": 0, "leapfrog_dt_bound_s": 1.0 / omega_max}
     attrs["build_and_run_time_s"] = time.perf_counter() - start
@@ -138,12 +143,23 @@ def _check_constrained_edges(scene):
                                          "that leaves chi free (magnet, free, or a set without chi)")
 
 
-def _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step):
+@contextlib.contextmanager
+def _meter(mode, t_end):
+    """The run's progress (:func:`mol_shell._core.progress.time_meter`), closed when the run ends."""
+    bar = time_meter(mode, t_end)
+    try:
+        yield bar
+    finally:
+        if bar is not None:
+            bar.close()
+
+
+def _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step, progress=None):
     """The constrained run on the one run loop (:func:`mol_shell.integrators.loop.run`): ``(traj, V, (Lc, Lp), stats)``."""
     dae = UnshearableDAE(shell)
     y0, yp0 = dae.consistent(Q0, V0)
     ida = ConstrainedIDA(dae, y0, yp0, ida_solver(dae, rtol, atol * _atol_scale(dae, y0, yp0), max_step))
-    traj = run(ida, shell, None, shell.pack(Q0, shell.momenta(Q0, V0)), times)
+    traj = run(ida, shell, None, shell.pack(Q0, shell.momenta(Q0, V0)), times, progress=progress)
     raw = np.array((ida.stepper.saved if ida.stepper is not None else [y0])[: len(traj.t)])
     _, V, Lc, Lp = dae.unpack(raw)
     return traj, V, (Lc, Lp), traj.stats

@@ -114,11 +114,17 @@ def test_the_default_is_a_bar_on_a_terminal_lines_elsewhere_and_nothing_without_
     assert progress_mode(None) is None
 
 
-def test_a_run_with_stderr_captured_prints_plain_lines(monkeypatch, capsys):
+@pytest.mark.parametrize("run", [
+    lambda: mol_shell.simulate(mol_shell.TwistedCylinder(), t_end=2e-4, n=8, progress=None, stresses=False),
+    # the unshearable scene's runs ignored progress altogether
+    lambda: mol_shell.simulate_unshearable("unshearable", n=8, t_end=2e-4, constrained=False, progress=None),
+    lambda: mol_shell.simulate_unshearable("unshearable", n=8, times=[0, 1e-4, 2e-4], progress=None),
+], ids=["simulate", "unshearable-leapfrog", "unshearable-ida"])
+def test_a_run_with_stderr_captured_prints_plain_lines(monkeypatch, capsys, run):
     """A real run under pytest's captured stderr (no terminal), the interval set to 0: a line per chunk of steps,
     each ended by a newline, no carriage return (a tqdm bar's), and a last line at the run's end, t_end reached."""
     monkeypatch.setattr(progress_module, "LOG_INTERVAL_S", 0.0)
-    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), t_end=2e-4, n=8, progress=None, stresses=False)
+    ds = run()
     assert ds.attrs["complete"] == 1
     err = capsys.readouterr().err
     assert "\r" not in err and err.endswith("\n"), repr(err[-300:])
