@@ -15,6 +15,7 @@ from __future__ import annotations
 import contextlib
 import os
 import secrets
+import shutil
 from pathlib import Path
 
 from mol_shell._core.errors import ParameterError, show
@@ -46,14 +47,33 @@ def fsync_path(path, directory=False):
 
 
 @contextlib.contextmanager
+def staged(path, only=None):
+    """A fresh hidden directory beside ``path`` (:func:`temporary_name`) to write ``path`` in, and the files written
+    beside it (an export's ``.h5`` or ``.vtu`` steps); on success each file (``only``: just those names) is flushed and
+    moved onto its place with :func:`os.replace`, ``path``'s own name last, so the previous files stay whole until
+    the new ones are; on failure (an error, Ctrl-C) the directory goes and the previous files are left as they were."""
+    path = Path(path)
+    stage = temporary_name(path)
+    stage.mkdir()
+    try:
+        yield stage
+        for part in sorted(stage.iterdir(), key=lambda f: f.name == path.name):
+            if only is None or part.name in only:
+                fsync_path(part)
+                os.replace(part, path.parent / part.name)
+        fsync_path(path.parent, directory=True)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)
+
+
+@contextlib.contextmanager
 def atomic_path(path):
     """Yield a temporary path to write ``path`` through; on success it replaces ``path`` atomically.
 
-    The temporary path has ``path``'s own file name, in a fresh hidden directory beside it
-    (:func:`temporary_name`): what a writer records of the name it writes (gzip's ``FNAME``, PostScript's
-    ``%%Title``) is the final one. The writer creates the temporary file itself (so it gets the usual
-    permissions). When the ``with`` block raises (or the writer never created the file), the temporary file
-    and directory are removed and ``path`` is left as it was.
+    The temporary path has ``path``'s own file name, in a fresh hidden directory beside it (:func:`staged`): what a
+    writer records of the name it writes (gzip's ``FNAME``, PostScript's ``%%Title``) is the final one. The writer
+    creates the temporary file itself (so it gets the usual permissions). When the ``with`` block raises (or the
+    writer never created the file), the temporary directory is removed and ``path`` is left as it was.
 
     Examples
     --------
@@ -61,24 +81,11 @@ def atomic_path(path):
     ...     ds.to_netcdf(tmp)
     """
     path = Path(path)
-    stage = temporary_name(path)
-    stage.mkdir()
-    tmp = stage / path.name
-    try:
+    with staged(path, only={path.name}) as stage:
+        tmp = stage / path.name
         yield tmp
         if not tmp.exists():
             raise FileNotFoundError(f"{tmp} was not written")
-        fsync_path(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-        with contextlib.suppress(OSError):
-            stage.rmdir()
-        raise
-    with contextlib.suppress(OSError):
-        stage.rmdir()
-    fsync_path(path.parent, directory=True)
 
 
 def write_text(path, text):

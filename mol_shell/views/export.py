@@ -22,14 +22,13 @@ step per saved time, at that time.
 from __future__ import annotations
 
 import os
-import shutil
 from contextlib import contextmanager
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
 import numpy as np
 
-from mol_shell._core.atomic import fsync_path, keep_inputs, temporary_name
+from mol_shell._core.atomic import keep_inputs, staged
 from mol_shell._core.errors import ParameterError
 from mol_shell.results.dataset import writable_path
 from mol_shell.views.fields import (
@@ -207,19 +206,3 @@ def export(ds, path, n_phi=N_PHI, faces=False):
     with staged(path) as stage:
         written = writer(stage / path.name, ds["time"].values, cells, reference, steps)
     return [path.parent / f.name for f in written]
-
-
-@contextmanager
-def staged(path):
-    """A hidden folder beside ``path`` to write an export of several files into; on success each is moved onto its
-    place (:func:`os.replace`, atomic), ``path`` itself last, so the previous export stays whole until the new one
-    is; on failure (an error, Ctrl-C) the folder goes and the previous files are left as they were."""
-    stage = temporary_name(path)
-    stage.mkdir()
-    try:
-        yield stage
-        for part in sorted(stage.iterdir(), key=lambda f: f.name == path.name):
-            os.replace(part, path.parent / part.name)
-        fsync_path(path.parent, directory=True)
-    finally:
-        shutil.rmtree(stage, ignore_errors=True)
