@@ -219,10 +219,14 @@ class PointsMeridian(Meridian):
             i = 1 + int(np.argmax(turn < math.cos(math.radians(MAX_TURN_DEG))))
             raise ParameterError.invalid(self.name, what, f"doubles back on itself at {self._row(i)} (it turns by more "
                                          f"than {MAX_TURN_DEG:g} degrees there: its arc length stops increasing)", allowed)
-        if np.any(r[1:-1] == 0):
-            i = 1 + int(np.argmax(r[1:-1] == 0))
-            raise ParameterError.invalid(self.name, what, f"touches the axis between its ends, on {self._row(i)}",
-                                         allowed)
+        # a row between the ends within the poles' tolerance of the axis (r = 1e-16: round-off of 0) touches it too
+        axis = POLE_TOLERANCE * max(1.0, float(np.max(r)))
+        if np.any(r[1:-1] <= axis):
+            i = 1 + int(np.argmax(r[1:-1] <= axis))
+            raise ParameterError.invalid(
+                self.name, what, f"touches the axis between its ends, on {self._row(i)} (r = {r[i]:.3g} m)",
+                f"rows between the first and the last with r > {axis:.3g} m (1e-12 of the largest r, or of 1 m: "
+                "closer is on the axis, which only an end may be, as a pole)")
         # an end on the axis by the poles' rule (sin(pi) = 1.2e-16 of a unit sphere) is a pole: put exactly on it, so
         # the spline leaves the axis at a right angle there (it was clamped only for r == 0: a cone tip of 2.4 degrees)
         ends = [0, len(r) - 1]
@@ -295,22 +299,53 @@ class PointsMeridian(Meridian):
 
 
 def self_intersects(points):
-    """Whether the polyline through ``points`` crosses itself (non-adjacent segments intersect)."""
+    """Whether the polyline through ``points`` crosses or touches itself: two non-adjacent segments meet.
+
+    Two segments meet when each one's ends lie strictly on either side of the other's line (a proper crossing) or
+    an end of one lies on the other (a touch, or collinear pieces that overlap: a curve running back over itself).
+    "On" is within ``1e-12`` of the polyline's size: the round-off of its coordinates. Non-adjacent chords of one
+    straight piece (a sampled line, whose direction is not a representable double) are collinear to round-off; the
+    intersection of their lines, formerly solved from a cross product of ``1e-36``, fell at random on both chords.
+    Adjacent segments share an end and are not compared; so are the first and the last of a closed polyline.
+    """
+    points = np.asarray(points, dtype=float)
     a, b = points[:-1], points[1:]
     n = len(a)
+    size = float(np.max(np.abs(points))) if points.size else 0.0
+    tol = 1e-12 * size
+    closed = n > 2 and float(np.max(np.abs(points[0] - points[-1]))) <= tol
+    lo, hi = np.minimum(a, b) - tol, np.maximum(a, b) + tol  # bounding boxes: only overlapping ones can meet
     for i in range(n - 2):
-        p, r = a[i], b[i] - a[i]
-        q, s = a[i + 2:], b[i + 2:] - a[i + 2:]
-        if i == 0 and np.allclose(points[0], points[-1]):
-            q, s = q[:-1], s[:-1]
-        denom = r[0] * s[:, 1] - r[1] * s[:, 0]
-        ok = np.abs(denom) > 0
-        qp = q - p
-        t = np.where(ok, (qp[:, 0] * s[:, 1] - qp[:, 1] * s[:, 0]) / np.where(ok, denom, 1), -1)
-        u = np.where(ok, (qp[:, 0] * r[1] - qp[:, 1] * r[0]) / np.where(ok, denom, 1), -1)
-        if np.any(ok & (t >= 0) & (t <= 1) & (u >= 0) & (u <= 1)):
+        j = i + 2 + np.flatnonzero(np.all((lo[i + 2:] <= hi[i]) & (hi[i + 2:] >= lo[i]), axis=1))
+        if closed and i == 0:
+            j = j[j != n - 1]
+        if j.size and _segments_meet(a[i], b[i], a[j], b[j], tol):
             return True
     return False
+
+
+def _side(p, q, x, tol):
+    """Which side of the line through ``p, q`` the points ``x`` lie on: ``+1``, ``-1``, or ``0`` within ``tol`` of it
+    (by their distance ``(q - p) x (x - p) / |q - p|``; ``0`` for a segment of no length)."""
+    d, length = q - p, np.hypot(*(q - p).T)
+    cross = d[..., 0] * (x - p)[..., 1] - d[..., 1] * (x - p)[..., 0]
+    dist = np.where(length > 0, cross / np.where(length > 0, length, 1.0), 0.0)
+    return np.where(np.abs(dist) <= tol, 0, np.sign(dist))
+
+
+def _near(x, p, q, tol):
+    """Whether the points ``x`` lie within ``tol`` of the segments ``p q`` (the nearest point of each segment)."""
+    d = q - p
+    dd = np.sum(d * d, axis=-1)
+    t = np.clip(np.sum((x - p) * d, axis=-1) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+    return np.hypot(*(p + t[..., None] * d - x).T) <= tol
+
+
+def _segments_meet(p, q, c, d, tol):
+    """Whether the segment ``p q`` meets any of the segments ``c[k] d[k]`` (see :func:`self_intersects`)."""
+    crossing = (_side(p, q, c, tol) * _side(p, q, d, tol) < 0) & (_side(c, d, p, tol) * _side(c, d, q, tol) < 0)
+    touching = _near(c, p, q, tol) | _near(d, p, q, tol) | _near(p, c, d, tol) | _near(q, c, d, tol)
+    return bool(np.any(crossing | touching))
 
 
 def read_points(path, name="points", with_lines=False):

@@ -30,7 +30,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, positive
 from mol_shell.model.geometry import Meridian, self_intersects
-from mol_shell.scenes.shells import _Dilated
+from mol_shell.scenes.shells import _Dilated, goes_down as shells_goes_down
 from mol_shell.scenes.base import _check
 
 
@@ -88,16 +88,10 @@ class SegmentedMeridian(Meridian):
 
 
 def goes_down(meridian):
-    """Whether ``meridian`` encloses a negative volume ``pi int r0^2 dz0`` with the axis (and the plane ``z = z0(L)``
-    of its end, when that is off the axis): it goes down from its first pole, its director pointing into that
-    volume. The integral in units of the length (no overflow at any scale), by Gauss-Legendre with 16 points a
-    segment: exact to round-off on lines and arcs; a flat disc (``0``) does not go down."""
-    x, w = np.polynomial.legendre.leggauss(16)
-    scale, total = meridian.length, 0.0
-    for s0, length, *_ in meridian._rows:
-        r, _, theta, _ = meridian.at(s0 + length * (x + 1) / 2)
-        total += length / scale / 2 * float(np.sum(w * (r / scale) ** 2 * np.cos(theta)))
-    return total < -1e-12
+    """Whether a meridian of segments encloses a negative volume ``pi int r0^2 dz0`` with the axis (and the plane
+    ``z = z0(L)`` of its end, when that is off the axis): it goes down from its first pole, its director pointing into
+    that volume (:func:`mol_shell.scenes.shells.goes_down`, between the segments' ends: exact to round-off)."""
+    return shells_goes_down(meridian, [row[0] for row in meridian._rows] + [meridian.length])
 
 
 def upward(meridian):

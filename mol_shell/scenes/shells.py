@@ -10,6 +10,7 @@ loads, the natural state at rest (an equilibrium, so ``mol-shell modes`` takes i
 from __future__ import annotations
 
 import hashlib
+import itertools
 import math
 import os
 import sys
@@ -245,6 +246,21 @@ def axial_inertia_log10(meridian, rho, h):
             + math.log10(meridian.length))
 
 
+def goes_down(meridian, breaks):
+    """Whether ``meridian`` encloses a negative volume ``pi int r0^2 dz0`` with the axis (and the planes of its ends
+    off the axis): it goes down along ``s`` (from a first pole, or a table listed from the top down), its director
+    ``d0`` (``dr``-component ``cos theta0 = dz0/ds``) pointing toward the axis, into that volume. The integral in units
+    of the length (no overflow at any scale), by Gauss-Legendre with 16 points between consecutive ``breaks`` (the
+    arc lengths where the meridian's formula changes): exact to round-off on lines and arcs, to the spline's
+    smoothness on a table; a flat disc (``0``) does not go down."""
+    x, w = np.polynomial.legendre.leggauss(16)
+    scale, total = meridian.length, 0.0
+    for s0, s1 in itertools.pairwise(breaks):
+        r, _, theta, _ = meridian.at(s0 + (s1 - s0) * (x + 1) / 2)
+        total += (s1 - s0) / scale / 2 * float(np.sum(w * (r / scale) ** 2 * np.cos(theta)))
+    return total < -1e-12
+
+
 #: what the meridian scene runs without a file of points (``points = ''``)
 DEFAULT_DOME = "the built-in dome (a half ellipsoid of equatorial radius 1 m and height 0.6 m, points = '')"
 
@@ -264,7 +280,11 @@ class MeridianShell(_Dilated):
     An end on the axis (``r = 0``, or within 1e-12 of the table's size: ``sin(pi)``) is a pole, put on the axis, and
     the curve leaves it at a right angle there. Coordinates are refused beyond the size at which the shell's moment
     of inertia about the axis overflows with the given ``rho`` and ``h`` (about 1e76 m with the defaults). The director is
-    the tangent turned by +90 degrees in the ``(z, r)`` plane: outward for rows ordered by increasing ``z``.
+    the tangent turned by +90 degrees in the ``(z, r)`` plane: outward for rows ordered by increasing ``z``. A table
+    listed from the top down (enclosing a negative volume, :func:`goes_down`) is run as given, not mirrored in ``z`` as
+    a vessel's downward segments are: ``z`` is where the user put the shell, and gravity (along ``-k``), the end
+    forces (along ``k``) and the edges' axial motions act on it there. Its director then points toward the axis and
+    the stresses' "inner" face is the geometric outer one, which a note says (:meth:`stand_ins`).
     ``points = ''`` (the default) is a built-in half ellipsoid (equatorial radius 1 m, height 0.6 m), so
     the scene runs as it is; a run says so (its ``meridian`` attr, and a note of the command line).
 
@@ -322,9 +342,18 @@ class MeridianShell(_Dilated):
         return _points_meridian(str(p), stamp)
 
     def stand_ins(self):
+        """The built-in dome, when no file is given; a table listed from the top down (:func:`goes_down`), run as
+        given, its faces named after the director's sides: which face is "inner" then."""
         if not self.points.strip():
             return [f"the meridian is {DEFAULT_DOME}: give your own with points = FILE (two columns r z, m)"]
-        return []
+        meridian = self.meridian()
+        if not goes_down(meridian, meridian._s):
+            return []
+        return [(f"points = {self.points!r} are listed from the top down (z decreasing along the rows) and run as "
+                 "given, not mirrored in z (gravity, end forces and z act where the table puts the shell): the director "
+                 "points toward the axis, into the side the shell encloses, so the stresses' \"inner\" face (zeta1) "
+                 "is its geometric outer face and \"outer\" its inner one (zeta1 = 0 puts the base surface on the "
+                 "outer face); list the rows from the bottom up (end1 then at the bottom) for an outward director")]
 
 
 @lru_cache(maxsize=1)

@@ -8,6 +8,7 @@ import pytest
 import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
+from mol_shell.model.geometry import self_intersects
 from mol_shell.scenes import Vessel
 from mol_shell.scenes.segments import SegmentedMeridian
 
@@ -136,3 +137,41 @@ def test_a_vessel_s_inner_face_carries_the_higher_hoop_stress(segments):
     c = nu * (0.5 - nu) / ((1 - nu / 2) * a)
     expected = (1 / rho_in + c) / (1 / (rho_in + 2 * h) + c)
     assert inner / outer - 1 == pytest.approx(expected - 1, rel=0.1)
+
+
+# -- what crosses itself ----------------------------------------------------------------------------------------
+@pytest.mark.parametrize("segments", ["line 1, arc 0.5 90", "line 1, arc 0.5 -90", "line 2, arc 1 -45, line 1",
+                                      "line 1, arc 0.3 -90, line 0.5"])
+def test_a_line_and_an_arc_joined_tangentially_do_not_cross(segments):
+    """A flat disc of radius 1 m with a quarter-arc rim (down or up) touches itself only at the joint of consecutive
+    segments, where the tangent is continuous: no crossing. It was refused as "it crosses itself": the samples of
+    the line ``z = cos(pi/2) s`` are collinear to round-off and two chords apart were found to meet (the cross
+    product of their directions, 6e-36, divided round-off by round-off). The vessel is built; its end is where the
+    closed form puts it: ``(1 + R, R)`` for the rim of radius ``R = 0.5`` turning up (the one turning down runs
+    mirrored in z, up)."""
+    vessel = Vessel(segments=segments)
+    assert vessel.meridian().length == pytest.approx(sum(
+        float(w[1]) * (math.radians(abs(float(w[2]))) if w[0] == "arc" else 1.0)
+        for w in (part.split() for part in segments.split(","))), rel=1e-14)
+    if segments.startswith("line 1, arc 0.5"):
+        r, z = vessel.meridian().at(np.array([vessel.meridian().length]))[:2]
+        assert (float(r[0]), float(z[0])) == pytest.approx((1.5, 0.5), abs=1e-14)
+
+
+def test_a_meridian_that_loops_back_over_itself_is_still_refused(capsys, tmp_path):
+    """``line 1, arc 0.2 -270, line 1``: the arc (centre ``(1, 0.2)``) turns the tangent up, back toward the axis and
+    down, ending at ``(0.8, 0.2)`` heading ``-z``; the last line then crosses the first, ``z = 0``, at ``r = 0.8``.
+    Refused in one line naming ``segments``; so is a polyline that runs back over itself (collinear chords that
+    overlap: exactly parallel ones were skipped) or touches an earlier point, while a straight one does not."""
+    args = ["run", "vessel", "--set", "segments=line 1, arc 0.2 -270, line 1", "--n", "9", "--t-end", "1e-5",
+            "-o", str(tmp_path / "x.nc")]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].endswith("does not cross itself (it crosses itself)"), err
+    direction = np.array([math.sin(1.0), math.cos(1.0)])  # not representable: the points are collinear to round-off
+    line = np.linspace(0.0, 3.0, 61)[:, None] * direction
+    assert not self_intersects(line)
+    assert self_intersects(np.concatenate([line, line[-2:20:-1]]))  # back over itself
+    assert self_intersects(np.concatenate([line[:21], line[20:21] + [[0.0, 1.0]], [[0.5, 0.5]], line[10:11]]))
+    up = np.column_stack([np.ones(31), np.linspace(0.0, 3.0, 31)])  # exactly parallel chords: were never compared
+    assert not self_intersects(up) and self_intersects(np.concatenate([up, up[-2:10:-1]]))
