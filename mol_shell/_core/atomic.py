@@ -104,6 +104,17 @@ def same_file(a, b):
         return False
 
 
+def up_out_of(path):
+    """The directory a ``..`` of ``path`` goes back out of where that is no directory (``sub`` of ``sub/../x.nc``
+    without ``sub``), else ``None``: the system resolves ``..`` only in a directory that exists (``open`` fails there,
+    as a shell's ``> sub/../x.nc`` does), so such a path names no file that can be written."""
+    parts = Path(path).parts
+    for i, part in enumerate(parts[1:-1], start=1):
+        if part == ".." and not Path(*parts[:i]).is_dir():
+            return Path(*parts[:i])
+    return None
+
+
 def keep_inputs(inputs, writes, name, value):
     """Refuse, naming the output ``name = value`` (``-o``), a write over one of the files the work reads: a run's
     netCDF named ``run.h5`` and exported to ``run.xdmf`` was replaced by the export's HDF5 data, its run lost.

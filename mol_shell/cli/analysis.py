@@ -129,7 +129,7 @@ def cmd_stability(args):
 
 
 def cmd_modes(args):
-    scene, run, initial, info = start_of(args)
+    scene, run, initial, info, source = start_of(args)
     png = writable_path(args.png or str(args.output).rsplit(".", 1)[0] + ".png", "--png", suffixes=image_formats())
     if args.png:  # the figure is not the --from file either
         check_outputs(args, name="--png", value=png)
@@ -139,9 +139,9 @@ def cmd_modes(args):
         ds = modes(scene, n=args.n or run.get("n", 40), count=args.count, initial=initial)
     except ParameterError as exc:
         if hasattr(exc, "residual") and initial is not None:  # a path's state, named by --point, --set or --from
-            raise not_an_equilibrium(args, exc) from None
+            raise not_an_equilibrium(args, exc, source) from None
         raise
-    say_start(args, ds, info, "the modes are about")
+    say_start(args, ds, info, "the modes are about", source)
     say_stand_ins(scene)
     write_netcdf(ds, args.output)
     plot_modes(ds, png)

@@ -6,6 +6,7 @@ import argparse
 import os
 import re
 import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -354,14 +355,49 @@ def _as_option(exc, named):
 
 def input_files(args):
     """``{label: path}`` of the files a command reads, as its options name them: ``FILE`` (plot, export, animate),
-    ``--from`` (run, modes), a scene file ``SCENE_OR_FILE`` and a meridian's ``--set points=FILE``."""
+    ``--from`` (run, modes), a scene file ``SCENE_OR_FILE`` and the files it names (:func:`scene_file_inputs`: a
+    meridian's ``points``), and a meridian's ``--set points=FILE``."""
     scene = getattr(args, "scene", None)
-    files = {"FILE": getattr(args, "file", None), "--from": getattr(args, "from_path", None),
-             "SCENE_OR_FILE": scene if scene is not None and str(scene).endswith(".toml") else None}
-    for item in getattr(args, "set", None) or []:
-        key, _, value = str(item).partition("=")
+    toml = scene if scene is not None and str(scene).endswith(".toml") else None
+    files = {"FILE": getattr(args, "file", None), "--from": getattr(args, "from_path", None), "SCENE_OR_FILE": toml}
+    sets = [str(item).partition("=") for item in getattr(args, "set", None) or []]
+    if toml is not None:  # a value --set replaces is not read
+        files.update(scene_file_inputs(toml, skip={key.strip() for key, _, _ in sets}))
+    for key, _, value in sets:
         if key.strip() == "points" and value.strip():
             files["--set points"] = value.strip()
+    return files
+
+
+def scene_file_inputs(path, skip=()):
+    """``{"FILE.toml: [table] key": file}``: the files scene file ``path`` names, each string value (in any table,
+    inline table or array) that names an existing file where the scene reads it, relative to the scene file's folder
+    (:func:`mol_shell.scenes.files.load_scene`: a meridian's ``points``), but those of the keys ``skip`` (replaced
+    by ``--set``). A scene file that cannot be read or parsed names none here: the command refuses it by name when
+    it loads it."""
+    try:
+        path = Path(os.fspath(path)).expanduser()
+        data = tomllib.loads(path.read_bytes().decode("utf-8-sig"))
+    except (OSError, TypeError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        return {}
+    pending = []  # (where, value): "[table] key" (a [[table]]'s too), or a key outside the tables
+    for name, value in data.items():
+        if isinstance(value, dict):
+            pending += [(f"[{name}] {key}", v) for key, v in value.items() if key not in skip]
+        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+            pending += [(f"[[{name}]] {key}", v) for table in value for key, v in table.items() if key not in skip]
+        else:
+            pending.append((name, value))
+    files = {}
+    while pending:
+        where, value = pending.pop()
+        if isinstance(value, (dict, list)):  # an inline table's or an array's strings: said as their key
+            pending += [(where, v) for v in (value.values() if isinstance(value, dict) else value)]
+        elif isinstance(value, str) and value.strip():
+            named = Path(value.strip()).expanduser()
+            named = named if named.is_absolute() else path.parent / named
+            if named.is_file():
+                files[f"{path}: {where}"] = str(named)
     return files
 
 

@@ -77,11 +77,11 @@ from mol_shell.views.plotting import plot_meridian, plot_snapshots, shows_histor
 
 
 def cmd_run(args):
-    scene, run, initial, info = start_of(args)  # a scene file's [run] table gives defaults, the options win
+    scene, run, initial, info, source = start_of(args)  # a scene file's [run] table gives defaults, the options win
     times, t_end, integrator, options = run_settings(args, run, scene, args.n or run.get("n", 40))
     ds = simulate(scene, integrator, n=args.n or run.get("n", 40), t_end=t_end, times=times, progress=None,
                   stresses=args.stresses, initial=initial, **options)
-    say_start(args, ds, info, "the run starts from")
+    say_start(args, ds, info, "the run starts from", source)
     write_netcdf(ds, args.output)
     say_stand_ins(scene)
     if not ds.attrs["complete"]:

@@ -148,8 +148,9 @@ def add_start_options(p, perturb=False):
 
 
 def start_of(args):
-    """``(scene, run, initial, info)`` of a command with :func:`add_start_options`: a scene (file) and its ``[run]``
-    table as usual (``initial`` and ``info`` None), or a path's state with ``{"n": the path's n}``."""
+    """``(scene, run, initial, info, source)`` of a command with :func:`add_start_options`: a scene (file) and its
+    ``[run]`` table as usual (``initial``, ``info`` and ``source`` None), or a path's state with ``{"n": the path's
+    n}`` and ``source``, the path as read (once: :func:`say_start` and :func:`not_an_equilibrium` take it)."""
     perturb = getattr(args, "perturb", None)
     if args.from_path is None:
         for option, value in (("--step", args.step), ("--point", args.point), ("--perturb", perturb)):
@@ -159,7 +160,7 @@ def start_of(args):
         if args.scene is None:
             raise ParameterError.missing("SCENE_OR_FILE", "give a scene, a scene file or --from PATH.nc")
         scene, run = scene_and_run(args.scene, args.set)
-        return scene, run, None, None
+        return scene, run, None, None, None
     if args.scene is not None:
         raise ParameterError("--from", args.from_path, "a path file in place of SCENE_OR_FILE",
                              message=f"give SCENE_OR_FILE ({args.scene}) or --from PATH.nc, not both")
@@ -167,23 +168,23 @@ def start_of(args):
     scene, n, fields, info = path_start(ds, step=args.step, point=args.point, perturb=perturb or 0.0)
     if args.n is not None and args.n != n:
         raise ParameterError("--n", args.n, f"{{{n}}} with --from (the path's nodes)")
-    return with_params(scene, parse_sets(args.set)), {"n": n}, fields, info
+    return with_params(scene, parse_sets(args.set)), {"n": n}, fields, info, ds
 
 
-def _unlocated(args):
-    """``(ds, k)`` when the command starts from a critical point ``k`` the path did not locate (``--point K``,
-    ``point_located = 0``; a file written before that variable: every point located), else ``(None, None)``."""
-    if args.from_path is None or args.point is None:
+def _unlocated(args, source):
+    """``(ds, k)`` when the command starts from a critical point ``k`` the path ``source`` (``--from``, as
+    :func:`start_of` read it) did not locate (``--point K``, ``point_located = 0``; a file written before that
+    variable: every point located), else ``(None, None)``."""
+    if source is None or args.point is None:
         return None, None
-    ds = read_path(args.from_path)
-    located = ds["point_located"].values[args.point] if "point_located" in ds else 1
-    return (None, None) if int(located) else (ds, args.point)
+    located = source["point_located"].values[args.point] if "point_located" in source else 1
+    return (None, None) if int(located) else (source, args.point)
 
 
-def unlocated_note(args, subject="the modes are about"):
-    """A note for modes (or a run: ``subject``) about a critical point the path did not locate (an equilibrium, but
-    not a critical one), else ``""``."""
-    ds, k = _unlocated(args)
+def unlocated_note(args, source, subject="the modes are about"):
+    """A note for modes (or a run: ``subject``) about a critical point the path ``source`` did not locate (an
+    equilibrium, but not a critical one), else ``""``."""
+    ds, k = _unlocated(args, source)
     if ds is None:
         return ""
     step = int(ds.point_step.values[k])
@@ -193,11 +194,12 @@ def unlocated_note(args, subject="the modes are about"):
             f"{float(ds.point_eigenvalue[k]):.3g} s-2 (0 at a located point; --step {step} or --step {step + 1} for a step's)")
 
 
-def say_start(args, ds, info, subject):
+def say_start(args, ds, info, subject, source=None):
     """What ``run`` or ``modes`` (``subject``: "the run starts from", "the modes are about") tell of a start from a
-    path: ``info`` into ``initial_state`` (with "not located" at a point the path did not locate), and a note for
-    that point and for initial data the path's state stands in for (``initial_data_note``)."""
-    note = unlocated_note(args, subject)
+    path (``source``, as :func:`start_of` read it): ``info`` into ``initial_state`` (with "not located" at a point
+    the path did not locate), and a note for that point and for initial data the path's state stands in for
+    (``initial_data_note``)."""
+    note = unlocated_note(args, source, subject)
     if info:
         ds.attrs["initial_state"] = info + ("; not located (point_located = 0): the search's last estimate"
                                             if note else "")
@@ -206,12 +208,13 @@ def say_start(args, ds, info, subject):
             print(f"mol-shell: note: {said}", file=sys.stderr)
 
 
-def not_an_equilibrium(args, exc):
+def not_an_equilibrium(args, exc, source=None):
     """The refusal of a ``--from`` state that modes found out of equilibrium (``exc``, named ``initial``), named by
-    what chose the state: ``--point`` (a point the path did not locate: its last estimate, from a path written before
-    the search kept only equilibria), ``--set`` (loads moved off the path's), or the file."""
+    what chose the state: ``--point`` (a point the path ``source``, as :func:`start_of` read it, did not locate: its
+    last estimate, from a path written before the search kept only equilibria), ``--set`` (loads moved off the
+    path's), or the file."""
     residual = exc.residual
-    ds, k = _unlocated(args)
+    ds, k = _unlocated(args, source)
     if ds is not None:
         step = int(ds.point_step.values[k])
         return ParameterError.invalid(

@@ -10,7 +10,7 @@ import numpy as np
 import xarray as xr
 
 from mol_shell._core import interrupts
-from mol_shell._core.atomic import atomic_path
+from mol_shell._core.atomic import atomic_path, up_out_of
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.model.edges import IMPOSED
 from mol_shell.model.kinematics import FIELDS
@@ -294,8 +294,9 @@ def writable_path(path, name="path", suffixes=None, created=None):
     Raises
     ------
     ParameterError
-        Empty path, an existing directory, a suffix outside ``suffixes``, a directory that cannot
-        be created, or a place without write permission.
+        Empty path, an existing directory, a suffix outside ``suffixes``, a ``..`` out of a directory that is not
+        there (:func:`~mol_shell._core.atomic.up_out_of`), a directory that cannot be created, or a place without
+        write permission.
     """
     allowed = "a file path in a writable place (missing directories are created)"
     if path is None or not str(path).strip():
@@ -312,6 +313,13 @@ def writable_path(path, name="path", suffixes=None, created=None):
                                          if suffix else "has no suffix",
                                          "a file ending in one of ." + ", .".join(sorted(suffixes)))
     folder = path.parent
+    above = up_out_of(path)  # sub/../x.nc without sub: the system's refusal (open), not "cannot create 'sub/..'"
+    if above is not None:
+        raise ParameterError.invalid(name, str(path), f"cannot be written: {str(above)!r} "
+                                     f"{'is not a directory' if above.exists() else 'does not exist'}, and the path "
+                                     "goes back out of it with '..' (which the system resolves only in a directory "
+                                     "that exists)", allowed, hint=("" if above.exists() else f"create {str(above)!r} "
+                                                                    "first, or ") + f"leave out '{above.name}/..'")
     missing = [p for p in [folder, *folder.parents] if not p.exists()][::-1]
     try:
         for p in missing:

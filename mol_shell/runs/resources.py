@@ -260,7 +260,8 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n", what=
     available, source = available_memory()
     if est.memory_bytes <= available:
         return
-    if est.dense_bytes and est.memory_bytes - est.dense_bytes <= available:
+    if est.dense_bytes and est.linsolver not in (None, "auto") and est.memory_bytes - est.dense_bytes <= available:
+        # a dense solver chosen (auto's dense matrices, up to 100 unknowns, are the nodes': named as the rest)
         raise dense_refusal(est, available, source, what)
     if est.n_times < 1e15:
         per_time = est.output_bytes * ASSEMBLY_COPIES / max(est.n_times, 1)
@@ -346,16 +347,17 @@ def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, ti
 
 
 def check_analysis(n, states, what, kept, *, integrator="cvode-bdf", fields=5, name=None, value=None, fewer=None,
-                   announce=True):
+                   announce=True, method=None):
     """Before a graph is built for an analysis (``what``: natural modes, an equilibrium path, a comparison of
     integrators): refuse ``n`` when the graph, the spectrum, the matrices and the ``states`` kept (modes, path
     steps, saved times) would not fit in memory. ``integrator`` names the matrices kept (a comparison's most
     demanding one; modes and paths factorise a sparse Jacobian, as an implicit integrator does). With ``name``
     (the parameter that sets how many states: a path's ``max_steps``, whose ``value`` is ``states - 1``), it is
     named when fewer states would fit, with the advice ``fewer``. ``announce``: warn when the build takes over
-    :data:`LONG_ANALYSIS_BUILD_S` (not for a plain build, whose caller announces it)."""
+    :data:`LONG_ANALYSIS_BUILD_S` (not for a plain build, whose caller announces it). ``method``: the integrator
+    with its options, whose linear solver's matrices are counted as a run's are (:func:`check_before_build`)."""
     check_nodes(n)
-    est = estimate(n, max(int(states), 2), 0.0, integrator, fields=fields)
+    est = estimate(n, max(int(states), 2), 0.0, integrator, fields=fields, method=method)
     check_memory(est, times_name=name, times_value=value, what=what, kept=kept, fewer=fewer or "",
                  offset=int(states) - value if name is not None else 0)
     if announce and est.build_seconds > LONG_ANALYSIS_BUILD_S:  # modes at n = 30,000: 31 s in silence
@@ -413,10 +415,26 @@ def fits_fraction(available, per_case):
     return max(available - BUILD_BYTES_FIXED, 0) / per_case
 
 
-def check_study(n_cases, n, times, integrator="leapfrog", *, fields=5, dt=None, workers=1):
-    """A study: its combined output must fit in memory; warn when its cases take more than an hour in all."""
+def check_study(n_cases, n, times, integrator="leapfrog", *, fields=5, dt=None, workers=1, methods=()):
+    """A study: its combined output must fit in memory; warn when its cases take more than an hour in all.
+
+    One case must fit (each worker runs one at a time: a grid too fine for any is refused naming ``n``), as each
+    run's own check (:func:`check_before_build`) counts it: with ``methods``, the integrators with the options of the
+    cases (each distinct one once), their linear solvers' matrices counted; the study is refused (as the first
+    case's run would be, naming ``linsolver`` for a dense solver that does not fit) when not one of them fits."""
     est = estimate(n, len(times), times[-1], integrator, fields=fields, dt=dt)
-    check_memory(est)  # one case (each worker runs one at a time): a grid too fine for any is refused naming n
+    refusals = []
+    for method in methods:
+        try:
+            check_memory(estimate(n, len(times), times[-1], integrator, fields=fields,
+                                  dt=getattr(method, "dt", None), method=method))
+            break
+        except ParameterError as exc:
+            refusals.append(exc)
+    else:
+        if refusals:
+            raise refusals[0]
+        check_memory(est)
     check_cases(n_cases, n, len(times))
     total = dataclasses.replace(est, seconds=est.seconds * n_cases / max(int(workers or 1), 1),
                                 steps=est.steps * n_cases)

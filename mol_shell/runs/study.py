@@ -28,6 +28,7 @@ from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
+from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.law_warnings import locking_warnings
 from mol_shell.model.laws import REGISTRY, resolve_material, user_material
 from mol_shell.model.layers import parse_layers
@@ -47,7 +48,7 @@ from mol_shell.runs.simulate import (
     steps_to,
 )
 from mol_shell.runs.study_design import design, label_coords, material_names, scene_fields
-from mol_shell.scenes import with_params
+from mol_shell.scenes import Unshearable, with_params
 
 #: statuses that are final: stored, and skipped on resume ("interrupted" and "lost" are run again)
 FINAL = ("complete", "limit", "unstable", "refused", "error")
@@ -283,7 +284,8 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     times = parse_times(times, t_end)
     resources.check_study(len(cases), n, times, integrator, fields=len(getattr(scene, "fields", range(5))),
                           dt=options.get("dt", DEFAULT_DT) if integrator == "leapfrog" else None,
-                          workers=1 if scheduler == "serial" else (workers or os.cpu_count() or 1))
+                          workers=1 if scheduler == "serial" else (workers or os.cpu_count() or 1),
+                          methods=case_methods(scene, integrator, options, cases))
     results, tasks = {}, []
     for index, changes in cases:
         label = ", ".join(f"{k}={v}" for k, v in changes.items())
@@ -358,10 +360,33 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
     return pending, reused
 
 
-def _task(scene, index, label, changes, integrator, n, times, options):
+def _split(scene, changes, options):
+    """A case's ``changes`` as ``(scene parameters, integrator options)``: the options over the study's ``options``."""
     fields = set(scene_fields(scene)) | material_names(scene)
-    scene_changes = {k: v for k, v in changes.items() if k in fields}
-    opts = {**options, **{k: v for k, v in changes.items() if k not in fields}}
+    return ({k: v for k, v in changes.items() if k in fields},
+            {**options, **{k: v for k, v in changes.items() if k not in fields}})
+
+
+def case_methods(scene, integrator, options, cases):
+    """The integrators of the ``cases``, each distinct set of options once, made as :func:`mol_shell.simulate` makes
+    a run's (whose memory check counts their linear solvers' matrices); none for the unshearable scene (its own runs)
+    and for options a run refuses (that case is refused by name when it runs)."""
+    if isinstance(scene, Unshearable) or integrator not in INTEGRATORS:
+        return []
+    methods = {}
+    for _, changes in cases:
+        opts = _split(scene, changes, options)[1]
+        key = json.dumps(opts, sort_keys=True, default=repr)
+        if key not in methods:
+            try:
+                methods[key] = INTEGRATORS[integrator](**opts)
+            except (ParameterError, TypeError):
+                methods[key] = None
+    return [method for method in methods.values() if method is not None]
+
+
+def _task(scene, index, label, changes, integrator, n, times, options):
+    scene_changes, opts = _split(scene, changes, options)
     case_scene = with_params(scene, scene_changes)
     return Task(index, label, case_scene, integrator, int(n), tuple(float(t) for t in times), opts,
                 carried_materials(case_scene))

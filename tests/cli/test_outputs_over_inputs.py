@@ -76,6 +76,32 @@ def test_a_meridian_s_points_file_is_not_overwritten(tmp_path, capsys):
     assert points.read_text().startswith("1 0\n")
 
 
+@pytest.mark.parametrize("given", ["pts.nc", "pts.csv"])
+def test_a_points_file_a_scene_file_names_is_not_overwritten(tmp_path, capsys, monkeypatch, given):
+    """A scene file's ``points = "pts.nc"`` is read (relative to the scene file's folder) as ``--set points`` is,
+    but only ``--set points`` counted as an input: ``run scene.toml -o pts.nc`` replaced the meridian by the run.
+    Refused naming -o and the scene file's key, every byte kept; ``--set points`` in its place is read instead, and
+    the file's points then are not an input."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "in").mkdir()
+    points = tmp_path / "in" / given
+    points.write_text("1 0\n0.9 0.3\n0.6 0.5\n0 0.6\n")
+    (tmp_path / "in" / "scene.toml").write_text(f'scene = "meridian"\n[geometry]\npoints = "{given}"\n')
+    argv = ["run", "in/scene.toml", "--n", "8", "--t-end", "1e-6", "-o"]
+    for output in (f"in/{given}", f"in/../in/{given}", f"./in/{given}"):
+        code = main([*argv, output])
+        err = capsys.readouterr().err.strip().splitlines()
+        assert code == 2 and len(err) == 1 and err[0].startswith("mol-shell: error: -o = '"), err
+        if given.endswith(".nc"):  # a .csv is no run file either: refused for its suffix first
+            assert "is the input file in/scene.toml: [geometry] points = " in err[0], err
+        assert points.read_text().startswith("1 0\n")
+    if given.endswith(".nc"):
+        (tmp_path / "other.nc").write_text("1 0\n0.9 0.3\n0.6 0.5\n0 0.6\n")
+        assert main(["run", "in/scene.toml", "--set", "points=other.nc", "--n", "8", "--t-end", "1e-6", "-o",
+                     f"in/{given}"]) == 0
+        assert points.read_bytes().startswith(b"\x89HDF")  # the run, over a file this run did not read
+
+
 def test_python_export_refuses_to_write_over_its_run(files, tmp_path):
     """``export(path_or_dataset_read_from_it, ...)``: the same refusal, naming the keyword ``path``."""
     given = tmp_path / "run.h5"

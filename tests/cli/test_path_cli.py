@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -363,6 +364,30 @@ def test_a_start_at_an_unlocated_point_that_is_an_equilibrium_says_it_was_not_lo
     assert f"mol-shell: note: critical point 0 was not located (point_located = 0): {subject} the " \
         "search's last estimate" in err and f"--step {step} or --step {step + 1}" in err, err
     assert "not located" in xr.open_dataset(out).attrs["initial_state"]
+
+
+@pytest.mark.parametrize(("command", "options", "kind", "code"), [
+    ("run", ["--t-end", "1e-5"], "located", 0),
+    ("modes", ["--count", "1"], "located", 0),
+    ("run", ["--t-end", "1e-5"], "unlocated", 0),
+    ("modes", ["--count", "1"], "unlocated", 0),
+    ("modes", ["--count", "1"], "no equilibrium", 2),  # refused naming --point: the file's point_located said why
+])
+def test_a_start_from_a_path_reads_the_path_file_once(cap_file, tmp_path, monkeypatch, capsys, command, options,
+                                                      kind, code):
+    """``run|modes --from PATH.nc --point K`` read the path file for the start, again for the note on a point the
+    path did not locate, and again for the refusal of a state out of equilibrium: the file is opened once, and what
+    was read is passed on."""
+    source = cap_file if kind == "located" else _unlocated_copy(cap_file, tmp_path, dr=1e-4 * (kind != "unlocated"))[0]
+    opened, open_dataset = [], xr.open_dataset
+
+    def counted(filename, *args, **kwargs):
+        opened.append(Path(filename).resolve())
+        return open_dataset(filename, *args, **kwargs)
+
+    monkeypatch.setattr(xr, "open_dataset", counted)
+    assert main([command, "--from", str(source), "--point", "0", *options, "-o", str(tmp_path / "out.nc")]) == code
+    assert opened.count(Path(source).resolve()) == 1, capsys.readouterr().err
 
 
 def test_fields_that_are_no_equilibrium_are_refused_naming_initial(cap_file):
