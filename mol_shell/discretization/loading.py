@@ -127,3 +127,23 @@ def load_terms(system, scene, t, Q, V):
         dissipation = ca.sum2(twice)
     return forces, power, dissipation
 
+
+def history_kinks(parsed):
+    """The times after the start where a parsed history (:func:`mol_shell.model.loads.parse_history`) is not smooth:
+    the end of a ramp, every point of a table (held before its first and after its last), a step's time; none for a
+    constant or a sine (a step at 0 is the start)."""
+    kind, data = parsed
+    if kind in ("ramp", "step"):
+        return tuple(t for t in data[:1] if t > 0)
+    if kind == "table":
+        return tuple(t for t in data[0] if t > 0)
+    return ()
+
+
+def drive_kinks(system):
+    """The times after the start where a driven edge's prescribed rate has a kink, increasing (empty without
+    drives): there the driven node's acceleration, and with it the driver's power, jumps. A multistep solver that
+    steps across such a time, or carries its history over it, misses the driver's work by far more than its
+    tolerance; the compiled SUNDIALS loop stops and restarts at each (docs/loads.md)."""
+    times = {t for _, parsed in getattr(system, "drives", {}).values() for t in history_kinks(parsed)}
+    return tuple(sorted(times))

@@ -109,6 +109,8 @@ def _declare(lib):
     lib.ms_advance.argtypes = [vp, dbl, ll, dbl, ctypes.POINTER(dbl), arr[np.float64], arr[np.float64]]
     lib.ms_stats.argtypes = [vp, arr[np.int64]]
     lib.ms_costs.argtypes = [vp, i32, arr[np.float64]]
+    lib.ms_set_kinks.restype = i32
+    lib.ms_set_kinks.argtypes = [vp, arr[np.float64], i32]
     lib.ms_event_time.restype = dbl
     lib.ms_event_time.argtypes = [vp]
     lib.ms_free.argtypes = [vp]
@@ -139,9 +141,13 @@ class Solve:
         The Jacobian's compressed-column pattern.
     floor : ndarray
         Subtracted from the limits to make the root functions; ``r_entries`` the constrained ``r`` entries.
+    kinks : sequence of float
+        Times after the start where a drive's rate has a kink (increasing): the solve stops at each and restarts
+        there (:func:`mol_shell.discretization.loading.drive_kinks`).
     """
 
-    def __init__(self, ida, iopts, opts, y0, yp0, atol, rhs, jac, py_jac, pattern, limits, floor, r_entries):
+    def __init__(self, ida, iopts, opts, y0, yp0, atol, rhs, jac, py_jac, pattern, limits, floor, r_entries,
+                 kinks=()):
         self.lib = driver()
         self.n = len(y0)
         self.ida = ida
@@ -158,6 +164,9 @@ class Solve:
             jac[0] if jac else None, jac[1] if jac else empty, self.py_jac, colind, row, int(pattern.nnz()),
             limits[0] if limits else None, limits[1] if limits else empty, len(floor) if limits else 0,
             self._keep[5], self._keep[6], len(r_entries), ctypes.byref(err))
+        if not err.value and len(kinks):
+            self._keep.append(np.ascontiguousarray(kinks, dtype=float))
+            err.value = 7 if self.lib.ms_set_kinks(self.handle, self._keep[-1], len(kinks)) else 0
         if err.value:
             self.close()
             raise RuntimeError(f"the SUNDIALS driver could not set up the solver (stage {err.value})")

@@ -52,7 +52,7 @@ static int ms_dq_band(ms_run* r, double t, N_Vector yv, N_Vector ypv, double cx,
       y2[j] = y[j] + cx * inc;
       if (r->ida) yp2[j] = yp[j] + cxp * inc;
     }
-    if (ms_eval(&r->rhs, t, y2, yp2, 0, f)) return -1;
+    if (ms_eval(&r->rhs, ms_side(r, t), y2, yp2, 0, f)) return -1;
     r->n_dq += 1;
     for (j = g; j < n; j += width) {
       double inc = cx != 0.0 ? (y2[j] - y[j]) / cx : (yp2[j] - yp[j]) / cxp;

@@ -15,6 +15,7 @@ callback (CasADi's virtual machine, no compiler) is also accepted: it is called 
 
 from mol_shell.discretization.sundials_api import SUNDIALS_PROTOTYPES
 from mol_shell.discretization.sundials_jacobians import JACOBIAN_SOURCE
+from mol_shell.discretization.sundials_kinks import KINKS_SOURCE
 
 #: steps in a row of at most 10 eps |t| before a solve stops (the driver's code 6, ``STALLED``)
 STALL_STEPS = 100
@@ -74,6 +75,9 @@ typedef struct {
   SUNMatrix jx, jxp;                  /* ... kept as dF/dx and dF/dx' */
   double rtol;
   int too_many_calls;
+  double* kinks;                      /* times where a drive's rate has a kink, increasing: stop and restart there */
+  int n_kinks, next_kink;
+  long long base[9];                  /* SUNDIALS' counters before the last restart (a restart zeroes them) */
 } ms_run;
 
 static int ms_eval(ms_fn* fn, double t, const double* y, const double* yp, const double* cj, double* out) {
@@ -86,6 +90,13 @@ static int ms_count_call(ms_run* r, double t) {
   r->calls_in_step += 1;
   if (r->calls_in_step > r->max_calls || !isfinite(t)) { r->too_many_calls = 1; return -1; }
   return 0;
+}
+
+/* The time at which the right-hand side (or residual) is evaluated: t, but short of the next kink by one ulp at the
+   kink itself, where the last step before it ends (the step stops there, and the drive's rate there is the new
+   segment's: the old one's belongs to that step); after the restart at the kink, t itself */
+static double ms_side(ms_run* r, double t) {
+  return r->next_kink < r->n_kinks && t >= r->kinks[r->next_kink] ? nextafter(r->kinks[r->next_kink], -INFINITY) : t;
 }
 
 static int ms_limits(ms_run* r, const double* y, double* g) {
@@ -102,7 +113,7 @@ static int ms_limits(ms_run* r, const double* y, double* g) {
 _LOOP = r"""static int ms_cv_rhs(double t, N_Vector y, N_Vector ydot, void* data) {
   ms_run* r = (ms_run*) data;
   if (ms_count_call(r, t)) return -1;
-  return ms_eval(&r->rhs, t, N_VGetArrayPointer(y), 0, 0, N_VGetArrayPointer(ydot)) ? -1 : 0;
+  return ms_eval(&r->rhs, ms_side(r, t), N_VGetArrayPointer(y), 0, 0, N_VGetArrayPointer(ydot)) ? -1 : 0;
 }
 
 static int ms_cv_jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void* data, N_Vector t1, N_Vector t2,
@@ -110,8 +121,8 @@ static int ms_cv_jac(double t, N_Vector y, N_Vector fy, SUNMatrix J, void* data,
   ms_run* r = (ms_run*) data;
   int flag;
   if (r->dq) return ms_dq_band(r, t, y, 0, 1.0, 0.0, 0.0, fy, J, t1, t2, 0);
-  flag = r->py_jac ? r->py_jac(t, N_VGetArrayPointer(y), 0, 0.0, r->jnz)
-                   : ms_eval(&r->jac, t, N_VGetArrayPointer(y), 0, 0, r->jnz);
+  flag = r->py_jac ? r->py_jac(ms_side(r, t), N_VGetArrayPointer(y), 0, 0.0, r->jnz)
+                   : ms_eval(&r->jac, ms_side(r, t), N_VGetArrayPointer(y), 0, 0, r->jnz);
   (void) fy; (void) t1; (void) t2; (void) t3;
   return flag ? -1 : ms_fill(r, J);
 }
@@ -124,7 +135,8 @@ static int ms_cv_root(double t, N_Vector y, double* g, void* data) {
 static int ms_ida_res(double t, N_Vector y, N_Vector yp, N_Vector res, void* data) {
   ms_run* r = (ms_run*) data;
   if (ms_count_call(r, t)) return -1;
-  return ms_eval(&r->rhs, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), 0, N_VGetArrayPointer(res)) ? -1 : 0;
+  return ms_eval(&r->rhs, ms_side(r, t), N_VGetArrayPointer(y), N_VGetArrayPointer(yp), 0, N_VGetArrayPointer(res))
+         ? -1 : 0;
 }
 
 static int ms_ida_jac(double t, double cj, N_Vector y, N_Vector yp, N_Vector res, SUNMatrix J, void* data,
@@ -133,8 +145,8 @@ static int ms_ida_jac(double t, double cj, N_Vector y, N_Vector yp, N_Vector res
   int flag;
   if (r->dq && r->reuse > 1) return ms_ida_dq_reused(r, t, cj, y, yp, res, J, t1, t2, t3);
   if (r->dq) return ms_dq_band(r, t, y, yp, 1.0, cj, 0.0, res, J, t1, t2, t3);
-  flag = r->py_jac ? r->py_jac(t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), cj, r->jnz)
-                   : ms_eval(&r->jac, t, N_VGetArrayPointer(y), N_VGetArrayPointer(yp), &cj, r->jnz);
+  flag = r->py_jac ? r->py_jac(ms_side(r, t), N_VGetArrayPointer(y), N_VGetArrayPointer(yp), cj, r->jnz)
+                   : ms_eval(&r->jac, ms_side(r, t), N_VGetArrayPointer(y), N_VGetArrayPointer(yp), &cj, r->jnz);
   (void) res; (void) t1; (void) t2; (void) t3;
   return flag ? -1 : ms_fill(r, J);
 }
@@ -304,7 +316,8 @@ static double ms_now(void) {
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-/* Steps towards target (never past it) until it is reached (0), a root of a limit is found (1: t_event and the
+/* Steps towards target (never past it; stopping and restarting at the kinks of a drive before it, ms_kinks) until
+   it is reached (0), a root of a limit is found (1: t_event and the
    roots), an accepted step leaves r <= r_floor on a constrained entry (2), max_steps steps were taken in all (3),
    the wall-time budget of this call is spent (4), MS_STALL_STEPS steps in a row are 10 eps |t| or less (6: the
    step below round-off at t), or SUNDIALS fails (its negative flag; 5 if a right-hand side or residual was called
@@ -312,13 +325,14 @@ static double ms_now(void) {
    t (the last step's end). */
 CASADI_SYMBOL_EXPORT int ms_advance(ms_run* r, double target, long long max_steps, double seconds, double* t_out,
                                     double* y, double* yp) {
-  double start = ms_now(), tret = r->t;
+  double start = ms_now(), tret = r->t, stop = target;
   int flag = 0, code = 0, i, stalled = 0;
-  if (r->ida) IDASetStopTime(r->mem, target); else CVodeSetStopTime(r->mem, target);
-  while (r->t < target) {
+  flag = ms_kinks(r, target, &stop);
+  if (flag < 0) code = flag;
+  while (!code && r->t < target) {
     r->calls_in_step = 0;
-    flag = r->ida ? IDASolve(r->mem, target, &tret, r->y, r->yp, MS_ONE_STEP)
-                  : CVode(r->mem, target, r->y, &tret, MS_ONE_STEP);
+    flag = r->ida ? IDASolve(r->mem, stop, &tret, r->y, r->yp, MS_ONE_STEP)
+                  : CVode(r->mem, stop, r->y, &tret, MS_ONE_STEP);
     r->n_steps += 1;
     if (flag == MS_ROOT_RETURN) {
       r->t_event = tret;
@@ -341,6 +355,10 @@ CASADI_SYMBOL_EXPORT int ms_advance(ms_run* r, double target, long long max_step
       if (code) break;
     }
     if (r->n_steps >= max_steps) { code = 3; break; }
+    if (stop < target && r->t >= stop) { /* at a kink: restart there */
+      flag = ms_kinks(r, target, &stop);
+      if (flag < 0) { code = flag; break; }
+    }
     if (r->t < target && ms_now() - start > seconds) { code = 4; break; }
   }
   *t_out = r->t;
@@ -353,26 +371,14 @@ CASADI_SYMBOL_EXPORT int ms_advance(ms_run* r, double target, long long max_step
    nonlinear convergence failures, Newton iterations, root-function evaluations, the root found (index, or -1),
    one-step calls, right-hand side evaluations for difference-quotient Jacobians */
 CASADI_SYMBOL_EXPORT void ms_stats(ms_run* r, long long* out) {
-  long int v[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  long int v[9];
   int i;
-  if (r->ida) {
-    IDAGetNumSteps(r->mem, v); IDAGetNumResEvals(r->mem, v + 1); IDAGetNumJacEvals(r->mem, v + 2);
-    IDAGetNumLinSolvSetups(r->mem, v + 3); IDAGetNumErrTestFails(r->mem, v + 4);
-    IDAGetNumNonlinSolvConvFails(r->mem, v + 5); IDAGetNumNonlinSolvIters(r->mem, v + 6);
-    if (r->ng) IDAGetNumGEvals(r->mem, v + 7);
-    if (r->ls) IDAGetNumLinResEvals(r->mem, v + 8);
-  } else {
-    CVodeGetNumSteps(r->mem, v); CVodeGetNumRhsEvals(r->mem, v + 1); CVodeGetNumJacEvals(r->mem, v + 2);
-    CVodeGetNumLinSolvSetups(r->mem, v + 3); CVodeGetNumErrTestFails(r->mem, v + 4);
-    CVodeGetNumNonlinSolvConvFails(r->mem, v + 5); CVodeGetNumNonlinSolvIters(r->mem, v + 6);
-    if (r->ng) CVodeGetNumGEvals(r->mem, v + 7);
-    if (r->ls) CVodeGetNumLinRhsEvals(r->mem, v + 8);
-  }
-  for (i = 0; i < 8; ++i) out[i] = v[i];
+  ms_counters(r, v); /* since the last restart at a kink; base holds those before it */
+  for (i = 0; i < 8; ++i) out[i] = r->base[i] + v[i];
   out[8] = -1;
   for (i = 0; i < r->ng; ++i) if (r->roots[i]) { out[8] = i; break; }
   out[9] = r->n_steps;
-  out[10] = v[8] + r->n_dq;
+  out[10] = r->base[8] + v[8] + r->n_dq;
 }
 
 /* The cost of each part of a step, s per call, at the run's current state (for the benchmark; after the run: it
@@ -446,10 +452,10 @@ CASADI_SYMBOL_EXPORT void ms_free(ms_run* r) {
   if (r->jac.f) ms_fn_free(&r->jac);
   if (r->lim.f) ms_fn_free(&r->lim);
   if (r->ctx) SUNContext_Free(&r->ctx);
-  free(r->colind); free(r->row); free(r->jnz); free(r->g); free(r->roots); free(r->r_idx);
+  free(r->colind); free(r->row); free(r->jnz); free(r->g); free(r->roots); free(r->r_idx); free(r->kinks);
   free(r);
 }
 """
 
 SUNDIALS_DRIVER = (SUNDIALS_PROTOTYPES + _HEAD.replace("@STALL_STEPS@", str(STALL_STEPS)) + JACOBIAN_SOURCE
-                   + _LOOP)
+                   + KINKS_SOURCE + _LOOP)

@@ -51,6 +51,11 @@ from mol_shell.integrators.tolerances import Tolerances  # noqa: E402
 #: the scikit-sundae version whose constraint defect the workaround targets (and that passes the tests)
 SKSUNDAE_TESTED = "1.2.0"
 ROOT_RETURN, CONSTRAINT_FAIL = 2, {"cvode": -15, "ida": -11}
+#: CV_ILL_INPUT / IDA_ILL_INPUT in a step: an input SUNDIALS checks is not valid there (the step, the time or the
+#: error weights: a state or a tolerance's scale that is not finite, e.g. E = 1e300 or rho = 1e-300)
+ILL_INPUT_FLAG = -22
+ILL_INPUT = ("SUNDIALS found an input of the step invalid (a step, time or error weight that is not finite in double "
+             "precision: the motion's scales are beyond it)")
 #: the least first step other than 0 (s): :data:`~mol_shell._core.constants.MIN_STEP` (its square underflows below
 #: it: IDA stopped with status -22 at 1e-320 s, CVODE's BDF failed its Newton iteration at t = 0 from 1e-290 s),
 #: rounded up to the digits its range states
@@ -415,7 +420,10 @@ class _Run:
             f"r = {r[i]:.3g} m) at t = {t:.9g} s, {where}", t, where)
 
     def _failure(self, res, t_prev):
-        t = float(res.t) if np.isfinite(res.t) else t_prev
+        # the time of the last step that succeeded: a failed one-step call took no step, and SUNDIALS leaves the time
+        # it returns unset when it refuses the call's input, which scikit-sundae then hands back as whatever was in
+        # its uninitialised variable (6.9e-310 s, at E = 1e300)
+        t = t_prev
         if res.status == CONSTRAINT_FAIL[self.method.kind]:
             r = self.system.unpack(self.to_hamiltonian(res.y, t))[1][self.system.radial_nodes]
             i = int(self.system.radial_nodes[np.argmin(r)])
@@ -423,7 +431,8 @@ class _Run:
             return ModelLimitError(
                 f"r -> 0 (r > 0 is a constraint of the model; {self.method.name} could not keep it, "
                 f"r = {r.min():.3g} m) at t = {t:.9g} s, {where}", t, where)
-        err = ModelLimitError(f"{self.method.name} failed at t = {t:.9g} s: {res.message} (status {res.status})",
+        what = ILL_INPUT if res.status == ILL_INPUT_FLAG else res.message  # the compiled route's words
+        err = ModelLimitError(f"{self.method.name} failed at t = {t:.9g} s: {what} (status {res.status})",
                               t, "whole shell")
         err.status = "failed"
         return err

@@ -22,16 +22,14 @@ import numpy as np
 
 from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.discretization import sundials_driver as drv
+from mol_shell.discretization.loading import drive_kinks
 from mol_shell.integrators import sundials
 from mol_shell.integrators.base import StepBudget
 from mol_shell.integrators.explicit import failed
 from mol_shell.integrators import loop
 from mol_shell.integrators.loop import Option, choice, option
 
-#: CV_ILL_INPUT / IDA_ILL_INPUT in a step: an input SUNDIALS checks is not valid there (the step, the time or the
-#: error weights: a state or a tolerance's scale that is not finite, e.g. E = 1e300 or rho = 1e-300)
-ILL_INPUT = ("SUNDIALS found an input of the step invalid (a step, time or error weight that is not finite in double "
-             "precision: the motion's scales are beyond it)")
+ILL_INPUT = sundials.ILL_INPUT
 #: what SUNDIALS' failure flags mean (CVODE, IDA), for the run's message
 FLAGS = {
     "cvode": {-1: "max_num_steps steps in one call", -2: "accuracy asked for is too high",
@@ -328,9 +326,11 @@ class _CompiledRun:
         atol = method.atol_vector(system, self.y0, momenta=not self.ida)
         self.py_error = None
         self.solve = drv.Solve(self.ida, iopts, opts, x0, xp0, atol, rhs, jac, py_jac, pattern, limits, floor,
-                               r_entries if method.constraints else np.zeros(0, dtype=np.int32))
+                               r_entries if method.constraints else np.zeros(0, dtype=np.int32),
+                               kinks=[t for t in drive_kinks(system) if t <= float(times[-1])])
         self.t = 0.0
         self.t_end = float(times[-1])
+        self.budget = StepBudget(method.name, self.t_end, method.max_steps, method.tolerance_text())
 
     def _python_jacobian(self, jac, size, nnz):
         """The Jacobian's non-zeros from CasADi's virtual machine (``jacobian="vm"``: no compiler for it)."""
@@ -371,13 +371,7 @@ class _CompiledRun:
                          "state", t)
         if code < 0:
             raise self._failure(code, t)
-        steps = solve.stats()["n_steps"]
-        needed = steps * self.t_end / t if t > 0 else float("inf")
-        if steps >= StepBudget.EVERY and needed > StepBudget.MARGIN * method.max_steps:
-            raise failed(f"{method.name} would need about {needed:.3g} steps to reach t = {self.t_end:.6g} s at its "
-                         f"mean step so far, more than max_steps = {method.max_steps}: the motion is too fast for this "
-                         f"horizon at {method.tolerance_text()} (a looser tolerance or a larger max_steps goes on; "
-                         f"stopped at t = {t:.9g} s)", t)
+        self.budget.project(solve.stats()["n_steps"], t)  # the steps still needed, from the mean of the last ones
         self.t = t
 
     def to_hamiltonian(self, state, t):

@@ -9,6 +9,7 @@ import numpy as np
 
 from mol_shell._core.constants import ATOL_MIN, FIELDS
 from mol_shell._core.errors import ParameterError, is_number, show
+from mol_shell.discretization.scales import unit_strain_energy
 from mol_shell.integrators import loop
 from mol_shell.integrators.loop import RTOL, Option, non_negative, option, real
 
@@ -125,8 +126,7 @@ class Tolerances:
         ``rtol`` of them. ``atol`` (1e-9) times a unit strain's energy, as before, was 1.1e-3 J on a cone, 3 % of its
         driver's work: a kink in a drive's history then left ``work`` 0.0081 J off and CVODE stopped on a false
         numerical instability. Step counts of ordinary runs changed by -6 to +20 % (docs/loads.md)."""
-        area = 2 * np.pi * float(np.sum(system.weights * system.reference[1]))
-        unit = area * 2 * system.scene.h * (system.lam + 2 * system.mu)
+        unit = unit_strain_energy(system)
         out = system.observables(y0, 0.0)
         start = abs(float(out[1])) + abs(float(out[2]))
         if not np.isfinite(start):  # a start outside the law's domain: the run's checks name it

@@ -14,6 +14,7 @@ import numpy as np
 from mol_shell._core.constants import MIN_STEP, stated_up
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.discretization.compiled import CompiledRHS
+from mol_shell.discretization.scales import unit_strain_energy
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.integrators.loop import real
 from mol_shell.model.laws import ON_REDEFINED
@@ -165,8 +166,7 @@ def energy_balance_error(system, totals):
     """
     energy = totals["kinetic"] + totals["stored"]
     defect = energy - energy[0] - totals["work"] + totals["dissipated"]
-    area = 2 * np.pi * float(np.sum(system.weights * system.reference[1]))
-    unit = area * 2 * system.thickness.h * (system.lam + 2 * system.mu)
+    unit = unit_strain_energy(system)
     exchange = max(float(np.max(np.abs(totals["work"]))), float(np.max(np.abs(totals["dissipated"]))),
                    float(np.max(np.abs(energy - energy[0]))), 1e-12 * unit)
     return float(np.max(np.abs(defect)) / exchange)
