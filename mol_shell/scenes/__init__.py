@@ -31,14 +31,12 @@ SCENES = {cls.name: cls for cls in (TwistedCylinder, SpinningRing, Axisymmetric,
 
 
 def get_scene(name, **params):
-    """The scene registered as ``name`` with parameters replaced by ``params``."""
+    """The scene registered as ``name`` with parameters replaced by ``params``: all of them at once, checked together
+    (the ``meridian`` scene's ``points`` was read first, with the default ``h``, and a file that only the given ``h``
+    fits was refused)."""
     if not isinstance(name, str) or name not in SCENES:  # (a list is not even hashable)
         raise ParameterError("scene", name, "{" + ", ".join(sorted(SCENES)) + "}")
-    cls = SCENES[name]
-    if cls is MeridianShell and "points" in params:  # the scene is made with its file first
-        params = dict(params)
-        return with_params(MeridianShell(points=params.pop("points")), params)
-    return with_params(cls(), params)
+    return with_params(SCENES[name](), params)
 
 
 #: the longest summary of a scene in ``mol-shell scenes`` (beyond it, cut at a clause, parentheses kept whole)

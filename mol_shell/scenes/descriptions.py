@@ -35,7 +35,7 @@ DESCRIPTIONS = {
     "h_profile": "half-thickness along the meridian: 'table s0:h0 s1:h1 ...' or an expression of s ('': h)",
     "dR": "amplitude of the initial radius variation",
     "Lc": "length of the vessel's cylinder", "crown": "crown radius of the vessel's torispherical heads (a: hemispheres)", "knuckle": "knuckle radius of a torispherical head",
-    "segments": "meridian from the bottom pole: 'arc R DEG, line L, ...' (overrides a, Lc, crown, knuckle; turning down, it runs mirrored in z)",
+    "segments": "meridian from the bottom pole: 'arc R DEG, line L, ...' (overrides a, Lc, crown, knuckle; turning down, it runs backwards from its last point, end1, where it is drawn)",
     "dt": "leap-frog time step", "rtol": "relative tolerance", "atol": "absolute tolerance (m or rad per field)",
     "max_step": "largest step of the adaptive integrator",
     "a": "natural radius (cylinder, sphere), tube radius (torus) or the cylinder's radius (vessel)",

@@ -13,8 +13,14 @@ The vessel scene starts at the bottom pole heading outward (``theta = pi/2``), s
 turned +90 degrees in the ``(z, r)`` plane) is the outward normal everywhere (``-k`` at the bottom pole, as the
 sphere's) for a meridian that goes up from it: the heads' arcs turn by negative angles. Segments that turn it down
 instead (``arc 1 90, line 2, arc 1 90``) would run from the top pole with the director into the vessel, its faces'
-"inner" and "outer" swapped: such a meridian (enclosing a negative volume: :func:`goes_down`) is run mirrored in ``z``,
-every angle's sign reversed (:func:`upward`), the same vessel drawn up from its bottom pole. A torispherical head is a crown arc of radius ``Rc`` turning by ``phi1`` and a knuckle of radius ``rk``
+"inner" and "outer" swapped: such a meridian (enclosing a negative volume: :func:`goes_down`) is traversed from its
+other end (:func:`upward`): the segments in reverse order, each run backwards (an arc's angle negated, as the tangent
+``theta0 + pi`` of the way back turns the other way), from the last point with the tangent reversed. The curve stays
+where the segments draw it (``z``, and with it gravity and the axial end loads, are the user's) and the director,
+``d0`` of the reversed tangent, is ``-d0``: outward. ``s = 0`` (``end1``) is then the segments' last point: the
+bottom pole of a closed vessel, the open edge of an open one (a dome drawn from its top pole). (Mirrored in ``z``
+instead, as it was, an asymmetric vessel stood upside down under gravity and the axial end loads.)
+A torispherical head is a crown arc of radius ``Rc`` turning by ``phi1`` and a knuckle of radius ``rk``
 turning by ``pi/2 - phi1``, with ``sin(phi1) = (a - rk) / (Rc - rk)`` so that the knuckle ends on the cylinder
 ``r = a`` (``Rc sin(phi1) + rk (1 - sin(phi1)) = a``); ``Rc = a`` is the hemispherical head, one arc ``(a, -pi/2)``.
 """
@@ -29,7 +35,8 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, positive
-from mol_shell.model.geometry import Meridian, self_intersects
+from mol_shell.model.edges import resolve_edges
+from mol_shell.model.geometry import Meridian, on_axis, self_intersects
 from mol_shell.scenes.shells import _Dilated, goes_down as shells_goes_down
 from mol_shell.scenes.base import _check
 
@@ -58,6 +65,7 @@ class SegmentedMeridian(Meridian):
             s += length
         object.__setattr__(self, "_rows", tuple(rows))
         object.__setattr__(self, "_length", s)
+        object.__setattr__(self, "_end", (float(r), float(z), float(theta)))  # the last point and its tangent
 
     @staticmethod
     def _point(r, z, theta, k, ds):
@@ -84,7 +92,9 @@ class SegmentedMeridian(Meridian):
 
     def describe(self):
         parts = ", ".join(f"{seg[0]} " + " ".join(f"{x:.6g}" for x in seg[1:]) for seg in self.segments)
-        return f"SegmentedMeridian({parts}; length {self.length:.6g} m)"
+        start = "" if tuple(self.start) == (0.0, 0.0, math.pi / 2) else (
+            "; from (r, z, theta) = (" + ", ".join(f"{x:.10g}" for x in self.start) + ")")
+        return f"SegmentedMeridian({parts}{start}; length {self.length:.6g} m)"
 
 
 def goes_down(meridian):
@@ -94,14 +104,28 @@ def goes_down(meridian):
     return shells_goes_down(meridian, [row[0] for row in meridian._rows] + [meridian.length])
 
 
+def backwards(meridian):
+    """The same curve traversed from its other end: the segments in reverse order, each run backwards (an arc of
+    radius ``R`` turning by ``-angle``: the tangent of the way back, ``theta0 + pi``, turns the other way), from the
+    last point with the tangent reversed (reduced to ``[-pi, pi]``). ``s`` is ``L - s``, ``theta0`` is ``theta0 + pi``
+    (mod ``2 pi``), ``theta0_s`` is ``-theta0_s``, and the director ``d0 = (-sin theta0, cos theta0)`` is ``-d0``. An
+    end on the axis (:func:`~mol_shell.model.geometry.on_axis`, the round-off of the segments' sums) is put on it,
+    its tangent set to ``pi/2`` when within 1e-12 rad of it (the normal to the axis)."""
+    r, z, theta = meridian._end
+    size = max(max(abs(row[2]) for row in meridian._rows), abs(r)) + meridian.length
+    theta = math.remainder(theta + math.pi, 2 * math.pi)
+    if on_axis(r, size):
+        r = 0.0
+        theta = math.pi / 2 if abs(theta - math.pi / 2) <= 1e-12 else theta
+    segments = tuple(("arc", seg[1], -seg[2]) if seg[0] == "arc" else seg for seg in reversed(meridian.segments))
+    return SegmentedMeridian(segments, (r, z, theta))
+
+
 def upward(meridian):
     """``meridian``, or, when it goes down from its first pole (:func:`goes_down`: its director would point into the
-    volume it encloses), its mirror image in ``z``: every arc's angle negated, the same shell drawn up from its
-    bottom pole with the director out of it."""
-    if not goes_down(meridian):
-        return meridian
-    return SegmentedMeridian(tuple((*seg[:2], -seg[2]) if seg[0] == "arc" else seg for seg in meridian.segments),
-                             meridian.start)
+    volume it encloses), the same curve traversed from its other end (:func:`backwards`): where the segments draw
+    it, with the director out of it."""
+    return backwards(meridian) if goes_down(meridian) else meridian
 
 
 def head(a, crown, knuckle):
@@ -163,10 +187,12 @@ class Vessel(_Dilated):
     the bottom pole given as ``segments`` (``"arc R DEG, line L, ..."``, degrees; it overrides the others).
 
     The meridian starts at the bottom pole heading outward (director outward), so an equatorial closed shell has
-    two poles. Segments that turn it down from there (positive angles: ``"arc 1 90, line 2, arc 1 90"``) are run
-    mirrored in ``z``, as the same segments with negative angles, so that the director points out of the vessel and
-    the stresses' "inner" face is the one toward the enclosed volume whatever the angles' sign (the command line
-    says so in a note).
+    two poles. Segments that turn it down from there (positive angles: ``"arc 1 90, line 2, arc 1 90"``, drawn from
+    the top pole) are run from their other end, the same curve traversed backwards, so that the director points out
+    of the vessel and the stresses' "inner" face is the one toward the enclosed volume whatever the angles' sign,
+    while the vessel stays where the segments draw it (``z``, gravity and the axial end loads as given). ``s = 0``
+    (``end1``) is then the segments' last point: the bottom pole of a closed vessel, the open edge of an open one
+    (``"arc 1 90"``, a dome, from its rim up to its pole); the command line says so in a note.
 
     Parameters
     ----------
@@ -225,17 +251,42 @@ class Vessel(_Dilated):
                                  hint=str(exc)) from None
         if self.segments.strip():
             check_segmented(self.segments, mer)
+            if self._backwards():
+                self._check_ends(mer)
+
+    def _backwards(self):
+        """Whether ``segments`` turn the meridian down from its first pole, so that it runs backwards (:func:`upward`)."""
+        return bool(self.segments.strip()) and goes_down(SegmentedMeridian(tuple(parse_segments(self.segments))))
+
+    def _ends_said(self, mer):
+        """Which end of the segments is ``end1`` and which ``end2`` when they run backwards."""
+        r, z = mer.start[:2]
+        what = "the bottom pole" if mer.poles[0] else "the open edge"
+        return (f"s = 0 and end1 at the segments' last point, {what} at (r, z) = ({r:.6g}, {z:.6g}) m, end2 at their "
+                "first pole (z = 0)")
+
+    def _check_ends(self, mer):
+        """``end1``/``end2`` asked of the wrong kind for the ends of a meridian run backwards (``end2 = clamped`` meant
+        for the open edge of a dome drawn from its pole, which is ``end1``): refused saying which end is which."""
+        try:
+            resolve_edges(self.end1, self.end2, mer.poles)
+        except ParameterError as exc:
+            on_axis_ = mer.poles[0 if exc.name == "end1" else 1]
+            raise ParameterError(exc.name, exc.value, exc.range if exc.range is not None else exc.allowed,
+                                 hint=f"this edge is {'on the axis' if on_axis_ else 'open'}: segments = "
+                                 f"{self.segments!r} turn down from their first pole and run backwards, "
+                                 + self._ends_said(mer)) from None
 
     def stand_ins(self):
-        """A note when ``segments`` turn the meridian down from its first pole and it runs mirrored (:func:`upward`)."""
-        if not self.segments.strip():
-            return []
-        given = SegmentedMeridian(tuple(parse_segments(self.segments)))
-        if upward(given) is given:
+        """A note when ``segments`` turn the meridian down from its first pole and it runs backwards (:func:`upward`):
+        which end is ``end1``."""
+        if not self._backwards():
             return []
         return [(f"segments = {self.segments!r} turn the meridian down from its first pole (its director into the "
-                 "vessel): run mirrored in z, every angle's sign reversed, up from the bottom pole with the director "
-                 "outward, so that the inner face is the one toward the enclosed volume")]
+                 "vessel): run from their other end, the same curve traversed backwards, so that the director points "
+                 "outward and the inner face is the one toward the enclosed volume; the vessel stays where the "
+                 "segments draw it (z, gravity and the end loads as given), " + self._ends_said(self.meridian()) +
+                 " (s, and with it gamma's twist, counts from end1)")]
 
     def _heads(self):
         """The heads' crown and knuckle radii, the defaults (``2a``, ``0.2a``) for those left to the code."""

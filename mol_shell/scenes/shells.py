@@ -281,9 +281,9 @@ class MeridianShell(_Dilated):
     the curve leaves it at a right angle there. Coordinates are refused beyond the size at which the shell's moment
     of inertia about the axis overflows with the given ``rho`` and ``h`` (about 1e76 m with the defaults). The director is
     the tangent turned by +90 degrees in the ``(z, r)`` plane: outward for rows ordered by increasing ``z``. A table
-    listed from the top down (enclosing a negative volume, :func:`goes_down`) is run as given, not mirrored in ``z`` as
-    a vessel's downward segments are: ``z`` is where the user put the shell, and gravity (along ``-k``), the end
-    forces (along ``k``) and the edges' axial motions act on it there. Its director then points toward the axis and
+    listed from the top down (enclosing a negative volume, :func:`goes_down`) is run as given, not traversed backwards
+    as a vessel's downward segments are (``end1`` stays the first row): ``z`` is where the user put the shell, and
+    gravity (along ``-k``), the end forces (along ``k``) and the edges' axial motions act on it there. Its director then points toward the axis and
     the stresses' "inner" face is the geometric outer one, which a note says (:meth:`stand_ins`).
     ``points = ''`` (the default) is a built-in half ellipsoid (equatorial radius 1 m, height 0.6 m), so
     the scene runs as it is; a run says so (its ``meridian`` attr, and a note of the command line).

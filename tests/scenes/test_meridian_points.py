@@ -19,6 +19,7 @@ import pytest
 import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.analysis.modes import modes
+from mol_shell.cli.args import scene_and_run
 from mol_shell.cli.main import main
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.geometry import PointsMeridian
@@ -198,3 +199,27 @@ def test_a_dome_listed_from_the_top_down_sags_under_gravity_as_the_same_dome_lis
         states[order] = np.array([ds.z.values[0], ds.r.values[0]])
     np.testing.assert_allclose(states["down"][:, ::-1], states["up"], rtol=0, atol=1e-12)
     assert states["up"][0, -1] < 0.6 - 1e-3  # the pole, at s = L of the upward table
+
+
+def test_points_and_h_are_checked_together_whatever_their_order(tmp_path):
+    """A thin tube, ``r = 2 mm`` (a straight table: ``theta0 = 0``, no curvature): the wall fits while its inner face
+    is off the axis, ``r + zeta1 > 0``, with the centroidal ``zeta1 = m - h``, ``m`` the root nearest 0 of
+    ``int zeta (r + zeta) dzeta = 0`` over ``[m - h, m + h]``: ``m^2 + r m + h^2/3 = 0``, ``m = (-r + sqrt(r^2 -
+    4h^2/3)) / 2``, so ``m - h > -r`` exactly for ``h < 3r/4`` = 1.5 mm (real roots need ``h <= sqrt(3) r/2``). The
+    default ``h = 6.28 mm`` does not fit, ``h = 1e-9`` does. ``get_scene`` built the scene from its file first, with
+    the default ``h``, so ``--set h=1e-9 --set points=FILE`` (or the other order) was refused ("points = ... is
+    outside values for which h = 0.006283 m fits"); all values are now applied and checked once."""
+    r = 0.002
+    path = tmp_path / "tube.txt"
+    np.savetxt(path, np.column_stack([np.full(5, r), np.linspace(0.0, 0.01, 5)]))
+    assert MeridianShell.h > 0.75 * r
+    with pytest.raises(ParameterError, match="h = 0.006283 m fits"):
+        mol_shell.get_scene("meridian", points=str(path))
+    for params in ({"h": "1e-9", "points": str(path)}, {"points": str(path), "h": "1e-9"}):
+        assert mol_shell.get_scene("meridian", **params).h == 1e-9
+    for sets in (["h=1e-9", f"points={path}"], [f"points={path}", "h=1e-9"]):  # the command line's --set
+        assert scene_and_run("meridian", sets)[0].h == 1e-9
+    assert mol_shell.get_scene("meridian", points=str(path), h=0.99 * 0.75 * r).h == 0.99 * 0.75 * r
+    with pytest.raises(ParameterError) as caught:
+        mol_shell.get_scene("meridian", points=str(path), h=1.01 * 0.75 * r)
+    assert caught.value.name == "h"

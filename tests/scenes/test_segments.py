@@ -8,7 +8,9 @@ import pytest
 import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
+from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.geometry import self_intersects
+from mol_shell.runs.statics import static_equilibrium
 from mol_shell.scenes import Vessel
 from mol_shell.scenes.segments import SegmentedMeridian
 
@@ -100,20 +102,94 @@ CAPSULE_UP, CAPSULE_DOWN = "arc 1 -90, line 2, arc 1 -90", "arc 1 90, line 2, ar
 def test_a_vessel_s_director_points_out_of_the_volume_it_encloses(segments):
     """The director ``d0`` (the tangent turned +90 degrees in the ``(z, r)`` plane: ``(-sin theta0, cos theta0)``)
     points away from the enclosed volume: a capsule or a sphere (convex) holds its centre on the axis halfway between
-    its poles, so ``d0 . (x0 - centre) > 0`` all along the meridian. With positive
-    angles the meridian went down from its first pole, the director into the vessel (the product negative) and the
-    faces' "inner" and "outer" swapped; it is now the same vessel (run mirrored in z, said in a note)."""
+    its poles, so ``d0 . (x0 - centre) > 0`` all along the meridian. With positive angles the meridian goes down from
+    its first pole (at ``z = 0``), the director into the vessel; it is run backwards from its last point, the bottom
+    pole (said in a note), where the segments put it: the downward capsule is the upward one moved down by its
+    height ``4 = 2 + 2 x 1`` (``r0``, ``theta0``, ``theta0_s`` the same, bit for bit; ``z0`` to round-off), the half
+    turn ``arc 1 180`` the unit sphere below ``z = 0`` (it was run mirrored, above it)."""
     vessel = Vessel(segments=segments)
     mer = vessel.meridian()
     s = np.linspace(0.0, mer.length, 2001)[1:-1]
     r0, z0, th0, _ = mer.at(s)
-    assert mer.poles == (True, True) and mer.at(0.0)[1] == 0.0
-    centre = mer.at(mer.length)[1] / 2
+    ends = mer.at(np.array([0.0, mer.length]))[1]
+    assert mer.poles == (True, True)
+    centre = ends.mean()
     outward = -np.sin(th0) * (z0 - centre) + np.cos(th0) * r0
     assert np.all(outward > 0), s[outward <= 0]
-    assert ("mirrored in z" in " ".join(vessel.stand_ins())) == (segments != CAPSULE_UP)
-    if segments == CAPSULE_DOWN:  # the same meridian as the upward capsule
-        np.testing.assert_array_equal(mer.at(s), Vessel(segments=CAPSULE_UP).meridian().at(s))
+    note = " ".join(vessel.stand_ins())
+    assert ("traversed backwards" in note) == (segments != CAPSULE_UP)
+    height = {CAPSULE_UP: 4.0, CAPSULE_DOWN: 4.0, "arc 1 180": 2.0}[segments]
+    top = 0.0 if segments != CAPSULE_UP else height  # the first pole stays where the segments start it
+    np.testing.assert_allclose(ends, [top - height, top], rtol=0, atol=1e-15 * height)
+    if segments == CAPSULE_DOWN:  # the upward capsule moved down by its height
+        up = Vessel(segments=CAPSULE_UP).meridian().at(s)
+        for i in (0, 2, 3):
+            np.testing.assert_array_equal(mer.at(s)[i], up[i])
+        np.testing.assert_allclose(z0, up[1] - height, rtol=0, atol=1e-15 * height)
+        assert "the bottom pole at (r, z) = (0, -4) m, end2 at their first pole (z = 0)" in note
+
+
+#: an asymmetric closed vessel: a hemispherical bottom (radius 1), a 1 m cylinder and a torispherical top (crown 2,
+#: knuckle 0.2, crown angle ``phi1 = asin(0.8 / 1.8)``: the knuckle ends on the cylinder), drawn up from its bottom
+#: pole and down from its top pole (the same segments in reverse order, every angle's sign reversed)
+PHI1 = math.asin(0.8 / 1.8)
+CROWN, KNUCKLE = repr(math.degrees(PHI1)), repr(90.0 - math.degrees(PHI1))
+ASYMMETRIC_UP = f"arc 1 -90, line 1, arc 0.2 -{KNUCKLE}, arc 2 -{CROWN}"
+ASYMMETRIC_DOWN = f"arc 2 {CROWN}, arc 0.2 {KNUCKLE}, line 1, arc 1 90"
+
+
+def test_an_asymmetric_vessel_drawn_down_stands_under_gravity_as_the_same_vessel_drawn_up():
+    """The asymmetric vessel (``h = 5 cm``, ``zeta1 = -h``) under gravity ``g = 0.1 m/s2`` (along ``-k``), carried by
+    an axial force at its bottom pole (``end1``) equal to its weight ``g sum mA`` (the lumped masses the gravity load
+    acts on; the closed form ``2 pi rho (2h int r0 ds - 2h^3/3 sum kappa dz)`` agrees to 1e-5, their quadrature
+    across the junctions): drawn down from its top pole, it is run backwards from its bottom pole, the upward
+    drawing's segments and start ``(0, -H, pi/2)`` with ``H = 2 + Rc (1 - cos phi1) + rk cos phi1`` (the closure of
+    the torispherical head). The equations are invariant under a translation along the axis (gravity's force does
+    not depend on ``z``; no edge imposes ``z``; the static solve keeps the mean ``z`` of its start), so its static
+    equilibrium is the upward drawing's moved down by ``H``, node for node (both from the bottom pole): to
+    round-off, 1e-14 m (Newton is polished to a residual of 1e-17). The vessel stands on its hemisphere, the head
+    on top, pushed in at the support by the 3 mm the equilibrium moves it. Its outer face is outside: ``d0`` is the
+    outward normal (``-k`` at the bottom pole, ``+j2`` on the cylinder) and ``zeta1 + 2h`` the larger radius there.
+    Mirrored in ``z``, as before, it stood above ``z = 0``, the head on the support and the hemisphere on top: node
+    for node from the bottom pole, ``r`` off the upward drawing's by 0.10 m and ``z`` by 0.20 m."""
+    n, g, h = 21, 0.1, 0.05
+    height = 2.0 + 2.0 * (1 - math.cos(PHI1)) + 0.2 * math.cos(PHI1)
+    states = {}
+    for order, segments in (("up", ASYMMETRIC_UP), ("down", ASYMMETRIC_DOWN)):
+        weight = g * float(np.sum(ShellSystem(Vessel(segments=segments, h=h, zeta1=-h, gravity=g), n).inertia[0]))
+        scene = Vessel(segments=segments, h=h, zeta1=-h, gravity=g, end1_force=weight)
+        system = mol_shell.build(scene, n)[0]
+        y, info = static_equilibrium(scene, n, system.initial_state(scene))
+        assert "static equilibrium" in info
+        states[order] = (system.unpack(y), np.array(system.reference))
+    (up, up0), (down, down0) = states["up"], states["down"]
+    moved = down.copy()
+    moved[0] += height
+    np.testing.assert_allclose(moved, up, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(down0[0], up0[0] - height, rtol=0, atol=1e-14)  # the shape where it is drawn
+    assert down0[0, -1] == pytest.approx(0.0, abs=1e-14) and up[0, 0] - up0[0, 0] > 2e-3  # pushed in at the support
+    mer = Vessel(segments=ASYMMETRIC_DOWN).meridian()
+    s = np.linspace(0.0, mer.length, 401)[1:-1]
+    r0, z0, th0, _ = mer.at(s)
+    centre = -height + 1.5  # the middle of the cylinder: inside the convex vessel
+    assert np.all(-np.sin(th0) * (z0 - centre) + np.cos(th0) * r0 > 0)
+    assert mer.at(0.0)[2] == math.pi / 2 and np.all(np.cos(th0[(z0 > 1.05 - height) & (z0 < 1.95 - height)]) == 1.0)
+
+
+def test_a_dome_drawn_from_its_pole_runs_from_its_rim_and_says_which_end_is_which():
+    """``arc 1 90`` from a pole at ``z = 0`` is a dome (a half sphere above its rim at ``(1, -1)``), not the bowl
+    it ran as (mirrored: rim at ``z = +1``): run from its rim (``end1``, ``s = 0``, heading up: ``theta0 = 0``) to
+    its pole (``end2``), the director outward. ``end2 = clamped`` meant for the rim (the segments' end) is refused
+    naming ``end2`` and saying which end is which; ``end1 = clamped`` clamps the rim."""
+    mer = Vessel(segments="arc 1 90", end1="clamped").meridian()
+    assert mer.poles == (False, True)
+    start, end = (np.array(x).ravel() for x in zip(*mer.at(np.array([0.0, mer.length]))))
+    np.testing.assert_allclose(start, [1.0, -1.0, 0.0, -1.0], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(end, [0.0, 0.0, -math.pi / 2, -1.0], rtol=0, atol=1e-15)
+    with pytest.raises(ParameterError) as caught:
+        Vessel(segments="arc 1 90", end2="clamped")
+    assert caught.value.name == "end2" and "end1 at the segments' last point, the open edge at (r, z) = (1, -1) m" \
+        in str(caught.value)
 
 
 @pytest.mark.parametrize("segments", [CAPSULE_UP, CAPSULE_DOWN])
@@ -147,15 +223,16 @@ def test_a_line_and_an_arc_joined_tangentially_do_not_cross(segments):
     segments, where the tangent is continuous: no crossing. It was refused as "it crosses itself": the samples of
     the line ``z = cos(pi/2) s`` are collinear to round-off and two chords apart were found to meet (the cross
     product of their directions, 6e-36, divided round-off by round-off). The vessel is built; its end is where the
-    closed form puts it: ``(1 + R, R)`` for the rim of radius ``R = 0.5`` turning up (the one turning down runs
-    mirrored in z, up)."""
+    closed form puts it: ``(1 + R, R)`` for the rim of radius ``R = 0.5`` turning up; the one turning down runs
+    backwards from its rim at ``(1 + R, -R)`` to the pole at the origin."""
     vessel = Vessel(segments=segments)
     assert vessel.meridian().length == pytest.approx(sum(
         float(w[1]) * (math.radians(abs(float(w[2]))) if w[0] == "arc" else 1.0)
         for w in (part.split() for part in segments.split(","))), rel=1e-14)
     if segments.startswith("line 1, arc 0.5"):
-        r, z = vessel.meridian().at(np.array([vessel.meridian().length]))[:2]
-        assert (float(r[0]), float(z[0])) == pytest.approx((1.5, 0.5), abs=1e-14)
+        r, z = vessel.meridian().at(np.array([0.0, vessel.meridian().length]))[:2]
+        ends = [(0.0, 0.0), (1.5, 0.5)] if segments.endswith("-90") else [(1.5, -0.5), (0.0, 0.0)]
+        assert list(zip(r, z)) == [pytest.approx(end, abs=1e-14) for end in ends]
 
 
 def test_a_meridian_that_loops_back_over_itself_is_still_refused(capsys, tmp_path):
