@@ -27,6 +27,8 @@ import numpy as np
 from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.units import show_seconds
+from mol_shell.discretization import kernel_cache
+from mol_shell.discretization.kernel_cache import CompilerError, CompilerMissing, cache_dir  # noqa: F401 (re-exported)
 from mol_shell.discretization.rk_driver import RK_DRIVER
 
 #: -fno-semantic-interposition lets gcc inline CasADi's exported helpers (``casadi_sq``; calls through the PLT
@@ -113,27 +115,6 @@ _LIMITS_CALL = """const casadi_real* arg[{sz_arg} + 1]; casadi_real* res[{sz_res
   return {name}(arg, res, iw, w, 0);"""
 
 
-def cache_dir():
-    """``$MOL_SHELL_CACHE`` (default ``~/.cache/mol_shell``), created if missing; one that cannot be a writable
-    directory is refused naming the variable (a ParameterError: exit 2 on the command line)."""
-    text = os.environ.get("MOL_SHELL_CACHE", "").strip()
-    path = Path(text).expanduser() if text else Path.home() / ".cache" / "mol_shell"
-    allowed = "a writable directory (created if missing)"
-    hint = "" if text else "the default cache; set MOL_SHELL_CACHE to a writable directory"
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        problem = "is a file" if isinstance(exc, FileExistsError) else f"cannot be created ({exc.strerror or exc})"
-        raise ParameterError.invalid("MOL_SHELL_CACHE", str(path), problem, allowed, hint) from None
-    try:  # a probe: permission bits do not tell (root, read-only mounts, /proc)
-        with tempfile.TemporaryFile(dir=path):
-            pass
-    except OSError as exc:
-        raise ParameterError.invalid("MOL_SHELL_CACHE", str(path), f"cannot be written ({exc.strerror or exc})",
-                                     allowed, hint) from None
-    return path
-
-
 #: a compilation still running after this many seconds is announced on stderr (None: never)
 COMPILE_PROGRESS_AFTER = 5.0
 #: seconds between "still compiling" lines when stderr is not a terminal
@@ -214,41 +195,59 @@ def compile_cached(source, prefix, flags=CFLAGS, what=None, link=()):
     Concurrent processes that need the same object (the workers of a study) wait on a lock file for the
     first one's build instead of compiling it again. gcc writes into a private temporary directory and the
     library is renamed onto its cache name (:func:`mol_shell._core.atomic.atomic_path`), so a process that does
-    not lock never loads a half-written file. Each gcc build appends a line (object, pid, seconds) to
-    ``builds.log`` in the cache: how a study shows that no case recompiled a kernel. ``link``: libraries by full
-    path (and linker flags) after the source; part of the key, so a library of another version gets another object.
+    not lock never loads a half-written file. Each library carries a record of its build (key, size, digest:
+    :mod:`mol_shell.discretization.kernel_cache`); a cached one whose record does not match (cut short, changed, a
+    copy of another kernel's) is compiled again, with a note on stderr. Each gcc build appends a line (object,
+    pid, seconds) to ``builds.log`` in the cache: how a study shows that no case recompiled a kernel. ``link``:
+    libraries by full path (and linker flags) after the source; part of the key, so a library of another version
+    gets another object. A gcc missing or failing, and a cache that refuses the build (a full disk, a file it may
+    not replace), raise a :class:`ParameterError` of one line (:class:`CompilerMissing`, :class:`CompilerError`).
     """
-    key = hashlib.sha256((source + " ".join(flags) + " ".join(link) + ca.__version__ + machine_key(flags)).encode()
-                         ).hexdigest()[:20]
+    key = hashlib.sha256((source + " ".join(flags) + " ".join(link) + ca.__version__ + machine_key(flags)
+                          + kernel_cache.RECORD_VERSION).encode()).hexdigest()[:20]
     folder = cache_dir()  # checked writable once (a probe file) for the lookup and the build
     lib = folder / f"{prefix}_{key}.so"
-    if lib.exists():
+    what = what or f"the {prefix} kernels"
+    if kernel_cache.damage(lib, key) is None:
         return lib
-    with open(folder / f".{prefix}_{key}.lock", "w") as lock:
+    if not kernel_cache.have_gcc():
+        raise CompilerMissing(what)
+    with kernel_cache.locked(folder / f".{prefix}_{key}.lock"):
+        problem = kernel_cache.damage(lib, key)  # another process may have built it while this one waited
+        if problem is None:
+            return lib
+        if problem != kernel_cache.MISSING:
+            _announce(f"note: the cached {lib.name} in {folder} is damaged ({problem}); compiling it again")
+        kernel_cache.sweep(folder)  # what killed builds left here
+        start = time.perf_counter()
         try:
-            import fcntl
-
-            fcntl.flock(lock, fcntl.LOCK_EX)
-        except ImportError:  # no fcntl (Windows): concurrent builders may both compile; the rename keeps it safe
-            pass
-        if not lib.exists():
-            start = time.perf_counter()
-            with tempfile.TemporaryDirectory(prefix=f".{prefix}_{key}.", dir=folder) as tmp:
+            with tempfile.TemporaryDirectory(prefix=f".{prefix}_{key}.{os.getpid()}.", dir=folder) as tmp:
                 src = Path(tmp, f"{prefix}.c")
                 src.write_text(source)
                 with atomic_path(lib) as out:
-                    run_compiler(["gcc", *flags, str(src), "-o", str(out), *link, "-lm"], what or f"the {prefix} kernels",
-                                 len(source), flags)
-            with open(folder / "builds.log", "a") as log:
-                log.write(f"{lib.name} {os.getpid()} {time.perf_counter() - start:.2f}\n")
+                    run_compiler(["gcc", *flags, str(src), "-o", str(out), *link, "-lm"], what, len(source), flags)
+                    kernel_cache.seal(out, key)
+        except subprocess.CalledProcessError as exc:
+            raise kernel_cache.compiler_failed(exc.returncode, exc.stderr, what, folder) from None
+        except FileNotFoundError as exc:
+            if exc.filename != "gcc":
+                raise
+            raise CompilerMissing(what) from None
+        except OSError as exc:
+            said = kernel_cache.said_by_cache(exc, folder, f"building {lib.name}")
+            if said is None:
+                raise
+            raise said from None
+        kernel_cache.log_build(folder, f"{lib.name} {os.getpid()} {time.perf_counter() - start:.2f}")
     return lib
 
 
 def load_cached(source, prefix, flags, load, what=None, link=()):
     """``load(path)`` of the cached library of ``source``; a cached file that does not load is rebuilt once.
 
-    A library left damaged in the cache (a disk error, a copy cut short, a file of an older
-    version written in place) fails in ``dlopen``; it is removed and compiled again.
+    A library damaged in the cache (a disk error, a copy cut short, another kernel's copied onto its name) is found
+    by its record of its build before it is loaded, and compiled again (:func:`compile_cached`); one that still fails
+    in ``dlopen`` is removed and compiled again.
     """
     lib = compile_cached(source, prefix, flags, what, link)
     try:
@@ -285,7 +284,9 @@ class CompiledRHS:
     Attributes
     ----------
     function : casadi.Function
-        The compiled RHS as an external CasADi Function.
+        The compiled RHS as an external CasADi Function; without gcc on ``PATH`` (and nothing cached) the RHS itself,
+        in CasADi's virtual machine (:attr:`vm_reason` says so): what evaluates it runs, the C loops
+        (:meth:`leapfrog`, :meth:`runge_kutta`) refuse in one line (:class:`CompilerMissing`).
     compile_time_s : float
         Seconds spent in gcc (0 when the cache had it).
     """
@@ -315,12 +316,22 @@ class CompiledRHS:
         ) + RK_DRIVER.replace("{name}", rhs.name())
         start = time.perf_counter()
         flags = CFLAGS + (("-fopenmp",) if self.parallel else ())
-        # one handle for CasADi's external and ctypes (the same path): ms_threads is shared
-        lib, (self.function, self._lib) = load_cached(
-            source, "rhs", flags, lambda path: (ca.external(rhs.name(), str(path)), ctypes.CDLL(str(path))),
-            what="the right-hand side")
+        #: why the RHS runs in CasADi's virtual machine (no gcc on PATH and nothing cached), else None
+        self.vm_reason = None
+        try:  # one handle for CasADi's external and ctypes (the same path): ms_threads is shared
+            lib, (self.function, self._lib) = load_cached(
+                source, "rhs", flags, lambda path: (ca.external(rhs.name(), str(path)), ctypes.CDLL(str(path))),
+                what="the right-hand side")
+        except CompilerMissing as exc:  # the routes that only evaluate the RHS run on; the C loops refuse by name
+            lib, self.function, self._lib, self.vm_reason = None, rhs, None, str(exc)
+            self.parallel = False
         self.compile_time_s = time.perf_counter() - start
         self.path = lib
+        self._f = np.zeros(self.size)
+        self._g = np.zeros(max(self.n_limits, 1))
+        if self._lib is None:
+            self.set_threads(threads)
+            return
         self._lib.ms_leapfrog.restype = ctypes.c_longlong
         dptr = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
         self._lib.ms_leapfrog.argtypes = [dptr, dptr, dptr, dptr, ctypes.c_longlong, ctypes.c_double, ctypes.c_double]
@@ -331,8 +342,6 @@ class CompiledRHS:
                                     np.ctypeslib.ndpointer(dtype=np.int64, flags="C_CONTIGUOUS")]
         self._lib.ms_set_threads.argtypes = [ctypes.c_int]
         self._lib.ms_get_threads.restype = ctypes.c_int
-        self._f = np.zeros(self.size)
-        self._g = np.zeros(max(self.n_limits, 1))
         self.set_threads(threads)
 
     def set_threads(self, threads=None):
@@ -343,12 +352,18 @@ class CompiledRHS:
             raise ParameterError("threads", threads, "integers >= 1")
         #: the threads asked for (the leap-frog stencil of :mod:`mol_shell.discretization.stencil` takes them too)
         self.requested_threads = int(threads)
-        self._lib.ms_set_threads(int(threads) if self.parallel else 1)
+        if self._lib is not None:
+            self._lib.ms_set_threads(int(threads) if self.parallel else 1)
 
     @property
     def threads(self):
-        """Threads the compiled RHS uses now."""
-        return int(self._lib.ms_get_threads())
+        """Threads the compiled RHS uses now (1 in CasADi's virtual machine)."""
+        return 1 if self._lib is None else int(self._lib.ms_get_threads())
+
+    def need_c(self, what):
+        """Refuse ``what`` (a C loop on this RHS) in one line when the RHS runs in CasADi's virtual machine."""
+        if self._lib is None:
+            raise CompilerMissing(what)
 
     def leapfrog(self, ya, yb, nsteps, dt, t=0.0):
         """Advance the pair ``(y_{k-1}, y_k)`` in place by up to ``nsteps`` leap-frog steps (``t``: the time of ``y_k``).
@@ -356,6 +371,7 @@ class CompiledRHS:
         Returns ``(steps taken, stopped)``: ``stopped`` is true if the last step taken left the
         limits (``yb`` is then the first state outside them), which may be step ``nsteps`` itself.
         """
+        self.need_c("the leap-frog's step loop")
         code = self._lib.ms_leapfrog(ya, yb, self._f, self._g, int(nsteps), float(dt), float(t))
         if code < 0:
             raise RuntimeError("compiled right-hand side failed")
@@ -368,6 +384,7 @@ class CompiledRHS:
         RHS evaluations]``, added to. Returns the driver's code: 0 at ``t_end``, 1 at a limit, 2 after
         ``max_steps`` steps, -1 RHS failure, -2 step below the minimum.
         """
+        self.need_c("the Runge-Kutta step loop of dop853-c and rk45-c")
         t, y, f, h = state
         A, B, C, E, E3, exponent = tableau
         s = len(B)
@@ -408,6 +425,9 @@ class CompiledFunctions:
         gcc flags. ``-O1`` by default: the large derivative graphs (exact Jacobians)
         compile about twice as fast as at ``-O2`` (measured 6.8 s against 15 s for the
         n = 40 Jacobian) and run 4.4x faster than at ``-O0``.
+    vm_without_gcc : bool
+        Without gcc on ``PATH`` (and nothing cached) keep the Functions in CasADi's virtual machine (``path`` None)
+        instead of refusing (:class:`CompilerMissing`): for callers that only evaluate them (the stresses).
 
     Attributes
     ----------
@@ -419,7 +439,7 @@ class CompiledFunctions:
 
     FLAGS = ("-O1", "-fno-semantic-interposition", "-fPIC", "-shared")
 
-    def __init__(self, functions, flags=FLAGS):
+    def __init__(self, functions, flags=FLAGS, vm_without_gcc=False):
         start = time.perf_counter()
         functions = [with_cse(f) for f in functions]
         gen = ca.CodeGenerator("ms_funcs.c")
@@ -428,9 +448,15 @@ class CompiledFunctions:
         with tempfile.TemporaryDirectory() as tmp:
             gen.generate(tmp + os.sep)
             source = Path(tmp, "ms_funcs.c").read_text()
-        self.path, self.functions = load_cached(
-            source, "funcs", tuple(flags), lambda path: {f.name(): ca.external(f.name(), str(path)) for f in functions},
-            what="functions " + ", ".join(f.name() for f in functions))
+        try:
+            self.path, self.functions = load_cached(
+                source, "funcs", tuple(flags),
+                lambda path: {f.name(): ca.external(f.name(), str(path)) for f in functions},
+                what="functions " + ", ".join(f.name() for f in functions))
+        except CompilerMissing:  # vm_without_gcc: the Functions themselves, in CasADi's virtual machine (path None)
+            if not vm_without_gcc:
+                raise
+            self.path, self.functions = None, {f.name(): f for f in functions}
         self.compile_time_s = time.perf_counter() - start
 
     def evaluator(self, name):

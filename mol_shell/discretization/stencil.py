@@ -318,6 +318,7 @@ def leapfrog_stepper(system, compiled):
     """What advances the leap-frog for ``system``: its :class:`StencilLeapfrog` (built once and kept on the system)
     when the stencil covers it, else ``compiled``'s generic driver. Threads: those asked of ``compiled``
     (:meth:`~mol_shell.discretization.compiled.CompiledRHS.set_threads`) from :data:`PARALLEL_MIN_NODES` nodes, else one."""
+    compiled.need_c("the leap-frog's step loop")  # the RHS in CasADi's virtual machine: no gcc on PATH
     stepper = system.__dict__.get("_stencil")
     if stepper is None:
         try:

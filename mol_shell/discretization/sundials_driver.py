@@ -4,7 +4,7 @@ The driver (:mod:`mol_shell.discretization.sundials_source`) links the SUNDIALS 
 scikit-sundae wheel installs in ``site-packages/scikit_sundae.libs`` (by full path, with an rpath, so nothing
 else has to be on the loader's path). It is compiled once per SUNDIALS build and driver source, and cached under
 ``$MOL_SHELL_CACHE`` with the other kernels (:func:`~mol_shell.discretization.compiled.load_cached`: a lock file
-for concurrent builders, an atomic rename, a damaged file rebuilt once); the libraries' file names carry a hash of
+for concurrent builders, an atomic rename, a damaged file rebuilt); the libraries' file names carry a hash of
 their build, and are part of the cache key. ``$MOL_SHELL_SUNDIALS_LIBS`` points at another folder of the same
 libraries. Where the driver cannot be built or loaded, :func:`driver` raises :class:`DriverUnavailable` with one
 sentence saying why, and the integrators fall back to scikit-sundae's Python loop.
@@ -17,12 +17,11 @@ import functools
 import importlib.util
 import os
 import shutil
-import subprocess
 from pathlib import Path
 
 import numpy as np
 
-from mol_shell.discretization.compiled import load_cached
+from mol_shell.discretization.compiled import CompilerError, load_cached
 from mol_shell.discretization.sundials_source import STALL_STEPS, SUNDIALS_DRIVER  # noqa: F401 (STALL_STEPS: for drv.)
 
 #: the libraries the driver links, by the start of their file names
@@ -77,9 +76,8 @@ def _load(folder):
     try:
         _, lib = load_cached(SUNDIALS_DRIVER, "sundials", FLAGS, lambda path: ctypes.CDLL(str(path)),
                              what="the SUNDIALS driver", link=link)
-    except subprocess.CalledProcessError as exc:
-        first = (exc.stderr or b"").decode(errors="replace").strip().splitlines()
-        raise DriverUnavailable("gcc could not build it" + (f" ({first[0][:160]})" if first else "")) from None
+    except CompilerError as exc:  # gcc failed (its last lines are in the message); a cache that refuses is said as is
+        raise DriverUnavailable(str(exc)[:300]) from None
     except OSError as exc:
         raise DriverUnavailable(f"it could not be loaded ({str(exc)[:160]})") from None
     if lib.ms_check_index() != 0:

@@ -121,8 +121,8 @@ def _build_pieces(system, kind, jacobian):
         out["residual"] = buffered(funcs[0]) if kind == "ida" else None
     elif jacobian == "pattern":  # the compiled route's difference quotients: the pattern, and IDA's residual compiled
         out["jac"] = out["residual"] = None
-        if kind == "ida":
-            out["library"] = CompiledFunctions(funcs[:1])
+        if kind == "ida":  # without gcc the driver is unavailable and the Python route builds its own (vm)
+            out["library"] = CompiledFunctions(funcs[:1], vm_without_gcc=True)
     else:
         raise ParameterError("jacobian", jacobian, "{compiled, vm}")
     import scipy.sparse as sp

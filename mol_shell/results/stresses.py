@@ -168,9 +168,10 @@ def kernel(n_quad, viscous=False, route=None, graded=False):
 
 @functools.lru_cache(maxsize=8)
 def compiled_kernel(n_quad, viscous=False, route=None, graded=False):
-    """:func:`kernel` as generated C (gcc, cached on disk; one build per ``n_quad``, ``viscous`` and law)."""
+    """:func:`kernel` as generated C (gcc, cached on disk; one build per ``n_quad``, ``viscous`` and law); without gcc
+    on PATH, in CasADi's virtual machine (a run's stresses are not lost for want of a compiler)."""
     f = kernel(n_quad, viscous, route, graded)
-    return CompiledFunctions([f]).functions[f.name()]
+    return CompiledFunctions([f], vm_without_gcc=True).functions[f.name()]
 
 
 class Evaluator:

@@ -1,0 +1,253 @@
+"""The compiled-kernel cache on disk: its folder, the record that proves a library whole, its lock files, the
+leftovers of killed builds, and its failures said in one line.
+
+Every library in ``$MOL_SHELL_CACHE`` ends in a fixed-length record appended after gcc's output (past the ELF
+image, where the dynamic loader never reads): the cache key it was built for, the image's size and a SHA-256
+digest of it (the whole image up to :data:`DIGEST_WHOLE` bytes, its first and last halves of that above: under a
+millisecond). :func:`damage` checks it before a library is loaded: a file cut short (which ``dlopen`` maps, and the
+first call into a missing page then kills the process with SIGBUS), one with bytes changed, or a whole library of
+another kernel copied onto the name is compiled again instead
+(:func:`mol_shell.discretization.compiled.compile_cached`).
+
+A cache shared by several users works with files it cannot write: the lock files are opened for reading
+(``flock`` needs no more) and ``builds.log`` is written where it can be. What the cache truly refuses (a full
+disk, a file it may not replace, a path CasADi cannot load from) is one :class:`ParameterError` naming
+``MOL_SHELL_CACHE``; a gcc that is missing or fails is a :class:`CompilerError` (exit 2 on the command line).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import hashlib
+import os
+import re
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+from mol_shell._core.errors import ParameterError
+
+#: the record appended to every cached library: its key, the image's size and digest (fixed length)
+_RECORD = b"\n\0mol_shell-library key=%s size=%016d sha256=%s\n"
+_RECORD_FORM = re.compile(rb"\n\0mol_shell-library key=([0-9a-f]{20}) size=(\d{16}) sha256=([0-9a-f]{64})\n")
+RECORD_BYTES = len(_RECORD % (b"0" * 20, 0, b"0" * 64))
+#: part of every cache key: libraries of the versions before the record are under other names (not "damaged")
+RECORD_VERSION = "record-1"
+#: images up to this size are digested whole (512 KiB: 0.6 ms measured, reading included), larger ones by their
+#: first and last halves of it (a cut is caught by the size; a byte changed in the middle of a 300 MB Jacobian is not)
+DIGEST_WHOLE = 1 << 19
+#: the leftovers of a killed build (its private folders) are removed at a later build once they are this old
+#: (seconds) and their process is gone
+STALE_AFTER = 3600.0
+#: a build's private folders: gcc's (``.<prefix>_<key>.<pid>.<random>``; older builds named no pid) and the
+#: atomic rename's (``.<prefix>_<key>.so.<pid>.<hex>.part``, :mod:`mol_shell._core.atomic`)
+_LEFTOVER = re.compile(r"\.[A-Za-z0-9_]+_[0-9a-f]{20}"
+                       r"(?:\.so\.(\d+)\.[0-9a-f]+\.part|\.(\d+)\.[a-z0-9_]{8}|\.[a-z0-9_]{8})")
+_ALLOWED = "a writable directory (created if missing)"
+#: errno values that mean the disk is full, and that a file may not be written
+_FULL = {errno.ENOSPC, getattr(errno, "EDQUOT", errno.ENOSPC)}
+_REFUSED = {errno.EACCES, errno.EPERM, errno.EROFS}
+
+
+class CompilerError(ParameterError):
+    """gcc failed (or is not on ``PATH``, :class:`CompilerMissing`): one line with gcc's own last lines."""
+
+    def __init__(self, message, hint=""):
+        super().__init__("gcc", None, "a C compiler on PATH that builds the kernel", hint, message=message)
+
+
+class CompilerMissing(CompilerError):
+    """No gcc on ``PATH``: ``what`` needs one (the routes that do not are named in the message)."""
+
+    def __init__(self, what):
+        super().__init__(
+            f"gcc not found on PATH: building {what} needs a C compiler (install gcc, or add its folder to PATH); "
+            "without one leapfrog, dop853-c, rk45-c and casadi-cvodes-c cannot run, and the others need "
+            "jacobian=vm where they take a jacobian option (CasADi's virtual machine)")
+
+
+def _variable():
+    text = os.environ.get("MOL_SHELL_CACHE", "").strip()
+    return text, ("" if text else "the default cache; set MOL_SHELL_CACHE to a writable directory")
+
+
+def refusal(folder, problem, allowed=_ALLOWED):
+    """The :class:`ParameterError` that says ``MOL_SHELL_CACHE = folder <problem>`` (exit 2 on the command line);
+    ``folder`` as bytes when its path is not UTF-8 (shown as ``b'/tmp/lat\\xe9'``)."""
+    _, hint = _variable()
+    return ParameterError.invalid("MOL_SHELL_CACHE", folder if isinstance(folder, bytes) else str(folder), problem,
+                                  allowed, hint)
+
+
+def cache_dir():
+    """``$MOL_SHELL_CACHE`` (default ``~/.cache/mol_shell``), created if missing; one that cannot be a writable
+    directory, or whose path is not UTF-8 (CasADi loads libraries by a UTF-8 path: it found none and every run
+    compiled twice, then failed), is refused naming the variable (a ParameterError: exit 2 on the command line)."""
+    text, _ = _variable()
+    path = Path(text).expanduser() if text else Path.home() / ".cache" / "mol_shell"
+    try:
+        str(path).encode("utf-8")
+    except UnicodeEncodeError:
+        raise refusal(os.fsencode(path), "is not a UTF-8 path (CasADi loads libraries by a UTF-8 path)",
+                      "a writable directory whose path is UTF-8") from None
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        problem = "is a file" if isinstance(exc, FileExistsError) else f"cannot be created ({exc.strerror or exc})"
+        raise refusal(path, problem) from None
+    try:  # a probe: permission bits do not tell (root, read-only mounts, /proc)
+        with tempfile.TemporaryFile(dir=path):
+            pass
+    except OSError as exc:
+        raise refusal(path, f"cannot be written ({exc.strerror or exc})") from None
+    return path
+
+
+def said_by_cache(exc, folder, doing):
+    """A full disk, or a file the cache may not write, met while ``doing`` in ``folder``: the one-line
+    :func:`refusal`; ``None`` for another error (raised as it is)."""
+    if isinstance(exc, OSError) and exc.errno in _FULL:
+        return refusal(folder, f"has no space left on device ({doing})", "a writable directory with free space")
+    if isinstance(exc, OSError) and exc.errno in _REFUSED:
+        where = f": {exc.filename}" if exc.filename else ""
+        return refusal(folder, f"cannot be written ({doing}: {exc.strerror or exc}{where})")
+    return None
+
+
+def compiler_failed(returncode, stderr, what, folder):
+    """gcc exited with ``returncode``: a :class:`CompilerError` with the last lines of its ``stderr`` (bytes), or the
+    cache's :func:`refusal` when it ran out of space."""
+    lines = [line.strip() for line in (stderr or b"").decode(errors="replace").splitlines() if line.strip()]
+    tail = " / ".join(line[:200] for line in lines[-3:]) or "no message"
+    if any("No space left on device" in line or "Disk quota exceeded" in line for line in lines):
+        return refusal(folder, f"has no space left on device (gcc building {what}: {tail})",
+                       "a writable directory with free space (gcc writes its temporary files to TMPDIR, too)")
+    status = f"killed by signal {-returncode}" if returncode < 0 else f"exit status {returncode}"
+    return CompilerError(f"gcc failed building {what} ({status}): {tail}")
+
+
+def _digest(f, size):
+    """SHA-256 of the first ``size`` bytes of the open file ``f`` (whole up to :data:`DIGEST_WHOLE`, else its ends)."""
+    h = hashlib.sha256()
+    f.seek(0)
+    if size <= DIGEST_WHOLE:
+        h.update(f.read(size))
+    else:
+        half = DIGEST_WHOLE // 2
+        h.update(f.read(half))
+        f.seek(size - half)
+        h.update(f.read(half))
+    return h.hexdigest()
+
+
+def seal(path, key):
+    """Append the record of ``key`` (the cache key, 20 hex digits) to gcc's output at ``path``."""
+    with open(path, "r+b") as f:
+        size = os.fstat(f.fileno()).st_size
+        digest = _digest(f, size)
+        f.seek(size)
+        f.write(_RECORD % (key.encode(), size, digest.encode()))
+
+
+#: :func:`damage`'s answer for a library not in the cache
+MISSING = "missing"
+
+
+def damage(path, key):
+    """``None`` if the library at ``path`` is whole (its record names ``key``, its size and its digest), :data:`MISSING`
+    if there is none, else why it is not (a short phrase, for the note that it is compiled again)."""
+    try:
+        with open(path, "rb") as f:
+            size = os.fstat(f.fileno()).st_size
+            if size < RECORD_BYTES:
+                return f"{size:,} bytes, too short for the record of its build: cut short"
+            f.seek(size - RECORD_BYTES)
+            found = _RECORD_FORM.fullmatch(f.read(RECORD_BYTES))
+            if found is None:
+                return f"{size:,} bytes and no record of its build at its end: cut short, or not written by mol_shell"
+            if found[1].decode() != key:
+                return f"the library of another kernel: its record names key {found[1].decode()}"
+            image = int(found[2])
+            if image != size - RECORD_BYTES:
+                return f"{size:,} bytes where its record says {image + RECORD_BYTES:,}"
+            if _digest(f, image) != found[3].decode():
+                return "its bytes differ from the SHA-256 digest recorded at its build"
+    except FileNotFoundError:
+        return MISSING
+    except OSError as exc:
+        return f"it cannot be read: {exc.strerror or exc}"
+    return None
+
+
+@contextlib.contextmanager
+def locked(path):
+    """An exclusive ``flock`` on ``path`` (created if missing) for the ``with`` block: concurrent builders of one
+    library wait for the first. The file is opened for reading, so another user's read-only lock file serves too;
+    where it cannot be opened or locked at all (no ``fcntl``, a file system without locks), the block runs unlocked:
+    concurrent builders may then both compile, and the atomic rename keeps that safe."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_CREAT, 0o666)
+    except OSError:
+        fd = None
+    try:
+        if fd is not None:
+            try:
+                import fcntl
+
+                fcntl.flock(fd, fcntl.LOCK_EX)
+            except (ImportError, OSError):  # no fcntl (Windows), or no locks here
+                pass
+        yield
+    finally:
+        if fd is not None:
+            os.close(fd)
+
+
+def log_build(folder, line):
+    """Append ``line`` to the cache's ``builds.log``, where it can be (another user's log, a full disk: skipped)."""
+    with contextlib.suppress(OSError), open(Path(folder) / "builds.log", "a") as log:
+        log.write(line + "\n")
+
+
+def _gone(pid):
+    """Whether no process ``pid`` runs here (POSIX; elsewhere every process counts as running)."""
+    if os.name != "posix" or pid == os.getpid():
+        return False
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return True
+    except OSError:  # another user's process
+        return False
+    return False
+
+
+def sweep(folder, now=None):
+    """Remove the private folders that killed builds left in ``folder`` (:data:`_LEFTOVER`), once they are
+    :data:`STALE_AFTER` seconds old and the process named in them is gone (one ``scandir``: done at every build).
+    Returns the names removed."""
+    now = time.time() if now is None else now
+    removed = []
+    with contextlib.suppress(OSError), os.scandir(folder) as entries:
+        for entry in entries:
+            found = _LEFTOVER.fullmatch(entry.name)
+            if found is None:
+                continue
+            try:
+                young = now - entry.stat(follow_symlinks=False).st_mtime < STALE_AFTER
+                if young or not entry.is_dir(follow_symlinks=False):
+                    continue
+            except OSError:
+                continue
+            pid = found[1] or found[2]
+            if pid is None or _gone(int(pid)):
+                shutil.rmtree(entry.path, ignore_errors=True)
+                removed.append(entry.name)
+    return removed
+
+
+def have_gcc():
+    """Whether ``gcc`` is on ``PATH``."""
+    return shutil.which("gcc") is not None
