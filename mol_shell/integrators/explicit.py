@@ -6,6 +6,13 @@ and step-size control (safety 0.9, factors 0.2 to 10, SciPy's minimum step), wit
 limits are checked after every accepted step in C (as leap-frog does), the energy and progress between
 calls. Steps are shortened to land on each saved time instead of interpolating (no dense output); on a
 run with one saved interval the step sequence is SciPy's.
+
+A driven edge's rate that follows a ramp or a table has kinks (:func:`~mol_shell.discretization.loading.drive_kinks`):
+there the right-hand side jumps (the driven node's acceleration, and the driver's power in ``work``). A step also
+lands on each kink: it ends one ulp short of it, so that all its stages (the last at the step's end) take the old
+segment's rate, its left limit (the history's rate at the corner itself is the new segment's); its state is the
+state at the kink (one ulp of time apart: a change of the order of round-off), and ``f`` there, the next step's first
+stage (first same as last), is evaluated again on the new segment. Without kinks nothing changes.
 """
 
 from __future__ import annotations
@@ -16,6 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mol_shell._core.errors import ModelLimitError
+from mol_shell.discretization.loading import drive_kinks
 from mol_shell.integrators import loop
 from mol_shell.integrators.base import StepBudget
 from mol_shell.integrators.loop import integers, option
@@ -140,6 +148,8 @@ class RungeKuttaC(Tolerances):
 class _RungeKuttaStepper:
     """The driver's state between chunks: ``t``, ``y``, ``f(y)`` and the next step ``h`` (in place)."""
 
+    kinks = ()  # the drive's kinks still ahead (a list from __init__)
+
     def __init__(self, method, system, compiled, y0, times, monitor):
         self.method, self.compiled, self.monitor = method, compiled, monitor
         self.t_end = float(times[-1])
@@ -159,6 +169,9 @@ class _RungeKuttaStepper:
                          "precision (a stiffness or density near the edge of doubles: E / rho ~ 1e300?)", 0.0)
         self.time, self.h = np.zeros(1), np.array([h0])
         self.budget = StepBudget(method.name, self.t_end, method.max_steps, method.tolerance_text())
+        self.evaluate = evaluate
+        # the drive's kinks still ahead (increasing, up to the last saved time): a step lands on each
+        self.kinks = [k for k in drive_kinks(system) if k <= self.t_end]
 
     @property
     def t(self):
@@ -167,7 +180,10 @@ class _RungeKuttaStepper:
     def advance(self, target):
         m, counts, t = self.method, self.counts, self.time
         budget = min(m.chunk, m.max_steps - int(counts[0]))
-        code = self.compiled.runge_kutta((t, self.y, self.f, self.h), target, m.rtol, self.atol, m.max_step,
+        kink = self.kinks[0] if self.kinks and self.kinks[0] <= target else None
+        # the step that ends on a kink ends one ulp short of it: its stages all take the old segment's rate
+        stop = float(np.nextafter(kink, -math.inf)) if kink is not None else target
+        code = self.compiled.runge_kutta((t, self.y, self.f, self.h), stop, m.rtol, self.atol, m.max_step,
                                          self.tableau, budget, counts)
         if code == 1:
             self.monitor.check(self.y, t[0])  # raises, naming the limit and the place
@@ -182,6 +198,17 @@ class _RungeKuttaStepper:
             raise failed(f"{m.name} took max_steps = {m.max_steps} steps by t = {t[0]:.9g} s", t[0])
         self.budget.project(int(counts[0]), t[0])  # the steps still needed, from the mean of the last ones
         self.monitor.check(self.y, t[0])  # the energy (instability) and finiteness, once a chunk
+        if kink is not None and t[0] == stop:
+            self._past(kink)
+
+    def _past(self, kink):
+        """At a kink (reached one ulp short of it): the state is the kink's, and ``f`` there, the next step's first
+        stage, the new segment's (a step whose first stage took the old rate would span the jump)."""
+        self.kinks.pop(0)
+        self.time[0] = kink
+        if kink < self.t_end:
+            self.f[:] = self.evaluate(self.y, kink)
+            self.counts[2] += 1
 
     def tolerance(self):
         """The method's tolerances as failures name them (:meth:`Tolerances.tolerance_text`)."""

@@ -9,7 +9,9 @@
   ``q_t = v, v_t = a, 0 = M(q) a + (dp/dq) v - dT/dq + dV/dq`` (no mass-matrix inverse either).
 
 The scipy solvers are stepped one step at a time (as ``solve_ivp`` does) so that steps are
-counted exactly; saved states come from their dense output. The model's limits are checked at
+counted exactly; saved states come from their dense output. At each kink of a driven edge's rate (docs/loads.md) a
+scipy solver's run ends one ulp short of it (its ``t_bound``: the last step's stages take the old segment's rate)
+and a new one starts from the state there, on the new segment. The model's limits are checked at
 the saved times only (:class:`~mol_shell.integrators.Monitor`); none of these has constraints.
 """
 
@@ -31,6 +33,7 @@ from mol_shell._core.constants import RTOL_RANGE, stated_up
 from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.discretization.dae import ShellDAE
+from mol_shell.discretization.loading import drive_kinks
 from mol_shell.integrators import loop
 from mol_shell.integrators.base import StepBudget
 from mol_shell.integrators.loop import choice, integers, interval, option
@@ -95,18 +98,34 @@ class _ScipyStepper:
                 return sp.csc_matrix((jac(t, y).copy(), indices, indptr), shape=pattern.shape)
 
             options["jac"] = jacobian
-        self.name = method.name
-        self.solver = getattr(scipy.integrate, method.solver)(lambda t, y: f(y, t).copy(), 0.0,
-                                                               np.array(y0, dtype=float), float(times[-1]), **options)
+        self.name, self.t_end = method.name, float(times[-1])
+        kind = getattr(scipy.integrate, method.solver)
+        self.make = lambda t0, y, bound: kind(lambda t, y: f(y, t).copy(), t0, y, bound, **options)
+        #: the drive's kinks still ahead (increasing, up to the last saved time): each solver's run ends at the next
+        self.kinks = [k for k in drive_kinks(system) if k <= self.t_end]
+        self.before = {"nfev": 0, "njev": 0, "nlu": 0}  # the counts of the solvers before the last kink
+        self.solver = self._segment(0.0, np.array(y0, dtype=float))
         self.steps, self.dense = 0, None
         self.budget = StepBudget(method.name, times[-1], method.max_steps, method.tolerance_text())
 
+    def _segment(self, t0, y):
+        """A solver from ``(t0, y)`` to the next kink, one ulp short of it (the stages of the step that ends there
+        take the old segment's rate; the history's rate at its corner is the new one's), or to the end."""
+        return self.make(t0, y, float(np.nextafter(self.kinks[0], -math.inf)) if self.kinks else self.t_end)
+
     @property
     def t(self):
-        return float(self.solver.t)
+        solver = self.solver
+        # a solver that ended one ulp short of a kink stands at the kink (a change of the state of the order of
+        # round-off); the next step starts a new solver there
+        return self.kinks[0] if solver.status == "finished" and self.kinks else float(solver.t)
 
     def advance(self, target):
         solver = self.solver
+        if solver.status == "finished" and self.kinks:  # at a kink: a new solver from it, on the new segment
+            for key in self.before:
+                self.before[key] += int(getattr(solver, key, 0))
+            solver = self.solver = self._segment(self.kinks.pop(0), solver.y)
         try:
             message = solver.step()
         except RuntimeError as exc:  # SuperLU's "Factor is exactly singular": raised, not returned as a failure
@@ -142,16 +161,16 @@ class _ScipyStepper:
 
     def state(self, target):
         solver = self.solver
-        if target == solver.t:
+        if target in (solver.t, self.t):
             return solver.y.copy()
         if self.dense is None:
             self.dense = solver.dense_output()
         return self.dense(target)
 
     def stats(self):
-        s = self.solver
-        return {"n_steps": self.steps, "n_rhs": int(s.nfev), "n_jac": int(getattr(s, "njev", 0)),
-                "n_lu": int(getattr(s, "nlu", 0))}
+        s, before = self.solver, self.before
+        return {"n_steps": self.steps, "n_rhs": before["nfev"] + int(s.nfev),
+                "n_jac": before["njev"] + int(getattr(s, "njev", 0)), "n_lu": before["nlu"] + int(getattr(s, "nlu", 0))}
 
 
 @dataclass(frozen=True)

@@ -20,6 +20,9 @@ These are the routes of release 0.5.0 under the names ``sksundae-cvode-bdf``, ``
   cannot be listed. Workaround: list *every* entry; unconstrained ones get :data:`UNCONSTRAINED`,
   which passes the type check (it compares equal to 1) and is stored as 0.0 (its ``__float__``).
   ``tests/test_constraints.py`` reproduces the defect and checks the workaround over many solves.
+* At each kink of a driven edge's rate (:func:`~mol_shell.discretization.loading.drive_kinks`) the solver stops
+  (``tstop``), evaluates the step that ends there one ulp short of it (the old segment's rate) and restarts there
+  (``init_step``: SUNDIALS' ``ReInit``), as the compiled route does (docs/loads.md).
 * Statistics: ``n_steps`` counts ``onestep`` calls; ``n_rhs``/``n_jac`` are SUNDIALS' counters;
   scikit-sundae exposes no failure counters, so ``n_failed_steps`` (error-test plus nonlinear
   failures together) is inferred from the trial times of the right-hand side calls: a step attempt
@@ -43,6 +46,7 @@ from mol_shell._core.constants import DENSE_MAX_STATES, MIN_STEP, stated_up
 from mol_shell._core.errors import ModelLimitError, ParameterError  # noqa: E402
 from mol_shell.discretization.compiled import CompiledFunctions, buffered
 from mol_shell.discretization.dae import ShellDAE
+from mol_shell.discretization.loading import drive_kinks
 from mol_shell.integrators import loop  # noqa: E402
 from mol_shell.integrators.base import StepBudget  # noqa: E402
 from mol_shell.integrators.loop import BOOL, Option, choice, integers, option, zero_or_at_least  # noqa: E402
@@ -286,14 +290,18 @@ class _Run:
         rows, cols, size = parts["rows"], parts["cols"], system.size
         jac, events = parts["jac"], parts["events"]
         sparse = method.choose_linsolver(size) == "sparse"
+        # the next kink of a drive's rate and the time one ulp short of it: the step that ends there is evaluated
+        # there (the history's rate at its corner is the new segment's; the old one's belongs to that step)
+        self.kink, self.left = np.inf, np.inf
         if self.ida:
             res = parts["residual"]
 
             def resfn(t, x, xp, out):
                 self._trial(t)
-                out[:] = res(t, x, xp)
+                out[:] = res(t if t < self.kink else self.left, x, xp)
 
             def jacfn(t, x, xp, res_, cj, JJ):
+                t = t if t < self.kink else self.left
                 if sparse:
                     JJ[:] = jac(t, x, xp, cj)
                 else:
@@ -305,9 +313,10 @@ class _Run:
 
             def rhsfn(t, y, yp):
                 self._trial(t)
-                yp[:] = f(y, t)
+                yp[:] = f(y, t if t < self.kink else self.left)
 
             def jacfn(t, y, yp, JJ):
+                t = t if t < self.kink else self.left
                 if sparse:
                     JJ[:] = jac(t, y)
                 else:
@@ -372,13 +381,35 @@ class _Run:
             raise RuntimeError(f"{method.name} could not start: {init.message}")
         self.t, self.n_steps, self.res = 0.0, 0, init
         self.budget = StepBudget(method.name, times[-1], method.max_steps, method.tolerance_text())
+        #: the kinks of a drive's rate still ahead (increasing, up to the last saved time): a stop and a restart at each
+        self.kinks = [k for k in drive_kinks(self.system) if k <= float(times[-1])]
+        self.before = (0, 0)  # SUNDIALS' counts (rhs, Jacobians) before the last restart: it zeroes its own there
+        self._next_kink()
         return self
 
+    def _next_kink(self):
+        self.kink = self.kinks.pop(0) if self.kinks else np.inf
+        self.left = float(np.nextafter(self.kink, -np.inf))
+
+    def _restart(self):
+        """At a kink: the solver restarted from the state there (order 1, a new first step, a fresh Jacobian; IDA
+        from the rates it holds, the left limit), on the new segment; the counts kept."""
+        res = self.res
+        self.before = (self.before[0] + int(res.nfev), self.before[1] + int(res.njev))
+        self._next_kink()
+        init = self.res = (self.solver.init_step(self.t, res.y, res.yp) if self.ida
+                           else self.solver.init_step(self.t, res.y))
+        if not init.success:
+            raise self._failure(init, self.t)
+
     def advance(self, target):
-        """One SUNDIALS step towards ``target`` (``tstop``: never past it)."""
+        """One SUNDIALS step towards ``target`` (``tstop``: never past it, nor past the next kink of a drive)."""
         method = self.method
+        if self.t >= self.kink:
+            self._restart()
         self.calls_in_step = 0
-        res = self.res = self.solver.step(float(target), method="onestep", tstop=float(target))
+        stop = min(float(target), self.kink)
+        res = self.res = self.solver.step(stop, method="onestep", tstop=stop)
         self.n_steps += 1
         self.counting = True
         if res.status == ROOT_RETURN:
@@ -396,7 +427,8 @@ class _Run:
     def stats(self):
         res, method = self.res, self.method
         return {
-            "n_steps": int(self.n_steps), "n_rhs": int(res.nfev), "n_jac": int(res.njev),
+            "n_steps": int(self.n_steps), "n_rhs": self.before[0] + int(res.nfev),
+            "n_jac": self.before[1] + int(res.njev),
             "n_failed_steps": int(self.failures),
             "linsolver": method.choose_linsolver(self.system.size), "route": "scikit-sundae",
             "jacobian_build_s": float(self.parts.get("build_time_s", 0.0)),

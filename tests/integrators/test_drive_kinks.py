@@ -8,6 +8,14 @@ off after the step ending at the kink), and the steps and multistep histories th
 Stopped at each kink (the step ending there evaluated on the old segment) and restarted from it, each saved interval
 adds at most about ``rtol`` of the energy exchanged, so a few tens of them stay well under ``20 rtol`` (the bound the
 dop853-c tests of tests/model/test_drive_history_balance.py use); measured 0.14 to 7.9 ``rtol``.
+
+The compiled Runge-Kutta pairs had the same corner: their steps landed on the saved times only, so a step spanned
+each kink between them, and the one ending on a kink at a saved time took the new segment's rate in its last stage
+(``table``: dop853-c 146 ``rtol``, rk45-c 991; ``axial``: rk45-c 23). A step now lands on each kink with its stages
+on the old segment, and the next step's first stage (first same as last) is evaluated again on the new one: 0.09 to
+1.7 ``rtol``. The peers with a Python loop stop there too: scikit-sundae's solvers with ``tstop`` and a restart
+(``sksundae-cvode-bdf`` 227 -> 10, ``sksundae-cvode-adams`` 110 -> 1.1), SciPy's with a new solver from each kink
+(``scipy-rk45`` 139 -> 0.75, ``scipy-dop853`` 42 -> 0.53, ``scipy-bdf`` 57 -> 11).
 """
 
 import numpy as np
@@ -16,7 +24,9 @@ import pytest
 import mol_shell
 from mol_shell.discretization.loading import drive_kinks, history_kinks
 from mol_shell.discretization.system import ShellSystem
+from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.loads import parse_history
+from mol_shell.runs.simulate import build, resolve
 
 RTOL = 1e-6
 
@@ -46,14 +56,39 @@ def test_the_kinks_are_the_histories_corners_after_the_start():
     assert drive_kinks(ShellSystem(mol_shell.Cone(end1="clamped", end2_spin=2.0), 5)) == ()
 
 
-@pytest.mark.parametrize("case, integrator", [("axial", "cvode-bdf"), ("axial", "cvode-adams"), ("ramp", "cvode-bdf"),
-                                              ("table", "cvode-adams"), ("table", "ida")])
+@pytest.mark.parametrize("case, integrator", [
+    ("axial", "cvode-bdf"), ("axial", "cvode-adams"), ("ramp", "cvode-bdf"), ("table", "cvode-adams"), ("table", "ida"),
+    # the compiled Runge-Kutta pairs: a step lands on each kink
+    ("axial", "rk45-c"), ("table", "dop853-c"), ("table", "rk45-c"), ("ramp", "rk45-c"),
+    # the peers' Python loops: scikit-sundae stopped and restarted at each kink, SciPy's solvers started anew there
+    ("axial", "sksundae-cvode-adams"), ("table", "sksundae-cvode-bdf"), ("ramp", "sksundae-ida"),
+    ("axial", "scipy-rk45"), ("table", "scipy-dop853"), ("table", "scipy-bdf")])
 def test_the_balance_holds_to_about_rtol_across_the_kinks(case, integrator):
     ds = mol_shell.simulate(SCENES[case], integrator, n=21, times=TIMES[case], progress=False, rtol=RTOL)
     assert ds.attrs["status"] == "complete"
     assert ds.attrs["energy_balance_error"] < 20 * RTOL
-    # the counts run on across the restarts (SUNDIALS zeroes its own at each): every step evaluates the right-hand
-    # side at least once, and each restart takes a fresh Jacobian (a Newton iteration's)
+    # the counts run on across the restarts (SUNDIALS zeroes its own at each, a new SciPy solver starts from 0): every
+    # step evaluates the right-hand side at least once, and each restart (at a kink before the end) takes a fresh
+    # Jacobian (a Newton iteration's), as does the start
     assert ds.attrs["n_rhs"] >= ds.attrs["n_steps"]
-    if integrator != "cvode-adams":
-        assert ds.attrs["n_jac"] > len(drive_kinks(ShellSystem(SCENES[case], 5)))
+    if integrator in ("cvode-bdf", "ida", "sksundae-cvode-bdf", "sksundae-ida", "scipy-bdf"):
+        restarts = [t for t in drive_kinks(ShellSystem(SCENES[case], 5)) if t < TIMES[case][-1]]
+        assert ds.attrs["n_jac"] >= 1 + len(restarts)
+
+
+
+@pytest.mark.parametrize("name", ["cvode-bdf", "cvode-adams", "ida"])
+def test_scikit_sundae_stops_at_the_kinks_as_the_compiled_route_does(name):
+    # with the same settings both routes call the same SUNDIALS (tests/integrators/test_sundials_c.py): across the
+    # four kinks too they take the same steps, now that the Python loop stops, evaluates and restarts there as well
+    scene = resolve(TABLE)
+    system, compiled = build(scene, 21)
+    y0 = system.initial_state(scene)
+    settings = {"rtol": RTOL, "jacobian": "compiled"}
+    ours = INTEGRATORS[name](**settings, **({"iteration": "newton"} if name != "ida" else {}))
+    theirs = INTEGRATORS["sksundae-" + name](**settings)
+    a, b = (m.integrate(system, compiled, y0, TIMES["table"]) for m in (ours, theirs))
+    assert a.status == b.status == "complete"
+    for key in ("n_steps", "n_rhs", "n_jac"):
+        assert a.stats[key] == b.stats[key], key
+    assert np.max(np.abs(a.y - b.y)) < 1e-12 * np.abs(b.y).max()
