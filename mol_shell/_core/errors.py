@@ -51,6 +51,14 @@ def is_number(value):
     return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
 
 
+def flag(name, value):
+    """``value`` of a true/false parameter of the Python API as a ``bool`` (a NumPy bool too); anything else, a
+    string or a number, is a ParameterError naming ``name`` (``constrained="no"`` was taken as True)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterError.not_a(name, value, "a bool", "True or False")
+    return bool(value)
+
+
 def scalar(value):
     """``value`` with a NumPy 0-d array taken as the number it holds (``np.array(12)`` as ``12``): NumPy hands them
     out (``x.sum()`` of an array, ``np.array(t)``), and a check that reads them as arrays refused ``n = 12`` as

@@ -27,6 +27,10 @@ from mol_shell.results.dataset import read_netcdf
 from mol_shell.scenes import SCENES, get_scene
 
 ALLOWED = "a netCDF file written by mol-shell path"
+#: how :func:`path_start` names its parameters in its refusals: as Python's keywords, or as the command line's flags
+#: (``mol-shell run/modes --from``; it named the flags to Python callers too: ``--step = 999 is outside ...``)
+KEYWORDS = {"ds": "ds", "step": "step", "point": "point", "perturb": "perturb"}
+FLAGS = {"ds": "--from", "step": "--step", "point": "--point", "perturb": "--perturb"}
 
 
 def is_path(ds):
@@ -63,11 +67,12 @@ def checked_path(ds, name="ds", shown=None):
     return ds
 
 
-def path_scene(ds, value):
-    """The scene of path ``ds`` (its name and parameters from the attrs) with the continued load at ``value``."""
+def path_scene(ds, value, names=FLAGS):
+    """The scene of path ``ds`` (its name and parameters from the attrs) with the continued load at ``value``
+    (``names``: :data:`FLAGS` or :data:`KEYWORDS`, how a refusal names the path)."""
     name = str(ds.attrs["scene"])
     if name not in SCENES:
-        raise ParameterError.invalid("--from", name, "names no registered scene", ALLOWED)
+        raise ParameterError.invalid(names["ds"], name, "names no registered scene", ALLOWED)
     fields = {f.name for f in dataclasses.fields(SCENES[name])}
     params = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in ds.attrs.items() if k in fields}
     for k in fields & params.keys():  # left to the code when the path was traced (stored as the values used): again
@@ -87,7 +92,7 @@ def path_scene(ds, value):
         now = re.sub(r", sha256 [0-9a-f]+\)$", ")", now)
     if then and now and then != now:  # a points file read again, edited since: the states belong to the old shell
         raise ParameterError.invalid("points", str(ds.attrs.get("points", name)), "describes another meridian now",
-                                     "the meridian the path (--from) was traced on",
+                                     f"the meridian the path ({names['ds']}) was traced on",
                                      hint=f"the path's: {then}; now: {now}")
     return scene
 
@@ -96,7 +101,7 @@ def path_scene(ds, value):
 PERTURB_SHARE = 0.1
 
 
-def _check_perturbation(amplitude, fields, mode):
+def _check_perturbation(amplitude, fields, mode, name="--perturb"):
     """Refuse an amplitude of the critical mode (largest entry 1) that is no perturbation: beyond
     :data:`PERTURB_SHARE` of the shell's size, or one that takes ``r`` to 0 or below at a node off the axis. A run
     from there failed on whatever check met it first (the step bound, a solver error at t = 0, r <= 0)."""
@@ -109,7 +114,7 @@ def _check_perturbation(amplitude, fields, mode):
     if np.any(off_axis & (dr > 0)):
         low = max(low, float(np.max(-r[off_axis & (dr > 0)] / dr[off_axis & (dr > 0)])))
     if not low < amplitude < high and amplitude != 0:
-        raise ParameterError("--perturb", amplitude, f"({low:.4g}, {high:.4g}) m or rad (a perturbation: at most "
+        raise ParameterError(name, amplitude, f"({low:.4g}, {high:.4g}) m or rad (a perturbation: at most "
                              f"{PERTURB_SHARE:g} of the shell's size, {size:.4g} m, with r > 0 off the axis)")
 
 
@@ -120,7 +125,7 @@ def _index(value, name, count, what):
     return int(value)
 
 
-def path_start(ds, *, step=None, point=None, perturb=0.0):
+def path_start(ds, *, step=None, point=None, perturb=0.0, names=KEYWORDS):
     """``(scene, n, fields, info)``: where a run or modes analysis starts from path ``ds``.
 
     Parameters
@@ -132,6 +137,9 @@ def path_start(ds, *, step=None, point=None, perturb=0.0):
     perturb : float
         Amplitude of the critical mode added to a critical point's state (m or rad: the mode's largest entry is
         1); only with ``point``.
+    names : dict
+        How refusals name the parameters: :data:`KEYWORDS` (Python's, the default) or :data:`FLAGS` (the command
+        line's ``--from``, ``--step``, ``--point``, ``--perturb``).
 
     Returns
     -------
@@ -146,25 +154,30 @@ def path_start(ds, *, step=None, point=None, perturb=0.0):
     """
     ds = read_path(ds, "ds") if isinstance(ds, (str, os.PathLike)) else checked_path(ds, "ds")
     if (step is None) == (point is None):
-        raise ParameterError("--step", step, "one of --step K or --point K with --from",
-                             message="give one of --step K (a step) or --point K (a critical point) with --from")
+        cli = names["step"].startswith("--")
+        given = {k: f"{names[k]} K" if cli else f"{names[k]}=K" for k in ("step", "point")}
+        also = f" with {names['ds']}" if cli else ""
+        raise ParameterError(names["step"], step, f"one of {given['step']} or {given['point']}{also}",
+                             message=f"give one of {given['step']} (a step) or {given['point']} (a critical point)"
+                             f"{also}")
     if not is_number(perturb) or not math.isfinite(perturb):
-        raise ParameterError.not_a("--perturb", perturb, "a finite number", "(-inf, inf) m or rad")
+        raise ParameterError.not_a(names["perturb"], perturb, "a finite number", "(-inf, inf) m or rad")
     name = str(ds.attrs["parameter"])
     units = str(ds.attrs.get("parameter_units", ""))
     if step is not None:
         if perturb:
-            raise ParameterError("--perturb", perturb, "0 with --step (the critical mode is a point's: use --point)")
-        k = _index(step, "--step", ds.sizes["step"], "steps")
+            raise ParameterError(names["perturb"], perturb, f"0 with {names['step']} (the critical mode is a "
+                                 f"point's: use {names['point']})")
+        k = _index(step, names["step"], ds.sizes["step"], "steps")
         value = float(ds.parameter.values[k])
         fields = np.stack([ds[f].values[k] for f in FIELDS])
         info = f"equilibrium path step {k}: {name} = {value:.10g} {units}"
     else:
-        k = _index(point, "--point", ds.sizes.get("point", 0), "critical points")
+        k = _index(point, names["point"], ds.sizes.get("point", 0), "critical points")
         value = float(ds.point_parameter.values[k])
         fields = np.stack([ds[f"point_{f}"].values[k] for f in FIELDS])
         mode = np.stack([ds[f"point_mode_{f}"].values[k] for f in FIELDS])
-        _check_perturbation(float(perturb), fields, mode)
+        _check_perturbation(float(perturb), fields, mode, names["perturb"])
         fields = fields + float(perturb) * mode
         info = (f"equilibrium path critical point {k} ({ds.point_kind.values[k]}): {name} = {value:.10g} {units}"
                 + (f", perturbed by {float(perturb):g} x its critical mode" if perturb else ""))
@@ -172,6 +185,6 @@ def path_start(ds, *, step=None, point=None, perturb=0.0):
     bad = [f for f, values in zip(("parameter", *FIELDS), ([value], *fields)) if not np.all(np.isfinite(values))]
     if bad:  # a file edited or damaged since: refused by its name, not as the `initial` fields it would become
         prefix = "point_" if point is not None and bad[0] != "parameter" else ""
-        raise ParameterError.invalid("--from", ds.encoding.get("source", "<xarray.Dataset>"),
+        raise ParameterError.invalid(names["ds"], ds.encoding.get("source", "<xarray.Dataset>"),
                                      f"holds values of {prefix}{bad[0]} at {where} that are not finite", ALLOWED)
-    return path_scene(ds, value), int(ds.sizes["s"]), fields, info
+    return path_scene(ds, value, names), int(ds.sizes["s"]), fields, info

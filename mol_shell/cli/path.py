@@ -9,7 +9,7 @@ from mol_shell._core.errors import ParameterError, show
 from mol_shell.analysis.equilibria import PATH_PARAMETERS
 from mol_shell.analysis.path import path
 from mol_shell.analysis.path_inputs import STEPS_MAX
-from mol_shell.analysis.path_start import ALLOWED, is_path, path_start, read_path
+from mol_shell.analysis.path_start import ALLOWED, FLAGS, is_path, path_start, read_path
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
     EXIT_INTERRUPTED,
@@ -165,7 +165,7 @@ def start_of(args):
         raise ParameterError("--from", args.from_path, "a path file in place of SCENE_OR_FILE",
                              message=f"give SCENE_OR_FILE ({args.scene}) or --from PATH.nc, not both")
     ds = read_path(args.from_path)
-    scene, n, fields, info = path_start(ds, step=args.step, point=args.point, perturb=perturb or 0.0)
+    scene, n, fields, info = path_start(ds, step=args.step, point=args.point, perturb=perturb or 0.0, names=FLAGS)
     if args.n is not None and args.n != n:
         raise ParameterError("--n", args.n, f"{{{n}}} with --from (the path's nodes)")
     return with_params(scene, parse_sets(args.set)), {"n": n}, fields, info, ds

@@ -271,35 +271,51 @@ def renamed_layers(text, version):
 
 
 #: the laws of one's own (:class:`~mol_shell.model.user_laws.Material`) of this process, by the ``material`` a
-#: scene stores: their name, or the import path they came by
+#: scene stores, its key: the law's name (the first law made under it), ``name@digest`` for another law of the same
+#: name (:func:`law_key`), or the import path it came by. A key names one law: two Materials of one name with other
+#: energies, parameters or thickness treatments were one law to the scenes and caches, the last one made
 REGISTRY = {}
-#: what runs when a name is registered again for another law (other energy, parameters or thickness): the caches
-#: of the layers above, keyed by scenes, which store the law's name only (each adds its own ``cache_clear``)
+#: what runs when a key is registered again for another law (a persistent worker process of a study restoring a
+#: law of another session, :func:`mol_shell.runs.study.restore_materials`): the caches of the layers above, keyed
+#: by scenes, which store the key only (each adds its own ``cache_clear``)
 ON_REDEFINED = []
 
 
-def _register(name, material):
-    """``REGISTRY[name] = material``; the caches keyed by scenes are cleared when the name held another law (they
-    handed a second law of the same name the first one's graphs, silently)."""
-    previous = REGISTRY.get(name)
-    REGISTRY[name] = material
-    if previous is not None and previous is not material and (
-            previous.energy is not material.energy or previous.parameters != material.parameters
-            or previous.thickness != material.thickness):
+def register(key, material):
+    """``REGISTRY[key] = material``; the caches keyed by scenes are cleared when the key held another law."""
+    previous = REGISTRY.get(key)
+    REGISTRY[key] = material
+    if previous is not None and previous is not material and previous.fingerprint() != material.fingerprint():
         for clear in ON_REDEFINED:
             clear()
 
 
+def law_key(material):
+    """The key of a :class:`~mol_shell.model.user_laws.Material` in :data:`REGISTRY`: its name if the name is free
+    or is this law's (the same energy, parameters and thickness treatment: a cell run again), else the key already
+    given to this law, else ``name@`` and the first 8 hex digits of its fingerprint."""
+    digest = material.fingerprint()
+    keys = (material.name, f"{material.name}@{digest[:8]}")
+    for key in keys:
+        held = REGISTRY.get(key)
+        if held is None or held is material or held.fingerprint() == digest:
+            return key
+    return f"{material.name}@{digest}"  # (8 digits of another law of the name: not in a lifetime)
+
+
 def resolve_material(value):
     """The string a scene stores as ``material``: a built-in name as it is; a
-    :class:`~mol_shell.model.user_laws.Material` registered under its name; a registered name; an import path
+    :class:`~mol_shell.model.user_laws.Material` registered under its key (:func:`law_key`); a key (so a name
+    given as a string is the first law a scene was made with under it in this process); an import path
     ``package.module:attr`` of a Material (imported, registered under the path). ParameterError otherwise."""
     if isinstance(value, Material):
         if value.name in MATERIALS:
             raise ParameterError("name", value.name, "a name of its own, not a built-in law's ("
                                  + ", ".join(MATERIALS) + ")", hint="the name of a mol_shell.Material")
-        _register(value.name, value)
-        return value.name
+        key = law_key(value)
+        if REGISTRY.get(key) is None:
+            register(key, value)
+        return key
     if isinstance(value, str) and (value in MATERIALS or value in REGISTRY):
         return value
     if isinstance(value, str) and ":" in value:
@@ -312,7 +328,7 @@ def resolve_material(value):
         if not isinstance(found, Material):
             raise ParameterError("material", value, _allowed(), hint=f"it is a {type(found).__name__}, not a "
                                  "mol_shell.Material")
-        _register(value, found)
+        register(value, found)
         return value
     raise ParameterError("material", value, _allowed(),
                          hint="or a mol_shell.Material, or its import path 'package.module:attr'")

@@ -9,7 +9,9 @@ differentiation, fibres on top.
 
 A scene takes it as ``material``:
 
-- the :class:`Material` itself (Python): the scene stores its ``name``, registered in this process;
+- the :class:`Material` itself (Python): the scene stores its key, registered in this process: its ``name``, or
+  ``name@digest`` (8 hex digits of :meth:`Material.fingerprint`) for a second, different law under a name already
+  given to one (:func:`mol_shell.model.laws.law_key`), so that each scene runs the law it was made with;
 - an import path ``"package.module:attr"`` (a scene file's ``material = "..."``, the command line's
   ``--set material=...``): the module is imported where the scene is made, and the scene stores the path.
 
@@ -69,7 +71,8 @@ class Material:
     """A hyperelastic law from its stored energy.
 
     Use it as a scene's ``material``: ``mol_shell.Sphere(material=rubber)`` (the scene stores its ``name``,
-    registered in this process), or by its import path ``"package.module:attr"`` where a string is needed (a scene
+    registered in this process; ``name@digest`` for another law under a name already used), or by its import path
+    ``"package.module:attr"`` where a string is needed (a scene
     file's ``material = "mylaws:rubber"``, ``--set material=mylaws:rubber``; ``mylaws``
     importable: on ``PYTHONPATH`` or in the working directory); change its
     parameters for one scene with ``material_parameters`` (``"mu=2e5"``). See docs/materials.md.
@@ -220,9 +223,11 @@ class Material:
     def fingerprint(self):
         """A digest of what the law computes: its name, thickness treatment, parameters and the energy's expression
         in a symbolic ``C`` (so an edited energy function, under the same name or import path, is another law)."""
-        W = ca.SX(self.energy(ca.SX.sym("C", 3, 3), dict(self.parameters)))
-        text = f"{self.name}|{self.thickness}|{sorted(self.parameters.items())}|{W}"
-        return hashlib.sha256(text.encode()).hexdigest()[:16]
+        if "_fingerprint" not in self.__dict__:  # computed once (a scene made with the law asks for it)
+            W = ca.SX(self.energy(ca.SX.sym("C", 3, 3), dict(self.parameters)))
+            text = f"{self.name}|{self.thickness}|{sorted(self.parameters.items())}|{W}"
+            object.__setattr__(self, "_fingerprint", hashlib.sha256(text.encode()).hexdigest()[:16])
+        return self._fingerprint
 
     def law(self):
         """The :class:`~mol_shell.model.laws.Law` that runs it (``C`` handed over as an ``SX`` matrix)."""

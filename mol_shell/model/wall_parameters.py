@@ -71,3 +71,22 @@ def checked_material_parameters(scene):
     if values and user is not None:
         user.with_parameters(own_parameters(scene.material, values) if layered else values)
     return parameter_text(values)
+
+
+def law_attrs(scene):
+    """``{"material_laws": ...}`` for a run's attrs where ``scene`` has laws of one's own (else ``{}``): each law's
+    key (``material``, or a layer's), its thickness treatment, the parameters it ran with (the ``Material``'s with
+    the scene's ``material_parameters`` applied) and the ``Material``'s fingerprint
+    (:meth:`~mol_shell.model.user_laws.Material.fingerprint`, before those changes). The attrs said
+    ``material = 'rubber'`` and ``material_parameters = ''`` for every law of that name."""
+    if not hasattr(scene, "material_parameters"):
+        return {}
+    values = parameter_values(scene.material_parameters or "")
+    said = []
+    for key in dict.fromkeys([scene.material, *wall_laws(scene)]):
+        user = user_material(key)
+        if user is not None:
+            used = {**user.parameters, **own_parameters(key, values)}
+            said.append(f"{key}: {user.thickness}, {parameter_text(used) or 'no parameters'}, "
+                        f"fingerprint {user.fingerprint()}")
+    return {"material_laws": "; ".join(said)} if said else {}

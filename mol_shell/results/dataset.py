@@ -14,6 +14,7 @@ from mol_shell._core.atomic import atomic_path, up_out_of
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.model.edges import IMPOSED
 from mol_shell.model.kinematics import FIELDS
+from mol_shell.model.wall_parameters import law_attrs
 from mol_shell.results.cf import attr_value, coordinates, header, variables, wide_integer
 from mol_shell.scenes import UNITS
 from mol_shell.scenes.base import mean_over
@@ -67,6 +68,7 @@ def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=Non
                 meta[f"units_{name}_requested"] = meta[f"units_{name}"]
             else:  # the same to round-off (a mean psi of 1e-161 rad): as asked
                 meta[name] = wanted
+    meta.update(law_attrs(scene))  # which law of one's own ran, and its parameters
     return meta
 
 

@@ -72,7 +72,7 @@ import casadi as ca
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import ParameterError, SceneWarning
+from mol_shell._core.errors import ParameterError, SceneWarning, flag
 from mol_shell._core.ranges import Choice, Interval
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.model.kinematics import FIELDS
@@ -309,6 +309,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     xarray.Dataset
     """
     _check_limit(limit)
+    compiled = flag("compiled", compiled)  # "no" was taken as True
     if not isinstance(ds, xr.Dataset):  # a file name: read_netcdf first
         raise ParameterError.not_a("ds", ds, "an xarray.Dataset",
                                    "a Dataset from simulate or mol-shell run (mol_shell.read_netcdf(PATH) reads a file)")
@@ -319,6 +320,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
         raise ParameterError.invalid("ds", "Dataset", "is not a mol_shell run", "a Dataset from simulate or mol-shell run",
                                      hint="missing " + ", ".join(missing or ["attrs E, nu, h, zeta1_used, n_quad"]))
     n_t, n = ds.sizes["time"], ds.sizes["s"]
+    ds = _without_stale_stresses(ds)
     samples = 2 * (n - 1) * n_t
     material = str(ds.attrs.get("material", "svk"))
     route = law_of_attrs(ds.attrs) if limit is not None else None
@@ -396,6 +398,29 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
         if "svk-plane-stress" in f"{material} {ds.attrs.get('layers', '')}":  # SVK's thinning has a bound
             out.attrs["stresses"] += (" (svk-plane-stress: also where its thickness stretch has no real value, "
                                       "C_22 = 1 - 2 nu/(1 - nu) (E_11 + E_33) <= 0)")
+    return out
+
+
+def _without_stale_stresses(ds):
+    """``ds`` without the stresses it holds when they are not on the cells of its nodes ``s``: a part of a run
+    taken with ``isel(s=...)`` keeps the run's ``s_cell`` (and its stresses there), and the new stresses on its own
+    cells met them as xarray's "conflicting sizes for dimension 's_cell'". A variable on the old cells that is not
+    a stress (a constrained unshearable run's ``lambda_chi``) cannot be recomputed: refused naming ``ds``."""
+    if "s_cell" not in ds.dims:
+        return ds
+    s = ds["s"].values
+    if ds.sizes["s_cell"] == len(s) - 1 and "s_cell" in ds.coords and np.array_equal(
+            ds["s_cell"].values, (s[1:] + s[:-1]) / 2):
+        return ds
+    stresses = {*RESULTANT_META, *FACE_META}
+    stale = [v for v in ds.data_vars if v.removesuffix("_viscous") in stresses]
+    out = ds.drop_vars(stale + [c for c in ("s_cell", "zeta", "zeta_face") if c in ds.coords])
+    others = [v for v in out.variables if "s_cell" in out[v].dims]
+    if others:
+        raise ParameterError.invalid("ds", "Dataset", f"holds {', '.join(others)} on {ds.sizes['s_cell']} cells, not "
+                                     f"on the {len(s) - 1} cells of its {len(s)} nodes s", "a run whose variables on "
+                                     "s_cell are on the cells of its nodes", hint="a part of a run taken with "
+                                     "isel(s=...) or sel(s=...): take the stresses of the whole run, then the part")
     return out
 
 

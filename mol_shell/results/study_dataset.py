@@ -257,7 +257,7 @@ def study_case(ds, **where):
     if sorted(where) != sorted(dims):
         raise ParameterError.invalid("where", ", ".join(f"{k}={v}" for k, v in where.items()) or "nothing",
                                      "does not name one case", "a value of each of " + ", ".join(dims),
-                                     hint="e.g. " + ", ".join(f"{d}={ds[d].values.ravel()[0]!r}" for d in dims))
+                                     hint="e.g. " + ", ".join(f"{d}={ds[d].values.ravel()[0].item()!r}" for d in dims))
     try:
         case = ds.sel(where)
     except (KeyError, ValueError, TypeError) as exc:

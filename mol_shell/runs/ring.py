@@ -41,7 +41,7 @@ from mol_shell.model.laws import scene_shell_energy, thickness_treatment, viscos
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.material import Thickness, centroidal_offset, inertias, shell_dissipation
 from mol_shell.results.cf import coordinates, header, variables
-from mol_shell.results.dataset import FIELD_META, RATE_UNITS, scene_attrs, with_units
+from mol_shell.results.dataset import FIELD_META, RATE_UNITS, TIME_COMMENT, scene_attrs, with_units
 from mol_shell.runs.simulate import as_scene, parse_times, resolve
 from mol_shell.scenes.base import refuse_loads
 from mol_shell.scenes.cylinder import TwistedCylinder
@@ -259,7 +259,8 @@ def _ring_dataset(system, scene, t, y, attrs, n, requested=None):
     rates, kinetic, stored, p_chi, dlt, dissipation = (np.array(o) for o in outs)
     q = {"r": y[:, 0], "chi": y[:, 1], "theta": np.zeros(len(t)), "psi": y[:, 2]}
     qt = {"r": rates[0], "chi": rates[1], "theta": np.zeros(len(t)), "psi": rates[2]}
-    coords = {"time": ("time", t, {"units": "s", "long_name": "time"})}
+    coords = {"time": ("time", t, {"units": "s", "long_name": "time", "standard_name": "time", "axis": "T",
+                                   "comment": TIME_COMMENT})}  # as a run's (docs/netcdf.md): it had units only
     dims, expand = ("time",), (lambda a: a)
     if n is not None:
         s = np.linspace(0.0, scene.L, int(n))
@@ -286,7 +287,8 @@ def _ring_dataset(system, scene, t, y, attrs, n, requested=None):
     for name, (values, units, long_name) in totals.items():
         data[name] = (("time",), values, {"units": units, "long_name": long_name})
     meta = {
-        **header(f"mol_shell reduced ODE (section 5) of scene {scene.name}"), "scene": scene.name,
+        **header(f"mol_shell reduced ODE (section 5) of scene {scene.name}", comment="time: " + TIME_COMMENT),
+        "scene": scene.name,
         "rho_A": system.rho_a, "rho_I": float(system.rho_i), "rho_J": system.rho_j, "failure_time": float("nan"),
     }
     edges = resolve_edges(scene.end1, scene.end2, scene.meridian().poles)

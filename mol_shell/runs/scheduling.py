@@ -318,8 +318,9 @@ def _starting_workers():
     interrupted in its imports printed a KeyboardInterrupt traceback, one interrupted as it sent a result back left
     half a message in the pool's pipe, for which the pool then waited forever. Setting SIGINT to ``SIG_IGN`` here
     instead would lose a Ctrl-C that arrives meanwhile; this way this process notes one
-    (:func:`mol_shell._core.interrupts.held`) and raises ``KeyboardInterrupt`` once the processes are started."""
-    with interrupts.held():
+    (:func:`mol_shell._core.interrupts.held`) and raises ``KeyboardInterrupt`` once the processes are started.
+    A main script that is no file (:func:`_main_not_a_file`) is not re-run by the workers."""
+    with interrupts.held(), _main_not_a_file():
         if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - Windows: no process groups, no mask
             yield
             return
@@ -328,6 +329,26 @@ def _starting_workers():
             yield
         finally:
             signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+
+
+@contextlib.contextmanager
+def _main_not_a_file():
+    """Around the start of spawned (or forkserver) workers: a main module whose ``__file__`` is no file (a script
+    read from stdin, ``python - < script.py``: ``'<stdin>'``) is hidden from them, as for ``python -c``, instead of
+    each worker's failing to run it again (a traceback ending ``FileNotFoundError: ... '<stdin>'``, and the study's
+    cases all in this process). Its ``__file__`` is put back once the processes are started."""
+    main = sys.modules.get("__main__")
+    path = getattr(main, "__file__", None)
+    by_name = getattr(getattr(main, "__spec__", None), "name", None)  # python -m: re-imported by name
+    if path is None or by_name is not None or os.path.isfile(os.path.join(multiprocessing.process.ORIGINAL_DIR or "",
+                                                                           path)):
+        yield
+        return
+    del main.__file__
+    try:
+        yield
+    finally:
+        main.__file__ = path
 
 
 def _worker_start(claims):

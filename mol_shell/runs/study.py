@@ -30,7 +30,7 @@ from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.law_warnings import locking_warnings
-from mol_shell.model.laws import REGISTRY, resolve_material, user_material
+from mol_shell.model.laws import REGISTRY, register, user_material
 from mol_shell.model.layers import parse_layers
 from mol_shell.results.cf import header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
@@ -136,7 +136,7 @@ def restore_materials(materials):
                 "a law whose energy function is defined at the top level of a module or script, or its import path "
                 "'module:attr'", hint=reason + "; or run the study with workers=1")
         if name not in REGISTRY or REGISTRY[name].fingerprint() != law.fingerprint():
-            resolve_material(law)
+            register(name, law)  # under the key the study's scenes store (the law's name, or name@digest)
         _RESTORED[name] = (payload, REGISTRY[name])
 
 
@@ -151,8 +151,8 @@ def case_inputs(scene):
             out["meridian"] = scene.meridian().describe()
         for name in _laws_named(scene):
             user = user_material(name)
-            if user is not None:
-                out["law " + name] = user.fingerprint()
+            if user is not None:  # by the law's name (its key may be name@digest): the keys of stored cases kept
+                out["law " + user.name] = user.fingerprint()
     except ParameterError as exc:
         out["unreadable"] = str(exc)
     return out

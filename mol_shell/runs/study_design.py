@@ -12,6 +12,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.model.laws import Material, resolve_material
 from mol_shell.model.wall_parameters import wall_parameter, wall_parameter_names
 from mol_shell.runs.simulate import DEFAULT_DT, integrator_options
 from mol_shell.scenes import DESCRIPTIONS, UNITS, _coerce, with_params
@@ -144,6 +145,8 @@ def _typed(scene, name, value, integrator=None, left_out=False):
         _refuse_non_finite(scene, name, value, integrator)
         return value
     annotation = str(fields[name].type)
+    if name == "material" and isinstance(value, Material):  # its key in the coordinate, as the case's scene stores
+        value = resolve_material(value)  # it (a netCDF file holds no Material; two laws of one name are two keys)
     value = _coerce(name, value, fields[name].type)
     if isinstance(value, str) and annotation != "str":
         dataclasses.replace(scene, **{name: value})  # raises: "gamma = 'abc' is not a number; allowed: ..."

@@ -37,7 +37,7 @@ import time
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, flag
 from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.unshearable_dae import NODE, UnshearableDAE
 from mol_shell.integrators import Leapfrog
@@ -50,9 +50,13 @@ from mol_shell.runs.building import as_scene, build, observe, parse_times, resol
 from mol_shell.runs.checks import check_system, checked_spectrum
 from mol_shell.scenes.unshearable import Unshearable
 
+#: the options of the two runs, with their defaults: the constrained DAE's (IDA) and the free shell's (leap-frog)
+DAE_OPTIONS = {"rtol": 1e-8, "atol": 1e-10, "max_step": 0.0}
+FREE_OPTIONS = {"dt": 1e-6}
 
-def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=True, rtol=1e-8, atol=1e-10,
-                         dt=1e-6, max_step=0.0, progress=None):
+
+def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=True, rtol=None, atol=None,
+                         dt=None, max_step=None, progress=None):
     """Run an :class:`Unshearable` scene, constrained (DAE, IDA) or free (the PDE, leap-frog).
 
     Parameters
@@ -65,13 +69,14 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
     constrained : bool
         ``True``: ``chi_s = 0`` and ``psi = 0`` imposed (the DAE, solved by IDA, BDF with an
         exact band Jacobian). ``False``: the ordinary shell from the same initial state
-        (leap-frog, step ``dt``).
+        (leap-frog, step ``dt``). A bool (``"no"`` ran the DAE).
     rtol, atol : float
-        IDA tolerances (``atol`` for lengths and angles; scaled for rates and multipliers).
+        IDA tolerances (``atol`` for lengths and angles; scaled for rates and multipliers); default 1e-8, 1e-10.
+        Constrained runs only.
     dt : float
-        Leap-frog step of the free run, s.
+        Leap-frog step of the free run, s; default 1e-6. Free runs only (the constrained run ignored it).
     max_step : float
-        Largest IDA step (0: unbounded).
+        Largest IDA step (0: unbounded, the default). Constrained runs only.
     progress : bool, optional
         As :func:`mol_shell.simulate`'s: a bar on a terminal, else a line a minute of a longer run (``None``).
 
@@ -82,13 +87,21 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         constraint defects, per time) and, constrained, ``lambda_chi`` on cells ``(time,
         s_cell)`` and ``lambda_psi`` on nodes ``(time, s)``.
     """
+    constrained = flag("constrained", constrained)
+    given = {k: v for k, v in (("rtol", rtol), ("atol", atol), ("max_step", max_step), ("dt", dt)) if v is not None}
+    taken = DAE_OPTIONS if constrained else FREE_OPTIONS
+    run_name = "the constrained DAE (ida)" if constrained else "the free shell (leapfrog)"
+    for name in given:  # an option of the other run was ignored (dt of the constrained one), as simulate refuses it
+        if name not in taken:
+            raise ParameterError.not_an_option(name, run_name, taken)
+    options = {**taken, **given}
     scene = as_scene(scene) if isinstance(scene, str) else scene  # a registered name, as simulate takes
     requested = scene.params() if isinstance(scene, Unshearable) else None  # R = auto: R_requested beside R
     scene = resolve(scene)
     if not isinstance(scene, Unshearable):
         raise ParameterError("scene", getattr(scene, "name", scene), "{unshearable} (a mol_shell.Unshearable)")
     times = parse_times(times, t_end)
-    resources.check_before_build(n, times, "ida" if constrained else "leapfrog", dt=None if constrained else dt)
+    resources.check_before_build(n, times, "ida" if constrained else "leapfrog", dt=options.get("dt"))
     if constrained:
         _check_constrained_edges(scene)  # before the graph is built and compiled
     shell, compiled = build(scene, n)
@@ -98,9 +111,11 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
     start = time.perf_counter()
     if constrained:
         with _meter(mode, times[-1]) as bar:
-            traj, V, multipliers, stats = _integrate_dae(shell, Q0, V0, times, rtol, atol, max_step, bar)
-        attrs = {"integrator": "ida", "rtol": rtol, "atol": atol, "constrained": 1, **stats}
+            traj, V, multipliers, stats = _integrate_dae(shell, Q0, V0, times, options["rtol"], options["atol"],
+                                                         options["max_step"], bar)
+        attrs = {"integrator": "ida", "rtol": options["rtol"], "atol": options["atol"], "constrained": 1, **stats}
     else:
+        dt = options["dt"]
         y0 = shell.pack(Q0, shell.momenta(Q0, V0))
         omega_max, _ = checked_spectrum(scene, shell, y0)
         if dt * omega_max >= 1.0:

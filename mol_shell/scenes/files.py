@@ -43,7 +43,7 @@ import sys
 from pathlib import Path
 
 from mol_shell._core.constants import ATOL_MIN, FIELDS, RTOL_RANGE
-from mol_shell._core.errors import ParameterError, is_number, show
+from mol_shell._core.errors import ParameterError, flag, is_number, show
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared, real, refusal, typed_value
 from mol_shell.integrators.tolerances import MAX_STEP_NOTE
@@ -380,6 +380,7 @@ def load_scene(path, *, with_run=False, together=True, overrides=None):
         error (with its line), ``scene`` missing or unknown, an unknown table or key, a key in the wrong
         table, a value of the wrong type or outside its range.
     """
+    with_run, together = flag("with_run", with_run), flag("together", together)  # "no" was taken as True
     try:
         path = Path(os.fspath(path)).expanduser()
     except TypeError:

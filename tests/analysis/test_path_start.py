@@ -21,7 +21,7 @@ from reference_cap import cap_params, p_classical
 import mol_shell
 from mol_shell import Sphere, path
 from mol_shell.analysis.modes import modes
-from mol_shell.analysis.path_start import path_scene, path_start, read_path
+from mol_shell.analysis.path_start import FLAGS, path_scene, path_start, read_path
 from mol_shell.results.dataset import write_netcdf
 
 N = 21
@@ -53,14 +53,29 @@ def test_a_step_gives_back_the_scene_and_the_state(cap_path, tmp_path):
     assert "perturbed by 0.001" in info
 
 
-@pytest.mark.parametrize("kwargs, name", [({"step": 18}, "--step"), ({"point": 1}, "--point"), ({}, "--step"),
-                                          ({"step": 1, "perturb": 1e-3}, "--perturb")])
-def test_a_state_out_of_range_is_refused_naming_the_option(cap_path, kwargs, name):
+@pytest.mark.parametrize("kwargs, name, words, flags", [
+    ({"step": 18}, "step", "step = 18 is outside integers 0..17 (the path's steps)",
+     "--step = 18 is outside integers 0..17 (the path's steps)"),
+    ({"point": 1}, "point", "point = 1 is outside integers 0..0 (the path's critical points)",
+     "--point = 1 is outside integers 0..0 (the path's critical points)"),
+    ({}, "step", "give one of step=K (a step) or point=K (a critical point)",
+     "give one of --step K (a step) or --point K (a critical point) with --from"),
+    ({"step": 1, "perturb": 1e-3}, "perturb", ("perturb = 0.001 is outside 0 with step (the critical mode is a "
+                                               "point's: use point)"),
+     "--perturb = 0.001 is outside 0 with --step (the critical mode is a point's: use --point)"),
+])
+def test_a_state_out_of_range_is_refused_naming_the_keyword_or_the_commands_flag(cap_path, kwargs, name, words,
+                                                                                 flags):
+    """From Python the refusals named the command line's flags: ``--step = 999 is outside ...``, ``give one of
+    --step K ... with --from``."""
     from mol_shell._core.errors import ParameterError
 
     with pytest.raises(ParameterError) as exc:
         path_start(cap_path, **kwargs)
-    assert exc.value.name == name
+    assert exc.value.name == name and str(exc.value) == words
+    with pytest.raises(ParameterError) as exc:  # the command line's (mol-shell run/modes --from)
+        path_start(cap_path, **kwargs, names=FLAGS)
+    assert exc.value.name == "--" + name and str(exc.value) == flags
 
 
 def test_prestressed_frequency_falls_to_zero_at_the_limit_point_like_the_fold_normal_form(cap_path):

@@ -74,3 +74,14 @@ def test_a_study_file_reports_only_the_epoch_less_time(tmp_path):
         assert nc["n_steps"].dtype == np.int32 and nc["zeta_case"].dimensions == ("h", "zeta")
     items = checker_report(path, tmp_path / "report.json")
     assert items == CALENDAR_ITEMS, items
+
+
+@pytest.mark.filterwarnings("ignore::DeprecationWarning")
+def test_a_ring_file_has_the_runs_time_coordinate(tmp_path):
+    """The reduced ODE's ``time`` had units and a long name only: no ``standard_name = "time"`` nor ``axis = "T"``
+    (docs/netcdf.md promises both; the checker said so under CF 5.1)."""
+    path = tmp_path / "ring.nc"
+    mol_shell.write_netcdf(mol_shell.simulate_ring(mol_shell.SpinningRing(), t_end=0.01), path)
+    with netCDF4.Dataset(path) as nc:
+        assert nc["time"].standard_name == "time" and nc["time"].axis == "T"
+    assert checker_report(path, tmp_path / "report.json") == CALENDAR_ITEMS

@@ -80,3 +80,15 @@ def test_a_forked_worker_runs_an_unguarded_scripts_cases_without_running_the_scr
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert proc.stdout.count("STATUS") == 1 and "STATUS ['complete'] 12 2" in proc.stdout, (proc.stdout, proc.stderr)
     assert "__main__" not in proc.stderr and "Traceback" not in proc.stderr, proc.stderr[-3000:]
+
+
+@pytest.mark.timeout(120)
+def test_a_script_read_from_stdin_starts_its_workers_without_a_traceback(tmp_path):
+    """``python - < script.py``: the main module's ``__file__`` is ``'<stdin>'``, which each spawned worker tried to
+    run again as it started (a traceback ending ``FileNotFoundError: ... '<stdin>'``, a RuntimeWarning, and every
+    case in the calling process). The workers now start without it, as for ``python -c`` (forkserver's alike)."""
+    proc = subprocess.run([sys.executable, "-"], input=SCRIPT, capture_output=True, text=True, cwd=tmp_path,
+                          env=SPAWNED, timeout=110, check=False)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert proc.stdout.count("STATUS") == 1 and "STATUS ['complete'] 4" in proc.stdout, (proc.stdout, proc.stderr)
+    assert "Traceback" not in proc.stderr and "stopped before their first case" not in proc.stderr, proc.stderr
