@@ -20,18 +20,21 @@ import time
 import numpy as np
 import xarray as xr
 
+from mol_shell._core.atomic import keep_inputs
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.paths import writable_path
 from mol_shell._core.version import __version__
 from mol_shell.analysis.path import path
 from mol_shell.analysis.path_dataset import SYMMETRY_NOTE
 from mol_shell.analysis.path_inputs import check_shared
 from mol_shell.results.cf import attr_value, header
-from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
+from mol_shell.results.dataset import NETCDF_SUFFIXES, write_netcdf
 from mol_shell.results.study_dataset import case_attrs
+from mol_shell.results.study_store import KEY_LENGTH
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
 from mol_shell.runs.scheduling import check_workers, connect, refuse_in_starting_worker, scheduler_name
-from mol_shell.runs.study import carried_materials, case_inputs, case_result, run_cases
+from mol_shell.runs.study import carried_materials, case_inputs, case_result, input_files, run_cases
 from mol_shell.runs.study_design import design, label_coords
 from mol_shell.scenes import UNITS, with_params
 
@@ -60,7 +63,7 @@ class PathTask:
         spec = {"version": __version__, "kind": "path", "scene": type(self.scene).__name__,
                 "params": self.scene.params(), "inputs": case_inputs(self.scene), "parameter": self.parameter,
                 "start": self.start, "stop": self.stop, "n": self.n, "options": self.options}
-        return hashlib.sha256(json.dumps(spec, sort_keys=True, default=repr).encode()).hexdigest()[:20]
+        return hashlib.sha256(json.dumps(spec, sort_keys=True, default=repr).encode()).hexdigest()[:KEY_LENGTH]
 
 
 def run_path_task(task):
@@ -104,6 +107,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
     check_workers(workers, scheduler)
     if output is not None:
         writable_path(output, "output", suffixes=NETCDF_SUFFIXES)
+        keep_inputs(input_files(scene, vary), [output], "output", output)  # as the command line's -o
     if isinstance(max_steps, (int, np.integer)) and not isinstance(max_steps, bool) and max_steps >= 1:
         # each case's path keeps its steps' states: refused once here, not case by case
         resources.check_analysis(n, max_steps + 1, f"tracing each path of up to {max_steps} steps", "states",

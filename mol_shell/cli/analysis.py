@@ -10,6 +10,7 @@ import numpy as np
 from mol_shell._core.atomic import write_text
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.paths import writable_path
 from mol_shell.analysis.modes import modes
 from mol_shell.analysis.stability import FULL_SIZES, QUICK_SIZES, default_cases, report
 from mol_shell.analysis.stability import markdown_table as stability_table
@@ -21,20 +22,20 @@ from mol_shell.analysis.workprecision import (
     work_precision,
 )
 from mol_shell.cli.args import (
-    EXIT_INTERRUPTED,
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
     check_companions,
     check_outputs,
     integer_arg,
+    interrupted_code,
     number_arg,
     plural,
     say_stand_ins,
     scene_and_run,
 )
 from mol_shell.cli.path import add_start_options, not_an_equilibrium, say_start, start_of
-from mol_shell.results.dataset import writable_path, write_netcdf
+from mol_shell.results.dataset import write_netcdf
 from mol_shell.runs.building import parse_times
 from mol_shell.views.figures import image_formats
 from mol_shell.views.modes import plot_modes
@@ -84,7 +85,7 @@ def cmd_compare(args):
     if ds.attrs.get("status") == "interrupted":
         print(f"mol-shell: comparison stopped: {ds.attrs['message']}; wrote {args.output}, {png}, {md}",
               file=sys.stderr)
-        return EXIT_INTERRUPTED
+        return interrupted_code()
     print(f"wrote {args.output}, {png}, {md} in {time.perf_counter() - start:.0f} s")
     return 0
 
@@ -121,7 +122,7 @@ def cmd_stability(args):
     if ds.attrs.get("status") == "interrupted":
         print(f"mol-shell: stability report stopped: {ds.attrs['message']}; wrote {args.output}, {png}, {md}",
               file=sys.stderr)
-        return EXIT_INTERRUPTED
+        return interrupted_code()
     skipped = int(ds.attrs.get("cases_not_measured", 0))
     print(f"wrote {args.output}, {png}, {md}" + (f" ({plural(skipped, 'case')} not measured: why, under the table)"
                                                  if skipped else ""))

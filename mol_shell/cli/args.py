@@ -15,9 +15,11 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
+from mol_shell._core import interrupts
 from mol_shell._core.atomic import keep_inputs
 from mol_shell._core.constants import ATOL_MIN, FIELDS
 from mol_shell._core.errors import ParameterError, is_number, show
+from mol_shell._core.paths import check_lengths
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared, refusal, typed_value
 from mol_shell.integrators.tolerances import MAX_STEP_NOTE
@@ -30,6 +32,22 @@ from mol_shell.scenes.files import check_run_together, load_scene
 #: exit codes: an internal error (a bug), bad input, a run stopped at a model limit, Ctrl-C, and the reader of
 #: the output gone (``mol-shell scenes | head -1``: 128 + SIGPIPE, as a command the pipe stopped)
 EXIT_INTERNAL, EXIT_USAGE, EXIT_INCOMPLETE, EXIT_INTERRUPTED, EXIT_PIPE = 1, 2, 3, 130, 141
+#: exit code of a command that a SIGTERM stopped (a scheduler's at a job's wall-time limit: 128 + SIGTERM), having
+#: kept what it had as one Ctrl-C stopped does (:func:`mol_shell._core.interrupts.watched`)
+EXIT_TERMINATED = 143
+
+
+def interrupted_code():
+    """The exit code of a command an interrupt stopped: :data:`EXIT_TERMINATED` where it was a SIGTERM, else
+    :data:`EXIT_INTERRUPTED` (Ctrl-C)."""
+    return EXIT_TERMINATED if interrupts.terminated() else EXIT_INTERRUPTED
+
+
+def as_stopped(message):
+    """A run's (or path's, comparison's) message ``interrupted by the user at t = ...`` as what stopped it says it:
+    ``terminated by SIGTERM at t = ...`` where a SIGTERM did (the file's attrs and the line on stderr)."""
+    return message.replace("interrupted by the user", "terminated by SIGTERM") if interrupts.terminated() else message
+
 
 #: what the positional argument of a command that takes a scene is called in its help
 SCENE_METAVAR = "SCENE_OR_FILE"
@@ -356,7 +374,7 @@ def _as_option(exc, named):
 def input_files(args):
     """``{label: path}`` of the files a command reads, as its options name them: ``FILE`` (plot, export, animate),
     ``--from`` (run, modes), a scene file ``SCENE_OR_FILE`` and the files it names (:func:`scene_file_inputs`: a
-    meridian's ``points``), and a meridian's ``--set points=FILE``."""
+    meridian's ``points``), and a meridian's ``--set points=FILE`` (a study's ``--vary points=FILE,...``)."""
     scene = getattr(args, "scene", None)
     toml = scene if scene is not None and str(scene).endswith(".toml") else None
     files = {"FILE": getattr(args, "file", None), "--from": getattr(args, "from_path", None), "SCENE_OR_FILE": toml}
@@ -366,6 +384,10 @@ def input_files(args):
     for key, _, value in sets:
         if key.strip() == "points" and value.strip():
             files["--set points"] = value.strip()
+    for key, _, value in (str(item).partition("=") for item in getattr(args, "vary", None) or []):
+        if key.strip() == "points":  # a study's tables, each a case
+            names = [name.strip() for name in value.split(",") if name.strip()]
+            files.update({f"--vary points (value {i + 1})": name for i, name in enumerate(names)})
     return files
 
 
@@ -412,10 +434,12 @@ def check_outputs(args, paths=(), name="-o", value=None):
 
 def check_companions(args, paths):
     """Refuse, naming ``-o``, a file a command writes beside its output (``.png``, ``.md``, ``.h5``,
-    ``_NNNN.vtu``) where a directory stands (found only after the work, it was an internal error), or that is one
+    ``_NNNN.vtu``) with a name too long for its file system (``run.pvd``'s ``run_0000.vtu``: 5 bytes longer), or where
+    a directory stands (found only after the work, it was an internal error), or that is one
     of the command's input files (:func:`check_outputs`)."""
     output = args.output
     for path in paths:
+        check_lengths(path, "-o", output, what=f"writes {Path(path).name!r} beside it")
         if os.path.isdir(path):
             raise ParameterError.invalid("-o", str(output), f"writes {path} beside it, where a directory stands",
                                          "an output whose companion files can be written (move that directory away)")

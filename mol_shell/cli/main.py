@@ -24,23 +24,26 @@ import warnings
 import numpy as np
 
 from mol_shell._core import interrupts
+from mol_shell._core.atomic import NoSpaceError
 from mol_shell._core.constants import RTOL_RANGE
-from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, by_interrupt
+from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, by_interrupt, show
+from mol_shell._core.paths import writable_path
 from mol_shell._core.version import __version__
 from mol_shell.cli.analysis import register_compare, register_modes, register_stability
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
     EXIT_INTERNAL,
-    EXIT_INTERRUPTED,
     EXIT_PIPE,
     EXIT_USAGE,
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
     Parser,
+    as_stopped,
     check_outputs,
     choice_arg,
     integer_arg,
+    interrupted_code,
     max_step_arg,
     number_arg,
     parse_atol,
@@ -63,7 +66,7 @@ from mol_shell.cli.views import read_drawable, register_animate, register_export
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.peers import SCIPY_RTOL_MIN
 from mol_shell.integrators.tolerances import ATOL_RANGE, Tolerances
-from mol_shell.results.dataset import writable_path, write_netcdf
+from mol_shell.results.dataset import write_netcdf
 from mol_shell.results.stresses import nan_stresses
 from mol_shell.runs.resources import LongRunWarning
 from mol_shell.runs.simulate import simulate
@@ -82,13 +85,15 @@ def cmd_run(args):
     ds = simulate(scene, integrator, n=args.n or run.get("n", 40), t_end=t_end, times=times, progress=None,
                   stresses=args.stresses, initial=initial, **options)
     say_start(args, ds, info, "the run starts from", source)
+    if ds.attrs["status"] == "interrupted":  # by a SIGTERM (a scheduler's time limit): the file says so
+        ds.attrs["message"] = as_stopped(str(ds.attrs["message"]))
     write_netcdf(ds, args.output)
     say_stand_ins(scene)
     if not ds.attrs["complete"]:
         print(f"mol-shell: run stopped: {ds.attrs['message']}; wrote {plural(ds.sizes['time'], 'saved time')} to "
               f"{args.output}",
               file=sys.stderr)
-        return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
+        return interrupted_code() if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {plural(ds.sizes['time'], 'time')} x {ds.sizes['s']} nodes, "
           f"{plural(int(ds.attrs['n_steps']), 'step')} in {ds.attrs['wall_time_s']:.3g} s" + radius_said(ds, info))
     nan, total, why = nan_stresses(ds)
@@ -301,7 +306,11 @@ class _Guarded:
         self._stream, self._name = stream, name
 
     def write(self, text):
-        return self._guard(self._stream.write, text)
+        try:
+            return self._guard(self._stream.write, text)
+        except UnicodeEncodeError:  # a file name's bytes that are not UTF-8 ('\udce9') on a strict stream: as repr
+            encoding = getattr(self._stream, "encoding", None) or "utf-8"
+            return self._guard(self._stream.write, text.encode(encoding, "backslashreplace").decode(encoding))
 
     def flush(self):
         return self._guard(self._stream.flush)
@@ -323,7 +332,8 @@ def main(argv=None):
     sys.stdout, sys.stderr = (None if stream is None else _Guarded(stream, name)
                               for stream, name in zip(streams, ("standard output", "standard error")))
     try:
-        with interrupts.watched(raising=True):  # Ctrl-C raises as usual, and is noted where a C call loses it
+        # Ctrl-C raises as usual, and is noted where a C call loses it; a SIGTERM (a scheduler's time limit) too
+        with interrupts.watched(raising=True, terminating=True):
             return _command(argv)
     except OutputError as exc:
         failed = exc
@@ -366,8 +376,12 @@ def _command(argv):
         print(f"mol-shell: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt as exc:  # its text: what was kept ("after writing run.nc": a write is never cut short)
-        print(f"mol-shell: interrupted{' ' if str(exc) else ''}{exc}", file=sys.stderr)
-        return EXIT_INTERRUPTED
+        print(f"mol-shell: {_interrupted()}{' ' if str(exc) else ''}{exc}", file=sys.stderr)
+        return interrupted_code()
+    except NoSpaceError as exc:  # a full disk: not a bug, and nothing half-written (mol_shell._core.atomic.staged)
+        _remove_empty(created)
+        print(f"mol-shell: error: {_no_space(args, exc)}", file=sys.stderr)
+        return EXIT_USAGE
     except ModelLimitError as exc:  # a run a command needs stopped at a limit (compare's reference)
         print(f"mol-shell: stopped: {exc}", file=sys.stderr)
         return EXIT_INCOMPLETE
@@ -375,14 +389,30 @@ def _command(argv):
         raise
     except Exception as exc:  # noqa: BLE001 - the last resort: one line, never a traceback (unless asked for)
         if by_interrupt(exc):  # a Ctrl-C that arrived inside a C extension's call
-            print("mol-shell: interrupted", file=sys.stderr)
-            return EXIT_INTERRUPTED
+            print(f"mol-shell: {_interrupted()}", file=sys.stderr)
+            return interrupted_code()
         if os.environ.get("MOL_SHELL_TRACEBACK"):
             raise
         text = " ".join(str(exc).split())[:300]
         print(f"mol-shell: internal error: {type(exc).__name__}: {text} (a bug of mol_shell: please report it with "
               "the command; MOL_SHELL_TRACEBACK=1 shows where it happened)", file=sys.stderr)
         return EXIT_INTERNAL
+
+
+def _interrupted():
+    """What stopped a command: ``interrupted`` (Ctrl-C), or ``terminated (SIGTERM)``."""
+    return "terminated (SIGTERM)" if interrupts.terminated() else "interrupted"
+
+
+def _no_space(args, exc):
+    """A write that failed for want of space (:class:`~mol_shell._core.atomic.NoSpaceError`), in one line naming
+    ``-o``: the output itself, or the file written for it (a figure beside it, a study's case)."""
+    output = getattr(args, "output", None)
+    if output is None:
+        return f"cannot write {show(str(exc.filename))}: {exc.strerror}"
+    if os.path.abspath(os.path.expanduser(str(output))) == os.path.abspath(str(exc.filename)):
+        return f"-o = {show(str(output))} cannot be written: {exc.strerror}"
+    return f"-o = {show(str(output))}: cannot write {show(str(exc.filename))} for it: {exc.strerror}"
 
 
 def _reader_gone():

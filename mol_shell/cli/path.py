@@ -12,12 +12,13 @@ from mol_shell.analysis.path_inputs import STEPS_MAX
 from mol_shell.analysis.path_start import ALLOWED, FLAGS, is_path, path_start, read_path
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
-    EXIT_INTERRUPTED,
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
     Once,
+    as_stopped,
     integer_arg,
+    interrupted_code,
     number_arg,
     parse_sets,
     plural,
@@ -75,6 +76,8 @@ def cmd_path(args):
             raise ParameterError("--param", args.param, exc.allowed, message=f"--param = {show(args.param)}: {exc}") \
                 from None
         raise
+    if ds.attrs["status"] == "interrupted":  # by a SIGTERM (a scheduler's time limit): the file says so
+        ds.attrs["message"] = as_stopped(str(ds.attrs["message"]))
     write_netcdf(ds, args.output)
     say_stand_ins(scene)
     if "parameter_replaced" in ds.attrs:  # --param pressure=... on a scene that sets a pressure of its own
@@ -98,7 +101,7 @@ def cmd_path(args):
     if ds.attrs["status"] in ("failed", "limit", "interrupted"):
         print(f"mol-shell: path stopped: {ds.attrs['message']}; wrote {summary} to {args.output}{points}",
               file=sys.stderr)
-        return EXIT_INTERRUPTED if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
+        return interrupted_code() if ds.attrs["status"] == "interrupted" else EXIT_INCOMPLETE
     print(f"wrote {args.output}: {summary} ({ds.attrs['message']}){points}")
     if "; no switch: " in ds.attrs["message"]:  # --branch asked for what the path could not do
         print(f"mol-shell: note: --branch {args.branch}: {ds.attrs['message'].partition('; no switch: ')[2]}",

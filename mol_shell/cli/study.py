@@ -6,6 +6,7 @@ import sys
 
 import numpy as np
 
+from mol_shell._core import interrupts
 from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import ParameterError, by_interrupt
 from mol_shell.analysis.path_inputs import STEPS_MAX
@@ -17,6 +18,7 @@ from mol_shell.cli.args import (
     SCENE_HELP,
     SCENE_METAVAR,
     integer_arg,
+    interrupted_code,
     max_step_arg,
     number_arg,
     parse_atol,
@@ -28,7 +30,7 @@ from mol_shell.cli.args import (
     scene_and_run,
 )
 from mol_shell.cli.path import parse_param
-from mol_shell.results.study_store import Store
+from mol_shell.results.study_store import cases_folder, check_cases_folder
 from mol_shell.runs import resources
 from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT, most_workers
 from mol_shell.runs.study import study
@@ -76,6 +78,7 @@ def _number_or_text(text):
 
 
 def cmd_study(args):
+    check_cases_folder(args.output, "-o")  # <stem>.cases beside -o: a name its file system takes, before any work
     for option in ("max_steps", "steps"):  # options of a study of paths: ignored by one of runs
         if args.path is None and getattr(args, option) is not None:
             name = "--" + option.replace("_", "-")
@@ -99,16 +102,17 @@ def cmd_study(args):
 
 def _finish(args, scene, what, run, tail=lambda ds: ""):
     """Run a study (``run()``), say what it wrote in one line (``tail`` adds to it), and the exit code: 130 when
-    interrupted (the finished cases kept for a rerun), 0 when every case ended well, EXIT_USAGE when every case was
-    refused (its input out of range; the first reason on stderr), else EXIT_INCOMPLETE."""
+    interrupted, 143 when terminated by a SIGTERM (the finished cases kept for a rerun), 0 when every case ended well,
+    EXIT_USAGE when every case was refused (its input out of range; the first reason on stderr), else
+    EXIT_INCOMPLETE."""
     try:
         ds = run()
     except BaseException as exc:  # a KeyboardInterrupt, or an error that wraps one (by_interrupt)
         if not by_interrupt(exc):
             raise
-        print(f"mol-shell: study interrupted; finished cases are kept in {Store(args.output).folder}; "
-              "run the same command again to resume", file=sys.stderr)
-        return 130
+        print(f"mol-shell: study {'terminated (SIGTERM)' if interrupts.terminated() else 'interrupted'}; finished "
+              f"cases are kept in {cases_folder(args.output)}; run the same command again to resume", file=sys.stderr)
+        return interrupted_code()
     say_stand_ins(scene)
     statuses = ds.status.values.ravel().tolist()
     counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))

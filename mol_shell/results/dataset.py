@@ -10,8 +10,9 @@ import numpy as np
 import xarray as xr
 
 from mol_shell._core import interrupts
-from mol_shell._core.atomic import atomic_path, up_out_of
+from mol_shell._core.atomic import atomic_path, utf8_alias
 from mol_shell._core.errors import ParameterError, is_number
+from mol_shell._core.paths import writable_path
 from mol_shell.model.edges import IMPOSED
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.wall_parameters import law_attrs
@@ -275,77 +276,6 @@ def reaction_columns(count, edges, field):
     return values
 
 
-def writable_path(path, name="path", suffixes=None, created=None):
-    """Check, before anything is computed, that ``path`` can be written; create its missing directories.
-
-    Parameters
-    ----------
-    path : str or os.PathLike
-        The file to be written (an existing file is replaced).
-    name : str
-        How the message names the parameter (``-o`` on the command line).
-    suffixes : collection of str, optional
-        Allowed file name suffixes without the dot (e.g. image formats).
-    created : list, optional
-        Directories made here are appended (outermost first), so a caller can remove them again.
-
-    Returns
-    -------
-    pathlib.Path
-
-    Raises
-    ------
-    ParameterError
-        Empty path, an existing directory, a suffix outside ``suffixes``, a ``..`` out of a directory that is not
-        there (:func:`~mol_shell._core.atomic.up_out_of`), a directory that cannot be created, or a place without
-        write permission.
-    """
-    allowed = "a file path in a writable place (missing directories are created)"
-    if path is None or not str(path).strip():
-        raise ParameterError.invalid(name, "" if path is None else str(path), "is empty", allowed)
-    if not isinstance(path, (str, os.PathLike)):
-        raise ParameterError.not_a(name, path, "a file path", allowed)
-    path = Path(os.fspath(path)).expanduser()
-    if path.is_dir():
-        raise ParameterError.invalid(name, str(path), "is a directory", allowed)
-    if suffixes is not None:
-        suffix = path.suffix.lower().lstrip(".")
-        if suffix not in suffixes:
-            raise ParameterError.invalid(name, str(path), f"ends in .{suffix}, a kind of file this command does not write"
-                                         if suffix else "has no suffix",
-                                         "a file ending in one of ." + ", .".join(sorted(suffixes)))
-    folder = path.parent
-    above = up_out_of(path)  # sub/../x.nc without sub: the system's refusal (open), not "cannot create 'sub/..'"
-    if above is not None:
-        raise ParameterError.invalid(name, str(path), f"cannot be written: {str(above)!r} "
-                                     f"{'is not a directory' if above.exists() else 'does not exist'}, and the path "
-                                     "goes back out of it with '..' (which the system resolves only in a directory "
-                                     "that exists)", allowed, hint=("" if above.exists() else f"create {str(above)!r} "
-                                                                    "first, or ") + f"leave out '{above.name}/..'")
-    missing = [p for p in [folder, *folder.parents] if not p.exists()][::-1]
-    try:
-        for p in missing:
-            p.mkdir()
-            if created is not None:
-                created.append(p)
-    except OSError as exc:
-        raise ParameterError.invalid(name, str(path), f"cannot be written: cannot create directory {str(folder)!r} "
-                                     f"({exc.strerror or exc})", allowed) from None
-    if not folder.is_dir():
-        raise ParameterError.invalid(name, str(path), f"cannot be written: {str(folder)!r} is not a directory", allowed)
-    try:  # a probe: permission bits do not tell (root, read-only mounts, /proc)
-        if path.exists():
-            with open(path, "ab"):
-                pass
-        else:
-            with open(path, "xb"):
-                pass
-            path.unlink()
-    except OSError as exc:
-        raise ParameterError.invalid(name, str(path), f"cannot be written ({exc.strerror or exc})", allowed) from None
-    return path
-
-
 #: file name suffixes of netCDF files: what every writer of a netCDF output accepts
 NETCDF_SUFFIXES = frozenset({"nc", "nc4", "cdf"})
 
@@ -440,8 +370,10 @@ def read_netcdf(path):
 
 def _load(path):
     """The whole file in memory; a Ctrl-C while it is read is raised once the file is closed (as for writing, the
-    libraries' locks: :func:`write_netcdf`)."""
-    with interrupts.held(), xr.open_dataset(path, engine="netcdf4", decode_times=False) as ds:
+    libraries' locks: :func:`write_netcdf`). A path that is not UTF-8 is read through a link of a name that is
+    (:func:`~mol_shell._core.atomic.utf8_alias`): netCDF's library cannot encode it."""
+    with interrupts.held(), utf8_alias(path) as alias, xr.open_dataset(alias, engine="netcdf4",
+                                                                        decode_times=False) as ds:
         return ds.load()
 
 

@@ -10,7 +10,25 @@ import numpy as np
 import xarray as xr
 
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.paths import check_lengths
 from mol_shell.results.dataset import read_netcdf, write_netcdf
+
+#: hexadecimal digits of a stored case's key, its file's name (:attr:`mol_shell.runs.study.Task.key`)
+KEY_LENGTH = 20
+
+
+def cases_folder(output):
+    """``<output stem>.cases``: where a study (or a study of paths) writing ``output`` keeps its finished cases."""
+    path = Path(output)
+    return path.with_name(path.stem + ".cases")
+
+
+def check_cases_folder(output, name="output"):
+    """:func:`cases_folder` of ``output``; a name too long for its file system (an output's of 253 to 255 bytes:
+    ``.nc`` becomes ``.cases``) is refused naming ``name = output``, before any case runs."""
+    folder = cases_folder(output)
+    check_lengths(folder / f"{'0' * KEY_LENGTH}.nc", name, output, what=f"keeps its finished cases in {folder.name!r}")
+    return folder
 
 
 class Store:
@@ -25,8 +43,7 @@ class Store:
     RECORD = ("label", "status", "message", "worker", "wall_time_s")
 
     def __init__(self, output):
-        path = Path(output)
-        self.folder = path.with_name(path.stem + ".cases")
+        self.folder = check_cases_folder(output)
         try:
             self.folder.mkdir(parents=True, exist_ok=True)
         except (FileExistsError, NotADirectoryError):  # a file where the folder goes: refused before any case runs

@@ -353,9 +353,11 @@ def _main_not_a_file():
 
 def _worker_start(claims):
     """A worker's initializer: SIGINT ignored, then unblocked (a Ctrl-C pending since the worker started is dropped:
-    :func:`_starting_workers`), and the claims table."""
+    :func:`_starting_workers`), SIGTERM's default action (a forked worker inherits the command line's handler, which
+    takes it as a Ctrl-C: :func:`_stop` ends workers with it), and the claims table."""
     global _CLAIMS
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     _CLAIMS = claims

@@ -24,7 +24,9 @@ import warnings
 
 import numpy as np
 
+from mol_shell._core.atomic import keep_inputs
 from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
+from mol_shell._core.paths import writable_path
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
@@ -33,9 +35,9 @@ from mol_shell.model.law_warnings import locking_warnings
 from mol_shell.model.laws import REGISTRY, register, user_material
 from mol_shell.model.layers import parse_layers
 from mol_shell.results.cf import header
-from mol_shell.results.dataset import NETCDF_SUFFIXES, writable_path, write_netcdf
+from mol_shell.results.dataset import NETCDF_SUFFIXES, write_netcdf
 from mol_shell.results.study_dataset import assemble
-from mol_shell.results.study_store import Store
+from mol_shell.results.study_store import KEY_LENGTH, Store
 from mol_shell.runs import resources
 from mol_shell.runs.scheduling import check_workers, connect, execute, refuse_in_starting_worker, scheduler_name
 from mol_shell.runs.simulate import (
@@ -73,7 +75,7 @@ class Task:
         spec = {"version": __version__, "scene": type(self.scene).__name__, "params": self.scene.params(),
                 "inputs": case_inputs(self.scene), "integrator": self.integrator, "n": self.n,
                 "times": list(self.times), "options": self.options}
-        return hashlib.sha256(json.dumps(spec, sort_keys=True, default=repr).encode()).hexdigest()[:20]
+        return hashlib.sha256(json.dumps(spec, sort_keys=True, default=repr).encode()).hexdigest()[:KEY_LENGTH]
 
 
 def _laws_named(scene):
@@ -156,6 +158,22 @@ def case_inputs(scene):
     except ParameterError as exc:
         out["unreadable"] = str(exc)
     return out
+
+
+def input_files(scene, vary):
+    """``{label: path}`` of the files a study reads, as its arguments name them: the base scene's ``points`` (a
+    meridian's table) and each that ``vary`` gives (``{"points": [...]}``, or a case's ``"points"``). :func:`study`
+    refuses an ``output`` that is one of them (:func:`mol_shell._core.atomic.keep_inputs`), as the command line
+    refuses its ``-o``: a table named ``shell.nc`` was replaced by the study it described."""
+    files = {"scene.points": getattr(scene, "points", None)}
+    given = []
+    if isinstance(vary, dict):
+        given = vary.get("points", [])
+    elif isinstance(vary, (list, tuple)):
+        given = [case.get("points") for case in vary if isinstance(case, dict)]
+    for i, value in enumerate(np.atleast_1d(np.asarray(given, dtype=object)).ravel().tolist()):
+        files[f"vary['points'][{i}]"] = value
+    return {label: path for label, path in files.items() if isinstance(path, (str, os.PathLike)) and str(path).strip()}
 
 
 def run_scene(scene, integrator, *, n, times, **options):
@@ -270,6 +288,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     check_workers(workers, scheduler)
     if output is not None:
         writable_path(output, "output", suffixes=NETCDF_SUFFIXES)
+        keep_inputs(input_files(scene, vary), [output], "output", output)  # as the command line's -o
     if scheduler is None or scheduler == "serial":  # the cases compile or load their kernels here: a cache that
         cache_dir()  # cannot be used is refused once, before the cases, not once per case
     if isinstance(vary, dict):  # the product's size, before its cases are made

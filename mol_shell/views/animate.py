@@ -17,7 +17,7 @@ import numpy as np
 
 from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError, is_number
-from mol_shell.results.dataset import writable_path
+from mol_shell._core.paths import writable_path
 from mol_shell.views.fields import field as field_values
 from mol_shell.views.fields import field_names, run_of, surface_points
 

@@ -30,7 +30,7 @@ import numpy as np
 
 from mol_shell._core.atomic import keep_inputs, staged
 from mol_shell._core.errors import ParameterError
-from mol_shell.results.dataset import writable_path
+from mol_shell._core.paths import check_lengths, writable_path
 from mol_shell.views.fields import (
     azimuths,
     face_depths,
@@ -195,6 +195,7 @@ def export(ds, path, n_phi=N_PHI, faces=False):
     ds = run_of(ds)
     path = writable_path(path, "path", suffixes=FORMATS)  # before the work: its missing directories created
     for companion in companion_files(path, ds.sizes["time"]):
+        check_lengths(companion, "path", path, what=f"would write {companion.name!r} beside it")
         if companion.is_dir():
             raise ParameterError.invalid("path", str(path), f"would write {companion.name} where a directory stands",
                                          "a path whose companion files can be written")

@@ -8,7 +8,7 @@ import textwrap
 from pathlib import Path
 
 from mol_shell._core.atomic import atomic_path
-from mol_shell.results.dataset import writable_path
+from mol_shell._core.paths import writable_path
 
 
 def image_formats():
@@ -24,7 +24,7 @@ def image_formats():
 
 
 def figure_path(path):
-    """``path`` checked before a figure is drawn (:func:`mol_shell.results.dataset.writable_path`, named ``path``): a
+    """``path`` checked before a figure is drawn (:func:`mol_shell._core.paths.writable_path`, named ``path``): a
     suffix matplotlib writes (:func:`image_formats`; none at all is a PNG), a writable place; missing directories
     are created.
 
