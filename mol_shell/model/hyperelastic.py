@@ -10,8 +10,9 @@ the thickness direction. The shell's ``F = [(a + zeta b) j1, c2, (c + zeta d) j3
 - ``director``: ``C_22 = 1`` (the paper; the transverse shears ``C_12``, ``C_23`` stay kinematic);
 - ``plane-stress``: ``C_22 = x`` minimising ``W`` (``dW/dC_22 = 0``, the thickness stress ``S_22 = 2 dW/dC_22``
   vanishes), found by Newton's method in ``u = ln x`` from ``x = 1``, unrolled :data:`NEWTON_STEPS` times in the
-  graph (so ``x > 0`` always); the derivatives of the condensed energy follow by AD through the iterations,
-  which at convergence equal those of the implicit function theorem (``dW/dx = 0`` there);
+  graph (so ``x > 0`` always; a law of one's own may take another count, or fitted third-order steps:
+  :func:`condensation_step`); the derivatives of the condensed energy follow by AD through the iterations, which at
+  convergence equal those of the implicit function theorem (``dW/dx = 0`` there);
 - ``incompressible``: ``det C = 1``. ``det C`` is affine in ``C_22``: ``det C = C_22 (C_11 C_33 - C_13^2) + N``
   with ``N`` the determinant at ``C_22 = 0``, so ``C_22 = (1 - N) / (C_11 C_33 - C_13^2)``, substituted into ``W``
   (the hydrostatic pressure is eliminated by the vanishing thickness stress: the membrane route of rubber). The
@@ -31,6 +32,7 @@ that ``E_t`` (a bulk viscosity ``eta_lambda`` has nothing to act on under ``det 
 from __future__ import annotations
 
 import functools
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -114,32 +116,76 @@ def incompressible_thickness(C):
     return (1.0 - n) / (C[0][0] * C[2][2] - C[0][2] * C[2][0])
 
 
-def plane_stress_thickness(energy, C, steps=NEWTON_STEPS, residual=False):
-    """``C_22`` with ``dW/dC_22 = 0``: Newton's method on ``u = ln C_22`` from ``u = 0``, ``steps`` times.
+#: the plane-stress solves of :func:`condensation_step`: ``newton`` (every law's until December 7) and ``fitted``
+SOLVES = ("newton", "fitted")
+#: the fitted step's factor on ``C_22`` (to the power ``1/q``) where its model has no root: the law's minimum is at
+#: ``C_22 -> 0``
+NO_ROOT_FACTOR = 1e-4
+
+
+def condensation_equations(energy, C, solve="newton"):
+    """``(x, g, f)``: the symbol ``x`` of ``C_22``, ``g = dW/dC_22`` and what :func:`condensation_step` evaluates at
+    each iterate, in ``x``: ``[dW/du, d2W/du2]`` (``u = ln x``) for ``newton``, ``[g, g', g'']`` for ``fitted``."""
+    x = ca.SX.sym("c22")
+    g = ca.gradient(energy(with_thickness(C, x)), x)
+    gp = ca.gradient(g, x)
+    if solve == "newton":
+        return x, g, ca.vertcat(g * x, gp * x * x + g * x)
+    return x, g, ca.vertcat(g, gp, ca.gradient(gp, x))
+
+
+def condensation_step(x, f, u, solve="newton"):
+    """``u = ln C_22`` after one step of the plane-stress solve of ``g = dW/dC_22 = 0`` from ``u``, ``f`` from
+    :func:`condensation_equations`. Branch-free (``if_else``): the unrolled steps stay one compiled expression.
+
+    - ``newton``: Newton's step on ``dW/du = g x`` (``x = e^u``), ``-r/(1 + r)`` with ``r = g/(g' x)``. It crawls where
+      the root is near ``C_22 = 0`` (``g x ~ e^(2u)`` there: half a unit of ``u`` a step), as St Venant-Kirchhoff's
+      is next to the edge of its domain: 8 steps reached it only up to an equibiaxial stretch of 1.424 at
+      ``nu = 0.3``, where ``C_22 = 0`` is at 1.472.
+    - ``fitted``: to the root of ``g ~ A + B x^q`` fitted to ``g, g', g''`` at ``x``, ``ln(1 - q r)/q`` with
+      ``q = 1 + x g''/g'``: third order, and exact in one step for a ``g`` affine in ``C_22`` (St Venant-Kirchhoff's,
+      up to the edge) or a power of it (a volumetric ``J^-b``). Where that model has no root below (``q r >= 1``,
+      ``g > 0``: ``W`` falls all the way to ``C_22 = 0``, as St Venant-Kirchhoff's past its edge) the step multiplies
+      ``C_22`` by ``NO_ROOT_FACTOR^(1/q)``, so that the thickness held there is next to the edge's, 0, and the forces
+      past the edge (where the energy is NaN) join those inside it. Where the model has no root above, or its step
+      goes uphill (along the sign of ``g``: ``W`` not convex there; a NaN fails the test too), Newton's step.
+    """
+    xu = ca.exp(u)
+    if solve == "newton":
+        fu = ca.substitute(f, x, xu)
+        return u - fu[0] / fu[1]
+    g, gp, gpp = ca.vertsplit(ca.substitute(f, x, xu))
+    r = g / (gp * xu)
+    q = 1 + xu * gpp / gp
+    z = q * r
+    fitted = ca.if_else(z < 1, ca.log1p(-z), math.log(NO_ROOT_FACTOR)) / q
+    taken = ca.logic_and(ca.logic_or(z < 1, g > 0), fitted * g <= 0)
+    return u + ca.if_else(taken, fitted, -r / (1 + r))
+
+
+def plane_stress_thickness(energy, C, steps=NEWTON_STEPS, residual=False, solve="newton"):
+    """``C_22`` with ``dW/dC_22 = 0``: ``steps`` of :func:`condensation_step` (``solve``) in ``u = ln C_22`` from
+    ``u = 0``.
 
     ``energy(C)`` is the law with its parameters bound. Returns the last iterate (a CasADi expression of
     ``C``'s other components); :func:`plane_stress_residual` measures how far it is from the root. With
     ``residual``, ``(C_22, |dW/dC_22| there)``: a law of one's own uses it to tell where the solve failed (no root
     ``C_22 > 0``, or one the steps do not reach; :class:`~mol_shell.model.user_laws.Material`).
     """
-    x = ca.SX.sym("c22")
-    w = energy(with_thickness(C, x))
-    g = ca.gradient(w, x)
-    f = ca.vertcat(g * x, ca.gradient(g, x) * x * x + g * x)  # dW/du, d2W/du2 with x = exp(u)
+    x, g, f = condensation_equations(energy, C, solve)
     u = ca.SX(0.0)
     for _ in range(steps):
-        fu = ca.substitute(f, x, ca.exp(u))
-        u = u - fu[0] / fu[1]
+        u = condensation_step(x, f, u, solve)
     if not residual:
         return ca.exp(u)
     last = ca.exp(u)
     return last, ca.fabs(ca.substitute(g, x, last))
 
 
-#: the step counts tried for a law of one's own (:func:`plane_stress_steps`), and the in-plane states
+#: the step counts tried for a law of one's own (:func:`plane_stress_steps`), by solve, and the in-plane states
 #: ``(C_11, C_33, C_13)`` it must converge at where its condition has a root: equibiaxial stretches 0.6 to 2,
-#: uniaxial ones, and a shear
-PLANE_STRESS_STEPS = (6, 8, 12, 16, 24, 32)
+#: uniaxial ones, and a shear. The fitted solve (third order) may take fewer: 2 solve St Venant-Kirchhoff exactly
+PLANE_STRESS_STEPS = {"newton": (6, 8, 12, 16, 24, 32), "fitted": (2, 3, 4, 6, 8, 12, 16, 24, 32)}
 PLANE_STRESS_STATES = tuple((a * a, a * a, 0.0) for a in (0.6, 0.8, 1.25, 1.6, 2.0)) + (
     (0.49, 1.0, 0.0), (2.25, 1.0, 0.0), (1.0, 1.0, 0.3), (1.44, 0.81, 0.2))
 #: states near the natural one (stretches 0.9 and 1.1, a shear of 0.1) where the condition must have a root: a
@@ -152,15 +198,17 @@ ROOT_GRID = np.geomspace(1e-8, 1e8, 33)
 @dataclass(frozen=True)
 class PlaneStressCheck:
     """What :func:`plane_stress_steps` found at the states of :data:`NATURAL_STATES` and :data:`PLANE_STRESS_STATES`
-    (each ``(C_11, C_33, C_13)``): ``steps``, the fewest of :data:`PLANE_STRESS_STEPS` that converge wherever the
-    largest does; ``residual``, the largest ``|dW/dC_22|`` they leave there (relative to the stiffness); ``rootless``,
-    the states where the condition has no root ``C_22 > 0``; ``unreached``, ``(state, residual)`` where it has one
-    that the largest count does not reach."""
+    (each ``(C_11, C_33, C_13)``): ``solve`` and ``steps``, the cheaper of the solves (:data:`SOLVES`) with the fewest
+    of its :data:`PLANE_STRESS_STEPS` that converge wherever 32 steps of either do; ``residual``, the largest
+    ``|dW/dC_22|`` they leave there (relative to the stiffness); ``rootless``, the states where the condition has no
+    root ``C_22 > 0``; ``unreached``, ``(state, residual)`` where it has one that 32 steps of neither reach (the
+    smaller residual)."""
 
     steps: int
     residual: float
     rootless: tuple
     unreached: tuple
+    solve: str = "newton"
 
 
 def has_root(slopes):
@@ -172,41 +220,62 @@ def has_root(slopes):
     return np.any((slopes > 0) & (index > first), axis=-1)
 
 
+def _solve_table(energy, c, C, solve, states, scale):
+    """``(residuals, costs)`` of ``solve`` after each of its :data:`PLANE_STRESS_STEPS`: ``|dW/dC_22| / scale`` at
+    the ``states`` ``(counts, states)``, and the operations of the unrolled solve (CasADi instructions) per count."""
+    x, g, f = condensation_equations(energy, C, solve)
+    u, residuals, costs = ca.SX(0.0), [], []
+    counts = PLANE_STRESS_STEPS[solve]
+    for k in range(1, counts[-1] + 1):
+        u = condensation_step(x, f, u, solve)
+        if k in counts:
+            residuals.append(ca.substitute(g, x, ca.exp(u)))
+            costs.append(ca.Function("solve", [c], [u]).n_instructions())
+    table = ca.Function("residuals", [c], [ca.vertcat(*residuals)]).map(len(states))
+    with np.errstate(invalid="ignore", over="ignore"):
+        found = np.abs(np.array(table(states.T))) / scale
+    return np.where(np.isfinite(found), found, np.inf), costs
+
+
 def plane_stress_steps(energy, scale, tol=1e-9):
     """:class:`PlaneStressCheck` of the law ``energy(C)``: where its plane-stress condition has a root (a sign change
     of ``dW/dC_22`` on :data:`ROOT_GRID`, :func:`has_root`), whether and in how many of :data:`PLANE_STRESS_STEPS`
-    :func:`plane_stress_thickness` reaches it, ``|dW/dC_22| <= tol x scale``.
+    each solve of :func:`plane_stress_thickness` reaches it, ``|dW/dC_22| <= tol x scale``, and which of them
+    does so in the fewest operations (Newton's where they tie: a law it serves runs as before December 7).
 
     A volumetric term like Ogden's ``J^-9`` makes Newton from ``C_22 = 1`` crawl (six steps left 1e8 Pa at a stretch
-    of 1.3, 16 reach it); St Venant-Kirchhoff's condition has no root beyond an equibiaxial stretch of 1.47 at
-    ``nu = 0.3``, where no count converges and none is asked to (until December 7 one was, at every state, and SVK
-    was refused for ``nu >= 0.2``)."""
+    of 1.3, 16 reach it; 6 fitted steps, at about as many operations); St Venant-Kirchhoff's condition has no root
+    beyond an equibiaxial stretch of 1.47 at ``nu = 0.3``, where no count converges and none is asked to (until
+    December 7 one was, at every state, and SVK was refused for ``nu >= 0.2``), and Newton's steps crawl next to it
+    (the fitted solve takes 2 steps, exact up to the edge)."""
     states = np.array(NATURAL_STATES + PLANE_STRESS_STATES)
     c = ca.SX.sym("c", 3)
     C = ((c[0], 0.0, c[2]), (0.0, 1.0, 0.0), (c[2], 0.0, c[1]))
     x = ca.SX.sym("c22")
-    g = ca.gradient(energy(with_thickness(C, x)), x)
-    f = ca.vertcat(g * x, ca.gradient(g, x) * x * x + g * x)
-    u, residuals = ca.SX(0.0), []
-    for k in range(1, PLANE_STRESS_STEPS[-1] + 1):
-        fu = ca.substitute(f, x, ca.exp(u))
-        u = u - fu[0] / fu[1]
-        if k in PLANE_STRESS_STEPS:
-            residuals.append(ca.substitute(g, x, ca.exp(u)))
-    table = ca.Function("residuals", [c], [ca.vertcat(*residuals)]).map(len(states))
-    sampled = ca.Function("slopes", [c, x], [g]).map(len(states) * len(ROOT_GRID))
+    sampled = ca.Function("slopes", [c, x], [ca.gradient(energy(with_thickness(C, x)), x)])
     with np.errstate(invalid="ignore", over="ignore"):
-        found = np.abs(np.array(table(states.T))) / scale  # (step counts, states)
-        slopes = np.array(sampled(np.repeat(states, len(ROOT_GRID), axis=0).T, np.tile(ROOT_GRID, len(states))))
-    found = np.where(np.isfinite(found), found, np.inf)
+        slopes = np.array(sampled.map(len(states) * len(ROOT_GRID))(np.repeat(states, len(ROOT_GRID), axis=0).T,
+                                                                     np.tile(ROOT_GRID, len(states))))
     rooted = has_root(np.nan_to_num(slopes.reshape(len(states), len(ROOT_GRID)), nan=0.0))
-    reached = rooted & (found[-1] <= tol)
-    steps = next((n for n, row in zip(PLANE_STRESS_STEPS, found) if np.all(row[reached] <= tol)),
-                 PLANE_STRESS_STEPS[-1])
-    residual = float(found[PLANE_STRESS_STEPS.index(steps), reached].max(initial=0.0))
+    tables = {solve: _solve_table(energy, c, C, solve, states, scale) for solve in SOLVES}
+    last = np.minimum(*(found[-1] for found, _ in tables.values()))
+    reached = rooted & (last <= tol)
+    options = []  # (cost, solve, steps, residual) converging wherever either reaches the root
+    for order, (solve, (found, costs)) in enumerate(tables.items()):
+        for steps, row, cost in zip(PLANE_STRESS_STEPS[solve], found, costs):
+            if np.all(row[reached] <= tol):
+                options.append((cost, order, solve, steps, float(row[reached].max(initial=0.0))))
+                break
+    if options:
+        _, _, solve, steps, residual = min(options)
+    else:  # neither converges wherever the other does: the one whose 32 steps reach more states
+        solve = max(SOLVES, key=lambda s: (int(np.sum(rooted & (tables[s][0][-1] <= tol))), s == "fitted"))
+        steps = PLANE_STRESS_STEPS[solve][-1]
+        kept = rooted & (tables[solve][0][-1] <= tol)
+        residual = float(tables[solve][0][-1][kept].max(initial=0.0))
     return PlaneStressCheck(steps, residual, tuple(tuple(float(v) for v in s) for s in states[~rooted]),
                             tuple((tuple(float(v) for v in s), float(r))
-                                  for s, r in zip(states[rooted & ~reached], found[-1, rooted & ~reached])))
+                                  for s, r in zip(states[rooted & ~reached], last[rooted & ~reached])), solve)
 
 
 def plane_stress_residual(energy, C, x):

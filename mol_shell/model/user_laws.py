@@ -115,6 +115,7 @@ class Material:
         object.__setattr__(self, "parameters", {k: float(v) for k, v in self.parameters.items()})
         self._check_energy()
         object.__setattr__(self, "steps", NEWTON_STEPS)  # the plane-stress solve's, set by the checks below
+        object.__setattr__(self, "solve", "newton")  # and which solve (hyperelastic.SOLVES)
         object.__setattr__(self, "stiffness", None)  # |lambda*| + 2 |mu| (Pa), plane stress: set likewise
         self._check_plane_stress(self._check_natural_state())
 
@@ -167,14 +168,16 @@ class Material:
                                    "lambda* + mu > 0) at C = I", hint=f"thickness = {self.thickness}")
 
     def _check_plane_stress(self, scale):
-        """Plane stress: the fewest unrolled Newton steps (6 to 32) that solve ``dW/dC_22 = 0`` to 1e-9 of the
-        stiffness ``scale`` wherever 32 do, at in-plane stretches 0.6 to 2
-        (:func:`~mol_shell.model.hyperelastic.plane_stress_steps`). Refused naming ``thickness``, and saying where and
-        why, when next to the natural state (stretches 0.9 and 1.1) the condition has no root ``C_22 > 0`` or 32 steps
-        do not reach it. Farther out the law is taken where the solve works: where it does not (no root: St
-        Venant-Kirchhoff's beyond an equibiaxial stretch of 1.47 at ``nu = 0.3``; or a root the steps do not reach)
-        the law's energy is NaN there (:data:`UNSOLVED`), and a run that gets there stops as at the edge of the law's
-        domain, naming the law, time and cell. Six steps were taken for every law, unchecked, until December 6 (an Ogden
+        """Plane stress: the solve and the fewest of its unrolled steps (2 to 32) that solve ``dW/dC_22 = 0`` to 1e-9
+        of the stiffness ``scale`` wherever 32 do, at in-plane stretches 0.6 to 2, in the fewest operations: Newton's
+        steps in ``ln C_22``, or fitted third-order ones (:func:`~mol_shell.model.hyperelastic.plane_stress_steps`;
+        St Venant-Kirchhoff takes 2 fitted steps, exact up to the edge of its domain, where 8 of Newton's reached it up
+        to a stretch of 1.424 only, of 1.472). Refused naming ``thickness``, and saying where and why, when next to the
+        natural state (stretches 0.9 and 1.1) the condition has no root ``C_22 > 0`` or 32 steps do not reach it.
+        Farther out the law is taken where the solve works: where it does not (no root: St Venant-Kirchhoff's beyond
+        an equibiaxial stretch of 1.47 at ``nu = 0.3``; or a root the steps do not reach) the law's energy is NaN
+        there (:data:`UNSOLVED`), and a run that gets there stops as at the edge of the law's domain, naming the law,
+        time and cell. Six steps were taken for every law, unchecked, until December 6 (an Ogden
         volumetric term, ``J^-9``, left 1e8 Pa of thickness stress, and energies 28 times too high); until December
         7 convergence was asked for at every stretch to 2, and SVK, whose condition has no root there, was refused
         for ``nu >= 0.2`` (blaming the step count)."""
@@ -183,8 +186,8 @@ class Material:
         energy, p = self.law().energy, dict(self.parameters)
         found = plane_stress_steps(lambda C: energy(C, p), scale)
         allowed = ("plane-stress for laws whose condition dW/dC22 = 0 has a root C22 > 0 next to the natural state "
-                   "(in-plane stretches 0.9 and 1.1) that Newton's method from C22 = 1 reaches in 32 steps; "
-                   "director or incompressible")
+                   "(in-plane stretches 0.9 and 1.1) that Newton's method (or the fitted solve) from C22 = 1 reaches "
+                   "in 32 steps; director or incompressible")
         rootless = [state for state in found.rootless if state in NATURAL_STATES]
         unreached = [(state, r) for state, r in found.unreached if state in NATURAL_STATES]
         if rootless:
@@ -195,8 +198,9 @@ class Material:
             left = f"leave dW/dC22 = {residual:.3g} of the stiffness" if math.isfinite(residual) else (
                 "leave dW/dC22 not finite")
             raise ParameterError("thickness", self.thickness, allowed, hint=f"material {self.name}: at "
-                                 f"{state_text(state)} 32 Newton steps from C22 = 1 {left}")
+                                 f"{state_text(state)} 32 Newton (and fitted) steps from C22 = 1 {left}")
         object.__setattr__(self, "steps", found.steps)
+        object.__setattr__(self, "solve", found.solve)
         object.__setattr__(self, "stiffness", scale)
 
     def with_parameters(self, changes):
@@ -241,14 +245,15 @@ class Material:
             return energy(M, p)
 
         steps, stiffness = getattr(self, "steps", NEWTON_STEPS), getattr(self, "stiffness", None)
+        solve = getattr(self, "solve", "newton")
         if self.thickness != "plane-stress" or stiffness is None:  # (the checks of plane stress run without)
-            condense = None if self.thickness != "plane-stress" or steps == NEWTON_STEPS else (
-                lambda C, p: plane_stress_thickness(lambda c: nested_energy(c, p), C, steps=steps))
+            condense = None if self.thickness != "plane-stress" or (steps, solve) == (NEWTON_STEPS, "newton") else (
+                lambda C, p: plane_stress_thickness(lambda c: nested_energy(c, p), C, steps=steps, solve=solve))
             return Law(self.name, nested_energy, tuple(self.parameters), self.thickness, condense=condense)
         tol = UNSOLVED * stiffness
 
         def condense(C, p):
-            return plane_stress_thickness(lambda c: nested_energy(c, p), C, steps=steps, residual=True)
+            return plane_stress_thickness(lambda c: nested_energy(c, p), C, steps=steps, residual=True, solve=solve)
 
         def held(C, values, p):  # NaN where the solve failed: the energy only (the forces, C_22 held, do not see it)
             return nested_energy(with_thickness(C, values[0]), p) + ca.if_else(values[1] <= tol, 0.0, math.nan)
@@ -271,7 +276,8 @@ class Material:
         if not has_root(np.nan_to_num(slopes, nan=0.0)):
             return "its plane-stress condition dW/dC22 = 0 has no root C22 > 0 there"
         if not left <= UNSOLVED:
-            return (f"its {self.steps} Newton steps from C22 = 1 leave dW/dC22 = {left:.3g} of the stiffness there, "
+            kind = "Newton" if getattr(self, "solve", "newton") == "newton" else "fitted"
+            return (f"its {self.steps} {kind} steps from C22 = 1 leave dW/dC22 = {left:.3g} of the stiffness there, "
                     "short of the root of its plane-stress condition")
         return None
 

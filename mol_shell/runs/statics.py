@@ -20,7 +20,7 @@ import dataclasses
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.discretization.compiled import buffered
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.model.loads import history
@@ -129,22 +129,27 @@ def newton(system, y0, hold=(), tol=TOL, max_iter=MAX_ITER):
     length = max(float(np.abs(system.reference[:2]).max()), 1e-300)
     weight = np.where(np.isin(np.array(system.active)[solve % system.ny], (0, 1)), 1.0 / length, 1.0)
     jacobian = sparse_evaluator(system.jac)
+
+    def reduced(y):  # the Jacobian on the unknowns, evaluated where a step needs it (and for the scale, once)
+        return jacobian(0.0, y)[0].tocsr()[p_solve][:, solve].tocsc()
+
     for it in range(max_iter + 1):
         f = np.array(system.rhs_newton(0, y)).ravel()
-        J = jacobian(0.0, y)[0].tocsr()
-        Jr = J[p_solve][:, solve].tocsc()
+        Jr = None
         if scale is None:
+            Jr = reduced(y)
             scale = float(np.abs(Jr.diagonal()).max()) * max(1.0, float(np.abs(system.reference[:2]).max()))
         res = float(np.abs(f[p]).max()) / scale
         if not np.isfinite(res):
             raise RuntimeError(f"non-finite residual after {it} iterations")
         if res <= tol:
-            y, res = _polished(system, y, f, Jr, p, solve, scale, res)
+            y, res = _polished(system, y, f, reduced(y) if Jr is None else Jr, p, solve, scale, res)
             for g in gauges:
                 y[g] += float(np.mean(np.asarray(y0, dtype=float)[g] - y[g]))
             return _tied(system, y), it, res
-        if it == max_iter:
+        if it == max_iter:  # (until December 7 its Jacobian was evaluated here too, and never used)
             break
+        Jr = reduced(y) if Jr is None else Jr
         try:
             lu = scipy.sparse.linalg.splu(Jr)
         except RuntimeError as exc:  # exactly singular
@@ -262,10 +267,31 @@ def check_balanced(scene, system, y0, hold=()):
                                  "the loads; hold an edge, or start from a state of one's own (R or dilation)")
 
 
+def check_law_domain(scene, system, y):
+    """Raise :class:`~mol_shell._core.errors.ModelLimitError` (a limit of the law: exit 3 on the command line) when the
+    law's stored energy is not finite at the static equilibrium ``y``
+    (:meth:`~mol_shell.discretization.limits.ModelLimits.energy_not_finite`), naming the loads, the law, the first
+    such cell and its stretches. A plane-stress law of one's own past the edge of its domain (St Venant-Kirchhoff's
+    beyond an equibiaxial stretch of 1.472 at ``nu = 0.3``: no root ``C_22 > 0``) keeps finite forces there, its
+    thickness held where its solve stopped, and Newton converges to such a state: until December 7 the run then
+    started there and stopped at ``t = 0``, its message saying nothing of the static start."""
+    if np.isfinite(float(system.observables(y, 0.0)[2])):  # the stored energy (the cells' only where it is not)
+        return
+    found = getattr(system, "energy_not_finite", lambda y: None)(y)
+    if found is None:
+        return
+    law, where, detail = found
+    loads = ", ".join(f"{k} = {getattr(scene, k):g}" for k in scene.loads_on())
+    raise ModelLimitError(f"the static equilibrium under the loads at t = 0 ({loads}) lies outside the domain of "
+                          f"{law}: its energy is not finite at {where}: {detail}; no run was started from it (smaller "
+                          "loads, or a law whose domain holds the equilibrium)", 0.0, where)
+
+
 def static_equilibrium(scene, n, y0, hold=()):
     """The equilibrium state at rest under the scene's loads at ``t = 0``, starting from ``y0``.
 
-    Returns ``(y, info)``; ``info`` says how it was found (for the run's attrs). Direct Newton first; on failure,
+    Returns ``(y, info)``; ``info`` says how it was found (for the run's attrs); :func:`check_law_domain` refuses an
+    equilibrium outside the law's domain, a limit of the law. Direct Newton first; on failure,
     continuation in the load (every load times ``lambda`` from 0 to 1, each increment's solution the next one's
     start) with increments of :data:`FIRST_INCREMENT`, halved where Newton fails (down to
     :data:`SMALLEST_INCREMENT`, then the loads are refused), doubled again after an easy one. The intermediate
@@ -275,7 +301,7 @@ def static_equilibrium(scene, n, y0, hold=()):
     check_balanced(scene, system, y0, hold)
     try:
         y, it, res = newton(system, y0, hold)
-        return y, f"static equilibrium under the loads at t = 0 (Newton, {it} iterations, residual {res:.2g})"
+        how = f"static equilibrium under the loads at t = 0 (Newton, {it} iterations, residual {res:.2g})"
     except RuntimeError as direct:
         y, done, increment, total, steps = np.array(y0, dtype=float), 0.0, FIRST_INCREMENT, 0, 0
         while done < 1.0:
@@ -304,5 +330,7 @@ def static_equilibrium(scene, n, y0, hold=()):
             y, done, total, steps = y_next, factor, total + it, steps + 1
             if it < EASY:
                 increment = min(FIRST_INCREMENT, 2 * increment)
-        return y, (f"static equilibrium under the loads at t = 0 (continuation in {steps} steps, "
-                   f"{total} Newton iterations, residual {res:.2g})")
+        how = (f"static equilibrium under the loads at t = 0 (continuation in {steps} steps, {total} Newton "
+               f"iterations, residual {res:.2g})")
+    check_law_domain(scene, system, y)  # a law whose forces stay finite past its domain: Newton may end there
+    return y, how

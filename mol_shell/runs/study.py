@@ -27,6 +27,7 @@ import numpy as np
 from mol_shell._core.atomic import keep_inputs
 from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
 from mol_shell._core.paths import writable_path
+from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, by_interrupt
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
@@ -207,6 +208,8 @@ def case_result(index, work, materials=()):
         status, message = str(ds.attrs.get("status", "complete")), str(ds.attrs.get("message", ""))
     except ParameterError as exc:
         status, message = "refused", str(exc)
+    except ModelLimitError as exc:  # a limit met before the run (its static start outside the law's domain)
+        status, message = exc.status, str(exc)
     except KeyboardInterrupt:
         status, message = "interrupted", "interrupted by the user"
     except Exception as exc:  # noqa: BLE001 - a failing case is data, not a crash

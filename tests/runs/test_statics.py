@@ -247,3 +247,35 @@ def test_no_start_under_a_ramp_is_blamed_on_the_twist_held_not_on_the_load():
         mol_shell.simulate(ramped, t_end=1e-4, n=8)
     with pytest.raises(mol_shell.ParameterError, match=r"^pressure = -10000000.0 is outside loads under which"):
         mol_shell.simulate(mol_shell.Sphere(pressure=-1e7, gamma=1.5), t_end=1e-4, n=8)
+
+
+def test_newton_evaluates_the_jacobian_only_where_a_step_uses_it(monkeypatch):
+    """Each iteration's Jacobian factorises its step, and the converged iteration's the polishing step
+    (:func:`~mol_shell.runs.statics._polished`): ``iterations + 1`` evaluations. At ``max_iter`` it was evaluated once
+    more and never used (and so at a non-finite residual): a Newton that fails after ``max_iter = 2`` evaluated it 3
+    times, now 2. The states are those of the same iterations (the reference tests above)."""
+    from mol_shell.runs import statics
+
+    calls = []
+    original = statics.sparse_evaluator
+
+    def counting(f):
+        evaluate = original(f)
+
+        def counted(*args):
+            calls.append(f.name())
+            return evaluate(*args)
+
+        return counted
+
+    monkeypatch.setattr(statics, "sparse_evaluator", counting)
+    scene = Sphere(pressure=2000.0, material="neo-hookean-incompressible")
+    system = ShellSystem(scene, 12)
+    y0 = system.initial_state(scene)
+    _, iterations, residual = newton(system, y0)
+    assert iterations > 2 and residual <= 1e-11
+    assert len(calls) == iterations + 1, calls
+    calls.clear()
+    with pytest.raises(RuntimeError, match="Newton did not converge"):
+        newton(system, y0, max_iter=2)
+    assert len(calls) == 2, calls
