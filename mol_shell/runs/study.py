@@ -25,9 +25,8 @@ import warnings
 import numpy as np
 
 from mol_shell._core.atomic import keep_inputs
-from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt
-from mol_shell._core.paths import writable_path
 from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, by_interrupt
+from mol_shell._core.paths import writable_path
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
