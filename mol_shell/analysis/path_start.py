@@ -90,9 +90,14 @@ def path_scene(ds, value, names=FLAGS):
     then, now = str(ds.attrs.get("meridian", "")), scene.meridian().describe() if hasattr(scene, "meridian") else ""
     if "sha256" not in then:  # a path written before descriptions carried the points' digest: compared without it
         now = re.sub(r", sha256 [0-9a-f]+\)$", ")", now)
-    if then and now and then != now:  # a points file read again, edited since: the states belong to the old shell
-        raise ParameterError.invalid("points", str(ds.attrs.get("points", name)), "describes another meridian now",
+    if then and now and then != now and "points" in ds.attrs:  # a points file edited since the path was traced
+        raise ParameterError.invalid("points", str(ds.attrs["points"]), "describes another meridian now",
                                      f"the meridian the path ({names['ds']}) was traced on",
+                                     hint=f"the path's: {then}; now: {now}")
+    if then and now and then != now:  # a scene drawn differently by this version (a vessel drawn down, say)
+        raise ParameterError.invalid(names["ds"], str(ds.encoding.get("source", name)),
+                                     f"was traced on a {name} meridian this version draws differently",
+                                     "a path traced by this version (trace it again)",
                                      hint=f"the path's: {then}; now: {now}")
     return scene
 

@@ -222,6 +222,25 @@ def test_a_points_file_edited_keeping_its_count_and_length_is_refused_by_from(tm
     assert f"points = '{points}' describes another meridian now" in capsys.readouterr().err
 
 
+def test_a_path_on_a_meridian_this_version_draws_differently_is_refused_naming_from(tmp_path, capsys):
+    """A vessel drawn down ran mirrored until December 7 and is drawn where the user put it since: ``--from`` on a
+    path traced before then was refused as ``points = 'vessel' describes another meridian now``, naming a points
+    file the vessel has not got."""
+    traced = tmp_path / "p.nc"
+    assert main(["path", "vessel", "--param", "pressure=0:100", "--n", "10", "--max-steps", "2",
+                 "-o", str(traced)]) == 0
+    with xr.open_dataset(traced) as ds:
+        old = ds.load()
+    old.attrs["meridian"] = old.attrs["meridian"].replace("(", "(mirrored, ", 1)  # another version's drawing
+    older = tmp_path / "older.nc"
+    old.to_netcdf(older)
+    capsys.readouterr()
+    assert main(["run", "--from", str(older), "--step", "1", "--t-end", "1e-5", "-o", str(tmp_path / "r.nc")]) == 2
+    err = capsys.readouterr().err
+    assert f"--from = '{older}' was traced on a vessel meridian this version draws differently" in err, err
+    assert "points" not in err.split(";")[0], err
+
+
 def test_a_range_far_beyond_what_the_shell_carries_says_so_when_the_path_cannot_leave_its_start(tmp_path, capsys):
     """pressure = 0:1e12 Pa on the default sphere (E = 1 MPa; Newton reaches about 3e7 Pa, at 71 times its radius):
     the smallest first step, 1e12 / 20 steps / 2^10 = 4.88e7 Pa, is already past it. The message blamed the tangent
