@@ -78,6 +78,10 @@ def path_scene(ds, value, names=FLAGS):
     for k in fields & params.keys():  # left to the code when the path was traced (stored as the values used): again
         if ds.attrs.get(f"{k}_requested") == "auto":
             params[k] = None
+    for k in fields & set(str(ds.attrs.get("reversed_parameters", "")).split(", ")):  # run with the opposite sign
+        if f"{k}_requested" in ds.attrs:  # (a vessel's segments drawn down): as given, which the scene turns again
+            given = ds.attrs[f"{k}_requested"]
+            params[k] = given.item() if isinstance(given, np.generic) else given
     version = ds.attrs.get("mol_shell_version", "")
     if "material" in params:  # a law renamed since the file was written: by its name now
         params["material"] = renamed_law(params["material"], version)

@@ -94,11 +94,13 @@ def fibre_thickness_energy(strains, fibres, factors, beta2_0=0.0, trig=None):
 
 
 def scene_fibres(scene):
-    """The scene's :class:`Fibres`, or ``None`` when ``fibre_E = 0`` (then nothing of them is in any graph)."""
+    """The scene's :class:`Fibres`, or ``None`` when ``fibre_E = 0`` (then nothing of them is in any graph); the angle
+    the scene runs with (a vessel drawn down runs backwards, one family at ``-fibre_angle``: its ``ran_values``)."""
     E = getattr(scene, "fibre_E", 0.0)
     if not E:
         return None
-    return Fibres(float(E), float(scene.fibre_angle), int(scene.fibre_families), bool(scene.fibre_compression))
+    angle = getattr(scene, "ran_values", dict)().get("fibre_angle", scene.fibre_angle)
+    return Fibres(float(E), float(angle), int(scene.fibre_families), bool(scene.fibre_compression))
 
 
 def unused_fibres_warning(scene):

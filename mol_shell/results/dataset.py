@@ -45,7 +45,9 @@ def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=Non
     ``scene`` had some of them computed before (``R`` of a cylinder: :func:`mol_shell.runs.checks.resolve`).
     ``given``: the initial data a start given as fields has in place of the scene's (:func:`given_values`; ``R``
     and ``dilation`` the start's, by ``auto_values``), each stored as the start has it, with the scene's value in
-    ``NAME_requested`` (and its ``units_NAME_requested``) beside it where they differ.
+    ``NAME_requested`` (and its ``units_NAME_requested``) beside it where they differ. A vessel whose segments run
+    backwards runs a twist and one fibre family with the opposite sign (its ``ran_values``): each stored as run,
+    the value given in ``NAME_requested``, and their names in ``reversed_parameters``.
     """
     used = scene.params()
     asked = dict(used if requested is None else requested)
@@ -53,6 +55,8 @@ def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=Non
     if "zeta1" in used:
         used["zeta1"] = float(zeta1)
     used.update(scene.geometry_values())
+    ran = getattr(scene, "ran_values", dict)()  # a vessel drawn down: gamma, fibre_angle as they run
+    used.update(ran)
     if initial is not None:
         used.update(_as_computed(scene, asked, given is not None).auto_values(initial, reference))
     used.update(given or {})
@@ -63,12 +67,15 @@ def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=Non
         wanted = asked.get(name, value)
         if wanted is None and value is not None:
             meta[f"{name}_requested"] = "auto"
-        elif name in getattr(scene, "initial", ()) and value is not None and wanted != value:
+        elif (name in ran or name in getattr(scene, "initial", ())) and value is not None and wanted != value:
             if _differ(wanted, value):  # initial data the start does not have (given as fields)
                 meta[f"{name}_requested"] = wanted
                 meta[f"units_{name}_requested"] = meta[f"units_{name}"]
             else:  # the same to round-off (a mean psi of 1e-161 rad): as asked
                 meta[name] = wanted
+    reversed_ = [name for name in ran if meta.get(name) == ran[name]]  # (not a start's gamma given as fields)
+    if reversed_:  # NAME as run, NAME_requested as given
+        meta["reversed_parameters"] = ", ".join(reversed_)
     meta.update(law_attrs(scene))  # which law of one's own ran, and its parameters
     return meta
 
@@ -122,7 +129,9 @@ def given_note(meta):
         unit = meta.get(f"units_{name}", "1")
         return f"{value:.6g}" + ("" if unit == "1" else f" {unit}")
 
-    names = [k.removesuffix("_requested") for k in meta if k.endswith("_requested") and is_number(meta[k])]
+    reversed_ = str(meta.get("reversed_parameters", "")).split(", ")  # not the start's: the meridian's direction
+    names = [k.removesuffix("_requested") for k in meta if k.endswith("_requested") and is_number(meta[k])
+             and k.removesuffix("_requested") not in reversed_]
     said = [f"{name} = {shown(name, meta[name])} (the scene's {shown(name, meta[f'{name}_requested'])})"
             for name in names if is_number(meta.get(name))]
     if not said:

@@ -20,6 +20,10 @@ where the segments draw it (``z``, and with it gravity and the axial end loads, 
 ``d0`` of the reversed tangent, is ``-d0``: outward. ``s = 0`` (``end1``) is then the segments' last point: the
 bottom pole of a closed vessel, the open edge of an open one (a dome drawn from its top pole). (Mirrored in ``z``
 instead, as it was, an asymmetric vessel stood upside down under gravity and the axial end loads.)
+What the user gave along the drawn direction runs with the opposite sign (:meth:`Vessel.ran_values`): the tangent
+``b0_1`` is reversed and ``b0_3 = +phi`` is not, so a fibre ``cos(a) b0_1 + sin(a) b0_3`` of the drawing is
+``cos(-a) b0_1' + sin(-a) b0_3`` of the run (one family at ``-a``; a pair ``+-a`` is itself), and a twist
+``chi = gamma (s - L/2)`` of the drawing's ``s`` is ``-gamma (s' - L/2)`` of the run's ``s' = L - s``.
 A torispherical head is a crown arc of radius ``Rc`` turning by ``phi1`` and a knuckle of radius ``rk``
 turning by ``pi/2 - phi1``, with ``sin(phi1) = (a - rk) / (Rc - rk)`` so that the knuckle ends on the cylinder
 ``r = a`` (``Rc sin(phi1) + rk (1 - sin(phi1)) = a``); ``Rc = a`` is the hemispherical head, one arc ``(a, -pi/2)``.
@@ -37,6 +41,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, positive
 from mol_shell.model.edges import resolve_edges
 from mol_shell.model.geometry import Meridian, on_axis, self_intersects
+from mol_shell.model.layers import layer_value, parse_layers
 from mol_shell.scenes.shells import _Dilated, goes_down as shells_goes_down
 from mol_shell.scenes.base import _check
 
@@ -258,6 +263,43 @@ class Vessel(_Dilated):
         """Whether ``segments`` turn the meridian down from its first pole, so that it runs backwards (:func:`upward`)."""
         return bool(self.segments.strip()) and goes_down(SegmentedMeridian(tuple(parse_segments(self.segments))))
 
+    def ran_values(self):
+        """``{name: value}``: the parameters that run with another value than given, because the segments run
+        backwards (:func:`upward`): a twist ``gamma`` and one fibre family's ``fibre_angle`` (a layer's too: ``layers``
+        with the angle it runs with written into it) with the opposite sign, the helix and twist the user drew
+        (module docstring); ``{}`` for a meridian run as drawn."""
+        if not self._backwards():
+            return {}
+        out = {}
+        if self.gamma:
+            out["gamma"] = -self.gamma
+        if self.fibre_E and self.fibre_families == 1 and self.fibre_angle:
+            out["fibre_angle"] = -self.fibre_angle
+        layers = self._layers_backwards()
+        if layers != self.layers:
+            out["layers"] = layers
+        return out
+
+    def _layers_backwards(self):
+        """``layers`` with ``fibre_angle = -a`` written into each layer of one fibre family at ``a != 0`` (its own or
+        the scene's), the others as given."""
+        if not self.layers:
+            return self.layers
+        parts, turned = self.layers.split(";"), False
+        for k, (_, _, changes) in enumerate(parse_layers(self.layers)):
+            E, families, angle = (layer_value(key, changes[key]) if key in changes else getattr(self, key)
+                                  for key in ("fibre_E", "fibre_families", "fibre_angle"))
+            if E and families == 1 and angle:
+                words = [w for w in parts[k].split() if not w.startswith("fibre_angle=")]
+                parts[k], turned = " ".join(words + [f"fibre_angle={-float(angle)!r}"]), True
+        return "; ".join(part.strip() for part in parts) if turned else self.layers
+
+    def initial_fields(self, s, reference):
+        Q, V = super().initial_fields(s, reference)
+        if "gamma" in self.ran_values():  # the twist drawn: chi = -gamma (s - L/2) of the run's s
+            Q[2] = -Q[2]
+        return Q, V
+
     def _ends_said(self, mer):
         """Which end of the segments is ``end1`` and which ``end2`` when they run backwards."""
         r, z = mer.start[:2]
@@ -286,7 +328,9 @@ class Vessel(_Dilated):
                  "vessel): run from their other end, the same curve traversed backwards, so that the director points "
                  "outward and the inner face is the one toward the enclosed volume; the vessel stays where the "
                  "segments draw it (z, gravity and the end loads as given), " + self._ends_said(self.meridian()) +
-                 " (s, and with it gamma's twist, counts from end1)")]
+                 "; s counts from end1 (h_profile's s too), and a twist gamma and one fibre family's fibre_angle, "
+                 "given along the segments, run with the opposite sign (the helix and twist as drawn; attrs NAME as "
+                 "run, NAME_requested as given)")]
 
     def _heads(self):
         """The heads' crown and knuckle radii, the defaults (``2a``, ``0.2a``) for those left to the code."""
