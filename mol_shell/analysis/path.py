@@ -218,12 +218,15 @@ class _Path:
         path over a small load range took for its response and left its first predictor by 100 steps."""
         import scipy.sparse.linalg
 
-        for _ in range(steps):
+        for left in range(steps, 0, -1):
             try:
                 trial = q + self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
             except RuntimeError:
                 break
-            F_trial, Fq_trial, _ = self.eq.reduced(trial, lam)
+            if left == 1:  # the last step's Jacobian would not be used: its residual alone decides
+                F_trial, Fq_trial = self.eq.residual(trial, lam), None
+            else:
+                F_trial, Fq_trial, _ = self.eq.reduced(trial, lam)
             if not (np.all(np.isfinite(F_trial)) and np.abs(F_trial).max() < np.abs(F).max()):
                 break
             q, F, Fq = trial, F_trial, Fq_trial

@@ -111,7 +111,11 @@ def run_once(system, compiled, y0, times, name, value):
     return method.integrate(system, compiled, y0, np.asarray(times))
 
 
-def reference(system, compiled, y0, times, method=("cvode-adams", 1e-12), check=("ida", 1e-12)):
+#: the reference run and its check: ``(integrator, rtol)`` (:func:`reference`)
+REFERENCE, REFERENCE_CHECK = ("cvode-adams", 1e-12), ("ida", 1e-12)
+
+
+def reference(system, compiled, y0, times, method=REFERENCE, check=REFERENCE_CHECK):
     """Reference fields and their convergence check (the relative difference of two independent runs)."""
     ref = run_once(system, compiled, y0, times, *method)
     if ref.status == "interrupted":  # Ctrl-C, kept by the integrator as the run's end: nothing measured yet
@@ -185,6 +189,10 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
         # integrator's linear solver (its default, as the runs use it) counted as a run's check counts them
         resources.check_analysis(n, len(times), f"each {name} run of the comparison", "saved times", integrator=name,
                                  announce=k == 0, method=INTEGRATORS[name]())
+    for name, rtol in (REFERENCE, REFERENCE_CHECK):  # the reference runs too, when no sweep runs their integrator
+        if name not in integrators:
+            resources.check_analysis(n, len(times), f"the reference {name} run of the comparison", "saved times",
+                                     integrator=name, announce=False, method=INTEGRATORS[name](**options(name, rtol)))
     plan = {name: [(value, skip_reason(name, value, times)) for value in next(iter(sweeps[name].values()))]
             for name in integrators}
     if all(reason for points in plan.values() for _, reason in points):

@@ -320,6 +320,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
         raise ParameterError.invalid("ds", "Dataset", "is not a mol_shell run", "a Dataset from simulate or mol-shell run",
                                      hint="missing " + ", ".join(missing or ["attrs E, nu, h, zeta1_used, n_quad"]))
     n_t, n = ds.sizes["time"], ds.sizes["s"]
+    _refuse_gaps(ds)
     ds = _without_stale_stresses(ds)
     samples = 2 * (n - 1) * n_t
     material = str(ds.attrs.get("material", "svk"))
@@ -399,6 +400,22 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
             out.attrs["stresses"] += (" (svk-plane-stress: also where its thickness stretch has no real value, "
                                       "C_22 = 1 - 2 nu/(1 - nu) (E_11 + E_33) <= 0)")
     return out
+
+
+def _refuse_gaps(ds):
+    """Refuse nodes ``s`` that are not neighbours in the run (``isel(s=[0, 2, 5, 9])``, a stride): each pair of
+    consecutive nodes is taken for a cell, and the stresses of such "cells" were returned without a word, wrong.
+    The run's node spacing is ``meridian_length / (n - 1)`` of its attrs (without them: the nodes' own spacing)."""
+    step = np.diff(ds["s"].values)
+    if not step.size:
+        return
+    attrs = ds.attrs
+    spacing = float(attrs["meridian_length"]) / (int(attrs["n"]) - 1) if "meridian_length" in attrs and int(
+        attrs.get("n", 0)) > 1 else abs(float(step[0]))
+    if not (np.allclose(step, spacing, rtol=1e-6, atol=0) or np.allclose(step, -spacing, rtol=1e-6, atol=0)):
+        raise ParameterError.invalid("ds", "Dataset", f"holds nodes s that are not neighbours in the run (its node "
+                                     f"spacing {spacing:.6g} m)", "consecutive nodes of a run",
+                                     hint="stresses need neighbouring nodes: select with a slice, isel(s=slice(i, j))")
 
 
 def _without_stale_stresses(ds):

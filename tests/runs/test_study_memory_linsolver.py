@@ -101,3 +101,23 @@ def test_a_comparison_counts_each_integrator_s_own_matrices(monkeypatch, no_buil
     with pytest.raises(ParameterError, match=r"^n = 10 is outside integers 3\.\.") as refused:
         mol_shell.simulate("twisted-cylinder", "sksundae-cvode-bdf", n=10, times=TIMES)
     assert "linsolver" not in str(refused.value)  # was "linsolver = 'auto' is outside {auto, band, sparse}"
+
+
+def test_a_comparison_checks_the_memory_of_its_reference_runs_too(monkeypatch, no_build):
+    """The reference runs (cvode-adams and ida at rtol 1e-12) run whatever ``integrators`` holds; a comparison of
+    leap-frog alone checked leap-frog's run only, built the graphs and ran the references into a memory they do not
+    fit. With memory for leap-frog's run but not for cvode-adams's (halfway between their estimates, which differ by
+    the 100 x 100 Jacobian and the solver vectors an implicit integrator keeps at n = 10), the comparison is refused
+    before any graph, naming n and the reference run; with memory for both references it goes on to build."""
+    n = 10
+    leapfrog = resources.estimate(n, len(TIMES), 0.0, "leapfrog", method=INTEGRATORS["leapfrog"]()).memory_bytes
+    references = [resources.estimate(n, len(TIMES), 0.0, name, method=INTEGRATORS[name](rtol=1e-12, atol=1e-15))
+                  .memory_bytes for name in ("cvode-adams", "ida")]
+    assert leapfrog < min(references)
+    monkeypatch.setenv(resources.MEMORY_ENV, str(int((leapfrog + references[0]) / 2)))
+    with pytest.raises(ParameterError, match=r"^n = 10 is outside integers 3\.\.") as refused:
+        work_precision("twisted-cylinder", ["leapfrog"], n=n, times=TIMES, log=lambda text: None)
+    assert "the reference cvode-adams run of the comparison needs about" in str(refused.value)
+    monkeypatch.setenv(resources.MEMORY_ENV, str(int(max(references) * 1.01)))
+    with pytest.raises(Built):
+        work_precision("twisted-cylinder", ["leapfrog"], n=n, times=TIMES, log=lambda text: None)
