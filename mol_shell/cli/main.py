@@ -69,7 +69,7 @@ from mol_shell.integrators.tolerances import ATOL_RANGE, Tolerances
 from mol_shell.results.dataset import write_netcdf
 from mol_shell.results.stresses import nan_stresses
 from mol_shell.runs.resources import LongRunWarning
-from mol_shell.runs.simulate import simulate
+from mol_shell.runs.simulate import NO_SPACE_FOR_STRESSES, simulate
 from mol_shell.scenes import SCENES, summary
 from mol_shell.scenes.files import scene_toml
 from mol_shell.scenes.listing import parameter_listing
@@ -100,8 +100,8 @@ def cmd_run(args):
     if nan:  # NaN in a run file is never unflagged: attrs["stresses"] says why, and so does this line
         print(f"mol-shell: note: {nan} of {total} stress samples (saved time x cell x face) are NaN; "
               f"attrs['stresses'] of {args.output} says why: {why}", file=sys.stderr)
-    if str(ds.attrs.get("stresses", "")).startswith("skipped"):
-        why = str(ds.attrs["stresses"])
+    why = str(ds.attrs.get("stresses", ""))
+    if why.startswith("skipped") and not why.startswith(NO_SPACE_FOR_STRESSES):  # that one warned already
         print(f"stresses {why}" + (" (or run with --stresses)" if "exceed the limit" in why else ""))
     return 0
 

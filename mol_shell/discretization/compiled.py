@@ -28,7 +28,7 @@ from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.units import show_seconds
 from mol_shell.discretization import kernel_cache
-from mol_shell.discretization.kernel_cache import CompilerError, CompilerMissing, cache_dir  # noqa: F401 (re-exported)
+from mol_shell.discretization.kernel_cache import CompilerError, CompilerMissing, cache_dir  # also re-exported
 from mol_shell.discretization.rk_driver import RK_DRIVER
 
 #: -fno-semantic-interposition lets gcc inline CasADi's exported helpers (``casadi_sq``; calls through the PLT
@@ -426,8 +426,9 @@ class CompiledFunctions:
         compile about twice as fast as at ``-O2`` (measured 6.8 s against 15 s for the
         n = 40 Jacobian) and run 4.4x faster than at ``-O0``.
     vm_without_gcc : bool
-        Without gcc on ``PATH`` (and nothing cached) keep the Functions in CasADi's virtual machine (``path`` None)
-        instead of refusing (:class:`CompilerMissing`): for callers that only evaluate them (the stresses).
+        Without a gcc on ``PATH`` that builds them (and nothing cached) keep the Functions in CasADi's virtual machine
+        (``path`` None) instead of refusing (:class:`CompilerError`): for callers that only evaluate them (the
+        stresses after a run, whose data a failing gcc must not cost).
 
     Attributes
     ----------
@@ -448,15 +449,17 @@ class CompiledFunctions:
         with tempfile.TemporaryDirectory() as tmp:
             gen.generate(tmp + os.sep)
             source = Path(tmp, "ms_funcs.c").read_text()
+        #: why the Functions run in CasADi's virtual machine (gcc missing or failing, vm_without_gcc), else None
+        self.vm_reason = None
         try:
             self.path, self.functions = load_cached(
                 source, "funcs", tuple(flags),
                 lambda path: {f.name(): ca.external(f.name(), str(path)) for f in functions},
                 what="functions " + ", ".join(f.name() for f in functions))
-        except CompilerMissing:  # vm_without_gcc: the Functions themselves, in CasADi's virtual machine (path None)
+        except CompilerError as exc:  # vm_without_gcc: the Functions themselves, in CasADi's VM (path None)
             if not vm_without_gcc:
                 raise
-            self.path, self.functions = None, {f.name(): f for f in functions}
+            self.path, self.functions, self.vm_reason = None, {f.name(): f for f in functions}, str(exc)
         self.compile_time_s = time.perf_counter() - start
 
     def evaluator(self, name):

@@ -12,17 +12,21 @@ another kernel copied onto the name is compiled again instead
 A cache shared by several users works with files it cannot write: the lock files are opened for reading
 (``flock`` needs no more) and ``builds.log`` is written where it can be. What the cache truly refuses (a full
 disk, a file it may not replace, a path CasADi cannot load from) is one :class:`ParameterError` naming
-``MOL_SHELL_CACHE``; a gcc that is missing or fails is a :class:`CompilerError` (exit 2 on the command line).
+``MOL_SHELL_CACHE`` (a full disk's a :class:`CacheFull`, which the stresses after a run catch: the run is kept); a gcc
+that is missing or fails is a :class:`CompilerError` (exit 2 on the command line). Whether gcc works at all, for a
+default that needs it, is :func:`gcc_problem` (a probe build, once per process).
 """
 
 from __future__ import annotations
 
 import contextlib
 import errno
+import functools
 import hashlib
 import os
 import re
 import shutil
+import subprocess
 import tempfile
 import time
 from pathlib import Path
@@ -64,8 +68,8 @@ class CompilerMissing(CompilerError):
     def __init__(self, what):
         super().__init__(
             f"gcc not found on PATH: building {what} needs a C compiler (install gcc, or add its folder to PATH); "
-            "without one leapfrog, dop853-c, rk45-c and casadi-cvodes-c cannot run, and the others need "
-            "jacobian=vm where they take a jacobian option (CasADi's virtual machine)")
+            "without one leapfrog, dop853-c, rk45-c and casadi-cvodes-c cannot run, and the others run in CasADi's "
+            "virtual machine (jacobian=vm where they take a jacobian option)")
 
 
 def _variable():
@@ -73,12 +77,16 @@ def _variable():
     return text, ("" if text else "the default cache; set MOL_SHELL_CACHE to a writable directory")
 
 
-def refusal(folder, problem, allowed=_ALLOWED):
-    """The :class:`ParameterError` that says ``MOL_SHELL_CACHE = folder <problem>`` (exit 2 on the command line);
-    ``folder`` as bytes when its path is not UTF-8 (shown as ``b'/tmp/lat\\xe9'``)."""
+class CacheFull(ParameterError):
+    """``MOL_SHELL_CACHE`` has no space left for a library: what can do without the library (the stresses after a
+    run, :func:`mol_shell.runs.simulate.simulate`) catches it by this class and goes on without."""
+
+
+def refusal(folder, problem, allowed=_ALLOWED, kind=ParameterError):
+    """The :class:`ParameterError` (``kind``) that says ``MOL_SHELL_CACHE = folder <problem>`` (exit 2 on the command
+    line); ``folder`` as bytes when its path is not UTF-8 (shown as ``b'/tmp/lat\\xe9'``)."""
     _, hint = _variable()
-    return ParameterError.invalid("MOL_SHELL_CACHE", folder if isinstance(folder, bytes) else str(folder), problem,
-                                  allowed, hint)
+    return kind.invalid("MOL_SHELL_CACHE", folder if isinstance(folder, bytes) else str(folder), problem, allowed, hint)
 
 
 def cache_dir():
@@ -109,21 +117,28 @@ def said_by_cache(exc, folder, doing):
     """A full disk, or a file the cache may not write, met while ``doing`` in ``folder``: the one-line
     :func:`refusal`; ``None`` for another error (raised as it is)."""
     if isinstance(exc, OSError) and exc.errno in _FULL:
-        return refusal(folder, f"has no space left on device ({doing})", "a writable directory with free space")
+        return refusal(folder, f"has no space left on device ({doing})", "a writable directory with free space",
+                       CacheFull)
     if isinstance(exc, OSError) and exc.errno in _REFUSED:
         where = f": {exc.filename}" if exc.filename else ""
         return refusal(folder, f"cannot be written ({doing}: {exc.strerror or exc}{where})")
     return None
 
 
-def compiler_failed(returncode, stderr, what, folder):
-    """gcc exited with ``returncode``: a :class:`CompilerError` with the last lines of its ``stderr`` (bytes), or the
-    cache's :func:`refusal` when it ran out of space."""
+def _tail(stderr):
+    """gcc's last lines (of ``stderr``, bytes) on one line, and whether they say that its disk is full."""
     lines = [line.strip() for line in (stderr or b"").decode(errors="replace").splitlines() if line.strip()]
     tail = " / ".join(line[:200] for line in lines[-3:]) or "no message"
-    if any("No space left on device" in line or "Disk quota exceeded" in line for line in lines):
+    return tail, any("No space left on device" in line or "Disk quota exceeded" in line for line in lines)
+
+
+def compiler_failed(returncode, stderr, what, folder):
+    """gcc exited with ``returncode``: a :class:`CompilerError` with the last lines of its ``stderr`` (bytes), or the
+    cache's :func:`refusal` (:class:`CacheFull`) when it ran out of space."""
+    tail, full = _tail(stderr)
+    if full:
         return refusal(folder, f"has no space left on device (gcc building {what}: {tail})",
-                       "a writable directory with free space (gcc writes its temporary files to TMPDIR, too)")
+                       "a writable directory with free space (gcc writes its temporary files to TMPDIR, too)", CacheFull)
     status = f"killed by signal {-returncode}" if returncode < 0 else f"exit status {returncode}"
     return CompilerError(f"gcc failed building {what} ({status}): {tail}")
 
@@ -251,3 +266,37 @@ def sweep(folder, now=None):
 def have_gcc():
     """Whether ``gcc`` is on ``PATH``."""
     return shutil.which("gcc") is not None
+
+
+#: seconds the probe of :func:`gcc_problem` may take (a gcc that hangs is one that does not work)
+PROBE_TIMEOUT = 60.0
+#: the probe's source: a library of one function, as the kernels are built (``-fPIC -shared``)
+_PROBE = "int ms_probe(void) { return 0; }\n"
+
+
+@functools.cache
+def _probe(gcc):
+    """Why the gcc at ``gcc`` cannot build a shared library (its last lines), or ``None`` where it can; once per
+    process and gcc (about 20 ms), in a temporary folder outside the cache."""
+    try:
+        with tempfile.TemporaryDirectory(prefix="mol_shell_probe.") as tmp:
+            src = Path(tmp, "probe.c")
+            src.write_text(_PROBE)
+            done = subprocess.run([gcc, "-fPIC", "-shared", str(src), "-o", str(Path(tmp, "probe.so"))],
+                                  stdin=subprocess.DEVNULL, capture_output=True, timeout=PROBE_TIMEOUT, check=False)
+    except subprocess.TimeoutExpired:
+        return f"gcc did not build a probe library in {PROBE_TIMEOUT:g} s"
+    except OSError as exc:
+        return f"gcc could not be run ({exc.strerror or exc})"
+    if done.returncode == 0:
+        return None
+    status = f"killed by signal {-done.returncode}" if done.returncode < 0 else f"exit status {done.returncode}"
+    return f"gcc failed building a probe library ({status}): {_tail(done.stderr)[0]}"
+
+
+def gcc_problem():
+    """Why no working gcc is at hand (``"gcc not found on PATH"``, or the failure of a probe build with gcc's last
+    lines), or ``None`` where ``gcc`` on ``PATH`` builds a shared library (:func:`_probe`, cached per process and
+    gcc): what decides a default that needs one (``jacobian``) before any kernel is built."""
+    gcc = shutil.which("gcc")
+    return "gcc not found on PATH" if gcc is None else _probe(gcc)

@@ -36,6 +36,7 @@ from mol_shell.discretization.dae import ShellDAE
 from mol_shell.discretization.loading import drive_kinks
 from mol_shell.integrators import loop
 from mol_shell.integrators.base import StepBudget
+from mol_shell.integrators.buildable import JACOBIAN_DEFAULT, resolve_jacobian
 from mol_shell.integrators.loop import choice, integers, interval, option
 from mol_shell.integrators.sundials import pieces
 from mol_shell.integrators.tolerances import Tolerances
@@ -90,7 +91,7 @@ class _ScipyStepper:
         if method.max_step:
             options["max_step"] = method.max_step
         if method.implicit:
-            parts = pieces(system, "cvode", method.jacobian)
+            parts = pieces(system, "cvode", resolve_jacobian(method.name, method.jacobian))
             jac, pattern = parts["jac"], parts["pattern"]
             indices, indptr = pattern.indices, pattern.indptr
 
@@ -186,11 +187,15 @@ class ScipyDOP853(ScipyRK45):
 class ScipyRadau(ScipyRK45):
     """``scipy.integrate.Radau`` (implicit Radau IIA, order 5) with the exact sparse Jacobian."""
 
-    jacobian: str = option("compiled", choice("compiled", "vm"))
+    jacobian: str = option(JACOBIAN_DEFAULT, choice("compiled", "vm"))
 
     name = "scipy-radau"
     solver = "Radau"
     implicit = True
+
+    def settings(self):
+        """The tolerances, and ``jacobian`` as the run used it (its default follows what gcc can build)."""
+        return {**super().settings(), "jacobian": resolve_jacobian(self.name, self.jacobian)}
 
 
 @dataclass(frozen=True)

@@ -44,11 +44,12 @@ import numpy as np  # noqa: E402
 
 from mol_shell._core.constants import DENSE_MAX_STATES, MIN_STEP, stated_up
 from mol_shell._core.errors import ModelLimitError, ParameterError  # noqa: E402
-from mol_shell.discretization.compiled import CompiledFunctions, buffered
+from mol_shell.discretization.compiled import CompiledFunctions, CompilerError, CompilerMissing, buffered
 from mol_shell.discretization.dae import ShellDAE
 from mol_shell.discretization.loading import drive_kinks
 from mol_shell.integrators import loop  # noqa: E402
 from mol_shell.integrators.base import StepBudget  # noqa: E402
+from mol_shell.integrators.buildable import JACOBIAN_DEFAULT, resolve_jacobian
 from mol_shell.integrators.loop import BOOL, Option, choice, integers, option, zero_or_at_least  # noqa: E402
 from mol_shell.integrators.tolerances import Tolerances  # noqa: E402
 
@@ -116,7 +117,13 @@ def _build_pieces(system, kind, jacobian):
         funcs = [ca.Function("ode_jacobian", [t, y], [ca.jacobian(system.rhs_newton_mapped(t, y), y)])]
     jac = funcs[-1]
     if jacobian == "compiled":
-        lib = CompiledFunctions(funcs)
+        try:
+            lib = CompiledFunctions(funcs)
+        except CompilerError as exc:  # given: the default is the VM's without a working gcc (buildable)
+            why = "gcc not found on PATH" if isinstance(exc, CompilerMissing) else str(exc)
+            allowed = "'vm' (CasADi's virtual machine) where gcc cannot build the Jacobian"
+            raise ParameterError("jacobian", jacobian, allowed, message=f"jacobian = 'compiled' cannot be built: "
+                                 f"{why}; allowed: {allowed}") from None
         out["library"] = lib  # the compiled route calls its C functions directly
         out["jac"] = lib.evaluator(jac.name())
         out["residual"] = lib.evaluator(funcs[0].name()) if kind == "ida" else None
@@ -151,7 +158,8 @@ class _Sundials(Tolerances):
         ``"auto"`` (dense up to 100 states, banded up to DENSE_MAX_STATES, sparse above), ``"dense"``,
         ``"band"`` or ``"sparse"``.
     jacobian : str
-        ``"compiled"`` (generated C, cached) or ``"vm"`` (CasADi's virtual machine, no compiler).
+        ``"compiled"`` (generated C, cached) or ``"vm"`` (CasADi's virtual machine, no compiler); the default,
+        ``"compiled"``, is ``"vm"`` where no working gcc can build it (:mod:`mol_shell.integrators.buildable`).
     constraints, events : bool
         Enforce ``r > 0`` (SUNDIALS constraints) and ``delta > 0``, ``|psi| < pi/2`` (events).
     max_order : int or None
@@ -164,7 +172,7 @@ class _Sundials(Tolerances):
     """
 
     linsolver: str = option("auto", choice("auto", "dense", "band", "sparse"))
-    jacobian: str = option("compiled", choice("compiled", "vm"))
+    jacobian: str = option(JACOBIAN_DEFAULT, choice("compiled", "vm"))
     constraints: bool = option(True, BOOL)
     events: bool = option(True, BOOL)
     max_order: int | None = option(None, Option("integers in [1, 12] (Adams), [1, 5] (BDF, IDA), or None",
@@ -186,7 +194,7 @@ class _Sundials(Tolerances):
     def settings(self):
         import sksundae  # imported when used: with scipy.optimize it is 0.28 s of every process's start
 
-        return {**self.tolerances(), "linsolver_option": self.linsolver, "jacobian": self.jacobian,
+        return {**self.tolerances(), "linsolver_option": self.linsolver, "jacobian": self.jacobian_used(),
                 "sksundae_version": sksundae.__version__}
 
     def choose_linsolver(self, size):
@@ -207,13 +215,17 @@ class _Sundials(Tolerances):
         return 1 if self.linsolver == "band" else 0
 
     # -- running -----------------------------------------------------------------------------
+    def jacobian_used(self):
+        """``jacobian`` as this run uses it: the default follows what gcc can build (:func:`resolve_jacobian`)."""
+        return resolve_jacobian(self.name, self.jacobian)
+
     def integrate(self, system, compiled, y0, times, *, progress=None):
         """Run from ``times[0]`` through ``times``; returns a :class:`Trajectory` of ``(q, p)`` states."""
-        pieces(system, self.kind, self.jacobian)  # built (and compiled) before the run is timed
+        pieces(system, self.kind, self.jacobian_used())  # built (and compiled) before the run is timed
         return loop.run(self, system, compiled, y0, times, progress=progress)
 
     def start(self, system, compiled, y0, times, monitor):
-        return _Run(self, system, compiled, pieces(system, self.kind, self.jacobian), y0).begin(times)
+        return _Run(self, system, compiled, pieces(system, self.kind, self.jacobian_used()), y0).begin(times)
 
     def solver_options(self, system, parts, y0, run):
         size = system.size

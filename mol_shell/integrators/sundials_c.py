@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import ctypes
 import dataclasses
-import shutil
 import sys
 from dataclasses import dataclass
 
@@ -21,6 +20,7 @@ import casadi as ca
 import numpy as np
 
 from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell.discretization import kernel_cache
 from mol_shell.discretization import sundials_driver as drv
 from mol_shell.discretization.loading import drive_kinks
 from mol_shell.integrators import sundials
@@ -143,6 +143,9 @@ class _Compiled:
     def start(self, system, compiled, y0, times, monitor):
         try:
             drv.driver()
+            residual = (self.parts(system) or {}).get("library")
+            if residual is not None and residual.path is None:  # a cached driver, and a gcc that fails on the residual
+                raise drv.DriverUnavailable(residual.vm_reason)
         except drv.DriverUnavailable as exc:
             report_fallback(self.name, str(exc))
             return self.python_route().start(system, compiled, y0, times, monitor)
@@ -154,8 +157,9 @@ class _Compiled:
         base = next(c for c in type(self).__mro__ if c.__module__ == sundials.__name__ and hasattr(c, "make_solver")
                     and "name" in c.__dict__)
         common = {f.name: getattr(self, f.name) for f in dataclasses.fields(base)}
-        if self.jacobian in ("auto", "dq"):  # scikit-sundae's route has no difference quotients
-            common["jacobian"] = "compiled" if shutil.which("gcc") else "vm"
+        if self.jacobian in ("auto", "dq"):  # scikit-sundae's route has no difference quotients; a gcc on PATH
+            # that fails (the driver's reason, said) builds no compiled Jacobian either: a probe tells
+            common["jacobian"] = "vm" if kernel_cache.gcc_problem() else "compiled"
         common["linsolver"] = common["linsolver"].replace("lapack-", "")
         return base(**common)
 

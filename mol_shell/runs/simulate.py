@@ -12,6 +12,7 @@ import numpy as np
 from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: simulate's range)
 from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning, is_number, scalar
 from mol_shell._core.progress import progress_mode, time_meter
+from mol_shell.discretization.kernel_cache import CacheFull
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
 from mol_shell.integrators.tolerances import ATOL_RANGE, atol_ok
@@ -276,8 +277,27 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     ds = _scene_warnings(scene, ds)
     ds = check_ellipticity(system, ds)
     if stresses is not False:
-        ds = add_stresses(ds, limit=None if stresses else MAX_SAMPLES)
+        ds = _with_stresses(ds, limit=None if stresses else MAX_SAMPLES)
     return ds
+
+
+#: how ``attrs["stresses"]`` of a run begins whose stresses' kernel found no space in ``MOL_SHELL_CACHE``
+NO_SPACE_FOR_STRESSES = "skipped: no space for the stresses' kernel in MOL_SHELL_CACHE"
+
+
+def _with_stresses(ds, limit):
+    """``ds`` with its stresses (:func:`add_stresses`); where ``MOL_SHELL_CACHE`` has no space left to build their
+    kernel (:class:`CacheFull`), ``ds`` without them, ``attrs["stresses"]`` and one warning saying why: the run's data
+    are kept (they were lost with the error), and ``mol_shell.add_stresses`` adds the stresses once there is space."""
+    try:
+        return add_stresses(ds, limit=limit)
+    except CacheFull as exc:
+        where = f"{NO_SPACE_FOR_STRESSES} = {exc.value!r} (no space left on device)"
+        out = ds.copy()
+        out.attrs["stresses"] = f"{where}; mol_shell.add_stresses(ds) adds them once there is space"
+        warnings.warn(f"stresses not computed: {where.removeprefix('skipped: ')}; the run is kept without them "
+                      "(mol_shell.add_stresses adds them once there is space)", UserWarning, stacklevel=3)
+        return out
 
 
 def _check_max_step(method, t_end):

@@ -22,7 +22,6 @@ step per saved time, at that time.
 from __future__ import annotations
 
 import os
-from contextlib import contextmanager
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
@@ -31,6 +30,7 @@ import numpy as np
 from mol_shell._core.atomic import keep_inputs, staged
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import check_lengths, writable_path
+from mol_shell._core.write_aside import WriteAside
 from mol_shell.views.fields import (
     azimuths,
     face_depths,
@@ -92,17 +92,6 @@ def mesh_series(ds, n_phi=N_PHI, faces=False):
     return quads(n, n_phi, surfaces), reference, steps()
 
 
-@contextmanager
-def _working_directory(folder):
-    """meshio's XDMF writer puts its HDF5 file in the working directory: write from the target's folder."""
-    here = os.getcwd()
-    os.chdir(folder)
-    try:
-        yield
-    finally:
-        os.chdir(here)
-
-
 #: gzip level of the HDF5 data of an XDMF export (with byte shuffling: the data repeat along each circle of
 #: points, so they shrink about 6x; every HDF5 reader, ParaView's included, decompresses them)
 H5_GZIP = 4
@@ -134,19 +123,32 @@ def companion_files(path, steps):
 
 def write_xdmf(path, times, cells, reference, steps):
     """XDMF 3 temporal collection through :class:`meshio.xdmf.TimeSeriesWriter`: the reference mesh once, then
-    each step's point and cell data (``displacement`` among them); data in ``<stem>.h5``, compressed."""
+    each step's point and cell data (``displacement`` among them); data in ``<stem>.h5``, compressed.
+
+    The HDF5 file is written through a :class:`~mol_shell._core.write_aside.WriteAside` (what meshio would open by its
+    name): on a full disk HDF5 never sees a failed write, so its objects close cleanly (they retried the write at
+    every release, thousands of tracebacks, then a segmentation fault at exit), and the failure is raised at the next
+    step (the staging, :func:`mol_shell._core.atomic.staged`, says it in one line naming ``-o``)."""
+    import h5py
     import meshio
 
     path = Path(path).resolve()
-    with _working_directory(path.parent):
-        with meshio.xdmf.TimeSeriesWriter(path.name) as writer:
+    h5_path = companion_files(path, 0)[0]
+    writer = meshio.xdmf.TimeSeriesWriter(path)
+    with WriteAside(h5_path) as data:
+        with h5py.File(data, "w") as h5:
+            writer.h5_filename, writer.h5_file = h5_path.name, h5  # as the writer's __enter__ opens it, by name
             # the writer makes its datasets with the file's create_dataset: give the large ones compression
-            writer.h5_file.create_dataset = _compressing(writer.h5_file.create_dataset)
+            h5.create_dataset = _compressing(h5.create_dataset)
             writer.write_points_cells(reference, [("quad", cells)])
+            data.check()
             for t, (_, point_data, cell_data) in zip(times, steps):
                 writer.write_data(repr(float(t)), point_data=point_data,
                                   cell_data={name: [v] for name, v in cell_data.items()})
-    return [path, *companion_files(path, 0)]
+                data.check()  # a full disk ends the export here
+        data.check()  # what HDF5 flushed at its close
+    writer.__exit__(None, None, None)  # the XDMF file (the HDF5 file is closed already: closing it again is nothing)
+    return [path, h5_path]
 
 
 def write_pvd(path, times, cells, reference, steps):
