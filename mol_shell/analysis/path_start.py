@@ -67,13 +67,12 @@ def checked_path(ds, name="ds", shown=None):
     return ds
 
 
-def path_scene(ds, value, names=FLAGS):
-    """The scene of path ``ds`` (its name and parameters from the attrs) with the continued load at ``value``
-    (``names``: :data:`FLAGS` or :data:`KEYWORDS`, how a refusal names the path)."""
-    name = str(ds.attrs["scene"])
-    if name not in SCENES:
-        raise ParameterError.invalid(names["ds"], name, "names no registered scene", ALLOWED)
-    fields = {f.name for f in dataclasses.fields(SCENES[name])}
+def scene_params(ds):
+    """``{name: value}``: the parameters of the scene of a path or run file ``ds`` (a registered scene's, its
+    ``attrs["scene"]``) as they were asked for, from its attrs: those left to the code (``NAME_requested = "auto"``)
+    ``None`` again, those run with the opposite sign (a vessel drawn down) as given, a law renamed since by its name
+    now."""
+    fields = {f.name for f in dataclasses.fields(SCENES[str(ds.attrs["scene"])])}
     params = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in ds.attrs.items() if k in fields}
     for k in fields & params.keys():  # left to the code when the path was traced (stored as the values used): again
         if ds.attrs.get(f"{k}_requested") == "auto":
@@ -87,6 +86,17 @@ def path_scene(ds, value, names=FLAGS):
         params["material"] = renamed_law(params["material"], version)
     if params.get("layers"):
         params["layers"] = renamed_layers(params["layers"], version)
+    return params
+
+
+def path_scene(ds, value, names=FLAGS):
+    """The scene of path ``ds`` (its name and parameters from the attrs: :func:`scene_params`) with the continued
+    load at ``value`` (``names``: :data:`FLAGS` or :data:`KEYWORDS`, how a refusal names the path)."""
+    name = str(ds.attrs["scene"])
+    if name not in SCENES:
+        raise ParameterError.invalid(names["ds"], name, "names no registered scene", ALLOWED)
+    fields = {f.name for f in dataclasses.fields(SCENES[name])}
+    params = scene_params(ds)
     params[str(ds.attrs["parameter"])] = float(value)
     if str(ds.attrs["parameter"]) + "_history" in fields:  # the path's states are at rest under a constant load
         params[str(ds.attrs["parameter"]) + "_history"] = "constant"

@@ -27,7 +27,7 @@ from mol_shell.results.dataset import NETCDF_SUFFIXES  # noqa: F401 (the outputs
 from mol_shell.runs.resources import check_saved_times
 from mol_shell.runs.simulate import check_options, integrator_options
 from mol_shell.scenes import SCENES, get_scene
-from mol_shell.scenes.files import check_run_together, load_scene
+from mol_shell.scenes.files import FILE_KEYS, check_run_together, load_scene
 
 #: exit codes: an internal error (a bug), bad input, a run stopped at a model limit, Ctrl-C, and the reader of
 #: the output gone (``mol-shell scenes | head -1``: 128 + SIGPIPE, as a command the pipe stopped)
@@ -392,35 +392,86 @@ def input_files(args):
 
 
 def scene_file_inputs(path, skip=()):
-    """``{"FILE.toml: [table] key": file}``: the files scene file ``path`` names, each string value (in any table,
-    inline table or array) that names an existing file where the scene reads it, relative to the scene file's folder
-    (:func:`mol_shell.scenes.files.load_scene`: a meridian's ``points``), but those of the keys ``skip`` (replaced
-    by ``--set``). A scene file that cannot be read or parsed names none here: the command refuses it by name when
-    it loads it."""
+    """``{"FILE.toml: [table] key": file}``: the files scene file ``path`` names, the values of its keys that name
+    files (:data:`~mol_shell.scenes.files.FILE_KEYS`: a meridian's ``points``, in whatever table it stands) where they
+    name an existing file, relative to the scene file's folder as :func:`~mol_shell.scenes.files.load_scene` reads
+    them, but those of the keys ``skip`` (replaced by ``--set``). Other strings (a history's table, a law's name) are
+    no paths: a long one was taken as one and raised ``File name too long``. A scene file that cannot be read or
+    parsed, or a path that cannot be (``~nosuchuser/p.txt``), names none here: the command refuses it by name when it
+    loads it."""
     try:
         path = Path(os.fspath(path)).expanduser()
         data = tomllib.loads(path.read_bytes().decode("utf-8-sig"))
-    except (OSError, TypeError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+    except (OSError, TypeError, ValueError, RuntimeError, UnicodeDecodeError, tomllib.TOMLDecodeError):
         return {}
-    pending = []  # (where, value): "[table] key" (a [[table]]'s too), or a key outside the tables
-    for name, value in data.items():
-        if isinstance(value, dict):
-            pending += [(f"[{name}] {key}", v) for key, v in value.items() if key not in skip]
-        elif isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
-            pending += [(f"[[{name}]] {key}", v) for table in value for key, v in table.items() if key not in skip]
-        else:
-            pending.append((name, value))
+    pending = [(name, table) for name, table in data.items() if isinstance(table, dict)]
+    pending += [(f"[{name}]", table) for name, tables in data.items() if isinstance(tables, list)
+                for table in tables if isinstance(table, dict)]
+    pending.append(("", data))
     files = {}
-    while pending:
-        where, value = pending.pop()
-        if isinstance(value, (dict, list)):  # an inline table's or an array's strings: said as their key
-            pending += [(where, v) for v in (value.values() if isinstance(value, dict) else value)]
-        elif isinstance(value, str) and value.strip():
-            named = Path(value.strip()).expanduser()
-            named = named if named.is_absolute() else path.parent / named
-            if named.is_file():
-                files[f"{path}: {where}"] = str(named)
+    for name, table in pending:
+        for key in FILE_KEYS:
+            value = table.get(key)
+            if key in skip or not isinstance(value, str) or not value.strip():
+                continue
+            try:
+                named = Path(value.strip()).expanduser()
+                named = named if named.is_absolute() else path.parent / named
+                if named.is_file():
+                    files[f"{path}: " + (f"[{name}] {key}" if name else key)] = str(named)
+            except (OSError, ValueError, RuntimeError):  # no path the scene can read either: refused as it loads it
+                continue
     return files
+
+
+#: the ``[run]`` keys of a scene file each command reads (``None``: all of them); a command not listed reads no value
+#: of the file as given (stability runs cases of its own)
+FILE_VALUES_READ = {"run": None, "study": None, "path": ("n",), "modes": ("n",), "compare": ("n", "t_end", "times")}
+#: the command line's options that replace a ``[run]`` key of a scene file (``--t-end`` and ``--times`` both)
+RUN_FLAGS = {"n": ("n",), "dt": ("dt",), "rtol": ("rtol",), "atol": ("atol",), "max_step": ("max_step",),
+             "integrator": ("integrator",), "t_end": ("t_end", "times"), "times": ("t_end", "times")}
+
+
+def _file_keys(path):
+    """``{key: table}`` of the keys scene file ``path`` sets in its tables (``{}`` where it cannot be read)."""
+    try:
+        data = tomllib.loads(Path(path).read_bytes().decode("utf-8-sig"))
+    except (OSError, ValueError, UnicodeDecodeError):
+        return {}
+    return {key: name for name, table in data.items() if isinstance(table, dict) for key in table}
+
+
+def _replaced(args):
+    """The scene parameters and ``[run]`` keys the command line gives in place of a scene file's: ``--set``,
+    ``--vary``, ``--param``/``--path`` (the continued load), ``--option`` and the run's flags."""
+    names = {item.partition("=")[0].strip() for option in ("set", "vary", "option")
+             for item in getattr(args, option, None) or []}
+    names |= {str(getattr(args, option)).partition("=")[0].strip() for option in ("param", "path")
+              if isinstance(getattr(args, option, None), str)}
+    names |= {"material_parameters"} if any(name.startswith("material.") for name in names) else set()
+    return names | {key for key, flags in RUN_FLAGS.items() if any(getattr(args, f, None) is not None for f in flags)}
+
+
+def said_with_the_file(args, exc):
+    """``exc`` said with the scene file, table and key where it refuses a value the command's scene file set (a step
+    ``[run] dt`` beyond the stability bound, ``[edges] end1 = 'clamped'`` on a closed shell, a ``[loads]`` pressure
+    without an equilibrium: found as it runs, they named the key alone), as the file's own refusals are said; else
+    ``exc`` as it is (a value the command line set, a refusal that names the file already)."""
+    scene, command = getattr(args, "scene", None), getattr(args, "command", None)
+    if not (isinstance(scene, str) and scene.endswith(".toml") and command in FILE_VALUES_READ
+            and isinstance(exc.name, str)):
+        return exc
+    try:
+        shown = str(Path(scene).expanduser())
+    except RuntimeError:
+        return exc
+    text, table = str(exc), _file_keys(shown).get(exc.name)
+    read = FILE_VALUES_READ[command]
+    if (table is None or text.startswith(f"{shown}: ") or exc.name in _replaced(args)
+            or (table == "run" and read is not None and exc.name not in read)):
+        return exc
+    said = text if text.startswith(f"{exc.name} ") else f"{exc.name}: {text}"
+    return ParameterError(exc.name, exc.value, exc.range or exc.allowed, message=f"{shown}: [{table}] {said}")
 
 
 def check_outputs(args, paths=(), name="-o", value=None):

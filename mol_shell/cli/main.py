@@ -29,6 +29,7 @@ from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, by_interrupt, show
 from mol_shell._core.paths import writable_path
 from mol_shell._core.version import __version__
+from mol_shell.analysis.run_scene import read_run_toml
 from mol_shell.cli.analysis import register_compare, register_modes, register_stability
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
@@ -49,6 +50,7 @@ from mol_shell.cli.args import (
     parse_atol,
     plural,
     run_settings,
+    said_with_the_file,
     say_stand_ins,
 )
 from mol_shell.cli.path import (
@@ -175,8 +177,16 @@ def cmd_scenes(args):
             print(f"{name:18s} {summary(cls)}")
         print("mol-shell scenes NAME lists a scene's parameters; set them with --set NAME=VALUE")
         return 0
+    if args.name not in SCENES and (os.path.splitext(args.name)[1].lower().lstrip(".") in NETCDF_SUFFIXES
+                                    or os.path.isfile(args.name)):  # a run file: a scene file that runs it again
+        if not args.toml:
+            raise ParameterError("--toml", False, "--toml with a run file", message=f"give mol-shell scenes "
+                                 f"{args.name} --toml: a run file is written back as a scene file")
+        print(read_run_toml(args.name), end="")
+        return 0
     if args.name not in SCENES:
-        raise ParameterError("scene", args.name, "{" + ", ".join(sorted(SCENES)) + "}")
+        raise ParameterError("scene", args.name, "{" + ", ".join(sorted(SCENES)) + "} (or a run file RUN.nc, "
+                             "with --toml)")
     cls = SCENES[args.name]
     if args.toml:
         print(scene_toml(cls), end="")
@@ -229,8 +239,9 @@ def make_parser():
     add_start_options(run, perturb=True)
     run.set_defaults(func=cmd_run, output_suffixes=NETCDF_SUFFIXES)
     scenes = sub.add_parser("scenes", help="the built-in scenes, or one scene's parameters with units and defaults")
-    scenes.add_argument("name", nargs="?", default=None, help="a scene to describe")
-    scenes.add_argument("--toml", action="store_true", help="print the scene's defaults as a scene file to start from")
+    scenes.add_argument("name", nargs="?", default=None, help="a scene to describe, or a run file RUN.nc (with --toml)")
+    scenes.add_argument("--toml", action="store_true", help="print the scene's defaults as a scene file to start from; "
+                        "of a run file RUN.nc, a scene file whose run (mol-shell run FILE.toml) runs it again")
     scenes.set_defaults(func=cmd_scenes)
     plot = sub.add_parser("plot", help="the paper's figures 4-8 (unloaded cylinders), the deformed meridian with the "
                           "radius and the energy-work balance over time (other shells, pressurised ones), figure 1 "
@@ -373,7 +384,7 @@ def _command(argv):
         return _reader_gone()
     except ParameterError as exc:
         _remove_empty(created)
-        print(f"mol-shell: error: {exc}", file=sys.stderr)
+        print(f"mol-shell: error: {said_with_the_file(args, exc)}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt as exc:  # its text: what was kept ("after writing run.nc": a write is never cut short)
         print(f"mol-shell: {_interrupted()}{' ' if str(exc) else ''}{exc}", file=sys.stderr)

@@ -356,8 +356,13 @@ def read_points(path, name="points", with_lines=False):
     each row (for :class:`PointsMeridian`'s messages).
     """
     allowed = "a text file with two columns r z (m), at least 4 rows"
-    p = Path(str(path)).expanduser()
-    if not p.is_file():
+    try:
+        p = Path(str(path)).expanduser()
+        found = p.is_file()
+    except (OSError, RuntimeError) as exc:  # a name too long for the file system; ~nosuchuser/p.txt
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else "no user's home directory"
+        raise ParameterError.invalid(name, str(path), f"is not a readable file ({reason})", allowed) from None
+    if not found:
         raise ParameterError.invalid(name, str(path), "is not a readable file", allowed)
     try:
         text = p.read_text()

@@ -55,6 +55,28 @@ def parse_history(name, spec, rate=False):
     return parsed
 
 
+def number_text(value):
+    """A number as a history's normal form writes it: the shortest text that reads back as the same float, in plain
+    or exponent notation, whichever is shorter (``0``, ``0.001``, ``1``, ``100``, ``1e+12``, ``1e-05``)."""
+    value = float(value)
+    plain = repr(value).removesuffix(".0")
+    short = next(text for text in (f"{value:.{p}g}" for p in range(1, 18)) if float(text) == value)
+    return short if len(short) < len(plain) else plain
+
+
+def normal_history(name, spec, rate=False):
+    """History ``spec`` checked (:func:`parse_history`) and written in one normal form: the kind in lower case, each
+    number by :func:`number_text`, one space between (``"table 0:0 0.001:1"`` whether it was typed so, as
+    ``"Table 0.0:0.0, 1e-3:1.0"`` or came from a scene file's inline table), so equal histories are equal strings
+    (a study's cases, a run file's attrs). ``None`` stays ``None`` (constant)."""
+    kind, data = parse_history(name, spec, rate=rate)
+    if spec is None:
+        return None
+    if kind == "table":
+        return "table " + " ".join(f"{number_text(t)}:{number_text(h)}" for t, h in zip(*data))
+    return " ".join([kind, *map(number_text, data)])
+
+
 def _parse_history(name, spec):
     if spec is None:
         return ("constant", ())

@@ -325,6 +325,8 @@ def check_nodes(n):
     """``n`` must be an integer >= 3 (checked here too, so estimates never see anything else)."""
     if not (isinstance(n, (int, np.integer)) and not isinstance(n, (bool, np.bool_)) and n >= 3):
         raise ParameterError("n", n, "integers >= 3")
+    if n > np.iinfo(np.int64).max:  # beyond NumPy's indices (and the floats' range: the estimates raised OverflowError)
+        raise ParameterError("n", n, f"integers in [3, {np.iinfo(np.int64).max:,}] (NumPy's 64-bit indices)")
 
 
 def check_saved_times(count, n, *, name="--times", value=None, integrator="leapfrog"):

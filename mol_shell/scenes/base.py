@@ -28,7 +28,7 @@ from mol_shell.model.laws import (
     resolve_material,
 )
 from mol_shell.model.layers import MAX_LAYERS, layer_word, layers_text, parse_layers
-from mol_shell.model.loads import parse_history
+from mol_shell.model.loads import normal_history, parse_history
 from mol_shell.model.material import centroidal_offset
 from mol_shell.model.thickness_profile import check_profile_fits, thickness_function
 from mol_shell.model.wall_parameters import check_layer_parameters, checked_material_parameters
@@ -301,8 +301,9 @@ class ShellScene:
             _check(name, getattr(self, name), finite(UNITS[name]))
         for load in LOADS + DRIVES:
             _check(load, getattr(self, load), non_negative(UNITS[load]) if load == "drag" else finite(UNITS[load]))
-            if load != "drag":
-                parse_history(load + "_history", getattr(self, load + "_history"), rate=load in DRIVES)
+            if load != "drag":  # in one normal form: a file's inline table and the string typed are one history
+                object.__setattr__(self, f"{load}_history", normal_history(f"{load}_history", getattr(
+                    self, f"{load}_history"), rate=load in DRIVES))
         try:
             self._validate()
             self._check_displacements()

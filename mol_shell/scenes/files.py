@@ -36,7 +36,6 @@ Every refusal is a :class:`~mol_shell._core.errors.ParameterError` of one line t
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 import os
 import sys
@@ -51,6 +50,8 @@ from mol_shell.model.layers import LAYER_KEYS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES, summary
 from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS, ShellScene, describe
+from mol_shell.scenes.file_values import FLOAT_MAX, toml_spelled, toml_value, too_large
+from mol_shell.scenes.file_values import fail as _fail
 from mol_shell.scenes.setting import with_params
 
 if sys.version_info >= (3, 11):
@@ -67,6 +68,10 @@ EDGES = ("end1", "end2") + DRIVES + DISPLACEMENTS + ("end_omega",)
 FLAGS = tuple(f.name for f in dataclasses.fields(ShellScene) if f.type in (bool, "bool"))
 #: the keys of ``[run]``: defaults of ``mol-shell run`` (``simulate``'s keywords)
 RUN = ("integrator", "n", "t_end", "times", "dt", "rtol", "atol", "max_step")
+#: the keys whose value names a file (read relative to the scene file's folder): the only strings taken as paths
+FILE_KEYS = ("points",)
+#: the keys of ``[run]`` and every integrator's options: said to belong in ``[run]`` where a file puts them elsewhere
+RUN_KEYS = frozenset(RUN).union(*(declared(cls) for cls in INTEGRATORS.values()))
 HISTORY_FORMS = {"constant": (), "step": ("t0",), "ramp": ("t1",), "sine": ("f",), "table": ("t", "h")}
 HISTORY_TABLES = ('{kind = "constant"}, {kind = "step", t0 = T0}, {kind = "ramp", t1 = T1}, {kind = "sine", f = F}, '
                   '{kind = "table", t = [t0, t1, ...], h = [h0, h1, ...]}, or the strings ' + HISTORY_ALLOWED)
@@ -83,35 +88,6 @@ def table_of(cls, name):
         if base in names:
             return table
     return "geometry"
-
-
-def _fail(source, table, exc_or_message, name=None, value=None):
-    """A ParameterError whose message is prefixed with the file and the table."""
-    where = f"{source}: " + (f"[{table}] " if table else "")
-    if isinstance(exc_or_message, ParameterError):
-        exc = exc_or_message
-        return ParameterError(exc.name, exc.value, exc.range or exc.allowed, message=where + str(exc))
-    return ParameterError(name, value, "", message=where + exc_or_message)
-
-
-def toml_value(value):
-    """``value`` as TOML text: ``"auto"`` for ``None``, strings, booleans, numbers, flat lists and inline tables."""
-    if value is None:
-        return '"auto"'
-    if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False)
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if is_number(value):
-        value = value.item() if hasattr(value, "item") else value
-        if isinstance(value, float) and not math.isfinite(value):
-            return "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
-        return repr(value)
-    if isinstance(value, dict):
-        return "{" + ", ".join(f"{k} = {toml_value(v)}" for k, v in value.items()) + "}"
-    if isinstance(value, (list, tuple)):
-        return "[" + ", ".join(toml_value(v) for v in value) + "]"
-    return show(value)
 
 
 def history_text(name, value):
@@ -179,7 +155,7 @@ def _layer_tables(source, layers):
                 if key in FLAGS and not isinstance(value, bool):
                     raise ParameterError.not_a(key, value, "a TOML boolean", "{true, false}")
             except ParameterError as exc:
-                raise ParameterError(exc.name, exc.value, exc.range or exc.allowed, message=where + str(exc)) from None
+                raise ParameterError(exc.name, exc.value, exc.range or exc.allowed, message=where + toml_spelled(exc)) from None
     return layers
 
 
@@ -191,8 +167,13 @@ def _convert(cls, field, value, folder):
         return None
     if field.name.endswith("_history"):
         return history_text(field.name, value)
-    if field.name == "points" and isinstance(value, str) and value.strip():
-        path = Path(value).expanduser()
+    if field.name in FILE_KEYS and isinstance(value, str) and value.strip():
+        try:
+            path = Path(value).expanduser()
+        except RuntimeError:  # ~nosuchuser/p.txt
+            raise ParameterError.invalid(field.name, value, f"starts with {value.split('/')[0]}, which is no user's "
+                                         "home directory", "a file path, relative to the scene file's folder, or "
+                                         "~/... in your home directory") from None
         return str(path if path.is_absolute() else folder / path)
     if "float" in kind and is_number(value) and not isinstance(value, float):
         return float(value)
@@ -207,16 +188,21 @@ def _type_ok(field, value):
             or ("str" in kind and isinstance(value, str)) or (kind == "bool" and isinstance(value, bool)))
 
 
-def _run_options(source, run, together=True):
+def _run_options(source, run, together=True, cls=None):
     """The ``[run]`` table checked: ``{name: value}`` with ``simulate``'s keyword names; ``together``: also the
-    integrator's checks across its options (the command line makes them after its own options are applied)."""
+    integrator's checks across its options (the command line makes them after its own options are applied); ``cls``:
+    the scene class, whose parameters are said to belong in their tables."""
     out = {}
+    fields = {f.name for f in dataclasses.fields(cls)} if cls is not None else set()
 
     def positive(key, value, low=0.0, high=math.inf, closed=False, unit=" s"):
         allowed = f"{'[' if closed else '('}{low:g}, {high:g}){unit}"
         if not is_number(value):
             raise _fail(source, "run", ParameterError.not_a(key, value, "a number", allowed))
         number = real(value)  # an integer beyond the floats' range as inf (math.isfinite raised on it)
+        if isinstance(value, int) and not math.isfinite(number):
+            raise _fail(source, "run", ParameterError.invalid(key, value, "is beyond the floats' range (magnitude up "
+                                                              f"to {FLOAT_MAX:.4g})", allowed))
         if not (math.isfinite(number) and (number >= low if closed else number > low) and number < high):
             raise _fail(source, "run", ParameterError(key, value, allowed))
         return number
@@ -230,6 +216,8 @@ def _run_options(source, run, together=True):
                 raise _fail(source, "run", refusal(key, value, extra[key]))
             out[key] = value
             continue
+        if key not in RUN and key in fields:
+            raise _fail(source, "run", f"{key} belongs in [{table_of(cls, key)}], not [run]", key, value)
         if key not in RUN:
             others = f", and the options of {integrator}: {', '.join(sorted(set(extra) - set(RUN)))}" if extra else ""
             raise _fail(source, "run", f"{key} is not a key of [run]; allowed: {', '.join(RUN)}{others}", key, value)
@@ -245,10 +233,13 @@ def _run_options(source, run, together=True):
             allowed = "increasing finite times starting at 0 (s), at least two"
             if not (isinstance(value, list) and all(map(is_number, value))):
                 raise _fail(source, "run", ParameterError.not_a(key, value, "a list of numbers", allowed))
-            value = [float(v) for v in value]
+            given, value = value, [real(v) for v in value]  # an integer beyond the floats' range: inf, not finite
             if len(value) < 2 or value[0] != 0 or not all(map(math.isfinite, value)) or any(
                     b <= a for a, b in zip(value, value[1:])):
-                raise _fail(source, "run", ParameterError(key, value, allowed))
+                huge = [v for v in given if isinstance(v, int) and abs(v) > FLOAT_MAX]
+                raise _fail(source, "run", ParameterError.invalid(key, given, f"holds {show(huge[0])}, beyond the "
+                                                                  f"floats' range", allowed) if huge else
+                            ParameterError(key, value, allowed))
         elif key == "rtol":
             value = positive(key, value, *RTOL_RANGE, closed=True, unit="")
         elif key == "atol" and isinstance(value, dict):
@@ -298,6 +289,7 @@ def scene_from_dict(data, source="<scene file>", folder=".", together=True, over
     fields = {f.name: f for f in dataclasses.fields(cls)}
     tables = ", ".join(f"[{t}]" for t in TABLES)
     given, where = {}, {}
+    too_large(source, cls, data, TABLES)
     if "layer" in data and "layers" in fields:  # [[layer]] tables: a layered wall (mol_shell.model.layers)
         data = dict(data)
         if isinstance(data.get("material"), dict) and "layers" in data["material"]:
@@ -310,6 +302,11 @@ def scene_from_dict(data, source="<scene file>", folder=".", together=True, over
         if key == "layers" and isinstance(table, list) and all(isinstance(x, dict) for x in table):  # [[layers]]
             raise _fail(source, None, "[[layers]] tables are not read; allowed: [[layer]] tables, one per layer "
                         "(or layers = 'T MATERIAL ...; ...' in [material])", key, table)
+        if key in TABLES and isinstance(table, list) and table and all(isinstance(x, dict) for x in table):
+            raise _fail(source, None, f"{key} is an array of tables ([[{key}]]); allowed: [{key}], one table (a "
+                        f"single [{key}] header, its keys under it)", key, table)
+        if key in RUN_KEYS and key not in fields:
+            raise _fail(source, None, f"{key} = {toml_value(table)} belongs in [run]", key, table)
         if key in fields and not (key in TABLES and isinstance(table, dict)):  # material is both
             raise _fail(source, None, f"{key} = {toml_value(table)} belongs in [{table_of(cls, key)}]", key, table)
         if key not in TABLES:
@@ -322,6 +319,8 @@ def scene_from_dict(data, source="<scene file>", folder=".", together=True, over
             continue
         takes = [f for f in fields if table_of(cls, f) == key]
         for param, value in table.items():
+            if param in RUN_KEYS and param not in fields:
+                raise _fail(source, key, f"{param} belongs in [run], not [{key}]", param, value)
             if param not in fields:
                 raise _fail(source, key, f"{param} is not a parameter of scene {name}; allowed: "
                             + (", ".join(takes) or f"none ([{key}] of {name} is empty)"), param, value)
@@ -337,7 +336,7 @@ def scene_from_dict(data, source="<scene file>", folder=".", together=True, over
             except ParameterError as exc:
                 raise _fail(source, key, exc) from None
             where[param] = key
-    run = _run_options(source, data.get("run", {}), together)
+    run = _run_options(source, data.get("run", {}), together, cls)
     try:
         scene = with_params(cls(), {**given, **overrides}) if overrides else cls(**given)
     except ParameterError as exc:
@@ -382,9 +381,14 @@ def load_scene(path, *, with_run=False, together=True, overrides=None):
     """
     with_run, together = flag("with_run", with_run), flag("together", together)  # "no" was taken as True
     try:
-        path = Path(os.fspath(path)).expanduser()
+        path = Path(os.fspath(path))
     except TypeError:
         raise ParameterError.not_a("scene file", path, "a file path", "a readable TOML file") from None
+    try:
+        path = path.expanduser()
+    except RuntimeError:  # ~nosuchuser/s.toml
+        raise ParameterError("scene file", str(path), "a readable TOML file", message=f"{path}: cannot read the scene "
+                             f"file ({str(path).split(os.sep)[0]} is no user's home directory)") from None
     try:
         text = path.read_bytes().decode("utf-8-sig")  # a byte-order mark (Windows editors write one) is not TOML
     except (OSError, UnicodeDecodeError) as exc:
@@ -415,12 +419,13 @@ NOTES = {
 }
 
 
-def scene_toml(scene):
+def scene_toml(scene, run=None, notes=()):
     """A scene (an instance, or a class for its defaults) as a commented scene file that :func:`load_scene` reads back.
 
     Values are written as TOML (``None`` as ``"auto"``), each with its unit and description as a comment; a
-    ``[run]`` table holds the command line's defaults (leap-frog, 40 nodes, ``t_end`` = 0.01 s: a run of a second or
-    two), so the file runs as its header says.
+    ``[run]`` table holds ``run`` (``{key: value}``: a run file's, :func:`mol_shell.analysis.run_scene.run_table`) or
+    the command line's defaults (leap-frog, 40 nodes, ``t_end`` = 0.01 s: a run of a second or two), so the file runs
+    as its header says. ``notes``: comment lines after the header.
     """
     cls = scene if isinstance(scene, type) else type(scene)
     fields = dataclasses.fields(cls)
@@ -432,18 +437,20 @@ def scene_toml(scene):
     lines = [f"# {cls.name}: {doc}",
              "# A mol_shell scene file: mol-shell run THIS.toml -o out.nc (--set NAME=VALUE on top). Units: SI.",
              '# "auto" is computed (an edge: from the geometry; R, dilation: the equilibrium under the loads',
-             "# at t = 0).",
+             "# at t = 0).", *notes,
              f'scene = "{cls.name}"']
     points = ["# points: a file of two columns r z (m), relative to this file"] if "points" in value else []
-    notes = dict(NOTES, geometry=points)
+    comments = dict(NOTES, geometry=points)
     for table in TABLES[:-1]:
         names = [f.name for f in fields if table_of(cls, f.name) == table]
         if names:
-            lines += ["", f"[{table}]", *notes.get(table, [])]
+            lines += ["", f"[{table}]", *comments.get(table, [])]
         for name in names:
             entry = f"{name} = {toml_value(value[name])}"
             note = _comment(name, cls) if not name.endswith("_history") else ""
             lines.append(f"{entry:34s} # {note}" if note else entry)
-    lines += ["", "[run]", *notes["run"], 'integrator = "leapfrog"', "n = 40",
+    if run is not None:
+        return "\n".join([*lines, "", "[run]", *comments["run"], *[f"{key} = {toml_value(value)}" for key, value in run.items()]]) + "\n"
+    lines += ["", "[run]", *comments["run"], 'integrator = "leapfrog"', "n = 40",
               f"{'t_end = 0.01':34s} # s: final time (or times = [0, 0.005, 0.01] in its place)"]
     return "\n".join(lines) + "\n"

@@ -22,6 +22,7 @@ def test_compare_refuses_a_scene_file_s_times_and_python_s_as_a_run_does(tmp_pat
     scene, out = tmp_path / "c.toml", tmp_path / "c.nc"
     scene.write_text('scene = "sphere"\n[run]\nn = 8\ntimes = [0, 1e-320]\n')
     assert main(["compare", str(scene), "-o", str(out)]) == 2
-    assert capsys.readouterr().err.startswith("mol-shell: error: times = [0.0, 1e-320] is outside ")
+    # the file's value, said with the file and its table (it named the key alone)
+    assert capsys.readouterr().err.startswith(f"mol-shell: error: {scene}: [run] times = [0.0, 1e-320] is outside ")
     with pytest.raises(ParameterError, match=r"^times = .* consecutive ones at least 1.4917e-154 s"):
         work_precision("sphere", ["dop853-c"], n=8, times=[0.0, 1e-200, 1e-4], repeats=1, log=lambda *a: None)

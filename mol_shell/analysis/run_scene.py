@@ -1,0 +1,105 @@
+"""A run file back as a scene file: its scene from the attrs and a ``[run]`` table as the run ran (``mol-shell scenes
+RUN.nc --toml``), so ``mol-shell run`` of the file runs it again, to the bit.
+
+The scene's parameters come from the attrs as a path's start takes them (:func:`~mol_shell.analysis.path_start.
+scene_params`: those left to the code ``"auto"`` again); the ``[run]`` table holds ``n``, the integrator, ``t_end``
+(or the saved ``times`` where they are not ``t_end``'s default) and the integrator's options that are not its
+defaults (leap-frog's ``dt``, the tolerances ``rtol`` and ``atol`` always), from the attrs every run writes of them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from mol_shell._core.constants import FIELDS
+from mol_shell._core.errors import ParameterError
+from mol_shell.analysis.path_start import scene_params
+from mol_shell.integrators import INTEGRATORS
+from mol_shell.results.dataset import RUN_FILE, read_run
+from mol_shell.runs.building import parse_times
+from mol_shell.runs.simulate import integrator_options, leapfrog_times
+from mol_shell.scenes import SCENES, get_scene
+from mol_shell.scenes.files import scene_toml
+
+#: options written whatever their value: what a reader of the file looks for first
+ALWAYS = ("dt", "rtol", "atol")
+
+
+def run_scene(ds, name="FILE"):
+    """The scene of run ``ds`` as it was asked for (a value left to the code ``None`` again), refused naming ``name``
+    where the file names no registered scene."""
+    scene = str(ds.attrs.get("scene", ""))
+    if scene not in SCENES:
+        raise ParameterError.invalid(name, str(ds.encoding.get("source", scene)), "names no registered scene in its "
+                                     f"attribute scene = {scene!r}", RUN_FILE)
+    params = scene_params(ds)
+    for key in getattr(SCENES[scene], "initial", ()):  # a start given as fields (--from a path): the scene's values
+        asked = ds.attrs.get(f"{key}_requested")
+        if key in params and asked is not None and asked != "auto":
+            params[key] = asked.item() if isinstance(asked, np.generic) else asked
+    return get_scene(scene, **params)
+
+
+def _option(value, default):
+    """An option's value as the attrs hold it, as the integrator takes it: netCDF's 0/1 as a bool, ``'none'`` as
+    None, a per-field ``atol`` (``"z=1e-09,r=1e-08,..."``) as a table."""
+    value = value.item() if isinstance(value, np.generic) else value
+    if isinstance(default, bool):
+        return bool(value)
+    if default is None and isinstance(value, str) and value.lower() == "none":
+        return None
+    if isinstance(value, str) and "=" in value and all(part.partition("=")[0] in FIELDS for part in value.split(",")):
+        return {key: float(number) for key, _, number in (part.partition("=") for part in value.split(","))}
+    return value
+
+
+def run_table(ds, scene):
+    """``{key: value}`` of the ``[run]`` table that runs ``ds`` again (see the module's docstring)."""
+    integrator = str(ds.attrs["integrator"])
+    table = {"integrator": integrator, "n": int(ds.attrs.get("n", ds.sizes["s"]))}
+    defaults = {f.name: f.default for f in dataclasses.fields(INTEGRATORS[integrator])} \
+        if integrator in INTEGRATORS else {}
+    options = {}
+    for key in sorted(integrator_options(scene, integrator), key=lambda k: (k not in ALWAYS, k)):
+        value = ds.attrs.get(f"{key}_option", ds.attrs.get(key))  # linsolver: as given ("auto"), not as chosen
+        if value is None:
+            continue
+        value = _option(value, defaults.get(key))
+        if key in ALWAYS or key not in defaults or value != defaults[key]:
+            options[key] = value
+    times = [float(t) for t in ds.time.values]
+    try:
+        default = (leapfrog_times(times[-1], options.get("dt", defaults.get("dt"))) if integrator == "leapfrog"
+                   else parse_times(None, times[-1]))
+    except ParameterError:
+        default = None
+    if default is not None and len(default) == len(times) and np.array_equal(default, times):
+        table["t_end"] = times[-1]
+    else:
+        table["times"] = times
+    return {**table, **options}
+
+
+def run_toml(ds, name="FILE", source=None):
+    """A scene file (:func:`~mol_shell.scenes.files.scene_toml`) that runs run ``ds`` again: its scene and a
+    ``[run]`` table as it ran; ``source``, the file's name for the header."""
+    scene = run_scene(ds, name)
+    version = ds.attrs.get("mol_shell_version", "?")
+    notes = [f"# Written from the run {source or ds.encoding.get('source', '')} (mol_shell {version}): "
+             + "mol-shell run THIS.toml runs it again."]
+    if not int(ds.attrs.get("complete", 1)):
+        notes.append(f"# That run stopped ({ds.attrs.get('message', '')}): times are those it saved.")
+    start = str(ds.attrs.get("initial_state", ""))
+    if start.startswith("equilibrium path"):
+        notes.append(f"# That run started from {start}: this file starts from the scene's own initial data.")
+    then, now = str(ds.attrs.get("meridian", "")), scene.meridian().describe() if hasattr(scene, "meridian") else ""
+    if then and now and then != now:
+        notes.append(f"# The meridian differs now (the run's: {then}; now: {now}).")
+    return scene_toml(scene, run=run_table(ds, scene), notes=notes)
+
+
+def read_run_toml(filename, name="NAME"):
+    """:func:`run_toml` of the run file ``filename``, refused naming ``name`` where it is not one."""
+    return run_toml(read_run(filename, name=name), name, str(filename))
