@@ -87,7 +87,7 @@ class Tolerances:
     def tolerances(self):
         """``rtol``, ``atol`` (a number, or per field as ``"z=1e-09,r=1e-08,..."``) and ``max_step`` as attributes."""
         atol = self.atol if is_number(self.atol) else ",".join(
-            f"{name}={float(value):g}" for name, value in zip(FIELDS, self.field_atol()))
+            f"{name}={float(value)!r}" for name, value in zip(FIELDS, self.field_atol()))  # round-trips
         return {"rtol": self.rtol, "atol": atol, "max_step": self.max_step}
 
     def tolerance_text(self):

@@ -240,3 +240,12 @@ def test_a_float_for_an_integer_option_is_said_to_be_no_integer(tmp_path, capsys
                  "chunk=1000000000000", "-o", str(out)]) == 0  # the integer itself is inside the range
     assert read_netcdf(out).attrs["chunk"] == 10**12
     assert not any(tmp_path.glob("*.png"))
+
+
+def test_a_per_field_atol_is_recorded_to_the_last_digit():
+    """A run file recorded a per-field ``atol`` to 6 digits (``:g``), so a scene file written back from it
+    (``mol-shell scenes RUN.nc --toml``) ran with other tolerances than the run it came from."""
+    atol = {"z": 1.23456789e-9, "r": 2.0000001e-9, "chi": 1e-10, "theta": 3.14159265e-10, "psi": 1e-10}
+    method = mol_shell.INTEGRATORS["dop853-c"](rtol=1e-6, atol=atol)
+    recorded = dict(item.split("=") for item in method.tolerances()["atol"].split(","))
+    assert {k: float(v) for k, v in recorded.items()} == atol, recorded
