@@ -27,8 +27,8 @@ import xarray as xr
 from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, scalar
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.law_warnings import locking_warnings
-from mol_shell.results.cf import attr_value, coordinates, header, variables
-from mol_shell.results.dataset import FIELD_META, given_note, given_values, scene_attrs
+from mol_shell.results.cf import coordinates, header, variables
+from mol_shell.results.dataset import FIELD_META, given_note, given_values, scene_attrs, with_units
 from mol_shell.runs import resources
 from mol_shell.runs.ellipticity import CONSEQUENCE, sampled_margins
 from mol_shell.runs.simulate import as_scene, build, resolve, starting_state
@@ -344,5 +344,7 @@ def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params, zero):
     attrs = {**header(f"mol_shell natural modes of scene {scene.name}"), "scene": scene.name, "n": n, "zero_modes": n_zero,
              "method": method, "edge_s0": system.edges[0], "edge_sL": system.edges[1],
              "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
-    attrs.update({name: value for name, value in params.items() if not name.startswith("units_")})
-    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in attrs.items()})
+    attrs.update(params)  # the scene's parameters with their units_NAME, as a run file has them
+    if "ellipticity_margin" in attrs:
+        attrs["units_ellipticity_margin"] = "1"
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs=with_units(attrs))

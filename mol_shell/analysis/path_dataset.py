@@ -9,8 +9,8 @@ from mol_shell.analysis.equilibria import CONJUGATE_UNITS, REACTIONS
 from mol_shell.analysis.path_inputs import loads_at_rest
 from mol_shell.analysis.path_stability import LOCATE_RTOL
 from mol_shell.model.kinematics import FIELDS
-from mol_shell.results.cf import attr_value, coordinates, header, variables
-from mol_shell.results.dataset import FIELD_META, scene_attrs
+from mol_shell.results.cf import coordinates, header, variables
+from mol_shell.results.dataset import FIELD_META, scene_attrs, with_units
 from mol_shell.runs.ellipticity import CONSEQUENCE, LONG_NAME, sampled_margins, state_minimum, unchecked_note
 from mol_shell.scenes import DESCRIPTIONS
 
@@ -128,7 +128,8 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
               "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"})}
     attrs = {**header(f"mol_shell equilibrium path of scene {scene.name} in {eq.parameter}"),
              "scene": scene.name, "n": eq.n, "parameter": eq.parameter, "parameter_units": units,
-             "start": float(start), "stop": float(stop), "status": status, "message": message,
+             "start": float(start), "units_start": units, "stop": float(stop), "units_stop": units, "status": status,
+             "message": message,
              "complete": int(status == "complete"), "critical_points": SYMMETRY_NOTE,
              "rigid_motions": "; ".join(eq.gauge) if eq.gauge else "none (the edges hold the shell)",
              "method": "Keller pseudo-arclength, exact sparse Jacobian, bordered sparse LU; eigenvalues by "
@@ -145,6 +146,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     if lost is not None:
         step, where = lost
         attrs.update({"ellipticity_lost_step": step, "ellipticity_lost_parameter": float(record.lams[step]),
+                      "units_ellipticity_lost_parameter": units,
                       "ellipticity_lost_position": where, "units_ellipticity_lost_position": "m"})
         attrs["ellipticity_warning"] = (
             f"the shell's equations lost ellipticity by step {step} ({eq.parameter} = {record.lams[step]:.6g} "
@@ -162,6 +164,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
         attrs[history] = "constant"
     if params[eq.parameter]:  # the scene's own value of what the path varies: replaced by the path's values
         attrs["parameter_scene_value"] = float(params[eq.parameter])
+        attrs["units_parameter_scene_value"] = units
         attrs["parameter_replaced"] = (
             f"the scene's {eq.parameter} = {params[eq.parameter]:g} {units}"
             + (f" ({history} {params[history]!r})" if params.get(history, "constant") != "constant" else "")
@@ -169,4 +172,4 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     notes = loads_at_rest(scene, eq.parameter)
     if notes:  # another load on a history: the states take it at t = 0
         attrs["loads_at_rest"] = "\n".join(notes)
-    return xr.Dataset(variables(data), coords=coordinates(coords), attrs={k: attr_value(v) for k, v in attrs.items()})
+    return xr.Dataset(variables(data), coords=coordinates(coords), attrs=with_units(attrs))  # zeta1_used's too

@@ -265,8 +265,8 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
                                                             "interrupted, or skipped (not run; see note); empty: no point"})
     ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
     ds.attrs.update({**header(f"work-precision of mol_shell integrators, scene {scene.name}"), "scene": scene.name,
-                     "n": n, "times": ",".join(f"{t:g}" for t in times), "repeats": repeats,
-                     "reference_error": ref_err, **ref_info,
+                     "n": n, "times": ",".join(f"{t:g}" for t in times), "units_times": "s", "repeats": repeats,
+                     "reference_error": ref_err, "units_reference_error": "1", **ref_info,
                      "status": "interrupted" if interrupted else "complete", "message": interrupted or "",
                      "left_out": "; ".join(f"{name}: {INTEGRATORS[name].refuses_loads}" for name in left_out)})
     start = system.unpack(y0)[:2]  # the scene's parameters as the runs used them, as a run file has them

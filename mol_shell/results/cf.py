@@ -15,13 +15,19 @@ from mol_shell._core.version import __version__
 REFERENCE = "S. S. Antman and D. Bourne, Rotational symmetry vs. axisymmetry in shell theory, CASA-report 10-46 (2010)"
 
 
-def header(title, **attrs):
+#: the global ``comment`` of a file that gives none of its own (a run's says how its time is kept)
+COMMENT = ("units of the global attributes' dimensional numbers in units_<name> beside them (counts, flags and "
+           "indices have none, and a name ending in _s is in seconds); see docs/netcdf.md")
+
+
+def header(title, comment=COMMENT, **attrs):
     """The global attributes CF asks of every file (``Conventions``, ``title``, ``source``, ``history``,
-    ``references``) with mol_shell's version, then ``attrs``."""
+    ``references``, ``comment``) with mol_shell's version, then ``attrs``: every writer's (run, modes, path, study,
+    compare, stability, ring) header."""
     now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     return {"Conventions": "CF-1.8", "title": title, "source": f"mol_shell {__version__}",
             "mol_shell_version": __version__, "history": f"{now} created by mol_shell {__version__}",
-            "references": REFERENCE, **attrs}
+            "references": REFERENCE, "comment": comment, **attrs}
 
 
 def attr_value(value):

@@ -81,6 +81,7 @@ from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, lame
 from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.results.cf import coordinates, variables
+from mol_shell.results.constraint_stresses import CONSTRAINT_COMMENT, constraint_torque
 from mol_shell.results.dataset import holdings
 from mol_shell.results.law_stresses import law_of_attrs, route_law, route_stress, unloadable_law
 from mol_shell.results.stress_samples import cell_samples, reference_cells, sample_stresses
@@ -368,6 +369,9 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
             if name not in data:
                 data[name] = np.empty((n_t, *value.shape[1:]))
             data[name][t0:t1] = value
+    constraint = constraint_torque(ds)  # a constrained unshearable run: chi_s = 0 carries the torque (its module)
+    if constraint is not None:
+        data["axial_torque"] = data["axial_torque"] + constraint
     coords = {
         "s_cell": ("s_cell", (s[1:] + s[:-1]) / 2,
                    {"units": "m", "long_name": "arc length of the reference generator at the cell centres"}),
@@ -392,8 +396,11 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
             long_name = "viscous part of the " + long_name
         dims = ("time", "s_cell") if value.ndim == 2 else ("time", "s_cell", "zeta")
         entries[name] = (dims, value, {"units": units, "long_name": long_name})
+    if constraint is not None:
+        entries["axial_torque"][2]["comment"] = CONSTRAINT_COMMENT
     out = ds.assign_coords(coordinates(coords)).assign(variables(entries))
-    out.attrs["stresses"] = "included (mol_shell.add_stresses)"
+    out.attrs["stresses"] = "included (mol_shell.add_stresses" + (
+        ", axial_torque with the torque of the constraint chi_s = 0)" if constraint is not None else ")")
     if not all(np.isfinite(v).all() for v in data.values()):
         out.attrs["stresses"] += f"; {STRESS_NAN} det F <= 0 at a face or the state is not finite"
         if "svk-plane-stress" in f"{material} {ds.attrs.get('layers', '')}":  # SVK's thinning has a bound

@@ -167,7 +167,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     stresses : bool, optional
         Resultants and face stresses after the run (:func:`mol_shell.results.stresses.add_stresses`):
         ``None`` (default) up to :data:`mol_shell.results.stresses.MAX_SAMPLES` cell samples x saved times,
-        ``True`` always, ``False`` never.
+        ``True`` always, ``False`` never. The unshearable scene's constrained run (``"ida"``) has the torque of its
+        constraint ``chi_s = 0`` in ``axial_torque`` (:mod:`mol_shell.results.constraint_stresses`).
     threads : int, optional
         Threads for the compiled right-hand side's cell and node kernels (every integrator uses it);
         default ``$MOL_SHELL_THREADS`` or all cores. Grids below :data:`PARALLEL_MIN_NODES` nodes run
@@ -215,7 +216,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
             raise ParameterError("initial", "given", "None for the unshearable scene (its own formulation)")
         ds = simulate_unshearable(scene, n=n, times=times, t_end=t_end, constrained=integrator == "ida",
                                   progress=progress, **options)
-        return _scene_warnings(scene, ds)
+        ds = _scene_warnings(scene, ds)  # its stresses as any run's (the constraint's torque in axial_torque)
+        return ds if stresses is False else add_stresses(ds, limit=None if stresses else MAX_SAMPLES)
     method = INTEGRATORS[integrator](**options)
     if times is None and integrator == "leapfrog":
         times = leapfrog_times(t_end, method.dt)

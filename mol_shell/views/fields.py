@@ -149,8 +149,6 @@ def field(ds, name, where="cells", option="field"):
             hint = ""
         elif why.startswith("skipped"):
             hint = f"this run has no stresses ({why})"
-        elif ds.attrs.get("scene") == "unshearable":  # its runs never have them
-            hint = "the unshearable scene's runs have no stresses"
         else:
             hint = "this run has no stresses: rerun without --no-stresses"
         raise ParameterError(option, name, "{" + ", ".join(names) + "}", hint=hint)
