@@ -64,7 +64,7 @@ from mol_shell.cli.path import (
     start_of,
 )
 from mol_shell.cli.study import register_study
-from mol_shell.cli.views import read_drawable, register_animate, register_export, said_as_options
+from mol_shell.cli.views import read_drawable, register_animate, register_export, said_as_options, said_incomplete
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.peers import SCIPY_RTOL_MIN
 from mol_shell.integrators.tolerances import ATOL_RANGE, Tolerances
@@ -164,7 +164,7 @@ def cmd_plot(args):
             plot_meridian(ds, args.output, s=args.at_s)
         else:
             plot_snapshots(ds, args.output)
-    print(f"wrote {args.output}")
+    print(f"wrote {args.output}{said_incomplete(ds)}")
     return 0
 
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 import sys
 
+import numpy as np
+
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.analysis.equilibria import PATH_PARAMETERS
 from mol_shell.analysis.path import path
@@ -28,6 +30,7 @@ from mol_shell.cli.args import (
 from mol_shell.cli.views import said_as_options
 from mol_shell.results.dataset import read_netcdf, write_netcdf
 from mol_shell.scenes import DISPLACEMENTS, with_params
+from mol_shell.views.figures import path_note
 from mol_shell.views.path_plot import check_response, plot_path, response_values
 from mol_shell.views.path_study_plot import is_path_study, plot_path_study
 
@@ -265,8 +268,10 @@ def cmd_plot_path_study(args):
     if args.response is not None:
         raise ParameterError("--response", args.response, "an option of a path's figure (mol-shell path files)",
                              message="--response is an option of a path's figure; a study of paths' figure takes none")
-    plot_path_study(read_netcdf(args.file), args.output)
-    print(f"wrote {args.output}")
+    ds = read_netcdf(args.file)
+    plot_path_study(ds, args.output)
+    short = int(sum(str(v) not in ("complete", "") for v in np.ravel(ds["status"].values))) if "status" in ds else 0
+    print(f"wrote {args.output}" + (f" [ENDED SHORT: {short} of {ds['status'].size} paths (marked)]" if short else ""))
     return 0
 
 
@@ -279,6 +284,8 @@ def cmd_plot_path(args):
         response_values(ds, response)
         plot_path(ds, args.output, response)
     states = ds.sizes["step"]  # the start and its steps, counted as mol-shell path counts them
+    note = path_note(ds.attrs, float(ds.parameter.values[-1]))
     print(f"wrote {args.output}: {ds.attrs['parameter']} against {response}, {plural(states, 'state')} "
-          f"({plural(states - 1, 'step')}), {plural(ds.sizes['point'], 'critical point')}")
+          f"({plural(states - 1, 'step')}), {plural(ds.sizes['point'], 'critical point')}"
+          + (f" [{note}]" if note else ""))
     return 0

@@ -10,6 +10,7 @@ from mol_shell.results.dataset import RUN_FILE, read_run
 from mol_shell.views.animate import DEFAULTS, MAX_FPS, MIN_FPS, MOVING, RANGES, SUFFIXES, animate, default_field
 from mol_shell.views.export import FORMATS, N_PHI, N_PHI_MAX, companion_files, export
 from mol_shell.views.fields import check_run
+from mol_shell.views.figures import incomplete_note
 
 #: the keywords of the views' functions, as their refusals name them, and the options that set them here
 OPTIONS = {"ds": "FILE", "path": "-o", "field": "--field", "n_phi": "--n-phi", "fibres": "--fibres",
@@ -59,8 +60,14 @@ def cmd_export(args):
         files = export(ds, args.output, args.n_phi, args.faces)
     extra = f" (+ {plural(len(files) - 1, 'file')})"
     print(f"wrote {args.output}{extra}: {plural(ds.sizes['time'], 'step')}, {ds.sizes['s']} x {args.n_phi} points "
-          "per surface")
+          f"per surface{said_incomplete(ds)}")
     return 0
+
+
+def said_incomplete(ds):
+    """`` [INCOMPLETE: MESSAGE]`` after what a view of a run that stopped early wrote, ``""`` after a complete one."""
+    note = incomplete_note(ds.attrs)
+    return f" [{note}]" if note else ""
 
 
 def _range(name):
@@ -95,5 +102,5 @@ def cmd_animate(args):
         count = animate(ds, args.output, args.field, n_phi=args.n_phi, fibres=args.fibres, fps=args.fps,
                         width=args.width)
     chosen = f", {default_field(ds)[1]}" if args.field is None else ""
-    print(f"wrote {args.output}: {plural(count, 'frame')}{chosen}")
+    print(f"wrote {args.output}: {plural(count, 'frame')}{chosen}{said_incomplete(ds)}")
     return 0

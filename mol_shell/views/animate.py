@@ -5,21 +5,30 @@
 frame per saved time, the time in the frame. The fibres are material lines of constant reference
 azimuth, drawn where they face the viewer: they turn with ``chi`` (twist shows as helices), and the
 dashed straight lines are the same fibres in the reference configuration.
+
+Frames are drawn and written one at a time (the GIF by Pillow's frame encoder, the MP4 piped to ffmpeg), so the
+memory an animation takes does not grow with its frames (:func:`check_memory` refuses a width that cannot fit), a
+long one shows its progress, and Ctrl-C stops it, the encoder too, leaving no file.
 """
 
 from __future__ import annotations
 
-import logging
+import contextlib
 import re
 import subprocess
+import tempfile
+import textwrap
 
 import numpy as np
 
 from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.paths import writable_path
+from mol_shell._core.progress import progress_meter, progress_mode
+from mol_shell.runs.resources import available_memory, show_bytes
 from mol_shell.views.fields import field as field_values
 from mol_shell.views.fields import field_names, run_of, surface_points
+from mol_shell.views.figures import incomplete_note
 
 SUFFIXES = ("gif", "mp4")
 DEFAULTS = {"field": None, "n_phi": 48, "fibres": 12, "fps": 4, "width": 480}
@@ -49,6 +58,20 @@ def default_field(ds):
 #: and 360 fibres takes seconds), while the time and the memory a frame takes stay bounded (``--width 20000`` ran
 #: for minutes, 100000 ran out of memory)
 RANGES = {"n_phi": (3, 1024), "fibres": (1, 360), "width": (100, 4096)}
+
+
+#: font size (points) and lines at most of the note a frame of a run that stopped early carries at its foot
+NOTE_FONT, NOTE_LINES = 7, 3
+
+
+#: x264's threads and look-ahead, fixed so that its memory does not grow with the machine's cores (a thread per
+#: half core, each with frames of its own) and stays near 100 bytes a pixel: 285 MB at 1600 x 1440 (528 MB with its
+#: defaults on 2 cores), 1.45 GB at 4096 x 3686 (2.9 GB)
+ENCODER_LIMITS = ("-threads", "2", "-rc-lookahead", "10")
+#: memory of an animation (bytes): the libraries and the run (a fixed part), per pixel of a frame the canvas and its
+#: copies (RGBA, RGB, palette indices, the frame before, what changed; measured 231 MB for a GIF 1600 wide, 298 MB for
+#: an MP4 4096 wide) and the MP4 encoder's (:data:`ENCODER_LIMITS`)
+MEMORY_FIXED, MEMORY_PER_PIXEL, ENCODER_PER_PIXEL = 250e6, 16.0, 100.0
 
 
 #: the largest frame rate (frames per second; the command line's ``--fps`` takes the same)
@@ -82,6 +105,32 @@ def _short_label(name, units):
     return f"{words.replace('von mises', 'von Mises')} [{units}]"
 
 
+def animation_bytes(width, suffix):
+    """Memory an animation ``width`` pixels wide takes (bytes), as :data:`MEMORY_FIXED` and the per-pixel parts say:
+    the same for any count of frames (one is in memory at a time)."""
+    w, h = frame_pixels(width, even=suffix == "mp4")
+    return MEMORY_FIXED + w * h * (MEMORY_PER_PIXEL + (ENCODER_PER_PIXEL if suffix == "mp4" else 0.0))
+
+
+def check_memory(width, suffix):
+    """Refuse, naming ``width``, an animation whose frames (and encoder) need more memory than is available
+    (:func:`mol_shell.runs.resources.available_memory`: the machine's, or ``$MOL_SHELL_MEMORY``), saying the widest
+    that fits."""
+    need = animation_bytes(width, suffix)
+    available, source = available_memory()
+    if need <= available:
+        return
+    low = RANGES["width"][0]
+    fits = max((w for w in range(low, width) if animation_bytes(w, suffix) <= available), default=None)
+    allowed = f"[{low}, {fits}] pixels here" if fits is not None else "none here (less memory than the smallest frame"
+    if fits is None:
+        allowed += " needs)"
+    raise ParameterError("width", width, allowed, message=(
+        f"width = {width} needs about {show_bytes(need)} for a frame of {'x'.join(map(str, frame_pixels(width)))} "
+        f"pixels{' and its video encoder' if suffix == 'mp4' else ''}, more than the {show_bytes(available)} "
+        f"available ({source}); allowed: {allowed}"))
+
+
 def _scale(values):
     """Colour map and limits over all frames: diverging and symmetric when the values change sign. NaN (stresses
     past a law's limit: ``attrs["stresses"]``) take no part and are drawn as gaps (the map's transparent "bad")."""
@@ -99,7 +148,7 @@ def _scale(values):
 
 
 def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibres=DEFAULTS["fibres"],
-            fps=DEFAULTS["fps"], width=DEFAULTS["width"], elev=16.0, azim=-62.0):
+            fps=DEFAULTS["fps"], width=DEFAULTS["width"], elev=16.0, azim=-62.0, progress=None):
     """Write an animation of run ``ds`` to ``path`` (``.gif`` or ``.mp4``), one frame per saved time.
 
     Parameters
@@ -124,6 +173,9 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
         Width in pixels (height 0.9 of it), in [100, 4096]; an MP4's width and height are rounded to even numbers.
     elev, azim : float
         Viewing angles, degrees (matplotlib's).
+    progress : bool, optional
+        As :func:`mol_shell.simulate`'s: a bar of the frames on a terminal, else a line a minute of a longer
+        animation (``None``); ``False`` nothing.
 
     Returns
     -------
@@ -135,7 +187,9 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
     ParameterError
         Named by its keyword (``field``, ``n_phi``, ...) for a value outside its range; named ``path`` when ffmpeg
         fails to encode the MP4; the file is written under a temporary name and renamed onto
-        ``path`` when complete, so a failure leaves no file behind (and a previous one intact).
+        ``path`` when complete, so a failure, or a Ctrl-C (``KeyboardInterrupt``), leaves no file behind (and a
+        previous one intact). Frames are drawn and written one at a time: the memory an animation takes does not
+        grow with its frames.
     """
     import matplotlib.pyplot as plt
     from matplotlib import colormaps
@@ -144,34 +198,43 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
     check_integers(n_phi=n_phi, fibres=fibres, width=width)
     if not (is_number(fps) and MIN_FPS <= fps <= MAX_FPS):
         raise ParameterError("fps", fps, f"[{MIN_FPS:g}, {MAX_FPS}] frames per second")
+    mode = progress_mode(progress)
     ds = run_of(ds)
     field, chosen = default_field(ds) if field is None else (field, "")
     values, units, _ = field_values(ds, field, "cells", option="field")
     path = writable_path(path, "path", suffixes=SUFFIXES)  # before the frames: its missing directories created
     suffix = path.suffix.lower().lstrip(".")
+    check_memory(width, suffix)  # before anything is drawn: the frames and the encoder, whatever their count
     cmap_name, norm = _scale(values)
     cmap = colormaps[cmap_name]
-    surface = surface_points(ds, n_phi)
-    surface = np.concatenate([surface, surface[:, :, :1]], axis=2)  # closed in phi
-    lines = surface_points(ds, fibres) * [1.004, 1.004, 1.0]  # just outside the surface
+
+    def surface(k):
+        """The surface at saved time ``k``, ``(s, n_phi + 1, 3)``: closed in phi (one frame's: the whole run's took
+        memory with its saved times, 130 MB for 686 of 81 nodes)."""
+        points = surface_points(ds, n_phi, times=[k])[0]
+        return np.concatenate([points, points[:, :1]], axis=1)
+
     r0 = np.asarray(ds["r0"].values) if "r0" in ds else np.ones(ds.sizes["s"])
     z0 = np.asarray(ds["z0"].values) if "z0" in ds else np.asarray(ds["s"].values)
     phi = 2 * np.pi * np.arange(fibres) / fibres
     reference = np.stack([1.004 * r0[:, None] * np.cos(phi), 1.004 * r0[:, None] * np.sin(phi),
                           z0[:, None] + 0 * phi], axis=-1)
     view = np.array([np.cos(np.radians(azim)), np.sin(np.radians(azim))])
-    extent = float(np.abs(surface[..., :2]).max()) * 1.02
-    zlo, zhi = float(surface[..., 2].min()), float(surface[..., 2].max())
+    extent, zlo, zhi = _extents(ds, n_phi)
 
     dpi = 100
     pixels = frame_pixels(width, even=suffix == "mp4")
     # a hair over the pixels: matplotlib truncates inches x dpi, and 29 / 100 * 100 is 28.999999999999996
     fig = plt.figure(figsize=tuple((n + 1e-3) / dpi for n in pixels), dpi=dpi)
-    ax = fig.add_axes((0.0, 0.0, 0.78, 0.86), projection="3d", computed_zorder=False)
+    note = _incomplete_lines(ds.attrs, pixels[0], dpi)
+    foot = (len(note) * NOTE_FONT * 1.3 * dpi / 72 + 6) / pixels[1] if note else 0.0  # the shell drawn above it
+    ax = fig.add_axes((0.0, foot, 0.78, 0.86 - foot), projection="3d", computed_zorder=False)
     cax = fig.add_axes((0.8, 0.15, 0.035, 0.62))
     fig.colorbar(ScalarMappable(norm, cmap), cax=cax).set_label(_short_label(field, units), fontsize=9)
     cax.tick_params(labelsize=8)
     title = fig.text(0.03, 0.96, "", fontsize=9, va="top")
+    if note:  # every frame says it, as the figures do: the run stopped before its end
+        fig.text(0.03, 3 / pixels[1], "\n".join(note), fontsize=NOTE_FONT, va="bottom")
 
     def front(points):
         """Points whose outward radial direction faces the viewer; the others NaN (hidden behind the shell)."""
@@ -181,18 +244,18 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
 
     def draw(k):
         ax.clear()
-        colours = np.zeros((*surface.shape[1:3], 4))
+        colours = np.zeros((ds.sizes["s"], n_phi + 1, 4))
         colours[:-1, :] = cmap(norm(values[k]))[:, None, :]
-        x, y, z = (surface[k, ..., i] for i in range(3))
-        ax.plot_surface(x, y, z, facecolors=colours, rstride=1, cstride=1, linewidth=0, antialiased=False,
-                        shade=True, zorder=1)
+        shell = surface(k)
+        ax.add_collection(_surface(shell, colours))
+        lines = surface_points(ds, fibres, times=[k])[0] * [1.004, 1.004, 1.0]  # just outside the surface
         for j in range(fibres):
             ref = front(reference[:, j])
             ax.plot(ref[:, 0], ref[:, 1], ref[:, 2], color="0.3", lw=0.8, ls=(0, (3, 2)), zorder=2)
-            fib = front(lines[k, :, j])
+            fib = front(lines[:, j])
             ax.plot(fib[:, 0], fib[:, 1], fib[:, 2], color="k", lw=1.3, zorder=3)
         for i in (0, -1):  # the rims
-            ax.plot(surface[k, i, :, 0], surface[k, i, :, 1], surface[k, i, :, 2], color="k", lw=0.8, zorder=3)
+            ax.plot(shell[i, :, 0], shell[i, :, 1], shell[i, :, 2], color="k", lw=0.8, zorder=3)
         ax.set_xlim(-extent, extent)
         ax.set_ylim(-extent, extent)
         ax.set_zlim(zlo, zhi)
@@ -203,61 +266,180 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
                        "material fibres: black; in the reference state: dashed" + (f"\n{chosen}" if chosen else ""))
 
     count = ds.sizes["time"]
+
+    def render(k):
+        """Frame ``k`` as RGBA pixels ``(height, width, 4)`` (a view of the canvas: the next frame overwrites it)."""
+        draw(k)
+        fig.canvas.draw()
+        return np.asarray(fig.canvas.buffer_rgba())
+
+    meter = progress_meter(mode, "animating", count="frame {n} of {total}", total=count,
+                           unit="frame")
     try:
         with atomic_path(path) as tmp:
             if suffix == "mp4":
-                _write_mp4(tmp, path, fig, draw, count, fps, dpi)
+                _write_mp4(tmp, path, render, count, fps, meter)
             else:
-                _write_gif(tmp, fig, draw, count, fps)
+                _write_gif(tmp, render, count, fps, meter)
     finally:
         plt.close(fig)
+        if meter is not None:
+            meter.close()
     return count
 
 
-def _write_mp4(path, target, fig, draw, count, fps, dpi):
-    """H.264 by the ffmpeg of ``imageio-ffmpeg`` into ``path``; a failure of the encoder is refused in one line naming
-    ``path`` = ``target`` (the file the user asked for)."""
+def _incomplete_lines(attrs, width, dpi):
+    """The lines of the note at the foot of each frame of a run that stopped early (:data:`NOTE_LINES` at most, the
+    last cut short with "..."), ``[]`` for a complete run."""
+    if not incomplete_note(attrs):
+        return []
+    chars = max(20, int(width / (0.6 * NOTE_FONT * dpi / 72)) - 4)
+    note = textwrap.wrap(f"[{incomplete_note(attrs)}]", chars)
+    if len(note) > NOTE_LINES:
+        note = note[:NOTE_LINES - 1] + [note[NOTE_LINES - 1][: chars - 3] + "..."]
+    return note
+
+
+def _extents(ds, n_phi, points=1_000_000):
+    """``(extent, zlo, zhi)``: the half-width of the box drawn (2 % over the largest ``|x|``, ``|y|`` of the surface at
+    any saved time) and the surface's lowest and highest ``z``; computed a block of saved times at a time, of about
+    ``points`` surface points."""
+    block = max(1, points // (ds.sizes["s"] * n_phi))
+    extent, zlo, zhi = 0.0, np.inf, -np.inf
+    for start in range(0, ds.sizes["time"], block):
+        part = surface_points(ds, n_phi, times=slice(start, start + block))
+        extent = max(extent, float(np.abs(part[..., :2]).max()))
+        zlo, zhi = min(zlo, float(part[..., 2].min())), max(zhi, float(part[..., 2].max()))
+    return extent * 1.02, zlo, zhi
+
+
+def _surface(points, colours):
+    """The shell's surface as :meth:`~mpl_toolkits.mplot3d.axes3d.Axes3D.plot_surface` draws it with
+    ``facecolors=colours, rstride=1, cstride=1, shade=True`` (a quad per grid cell, its corners in the order
+    ``plot_surface`` takes them, shaded by its light), made from arrays: ``plot_surface`` converts a colour per quad
+    one at a time, 0.27 s of the 0.35 s a frame of 81 nodes x 48 azimuths took."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+
+    quads = np.stack([points[:-1, :-1], points[:-1, 1:], points[1:, 1:], points[1:, :-1]], axis=2).reshape(-1, 4, 3)
+    face = colours[:-1, :-1].reshape(-1, 4)
+    return Poly3DCollection(quads, facecolors=face, edgecolors=face, shade=True, linewidth=0, antialiased=False,
+                            zorder=1)
+
+
+def _said_by(log):
+    """The first line ffmpeg wrote to ``log`` (a file), without its objects' addresses (``[libx264 @ 0x55d...]`` ->
+    ``[libx264]``); ``""`` when it wrote none."""
+    log.seek(0)
+    said = [line.strip() for line in log.read().decode(errors="replace").splitlines() if line.strip()]
+    return re.sub(r" @ 0x[0-9a-fA-F]+", "", said[0]) if said else ""
+
+
+def _write_mp4(path, target, render, count, fps, meter=None):
+    """H.264 by the ffmpeg of ``imageio-ffmpeg`` into ``path``, each frame piped to it as it is drawn (one frame in
+    memory; the encoder's own look-ahead is its own). ffmpeg runs in a session of its own, so a Ctrl-C at the
+    terminal (SIGINT to the foreground process group) reaches this process alone: its ``KeyboardInterrupt`` stops
+    the encoder and leaves no file (an ffmpeg killed by the same signal was said as "could not be encoded", exit
+    2). A failure of the encoder is refused in one line naming ``path`` = ``target`` (the file the user asked for)."""
     import imageio_ffmpeg
-    import matplotlib
-    from matplotlib import animation
 
-    matplotlib.rcParams["animation.ffmpeg_path"] = imageio_ffmpeg.get_ffmpeg_exe()
-    # the container named, whatever the output's name says
-    writer = animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p", "-f", "mp4"])
-    log = logging.getLogger("matplotlib.animation")
-    level = log.level
-    log.setLevel(logging.ERROR)  # the encoder's own lines: the message below says what matters in one
-    try:
-        with writer.saving(fig, str(path), dpi):
+    first = render(0)
+    height, width = first.shape[:2]
+    command = [imageio_ffmpeg.get_ffmpeg_exe(), "-f", "rawvideo", "-vcodec", "rawvideo", "-s", f"{width}x{height}",
+               "-pix_fmt", "rgba", "-framerate", repr(float(fps)), "-loglevel", "error", "-i", "pipe:",
+               "-vcodec", "libx264", *ENCODER_LIMITS, "-pix_fmt", "yuv420p", "-f", "mp4", "-y", str(path)]  # the container named
+
+    def refused(why):
+        return ParameterError.invalid("path", str(target), f"could not be encoded ({why})",
+                                      f"a .gif, or an .mp4 that ffmpeg can encode ({width} x {height} pixels here)")
+
+    with tempfile.TemporaryFile() as log:  # a file, not a pipe: an encoder that says much never waits on it
+        try:
+            encoder = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=log,
+                                       start_new_session=True)
+        except OSError as exc:
+            raise refused(exc) from None
+        try:
             for k in range(count):
-                draw(k)
-                writer.grab_frame()
-    except (subprocess.CalledProcessError, OSError) as exc:  # OSError: a pipe broken by an encoder that quit
-        said = [line.strip() for line in str(getattr(exc, "stderr", "") or "").splitlines() if line.strip()]
-        why = re.sub(r" @ 0x[0-9a-fA-F]+", "", said[0]) if said else str(exc)  # [libx264 @ 0x55d...] -> [libx264]
-        width, height = fig.canvas.get_width_height()
-        raise ParameterError.invalid("path", str(target), f"could not be encoded ({why})",
-                                     f"a .gif, or an .mp4 that ffmpeg can encode ({width} x {height} pixels here)"
-                                     ) from None
-    finally:
-        log.setLevel(level)
+                frame = first if k == 0 else render(k)
+                try:
+                    encoder.stdin.write(frame.tobytes())
+                except OSError:  # a pipe broken by an encoder that quit: what it said is below
+                    break
+                if meter is not None:
+                    meter.update(1)
+            with contextlib.suppress(OSError):
+                encoder.stdin.close()
+            code = encoder.wait()
+        except BaseException:  # Ctrl-C (or a failure) while drawing: the encoder stops with us, its file is dropped
+            encoder.kill()
+            encoder.wait()
+            raise
+        finally:
+            with contextlib.suppress(OSError):
+                encoder.stdin.close()
+        if code != 0:
+            raise refused(_said_by(log) or f"ffmpeg exited with status {code}")
 
 
-def _write_gif(path, fig, draw, count, fps, palette_frames=6):
-    """GIF by Pillow with one palette for all frames (built from a few of them), so the colours, and the
-    colour bar, do not flicker from frame to frame as with a palette per frame."""
-    from PIL import Image
+def _write_gif(path, render, count, fps, meter=None, palette_frames=6, palette_width=640):
+    """GIF by Pillow with one palette for all frames (built from a few of them, shrunk to at most ``palette_width``
+    pixels across), so the colours, and the colour bar, do not flicker from frame to frame as with a palette per frame.
 
-    def render(k):
-        draw(k)
-        fig.canvas.draw()
-        return Image.fromarray(np.asarray(fig.canvas.buffer_rgba())[..., :3].copy())
+    Written as the frames are drawn: the header with the palette, then each frame, the part that changed since the
+    one before (as Pillow's ``save_all`` writes them), LZW-coded by Pillow's ``GifImagePlugin.getdata``; one frame
+    in memory. ``save_all`` keeps every frame until the end (984 MB for 144 frames 1600 pixels wide)."""
+    from PIL import GifImagePlugin, Image
 
-    samples = [render(k) for k in np.unique(np.linspace(0, count - 1, min(palette_frames, count)).astype(int))]
+    def rgb(k):
+        return Image.fromarray(np.ascontiguousarray(render(k)[..., :3]))
+
+    picks = np.unique(np.linspace(0, count - 1, min(palette_frames, count)).astype(int))
+    shrink = max(1, int(np.ceil(render(0).shape[1] / palette_width)))
+    samples = [rgb(k).reduce(shrink) for k in picks]
     strip = Image.new("RGB", (samples[0].width, samples[0].height * len(samples)))
     for i, frame in enumerate(samples):
         strip.paste(frame, (0, i * frame.height))
     palette = strip.quantize(colors=256, method=Image.Quantize.MEDIANCUT)
-    frames = [render(k).quantize(palette=palette, dither=Image.Dither.NONE) for k in range(count)]
-    frames[0].save(path, format="GIF", save_all=True, append_images=frames[1:], duration=round(1000 / fps),
-                   loop=0)
+    del samples, strip
+    duration = round(1000 / fps)
+    previous = None
+    with open(path, "wb") as out:
+        for k in range(count):
+            frame = rgb(k).quantize(palette=palette, dither=Image.Dither.NONE)
+            pixels = np.asarray(frame)
+            options = {"duration": duration, "disposal": 1}  # 1: each frame drawn over the one before
+            if previous is None:
+                header, _ = GifImagePlugin.getheader(frame, info={"loop": 0, "duration": duration, "optimize": False})
+                out.write(b"".join(header))
+                part, offset = frame, (0, 0)
+            else:
+                part, offset, clear = _delta(previous, pixels, len(palette.getpalette()) // 3)
+                if clear is not None:
+                    options["transparency"] = clear
+            out.writelines(GifImagePlugin.getdata(part, offset=offset, **options))
+            previous = pixels
+            if meter is not None:
+                meter.update(1)
+        out.write(b";")  # the GIF trailer
+
+
+def _delta(before, after, colours):
+    """What of frame ``after`` (palette indices) is written over ``before``: ``(part, offset, clear)``, the box of
+    the pixels that changed (one pixel where none did: a frame is written for its time all the same) as a "P" image,
+    its corner, and the index of a colour the box's changed pixels do not use, given to the pixels that did not
+    change, transparent (``None`` where the ``colours`` of the palette are all used): as Pillow's ``save_all`` writes
+    a frame, so that long runs of that index compress."""
+    from PIL import Image
+
+    changed = before != after
+    rows, cols = np.flatnonzero(changed.any(axis=1)), np.flatnonzero(changed.any(axis=0))
+    if not rows.size:
+        rows, cols = np.zeros(1, int), np.zeros(1, int)
+    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+    part, same = after[box].copy(), ~changed[box]
+    unused = np.flatnonzero(np.bincount(part[~same], minlength=256)[:colours] == 0)
+    clear = int(unused[0]) if unused.size and same.any() else None
+    if clear is not None:
+        part[same] = clear
+    image = Image.frombytes("P", (part.shape[1], part.shape[0]), np.ascontiguousarray(part).tobytes())
+    return image, (int(cols[0]), int(rows[0])), clear

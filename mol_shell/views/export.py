@@ -16,7 +16,8 @@ Point data: ``displacement`` (m), the fields and their rates, ``phi`` (the refer
 ``zeta`` (the depth of the point from the base surface, m: a graded wall's faces at its own ``-h(s)``, ``+h(s)``)
 and, with stresses, the resultants and face stresses averaged to the nodes (face stresses as ``NAME_inner``,
 ``NAME_outer``). Cell data: the resultants and face stresses exactly as computed per cell. One
-step per saved time, at that time.
+step per saved time, at that time. The ``.xdmf`` or ``.pvd`` of a run that stopped early (``attrs["complete"] = 0``)
+carries a comment saying so (:func:`mark`).
 """
 
 from __future__ import annotations
@@ -40,6 +41,7 @@ from mol_shell.views.fields import (
     run_of,
     surface_points,
 )
+from mol_shell.views.figures import incomplete_note
 
 FORMATS = ("xdmf", "pvd")
 #: default azimuthal samples, and the most: 1024 is smooth beyond what a screen shows, while the points, data and
@@ -208,4 +210,18 @@ def export(ds, path, n_phi=N_PHI, faces=False):
     writer = write_xdmf if suffix == "xdmf" else write_pvd
     with staged(path) as stage:
         written = writer(stage / path.name, ds["time"].values, cells, reference, steps)
+        if incomplete_note(ds.attrs):  # the series of a run that stopped early says so, as its figures do
+            mark(stage / path.name, f"mol_shell run of scene {ds.attrs.get('scene', '')} "
+                 f"[{incomplete_note(ds.attrs)}]: its last saved time is where it stopped")
     return [path.parent / f.name for f in written]
+
+
+def mark(path, note):
+    """Put ``note`` in the XML file ``path`` (the ``.xdmf`` or ``.pvd`` written) as a comment before its root
+    element (after the XML declaration): readers (ParaView, meshio) skip it, a reader of the file sees it; the rest
+    of the file is left as written."""
+    text = Path(path).read_text(encoding="utf-8")
+    comment = "<!-- " + " ".join(note.replace("--", "- -").split()) + " -->\n"
+    head, mark_end, rest = text.partition("?>")
+    text = f"{head}?>\n{comment}{rest.lstrip()}" if mark_end and head.lstrip().startswith("<?xml") else comment + text
+    Path(path).write_text(text, encoding="utf-8")

@@ -29,7 +29,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.model.layers import parse_layers
 from mol_shell.views.fields import face_depths, run_of
-from mol_shell.views.figures import figure_path, save_figure
+from mol_shell.views.figures import equal_aspect, figure_path, incomplete_note, save_figure, wrapped_title
 
 #: the drawn thickness 2h M is about this fraction of the radius when no magnification is given
 DRAWN_THICKNESS = 0.2
@@ -110,8 +110,8 @@ def _fibre_panel(ax, ds, k, sets):
             for number, line in enumerate(cur):
                 ax.plot(line[:, 0], line[:, 1], color=c, lw=1.3, label=None if number or not label else
                         f"{label}: {'-' if j else '+'}{np.degrees(alpha):.3g} deg")
-    ax.set_aspect("equal")
-    ax.set_xlabel("z, m")
+    ax.set_xlabel("z [m] (along the axis)")
+    ax.set_ylabel("y [m]")
     if len(sets) == 1 and not sets[0][0]:
         _, alpha, families = sets[0]
         what = f"{'+-' if families == 2 else ''}{np.degrees(alpha):.3g} deg"
@@ -183,7 +183,11 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
 
     sets = fibre_sets(ds)
     reinforced = bool(sets)
-    fig, axes = plt.subplots(1, 3 if reinforced else 2, figsize=(13.8 if reinforced else 9.2, 5.0))
+    fig, axes = plt.subplots(1, 3 if reinforced else 2, figsize=(13.8 if reinforced else 9.2, 5.4),
+                             layout="constrained")
+    # room beside each panel for a tick label that grows as equal_aspect settles the limits (one of a pair of
+    # layouts that can alternate, "-2" and "-2.0": the y label of (c) stood on the frame of (b))
+    fig.get_layout_engine().set(w_pad=0.15)
     panels = [(axes[0], reference, [r0 + z * np.cos(theta0) for z in zeta], r0, "(a) reference configuration"),
               (axes[1], deformed, [np.hypot(r + z * np.cos(psi) * np.cos(theta), z * np.sin(psi)) for z in zeta], r,
                f"(b) t = {times[k]:.4g} s: chi = {chi:+.4g} rad, psi = {psi:+.3g} rad,\nr = {r:.5g} m, "
@@ -199,19 +203,19 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
                 ax.plot(seg[:, 0], seg[:, 1], color="0.65", lw=1.0, ls=(0, (2, 1.5)))
         for j, seg in enumerate(fibres):
             ax.plot(seg[:, 0], seg[:, 1], color="tab:red" if j == 0 else "k", lw=1.8 if j == 0 else 1.2)
-        lim = 1.08 * max(faces[1], r0 + zeta[1])
-        ax.set_xlim(-lim, lim)
-        ax.set_ylim(-lim, lim)
-        ax.set_aspect("equal")
-        ax.set_xlabel("m")
+
+        ax.set_xlabel("x [m]")  # the plane of the section, x towards phi = 0
+        ax.set_ylabel("y [m]")
         ax.set_title(label, fontsize=10)
     if reinforced:
         _fibre_panel(axes[2], ds, k, sets)
     scene = ds.attrs.get("scene", "run")
-    fig.suptitle(f"{scene}: the section at s = {nodes[i]:.4g} m and its material fibres through the thickness "
-                 f"(drawn {thickness_scale:g}x thicker)\nin (b) dashed: the fibres of (a); red: the fibre at phi = 0",
-                 fontsize=10)
-    fig.tight_layout(rect=(0, 0, 1, 0.93))
+    title = (f"{scene}: the section at s = {nodes[i]:.4g} m and its material fibres through the thickness "
+             f"(drawn {thickness_scale:g}x thicker)\nin (b) dashed: the fibres of (a); red: the fibre at phi = 0")
+    if incomplete_note(ds.attrs):  # (b) is a state of a run that stopped early: as the paper's figures say it
+        title += "\n" + wrapped_title(fig.get_figwidth(), f"[{incomplete_note(ds.attrs)}]")
+    fig.suptitle(title, fontsize=10)
+    equal_aspect(fig)
     return fig
 
 

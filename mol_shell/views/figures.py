@@ -7,6 +7,8 @@ import shutil
 import textwrap
 from pathlib import Path
 
+import numpy as np
+
 from mol_shell._core.atomic import atomic_path
 from mol_shell._core.paths import writable_path
 
@@ -58,6 +60,56 @@ def save_figure(fig, path, dpi=120):
             fig.savefig(tmp, dpi=dpi, format=suffix)
     finally:
         plt.close(fig)
+
+
+def equal_aspect(fig, margin=0.04, rounds=4):
+    """Lay out ``fig`` (its layout engine, e.g. constrained) and give each of its axes one scale in x and y (a
+    circle drawn round) by its limits, about its data with ``margin`` of their span beside them; the layout is then
+    fixed. An axes' box shrunk to an aspect instead (``set_aspect("equal")``) was placed by the layout for the box it
+    had before, and the x labels fell off the figure's bottom edge; data limits adjusted to it
+    (``adjustable="datalim"``) grew at each pass of the constrained layout. The limits change the tick labels, and
+    they the layout: laid out again until the places hold (twice or three times), at most ``rounds`` times."""
+    width, height = fig.get_size_inches()
+    spans = []
+    for ax in fig.axes:
+        (x0, y0), (x1, y1) = ax.dataLim.get_points()
+        spans.append(((x0 + x1) / 2, (y0 + y1) / 2, (1 + 2 * margin) * (x1 - x0) or 1.0,
+                      (1 + 2 * margin) * (y1 - y0) or 1.0))
+    places = None
+    for _ in range(rounds):
+        fig.draw_without_rendering()
+        now = np.array([ax.get_position().bounds for ax in fig.axes])
+        if places is not None and np.abs(now - places).max() < 1e-6:
+            break
+        places = now
+        for ax, (cx, cy, dx, dy) in zip(fig.axes, spans):
+            box = ax.get_position()
+            w, h = box.width * width, box.height * height
+            per_inch = max(dx / w, dy / h)
+            ax.set_xlim(cx - per_inch * w / 2, cx + per_inch * w / 2)
+            ax.set_ylim(cy - per_inch * h / 2, cy + per_inch * h / 2)
+    fig.set_layout_engine("none")  # the places of the last layout, which the limits were made for
+
+
+def incomplete_note(attrs):
+    """``"INCOMPLETE: MESSAGE"`` for a run that stopped or was interrupted (``attrs["complete"] = 0``), ``""`` for a
+    complete one (or a file that does not say): what every figure, animation and export of a run says of it (only
+    the paper's figures said it; the fibres and history figures, the frames and the printed lines did not)."""
+    if attrs.get("complete", 1):
+        return ""
+    return f"INCOMPLETE: {attrs.get('message', '') or attrs.get('status', 'stopped early')}"
+
+
+def path_note(attrs, last=None):
+    """``"ENDED SHORT: MESSAGE (at PARAMETER = LAST of START to STOP UNITS)"`` for a path that stopped before its
+    range's end (``max_steps``, a limit, an interrupt: ``attrs["complete"] = 0``), ``""`` for a complete one; ``last``:
+    the parameter at its last state."""
+    if attrs.get("complete", 1):
+        return ""
+    units = attrs.get("parameter_units", "")
+    where = f" at {attrs.get('parameter', 'the parameter')} = {last:.6g}" if last is not None else ""
+    span = f" of its range {attrs['start']:g} to {attrs['stop']:g} {units}".rstrip() if "start" in attrs else ""
+    return f"ENDED SHORT: {attrs.get('message', '') or attrs.get('status', 'stopped early')}{where}{span}"
 
 
 def wrapped_title(width, title, fontsize=10):

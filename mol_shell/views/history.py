@@ -17,7 +17,7 @@ import numpy as np
 
 from mol_shell.views.fibres import _nearest
 from mol_shell.views.fields import run_of
-from mol_shell.views.figures import figure_path, save_figure
+from mol_shell.views.figures import figure_path, incomplete_note, save_figure, wrapped_title
 
 #: nodes whose ``r0`` is within this fraction of the largest are on the widest part (a vessel's cylinder is exact to
 #: rounding; a sphere's neighbours of its equator node are 1 - cos(pi / (n - 1)) below it, 1.2e-6 at n = 2000)
@@ -49,6 +49,21 @@ def radius_node(ds, s=None):
     middle = [first + (last - first) // 2, first + (last - first + 1) // 2]  # one node, or the two of an even run
     r0 = ds["r0"].values
     return max(middle, key=lambda i: (r0[i], -i))  # the wider; of two alike (a sphere's even n) the first, as before
+
+
+#: time ticks along a panel at most: at the default's 9 to 10, labels of a run of milliseconds ran into each other
+#: ("0.00000.00050.0010...")
+TIME_TICKS = 6
+
+
+def time_axis(ax):
+    """``t [s]`` along ``ax``'s x axis, with at most :data:`TIME_TICKS` ticks and short labels: below 0.001 s or from
+    10000 s on, the power of ten once at the axis' end (``0 1 2 3 4`` and ``1e-4``)."""
+    from matplotlib.ticker import MaxNLocator
+
+    ax.xaxis.set_major_locator(MaxNLocator(TIME_TICKS, steps=[1, 2, 2.5, 5, 10]))
+    ax.ticklabel_format(axis="x", style="sci", scilimits=(-3, 4), useOffset=False)
+    ax.set_xlabel("t [s]")
 
 
 #: characters per line of a panel's title (half the figure's width at its font size)
@@ -94,7 +109,7 @@ def draw_radius(ax, ds, node):
     ax.plot(t, ds["r"].values[:, node], "k.-", lw=1, ms=3, label=f"r at s = {float(ds['s'][node]):.4g} m")
     if "r0" in ds:
         ax.axhline(float(ds["r0"].values[node]), color="0.7", lw=0.8, zorder=0, label="reference r0")
-    ax.set_xlabel("t [s]")
+    time_axis(ax)
     ax.set_ylabel("r [m]")
     at = f"s = {float(ds['s'][node]):.4g} m"
     first, last = widest_nodes(ds)
@@ -120,7 +135,7 @@ def draw_balance(ax, ds):
         ax.plot(t, values, color="k" if last else colors[label[0]], lw=3 if label[0] == "E" else 1.2 if last else 1,
                 alpha=0.5 if label[0] == "E" else 1, ls="--" if last else "-", label=label)
     ax.axhline(0.0, color="0.8", lw=0.6, zorder=0)
-    ax.set_xlabel("t [s]")
+    time_axis(ax)
     ax.set_ylabel("energy [J]")
     residual = float(np.max(np.abs(list(terms.values())[-1])))
     title = f"energy-work balance (largest |E - E(0) - W + D| = {residual:.2g} J)"
@@ -140,7 +155,10 @@ def history_figure(ds, s=None):
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2))
     draw_radius(ax, ds, node)
     draw_balance(bx, ds)
-    fig.suptitle(f"{ds.attrs.get('scene', 'run')}: radius and energy over time", fontsize=10)
+    title = f"{ds.attrs.get('scene', 'run')}: radius and energy over time"
+    if incomplete_note(ds.attrs):  # as the paper's figures say it
+        title += f"\n[{incomplete_note(ds.attrs)}]"
+    fig.suptitle(wrapped_title(fig.get_figwidth(), title), fontsize=10)
     fig.tight_layout()
     return fig
 

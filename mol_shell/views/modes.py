@@ -1,8 +1,9 @@
 """Figure of a natural-modes Dataset: the lowest shapes along s, with each field's share of kinetic energy.
 
-Each mode has two panels sharing ``s``: the displacements ``z, r`` (m) above, the angles ``chi, theta,
-psi`` (rad) below, each on its own axis (a shape is scaled to a largest entry of 1 over all fields, so
-metres and radians are drawn to their own scales, never on one).
+Each mode has two panels sharing ``s``: the displacements ``z, r`` above, the angles ``chi, theta, psi`` below,
+each on its own axis (a shape is scaled to a largest entry of 1 over all fields, so metres and radians are drawn
+to their own scales, never on one). The shapes have no units of their own (a mode's amplitude is arbitrary): the
+axes say "shape of z, r (scaled)", not metres.
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ from mol_shell._core.errors import ParameterError, kind_of
 from mol_shell.results.dataset import holdings, is_run, read_netcdf
 from mol_shell.views.figures import save_figure
 
-#: the fields drawn in each of a mode's two panels, and the panel's unit
+#: the fields drawn in each of a mode's two panels, and the unit of their entries before the shape was scaled
 PANELS = ((("z", "r"), "m"), (("chi", "theta", "psi"), "rad"))
 COLORS = dict(zip(FIELDS, ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple")))
 
@@ -61,7 +62,7 @@ def modes_figure(ds, count=6):
             for name in drawn:
                 ax.plot(ds.s, mode[name], color=COLORS[name], label=f"{name} ({share[FIELDS.index(name)]:.0%})")
             ax.axhline(0, color="0.8", lw=0.5)
-            ax.set_ylabel(f"{', '.join(names)} [{unit}]", fontsize=8)
+            ax.set_ylabel(f"shape of {', '.join(names)}\n(scaled)", fontsize=8)
             if drawn:
                 ax.legend(fontsize=7, loc="best")
         dom = FIELDS[int(np.argmax(share))]
@@ -69,7 +70,7 @@ def modes_figure(ds, count=6):
                 else f"unstable, omega^2 = {float(mode.omega_squared):.5g} s-2")
         pair[0].set_title(f"mode {m + 1}: {what} ({dom})", fontsize=9)
     for ax in axes[-1]:
-        ax.set_xlabel("s (m)")
+        ax.set_xlabel("s [m]")
     fig.suptitle(f"{ds.attrs['scene']}: lowest modes (n = {ds.attrs['n']}, {ds.attrs['zero_modes']} rigid motions "
                  "not shown); shapes scaled to 1, share of kinetic energy per field", fontsize=9)
     fig.tight_layout()

@@ -17,7 +17,7 @@ import numpy as np
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError
 from mol_shell.analysis.path_start import checked_path, read_path
-from mol_shell.views.figures import save_figure
+from mol_shell.views.figures import path_note, save_figure, wrapped_title
 
 #: the critical mode as drawn: its largest displacement this fraction of the meridian's size
 MODE_SCALE = 0.1
@@ -161,6 +161,10 @@ def path_figure(ds, response="load_conjugate"):
     for xs, loads, ok in _pieces(ds, x, marks):
         left.plot(xs, loads, "-" if ok else "--", color="tab:blue" if ok else "tab:red", lw=1.5)
     left.plot(x, lam, ".", color="0.3", ms=3)
+    if not ds.attrs.get("complete", 1):  # where the path stopped, short of its range
+        left.plot(x[-1], lam[-1], "x", color="k", ms=9, mew=1.5)
+        left.annotate(f"ended: {ds.attrs.get('status', 'stopped')}", (x[-1], lam[-1]), textcoords="offset points",
+                      xytext=(7, -12), fontsize=8)
     for m, (xm, lm) in enumerate(marks):
         left.plot(xm, lm, MARKERS.get(str(ds.point_kind.values[m]), "s"), color="k", mfc="none", ms=9)
     spans = [max(float(np.ptp(np.r_[values, [p[i] for p in marks]])), 1e-300) for i, values in enumerate((x, lam))]
@@ -194,6 +198,9 @@ def path_figure(ds, response="load_conjugate"):
     if npoints:  # below the meridian: inside, it covers the modes
         right.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=1 if npoints < 4 else 2,
                      frameon=False)
+    note = path_note(ds.attrs, float(lam[-1]))
+    if note:  # a path cut short (max_steps, a limit, Ctrl-C) looked like a whole one
+        fig.suptitle(wrapped_title(fig.get_figwidth(), f"[{note}]", fontsize=9), fontsize=9)
     fig.tight_layout()
     return fig
 

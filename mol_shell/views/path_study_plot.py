@@ -12,7 +12,7 @@ import itertools
 
 import numpy as np
 
-from mol_shell.views.figures import save_figure
+from mol_shell.views.figures import save_figure, wrapped_title
 from mol_shell.views.path_plot import MARKERS
 
 
@@ -49,12 +49,19 @@ def path_study_figure(ds):
                         linestyle="none")
     for kind, marker in MARKERS.items():
         ax.plot([], [], marker, color="k", fillstyle="none", linestyle="none", label=kind)
+    short = _ended_short(ax, ds, x_dim, xs)
     if not numeric:
         ax.set_xticks(xs, [str(v) for v in x], rotation=30, ha="right")
     x_units = ds[x_dim].attrs.get("units", "") if x_dim in ds.coords else ""
     ax.set_xlabel(f"{x_dim} [{x_units}]" if x_units else x_dim)
     ax.set_ylabel(f"critical {parameter} [{units}]" if units else f"critical {parameter}")
-    ax.set_title(ds.attrs.get("title", f"critical points of {parameter}"), fontsize="medium")
+    title = ds.attrs.get("title", f"critical points of {parameter}")
+    if short:
+        stop = ds.attrs.get("path_stop")
+        units = ds.attrs.get("units_path_stop", "")
+        end = f" of {parameter} = {stop:g} {units}".rstrip() if isinstance(stop, (int, float, np.number)) else ""
+        title += f"\n[ENDED SHORT{end}: " + "; ".join(short) + "]"
+    ax.set_title(wrapped_title(fig.get_figwidth(), title, fontsize=10), fontsize="medium")
     if np.all(np.isnan(ds.first_critical.values)):  # axes of NaN alone are empty: say why
         stop = ds.attrs.get("path_stop", "")
         ax.text(0.5, 0.5, f"no path met a critical point of {parameter}"
@@ -65,6 +72,31 @@ def path_study_figure(ds):
     ax.legend(fontsize="small")
     ax.grid(alpha=0.3)
     return fig
+
+
+def _ended_short(ax, ds, x_dim, xs):
+    """Mark on ``ax`` each case whose path stopped before the end of its range (``status`` not ``complete``:
+    ``max_steps``, a limit, a failure, a case that did not run) with a dotted line at its x and its status; returns
+    ``["nu = 0.45 (max_steps)", ...]``. Its critical points were drawn as any case's: those it met before it stopped."""
+    if "status" not in ds:
+        return []
+    status = ds["status"]
+    said = []
+    for index in np.ndindex(status.shape):
+        word = str(status.values[index])
+        if word in ("complete", ""):
+            continue
+        where = dict(zip(status.dims, index))
+        at = xs[where[x_dim]]
+        ax.vlines(at, 0, 1, transform=ax.get_xaxis_transform(), colors="0.4", linestyles=":", lw=1.2, zorder=0,
+                  gid="ended short")
+        ax.annotate(word, (at, 1.0), xycoords=("data", "axes fraction"), xytext=(3, -4), textcoords="offset points",
+                    rotation=90, va="top", ha="left", fontsize=7, color="0.3")
+        said.append(", ".join(f"{d} = {ds[d].values[k]!s}" if d in ds.coords else f"{d} {k}" for d, k in
+                              where.items()) + f" ({word})")
+    if said:
+        ax.plot([], [], ":", color="0.4", lw=1.2, label="path ended short (its status)")
+    return said
 
 
 def plot_path_study(ds, path):

@@ -8,7 +8,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.views.fields import run_of
-from mol_shell.views.figures import figure_path, save_figure, wrapped_title
+from mol_shell.views.figures import figure_path, incomplete_note, save_figure, wrapped_title
 from mol_shell.views.history import draw_balance, draw_radius, radius_node
 
 # Axis ranges of the paper's figures 4-8; used when the data fit inside them and fill enough of them (PAPER_SHARE).
@@ -78,8 +78,8 @@ def title_of(attrs, shown, count):
     title = f"{parts[0]}: {title}" if title else parts[0]
     if shown < count:
         title += f"\n{shown} of {count} saved times shown (evenly picked)"
-    if not attrs.get("complete", 1):
-        title += f"\n[INCOMPLETE: {attrs.get('message', '')}]"
+    if incomplete_note(attrs):
+        title += f"\n[{incomplete_note(attrs)}]"
     return title
 
 

@@ -34,6 +34,7 @@ LAZY_EXTERNAL = {
     "sksundae": "SUNDIALS (about 1 s to import): only the CVODE/IDA integrators and the DAE route need it",
     "scipy": "its integrate/interpolate/sparse submodules (0.4-1 s each): only some integrators, statics, modes, meridians",
     "matplotlib": "pyplot (0.7 s, and it picks a backend): only figures; the CLI chooses the backend first",
+    "mpl_toolkits": "matplotlib's 3-D toolkit (shipped with it): only animations draw in 3-D",
     "meshio": "only the 3-D export",
     "h5py": "only the 3-D export's HDF5 file (meshio's XDMF writer, given a file of its own; 0.07 s)",
     "imageio_ffmpeg": "only animations written as video",

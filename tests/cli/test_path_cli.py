@@ -169,7 +169,8 @@ def test_one_critical_point_is_said_in_the_singular(cap_file, tmp_path, capsys):
         assert p.sizes["point"] == 1
     assert main(["plot", str(cap_file), "-o", str(tmp_path / "p.png")]) == 0
     out = capsys.readouterr().out
-    assert out.rstrip().endswith(", 1 critical point") and "critical points" not in out
+    # (this path stopped at max_steps: the line then ends with where, tests/views/test_incomplete_said.py)
+    assert ", 1 critical point" in out and "critical points" not in out
 
 
 @pytest.mark.parametrize("argv", [["sphere", "--param", "pressure=0:1e24"],

@@ -162,11 +162,12 @@ def test_the_mode_figure_keeps_angles_and_lengths_on_their_own_axes():
         names = {str(line.get_label()).split(" ")[0] for line in ax.get_lines() if not str(line.get_label()).startswith("_")}
         if not names:
             continue
-        if names <= {"z", "r"}:
-            assert ax.get_ylabel().endswith("[m]"), ax.get_ylabel()
+        if names <= {"z", "r"}:  # scaled shapes: no units of their own (tests/views/test_figure_layout.py)
+            assert ax.get_ylabel().startswith("shape of z, r"), ax.get_ylabel()
             kinds.add("m")
         else:
-            assert names <= {"chi", "theta", "psi"} and ax.get_ylabel().endswith("[rad]"), (names, ax.get_ylabel())
+            assert names <= {"chi", "theta", "psi"} and ax.get_ylabel().startswith("shape of chi, theta, psi"), (
+                names, ax.get_ylabel())
             kinds.add("rad")
     assert kinds == {"m", "rad"}  # the sphere's lowest modes move both
     plt.close(fig)
