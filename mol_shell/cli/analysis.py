@@ -102,6 +102,9 @@ def register_stability(subparsers):
                         "full report: 8 min)")
     parser.add_argument("--no-bisect", action="store_true", help="skip the leap-frog step bisection")
     parser.add_argument("-o", "--output", required=True, help="netCDF file, .nc; a .md table and .png plot beside it")
+    parser.unknown_note = (f"the report runs its own cases, each with its own n (40; the grid cases n = "
+                           f"{', '.join(map(str, FULL_SIZES))}, --quick to n = {max(QUICK_SIZES)}), times and "
+                           "integrators; the base scene's parameters by --set NAME=VALUE")
     parser.set_defaults(func=cmd_stability, output_suffixes=NETCDF_SUFFIXES)
 
 
@@ -131,8 +134,10 @@ def cmd_stability(args):
 
 def cmd_modes(args):
     scene, run, initial, info, source = start_of(args)
-    png = writable_path(args.png or str(args.output).rsplit(".", 1)[0] + ".png", "--png", suffixes=image_formats())
-    if args.png:  # the figure is not the --from file either
+    given = args.png is not None  # --png '' is refused as empty (it was the default figure)
+    png = writable_path(args.png if given else str(args.output).rsplit(".", 1)[0] + ".png", "--png",
+                        suffixes=image_formats())
+    if given:  # the figure is not the --from file either
         check_outputs(args, name="--png", value=png)
     else:
         check_outputs(args, [png])

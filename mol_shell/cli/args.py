@@ -98,9 +98,17 @@ class Once(argparse.Action):
         setattr(namespace, self.dest, values)
 
 
+#: the options of every command: one of them given to another command is not one cut short (``stability --n`` was
+#: told "options spelt in full, as --no-bisect")
+EVERY_OPTION = set()
+
+
 class Parser(argparse.ArgumentParser):
     """argparse's parser with the command line's rules: an option is spelt in full (``--t-en`` was taken as
     ``--t-end``), a single-valued option is given once (:class:`Once`), and a refusal is one line, exit code 2."""
+
+    #: what a command says after the list of its options when it is given one it has not got
+    unknown_note = ""
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("allow_abbrev", False)
@@ -108,21 +116,40 @@ class Parser(argparse.ArgumentParser):
         self.register("action", None, Once)
         self.register("action", "store", Once)
 
+    def add_argument(self, *args, **kwargs):
+        action = super().add_argument(*args, **kwargs)
+        EVERY_OPTION.update(action.option_strings)
+        return action
+
     def parse_known_args(self, args=None, namespace=None):
         tokens = list(sys.argv[1:] if args is None else args)
         self._tokens = tokens[: tokens.index("--")] if "--" in tokens else tokens  # after it, arguments only
         namespace, extras = super().parse_known_args(args, namespace)
         for token in extras:  # an option cut short: say which ones it begins (argparse only calls it unrecognized)
-            cut = self._cut_short(token)
+            cut = self._cut_short(token) or self._not_ours(token)
             if cut:
                 self.error(cut)
         return namespace, extras
+
+    def _not_ours(self, token):
+        """The refusal of an option this command has not got (``stability --n``), listing the ones it has; ``None``
+        for a token that is no option (argparse's own message names it) or where the command has no options."""
+        word = str(token).partition("=")[0]
+        if not (word.startswith("--") and len(word) > 2) or not self._actions:
+            return None
+        ours = [" / ".join(a.option_strings) for a in self._actions
+                if a.option_strings and "-h" not in a.option_strings]
+        if not ours:
+            return None
+        note = f" ({self.unknown_note})" if self.unknown_note else ""
+        return f"{word} is not an option of {self.prog}; allowed: {', '.join(ours)}{note}"
 
     def _cut_short(self, token):
         """The refusal of ``token`` when it is an option of this parser cut short (``--t-en``), else ``None``."""
         word = str(token).partition("=")[0]
         full = [option for option in self._option_string_actions if option.startswith(word) and option != word]
-        if not (word.startswith("--") and full) or word == "--" or word in self._option_string_actions:
+        if not (word.startswith("--") and full) or word == "--" or word in self._option_string_actions or \
+                word in EVERY_OPTION:
             return None
         return (f"{word} is not an option of {self.prog}; allowed: options spelt in full, as "
                 + (f"{', '.join(full[:-1])} or {full[-1]}" if len(full) > 1 else full[0]))
@@ -327,13 +354,14 @@ def integrator_option_args(args):
 def run_settings(args, run, scene, n):
     """``(times, t_end, integrator, options)`` of a run or a study's cases: the command line's options over a
     scene file's ``[run]`` table (``--t-end`` or ``--times`` replace both of the file's), the options checked."""
-    times = parse_times_arg(args.times, n=n) if args.times else None
+    # an empty --times or --integrator ('') is given, and refused as a blank one is (it ran the defaults)
+    times = parse_times_arg(args.times, n=n) if args.times is not None else None
     if args.t_end is None and times is None:
         times = run.get("times")
-    t_end = args.t_end if args.t_end is not None or args.times else run.get("t_end")
-    integrator = args.integrator or run.get("integrator", "leapfrog")
+    t_end = args.t_end if args.t_end is not None or args.times is not None else run.get("t_end")
+    integrator = args.integrator if args.integrator is not None else run.get("integrator", "leapfrog")
     from_file = {k: v for k, v in run.items() if k not in ("integrator", "n", "t_end", "times")}
-    if args.integrator and args.integrator != run.get("integrator", "leapfrog"):
+    if args.integrator is not None and args.integrator != run.get("integrator", "leapfrog"):
         # the command line's integrator wins, and the file's options for another integrator go with that one
         allowed = integrator_options(scene, integrator) if integrator in INTEGRATORS else set(from_file)
         for key in sorted(set(from_file) - set(allowed)):

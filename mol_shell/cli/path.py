@@ -278,7 +278,7 @@ def cmd_plot_path_study(args):
 def cmd_plot_path(args):
     _refuse_run_options(args, "a path's: --response")
     ds = read_path(args.file, "FILE")
-    response = args.response or "load_conjugate"
+    response = "load_conjugate" if args.response is None else args.response  # '' refused, not the default
     with said_as_options():
         check_response(ds, response)
         response_values(ds, response)

@@ -17,14 +17,16 @@ instability) and shows progress.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell._core.ranges import TINY
 from mol_shell.discretization.stencil import leapfrog_stepper
 from mol_shell.integrators import loop
-from mol_shell.integrators.loop import Option, integers, option, positive, real
+from mol_shell.integrators.loop import Option, integers, option, real
 
 
 @dataclass(frozen=True)
@@ -44,7 +46,9 @@ class Leapfrog:
         ``restart`` are unchanged.
     """
 
-    dt: float = option(1e-6, positive(" s"))
+    # a normal double: a subnormal step (1e-320) kept a few digits, and was said as a t_end out of range
+    dt: float = option(1e-6, Option(f"(0, inf) s, normal doubles (a subnormal step, below {TINY!r}, loses its "
+                                    "digits)", lambda v: TINY <= real(v) < math.inf, convert=real))
     chunk: int = option(2000, integers(1))
     restart: float = option(1.0, Option("[0, inf] s; 0 or inf: never", lambda v: real(v) >= 0, convert=real))
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 
 import casadi as ca
@@ -11,6 +12,7 @@ from threadpoolctl import threadpool_limits
 
 from mol_shell._core.constants import DENSE_MAX_STATES
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.ranges import Interval
 from mol_shell.model.laws import scene_shell_energy
 from mol_shell.model.loads import history
 from mol_shell.model.material import Thickness
@@ -25,6 +27,8 @@ DENSE_EIG_MAX_ROWS = 800
 #: Newton's iteration for the radius has converged to round-off when its step, below this fraction of R, no longer
 #: shrinks
 STALLED = 1e-10
+#: the most doublings of R (or halvings of R - r_min) in the search for a bracket of the equilibrium radius
+MAX_DOUBLINGS = 1100
 
 
 def blas_threads(rows):
@@ -32,37 +36,109 @@ def blas_threads(rows):
     return threadpool_limits(limits=1, user_api="blas") if rows <= ONE_THREAD_MAX_ROWS else contextlib.nullcontext()
 
 
-def equilibrium_radius(scene, tol=1e-14, max_iter=50):
+def equilibrium_radius(scene, tol=1e-14, max_iter=200):
     """Radius ``R`` at which the uniformly twisted cylinder is in radial equilibrium.
 
-    Solves ``dWhat/dr (z_s = 1, r_s = 0, chi_s = gamma, theta = theta_s = psi = psi_s = 0; r = R) = 0``
-    by Newton's method on the CasADi graph of ``What`` (the paper's "(R, gamma) is an
-    equilibrium state of the material"). For ``gamma = 0`` the root is the natural radius ``a``. A
-    pressure ``p`` (its value at ``t = 0``) adds ``-p r^2/(2a)`` per unit reference area (``-p V``, ``V = pi r^2 L``).
+    Solves ``dWhat/dr (z_s = 1, r_s = 0, chi_s = gamma, theta = theta_s = psi = psi_s = 0; r = R) = 0`` on the
+    CasADi graph of ``What`` (the paper's "(R, gamma) is an equilibrium state of the material"). For ``gamma = 0``
+    the root is the natural radius ``a``. A pressure ``p`` (its value at ``t = 0``) adds ``-p r^2/(2a)`` per unit
+    reference area (``-p V``, ``V = pi r^2 L``), so the balance reads ``p = a (dWhat/dr)/r``: the pressure the
+    wall holds at ``r`` (for SVK ``h (lambda + 2 mu)(r^2/a^2 - 1)/a`` on a thin wall, rising with ``r``).
+
+    The root of ``G(r) = (dWhat/dr)/r - p/a`` is bracketed first, from ``a`` outwards (doubling ``r``, or halving
+    ``r - r_min`` with ``r_min`` where the inner face reaches the axis), then found by Newton's method kept inside
+    the bracket (bisection where a step leaves it): Newton from ``a`` alone stopped where the energy's curvature in
+    ``r`` turned negative, which a pressure of 2.5e5 Pa does between ``a`` and its root at 1.82 a. No root inside
+    the model (an external pressure beyond what the hoop force holds at any radius) is refused naming the
+    pressure and that bound.
     """
     a = getattr(scene, "a", 1.0)
-    thickness = Thickness(scene.zeta1_used(), scene.h, scene.n_quad)
+    zeta1 = scene.zeta1_used()
+    thickness = Thickness(zeta1, scene.h, scene.n_quad)
     r = ca.SX.sym("r")
     energy = scene_shell_energy(scene, (1.0, 0.0, getattr(scene, "gamma", 0.0), 0.0, 0.0, r, 0.0, 0.0), thickness, a)
     # pressure: -p V with V = pi r^2 L, per unit reference area 2 pi a L: -p r^2 / (2a) (follower, at t = 0)
     p0 = getattr(scene, "pressure", 0.0)
-    if p0:
-        energy = energy - p0 * history(scene.load_histories()["pressure"], 0.0) * r * r / (2 * a)
-    force = ca.gradient(energy, r)
-    newton = ca.Function("newton", [r], [force, ca.jacobian(force, r)])
-    R, last = a, math.inf
+    p = p0 * history(scene.load_histories()["pressure"], 0.0) if p0 else 0.0
+    held = ca.gradient(energy, r) * a / r  # the pressure the wall holds at r
+    balance = ca.Function("balance", [r], [held, ca.jacobian(held, r)])
+
+    def held_at(R):  # the pressure the wall holds at R, and its slope; NaN where the numbers leave double precision
+        value, slope = (float(x) for x in balance(R))
+        return (value, slope) if math.isfinite(value) and math.isfinite(slope) else (math.nan, math.nan)
+
+    # the inner face on the axis; without a pressure the search goes on to the axis, and a root inside the wall's
+    # reach (a twist of 1e3 rad/m: R = 5.4e-6 m) is refused, naming what made it, by the caller's check of R
+    lowest = max(-zeta1, 0.0) if p else 0.0
+    lo, hi = _bracket(lambda R: held_at(R)[0], p, a, lowest, scene)
+    R = a if lo <= a <= hi else 0.5 * (lo + hi)  # from a, an end of the bracket: Newton as before where it goes in
+    last = math.inf
     for _ in range(max_iter):
-        g, dg = (float(x) for x in newton(R))
-        if dg <= 0:
+        value, slope = held_at(R)
+        value -= p
+        if math.isnan(value):
             break
-        step = g / dg
-        R -= step
+        if value == 0.0:
+            return R
+        lo, hi = (R, hi) if value < 0 else (lo, R)
+        step = value / slope if slope > 0 else math.nan
         # converged, or at round-off: a small step that no longer shrinks (moduli near the smallest normal double
         # leave the force a few digits, and E = 3e-308 ran out of iterations while 2.3e-308 converged)
         if abs(step) < tol * R or STALLED * R > abs(step) >= last:
+            return R - step
+        new = R - step
+        if not lo < new < hi:  # a step out of the bracket: bisect it (geometrically across decades)
+            new = math.sqrt(lo * hi) if lo > 0 and hi > 4 * lo else 0.5 * (lo + hi)
+        last, R = abs(new - R), new
+        if hi - lo <= 4 * math.ulp(hi):  # a bracket a few ulps wide
             return R
-        last = abs(step)
     raise ParameterError("gamma", scene.gamma, "twists for which a twisted cylinder has a radial equilibrium")
+
+
+def _bracket(held_at, p, a, lowest, scene):
+    """``(lo, hi)`` with the wall holding less than ``p`` at ``lo`` and more at ``hi``, ``a`` one end: searched
+    outwards (doubling ``r``) where ``a`` holds less, inwards (halving ``r - lowest``) where it holds more. Neither
+    found: refused, naming the pressure and the most (least) the wall holds where that is why, else (the numbers
+    out of double precision first) as a twist without an equilibrium, which the caller diagnoses."""
+    value = held_at(a)
+    if value == p:
+        return a, a
+    if math.isnan(value):
+        raise ParameterError("gamma", scene.gamma, "twists for which a twisted cylinder has a radial equilibrium")
+    outward = value < p
+    seen = [(value, a)]
+    R = a
+    for _ in range(MAX_DOUBLINGS):
+        nearer = 2.0 * R if outward else lowest + 0.5 * (R - lowest)
+        if nearer == R or nearer <= lowest:
+            break
+        value = held_at(nearer)
+        if math.isnan(value):
+            break
+        if (value > p) == outward or value == p:
+            return (R, nearer) if outward else (nearer, R)
+        seen.append((value, nearer))
+        R = nearer
+    levels_off = outward and len(seen) > 2 and seen[-1][0] - seen[-2][0] <= 1e-9 * abs(seen[-1][0])
+    if not p or (outward and not levels_off):  # a push without end out of double precision (the energy overflows)
+        raise ParameterError("gamma", scene.gamma, "twists for which a twisted cylinder has a radial equilibrium")
+    if outward:  # the hoop force levels off (a rubber balloon's): the most pressure held is the last
+        least = seen[-1][0]
+    else:  # the least pressure held at any radius, on a fine grid about the least seen (it lies where r - lowest is
+        # a few wall thicknesses or less, the inner face near the axis)
+        k = min(range(len(seen)), key=lambda i: seen[i][0])
+        inner = seen[k + 1][1] if k + 1 < len(seen) else lowest
+        outer = seen[max(k - 1, 0)][1]
+        grid = [inner + (outer - inner) * i / 400 for i in range(1, 400)]
+        least = min([seen[k][0]] + [v for v in map(held_at, grid) if not math.isnan(v)])
+    factor = p / scene.pressure  # the pressure history's at t = 0
+    bound = least / factor
+    allowed = Interval(bound, math.inf, unit="Pa") if (factor > 0) != outward else Interval(-math.inf, bound, unit="Pa")
+    held = (f"holds at most {least:.4g} Pa inside (its hoop force levels off as it widens)" if outward else
+            f"holds at most {-least:.4g} Pa of external pressure" if least < 0 else f"needs {least:.4g} Pa inside")
+    raise ParameterError("pressure", scene.pressure, dataclasses.replace(allowed, shown=f"about {allowed.text()}"),
+                         hint=f"at any radius the wall {held} at t = 0: beyond it the cylinder has no radial "
+                         "equilibrium")
 
 
 def spectrum_bounds(jac, y, dissipative=True, positions=None):

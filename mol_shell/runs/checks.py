@@ -61,6 +61,21 @@ def problem(system, y0):
     return None
 
 
+def step_problem(system, y0, omega_max):
+    """``None`` if the right-hand side is still finite one stable step (``1/max|eig J(y0)|``) after t = 0, along the
+    rate at t = 0, else why: a load whose rates at t = 0 are finite can still leave the numbers in one step
+    (``end2_torque = 1e308``: a momentum of 1e308 on an end of inertia above 1 kg m^2 is finite, the centrifugal
+    forces of its spin are not, and the run stopped at its first step where gravity = 1e308 was refused)."""
+    tau = 1.0 / omega_max
+    with np.errstate(all="ignore"):
+        y1 = np.asarray(y0, dtype=float) + tau * np.asarray(system.rhs(0, y0), dtype=float).ravel()
+        f1 = np.asarray(system.rhs(tau, y1), dtype=float).ravel()
+    if np.all(np.isfinite(y1)) and np.all(np.isfinite(f1)):
+        return None
+    return "the right-hand side one stable step after t = 0 is not finite in double precision (the loads move the " \
+        "shell too fast)"
+
+
 def spectrum_problem(omega_max, damping):
     """``None`` for a usable spectrum bound, else why it is not (0, denormal or not finite)."""
     if not (math.isfinite(omega_max) and math.isfinite(damping)):
@@ -81,7 +96,7 @@ def checked_spectrum(scene, system, y0):
         except (np.linalg.LinAlgError, ValueError, ArithmeticError) as exc:
             found = f"the eigenvalues of the Jacobian at t = 0 cannot be computed ({type(exc).__name__})"
         else:
-            found = spectrum_problem(omega_max, damping)
+            found = spectrum_problem(omega_max, damping) or step_problem(system, y0, omega_max)
             if found is None:
                 return omega_max, damping
     refuse(scene, system.n, found)
@@ -127,8 +142,8 @@ def _is_bad(scene, n):
         if problem(system, y0) is not None:
             return True
         with np.errstate(all="ignore"):
-            return spectrum_problem(*spectrum_bounds(system.spectrum_jac, y0, system.viscous,
-                                                     positions(system))) is not None
+            omega_max, damping = spectrum_bounds(system.spectrum_jac, y0, system.viscous, positions(system))
+        return (spectrum_problem(omega_max, damping) or step_problem(system, y0, omega_max)) is not None
     except ParameterError:
         return None
     except (np.linalg.LinAlgError, ValueError, ArithmeticError, RuntimeError):
@@ -364,6 +379,8 @@ def checked_equilibrium_radius(scene):
         with np.errstate(all="ignore"):
             return equilibrium_radius(scene)
     except ParameterError as exc:
+        if exc.name == "pressure":  # the solver's own bound: past the least pressure the wall holds at any radius
+            raise
         error = _diagnose(scene, "the radial equilibrium cannot be computed in double precision", _no_equilibrium,
                           exclude=(exc.name,))
         if error is None:

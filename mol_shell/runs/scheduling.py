@@ -9,6 +9,7 @@ alone: local workers ignore SIGINT from their start, and an interrupted study st
 
 from __future__ import annotations
 
+import asyncio
 import collections
 import contextlib
 import multiprocessing
@@ -17,7 +18,7 @@ import signal
 import sys
 import time
 import warnings
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, ThreadPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
@@ -68,17 +69,62 @@ def connect(scheduler):
         text = " ".join(str(exc).split())
         raise ParameterError.invalid("scheduler", scheduler, "is not an address this dask can connect to", allowed,
                                      hint=f"{type(exc).__name__}: {text}".rstrip(": ")) from None
-    try:
+    _ask_identity(scheduler, allowed)
+    client = Client.__new__(Client)  # held, so that one left half-open is closed here and not at exit (which
+    try:  # waited 20 s and printed a traceback)
         # not the default client: a failed connection would otherwise leave dask (and xarray's netCDF locks)
         # pointing at the unreachable scheduler for the rest of the process
-        return Client(scheduler, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
-    except ValueError as exc:
-        raise ParameterError.invalid("scheduler", scheduler, "is not a scheduler address", allowed,
-                                     hint=str(exc)) from None
+        client.__init__(scheduler, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
+        return client
     except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, or distributed's own failures to start
+        with contextlib.suppress(Exception):
+            client.close(timeout=1)
         text = str(exc).splitlines()[0] if str(exc) else ""
         raise ParameterError.invalid("scheduler", scheduler, f"does not answer within {SCHEDULER_TIMEOUT:g} s",
                                      allowed, hint=f"{type(exc).__name__}: {text}".rstrip(": ")) from None
+
+
+def _ask_identity(scheduler, allowed):
+    """Refuse an address where no dask scheduler answers, in :data:`SCHEDULER_TIMEOUT` seconds at most: a dask
+    ``Client`` waits for the handshake without end, so an HTTP server or any service that accepts and stays
+    silent hung a study (and its half-open client printed a traceback at exit). One connection, its
+    handshake and the ``identity`` call, in a thread of its own (the caller's may be running an event loop)."""
+    with ThreadPoolExecutor(1) as pool:
+        try:
+            identity = pool.submit(asyncio.run, _identity(scheduler)).result()
+        except TimeoutError:  # connected (dask's own connect gives up first), then silence
+            raise ParameterError.invalid("scheduler", scheduler, "does not answer as a dask scheduler within "
+                                         f"{SCHEDULER_TIMEOUT:g} s", allowed, hint="it accepts the connection but "
+                                         "sends no dask handshake") from None
+        except OSError as exc:  # nothing listens, or no connection (dask retries until the time is up)
+            raise ParameterError.invalid("scheduler", scheduler, f"does not answer within {SCHEDULER_TIMEOUT:g} s",
+                                         allowed, hint=f"{type(exc).__name__}: {exc}".splitlines()[0]) from None
+        except Exception:  # noqa: BLE001 - an answer that is not dask's: an 8-byte length of 3 EiB, a bad frame
+            raise ParameterError.invalid("scheduler", scheduler, "does not answer as a dask scheduler", allowed,
+                                         hint="something listens there but speaks another "
+                                         "protocol: an HTTP server, say") from None
+    kind = identity.get("type") if isinstance(identity, dict) else None
+    if kind != "Scheduler":
+        raise ParameterError.invalid("scheduler", scheduler, "does not answer as a dask scheduler", allowed,
+                                     hint=f"it is a dask {kind}" if isinstance(kind, str) else "")
+
+
+async def _identity(address):
+    from distributed.comm import connect as dask_connect
+    from distributed.security import Security
+
+    async def ask():
+        # a line end in the handshake (a key dask ignores): a line-based service (HTTP) answers it at once
+        # instead of waiting for the line, so its answer, which is not dask's, is refused at once
+        comm = await dask_connect(address, timeout=SCHEDULER_TIMEOUT, handshake_overrides={"probe": "\r\n\r\n"},
+                                  **Security().get_connection_args("client"))
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    return await asyncio.wait_for(ask(), SCHEDULER_TIMEOUT + 0.5)
 
 
 def execute(run_task, tasks, scheduler, workers, client=None):
@@ -426,9 +472,13 @@ def check_workers(workers, scheduler):
                              "on one): each local process runs its cases on one core, and more processes than cores "
                              "only share them, each with its own start and memory")
     if scheduler is not None and not (scheduler == "serial" and workers == 1):  # serial is one process: 1 agrees
-        raise ParameterError("workers", workers, "None with scheduler = " + repr(scheduler_name(scheduler)),
-                             hint="workers counts local processes (scheduler None); a cluster has its own workers, "
-                             "serial is this process alone")
+        # it said "workers = 2 is outside None with scheduler = 'serial'"
+        serial = scheduler == "serial"
+        which = ("'serial', which runs every case in this process" if serial else
+                 f"{scheduler_name(scheduler)!r}, a dask cluster with workers of its own")
+        raise ParameterError.invalid("workers", workers, "applies to local processes (scheduler None, the default), "
+                                     f"not to scheduler = {which}", "1 or None (left out) with scheduler = 'serial'"
+                                     if serial else "None (left out) with a dask scheduler")
 
 
 def most_workers():

@@ -9,7 +9,7 @@ import warnings
 
 import numpy as np
 
-from mol_shell._core.constants import RTOL_RANGE  # noqa: F401  (re-exported: simulate's range)
+from mol_shell._core.constants import RTOL_RANGE, stated_up  # noqa: F401  (RTOL_RANGE: simulate's range)
 from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning, is_number, scalar
 from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.kernel_cache import CacheFull
@@ -123,15 +123,20 @@ def steps_to(t_end, dt):
     return steps if steps >= 1 and abs(steps * dt - t_end) <= 1e-9 * t_end else 0
 
 
-def leapfrog_times(t_end, dt, count=10):
+def leapfrog_times(t_end, dt, count=10, dt_given=False):
     """Default saved times of a fixed-step run: ``count`` intervals to ``t_end``, each a whole number of steps.
 
     ``t_end`` must be a multiple of ``dt``. The times are as even as the step grid allows and are
-    rounded to 12 significant digits, so ``ds.sel(time=...)`` finds the values a user would type.
+    rounded to 12 significant digits, so ``ds.sel(time=...)`` finds the values a user would type. Too many steps
+    name ``dt`` where it was given (``dt_given``: ``--dt 1e-300`` was said as ``t_end = 0.0001`` out of range).
     """
     parse_times(None, t_end)  # validates t_end
-    if not t_end / dt <= INTEGRATORS["leapfrog"].MAX_STEPS:  # beyond it steps cannot be counted in double precision
-        raise ParameterError("t_end", t_end, f"(0, {INTEGRATORS['leapfrog'].MAX_STEPS * dt:.4g}] s at dt = {dt:g} s")
+    most = INTEGRATORS["leapfrog"].MAX_STEPS
+    if not t_end / dt <= most:  # beyond it steps cannot be counted in double precision
+        if dt_given:
+            raise ParameterError("dt", dt, f"[{stated_up(t_end / most):.4g}, inf) s at t_end = {t_end:g} s",
+                                 hint=f"leap-frog counts at most 2^53 = {most:.3g} steps")
+        raise ParameterError("t_end", t_end, f"(0, {most * dt:.4g}] s at dt = {dt:g} s")
     steps = steps_to(t_end, dt)
     if not steps:
         raise ParameterError("t_end", t_end, f"positive multiples of dt = {dt:g} s (leap-frog has a fixed step)")
@@ -206,6 +211,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     if dt is not None:
         options["dt"] = dt
     check_options(scene, integrator, options)
+    dt_given = "dt" in options
     if integrator == "leapfrog":
         options.setdefault("dt", DEFAULT_DT)
     mode = progress_mode(progress)  # refused here if not a bool or None; the unshearable route takes it as given
@@ -219,12 +225,21 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         ds = _scene_warnings(scene, ds)  # its stresses as any run's (the constraint's torque in axial_torque)
         return ds if stresses is False else add_stresses(ds, limit=None if stresses else MAX_SAMPLES)
     method = INTEGRATORS[integrator](**options)
+    deferred = None  # a t_end that is no multiple of a dt given: said once dt is within its stability bound
     if times is None and integrator == "leapfrog":
-        times = leapfrog_times(t_end, method.dt)
+        try:
+            times = leapfrog_times(t_end, method.dt, dt_given=dt_given)
+        except ParameterError as exc:
+            if not (dt_given and exc.name == "t_end"):
+                raise
+            deferred, times = exc, None
     times = parse_times(times, t_end)
     _check_max_step(method, times[-1])
-    est = resources.check_before_build(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
-                                       method=method)
+    with warnings.catch_warnings():
+        if deferred is not None:  # no run follows: nothing to announce
+            warnings.simplefilter("ignore", resources.LongRunWarning)
+        est = resources.check_before_build(n, times, integrator, fields=len(scene.fields),
+                                           dt=getattr(method, "dt", None), method=method)
     requested, requested_scene = scene.params(), scene
     scene = resolve(scene)
     system, compiled = build(scene, n)
@@ -240,6 +255,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         dt = method.dt
         if dt * omega_max >= 1.0:
             raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound 1/max|eig J(y0)|")
+        if deferred is not None:  # dt is within its bound: t_end is what to change
+            raise deferred
         growth = parasitic_growth_rate(damping, omega_max, dt)
         span = min(times[-1], method.restart or math.inf)  # the parasitic root starts again at each restart
         if growth * span > LEAPFROG_MAX_LOG_GROWTH:

@@ -301,7 +301,10 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         # varied: the grid of the coarsest one t_end is a multiple of (the others' too when they divide it; a case
         # whose dt does not is refused, as one t_end is not a multiple of: the whole study only when none is)
         steps = [float(v) for v in coords["dt"]] if "dt" in coords else [options.get("dt", DEFAULT_DT)]
-        times = leapfrog_times(t_end, max([d for d in steps if steps_to(t_end, d)] or steps))
+        if "dt" in options:  # dt's own range first (a subnormal one was said as t_end out of range)
+            INTEGRATORS[integrator](**options)
+        times = leapfrog_times(t_end, max([d for d in steps if steps_to(t_end, d)] or steps),
+                               dt_given="dt" in options or "dt" in coords)
     times = parse_times(times, t_end)
     resources.check_study(len(cases), n, times, integrator, fields=len(getattr(scene, "fields", range(5))),
                           dt=options.get("dt", DEFAULT_DT) if integrator == "leapfrog" else None,

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, UnknownParameterError, is_number
-from mol_shell._core.ranges import Choice, Interval, finite, modulus, non_negative, subnormal
+from mol_shell._core.ranges import TINY, Choice, Interval, finite, modulus, non_negative, subnormal
 from mol_shell.model.edges import check_displacements, check_edge, resolve_edges
 from mol_shell.model.fibres import FIBRE_ANGLES, fibre_angle_hint
 from mol_shell.model.geometry import base_offset, thickness_factors
@@ -269,10 +269,13 @@ class ShellScene:
         _check("E", self.E, modulus("Pa"))
         if isinstance(self.material, str) and self.material in COMPRESSIBLE_WHY:  # their condensations hold there
             # (a material of the wrong type, unhashable, is refused by its own check below)
-            _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True),
-                   hint=f"material = {self.material}: {COMPRESSIBLE_WHY[self.material]}")
+            tiny = subnormal(self.nu)  # 0 or a normal double, as the moduli (nu = 1e-320 was taken, E = 1e-320 not)
+            _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True, normal=True,
+                                           shown=f"[0, 0.5), 0 or at least {TINY!r}" if tiny else ""),
+                   hint="" if tiny else f"material = {self.material}: {COMPRESSIBLE_WHY[self.material]}")
         else:
-            _check("nu", self.nu, Interval(-1.0, 0.5))
+            _check("nu", self.nu, Interval(-1.0, 0.5, normal=True, shown=f"(-1, 0.5), 0 or at least {TINY!r} in "
+                                           "magnitude" if subnormal(self.nu) else ""))
         _check("rho", self.rho, modulus("kg/m^3"))
         lo, hi = N_QUAD_RANGE
         allowed = Interval(lo, hi, True, True, integer=True)

@@ -140,9 +140,11 @@ def test_the_command_line_varies_integer_and_word_options_of_the_integrator(tmp_
 @pytest.mark.parametrize("scheduler", ["serial", "tcp://127.0.0.1:1"])
 def test_workers_with_another_scheduler_is_refused_not_ignored(scheduler):
     """``workers`` counts local processes: with ``scheduler="serial"`` or a cluster it was silently ignored."""
-    with pytest.raises(ParameterError, match=r"^workers = 2 is outside None with scheduler = "):
+    with pytest.raises(ParameterError, match=r"^workers = 2 applies to local processes \(scheduler None, the "
+                                             r"default\), not to scheduler = "):
         study(BASE, {"gamma": [0.05, 0.1]}, **SMALL, scheduler=scheduler, workers=2)
-    with pytest.raises(ParameterError, match=r"^workers = 2 is outside None with scheduler = "):
+    with pytest.raises(ParameterError, match=r"^workers = 2 applies to local processes \(scheduler None, the "
+                                             r"default\), not to scheduler = "):
         path_study("sphere", {"nu": [0.3]}, "pressure", 0, 100, scheduler=scheduler, workers=2)
     if scheduler == "serial":  # one process: workers=1 says the same, and is taken
         assert study(BASE, {"gamma": [0.05]}, **SMALL, scheduler="serial", workers=1).attrs["n_cases"] == 1
