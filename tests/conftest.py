@@ -1,6 +1,7 @@
 import os
 
 import pytest
+from build_guard import no_build  # noqa: F401 - a fixture for every test file
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fake_gcc import install_failing_gcc
 
 from mol_shell._core.errors import ParameterError
 from mol_shell.discretization import compiled
@@ -163,13 +164,7 @@ def test_without_gcc_dop853_c_is_refused_in_one_line(tmp_path):
 
 def test_a_failing_gcc_is_said_with_its_own_last_lines(tmp_path, monkeypatch):
     """A gcc that exits 1 ended in an internal CalledProcessError without gcc's text."""
-    bin_dir = tmp_path / "bin"
-    bin_dir.mkdir()
-    (bin_dir / "gcc").write_text("#!/bin/sh\necho 'cc1: fatal error: out of luck' >&2\n"
-                                 "echo 'compilation terminated.' >&2\nexit 1\n")
-    (bin_dir / "gcc").chmod(0o755)
-    monkeypatch.setenv("PATH", str(bin_dir))
-    monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path / "cache"))
+    install_failing_gcc(tmp_path, monkeypatch)
     with pytest.raises(compiled.CompilerError, match=r"^gcc failed building a test kernel \(exit status 1\): cc1: "
                                                      r"fatal error: out of luck / compilation terminated\.$"):
         compiled.compile_cached("int f(void) { return 1; }", "bad", what="a test kernel")

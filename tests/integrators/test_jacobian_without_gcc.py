@@ -6,6 +6,7 @@ import shutil
 
 import numpy as np
 import pytest
+from fake_gcc import GCC_SAYS, install_failing_gcc
 
 import mol_shell
 from mol_shell.cli.main import main
@@ -33,18 +34,9 @@ def no_gcc(tmp_path, monkeypatch):
     return tmp_path
 
 
-GCC_SAYS = "cc1: fatal error: out of luck / compilation terminated."
-
-
 def _failing_gcc(tmp_path, monkeypatch):
     """A gcc on PATH that exits 1 with a compiler's last lines, and an empty cache of kernels."""
-    bin_dir = tmp_path / "bin"
-    bin_dir.mkdir()
-    (bin_dir / "gcc").write_text("#!/bin/sh\necho 'cc1: fatal error: out of luck' >&2\n"
-                                 "echo 'compilation terminated.' >&2\nexit 1\n")
-    (bin_dir / "gcc").chmod(0o755)
-    monkeypatch.setenv("PATH", str(bin_dir))
-    monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path / "cache"))
+    install_failing_gcc(tmp_path, monkeypatch)
     monkeypatch.setattr(buildable, "_SAID", set())
 
 

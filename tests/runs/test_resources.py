@@ -11,29 +11,13 @@ import warnings
 
 import numpy as np
 import pytest
+from build_guard import Built
 
 import mol_shell
-from mol_shell.runs import resources
-from mol_shell.cli.main import main
 from mol_shell._core.errors import ModelLimitError, ParameterError
+from mol_shell.cli.main import main
+from mol_shell.runs import resources
 from mol_shell.runs.resources import LongRunWarning
-
-simulate_module = sys.modules["mol_shell.runs.simulate"]
-
-
-class Built(Exception):
-    """Raised where a graph would be built: the run got past every check made before building."""
-
-
-@pytest.fixture
-def no_build(monkeypatch):
-    def fail(*args, **kwargs):
-        raise Built
-
-    monkeypatch.setattr(sys.modules["mol_shell.runs.building"], "ShellSystem", fail)
-    simulate_module._built.cache_clear()
-    yield
-    simulate_module._built.cache_clear()
 
 
 def test_output_estimate_is_the_dataset_s_size():

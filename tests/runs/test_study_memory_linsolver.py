@@ -11,6 +11,7 @@ from __future__ import annotations
 import sys
 
 import pytest
+from build_guard import Built
 
 import mol_shell
 from mol_shell._core.errors import ParameterError
@@ -20,23 +21,7 @@ from mol_shell.integrators import INTEGRATORS
 from mol_shell.runs import resources
 from mol_shell.runs.study import study
 
-simulate_module = sys.modules["mol_shell.runs.simulate"]
 TIMES = [0.0, 1e-3]
-
-
-class Built(Exception):
-    """Raised where a graph would be built: the work got past every check made before building."""
-
-
-@pytest.fixture
-def no_build(monkeypatch):
-    def fail(*args, **kwargs):
-        raise Built
-
-    monkeypatch.setattr(sys.modules["mol_shell.runs.building"], "ShellSystem", fail)
-    simulate_module._built.cache_clear()
-    yield
-    simulate_module._built.cache_clear()
 
 
 def limit_between(n, integrator, matrices, fitting):
