@@ -25,8 +25,6 @@ from mol_shell.cli.args import (
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
-    check_companions,
-    check_outputs,
     integer_arg,
     interrupted_code,
     number_arg,
@@ -34,6 +32,7 @@ from mol_shell.cli.args import (
     say_stand_ins,
     scene_and_run,
 )
+from mol_shell.cli.inputs import check_companions, check_outputs
 from mol_shell.cli.path import add_start_options, not_an_equilibrium, say_start, start_of
 from mol_shell.results.dataset import write_netcdf
 from mol_shell.runs.building import parse_times

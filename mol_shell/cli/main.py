@@ -41,7 +41,6 @@ from mol_shell.cli.args import (
     SCENE_METAVAR,
     Parser,
     as_stopped,
-    check_outputs,
     choice_arg,
     integer_arg,
     interrupted_code,
@@ -50,9 +49,9 @@ from mol_shell.cli.args import (
     parse_atol,
     plural,
     run_settings,
-    said_with_the_file,
     say_stand_ins,
 )
+from mol_shell.cli.inputs import check_outputs, said_with_the_file
 from mol_shell.cli.path import (
     add_start_options,
     cmd_plot_path,

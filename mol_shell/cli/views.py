@@ -5,7 +5,8 @@ from __future__ import annotations
 from contextlib import contextmanager
 
 from mol_shell._core.errors import ParameterError
-from mol_shell.cli.args import check_companions, integer_arg, number_arg, plural
+from mol_shell.cli.args import integer_arg, number_arg, plural
+from mol_shell.cli.inputs import check_companions
 from mol_shell.results.dataset import RUN_FILE, read_run
 from mol_shell.views.animate import DEFAULTS, MAX_FPS, MIN_FPS, MOVING, RANGES, SUFFIXES, animate, default_field
 from mol_shell.views.export import FORMATS, N_PHI, N_PHI_MAX, companion_files, export

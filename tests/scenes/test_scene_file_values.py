@@ -8,7 +8,7 @@ import pytest
 
 import mol_shell
 from mol_shell._core.errors import ParameterError
-from mol_shell.cli.args import scene_file_inputs
+from mol_shell.cli.inputs import scene_file_inputs
 from mol_shell.cli.main import main
 from mol_shell.results.dataset import read_netcdf
 from mol_shell.scenes.files import load_scene
