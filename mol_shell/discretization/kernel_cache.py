@@ -199,13 +199,17 @@ def damage(path, key):
 @contextlib.contextmanager
 def locked(path):
     """An exclusive ``flock`` on ``path`` (created if missing) for the ``with`` block: concurrent builders of one
-    library wait for the first. The file is opened for reading, so another user's read-only lock file serves too;
-    where it cannot be opened or locked at all (no ``fcntl``, a file system without locks), the block runs unlocked:
-    concurrent builders may then both compile, and the atomic rename keeps that safe."""
-    try:
-        fd = os.open(path, os.O_RDONLY | os.O_CREAT, 0o666)
-    except OSError:
-        fd = None
+    library wait for the first. The file is opened for writing (NFS emulates ``flock`` by byte-range locks, and an
+    exclusive one needs a file open for writing), else for reading, so another user's read-only lock file serves too
+    on a local disk; where it cannot be opened or locked at all (no ``fcntl``, a file system without locks), the block
+    runs unlocked: concurrent builders may then both compile, and the atomic rename keeps that safe."""
+    fd = None
+    for flags in (os.O_RDWR | os.O_CREAT, os.O_RDONLY | os.O_CREAT):
+        try:
+            fd = os.open(path, flags, 0o666)
+            break
+        except OSError:
+            continue
     try:
         if fd is not None:
             try:

@@ -223,7 +223,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         ds = simulate_unshearable(scene, n=n, times=times, t_end=t_end, constrained=integrator == "ida",
                                   progress=progress, **options)
         ds = _scene_warnings(scene, ds)  # its stresses as any run's (the constraint's torque in axial_torque)
-        return ds if stresses is False else add_stresses(ds, limit=None if stresses else MAX_SAMPLES)
+        return ds if stresses is False else _with_stresses(ds, limit=None if stresses else MAX_SAMPLES)
     method = INTEGRATORS[integrator](**options)
     deferred = None  # a t_end that is no multiple of a dt given: said once dt is within its stability bound
     if times is None and integrator == "leapfrog":

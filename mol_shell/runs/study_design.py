@@ -150,6 +150,8 @@ def _typed(scene, name, value, integrator=None, left_out=False):
     value = _coerce(name, value, fields[name].type)
     if isinstance(value, str) and annotation != "str":
         dataclasses.replace(scene, **{name: value})  # raises: "gamma = 'abc' is not a number; allowed: ..."
+    if name.endswith("_history") and isinstance(value, str):  # as the case's scene stores it (one normal form)
+        value = getattr(dataclasses.replace(scene, **{name: value}), name)
     if value is None and "str" in annotation:  # an edge left to the code: a word among the edge kinds
         return "auto"
     if value is None and "None" in annotation:

@@ -304,3 +304,20 @@ def test_what_a_killed_build_leaves_is_removed_at_a_later_build_once_stale(tmp_p
     monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path))
     compiled.compile_cached("int later(void) { return 2; }", "later")
     assert sorted(p.name for p in tmp_path.iterdir() if p.is_dir()) == sorted([young.name, alive.name])
+
+
+def test_the_lock_file_is_opened_for_writing_where_it_can_be(tmp_path, monkeypatch):
+    """An exclusive flock on NFS (byte-range locks underneath) needs a file open for writing: opened read-only, the lock
+    failed there, silently, and every builder of one library compiled it at once. Read-only is the fallback only."""
+    kernel_cache = compiled.kernel_cache
+    opened = []
+    real_open = os.open
+
+    def recording_open(path, flags, *args):
+        opened.append(flags & (os.O_RDONLY | os.O_WRONLY | os.O_RDWR))
+        return real_open(path, flags, *args)
+
+    monkeypatch.setattr(kernel_cache.os, "open", recording_open)
+    with kernel_cache.locked(tmp_path / ".x.lock"):
+        pass
+    assert opened == [os.O_RDWR]

@@ -68,3 +68,21 @@ def test_a_failing_gcc_while_the_stresses_kernel_builds_keeps_the_run_with_its_s
     assert ds.attrs["stresses"] == expected.attrs["stresses"] == "included (mol_shell.add_stresses)"
     for name in ("von_mises_stress", "axial_force", "axial_torque"):
         np.testing.assert_array_equal(ds[name].values, expected[name].values)
+
+
+def test_an_unshearable_run_is_kept_too_when_the_cache_is_full(tmp_path, monkeypatch):
+    """The unshearable scene's route called add_stresses itself, without the keeping of the other routes: a full cache
+    under the stresses' kernel lost its run."""
+    scene = mol_shell.Unshearable(omega=20.0, nu=0.3)
+    whole = mol_shell.simulate(scene, "ida", n=9, t_end=1e-4, stresses=False, progress=False)
+    monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path / "cache"))
+    stresses.compiled_kernel.cache_clear()
+
+    def full(command, what, source_bytes, flags):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(compiled, "run_compiler", full)
+    with pytest.warns(UserWarning, match="stresses not computed: no space for the stresses' kernel"):
+        ds = mol_shell.simulate(scene, "ida", n=9, t_end=1e-4, stresses=True, progress=False)
+    assert ds.attrs["stresses"].startswith("skipped: no space") and "von_mises_stress" not in ds
+    np.testing.assert_array_equal(ds["r"].values, whole["r"].values)

@@ -11,10 +11,11 @@ from wrapped_interrupts import WRAPPED
 
 import mol_shell
 from mol_shell._core.errors import ParameterError
-from mol_shell.runs import scheduling
-from mol_shell.cli.study import parse_vary
-from mol_shell.runs.study import study
 from mol_shell.analysis.path_study import path_study
+from mol_shell.cli.study import parse_vary
+from mol_shell.results.study_dataset import study_case
+from mol_shell.runs import scheduling
+from mol_shell.runs.study import study
 
 study_module = importlib.import_module("mol_shell.runs.study")  # the module, even if mol_shell exports a function study
 
@@ -423,3 +424,14 @@ def test_a_varied_dt_that_t_end_is_no_multiple_of_refuses_its_case_not_the_study
         mol_shell.study(scene, {"dt": [3e-6, 7e-6]}, t_end=0.01, n=8, scheduler="serial", progress=False)
     zero = mol_shell.study(scene, {"dt": [0.0, 1e-6]}, t_end=1e-3, n=8, scheduler="serial", progress=False)
     assert zero.status.values.tolist() == ["refused", "complete"]  # not a ZeroDivisionError
+
+
+def test_a_studys_histories_are_in_the_normal_form_its_cases_store():
+    """A varied history kept the string as typed (``'Ramp 0.0010'``) while each case's scene stored its normal form
+    (``'ramp 0.001'``): the coordinate and the cases' attrs disagreed, and ``study_case`` refused the normal form."""
+    scene = mol_shell.Sphere(pressure=100.0)
+    st = mol_shell.study(scene, {"pressure_history": ["Ramp 0.0010", "ramp 0.002"]}, "leapfrog", n=7,
+                         times=[0, 1e-4], scheduler="serial", progress=False)
+    assert list(st["pressure_history"].values) == ["ramp 0.001", "ramp 0.002"]
+    case = study_case(st, pressure_history="ramp 0.001")
+    assert case.attrs["pressure_history"] == "ramp 0.001"
