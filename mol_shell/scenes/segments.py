@@ -43,7 +43,7 @@ from mol_shell.model.edges import resolve_edges
 from mol_shell.model.geometry import Meridian, on_axis, self_intersects
 from mol_shell.model.layers import layer_value, parse_layers
 from mol_shell.scenes.shells import _Dilated, goes_down as shells_goes_down
-from mol_shell.scenes.base import _check
+from mol_shell.scenes.base import DISPLACEMENTS, DRIVES, LOADS, _check
 
 
 @dataclass(frozen=True, eq=False)
@@ -330,7 +330,15 @@ class Vessel(_Dilated):
                  "segments draw it (z, gravity and the end loads as given), " + self._ends_said(self.meridian()) +
                  "; s counts from end1 (h_profile's s too), and a twist gamma and one fibre family's fibre_angle, "
                  "given along the segments, run with the opposite sign (the helix and twist as drawn; attrs NAME as "
-                 "run, NAME_requested as given)")]
+                 "run, NAME_requested as given)" + self._end_values_said())]
+
+    def _end_values_said(self):
+        """Where the end loads, drives and displacements given act when the segments run backwards: ``end2_force``
+        meant for the rim of a dome drawn from its pole acts at its pole (``end2``), so the note names each."""
+        given = [name for name in (*LOADS, *DRIVES, *DISPLACEMENTS)
+                 if name.startswith(("end1_", "end2_")) and getattr(self, name)]
+        at = {"end1": "end1 (the segments' last point)", "end2": "end2 (their first pole)"}
+        return "".join(f"; {name} acts at {at[name[:4]]}" for name in given)
 
     def _heads(self):
         """The heads' crown and knuckle radii, the defaults (``2a``, ``0.2a``) for those left to the code."""

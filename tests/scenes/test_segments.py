@@ -252,3 +252,12 @@ def test_a_meridian_that_loops_back_over_itself_is_still_refused(capsys, tmp_pat
     assert self_intersects(np.concatenate([line[:21], line[20:21] + [[0.0, 1.0]], [[0.5, 0.5]], line[10:11]]))
     up = np.column_stack([np.ones(31), np.linspace(0.0, 3.0, 31)])  # exactly parallel chords: were never compared
     assert not self_intersects(up) and self_intersects(np.concatenate([up, up[-2:10:-1]]))
+
+
+def test_a_vessel_run_backwards_names_where_each_end_load_acts():
+    """A dome drawn from its pole (``arc 1 90``) runs from its rim: ``end2`` is the pole. An ``end2_force`` meant for the
+    rim then acted at the pole with nothing said but which end is which; the note names each end value given."""
+    dome = mol_shell.get_scene("vessel", segments="arc 1 90", end2_force=100.0, end1_dz=0.001)
+    note = dome.stand_ins()[0]
+    assert note.endswith("; end2_force acts at end2 (their first pole); end1_dz acts at end1 (the segments' last point)")
+    assert "acts at" not in mol_shell.get_scene("vessel", segments="arc 1 90").stand_ins()[0]
