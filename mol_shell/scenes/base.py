@@ -267,15 +267,13 @@ class ShellScene:
             object.__setattr__(self, f.name, None if auto else value.item() if isinstance(value, np.generic) else value)
         _check("h", self.h, Interval(0.0, math.inf, unit="m", shown="(0, inf) m, and the thickness off the axis"))
         _check("E", self.E, modulus("Pa"))
+        tiny = f", 0 or at least {TINY!r} in magnitude" if subnormal(self.nu) else ""  # nu is 0 or normal, as E is
         if isinstance(self.material, str) and self.material in COMPRESSIBLE_WHY:  # their condensations hold there
             # (a material of the wrong type, unhashable, is refused by its own check below)
-            tiny = subnormal(self.nu)  # 0 or a normal double, as the moduli (nu = 1e-320 was taken, E = 1e-320 not)
-            _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True, normal=True,
-                                           shown=f"[0, 0.5), 0 or at least {TINY!r}" if tiny else ""),
+            _check("nu", self.nu, Interval(0.0, 0.5, low_closed=True, normal=True, shown=tiny and f"[0, 0.5){tiny}"),
                    hint="" if tiny else f"material = {self.material}: {COMPRESSIBLE_WHY[self.material]}")
         else:
-            _check("nu", self.nu, Interval(-1.0, 0.5, normal=True, shown=f"(-1, 0.5), 0 or at least {TINY!r} in "
-                                           "magnitude" if subnormal(self.nu) else ""))
+            _check("nu", self.nu, Interval(-1.0, 0.5, normal=True, shown=tiny and f"(-1, 0.5){tiny}"))
         _check("rho", self.rho, modulus("kg/m^3"))
         lo, hi = N_QUAD_RANGE
         allowed = Interval(lo, hi, True, True, integer=True)
