@@ -64,7 +64,7 @@ from mol_shell.model.laws import law_parameters, layer_laws, small_strain_lame, 
 from mol_shell.model.linalg import spd_solve
 from mol_shell.model.loads import history
 from mol_shell.model.material import Thickness, inertias
-from mol_shell.model.thickness_profile import graded_node_inertias, thickness_function
+from mol_shell.model.thickness_profile import graded_node_inertias, scene_profile, thickness_function
 
 
 class ShellSystem(ModelLimits, CellKernels):
@@ -120,7 +120,7 @@ class ShellSystem(ModelLimits, CellKernels):
         self.fibres = scene_fibres(scene)  # None without fibres: nothing of them in the graph
         self.eta_lambda, self.eta_mu = viscosities(scene)
         self.viscous = scene.eta_lambda > 0 or scene.eta_mu > 0
-        profile = getattr(scene, "h_profile", "")
+        profile = scene_profile(scene)  # as it runs: a vessel drawn down runs backwards, h(L - s) of the one given
         self.graded = thickness_function(profile, self.L) if profile else None  # h(s) of a graded wall
         zeta1 = -scene.h if self.graded else scene.zeta1_used()
         self.thickness = Thickness(zeta1, scene.h, scene.n_quad)

@@ -111,6 +111,46 @@ def thickness_function(text, length):
     return h
 
 
+def reversed_profile(text, length):
+    """``h_profile`` text of ``h(length - s)`` for the profile ``text`` of ``h(s)``: the same wall along a meridian
+    traversed from its other end (a vessel drawn down runs backwards: :func:`mol_shell.scenes.segments.upward`). A
+    table's points at ``length - s`` in reverse order (their ``h`` as typed), an expression's ``s`` replaced by
+    ``(length - s)``; ``text`` itself where it does not read (:func:`thickness_function` then says why) or has no ``s``."""
+    words = text.split()
+    if words and words[0] == "table":
+        pairs = [w.split(":") for w in words[1:]]
+        try:
+            points = [(length - float(s), h, float(h)) for s, h in pairs]  # (s, h as typed, h read)
+        except ValueError:
+            return text
+        return "table " + " ".join(f"{s!r}:{h}" for s, h, _ in reversed(points))
+    try:
+        tree = ast.parse(text, mode="eval")
+    except (SyntaxError, ValueError):
+        return text
+    if not any(isinstance(node, ast.Name) and node.id == "s" for node in ast.walk(tree)):
+        return text
+    return ast.unparse(_Reversed(float(length)).visit(tree))
+
+
+class _Reversed(ast.NodeTransformer):
+    """Every ``s`` of an expression as ``(length - s)``."""
+
+    def __init__(self, length):
+        self.length = length
+
+    def visit_Name(self, node):
+        if node.id != "s":
+            return node
+        return ast.BinOp(ast.Constant(self.length), ast.Sub(), ast.Name("s", ast.Load()))
+
+
+def scene_profile(scene):
+    """The ``h_profile`` text the scene runs with: a vessel drawn down runs backwards, its profile as ``h(L - s)`` of
+    the one given along the segments (its ``ran_values``); ``""`` for a uniform wall."""
+    return getattr(scene, "ran_values", dict)().get("h_profile", getattr(scene, "h_profile", ""))
+
+
 def check_profile_fits(text, h, meridian, samples=801):
     """Refuse (naming ``h_profile``) an ``h(s)`` that reaches the axis or a centre of curvature on ``meridian``.
 

@@ -46,8 +46,9 @@ def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=Non
     ``given``: the initial data a start given as fields has in place of the scene's (:func:`given_values`; ``R``
     and ``dilation`` the start's, by ``auto_values``), each stored as the start has it, with the scene's value in
     ``NAME_requested`` (and its ``units_NAME_requested``) beside it where they differ. A vessel whose segments run
-    backwards runs a twist and one fibre family with the opposite sign (its ``ran_values``): each stored as run,
-    the value given in ``NAME_requested``, and their names in ``reversed_parameters``.
+    backwards runs a twist and one fibre family with the opposite sign and a graded wall's ``h_profile`` as
+    ``h(L - s)`` (its ``ran_values``): each stored as run, the value given in ``NAME_requested``, and their names in
+    ``reversed_parameters``.
     """
     used = scene.params()
     asked = dict(used if requested is None else requested)
@@ -55,7 +56,7 @@ def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=Non
     if "zeta1" in used:
         used["zeta1"] = float(zeta1)
     used.update(scene.geometry_values())
-    ran = getattr(scene, "ran_values", dict)()  # a vessel drawn down: gamma, fibre_angle as they run
+    ran = getattr(scene, "ran_values", dict)()  # a vessel drawn down: gamma, fibre_angle, h_profile as they run
     used.update(ran)
     if initial is not None:
         used.update(_as_computed(scene, asked, given is not None).auto_values(initial, reference))

@@ -22,8 +22,9 @@ bottom pole of a closed vessel, the open edge of an open one (a dome drawn from 
 instead, as it was, an asymmetric vessel stood upside down under gravity and the axial end loads.)
 What the user gave along the drawn direction runs with the opposite sign (:meth:`Vessel.ran_values`): the tangent
 ``b0_1`` is reversed and ``b0_3 = +phi`` is not, so a fibre ``cos(a) b0_1 + sin(a) b0_3`` of the drawing is
-``cos(-a) b0_1' + sin(-a) b0_3`` of the run (one family at ``-a``; a pair ``+-a`` is itself), and a twist
-``chi = gamma (s - L/2)`` of the drawing's ``s`` is ``-gamma (s' - L/2)`` of the run's ``s' = L - s``.
+``cos(-a) b0_1' + sin(-a) b0_3`` of the run (one family at ``-a``; a pair ``+-a`` is itself), a twist
+``chi = gamma (s - L/2)`` of the drawing's ``s`` is ``-gamma (s' - L/2)`` of the run's ``s' = L - s``, and a graded
+wall's ``h(s)`` of the drawing's ``s`` is ``h(L - s')`` of the run's.
 A torispherical head is a crown arc of radius ``Rc`` turning by ``phi1`` and a knuckle of radius ``rk``
 turning by ``pi/2 - phi1``, with ``sin(phi1) = (a - rk) / (Rc - rk)`` so that the knuckle ends on the cylinder
 ``r = a`` (``Rc sin(phi1) + rk (1 - sin(phi1)) = a``); ``Rc = a`` is the hemispherical head, one arc ``(a, -pi/2)``.
@@ -42,6 +43,7 @@ from mol_shell._core.ranges import Interval, positive
 from mol_shell.model.edges import resolve_edges
 from mol_shell.model.geometry import Meridian, on_axis, self_intersects
 from mol_shell.model.layers import layer_value, parse_layers
+from mol_shell.model.thickness_profile import check_profile_fits, reversed_profile, thickness_function
 from mol_shell.scenes.shells import _Dilated, goes_down as shells_goes_down
 from mol_shell.scenes.base import DISPLACEMENTS, DRIVES, LOADS, _check
 
@@ -221,7 +223,9 @@ class Vessel(_Dilated):
         rate ``chi_t``, rad/s (defaults 0).
     """
 
-    descriptions = MappingProxyType({"a": "radius of the vessel's cylinder (its heads end on it)"})
+    descriptions = MappingProxyType({"a": "radius of the vessel's cylinder (its heads end on it)",
+                                     "h_profile": "half-thickness along the meridian: 'table s0:h0 s1:h1 ...' or an "
+                                     "expression of s ('': h), s along the segments as drawn"})
     defaults_mean = MappingProxyType({"segments": "the heads and cylinder of a, Lc, crown and knuckle"})
 
     a: float = 1.0
@@ -266,8 +270,10 @@ class Vessel(_Dilated):
     def ran_values(self):
         """``{name: value}``: the parameters that run with another value than given, because the segments run
         backwards (:func:`upward`): a twist ``gamma`` and one fibre family's ``fibre_angle`` (a layer's too: ``layers``
-        with the angle it runs with written into it) with the opposite sign, the helix and twist the user drew
-        (module docstring); ``{}`` for a meridian run as drawn."""
+        with the angle it runs with written into it) with the opposite sign, and a graded wall's ``h_profile``, given
+        along the segments as drawn, as ``h(L - s)`` of the run's ``s`` (:func:`~mol_shell.model.thickness_profile.
+        reversed_profile`): the helix, twist and wall the user drew (module docstring); ``{}`` for a meridian run as
+        drawn."""
         if not self._backwards():
             return {}
         out = {}
@@ -278,6 +284,9 @@ class Vessel(_Dilated):
         layers = self._layers_backwards()
         if layers != self.layers:
             out["layers"] = layers
+        profile = reversed_profile(self.h_profile, self.meridian().length) if self.h_profile else ""
+        if profile != self.h_profile:
+            out["h_profile"] = profile
         return out
 
     def _layers_backwards(self):
@@ -293,6 +302,22 @@ class Vessel(_Dilated):
                 words = [w for w in parts[k].split() if not w.startswith("fibre_angle=")]
                 parts[k], turned = " ".join(words + [f"fibre_angle={-float(angle)!r}"]), True
         return "; ".join(part.strip() for part in parts) if turned else self.layers
+
+    def _check_profile(self):
+        """A graded wall's ``h_profile`` of segments run backwards is given along them as drawn (``s`` from their
+        first pole; it runs as ``h(L - s)``: :meth:`ran_values`): read and checked on the segments as drawn (the
+        distances to the axis and to the centres of curvature are the run's at ``L - s``), its refusals in their
+        ``s``."""
+        if not self._backwards():
+            super()._check_profile()
+            return
+        if not isinstance(self.h_profile, str):
+            raise ParameterError.not_a("h_profile", self.h_profile, "a string", "'table s0:h0 ...' or an expression of s")
+        drawn = SegmentedMeridian(tuple(parse_segments(self.segments)))
+        h = thickness_function(self.h_profile, drawn.length)
+        if self.zeta1 is not None:
+            raise ParameterError("zeta1", self.zeta1, "auto with h_profile (the mid-surface is the base surface)")
+        check_profile_fits(self.h_profile, h, drawn)
 
     def initial_fields(self, s, reference):
         Q, V = super().initial_fields(s, reference)
@@ -328,9 +353,10 @@ class Vessel(_Dilated):
                  "vessel): run from their other end, the same curve traversed backwards, so that the director points "
                  "outward and the inner face is the one toward the enclosed volume; the vessel stays where the "
                  "segments draw it (z, gravity and the end loads as given), " + self._ends_said(self.meridian()) +
-                 "; s counts from end1 (h_profile's s too), and a twist gamma and one fibre family's fibre_angle, "
-                 "given along the segments, run with the opposite sign (the helix and twist as drawn; attrs NAME as "
-                 "run, NAME_requested as given)" + self._end_values_said())]
+                 "; s counts from end1, a graded wall's h_profile is given in the drawing's s (from their first "
+                 "pole) and runs as h(L - s), and a twist gamma and one fibre family's fibre_angle, given along the "
+                 "segments, run with the opposite sign (the wall, helix and twist as drawn; attrs NAME as run, "
+                 "NAME_requested as given)" + self._end_values_said())]
 
     def _end_values_said(self):
         """Where the end loads, drives and displacements given act when the segments run backwards: ``end2_force``
