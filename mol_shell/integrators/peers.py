@@ -7,11 +7,14 @@
 * ``casadi-cvodes``: CasADi's own CVODES plugin on the ODE graph (CasADi's virtual machine,
   its own AD Jacobian and sparse LU); ``casadi-idas``: its IDAS plugin on the semi-explicit DAE
   ``q_t = v, v_t = a, 0 = M(q) a + (dp/dq) v - dT/dq + dV/dq`` (no mass-matrix inverse either).
+  One CasADi call covers all saved times; with a drive's kinks, one call per interval between them (below).
 
 The scipy solvers are stepped one step at a time (as ``solve_ivp`` does) so that steps are
 counted exactly; saved states come from their dense output. At each kink of a driven edge's rate (docs/loads.md) a
 scipy solver's run ends one ulp short of it (its ``t_bound``: the last step's stages take the old segment's rate)
-and a new one starts from the state there, on the new segment. The model's limits are checked at
+and a new one starts from the state there, on the new segment. CasADi's integrators do the same with one call per
+interval between kinks: a call's last output time is one ulp short of the kink, and the next call (a new solve: order
+1, a new first step, a fresh Jacobian) starts at the kink from the state there. The model's limits are checked at
 the saved times only (:class:`~mol_shell.integrators.Monitor`); none of these has constraints.
 """
 
@@ -224,8 +227,9 @@ class CasadiCVODES(_Peer):
     name = "casadi-cvodes"
     plugin = "cvodes"
     plugin_options = {}
-    #: every saved time comes from one CasADi call, which stops itself on Ctrl-C (CasADi runs Python's signal
-    #: handlers as it steps): the run loop's handler raises KeyboardInterrupt there (:func:`loop.run`)
+    #: every saved time comes from one CasADi call (one per interval between a drive's kinks), which stops itself on
+    #: Ctrl-C (CasADi runs Python's signal handlers as it steps): the run loop's handler raises KeyboardInterrupt
+    #: there (:func:`loop.run`)
     interrupt_inside = True
 
     def _dae(self, system):
@@ -239,8 +243,9 @@ class CasadiCVODES(_Peer):
     def _states(self, system, xf):
         return np.array(xf).T
 
-    def _failure_message(self, exc, opts):
-        """CasADi's exception (``... returned "CV_ERR_FAILURE" ...``) as a sentence."""
+    def _failure_message(self, exc, opts, kept=0.0):
+        """CasADi's exception (``... returned "CV_ERR_FAILURE" ...``) as a sentence; ``kept``: the kink the failed
+        call started from (0 without one), up to which the saved times are kept."""
         found = re.search(r'returned "(\w+)"', str(exc))
         code = found.group(1) if found else str(exc).strip().splitlines()[-1]
         if code.endswith(("ERR_FAILURE", "ERR_FAIL")):
@@ -254,7 +259,10 @@ class CasadiCVODES(_Peer):
             what = "the corrector iteration failed repeatedly"
         else:
             what = "SUNDIALS failed"
-        return f"{self.name} failed ({code}): {what}; only t = 0 is kept (all saved times come from one call)"
+        if not kept:
+            return f"{self.name} failed ({code}): {what}; only t = 0 is kept (all saved times come from one call)"
+        return (f"{self.name} failed ({code}): {what}, after t = {kept:.9g} s (a kink of a drive's rate); the saved "
+                "times up to it are kept (one call per interval between the kinks)")
 
     def start(self, system, compiled, y0, times, monitor):
         times = np.asarray(times, dtype=float)
@@ -266,51 +274,78 @@ class CasadiCVODES(_Peer):
             opts["max_step_size"] = self.max_step
         opts.update(self.plugin_options)
         store = _CASADI_GRAPHS.setdefault(system, {})
-        key = (self.plugin, tuple(times), tuple(sorted(opts.items())))
-        if key not in store:  # the graph is built once (in integrate, outside the timing)
-            store[key] = ca.integrator("F", self.plugin, self._dae(system), 0.0, list(times[1:]), opts)
-        return _CasadiStepper(self, system, store[key], self._initial(system, np.array(y0, dtype=float)), times,
-                              opts)
+        calls, dae = [], None
+        for t0, grid, saved in _intervals(times, [k for k in drive_kinks(system) if k <= times[-1]]):
+            key = (self.plugin, t0, tuple(grid), tuple(sorted(opts.items())))
+            if key not in store:  # the graphs are built once (in integrate, outside the timing)
+                dae = dae or self._dae(system)
+                store[key] = ca.integrator("F", self.plugin, dae, t0, grid, opts)
+            calls.append((store[key], saved))
+        return _CasadiStepper(self, system, calls, self._initial(system, np.array(y0, dtype=float)), opts)
 
     def integrate(self, system, compiled, y0, times, *, progress=None):
         return loop.run(self, system, compiled, y0, times, progress=progress)
 
 
-class _CasadiStepper:
-    """CasADi's integrator computes every saved time in one call: the first ``advance`` makes it."""
+def _intervals(times, kinks):
+    """The CasADi calls of a run through ``times`` (from 0) with a drive's ``kinks`` (increasing, up to the last saved
+    time): ``(t0, grid, saved)`` per interval between consecutive kinks, ``grid`` its output times, ``saved`` the
+    times their states stand for. A call ends one ulp short of its kink (the step ending there takes the old
+    segment's rate: the history's rate at its corner is the new one's), its last state standing for the kink's; the
+    next call starts at the kink from that state. Without kinks, one call: ``(0, times[1:], times[1:])``."""
+    if not kinks:
+        return [(0.0, list(times[1:]), [float(t) for t in times[1:]])]
+    out, t0 = [], 0.0
+    for end in [*kinks, *([float(times[-1])] if kinks[-1] < times[-1] else [])]:
+        inside = [float(t) for t in times if t0 < t < end]
+        out.append((t0, inside + [float(np.nextafter(end, -math.inf)) if end in kinks else end], inside + [end]))
+        t0 = end
+    return out
 
-    def __init__(self, method, system, F, initial, times, opts):
-        self.method, self.system, self.F, self.initial, self.opts = method, system, F, initial, opts
-        self.times, self.t, self.wall = times, 0.0, 0.0
+
+class _CasadiStepper:
+    """CasADi's integrator computes the saved times in one call (the first ``advance`` makes it), or in one call per
+    interval between a drive's kinks (an ``advance`` each), each from the state the last one ended at."""
+
+    def __init__(self, method, system, calls, initial, opts):
+        self.method, self.system, self.calls, self.initial, self.opts = method, system, calls, initial, opts
+        self.t, self.wall, self.states, self.counts = 0.0, 0.0, {}, []
 
     def advance(self, target):
+        F, saved = self.calls[len(self.counts)]
         start = time.perf_counter()
         said = io.StringIO()  # CasADi's account of a failed callback ("rhs failed: KeyboardInterrupt")
         try:
             with contextlib.redirect_stderr(said):
-                out = self.F(**self.initial)
-        except RuntimeError as exc:  # CasADi raises when SUNDIALS fails: only t = 0 is kept
-            self.wall = time.perf_counter() - start
+                out = F(**self.initial)
+        except RuntimeError as exc:  # CasADi raises when SUNDIALS fails: the saved times before this call are kept
+            self.wall += time.perf_counter() - start
+            self.counts.append(F.stats())
             if re.search(r"failed: KeyboardInterrupt", said.getvalue()):  # a Ctrl-C inside, said as SUNDIALS' failure
                 raise KeyboardInterrupt from exc
             sys.stderr.write(said.getvalue())
-            err = ModelLimitError(self.method._failure_message(exc, self.opts), float("nan"), "whole shell")
+            err = ModelLimitError(self.method._failure_message(exc, self.opts, self.t), float("nan"), "whole shell")
             err.status = "failed"
             raise err from None
         sys.stderr.write(said.getvalue())
-        self.wall = time.perf_counter() - start
-        self.states = self.method._states(self.system, out["xf"])
-        self.t = float(self.times[-1])
+        self.wall += time.perf_counter() - start
+        self.states.update(zip(saved, self.method._states(self.system, out["xf"])))
+        self.counts.append(F.stats())
+        # the next call (after a kink) starts from the state, and the algebraic variables, where this one ended
+        self.initial = {**self.initial, "x0": out["xf"][:, -1]}
+        if "z0" in self.initial:
+            self.initial["z0"] = out["zf"][:, -1]
+        self.t = saved[-1]
 
     def state(self, target):
-        return self.states[int(np.searchsorted(self.times, target)) - 1]
+        return self.states[target]
 
     def stats(self):
-        st = self.F.stats()
-        return {"n_steps": int(st.get("nsteps", -1)), "n_rhs": int(st.get("nfevals", -1)),
-                "n_jac": int(st.get("n_call_jacF", -1)), "n_linear_setups": int(st.get("nlinsetups", -1)),
-                "n_error_test_failures": int(st.get("netfails", -1)),
-                "n_nonlinear_failures": int(st.get("nncfails", -1)), "wall_time_s": self.wall}
+        keys = {"n_steps": "nsteps", "n_rhs": "nfevals", "n_jac": "n_call_jacF", "n_linear_setups": "nlinsetups",
+                "n_error_test_failures": "netfails", "n_nonlinear_failures": "nncfails"}
+        counts = self.counts or [{}]  # the counts of each call made, summed (-1: one of them did not say)
+        return {**{ours: -1 if any(theirs not in st for st in counts) else sum(int(st[theirs]) for st in counts)
+                   for ours, theirs in keys.items()}, "wall_time_s": self.wall}
 
 
 @dataclass(frozen=True)
