@@ -10,6 +10,7 @@ defaults (leap-frog's ``dt``, the tolerances ``rtol`` and ``atol`` always), from
 from __future__ import annotations
 
 import dataclasses
+import os
 
 import numpy as np
 
@@ -100,6 +101,19 @@ def run_toml(ds, name="FILE", source=None):
     return scene_toml(scene, run=run_table(ds, scene), notes=notes)
 
 
-def read_run_toml(filename, name="NAME"):
-    """:func:`run_toml` of the run file ``filename``, refused naming ``name`` where it is not one."""
+def read_run_toml(filename, name="file"):
+    """:func:`run_toml` of the run file ``filename``, refused naming ``name`` where it is not one (a scene file
+    ``FILE.toml`` said as one: :func:`refuse_scene_file`)."""
+    refuse_scene_file(filename, name)
     return run_toml(read_run(filename, name=name), name, str(filename))
+
+
+def refuse_scene_file(filename, name="file"):
+    """Refuse, naming ``name``, a scene file ``FILE.toml`` given where a run file is wanted (``mol-shell scenes
+    FILE.toml --toml``, which writes a run file back as a scene file): it was said as "not a mol_shell run file (not
+    a netCDF file)", naming the usage line's placeholder ``NAME``. Anything else passes (a run file is read as one)."""
+    text = str(filename)
+    if text.lower().endswith(".toml") and os.path.isfile(os.path.expanduser(text)):
+        raise ParameterError.invalid(name, text, "is a scene file (TOML), not a run file", RUN_FILE,
+                                     hint=f"--toml writes a run file back as a scene file; mol-shell run {text} "
+                                     "runs a scene file")

@@ -29,7 +29,7 @@ from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, by_interrupt, show
 from mol_shell._core.paths import writable_path
 from mol_shell._core.version import __version__
-from mol_shell.analysis.run_scene import read_run_toml
+from mol_shell.analysis.run_scene import read_run_toml, refuse_scene_file
 from mol_shell.cli.analysis import register_compare, register_modes, register_stability
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
@@ -178,6 +178,7 @@ def cmd_scenes(args):
         return 0
     if args.name not in SCENES and (os.path.splitext(args.name)[1].lower().lstrip(".") in NETCDF_SUFFIXES
                                     or os.path.isfile(args.name)):  # a run file: a scene file that runs it again
+        refuse_scene_file(args.name)  # a scene file FILE.toml, with --toml or without: said as one
         if not args.toml:
             raise ParameterError("--toml", False, "--toml with a run file", message=f"give mol-shell scenes "
                                  f"{args.name} --toml: a run file is written back as a scene file")

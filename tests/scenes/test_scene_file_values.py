@@ -216,4 +216,4 @@ def test_scenes_of_a_run_file_wants_toml_and_of_another_file_is_refused(tmp_path
     assert main(["scenes", str(tmp_path / "none.nc"), "--toml"]) == 2
     assert "does not exist; allowed: a netCDF file written by mol-shell run" in capsys.readouterr().err
     assert main(["scenes", str(tmp_path / "s.toml"), "--toml"]) == 2
-    assert "is not a mol_shell run file" in capsys.readouterr().err
+    assert "is a scene file (TOML), not a run file" in capsys.readouterr().err
