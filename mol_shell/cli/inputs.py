@@ -121,6 +121,14 @@ def said_with_the_file(args, exc):
     return ParameterError(exc.name, exc.value, exc.range or exc.allowed, message=f"{shown}: [{table}] {said}")
 
 
+def reason_with_the_file(args, reason):
+    """A refusal recorded as text (a study's refused case, whose ``message`` the file keeps) said with the scene file,
+    table and key as :func:`said_with_the_file` says a raised one: the parameter is the refusal's first word, as
+    every :class:`ParameterError` begins (``dt = 0.0001 is outside ...``)."""
+    name = str(reason).split(" ", 1)[0]
+    return str(said_with_the_file(args, ParameterError(name, None, "", message=str(reason))))
+
+
 def check_outputs(args, paths=(), name="-o", value=None):
     """Refuse, naming ``-o`` (or ``name = value``), an output or a file written beside it (``paths``) that is one of
     the command's input files (:func:`input_files`): ``export run.h5 -o run.xdmf`` replaced the run by the export's

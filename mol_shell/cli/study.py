@@ -29,6 +29,7 @@ from mol_shell.cli.args import (
     say_stand_ins,
     scene_and_run,
 )
+from mol_shell.cli.inputs import reason_with_the_file
 from mol_shell.cli.path import parse_param
 from mol_shell.results.study_store import cases_folder, check_cases_folder
 from mol_shell.runs import resources
@@ -118,21 +119,22 @@ def _finish(args, scene, what, run, tail=lambda ds: ""):
     counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
     print(f"wrote {args.output}: {plural(int(ds.attrs['n_cases']), what)} ({counts}); ran {ds.attrs['n_executed']}, "
           f"reused {ds.attrs['n_reused']}, in {ds.attrs['study_wall_time_s']:.3g} s{tail(ds)}")
-    refused = _say_cases(ds, what)
+    refused = _say_cases(args, ds, what)
     if refused and refused == len(statuses):
         return EXIT_USAGE  # every case's input is out of range: nothing was computed
     return 0 if ds.attrs["n_failed"] == 0 else EXIT_INCOMPLETE
 
 
-def _say_cases(ds, what):
+def _say_cases(args, ds, what):
     """A line on stderr when cases were refused (their input out of range: how many, and the first reason, naming
-    the parameter), and one when cases stopped short (a model limit, an instability, a lost worker: how many, and
+    the parameter, and the scene file and table of ``args`` where the file set it: :func:`reason_with_the_file`,
+    as a single run's refusal says it), and one when cases stopped short (a model limit, an instability, a lost worker: how many, and
     the first one's message, which says where and when); the file's ``message`` holds every case's. Returns the
     number of refused cases."""
     status = ds.status.values.ravel().astype(str)
     messages = ds.message.values.ravel().astype(str) if "message" in ds else np.full(status.shape, "")
     cases = plural(len(status), what)
-    reasons = list(dict.fromkeys(m for st, m in zip(status, messages) if st == "refused"))
+    reasons = list(dict.fromkeys(reason_with_the_file(args, m) for st, m in zip(status, messages) if st == "refused"))
     refused = int(np.sum(status == "refused"))
     if refused:
         others = len(reasons) - 1

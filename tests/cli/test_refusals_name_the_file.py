@@ -1,7 +1,9 @@
-"""Refusals name what the user gave, not a usage line's placeholder.
+"""Refusals name what the user gave, not a usage line's placeholder, and the scene file where it set the value.
 
 ``mol-shell scenes FILE --toml`` refused a file that is not a run as ``NAME = 'FILE' is not a mol_shell run file``
-(``NAME``: no word the user typed; a scene file ``FILE.toml`` said as "not a netCDF file")."""
+(``NAME``: no word the user typed; a scene file ``FILE.toml`` said as "not a netCDF file"); a study of a scene file
+said a case refused for a value of the file (``[run] dt`` beyond the leap-frog's bound at one of the grid's moduli)
+without the file and table a single run's refusal names."""
 
 from __future__ import annotations
 
@@ -9,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 from mol_shell.cli.main import main
-from mol_shell.results.dataset import RUN_FILE, write_netcdf
+from mol_shell.results.dataset import RUN_FILE, read_netcdf, write_netcdf
 
 SCENE = 'scene = "sphere"\n[parameters]\nh = -1\n'
 
@@ -37,3 +39,28 @@ def test_scenes_toml_refusals_name_the_file_not_the_placeholder(tmp_path, capsys
     assert main(["scenes", str(other), "--toml"]) == 2
     said = f"mol-shell: error: file = '{other}' is not a mol_shell run file; allowed: {RUN_FILE} (it holds dims k)"
     assert _error(capsys) == [said]
+
+
+def test_a_study_s_refused_case_names_the_scene_file_and_table_that_set_the_value(tmp_path, capsys, monkeypatch):
+    """E = 1e9 Pa makes the waves ~32 times faster than at 1e6 Pa (sqrt(E / rho)): the file's dt = 1e-4 s, within
+    the leap-frog's bound at 1e6 Pa, is beyond it there; that case is refused, the other runs (exit 3)."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('scene = "sphere"\n[material]\nE = 1e6\n[run]\nn = 5\ndt = 1e-4\nt_end = 2e-4\n')
+    code = main(["study", "s.toml", "--vary", "E=1e6,1e9", "--workers", "1", "-o", "st.nc"])
+    err = _error(capsys)
+    assert code == 3, err
+    assert err[0].startswith("mol-shell: error: 1 of 2 cases refused: s.toml: [run] dt = 0.0001 is outside (0, "), err
+    assert len(err) == 1, err
+    ds = read_netcdf(tmp_path / "st.nc")
+    assert ds.status.values.tolist() == ["complete", "refused"]
+    assert str(ds.message.values[1]).startswith("dt = 0.0001 is outside (0, ")  # the file's data: as the run said it
+
+
+def test_a_study_s_refused_case_of_a_varied_value_names_it_alone(tmp_path, capsys, monkeypatch):
+    """A value the grid gives (``--vary``, as ``--set``) is no value of the file: said without it."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text('scene = "sphere"\n[material]\nh = 0.01\n[run]\nn = 5\nt_end = 2e-5\n')
+    code = main(["study", "s.toml", "--vary", "h=-1,0.01", "--workers", "1", "-o", "st.nc"])
+    err = _error(capsys)
+    assert code == 3, err
+    assert err[0].startswith("mol-shell: error: 1 of 2 cases refused: h = -1.0 is outside (0, inf) m"), err
