@@ -271,7 +271,8 @@ def with_units(meta):
 #: integrators' options): the inertia densities of eq. (7.8), moments 0, 1, 2 of rho through the thickness; the
 #: fastest mode's angular frequency, whose name ends in ``_s`` (a name that does is in seconds otherwise)
 DERIVED_UNITS = {"failure_time": "s", "rho_A": "kg m-2", "rho_I": "kg m-1", "rho_J": "kg", "zeta1_used": "m",
-                 "meridian_length": "m", "first_step": "s", "restart": "s", "omega_max_rad_s": "rad s-1"}
+                 "meridian_length": "m", "first_step": "s", "restart": "s", "omega_max_rad_s": "rad s-1",
+                 "t_end_requested": "s"}
 
 
 def reaction_columns(count, edges, field):

@@ -289,6 +289,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         "units_max_damping_rate": "s-1",
         "leapfrog_dt_bound_s": 1.0 / omega_max,
         "initial_state": start_info,
+        "t_end_requested": float(times[-1]),  # the end asked for: a run that stops early holds only what it reached
     })
     if stability_note:
         attrs["stability_warning"] = stability_note

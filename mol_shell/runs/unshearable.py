@@ -126,6 +126,7 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         multipliers = None
         attrs = {"integrator": "leapfrog", "dt": dt, "constrained": 0, "leapfrog_dt_bound_s": 1.0 / omega_max}
     attrs["build_and_run_time_s"] = time.perf_counter() - start
+    attrs["t_end_requested"] = float(times[-1])  # as simulate's: what a run that stops early was asked to reach
     velocities, totals = observe(shell, traj.y)
     if constrained:  # a held chi's support shares the torque with the constraint chi_s = 0, whose multiplier the
         # shell's own equations do not hold: its reaction is not computed (NaN; a held z's is: no constraint acts on z)

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from mol_shell._core.atomic import atomic_path
+from mol_shell._core.errors import is_number
 from mol_shell._core.paths import writable_path
 
 
@@ -92,12 +93,16 @@ def equal_aspect(fig, margin=0.04, rounds=4):
 
 
 def incomplete_note(attrs):
-    """``"INCOMPLETE: MESSAGE"`` for a run that stopped or was interrupted (``attrs["complete"] = 0``), ``""`` for a
-    complete one (or a file that does not say): what every figure, animation and export of a run says of it (only
-    the paper's figures said it; the fibres and history figures, the frames and the printed lines did not)."""
+    """``"INCOMPLETE: MESSAGE (asked: t_end = T s)"`` for a run that stopped or was interrupted (``attrs["complete"] =
+    0``), ``""`` for a complete one (or a file that does not say): what every figure, animation and export of a run
+    says of it (only the paper's figures said it; the fibres and history figures, the frames and the printed lines did
+    not). The end the run was asked to reach (``t_end_requested``) is said where the file has it: the message says
+    where the run stopped, and the file's times end there too."""
     if attrs.get("complete", 1):
         return ""
-    return f"INCOMPLETE: {attrs.get('message', '') or attrs.get('status', 'stopped early')}"
+    asked = attrs.get("t_end_requested")
+    asked = f" (asked: t_end = {float(asked):g} s)" if is_number(asked) else ""
+    return f"INCOMPLETE: {attrs.get('message', '') or attrs.get('status', 'stopped early')}{asked}"
 
 
 def path_note(attrs, last=None):
