@@ -21,6 +21,7 @@ import textwrap
 
 import numpy as np
 
+from mol_shell._core import interrupts
 from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.paths import writable_path
@@ -339,7 +340,7 @@ def _write_mp4(path, target, render, count, fps, meter=None):
     memory; the encoder's own look-ahead is its own). ffmpeg runs in a session of its own, so a Ctrl-C at the
     terminal (SIGINT to the foreground process group) reaches this process alone: its ``KeyboardInterrupt`` stops
     the encoder and leaves no file (an ffmpeg killed by the same signal was said as "could not be encoded", exit
-    2). A failure of the encoder is refused in one line naming ``path`` = ``target`` (the file the user asked for)."""
+    2); so does the command line's SIGTERM (exit 143), wherever it lands, the encoder's start included. A failure of the encoder is refused in one line naming ``path`` = ``target`` (the file the user asked for)."""
     import imageio_ffmpeg
 
     first = render(0)
@@ -353,12 +354,16 @@ def _write_mp4(path, target, render, count, fps, meter=None):
                                       f"a .gif, or an .mp4 that ffmpeg can encode ({width} x {height} pixels here)")
 
     with tempfile.TemporaryFile() as log:  # a file, not a pipe: an encoder that says much never waits on it
+        encoder = None
         try:
-            encoder = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=log,
-                                       start_new_session=True)
-        except OSError as exc:
-            raise refused(exc) from None
-        try:
+            # a Ctrl-C or SIGTERM as the encoder starts is raised once it is ours to stop: raised inside Popen, the
+            # encoder ran on, unwaited for, and could write its file into the temporary directory as it was removed
+            with interrupts.held():
+                try:
+                    encoder = subprocess.Popen(command, stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=log,
+                                               start_new_session=True)
+                except OSError as exc:
+                    raise refused(exc) from None
             for k in range(count):
                 frame = first if k == 0 else render(k)
                 try:
@@ -370,13 +375,15 @@ def _write_mp4(path, target, render, count, fps, meter=None):
             with contextlib.suppress(OSError):
                 encoder.stdin.close()
             code = encoder.wait()
-        except BaseException:  # Ctrl-C (or a failure) while drawing: the encoder stops with us, its file is dropped
-            encoder.kill()
-            encoder.wait()
+        except BaseException:  # Ctrl-C, SIGTERM or a failure while drawing: the encoder stops with us, no file kept
+            if encoder is not None:
+                encoder.kill()
+                encoder.wait()
             raise
         finally:
-            with contextlib.suppress(OSError):
-                encoder.stdin.close()
+            if encoder is not None:
+                with contextlib.suppress(OSError):
+                    encoder.stdin.close()
         if code != 0:
             raise refused(_said_by(log) or f"ffmpeg exited with status {code}")
 
