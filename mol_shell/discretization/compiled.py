@@ -11,10 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import ctypes
-import functools
-import hashlib
 import os
-import platform
 import subprocess
 import sys
 import tempfile
@@ -34,7 +31,7 @@ from mol_shell.discretization.rk_driver import RK_DRIVER
 #: -fno-semantic-interposition lets gcc inline CasADi's exported helpers (``casadi_sq``; calls through the PLT
 #: otherwise): 10 % of an RHS evaluation. -O3 -march=native (this machine's vector units and fused
 #: multiply-adds, so the last bits differ from CasADi's virtual machine) another ~20 % of a dop853-c run, with
-#: the cache keyed by the processor (:func:`machine_key`)
+#: the cache keyed by the processor (:func:`~mol_shell.discretization.kernel_cache.machine_key`)
 CFLAGS = ("-O3", "-march=native", "-ffp-contract=off", "-fno-semantic-interposition", "-fPIC", "-shared")
 #: what CasADi writes for an "openmp" map, and what we make of it: a thread count set at run time, and chunks
 #: of 32 cells handed out as threads get free (a core busy with another process then slows the run less)
@@ -173,22 +170,6 @@ def run_compiler(command, what, source_bytes, flags):
         raise subprocess.CalledProcessError(proc.returncode, command, out, err)
 
 
-@functools.lru_cache(maxsize=None)
-def machine_key(flags=CFLAGS):
-    """What a library built with ``-march=native`` depends on: the processor's model and instruction sets.
-
-    Part of the cache key, so that a cache shared between machines (a network home directory) never hands
-    one processor code for another's instructions; empty for portable flags.
-    """
-    if "-march=native" not in flags:
-        return ""
-    text = platform.machine() + platform.processor()
-    with contextlib.suppress(OSError):
-        lines = Path("/proc/cpuinfo").read_text().splitlines()
-        text += "".join(sorted({line for line in lines if line.startswith(("model name", "flags", "Features"))}))
-    return text
-
-
 def compile_cached(source, prefix, flags=CFLAGS, what=None, link=()):
     """Path of a shared object built from C ``source`` with gcc ``flags``, cached on disk by hash.
 
@@ -203,10 +184,8 @@ def compile_cached(source, prefix, flags=CFLAGS, what=None, link=()):
     gets another object. A gcc missing or failing, and a cache that refuses the build (a full disk, a file it may
     not replace), raise a :class:`ParameterError` of one line (:class:`CompilerMissing`, :class:`CompilerError`).
     """
-    key = hashlib.sha256((source + " ".join(flags) + " ".join(link) + ca.__version__ + machine_key(flags)
-                          + kernel_cache.RECORD_VERSION).encode()).hexdigest()[:20]
-    folder = cache_dir()  # checked writable once (a probe file) for the lookup and the build
-    lib = folder / f"{prefix}_{key}.so"
+    lib, key = kernel_cache.library(source, prefix, flags, link)  # the folder checked writable once (a probe file)
+    folder = lib.parent
     what = what or f"the {prefix} kernels"
     if kernel_cache.damage(lib, key) is None:
         return lib
@@ -429,6 +408,8 @@ class CompiledFunctions:
         Without a gcc on ``PATH`` that builds them (and nothing cached) keep the Functions in CasADi's virtual machine
         (``path`` None) instead of refusing (:class:`CompilerError`): for callers that only evaluate them (the
         stresses after a run, whose data a failing gcc must not cost).
+    generated : tuple, optional
+        What :meth:`generate` gave for ``functions`` (asked :meth:`unavailable` first): not generated again.
 
     Attributes
     ----------
@@ -440,15 +421,9 @@ class CompiledFunctions:
 
     FLAGS = ("-O1", "-fno-semantic-interposition", "-fPIC", "-shared")
 
-    def __init__(self, functions, flags=FLAGS, vm_without_gcc=False):
+    def __init__(self, functions, flags=FLAGS, vm_without_gcc=False, generated=None):
         start = time.perf_counter()
-        functions = [with_cse(f) for f in functions]
-        gen = ca.CodeGenerator("ms_funcs.c")
-        for f in functions:
-            gen.add(f)
-        with tempfile.TemporaryDirectory() as tmp:
-            gen.generate(tmp + os.sep)
-            source = Path(tmp, "ms_funcs.c").read_text()
+        functions, source = generated or self.generate(functions)
         #: why the Functions run in CasADi's virtual machine (gcc missing or failing, vm_without_gcc), else None
         self.vm_reason = None
         try:
@@ -461,6 +436,24 @@ class CompiledFunctions:
                 raise
             self.path, self.functions, self.vm_reason = None, {f.name(): f for f in functions}, str(exc)
         self.compile_time_s = time.perf_counter() - start
+
+    @staticmethod
+    def generate(functions):
+        """``(functions, source)``: the Functions as compiled (SX ones with common subexpressions eliminated) and
+        their C source; given as ``generated``, the class compiles it without generating it again."""
+        functions = [with_cse(f) for f in functions]
+        gen = ca.CodeGenerator("ms_funcs.c")
+        for f in functions:
+            gen.add(f)
+        with tempfile.TemporaryDirectory() as tmp:
+            gen.generate(tmp + os.sep)
+            return functions, Path(tmp, "ms_funcs.c").read_text()
+
+    @staticmethod
+    def unavailable(generated, flags=FLAGS):
+        """Why the library of ``generated`` (:meth:`generate`) cannot be had here (neither cached nor built by a
+        working gcc: :func:`~mol_shell.discretization.kernel_cache.unavailable`), or ``None`` where it can."""
+        return kernel_cache.unavailable(generated[1], "funcs", tuple(flags))
 
     def evaluator(self, name):
         """``(*inputs) -> nonzeros of output 0`` through a preallocated buffer.

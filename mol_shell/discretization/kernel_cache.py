@@ -13,8 +13,9 @@ A cache shared by several users works with files it cannot write: the lock files
 (``flock`` needs no more) and ``builds.log`` is written where it can be. What the cache truly refuses (a full
 disk, a file it may not replace, a path CasADi cannot load from) is one :class:`ParameterError` naming
 ``MOL_SHELL_CACHE`` (a full disk's a :class:`CacheFull`, which the stresses after a run catch: the run is kept); a gcc
-that is missing or fails is a :class:`CompilerError` (exit 2 on the command line). Whether gcc works at all, for a
-default that needs it, is :func:`gcc_problem` (a probe build, once per process).
+that is missing or fails is a :class:`CompilerError` (exit 2 on the command line). Whether gcc works at all is
+:func:`gcc_problem` (a probe build, once per process); whether a library can be had at all, :func:`unavailable`: whole
+in the cache (loaded without gcc, wherever it was built), or built by a working gcc.
 """
 
 from __future__ import annotations
@@ -24,12 +25,15 @@ import errno
 import functools
 import hashlib
 import os
+import platform
 import re
 import shutil
 import subprocess
 import tempfile
 import time
 from pathlib import Path
+
+import casadi as ca
 
 from mol_shell._core.errors import ParameterError
 
@@ -70,6 +74,23 @@ class CompilerMissing(CompilerError):
             f"gcc not found on PATH: building {what} needs a C compiler (install gcc, or add its folder to PATH); "
             "without one leapfrog, dop853-c, rk45-c and casadi-cvodes-c cannot run, and the others run in CasADi's "
             "virtual machine (jacobian=vm where they take a jacobian option)")
+
+
+@functools.cache
+def machine_key(flags):
+    """What a library built with gcc ``flags`` that hold ``-march=native`` depends on: the processor's model and
+    instruction sets.
+
+    Part of the cache key, so that a cache shared between machines (a network home directory) never hands
+    one processor code for another's instructions; empty for portable flags.
+    """
+    if "-march=native" not in flags:
+        return ""
+    text = platform.machine() + platform.processor()
+    with contextlib.suppress(OSError):
+        lines = Path("/proc/cpuinfo").read_text().splitlines()
+        text += "".join(sorted({line for line in lines if line.startswith(("model name", "flags", "Features"))}))
+    return text
 
 
 def _variable():
@@ -265,6 +286,24 @@ def sweep(folder, now=None):
                 shutil.rmtree(entry.path, ignore_errors=True)
                 removed.append(entry.name)
     return removed
+
+
+def library(source, prefix, flags, link=()):
+    """``(path, key)``: where the library of C ``source`` built with gcc ``flags`` (``link`` after the source) is
+    cached in :func:`cache_dir` (``<prefix>_<key>.so``), and its key: a hash of them, of CasADi's version, of the
+    processor where the flags need it (:func:`machine_key`) and of the record's version."""
+    key = hashlib.sha256((source + " ".join(flags) + " ".join(link) + ca.__version__ + machine_key(tuple(flags))
+                          + RECORD_VERSION).encode()).hexdigest()[:20]
+    return cache_dir() / f"{prefix}_{key}.so", key
+
+
+def unavailable(source, prefix, flags, link=()):
+    """Why the library of ``source`` (as :func:`library` names it) cannot be had here, or ``None`` where it can: it
+    is in the cache and whole (its record checked, :func:`damage`: it is loaded, without gcc, wherever it was built),
+    or a working gcc builds it (:func:`gcc_problem`: its reason otherwise). Only a build needs gcc: what a default or
+    a fallback follows (the ``jacobian`` default, the SUNDIALS driver, the leap-frog's stencil) asks this."""
+    lib, key = library(source, prefix, flags, link)
+    return None if damage(lib, key) is None else gcc_problem()
 
 
 def have_gcc():
