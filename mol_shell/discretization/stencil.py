@@ -27,7 +27,7 @@ import casadi as ca
 import numpy as np
 
 from mol_shell.discretization.cells import sample_trigs
-from mol_shell.discretization.compiled import CFLAGS, default_threads, load_cached
+from mol_shell.discretization.compiled import CFLAGS, CompilerMissing, default_threads, load_cached
 from mol_shell.model.material import svk_turning_limit
 
 #: the SX operations the emitter writes as C (each exactly as CasADi's own code generator does)
@@ -318,15 +318,18 @@ def leapfrog_stepper(system, compiled):
     """What advances the leap-frog for ``system``: its :class:`StencilLeapfrog` (built once and kept on the system)
     when the stencil covers it, else ``compiled``'s generic driver. Threads: those asked of ``compiled``
     (:meth:`~mol_shell.discretization.compiled.CompiledRHS.set_threads`) from :data:`PARALLEL_MIN_NODES` nodes, else one."""
-    compiled.need_c("the leap-frog's step loop")  # the RHS in CasADi's virtual machine: no gcc on PATH
     stepper = system.__dict__.get("_stencil")
     if stepper is None:
         try:
-            stepper = StencilLeapfrog(system)
+            stepper = StencilLeapfrog(system)  # its library from the cache without gcc, the RHS's compiled or not
         except Unsupported:
             stepper = False
+        except CompilerMissing:  # neither cached nor built: said as the loop the run needs where the RHS lacks it too
+            compiled.need_c("the leap-frog's step loop")
+            raise
         system._stencil = stepper
     if stepper is False:
+        compiled.need_c("the leap-frog's step loop")  # the RHS in CasADi's virtual machine: no gcc on PATH
         return compiled
     threads = getattr(compiled, "requested_threads", None)
     stepper.set_threads(1 if system.n < PARALLEL_MIN_NODES else threads if threads else 1)

@@ -6,8 +6,10 @@ else has to be on the loader's path). It is compiled once per SUNDIALS build and
 ``$MOL_SHELL_CACHE`` with the other kernels (:func:`~mol_shell.discretization.compiled.load_cached`: a lock file
 for concurrent builders, an atomic rename, a damaged file rebuilt); the libraries' file names carry a hash of
 their build, and are part of the cache key. ``$MOL_SHELL_SUNDIALS_LIBS`` points at another folder of the same
-libraries. Where the driver cannot be built or loaded, :func:`driver` raises :class:`DriverUnavailable` with one
-sentence saying why, and the integrators fall back to scikit-sundae's Python loop.
+libraries. A driver in the cache is loaded without gcc, and gcc builds one that is not
+(:func:`~mol_shell.discretization.kernel_cache.unavailable`). Where the driver cannot be had or loaded, :func:`driver`
+raises :class:`DriverUnavailable` with one sentence saying why, and the integrators fall back to scikit-sundae's
+Python loop.
 """
 
 from __future__ import annotations
@@ -16,11 +18,11 @@ import ctypes
 import functools
 import importlib.util
 import os
-import shutil
 from pathlib import Path
 
 import numpy as np
 
+from mol_shell.discretization import kernel_cache
 from mol_shell.discretization.compiled import CompilerError, load_cached
 from mol_shell.discretization.sundials_source import STALL_STEPS, SUNDIALS_DRIVER  # noqa: F401 (STALL_STEPS: for drv.)
 
@@ -70,9 +72,10 @@ def link_arguments(folder):
 
 @functools.lru_cache(maxsize=None)
 def _load(folder):
-    if shutil.which("gcc") is None:
-        raise DriverUnavailable("gcc not found on PATH")
     link = link_arguments(folder)
+    problem = kernel_cache.unavailable(SUNDIALS_DRIVER, "sundials", FLAGS, link)  # cached, or a gcc that works
+    if problem is not None:
+        raise DriverUnavailable(problem)
     try:
         _, lib = load_cached(SUNDIALS_DRIVER, "sundials", FLAGS, lambda path: ctypes.CDLL(str(path)),
                              what="the SUNDIALS driver", link=link)

@@ -49,7 +49,7 @@ from mol_shell.discretization.dae import ShellDAE
 from mol_shell.discretization.loading import drive_kinks
 from mol_shell.integrators import loop  # noqa: E402
 from mol_shell.integrators.base import StepBudget  # noqa: E402
-from mol_shell.integrators.buildable import JACOBIAN_DEFAULT, resolve_jacobian
+from mol_shell.integrators.buildable import JACOBIAN_DEFAULT, Undecided, resolve_jacobian
 from mol_shell.integrators.loop import BOOL, Option, choice, integers, option, zero_or_at_least  # noqa: E402
 from mol_shell.integrators.tolerances import Tolerances  # noqa: E402
 
@@ -96,13 +96,18 @@ _PIECES = weakref.WeakKeyDictionary()
 
 
 def pieces(system, kind, jacobian="compiled"):
-    """Compiled Jacobian (and for IDA the residual) plus the events function of ``system``; cached."""
+    """Compiled Jacobian (and for IDA the residual) plus the events function of ``system``; cached. ``jacobian``
+    :class:`~mol_shell.integrators.buildable.Undecided` (the default without a working gcc) is settled here, for this
+    graph: the compiled Jacobian where its library is in the cache, else CasADi's virtual machine (one line)."""
     store = _PIECES.setdefault(system, {})
-    key = (kind, jacobian)
+    undecided = isinstance(jacobian, Undecided)
+    key = (kind, "default" if undecided else jacobian)
     if key not in store:
         start = time.perf_counter()
         store[key] = _build_pieces(system, kind, jacobian)
         store[key]["build_time_s"] = time.perf_counter() - start
+    elif undecided:  # settled for this graph before: recorded (and said) for this integrator too
+        jacobian.settle(store[key]["unavailable"])
     return store[key]
 
 
@@ -116,9 +121,15 @@ def _build_pieces(system, kind, jacobian):
         t, y = system.rhs_mapped.mx_in()
         funcs = [ca.Function("ode_jacobian", [t, y], [ca.jacobian(system.rhs_newton_mapped(t, y), y)])]
     jac = funcs[-1]
+    generated = None
+    if isinstance(jacobian, Undecided):  # compiled where its library is cached (or gcc builds it), else the VM's
+        generated = CompiledFunctions.generate(funcs)
+        out["unavailable"] = CompiledFunctions.unavailable(generated)
+        jacobian = jacobian.settle(out["unavailable"])
+        generated = generated if jacobian == "compiled" else None
     if jacobian == "compiled":
         try:
-            lib = CompiledFunctions(funcs)
+            lib = CompiledFunctions(funcs, generated=generated)
         except CompilerError as exc:  # given: the default is the VM's without a working gcc (buildable)
             why = "gcc not found on PATH" if isinstance(exc, CompilerMissing) else str(exc)
             allowed = "'vm' (CasADi's virtual machine) where gcc cannot build the Jacobian"
@@ -159,7 +170,8 @@ class _Sundials(Tolerances):
         ``"band"`` or ``"sparse"``.
     jacobian : str
         ``"compiled"`` (generated C, cached) or ``"vm"`` (CasADi's virtual machine, no compiler); the default,
-        ``"compiled"``, is ``"vm"`` where no working gcc can build it (:mod:`mol_shell.integrators.buildable`).
+        ``"compiled"``, is ``"vm"`` where its library is neither in the cache nor built by a working gcc
+        (:mod:`mol_shell.integrators.buildable`).
     constraints, events : bool
         Enforce ``r > 0`` (SUNDIALS constraints) and ``delta > 0``, ``|psi| < pi/2`` (events).
     max_order : int or None

@@ -5,8 +5,8 @@ kept as ``sksundae-*``), driven by a generated C driver (:mod:`mol_shell.discret
 the compiled right-hand side (or IDA's residual), the compiled exact Jacobian written into a dense, banded or
 sparse matrix, and the model's limits as root functions, with no Python per step. One C call advances to the
 next saved time, or for at most :attr:`CHUNK_SECONDS` of wall time, so progress, saving and Ctrl-C are handled
-between calls. Where the driver cannot be built or loaded (no gcc, libraries not found), the run takes
-scikit-sundae's route, with one line on stderr saying why.
+between calls. Where the driver (or the right-hand side it calls) is neither in the cache nor built by a working gcc,
+or cannot be loaded (libraries not found), the run takes scikit-sundae's route, with one line on stderr saying why.
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.discretization import kernel_cache
 from mol_shell.discretization import sundials_driver as drv
 from mol_shell.discretization.loading import drive_kinks
-from mol_shell.integrators import sundials
+from mol_shell.integrators import buildable, sundials
 from mol_shell.integrators.base import StepBudget
 from mol_shell.integrators.explicit import failed
 from mol_shell.integrators import loop
@@ -143,6 +143,10 @@ class _Compiled:
     def start(self, system, compiled, y0, times, monitor):
         try:
             drv.driver()
+            if compiled.path is None:  # a cached driver, and the right-hand side neither cached nor built: in the VM
+                problem = kernel_cache.gcc_problem() or compiled.vm_reason
+                raise drv.DriverUnavailable(f"the compiled right-hand side is not in the cache and cannot be built "
+                                            f"({problem})")
             residual = (self.parts(system) or {}).get("library")
             if residual is not None and residual.path is None:  # a cached driver, and a gcc that fails on the residual
                 raise drv.DriverUnavailable(residual.vm_reason)
@@ -157,9 +161,10 @@ class _Compiled:
         base = next(c for c in type(self).__mro__ if c.__module__ == sundials.__name__ and hasattr(c, "make_solver")
                     and "name" in c.__dict__)
         common = {f.name: getattr(self, f.name) for f in dataclasses.fields(base)}
-        if self.jacobian in ("auto", "dq"):  # scikit-sundae's route has no difference quotients; a gcc on PATH
-            # that fails (the driver's reason, said) builds no compiled Jacobian either: a probe tells
-            common["jacobian"] = "vm" if kernel_cache.gcc_problem() else "compiled"
+        if self.jacobian in ("auto", "dq"):  # scikit-sundae's route has no difference quotients: the compiled
+            # Jacobian where it can be had (cached, or built by a gcc that works), settled for the graph; the
+            # driver's reason said, no second line
+            common["jacobian"] = buildable.undecided(base.name, quiet=True)
         common["linsolver"] = common["linsolver"].replace("lapack-", "")
         return base(**common)
 

@@ -92,7 +92,8 @@ def test_a_failing_gcc_with_the_right_hand_side_built_runs_cvode_bdf_on_scikit_s
     """The right-hand side built (kept by this process) and a gcc on PATH that fails since: cvode-bdf said that its
     driver is unavailable, with gcc's lines, then ended in an error building the compiled Jacobian its fallback chose
     (gcc was on PATH). It now runs scikit-sundae's loop with the VM's Jacobian: that one line, and the run is the
-    sksundae-cvode-bdf run with jacobian = 'vm' given, step for step."""
+    sksundae-cvode-bdf run with jacobian = 'vm' given, step for step. The driver, not in the cache, is not built with a
+    gcc that fails the probe build: the probe's failure, with gcc's lines, is the reason."""
     scene = mol_shell.TwistedCylinder(nu=0.3)
     mol_shell.simulate(scene, "rk45-c", n=8, t_end=1e-5, stresses=False, progress=False)  # the RHS, with gcc
     _failing_gcc(tmp_path, monkeypatch)
@@ -104,7 +105,7 @@ def test_a_failing_gcc_with_the_right_hand_side_built_runs_cvode_bdf_on_scikit_s
         sundials_driver._load.cache_clear()
     assert capsys.readouterr().err.splitlines() == [
         ("mol-shell: cvode-bdf runs scikit-sundae's Python loop: the compiled SUNDIALS driver is unavailable (gcc "
-         f"failed building the SUNDIALS driver (exit status 1): {GCC_SAYS})")]
+         f"failed building a probe library (exit status 1): {GCC_SAYS})")]
     given = mol_shell.simulate(scene, "sksundae-cvode-bdf", n=8, t_end=1e-4, stresses=False, progress=False,
                                jacobian="vm")
     assert ds.attrs["complete"] == 1 and ds.attrs["n_steps"] == given.attrs["n_steps"]

@@ -158,8 +158,11 @@ def test_a_driver_that_cannot_be_had_falls_back_with_one_line(paper, monkeypatch
     assert len(lines) == 1 and "scikit-sundae's Python loop" in lines[0] and "libsundials_core not found" in lines[0]
 
 
-def test_gcc_missing_is_said_in_one_line(monkeypatch):
+def test_gcc_missing_is_said_in_one_line(tmp_path, monkeypatch):
+    """No gcc and the driver not in the cache (a cached one is loaded without gcc:
+    tests/integrators/test_cached_kernels_without_gcc.py)."""
     monkeypatch.setenv("PATH", "/nonexistent")
+    monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path))
     with pytest.raises(drv.DriverUnavailable, match="^gcc not found on PATH$"):
         drv._load.__wrapped__(str(drv.library_folder()))  # past the in-process cache
 
