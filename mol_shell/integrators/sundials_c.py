@@ -70,9 +70,6 @@ class _Compiled:
     #: wall time of one C call at most, s: the latency of progress lines and of Ctrl-C
     CHUNK_SECONDS = 0.2
 
-    def settings(self):
-        return {**super().settings(), "route": "compiled C"}
-
     def fixed_point(self):
         return getattr(self, "iteration", "newton") == "fixed-point"
 

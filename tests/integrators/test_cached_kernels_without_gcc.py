@@ -130,16 +130,17 @@ def test_without_gcc_a_cached_stencil_runs_the_leapfrog_with_the_right_hand_side
     assert capsys.readouterr().err.splitlines() == [
         ("mol-shell: cvode-bdf runs scikit-sundae's Python loop: the compiled SUNDIALS driver is unavailable (the "
          f"compiled right-hand side is not in the cache and cannot be built ({NO_GCC}))")]
-    assert ds.attrs["complete"] == 1 and "jacobian_kind" not in ds.attrs
+    assert ds.attrs["complete"] == 1 and ds.attrs["route"] == "scikit-sundae" and "jacobian_kind" not in ds.attrs
     assert not list(part.glob("rhs_*.so"))
 
 
 def test_with_an_empty_cache_and_no_gcc_the_fallbacks_are_said_as_before(hide_gcc, tmp_path, capsys):
     """Nothing cached and no gcc: the SUNDIALS routes take scikit-sundae's loop, the defaults the VM's Jacobian, each
-    said in its line; the leap-frog is refused naming gcc."""
+    said in its line; the leap-frog is refused naming gcc. A fallback's file said route = compiled C (the route asked
+    for, over the statistics of the route taken); it records the route taken."""
     hide_gcc(tmp_path / "cache")
     ds = _run("cvode-bdf")
-    assert ds.attrs["complete"] == 1 and "jacobian_kind" not in ds.attrs  # the Python loop's statistics
+    assert ds.attrs["complete"] == 1 and ds.attrs["route"] == "scikit-sundae" and "jacobian_kind" not in ds.attrs
     ds = _run("sksundae-cvode-bdf")
     assert ds.attrs["complete"] == 1 and ds.attrs["jacobian"] == "vm"
     assert capsys.readouterr().err.splitlines() == [
