@@ -71,16 +71,24 @@ def run_table(ds, scene):
         if key in ALWAYS or key not in defaults or value != defaults[key]:
             options[key] = value
     times = [float(t) for t in ds.time.values]
+    # a run that stopped early saved a prefix of the times asked: t_end asked where they are its default times
+    t_end = float(ds.attrs.get("t_end_requested", times[-1])) if _stopped(ds) else times[-1]
     try:
-        default = (leapfrog_times(times[-1], options.get("dt", defaults.get("dt"))) if integrator == "leapfrog"
-                   else parse_times(None, times[-1]))
+        default = (leapfrog_times(t_end, options.get("dt", defaults.get("dt"))) if integrator == "leapfrog"
+                   else parse_times(None, t_end))
     except ParameterError:
         default = None
-    if default is not None and len(default) == len(times) and np.array_equal(default, times):
-        table["t_end"] = times[-1]
+    if default is not None and len(default) >= len(times) and np.array_equal(default[:len(times)], times) \
+            and (len(default) == len(times) or _stopped(ds)):
+        table["t_end"] = t_end
     else:
         table["times"] = times
     return {**table, **options}
+
+
+def _stopped(ds):
+    """Whether run ``ds`` stopped before its end (a limit, a failure, Ctrl-C)."""
+    return not int(ds.attrs.get("complete", 1))
 
 
 def run_toml(ds, name="FILE", source=None):
@@ -90,15 +98,17 @@ def run_toml(ds, name="FILE", source=None):
     version = ds.attrs.get("mol_shell_version", "?")
     notes = [f"# Written from the run {source or ds.encoding.get('source', '')} (mol_shell {version}): "
              + "mol-shell run THIS.toml runs it again."]
-    if not int(ds.attrs.get("complete", 1)):
-        notes.append(f"# That run stopped ({ds.attrs.get('message', '')}): times are those it saved.")
+    run = run_table(ds, scene)
+    if _stopped(ds):
+        asked = "t_end is the one it asked" if "t_end" in run else "times are those it saved"
+        notes.append(f"# That run stopped ({ds.attrs.get('message', '')}): {asked}.")
     start = str(ds.attrs.get("initial_state", ""))
     if start.startswith("equilibrium path"):
         notes.append(f"# That run started from {start}: this file starts from the scene's own initial data.")
     then, now = str(ds.attrs.get("meridian", "")), scene.meridian().describe() if hasattr(scene, "meridian") else ""
     if then and now and then != now:
         notes.append(f"# The meridian differs now (the run's: {then}; now: {now}).")
-    return scene_toml(scene, run=run_table(ds, scene), notes=notes)
+    return scene_toml(scene, run=run, notes=notes)
 
 
 def read_run_toml(filename, name="file"):

@@ -71,3 +71,21 @@ def test_a_complete_run_and_an_unshearable_one_record_it_too(integrator):
                             **({"dt": 1e-6} if integrator == "leapfrog" else {}))
     assert ds.attrs["complete"] == 1 and ds.attrs["t_end_requested"] == 3e-5 and ds.attrs["units_t_end_requested"] == "s"
     assert incomplete_note(ds.attrs) == ""
+
+
+def test_a_stopped_runs_scene_file_asks_its_t_end_and_runs_to_the_same_stop(tmp_path, capsys):
+    """``scenes RUN.nc --toml`` of a run that stopped early wrote the saved times, so the file's run ended where the
+    first stopped, complete: with ``t_end_requested`` it asks the end time the first run asked (its saved times are
+    that t_end's default ones), and its run stops at the same time and state."""
+    first, again, toml = tmp_path / "limit.nc", tmp_path / "again.nc", tmp_path / "limit.toml"
+    assert main(["run", "twisted-cylinder", "--set", "R=3", "--set", "gamma=0", "--set", "law_limit=false", "--n", "9",
+                 "--t-end", "0.05", "--no-stresses", "-o", str(first)]) == 3
+    capsys.readouterr()
+    assert main(["scenes", str(first), "--toml"]) == 0
+    text = capsys.readouterr().out
+    assert "t_end = 0.05\n" in text and "times = " not in text and "t_end is the one it asked" in text
+    toml.write_text(text)
+    assert main(["run", str(toml), "--no-stresses", "-o", str(again)]) == 3
+    a, b = read_netcdf(first), read_netcdf(again)
+    assert b.attrs["t_end_requested"] == 0.05 and b.attrs["failure_time"] == a.attrs["failure_time"]
+    assert (a.time.values == b.time.values).all() and (a.r.values == b.r.values).all()
