@@ -26,13 +26,13 @@ import xarray as xr
 
 from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, scalar
 from mol_shell.model.kinematics import FIELDS
-from mol_shell.model.law_warnings import locking_warnings
 from mol_shell.results.cf import coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, given_note, given_values, scene_attrs, with_units
 from mol_shell.runs import resources
 from mol_shell.runs.ellipticity import CONSEQUENCE, sampled_margins
 from mol_shell.runs.simulate import as_scene, build, resolve, starting_state
 from mol_shell.runs.statics import rigid_motions
+from mol_shell.scenes.scene_warnings import say_scene_warnings
 
 #: above this many free coordinates the sparse shift-invert solver is used
 DENSE_MAX = 3000
@@ -212,8 +212,9 @@ def modes(scene, n=40, count=10, *, initial=None):
         the largest entry of each mode is 1, unit of each field), ``energy_fraction(mode, field)``;
         attrs ``zero_modes``, ``method``, the scene's parameters, and ``ellipticity_margin`` of the state
         (:func:`~mol_shell.runs.ellipticity.sampled_margins`; where it is not positive, a
-        :class:`~mol_shell.MaterialWarning` and ``ellipticity_warning``: the lowest modes are then the grid's).
-    """
+        :class:`~mol_shell.MaterialWarning` and ``ellipticity_warning``: the lowest modes are then the grid's); the
+        scene's warnings as a run's, said and in ``material_warning`` and ``scene_warning``
+        (:mod:`mol_shell.scenes.scene_warnings`)."""
     import scipy.linalg  # optional heavy dependency: 0.17 s of every process's start at module level
     import scipy.sparse
     import scipy.sparse.linalg
@@ -278,10 +279,7 @@ def modes(scene, n=40, count=10, *, initial=None):
     given_said = given_note(params)
     if given_said:  # a path's state, at rest: the scene's omega or gamma are not the start's
         params["initial_data_note"] = given_said
-    note = "; ".join(locking_warnings(scene))
-    if note:
-        warnings.warn(note, MaterialWarning, stacklevel=2)
-        params["material_warning"] = note
+    say_scene_warnings(scene, params, stacklevel=2)  # as a run's: the law's locking, keys without effect
     slack = slack_fibres_note(system, y0)
     if slack:
         warnings.warn(slack, MaterialWarning, stacklevel=2)

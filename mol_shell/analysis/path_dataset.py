@@ -13,6 +13,7 @@ from mol_shell.results.cf import coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, scene_attrs, with_units
 from mol_shell.runs.ellipticity import CONSEQUENCE, LONG_NAME, sampled_margins, state_minimum, unchecked_note
 from mol_shell.scenes import DESCRIPTIONS
+from mol_shell.scenes.scene_warnings import say_scene_warnings
 
 #: what every path file says about its critical loads
 SYMMETRY_NOTE = ("critical points are those of rotationally symmetric modes only (the model has no circumferential "
@@ -32,7 +33,10 @@ def _shape(eq, vector):
 
 
 def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
-    """Assemble the Dataset of a traced path (``record``: the steps and critical points of ``mol_shell.analysis.path_record.PathRecord``)."""
+    """Assemble the Dataset of a traced path (``record``: the steps and critical points of
+    ``mol_shell.analysis.path_record.PathRecord``); the scene's warnings (``material_warning``, ``scene_warning``:
+    :mod:`mol_shell.scenes.scene_warnings`) are said, to the caller of :func:`~mol_shell.analysis.path.path`, and
+    recorded in its attrs."""
     system = eq.system
     steps = len(record.lams)
     fields = np.stack([eq.fields(q, lam) for q, lam in zip(record.qs, record.lams)])
@@ -172,4 +176,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     notes = loads_at_rest(scene, eq.parameter)
     if notes:  # another load on a history: the states take it at t = 0
         attrs["loads_at_rest"] = "\n".join(notes)
+    # the scene's warnings, as a run's (said and recorded once the path is traced; the continued load's history is
+    # replaced, not unused)
+    say_scene_warnings(scene, attrs, parameter=eq.parameter, stacklevel=3)
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs=with_units(attrs))  # zeta1_used's too

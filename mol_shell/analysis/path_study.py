@@ -37,6 +37,7 @@ from mol_shell.runs.scheduling import check_workers, connect, refuse_in_starting
 from mol_shell.runs.study import carried_materials, case_inputs, case_result, input_files, run_cases
 from mol_shell.runs.study_design import design, label_coords
 from mol_shell.scenes import UNITS, with_params
+from mol_shell.scenes.scene_warnings import say_once
 
 #: statuses of a path that are final (stored, not run again on resume)
 FINAL = ("complete", "max_steps", "returned", "failed", "limit", "refused", "error")
@@ -133,6 +134,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
         tasks.append(PathTask(index, label, case_scene, parameter, float(start), float(stop), int(n), options,
                               carried_materials(case_scene)))
     client = connect(scheduler) if tasks else None
+    say_once([task.scene for task in tasks], parameter=parameter)  # as a study of runs: once, not per case
     pending, reused = run_cases(run_path_task, tasks, results, output=output, final=FINAL, scheduler=scheduler,
                                 workers=workers, client=client, progress=progress, total=len(cases), desc="paths")
     out = _gather(scene, dims, coords, cases, results, parameter)

@@ -1,6 +1,7 @@
 """What a scene's law says about the scene before it runs: parameters it does not read, locking under the director
-constraint, fibres that carry nothing. Lines of text, said once by :func:`mol_shell.simulate` and the studies
-(``SceneWarning``, ``MaterialWarning``) and stored in the run's attributes."""
+constraint, fibres that carry nothing. Lines of text, said once by :func:`mol_shell.simulate`, ``modes``, ``path`` and
+the studies (``SceneWarning``, ``MaterialWarning``: :mod:`mol_shell.scenes.scene_warnings`) and stored in their
+Datasets' attributes."""
 
 from __future__ import annotations
 

@@ -10,14 +10,13 @@ import warnings
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE, stated_up  # noqa: F401  (RTOL_RANGE: simulate's range)
-from mol_shell._core.errors import MaterialWarning, ParameterError, SceneWarning, is_number, scalar
+from mol_shell._core.errors import ParameterError, is_number, scalar
 from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.kernel_cache import CacheFull
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
 from mol_shell.integrators.tolerances import ATOL_RANGE, atol_ok
 from mol_shell.model.kinematics import FIELDS
-from mol_shell.model.law_warnings import locking_warnings, unused_fibres_warnings, unused_law_parameters
 from mol_shell.results.dataset import build_dataset
 from mol_shell.results.stresses import MAX_SAMPLES, add_stresses
 from mol_shell.runs import resources
@@ -36,7 +35,7 @@ from mol_shell.runs.ellipticity import check_ellipticity
 from mol_shell.runs.statics import static_equilibrium, unstable_directions
 from mol_shell.runs.unshearable import simulate_unshearable
 from mol_shell.scenes import UNSHEARABLE_INTEGRATORS, CylinderScene, Unshearable
-from mol_shell.scenes.setting import unused_histories
+from mol_shell.scenes.scene_warnings import say_scene_warnings
 
 #: leap-frog is refused when damped modes could grow by more than exp(this) (1e6) over the run
 LEAPFROG_MAX_LOG_GROWTH = float(np.log(1e6))
@@ -347,19 +346,10 @@ def _check_radius_atol(method, system, y0):
 
 
 def _scene_warnings(scene, ds):
-    """``ds`` with the material's warnings (:func:`~mol_shell.model.material.locking_warning`, unused fibre keys) and
-    the scene's (a load's history without the load) said and recorded (once the run is done: a run refused on the
-    way says only why)."""
-    notes = [*locking_warnings(scene), *unused_fibres_warnings(scene)]
-    for note in notes:
-        warnings.warn(note, MaterialWarning, stacklevel=3)
-    if notes:
-        ds.attrs["material_warning"] = "; ".join(notes)
-    unused = [*unused_histories(scene), *unused_law_parameters(scene)]
-    for note in unused:
-        warnings.warn(note, SceneWarning, stacklevel=3)
-    if unused:
-        ds.attrs["scene_warning"] = "; ".join(unused)
+    """``ds`` with the scene's warnings (:func:`~mol_shell.scenes.scene_warnings.scene_warnings`: the material's
+    locking, unused fibre keys, a load's history without the load, unused law parameters) said and recorded (once the
+    run is done: a run refused on the way says only why)."""
+    say_scene_warnings(scene, ds.attrs, stacklevel=3)
     return ds
 
 

@@ -25,13 +25,12 @@ import warnings
 import numpy as np
 
 from mol_shell._core.atomic import keep_inputs
-from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, by_interrupt
+from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
 from mol_shell._core.paths import writable_path
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell._core.version import __version__
 from mol_shell.discretization.compiled import cache_dir
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.model.law_warnings import locking_warnings
 from mol_shell.model.laws import REGISTRY, register, user_material
 from mol_shell.model.layers import parse_layers
 from mol_shell.results.cf import header
@@ -51,6 +50,7 @@ from mol_shell.runs.simulate import (
 )
 from mol_shell.runs.study_design import design, label_coords, material_names, scene_fields
 from mol_shell.scenes import Unshearable, with_params
+from mol_shell.scenes.scene_warnings import hush_in_case, say_once
 
 #: statuses that are final: stored, and skipped on resume ("interrupted" and "lost" are run again)
 FINAL = ("complete", "limit", "unstable", "refused", "error")
@@ -202,7 +202,7 @@ def case_result(index, work, materials=()):
         restore_materials(materials)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", RuntimeWarning)
-            warnings.simplefilter("ignore", MaterialWarning)  # said once by the study, in its own process
+            hush_in_case()  # the scene's warnings: said once by the study, in its own process
             ds = work()
         status, message = str(ds.attrs.get("status", "complete")), str(ds.attrs.get("message", ""))
     except ParameterError as exc:
@@ -320,9 +320,8 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
             continue
         tasks.append(task)
     client = connect(scheduler) if tasks else None  # an unreachable cluster is refused before anything runs
-    for note in dict.fromkeys(note for task in tasks for note in locking_warnings(task.scene)):
-        if note:  # once per distinct warning, not once per case (each case's Dataset records its own)
-            warnings.warn(note, MaterialWarning, stacklevel=2)
+    say_once([task.scene for task in tasks])  # once per distinct warning, not per case (each case's Dataset records
+    # its own)
     pending, reused = run_cases(run_task, tasks, results, output=output, final=FINAL, scheduler=scheduler,
                                 workers=workers, client=client, progress=progress, total=len(cases))
     out = assemble(dims, coords, cases, results, times)
