@@ -24,6 +24,28 @@ def check_radius(R, h, zeta1=None, hint="", a=1.0):
                                                        f"a positive radius (zeta1 = {-low:.4g} m)" + (f"; {hint}" if hint else "")))
 
 
+#: a fibre angle this close to 0 or +-pi/2 (rad) is along the meridian or the hoop (as typed: 1.5708, 1.571; the
+#: tolerance of FIBRE_ANGLES), not a helix
+AXIAL_OR_HOOP_TOL = 1e-3
+
+
+def check_no_helix(scene):
+    """Refuse, naming ``fibre_families``, one helical family of fibres on a scene without the twist ``chi`` (the
+    axisymmetric scene): ``C_13 = r^2 chi_s ...`` carries the twist and the family's ``2 cos sin C_13`` couples stretch
+    to it (:mod:`mol_shell.model.fibres`), so with ``chi`` held at 0 the scene would carry a torque no edge is given
+    (a tube under an axial force stretches as lamination theory's tube with its twist held, not as a free one). Two
+    families ``+-fibre_angle`` cancel the coupling."""
+    angle = scene.fibre_angle
+    if not scene.fibre_E or scene.fibre_families != 1 or min(abs(angle), abs(abs(angle) - math.pi / 2)) <= \
+            AXIAL_OR_HOOP_TOL:
+        return
+    raise ParameterError("fibre_families", 1, f"2 (families at +-fibre_angle, which balance) at fibre_angle = "
+                         f"{angle:g} rad, or 1 at fibre_angle 0 or +-pi/2",
+                         hint=f"scene {scene.name} holds the twist chi at 0, and one helical family couples stretch to "
+                         "twist: the held twist would be a torque no edge is given; for a twisting tube use scene cone "
+                         "with r1 = r2, or twisted-cylinder")
+
+
 @dataclass(frozen=True)
 class CylinderScene(ShellScene):
     """A circular cylinder of natural radius ``a`` and length ``L``, its ends magnets by default.
@@ -203,7 +225,9 @@ class Axisymmetric(CylinderScene):
     """Axisymmetric motions: no twist and no shear (``chi = psi = 0`` identically).
 
     Only ``z, r, theta`` are unknowns; the graph holds nothing of ``chi`` and ``psi``.
-    Initial data: ``r = R`` (default 1.01 m, a breathing cylinder), ``z = s``, at rest.
+    Initial data: ``r = R`` (default 1.01 m, a breathing cylinder), ``z = s``, at rest. Fibres: two balanced
+    families (``fibre_families = 2``), or one along the meridian or the hoop (``fibre_angle`` 0 or ``+-pi/2``): one
+    helical family couples stretch to twist, which this scene holds at 0 (:func:`check_no_helix`).
 
     Parameters
     ----------
@@ -221,6 +245,10 @@ class Axisymmetric(CylinderScene):
 
     name = "axisymmetric"
     fields = (0, 1, 3)
+
+    def _validate(self):
+        super()._validate()
+        check_no_helix(self)
 
     def initial_fields(self, s, reference):
         Q, V = super().initial_fields(s, reference)
