@@ -316,8 +316,9 @@ static double ms_now(void) {
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-/* Steps towards target (never past it; stopping and restarting at the kinks of a drive before it, ms_kinks) until
-   it is reached (0), a root of a limit is found (1: t_event and the
+/* Steps towards target (never past it; stopping and restarting at the kinks of a drive before it, ms_kinks; a kink
+   within round-off of it stands for it, ms_target, and t_out is then target) until it is reached (0), a root of a
+   limit is found (1: t_event and the
    roots), an accepted step leaves r <= r_floor on a constrained entry (2), max_steps steps were taken in all (3),
    the wall-time budget of this call is spent (4), MS_STALL_STEPS steps in a row are 10 eps |t| or less (6: the
    step below round-off at t), or SUNDIALS fails (its negative flag; 5 if a right-hand side or residual was called
@@ -325,8 +326,9 @@ static double ms_now(void) {
    t (the last step's end). */
 CASADI_SYMBOL_EXPORT int ms_advance(ms_run* r, double target, long long max_steps, double seconds, double* t_out,
                                     double* y, double* yp) {
-  double start = ms_now(), tret = r->t, stop = target;
+  double start = ms_now(), tret = r->t, stop = target, asked = target;
   int flag = 0, code = 0, i, stalled = 0;
+  target = ms_target(r, target); /* a kink within round-off of it instead */
   flag = ms_kinks(r, target, &stop);
   if (flag < 0) code = flag;
   while (!code && r->t < target) {
@@ -361,7 +363,7 @@ CASADI_SYMBOL_EXPORT int ms_advance(ms_run* r, double target, long long max_step
     }
     if (r->t < target && ms_now() - start > seconds) { code = 4; break; }
   }
-  *t_out = r->t;
+  *t_out = code ? r->t : fmax(r->t, asked); /* reached: the saved time asked for, if at a kink just short of it */
   memcpy(y, N_VGetArrayPointer(r->y), sizeof(double) * r->n);
   if (r->ida) memcpy(yp, N_VGetArrayPointer(r->yp), sizeof(double) * r->n);
   return code;

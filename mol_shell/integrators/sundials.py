@@ -22,7 +22,8 @@ These are the routes of release 0.5.0 under the names ``sksundae-cvode-bdf``, ``
   ``tests/test_constraints.py`` reproduces the defect and checks the workaround over many solves.
 * At each kink of a driven edge's rate (:func:`~mol_shell.discretization.loading.drive_kinks`) the solver stops
   (``tstop``), evaluates the step that ends there one ulp short of it (the old segment's rate) and restarts there
-  (``init_step``: SUNDIALS' ``ReInit``), as the compiled route does (docs/loads.md).
+  (``init_step``: SUNDIALS' ``ReInit``), as the compiled route does (docs/loads.md); a saved time within round-off
+  of a kink is taken there (:func:`~mol_shell.discretization.sundials_kinks.one_time`).
 * Statistics: ``n_steps`` counts ``onestep`` calls; ``n_rhs``/``n_jac`` are SUNDIALS' counters;
   scikit-sundae exposes no failure counters, so ``n_failed_steps`` (error-test plus nonlinear
   failures together) is inferred from the trial times of the right-hand side calls: a step attempt
@@ -47,6 +48,7 @@ from mol_shell._core.errors import ModelLimitError, ParameterError  # noqa: E402
 from mol_shell.discretization.compiled import CompiledFunctions, CompilerError, CompilerMissing, buffered
 from mol_shell.discretization.dae import ShellDAE
 from mol_shell.discretization.loading import drive_kinks
+from mol_shell.discretization.sundials_kinks import one_time
 from mol_shell.integrators import loop  # noqa: E402
 from mol_shell.integrators.base import StepBudget  # noqa: E402
 from mol_shell.integrators.buildable import JACOBIAN_DEFAULT, Undecided, resolve_jacobian
@@ -403,11 +405,12 @@ class _Run:
             init = self.solver.init_step(0.0, self.y0)
         if not init.success:
             raise RuntimeError(f"{method.name} could not start: {init.message}")
-        self.t, self.n_steps, self.res = 0.0, 0, init
+        self.t, self.t_reached, self.n_steps, self.res = 0.0, 0.0, 0, init
         self.budget = StepBudget(method.name, times[-1], method.max_steps, method.tolerance_text())
         #: the kinks of a drive's rate still ahead (increasing, up to the last saved time): a stop and a restart at each
         self.kinks = [k for k in drive_kinks(self.system) if k <= float(times[-1])]
         self.before = (0, 0)  # SUNDIALS' counts (rhs, Jacobians) before the last restart: it zeroes its own there
+        self.passed = -np.inf  # the last kink restarted at
         self._next_kink()
         return self
 
@@ -421,29 +424,37 @@ class _Run:
         res = self.res
         self.before = (self.before[0] + int(res.nfev), self.before[1] + int(res.njev))
         self._next_kink()
-        init = self.res = (self.solver.init_step(self.t, res.y, res.yp) if self.ida
-                           else self.solver.init_step(self.t, res.y))
+        while one_time(self.kink, self.t_reached):  # another drive's kink within round-off: one restart, at the last
+            self.t_reached = self.kink
+            self._next_kink()
+        t = self.passed = self.t_reached
+        init = self.res = (self.solver.init_step(t, res.y, res.yp) if self.ida else self.solver.init_step(t, res.y))
         if not init.success:
-            raise self._failure(init, self.t)
+            raise self._failure(init, t)
 
     def advance(self, target):
-        """One SUNDIALS step towards ``target`` (``tstop``: never past it, nor past the next kink of a drive)."""
+        """One SUNDIALS step towards ``target`` (``tstop``: never past it, nor past the next kink of a drive). A kink
+        within round-off of ``target`` (the one restarted at, or the next) stands for it: SUNDIALS refuses a first
+        step that short after a restart; ``t`` is then ``target`` once the solver (``t_reached``) is at the kink."""
         method = self.method
-        if self.t >= self.kink:
+        if self.t_reached >= self.kink:
             self._restart()
-        self.calls_in_step = 0
-        stop = min(float(target), self.kink)
-        res = self.res = self.solver.step(stop, method="onestep", tstop=stop)
-        self.n_steps += 1
-        self.counting = True
-        if res.status == ROOT_RETURN:
-            raise self._event_error(res)
-        if not res.success:
-            raise self._failure(res, self.t)
-        if method.constraints and np.min(np.asarray(res.y)[self.r_entries]) <= self.r_floor:
-            raise self._constraint_limit(res)
-        self.budget.step(float(res.t))  # max_steps, or a projection far beyond it, ends the run
-        self.t = self.t_reached = float(res.t)
+        near = [k for k in (self.passed, self.kink) if one_time(k, target)]
+        stop = near[0] if near else min(float(target), self.kink)
+        if self.t_reached < stop:
+            self.calls_in_step = 0
+            res = self.res = self.solver.step(stop, method="onestep", tstop=stop)
+            self.n_steps += 1
+            self.counting = True
+            if res.status == ROOT_RETURN:
+                raise self._event_error(res)
+            if not res.success:
+                raise self._failure(res, self.t_reached)
+            if method.constraints and np.min(np.asarray(res.y)[self.r_entries]) <= self.r_floor:
+                raise self._constraint_limit(res)
+            self.budget.step(float(res.t))  # max_steps, or a projection far beyond it, ends the run
+            self.t_reached = float(res.t)
+        self.t = max(self.t_reached, float(target)) if near and self.t_reached >= stop else self.t_reached
 
     def state(self, target):
         return self.to_hamiltonian(self.res.y, self.t)
