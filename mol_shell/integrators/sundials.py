@@ -37,6 +37,7 @@ import time
 import warnings
 import weakref
 from dataclasses import dataclass
+from types import SimpleNamespace
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")  # SuperLU_MT spins otherwise (70x slower on 2 cores)
 
@@ -428,7 +429,7 @@ class _Run:
             self.t_reached = self.kink
             self._next_kink()
         t = self.passed = self.t_reached
-        init = self.res = (self.solver.init_step(t, res.y, res.yp) if self.ida else self.solver.init_step(t, res.y))
+        init = self.res = unlisted_status(self.solver.init_step, t, res.y, *([res.yp] if self.ida else []))
         if not init.success:
             raise self._failure(init, t)
 
@@ -443,7 +444,7 @@ class _Run:
         stop = near[0] if near else min(float(target), self.kink)
         if self.t_reached < stop:
             self.calls_in_step = 0
-            res = self.res = self.solver.step(stop, method="onestep", tstop=stop)
+            res = self.res = unlisted_status(self.solver.step, stop, method="onestep", tstop=stop)
             self.n_steps += 1
             self.counting = True
             if res.status == ROOT_RETURN:
@@ -503,3 +504,15 @@ class _Run:
                               t, "whole shell")
         err.status = "failed"
         return err
+
+
+def unlisted_status(call, *args, **kwargs):
+    """``call`` of scikit-sundae's solver, a SUNDIALS status missing from its table of messages (IDA's -60, "tout too
+    close to t0", raised as a ``KeyError`` inside it) returned as the failed result it is, not a traceback."""
+    try:
+        return call(*args, **kwargs)
+    except KeyError as exc:
+        if not (exc.args and isinstance(exc.args[0], int) and exc.args[0] < 0):
+            raise
+        return SimpleNamespace(status=exc.args[0], success=False, message="SUNDIALS refused the call (its message is "
+                               "not in scikit-sundae's table; see SUNDIALS' return codes)", t=np.nan, y=None, yp=None)
