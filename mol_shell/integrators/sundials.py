@@ -37,7 +37,6 @@ import time
 import warnings
 import weakref
 from dataclasses import dataclass
-from types import SimpleNamespace
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")  # SuperLU_MT spins otherwise (70x slower on 2 cores)
 
@@ -54,6 +53,7 @@ from mol_shell.integrators import loop  # noqa: E402
 from mol_shell.integrators.base import StepBudget  # noqa: E402
 from mol_shell.integrators.buildable import JACOBIAN_DEFAULT, Undecided, resolve_jacobian
 from mol_shell.integrators.loop import BOOL, Option, choice, integers, option, zero_or_at_least  # noqa: E402
+from mol_shell.integrators.sksundae_workarounds import UNCONSTRAINED, unlisted_status
 from mol_shell.integrators.tolerances import Tolerances  # noqa: E402
 
 #: the scikit-sundae version whose constraint defect the workaround targets (and that passes the tests)
@@ -68,25 +68,6 @@ ILL_INPUT = ("SUNDIALS found an input of the step invalid (a step, time or error
 #: it: IDA stopped with status -22 at 1e-320 s, CVODE's BDF failed its Newton iteration at t = 0 from 1e-290 s),
 #: rounded up to the digits its range states
 FIRST_STEP_MIN = stated_up(MIN_STEP)
-
-
-class _Unconstrained:
-    """A constraint type that passes scikit-sundae's check ``x in (-2, -1, 1, 2)`` and is stored as 0.0."""
-
-    def __eq__(self, other):
-        return other == 1
-
-    def __hash__(self):
-        return hash(1)
-
-    def __float__(self):
-        return 0.0
-
-    def __repr__(self):
-        return "UNCONSTRAINED"
-
-
-UNCONSTRAINED = _Unconstrained()
 
 
 def full_constraints(size, entries):
@@ -504,15 +485,3 @@ class _Run:
                               t, "whole shell")
         err.status = "failed"
         return err
-
-
-def unlisted_status(call, *args, **kwargs):
-    """``call`` of scikit-sundae's solver, a SUNDIALS status missing from its table of messages (IDA's -60, "tout too
-    close to t0", raised as a ``KeyError`` inside it) returned as the failed result it is, not a traceback."""
-    try:
-        return call(*args, **kwargs)
-    except KeyError as exc:
-        if not (exc.args and isinstance(exc.args[0], int) and exc.args[0] < 0):
-            raise
-        return SimpleNamespace(status=exc.args[0], success=False, message="SUNDIALS refused the call (its message is "
-                               "not in scikit-sundae's table; see SUNDIALS' return codes)", t=np.nan, y=None, yp=None)

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 from sksundae.ida import IDA
 
-from mol_shell.integrators.sundials import unlisted_status
+from mol_shell.integrators.sksundae_workarounds import unlisted_status
 
 
 def _decay(t, y, yp, res):
