@@ -319,6 +319,7 @@ class CompiledRHS:
         self._lib.ms_rk.argtypes = [dptr, dptr, dptr, dptr, real, real, dptr, real, ctypes.c_int, dptr, dptr, dptr,
                                     dptr, ptr, ctypes.c_int, real, dptr, dptr, ctypes.c_longlong,
                                     np.ctypeslib.ndpointer(dtype=np.int64, flags="C_CONTIGUOUS")]
+        self._lib.ms_limits.argtypes = [dptr, dptr]
         self._lib.ms_set_threads.argtypes = [ctypes.c_int]
         self._lib.ms_get_threads.restype = ctypes.c_int
         self.set_threads(threads)
@@ -356,21 +357,28 @@ class CompiledRHS:
             raise RuntimeError("compiled right-hand side failed")
         return (int(code), True) if code > 0 else (int(nsteps), False)
 
-    def runge_kutta(self, state, t_end, rtol, atol, max_step, tableau, max_steps, stats):
+    def runge_kutta(self, state, t_end, rtol, atol, max_step, tableau, max_steps, stats, work=None):
         """Advance ``state = [t, y, f, h]`` (arrays, updated in place) towards ``t_end`` in C (:mod:`mol_shell.discretization.rk_driver`).
 
         ``tableau``: ``(A, B, C, E, E3 or None, error exponent)``; ``stats``: int64 ``[accepted, rejected,
-        RHS evaluations]``, added to. Returns the driver's code: 0 at ``t_end``, 1 at a limit, 2 after
-        ``max_steps`` steps, -1 RHS failure, -2 step below the minimum.
+        RHS evaluations]``, added to; ``work``: ``(s + 4) N`` doubles (allocated if None). Returns the driver's code: 0
+        at ``t_end``, 1 at a limit (the step that left it kept: ``state`` its start, ``h`` its end's time, ``work`` its
+        stages and end), 2 after ``max_steps`` steps, -1 RHS failure, -2 step below the minimum.
         """
         self.need_c("the Runge-Kutta step loop of dop853-c and rk45-c")
         t, y, f, h = state
         A, B, C, E, E3, exponent = tableau
         s = len(B)
-        work = np.empty((s + 4) * self.size)
+        work = np.empty((s + 4) * self.size) if work is None else work
         e3 = E3.ctypes.data_as(ctypes.POINTER(ctypes.c_double)) if E3 is not None else None
         return int(self._lib.ms_rk(t, y, f, h, float(t_end), float(rtol), atol, float(max_step), s, A, B, C, E, e3,
                                    int(E3 is not None), float(exponent), work, self._g, int(max_steps), stats))
+
+    def limits(self, y):
+        """The model's limits ``g`` at ``y`` (a copy), in C: for the search of a crossing inside a step."""
+        if self._lib.ms_limits(np.ascontiguousarray(y, dtype=float), self._g):
+            raise RuntimeError("compiled limits failed")
+        return self._g[: self.n_limits].copy()
 
     def evaluator(self):
         """``(y, t=0) -> y_t`` through a preallocated CasADi buffer (about 0.2 us of call overhead).

@@ -4,7 +4,8 @@ An explicit embedded pair whose tableau is passed in at run time (SciPy's ``RK45
 coefficients), with SciPy's step-size control and error norms, so a whole run between two saved times
 is one C call: no Python per step (:class:`mol_shell.integrators.explicit.RungeKuttaC`). It uses the
 leap-frog driver's ``ms_call`` and ``ms_limits_call`` (:mod:`mol_shell.discretization.compiled`), and checks the
-model's limits after every accepted step.
+model's limits after every accepted step: a step whose end left them is kept (its start, stages and end) for the
+search of the crossing inside it (:mod:`mol_shell.integrators.rk_dense`), and ``ms_limits`` evaluates the limits there.
 """
 
 RK_DRIVER = r"""
@@ -17,8 +18,10 @@ static void ms_axpy(int n, casadi_real a, const casadi_real* x, casadi_real* y) 
 /* Advances (t, y, f = f(t, y)) towards t_end, landing on it. The tableau: s stages, A (s x s, row-major),
    B (s), C (s), E (s + 1) and, for DOP853's error estimate, E3 (s + 1; dop853 != 0). h: the proposed step,
    updated. work: (s + 4) N doubles. stats: accepted steps, rejected steps, RHS evaluations (added to).
-   Returns 0 at t_end, 1 after an accepted step whose end left a limit (t, y, f hold it), 2 after
-   max_steps accepted steps, -1 if the RHS failed, -2 if the step fell below SciPy's minimum. */
+   Returns 0 at t_end, 1 after an accepted step whose end left a limit (t, y, f then hold the step's start, h the
+   time at its end, work its stages K (s N) followed by y and f at its end, g the limits there: its dense output
+   locates the crossing), 2 after max_steps accepted steps, -1 if the RHS failed, -2 if the step fell below SciPy's
+   minimum. */
 CASADI_SYMBOL_EXPORT int ms_rk(casadi_real* t, casadi_real* y, casadi_real* f, casadi_real* h,
                                casadi_real t_end, casadi_real rtol, const casadi_real* atol, casadi_real max_step,
                                int s, const casadi_real* A, const casadi_real* B, const casadi_real* C,
@@ -85,15 +88,19 @@ CASADI_SYMBOL_EXPORT int ms_rk(casadi_real* t, casadi_real* y, casadi_real* f, c
         stats[1] += 1;
       }
     }
-    *t = t_new;
-    for (i = 0; i < N; ++i) { y[i] = ynew[i]; f[i] = ytmp[i]; K[i] = ytmp[i]; }
     stats[0] += 1;
     taken += 1;
     if (MS_NG > 0) {
-      if (ms_limits_call(y, g)) return -1;
-      for (i = 0; i < MS_NG; ++i) if (!(g[i] > 0)) return 1;
+      /* a step whose end left a limit is kept whole for the search of the crossing inside it: (t, y, f) its start,
+         h the time at its end, K its stages, ynew and ytmp the state and f at its end, g the limits there */
+      if (ms_limits_call(ynew, g)) return -1;
+      for (i = 0; i < MS_NG; ++i) if (!(g[i] > 0)) { *h = t_new; return 1; }
     }
+    *t = t_new;
+    for (i = 0; i < N; ++i) { y[i] = ynew[i]; f[i] = ytmp[i]; K[i] = ytmp[i]; }
   }
   return 0;
 }
+/* The model's limits at y (g: MS_NG values), for the search of a crossing inside the step that crossed it. */
+CASADI_SYMBOL_EXPORT int ms_limits(const casadi_real* y, casadi_real* g) { return ms_limits_call(y, g); }
 """

@@ -88,6 +88,13 @@ class Monitor:
         finite is outside the law's domain (at the start, or reached during the run), not unstable:
         :meth:`_check_law_domain` names the law and the cell.
         """
+        out = self.check_balance(y, t)
+        self._check_limits(y, out, t)
+
+    def check_balance(self, y, t):
+        """:meth:`check`'s checks of a finite state, a finite stored energy and the energy balance ``E - W + D``
+        (without the model's limits); returns the observables at ``y``. The routes that locate a limit's crossing
+        inside a step (``dop853-c``, ``rk45-c``) make them at the step's end."""
         if not np.all(np.isfinite(y)):
             bad = np.flatnonzero(~np.isfinite(y))[0]
             # the motion is node-major (ny values a node); after it come the work and dissipation totals
@@ -112,6 +119,9 @@ class Monitor:
                 t,
                 "whole shell",
             )
+        return out
+
+    def _check_limits(self, y, out, t):
         fields = self.system.unpack(y)
         psi = np.abs(fields[4])
         if psi.max() >= np.pi / 2:

@@ -4,7 +4,9 @@ SciPy's ``DOP853`` (Dormand-Prince 8(5,3)) and ``RK45`` (Dormand-Prince 5(4)): t
 and step-size control (safety 0.9, factors 0.2 to 10, SciPy's minimum step), with the loop in C
 (:mod:`mol_shell.discretization.rk_driver`) on the compiled right-hand side, so that no Python runs per step. The model's
 limits are checked after every accepted step in C (as leap-frog does), the energy and progress between
-calls. Steps are shortened to land on each saved time instead of interpolating (no dense output); on a
+calls. A step whose end left a limit is searched for the crossing on its dense output, once
+(:mod:`mol_shell.integrators.rk_dense`): the run stops there, as CVODE's and IDA's at a root (a non-finite state and
+the energy's growth stop at the step's end). Steps are shortened to land on each saved time instead of interpolating (no dense output); on a
 run with one saved interval the step sequence is SciPy's.
 
 A driven edge's rate that follows a ramp or a table has kinks (:func:`~mol_shell.discretization.loading.drive_kinks`):
@@ -27,6 +29,7 @@ from mol_shell.discretization.loading import drive_kinks
 from mol_shell.integrators import loop
 from mol_shell.integrators.base import StepBudget
 from mol_shell.integrators.loop import integers, option
+from mol_shell.integrators.rk_dense import DenseStep, first_crossing
 from mol_shell.integrators.tolerances import Tolerances
 
 
@@ -149,6 +152,7 @@ class _RungeKuttaStepper:
     """The driver's state between chunks: ``t``, ``y``, ``f(y)`` and the next step ``h`` (in place)."""
 
     kinks = ()  # the drive's kinks still ahead (a list from __init__)
+    work = None  # the driver's stages and scratch, kept for the search of a crossing (an array from __init__)
 
     def __init__(self, method, system, compiled, y0, times, monitor):
         self.method, self.compiled, self.monitor = method, compiled, monitor
@@ -170,6 +174,8 @@ class _RungeKuttaStepper:
         self.time, self.h = np.zeros(1), np.array([h0])
         self.budget = StepBudget(method.name, self.t_end, method.max_steps, method.tolerance_text())
         self.evaluate = evaluate
+        self.work = np.empty((len(self.tableau[1]) + 4) * self.y.size)  # the driver's stages and scratch
+        self.names = system.limit_names()
         # the drive's kinks still ahead (increasing, up to the last saved time): a step lands on each
         self.kinks = [k for k in drive_kinks(system) if k <= self.t_end]
 
@@ -184,10 +190,9 @@ class _RungeKuttaStepper:
         # the step that ends on a kink ends one ulp short of it: its stages all take the old segment's rate
         stop = float(np.nextafter(kink, -math.inf)) if kink is not None else target
         code = self.compiled.runge_kutta((t, self.y, self.f, self.h), stop, m.rtol, self.atol, m.max_step,
-                                         self.tableau, budget, counts)
+                                         self.tableau, budget, counts, work=self.work)
         if code == 1:
-            self.monitor.check(self.y, t[0])  # raises, naming the limit and the place
-            raise ModelLimitError(f"a limit of the model was reached at t = {t[0]:.9g} s", t[0], "whole shell")
+            raise self._crossed()
         if code == -2:  # the step fell below 10 ulp(t), round-off at t: the tolerance asks more than doubles hold
             raise failed(f"{m.name} failed at t = {t[0]:.9g} s: its step fell below round-off at t ({self.h[0]:.3g} s, "
                          f"SciPy's minimum): {self.tolerance()} cannot be met there in double precision (a looser "
@@ -200,6 +205,27 @@ class _RungeKuttaStepper:
         self.monitor.check(self.y, t[0])  # the energy (instability) and finiteness, once a chunk
         if kink is not None and t[0] == stop:
             self._past(kink)
+
+    def _crossed(self):
+        """The :class:`ModelLimitError` of the step that left a limit (the driver kept it: ``(t, y, f)`` its start,
+        ``h`` the time at its end, the work its stages and end), at the crossing inside it: the end of the last bracket
+        of :func:`~mol_shell.integrators.rk_dense.first_crossing` on the step's dense output, where (t, y, f) are
+        left, as CVODE's state at a root. A non-finite state and the energy's growth stop at the step's end."""
+        N, s = self.y.size, len(self.tableau[1])
+        t0, t1, work = float(self.time[0]), float(self.h[0]), self.work
+        y1, f1 = work[s * N:(s + 1) * N].copy(), work[(s + 1) * N:(s + 2) * N].copy()
+        self.monitor.check_balance(y1, t1)  # raises at the step's end: these are not located inside it
+        step = DenseStep(self.method.scipy_method(), t0, self.y, t1, work[: s * N].reshape(s, N), y1, f1,
+                         lambda y, t: self.evaluate(y, t).copy())
+        limits = self.compiled.limits
+        t, g = first_crossing(lambda t: limits(step(t)), t0, t1, limits(self.y), limits(y1))
+        self.y[:] = step(t)
+        self.f[:] = self.evaluate(self.y, t)
+        self.time[0] = t
+        self.counts[2] += step.n_rhs + 1
+        what, where = self.names[int(np.flatnonzero(~(g > 0))[0])]
+        return ModelLimitError(f"{what} at t = {t:.9g} s, {where}: a limit of the model (crossing located by "
+                               f"{self.method.name} in its last step)", t, where)
 
     def _past(self, kink):
         """At a kink (reached one ulp short of it): the state is the kink's, and ``f`` there, the next step's first

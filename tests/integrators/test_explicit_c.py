@@ -81,7 +81,7 @@ def test_a_tolerance_the_steps_cannot_meet_is_named_when_the_run_stops(name):
 class _UnderflowingDriver:
     """A compiled right-hand side whose Runge-Kutta driver returns -2 (the step fell below 10 ulp(t)) at t = 0.25 s."""
 
-    def runge_kutta(self, state, t_end, rtol, atol, max_step, tableau, max_steps, stats):
+    def runge_kutta(self, state, t_end, rtol, atol, max_step, tableau, max_steps, stats, work=None):
         t, h = state[0], state[3]
         t[0], h[0] = 0.25, 1e-16
         return -2
