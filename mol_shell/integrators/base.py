@@ -49,7 +49,7 @@ class Monitor:
         Supplies the ``delta`` of each cell and the node positions.
     """
 
-    #: relative growth of the total energy that counts as a numerical instability
+    #: relative growth of the energy balance ``E - W + D`` that counts as a numerical instability
     ENERGY_GROWTH = 1e-2
 
     def __init__(self, system, y0=None):
@@ -112,10 +112,11 @@ class Monitor:
             # the limit named is the start's (a user can check it against E(0)); the share of the energies in play
             # is said apart: after a blow-up it is 1% of the blown-up energies and would hide the start's scale
             raise NumericalInstabilityError(
-                f"numerical instability: the total energy grew to {energy:.6g} J at t = {t:.9g} s, from "
+                f"numerical instability: the energy balance E - W + D (the energy less the loads' work W plus the "
+                f"energy dissipated D) grew to {energy:.6g} J at t = {t:.9g} s, from "
                 f"{self.energy_start:.6g} J at the start (limit {self.energy_limit:.6g} J: the start's energy + "
                 f"{self.ENERGY_GROWTH:.0%}, plus {self.ENERGY_GROWTH:.0%} of the energies in play now, {share:.6g} J, "
-                "for round-off; less the work of any loads, it cannot grow)",
+                "for round-off; constant for the exact motion, it cannot grow: a loaded shell's energy grows by W only)",
                 t,
                 "whole shell",
             )
