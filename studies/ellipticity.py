@@ -13,7 +13,6 @@ Usage: python studies/ellipticity.py [--quick] [--out out]
 (--quick: n = 21 and 41, and 21 for the plane-stress law; about 10 s.)
 """
 
-import argparse
 import math
 import os
 import warnings
@@ -22,10 +21,21 @@ import numpy as np
 import xarray as xr
 
 import mol_shell
+from mol_shell.cli.scripts import output_folder, run_script, script_parser
+from mol_shell.results.cf import described
 
 GRIDS = (40, 80, 160, 320)
 QUICK_GRIDS = (21, 41)
 NU = 0.49
+#: units and long_name of every variable of OUT/ellipticity.nc
+MEANINGS = {
+    "case": ("1", "case number"), "material": (None, "material law"), "n": ("1", "nodes"),
+    "status": (None, "how the run ended"),
+    "lost": ("s", "first saved time past the loss of ellipticity (NaN: none)"),
+    "stop": ("s", "time the run stopped at a limit of the model (NaN: it did not)"),
+    "end": ("s", "last saved time"), "stretch_min": ("1", "smallest hoop stretch at the equator"),
+    "margin_min": ("1", "smallest ellipticity margin over the saved states"),
+}
 
 
 def run(material, n, t_end):
@@ -36,12 +46,21 @@ def run(material, n, t_end):
                                   times=np.linspace(0.0, t_end, int(round(t_end / 2.5e-4)) + 1), stresses=False)
 
 
+def summary(rows, critical):
+    """The Dataset of OUT/ellipticity.nc: one case per row of ``rows`` (material, n, status, lost, stop, end,
+    stretch_min, margin_min); ``critical``, the equator's stretch at the closed-form loss of ellipticity."""
+    out = xr.Dataset({key: (("case",), [row[key] for row in rows]) for key in MEANINGS if key != "case"},
+                     coords={"case": np.arange(len(rows))})
+    return described(out, "mol_shell: breathing sphere, the loss of ellipticity and the grid", MEANINGS,
+                     critical_stretch=critical, nu=NU, R=1.05, units_R="m")
+
+
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = script_parser(__doc__)
     parser.add_argument("--quick", action="store_true", help="two grids (and one for the plane-stress law)")
     parser.add_argument("--out", default="out", help="output directory")
     args = parser.parse_args(argv)
-    os.makedirs(args.out, exist_ok=True)
+    output_folder(args.out)
     grids = QUICK_GRIDS if args.quick else GRIDS
     cases = [("svk", n, 0.02) for n in grids] + [("svk-plane-stress", n, 0.1) for n in grids[: 1 if args.quick else 2]]
     runs = {(m, n): run(m, n, t) for m, n, t in cases}
@@ -55,19 +74,7 @@ def main(argv=None):
                      "stop": ds.attrs.get("failure_time", np.nan) if ds.attrs["status"] == "limit" else np.nan,
                      "end": float(ds.time[-1]), "stretch_min": float(stretch.min()),
                      "margin_min": float(np.nanmin(ds.ellipticity_margin.values))})
-    out = xr.Dataset(
-        {key: (("case",), [row[key] for row in rows], attrs) for key, attrs in (
-            ("material", {"long_name": "material law"}),
-            ("n", {"units": "1", "long_name": "nodes"}),
-            ("status", {"long_name": "how the run ended"}),
-            ("lost", {"units": "s", "long_name": "first saved time past the loss of ellipticity (NaN: none)"}),
-            ("stop", {"units": "s", "long_name": "time the run stopped at a limit of the model (NaN: it did not)"}),
-            ("end", {"units": "s", "long_name": "last saved time"}),
-            ("stretch_min", {"units": "1", "long_name": "smallest hoop stretch at the equator"}),
-            ("margin_min", {"units": "1", "long_name": "smallest ellipticity margin over the saved states"}))},
-        coords={"case": np.arange(len(rows))},
-        attrs={"title": "breathing sphere: the loss of ellipticity and the grid", "critical_stretch": critical,
-               "nu": NU, "R": 1.05})
+    out = summary(rows, critical)
     mol_shell.write_netcdf(out, os.path.join(args.out, "ellipticity.nc"))
     print(f"closed form: the equator's stretch {critical:.5f} (hoop polarisation)")
     print("| material | n | status | loss at [ms] | stopped at [ms] | smallest equator stretch | smallest margin |")
@@ -114,4 +121,4 @@ def _plot(runs, critical, path):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -20,12 +20,13 @@ Usage: python studies/paper_figures.py [--n 40] [--dt 1e-6] [--check-n 160] [--q
 (--quick: the paper run only, without the finer grid; about 10 s.)
 """
 
-import argparse
 import os
 
 import numpy as np
 
 import mol_shell
+from mol_shell.cli.args import integer_arg, number_arg
+from mol_shell.cli.scripts import MIN_NODES, output_folder, run_script, script_parser
 from mol_shell.views.plotting import plot_snapshots
 from mol_shell.results.study_store import summarize
 
@@ -34,17 +35,17 @@ QUICK = {"check_n": 0}  # --quick: no finer grid
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--n", type=int, default=40)
-    parser.add_argument("--dt", type=float, default=1e-6)
-    parser.add_argument("--check-n", type=int, default=None,
+    parser = script_parser(__doc__)
+    parser.add_argument("--n", type=integer_arg("--n", MIN_NODES), default=40, help="nodes (default 40)")
+    parser.add_argument("--dt", type=number_arg("--dt", unit="s"), default=1e-6, help="leap-frog step, s (default 1e-6)")
+    parser.add_argument("--check-n", type=integer_arg("--check-n", 0), default=None,
                         help="finer grid for the psi comparison (default 160; 0: skip, as with --quick)")
     parser.add_argument("--quick", action="store_true", help="the paper run only (no finer grid): a few seconds")
     parser.add_argument("--out", default="out", help="output directory (default: out)")
     args = parser.parse_args(argv)
     check_n = args.check_n if args.check_n is not None else (QUICK["check_n"] if args.quick else 160)
     out = args.out
-    os.makedirs(out, exist_ok=True)
+    output_folder(out)
     times = np.unique(np.round(np.r_[np.arange(0.0, 0.1435, 0.001), PAPER_TIMES], 9))
     scene = mol_shell.TwistedCylinder()
     ds = mol_shell.simulate(scene, n=args.n, times=times, dt=args.dt, progress=False)
@@ -111,4 +112,4 @@ def _plot_psi(ds, path):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

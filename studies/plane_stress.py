@@ -14,20 +14,31 @@ Usage: python studies/plane_stress.py [--dt 1e-5] [--quick] [--out out]
 (--quick: nu = 0.499, 0.4999 only; about 10 s.)
 """
 
-import argparse
 import os
 
 import numpy as np
 import xarray as xr
 
 import mol_shell
+from mol_shell.cli.args import number_arg
+from mol_shell.cli.scripts import output_folder, run_script, script_parser
 from mol_shell.model.equilibrium import spectrum_bounds
+from mol_shell.results.cf import described
 from mol_shell.runs.simulate import build, resolve
 
 TIMES = [0.0, 0.02, 0.07, 0.106, 0.143]
 NUS = (0.3, 0.45, 0.49, 0.499, 0.4999)
 QUICK_NUS = (0.499, 0.4999)
 MATERIALS = ("svk", "svk-plane-stress")
+#: units and long_name of every variable of OUT/plane_stress.nc
+MEANINGS = {
+    "material": (None, "material law"), "nu": ("1", "Poisson's ratio"), "s": ("m", "arc length"),
+    "R": ("m", "equilibrium radius R(gamma)"), "omega_max": ("s-1", "largest |eigenvalue| of the Jacobian at t = 0"),
+    "dt": ("s", "leap-frog step"), "r_min": ("m", "smallest radius at the saved times"),
+    "r_max": ("m", "largest radius at the saved times"), "theta_max": ("rad", "largest |theta| at the saved times"),
+    "chi_at_end_max": ("rad", "largest |chi| at t = 0.143 s"), "psi_max": ("rad", "largest |psi| at the saved times"),
+    "r_final": ("m", "radius at t = 0.143 s"),
+}
 
 
 def measure(nu, material, dt):
@@ -49,23 +60,32 @@ def measure(nu, material, dt):
     }, ds
 
 
+def summary(rows, finals, nus, dt):
+    """The Dataset of OUT/plane_stress.nc: ``rows[material, nu]`` (measure's numbers) and ``finals[material, nu]``
+    (the radius at the last time, along s)."""
+    keys = list(next(iter(rows.values())))
+    data = {k: (("material", "nu"), [[rows[m, nu][k] for nu in nus] for m in MATERIALS]) for k in keys}
+    data["r_final"] = (("material", "nu", "s"), [[np.asarray(finals[m, nu]) for nu in nus] for m in MATERIALS])
+    s = np.asarray(finals[MATERIALS[0], nus[0]].s)
+    out = xr.Dataset(data, coords={"material": list(MATERIALS), "nu": list(nus), "s": s})
+    return described(out, "mol_shell: inextensible-director SVK against the plane-stress law", MEANINGS,
+                     dt_max=dt, units_dt_max="s", saved_times=", ".join(map(str, TIMES)), units_saved_times="s")
+
+
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--dt", type=float, default=1e-5)
+    parser = script_parser(__doc__)
+    parser.add_argument("--dt", type=number_arg("--dt", unit="s"), default=1e-5, help="largest leap-frog step, s (default 1e-5)")
     parser.add_argument("--quick", action="store_true", help=f"nu = {', '.join(map(str, QUICK_NUS))} only")
     parser.add_argument("--out", default="out", help="output directory (default: out)")
     args = parser.parse_args(argv)
     nus = QUICK_NUS if args.quick else NUS
-    os.makedirs(args.out, exist_ok=True)
+    output_folder(args.out)
     rows, finals = {}, {}
     for material in MATERIALS:
         for nu in nus:
             rows[material, nu], ds = measure(nu, material, args.dt)
             finals[material, nu] = ds.r.isel(time=-1)
-    keys = list(next(iter(rows.values())))
-    data = {k: (("material", "nu"), [[rows[m, nu][k] for nu in nus] for m in MATERIALS]) for k in keys}
-    data["r_final"] = (("material", "nu", "s"), [[finals[m, nu].values for nu in nus] for m in MATERIALS])
-    out = xr.Dataset(data, coords={"material": list(MATERIALS), "nu": list(nus), "s": finals["svk", nus[0]].s.values})
+    out = summary(rows, finals, nus, args.dt)
     mol_shell.write_netcdf(out, os.path.join(args.out, "plane_stress.nc"))
     print("| material | nu | R [m] | max abs(eig) [1/s] | r range at the paper's times [m] | max abs(theta) "
           "| max abs(psi) |")
@@ -97,4 +117,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

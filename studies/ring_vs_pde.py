@@ -8,12 +8,13 @@ Usage: python studies/ring_vs_pde.py [--n 10] [--t-end 0.1] [--quick] [--out out
 (--quick: t_end = 0.04 s and dt = 8, 4, 2 us, a few seconds.)
 """
 
-import argparse
 import os
 
 import numpy as np
 
 import mol_shell
+from mol_shell.cli.args import integer_arg, number_arg
+from mol_shell.cli.scripts import MIN_NODES, output_folder, run_script, script_parser
 from mol_shell.runs.ring import simulate_ring
 
 FIELDS = ("r", "chi", "psi", "r_t", "chi_t", "psi_t")
@@ -22,16 +23,16 @@ QUICK = {"t_end": 0.04, "steps": STEPS[:3]}  # t_end / 100 on every step grid
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--n", type=int, default=10)
-    parser.add_argument("--t-end", type=float, default=None, help=f"default 0.1 s ({QUICK['t_end']} s with --quick)")
+    parser = script_parser(__doc__)
+    parser.add_argument("--n", type=integer_arg("--n", MIN_NODES), default=10, help="nodes (default 10)")
+    parser.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help=f"default 0.1 s ({QUICK['t_end']} s with --quick)")
     parser.add_argument("--quick", action="store_true",
                         help="small settings: " + ", ".join(f"{k} = {v}" for k, v in QUICK.items()))
     parser.add_argument("--out", default="out", help="output directory (default: out)")
     args = parser.parse_args(argv)
     t_end = args.t_end if args.t_end is not None else (QUICK["t_end"] if args.quick else 0.1)
     steps = QUICK["steps"] if args.quick else STEPS
-    os.makedirs(args.out, exist_ok=True)
+    output_folder(args.out)
     scene = mol_shell.SpinningRing()
     times = np.round(np.linspace(0.0, t_end, 101), 9)
     ring = simulate_ring(scene, times)
@@ -80,4 +81,4 @@ def _plot(ring, path):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

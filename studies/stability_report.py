@@ -15,14 +15,16 @@ Usage: python studies/stability_report.py [--max-n 10240] [--quick] [--out out] 
 and the stiff viscous eta_mu = 100 Pa s, in about 10 s.)
 """
 
-import argparse
 import os
 
 import mol_shell
 from mol_shell.analysis.stability import default_cases, markdown_table, report
+from mol_shell.cli.args import integer_arg
+from mol_shell.cli.scripts import output_file, output_folder, run_script, script_parser
 from mol_shell.views.stability_plot import plot_report
 
 QUICK_CASES = ("paper", "viscous eta_mu=100")
+SMALLEST_GRID = 40  # the report's cases are on n = 40 .. 10,240: --max-n below it would leave none
 
 
 def cases(max_n=None, quick=False):
@@ -34,15 +36,14 @@ def cases(max_n=None, quick=False):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--max-n", type=int, default=None,
-                        help="grid cases up to this n only (default: all, to 10,240)")
+    parser = script_parser(__doc__)
+    parser.add_argument("--max-n", type=integer_arg("--max-n", SMALLEST_GRID), default=None,
+                        help=f"grid cases up to this n only, >= {SMALLEST_GRID} (default: all, to 10,240)")
     parser.add_argument("--quick", action="store_true", help="two cases: the paper scene and viscous eta_mu = 100 Pa s")
     parser.add_argument("--out", default="out", help="output directory (default: out)")
     parser.add_argument("--output", default=None, help="netCDF file (default: OUT/stability.nc)")
     args = parser.parse_args(argv)
-    output = args.output or os.path.join(args.out, "stability.nc")
-    os.makedirs(os.path.dirname(output) or ".", exist_ok=True)
+    output = output_file(args.output) if args.output else os.path.join(output_folder(args.out), "stability.nc")
     ds = report(cases(args.max_n, args.quick))
     mol_shell.write_netcdf(ds, output)
     stem = output.rsplit(".", 1)[0]
@@ -54,4 +55,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

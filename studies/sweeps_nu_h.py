@@ -17,7 +17,6 @@ Usage: python studies/sweeps_nu_h.py [--grids 40,160] [--dt 1e-6] [--scheduler A
 in this process; 10-20 s.)
 """
 
-import argparse
 import math
 import os
 
@@ -25,21 +24,32 @@ import numpy as np
 import xarray as xr
 
 import mol_shell
-from mol_shell.runs.study import study
+from mol_shell.cli.args import number_arg
+from mol_shell.cli.scripts import integers_arg, output_folder, run_script, script_parser
+from mol_shell.results.cf import described
 from mol_shell.results.study_store import summarize
+from mol_shell.runs.study import study
 
 TIMES = np.round(np.arange(0.0, 0.1435, 0.001), 9)
 H0 = 2 * math.pi * 1e-3
 SWEEPS = {"nu": [0.3, 0.4, 0.45, 0.49, 0.499], "h": [H0 * f for f in (0.25, 0.5, 1.0, 2.0, 4.0)]}
-DEFAULTS = {"grids": "40,160", "dt": 1e-6, "scheduler": None}
-QUICK = {"grids": "40", "dt": 4e-6, "scheduler": "serial"}
+DEFAULTS = {"grids": [40, 160], "dt": 1e-6, "scheduler": None}
+QUICK = {"grids": [40], "dt": 4e-6, "scheduler": "serial"}
+#: units and long_name of the variables of OUT/sweeps_nu_h.nc beside summarize's (which say their own), per sweep
+EXTRAS = {"R": ("m", "equilibrium radius R(gamma)"), "status": (None, "how the case ended"),
+          "wall_time_s": ("s", "wall time of the case's run"),
+          "leapfrog_dt_bound_s": ("s", "leap-frog stability bound 1/max|eig J(y0)|"),
+          "chi_end": ("rad", "chi at s = 0 at t = 0.143 s")}
+MEANINGS = {"grid": ("1", "nodes in s"), "nu": ("1", "Poisson's ratio"), "h": ("m", "wall thickness"),
+            **{f"{k}_{name}_sweep": (u, f"{n} ({name} sweep)") for k, (u, n) in EXTRAS.items() for name in SWEEPS}}
 QUICK_SWEEPS = {"nu": [0.3, 0.45, 0.499], "h": [H0 * f for f in (0.25, 0.5, 1.0)]}
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--grids", help=f"default {DEFAULTS['grids']}")
-    parser.add_argument("--dt", type=float, help=f"leap-frog step, s (default {DEFAULTS['dt']:g})")
+    parser = script_parser(__doc__)
+    parser.add_argument("--grids", type=integers_arg("--grids"),
+                        help=f"nodes, N1,N2,... (default {','.join(map(str, DEFAULTS['grids']))})")
+    parser.add_argument("--dt", type=number_arg("--dt", unit="s"), help=f"leap-frog step, s (default {DEFAULTS['dt']:g})")
     parser.add_argument("--scheduler", help="dask scheduler address, or serial (default: local processes)")
     parser.add_argument("--quick", action="store_true",
                         help="small settings: " + ", ".join(f"{k} = {v}" for k, v in QUICK.items())
@@ -51,8 +61,8 @@ def main(argv=None):
             setattr(args, key, value)
     sweeps = QUICK_SWEEPS if args.quick else SWEEPS
     out_dir = args.out
-    os.makedirs(out_dir, exist_ok=True)
-    grids = [int(n) for n in args.grids.split(",")]
+    output_folder(out_dir)
+    grids = args.grids
     summaries = {}
     for name, values in sweeps.items():
         per_grid = []
@@ -67,11 +77,7 @@ def main(argv=None):
             print(f"{name} sweep, N = {n}: {ds.attrs['n_executed']} run, {ds.attrs['n_reused']} reused, "
                   f"{ds.attrs['study_wall_time_s']:.1f} s")
         summaries[name] = xr.concat(per_grid, "grid")
-    out = xr.merge([summaries["nu"].rename({k: f"{k}_nu_sweep" for k in summaries["nu"].data_vars}),
-                    summaries["h"].rename({k: f"{k}_h_sweep" for k in summaries["h"].data_vars})],
-                   compat="no_conflicts", join="outer")
-    out.attrs.update(title="mol_shell: nu and h sweeps of the twisted cylinder", gamma=0.1,
-                     source=f"mol_shell {mol_shell.__version__}", t_end=float(TIMES[-1]), dt=args.dt)
+    out = summary(summaries, args.dt)
     mol_shell.write_netcdf(out, os.path.join(out_dir, "sweeps_nu_h.nc"))
     for name, m in summaries.items():
         print(f"\n| {name} | N | R [m] | max abs(r - R) [m] | max abs(theta) [rad] | max abs(psi) [rad] "
@@ -88,12 +94,21 @@ def main(argv=None):
     return summaries
 
 
+def summary(summaries, dt):
+    """The Dataset of OUT/sweeps_nu_h.nc: ``summaries[name]`` (dims grid x name: summarize's amplitudes and the
+    cases' R, status, wall_time_s, leapfrog_dt_bound_s and chi_end), each variable named after its sweep."""
+    out = xr.merge([m.rename({k: f"{k}_{name}_sweep" for k in m.data_vars}) for name, m in summaries.items()],
+                   compat="no_conflicts", join="outer")
+    return described(out, "mol_shell: nu and h sweeps of the twisted cylinder", MEANINGS, gamma=0.1,
+                     units_gamma="rad m-1", t_end=float(TIMES[-1]), units_t_end="s", dt=dt, units_dt="s")
+
+
 def _plot(summaries, grids, path):
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.ticker
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 
     fig, axes = plt.subplots(2, 3, figsize=(12, 6.4))
     for row, (name, m) in enumerate(summaries.items()):
@@ -110,7 +125,11 @@ def _plot(summaries, grids, path):
             axes[row, col].set_ylabel(ylabel)
             axes[row, col].legend(fontsize=7)
             if name == "h":
+                # the h values span less than a decade: a log axis labels none of them (or one power of ten), so
+                # each value is a labelled tick
                 axes[row, col].set_xscale("log")
+                axes[row, col].xaxis.set_major_locator(matplotlib.ticker.FixedLocator(x))
+                axes[row, col].xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%.3g"))
                 axes[row, col].xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     fig.suptitle("twisted cylinder, gamma = 0.1 rad/m, t <= 0.143 s", fontsize=10)
     fig.tight_layout()
@@ -119,4 +138,4 @@ def _plot(summaries, grids, path):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -17,27 +17,33 @@ Usage: python studies/twist_amplitude.py [--grids 40,160] [--gammas 0.02:0.2:0.0
 (--quick: gamma = 0.025, 0.05, 0.1 on N = 40 with dt = 4e-6 s, in this process; a few seconds.)
 """
 
-import argparse
 import os
 
 import numpy as np
 import xarray as xr
 
 import mol_shell
+from mol_shell.cli.args import number_arg
+from mol_shell.cli.scripts import integers_arg, output_folder, run_script, script_parser
 from mol_shell.cli.study import parse_vary
-from mol_shell.runs.study import study
+from mol_shell.results.cf import described
 from mol_shell.results.study_store import summarize
+from mol_shell.runs.study import study
 
 TIMES = np.round(np.arange(0.0, 0.1435, 0.001), 9)
-DEFAULTS = {"grids": "40,160", "gammas": "0.02:0.2:0.02", "dt": 1e-6, "scheduler": None}
-QUICK = {"grids": "40", "gammas": "0.025,0.05,0.1", "dt": 4e-6, "scheduler": "serial"}
+DEFAULTS = {"grids": [40, 160], "gammas": "0.02:0.2:0.02", "dt": 1e-6, "scheduler": None}
+#: units and long_name of the variables of OUT/twist_amplitude.nc beside summarize's (which say their own)
+MEANINGS = {"grid": ("1", "nodes in s"), "gamma": ("rad m-1", "twist gamma"), "R": ("m", "equilibrium radius R(gamma)"),
+            "status": (None, "how the case ended"), "wall_time_s": ("s", "wall time of the case's run")}
+QUICK = {"grids": [40], "gammas": "0.025,0.05,0.1", "dt": 4e-6, "scheduler": "serial"}
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--grids", help=f"default {DEFAULTS['grids']}")
+    parser = script_parser(__doc__)
+    parser.add_argument("--grids", type=integers_arg("--grids"),
+                        help=f"nodes, N1,N2,... (default {','.join(map(str, DEFAULTS['grids']))})")
     parser.add_argument("--gammas", help=f"START:STOP:STEP or V1,V2,... (default {DEFAULTS['gammas']})")
-    parser.add_argument("--dt", type=float, help=f"leap-frog step, s (default {DEFAULTS['dt']:g})")
+    parser.add_argument("--dt", type=number_arg("--dt", unit="s"), help=f"leap-frog step, s (default {DEFAULTS['dt']:g})")
     parser.add_argument("--scheduler", help="dask scheduler address, or serial (default: local processes)")
     parser.add_argument("--quick", action="store_true",
                         help="small settings: " + ", ".join(f"{k} = {v}" for k, v in QUICK.items()))
@@ -47,9 +53,9 @@ def main(argv=None):
         if getattr(args, key) is None:
             setattr(args, key, value)
     out_dir = args.out
-    os.makedirs(out_dir, exist_ok=True)
+    output_folder(out_dir)
     gammas = parse_vary([f"gamma={args.gammas}"])["gamma"]
-    grids = [int(n) for n in args.grids.split(",")]
+    grids = args.grids
     summaries = []
     for n in grids:
         ds = study(mol_shell.TwistedCylinder(), {"gamma": gammas}, n=n, times=TIMES, dt=args.dt,
@@ -61,10 +67,7 @@ def main(argv=None):
         summaries.append(m.expand_dims(grid=[n]))
         print(f"N = {n}: {ds.attrs['n_executed']} cases run, {ds.attrs['n_reused']} reused, "
               f"{ds.attrs['study_wall_time_s']:.1f} s")
-    out = xr.concat(summaries, "grid")
-    out.grid.attrs.update(long_name="nodes in s", units="1")
-    out.attrs.update(title="mol_shell: twist amplitude gamma against radius change and psi amplitude",
-                     source=f"mol_shell {mol_shell.__version__}", t_end=float(TIMES[-1]), dt=args.dt)
+    out = summary(summaries, args.dt)
     mol_shell.write_netcdf(out, os.path.join(out_dir, "twist_amplitude.nc"))
     slopes = {}
     g = np.log(np.asarray(gammas))
@@ -89,12 +92,19 @@ def main(argv=None):
     return out, slopes
 
 
+def summary(per_grid, dt):
+    """The Dataset of OUT/twist_amplitude.nc: the grids' amplitudes (summarize's, with R, status and wall_time_s of
+    the cases), each with its ``grid`` dimension, and the leap-frog step ``dt``."""
+    return described(xr.concat(per_grid, "grid"), "mol_shell: twist amplitude gamma against radius change and psi "
+                     "amplitude", MEANINGS, t_end=float(TIMES[-1]), units_t_end="s", dt=dt, units_dt="s")
+
+
 def _plot(out, gammas, grids, path):
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.ticker
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 
     fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
     g = np.asarray(gammas)
@@ -118,4 +128,4 @@ def _plot(out, gammas, grids, path):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

@@ -14,12 +14,13 @@ Usage: python studies/unshearable_vs_free.py [--n 81] [--t-end 0.1] [--dt 1e-6] 
 (--quick: N = 21 to t = 0.02 s, dt = 2e-6 s, spins 0, 10, 20 rad/s, in this process; about 10 s.)
 """
 
-import argparse
 import os
 
 import numpy as np
 
 import mol_shell
+from mol_shell.cli.args import integer_arg, number_arg
+from mol_shell.cli.scripts import MIN_NODES, output_folder, run_script, script_parser
 from mol_shell.runs.study import study
 from mol_shell.runs.unshearable import defects, simulate_unshearable
 from mol_shell.scenes import Unshearable
@@ -30,10 +31,10 @@ QUICK = {"n": 21, "t_end": 0.02, "dt": 2e-6, "omegas": (0.0, 10.0, 20.0), "sched
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--n", type=int, help=f"nodes (default {DEFAULTS['n']})")
-    parser.add_argument("--t-end", type=float, help=f"s (default {DEFAULTS['t_end']:g})")
-    parser.add_argument("--dt", type=float, help=f"leap-frog step of the free shell, s (default {DEFAULTS['dt']:g})")
+    parser = script_parser(__doc__)
+    parser.add_argument("--n", type=integer_arg("--n", MIN_NODES), help=f"nodes (default {DEFAULTS['n']})")
+    parser.add_argument("--t-end", type=number_arg("--t-end", unit="s"), help=f"s (default {DEFAULTS['t_end']:g})")
+    parser.add_argument("--dt", type=number_arg("--dt", unit="s"), help=f"leap-frog step of the free shell, s (default {DEFAULTS['dt']:g})")
     parser.add_argument("--scheduler", help="dask scheduler address, or serial (default: local processes)")
     parser.add_argument("--quick", action="store_true",
                         help="small settings: " + ", ".join(f"{k} = {v}" for k, v in QUICK.items()))
@@ -44,7 +45,7 @@ def main(argv=None):
         if getattr(args, key) is None:
             setattr(args, key, value)
     out = args.out
-    os.makedirs(out, exist_ok=True)
+    output_folder(out)
     times = np.round(np.arange(0.0, args.t_end + 1e-12, 0.001), 9)
     scene = Unshearable()
     con = simulate_unshearable(scene, n=args.n, times=times)
@@ -115,4 +116,4 @@ def _plot(con, free, path):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

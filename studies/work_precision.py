@@ -10,7 +10,6 @@ Usage: python studies/work_precision.py [--repeats 3] [--t-end 0.143] [--integra
 one repeat; about 10 s.)
 """
 
-import argparse
 import os
 import time
 
@@ -18,6 +17,8 @@ import numpy as np
 
 import mol_shell
 from mol_shell.analysis import workprecision as wp
+from mol_shell.cli.args import integer_arg, number_arg
+from mol_shell.cli.scripts import output_file, output_folder, run_script, script_parser
 from mol_shell.views.workprecision import write_outputs
 
 QUICK = {"t_end": 0.02, "repeats": 1, "integrators": "leapfrog,cvode-adams",
@@ -25,9 +26,9 @@ QUICK = {"t_end": 0.02, "repeats": 1, "integrators": "leapfrog,cvode-adams",
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--repeats", type=int, default=None, help="timed repeats per point (default 3)")
-    parser.add_argument("--t-end", type=float, default=None, help="default: the paper's snapshots up to 0.143 s")
+    parser = script_parser(__doc__)
+    parser.add_argument("--repeats", type=integer_arg("--repeats", 1, wp.MAX_REPEATS), default=None, help="timed repeats per point (default 3)")
+    parser.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="default: the paper's snapshots up to 0.143 s")
     parser.add_argument("--integrators", default=None, help="default: all")
     parser.add_argument("--quick", action="store_true", help="a tiny sweep of two integrators to t = 0.02 s")
     parser.add_argument("--out", default="out", help="output directory (default: out)")
@@ -37,9 +38,8 @@ def main(argv=None):
     repeats = args.repeats if args.repeats is not None else quick.get("repeats", 3)
     t_end = args.t_end if args.t_end is not None else quick.get("t_end")
     integrators = args.integrators or quick.get("integrators") or ",".join(wp.DEFAULT_INTEGRATORS)
-    output = args.output or os.path.join(args.out, "work_precision.nc")
+    output = output_file(args.output) if args.output else os.path.join(output_folder(args.out), "work_precision.nc")
     times = wp.PAPER_TIMES if t_end is None else [float(f"{t:.12g}") for t in np.linspace(0.0, t_end, 5)]
-    os.makedirs(os.path.dirname(output) or ".", exist_ok=True)
     start = time.perf_counter()
     ds = wp.work_precision(mol_shell.TwistedCylinder(), integrators.split(","), times=times, repeats=repeats,
                   sweeps=quick.get("sweeps"))
@@ -50,4 +50,4 @@ def main(argv=None):
 
 
 if __name__ == "__main__":
-    main()
+    run_script(main)

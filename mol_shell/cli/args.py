@@ -105,6 +105,8 @@ class Parser(argparse.ArgumentParser):
 
     #: what a command says after the list of its options when it is given one it has not got
     unknown_note = ""
+    #: the name a refusal begins with (a study's script: its file's name, :mod:`mol_shell.cli.scripts`)
+    said_as = "mol-shell"
 
     def __init__(self, *args, **kwargs):
         kwargs.setdefault("allow_abbrev", False)
@@ -158,7 +160,7 @@ class Parser(argparse.ArgumentParser):
         found = re.match(r"argument (\S+?): (.*)", message, flags=re.S)
         if found and any(found.group(2).startswith(opt + " ") for opt in found.group(1).split("/")):
             message = found.group(2)
-        self.exit(EXIT_USAGE, f"mol-shell: error: {message}\n")
+        self.exit(EXIT_USAGE, f"{self.said_as}: error: {message}\n")
 
 
 def parse_range_or_list(text, name, words=("T0", "T1", "DT"), item="t", count_check=None):

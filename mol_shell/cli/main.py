@@ -339,18 +339,25 @@ class _Guarded:
 
 
 def main(argv=None):
+    return guarded(_command, argv)
+
+
+def guarded(command, *args, prog="mol-shell"):
+    """``command(*args)`` with the command line's watch on Ctrl-C and SIGTERM, and its standard streams guarded: an
+    output that cannot be written is one line, exit code 2 (:func:`_unwritable`). The studies' scripts run so too
+    (:mod:`mol_shell.cli.scripts`)."""
     streams = sys.stdout, sys.stderr
     sys.stdout, sys.stderr = (None if stream is None else _Guarded(stream, name)
                               for stream, name in zip(streams, ("standard output", "standard error")))
     try:
         # Ctrl-C raises as usual, and is noted where a C call loses it; a SIGTERM (a scheduler's time limit) too
         with interrupts.watched(raising=True, terminating=True):
-            return _command(argv)
+            return command(*args)
     except OutputError as exc:
         failed = exc
     finally:
         sys.stdout, sys.stderr = streams
-    return _unwritable(failed)
+    return _unwritable(failed, prog)
 
 
 def _command(argv):
@@ -380,34 +387,41 @@ def _command(argv):
             code = args.func(args)
             sys.stdout.flush()  # here, where a reader that has gone (| head -1) can be told from a bug
             return code
-    except BrokenPipeError:
+    except (Exception, KeyboardInterrupt) as exc:  # noqa: BLE001 - said in one line (a bug too), never a traceback
+        return said(exc, args, created)
+
+
+def said(exc, args=None, created=(), prog="mol-shell"):
+    """The exit code of a command (or a study's script, ``prog``) that ``exc`` stopped, having said why in one line on
+    stderr: bad input 2, a model limit 3, Ctrl-C 130 (SIGTERM 143), a reader gone 141, a bug 1 (its traceback with
+    ``MOL_SHELL_TRACEBACK=1``). ``created``: directories made for ``-o``, removed again if the input is refused."""
+    if isinstance(exc, BrokenPipeError):
         return _reader_gone()
-    except ParameterError as exc:
+    if isinstance(exc, ParameterError):
         _remove_empty(created)
-        print(f"mol-shell: error: {said_with_the_file(args, exc)}", file=sys.stderr)
+        print(f"{prog}: error: {said_with_the_file(args, exc)}", file=sys.stderr)
         return EXIT_USAGE
-    except KeyboardInterrupt as exc:  # its text: what was kept ("after writing run.nc": a write is never cut short)
-        print(f"mol-shell: {_interrupted()}{' ' if str(exc) else ''}{exc}", file=sys.stderr)
+    if isinstance(exc, KeyboardInterrupt):  # its text: what was kept ("after writing run.nc": a write is never cut short)
+        print(f"{prog}: {_interrupted()}{' ' if str(exc) else ''}{exc}", file=sys.stderr)
         return interrupted_code()
-    except NoSpaceError as exc:  # a full disk: not a bug, and nothing half-written (mol_shell._core.atomic.staged)
+    if isinstance(exc, NoSpaceError):  # a full disk: not a bug, and nothing half-written (mol_shell._core.atomic.staged)
         _remove_empty(created)
-        print(f"mol-shell: error: {_no_space(args, exc)}", file=sys.stderr)
+        print(f"{prog}: error: {_no_space(args, exc)}", file=sys.stderr)
         return EXIT_USAGE
-    except ModelLimitError as exc:  # a run a command needs stopped at a limit (compare's reference)
-        print(f"mol-shell: stopped: {exc}", file=sys.stderr)
+    if isinstance(exc, ModelLimitError):  # a run a command needs stopped at a limit (compare's reference)
+        print(f"{prog}: stopped: {exc}", file=sys.stderr)
         return EXIT_INCOMPLETE
-    except OutputError:  # said by main, once the streams are the command's own again
-        raise
-    except Exception as exc:  # noqa: BLE001 - the last resort: one line, never a traceback (unless asked for)
-        if by_interrupt(exc):  # a Ctrl-C that arrived inside a C extension's call
-            print(f"mol-shell: {_interrupted()}", file=sys.stderr)
-            return interrupted_code()
-        if os.environ.get("MOL_SHELL_TRACEBACK"):
-            raise
-        text = " ".join(str(exc).split())[:300]
-        print(f"mol-shell: internal error: {type(exc).__name__}: {text} (a bug of mol_shell: please report it with "
-              "the command; MOL_SHELL_TRACEBACK=1 shows where it happened)", file=sys.stderr)
-        return EXIT_INTERNAL
+    if isinstance(exc, OutputError):  # said by main, once the streams are the command's own again
+        raise exc
+    if by_interrupt(exc):  # a Ctrl-C that arrived inside a C extension's call
+        print(f"{prog}: {_interrupted()}", file=sys.stderr)
+        return interrupted_code()
+    if os.environ.get("MOL_SHELL_TRACEBACK"):
+        raise exc
+    text = " ".join(str(exc).split())[:300]
+    print(f"{prog}: internal error: {type(exc).__name__}: {text} (a bug of mol_shell: please report it with "
+          "the command; MOL_SHELL_TRACEBACK=1 shows where it happened)", file=sys.stderr)
+    return EXIT_INTERNAL
 
 
 def _interrupted():
@@ -432,7 +446,7 @@ def _reader_gone():
     return EXIT_PIPE
 
 
-def _unwritable(exc):
+def _unwritable(exc, prog="mol-shell"):
     """Standard output or error could not be written (``> /dev/full``): one line on stderr, when that is not the
     stream that failed, and exit code 2, as for an ``-o`` that cannot be written."""
     if exc.stream == "standard error":
@@ -440,7 +454,7 @@ def _unwritable(exc):
         return EXIT_USAGE
     _to_devnull(sys.stdout)
     try:
-        print(f"mol-shell: error: {exc}", file=sys.stderr)
+        print(f"{prog}: error: {exc}", file=sys.stderr)
     except OSError:  # stderr too: nowhere to say it
         _to_devnull(sys.stderr)
     return EXIT_USAGE

@@ -77,3 +77,23 @@ def wide_integer(var):
         return False
     values = var.values
     return values.size == 0 or bool(values.min() >= -(2**31) and values.max() < 2**31)
+
+
+def described(ds, title, meanings, **attrs):
+    """``ds`` as a summary file is written: the CF header (:func:`header` of ``title`` and ``attrs``) and, on every
+    variable and coordinate, ``units`` and ``long_name`` from ``meanings`` (``{name: (units, long_name)}``; units
+    ``None`` for text) where it has none of its own. A numeric variable left without units, or any without a
+    long_name, is a ``ValueError`` naming it: the writer's table misses it (a study script's summary)."""
+    ds = ds.copy()
+    for name, var in ds.variables.items():
+        units, long_name = meanings.get(name, (None, None))
+        if units is not None:
+            var.attrs.setdefault("units", units)
+        if long_name is not None:
+            var.attrs.setdefault("long_name", long_name)
+    missing = [name for name, var in ds.variables.items()
+               if "long_name" not in var.attrs or (var.dtype.kind in "iuf" and "units" not in var.attrs)]
+    if missing:
+        raise ValueError(f"no units or long_name for {', '.join(map(str, missing))} in the file {title!r}")
+    ds.attrs = header(title, **{k: attr_value(v) for k, v in attrs.items()})
+    return ds

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell._core.paths import check_lengths
 from mol_shell.results.dataset import read_netcdf, write_netcdf
 
@@ -135,7 +135,13 @@ def summarize(ds):
     Returns a Dataset with ``dr_max`` (max ``|r - R|``), ``theta_max``, ``psi_max`` and its split
     into ``psi_grid_mode_max`` and ``psi_smooth_max`` (see :func:`grid_mode`), ``chi_s_max``,
     and ``energy_drift`` (max relative change of the total energy).
+
+    A study none of whose cases computed anything has no fields to reduce: where every case was refused (its
+    input out of range) that is a :class:`ParameterError` saying the cases' reasons, as ``mol-shell study`` says
+    them; where they stopped before their first saved time, a :class:`ModelLimitError` with their messages.
     """
+    if "r" not in ds.variables:
+        _nothing_computed(ds)
     R = ds["R"] if "R" in ds.variables else float(ds.attrs["R"])
     s = ds["s_case"] if "s_case" in ds.coords else ds["s"]  # the grids of a study of L differ between cases
     both = ("time", "s")
@@ -151,3 +157,20 @@ def summarize(ds):
         "energy_drift": (abs(ds.energy - e0).max("time") / abs(e0), "1", "largest relative change of the energy"),
     }
     return xr.Dataset({k: v.assign_attrs(units=u, long_name=n) for k, (v, u, n) in out.items()})
+
+
+def _nothing_computed(ds):
+    """Raise why the study ``ds`` has no fields (:func:`summarize`): its cases' reasons, each once."""
+    status = np.asarray(ds["status"].values if "status" in ds.variables else [], dtype=object).ravel()
+    messages = np.asarray(ds["message"].values if "message" in ds.variables else [""] * status.size,
+                          dtype=object).ravel()
+    reasons = list(dict.fromkeys(str(m) for m in messages if str(m)))
+    said = "; ".join(reasons[:3]) + (f"; and {len(reasons) - 3} more" if len(reasons) > 3 else "")
+    if status.size and all(st == "refused" for st in status):
+        first = reasons[0] if reasons else ""
+        name = first.split(" ", 1)[0] if first else "study"
+        raise ParameterError(name, None, "", message=f"every case of the study was refused ({status.size} of "
+                             f"{status.size}): {said or 'no reason recorded'}")
+    kinds = ", ".join(sorted(set(map(str, status)))) or "none"
+    raise ModelLimitError(f"no case of the study saved a state (statuses: {kinds}){': ' + said if said else ''}",
+                          float("nan"), "")
