@@ -1,7 +1,11 @@
 """The paper's figures 4-8: r, theta, chi against s at t = 0, 0.02, 0.07, 0.106, 0.143 s.
 
 The scene of section 6 (N = 40 nodes, leap-frog, dt = 1e-6 s, gamma = 0.1 rad/m, R computed),
-saved every millisecond as well, so psi's small rapid oscillation can be shown too.
+saved every millisecond for the figures and the netCDF. psi is sampled every 20 us (PSI_STEP): it carries the
+transverse-shear mode, sqrt(3 mu / rho) / h = 5,050 rad/s (804 Hz, period 1.24 ms; h the half-thickness) for the
+natural cylinder, the top of psi's band at N = 40 being 5,290 rad/s (1 / the leap-frog bound), so 1 ms samples
+alias it (to 194 Hz at s = 0, with max |psi| 12 % low); 20 us gives 60 samples a period. The psi panels, the whole
+run's max |psi| and the per-grid summaries use the 20 us samples.
 Writes OUT/paper_figures.nc, OUT/fig4.png .. OUT/fig8.png (one per paper time, as the paper)
 and OUT/paper_psi.png; prints the numbers. ``main`` returns the run, its relative energy change,
 the per-grid summaries and the files written.
@@ -9,15 +13,15 @@ the per-grid summaries and the files written.
 A second run on a finer grid (--check-n, default 160) compares psi across grids. The cell energy
 samples psi at the cell's two nodes, so the (-1)^i node pattern has the full transverse-shear
 stiffness (a mode at 5,063 rad/s on 40 nodes, just above the uniform shear mode at 5,050 rad/s)
-and stays at 3e-6 .. 5e-6 rad on every grid (column "(-1)^i node pattern", from
-mol_shell.results.study_store.grid_mode). psi itself is small (max |psi| over the run: 5.8e-5 rad at
-N = 40, 8.2e-5 at 80, 1.0e-4 at 160, 1.6e-4 at 320) but is not pointwise converged: it is
-short-wave content radiated at the torsional fronts, which are as sharp as the grid because
-the initial data make chi_s jump at the free ends (its dominant frequency at s = L/2 rises with
-the grid: about 35, 62, 118, 264 Hz at N = 40, 80, 160, 320). r, theta and chi converge
+and stays at 3.3e-6 .. 5.4e-6 rad on every grid (column "(-1)^i node pattern", from
+mol_shell.results.study_store.grid_mode). psi itself is small (max |psi| over the run, 20 us samples:
+6.6e-5 rad at N = 40, 8.3e-5 at 80, 1.4e-4 at 160, 2.1e-4 at 320; 1 ms samples gave 5.8e-5, 8.2e-5, 1.0e-4,
+1.6e-4) but is not pointwise converged: it is short-wave content radiated at the torsional fronts, which are
+as sharp as the grid because the initial data make chi_s jump at the free ends (its dominant frequency at
+s = L/2 rises with the grid: about 35, 63, 119, 266 Hz at N = 40, 80, 160, 320). r, theta and chi converge
 (max |r - R| = 0.01126, 0.01112, 0.01108, 0.01107 m on the same grids).
 Usage: python studies/paper_figures.py [--n 40] [--dt 1e-6] [--check-n 160] [--quick] [--out out]
-(--quick: the paper run only, without the finer grid; about 10 s.)
+(--quick: the paper run only, without the finer grid; about 10-15 s.)
 """
 
 import os
@@ -31,6 +35,8 @@ from mol_shell.views.plotting import plot_snapshots
 from mol_shell.results.study_store import summarize
 
 PAPER_TIMES = (0.0, 0.02, 0.07, 0.106, 0.143)
+FIELD_STEP = 1e-3  # s: the fields' saved times (netCDF, figures 4-8, the table)
+PSI_STEP = 2e-5  # s: psi's samples, 60 in the shear mode's period (module docstring)
 QUICK = {"check_n": 0}  # --quick: no finer grid
 
 
@@ -46,9 +52,9 @@ def main(argv=None):
     check_n = args.check_n if args.check_n is not None else (QUICK["check_n"] if args.quick else 160)
     out = args.out
     output_folder(out)
-    times = np.unique(np.round(np.r_[np.arange(0.0, 0.1435, 0.001), PAPER_TIMES], 9))
     scene = mol_shell.TwistedCylinder()
-    ds = mol_shell.simulate(scene, n=args.n, times=times, dt=args.dt, progress=False)
+    run = _simulate_sampled(scene, args.n, args.dt)
+    ds = _fields(run)
     files = [os.path.join(out, "paper_figures.nc")]
     mol_shell.write_netcdf(ds, files[0])
     for number, t in zip(range(4, 9), PAPER_TIMES):
@@ -56,8 +62,8 @@ def main(argv=None):
         files.append(os.path.join(out, f"fig{number}.png"))
         plot_snapshots(snap, files[-1])
     files.append(os.path.join(out, "paper_psi.png"))
-    _plot_psi(ds, files[-1])
-    e = ds.energy.values
+    _plot_psi(run, files[-1])
+    e = run.energy.values
     drift = float(np.abs(e - e[0]).max() / e[0])
     mid = ds.sizes["s"] // 2
     print(f"R = {ds.attrs['R']:.10f} m, n = {args.n}, dt = {args.dt:g} s, {ds.attrs['n_steps']} steps in "
@@ -68,17 +74,14 @@ def main(argv=None):
         x = ds.sel(time=t, method="nearest")
         print(f"| {t:g} | {float(x.r.min()):.5f} .. {float(x.r.max()):.5f} | {float(abs(x.theta).max()):.4f} "
               f"| {float(x.chi.min()):+.4f} .. {float(x.chi.max()):+.4f} | {float(abs(x.psi).max()):.2e} |")
-    grid = ds.sel(time=np.arange(0.0, 0.1435, 0.001), method="nearest")
-    psi = grid.psi.isel(s=mid).values
-    spectrum = np.abs(np.fft.rfft(psi - psi.mean()))
-    peak = np.fft.rfftfreq(psi.size, 0.001)[np.argmax(spectrum)]
-    print(f"whole run (1 ms samples): r in {float(ds.r.min()):.5f} .. {float(ds.r.max()):.5f} m, max |theta| = "
-          f"{float(abs(ds.theta).max()):.4f}, max |psi| = {float(abs(ds.psi).max()):.2e} rad; "
-          f"relative energy change {drift:.2e}; psi at s = L/2 oscillates at about "
-          f"{peak:.0f} Hz (FFT peak; resolution {1 / 0.143:.0f} Hz)")
-    grids = {args.n: ds}
+    peaks = [psi_peak(run.psi.isel(s=i)) for i in (0, mid)]
+    print(f"whole run ({PSI_STEP * 1e6:g} us samples): r in {float(run.r.min()):.5f} .. {float(run.r.max()):.5f} m, "
+          f"max |theta| = {float(abs(run.theta).max()):.4f}, max |psi| = {float(abs(run.psi).max()):.2e} rad "
+          f"({float(abs(ds.psi).max()):.2e} on the 1 ms samples); relative energy change {drift:.2e}; psi's FFT peak "
+          f"at s = 0: {peaks[0]:.0f} Hz, at s = L/2: {peaks[1]:.0f} Hz (resolution {1 / PAPER_TIMES[-1]:.0f} Hz)")
+    grids = {args.n: run}
     if check_n:
-        grids[check_n] = mol_shell.simulate(scene, n=check_n, times=times, dt=args.dt, progress=False)
+        grids[check_n] = _simulate_sampled(scene, check_n, args.dt)
     print("| N | max abs(r - R) [m] | max abs(theta) | max abs(psi) | psi: (-1)^i node pattern | psi: the rest | max abs(chi_s) |")
     print("|---|---|---|---|---|---|---|")
     summaries = {}
@@ -88,6 +91,29 @@ def main(argv=None):
               f"{float(m.psi_grid_mode_max):.2e} | {float(m.psi_smooth_max):.2e} | {float(m.chi_s_max):.4f} |")
     print("wrote " + ", ".join(files))
     return {"ds": ds, "energy_drift": drift, "summaries": summaries, "files": files}
+
+
+def psi_times(t_end, step=PSI_STEP):
+    """psi's saved times: every ``step`` from 0 to ``t_end`` (a multiple of ``step``), as typed (9 decimals)."""
+    return np.round(np.arange(round(t_end / step) + 1) * step, 9)
+
+
+def psi_peak(psi):
+    """The frequency (Hz) of the largest FFT amplitude of ``psi`` (a DataArray on evenly spaced ``time``)."""
+    values = psi.values - psi.values.mean()
+    return float(np.fft.rfftfreq(values.size, float(psi.time[1] - psi.time[0]))[np.argmax(np.abs(np.fft.rfft(values)))])
+
+
+def _simulate_sampled(scene, n, dt, t_end=PAPER_TIMES[-1]):
+    """The run saved every :data:`PSI_STEP` (and at the paper's times), without stresses (:func:`_fields` adds them)."""
+    times = np.unique(np.r_[psi_times(t_end), [t for t in PAPER_TIMES if t <= t_end]])
+    return mol_shell.simulate(scene, n=n, times=times, dt=dt, progress=False, stresses=False)
+
+
+def _fields(run):
+    """The run at every :data:`FIELD_STEP` and the paper's times, with its stresses: the netCDF's and the figures'."""
+    times = np.unique(np.round(np.r_[np.arange(0.0, float(run.time[-1]) + FIELD_STEP / 2, FIELD_STEP), PAPER_TIMES], 9))
+    return mol_shell.add_stresses(run.sel(time=times, method="nearest"))
 
 
 def _plot_psi(ds, path):
@@ -101,7 +127,7 @@ def _plot_psi(ds, path):
         i = int(round(frac * (ds.sizes["s"] - 1)))
         axes[0].plot(ds.time, ds.psi.isel(s=i), lw=0.8, label=f"s = {float(ds.s[i]):.2f} m")
     axes[0].set_xlabel("t [s]")
-    axes[0].set_ylabel(r"$\psi$ [rad] (1 ms samples)")
+    axes[0].set_ylabel(rf"$\psi$ [rad] ({PSI_STEP * 1e6:g} $\mu$s samples)")
     axes[0].legend(fontsize=8)
     axes[1].plot(ds.s, ds.psi.sel(time=0.143, method="nearest"), "k.-", ms=3)
     axes[1].set_xlabel("s [m]")
