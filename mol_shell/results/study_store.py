@@ -120,8 +120,8 @@ def grid_mode(da, dim="s"):
     pattern of ``psi`` vanished from the transverse shear and was a soft spurious mode (about
     ``(2/ds) sqrt(mu/rho)``, 357 rad/s on 40 nodes); the cell energy now samples ``psi`` at the
     cell's two nodes, so the pattern has the full shear stiffness (5,063 rad/s on 40 nodes, just
-    above the uniform shear mode's 5,050 rad/s) and stays small (3e-6 .. 5e-6 rad in the paper
-    scene on 40 .. 320 nodes, against max ``|psi|`` of 5.8e-5 .. 1.6e-4 rad). Returns
+    above the uniform shear mode's 5,050 rad/s) and stays small (3.3e-6 .. 5.4e-6 rad in the paper
+    scene on 40 .. 320 nodes, against max ``|psi|`` of 6.6e-5 .. 2.1e-4 rad, both on 20 us samples). Returns
     ``(amplitude without dim, remainder)``.
     """
     sign = xr.DataArray((-1.0) ** np.arange(da.sizes[dim]), dims=dim)
