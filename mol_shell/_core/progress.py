@@ -48,9 +48,9 @@ def progress_meter(mode, desc, *, count, postfix="{}", total=None, initial=0, **
     return None
 
 
-def time_meter(mode, t_end):
-    """:func:`progress_meter` of a run to ``t_end``: its simulated time, in seconds."""
-    return progress_meter(mode, "simulating", count="t = {n:.4g} of {total:.4g} s", total=float(t_end), unit="s",
+def time_meter(mode, t_end, desc="simulating"):
+    """:func:`progress_meter` of a run to ``t_end``: its simulated time, in seconds (``desc``: what runs)."""
+    return progress_meter(mode, desc, count="t = {n:.4g} of {total:.4g} s", total=float(t_end), unit="s",
                           unit_scale=False, bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} s [{elapsed}<{remaining}]")
 
 

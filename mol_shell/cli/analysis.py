@@ -19,6 +19,7 @@ from mol_shell.analysis.workprecision import (
     PAPER_TIMES,
     check_integrators,
     markdown_table,
+    reference_said,
     work_precision,
 )
 from mol_shell.cli.args import (
@@ -77,9 +78,11 @@ def cmd_compare(args):
         times = PAPER_TIMES if t_end is None else parse_times(None, t_end, intervals=4).tolist()
     check_companions(args, companion_files(args.output))
     start = time.perf_counter()
-    ds = work_precision(scene, names, n=args.n or run.get("n", 40), times=times, repeats=args.repeats)
+    ds = work_precision(scene, names, n=args.n or run.get("n", 40), times=times, repeats=args.repeats, progress=None)
     png, md = write_outputs(ds, args.output, args.target)
     say_stand_ins(scene)
+    if ds.attrs.get("reference_check_status", "complete") != "complete":  # the reference kept: how well it is known
+        print(f"mol-shell: note: {reference_said(ds.attrs, ds.attrs['reference_error'])}", file=sys.stderr)
     print(markdown_table(ds, args.target))
     if ds.attrs.get("status") == "interrupted":
         print(f"mol-shell: comparison stopped: {ds.attrs['message']}; wrote {args.output}, {png}, {md}",

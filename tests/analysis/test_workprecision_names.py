@@ -34,9 +34,9 @@ def test_the_default_set_on_a_loaded_scene_leaves_out_what_cannot_run_it_and_say
 
     original, calls = wp.run_once, [0]
 
-    def interrupted(*args):  # the two reference runs, then Ctrl-C in the first compared run
+    def interrupted(*args, **kwargs):  # the two reference runs, then Ctrl-C in the first compared run
         calls[0] += 1
-        traj = original(*args)
+        traj = original(*args, **kwargs)
         if calls[0] % 3 == 0:
             traj.status = "interrupted"
         return traj

@@ -383,9 +383,9 @@ def test_compare_interrupted_keeps_the_points_measured_and_exits_130(tmp_path, c
 
     original, calls = wp.run_once, [0]
 
-    def run_once(*args):  # an interrupt as the integrators keep it: the run's end, status "interrupted"
+    def run_once(*args, **kwargs):  # an interrupt as the integrators keep it: the run's end, status "interrupted"
         calls[0] += 1
-        traj = original(*args)
+        traj = original(*args, **kwargs)
         if calls[0] == 5:  # dop853-c's second point: its warm-up done, its first timed run interrupted
             traj.status = "interrupted"
         return traj
@@ -439,9 +439,9 @@ def test_compare_interrupted_in_a_reference_or_a_warm_up_run_exits_130(tmp_path,
 
     original, calls = wp.run_once, [0]
 
-    def run_once(*args):
+    def run_once(*args, **kwargs):
         calls[0] += 1
-        traj = original(*args)
+        traj = original(*args, **kwargs)
         if calls[0] == call:
             traj.status = "interrupted"
         return traj

@@ -271,7 +271,7 @@ def test_compare_whose_reference_stops_says_where_and_exits_3(monkeypatch, tmp_p
 
     from mol_shell.analysis import workprecision
 
-    def stopped(system, compiled, y0, times, name, value):
+    def stopped(system, compiled, y0, times, name, value, progress=None):
         return types.SimpleNamespace(status="limit", message=f"{name} failed at t = 0.5 ms", failure_time=5e-4)
 
     monkeypatch.setattr(workprecision, "run_once", stopped)
