@@ -63,24 +63,68 @@ def uncrowded_log_ticks(ax, fig):
             return
 
 
-def figure(ds, target=1e-6):
-    """Log-log error against wall time, one line per integrator: the open figure (:func:`plot` saves it)."""
-    import matplotlib.pyplot as plt
+#: each integrator's colour (an index into matplotlib's ``tab20``: a family's members share a hue, dark and light)
+#: and marker, distinct, the same in every figure; a name not here takes a colour no line has, while tab20 has one
+STYLES = {
+    "leapfrog": (6, "o"), "cvode-bdf": (1, "s"), "cvode-adams": (0, "D"), "ida": (18, "^"),
+    "casadi-cvodes-c": (19, "v"), "dop853-c": (4, "P"), "rk45-c": (5, "X"), "scipy-rk45": (2, "<"),
+    "scipy-dop853": (3, ">"), "scipy-radau": (10, "h"), "scipy-bdf": (11, "p"), "casadi-cvodes": (8, "*"),
+    "casadi-idas": (9, "d"), "sksundae-cvode-adams": (12, "8"), "sksundae-cvode-bdf": (13, "H"), "sksundae-ida": (16, "o"),
+}
+MARKERS = "osD^v<>phH8*dPX"
 
-    fig, ax = plt.subplots(figsize=(7, 5))
-    markers = "osD^v<>phX*"
-    for k, name in enumerate(ds.integrator.values):
+
+def styles(names):
+    """``{name: (colour, marker, linestyle)}``: :data:`STYLES`' pairs, distinct for any set of names; dashed for the
+    scipy and CasADi routes, dotted for scikit-sundae's."""
+    import matplotlib
+
+    cmap = matplotlib.colormaps["tab20"]
+    pairs = {name: STYLES[name] for name in names if name in STYLES}
+    for name in names:  # a colour no line has first, then a marker no line of that colour has
+        if name not in pairs:
+            used = {c for c, _ in pairs.values()}
+            pairs[name] = min(((c, m) for m in MARKERS for c in range(20) if (c, m) not in pairs.values()),
+                              key=lambda pair: (pair[0] in used, MARKERS.index(pair[1])))
+    return {name: (matplotlib.colors.to_hex(cmap(c)), m, "--" if name.startswith(("scipy", "casadi")) else
+                   ":" if name.startswith("sksundae") else "-") for name, (c, m) in pairs.items()}
+
+
+def figure(ds, target=1e-6):
+    """Log-log error against wall time, one line per integrator, each its own colour and marker (:func:`styles`):
+    the open figure (:func:`plot` saves it). A point whose error is at or below the reference's own
+    (``attrs["reference_error"]``) is drawn hollow: the reference cannot measure it (its error may be less)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+
+    fig, ax = plt.subplots(figsize=(9, 5))
+    level = float(ds.attrs["reference_error"])
+    names = [str(name) for name in ds.integrator.values]
+    handles, labels, hollow_drawn = [], [], False
+    for name, (colour, marker, ls) in styles(names).items():
         row = ds.sel(integrator=name)
         ok = np.isfinite(row.error.values) & (row.status.values == "complete")
-        ax.loglog(row.wall_time_s.values[ok], np.maximum(row.error.values[ok], 1e-16), marker=markers[k % len(markers)],
-                  label=str(name), linestyle="--" if str(name).startswith(("scipy", "casadi")) else "-")
+        wall, error = row.wall_time_s.values[ok], np.maximum(row.error.values[ok], 1e-16)
+        below = error <= level  # False where the level is NaN (not estimated)
+        ax.loglog(wall, error, color=colour, ls=ls, lw=1.2, gid=f"{name}:line")
+        ax.loglog(wall[~below], error[~below], ls="none", marker=marker, color=colour, gid=f"{name}:measured")
+        if below.any():
+            ax.loglog(wall[below], error[below], ls="none", marker=marker, mfc="none", mec=colour, gid=f"{name}:below")
+            hollow_drawn = True
+        handles.append(Line2D([], [], color=colour, ls=ls, lw=1.2, marker=marker))
+        labels.append(name)
     ax.axhline(target, color="grey", lw=0.8, ls=":")
-    ax.axhline(ds.attrs["reference_error"], color="k", lw=0.6, ls="-.", label="reference converged to")
+    ax.axhline(level, color="k", lw=0.6, ls="-.")
+    handles.append(Line2D([], [], color="k", lw=0.6, ls="-."))
+    labels.append(f"reference's error, {level:.2g}" if np.isfinite(level) else "reference's error: not estimated")
+    if hollow_drawn:
+        handles.append(Line2D([], [], ls="none", marker="o", mfc="none", mec="k"))
+        labels.append("hollow: error at or below the\nreference's (not resolved)")
     ax.set_xlabel("wall time [s] (median of repeats)")
     ax.set_ylabel("max relative error of r, theta, chi")
     ax.set_title(f"work-precision, {ds.attrs['scene']}, n = {ds.attrs['n']}, t = 0..{ds.attrs['times'].split(',')[-1]} s")
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(handles, labels, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     fig.tight_layout()
     uncrowded_log_ticks(ax, fig)
     fig.tight_layout()
