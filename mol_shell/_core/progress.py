@@ -76,6 +76,11 @@ class ProgressLines:
         self.lines = 0
         self.closed = False
 
+    def reset(self):
+        """Back to ``initial``, the clock from now (tqdm's ``reset``): the work starts here, not at the meter."""
+        self.n = self.initial
+        self.start = self.last = self.clock()
+
     def update(self, n=1):
         """``n`` more done; a line when ``interval`` s have passed since the last one (or the start)."""
         self.n += n

@@ -231,13 +231,16 @@ def _steps(integrator, system, compiled, y0, times, progress, watch):
         _stop_if_caught(watch)  # before the solver's set-up (an interrupt in the run's own set-up, or lost before it)
         stepper = integrator.start(system, compiled, y0, times, monitor)
         start = time.perf_counter()
+        if hasattr(progress, "reset"):  # its clock from here, as wall_time_s's: a build (gcc) is no simulated time
+            progress.reset()
+        shown = 0.0  # the simulated time progress has been told of: all a stepper reached, up to the end
         for target in times[1:]:
             while stepper.t < target:
                 _stop_if_caught(watch)
-                before = stepper.t
                 stepper.advance(float(target))
-                if progress is not None:
-                    progress.update(min(stepper.t, target) - before)
+                if progress is not None:  # a step or call past several saved times (casadi-*: all of them) counts
+                    progress.update(min(stepper.t, times[-1]) - shown)
+                    shown = min(stepper.t, times[-1])
             y = stepper.state(float(target))
             if not getattr(integrator, "checks_every_chunk", False):  # else the stepper checked it already
                 monitor.check(y, float(target))
