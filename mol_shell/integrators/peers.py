@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+import itertools
 import math
 import re
 import sys
@@ -218,11 +219,20 @@ MAX_NUM_STEPS = 100_000
 #: smallest step, as a fraction of the run's length: approaching a singularity (r -> 0, delta -> 0) the step
 #: collapses towards round-off, each step costing a Jacobian and a factorisation; this makes it fail in seconds
 MIN_STEP_FRACTION = 1e-12
+#: CasADi's plugins skip an output interval shorter than about 1e-9 (absolute: they return the state they have); a
+#: run whose shortest interval between saved times and kinks is below this (s) is integrated in a scaled time
+#: ``tau = t / T`` (:func:`time_scale`), one at or above it in ``t`` itself (``T = 1``: as before, bit for bit)
+SHORTEST_UNSCALED = 1e-6
 
 
 @dataclass(frozen=True)
 class CasadiCVODES(_Peer):
     """CasADi's ``integrator(..., 'cvodes')`` on the ODE graph (scalar ``abstol``: the smallest field atol)."""
+
+    #: steps between two saved times at most (CasADi's ``max_num_steps`` counts them per output interval: it cannot
+    #: count a run's total): :data:`MAX_NUM_STEPS`, or twice what the longest interval needs at ``max_step``, at most
+    #: this; a ``max_step`` with which ``max_steps`` steps cannot reach ``t_end`` is refused, as on every route
+    max_steps: int = option(1_000_000, integers(1))
 
     name = "casadi-cvodes"
     plugin = "cvodes"
@@ -265,26 +275,58 @@ class CasadiCVODES(_Peer):
                 "times up to it are kept (one call per interval between the kinks)")
 
     def start(self, system, compiled, y0, times, monitor):
-        times = np.asarray(times, dtype=float)
-        opts = {"abstol": float(self.field_atol().min()), "reltol": self.rtol, "max_num_steps": MAX_NUM_STEPS,
+        calls, opts = self._calls(system, np.asarray(times, dtype=float))
+        return _CasadiStepper(self, system, calls, self._initial(system, np.array(y0, dtype=float)), opts)
+
+    def _calls(self, system, times):
+        """``([(integrator, saved), ...], opts)``: the CasADi calls of a run through ``times`` (:func:`_intervals`),
+        built once per system, times and options (in :meth:`integrate`, before the run is timed), and their options
+        as the failures name them, in seconds. With a time scale ``T`` (:func:`time_scale`) the calls integrate
+        ``dy/dtau = T f(tau T, y)`` on ``tau = t / T``, their steps bounded by ``max_step / T``; the tolerances are
+        the state's, unchanged."""
+        intervals = _intervals(times, [k for k in drive_kinks(system) if k <= times[-1]])
+        ends = [[t0, *grid] for t0, grid, _ in intervals]
+        steps = [b - a for end in ends for a, b in itertools.pairwise(end) if b > a]
+        budget = MAX_NUM_STEPS
+        if self.max_step:  # enough for a max_step the run accepts (``simulate`` refused one below t_end / max_steps)
+            budget = min(self.max_steps, max(MAX_NUM_STEPS, 2 * math.ceil(max(steps, default=0) / self.max_step)))
+        opts = {"abstol": float(self.field_atol().min()), "reltol": self.rtol, "max_num_steps": budget,
                 "disable_internal_warnings": True}  # failures are reported in the Trajectory's message
         if self.plugin == "cvodes":  # CasADi's IDAS plugin has no such option
             opts["min_step_size"] = MIN_STEP_FRACTION * float(times[-1])
         if self.max_step:
             opts["max_step_size"] = self.max_step
         opts.update(self.plugin_options)
+        T = time_scale(min(steps, default=1.0))
+        scaled = {**opts, **{k: opts[k] / T for k in ("min_step_size", "max_step_size") if k in opts}}
         store = _CASADI_GRAPHS.setdefault(system, {})
         calls, dae = [], None
-        for t0, grid, saved in _intervals(times, [k for k in drive_kinks(system) if k <= times[-1]]):
-            key = (self.plugin, t0, tuple(grid), tuple(sorted(opts.items())))
+        for t0, grid, saved in intervals:
+            key = (self.plugin, T, t0, tuple(grid), tuple(sorted(opts.items())))
             if key not in store:  # the graphs are built once (in integrate, outside the timing)
-                dae = dae or self._dae(system)
-                store[key] = ca.integrator("F", self.plugin, dae, t0, grid, opts)
+                dae = dae or _scaled(self._dae(system), T)
+                store[key] = ca.integrator("F", self.plugin, dae, t0 / T, [t / T for t in grid], scaled)
             calls.append((store[key], saved))
-        return _CasadiStepper(self, system, calls, self._initial(system, np.array(y0, dtype=float)), opts)
+        return calls, opts
 
     def integrate(self, system, compiled, y0, times, *, progress=None):
+        self._calls(system, np.asarray(times, dtype=float))  # built (gcc for casadi-cvodes-c) before the run is timed
         return loop.run(self, system, compiled, y0, times, progress=progress)
+
+
+def time_scale(shortest):
+    """The time scale ``T`` (s) of a run whose shortest interval between output times is ``shortest``: 1 from
+    :data:`SHORTEST_UNSCALED` up (the calls are as they were), else the power of two at or below ``shortest`` (the
+    shortest interval in ``tau = t / T`` is in [1, 2), and ``t / T`` is exact)."""
+    return 1.0 if shortest >= SHORTEST_UNSCALED else 2.0 ** math.floor(math.log2(shortest))
+
+
+def _scaled(dae, T):
+    """CasADi's ``dae`` in the time ``tau = t / T``: its ``ode`` times ``T``, at ``t = tau T`` (``alg`` as it was)."""
+    if T == 1:
+        return dae
+    ode = ca.substitute(dae["ode"], dae["t"], T * dae["t"]) if "t" in dae else dae["ode"]
+    return {**dae, "ode": T * ode}
 
 
 def _intervals(times, kinks):
