@@ -38,6 +38,7 @@ from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell.discretization.compiled import CompiledFunctions
 from mol_shell.discretization.dae import ShellDAE
 from mol_shell.discretization.loading import drive_kinks
+from mol_shell.discretization.sundials_kinks import one_time
 from mol_shell.integrators import loop
 from mol_shell.integrators.base import StepBudget
 from mol_shell.integrators.buildable import JACOBIAN_DEFAULT, resolve_jacobian
@@ -334,14 +335,29 @@ def _intervals(times, kinks):
     time): ``(t0, grid, saved)`` per interval between consecutive kinks, ``grid`` its output times, ``saved`` the
     times their states stand for. A call ends one ulp short of its kink (the step ending there takes the old
     segment's rate: the history's rate at its corner is the new one's), its last state standing for the kink's; the
-    next call starts at the kink from that state. Without kinks, one call: ``(0, times[1:], times[1:])``."""
+    next call starts at the kink from that state. Without kinks, one call: ``(0, times[1:], times[1:])``. Times
+    within round-off of each other (:func:`~mol_shell.discretization.sundials_kinks.one_time`: a table's point an ulp
+    from a saved time, two drives' kinks an ulp apart) are one, as on the SUNDIALS routes: a kink stands for a saved
+    time there (the later of two kinks for both), so no call spans an ulp (CVODES: "tout too close to t0")."""
     if not kinks:
         return [(0.0, list(times[1:]), [float(t) for t in times[1:]])]
+    groups = []  # kinks within round-off of each other: a call ends an ulp short of the first, the next starts at the last
+    for k in kinks:
+        if groups and one_time(groups[-1][-1], k):
+            groups[-1].append(k)
+        else:
+            groups.append([k])
+    last = float(times[-1])
+    if not one_time(groups[-1][-1], last) and groups[-1][-1] < last:
+        groups.append([last])  # not a kink: the last call ends at the last saved time itself
     out, t0 = [], 0.0
-    for end in [*kinks, *([float(times[-1])] if kinks[-1] < times[-1] else [])]:
-        inside = [float(t) for t in times if t0 < t < end]
-        out.append((t0, inside + [float(np.nextafter(end, -math.inf)) if end in kinks else end], inside + [end]))
-        t0 = end
+    for group in groups:
+        kink = group[0] in kinks
+        at_end = [float(t) for t in times if any(one_time(t, k) for k in group)]
+        inside = [float(t) for t in times if t0 < t < group[0] and not one_time(t, t0) and not at_end.count(float(t))]
+        out.append((t0, inside + [float(np.nextafter(group[0], -math.inf)) if kink else group[0]],
+                    inside + [at_end[-1] if at_end else group[-1]]))
+        t0 = group[-1]
     return out
 
 

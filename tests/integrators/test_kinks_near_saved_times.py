@@ -63,8 +63,16 @@ def test_a_kink_an_ulp_from_a_saved_time_is_taken_at_it(route, where):
     assert_one_time(*run(spun(*MOVED[where]), route), *run(spun(SAVED, 0.002), route))
 
 
-@pytest.mark.parametrize("route", ["cvode-bdf", "ida", "sksundae-cvode-adams", "sksundae-ida"])
+@pytest.mark.parametrize("route", ["cvode-bdf", "ida", "sksundae-cvode-adams", "sksundae-ida", "casadi-cvodes"])
 def test_two_drives_kinks_an_ulp_apart_are_one_restart(route):
     times = np.linspace(0.0, 0.002, 8)  # none near the kinks
     assert_one_time(*run(spun(0.0018, 0.002, axial_kink=SAVED), route, times),
                     *run(spun(0.0018, 0.002, axial_kink=0.0018), route, times))
+
+
+@pytest.mark.parametrize("where", MOVED)
+def test_casadis_calls_take_a_kink_an_ulp_from_a_saved_time_at_it(where):
+    """CasADi's calls, one per interval between kinks, in a time scaled to the shortest interval (casadi-* since
+    December 7): an ulp between a kink and a saved time made that interval an ulp long (CV_TOO_CLOSE, 9 saved times
+    of 11), as on the SUNDIALS routes."""
+    assert_one_time(*run(spun(*MOVED[where]), "casadi-cvodes"), *run(spun(SAVED, 0.002), "casadi-cvodes"))
