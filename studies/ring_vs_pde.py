@@ -47,10 +47,12 @@ def main(argv=None):
         uniform[dt] = max(float(abs(pde[k] - pde[k].mean("s")).max()) / max(1.0, float(abs(pde[k]).max()))
                           for k in FIELDS)
     out = ring.copy()
-    out["discrepancy"] = (("dt", "field"), np.array([errors[dt] for dt in steps]),
-                          {"long_name": "max over s and t of |PDE - ODE|", "units": "1 (field units)"})
+    for i, k in enumerate(FIELDS):  # one variable a field: each in its own units (m, rad, m s-1, rad s-1)
+        out[f"discrepancy_{k}"] = (("dt",), [errors[dt][i] for dt in steps],
+                                   {"long_name": f"max over s and t of |{k} of the PDE - {k} of the ODE|",
+                                    "units": ring[k].attrs.get("units", "1")})
     out["nonuniformity"] = (("dt",), [uniform[dt] for dt in steps], {"long_name": "max over fields of max |x - mean_s x| / max(1, max |x|)", "units": "1"})
-    out = out.assign_coords(dt=("dt", list(steps), {"units": "s"}), field=("field", list(FIELDS)))
+    out = out.assign_coords(dt=("dt", list(steps), {"units": "s", "long_name": "leap-frog time step"}))
     mol_shell.write_netcdf(out, os.path.join(args.out, "ring_vs_pde.nc"))
     e = ring.energy.values
     print(f"ODE: {ring.attrs['n_rhs']} RHS evaluations, {ring.attrs['wall_time_s']:.2f} s; relative energy change "

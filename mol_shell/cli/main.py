@@ -372,14 +372,9 @@ def _command(argv):
     created = []  # directories made for -o: removed again if the command is refused
     try:
         with warnings.catch_warnings():
-            # the command line reports a stopped run in its own one line (and in the file's attrs); warnings
-            # about a run's projected time and about the material are one line each, as errors are
+            # the command line reports a stopped run in its own one line (and in the file's attrs)
             warnings.simplefilter("ignore", RuntimeWarning)
-            warnings.simplefilter("always", LongRunWarning)
-            warnings.simplefilter("always", MaterialWarning)
-            warnings.simplefilter("always", SceneWarning)
-            warnings.showwarning = _one_line_warning
-            _SAID.clear()  # once per command (tests call main many times in one process)
+            one_line_warnings()
             if getattr(args, "output", None) is not None:  # every subcommand: before anything is computed
                 suffixes = getattr(args, "output_suffixes", None)
                 writable_path(args.output, "-o", suffixes=suffixes() if callable(suffixes) else suffixes, created=created)
@@ -474,11 +469,21 @@ def _to_devnull(stream):
 _SAID = set()
 
 
-def _one_line_warning(message, category, filename, lineno, file=None, line=None):
-    text = " ".join(str(message).split())  # one line, whatever the warning's author wrapped
-    if text not in _SAID:
-        _SAID.add(text)
-        print(f"mol-shell: warning: {text}", file=sys.stderr)
+def one_line_warnings(prog="mol-shell"):
+    """Within a ``warnings.catch_warnings()`` block: warnings about a run's projected time, the material and the scene
+    said in one line each, as errors are, ``prog: warning: ...`` on stderr, each once per command (or script)."""
+    warnings.simplefilter("always", LongRunWarning)
+    warnings.simplefilter("always", MaterialWarning)
+    warnings.simplefilter("always", SceneWarning)
+    _SAID.clear()  # once per command (tests call main many times in one process)
+
+    def one_line(message, category, filename, lineno, file=None, line=None):
+        text = " ".join(str(message).split())  # one line, whatever the warning's author wrapped
+        if text not in _SAID:
+            _SAID.add(text)
+            print(f"{prog}: warning: {text}", file=sys.stderr)
+
+    warnings.showwarning = one_line
 
 
 if __name__ == "__main__":

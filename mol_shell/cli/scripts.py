@@ -15,12 +15,13 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 from pathlib import Path
 
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import writable_path
 from mol_shell.cli.args import Parser, integer_arg
-from mol_shell.cli.main import guarded, negative_values_attached, said
+from mol_shell.cli.main import guarded, negative_values_attached, one_line_warnings, said
 
 #: the smallest grid a run takes (``n = 2 is outside integers >= 3``)
 MIN_NODES = 3
@@ -78,7 +79,9 @@ def exit_code(main, argv=None, prog=None):
 
 def _run(main, argv, prog):
     try:
-        main(argv)
+        with warnings.catch_warnings():
+            one_line_warnings(prog)  # a study's cases warn once each, in one line, as the command line does
+            main(argv)
         sys.stdout.flush()
     except SystemExit as exc:  # the parser's refusal (2, said in one line), --help (0)
         return exc.code

@@ -104,7 +104,9 @@ def test_ring_vs_pde_error_falls_at_order_two_and_the_motion_stays_uniform(tmp_p
     the number of steps: we allow ``100 EPS`` per step.
     """
     out = run_study("ring_vs_pde", tmp_path)
-    err = out.discrepancy.sel(field="r").values
+    err = out.discrepancy_r.values
+    units = {k: out[f"discrepancy_{k}"].attrs["units"] for k in ("r", "chi", "psi", "r_t", "chi_t", "psi_t")}
+    assert units == {"r": "m", "chi": "rad", "psi": "rad", "r_t": "m s-1", "chi_t": "rad s-1", "psi_t": "rad s-1"}
     assert len(err) == 3 and np.all(err > 0)
     np.testing.assert_allclose(np.log2(err[:-1] / err[1:]), 2.0, atol=0.02)
     steps = float(out.time[-1]) / out.dt.values

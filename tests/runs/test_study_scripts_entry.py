@@ -197,3 +197,17 @@ def test_implicit_scaling_times_a_millisecond_run_until_50_ms_and_gives_the_expo
     assert row["n_repeats"] == 49 and row["wall_time_s"] == 1e-3 and row["wall_time_max_s"] == 2e-3
     value, low, high = module.slope_spread(np.array([40, 80]), np.array([1.0, 2.0]), np.array([1.5, 3.0]))
     assert value == pytest.approx(1.0) and low < value < high
+
+
+def test_a_scripts_warnings_are_one_line_each_once_as_the_command_lines(capsys):
+    """The scripts printed a study's warnings in Python's own two-line form (file, line and the source line), once
+    per case; they are said as the command line says them: ``SCRIPT: warning: ...``, one line, once."""
+    def main(argv):
+        for _ in range(3):  # three cases of a study, one warning each
+            mol_shell.simulate(mol_shell.TwistedCylinder(), n=6, times=[0.0, 1e-5], progress=False, stresses=False)
+
+    assert exit_code(main, [], prog="twist_amplitude.py") == 0
+    lines = capsys.readouterr().err.splitlines()
+    said = [line for line in lines if "warning" in line]
+    assert said and all(line.startswith("twist_amplitude.py: warning: ") for line in said), lines
+    assert len(said) == len(set(said)) and not any(line.startswith("  ") for line in lines), lines
