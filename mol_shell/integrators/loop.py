@@ -36,7 +36,7 @@ from mol_shell.integrators.base import Monitor, Trajectory
 #: how a run can end other than ``"complete"``, and what each means
 FAILURE_KINDS = {
     "limit": "a limit of the model was reached (delta -> 0, r -> 0, |psi| -> pi/2, a non-finite state)",
-    "unstable": "the energy grew: a numerical instability",
+    "unstable": "the energy balance E - W + D grew: a numerical instability",
     "failed": "the integrator gave up (step underflow, max_steps, a solver error)",
     "interrupted": "interrupted by the user (Ctrl-C)",
 }
