@@ -10,7 +10,7 @@ solvers: the saved times, progress, the checks of the model's limits at saved ti
 ``"limit"``
     a limit of the model was reached (``delta -> 0``, ``r -> 0``, ``|psi| -> pi/2``, a non-finite state);
 ``"unstable"``
-    the energy grew: a numerical instability;
+    the energy balance E - W + D grew: a numerical instability;
 ``"failed"``
     the integrator gave up (its step underflowed, ``max_steps``, a solver error);
 ``"interrupted"``
