@@ -190,29 +190,40 @@ class _Path:
                 return q, lam, it
         raise PathFailed("newton", f"Newton did not converge in {max_iter} iterations")
 
-    def at_load(self, q, lam, max_iter=LOCATE_NEWTON, tol=LOCATE_TOL):
+    def at_load(self, q, lam, along=None, max_iter=LOCATE_NEWTON, tol=LOCATE_TOL):
         """Newton at fixed ``lambda`` from ``q`` (no damping): ``q``; :class:`PathFailed` when it does not converge.
 
-        Past the tolerance, up to one more step, kept only when it lowers the residual (:meth:`_polished`): near a
-        critical point ``K`` is nearly singular, and a residual at the tolerance leaves an error along the critical
-        mode of (residual / smallest eigenvalue), which that step removes; at the critical point itself the step
-        amplifies the round-off of a converged state along that mode (a cylinder's trial state at its bifurcation,
-        residual 1e-16 of a unit strain's force, moved 1e-2 m onto a state whose residual was 2e-7) and is dropped."""
+        At least one step is taken: a residual below the tolerance is no converged state where the shell is soft
+        (the chord between two states of a sphere under pressure, a/t = 40 at n = 60, had a residual of 2e-10 of a
+        unit strain's force and lay 4e-4 rad off the path; taken for a trial state, its lowest eigenvalue was 1 s-2
+        off, and the secant located a crossing of the chord's, 6e-4 p_cl before the path's). Past the tolerance, one
+        more step, kept only when it lowers the residual (:meth:`_polished`). ``along = (v, w)``
+        (:func:`~mol_shell.analysis.path_stability.deflation`): every step's component along the critical mode is
+        taken out. Near a bifurcation ``K`` is nearly singular along that mode, and a solve amplifies the round-off
+        there: at the crossing it moved a cylinder's converged trial 1e-2 m onto a state whose residual was 2e-7."""
         import scipy.sparse.linalg
 
-        for _ in range(max_iter):
+        for it in range(max_iter):
             F, Fq, _ = self.eq.reduced(q, lam)
             if not np.all(np.isfinite(F)):
                 break
-            if np.abs(F).max() <= tol * self.f_scale:
-                return self._polished(q, lam, F, Fq, steps=1)
+            if it and np.abs(F).max() <= tol * self.f_scale:
+                return self._polished(q, lam, F, Fq, steps=1, along=along)
             try:
-                q = q + self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
+                q = q + self._full(self._deflated(scipy.sparse.linalg.splu(Fq).solve(-F), along))
             except RuntimeError:  # exactly singular
                 break
         raise PathFailed("newton", f"Newton at {self.eq.parameter} = {lam:.6g} did not converge")
 
-    def _polished(self, q, lam, F, Fq, steps=2):
+    @staticmethod
+    def _deflated(dq, along):
+        """``dq`` less its component along ``along = (v, w)``: ``v (w . dq) / (w . v)`` (``dq`` when ``None``)."""
+        if along is None:
+            return dq
+        v, w = along
+        return dq - v * (np.dot(w, dq) / np.dot(w, v))
+
+    def _polished(self, q, lam, F, Fq, steps=2, along=None):
         """``q`` after up to ``steps`` more Newton steps, each kept while it lowers the residual: the tolerance leaves
         an error of (residual / stiffness) along the softest modes (a free twisted tube's: 1e-8 rad), which a
         path over a small load range took for its response and left its first predictor by 100 steps."""
@@ -220,7 +231,7 @@ class _Path:
 
         for left in range(steps, 0, -1):
             try:
-                trial = q + self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
+                trial = q + self._full(self._deflated(scipy.sparse.linalg.splu(Fq).solve(-F), along))
             except RuntimeError:
                 break
             if left == 1:  # the last step's Jacobian would not be used: its residual alone decides

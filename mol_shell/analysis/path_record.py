@@ -8,11 +8,13 @@ from __future__ import annotations
 import numpy as np
 
 from mol_shell.analysis.path_stability import (
+    DEFLATE,
     EIGENVALUES,
     LOCATE_ITER,
     LOCATE_NEWTON,
     LOCATE_RTOL,
     LOCATE_TOL,
+    deflation,
     family,
     stability,
 )
@@ -106,9 +108,12 @@ class PathRecord:
         eigenvalues nearest zero are ``spectra[i]``, ``spectra[j]``.
 
         A bifurcation is located in ``lambda``: each trial state by Newton at fixed ``lambda`` from the chord
-        between the bracket's two states, refused when it lands off that chord by more than a quarter of its
-        length (near a bifurcation another branch lies close by, and Newton may slide onto it); a refused trial
-        starts again from the bracket's end on the side of step ``i``, along its slope ``dq/dlambda``. A
+        between the bracket's two states (one step at least: the chord's residual can be below the tolerance far
+        from the path), refused when it lands off that chord by more than a quarter of its length (near a
+        bifurcation another branch lies close by, and Newton may slide onto it); a refused trial starts again from
+        the bracket's end on the side of step ``i``, along its slope ``dq/dlambda``. Once a trial's crossing
+        eigenvalue is within :data:`DEFLATE` of its values at the ends, the next trials' Newton steps leave out its
+        mode (:func:`~mol_shell.analysis.path_stability.deflation`; without, where Newton stalls). A
         limit point, where ``lambda`` turns, is located in the arclength from step ``i`` (each trial a corrector
         solve). A point whose bracket did not close to ``LOCATE_RTOL`` is kept with ``located`` false (``LOCATE_RTOL``: :mod:`mol_shell.analysis.path_stability`).
         """
@@ -125,18 +130,22 @@ class PathRecord:
         else:
             a, b = li, lj
             width = tr.l_scale
-            ends = {"a": (qi, li), "b": (qj, lj)}
+            ends = {"a": (qi, li), "b": (qj, lj), "along": None}
 
             def trial(x):
                 (qa, la), (qb, lb) = ends["a"], ends["b"]
                 chord = qa + (x - la) / (lb - la) * (qb - qa)
-                try:
-                    q = tr.at_load(chord, x)
-                    if tr.distance(chord, x, q, x) > 0.25 * tr.distance(qa, la, qb, lb) + 1e-9:
-                        raise self.failed("newton", "the trial state left the chord of the bracket")
-                except self.failed:  # from the end on the side of step i, along its slope
-                    q = tr.at_load(qa + (x - la) * tr.slope(qa, la), x)
-                return q, x
+                for start in ("chord", "slope"):  # from the end on the side of step i, along its slope
+                    q = chord if start == "chord" else qa + (x - la) * tr.slope(qa, la)
+                    for along in ([ends["along"]] if ends["along"] is not None else []) + [None]:
+                        try:
+                            found = tr.at_load(q, x, along)
+                        except self.failed:  # the critical mode left out, Newton stalls: a state off the symmetry
+                            continue
+                        if start == "slope" or tr.distance(chord, x, found, x) <= (
+                                0.25 * tr.distance(qa, la, qb, lb) + 1e-9):
+                            return found, x
+                raise self.failed("newton", f"no trial state at {self.eq.parameter} = {x:.6g} {self.eq.units}")
         fa, fb = spectra[i][index], spectra[j][index]
         q, lam = qj, lj
         side, located = 0, False
@@ -150,7 +159,11 @@ class PathRecord:
                 q, lam = trial(x)
             except self.failed:
                 break
-            fx = stability(self.eq, q, lam, count)[0][index]
+            spectrum, vectors, _, _ = stability(self.eq, q, lam, count)
+            fx = spectrum[index]
+            if kind != "limit":  # near the crossing, its mode's round-off is left out of the next trial's Newton
+                small = abs(fx) <= DEFLATE * max(abs(spectra[i][index]), abs(spectra[j][index]))
+                ends["along"] = deflation(self.eq, q, vectors[:, index]) if small else None
             if fx * fa > 0:
                 a, fa = x, fx
                 fb = fb / 2 if side == -1 else fb  # Illinois: the end kept twice running counts half

@@ -17,6 +17,9 @@ LOCATE_ITER = 30
 #: tolerance (the eigenvalues at the trial point move by the residual's order only)
 LOCATE_NEWTON = 20
 LOCATE_TOL = 1e-9
+#: a trial of a bifurcation whose crossing eigenvalue is within this share of its values at the bracket's ends
+#: leaves the round-off along its mode out of the next trial's Newton steps (:func:`deflation`)
+DEFLATE = 1e-2
 
 
 def stability(eq, q, lam, count=EIGENVALUES):
@@ -57,6 +60,23 @@ def stability(eq, q, lam, count=EIGENVALUES):
         if negative < k or k >= size - 2:
             return w2[:count], phi[:, :count], negative, sign
         k = min(2 * k, size - 2)
+
+
+def deflation(eq, q, phi):
+    """``(v, w)`` on the unknowns Newton solves for (``eq.keep``): a step ``d`` less ``v (w . d) / (w . v)`` has no
+    component along the critical mode ``phi`` at state ``q``, in its mass metric (``w = (M phi)`` there).
+
+    ``v`` is ``phi`` plus the rigid motions that zero its gauge-held coordinates (so a step keeps them put), ``w`` is
+    M-orthogonal to the rigid motions: a step of a symmetric state, whose mode ``phi`` breaks the symmetry, is left as
+    it is (a rigid part included), and only the round-off along ``phi`` is taken out, which the solve with the nearly
+    singular stiffness amplifies near a bifurcation (:meth:`~mol_shell.analysis.path._Path.at_load`)."""
+    w = eq.mass(q) @ phi
+    v = phi.copy()
+    held = np.setdiff1d(np.arange(eq.size), eq.keep)
+    R = eq.rigid_vectors
+    if held.size:
+        v = v - R @ np.linalg.lstsq(R[held], phi[held], rcond=None)[0]
+    return v[eq.keep], w[eq.keep]
 
 
 def _parity(perm):

@@ -17,11 +17,12 @@ from mol_shell.analysis.equilibria import EquilibriumEquations
 SCENE = Sphere(nu=0.3, material="svk-plane-stress")
 
 
-def _polished_building_every_jacobian(self, q, lam, F, Fq, steps=2):
-    """The polishing before the fix: every trial state's ``(F, F_q)``, the last one's ``F_q`` unused."""
+def _polished_building_every_jacobian(self, q, lam, F, Fq, steps=2, along=None):
+    """The polishing before the fix: every trial state's ``(F, F_q)``, the last one's ``F_q`` unused (the steps
+    without the critical mode ``along``, as the polishing of a locating trial leaves it out)."""
     for _ in range(steps):
         try:
-            trial = q + self._full(scipy.sparse.linalg.splu(Fq).solve(-F))
+            trial = q + self._full(self._deflated(scipy.sparse.linalg.splu(Fq).solve(-F), along))
         except RuntimeError:
             break
         F_trial, Fq_trial, _ = self.eq.reduced(trial, lam)
@@ -41,9 +42,9 @@ def _counted_path(monkeypatch):
         calls.append(lam)
         return reduced(self, q, lam)
 
-    def polishing(self, q, lam, F, Fq, steps=2):
+    def polishing(self, q, lam, F, Fq, steps=2, along=None):
         before = len(calls)
-        out = polished(self, q, lam, F, Fq, steps=steps)
+        out = polished(self, q, lam, F, Fq, steps=steps, along=along)
         polishings.append((steps, len(calls) - before))
         return out
 
