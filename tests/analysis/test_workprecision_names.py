@@ -15,11 +15,13 @@ def test_every_integrator_has_a_sweep_and_the_default_leaves_out_only_the_slow_p
 
 def test_scikit_sundae_s_bdf_and_ida_are_compared_and_converge():
     ds = work_precision(mol_shell.TwistedCylinder(), ["sksundae-cvode-bdf", "sksundae-ida"], n=6,
-                        times=[0.0, 0.001], repeats=1, log=lambda *a: None)
+                        times=[0.0, 0.003], repeats=1, log=lambda *a: None)
     for name in ("sksundae-cvode-bdf", "sksundae-ida"):
         error = ds.error.sel(integrator=name).values
         error = error[np.isfinite(error)]
-        assert error.size >= 5 and error.min() < 1e-2 * error[0]  # tighter tolerances, smaller errors
+        # tighter tolerances, smaller errors: over three decades of rtol, two at least (at t = 1 ms the errors, 1e-8 of the
+        # fields' scale at rtol 1e-4 since the norm no longer magnifies theta's round-off, left no room for two)
+        assert error.size >= 5 and error.min() < 1e-2 * error.max()
 
 
 def test_the_default_set_on_a_loaded_scene_leaves_out_what_cannot_run_it_and_says_so(monkeypatch, tmp_path):
