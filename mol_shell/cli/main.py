@@ -171,7 +171,8 @@ def cmd_scenes(args):
 
     if args.name is None:
         if args.toml:
-            raise ParameterError.missing("NAME", "give mol-shell scenes NAME --toml, NAME in {" + ", ".join(sorted(SCENES)) + "}")
+            raise ParameterError.missing("name", "give mol-shell scenes NAME --toml, NAME a scene in {"
+                                         + ", ".join(sorted(SCENES)) + "} or a run file RUN.nc")
         for name, cls in SCENES.items():
             print(f"{name:18s} {summary(cls)}")
         print("mol-shell scenes NAME lists a scene's parameters; set them with --set NAME=VALUE")

@@ -298,7 +298,7 @@ def test_a_missing_file_and_a_missing_name_are_refused(tmp_path, capsys):
     assert main(["run", str(tmp_path), "--t-end", "1e-5", "-o", str(tmp_path / "x.nc")]) == 2  # not a .toml: a scene
     assert "scene = " in capsys.readouterr().err
     assert main(["scenes", "--toml"]) == 2
-    assert capsys.readouterr().err.startswith("mol-shell: error: NAME is missing: give mol-shell scenes NAME --toml")
+    assert capsys.readouterr().err.startswith("mol-shell: error: name is missing: give mol-shell scenes NAME --toml")
 
 
 def test_load_scene_of_something_not_a_path_is_refused_by_name():
