@@ -4,11 +4,19 @@ At a state at rest the exact Jacobian of Hamilton's equations is ``J = [[0, M^-1
 coordinates (``q_t = M^-1 p``; ``p_t = -dV/dq``, ``dT/dq`` being quadratic in ``p``), so its eigenvalues
 are ``+-i omega`` with ``K phi = omega^2 M phi``. We read ``M^-1`` and ``K`` off the exact sparse
 Jacobian of :class:`~mol_shell.discretization.system.ShellSystem` and solve the symmetric generalised problem:
-dense (LAPACK) up to :data:`DENSE_MAX` free coordinates, else sparse shift-invert (ARPACK) about a
-negative shift (``K + M`` is positive definite even with rigid motions).
+dense (LAPACK) up to :data:`DENSE_MAX` free coordinates, else sparse shift-invert (ARPACK) about a small
+negative shift (:data:`SHIFT` of the eigenvalues' scale, in s-2) with the rigid motions projected out.
 
 Rigid motions (``omega = 0``: rotation about the axis where both edges leave ``chi`` free, axial
-translation where they leave ``z`` free) are counted in ``attrs["zero_modes"]``, not listed.
+translation where they leave ``z`` free; :func:`mol_shell.runs.statics.rigid_motions`) are counted in
+``attrs["zero_modes"]`` (2, 1 or 0, from the edges), not listed. Every other mode keeps its frequency; one whose
+``omega^2`` is zero to round-off (:data:`ROUNDOFF` times machine epsilon times the eigenvalues' scale, a prestressed
+state at a critical point) is listed at 0 rad/s. The eigenvalues' scale is ``max K_ii / M_ii``, Rayleigh quotients
+of unit vectors: a lower bound of the largest ``omega^2``, within a few percent of it on the scenes' grids.
+
+A mode's shape is scaled so that its entry of largest magnitude (over all fields, metres and radians alike: the
+shape is a dimensionless amplitude times each field's unit) is +1; ``modal_mass`` is ``phi^T M phi`` of the shape as
+scaled (kg m2): ``shape / sqrt(modal_mass)`` is mass-normalised.
 
 ``energy_fraction(mode, field)`` is each field's share of the mode's kinetic energy
 ``phi^T M phi / 2``; the mass matrix couples fields of a node (``chi`` and ``psi`` through the
@@ -39,8 +47,15 @@ DENSE_MAX = 3000
 #: the initial state counts as an equilibrium when its generalised forces are below this fraction of
 #: the forces of a unit strain of each cell (``max diag K`` times the meridian's scale)
 EQUILIBRIUM_TOL = 1e-8
-#: eigenvalues below this fraction of the largest are rigid motions
-ZERO_TOL = 1e-9
+#: an omega^2 within this many machine epsilons of the eigenvalues' scale (``max K_ii / M_ii``) is zero to round-off
+#: (the rigid motions' come out within one)
+ROUNDOFF = 1e3
+#: the sparse solver's shift, below zero by this fraction of the eigenvalues' scale: far above round-off (``K - shift M``
+#: is regular with rigid motions), far below the lowest frequency of any grid (omega_1^2 / omega_max^2 ~ 1e-11 for a
+#: sphere of 50 m at n = 700)
+SHIFT = 1e-13
+#: ARPACK's attempts: (Lanczos vectors beyond the modes asked, iterations per coordinate)
+ARPACK_TRIES = ((12, 10), (60, 100))
 #: a state is the natural one (every strain zero) when it differs from the reference by a rigid motion to this
 #: fraction of the meridian's scale
 NATURAL_TOL = 1e-12
@@ -130,7 +145,7 @@ def rigid_vectors(system, q_idx):
 
 
 def _rigid_deflated(M, w2, phi, cluster, rigid):
-    """``(w2, phi)`` with the eigenpairs of ``cluster`` (eigenvalues near zero, more of them than rigid motions)
+    """``(w2, phi)`` with the eigenpairs of ``cluster`` (eigenvalues near zero, at least as many as rigid motions)
     rotated so that the rigid motions are exactly ``rigid.shape[1]`` of them, at ``w2 = 0``, and the others are
     ``M``-orthogonal to them: a Rayleigh-Ritz step within the cluster, which holds the rigid motions (exact null
     vectors of ``K`` at an equilibrium). Near a critical point the solver returns any mix of the rigid motions
@@ -144,6 +159,48 @@ def _rigid_deflated(M, w2, phi, cluster, rigid):
     phi[:, cluster] = np.column_stack([basis @ U[:, :r], basis @ rest @ Y])
     w2[cluster] = np.concatenate([np.zeros(r), mu])
     return w2, phi
+
+
+def eigenvalue_scale(K, M):
+    """``max K_ii / M_ii`` (s-2): Rayleigh quotients of unit vectors, a lower bound of the largest ``omega^2`` (within a
+    few percent of it on a shell's grid, whose stiffest mode lives on one node)."""
+    ratio = np.abs(K.diagonal()) / np.abs(M.diagonal())
+    return max(float(np.max(ratio[np.isfinite(ratio)], initial=0.0)), 1e-300)
+
+
+def sparse_modes(K, M, rigid, count, scale):
+    """``(w2, phi)``: the ``count`` eigenpairs of ``K phi = omega^2 M phi`` nearest zero (ascending) with the rigid
+    motions (columns of ``rigid``) projected out M-orthogonally, by shift-invert about ``-SHIFT * scale``. ARPACK is
+    tried again with more Lanczos vectors and iterations when it does not converge; then a ModelLimitError says how
+    many converged."""
+    import scipy.sparse.linalg  # optional heavy dependency: 0.17 s of every process's start at module level
+
+    size = K.shape[0]
+    shift = -SHIFT * scale
+    solve = scipy.sparse.linalg.splu((K - shift * M).tocsc()).solve
+    MR = M @ rigid
+    gram = rigid.T @ MR
+
+    def project(x):
+        return x - rigid @ np.linalg.solve(gram, MR.T @ x) if rigid.shape[1] else x
+
+    op = scipy.sparse.linalg.LinearOperator(K.shape, matvec=lambda b: project(solve(np.ravel(b))), dtype=float)
+    v0 = project(np.random.default_rng(0).standard_normal(size))
+    k = min(count, size - rigid.shape[1] - 2)
+    for extra, per in ARPACK_TRIES:
+        try:
+            w2, phi = scipy.sparse.linalg.eigsh(K, k=k, M=M, sigma=shift, which="LM", OPinv=op, v0=v0,
+                                                ncv=min(size - 1, 2 * k + extra), maxiter=per * size)
+            break
+        except scipy.sparse.linalg.ArpackNoConvergence as exc:
+            found = np.sort(exc.eigenvalues.real)
+    else:
+        lowest = f" (lowest omega^2 {found[0]:.6g} s-2)" if found.size else ""
+        raise ModelLimitError(f"the sparse eigensolver (ARPACK, shift-invert about {shift:.3g} s-2) did not converge: "
+                              f"{found.size} of the {k} lowest modes of {size} free coordinates{lowest}", 0.0,
+                              "the sparse eigensolver")
+    order = np.argsort(w2)
+    return w2[order], phi[:, order]
 
 
 def check_equilibrium(system, y0, scene, asked=None, given=False):
@@ -208,8 +265,10 @@ def modes(scene, n=40, count=10, *, initial=None):
     Returns
     -------
     xarray.Dataset
-        ``frequency(mode)`` (rad s-1, ascending), shapes ``z, r, chi, theta, psi (mode, s)`` (scaled so
-        the largest entry of each mode is 1, unit of each field), ``energy_fraction(mode, field)``;
+        ``frequency(mode)`` (rad s-1, ascending; 0 where omega^2 is zero to round-off, not a rigid motion),
+        ``omega_squared(mode)``, shapes ``z, r, chi, theta, psi (mode, s)`` (scaled so that the entry of largest
+        magnitude of each mode, over all fields, is +1; unit of each field), ``modal_mass(mode)`` (``phi^T M phi`` of
+        the scaled shape, kg m2), ``energy_fraction(mode, field)``;
         attrs ``zero_modes``, ``method``, the scene's parameters, and ``ellipticity_margin`` of the state
         (:func:`~mol_shell.runs.ellipticity.sampled_margins`; where it is not positive, a
         :class:`~mol_shell.MaterialWarning` and ``ellipticity_warning``: the lowest modes are then the grid's); the
@@ -233,42 +292,42 @@ def modes(scene, n=40, count=10, *, initial=None):
     check_equilibrium(system, y0, scene, asked, given=initial is not None)
     q_idx, Minv, K = _blocks(system, y0)
     size = len(q_idx)
+    rigid = rigid_vectors(system, q_idx)
     if size <= DENSE_MAX:
         M = np.linalg.inv(Minv.toarray())
         M = (M + M.T) / 2
         Kd = K.toarray()
-        w2, phi = scipy.linalg.eigh((Kd + Kd.T) / 2, M)
+        Kd = (Kd + Kd.T) / 2
+        scale = eigenvalue_scale(Kd, M)
+        w2, phi = scipy.linalg.eigh(Kd, M)
         method = "dense"
     else:
         M = block_inverse(Minv)
         M = (M + M.T) / 2
         Ks = (K + K.T) / 2
-        k = min(size - 2, count + 8)
-        shift = -1e-6 * abs(Ks.diagonal()).max()
-        w2, phi = scipy.sparse.linalg.eigsh(Ks, k=k, M=M, sigma=shift, which="LM")
-        order = np.argsort(w2)
-        w2, phi = w2[order], phi[:, order]
-        M = M.toarray() if size <= DENSE_MAX else M
+        scale = eigenvalue_scale(Ks, M)
+        w2, phi = sparse_modes(Ks, M, rigid, count, scale)  # the rigid motions projected out: none among them
         method = "sparse shift-invert"
     if not np.all(np.isfinite(w2)):  # rho = 1e-300: inertias in the subnormals, their inverse infinite (NaN modes)
         raise ModelLimitError(
             f"the modes of n = {system.n} nodes are not finite in double precision (omega^2 = {w2[~np.isfinite(w2)][0]}"
             f"): the mass matrix (rho = {scene.rho:g} kg m-3) or the stiffness is beyond what doubles hold", 0.0,
             "the mass and stiffness matrices")
-    top = max(abs(w2).max(), 1e-300)
-    small = np.abs(w2) <= ZERO_TOL * (top if method == "dense" else abs(K.diagonal()).max())
-    # the rigid motions are the edges' (at most that many of the eigenvalues nearest zero): a physical mode whose
-    # frequency falls to zero (a prestressed state at a critical point) stays listed, at frequency ~0
-    candidates = np.flatnonzero(small)
+    small = np.abs(w2) <= ROUNDOFF * np.finfo(float).eps * scale  # zero to round-off
     zero = np.zeros(len(w2), dtype=bool)
-    rigid = rigid_vectors(system, q_idx)
-    if len(candidates) > rigid.shape[1] > 0:  # a physical mode near zero too: the rigid motions taken out exactly
-        w2, phi = _rigid_deflated(M, w2, phi, candidates, rigid)
+    if method == "dense" and rigid.shape[1]:
+        # the rigid motions are the edges' (exact null vectors of K): the eigenpairs most in their span, with any
+        # other mode at zero to round-off (a prestressed state at a critical point, which the solver mixes with them)
+        # taken out by a Rayleigh-Ritz step, so that it stays listed at frequency ~0
+        MR = M @ rigid
+        share = np.einsum("im,im->m", phi, MR @ np.linalg.solve(rigid.T @ MR, MR.T @ phi))
+        cluster = np.union1d(np.flatnonzero(small), np.argsort(-share)[: rigid.shape[1]])
+        w2, phi = _rigid_deflated(M, w2, phi, cluster, rigid)
+        zero[cluster[: rigid.shape[1]]] = True
         order = np.argsort(w2)
-        w2, phi, small = w2[order], phi[:, order], small[order]
-        candidates = np.flatnonzero(small)
-    zero[candidates[np.argsort(np.abs(w2[candidates]))][: rigid.shape[1]]] = True
-    n_zero = int(zero.sum())
+        w2, phi, zero = w2[order], phi[:, order], zero[order]
+        small = np.abs(w2) <= ROUNDOFF * np.finfo(float).eps * scale
+    n_zero = rigid.shape[1]
     keep = np.flatnonzero(~zero)[:count]
     if len(keep) < count:
         raise ParameterError("count", count, f"integers 1..{len(np.flatnonzero(~zero))} for n = {system.n}")
@@ -311,25 +370,32 @@ def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params, zero):
     kinetic = np.einsum("im,im->m", phi, Mphi)
     node, local = np.divmod(q_idx, system.ny)
     field = np.array(system.active)[local]
+    modal = np.zeros(modes_count)
     for m in range(modes_count):
         shapes[m][field, node] = phi[:, m]
         shapes[m] = system.tie(shapes[m])
-        shapes[m] /= np.abs(shapes[m]).max()
+        largest = shapes[m].flat[np.argmax(np.abs(shapes[m]))]  # the sign too: that entry is +1
+        shapes[m] /= largest
+        modal[m] = kinetic[m] / largest**2
         for k in range(5):
             sel = field == k
             fractions[m, k] = float(np.sum(phi[sel, m] * Mphi[sel, m]) / kinetic[m])
     data = {
         "frequency": (("mode",), np.where(zero, 0.0, np.sqrt(np.where(w2 >= 0, w2, np.nan))),
-                      {"units": "rad s-1", "long_name": "natural angular frequency (NaN: an unstable mode)"}),
+                      {"units": "rad s-1", "long_name": "natural angular frequency (NaN: an unstable mode; 0: omega^2 "
+                       "zero to round-off)"}),
         "omega_squared": (("mode",), w2, {"units": "s-2", "long_name": "squared angular frequency, the eigenvalue of "
                                           "K phi = omega^2 M phi (negative: unstable, growing as exp(sqrt(-omega^2) t))"}),
         "energy_fraction": (("mode", "field"), fractions, {"units": "1", "long_name":
                             "share of the mode's kinetic energy per field (cross terms shared half and half)"}),
     }
+    data["modal_mass"] = (("mode",), modal, {"units": "kg m2", "long_name": "modal mass phi^T M phi of the shape as "
+                                             "scaled (shape / sqrt(modal_mass) is mass-normalised)"})
     for k, name in enumerate(FIELDS):
         units, long_name = FIELD_META[name]
         data[name] = (("mode", "s"), shapes[:, k], {"units": units, "long_name": f"mode shape: {long_name} "
-                                                    "(each mode scaled to a largest entry of 1)"})
+                                                    "(each mode scaled so that its entry of largest magnitude over all "
+                                                    "fields, in m or rad, is +1)"})
     z0, r0, theta0 = system.reference
     data["z0"] = (("s",), z0, {"units": "m", "long_name": "axial position of the reference base surface"})
     data["r0"] = (("s",), r0, {"units": "m", "long_name": "radius of the reference base surface"})

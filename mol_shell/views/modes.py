@@ -1,8 +1,8 @@
 """Figure of a natural-modes Dataset: the lowest shapes along s, with each field's share of kinetic energy.
 
 Each mode has two panels sharing ``s``: the displacements ``z, r`` above, the angles ``chi, theta, psi`` below,
-each on its own axis (a shape is scaled to a largest entry of 1 over all fields, so metres and radians are drawn
-to their own scales, never on one). The shapes have no units of their own (a mode's amplitude is arbitrary): the
+each on its own axis (a shape is scaled so that its entry of largest magnitude over all fields is +1, so metres
+and radians are drawn to their own scales, never on one). The shapes have no units of their own (a mode's amplitude is arbitrary): the
 axes say "shape of z, r (scaled)", not metres.
 """
 
