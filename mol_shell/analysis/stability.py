@@ -133,7 +133,13 @@ def _reads_nu(material):
 
 
 def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, iterations=8, min_steps=100):
-    """Largest stable leap-frog step by bisection in ``[bound/2, 2 bound]``; returns ``(dt, horizon)``.
+    """Largest stable leap-frog step by bisection in ``[bound/2, 2 bound]``; returns ``(dt, horizon)``
+    (:func:`leapfrog_step_search` without its note)."""
+    return leapfrog_step_search(system, compiled, y0, bound, damping, steps, iterations, min_steps)[:2]
+
+
+def leapfrog_step_search(system, compiled, y0, bound, damping=0.0, steps=3000, iterations=8, min_steps=100):
+    """Largest stable leap-frog step by bisection in ``[bound/2, 2 bound]``; returns ``(dt, horizon, note)``.
 
     A step counts as stable when its run reaches ``horizon`` (status ``complete``). The horizon is
     ``steps`` steps of ``bound/2``, cut to where the step is what is being judged:
@@ -146,8 +152,11 @@ def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, i
       limit, does so because of its step: an unstable step can cross ``delta = 0`` before the
       energy check sees it grow.
 
-    ``dt`` is ``nan`` if ``bound/2`` is unstable on that horizon, or if the horizon is shorter than
-    ``min_steps`` steps of ``2 bound`` (the shell folds too soon for a step to be judged).
+    ``dt`` is a step found stable below one found unstable, else ``nan`` with ``note`` saying why (``""`` when
+    measured): ``bound/2`` is unstable on the horizon; the horizon is shorter than ``min_steps`` steps of ``2 bound``
+    (damping or a fold cuts it: leap-frog's growth at ``omega dt = 2``, 3.73 per step, is not judged in a few steps);
+    or ``2 bound`` ran stable, so the top of the bracket never tested unstable (leap-frog is unstable past
+    ``omega dt = 1``: the run did not excite the fastest mode enough for its growth to show).
     """
 
     def run(dt, horizon):
@@ -160,23 +169,33 @@ def stable_leapfrog_step(system, compiled, y0, bound, damping=0.0, steps=3000, i
     def stable(dt):
         return run(dt, horizon).status == "complete"
 
+    def too_short(why):
+        return f"n/a: {why} in {horizon / hi:.3g} steps of 2 bound (< {min_steps})"
+
+    nan = float("nan")
     horizon = steps * 0.5 * bound
-    if damping > 0:
-        horizon = min(horizon, LEAPFROG_MAX_LOG_GROWTH / damping)
     lo, hi = 0.5 * bound, 2.0 * bound
+    if damping > 0 and LEAPFROG_MAX_LOG_GROWTH / damping < horizon:
+        horizon = LEAPFROG_MAX_LOG_GROWTH / damping
+        if horizon < min_steps * hi:  # the damping's cut: no run can tell a stable step from an unstable one
+            return nan, horizon, too_short("damped 1e6-fold")
     if not stable(lo):
         small = run(0.1 * bound, horizon)
         if small.status == "complete":
-            return float("nan"), horizon
+            return nan, horizon, "< bound/2"
         horizon = 0.9 * small.failure_time  # the physics ends the run, whatever the step
-        if horizon < min_steps * hi or not stable(lo):
-            return float("nan"), horizon
+        if horizon == 0:
+            return nan, horizon, "n/a: stopped at t = 0"
+        if horizon < min_steps * hi:
+            return nan, horizon, too_short("folds")
+        if not stable(lo):
+            return nan, horizon, "< bound/2"
     if stable(hi):
-        return hi, horizon
+        return nan, horizon, "n/a: 2 bound ran stable (the top never tested unstable)"
     for _ in range(iterations):
         mid = math.sqrt(lo * hi)
         lo, hi = (mid, hi) if stable(mid) else (lo, mid)
-    return lo, horizon
+    return lo, horizon, ""
 
 
 def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, atol=1e-9):
@@ -204,8 +223,8 @@ def run_case(case, integrators=("cvode-bdf", "ida"), bisect=True, rtol=1e-6, ato
         row["stiffness_ratio"] = float("nan")
     bound = 1.0 / omega_max
     row["leapfrog_dt_bound"] = bound
-    row["leapfrog_dt_stable"], row["bisection_horizon_s"] = (
-        stable_leapfrog_step(system, compiled, y0, bound, damping) if bisect else (float("nan"), float("nan")))
+    row["leapfrog_dt_stable"], row["bisection_horizon_s"], row["leapfrog_dt_note"] = (
+        leapfrog_step_search(system, compiled, y0, bound, damping) if bisect else (float("nan"), float("nan"), ""))
     for name in ("leapfrog", *integrators):
         if name not in INTEGRATORS:
             continue
@@ -355,6 +374,7 @@ META = {
     "leapfrog_dt_bound": ("s", "leap-frog's step bound 1 / max |eigenvalue|"),
     "leapfrog_dt_stable": ("s", "largest leap-frog step found stable by bisection"),
     "bisection_horizon_s": ("s", "time over which the bisection's runs were checked"),
+    "leapfrog_dt_note": (None, "why the bisection found no stable step (empty where it found one)"),
     "case_status": (None, "measured, not applicable (the variation does not apply to the base scene) or not run"),
     "case_note": (None, "why a case was not measured"),
 }
@@ -414,8 +434,9 @@ def markdown_table(ds, integrators=("leapfrog", "cvode_bdf", "ida"), spectrum=Tr
                     and np.isfinite(float(ds["bisection_horizon_s"].values[i]))):
                 horizon = float(ds["bisection_horizon_s"].values[i])
                 short = horizon < 200 * float(ds["leapfrog_dt_bound"].values[i])
-                cells.append(stopped_at_start(ds, i) if horizon == 0 else
-                             "n/a: folds within 100 steps" if short else "< bound/2")
+                note = str(ds["leapfrog_dt_note"].values[i]) if "leapfrog_dt_note" in ds else ""  # older files: none
+                cells.append(stopped_at_start(ds, i) if horizon == 0 else note or
+                             ("n/a: folds within 100 steps" if short else "< bound/2"))
                 continue
             try:
                 cells.append(fmt.format(int(v) if fmt == "{:d}" else v) if not (isinstance(v, float) and math.isnan(v)) else "")

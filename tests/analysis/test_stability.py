@@ -336,3 +336,36 @@ def test_a_shell_that_stays_at_rest_has_no_energy_error(monkeypatch, tmp_path):
     for name in ("leapfrog", "cvode_bdf", "ida"):
         errors = ds[f"{name}_energy_error"].values
         assert np.isnan(errors[0]) and 0 <= errors[1] < 1e-3, (name, errors)
+
+
+def test_a_horizon_cut_by_damping_judges_no_step():
+    """The viscous sphere (eta_mu = 100 Pa s, R = 1.001 a) damps its fastest modes at ``d`` = 3.8e3 s-1, so the
+    horizon is cut to ln(1e6) / d, about 9 steps of 2 bound. Leap-frog ``y_(k+1) = y_(k-1) + 2 dt f`` grows by
+    ``|x| = w dt + sqrt((w dt)^2 - 1)`` = 3.73 per step at ``w dt = 2``: in 9 steps a run ends complete whether
+    stable or not, and 2 bound (3.94e-4 s) was reported as the stable step. Below 100 steps of 2 bound the
+    bisection judges nothing, whatever cut the horizon: NaN, and the table says why."""
+    ds = report([Case("viscous", mol_shell.Sphere(eta_mu=100.0, eta_lambda=200.0, R=1.001))], integrators=())
+    bound, damping = float(ds.leapfrog_dt_bound.values[0]), float(ds.damping_max.values[0])
+    assert float(ds.bisection_horizon_s.values[0]) == pytest.approx(math.log(1e6) / damping)
+    assert math.log(1e6) / damping < 100 * 2 * bound  # the premise: fewer than 100 steps of 2 bound
+    assert np.isnan(ds.leapfrog_dt_stable.values[0])
+    note = str(ds.leapfrog_dt_note.values[0])
+    assert note.startswith("n/a: damped 1e6-fold in ") and note.endswith("steps of 2 bound (< 100)"), note
+    header, _, row = [[cell.strip() for cell in line.split("|")[1:-1]] for line in markdown_table(ds).split("\n")[:3]]
+    assert dict(zip(header, row))["LF dt stable (bisection) [s]"] == note
+
+
+def test_a_bracket_whose_top_never_fails_measures_no_step(monkeypatch):
+    """Leap-frog is unstable past ``w dt = 1``: where a run at 2 bound reaches its horizon, the runs did not see the
+    instability (nothing excited the fastest mode), and 2 bound, the bracket's top never tested unstable, is no
+    measured stable step. Every run completing (a stand-in integrator), the search says so instead of 2 bound."""
+    from mol_shell.analysis import stability
+
+    class Complete:
+        status, failure_time = "complete", float("nan")
+
+    monkeypatch.setattr(stability.Leapfrog, "integrate", lambda self, *args, **kwargs: Complete())
+    assert math.isnan(stability.stable_leapfrog_step(None, None, None, 1e-4)[0])  # it was 2e-4
+    dt, horizon, note = stability.leapfrog_step_search(None, None, None, 1e-4)
+    assert math.isnan(dt) and horizon == pytest.approx(3000 * 0.5e-4)
+    assert note == "n/a: 2 bound ran stable (the top never tested unstable)"
