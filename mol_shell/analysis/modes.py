@@ -33,6 +33,7 @@ import numpy as np
 import xarray as xr
 
 from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, scalar
+from mol_shell.analysis.grid_modes import mark_grid_modes
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, given_note, given_values, scene_attrs, with_units
@@ -358,7 +359,7 @@ def modes(scene, n=40, count=10, *, initial=None):
             f"the state the modes are taken about is unstable: {count} with omega^2 < 0 (lowest {w2[keep][0]:.6g} "
             f"s-2, growing as exp({np.sqrt(-w2[keep][0]):.6g} t / s)); their frequency is NaN")
         warnings.warn(params["stability_warning"], UserWarning, stacklevel=2)
-    return _dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params, small[keep])
+    return mark_grid_modes(_dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params, small[keep]))
 
 
 def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params, zero):

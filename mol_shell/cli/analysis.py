@@ -11,6 +11,7 @@ from mol_shell._core.atomic import write_text
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import writable_path
+from mol_shell.analysis.grid_modes import GRID_MODE_SHARE
 from mol_shell.analysis.modes import modes
 from mol_shell.analysis.stability import FULL_SIZES, QUICK_SIZES, default_cases, report
 from mol_shell.analysis.stability import markdown_table as stability_table
@@ -157,8 +158,10 @@ def cmd_modes(args):
           f"{plural(int(ds.attrs['zero_modes']), 'rigid motion')}; lowest {_frequency(ds, 0).strip()}")
     for m in range(ds.sizes["mode"]):  # every mode the file holds (--count asked for them)
         share = ds.energy_fraction.isel(mode=m).values
+        grid = float(ds.grid_mode_share[m]) if "grid_mode_share" in ds else 0.0  # a file of before it: none
+        mark = f"; grid mode (-1)^i: {grid:.2f}" if grid >= GRID_MODE_SHARE else ""
         print(f"  mode {m + 1:2d}: {_frequency(ds, m)}  ({FIELDS[int(np.argmax(share))]}, "
-              f"{share.max():.0%} of the kinetic energy)")
+              f"{share.max():.0%} of the kinetic energy{mark})")
     return 0
 
 

@@ -113,8 +113,14 @@ def _as_stored(value):
     return value.item() if isinstance(value, np.generic) else value
 
 
-def grid_mode(da, dim="s"):
+def grid_mode(da, dim="s", local=False):
     """Split ``da`` into its ``(-1)^i`` node-to-node component along ``dim`` and the rest.
+
+    The component's amplitude is the mean of ``da (-1)^i`` over ``dim``; with ``local``, its three-point mean
+    ``(1/4, 1/2, 1/4)`` about each node (NaN at the two end nodes), the pattern under a slowly varying envelope that
+    may change sign (a mode's): ``(u_i - (u_(i-1) + u_(i+1)) / 2) / 2`` times ``(-1)^i``, all of a ``(-1)^i`` pattern,
+    ``(1 - cos k ds)^2 / 4`` of a wave's amplitude squared (1/4 at four nodes a wavelength), ``O(k ds)^4`` of a
+    smooth one.
 
     A diagnostic for grid-scale content. With ``psi`` taken at cell midpoints the ``(-1)^i``
     pattern of ``psi`` vanished from the transverse shear and was a soft spurious mode (about
@@ -122,10 +128,12 @@ def grid_mode(da, dim="s"):
     cell's two nodes, so the pattern has the full shear stiffness (5,063 rad/s on 40 nodes, just
     above the uniform shear mode's 5,050 rad/s) and stays small (3.3e-6 .. 5.4e-6 rad in the paper
     scene on 40 .. 320 nodes, against max ``|psi|`` of 6.6e-5 .. 2.1e-4 rad, both on 20 us samples). Returns
-    ``(amplitude without dim, remainder)``.
+    ``(amplitude, remainder)``, the amplitude without ``dim`` (along it with ``local``).
     """
     sign = xr.DataArray((-1.0) ** np.arange(da.sizes[dim]), dims=dim)
-    amplitude = (da * sign).mean(dim)
+    demodulated = da * sign
+    amplitude = ((demodulated.shift({dim: 1}) + 2 * demodulated + demodulated.shift({dim: -1})) / 4 if local
+                 else demodulated.mean(dim))
     return amplitude, da - amplitude * sign
 
 
