@@ -61,6 +61,8 @@ SWEEPS.update({"sksundae-cvode-bdf": {"rtol": RTOLS[:7]}, "sksundae-ida": {"rtol
 #: timed repeats per sweep point at most (the median is reported; each repeat is a whole run)
 MAX_REPEATS = 100
 COMPARED = ("r", "theta", "chi")
+#: the units of the compared fields: a field at round-off is compared on the largest of its own units (relative_error)
+COMPARED_UNITS = {"r": "m", "theta": "rad", "chi": "rad"}
 _INDEX = {"r": 1, "chi": 2, "theta": 3}
 
 
@@ -85,13 +87,16 @@ def fields_of(system, states):
 
 
 def relative_error(fields, ref):
-    """``max`` over fields of ``max |u - u_ref| / max |u_ref|`` (NaN if the run stopped early)."""
+    """``max`` over fields of ``max |u - u_ref| / max |u_ref|`` (NaN if the run stopped early); a field whose scale is
+    under 1e-6 of the largest in its units (:data:`COMPARED_UNITS`) on that one's."""
     if fields.shape != ref.shape:
         return float("nan")
     scale = np.abs(ref).max(axis=(1, 2))
-    largest = scale.max()
-    # a field that stays 0 but for round-off (theta of a uniform motion): its error absolute, on the largest field's
-    # scale (on 1e-6 of it, a uniform drum's theta round-off, 1e-14 rad of 0, was an error of 1e-8)
+    # a field that stays 0 but for round-off (theta of a uniform motion) is compared on the scale of the largest field
+    # in its units (theta on chi's: on 1e-6 of it, a uniform drum's theta round-off, 1e-14 rad of 0, was an error of
+    # 1e-8); never on another unit's (r's metres would hide a real theta of 1e-4 rad on a shell of R = 100 m)
+    units = np.array([COMPARED_UNITS[f] for f in COMPARED])
+    largest = np.array([scale[units == u].max() for u in units])
     scale = np.where(scale < 1e-6 * largest, largest, scale)
     return float((np.abs(fields - ref).max(axis=(1, 2)) / scale).max())
 

@@ -3,7 +3,8 @@
 motion is uniform, so its meridian angle ``theta`` is 0 in exact arithmetic (the section-5 argument: uniform data,
 the magnets' ``theta = 0``, a drag the same on every node) and round-off in the runs; the norm divided ``theta``'s
 error by 1e-6 of the largest field's scale (``chi``, 0.88 rad here), so round-off of 1e-14 rad counted as 1e-8.
-A field under 1e-6 of the largest is now compared on the largest field's scale."""
+A field under 1e-6 of the largest in its units is now compared on that one's scale (theta on chi's: never on r's
+metres, which would hide a real theta on a large shell)."""
 
 import numpy as np
 
@@ -40,3 +41,13 @@ def test_the_spinning_drums_runs_at_tight_tolerances_agree_in_the_compares_norm(
     assert max(np.abs(f[1]).max() for f in fields.values()) < 1e-13  # theta: round-off of 0
     assert np.abs(fields[1e-12][2]).max() > 0.5  # chi: the spin's angle, the largest field
     assert wp.relative_error(fields[1e-11], fields[1e-12]) < 100 * 1e-11
+
+
+def test_a_small_angle_is_not_hidden_behind_a_large_radius():
+    """A shell of R = 100 m twisting little: theta 1e-4 rad (1e-6 of r's 100 m) and chi 1e-4 rad; theta 50 % off is an
+    error of 0.5, not 5e-7 (compared on r's metres, across units, it was)."""
+    ref = np.zeros((3, 2, 5))
+    ref[0], ref[1], ref[2] = 100.0, 0.9e-4, 1e-4  # r (m), theta, chi (rad)
+    run = ref.copy()
+    run[1] *= 1.5
+    assert abs(wp.relative_error(run, ref) - 0.5) < 1e-12
