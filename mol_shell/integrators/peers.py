@@ -231,8 +231,8 @@ class CasadiCVODES(_Peer):
     """CasADi's ``integrator(..., 'cvodes')`` on the ODE graph (scalar ``abstol``: the smallest field atol)."""
 
     #: steps between two saved times at most (CasADi's ``max_num_steps`` counts them per output interval: it cannot
-    #: count a run's total): :data:`MAX_NUM_STEPS`, or twice what the longest interval needs at ``max_step``, at most
-    #: this; a ``max_step`` with which ``max_steps`` steps cannot reach ``t_end`` is refused, as on every route
+    #: count a run's total): this, or less: :data:`MAX_NUM_STEPS`, or twice what the longest interval needs at
+    #: ``max_step``; a ``max_step`` with which ``max_steps`` steps cannot reach ``t_end`` is refused, as on every route
     max_steps: int = option(1_000_000, integers(1))
 
     name = "casadi-cvodes"
@@ -290,7 +290,8 @@ class CasadiCVODES(_Peer):
         steps = [b - a for end in ends for a, b in itertools.pairwise(end) if b > a]
         budget = MAX_NUM_STEPS
         if self.max_step:  # enough for a max_step the run accepts (``simulate`` refused one below t_end / max_steps)
-            budget = min(self.max_steps, max(MAX_NUM_STEPS, 2 * math.ceil(max(steps, default=0) / self.max_step)))
+            budget = max(MAX_NUM_STEPS, 2 * math.ceil(max(steps, default=0) / self.max_step))
+        budget = min(self.max_steps, budget)
         opts = {"abstol": float(self.field_atol().min()), "reltol": self.rtol, "max_num_steps": budget,
                 "disable_internal_warnings": True}  # failures are reported in the Trajectory's message
         if self.plugin == "cvodes":  # CasADi's IDAS plugin has no such option
@@ -378,7 +379,7 @@ class _CasadiStepper:
                 out = F(**self.initial)
         except RuntimeError as exc:  # CasADi raises when SUNDIALS fails: the saved times before this call are kept
             self.wall += time.perf_counter() - start
-            self.counts.append(F.stats())
+            self.counts.append({})  # CasADi zeroes a failed call's counts: the run's are not known (-1)
             if re.search(r"failed: KeyboardInterrupt", said.getvalue()):  # a Ctrl-C inside, said as SUNDIALS' failure
                 raise KeyboardInterrupt from exc
             sys.stderr.write(said.getvalue())

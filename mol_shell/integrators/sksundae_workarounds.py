@@ -38,5 +38,6 @@ def unlisted_status(call, *args, **kwargs):
     except KeyError as exc:
         if not (exc.args and isinstance(exc.args[0], int) and exc.args[0] < 0):
             raise
-        return SimpleNamespace(status=exc.args[0], success=False, message="SUNDIALS refused the call (its message is "
-                               "not in scikit-sundae's table; see SUNDIALS' return codes)", t=np.nan, y=None, yp=None)
+        return SimpleNamespace(status=exc.args[0], success=False, unlisted=True, t=np.nan, y=None, yp=None,
+                               message="SUNDIALS refused the call (its message is not in scikit-sundae's table; see "
+                               "SUNDIALS' return codes)")

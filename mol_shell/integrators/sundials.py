@@ -410,7 +410,9 @@ class _Run:
             self.t_reached = self.kink
             self._next_kink()
         t = self.passed = self.t_reached
-        init = self.res = unlisted_status(self.solver.init_step, t, res.y, *([res.yp] if self.ida else []))
+        init = unlisted_status(self.solver.init_step, t, res.y, *([res.yp] if self.ida else []))
+        if not getattr(init, "unlisted", False):  # a status without counts: the last result's stand for the run's
+            self.res = init
         if not init.success:
             raise self._failure(init, t)
 
@@ -425,7 +427,10 @@ class _Run:
         stop = near[0] if near else min(float(target), self.kink)
         if self.t_reached < stop:
             self.calls_in_step = 0
-            res = self.res = unlisted_status(self.solver.step, stop, method="onestep", tstop=stop)
+            res = unlisted_status(self.solver.step, stop, method="onestep", tstop=stop)
+            if getattr(res, "unlisted", False):  # no counts in it: the last result's stand for the run's
+                raise self._failure(res, self.t_reached)
+            self.res = res
             self.n_steps += 1
             self.counting = True
             if res.status == ROOT_RETURN:

@@ -100,3 +100,13 @@ def test_progress_counts_every_saved_time_a_call_reached_from_after_the_build(na
     assert traj.status == "complete"
     assert meter.told[0] == "reset"
     assert math.isclose(sum(meter.told[1:]), 0.01, rel_tol=1e-12)
+
+
+def test_casadi_routes_keep_max_steps_without_a_max_step():
+    """``max_steps`` bounded CasADi's steps per interval only where ``max_step`` was given: with 20 asked and no
+    ``max_step`` a run took 368 steps and said it was complete. The failed call's steps are not known (CasADi zeroes
+    its counts), said as -1, not 0."""
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), "casadi-cvodes", n=11, t_end=0.02, max_steps=20,
+                            progress=False, stresses=False)
+    assert ds.attrs["status"] == "failed" and "max_num_steps = 20 steps" in ds.attrs["message"]
+    assert ds.attrs["n_steps"] == -1

@@ -31,3 +31,25 @@ def test_other_key_errors_are_not_taken_for_a_status():
         assert exc.args == ("rtol",)
     else:
         raise AssertionError("a KeyError that is not a SUNDIALS status was swallowed")
+
+
+def test_a_run_whose_step_meets_an_unlisted_status_ends_failed_with_its_counts(monkeypatch):
+    """The failed result of :func:`unlisted_status` has no counts (``nfev``): kept as the run's last result, the run's
+    statistics then ended in an ``AttributeError``, a traceback. The run ends failed, naming the status, and counts
+    the steps that were taken."""
+    import mol_shell
+    from mol_shell.integrators import sundials
+
+    real, calls = sundials.unlisted_status, [0]
+
+    def sixtieth(call, *args, **kwargs):
+        calls[0] += 1
+        if calls[0] == 30 and getattr(call, "__name__", "") == "step":
+            return unlisted_status(lambda: (_ for _ in ()).throw(KeyError(-60)))
+        return real(call, *args, **kwargs)
+
+    monkeypatch.setattr(sundials, "unlisted_status", sixtieth)
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), "sksundae-ida", n=6, t_end=0.002, progress=False,
+                            stresses=False)
+    assert ds.attrs["status"] == "failed" and "(status -60)" in ds.attrs["message"], ds.attrs["message"]
+    assert ds.attrs["n_steps"] >= 28 and ds.attrs["n_rhs"] > 0
