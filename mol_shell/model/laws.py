@@ -21,6 +21,7 @@ The parameters enter the graphs as numbers: a law's parameters are absent from a
 
 from __future__ import annotations
 
+import contextvars
 import dataclasses
 import functools
 import importlib
@@ -440,20 +441,29 @@ def own_material(scene):
     return scene_material(scene.material, own_parameters(scene.material, values))
 
 
+#: True while :func:`layer_scenes` makes a layered scene's layers: a check of the whole wall (the axisymmetric scene's
+#: balance of helical fibres) is made on the layered scene, not on each layer's
+MAKING_LAYERS = contextvars.ContextVar("making_layers", default=False)
+
+
 def layer_scenes(scene):
     """``[(thickness, scene of the layer)]`` of a layered scene: the scene with the layer's material and keys (its
     checks run on them), without layers, and with those of the scene's ``material_parameters`` its law has (every
     layer was given all of them, and a built-in layer refused them)."""
     out = []
     values = parameter_values(getattr(scene, "material_parameters", "") or "")
-    for number, (thickness, material, changes) in enumerate(parse_layers(scene.layers), start=1):
-        try:
-            typed = {k: layer_value(k, v) for k, v in changes.items()}
-            if values:
-                typed["material_parameters"] = parameter_text(own_parameters(material, values))
-            out.append((thickness, dataclasses.replace(scene, layers="", material=material, **typed)))
-        except ParameterError as exc:
-            raise ParameterError(exc.name, exc.value, exc.allowed, message=f"layer {number}: {exc}") from None
+    token = MAKING_LAYERS.set(True)
+    try:
+        for number, (thickness, material, changes) in enumerate(parse_layers(scene.layers), start=1):
+            try:
+                typed = {k: layer_value(k, v) for k, v in changes.items()}
+                if values:
+                    typed["material_parameters"] = parameter_text(own_parameters(material, values))
+                out.append((thickness, dataclasses.replace(scene, layers="", material=material, **typed)))
+            except ParameterError as exc:
+                raise ParameterError(exc.name, exc.value, exc.allowed, message=f"layer {number}: {exc}") from None
+    finally:
+        MAKING_LAYERS.reset(token)
     return out
 
 

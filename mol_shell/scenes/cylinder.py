@@ -11,6 +11,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, finite, positive
 from mol_shell.model.geometry import CylinderMeridian
+from mol_shell.model.laws import MAKING_LAYERS, layer_scenes
 from mol_shell.model.thickness_profile import table_points, thickness_function
 from mol_shell.scenes.base import ShellScene, _check, mean_over, zeta1_used
 
@@ -29,18 +30,42 @@ def check_radius(R, h, zeta1=None, hint="", a=1.0):
 AXIAL_OR_HOOP_TOL = 1e-3
 
 
-def check_no_helix(scene):
-    """Refuse, naming ``fibre_families``, one helical family of fibres on a scene without the twist ``chi`` (the
-    axisymmetric scene): ``C_13 = r^2 chi_s ...`` carries the twist and the family's ``2 cos sin C_13`` couples stretch
-    to it (:mod:`mol_shell.model.fibres`), so with ``chi`` held at 0 the scene would carry a torque no edge is given
-    (a tube under an axial force stretches as lamination theory's tube with its twist held, not as a free one). Two
-    families ``+-fibre_angle`` cancel the coupling."""
-    angle = scene.fibre_angle
+def _helical_couplings(scene, thickness=1.0):
+    """``(sum t E_f cos^3 sin, sum t E_f cos sin^3, sum t E_f)`` of one family of fibres at ``fibre_angle`` in a wall
+    (a layer) ``thickness`` thick: the fibres' stretch-shear couplings of lamination theory (``A16``, ``A26``); zero for
+    two families ``+-fibre_angle``, no fibres, or fibres along the meridian or the hoop."""
+    angle, stiffness = scene.fibre_angle, float(scene.fibre_E) * thickness
     if not scene.fibre_E or scene.fibre_families != 1 or min(abs(angle), abs(abs(angle) - math.pi / 2)) <= \
             AXIAL_OR_HOOP_TOL:
+        return 0.0, 0.0, abs(stiffness)
+    c, s = math.cos(angle), math.sin(angle)
+    return stiffness * c ** 3 * s, stiffness * c * s ** 3, abs(stiffness)
+
+
+def check_no_helix(scene):
+    """Refuse, naming ``fibre_families`` (or ``layers``), helical fibres that do not balance on a scene without the
+    twist ``chi`` (the axisymmetric scene): ``C_13 = r^2 chi_s ...`` carries the twist and a family's ``2 cos sin C_13``
+    couples stretch to it (:mod:`mol_shell.model.fibres`), so with ``chi`` held at 0 the scene would carry a torque no
+    edge is given (a tube under an axial force stretches as lamination theory's tube with its twist held, not as a
+    free one). Two families ``+-fibre_angle`` cancel the coupling, and so do layers of one family each whose
+    couplings add up to zero (an angle-ply wall ``+a; -a``): a layered wall is judged whole."""
+    if MAKING_LAYERS.get():  # a layer of a layered wall: the wall is judged whole, on the layered scene
+        return
+    if scene.layers.strip():
+        parts = [_helical_couplings(sub, t) for t, sub in layer_scenes(scene)]
+        a16, a26, total = (sum(x) for x in zip(*parts))
+        if max(abs(a16), abs(a26)) <= 1e-9 * max(total, 1e-300):
+            return
+        raise ParameterError("layers", scene.layers, "layers whose helical fibres balance (sum of t fibre_E cos^3 "
+                             "sin and of t fibre_E cos sin^3 over the layers of one family each zero: +-angle in "
+                             "layers of one thickness and fibre_E), or two families in a layer",
+                             hint=f"scene {scene.name} holds the twist chi at 0, and unbalanced helical fibres couple "
+                             "stretch to twist: the held twist would be a torque no edge is given; for a twisting "
+                             "tube use scene cone with r1 = r2, or twisted-cylinder")
+    if _helical_couplings(scene)[:2] == (0.0, 0.0):
         return
     raise ParameterError("fibre_families", 1, f"2 (families at +-fibre_angle, which balance) at fibre_angle = "
-                         f"{angle:g} rad, or 1 at fibre_angle 0 or +-pi/2",
+                         f"{scene.fibre_angle:g} rad, or 1 at fibre_angle 0 or +-pi/2",
                          hint=f"scene {scene.name} holds the twist chi at 0, and one helical family couples stretch to "
                          "twist: the held twist would be a torque no edge is given; for a twisting tube use scene cone "
                          "with r1 = r2, or twisted-cylinder")

@@ -64,3 +64,32 @@ def test_two_balanced_families_still_run_and_stretch_as_lamination_theory():
     strain = (z[k + 1] - z[k - 1]) / (ss[k + 1] - ss[k - 1]) - 1
     assert strain == pytest.approx(expected[0], rel=2e-3)
     assert float(np.abs(ds.chi).max()) == 0.0  # the scene has no chi: none needed
+
+
+ANGLE_PLY = "0.005 svk-plane-stress fibre_angle=0.5; 0.005 svk-plane-stress fibre_angle=-0.5"
+
+
+def test_an_angle_ply_wall_balances_and_stretches_as_lamination_theory():
+    """Layers of one family each, +a and -a of one thickness and fibre_E (the standard angle-ply laminate), were
+    refused layer by layer, naming a fibre_families nobody set in them; their membrane couplings cancel (A16 = A26 =
+    0), so the wall is judged whole and runs: the same membrane stiffness as two families in one wall, e_x = 2.6467e-4
+    (the test above's closed form; the layers' bending-stretching coupling leaves the membrane strain at 1e-3)."""
+    scene = Axisymmetric(**{**WALL, "layers": ANGLE_PLY})
+    ds = mol_shell.path(scene, "end2_force", 0.0, 100.0, n=21, progress=False)
+    E, nu, t, Ef, c, s = scene.E, 0.3, 2 * 0.005, 1e7, math.cos(0.5), math.sin(0.5)
+    stiffness = E * t / (1 - nu**2) * np.array([[1, nu, 0], [nu, 1, 0], [0, 0, (1 - nu) / 2]])
+    for sign in (1, -1):
+        v = np.array([c * c, s * s, sign * c * s])
+        stiffness += Ef * (t / 2) * np.outer(v, v)  # each family in its layer, half the wall
+    expected = np.linalg.solve(stiffness, [100.0 / (2 * math.pi), 0.0, 0.0])
+    z, ss = ds.z.isel(step=-1).values, ds.s.values
+    k = len(ss) // 2
+    assert (z[k + 1] - z[k - 1]) / (ss[k + 1] - ss[k - 1]) - 1 == pytest.approx(expected[0], rel=3e-3)
+
+
+@pytest.mark.parametrize("layers", ["0.005 svk-plane-stress fibre_angle=0.5; 0.005 svk-plane-stress fibre_angle=0.5",
+                                    ANGLE_PLY.replace("-0.5", "-0.5 fibre_E=2e7")])
+def test_layers_whose_helices_do_not_balance_are_refused_naming_layers(layers):
+    with pytest.raises(ParameterError) as caught:
+        Axisymmetric(**{**WALL, "layers": layers})
+    assert caught.value.name == "layers" and "helical fibres balance" in str(caught.value)
