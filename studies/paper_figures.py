@@ -75,7 +75,7 @@ def main(argv=None):
         print(f"| {t:g} | {float(x.r.min()):.5f} .. {float(x.r.max()):.5f} | {float(abs(x.theta).max()):.4f} "
               f"| {float(x.chi.min()):+.4f} .. {float(x.chi.max()):+.4f} | {float(abs(x.psi).max()):.2e} |")
     peaks = [psi_peak(run.psi.isel(s=i)) for i in (0, mid)]
-    print(f"whole run ({PSI_STEP * 1e6:g} us samples): r in {float(run.r.min()):.5f} .. {float(run.r.max()):.5f} m, "
+    print(f"whole run ({psi_step(args.dt) * 1e6:g} us samples): r in {float(run.r.min()):.5f} .. {float(run.r.max()):.5f} m, "
           f"max |theta| = {float(abs(run.theta).max()):.4f}, max |psi| = {float(abs(run.psi).max()):.2e} rad "
           f"({float(abs(ds.psi).max()):.2e} on the 1 ms samples); relative energy change {drift:.2e}; psi's FFT peak "
           f"at s = 0: {peaks[0]:.0f} Hz, at s = L/2: {peaks[1]:.0f} Hz (resolution {1 / PAPER_TIMES[-1]:.0f} Hz)")
@@ -93,9 +93,15 @@ def main(argv=None):
     return {"ds": ds, "energy_drift": drift, "summaries": summaries, "files": files}
 
 
+def psi_step(dt):
+    """psi's sampling step for leap-frog's ``dt``: the multiple of ``dt`` nearest :data:`PSI_STEP` (``dt`` itself when it
+    is longer), so that every sample is a time leap-frog lands on (``--dt 5e-5`` was refused, naming ``times``)."""
+    return dt * max(1, round(PSI_STEP / dt))
+
+
 def psi_times(t_end, step=PSI_STEP):
-    """psi's saved times: every ``step`` from 0 to ``t_end`` (a multiple of ``step``), as typed (9 decimals)."""
-    return np.round(np.arange(round(t_end / step) + 1) * step, 9)
+    """psi's saved times: every ``step`` from 0 up to ``t_end``, as typed (9 decimals)."""
+    return np.round(np.arange(int(t_end / step * (1 + 1e-12)) + 1) * step, 9)
 
 
 def psi_peak(psi):
@@ -105,8 +111,8 @@ def psi_peak(psi):
 
 
 def _simulate_sampled(scene, n, dt, t_end=PAPER_TIMES[-1]):
-    """The run saved every :data:`PSI_STEP` (and at the paper's times), without stresses (:func:`_fields` adds them)."""
-    times = np.unique(np.r_[psi_times(t_end), [t for t in PAPER_TIMES if t <= t_end]])
+    """The run saved every :func:`psi_step` of ``dt`` (and at the paper's times), without stresses (:func:`_fields` adds them)."""
+    times = np.unique(np.r_[psi_times(t_end, psi_step(dt)), [t for t in PAPER_TIMES if t <= t_end]])
     return mol_shell.simulate(scene, n=n, times=times, dt=dt, progress=False, stresses=False)
 
 
@@ -127,7 +133,8 @@ def _plot_psi(ds, path):
         i = int(round(frac * (ds.sizes["s"] - 1)))
         axes[0].plot(ds.time, ds.psi.isel(s=i), lw=0.8, label=f"s = {float(ds.s[i]):.2f} m")
     axes[0].set_xlabel("t [s]")
-    axes[0].set_ylabel(rf"$\psi$ [rad] ({PSI_STEP * 1e6:g} $\mu$s samples)")
+    step = float(ds.time[1] - ds.time[0])
+    axes[0].set_ylabel(rf"$\psi$ [rad] ({step * 1e6:.3g} $\mu$s samples)")
     axes[0].legend(fontsize=8)
     axes[1].plot(ds.s, ds.psi.sel(time=0.143, method="nearest"), "k.-", ms=3)
     axes[1].set_xlabel("s [m]")

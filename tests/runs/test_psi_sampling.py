@@ -16,6 +16,7 @@ import math
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import mol_shell
 
@@ -73,3 +74,13 @@ def test_ring_vs_pde_samples_put_ten_in_the_shear_period_and_find_its_frequency(
     ring = mol_shell.simulate_ring(scene, times)
     peak = dominant_frequency(ring.psi.values, times[1])
     assert abs(peak - f0) <= 1 / 0.04 + 0.05 * f0, (peak, f0)
+
+
+def test_paper_figures_samples_psi_on_times_leapfrog_lands_on_at_any_dt():
+    """A fixed 20 us sampling refused every ``--dt`` that does not divide it (``--dt 5e-5``: "times = 2e-05 is
+    outside multiples of dt"); the step is the multiple of dt nearest 20 us, and every sample a multiple of dt."""
+    study = load_study("paper_figures")
+    for dt, step in ((1e-6, 2e-5), (5e-5, 5e-5), (7e-6, 2.1e-5), (3e-5, 3e-5)):
+        assert study.psi_step(dt) == pytest.approx(step, rel=1e-12)
+        k = study.psi_times(0.143, study.psi_step(dt)) / dt
+        assert np.abs(k - np.round(k)).max() < 1e-6 and study.psi_times(0.143, study.psi_step(dt))[-1] <= 0.143
