@@ -64,3 +64,14 @@ def test_a_study_s_refused_case_of_a_varied_value_names_it_alone(tmp_path, capsy
     err = _error(capsys)
     assert code == 3, err
     assert err[0].startswith("mol-shell: error: 1 of 2 cases refused: h = -1.0 is outside (0, inf) m"), err
+
+
+def test_scenes_of_a_file_that_is_not_there_says_so(tmp_path, capsys):
+    """``scenes missing.toml`` said ``scene = '...missing.toml' is outside {axisymmetric, ...}``: a path is a file."""
+    missing = str(tmp_path / "missing.toml")
+    assert main(["scenes", missing]) == 2
+    err = capsys.readouterr().err
+    assert err == f"mol-shell: error: file = {missing!r} does not exist; allowed: a scene in {{axisymmetric, cone, " \
+        "meridian, sphere, spinning-ring, torus, twisted-cylinder, unshearable, vessel}, a scene file or a run file " \
+        "(with --toml)\n"
+    assert main(["scenes", "spheer"]) == 2 and "scene = 'spheer' is outside" in capsys.readouterr().err
