@@ -12,8 +12,10 @@ INTEGRATORS = {cls.name: cls for cls in (Leapfrog, CVODEBDF, CVODEAdams, IDA, su
 INTEGRATORS.update(EXPLICIT)
 
 try:  # the comparison's peers (scipy, CasADi's SUNDIALS plugins)
-    from mol_shell.integrators.peers import PEERS
+    from mol_shell.integrators.casadi_peers import CASADI_PEERS
+    from mol_shell.integrators.peers import SCIPY_PEERS
 
+    PEERS = {**SCIPY_PEERS, **CASADI_PEERS}
     INTEGRATORS.update(PEERS)
 except ImportError:  # pragma: no cover - peers are optional
     PEERS = {}

@@ -19,7 +19,7 @@ import pytest
 import mol_shell
 from mol_shell.cli.main import main
 from mol_shell.discretization.stencil import StencilLeapfrog
-from mol_shell.integrators import INTEGRATORS, peers
+from mol_shell.integrators import INTEGRATORS, casadi_peers, peers
 from mol_shell.integrators.base import Monitor
 from mol_shell.integrators.leapfrog import Leapfrog
 from mol_shell.results.dataset import read_netcdf
@@ -122,13 +122,13 @@ def test_an_interrupt_inside_casadis_integrator_is_an_interruption_not_its_failu
     system, compiled, y0 = paper
     method = INTEGRATORS["casadi-cvodes"]()
     method.start(system, compiled, y0, TIMES * 300, None)  # the graph built before the signal's clock starts
-    real = peers._CasadiStepper.advance
+    real = casadi_peers._CasadiStepper.advance
 
     def advance(self, target):
         threading.Thread(target=lambda: (time.sleep(0.2), os.kill(os.getpid(), signal.SIGINT))).start()
         return real(self, target)
 
-    monkeypatch.setattr(peers._CasadiStepper, "advance", advance)
+    monkeypatch.setattr(casadi_peers._CasadiStepper, "advance", advance)
     start = time.perf_counter()
     traj = method.integrate(system, compiled, y0, TIMES * 300)
     assert traj.status == "interrupted" and len(traj.t) == 1, traj.message
