@@ -152,6 +152,8 @@ def test_an_interrupt_lost_in_the_set_up_stops_the_run_at_its_start(monkeypatch,
     err = [line for line in capsys.readouterr().err.splitlines() if not line.startswith("mol-shell: warning: ")]
     said = f"mol-shell: run stopped: interrupted by the user at t = 0 s; wrote 1 saved time to {out}"
     assert code == 130 and err == [said], err
+    ds = read_netcdf(out)  # the end time asked is recorded (tests/results/test_t_end_requested.py)
+    assert ds.attrs["status"] == "interrupted" and ds.attrs["t_end_requested"] == 0.002
 
 
 def test_an_interrupt_as_the_run_ends_keeps_every_saved_time_and_is_said(monkeypatch, sigint_python, paper):

@@ -1,11 +1,8 @@
 """A run records the end time it was asked to reach (``t_end_requested``, in s): one that stops early (a model limit,
-exit 3; Ctrl-C, exit 130) held only what it reached (its times, ``failure_time``, the message), and its views'
-``[INCOMPLETE: ...]`` could not say what was asked."""
+exit 3; Ctrl-C, exit 130: tests/integrators/test_interrupted_runs.py) held only what it reached (its times,
+``failure_time``, the message), and its views' ``[INCOMPLETE: ...]`` could not say what was asked."""
 
 from __future__ import annotations
-
-import importlib
-import signal
 
 import pytest
 
@@ -13,17 +10,6 @@ import mol_shell
 from mol_shell.cli.main import main
 from mol_shell.results.dataset import read_netcdf
 from mol_shell.views.figures import incomplete_note
-
-simulate_module = importlib.import_module("mol_shell.runs.simulate")
-
-
-@pytest.fixture
-def sigint_python():
-    """SIGINT as in a Python program (KeyboardInterrupt), whatever the test runner set."""
-    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
-    yield
-    signal.signal(signal.SIGINT, previous)
-
 
 def test_a_run_stopped_at_a_limit_records_the_end_it_was_asked_and_its_views_say_it(tmp_path):
     """A cylinder of R = 3 m whose wall cannot hold that radius (tests/cli/test_cli.py) reaches r = 0 on the axis
@@ -37,31 +23,6 @@ def test_a_run_stopped_at_a_limit_records_the_end_it_was_asked_and_its_views_say
     assert ds.attrs["t_end_requested"] == 0.05 and ds.attrs["units_t_end_requested"] == "s"
     said = incomplete_note(ds.attrs)  # what every view's [INCOMPLETE: ...] says
     assert said.startswith("INCOMPLETE: r = ") and said.endswith(" (asked: t_end = 0.05 s)"), said
-
-
-def _signal_then_lose_it():
-    """SIGINT, its KeyboardInterrupt caught and dropped (tests/integrators/test_interrupted_runs.py): the run stops as
-    it starts."""
-    try:
-        signal.raise_signal(signal.SIGINT)
-    except KeyboardInterrupt:
-        pass
-
-
-def test_an_interrupted_run_records_the_end_it_was_asked(monkeypatch, tmp_path, capsys, sigint_python):
-    real = simulate_module.build
-
-    def build(*args, **kwargs):
-        _signal_then_lose_it()
-        return real(*args, **kwargs)
-
-    monkeypatch.setattr(simulate_module, "build", build)
-    out = tmp_path / "run.nc"
-    assert main(["run", "twisted-cylinder", "--n", "10", "--t-end", "0.002", "--no-stresses", "-o", str(out)]) == 130
-    ds = read_netcdf(out)
-    assert ds.attrs["status"] == "interrupted" and ds.time.values.tolist() == [0.0]
-    assert ds.attrs["t_end_requested"] == 0.002
-    assert incomplete_note(ds.attrs).endswith(" (asked: t_end = 0.002 s)")
 
 
 @pytest.mark.parametrize("integrator", ["leapfrog", "ida"])
