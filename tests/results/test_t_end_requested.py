@@ -11,6 +11,7 @@ from mol_shell.cli.main import main
 from mol_shell.results.dataset import read_netcdf
 from mol_shell.views.figures import incomplete_note
 
+
 def test_a_run_stopped_at_a_limit_records_the_end_it_was_asked_and_its_views_say_it(tmp_path):
     """A cylinder of R = 3 m whose wall cannot hold that radius (tests/cli/test_cli.py) reaches r = 0 on the axis
     before 0.05 s."""
