@@ -26,24 +26,43 @@ from mol_shell._core.constants import NF
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.loads import cell_volume, drag_rayleigh, gravity_potential, history
 
+#: per end load: the field it acts on, the field's letter, the drive that would prescribe the field's rate, and the
+#: edges that leave the field free (for messages)
+END_LOADS = (("force", 0, "z", "axial_speed", "free, or a set without z"),
+             ("torque", 2, "chi", "spin", "magnet, free, or a set without chi"))
+
+
+def drive_key(scene, end, field):
+    """The parameter that drives ``field`` (0 = z, 2 = chi) at ``end``: ``end1_spin``, ..., or a scene's own
+    (the twisted cylinder's ``end_omega``, which spins both ends where ``end*_spin`` is 0)."""
+    name = f"{end}_{ {f: d for _, f, _, d, _ in END_LOADS}[field]}"
+    return name if getattr(scene, name, 0.0) or field != 2 or not getattr(scene, "end_omega", 0.0) else "end_omega"
+
 
 def check_end_loads(system, scene):
-    """Refuse an end force where the edge's ``z`` is imposed, a torque where its ``chi`` is (or at a pole)."""
-    for end, node in (("end1", 0), ("end2", system.n - 1)):
-        kind = system.edges[0 if end == "end1" else 1]
-        if getattr(scene, end + "_force", 0.0) and system.imposed[node, 0]:
-            raise ParameterError(end + "_force", getattr(scene, end + "_force"), "0 for this edge",
-                                 hint=f"{end} = {kind!r} imposes its z; a force needs an edge that leaves z free: "
-                                 "free, or a set without z")
-        if getattr(scene, end + "_torque", 0.0) and (system.fixed[node, 2] or 2 not in system.active):
-            # the reason as an end's spin gives it (ShellSystem's drives): no chi on this scene (axisymmetric), a pole
-            why = ("this scene has no chi" if 2 not in system.active else
-                   f"{end} is a pole: its chi is tied to its neighbour's" if kind == "pole" else
-                   f"{end} = {kind!r} imposes its chi")
-            raise ParameterError(end + "_torque", getattr(scene, end + "_torque"), "0 for this edge",
-                                 hint=why + ("" if 2 not in system.active else
-                                             "; a torque needs an edge that leaves chi free: magnet, free, or a set "
-                                             "without chi"))
+    """Refuse an end load on a field a drive holds (its rate prescribed: the load would do no work on the motion and
+    only enter the reaction), an end force where the edge's ``z`` is imposed, a torque where its ``chi`` is (or at a
+    pole, or on a scene without chi)."""
+    for end, e, node in (("end1", 0, 0), ("end2", 1, system.n - 1)):
+        kind = system.edges[e]
+        for load, field, letter, _, takers in END_LOADS:
+            name, needs = f"{end}_{load}", f"a {load} needs an edge that leaves {letter} free: {takers}"
+            value = getattr(scene, name, 0.0)
+            if not value:
+                continue
+            if field not in system.active:  # as an end's spin is refused there (ShellSystem's drives)
+                why = f"this scene has no {letter}"
+            elif (e, field) in system.drives:  # before the edge's kind: a drive holds a free edge's field too
+                key = drive_key(scene, end, field)
+                why = (f"{key} = {getattr(scene, key)!r} holds {end}'s {letter} (it prescribes its rate), so a {load} "
+                       f"there does no work on the motion and would only enter reaction_{load}; {needs}, and {key} = 0")
+            elif field == 2 and kind == "pole":
+                why = f"{end} is a pole: its chi is tied to its neighbour's; {needs}"
+            elif system.fixed[node, field]:
+                why = f"{end} = {kind!r} imposes its {letter}; {needs}"
+            else:
+                continue
+            raise ParameterError(name, value, "0 for this edge", hint=why)
 
 
 def edge_displacements(system, scene):
