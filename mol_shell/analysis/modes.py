@@ -32,8 +32,9 @@ import warnings
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, scalar
+from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, scalar
 from mol_shell.analysis.grid_modes import mark_grid_modes
+from mol_shell.analysis.mode_damping import damping_note, drag_damping_ratios
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, given_note, given_values, scene_attrs, with_units
@@ -340,6 +341,11 @@ def modes(scene, n=40, count=10, *, initial=None):
     if given_said:  # a path's state, at rest: the scene's omega or gamma are not the start's
         params["initial_data_note"] = given_said
     say_scene_warnings(scene, params, stacklevel=2)  # as a run's: the law's locking, keys without effect
+    ratios = drag_damping_ratios(system, scene, q_idx, M, w2[keep], phi[:, keep], start[1]) if scene.drag else None
+    damping = damping_note(scene, system, ratios)
+    if damping:  # K phi = omega^2 M phi: the drag's and the viscosity's damping are not in it
+        warnings.warn(damping, SceneWarning, stacklevel=2)
+        params["damping_note"] = damping
     slack = slack_fibres_note(system, y0)
     if slack:
         warnings.warn(slack, MaterialWarning, stacklevel=2)
@@ -359,10 +365,11 @@ def modes(scene, n=40, count=10, *, initial=None):
             f"the state the modes are taken about is unstable: {count} with omega^2 < 0 (lowest {w2[keep][0]:.6g} "
             f"s-2, growing as exp({np.sqrt(-w2[keep][0]):.6g} t / s)); their frequency is NaN")
         warnings.warn(params["stability_warning"], UserWarning, stacklevel=2)
-    return mark_grid_modes(_dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params, small[keep]))
+    return mark_grid_modes(_dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params, small[keep],
+                                    ratios))
 
 
-def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params, zero):
+def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params, zero, ratios=None):
     n = system.n
     modes_count = phi.shape[1]
     shapes = np.zeros((modes_count, 5, n))
@@ -392,6 +399,9 @@ def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params, zero):
     }
     data["modal_mass"] = (("mode",), modal, {"units": "kg m2", "long_name": "modal mass phi^T M phi of the shape as "
                                              "scaled (shape / sqrt(modal_mass) is mass-normalised)"})
+    if ratios is not None:
+        data["drag_damping_ratio"] = (("mode",), ratios, {"units": "1", "long_name": "damping ratio of the mode under "
+                                      "the drag, to first order: phi^T C phi / (2 omega phi^T M phi) (NaN: omega^2 <= 0)"})
     for k, name in enumerate(FIELDS):
         units, long_name = FIELD_META[name]
         data[name] = (("mode", "s"), shapes[:, k], {"units": units, "long_name": f"mode shape: {long_name} "
