@@ -39,6 +39,8 @@ from scipy.special import airy, itairy, j1
 
 import mol_shell
 import reference_ring as ref
+from mol_shell._core.errors import ParameterError
+from mol_shell.discretization.system import ShellSystem
 
 SCENE = mol_shell.TwistedCylinder(gamma=0.0, R=1.0, end_omega=0.01)
 OMEGA, L = SCENE.end_omega, SCENE.L
@@ -343,3 +345,30 @@ def test_ida_takes_driven_edges_with_a_time_history():
     coarse = cumulative_simpson(total[::2], x=times[::2], initial=0.0)
     bound = 2 * float(np.abs(fine[::2] - coarse).max()) / 15 + 10 * 1e-9 * float(np.abs(L_).max())
     assert float(np.abs(L_ - L_[0] - fine).max()) <= bound
+
+
+def test_a_load_on_a_driven_field_is_refused_naming_the_drive():
+    """A torque on a spun edge was refused as "end1 = 'magnet' imposes its chi" (a magnet leaves chi free: the spin
+    holds it), and a force on a free edge driven axially was taken: the motion unchanged, the force only in
+    ``reaction_force``. One rule for both: a load on a field a drive holds is refused naming the drive."""
+    def message(end, load, letter, takers, key, value):
+        return (f"{end}_{load} = 3.0 is outside 0 for this edge ({key} = {value} holds {end}'s {letter} (it prescribes "
+                f"its rate), so a {load} there does no work on the motion and would only enter reaction_{load}; a "
+                f"{load} needs an edge that leaves {letter} free: {takers}, and {key} = 0)")
+    chi, z = "magnet, free, or a set without chi", "free, or a set without z"
+    cases = (({"end1": "magnet", "end1_spin": 5.0, "end1_torque": 3.0},
+              message("end1", "torque", "chi", chi, "end1_spin", 5.0)),
+             ({"end2": "free", "end2_spin": 5.0, "end2_torque": 3.0}, message("end2", "torque", "chi", chi, "end2_spin", 5.0)),
+             ({"end2": "clamped", "end2_spin": 5.0, "end2_torque": 3.0},
+              message("end2", "torque", "chi", chi, "end2_spin", 5.0)),
+             ({"end2": "free", "end_omega": 2.0, "end2_torque": 3.0}, message("end2", "torque", "chi", chi, "end_omega", 2.0)),
+             ({"end2": "free", "end2_axial_speed": 0.1, "end2_force": 3.0},
+              message("end2", "force", "z", z, "end2_axial_speed", 0.1)),
+             ({"end1": "magnet", "end1_axial_speed": 0.1, "end1_force": 3.0},
+              message("end1", "force", "z", z, "end1_axial_speed", 0.1)))
+    for params, expected in cases:
+        with pytest.raises(ParameterError) as info:
+            ShellSystem(mol_shell.TwistedCylinder(**params), 11)
+        assert str(info.value) == expected, str(info.value)
+    # the other end's drive is no reason: a load at an end whose field is free and undriven is taken
+    assert ShellSystem(mol_shell.TwistedCylinder(end1_spin=5.0, end2="free", end2_torque=3.0, end2_force=3.0), 11).n_extra == 2

@@ -454,33 +454,6 @@ def test_a_force_refused_names_every_edge_that_takes_one():
     assert _build(mol_shell.TwistedCylinder(end1="r,theta", end1_force=1.0)).n_extra == 2  # z left free: a load
 
 
-def test_a_load_on_a_driven_field_is_refused_naming_the_drive():
-    """A torque on a spun edge was refused as "end1 = 'magnet' imposes its chi" (a magnet leaves chi free: the spin
-    holds it), and a force on a free edge driven axially was taken: the motion unchanged, the force only in
-    ``reaction_force``. One rule for both: a load on a field a drive holds is refused naming the drive."""
-    def message(end, load, letter, takers, key, value):
-        return (f"{end}_{load} = 3.0 is outside 0 for this edge ({key} = {value} holds {end}'s {letter} (it prescribes "
-                f"its rate), so a {load} there does no work on the motion and would only enter reaction_{load}; a "
-                f"{load} needs an edge that leaves {letter} free: {takers}, and {key} = 0)")
-    chi, z = "magnet, free, or a set without chi", "free, or a set without z"
-    cases = (({"end1": "magnet", "end1_spin": 5.0, "end1_torque": 3.0},
-              message("end1", "torque", "chi", chi, "end1_spin", 5.0)),
-             ({"end2": "free", "end2_spin": 5.0, "end2_torque": 3.0}, message("end2", "torque", "chi", chi, "end2_spin", 5.0)),
-             ({"end2": "clamped", "end2_spin": 5.0, "end2_torque": 3.0},
-              message("end2", "torque", "chi", chi, "end2_spin", 5.0)),
-             ({"end2": "free", "end_omega": 2.0, "end2_torque": 3.0}, message("end2", "torque", "chi", chi, "end_omega", 2.0)),
-             ({"end2": "free", "end2_axial_speed": 0.1, "end2_force": 3.0},
-              message("end2", "force", "z", z, "end2_axial_speed", 0.1)),
-             ({"end1": "magnet", "end1_axial_speed": 0.1, "end1_force": 3.0},
-              message("end1", "force", "z", z, "end1_axial_speed", 0.1)))
-    for params, expected in cases:
-        with pytest.raises(ParameterError) as info:
-            _build(mol_shell.TwistedCylinder(**params))
-        assert str(info.value) == expected, str(info.value)
-    # the other end's drive is no reason: a load at an end whose field is free and undriven is taken
-    assert _build(mol_shell.TwistedCylinder(end1_spin=5.0, end2="free", end2_torque=3.0, end2_force=3.0)).n_extra == 2
-
-
 def test_a_table_history_is_the_ramp_it_describes():
     """``table 0:0 0.005:1`` is ``ramp 0.005``, and so is ``table 0:0 0.002:0.4 0.005:1 0.02:1`` (its points on the
     same line, held after): every table ended in an internal error (CasADi's pw_lin takes no MX time). Leap-frog
