@@ -24,6 +24,7 @@ import numpy as np
 
 from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell._core.ranges import TINY
+from mol_shell.discretization.loading import drive_kinks
 from mol_shell.discretization.stencil import leapfrog_stepper
 from mol_shell.integrators import loop
 from mol_shell.integrators.loop import Option, integers, option, real
@@ -117,6 +118,11 @@ class _LeapfrogStepper:
         self.every, self.restarts = method.restart_steps(), 0
         self.ya, self.yb = np.array(y0, dtype=float), None
         self.k, self.n_rhs = 0, 0
+        self.work = system.ny * system.n if system.n_extra else None  # the index of the work accumulator
+        self.kinks = drive_kinks(system) if system.n_extra else ()
+        #: the steps k with a drive's kink strictly inside their quadrature interval (t_{k-1}, t_{k+1})
+        self.kink_steps = {k for kink in self.kinks for k in (math.floor(kink / self.dt), math.ceil(kink / self.dt))
+                           if k >= 1 and (k - 1) * self.dt < kink < (k + 1) * self.dt}
         self._midpoint()
         self.t = 0.0
         monitor.check(self.yb, self.dt)
@@ -127,8 +133,23 @@ class _LeapfrogStepper:
         dt, t = self.dt, self.k * self.dt
         y = self.ya if self.yb is None else self.yb
         self.ya = y.copy()
-        self.yb = y + dt * self.f(y + 0.5 * dt * self.f(y, t), t + 0.5 * dt)
+        y_half = y + 0.5 * dt * self.f(y, t)
+        self.yb = y + dt * self.f(y_half, t + 0.5 * dt)
+        self._correct_work(self.yb, y_half, t + 0.5 * dt, t, t + dt)
         self.k, self.n_rhs = self.k + 1, self.n_rhs + 2
+
+    def _correct_work(self, y_new, y_mid, t_mid, t_lo, t_hi):
+        """The work of a step over ``(t_lo, t_hi)`` whose quadrature took the power at ``(y_mid, t_mid)`` only,
+        split at each drive's kink inside it: there the driven node's acceleration, and the driver's power with it,
+        jumps by ``dP`` (the power at ``y_mid`` on the kink's new segment less that on its old one), and the part of
+        the step beyond the kink from ``t_mid`` took the wrong side's power. Adds ``dP (t_hi - kink)`` (``t_mid``
+        before the kink) or ``-dP (kink - t_lo)`` to ``y_new``'s work, so that a kink off the step grid leaves the
+        quadrature second order (it was first order, ``dP dt``, whatever the step: docs/loads.md)."""
+        for kink in self.kinks:
+            if t_lo < kink < t_hi:
+                jump = self.f(y_mid, kink)[self.work] - self.f(y_mid, np.nextafter(kink, -math.inf))[self.work]
+                y_new[self.work] += jump * (t_hi - kink) if t_mid < kink else -jump * (kink - t_lo)
+                self.n_rhs += 2
 
     def advance(self, target):
         if self.every and self.k % self.every == 0 and self.k < self.steps[target]:  # a restart is due
@@ -146,11 +167,11 @@ class _LeapfrogStepper:
         m = int(min(self.method.chunk, self.steps[target] - k))
         if self.every:
             m = min(m, self.every - k % self.every)  # up to the next restart
+        if self.kink_steps:  # a step whose interval holds a drive's kink is taken alone, its work split there
+            m = 1 if k in self.kink_steps else min(m, min((j for j in self.kink_steps if j > k), default=k + m) - k)
         chunk_start = (self.ya.copy(), self.yb.copy(), k)
         try:
-            taken, stopped = self.stepper.leapfrog(self.ya, self.yb, m, dt, k * dt)  # stops at the first step
-            self.k += taken                                                         # outside the limits
-            self.n_rhs += taken
+            _, stopped = self._steps(m)  # stops at the first step outside the limits
             if stopped:
                 self.monitor.check(self.yb, self.k * dt)  # raises, naming the limit and the place
                 raise ModelLimitError(f"a limit of the model was reached at t = {self.k * dt:.9g} s", self.k * dt,
@@ -165,11 +186,20 @@ class _LeapfrogStepper:
             raise
         self.t = target if self.k == self.steps[target] else self.k * dt
 
+    def _steps(self, m):
+        """``m`` steps in C (one if a drive's kink lies in its interval: its work is then split there)."""
+        k = self.k
+        taken, stopped = self.stepper.leapfrog(self.ya, self.yb, m, self.dt, k * self.dt)
+        self.k += taken
+        self.n_rhs += taken
+        if k in self.kink_steps and taken:  # ya is y_k, whose power the step took over (t_{k-1}, t_{k+1})
+            self._correct_work(self.yb, self.ya, k * self.dt, (k - 1) * self.dt, (k + 1) * self.dt)
+        return taken, stopped
+
     def _locate(self, m):
         """Redo a chunk one step at a time; raises at the first step that breaks a limit."""
         for _ in range(m):
-            self.stepper.leapfrog(self.ya, self.yb, 1, self.dt, self.k * self.dt)
-            self.k += 1
+            self._steps(1)
             self.monitor.check(self.yb, self.k * self.dt)
 
     def state(self, target):
