@@ -36,6 +36,43 @@ HISTORY_ALLOWED = ("'constant', 'step T0' (0 before T0 s, then 1; T0 >= 0 s), 'r
                    "beyond; times increasing)")
 
 
+#: the fewest leap-frog steps a history's shortest time must span (a sine's period, a ramp's T, a table's interval):
+#: leap-frog samples the history once a step at a fixed dt, so a sine of period 1e-6 s at dt = 1e-6 s acted as a
+#: 50 Hz one (aliasing), and a drive's ramp within a step or two left the driver's work 35 % off. 10 steps a period
+#: is ``omega dt = 0.63``, inside the scheme's own bound ``omega dt < 1`` on the shell's modes (Nyquist, 2 steps,
+#: would let the sampled sine's phase err by 90 degrees); a drive's ramp of 10 steps keeps the balance ~2e-5
+LEAPFROG_MIN_STEPS = 10
+
+
+def check_leapfrog_history(name, spec, dt, rate=False):
+    """Refuse a history that leap-frog's fixed step ``dt`` cannot resolve (``ParameterError`` naming ``name``, ``dt``
+    and what it takes): a ``sine F`` whose period spans fewer than :data:`LEAPFROG_MIN_STEPS` steps (it aliases to a
+    slower sine), and on a driven edge's rate (``rate``) a ``ramp T`` or a ``table`` interval as short (the driven
+    node's acceleration, and the driver's power with it, are not resolved). A load's short ramp is a step to the
+    scheme, taken as ``step`` is; a load's table with points that close returns a warning's text (it aliases if it
+    oscillates), else ``None``."""
+    kind, data = parse_history(name, spec, rate=rate)
+    shortest = LEAPFROG_MIN_STEPS * dt * (1 - 1e-9)  # 10 * 1e-6 is 9.999999999999999e-06
+    steps = f"{LEAPFROG_MIN_STEPS} leap-frog steps of dt = {dt:g} s"
+    other = "a smaller dt (at most {:.3g} s), or an adaptive integrator (dop853-c, cvode-bdf)"
+    if kind == "sine" and 1.0 / data[0] < shortest:
+        raise ParameterError(name, spec, f"'sine F' with F <= {1.0 / shortest:.4g} Hz (a period of at least {steps})",
+                             hint=f"leap-frog samples the history once a step, and a sine of period {1.0 / data[0]:.3g} "
+                             f"s aliases to a slower one; {other.format(1.0 / data[0] / LEAPFROG_MIN_STEPS)}")
+    if rate and kind == "ramp" and data[0] < shortest:
+        raise ParameterError(name, spec, f"'ramp T' with T >= {shortest:.4g} s ({steps})", hint=f"the driven node's "
+                             f"acceleration within a few steps is not resolved; {other.format(data[0] / LEAPFROG_MIN_STEPS)}")
+    gap = float(np.min(np.diff(data[0]))) if kind == "table" else math.inf
+    if rate and gap < shortest:
+        raise ParameterError(name, spec, f"a table whose points are at least {shortest:.4g} s apart ({steps})",
+                             hint=f"points {gap:.3g} s apart: the driven node's acceleration is not resolved; "
+                             f"{other.format(gap / LEAPFROG_MIN_STEPS)}")
+    if gap < shortest:
+        return (f"{name} = {spec!r} has points {gap:.3g} s apart, closer than {steps}: leap-frog samples it once a step "
+                "(a table that oscillates faster aliases to a slower one)")
+    return None
+
+
 #: a driven edge's rate may not jump after the start: the jump is an impulse the model does not represent
 RATE_ALLOWED = ("a history without a jump after t = 0 on a driven edge's rate: 'constant', 'step 0', 'ramp T1', 'sine F' "
                 "or 'table t0:h0 t1:h1 ...'")
@@ -49,9 +86,12 @@ def parse_history(name, spec, rate=False):
     kinetic energy would enter the balance from nowhere, and the runs stopped on a false numerical instability)."""
     parsed = _parse_history(name, spec)
     if rate and parsed[0] == "step" and parsed[1][0] > 0:
-        raise ParameterError(name, spec, RATE_ALLOWED, hint=f"the rate's jump at {parsed[1][0]:g} s is an impulse the "
-                             f"model does not represent; for a quick start use 'ramp T' with a short T, or delayed "
-                             f"'table {parsed[1][0]:g}:0 {parsed[1][0] * 1.05:g}:1'")
+        t0 = parsed[1][0]
+        t1 = t0 + max(0.05 * t0, LEAPFROG_MIN_STEPS * 1e-6)
+        raise ParameterError(name, spec, RATE_ALLOWED, hint=f"the rate's jump at {t0:g} s is an impulse the model does "
+                             f"not represent; for a quick start use 'ramp T' with a short T (with leap-frog, at least "
+                             f"{LEAPFROG_MIN_STEPS} steps: {LEAPFROG_MIN_STEPS * 1e-6:g} s at its default dt = 1e-6 s), "
+                             f"or delayed 'table {t0:g}:0 {t1:g}:1'")
     return parsed
 
 

@@ -10,13 +10,14 @@ import warnings
 import numpy as np
 
 from mol_shell._core.constants import RTOL_RANGE, stated_up  # noqa: F401  (RTOL_RANGE: simulate's range)
-from mol_shell._core.errors import ParameterError, is_number, scalar
+from mol_shell._core.errors import ParameterError, SceneWarning, is_number, scalar
 from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.kernel_cache import CacheFull
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared
 from mol_shell.integrators.tolerances import ATOL_RANGE, atol_ok
 from mol_shell.model.kinematics import FIELDS
+from mol_shell.model.loads import check_leapfrog_history
 from mol_shell.results.dataset import build_dataset
 from mol_shell.results.stresses import MAX_SAMPLES, add_stresses
 from mol_shell.runs import resources
@@ -35,6 +36,7 @@ from mol_shell.runs.ellipticity import check_ellipticity
 from mol_shell.runs.statics import static_equilibrium, unstable_directions
 from mol_shell.runs.unshearable import simulate_unshearable
 from mol_shell.scenes import UNSHEARABLE_INTEGRATORS, CylinderScene, Unshearable
+from mol_shell.scenes.base import DRIVES, LOADS
 from mol_shell.scenes.scene_warnings import say_scene_warnings
 
 #: leap-frog is refused when damped modes could grow by more than exp(this) (1e6) over the run
@@ -254,6 +256,10 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         dt = method.dt
         if dt * omega_max >= 1.0:
             raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound 1/max|eig J(y0)|")
+        for key in [k for k in LOADS + DRIVES if k != "drag" and getattr(scene, k, 0)]:  # each history within dt's reach
+            note = check_leapfrog_history(f"{key}_history", getattr(scene, f"{key}_history"), dt, rate=key in DRIVES)
+            if note:
+                warnings.warn(note, SceneWarning, stacklevel=2)
         if deferred is not None:  # dt is within its bound: t_end is what to change
             raise deferred
         growth = parasitic_growth_rate(damping, omega_max, dt)
