@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import itertools
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -154,6 +155,9 @@ MAX_COORDINATE = 1e100
 GAUSS8 = np.polynomial.legendre.leggauss(8)
 #: a table turning by more than this between consecutive chords doubles back on itself (a cusp, not a shell)
 MAX_TURN_DEG = 170.0
+#: an end of a table on the axis is a pole when its fitted tangent is within this of the normal to the axis (a sphere
+#: of 4 rows from pole to pole is 3.7 degrees off), an apex beyond it: refused
+MAX_POLE_TILT_DEG = 5.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -166,7 +170,8 @@ class PointsMeridian(Meridian):
 
     Refused (ParameterError naming ``name``): fewer than 4 points, non-finite values, repeated
     consecutive points, ``r < 0``, ``r = 0`` anywhere but at an end, a curve that crosses itself or
-    the axis. An end on the axis by :func:`on_axis` (``|r| <= 1e-12`` of the table's size, or of 1 m) is a pole:
+    the axis, a closed curve (its last row its first: the model has no periodic meridian), an end on the axis whose
+    tangent fitted to the rows is more than :data:`MAX_POLE_TILT_DEG` from the normal to the axis (an apex). An end on the axis by :func:`on_axis` (``|r| <= 1e-12`` of the table's size, or of 1 m) is a pole:
     its ``r`` is set to 0 (``sin(pi) = 1.2e-16`` as ``0``). ``source`` (a file, or what the table is) is named in
     messages and in :meth:`describe`;
     ``lines`` (the line of ``source`` each row was read from, counted from 1) places a refused row
@@ -213,6 +218,13 @@ class PointsMeridian(Meridian):
                        f"has points {chord[i]:.3g} m apart on {self._row(i)} and {self._row(i + 1)}, closer than "
                        f"1e-12 of its size ({scale:.3g} m)")
             raise ParameterError.invalid(self.name, what, problem, allowed)
+        if np.hypot(*(pts[0] - pts[-1])) <= 1e-12 * scale:  # the model has no periodic meridian (meridian_checks)
+            raise ParameterError.invalid(
+                self.name, what, f"closes on itself: its last row ({self._row(len(pts) - 1)}) is its first "
+                f"({self._row(0)}), which would run as a tube slit there (two edges at one point)",
+                allowed + ", its first and last rows apart (a closed tube symmetric about a plane z = const runs as "
+                "its half between that plane's two circles, with magnet edges there: z and theta imposed, as the "
+                "symmetry imposes)")
         step = np.diff(pts, axis=0)
         turn = np.sum(step[:-1] * step[1:], axis=1) / (chord[:-1] * chord[1:])  # cos of the turn at each inner row
         if np.any(turn < math.cos(math.radians(MAX_TURN_DEG))):
@@ -237,6 +249,7 @@ class PointsMeridian(Meridian):
             r = pts[:, 0]
         object.__setattr__(self, "_pole", tuple(pole))
         u = np.concatenate([[0.0], np.cumsum(chord)])
+        self._check_apex(CubicSpline(u, pts)(u[[0, -1]], 1))
         bc = ["not-a-knot", "not-a-knot"]
         if r[0] == 0:
             bc[0] = (1, [1.0, 0.0])  # (dr/du, dz/du): leave the axis at a right angle
@@ -249,7 +262,7 @@ class PointsMeridian(Meridian):
         # arc length per segment by 8-point Gauss-Legendre (the speed is smooth within a segment)
         x, w = GAUSS8
         lengths = []
-        for a, b in zip(u[:-1], u[1:]):
+        for a, b in itertools.pairwise(u):
             uu = (a + b) / 2 + (b - a) / 2 * x
             lengths.append((b - a) / 2 * np.sum(w * np.linalg.norm(spline(uu, 1), axis=1)))
         object.__setattr__(self, "_u", u)
@@ -259,6 +272,21 @@ class PointsMeridian(Meridian):
             raise ParameterError.invalid(self.name, what, "gives a curve that crosses the axis", allowed)
         if self_intersects(dense):
             raise ParameterError.invalid(self.name, what, "gives a curve that crosses itself", allowed)
+
+    def _check_apex(self, tangent):
+        """An end on the axis whose tangent, fitted to the table's rows (the not-a-knot spline's, before the pole's
+        clamping), is more than :data:`MAX_POLE_TILT_DEG` from the normal to the axis is an apex (a cone's tip), not a
+        pole: refused, as the cone's ``r1 = 0`` is (the spline made it perpendicular, a rounded tip the table does not
+        draw, over a quarter of a 10-row cone). ``tangent``: ``(dr/du, dz/du)`` of that spline at the two ends."""
+        for k, (i, sign) in enumerate(((0, 1.0), (len(self.points) - 1, -1.0))):
+            tilt = math.degrees(math.atan2(abs(tangent[k, 1]), sign * tangent[k, 0]))
+            if self._pole[k] and tilt > MAX_POLE_TILT_DEG:
+                raise ParameterError.invalid(
+                    self.name, self.source or "table", f"{'starts' if k == 0 else 'ends'} on the axis on "
+                    f"{self._row(i)} with its tangent {tilt:.3g} degrees from the normal to the axis (fitted to its "
+                    f"{'first' if k == 0 else 'last'} rows): an apex is not a smooth shell",
+                    f"a table whose ends on the axis are poles, its tangent there within {MAX_POLE_TILT_DEG:g} degrees "
+                    "of the normal to the axis (made exactly normal), or a table that ends off the axis")
 
     @property
     def length(self):

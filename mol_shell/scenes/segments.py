@@ -43,9 +43,11 @@ from mol_shell._core.ranges import Interval, positive
 from mol_shell.model.edges import resolve_edges
 from mol_shell.model.geometry import Meridian, on_axis, self_intersects
 from mol_shell.model.layers import layer_value, parse_layers
+from mol_shell.model.meridian_checks import check_meridian
 from mol_shell.model.thickness_profile import check_profile_fits, reversed_profile, thickness_function
-from mol_shell.scenes.shells import _Dilated, goes_down as shells_goes_down
 from mol_shell.scenes.base import DISPLACEMENTS, DRIVES, LOADS, _check
+from mol_shell.scenes.shells import _Dilated
+from mol_shell.scenes.shells import goes_down as shells_goes_down
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,7 +148,8 @@ def head(a, crown, knuckle):
 
 
 def check_segmented(text, meridian):
-    """Refuse, naming ``segments``, a meridian of segments that crosses the axis or itself (sampled densely)."""
+    """Refuse, naming ``segments``, a meridian of segments that crosses the axis or itself (sampled densely), or that
+    the model cannot run (:func:`~mol_shell.model.meridian_checks.check_meridian`: an end past the axis, an apex)."""
     s = np.linspace(0.0, meridian.length, 40 * len(meridian.segments) + 1)
     r, z = meridian.at(s)[:2]
     scale = max(float(np.max(np.abs(r))), float(np.max(np.abs(z))), meridian.length)
@@ -156,6 +159,8 @@ def check_segmented(text, meridian):
         raise ParameterError("segments", text, allowed, hint=f"it reaches the axis at s = {where:.4g} m")
     if self_intersects(np.column_stack([r, z])):
         raise ParameterError("segments", text, allowed, hint="it crosses itself")
+    check_meridian(meridian, "segments", text, "segments whose meridian has r > 0 but at a pole, its ends included, "
+                   "and leaves or reaches the axis at a right angle there", samples=s.size)
 
 
 def parse_segments(text):

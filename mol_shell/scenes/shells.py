@@ -21,9 +21,10 @@ from types import MappingProxyType
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Interval, finite, non_negative, positive
 from mol_shell.model.geometry import ArcMeridian, ConeMeridian, PointsMeridian, read_points
+from mol_shell.model.meridian_checks import HALF_TUBE, check_meridian
 from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.scenes.base import ShellScene, _check, fitted_scale
 
@@ -196,7 +197,8 @@ class Torus(_Dilated):
         Radius of the centre circle, m, ``> 0`` with ``b + a sin(alpha) > 0`` on the segment (default 1).
     alpha1, alpha2 : float
         Polar angles in the tube of the edges at ``s = 0`` and ``s = L``, rad: ``alpha1`` in [-pi, pi) (default 0),
-        ``alpha2`` in (alpha1, alpha1 + 2 pi] (default pi).
+        ``alpha2`` in (alpha1, alpha1 + 2 pi) (default pi): a closed tube has no edges the model can run (a whole
+        torus under pressure runs as its half, ``alpha1 = -pi/2``, ``alpha2 = pi/2``, magnet edges on its mid-plane).
     dilation : float or None
         Initial uniform dilation of the natural shell, in (0.5, 2); ``None`` (default, ``"auto"``): the static
         equilibrium under the loads at ``t = 0`` (the natural shell without loads).
@@ -219,13 +221,17 @@ class Torus(_Dilated):
         _check("a", self.a, positive("m"))
         _check("b", self.b, positive("m"))
         _check("alpha1", self.alpha1, Interval(-math.pi, math.pi, low_closed=True, unit="rad", shown="[-pi, pi) rad"))
-        _check("alpha2", self.alpha2, Interval(self.alpha1, self.alpha1 + 2 * math.pi, high_closed=True, unit="rad",
-                                               shown=f"({self.alpha1:.6g}, {self.alpha1 + 2 * math.pi:.6g}] rad "
-                                                     "(alpha1 + 2 pi)"))
+        full = is_number(self.alpha2) and self.alpha2 >= self.alpha1 + 2 * math.pi
+        _check("alpha2", self.alpha2, Interval(self.alpha1, self.alpha1 + 2 * math.pi, unit="rad",
+                                               shown=f"({self.alpha1:.6g}, {self.alpha1 + 2 * math.pi:.6g}) rad "
+                                                     "(alpha1 + 2 pi: a closed tube)"),
+               hint=f"a tube turning by 2 pi or more is closed; {HALF_TUBE}" if full else "")
         alpha = np.linspace(self.alpha1, self.alpha2, 2001)
         if np.min(self.b + self.a * np.sin(alpha)) <= 0:
             raise ParameterError("b", self.b, f"values above a = {self.a:g} m for this segment",
                                  hint="the segment reaches the axis")
+        check_meridian(self.meridian(), "alpha2", self.alpha2, f"({self.alpha1:.6g}, {self.alpha1 + 2 * math.pi:.6g}) "
+                       "rad, a segment with its ends apart")
 
     def meridian(self):
         return ArcMeridian(self.a, self.b, self.alpha1, self.alpha2)
