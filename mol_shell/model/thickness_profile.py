@@ -21,6 +21,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell.model.geometry import node_inertias
 from mol_shell.model.material import Thickness
+from mol_shell.model.wall_fit import piece_samples, turning_points
 
 _FUNCTIONS = {"sqrt": np.sqrt, "exp": np.exp, "log": np.log, "sin": np.sin, "cos": np.cos, "tanh": np.tanh}
 _ALLOWED = "'table s0:h0 s1:h1 ...' (m, covering the meridian) or an expression of s such as '0.01 * (1 + 0.2 * s)'"
@@ -158,8 +159,11 @@ def check_profile_fits(text, h, meridian, samples=801):
     centre of curvature both change sign and their product alone would pass), i.e. ``h(s)`` below the distance to
     the centre of curvature, ``1/|theta0_s|``, and to the axis, ``r0/|cos theta0|`` (off the poles).
     """
-    s = np.linspace(0.0, meridian.length, samples)
+    grid = np.concatenate([np.linspace(0.0, meridian.length, samples), turning_points(meridian)])
+    ends, k_ends = piece_samples(meridian)  # every curvature piece with its own curvature: a short sharp arc too
+    s = np.concatenate([grid, ends])
     r0, _, th0, th0s = meridian.at(s)
+    th0s[grid.size:] = k_ends
     keep = r0 > 1e-9 * float(np.max(np.abs(r0)))  # off the poles (their factor is 0 by geometry), at any size
     with np.errstate(divide="ignore", invalid="ignore"):
         bound = np.minimum(np.where(th0s != 0, 1 / np.abs(th0s), np.inf),

@@ -18,9 +18,9 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, UnknownParameterError, is_number
 from mol_shell._core.ranges import TINY, Choice, Interval, finite, modulus, non_negative, subnormal
-from mol_shell.model.edges import check_displacements, check_edge, resolve_edges
+from mol_shell.model.edges import EDGE_PARAMETERS, check_displacements, check_edge, resolve_edges
 from mol_shell.model.fibres import FIBRE_ANGLES, fibre_angle_hint
-from mol_shell.model.geometry import base_offset, thickness_factors
+from mol_shell.model.geometry import base_offset
 from mol_shell.model.laws import (
     COMPRESSIBLE_WHY,
     MATERIALS,
@@ -31,6 +31,7 @@ from mol_shell.model.layers import MAX_LAYERS, layer_word, layers_text, parse_la
 from mol_shell.model.loads import normal_history, parse_history
 from mol_shell.model.material import centroidal_offset
 from mol_shell.model.thickness_profile import check_profile_fits, thickness_function
+from mol_shell.model.wall_fit import check_wall_fits
 from mol_shell.model.wall_parameters import check_layer_parameters, checked_material_parameters
 from mol_shell.scenes.descriptions import DESCRIPTIONS, UNITS, describe  # noqa: F401 - the scenes' vocabulary
 
@@ -263,7 +264,8 @@ class ShellScene:
     def __post_init__(self):
         for f in dataclasses.fields(self):  # numpy scalars as Python's (np.float32 hashed equal to a float64), and
             value = getattr(self, f.name)  # "auto" as None where None (auto) is the default, as in scene files
-            auto = f.default is None and isinstance(value, str) and value.strip().lower() in ("auto", "none")
+            auto = f.default is None and isinstance(value, str) and value.strip().lower() in (
+                ("auto",) if f.name in EDGE_PARAMETERS else ("auto", "none"))  # an edge's "none": refused
             object.__setattr__(self, f.name, None if auto else value.item() if isinstance(value, np.generic) else value)
         _check("h", self.h, Interval(0.0, math.inf, unit="m", shown="(0, inf) m, and the thickness off the axis"))
         _check("E", self.E, modulus("Pa"))
@@ -446,20 +448,12 @@ class ShellScene:
         return base_offset(self.meridian(), self.h) if self.zeta1 is None else self.zeta1
 
     def _check_thickness(self):
-        """The thickness interval stays off the axis and inside every centre of curvature (``det G0 > 0``)."""
+        """The thickness interval stays off the axis and inside every centre of curvature (``det G0 > 0``;
+        :func:`~mol_shell.model.wall_fit.check_wall_fits`)."""
         if not isinstance(self.h_profile, str) or self.h_profile:
             self._check_profile()
             return
-        mer = self.meridian()
-        s = np.linspace(0.0, mer.length, 401)
-        s = np.concatenate([s, (s[:-1] + s[1:]) / 2])
-        r0 = mer.at(s)[0]
-        keep = r0 > 1e-9 * float(np.max(np.abs(r0)))  # off the poles (their factor is 0 by geometry), at any size
-        z1 = self.zeta1_used()
-        if not all(np.all(f > 0) for f in thickness_factors(mer, np.array([z1, z1 + 2 * self.h]), s[keep])):
-            raise ParameterError("h", self.h, "values whose thickness interval stays off the axis and inside every "
-                                 "centre of curvature of the meridian",
-                                 hint=f"zeta1 = {z1:.4g} m; a face reaches the axis or a centre of curvature")
+        check_wall_fits(self.meridian(), self.zeta1_used(), self.h)  # exact: a 1 mm knuckle is not missed
 
     def _check_profile(self):
         """A graded wall: ``h_profile`` read, ``zeta1`` auto, every cell's ``[-h(s), h(s)]`` with ``det G0 > 0``."""

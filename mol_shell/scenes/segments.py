@@ -99,6 +99,18 @@ class SegmentedMeridian(Meridian):
         out[0] = np.where(np.abs(out[0]) <= 1e-13 * scale, 0.0, out[0])  # exact zeros at the poles
         return tuple(out)
 
+    def curvature_pieces(self):
+        """Each segment's ``(s0, s1, k, k)``: its exact, constant curvature (:mod:`mol_shell.model.wall_fit`)."""
+        return [(s0, s0 + length, k, k) for s0, length, _, _, _, k in self._rows]
+
+    def turning_points(self):
+        """Where an arc's tangent ``theta0 = theta_a + k (s - s0)`` passes a multiple of pi (along the axis)."""
+        out = []
+        for s0, length, _, _, theta, k in (row for row in self._rows if row[5]):
+            lo, hi = sorted((theta, theta + k * length))
+            out += [s0 + (m * math.pi - theta) / k for m in range(math.ceil(lo / math.pi), math.floor(hi / math.pi) + 1)]
+        return out
+
     def describe(self):
         parts = ", ".join(f"{seg[0]} " + " ".join(f"{x:.6g}" for x in seg[1:]) for seg in self.segments)
         start = "" if tuple(self.start) == (0.0, 0.0, math.pi / 2) else (
