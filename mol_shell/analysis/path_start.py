@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number, kind_of
+from mol_shell.model.edges import EDGE_PARAMETERS
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.laws import renamed_law, renamed_layers
 from mol_shell.results.dataset import read_netcdf
@@ -75,7 +76,7 @@ def scene_params(ds):
     fields = {f.name for f in dataclasses.fields(SCENES[str(ds.attrs["scene"])])}
     params = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in ds.attrs.items() if k in fields}
     for k in fields & params.keys():  # left to the code when the path was traced (stored as the values used): again
-        if ds.attrs.get(f"{k}_requested") == "auto":
+        if ds.attrs.get(f"{k}_requested") == "auto" or k in EDGE_PARAMETERS and params[k] == "none":  # (0.5.0's)
             params[k] = None
     for k in fields & set(str(ds.attrs.get("reversed_parameters", "")).split(", ")):  # run with the opposite sign
         if f"{k}_requested" in ds.attrs:  # (a vessel's segments drawn down): as given, which the scene turns again

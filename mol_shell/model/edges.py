@@ -51,7 +51,13 @@ IMPOSED = _Imposed({
 })
 EDGES = ("magnet", "clamped", "pinned", "free")
 #: what an edge may be, for messages
-EDGE_FORMS = (*EDGES, "pole", "auto", "none", "a set of the fields it imposes, e.g. r,theta (fields: z, r, chi, theta, psi)")
+EDGE_FORMS = (*EDGES, "pole", "auto (a pole on the axis, magnet elsewhere)",
+              "a set of the fields it imposes, e.g. r,theta (fields: z, r, chi, theta, psi)")
+
+#: the edge parameters, whose string "none" is refused (:func:`check_edge`), not read as None ("auto") as other
+#: parameters' "none" is
+EDGE_PARAMETERS = ("end1", "end2")
+NONE_HINT = "ambiguous: write free for an edge that imposes no field, or auto for the one chosen from the geometry"
 
 
 def field_set(value):
@@ -64,9 +70,12 @@ def field_set(value):
 
 def check_edge(name, value):
     """``value`` if it is an edge kind, or a set of imposed fields (returned canonical), or ``None`` (chosen from
-    the geometry); else a ParameterError."""
-    if value is None or (isinstance(value, str) and value.strip().lower() in ("auto", "none")):
+    the geometry; ``"auto"``); else a ParameterError. The string ``"none"`` is refused: read as the set of imposed
+    fields it is ``free``, read as no choice ``auto`` (which it silently was)."""
+    if value is None or (isinstance(value, str) and value.strip().lower() == "auto"):
         return None
+    if isinstance(value, str) and value.strip().lower() == "none":  # the empty set (free) or no choice (auto)?
+        raise ParameterError(name, value, Choice(EDGE_FORMS), hint=NONE_HINT)
     if isinstance(value, str) and value.strip() in EDGES + ("pole",):
         return value.strip()
     canonical = field_set(value) if isinstance(value, str) else None

@@ -46,6 +46,7 @@ from mol_shell._core.errors import ParameterError, flag, is_number, show
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared, real, refusal, typed_value
 from mol_shell.integrators.tolerances import MAX_STEP_NOTE
+from mol_shell.model.edges import EDGE_PARAMETERS
 from mol_shell.model.layers import LAYER_KEYS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES, summary
@@ -163,7 +164,8 @@ def _convert(cls, field, value, folder):
     """A file's value as the scene wants it: ``"auto"`` is None, integers are floats where floats are wanted,
     histories from inline tables, ``points`` relative to the file's folder."""
     kind = str(field.type)
-    if isinstance(value, str) and value.strip().lower() in ("auto", "none") and "None" in kind:
+    words = ("auto",) if field.name in EDGE_PARAMETERS else ("auto", "none")  # an edge's "none": free or auto? refused
+    if isinstance(value, str) and value.strip().lower() in words and "None" in kind:
         return None
     if field.name.endswith("_history"):
         return history_text(field.name, value)

@@ -6,6 +6,7 @@ import dataclasses
 
 from mol_shell._core.errors import UnknownParameterError
 from mol_shell._core.ranges import Choice
+from mol_shell.model.edges import EDGE_PARAMETERS
 from mol_shell.model.laws import parameter_values
 from mol_shell.scenes.base import DRIVES, LOADS
 
@@ -38,7 +39,7 @@ def _coerce(name, value, annotation):
     if not isinstance(value, str) or annotation in (str, "str", bool, "bool"):  # a flag: true/false as typed
         return value
     text = value.strip()
-    if text.lower() in ("none", "auto") and "None" in str(annotation):
+    if (text.lower() == "auto" or text.lower() == "none" and name not in EDGE_PARAMETERS) and "None" in str(annotation):
         return None
     try:
         number = float(text)
