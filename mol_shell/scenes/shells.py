@@ -173,8 +173,9 @@ class Cone(_Dilated):
         super()._validate()
         _check("r1", self.r1, positive("m"), hint="an apex is not a smooth shell")
         _check("r2", self.r2, positive("m"), hint="an apex is not a smooth shell")
-        _check("H", self.H, non_negative("m"), ok=lambda v: v > 0 or self.r1 != self.r2,
-               hint="with a meridian of positive length")
+        ring = self.r1 != self.r2  # H = 0 is a flat ring, which needs two radii (a meridian of positive length)
+        _check("H", self.H, non_negative("m") if ring else Interval(0.0, math.inf, unit="m", shown="(0, inf) m where "
+                                                                        "r1 = r2 (a flat ring needs r1 != r2)"))
 
     def meridian(self):
         return ConeMeridian(self.r1, self.r2, self.H)
