@@ -167,7 +167,8 @@ def test_a_points_file_is_kept_by_its_absolute_path(tmp_path, monkeypatch):
     """A run's or a path's file stored ``points`` as given, relative to where the command ran: ``run --from`` from
     another folder refused it as unreadable."""
     (tmp_path / "sub").mkdir()
-    (tmp_path / "sub" / "pts.txt").write_text("1.0 0.0\n0.9 0.3\n0.7 0.5\n0.4 0.55\n0.0 0.6\n")
+    (tmp_path / "sub" / "pts.txt").write_text("1.0 0.0\n0.92388 0.382683\n0.707107 0.707107\n0.382683 0.92388\n"
+                                             "0.0 1.0\n")  # a quarter circle: a dome whose top is a pole
     monkeypatch.chdir(tmp_path)
     scene = mol_shell.scenes.SCENES["meridian"](points="sub/pts.txt")
     assert scene.points == str(tmp_path / "sub" / "pts.txt")
