@@ -28,6 +28,8 @@ FIELD_META = {
     "psi": ("rad", "shear angle of the director out of the meridional plane"),
 }
 RATE_UNITS = {"m": "m s-1", "rad": "rad s-1"}
+#: a run's ``energy_balance_error`` where it has no loads (and so no ``work``)
+NO_LOADS = "n/a (no loads)"
 #: why ``time`` has no CF epoch (the one departure from CF 1.8; docs/netcdf.md)
 TIME_COMMENT = ("model time in seconds from the start of the run, without a calendar epoch (deliberately: "
                 "readers keep it as numbers, not dates); see docs/netcdf.md")
@@ -239,7 +241,7 @@ def build_dataset(system, scene, traj, velocities, totals, attrs, requested=None
         "rho_I": float(system.rho_i),
         "rho_J": system.rho_j,
         "zeta1_used": system.thickness.zeta1,
-        "energy_balance_error": "n/a (no loads)" if balance is None else balance,
+        "energy_balance_error": NO_LOADS if balance is None else balance,
         "edge_s0": system.edges[0],
         "edge_sL": system.edges[1],
         "meridian": system.meridian.describe(),
@@ -272,7 +274,8 @@ def with_units(meta):
 #: fastest mode's angular frequency, whose name ends in ``_s`` (a name that does is in seconds otherwise)
 DERIVED_UNITS = {"failure_time": "s", "rho_A": "kg m-2", "rho_I": "kg m-1", "rho_J": "kg", "zeta1_used": "m",
                  "meridian_length": "m", "first_step": "s", "restart": "s", "omega_max_rad_s": "rad s-1",
-                 "t_end_requested": "s"}
+                 "t_end_requested": "s", "max_damping_rate": "s-1", "ellipticity_lost_time": "s",
+                 "ellipticity_lost_position": "m"}
 
 
 def reaction_columns(count, edges, field):

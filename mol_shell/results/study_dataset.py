@@ -25,7 +25,7 @@ import xarray as xr
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import coordinates, variables
-from mol_shell.results.dataset import DERIVED_UNITS, TIME_COMMENT
+from mol_shell.results.dataset import DERIVED_UNITS, NO_LOADS, TIME_COMMENT
 from mol_shell.scenes import DESCRIPTIONS, UNITS
 
 #: per-case numbers kept as variables even when every case has the same value
@@ -247,8 +247,12 @@ def study_case(ds, **where):
     ``ds.sel(**where)``, every dimension of the study named (by value; ``case=INDEX`` for a list of cases), with each
     ``NAME_case`` as the coordinate ``NAME`` again, the case's varied parameters and per-case numbers and words in
     attrs (with ``units_NAME`` where a run has it), as its run had them, the study's own attributes (``study_vary``,
-    ``n_cases``, ...) and ``worker`` left out, and its saved times up to its last one (a run that stopped early has
-    no NaN after it). A case without a run (refused, error, lost) is refused naming its status and message.
+    ``n_cases``, ...), ``worker`` and ``case_wall_time_s`` left out, and its saved times up to its last one (a run
+    that stopped early has no NaN after it). What only other cases' runs had is left out (:func:`_had`): a variable
+    all NaN for this case (``work`` of a case without loads, ``dissipation`` of an elastic one), an attribute without
+    a value for it (``ellipticity_lost_time`` of a case that kept it); ``energy_balance_error`` of a case without
+    loads is its run's words again. A case without a run (refused, error, lost) is refused naming its status and
+    message.
     """
     if not isinstance(ds, xr.Dataset) or "status" not in ds or not all(f in ds for f in ("r", "theta", "chi")):
         raise ParameterError.not_a("ds", ds, "a study of runs", "a Dataset from mol_shell.study or mol-shell study "
@@ -258,6 +262,10 @@ def study_case(ds, **where):
         raise ParameterError.invalid("where", ", ".join(f"{k}={v}" for k, v in where.items()) or "nothing",
                                      "does not name one case", "a value of each of " + ", ".join(dims),
                                      hint="e.g. " + ", ".join(f"{d}={ds[d].values.ravel()[0].item()!r}" for d in dims))
+    for key, value in where.items():  # one value each: a list would keep the dimension (no case, no run)
+        if np.ndim(value) or isinstance(value, (list, tuple, set, dict)):
+            raise ParameterError.not_a(key, value, "one value", "one of " + ", ".join(
+                repr(v.item()) for v in ds[key].values.ravel()))
     try:
         case = ds.sel(where)
     except (KeyError, ValueError, TypeError) as exc:
@@ -271,12 +279,14 @@ def study_case(ds, **where):
                                      "run", "a case that ran", hint=f"{case.status.values}: {case.message.values}")
     attrs = {k: v for k, v in ds.attrs.items() if k not in STUDY_ATTRS}
     attrs["title"] = f"mol_shell run of scene {ds.attrs.get('scene', '')}, a case of a study"
+    attrs["comment"] = "time: " + TIME_COMMENT  # a run's (a study's speaks of its per-case variables too)
     scalars = [str(name) for name, var in case.variables.items() if var.ndim == 0]
     for name in scalars:
         var = case.variables[name]
-        if name in ("worker", "case"):
+        value = var.values.item()
+        if name in CASE_ONLY or not _had(name, value, var.encoding.get("_FillValue")):
             continue
-        attrs[name] = var.values.item()
+        attrs[name] = value
         if "units" in var.attrs and (name in DERIVED_UNITS or name in UNITS):  # as a run's attrs (with_units)
             attrs[f"units_{name}"] = var.attrs["units"]
     case = case.drop_vars(scalars).isel(time=slice(0, int(saved[-1]) + 1))
@@ -286,5 +296,38 @@ def study_case(ds, **where):
         if grid.dims == (base,):
             meta = {**grid.attrs, "long_name": str(grid.attrs.get("long_name", base)).removesuffix(EACH)}
             case = case.drop_vars(name).assign_coords(coordinates({base: (base, grid.values, meta)}))
+    case = _without_others(case)
+    if _nan(attrs.get("energy_balance_error")) and "work" not in case:
+        attrs["energy_balance_error"] = NO_LOADS
     case.attrs = attrs
     return case
+
+
+#: what a study says per case of its own that a case's run does not have
+CASE_ONLY = ("worker", "case", "case_wall_time_s")
+#: a run's attributes that every run has, whatever their value (NaN: ``failure_time`` of a run that completed)
+EVERY_RUN = ("failure_time", "energy_balance_error", "complete", "R")
+
+
+def _nan(value):
+    return isinstance(value, float) and math.isnan(value)
+
+
+def _had(name, value, fill=None):
+    """Whether a case's run had the attribute ``name`` of per-case ``value``: a scene's parameter and what every
+    run says (:data:`EVERY_RUN`) always; another only with a value (not the fill of a case without it: NaN, ``''``,
+    the integer fill)."""
+    if name in DESCRIPTIONS or name in UNITS or name in EVERY_RUN:
+        return True
+    return not (_nan(value) or value == "" or (fill is not None and value == fill))
+
+
+def _without_others(case):
+    """``case`` without the variables that only other cases' runs had: all NaN for this case (a run writes none
+    such; one that stopped early has values up to its stop), and the coordinates only those used."""
+    others = [name for name, var in case.data_vars.items() if var.dtype.kind == "f" and np.isnan(var.values).all()]
+    if not others:
+        return case
+    case = case.drop_vars(others)
+    used = {d for var in case.data_vars.values() for d in var.dims}
+    return case.drop_vars([name for name, var in case.coords.items() if var.dims and not set(var.dims) & used])
