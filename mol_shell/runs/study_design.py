@@ -34,6 +34,9 @@ def design(scene, vary, integrator="leapfrog", options=None):
         names = list(vary)
         for name in names:  # a name first: its values are typed as the name wants them
             _check_name(name, allowed, scene, integrator)
+            if any(np.ndim(v) for v in np.atleast_1d(np.asarray(vary[name], dtype=object)).tolist()):
+                raise ParameterError.invalid(f"vary[{name!r}]", vary[name], "nests lists (the grid's values must be "
+                                             "scalars)", "a list of numbers or words, one per case")
         values = [[_typed(scene, k, v, integrator) for v in np.atleast_1d(np.asarray(vary[k], dtype=object)).tolist()]
                   for k in names]
         for name, vals in zip(names, values):

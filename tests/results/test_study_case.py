@@ -70,3 +70,9 @@ def test_a_case_named_by_a_list_is_refused_naming_the_study_s_values(where, word
     with pytest.raises(mol_shell.ParameterError, match=words):
         study_case(st, **where)
 
+
+def test_a_grid_of_nested_lists_is_refused_naming_its_parameter():
+    """``{'gamma': [[0.1, 0.2]]}`` ran every case and then failed in xarray on the coordinate's dimensions."""
+    with pytest.raises(mol_shell.ParameterError, match=r"^vary\['gamma'\] = \[\[0\.1, 0\.2\]\] nests lists \(the "
+                       r"grid's values must be scalars\); allowed: a list of numbers or words, one per case$"):
+        mol_shell.study("twisted-cylinder", {"gamma": [[0.1, 0.2]]}, t_end=0.001, scheduler="serial")
