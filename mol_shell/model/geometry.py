@@ -35,12 +35,13 @@ import dataclasses
 import hashlib
 import itertools
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, SceneWarning
 
 #: an end whose radius is within this fraction of the meridian's size (or of 1 m, if smaller) is on the axis: a pole
 POLE_TOLERANCE = 1e-12
@@ -156,8 +157,10 @@ GAUSS8 = np.polynomial.legendre.leggauss(8)
 #: a table turning by more than this between consecutive chords doubles back on itself (a cusp, not a shell)
 MAX_TURN_DEG = 170.0
 #: an end of a table on the axis is a pole when its fitted tangent is within this of the normal to the axis (a sphere
-#: of 4 rows from pole to pole is 3.7 degrees off), an apex beyond it: refused
+#: of 4 rows from pole to pole is 3.7 degrees off); up to :data:`APEX_TILT_DEG` a coarse table's pole (a dome of 5
+#: rows: 12-27 degrees), made normal with a warning that the tip is rounded; beyond it an apex (a cone's 45): refused
 MAX_POLE_TILT_DEG = 5.0
+APEX_TILT_DEG = 30.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -171,7 +174,8 @@ class PointsMeridian(Meridian):
     Refused (ParameterError naming ``name``): fewer than 4 points, non-finite values, repeated
     consecutive points, ``r < 0``, ``r = 0`` anywhere but at an end, a curve that crosses itself or
     the axis, a closed curve (its last row its first: the model has no periodic meridian), an end on the axis whose
-    tangent fitted to the rows is more than :data:`MAX_POLE_TILT_DEG` from the normal to the axis (an apex). An end on the axis by :func:`on_axis` (``|r| <= 1e-12`` of the table's size, or of 1 m) is a pole:
+    tangent fitted to the rows is more than :data:`APEX_TILT_DEG` from the normal to the axis (an apex; more than
+    :data:`MAX_POLE_TILT_DEG`: a warning that the tip is rounded). An end on the axis by :func:`on_axis` (``|r| <= 1e-12`` of the table's size, or of 1 m) is a pole:
     its ``r`` is set to 0 (``sin(pi) = 1.2e-16`` as ``0``). ``source`` (a file, or what the table is) is named in
     messages and in :meth:`describe`;
     ``lines`` (the line of ``source`` each row was read from, counted from 1) places a refused row
@@ -275,18 +279,25 @@ class PointsMeridian(Meridian):
 
     def _check_apex(self, tangent):
         """An end on the axis whose tangent, fitted to the table's rows (the not-a-knot spline's, before the pole's
-        clamping), is more than :data:`MAX_POLE_TILT_DEG` from the normal to the axis is an apex (a cone's tip), not a
+        clamping), is more than :data:`APEX_TILT_DEG` from the normal to the axis is an apex (a cone's tip), not a
         pole: refused, as the cone's ``r1 = 0`` is (the spline made it perpendicular, a rounded tip the table does not
-        draw, over a quarter of a 10-row cone). ``tangent``: ``(dr/du, dz/du)`` of that spline at the two ends."""
+        draw, over a quarter of a 10-row cone); more than :data:`MAX_POLE_TILT_DEG`, a coarse table's pole: a warning. ``tangent``: ``(dr/du, dz/du)`` of that spline at the two ends."""
         for k, (i, sign) in enumerate(((0, 1.0), (len(self.points) - 1, -1.0))):
             tilt = math.degrees(math.atan2(abs(tangent[k, 1]), sign * tangent[k, 0]))
-            if self._pole[k] and tilt > MAX_POLE_TILT_DEG:
+            where = f"{'starts' if k == 0 else 'ends'} on the axis on {self._row(i)}"
+            if self._pole[k] and MAX_POLE_TILT_DEG < tilt <= APEX_TILT_DEG:
+                warnings.warn(f"{self.name} = {self.source or 'table'!r} {where} with its tangent {tilt:.3g} degrees "
+                              "from the normal to the axis (fitted to the rows): the pole makes it normal, which rounds "
+                              "the table's tip over its first cells; give more rows near the pole", SceneWarning,
+                              stacklevel=2)
+            elif self._pole[k] and tilt > APEX_TILT_DEG:
                 raise ParameterError.invalid(
                     self.name, self.source or "table", f"{'starts' if k == 0 else 'ends'} on the axis on "
                     f"{self._row(i)} with its tangent {tilt:.3g} degrees from the normal to the axis (fitted to its "
                     f"{'first' if k == 0 else 'last'} rows): an apex is not a smooth shell",
-                    f"a table whose ends on the axis are poles, its tangent there within {MAX_POLE_TILT_DEG:g} degrees "
-                    "of the normal to the axis (made exactly normal), or a table that ends off the axis")
+                    f"a table whose ends on the axis are poles, its tangent there within {APEX_TILT_DEG:g} degrees "
+                    f"of the normal to the axis (made exactly normal; beyond {MAX_POLE_TILT_DEG:g} with a warning), or "
+                    "a table that ends off the axis")
 
     @property
     def length(self):
