@@ -35,6 +35,7 @@ from mol_shell.results.study_store import cases_folder, check_cases_folder
 from mol_shell.runs import resources
 from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT, most_workers
 from mol_shell.runs.study import study
+from mol_shell.runs.study_design import text_parameters
 
 #: the first step of each path of a study of paths is 1/STEPS of its range without --steps
 STEPS = 20
@@ -42,12 +43,18 @@ STEPS = 20
 MAX_STEPS = 200
 
 
-def parse_vary(items, n=40):
+def parse_vary(items, n=40, scene=None):
     """``["gamma=0.02:0.2:0.02", "nu=0.3,0.45,0.49"]`` -> ``{"gamma": [...], "nu": [...]}`` (ranges include the stop).
 
-    A range with more cases than a study on ``n`` nodes could hold in memory is refused before it is expanded.
+    Each value is read as ``--set`` reads its parameter: a number for a numeric one, and for a string parameter of
+    ``scene`` (:func:`mol_shell.runs.study_design.text_parameters`: ``h_profile``, ``material``, a history, ...) the
+    text as typed (``h_profile=0.006`` is a constant thickness, an expression of ``s``); a ``START:STOP:STEP`` range
+    of numbers on a string parameter gives its numbers as text (``0.005``, ``0.006``, ...), any other text with
+    colons is one value (a law's import path, ``module:attr``). A range with more cases than a study on ``n`` nodes
+    could hold in memory is refused before it is expanded.
     """
     form = "NAME=START:STOP:STEP or NAME=V1,V2,..."
+    text = text_parameters(scene) if scene is not None else {"material", "material_parameters", "layers"}
     vary = {}
     for item in items or []:
         name, sep, spec = (x.strip() for x in item.partition("="))
@@ -55,20 +62,27 @@ def parse_vary(items, n=40):
             raise ParameterError("--vary", item, form)
         if name in vary:
             raise ParameterError.invalid("--vary", item, f"varies {name} a second time", "each parameter once")
-        if ":" in spec and "," not in spec and not name.startswith("material") and name != "layers":
+        if ":" in spec and "," not in spec and (name not in text or _numeric_range(spec)):
             # START:STOP:STEP; a list's entries may hold colons (a law's import path, module:attr)
             values = parse_range_or_list(spec, f"--vary {name}", words=("START", "STOP", "STEP"), item="V",
-                                         count_check=lambda count: resources.check_cases(
+                                         count_check=lambda count, name=name, spec=spec: resources.check_cases(
                                              count, n, name=f"--vary {name}", value=spec, early=True))
+            values = [format(v, ".12g") for v in values] if name in text else values
         else:
             entries = [v.strip() for v in spec.split(",")]
             if not spec or any(not v for v in entries):
                 raise ParameterError.invalid("--vary", item, "has an empty entry" if spec else "has no values", form)
-            values = [_number_or_text(v) for v in entries]
+            values = entries if name in text else [_number_or_text(v) for v in entries]
         vary[name] = values
     if not vary:
         raise ParameterError.missing("--vary", f"give {form}, at least one")
     return vary
+
+
+def _numeric_range(spec):
+    """Whether ``spec`` is three numbers joined by colons (a range, also on a string parameter)."""
+    parts = spec.split(":")
+    return len(parts) == 3 and all(isinstance(_number_or_text(part), float) for part in parts)
 
 
 def _number_or_text(text):
@@ -88,7 +102,7 @@ def cmd_study(args):
     sets = parse_sets(args.set)
     scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] table gives defaults, the options win
     n = args.n or run.get("n", 40)
-    vary = parse_vary(args.vary, n)
+    vary = parse_vary(args.vary, n, scene)
     both = [name for name in vary if name in sets]
     if both:
         raise ParameterError.invalid("--set", f"{both[0]}={sets[both[0]]}", f"sets {both[0]}, which --vary varies",

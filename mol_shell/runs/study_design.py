@@ -62,6 +62,12 @@ def scene_fields(scene):
     return [f.name for f in dataclasses.fields(scene)]
 
 
+def text_parameters(scene):
+    """The names of ``scene``'s string parameters (``h_profile``, ``layers``, ``material``, a history, ``end1``,
+    ``points``, ...): the command line's ``--vary`` keeps their values as typed, as ``--set`` does."""
+    return {f.name for f in dataclasses.fields(scene) if "str" in str(f.type).split(" | ")}
+
+
 def material_names(scene):
     """``material.NAME`` for each parameter of the scene's law of one's own (a layered wall's: of its layers' laws;
     none for built-in laws)."""

@@ -1,0 +1,23 @@
+"""What a study reads and says: a string parameter's values as typed, the long build up front, an interrupted case's
+progress line, the notes of the cases' own scenes, and each case's warnings about its own course."""
+
+from mol_shell.cli.main import main
+from mol_shell.cli.study import parse_vary
+from mol_shell.runs.simulate import as_scene
+from mol_shell.runs.study_design import design
+
+
+def test_vary_reads_a_string_parameter_as_set_does(tmp_path, capsys):
+    """``h_profile=0.006`` is a constant thickness (an expression of s), not the number 0.006 the scene refused
+    (``h_profile = 0.006 is not a string``); a range on a string parameter gives its numbers as text."""
+    scene = as_scene("twisted-cylinder")
+    vary = parse_vary(["h_profile=0.006,0.005+0.0005*s", "end1_spin_history=table 0:0 1:1", "gamma=0.1:0.2:0.1"],
+                      11, scene)
+    assert vary == {"h_profile": ["0.006", "0.005+0.0005*s"], "end1_spin_history": ["table 0:0 1:1"],
+                    "gamma": [0.1, 0.2]}
+    assert parse_vary(["h_profile=0.005:0.007:0.001"], 11, scene)["h_profile"] == ["0.005", "0.006", "0.007"]
+    assert parse_vary(["material=my_laws:rubber"], 11, scene)["material"] == ["my_laws:rubber"]
+    assert design(scene, vary)[1]["h_profile"] == ["0.006", "0.005+0.0005*s"]
+    code = main(["study", "twisted-cylinder", "--vary", "h_profile=0.006", "--t-end", "0.001", "--n", "5",
+                 "--scheduler", "serial", "-o", str(tmp_path / "hp.nc")])
+    assert code == 0, capsys.readouterr().err
