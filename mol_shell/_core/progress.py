@@ -94,9 +94,11 @@ class ProgressLines:
         self.postfix = str(text)
 
     def close(self):
-        """The last line, once a line was written (work shorter than the interval stays silent)."""
-        if not self.closed and self.lines:
-            self._write(self.text(self.clock() - self.start, final=True))
+        """The last line, once a line was written or the interval has passed (work shorter than it stays silent; a
+        study interrupted after a minute without a case finished says where it stopped)."""
+        now = self.clock()
+        if not self.closed and (self.lines or now - self.start >= self.interval):
+            self._write(self.text(now - self.start, final=True))
         self.closed = True
 
     def text(self, elapsed, final=False):

@@ -341,11 +341,18 @@ def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, ti
     check_nodes(n)
     est = estimate(n, len(times), times[-1], integrator, fields=fields, dt=dt, method=method)
     check_memory(est, times_value=times_value)
-    if not warn_if_long(est) and est.build_seconds > LONG_BUILD_S:
-        warnings.warn(f"building the graphs and the spectrum at n = {n:,} takes about "
-                      f"{show_seconds(est.build_seconds)} before the first step (the step's stability bound is "
-                      "known only then)", LongRunWarning, stacklevel=3)
+    if not warn_if_long(est):
+        warn_if_long_build(est)
     return est
+
+
+def warn_if_long_build(est, each=""):
+    """:class:`LongRunWarning` (one line) when building the graphs and the spectrum is projected to take over
+    :data:`LONG_BUILD_S` (a run's, or ``each="each case's "`` for a study's): said before the build, which is silent."""
+    if est.build_seconds > LONG_BUILD_S:
+        warnings.warn(f"building the graphs and the spectrum at n = {est.n:,} takes about "
+                      f"{show_seconds(est.build_seconds)} before {each or 'the '}first step (the step's stability "
+                      "bound is known only then)", LongRunWarning, stacklevel=4)
 
 
 def check_analysis(n, states, what, kept, *, integrator="cvode-bdf", fields=5, name=None, value=None, fewer=None,
@@ -440,5 +447,6 @@ def check_study(n_cases, n, times, integrator="leapfrog", *, fields=5, dt=None, 
     check_cases(n_cases, n, len(times))
     total = dataclasses.replace(est, seconds=est.seconds * n_cases / max(int(workers or 1), 1),
                                 steps=est.steps * n_cases)
-    warn_if_long(total, what=f"study ({n_cases} cases on {max(int(workers or 1), 1)} workers)")
+    if not warn_if_long(total, what=f"study ({n_cases} cases on {max(int(workers or 1), 1)} workers)"):
+        warn_if_long_build(est, each="each case's ")  # as a run says it (its own warning is not said in a study)
     return total

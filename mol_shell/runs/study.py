@@ -371,9 +371,10 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
                 store.save(by_index[index], ds, info)
             if bar is not None:
                 bar.set_postfix_str(f"{info['status']}")
+            if info["status"] == "interrupted":  # Ctrl-C reached a case (serial, or a worker): stop the study; the
+                raise KeyboardInterrupt  # case not counted as done (the last line: the finished ones, no time left)
+            if bar is not None:
                 bar.update(1)
-            if info["status"] == "interrupted":  # Ctrl-C reached a case (serial, or a worker): stop the study
-                raise KeyboardInterrupt
     finally:
         finished.close()  # on Ctrl-C: cancel what has not started, shut the workers down
         if bar is not None:

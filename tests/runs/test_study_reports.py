@@ -1,8 +1,11 @@
 """What a study reads and says: a string parameter's values as typed, the long build up front, an interrupted case's
 progress line, the notes of the cases' own scenes, and each case's warnings about its own course."""
 
+import pytest
+
 from mol_shell.cli.main import main
 from mol_shell.cli.study import parse_vary
+from mol_shell.runs import resources
 from mol_shell.runs.simulate import as_scene
 from mol_shell.runs.study_design import design
 
@@ -21,3 +24,13 @@ def test_vary_reads_a_string_parameter_as_set_does(tmp_path, capsys):
     code = main(["study", "twisted-cylinder", "--vary", "h_profile=0.006", "--t-end", "0.001", "--n", "5",
                  "--scheduler", "serial", "-o", str(tmp_path / "hp.nc")])
     assert code == 0, capsys.readouterr().err
+
+
+def test_a_study_says_a_long_build_up_front_as_a_run_does(monkeypatch):
+    monkeypatch.setattr(resources, "LONG_BUILD_S", 0.0)
+    with pytest.warns(resources.LongRunWarning, match=r"^building the graphs and the spectrum at n = 11 takes about "
+                      r".* before the first step"):
+        resources.check_before_build(11, [0.0, 0.001], dt=1e-6)
+    with pytest.warns(resources.LongRunWarning, match=r"^building the graphs and the spectrum at n = 11 takes about "
+                      r".* before each case's first step"):
+        resources.check_study(2, 11, [0.0, 0.001], dt=1e-6, workers=1)
