@@ -56,10 +56,11 @@ def plural(count, word, words=None):
     return f"{count} {word if count == 1 else words or word + 's'}"
 
 
-def say_stand_ins(scene):
+def say_stand_ins(scene, cases=None):
     """A note on stderr for each built-in stand-in a scene ran with (the meridian scene's dome); said once the
-    command has computed, so a refusal stays one line."""
-    for text in scene.stand_ins():
+    command has computed, so a refusal stays one line. ``cases``: the scenes a study ran in place of ``scene`` (its
+    base, which no case may run), each distinct note once."""
+    for text in dict.fromkeys(text for case in ([scene] if cases is None else cases) for text in case.stand_ins()):
         print(f"mol-shell: note: {text}", file=sys.stderr)
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import sys
 
 import numpy as np
@@ -36,6 +37,7 @@ from mol_shell.runs import resources
 from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT, most_workers
 from mol_shell.runs.study import study
 from mol_shell.runs.study_design import text_parameters
+from mol_shell.scenes import with_params
 
 #: the first step of each path of a study of paths is 1/STEPS of its range without --steps
 STEPS = 20
@@ -110,12 +112,27 @@ def cmd_study(args):
     if args.path is not None:
         return _path_study(args, scene, vary, n)
     times, t_end, integrator, options = run_settings(args, run, scene, n)
-    return _finish(args, scene, "case", lambda: study(
+    return _finish(args, scene, "case", vary, lambda: study(
         scene, vary, integrator, n=n, times=times, t_end=t_end, scheduler=args.scheduler, workers=args.workers,
         output=args.output, progress=None, **options))
 
 
-def _finish(args, scene, what, run, tail=lambda ds: ""):
+def case_scenes(scene, vary):
+    """The scenes of a study's cases as far as their notes go (:meth:`stand_ins`: the meridian's points, a vessel's
+    segments, data given as text): the product of the values of the varied string parameters (``vary``:
+    :func:`parse_vary`'s), each once, not of every case (a meridian is rebuilt by each); a case refused by its
+    parameters runs none."""
+    names = [name for name in vary if name in text_parameters(scene)]
+    out = []
+    for values in itertools.product(*(vary[name] for name in names)):
+        try:
+            out.append(with_params(scene, dict(zip(names, values))))
+        except ParameterError:
+            continue
+    return out
+
+
+def _finish(args, scene, what, vary, run, tail=lambda ds: ""):
     """Run a study (``run()``), say what it wrote in one line (``tail`` adds to it), and the exit code: 130 when
     interrupted, 143 when terminated by a SIGTERM (the finished cases kept for a rerun), 0 when every case ended well,
     EXIT_USAGE when every case was refused (its input out of range; the first reason on stderr), else
@@ -128,7 +145,7 @@ def _finish(args, scene, what, run, tail=lambda ds: ""):
         print(f"mol-shell: study {'terminated (SIGTERM)' if interrupts.terminated() else 'interrupted'}; finished "
               f"cases are kept in {cases_folder(args.output)}; run the same command again to resume", file=sys.stderr)
         return interrupted_code()
-    say_stand_ins(scene)
+    say_stand_ins(scene, case_scenes(scene, vary))
     statuses = ds.status.values.ravel().tolist()
     counts = ", ".join(f"{statuses.count(s)} {s}" for s in dict.fromkeys(statuses))
     print(f"wrote {args.output}: {plural(int(ds.attrs['n_cases']), what)} ({counts}); ran {ds.attrs['n_executed']}, "
@@ -171,7 +188,7 @@ def _path_study(args, scene, vary, n):
             raise ParameterError(name, getattr(args, option), "options of a study of runs",
                                  message=f"{name} is an option of a study of runs, not of one of paths (--path)")
     name, start, stop = parse_param(args.path, "--path")
-    return _finish(args, scene, "path", lambda: path_study(
+    return _finish(args, scene, "path", vary, lambda: path_study(
         scene, vary, name, start, stop, n=n, steps=args.steps or STEPS, max_steps=args.max_steps or MAX_STEPS,
         scheduler=args.scheduler,
         workers=args.workers,

@@ -1,12 +1,16 @@
 """What a study reads and says: a string parameter's values as typed, the long build up front, an interrupted case's
 progress line, the notes of the cases' own scenes, and each case's warnings about its own course."""
 
+import collections
+
 import pytest
 
+from mol_shell._core import progress
 from mol_shell.cli.main import main
 from mol_shell.cli.study import parse_vary
 from mol_shell.runs import resources
 from mol_shell.runs.simulate import as_scene
+from mol_shell.runs.study import run_cases
 from mol_shell.runs.study_design import design
 
 
@@ -34,3 +38,20 @@ def test_a_study_says_a_long_build_up_front_as_a_run_does(monkeypatch):
     with pytest.warns(resources.LongRunWarning, match=r"^building the graphs and the spectrum at n = 11 takes about "
                       r".* before each case's first step"):
         resources.check_study(2, 11, [0.0, 0.001], dt=1e-6, workers=1)
+
+
+@pytest.mark.parametrize("stop, done", [(1, "1 of 3 cases (33 %)"), (0, "0 of 3 cases (0 %)")])
+def test_an_interrupted_case_is_not_counted_done_nor_given_a_time_left(stop, done, monkeypatch, capsys):
+    monkeypatch.setattr(progress, "LOG_INTERVAL_S", 0.0)  # a line at every case
+    Task = collections.namedtuple("Task", "index")
+
+    def run(task):
+        status = "interrupted" if task.index == (stop,) else "complete"
+        return task.index, None, {"status": status, "message": ""}
+
+    with pytest.raises(KeyboardInterrupt):
+        run_cases(run, [Task((i,)) for i in range(3)], {}, output=None, final=("complete",), scheduler="serial",
+                  workers=None, client=None, progress=None, total=3)
+    lines = capsys.readouterr().err.splitlines()
+    assert lines[-1].startswith(f"mol-shell: study: {done}, last case interrupted, ended after"), lines
+    assert not [line for line in lines if "interrupted" in line and " left" in line], lines
