@@ -34,10 +34,10 @@ from mol_shell.results.study_store import KEY_LENGTH
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
 from mol_shell.runs.scheduling import check_workers, connect, refuse_in_starting_worker, scheduler_name
-from mol_shell.runs.study import carried_materials, case_inputs, case_result, input_files, run_cases
+from mol_shell.runs.study import carried_materials, case_inputs, case_result, cases_attrs, input_files, run_cases
 from mol_shell.runs.study_design import design, label_coords
 from mol_shell.scenes import UNITS, with_params
-from mol_shell.scenes.scene_warnings import say_once
+from mol_shell.scenes.scene_warnings import say_case_warnings, say_once
 
 #: statuses of a path that are final (stored, not run again on resume)
 FINAL = ("complete", "max_steps", "returned", "failed", "limit", "refused", "error")
@@ -137,6 +137,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
     say_once([task.scene for task in tasks], parameter=parameter)  # as a study of runs: once, not per case
     pending, reused = run_cases(run_path_task, tasks, results, output=output, final=FINAL, scheduler=scheduler,
                                 workers=workers, client=client, progress=progress, total=len(cases), desc="paths")
+    say_case_warnings(cases_attrs(tasks, results))  # each path's loss of ellipticity, naming its case
     out = _gather(scene, dims, coords, cases, results, parameter)
     failed = sum(1 for _, info in results.values() if info["status"] not in ("complete", "max_steps", "returned"))
     units = UNITS.get(parameter, "1")

@@ -50,7 +50,7 @@ from mol_shell.runs.simulate import (
 )
 from mol_shell.runs.study_design import design, label_coords, material_names, scene_fields
 from mol_shell.scenes import Unshearable, with_params
-from mol_shell.scenes.scene_warnings import hush_in_case, say_once
+from mol_shell.scenes.scene_warnings import hush_in_case, say_case_warnings, say_once
 
 #: statuses that are final: stored, and skipped on resume ("interrupted" and "lost" are run again)
 FINAL = ("complete", "limit", "unstable", "refused", "error")
@@ -324,6 +324,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     # its own)
     pending, reused = run_cases(run_task, tasks, results, output=output, final=FINAL, scheduler=scheduler,
                                 workers=workers, client=client, progress=progress, total=len(cases))
+    say_case_warnings(cases_attrs(tasks, results))  # what each case recorded of its own course, naming it
     out = assemble(dims, coords, cases, results, times)
     label_coords(out, coords, dims)
     failed = sum(1 for ds, info in results.values() if info["status"] != "complete")
@@ -335,6 +336,12 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     if output is not None:
         write_netcdf(out, output)
     return out
+
+
+def cases_attrs(tasks, results):
+    """``[(label, attrs), ...]``: each task's Dataset's attrs in ``results`` (its run's, or the stored case's)."""
+    return [(task.label, results[task.index][0].attrs) for task in tasks
+            if results.get(task.index, (None,))[0] is not None]
 
 
 def run_cases(run, tasks, results, *, output, final, scheduler, workers, client, progress, total, desc="study"):

@@ -51,12 +51,33 @@ def say_once(scenes, *, parameter=None, stacklevel=2):
         warnings.warn(line, category, stacklevel=stacklevel + 1)
 
 
+#: what a run says and records about its own course (not its scene's): a study's case records it without saying it
+#: (:func:`hush_in_case`); the study says it, each case's once, naming the case (:func:`say_case_warnings`)
+CASE_WARNINGS = {"ellipticity_warning": MaterialWarning, "stability_warning": UserWarning}
+
+
+def say_case_warnings(cases, *, stacklevel=2):
+    """A study's: for each ``(label, attrs)`` of its cases (a case's Dataset's attrs), each of
+    :data:`CASE_WARNINGS` it recorded, said once as ``case LABEL: TEXT``."""
+    said = {}
+    for label, attrs in cases:
+        for kind, category in CASE_WARNINGS.items():
+            if str(attrs.get(kind, "")).strip():
+                said.setdefault((f"case {label}: {attrs[kind]}", category))
+    for line, category in said:
+        warnings.warn(line, category, stacklevel=stacklevel + 1)
+
+
 def hush_in_case():
     """In a study's case (inside :func:`warnings.catch_warnings`): ignore what :func:`say_once` said for the study,
     the material's warnings (and the state's, ellipticity and slack fibres, as before: the case's Dataset records
-    them) and the scene's unused parameters (each line ``... is unused: ...``); a case's other warnings stay."""
+    them) and the scene's unused parameters (each line ``... is unused: ...``), and the start's stability (the
+    study says it and the ellipticity's, naming the case: :func:`say_case_warnings`); a case's other warnings stay."""
     warnings.simplefilter("ignore", MaterialWarning)
     warnings.filterwarnings("ignore", message=r".* is unused: ", category=SceneWarning)
+    warnings.filterwarnings("ignore", message=r"the (start computed as a static equilibrium|stability of the start) ",
+                            category=UserWarning)  # its stability_warning: said by the study (CASE_WARNINGS)
 
 
-__all__ = ["KINDS", "hush_in_case", "say_once", "say_scene_warnings", "scene_warnings"]
+__all__ = ["CASE_WARNINGS", "KINDS", "hush_in_case", "say_case_warnings", "say_once", "say_scene_warnings",
+           "scene_warnings"]

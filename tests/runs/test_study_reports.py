@@ -2,15 +2,18 @@
 progress line, the notes of the cases' own scenes, and each case's warnings about its own course."""
 
 import collections
+import warnings
 
+import numpy as np
 import pytest
 
 from mol_shell._core import progress
+from mol_shell._core.errors import MaterialWarning
 from mol_shell.cli.main import main
 from mol_shell.cli.study import parse_vary
 from mol_shell.runs import resources
 from mol_shell.runs.simulate import as_scene
-from mol_shell.runs.study import run_cases
+from mol_shell.runs.study import run_cases, study
 from mol_shell.runs.study_design import design
 
 
@@ -55,3 +58,26 @@ def test_an_interrupted_case_is_not_counted_done_nor_given_a_time_left(stop, don
     lines = capsys.readouterr().err.splitlines()
     assert lines[-1].startswith(f"mol-shell: study: {done}, last case interrupted, ended after"), lines
     assert not [line for line in lines if "interrupted" in line and " left" in line], lines
+
+
+def test_a_study_over_meridian_files_says_no_note_of_the_dome(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    t = np.linspace(0, np.pi / 2, 9)
+    for name, a in (("a", 1.0), ("b", 0.9)):
+        np.savetxt(f"{name}.txt", np.column_stack([a * np.cos(t), 0.6 * np.sin(t)]))
+    common = ["--set", "pressure=1000", "--set", "material=svk-plane-stress", "--n", "5", "--t-end", "0.0005",
+              "--scheduler", "serial"]
+    assert main(["study", "meridian", "--vary", "points=a.txt,b.txt", *common, "-o", "mp.nc"]) == 0
+    assert "built-in dome" not in capsys.readouterr().err
+    assert main(["study", "meridian", "--vary", "points=a.txt,", *common, "-o", "mp2.nc"]) == 2  # an empty entry
+    capsys.readouterr()
+    assert main(["study", "meridian", "--vary", "h=0.01,0.02", *common, "-o", "mp3.nc"]) == 0
+    assert capsys.readouterr().err.count("note: the meridian is the built-in dome") == 1  # its cases run it
+
+
+def test_a_study_says_each_cases_loss_of_ellipticity_naming_the_case():
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        ds = study("twisted-cylinder", {"psi0": [0.0, 1.5]}, n=5, t_end=0.002, scheduler="serial")
+    lost = [str(w.message) for w in said if issubclass(w.category, MaterialWarning) and "ellipticity" in str(w.message)]
+    assert lost == [f"case psi0=1.5: {ds.ellipticity_warning.sel(psi0=1.5).item()}"], lost
