@@ -51,3 +51,17 @@ def test_a_small_angle_is_not_hidden_behind_a_large_radius():
     run = ref.copy()
     run[1] *= 1.5
     assert abs(wp.relative_error(run, ref) - 0.5) < 1e-12
+
+
+def test_a_unit_whose_every_field_is_round_off_is_compared_on_the_largest_field():
+    """A breathing cylinder without twist or spin: theta (2.6e-15 rad) and chi (0) are round-off, r is 1.05 m. Compared
+    on its own unit's largest (theta's round-off), theta's round-off difference counted as an error of 10; on r's
+    scale it is round-off, and r's own error (3e-7) is the error."""
+    ref = np.zeros((3, 2, 5))
+    ref[0], ref[1] = 1.05, 2.6e-15
+    run = ref.copy()
+    run[0, 1, 2] += 3.15e-7
+    run[1, 1, 2] = 2.9e-14
+    assert abs(wp.relative_error(run, ref) - 3e-7) < 1e-12
+    ref[1] = 0.0  # theta exactly 0 too: not 0/0
+    assert abs(wp.relative_error(run, ref) - 3e-7) < 1e-12
