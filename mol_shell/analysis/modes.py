@@ -10,8 +10,8 @@ negative shift (:data:`SHIFT` of the eigenvalues' scale, in s-2) with the rigid 
 Rigid motions (``omega = 0``: rotation about the axis where both edges leave ``chi`` free, axial
 translation where they leave ``z`` free; :func:`mol_shell.runs.statics.rigid_motions`) are counted in
 ``attrs["zero_modes"]`` (2, 1 or 0, from the edges), not listed. Every other mode keeps its frequency; one whose
-``omega^2`` is zero to round-off (:data:`ROUNDOFF` times machine epsilon times the eigenvalues' scale, a prestressed
-state at a critical point) is listed at 0 rad/s. The eigenvalues' scale is ``max K_ii / M_ii``, Rayleigh quotients
+``omega^2`` is zero to round-off (:data:`ROUNDOFF` times machine epsilon times the mode's own stiffness terms,
+:func:`roundoff_level`: a prestressed state at a critical point) is listed at 0 rad/s. The eigenvalues' scale is ``max K_ii / M_ii``, Rayleigh quotients
 of unit vectors: a lower bound of the largest ``omega^2``, within a few percent of it on the scenes' grids.
 
 A mode's shape is scaled so that its entry of largest magnitude (over all fields, metres and radians alike: the
@@ -49,8 +49,8 @@ DENSE_MAX = 3000
 #: the initial state counts as an equilibrium when its generalised forces are below this fraction of
 #: the forces of a unit strain of each cell (``max diag K`` times the meridian's scale)
 EQUILIBRIUM_TOL = 1e-8
-#: an omega^2 within this many machine epsilons of the eigenvalues' scale (``max K_ii / M_ii``) is zero to round-off
-#: (the rigid motions' come out within one)
+#: an omega^2 within this many machine epsilons of its mode's own stiffness terms (:func:`roundoff_level`) is zero to
+#: round-off (the rigid motions' come out within one)
 ROUNDOFF = 1e3
 #: the sparse solver's shift, below zero by this fraction of the eigenvalues' scale: far above round-off (``K - shift M``
 #: is regular with rigid motions), far below the lowest frequency of any grid (omega_1^2 / omega_max^2 ~ 1e-11 for a
@@ -161,6 +161,16 @@ def _rigid_deflated(M, w2, phi, cluster, rigid):
     phi[:, cluster] = np.column_stack([basis @ U[:, :r], basis @ rest @ Y])
     w2[cluster] = np.concatenate([np.zeros(r), mu])
     return w2, phi
+
+
+def roundoff_level(K, M, phi):
+    """Per mode (column of ``phi``), the round-off of its ``omega^2 = phi' K phi / phi' M phi`` (s-2): :data:`ROUNDOFF`
+    machine epsilons of ``|phi|' |K| |phi| / phi' M phi``, the mode's own stiffness terms before they cancel. Against
+    the grid's eigenvalue scale (``max K_ii / M_ii``, which grows like 1/h^2 on a thin wall) a converged bending mode of
+    a thin ring (omega^2 = 3.3e-4 s-2 at h = 1e-4 m) was called zero."""
+    absolute = abs(K) @ np.abs(phi)
+    terms = np.einsum("im,im->m", np.abs(phi), np.asarray(absolute))
+    return ROUNDOFF * np.finfo(float).eps * terms / np.einsum("im,im->m", phi, np.asarray(M @ phi))
 
 
 def eigenvalue_scale(K, M):
@@ -315,7 +325,8 @@ def modes(scene, n=40, count=10, *, initial=None):
             f"the modes of n = {system.n} nodes are not finite in double precision (omega^2 = {w2[~np.isfinite(w2)][0]}"
             f"): the mass matrix (rho = {scene.rho:g} kg m-3) or the stiffness is beyond what doubles hold", 0.0,
             "the mass and stiffness matrices")
-    small = np.abs(w2) <= ROUNDOFF * np.finfo(float).eps * scale  # zero to round-off
+    stiffness = Kd if method == "dense" else Ks
+    small = np.abs(w2) <= roundoff_level(stiffness, M, phi)  # zero to round-off, mode by mode
     zero = np.zeros(len(w2), dtype=bool)
     if method == "dense" and rigid.shape[1]:
         # the rigid motions are the edges' (exact null vectors of K): the eigenpairs most in their span, with any
@@ -328,7 +339,7 @@ def modes(scene, n=40, count=10, *, initial=None):
         zero[cluster[: rigid.shape[1]]] = True
         order = np.argsort(w2)
         w2, phi, zero = w2[order], phi[:, order], zero[order]
-        small = np.abs(w2) <= ROUNDOFF * np.finfo(float).eps * scale
+        small = np.abs(w2) <= roundoff_level(stiffness, M, phi)
     n_zero = rigid.shape[1]
     keep = np.flatnonzero(~zero)[:count]
     if len(keep) < count:

@@ -89,3 +89,18 @@ def test_an_arpack_that_does_not_converge_is_said_in_one_line_exit_3(sparse, mon
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 3, err
     assert err[-1].startswith("mol-shell: stopped: the sparse eigensolver (ARPACK") and "internal error" not in err[-1]
+
+
+def test_a_thin_rings_slow_bending_mode_is_not_taken_for_round_off():
+    """A flat annulus (a cone with H = 0), free edges, h = 1e-4 m: its first mode (omega^2 = 3.3e-4 s-2) is a bending
+    mode, and was listed at 0 rad/s, under a round-off threshold of 1e3 eps times the grid's max K_ii / M_ii (which
+    grows like 1/h^2). A bending mode's omega^2 goes as the wall's h^2 (stiffness h^3, mass h): ten times thicker,
+    a hundred times omega^2."""
+    omega2 = {}
+    for h in (1e-4, 1e-3):
+        scene = mol_shell.Cone(r1=1.0, r2=0.5, H=0.0, h=h, end1="free", end2="free", dilation=1.0,
+                               material="svk-plane-stress")
+        ds = mol_shell.modes(scene, n=21, count=1)
+        omega2[h] = float(ds.omega_squared[0])
+        assert float(ds.frequency[0]) == pytest.approx(omega2[h] ** 0.5, rel=1e-12)
+    assert omega2[1e-4] > 0 and omega2[1e-3] / omega2[1e-4] == pytest.approx(100.0, rel=0.02)
