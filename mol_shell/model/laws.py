@@ -21,7 +21,6 @@ The parameters enter the graphs as numbers: a law's parameters are absent from a
 
 from __future__ import annotations
 
-import contextvars
 import dataclasses
 import functools
 import importlib
@@ -48,7 +47,7 @@ from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: wher
     law_thickness_energy,
     with_thickness,
 )
-from mol_shell.model.layers import layer_value, layered_thickness, parse_layers
+from mol_shell.model.layers import MAKING_LAYERS, layer_value, layered_thickness, parse_layers
 from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import condensed, effective_lame, lame, quadrature_factors, shell_energy
 from mol_shell.model.user_laws import (
@@ -439,11 +438,6 @@ def own_material(scene):
     wall's are its law's, checked; a layered wall's may be its layers' laws' alone)."""
     values = parameter_values(getattr(scene, "material_parameters", "") or "")
     return scene_material(scene.material, own_parameters(scene.material, values))
-
-
-#: True while :func:`layer_scenes` makes a layered scene's layers: a check of the whole wall (the axisymmetric scene's
-#: balance of helical fibres) is made on the layered scene, not on each layer's
-MAKING_LAYERS = contextvars.ContextVar("making_layers", default=False)
 
 
 def layer_scenes(scene):

@@ -11,6 +11,7 @@ interface is never inside a Gauss rule).
 
 from __future__ import annotations
 
+import contextvars
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,6 +26,9 @@ from mol_shell._core.errors import ParameterError
 #: within about a minute.
 MAX_LAYERS = 20
 #: the keys a layer may set (the rest are the scene's)
+#: True while :func:`mol_shell.model.laws.layer_scenes` makes a layered scene's layers: a check of the whole wall (the
+#: axisymmetric scene's balance of helical fibres) is made on the layered scene, not on each layer's
+MAKING_LAYERS = contextvars.ContextVar("making_layers", default=False)
 LAYER_KEYS = ("E", "nu", "c10", "c01", "fibre_E", "fibre_angle", "fibre_families", "fibre_compression")
 #: the keys whose value is a number (a dict's strings are refused, as a scene's are)
 NUMERIC_KEYS = tuple(key for key in LAYER_KEYS if key != "fibre_compression")

@@ -11,7 +11,8 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, finite, positive
 from mol_shell.model.geometry import CylinderMeridian
-from mol_shell.model.laws import MAKING_LAYERS, layer_scenes
+from mol_shell.model.laws import layer_scenes
+from mol_shell.model.layers import MAKING_LAYERS
 from mol_shell.model.thickness_profile import table_points, thickness_function
 from mol_shell.scenes.base import ShellScene, _check, mean_over, zeta1_used
 
