@@ -253,7 +253,7 @@ class PointsMeridian(Meridian):
             r = pts[:, 0]
         object.__setattr__(self, "_pole", tuple(pole))
         u = np.concatenate([[0.0], np.cumsum(chord)])
-        self._check_apex(CubicSpline(u, pts)(u[[0, -1]], 1))
+        self._check_apex(pts, CubicSpline(u, pts)(u[[0, -1]], 1))
         bc = ["not-a-knot", "not-a-knot"]
         if r[0] == 0:
             bc[0] = (1, [1.0, 0.0])  # (dr/du, dz/du): leave the axis at a right angle
@@ -277,13 +277,28 @@ class PointsMeridian(Meridian):
         if self_intersects(dense):
             raise ParameterError.invalid(self.name, what, "gives a curve that crosses itself", allowed)
 
-    def _check_apex(self, tangent):
-        """An end on the axis whose tangent, fitted to the table's rows (the not-a-knot spline's, before the pole's
-        clamping), is more than :data:`APEX_TILT_DEG` from the normal to the axis is an apex (a cone's tip), not a
-        pole: refused, as the cone's ``r1 = 0`` is (the spline made it perpendicular, a rounded tip the table does not
-        draw, over a quarter of a 10-row cone); more than :data:`MAX_POLE_TILT_DEG`, a coarse table's pole: a warning. ``tangent``: ``(dr/du, dz/du)`` of that spline at the two ends."""
-        for k, (i, sign) in enumerate(((0, 1.0), (len(self.points) - 1, -1.0))):
-            tilt = math.degrees(math.atan2(abs(tangent[k, 1]), sign * tangent[k, 0]))
+    def _check_apex(self, pts, tangent):
+        """An end on the axis whose tangent there, that of the circle through the three rows nearest it (level where
+        its centre is on the axis: exact for a sphere's rows; a line's for a cone's tip) and that of the table's
+        not-a-knot spline (``tangent``, before the pole's clamping), the smaller, is more than :data:`APEX_TILT_DEG` from the normal to the axis is an apex, not a pole: refused, as
+        the cone's ``r1 = 0`` is (the spline made it perpendicular, a rounded tip the table does not draw, over a
+        quarter of a 10-row cone); more than :data:`MAX_POLE_TILT_DEG`, a coarse table's pole: a warning. (The end
+        tangent of the table's spline swung 27 degrees on a coarse dome whose last chord is 7 degrees off level.)"""
+        for k, i in enumerate((0, len(pts) - 1)):
+            if not self._pole[k]:
+                continue
+            p0, p1, p2 = pts[:3] if k == 0 else pts[::-1][:3]  # from the pole outwards
+            A = 2.0 * np.array([p1 - p0, p2 - p0])
+            b = np.array([p1 @ p1 - p0 @ p0, p2 @ p2 - p0 @ p0])
+            det = np.linalg.det(A)
+            if abs(det) > 1e-12 * np.abs(A).max() ** 2:  # the circle through the three: the pole's tangent is normal
+                centre = np.linalg.solve(A, b)  # to its radius there, level where its centre is on the axis
+                tilt = math.degrees(math.atan2(abs(centre[0] - p0[0]), abs(p0[1] - centre[1])))
+            else:  # in a line (a cone's tip): the line's angle
+                tilt = math.degrees(math.atan2(abs(p1[1] - p0[1]), abs(p1[0] - p0[0])))
+            # and the spline's end tangent (before the pole's clamping): an apex where both say so (each alone is off
+            # on some coarse smooth tables: the circle on a 4-row ellipse, 33 degrees; the spline on a dome, 27)
+            tilt = min(tilt, math.degrees(math.atan2(abs(tangent[k, 1]), (1.0 if k == 0 else -1.0) * tangent[k, 0])))
             where = f"{'starts' if k == 0 else 'ends'} on the axis on {self._row(i)}"
             if self._pole[k] and MAX_POLE_TILT_DEG < tilt <= APEX_TILT_DEG:
                 warnings.warn(f"{self.name} = {self.source or 'table'!r} {where} with its tangent {tilt:.3g} degrees "

@@ -13,6 +13,7 @@
 """
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -78,12 +79,26 @@ def test_a_table_with_an_apex_on_the_axis_is_refused_naming_its_line(capsys, tmp
 
 
 def test_a_coarse_domes_pole_is_a_pole_with_a_warning_that_its_tip_is_rounded(tmp_path):
-    """Five rows of a closed shell (the tables of tests/runs/test_study_inputs.py) fit a tangent 12 degrees off the
-    normal at their poles: a coarse table, not an apex; it runs, and a warning says the pole rounds its tip."""
+    """A dome of 5 rows whose last chord is 7 degrees off level: the circle through its three rows nearest the pole
+    puts its tangent 5.8 degrees from level (the table's spline, 27: refused as an apex before the circle was
+    asked), a coarse table's pole, not an apex; it runs, and a warning says the pole rounds its tip. Coarse smooth
+    tables (4 rows of a sphere, of ellipses 2:1 either way, 5 rows of a closed ellipse) run; cone tips of 35 and 45
+    degrees are refused."""
     path = tmp_path / "dome.txt"
-    path.write_text("0 0\n0.5 0.1\n1 0.5\n0.5 0.9\n0 1\n")
-    with pytest.warns(SceneWarning, match=r"12.2 degrees from the normal to the axis .*rounds the table's tip"):
-        assert MeridianShell(points=str(path)).meridian().poles == (True, True)
+    path.write_text("1.0 0.0\n0.9 0.3\n0.7 0.5\n0.4 0.55\n0.0 0.6\n")
+    with pytest.warns(SceneWarning, match=r"5.79 degrees from the normal to the axis .*rounds the table's tip"):
+        assert MeridianShell(points=str(path)).meridian().poles == (False, True)
+    a = np.linspace(0.0, math.pi, 4)
+    for r, z in ((np.sin(a), -np.cos(a)), (np.sin(a), -2 * np.cos(a)), (2 * np.sin(a), -np.cos(a))):
+        np.savetxt(path, np.column_stack([r, z]))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SceneWarning)
+            assert MeridianShell(points=str(path)).meridian().poles == (True, True)
+    t = np.linspace(0.0, 1.0, 11)
+    for degrees in (35.0, 45.0):
+        np.savetxt(path, np.column_stack([t, t * math.tan(math.radians(degrees))]))
+        with pytest.raises(ParameterError, match="an apex is not a smooth shell"):
+            MeridianShell(points=str(path))
 
 
 def test_a_coarse_sphere_s_poles_are_poles(tmp_path):
