@@ -112,7 +112,8 @@ def psi_peak(psi):
 
 def _simulate_sampled(scene, n, dt, t_end=PAPER_TIMES[-1]):
     """The run saved every :func:`psi_step` of ``dt`` (and at the paper's times), without stresses (:func:`_fields` adds them)."""
-    times = np.unique(np.r_[psi_times(t_end, psi_step(dt)), [t for t in PAPER_TIMES if t <= t_end]])
+    paper = [round(round(t / dt) * dt, 9) for t in PAPER_TIMES if t <= t_end]  # on leap-frog's steps (figures: nearest)
+    times = np.unique(np.r_[psi_times(t_end, psi_step(dt)), paper])
     return mol_shell.simulate(scene, n=n, times=times, dt=dt, progress=False, stresses=False)
 
 

@@ -115,7 +115,12 @@ def read_run_toml(filename, name="file"):
     """:func:`run_toml` of the run file ``filename``, refused naming ``name`` where it is not one (a scene file
     ``FILE.toml`` said as one: :func:`refuse_scene_file`)."""
     refuse_scene_file(filename, name)
-    return run_toml(read_run(filename, name=name), name, str(filename))
+    ds = read_run(filename, name=name)
+    try:
+        return run_toml(ds, name, str(filename))
+    except ParameterError as exc:  # a run of an earlier version whose scene this one refuses: said with the file
+        raise ParameterError(exc.name, exc.value, exc.allowed, message=f"{name} = {str(filename)!r}: the run's scene is "
+                             f"refused by this version ({ds.attrs.get('mol_shell_version', '?')} wrote it): {exc}") from None
 
 
 def refuse_scene_file(filename, name="file"):

@@ -185,6 +185,10 @@ def cmd_scenes(args):
                                  f"{args.name} --toml: a run file is written back as a scene file")
         print(read_run_toml(args.name), end="")
         return 0
+    if args.name not in SCENES and os.path.isdir(args.name):
+        raise ParameterError("file", args.name, "a scene, a scene file or a run file RUN.nc (with --toml)",
+                             message=f"file = {args.name!r} is a directory; allowed: a scene in {{"
+                             + ", ".join(sorted(SCENES)) + "}, a scene file or a run file (with --toml)")
     if args.name not in SCENES and (os.sep in args.name or os.path.splitext(args.name)[1]):  # a file, not there
         raise ParameterError("file", args.name, "a scene in {" + ", ".join(sorted(SCENES)) + "}, a scene file or a "
                              "run file RUN.nc (with --toml)", message=f"file = {args.name!r} does not exist; allowed: "

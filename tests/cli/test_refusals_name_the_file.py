@@ -75,3 +75,21 @@ def test_scenes_of_a_file_that_is_not_there_says_so(tmp_path, capsys):
         "meridian, sphere, spinning-ring, torus, twisted-cylinder, unshearable, vessel}, a scene file or a run file " \
         "(with --toml)\n"
     assert main(["scenes", "spheer"]) == 2 and "scene = 'spheer' is outside" in capsys.readouterr().err
+
+
+def test_a_run_file_whose_scene_this_version_refuses_is_named(tmp_path, capsys):
+    """A run made before a scene's check (a torus turning by 2 pi, refused since December 7) could not be written back
+    as a scene file, and the refusal did not name the run file: it says the file and the version that wrote it. A
+    directory is said as one, not as missing."""
+    import math
+
+    import mol_shell
+    ds = mol_shell.simulate(mol_shell.Torus(), n=5, times=[0.0, 1e-6], progress=False, stresses=False)
+    ds.attrs["alpha2"] = ds.attrs["alpha1"] + 2 * math.pi  # as a run of the earlier version stored it
+    path = tmp_path / "old.nc"
+    mol_shell.write_netcdf(ds, path)
+    assert main(["scenes", str(path), "--toml"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"mol-shell: error: file = {str(path)!r}: the run's scene is refused by this version") \
+        and "alpha2" in err and len(err.strip().splitlines()) == 1, err
+    assert main(["scenes", str(tmp_path)]) == 2 and "is a directory" in capsys.readouterr().err

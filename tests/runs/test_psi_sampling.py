@@ -84,3 +84,12 @@ def test_paper_figures_samples_psi_on_times_leapfrog_lands_on_at_any_dt():
         assert study.psi_step(dt) == pytest.approx(step, rel=1e-12)
         k = study.psi_times(0.143, study.psi_step(dt)) / dt
         assert np.abs(k - np.round(k)).max() < 1e-6 and study.psi_times(0.143, study.psi_step(dt))[-1] <= 0.143
+
+
+def test_paper_figures_runs_at_a_dt_that_divides_neither_20_us_nor_the_papers_times(tmp_path):
+    """``--dt 3e-5`` gave "times = 0.02 is outside multiples of dt": the paper's times (0.02, 0.07, 0.106, 0.143 s) are
+    saved at the steps nearest them (the figures take the nearest saved time)."""
+    study = load_study("paper_figures")
+    run = study._simulate_sampled(mol_shell.TwistedCylinder(), 5, 3e-5, t_end=0.03)
+    k = run.time.values / 3e-5
+    assert np.abs(k - np.round(k)).max() < 1e-6 and abs(run.time.values - 0.02).min() <= 1.5e-5
