@@ -13,6 +13,7 @@ earlier, or copied from another machine), answered where the graph is known (:cl
 
 from __future__ import annotations
 
+import os
 import sys
 
 from mol_shell.discretization import kernel_cache
@@ -29,9 +30,14 @@ class Default(str):
 #: virtual machine where the compiled Jacobian can be neither loaded from the cache nor built (:func:`resolve_jacobian`)
 JACOBIAN_DEFAULT = Default("compiled")
 _SAID = set()
-#: the default as last settled for a graph (:meth:`Undecided.settle`), by integrator name: what a run's file records
-#: (``settings()`` after the run, which knows no graph)
+#: the default as last settled for a graph (:meth:`Undecided.settle`), by integrator name, gcc's problem and the cache:
+#: what a run's file records (``settings()`` after the run, which knows no graph); keyed by what settled it, so that a
+#: settlement with a cached library is not taken where gcc or the cache has changed since (within one process)
 _SETTLED = {}
+
+
+def _settled_key(name):
+    return name, kernel_cache.gcc_problem(), os.environ.get("MOL_SHELL_CACHE", "")
 
 
 class Undecided(Default):
@@ -48,7 +54,7 @@ class Undecided(Default):
         """``"compiled"`` where ``problem`` is ``None`` (the library can be had), else ``"vm"``, said in one line on
         stderr (once per process, integrator and reason) unless quiet; recorded for the run's file."""
         value = "compiled" if problem is None else "vm"
-        _SETTLED[self.name] = value
+        _SETTLED[_settled_key(self.name)] = value
         if problem is not None and not self.quiet and (self.name, problem) not in _SAID:
             _SAID.add((self.name, problem))
             print(f"mol-shell: {self.name} takes its Jacobian from CasADi's virtual machine (jacobian=vm): the compiled "
@@ -58,7 +64,7 @@ class Undecided(Default):
 
 def undecided(name, quiet=False):
     """The :class:`Undecided` default of the integrator ``name``."""
-    guess = _SETTLED.get(name) or ("compiled" if kernel_cache.gcc_problem() is None else "vm")
+    guess = _SETTLED.get(_settled_key(name)) or ("compiled" if kernel_cache.gcc_problem() is None else "vm")
     value = Undecided(guess)
     value.name, value.quiet = name, quiet
     return value

@@ -107,7 +107,7 @@ def check_wall_fits(meridian, zeta1, h, samples=801):
             for k in (kmin, kmax):
                 if not 1 - zeta * k > 0:
                     raise ParameterError("h", h, allowed, hint=f"zeta1 = {zeta1:.4g} m; the face at zeta = "
-                                         f"{zeta:.4g} m passes the centre of curvature of radius {1 / abs(k):.4g} m "
+                                         f"{zeta:.4g} m passes the centre of curvature of radius {1 / abs(k) if k else math.inf:.4g} m "
                                          f"on s in [{s0:.4g}, {s1:.4g}] m")
     s = np.unique(np.concatenate([np.linspace(0.0, meridian.length, samples), turning_points(meridian)]))
     r0, _, th0, _ = meridian.at(s)

@@ -231,8 +231,16 @@ class Torus(_Dilated):
         if np.min(self.b + self.a * np.sin(alpha)) <= 0:
             raise ParameterError("b", self.b, f"values above a = {self.a:g} m for this segment",
                                  hint="the segment reaches the axis")
-        check_meridian(self.meridian(), "alpha2", self.alpha2, f"({self.alpha1:.6g}, {self.alpha1 + 2 * math.pi:.6g}) "
-                       "rad, a segment with its ends apart")
+        span = self.alpha2 - self.alpha1
+        if span > 2 * math.pi - 1e-6 or span < 1e-6:  # ends meeting near a full turn, or no turn: alpha2's doing
+            check_meridian(self.meridian(), "alpha2", self.alpha2, f"({self.alpha1:.6g}, "
+                           f"{self.alpha1 + 2 * math.pi:.6g}) rad, a segment with its ends apart")
+        else:  # ends meeting to round-off on a shorter segment: a tube too thin beside its distance from the axis for
+            # doubles (a = 5e-324, or b = 1e30): the one of a, b farther from its default named
+            far = {k: abs(math.log(getattr(self, k) / getattr(type(self), k))) for k in ("a", "b")}
+            name = max(far, key=far.get)
+            check_meridian(self.meridian(), name, getattr(self, name), "(0, inf) m, a tube whose segment's ends stay "
+                           "apart in double precision (a / b not too small)")
 
     def meridian(self):
         return ArcMeridian(self.a, self.b, self.alpha1, self.alpha2)
