@@ -57,13 +57,17 @@ MOVED = {"one ulp before a saved time": (0.0018, 0.002),
          "one ulp before the end": (SAVED, float(np.nextafter(0.002, 0.0)))}
 
 
-@pytest.mark.parametrize("route", ROUTES)
-@pytest.mark.parametrize("where", MOVED)
+# every position on the compiled routes; the Python loops (whose runs cost a Jacobian's build each) the one that failed
+CASES = [(route, where) for route in ROUTES[:3] for where in MOVED] + \
+    [(route, "one ulp before a saved time") for route in ROUTES[3:]]
+
+
+@pytest.mark.parametrize("route, where", CASES)
 def test_a_kink_an_ulp_from_a_saved_time_is_taken_at_it(route, where):
     assert_one_time(*run(spun(*MOVED[where]), route), *run(spun(SAVED, 0.002), route))
 
 
-@pytest.mark.parametrize("route", ["cvode-bdf", "ida", "sksundae-cvode-adams", "sksundae-ida", "casadi-cvodes"])
+@pytest.mark.parametrize("route", ["cvode-bdf", "sksundae-ida", "casadi-cvodes"])
 def test_two_drives_kinks_an_ulp_apart_are_one_restart(route):
     times = np.linspace(0.0, 0.002, 8)  # none near the kinks
     assert_one_time(*run(spun(0.0018, 0.002, axial_kink=SAVED), route, times),
