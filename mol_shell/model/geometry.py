@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, SceneWarning
+from mol_shell.model.pole_tilt import APEX_TILT_DEG, MAX_POLE_TILT_DEG, pole_tilts
 
 #: an end whose radius is within this fraction of the meridian's size (or of 1 m, if smaller) is on the axis: a pole
 POLE_TOLERANCE = 1e-12
@@ -156,11 +157,6 @@ MAX_COORDINATE = 1e100
 GAUSS8 = np.polynomial.legendre.leggauss(8)
 #: a table turning by more than this between consecutive chords doubles back on itself (a cusp, not a shell)
 MAX_TURN_DEG = 170.0
-#: an end of a table on the axis is a pole when its fitted tangent is within this of the normal to the axis (a sphere
-#: of 4 rows from pole to pole is 3.7 degrees off); up to :data:`APEX_TILT_DEG` a coarse table's pole (a dome of 5
-#: rows: 12-27 degrees), made normal with a warning that the tip is rounded; beyond it an apex (a cone's 45): refused
-MAX_POLE_TILT_DEG = 5.0
-APEX_TILT_DEG = 30.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -278,37 +274,22 @@ class PointsMeridian(Meridian):
             raise ParameterError.invalid(self.name, what, "gives a curve that crosses itself", allowed)
 
     def _check_apex(self, pts, tangent):
-        """An end on the axis whose tangent there, that of the circle through the three rows nearest it (level where
-        its centre is on the axis: exact for a sphere's rows; a line's for a cone's tip) and that of the table's
-        not-a-knot spline (``tangent``, before the pole's clamping), the smaller, is more than :data:`APEX_TILT_DEG` from the normal to the axis is an apex, not a pole: refused, as
-        the cone's ``r1 = 0`` is (the spline made it perpendicular, a rounded tip the table does not draw, over a
-        quarter of a 10-row cone); more than :data:`MAX_POLE_TILT_DEG`, a coarse table's pole: a warning. (The end
-        tangent of the table's spline swung 27 degrees on a coarse dome whose last chord is 7 degrees off level.)"""
-        for k, i in enumerate((0, len(pts) - 1)):
+        """An end on the axis whose tangent (:func:`~mol_shell.model.pole_tilt.pole_tilts`) is more than
+        :data:`APEX_TILT_DEG` from the normal to the axis is an apex, not a pole: refused, as the cone's ``r1 = 0`` is
+        (the spline made it perpendicular, a rounded tip the table does not draw); more than :data:`MAX_POLE_TILT_DEG`,
+        a coarse table's pole: a warning that its tip is rounded."""
+        for k, (i, tilt) in enumerate(zip((0, len(pts) - 1), pole_tilts(pts, tangent))):
             if not self._pole[k]:
                 continue
-            p0, p1, p2 = pts[:3] if k == 0 else pts[::-1][:3]  # from the pole outwards
-            A = 2.0 * np.array([p1 - p0, p2 - p0])
-            b = np.array([p1 @ p1 - p0 @ p0, p2 @ p2 - p0 @ p0])
-            det = np.linalg.det(A)
-            if abs(det) > 1e-12 * np.abs(A).max() ** 2:  # the circle through the three: the pole's tangent is normal
-                centre = np.linalg.solve(A, b)  # to its radius there, level where its centre is on the axis
-                tilt = math.degrees(math.atan2(abs(centre[0] - p0[0]), abs(p0[1] - centre[1])))
-            else:  # in a line (a cone's tip): the line's angle
-                tilt = math.degrees(math.atan2(abs(p1[1] - p0[1]), abs(p1[0] - p0[0])))
-            # and the spline's end tangent (before the pole's clamping): an apex where both say so (each alone is off
-            # on some coarse smooth tables: the circle on a 4-row ellipse, 33 degrees; the spline on a dome, 27)
-            tilt = min(tilt, math.degrees(math.atan2(abs(tangent[k, 1]), (1.0 if k == 0 else -1.0) * tangent[k, 0])))
             where = f"{'starts' if k == 0 else 'ends'} on the axis on {self._row(i)}"
-            if self._pole[k] and MAX_POLE_TILT_DEG < tilt <= APEX_TILT_DEG:
+            if MAX_POLE_TILT_DEG < tilt <= APEX_TILT_DEG:
                 warnings.warn(f"{self.name} = {self.source or 'table'!r} {where} with its tangent {tilt:.3g} degrees "
                               "from the normal to the axis (fitted to the rows): the pole makes it normal, which rounds "
                               "the table's tip over its first cells; give more rows near the pole", SceneWarning,
                               stacklevel=2)
-            elif self._pole[k] and tilt > APEX_TILT_DEG:
+            elif tilt > APEX_TILT_DEG:
                 raise ParameterError.invalid(
-                    self.name, self.source or "table", f"{'starts' if k == 0 else 'ends'} on the axis on "
-                    f"{self._row(i)} with its tangent {tilt:.3g} degrees from the normal to the axis (fitted to its "
+                    self.name, self.source or "table", f"{where} with its tangent {tilt:.3g} degrees from the normal to the axis (fitted to its "
                     f"{'first' if k == 0 else 'last'} rows): an apex is not a smooth shell",
                     f"a table whose ends on the axis are poles, its tangent there within {APEX_TILT_DEG:g} degrees "
                     f"of the normal to the axis (made exactly normal; beyond {MAX_POLE_TILT_DEG:g} with a warning), or "
