@@ -13,25 +13,18 @@ import signal
 import subprocess
 from pathlib import Path
 
-import numpy as np
 import pytest
+from paper_run_file import SMALL, paper_run_file
 
-import mol_shell
 from mol_shell._core import interrupts
 from mol_shell.cli.main import main
 from mol_shell.views import animate
-
-SMALL = ["--n-phi", "6", "--fibres", "2", "--width", "100"]
 
 
 @pytest.fixture(scope="module")
 def run_file(tmp_path_factory):
     """The paper's scene on 5 nodes, 6 saved times."""
-    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), n=5, times=np.arange(6) * 1e-6, progress=False,
-                            stresses=False)
-    path = tmp_path_factory.mktemp("sigterm") / "run.nc"
-    mol_shell.write_netcdf(ds, path)
-    return path
+    return paper_run_file(tmp_path_factory.mktemp("sigterm"), 5, 6)
 
 
 @pytest.fixture

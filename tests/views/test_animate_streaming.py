@@ -16,23 +16,18 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from paper_run_file import SMALL, paper_run_file
 from PIL import Image
 
 import mol_shell
 from mol_shell.cli.main import main
 from mol_shell.views.animate import animate
 
-SMALL = ["--n-phi", "6", "--fibres", "2", "--width", "100"]
-
 
 @pytest.fixture(scope="module")
 def long_run(tmp_path_factory):
     """The paper's scene on 6 nodes with 400 saved times: an animation of seconds, long enough to interrupt."""
-    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), n=6, times=np.arange(400) * 1e-6, progress=False,
-                            stresses=False)
-    path = tmp_path_factory.mktemp("streaming") / "run.nc"
-    mol_shell.write_netcdf(ds, path)
-    return path
+    return paper_run_file(tmp_path_factory.mktemp("streaming"), 6, 400)
 
 
 def _children(pid):
