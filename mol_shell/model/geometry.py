@@ -43,6 +43,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, SceneWarning
 from mol_shell.model.pole_tilt import APEX_TILT_DEG, MAX_POLE_TILT_DEG, pole_tilts
+from mol_shell.model.polyline import self_intersects
 
 #: an end whose radius is within this fraction of the meridian's size (or of 1 m, if smaller) is on the axis: a pole
 POLE_TOLERANCE = 1e-12
@@ -331,56 +332,6 @@ class PointsMeridian(Meridian):
         theta0 = np.unwrap(theta0) if theta0.ndim else theta0
         curvature = (d1[..., 1] * d2[..., 0] - d1[..., 0] * d2[..., 1]) / speed**3
         return p[..., 0], p[..., 1], theta0, curvature
-
-
-def self_intersects(points):
-    """Whether the polyline through ``points`` crosses or touches itself: two non-adjacent segments meet.
-
-    Two segments meet when each one's ends lie strictly on either side of the other's line (a proper crossing) or
-    an end of one lies on the other (a touch, or collinear pieces that overlap: a curve running back over itself).
-    "On" is within ``1e-12`` of the polyline's size: the round-off of its coordinates. Non-adjacent chords of one
-    straight piece (a sampled line, whose direction is not a representable double) are collinear to round-off; the
-    intersection of their lines, formerly solved from a cross product of ``1e-36``, fell at random on both chords.
-    Adjacent segments share an end and are not compared; so are the first and the last of a closed polyline.
-    """
-    points = np.asarray(points, dtype=float)
-    a, b = points[:-1], points[1:]
-    n = len(a)
-    size = float(np.max(np.abs(points))) if points.size else 0.0
-    tol = 1e-12 * size
-    closed = n > 2 and float(np.max(np.abs(points[0] - points[-1]))) <= tol
-    lo, hi = np.minimum(a, b) - tol, np.maximum(a, b) + tol  # bounding boxes: only overlapping ones can meet
-    for i in range(n - 2):
-        j = i + 2 + np.flatnonzero(np.all((lo[i + 2:] <= hi[i]) & (hi[i + 2:] >= lo[i]), axis=1))
-        if closed and i == 0:
-            j = j[j != n - 1]
-        if j.size and _segments_meet(a[i], b[i], a[j], b[j], tol):
-            return True
-    return False
-
-
-def _side(p, q, x, tol):
-    """Which side of the line through ``p, q`` the points ``x`` lie on: ``+1``, ``-1``, or ``0`` within ``tol`` of it
-    (by their distance ``(q - p) x (x - p) / |q - p|``; ``0`` for a segment of no length)."""
-    d, length = q - p, np.hypot(*(q - p).T)
-    cross = d[..., 0] * (x - p)[..., 1] - d[..., 1] * (x - p)[..., 0]
-    dist = np.where(length > 0, cross / np.where(length > 0, length, 1.0), 0.0)
-    return np.where(np.abs(dist) <= tol, 0, np.sign(dist))
-
-
-def _near(x, p, q, tol):
-    """Whether the points ``x`` lie within ``tol`` of the segments ``p q`` (the nearest point of each segment)."""
-    d = q - p
-    dd = np.sum(d * d, axis=-1)
-    t = np.clip(np.sum((x - p) * d, axis=-1) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
-    return np.hypot(*(p + t[..., None] * d - x).T) <= tol
-
-
-def _segments_meet(p, q, c, d, tol):
-    """Whether the segment ``p q`` meets any of the segments ``c[k] d[k]`` (see :func:`self_intersects`)."""
-    crossing = (_side(p, q, c, tol) * _side(p, q, d, tol) < 0) & (_side(c, d, p, tol) * _side(c, d, q, tol) < 0)
-    touching = _near(c, p, q, tol) | _near(d, p, q, tol) | _near(p, c, d, tol) | _near(q, c, d, tol)
-    return bool(np.any(crossing | touching))
 
 
 def read_points(path, name="points", with_lines=False):

@@ -61,39 +61,90 @@ def turning_points(meridian):
     return np.linspace(0.0, L, FALLBACK_SAMPLES)
 
 
+def _pmul(a, b):
+    """Products of the polynomials in the rows of ``a`` and ``b`` (coefficients highest first), row by row."""
+    out = np.zeros((a.shape[0], a.shape[1] + b.shape[1] - 1))
+    for i in range(a.shape[1]):
+        out[:, i:i + b.shape[1]] += a[:, i:i + 1] * b
+    return out
+
+
+def _pder(a):
+    """Derivatives of the polynomials in the rows of ``a`` (coefficients highest first)."""
+    return a[:, :-1] * np.arange(a.shape[1] - 1, 0, -1)
+
+
+def _psub(a, b):
+    """``a - b`` for rows of polynomials of possibly different degrees."""
+    width = max(a.shape[1], b.shape[1])
+    return np.pad(a, ((0, 0), (width - a.shape[1], 0))) - np.pad(b, ((0, 0), (width - b.shape[1], 0)))
+
+
+def _pval(a, t):
+    """The polynomials in the rows of ``a`` at the points ``t`` (one row of points per polynomial), by Horner."""
+    out = np.zeros_like(t)
+    for k in range(a.shape[1]):
+        out = out * t + a[:, k:k + 1]
+    return out
+
+
+def _real_roots_inside(p, span):
+    """Per row of ``p`` (coefficients highest first), its real roots in ``(0, span)``, NaN where none: an array of
+    rows. The roots are the eigenvalues of each polynomial's companion matrix, its leading zeros dropped (as
+    ``numpy.roots``), batched by degree."""
+    m, width = p.shape
+    out = np.full((m, width - 1), np.nan)
+    lead = np.argmax(p != 0, axis=1)  # leading zeros of each row (all-zero rows: no roots)
+    lead[~np.any(p != 0, axis=1)] = width - 1
+    for start in np.unique(lead):
+        rows = np.flatnonzero(lead == start)
+        degree = width - 1 - start
+        if degree < 1:
+            continue
+        q = p[rows, start:]
+        companion = np.zeros((len(rows), degree, degree))
+        companion[:, 0, :] = -q[:, 1:] / q[:, :1]
+        companion[:, np.arange(1, degree), np.arange(degree - 1)] = 1.0
+        roots = np.linalg.eigvals(companion)
+        real = (np.abs(roots.imag) <= 1e-12 * np.maximum(1.0, np.abs(roots))) & (roots.real > 0) \
+            & (roots.real < span[rows, None])
+        out[rows, :degree] = np.where(real, roots.real, np.nan)
+    return out
+
+
+def _spline_coefficients(meridian):
+    """``(dr, dz, span)``: the derivatives of each cubic piece's ``r(t), z(t)`` (rows, highest first), the pieces'
+    parameter spans."""
+    c = meridian._spline.c
+    r, z = c[:, :, 0].T, c[:, :, 1].T
+    return _pder(r), _pder(z), np.diff(meridian._u)
+
+
 def _spline_pieces(meridian):
     """Each cubic piece of a :class:`PointsMeridian`'s spline ``(r(t), z(t))``: its curvature ``N / S^(3/2)``,
     ``N = z' r'' - r' z''`` (degree 2), ``S = r'^2 + z'^2`` (degree 4), is extreme at its ends or where
-    ``N' S - 3/2 N S'`` (degree 5) vanishes."""
-    spline, u, s = meridian._spline, meridian._u, meridian._s
-    out = []
-    for i in range(len(u) - 1):
-        r, z = (np.poly1d(spline.c[:, i, j]) for j in (0, 1))
-        dr, dz = r.deriv(), z.deriv()
-        N, S = dz * dr.deriv() - dr * dz.deriv(), dr * dr + dz * dz
-        roots = (N.deriv() * S - 1.5 * N * S.deriv()).roots
-        span = u[i + 1] - u[i]
-        t = np.concatenate([[0.0, span], [x.real for x in np.atleast_1d(roots)
-                                          if abs(x.imag) <= 1e-12 * max(1.0, abs(x)) and 0 < x.real < span]])
-        k = N(t) / S(t) ** 1.5
-        out.append((float(s[i]), float(s[i + 1]), float(np.min(k)), float(np.max(k))))
-    return out
+    ``N' S - 3/2 N S'`` (degree 5) vanishes. All pieces at once (a table of 5,000 rows in milliseconds)."""
+    dr, dz, span = _spline_coefficients(meridian)
+    s = meridian._s
+    N = _psub(_pmul(dz, _pder(dr)), _pmul(dr, _pder(dz)))
+    S = _pmul(dr, dr) + _pmul(dz, dz)
+    t = np.column_stack([np.zeros_like(span), span, _real_roots_inside(
+        _psub(_pmul(_pder(N), S), 1.5 * _pmul(N, _pder(S))), span)])
+    k = np.where(np.isnan(t), np.nan, _pval(N, np.nan_to_num(t)) / _pval(S, np.nan_to_num(t)) ** 1.5)
+    kmin, kmax = np.nanmin(k, axis=1), np.nanmax(k, axis=1)
+    return [(float(s[i]), float(s[i + 1]), float(kmin[i]), float(kmax[i])) for i in range(len(span))]
 
 
 def _spline_turning_points(meridian):
     """The arc lengths where a :class:`PointsMeridian`'s ``dr/dt`` (a quadratic on each piece) vanishes."""
-    spline, u, s = meridian._spline, meridian._u, meridian._s
+    dr, dz, span = _spline_coefficients(meridian)
     x, w = GAUSS8
-    out = []
-    for i in range(len(u) - 1):
-        r, z = (np.poly1d(spline.c[:, i, j]) for j in (0, 1))
-        dr, dz = r.deriv(), z.deriv()
-        span = u[i + 1] - u[i]
-        for t in np.atleast_1d(dr.roots):
-            if abs(t.imag) <= 1e-12 * max(1.0, abs(t)) and 0 < t.real < span:
-                tt = t.real / 2 * (1 + x)  # the arc length to it, by Gauss-Legendre as the meridian's own
-                out.append(s[i] + t.real / 2 * float(np.sum(w * np.sqrt(dr(tt) ** 2 + dz(tt) ** 2))))
-    return np.array(out)
+    t = _real_roots_inside(dr, span)
+    rows, cols = np.nonzero(~np.isnan(t))
+    t = t[rows, cols]
+    tt = t[:, None] / 2 * (1 + x)  # the arc length to it, by Gauss-Legendre as the meridian's own
+    speed = np.sqrt(_pval(dr[rows], tt) ** 2 + _pval(dz[rows], tt) ** 2)
+    return np.sort(meridian._s[rows] + t / 2 * np.sum(w * speed, axis=1))
 
 
 def check_wall_fits(meridian, zeta1, h, samples=801):

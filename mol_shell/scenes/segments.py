@@ -41,9 +41,10 @@ import numpy as np
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, positive
 from mol_shell.model.edges import resolve_edges
-from mol_shell.model.geometry import Meridian, on_axis, self_intersects
+from mol_shell.model.geometry import Meridian, on_axis
 from mol_shell.model.layers import layer_value, parse_layers
 from mol_shell.model.meridian_checks import check_meridian
+from mol_shell.model.polyline import self_intersects
 from mol_shell.model.thickness_profile import check_profile_fits, reversed_profile, thickness_function
 from mol_shell.scenes.base import DISPLACEMENTS, DRIVES, LOADS, _check
 from mol_shell.scenes.shells import _Dilated

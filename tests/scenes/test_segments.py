@@ -9,7 +9,7 @@ import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
 from mol_shell.discretization.system import ShellSystem
-from mol_shell.model.geometry import self_intersects
+from mol_shell.model.polyline import self_intersects
 from mol_shell.runs.statics import static_equilibrium
 from mol_shell.scenes import Vessel
 from mol_shell.scenes.segments import SegmentedMeridian
