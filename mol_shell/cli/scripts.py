@@ -3,7 +3,7 @@
 Every script's ``if __name__ == "__main__":`` is ``run_script(main)``, and its ``main`` parses its options with
 :func:`script_parser` and the ranged types (:func:`~mol_shell.cli.args.number_arg`,
 :func:`~mol_shell.cli.args.integer_arg`, :func:`integers_arg`). So a script ends as a ``mol-shell`` command does
-(:func:`mol_shell.cli.main.said`): bad input (an option out of its range, a
+(:func:`mol_shell.cli.outcome.said`): bad input (an option out of its range, a
 :class:`~mol_shell._core.errors.ParameterError`, a study whose every case was refused) is one line naming the option
 and its range, exit code 2; a run stopped at a model limit 3; Ctrl-C 130 (SIGTERM 143), what was saved kept (a
 study's finished cases); an output folder that cannot be made (:func:`output_folder`) one line naming ``--out``.
@@ -21,7 +21,8 @@ from pathlib import Path
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import writable_path
 from mol_shell.cli.args import Parser, integer_arg
-from mol_shell.cli.main import guarded, negative_values_attached, one_line_warnings, said
+from mol_shell.cli.main import negative_values_attached
+from mol_shell.cli.outcome import guarded, one_line_warnings, said
 
 #: the smallest grid a run takes (``n = 2 is outside integers >= 3``)
 MIN_NODES = 3

@@ -1,0 +1,183 @@
+"""How a command ends: its one-line errors and exit codes (:func:`said`), its warnings in one line each
+(:func:`one_line_warnings`), and its standard streams guarded while it runs (:func:`guarded`): bad input 2, a model
+limit 3, Ctrl-C 130 (SIGTERM 143), a reader gone 141, an output that cannot be written 2, a bug 1.
+
+The command line (:mod:`mol_shell.cli.main`) and the studies' scripts (:mod:`mol_shell.cli.scripts`) end so.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import warnings
+
+from mol_shell._core import interrupts
+from mol_shell._core.atomic import NoSpaceError
+from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, by_interrupt, show
+from mol_shell.cli.args import EXIT_INCOMPLETE, EXIT_INTERNAL, EXIT_PIPE, EXIT_USAGE, interrupted_code
+from mol_shell.cli.inputs import said_with_the_file
+from mol_shell.runs.resources import LongRunWarning
+
+
+def remove_empty(folders):
+    """Remove the directories this command created, deepest first, if nothing was written into them."""
+    for folder in reversed(folders):
+        try:
+            os.rmdir(folder)
+        except OSError:
+            return
+
+
+class OutputError(Exception):
+    """Standard output or error could not be written (a full disk, a terminal gone): not a bug, said in one line."""
+
+    def __init__(self, stream, error):
+        self.stream = stream
+        super().__init__(f"cannot write to {stream}: {error}")
+
+
+class _Guarded:
+    """``sys.stdout`` or ``sys.stderr`` while a command runs: an ``OSError`` writing it is an :class:`OutputError`
+    naming the stream (a reader gone, ``BrokenPipeError``, stays one: it ends quietly)."""
+
+    def __init__(self, stream, name):
+        self._stream, self._name = stream, name
+
+    def write(self, text):
+        try:
+            return self._guard(self._stream.write, text)
+        except UnicodeEncodeError:  # a file name's bytes that are not UTF-8 ('\udce9') on a strict stream: as repr
+            encoding = getattr(self._stream, "encoding", None) or "utf-8"
+            return self._guard(self._stream.write, text.encode(encoding, "backslashreplace").decode(encoding))
+
+    def flush(self):
+        return self._guard(self._stream.flush)
+
+    def _guard(self, method, *args):
+        try:
+            return method(*args)
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise OutputError(self._name, exc) from None
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+
+def guarded(command, *args, prog="mol-shell"):
+    """``command(*args)`` with the command line's watch on Ctrl-C and SIGTERM, and its standard streams guarded: an
+    output that cannot be written is one line, exit code 2 (:func:`_unwritable`). The studies' scripts run so too
+    (:mod:`mol_shell.cli.scripts`)."""
+    streams = sys.stdout, sys.stderr
+    sys.stdout, sys.stderr = (None if stream is None else _Guarded(stream, name)
+                              for stream, name in zip(streams, ("standard output", "standard error")))
+    try:
+        # Ctrl-C raises as usual, and is noted where a C call loses it; a SIGTERM (a scheduler's time limit) too
+        with interrupts.watched(raising=True, terminating=True):
+            return command(*args)
+    except OutputError as exc:
+        failed = exc
+    finally:
+        sys.stdout, sys.stderr = streams
+    return _unwritable(failed, prog)
+
+
+def said(exc, args=None, created=(), prog="mol-shell"):
+    """The exit code of a command (or a study's script, ``prog``) that ``exc`` stopped, having said why in one line on
+    stderr: bad input 2, a model limit 3, Ctrl-C 130 (SIGTERM 143), a reader gone 141, a bug 1 (its traceback with
+    ``MOL_SHELL_TRACEBACK=1``). ``created``: directories made for ``-o``, removed again if the input is refused."""
+    if isinstance(exc, BrokenPipeError):
+        return _reader_gone()
+    if isinstance(exc, ParameterError):
+        remove_empty(created)
+        print(f"{prog}: error: {said_with_the_file(args, exc)}", file=sys.stderr)
+        return EXIT_USAGE
+    if isinstance(exc, KeyboardInterrupt):  # its text: what was kept ("after writing run.nc": a write is never cut short)
+        print(f"{prog}: {_interrupted()}{' ' if str(exc) else ''}{exc}", file=sys.stderr)
+        return interrupted_code()
+    if isinstance(exc, NoSpaceError):  # a full disk: not a bug, and nothing half-written (mol_shell._core.atomic.staged)
+        remove_empty(created)
+        print(f"{prog}: error: {_no_space(args, exc)}", file=sys.stderr)
+        return EXIT_USAGE
+    if isinstance(exc, ModelLimitError):  # a run a command needs stopped at a limit (compare's reference)
+        print(f"{prog}: stopped: {exc}", file=sys.stderr)
+        return EXIT_INCOMPLETE
+    if isinstance(exc, OutputError):  # said by main, once the streams are the command's own again
+        raise exc
+    if by_interrupt(exc):  # a Ctrl-C that arrived inside a C extension's call
+        print(f"{prog}: {_interrupted()}", file=sys.stderr)
+        return interrupted_code()
+    if os.environ.get("MOL_SHELL_TRACEBACK"):
+        raise exc
+    text = " ".join(str(exc).split())[:300]
+    print(f"{prog}: internal error: {type(exc).__name__}: {text} (a bug of mol_shell: please report it with "
+          "the command; MOL_SHELL_TRACEBACK=1 shows where it happened)", file=sys.stderr)
+    return EXIT_INTERNAL
+
+
+def _interrupted():
+    """What stopped a command: ``interrupted`` (Ctrl-C), or ``terminated (SIGTERM)``."""
+    return "terminated (SIGTERM)" if interrupts.terminated() else "interrupted"
+
+
+def _no_space(args, exc):
+    """A write that failed for want of space (:class:`~mol_shell._core.atomic.NoSpaceError`), in one line naming
+    ``-o``: the output itself, or the file written for it (a figure beside it, a study's case)."""
+    output = getattr(args, "output", None)
+    if output is None:
+        return f"cannot write {show(str(exc.filename))}: {exc.strerror}"
+    if os.path.abspath(os.path.expanduser(str(output))) == os.path.abspath(str(exc.filename)):
+        return f"-o = {show(str(output))} cannot be written: {exc.strerror}"
+    return f"-o = {show(str(output))}: cannot write {show(str(exc.filename))} for it: {exc.strerror}"
+
+
+def _reader_gone():
+    """The reader of stdout has gone (``mol-shell scenes | head -1``): exit quietly, as command-line tools do."""
+    _to_devnull(sys.stdout)
+    return EXIT_PIPE
+
+
+def _unwritable(exc, prog="mol-shell"):
+    """Standard output or error could not be written (``> /dev/full``): one line on stderr, when that is not the
+    stream that failed, and exit code 2, as for an ``-o`` that cannot be written."""
+    if exc.stream == "standard error":
+        _to_devnull(sys.stderr)
+        return EXIT_USAGE
+    _to_devnull(sys.stdout)
+    try:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+    except OSError:  # stderr too: nowhere to say it
+        _to_devnull(sys.stderr)
+    return EXIT_USAGE
+
+
+def _to_devnull(stream):
+    """Point ``stream``'s file descriptor at /dev/null, so the interpreter's own flush at exit, of what the stream
+    still holds, finds nowhere to fail."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, stream.fileno())
+    except (OSError, ValueError, AttributeError):  # a stream without a file descriptor (captured): nothing to flush
+        pass
+
+
+#: the warnings said by this command: each once (a stability report's twenty runs of one law warned twenty times)
+_SAID = set()
+
+
+def one_line_warnings(prog="mol-shell"):
+    """Within a ``warnings.catch_warnings()`` block: warnings about a run's projected time, the material and the scene
+    said in one line each, as errors are, ``prog: warning: ...`` on stderr, each once per command (or script)."""
+    warnings.simplefilter("always", LongRunWarning)
+    warnings.simplefilter("always", MaterialWarning)
+    warnings.simplefilter("always", SceneWarning)
+    _SAID.clear()  # once per command (tests call main many times in one process)
+
+    def one_line(message, category, filename, lineno, file=None, line=None):
+        text = " ".join(str(message).split())  # one line, whatever the warning's author wrapped
+        if text not in _SAID:
+            _SAID.add(text)
+            print(f"{prog}: warning: {text}", file=sys.stderr)
+
+    warnings.showwarning = one_line
