@@ -24,6 +24,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
+from mol_shell._core import interrupts
 from mol_shell._core.errors import ParameterError, show
 
 #: temporary directories are ``.<name>.<pid>.<random>.part`` next to the target
@@ -222,6 +223,7 @@ def write_text(path, text):
     """``Path(path).write_text(text)``, atomically (a report beside a netCDF file)."""
     with atomic_path(path) as tmp:
         Path(tmp).write_text(text)
+    interrupts.wrote(path)  # an interrupt from here on: said after writing it
     return Path(path)
 
 

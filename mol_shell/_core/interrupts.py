@@ -41,6 +41,10 @@ import threading
 SIGNALS = (signal.SIGINT, signal.SIGTERM)
 #: ``[signal number]`` of the SIGTERM that ended this command, once one has arrived (:func:`terminated`)
 _TERMINATED = []
+#: the files this command has written whole (:func:`wrote`): how many, and the last :data:`NAMED` of them
+_WRITTEN = [0, []]
+#: the files named in what a command an interrupt stopped says it kept (:func:`kept_files`)
+NAMED = 3
 
 
 class Watch:
@@ -70,6 +74,23 @@ def terminated():
     """Whether a SIGTERM stopped this command (:func:`watched` with ``terminating``): it exits as one it ended, 143,
     after keeping what it had, as Ctrl-C's 130."""
     return bool(_TERMINATED)
+
+
+def wrote(path):
+    """Note that ``path``, an output, has been written whole (renamed onto its name): a command that an interrupt stops
+    after it says that it kept it (:func:`kept_files`), wherever the interrupt lands."""
+    _WRITTEN[0] += 1
+    _WRITTEN[1] = [*_WRITTEN[1], os.fspath(path)][-NAMED:]
+
+
+def kept_files():
+    """What this command has written whole (:func:`wrote`), as said after ``interrupted``: ``"after writing a.nc"``,
+    ``"after writing a.nc and a.png"``, ``"after writing 12 files, the last a.nc, b.nc and c.nc"``; ``""`` for none."""
+    count, names = _WRITTEN
+    if not count:
+        return ""
+    listed = names[0] if len(names) == 1 else ", ".join(names[:-1]) + f" and {names[-1]}"
+    return f"after writing {listed}" if count == len(names) else f"after writing {count} files, the last {listed}"
 
 
 def _install(watch, terminating=False):
@@ -147,8 +168,9 @@ def watched(raising=False, terminating=False):
     :func:`terminated` then says that one arrived). A signal that an enclosing watch noted already counts as caught
     (its ``KeyboardInterrupt`` was lost on the way: the command went on into this block). A signal noted is not passed
     on: the block has acted on it (a run ends ``"interrupted"``, keeping its data)."""
-    if terminating:
-        _TERMINATED.clear()  # a new command (tests run many in one process)
+    if terminating:  # a new command (tests run many in one process)
+        _TERMINATED.clear()
+        _WRITTEN[:] = [0, []]
     watch = Watch(raising)
     installed = _install(watch, terminating)
     for outer in watch.previous.values():
@@ -161,7 +183,7 @@ def watched(raising=False, terminating=False):
             _restore(watch)
 
 
-__all__ = ["Watch", "held", "terminated", "watched"]
+__all__ = ["Watch", "held", "kept_files", "terminated", "watched", "wrote"]
 
 
 def started_as_command():

@@ -41,11 +41,12 @@ import warnings
 
 import numpy as np
 
+from mol_shell._core import interrupts
 from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, scalar
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell.analysis.equilibria import EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, no_branch_reason, switch
-from mol_shell.analysis.path_dataset import path_dataset
+from mol_shell.analysis.path_dataset import interrupted_at_end, path_dataset
 from mol_shell.analysis.path_inputs import check_inputs
 from mol_shell.analysis.path_record import PathRecord
 from mol_shell.analysis.path_secant import secant_start
@@ -460,13 +461,16 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         record.truncate()
         status, message = "interrupted", (f"interrupted by the user at {parameter} = {record.lams[-1]:.6g} "
                                           f"{eq.units}")
-    if branch is not None and record.branch == 0:
-        message += f"; no switch: critical point {branch} was not reached ({len(record.points)} found)"
-    if no_switch is not None:
-        message += f"; no switch: {no_switch}"
-    if record.bar is not None:
-        record.bar.close()
-    ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)
+    with interrupts.watched() as watch:  # the steps are the path from here: a Ctrl-C is noted, the path kept
+        if branch is not None and record.branch == 0:
+            message += f"; no switch: critical point {branch} was not reached ({len(record.points)} found)"
+        if no_switch is not None:
+            message += f"; no switch: {no_switch}"
+        if record.bar is not None:
+            record.bar.close()
+        ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)
+    if watch.caught:  # as it was assembled: written, said interrupted (exit 130)
+        ds = interrupted_at_end(ds)
     if "ellipticity_warning" in ds.attrs:
         warnings.warn(ds.attrs["ellipticity_warning"], MaterialWarning, stacklevel=2)
     return ds

@@ -180,3 +180,16 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     # replaced, not unused)
     say_scene_warnings(scene, attrs, parameter=eq.parameter, stacklevel=3)
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs=with_units(attrs))  # zeta1_used's too
+
+
+def interrupted_at_end(ds):
+    """The path ``ds`` as one that a Ctrl-C (or the command line's SIGTERM) stopped after its last step, as its
+    Dataset was assembled: its steps all kept, ``status`` ``"interrupted"`` and the message saying where (a path
+    interrupted as it stepped has that already)."""
+    if ds.attrs["status"] == "interrupted":
+        return ds
+    last = float(ds.parameter[-1])
+    ds.attrs.update(status="interrupted", complete=0,
+                    message=f"interrupted by the user at {ds.attrs['parameter']} = {last:.6g} "
+                    f"{ds.attrs['parameter_units']}, after the path's last step ({ds.attrs['message']})")
+    return ds

@@ -14,7 +14,15 @@ import warnings
 from mol_shell._core import interrupts
 from mol_shell._core.atomic import NoSpaceError
 from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, by_interrupt, show
-from mol_shell.cli.args import EXIT_INCOMPLETE, EXIT_INTERNAL, EXIT_PIPE, EXIT_USAGE, interrupted_code
+from mol_shell.cli.args import (
+    EXIT_INCOMPLETE,
+    EXIT_INTERNAL,
+    EXIT_INTERRUPTED,
+    EXIT_PIPE,
+    EXIT_TERMINATED,
+    EXIT_USAGE,
+    interrupted_code,
+)
 from mol_shell.cli.inputs import said_with_the_file
 from mol_shell.runs.resources import LongRunWarning
 
@@ -68,19 +76,35 @@ class _Guarded:
 def guarded(command, *args, prog="mol-shell"):
     """``command(*args)`` with the command line's watch on Ctrl-C and SIGTERM, and its standard streams guarded: an
     output that cannot be written is one line, exit code 2 (:func:`_unwritable`). The studies' scripts run so too
-    (:mod:`mol_shell.cli.scripts`)."""
+    (:mod:`mol_shell.cli.scripts`).
+
+    A Ctrl-C (or SIGTERM) that arrives at any point before the command returns ends it 130 (143) with one line saying
+    what it kept (:func:`_interrupted_late`): also one that lands as the command returns, after its own handling (it
+    escaped, or was noted as the watch was put back and the command exited 0 with its file written)."""
     streams = sys.stdout, sys.stderr
     sys.stdout, sys.stderr = (None if stream is None else _Guarded(stream, name)
                               for stream, name in zip(streams, ("standard output", "standard error")))
+    watch = None
     try:
         # Ctrl-C raises as usual, and is noted where a C call loses it; a SIGTERM (a scheduler's time limit) too
-        with interrupts.watched(raising=True, terminating=True):
-            return command(*args)
+        with interrupts.watched(raising=True, terminating=True) as watch:
+            code = command(*args)
     except OutputError as exc:
-        failed = exc
+        return _unwritable(exc, prog, streams)
+    except KeyboardInterrupt as exc:  # landed after the command's own handling, as it returned
+        code = _interrupted_late(exc, prog, streams)
+    else:
+        if watch.caught and code not in (EXIT_INTERRUPTED, EXIT_TERMINATED):  # noted, not raised: as it returned
+            code = _interrupted_late(KeyboardInterrupt(), prog, streams)
     finally:
         sys.stdout, sys.stderr = streams
-    return _unwritable(failed, prog)
+    return code
+
+
+def _interrupted_late(exc, prog, streams):
+    """:func:`said` of an interrupt that arrived as a command returned, on the command's own standard error."""
+    sys.stdout, sys.stderr = streams
+    return said(exc, prog=prog)
 
 
 def said(exc, args=None, created=(), prog="mol-shell"):
@@ -93,8 +117,8 @@ def said(exc, args=None, created=(), prog="mol-shell"):
         remove_empty(created)
         print(f"{prog}: error: {said_with_the_file(args, exc)}", file=sys.stderr)
         return EXIT_USAGE
-    if isinstance(exc, KeyboardInterrupt):  # its text: what was kept ("after writing run.nc": a write is never cut short)
-        print(f"{prog}: {_interrupted()}{' ' if str(exc) else ''}{exc}", file=sys.stderr)
+    if isinstance(exc, KeyboardInterrupt):  # what was kept ("after writing run.nc": a write is never cut short)
+        print(f"{prog}: {_interrupted()}{_kept(exc)}", file=sys.stderr)
         return interrupted_code()
     if isinstance(exc, NoSpaceError):  # a full disk: not a bug, and nothing half-written (mol_shell._core.atomic.staged)
         remove_empty(created)
@@ -106,7 +130,7 @@ def said(exc, args=None, created=(), prog="mol-shell"):
     if isinstance(exc, OutputError):  # said by main, once the streams are the command's own again
         raise exc
     if by_interrupt(exc):  # a Ctrl-C that arrived inside a C extension's call
-        print(f"{prog}: {_interrupted()}", file=sys.stderr)
+        print(f"{prog}: {_interrupted()}{_kept(KeyboardInterrupt())}", file=sys.stderr)
         return interrupted_code()
     if os.environ.get("MOL_SHELL_TRACEBACK"):
         raise exc
@@ -119,6 +143,13 @@ def said(exc, args=None, created=(), prog="mol-shell"):
 def _interrupted():
     """What stopped a command: ``interrupted`` (Ctrl-C), or ``terminated (SIGTERM)``."""
     return "terminated (SIGTERM)" if interrupts.terminated() else "interrupted"
+
+
+def _kept(exc):
+    """`` after writing a.nc``: what a command that ``exc`` (a ``KeyboardInterrupt``) stopped kept, the files it had
+    written whole (:func:`mol_shell._core.interrupts.kept_files`; else the interrupt's own text), ``""`` for none."""
+    text = interrupts.kept_files() or str(exc)
+    return f" {text}" if text else ""
 
 
 def _no_space(args, exc):
@@ -138,9 +169,12 @@ def _reader_gone():
     return EXIT_PIPE
 
 
-def _unwritable(exc, prog="mol-shell"):
+def _unwritable(exc, prog="mol-shell", streams=None):
     """Standard output or error could not be written (``> /dev/full``): one line on stderr, when that is not the
-    stream that failed, and exit code 2, as for an ``-o`` that cannot be written."""
+    stream that failed, and exit code 2, as for an ``-o`` that cannot be written (``streams``: the command's own
+    ``stdout, stderr``, put back first)."""
+    if streams is not None:
+        sys.stdout, sys.stderr = streams
     if exc.stream == "standard error":
         _to_devnull(sys.stderr)
         return EXIT_USAGE

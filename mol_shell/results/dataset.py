@@ -325,8 +325,10 @@ def write_netcdf(ds, path):
             other = int(np.prod([ds.sizes[d] for d in var.dims if d != "time"], dtype=np.int64))
             block = max(1, min(ds.sizes["time"], 2**17 // max(other, 1)))
             encoding.setdefault(name, {})["chunksizes"] = tuple(block if d == "time" else ds.sizes[d] for d in var.dims)
-    with interrupts.held(f"after writing {path}"), atomic_path(path) as tmp:  # a killed run: the previous file
-        ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding, unlimited_dims=unlimited)
+    with interrupts.held(f"after writing {path}"):
+        with atomic_path(path) as tmp:  # a killed run: the previous file
+            ds.to_netcdf(tmp, engine="netcdf4", format="NETCDF4", encoding=encoding, unlimited_dims=unlimited)
+        interrupts.wrote(path)  # an interrupt from here on: said after writing it
 
 
 def _netcdf_attrs(ds):

@@ -9,6 +9,7 @@ import warnings
 
 import numpy as np
 
+from mol_shell._core import interrupts
 from mol_shell._core.constants import RTOL_RANGE, stated_up  # noqa: F401  (RTOL_RANGE: simulate's range)
 from mol_shell._core.errors import ParameterError, SceneWarning, is_number, scalar
 from mol_shell._core.progress import progress_mode, time_meter
@@ -33,6 +34,7 @@ from mol_shell.runs.building import (  # noqa: F401
 )
 from mol_shell.runs.checks import check_start_inside_limits, checked_spectrum, initial_state
 from mol_shell.runs.ellipticity import check_ellipticity
+from mol_shell.runs.post_run import cut_short, kept
 from mol_shell.runs.statics import static_equilibrium, unstable_directions
 from mol_shell.runs.unshearable import simulate_unshearable
 from mol_shell.scenes import UNSHEARABLE_INTEGRATORS, CylinderScene, Unshearable
@@ -223,8 +225,12 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
             raise ParameterError("initial", "given", "None for the unshearable scene (its own formulation)")
         ds = simulate_unshearable(scene, n=n, times=times, t_end=t_end, constrained=integrator == "ida",
                                   progress=progress, **options)
-        ds = _scene_warnings(scene, ds)  # its stresses as any run's (the constraint's torque in axial_torque)
-        return ds if stresses is False else _with_stresses(ds, limit=None if stresses else MAX_SAMPLES)
+        with interrupts.watched() as watch:  # a Ctrl-C from here on keeps the run (mol_shell.runs.post_run)
+            ds = _scene_warnings(scene, ds)  # its stresses as any run's (the constraint's torque in axial_torque)
+            if stresses is not False:
+                with cut_short(watch):
+                    ds = _with_stresses(ds, limit=None if stresses else MAX_SAMPLES)
+        return kept(ds, watch, stresses is not False, ellipticity=False)
     method = INTEGRATORS[integrator](**options)
     deferred = None  # a t_end that is no multiple of a dt given: said once dt is within its stability bound
     if times is None and integrator == "leapfrog":
@@ -275,35 +281,46 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
                                omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)
     bar = time_meter(mode, times[-1])
-    try:
-        traj = method.integrate(system, compiled, y0, times, progress=bar)
-    finally:
-        if bar is not None:
-            bar.close()
-    if traj.status != "complete":
-        warnings.warn(f"run incomplete: {traj.message}; keeping {len(traj.t)} saved times", RuntimeWarning, stacklevel=2)
-    velocities, totals = observe(system, traj.y, traj.t)
-    attrs = {"integrator": integrator, **method.settings(), **system.graph_stats()}
-    for name in declared(type(method)):  # every option, so that the file says how to run it again
-        if name not in attrs and f"{name}_option" not in attrs:
-            attrs[name] = getattr(method, name)
-    attrs.update({
-        "build_time_s": build_time,
-        "omega_max_rad_s": omega_max,
-        "max_damping_rate": damping,
-        "units_max_damping_rate": "s-1",
-        "leapfrog_dt_bound_s": 1.0 / omega_max,
-        "initial_state": start_info,
-        "t_end_requested": float(times[-1]),  # the end asked for: a run that stops early holds only what it reached
-    })
-    if stability_note:
-        attrs["stability_warning"] = stability_note
-    ds = build_dataset(system, scene, traj, velocities, totals, attrs, requested, given=initial is not None)
-    ds = _scene_warnings(scene, ds)
-    ds = check_ellipticity(system, ds)
-    if stresses is not False:
-        ds = _with_stresses(ds, limit=None if stresses else MAX_SAMPLES)
-    return ds
+    # a Ctrl-C raised as ever until the run has its states, noted from there on: what follows keeps them, cut short
+    # (mol_shell.runs.post_run)
+    with interrupts.watched(raising=True) as watch:
+        try:
+            traj = method.integrate(system, compiled, y0, times, progress=bar)
+        finally:
+            watch.raising = False
+            if bar is not None:
+                bar.close()
+        if traj.status == "interrupted":  # by any signal so far (one lost in the set-up too): what follows as ever
+            watch.caught = False
+        if traj.status != "complete":
+            warnings.warn(f"run incomplete: {traj.message}; keeping {len(traj.t)} saved times", RuntimeWarning,
+                          stacklevel=2)
+        velocities, totals = observe(system, traj.y, traj.t)
+        attrs = {"integrator": integrator, **method.settings(), **system.graph_stats()}
+        for name in declared(type(method)):  # every option, so that the file says how to run it again
+            if name not in attrs and f"{name}_option" not in attrs:
+                attrs[name] = getattr(method, name)
+        attrs.update({
+            "build_time_s": build_time,
+            "omega_max_rad_s": omega_max,
+            "max_damping_rate": damping,
+            "units_max_damping_rate": "s-1",
+            "leapfrog_dt_bound_s": 1.0 / omega_max,
+            "initial_state": start_info,
+            "t_end_requested": float(times[-1]),  # the end asked for: a run that stops early holds only what it
+            # reached
+        })
+        if stability_note:
+            attrs["stability_warning"] = stability_note
+        ds = build_dataset(system, scene, traj, velocities, totals, attrs, requested, given=initial is not None)
+        ds = _scene_warnings(scene, ds)
+        if not watch.caught:
+            with cut_short(watch):
+                ds = check_ellipticity(system, ds)
+        if stresses is not False and not watch.caught:
+            with cut_short(watch):
+                ds = _with_stresses(ds, limit=None if stresses else MAX_SAMPLES)
+    return kept(ds, watch, stresses is not False)
 
 
 #: how ``attrs["stresses"]`` of a run begins whose stresses' kernel found no space in ``MOL_SHELL_CACHE``

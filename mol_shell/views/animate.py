@@ -282,6 +282,7 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
                 _write_mp4(tmp, path, render, count, fps, meter)
             else:
                 _write_gif(tmp, render, count, fps, meter)
+        interrupts.wrote(path)  # an interrupt from here on: said after writing it
     finally:
         plt.close(fig)
         if meter is not None:

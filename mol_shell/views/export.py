@@ -28,6 +28,7 @@ from xml.etree import ElementTree as ET
 
 import numpy as np
 
+from mol_shell._core import interrupts
 from mol_shell._core.atomic import keep_inputs, staged
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import check_lengths, writable_path
@@ -213,6 +214,7 @@ def export(ds, path, n_phi=N_PHI, faces=False):
         if incomplete_note(ds.attrs):  # the series of a run that stopped early says so, as its figures do
             mark(stage / path.name, f"mol_shell run of scene {ds.attrs.get('scene', '')} "
                  f"[{incomplete_note(ds.attrs)}]: its last saved time is where it stopped")
+    interrupts.wrote(path)  # an interrupt from here on: said after writing it (and its steps beside it)
     return [path.parent / f.name for f in written]
 
 

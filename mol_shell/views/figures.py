@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mol_shell._core import interrupts
 from mol_shell._core.atomic import atomic_path
 from mol_shell._core.errors import is_number
 from mol_shell._core.paths import writable_path
@@ -59,6 +60,7 @@ def save_figure(fig, path, dpi=120):
     try:
         with atomic_path(path) as tmp:
             fig.savefig(tmp, dpi=dpi, format=suffix)
+        interrupts.wrote(path)  # an interrupt from here on: said after writing it
     finally:
         plt.close(fig)
 
