@@ -22,11 +22,11 @@ import casadi as ca
 import numpy as np
 
 from mol_shell._core.atomic import atomic_path
-from mol_shell._core.errors import ParameterError
 from mol_shell._core.units import show_seconds
 from mol_shell.discretization import kernel_cache
 from mol_shell.discretization.kernel_cache import CompilerError, CompilerMissing, cache_dir  # also re-exported
 from mol_shell.discretization.rk_driver import RK_DRIVER
+from mol_shell.discretization.threads import checked_threads, default_threads  # also re-exported
 
 #: -fno-semantic-interposition lets gcc inline CasADi's exported helpers (``casadi_sq``; calls through the PLT
 #: otherwise): 10 % of an RHS evaluation. -O3 -march=native (this machine's vector units and fused
@@ -43,19 +43,6 @@ CASADI_SYMBOL_EXPORT void ms_set_threads(int k) { ms_threads = k > 0 ? k : 1; }
 CASADI_SYMBOL_EXPORT int ms_get_threads(void) { return ms_threads; }
 """
 
-
-def default_threads():
-    """Threads for the compiled right-hand side: ``$MOL_SHELL_THREADS``, else all cores."""
-    text = os.environ.get("MOL_SHELL_THREADS", "").strip()
-    if text:
-        try:
-            value = int(text)
-        except ValueError:
-            value = 0
-        if value < 1:
-            raise ParameterError("MOL_SHELL_THREADS", text, "integers >= 1")
-        return value
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
 _DRIVER = r"""
 /* ---- mol_shell leap-frog driver: y(k+1) = y(k-1) + 2 dt f(y(k)) ---- */
@@ -195,7 +182,11 @@ def compile_cached(source, prefix, flags=CFLAGS, what=None, link=()):
         problem = kernel_cache.damage(lib, key)  # another process may have built it while this one waited
         if problem is None:
             return lib
-        if problem != kernel_cache.MISSING:
+        if problem == kernel_cache.DIRECTORY:  # an empty one is removed, another refused by name
+            kernel_cache.clear_directory(lib)
+            _announce(f"note: an empty directory {lib.name} stood in {folder} where a library goes; removed it, "
+                      "compiling the library")
+        elif problem != kernel_cache.MISSING:
             _announce(f"note: the cached {lib.name} in {folder} is damaged ({problem}); compiling it again")
         kernel_cache.sweep(folder)  # what killed builds left here
         start = time.perf_counter()
@@ -328,8 +319,7 @@ class CompiledRHS:
         """Threads for the cell and node kernels (``None``: :func:`default_threads`); 1 when the RHS is serial."""
         if threads is None:
             threads = default_threads()
-        if not (isinstance(threads, (int, np.integer)) and not isinstance(threads, bool) and threads >= 1):
-            raise ParameterError("threads", threads, "integers >= 1")
+        threads = checked_threads("threads", threads)
         #: the threads asked for (the leap-frog stencil of :mod:`mol_shell.discretization.stencil` takes them too)
         self.requested_threads = int(threads)
         if self._lib is not None:

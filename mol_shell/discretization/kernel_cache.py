@@ -28,6 +28,7 @@ import os
 import platform
 import re
 import shutil
+import stat
 import subprocess
 import tempfile
 import time
@@ -189,12 +190,20 @@ def seal(path, key):
 
 #: :func:`damage`'s answer for a library not in the cache
 MISSING = "missing"
+#: :func:`damage`'s answer for a directory where the library goes (:func:`clear_directory` before a build)
+DIRECTORY = "a directory, not a library"
 
 
 def damage(path, key):
     """``None`` if the library at ``path`` is whole (its record names ``key``, its size and its digest), :data:`MISSING`
-    if there is none, else why it is not (a short phrase, for the note that it is compiled again)."""
+    if there is none, :data:`DIRECTORY` for a directory there, else why it is not (a short phrase, for the note that it
+    is compiled again). Not a regular file (a FIFO, which ``open`` would wait on forever) is said without opening it."""
     try:
+        if stat.S_ISDIR(os.lstat(path).st_mode):
+            return DIRECTORY
+        mode = os.stat(path).st_mode
+        if not stat.S_ISREG(mode):
+            return "not a regular file (a FIFO, a socket or a device)"
         with open(path, "rb") as f:
             size = os.fstat(f.fileno()).st_size
             if size < RECORD_BYTES:
@@ -215,6 +224,18 @@ def damage(path, key):
     except OSError as exc:
         return f"it cannot be read: {exc.strerror or exc}"
     return None
+
+
+def clear_directory(path):
+    """Remove the directory at ``path`` where a library goes (the rename of a build cannot replace it), if it is
+    empty; one that is not, or cannot be removed, is refused naming ``MOL_SHELL_CACHE`` and the path (nothing of
+    it removed, nothing built)."""
+    try:
+        os.rmdir(path)
+    except OSError as exc:
+        why = "not empty" if exc.errno in (errno.ENOTEMPTY, errno.EEXIST) else exc.strerror or str(exc)
+        raise refusal(path.parent, f"holds a directory where a library goes ({path}: {why})",
+                      "a writable directory whose libraries are files (remove that directory)") from None
 
 
 @contextlib.contextmanager

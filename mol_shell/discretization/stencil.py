@@ -27,7 +27,8 @@ import casadi as ca
 import numpy as np
 
 from mol_shell.discretization.cells import sample_trigs
-from mol_shell.discretization.compiled import CFLAGS, CompilerMissing, default_threads, load_cached
+from mol_shell.discretization.compiled import CFLAGS, CompilerMissing, load_cached
+from mol_shell.discretization.threads import checked_threads, default_threads
 from mol_shell.model.material import svk_turning_limit
 
 #: the SX operations the emitter writes as C (each exactly as CasADi's own code generator does)
@@ -295,10 +296,10 @@ class StencilLeapfrog:
         dptr = np.ctypeslib.ndpointer(dtype=np.float64, flags="C_CONTIGUOUS")
         fn.argtypes = [dptr, dptr, ctypes.c_longlong, ctypes.c_double, ctypes.c_int, ctypes.c_int, ctypes.c_int,
                        dptr, dptr, dptr]
-        self.threads = default_threads() if threads is None else int(threads)
+        self.threads = default_threads() if threads is None else checked_threads("threads", threads)
 
     def set_threads(self, threads):
-        self.threads = int(threads)
+        self.threads = checked_threads("threads", threads)
 
     def leapfrog(self, ya, yb, nsteps, dt, t=0.0):
         """Advance ``(y_{k-1}, y_k)`` in place by up to ``nsteps`` steps; returns ``(steps taken, stopped)``."""

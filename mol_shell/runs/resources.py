@@ -32,6 +32,8 @@ from mol_shell.results.stresses import MAX_SAMPLES
 #: environment variable: the memory a run may use, bytes (suffixes k, M, G, T; powers of 1024), instead of the
 #: machine's available memory (for tests, and for a share of a machine)
 MEMORY_ENV = "MOL_SHELL_MEMORY"
+#: intervals between the saved times of a run given no times (:func:`mol_shell.runs.building.parse_times`)
+DEFAULT_INTERVALS = 10
 #: a run projected to take longer than this (s) is announced before it starts
 LONG_RUN_S = 3600.0
 BYTES = 8
@@ -249,13 +251,14 @@ def estimate(n, n_times, t_end, integrator="leapfrog", *, fields=5, dt=None, ome
 
 
 def check_memory(est, *, times_name="times", times_value=None, n_name="n", what="the run", kept="saved times",
-                 fewer="save fewer times (--times)", offset=0):
+                 fewer="save fewer times (--times)", offset=0, default_times=False):
     """Refuse a run whose memory estimate exceeds what is available; the message names the estimate and the fix.
 
     The saved times (``times_name``; None: never) are named when fewer of them would fit (at least two), else the
     nodes. ``what`` is the work the message speaks of, ``kept`` what its states are; ``fewer`` the advice for
     fewer of them, ``offset`` how many states the named parameter does not count (a path's start: ``max_steps + 1``
-    states).
+    states). ``default_times``: the saved times are the default (:data:`DEFAULT_INTERVALS` intervals, no ``times``
+    given), said as such. Where ``$MOL_SHELL_MEMORY`` set the memory available, the advice names it too.
     """
     available, source = available_memory()
     if est.memory_bytes <= available:
@@ -272,17 +275,23 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n", what=
     need = (f"needs about {show_bytes(est.memory_bytes)} (the output alone {show_bytes(est.output_bytes)}: "
             f"{est.n_times:.4g} {kept} x {est.n} nodes x {OUTPUT_PER_NODE} values x 8 bytes), "
             f"{show_bytes(available)} available ({source})")
+    more = f", or a larger {MEMORY_ENV}" if source == f"${MEMORY_ENV}" else ""
     if fits >= 2 + offset and times_name is not None:
         value = times_value if times_value is not None else f"<{est.n_times} saved times>"
         allowed = f"at most {fits - offset:,} {'steps' if offset else kept} at n = {est.n}"
-        raise ParameterError(times_name, value, allowed, hint=f"{what} {need}; {fewer} or use fewer nodes (--n)")
+        if default_times:  # no times given: not said as if they had been
+            fewer = f"save fewer times (--times; the default is {DEFAULT_INTERVALS} intervals to t_end)"
+        message = (f"{times_name} = the default {est.n_times} saved times (none given) is outside {allowed}"
+                   if default_times else None)
+        raise ParameterError(times_name, value, allowed, hint=f"{what} {need}; {fewer} or use fewer nodes (--n){more}",
+                             message=message)
     per_node = (est.memory_bytes - BUILD_BYTES_FIXED) / est.n
     max_n = int((available - BUILD_BYTES_FIXED) / per_node) if available > BUILD_BYTES_FIXED else 0
     raise ParameterError(n_name, est.n,
                          f"integers 3..{max(max_n, 3):,} on this machine with "
                          + (f"{est.n_times:,} {kept}" if est.n_times < 1e15 else f"{est.n_times:.3g} {kept}"),
                          hint=f"{what} {need}; use fewer nodes (--n)" + (" or save fewer times (--times)"
-                                                                        if times_name == "times" else ""))
+                                                                        if times_name == "times" else "") + more)
 
 
 def dense_refusal(est, available, source, what="the run"):
@@ -340,10 +349,20 @@ def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, ti
     a dense linear solver's matrices too), warn about what takes over an hour."""
     check_nodes(n)
     est = estimate(n, len(times), times[-1], integrator, fields=fields, dt=dt, method=method)
-    check_memory(est, times_value=times_value)
+    check_memory(est, times_value=times_value, default_times=times_value is None and default_times(times, dt))
     if not warn_if_long(est):
         warn_if_long_build(est)
     return est
+
+
+def default_times(times, dt=None):
+    """Whether ``times`` are the saved times a run takes when none are given: :data:`DEFAULT_INTERVALS` even
+    intervals from 0 to the last (to a step ``dt`` of a fixed-step run, whose times are whole steps)."""
+    times = np.asarray(times, dtype=float)
+    if len(times) != DEFAULT_INTERVALS + 1 or not times[-1] > 0:
+        return False
+    even = np.linspace(0.0, times[-1], DEFAULT_INTERVALS + 1)
+    return bool(np.all(np.abs(times - even) <= 1e-9 * times[-1] + (dt or 0.0)))
 
 
 def warn_if_long_build(est, each=""):

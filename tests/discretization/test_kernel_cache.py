@@ -321,3 +321,59 @@ def test_the_lock_file_is_opened_for_writing_where_it_can_be(tmp_path, monkeypat
     with kernel_cache.locked(tmp_path / ".x.lock"):
         pass
     assert opened == [os.O_RDWR]
+
+
+def _value(path):
+    f = ctypes.CDLL(str(path)).dir_value
+    f.restype = ctypes.c_double
+    return f()
+
+
+@pytest.mark.parametrize("prefix", ["rhs", "funcs", "stencil", "sundials"])
+def test_an_empty_directory_where_a_library_goes_is_removed_and_the_library_built(tmp_path, monkeypatch, capsys,
+                                                                                 prefix):
+    """``mkdir $MOL_SHELL_CACHE/rhs_<key>.so`` was an internal IsADirectoryError from the rename of the build (exit 1),
+    for every kind of library (all are loaded through ``load_cached``). The empty directory is now removed, with one
+    note, and the library built in its place: its value 3 / 8, no temporary folder left."""
+    monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path))
+    source = f"double dir_value(void) {{ return 3.0 / 8.0; }} /* {prefix} */\n"
+    lib, _ = compiled.kernel_cache.library(source, prefix, compiled.CFLAGS)
+    lib.mkdir()
+    path, v = compiled.load_cached(source, prefix, compiled.CFLAGS, _value)
+    assert path == lib and lib.is_file() and v == 0.375
+    assert capsys.readouterr().err == (f"mol-shell: note: an empty directory {lib.name} stood in {tmp_path} where a "
+                                       "library goes; removed it, compiling the library\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([f".{lib.stem}.lock", "builds.log", lib.name])
+
+
+def test_a_directory_with_files_where_a_library_goes_is_refused_naming_the_cache_and_it(tmp_path, monkeypatch):
+    """One that holds files is not removed: one line naming MOL_SHELL_CACHE and the directory (exit 2 on the
+    command line), its file kept, nothing built, no temporary folder left."""
+    monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path))
+    source = "double dir_value(void) { return 1.0; }\n"
+    lib, _ = compiled.kernel_cache.library(source, "rhs", compiled.CFLAGS)
+    lib.mkdir()
+    (lib / "mine.txt").write_text("kept")
+    with pytest.raises(ParameterError, match=f"^MOL_SHELL_CACHE = '{tmp_path}' holds a directory where a library goes "
+                                             f"\\({lib}: not empty\\); allowed: .*remove that directory"):
+        compiled.load_cached(source, "rhs", compiled.CFLAGS, _value)
+    assert (lib / "mine.txt").read_text() == "kept"
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([f".{lib.stem}.lock", lib.name])
+
+
+def test_a_fifo_where_a_library_goes_is_replaced_not_waited_on(tmp_path, monkeypatch, capsys):
+    """A FIFO under a library's name: its check opened it and waited for a writer forever; it is now said to be no
+    regular file and the library is built in its place (the rename replaces it)."""
+    monkeypatch.setenv("MOL_SHELL_CACHE", str(tmp_path))
+    source = "double dir_value(void) { return 5.0 / 4.0; }\n"
+    lib, _ = compiled.kernel_cache.library(source, "stencil", compiled.CFLAGS)
+    os.mkfifo(lib)
+    previous = signal.signal(signal.SIGALRM, lambda *_: pytest.fail("the FIFO was opened and waited on"))
+    signal.alarm(20)
+    try:
+        path, v = compiled.load_cached(source, "stencil", compiled.CFLAGS, _value)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    assert path == lib and lib.is_file() and v == 1.25
+    assert "is damaged (not a regular file (a FIFO, a socket or a device)); compiling it again" in capsys.readouterr().err

@@ -1,6 +1,8 @@
 """The fast paths against the plain ones: the lean cell kernel against the readable reference kernel, the
 threaded (OpenMP) compiled RHS and leap-frog against the serial ones, and the parallel graph's build cache."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -263,3 +265,23 @@ def test_a_run_and_a_study_do_not_import_dask():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr[-2000:]
     assert out.stdout.split()[-1] == "False"
+
+
+def test_thread_counts_beyond_the_machine_are_refused_by_name(monkeypatch):
+    """MOL_SHELL_THREADS = 100000 (or threads=100000) crashed the process in libgomp (a segmentation fault), 1e20
+    was libgomp's out of memory, 2**31 wrapped round a C int, 10,000 ran 500x slower: above 8 threads per logical
+    CPU each is refused in one line naming it and the range, before a step; 8 per CPU is taken."""
+    from mol_shell._core.errors import ParameterError
+
+    top = 8 * os.cpu_count()
+    for text in ("100000", "1000000", "2147483648", "99999999999999999999", str(top + 1)):
+        monkeypatch.setenv("MOL_SHELL_THREADS", text)
+        with pytest.raises(ParameterError, match=f"^MOL_SHELL_THREADS = '{text}' is outside integers 1 \\.\\. {top} "
+                                                 f"\\(8 x this machine's {os.cpu_count()} logical CPUs; "):
+            default_threads()
+    monkeypatch.setenv("MOL_SHELL_THREADS", str(top))
+    assert default_threads() == top
+    monkeypatch.delenv("MOL_SHELL_THREADS")
+    for bad in (100000, 2**31, top + 1, np.int64(2**40)):  # the build at n = 9 made once (simulate's cache)
+        with pytest.raises(ParameterError, match=f"^threads = {int(bad)} is outside integers 1 \\.\\. {top} "):
+            mol_shell.simulate(TwistedCylinder(), n=9, t_end=1e-4, threads=bad, progress=False, stresses=False)

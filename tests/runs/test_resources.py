@@ -407,3 +407,27 @@ def test_a_script_filters_the_long_run_warning_by_its_name_from_the_package():
         assert resources.warn_if_long(resources.estimate(40, 11, 1e4, "leapfrog", dt=1e-6))  # days of steps: filtered
     for name in ("MaterialWarning", "SceneWarning", "LongRunWarning"):
         assert issubclass(getattr(mol_shell, name), Warning)
+
+
+def test_default_saved_times_that_do_not_fit_are_said_as_the_default(monkeypatch, capsys, tmp_path, no_build):
+    """``MOL_SHELL_MEMORY=287M mol_shell run twisted-cylinder`` (no --times) was refused as ``times = '<11 saved
+    times>' is outside at most 4 saved times``: a parameter never given. The default is said as the default, with
+    what can change: --times, --n, MOL_SHELL_MEMORY. The memory is set for 8.5 of the per-time share of the output
+    (``output x ASSEMBLY_COPIES / times``) above the rest: at most 8 saved times fit."""
+    est = resources.estimate(11, 11, 0.01)
+    per_time = est.output_bytes * resources.ASSEMBLY_COPIES / 11
+    monkeypatch.setenv(resources.MEMORY_ENV, str(int(est.memory_bytes - 2.5 * per_time)))
+    code = main(["run", "twisted-cylinder", "--n", "11", "--t-end", "0.01", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert err.startswith("mol-shell: error: times = the default 11 saved times (none given) is outside at most 8 "
+                          "saved times at n = 11 ("), err
+    assert "'<" not in err and err.rstrip().endswith(
+        "save fewer times (--times; the default is 10 intervals to t_end) or use fewer nodes (--n), or a larger "
+        "MOL_SHELL_MEMORY)"), err
+    # times given are said as given (the same 11 times, typed: the command line's own check, naming --times)
+    code = main(["run", "twisted-cylinder", "--n", "11", "--times", "0:0.01:0.001", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("mol-shell: error: --times = '0:0.01:0.001' is outside at most 8 saved "), err
+    with pytest.raises(ParameterError, match=r"^times = '<12 saved times>' is outside at most 8 saved times at n = 11"):
+        mol_shell.simulate("twisted-cylinder", n=11, times=np.linspace(0.0, 0.011, 12), progress=False)
