@@ -29,6 +29,30 @@ from mol_shell.discretization.stencil import leapfrog_stepper
 from mol_shell.integrators import loop
 from mol_shell.integrators.loop import Option, integers, option, real
 
+#: a time ``t`` is on the step grid of ``dt`` when ``|k dt - t| <= GRID_TOLERANCE[0] dt + GRID_TOLERANCE[1] |t|`` for a
+#: whole ``k`` (a millionth of a step, and round-off of ``t`` itself): saved times and ``t_end`` alike, taken at their
+#: double-precision values (a float32 ``1e-4``, 9.99999975e-05, is 2.5e-6 steps off: refused, saying so)
+GRID_TOLERANCE = (1e-6, 1e-12)
+
+
+def grid_steps(times, dt):
+    """``(steps, off)``: the whole numbers of steps ``dt`` nearest to ``times`` (an array of seconds, at most
+    :attr:`Leapfrog.MAX_STEPS` steps) and where they are off the step grid (:data:`GRID_TOLERANCE`)."""
+    times, dt = np.asarray(times, dtype=float), float(dt)
+    steps = np.rint(times / dt).astype(np.int64)
+    return steps, np.abs(steps * dt - times) > GRID_TOLERANCE[0] * dt + GRID_TOLERANCE[1] * np.abs(times)
+
+
+def off_grid_hint(t, dt):
+    """What a refusal of ``t`` (s) off the grid of ``dt`` adds: how far from its nearest step it is, and where that is
+    within single precision of it (a float32 value's rounding), that double precision is needed."""
+    k = round(t / dt)
+    near = float(f"{k * dt:.12g}")
+    single = abs(k * dt - t) <= np.finfo(np.float32).eps * abs(t)
+    return (f"{t!r} s is {abs(k * dt - t):.3g} s from step {k} at {near!r} s; "
+            + ("a single-precision (float32) value? give it in double precision" if single else
+               f"the grid allows {GRID_TOLERANCE[0]:g} dt + {GRID_TOLERANCE[1]:g} t"))
+
 
 @dataclass(frozen=True)
 class Leapfrog:
@@ -85,11 +109,11 @@ class Leapfrog:
         if not last / self.dt <= self.MAX_STEPS:
             raise ParameterError("times", last, f"[0, {self.MAX_STEPS * self.dt:.4g}] s at dt = {self.dt:g} s",
                                  hint=f"leap-frog counts at most 2^53 = {self.MAX_STEPS:.3g} steps")
-        steps = np.rint(np.asarray(times) / self.dt).astype(np.int64)
-        bad = np.abs(steps * self.dt - times) > 1e-6 * self.dt + 1e-12 * np.abs(times)
+        steps, bad = grid_steps(times, self.dt)
         if bad.any():
-            t = np.asarray(times)[bad][0]
-            raise ParameterError("times", float(t), f"multiples of dt = {self.dt:g} s (leap-frog has a fixed step)")
+            t = float(np.asarray(times, dtype=float)[bad][0])
+            raise ParameterError("times", t, f"multiples of dt = {self.dt:g} s (leap-frog has a fixed step)",
+                                 hint=off_grid_hint(t, self.dt))
         same = np.flatnonzero(np.diff(steps) <= 0)  # 1e-300 after 0: no step between two saved times
         if same.size:
             t = float(np.asarray(times)[same[0] + 1])

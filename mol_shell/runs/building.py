@@ -12,7 +12,7 @@ import time
 import numpy as np
 
 from mol_shell._core.constants import MIN_STEP, stated_up
-from mol_shell._core.errors import ParameterError, is_number
+from mol_shell._core.errors import ParameterError, is_number, kind_of, scalar, show
 from mol_shell.discretization.compiled import CompiledRHS
 from mol_shell.discretization.scales import unit_strain_energy
 from mol_shell.discretization.system import ShellSystem
@@ -91,6 +91,15 @@ _SPACING = (f"at least {_SHORTEST:.5g} s (sqrt of the smallest double: an adapti
             f"below it) and {MIN_INTERVAL_ULPS:g} machine epsilons of the later time apart")
 
 
+def _not_numbers(times):
+    """``[value]``, the first value in ``times`` that is not a number as :func:`mol_shell._core.errors.is_number` has
+    it (a bool, a string, ``None``), or ``[]``: an array of integers or floats is numbers throughout."""
+    if isinstance(times, np.ndarray) and times.dtype.kind in "iuf":
+        return []
+    values = np.asarray(times, dtype=object).ravel().tolist()  # a list's True stays a bool here
+    return [value for value in values if not is_number(scalar(value))][:1]
+
+
 def parse_times(times=None, t_end=None, intervals=10):
     """Saved times as an array starting at 0; ``t_end`` alone gives ``intervals + 1`` evenly spaced times (to 12
     significant digits, so that ``ds.sel(time=...)`` finds the numbers a user would type).
@@ -114,6 +123,10 @@ def parse_times(times=None, t_end=None, intervals=10):
         even = [float(f"{t:.12g}") for t in np.linspace(0.0, float(t_end), intervals + 1)[:-1]]
         return np.array([*even, float(t_end)])
     allowed = "increasing finite times starting at 0, at least two, in one list"
+    odd = [] if isinstance(times, str) else _not_numbers(times)  # a number as t_end's is: a bool or a string is none
+    if odd:  # (True ran to 1 s, '0' to 0 s)
+        raise ParameterError.not_a("times", times, "a list of numbers", allowed,
+                                   hint=f"{show(odd[0])} ({kind_of(odd[0])}) is not a number")
     try:
         if isinstance(times, str):
             raise TypeError

@@ -15,7 +15,8 @@ from mol_shell._core.errors import ParameterError, SceneWarning, is_number, scal
 from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.kernel_cache import CacheFull
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.integrators.loop import declared
+from mol_shell.integrators.leapfrog import grid_steps, off_grid_hint
+from mol_shell.integrators.loop import declared, real
 from mol_shell.integrators.tolerances import ATOL_RANGE, atol_ok
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.loads import check_leapfrog_history
@@ -119,11 +120,15 @@ def check_options(scene, integrator, options, offered=None):
 
 
 def steps_to(t_end, dt):
-    """The whole number of steps ``dt`` that make ``t_end`` (to 1e-9 of it), or 0 if there is none."""
-    if not (is_number(t_end) and is_number(dt) and t_end > 0 and dt > 0 and math.isfinite(t_end / dt)):
+    """The whole number of steps ``dt`` that make ``t_end``, or 0 if there is none: on the step grid as saved times
+    are (:data:`mol_shell.integrators.leapfrog.GRID_TOLERANCE`, at the double-precision value of ``t_end``)."""
+    if not (is_number(t_end) and is_number(dt) and t_end > 0 and dt > 0):
         return 0
-    steps = round(t_end / dt)
-    return steps if steps >= 1 and abs(steps * dt - t_end) <= 1e-9 * t_end else 0
+    t_end, dt = real(t_end), real(dt)
+    if not t_end / dt <= INTEGRATORS["leapfrog"].MAX_STEPS:  # NaN, inf, or more steps than can be counted
+        return 0
+    steps, off = grid_steps([t_end], dt)
+    return int(steps[0]) if steps[0] >= 1 and not off[0] else 0
 
 
 def leapfrog_times(t_end, dt, count=10, dt_given=False):
@@ -142,7 +147,8 @@ def leapfrog_times(t_end, dt, count=10, dt_given=False):
         raise ParameterError("t_end", t_end, f"(0, {most * dt:.4g}] s at dt = {dt:g} s")
     steps = steps_to(t_end, dt)
     if not steps:
-        raise ParameterError("t_end", t_end, f"positive multiples of dt = {dt:g} s (leap-frog has a fixed step)")
+        raise ParameterError("t_end", t_end, f"positive multiples of dt = {dt:g} s (leap-frog has a fixed step)",
+                             hint=off_grid_hint(real(t_end), dt) if t_end / dt >= 0.5 else "")
     marks = np.unique(np.rint(np.linspace(0, steps, min(count, steps) + 1)).astype(np.int64))
     return np.array([float(f"{k * dt:.12g}") for k in marks])
 
@@ -163,7 +169,10 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     t_end : float, optional
         Final time (s); with ``times`` omitted, 11 evenly spaced saved times.
     times : array_like, optional
-        Saved times (s), starting at 0.
+        Saved times (s), starting at 0: numbers (a bool or a string is refused, as in ``t_end``). For leap-frog,
+        each of them and ``t_end`` a whole number of steps ``dt``, to ``1e-6 dt + 1e-12 t``
+        (:data:`mol_shell.integrators.leapfrog.GRID_TOLERANCE`) at its double-precision value (a float32 ``1e-4``
+        is 2.5e-6 steps off, and refused).
     dt : float, optional
         Leap-frog step (s), default :data:`DEFAULT_DT` (1e-6, the paper's); refused beyond the
         stability bound ``1 / max |eig J(y0)|``. Adaptive integrators choose their own steps and
@@ -424,9 +433,11 @@ def starting_state(scene, system, n, initial=None, asked=None):
 def given_state(system, fields, imposed=None):
     """The state vector of ``fields`` (``(5, n)``) at rest; a pole's ``chi`` tied; refused by name unless finite
     and of that shape, with zero in the fields the scene does not move, and (``imposed``: the scene's own initial
-    fields) with the values a pole imposes (``r = 0``, ``theta = theta0``, ``psi = 0``)."""
+    fields) with the values a pole imposes (``r = 0``, ``theta = theta0``, ``psi = 0``), to the precision of the
+    fields given (``4 eps`` of their dtype, at least 1e-9, of the shell's size), and set to them."""
     try:
-        Q = np.array(fields, dtype=float)
+        given = np.asarray(fields)
+        Q = np.array(given, dtype=float)
     except (TypeError, ValueError):
         raise ParameterError.not_a("initial", fields, "an array of numbers", f"(5, {system.n}) finite") from None
     if Q.shape != (5, system.n) or not np.all(np.isfinite(Q)):
@@ -439,18 +450,25 @@ def given_state(system, fields, imposed=None):
                              "fields with r > 0 at every node off the axis (row 1 of initial is r)")
     if imposed is not None:  # a pole's values (r = 0, theta = theta0, psi = 0), which the geometry forces: a state
         # off them broke the pole and ran into a limit (other edges hold what a state has: a path's clamped edges
-        # where it started, a driven edge where it went)
-        scale = max(1.0, float(np.max(np.abs(system.reference))))
+        # where it started, a driven edge where it went); to the precision of the fields given (a float32 array's
+        # theta = pi/2 is 4.4e-8 off, which 1e-9 refused), and set to those values
+        scale = max(1.0, float(np.max(np.abs(system.reference))), float(np.max(np.abs(imposed))))
+        eps = np.finfo(given.dtype).eps if given.dtype.kind == "f" else np.finfo(float).eps
+        tol = max(1e-9, 4.0 * float(eps)) * scale
         poles = np.zeros(system.n, dtype=bool)
         poles[[i for i, edge in ((0, system.edges[0]), (-1, system.edges[1])) if edge == "pole"]] = True
-        wrong = system.imposed.T & poles & (np.abs(Q - imposed) > 1e-9 * scale)
+        held = system.imposed.T & poles
+        wrong = held & (np.abs(Q - imposed) > tol)
         if np.any(wrong):
             k, i = (int(x[0]) for x in np.nonzero(wrong))
             edge = system.edges[0] if i == 0 else system.edges[1]
             unit = "m" if FIELDS[k] in ("z", "r") else "rad"
             raise ParameterError("initial", f"{FIELDS[k]} = {Q[k][i]:.6g} {unit} at s = {system.s[i]:.6g} m",
                                  f"fields with the values the scene's edges impose: {FIELDS[k]} = {imposed[k][i]:.6g} "
-                                 f"{unit} there ({'end1' if i == 0 else 'end2'} is {edge!r})")
+                                 f"{unit} there ({'end1' if i == 0 else 'end2'} is {edge!r})",
+                                 hint=f"{abs(Q[k][i] - imposed[k][i]):.3g} {unit} off; fields given in "
+                                 f"{given.dtype if given.dtype.kind == 'f' else 'float64'} may be {tol:.2g} {unit} off")
+        Q[held] = np.asarray(imposed, dtype=float)[held]
     Q = system.tie(Q)
     try:
         return system.pack(Q, np.zeros_like(Q))

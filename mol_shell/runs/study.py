@@ -25,7 +25,7 @@ import warnings
 import numpy as np
 
 from mol_shell._core.atomic import keep_inputs
-from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
+from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt, scalar
 from mol_shell._core.paths import writable_path
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell._core.version import __version__
@@ -43,6 +43,7 @@ from mol_shell.runs.simulate import (
     DEFAULT_DT,
     as_scene,
     check_options,
+    integrator_options,
     leapfrog_times,
     parse_times,
     simulate,
@@ -51,6 +52,15 @@ from mol_shell.runs.simulate import (
 from mol_shell.runs.study_design import design, label_coords, material_names, scene_fields
 from mol_shell.scenes import Unshearable, with_params
 from mol_shell.scenes.scene_warnings import hush_in_case, say_case_warnings, say_once
+
+#: keywords of :func:`mol_shell.simulate` that a study sets itself for every case, and how
+SET_BY_STUDY = {
+    "threads": "each case runs on one thread; a study shares the cores among its processes, as workers says",
+    "stresses": "each case adds its resultants and stresses as a run does by default, where they are cheap",
+    "initial": "each case starts from its own scene's initial data",
+}
+#: the keywords :func:`study` takes besides the integrator's options
+STUDY_KEYWORDS = ("vary", "integrator", "n", "times", "t_end", "scheduler", "workers", "output", "progress")
 
 #: statuses that are final: stored, and skipped on resume ("interrupted" and "lost" are run again)
 FINAL = ("complete", "limit", "unstable", "refused", "error")
@@ -240,7 +250,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     integrator : str
         As for :func:`mol_shell.simulate`; ``"ida"`` for the unshearable scene.
     n : int
-        Nodes in ``s`` (the same for every case).
+        Nodes in ``s`` (the same for every case): an integer >= 3, refused before any case otherwise.
     times, t_end : optional
         Saved times, the same for every case (``t_end`` alone: 11 times, snapped to ``dt``
         for leap-frog).
@@ -259,7 +269,8 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         stderr is a terminal, else a line every :data:`mol_shell._core.progress.LOG_INTERVAL_S` s of a longer
         study (the cases done, the last one's status) and a last one at its end.
     **options
-        Passed to every run (``dt``, ``rtol``, ``atol``, ...).
+        Passed to every run (``dt``, ``rtol``, ``atol``, ...). :func:`mol_shell.simulate`'s ``threads``,
+        ``stresses`` and ``initial`` are the study's to set (:data:`SET_BY_STUDY`): refused by name.
 
     Notes
     -----
@@ -283,7 +294,9 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     refuse_in_starting_worker()
     start = time.perf_counter()
     scene = resolve_scene(scene)
-    check_options(scene, integrator, options)  # also refuses an unknown integrator
+    check_study_options(scene, integrator, options)  # also refuses an unknown integrator
+    n = scalar(n)
+    resources.check_nodes(n)  # once, before any case (int(n) made 20.9 a study at n = 20, n = 2 a refusal per case)
     if not (isinstance(vary, dict) or (isinstance(vary, (list, tuple)) and all(isinstance(c, dict) for c in vary))):
         raise ParameterError.not_a("vary", vary, "a dict or a list of dicts",
                                    "{name: [values, ...]} (a grid), or [{name: value, ...}, ...] (cases)")
@@ -336,6 +349,20 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     if output is not None:
         write_netcdf(out, output)
     return out
+
+
+def check_study_options(scene, integrator, options):
+    """:func:`check_options` for a study's ``options``, after refusing a keyword of :func:`mol_shell.simulate` that a
+    study sets itself (:data:`SET_BY_STUDY`; ``threads`` was said to be no option of leapfrog), naming the study's
+    keywords and the integrator's options."""
+    for name in options:
+        if name in SET_BY_STUDY:
+            offered = ", ".join(sorted(integrator_options(scene, integrator)))
+            raise ParameterError.invalid(
+                name, options[name], "is a keyword of simulate that a study sets itself",
+                f"study's keywords {', '.join(STUDY_KEYWORDS)} and the options of {integrator} ({offered})",
+                hint=SET_BY_STUDY[name])
+    check_options(scene, integrator, options)
 
 
 def cases_attrs(tasks, results):

@@ -305,8 +305,9 @@ class MeridianShell(_Dilated):
 
     Parameters
     ----------
-    points : str
-        Path of the file of points (``~`` expanded, stored absolute); ``''`` (default): the built-in dome.
+    points : str or os.PathLike
+        Path of the file of points (``~`` expanded, stored absolute; a ``pathlib.Path`` kept as its text); ``''``
+        (default): the built-in dome.
     dilation : float or None
         Initial uniform dilation of the natural shell, in (0.5, 2); ``None`` (default, ``"auto"``): the static
         equilibrium under the loads at ``t = 0`` (the natural shell without loads).
@@ -321,6 +322,8 @@ class MeridianShell(_Dilated):
 
     def _validate(self):
         super()._validate()
+        if isinstance(self.points, os.PathLike) and isinstance(os.fspath(self.points), str):  # a pathlib.Path: as
+            object.__setattr__(self, "points", os.fspath(self.points))  # its text (files and records unchanged)
         if not isinstance(self.points, str):
             raise ParameterError.not_a("points", self.points, "a file name",
                                        "a file with two columns r z (m), at least 4 rows, or '' (a built-in dome)")
