@@ -15,7 +15,11 @@ so that ``T = F S`` integrated through the thickness gives resultants that are e
 integrated energy, as SVK's are (eq. 7.7). For a plane-stress law ``S_22 = 0`` by the condensation
 (``dW/dC_22 = 0``, the envelope theorem); for an incompressible law the substituted ``C_22(C')`` carries the
 pressure: ``S = 2 dW/dC - p C^-1`` with ``p`` such that ``S_22 = 0``; under the director constraint ``S_22`` is the
-reaction of the inextensible director. ``svk-plane-stress`` with fibres keeps SVK's convention ``S_22 = 0``.
+reaction of the inextensible director, which the energy does not give: the resultants (of ``T e1`` and ``T e3``)
+do not use it, and at the faces ``S_22`` is the one that makes the face's
+normal Cauchy stress its traction (``-p`` on the face a pressure acts on, 0 on a free face;
+:func:`~mol_shell.results.stress_samples.held_thickness_stress`). ``svk-plane-stress`` with fibres keeps SVK's
+convention ``S_22 = 0``.
 
 The Cauchy stress at the faces is ``F_l S F_l^T / det F_l`` with ``F_l`` the kinematic ``F`` whose director column is
 multiplied by the law's thickness stretch ``sqrt(C_22)`` (1 under the director constraint; ``svk-plane-stress``'s
@@ -142,7 +146,9 @@ def route_stress(route):
 def energy_stress(law, params, fibres=None, plane=False):
     """``C' -> (S, lambda_3)``: the second Piola-Kirchhoff stress ``2 dW^/dC'`` (nested 3x3) and the thickness stretch.
 
-    ``C'`` nested 3x3 (symmetric) of CasADi expressions. See the module's docstring.
+    ``C'`` nested 3x3 (symmetric) of CasADi expressions. See the module's docstring. Its attribute ``held``: the
+    director holds the thickness, so ``S_22`` is the constraint's reaction (the faces take theirs from the
+    tractions, :func:`~mol_shell.results.stress_samples.held_thickness_stress`).
     """
     sym = {(i, j): ca.SX.sym(f"c{i}{j}") for i in range(3) for j in range(i, 3)}
 
@@ -171,4 +177,5 @@ def energy_stress(law, params, fibres=None, plane=False):
             S[1][1] = 0.0
         return tuple(tuple(row) for row in S), lam3
 
+    stress.held = law.thickness == "director" and not plane  # S_22 the constraint's reaction: the faces' from traction
     return stress

@@ -17,7 +17,7 @@ from mol_shell.discretization.cells import cell_samples as kernel_samples
 from mol_shell.model.hyperelastic import incompressible_viscous_stress
 from mol_shell.model.kinematics import deformation_gradient
 from mol_shell.model.material import green_strain, plane_stress_thickness
-from mol_shell.results.tensors import cauchy_stress, matmul, thickness_stretched
+from mol_shell.results.tensors import cauchy_stress, det3, matmul, thickness_stretched, transpose
 
 
 def reference_cells(s, r0=None, z0=None, theta0=None):
@@ -125,7 +125,7 @@ def resultants_from_integrals(v1, v2, w1, w2, strains, r0):
 
 
 def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0.0, eta_mu=0.0, plane_stress=False,
-                    elastic=None, layers=None, incompressible=False):
+                    elastic=None, layers=None, incompressible=False, tractions=(0.0, 0.0)):
     """Resultants and face stresses of one sample, elastic and viscous parts (CasADi ``SX`` in, ``SX`` out).
 
     Parameters
@@ -155,6 +155,11 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
         The viscous stress of an incompressible law: ``det C = 1`` sets the thickness rate, ``eta_mu`` alone
         (:func:`~mol_shell.model.hyperelastic.incompressible_viscous_stress`; ``eta_lambda, plane_stress`` unused for
         it); else :func:`second_piola` of ``E_t`` with the condensed pair.
+    tractions : pair of float or casadi.SX
+        The normal tractions on the faces ``zeta1`` and ``zeta1 + 2h`` (``-p`` on the face a pressure acts on, 0 on
+        a free one). Where the face's law holds the director (``svk``; a law or layer with ``thickness =
+        "director"``) its thickness stress is the constraint's reaction, not the law's: the face's Cauchy stress
+        takes the one that makes its normal stress the traction (:func:`held_thickness_stress`).
 
     Returns
     -------
@@ -201,11 +206,36 @@ def sample_stresses(strains, rates, ref, zeta1, h, n_quad, lam, mu, eta_lambda=0
                           tuple(x + a * y for x, y in zip(w1, t3)), tuple(x + zeta * a * y for x, y in zip(w2, t3))]
     parts = {kind: resultants_from_integrals(*sums[kind], ca.vertsplit(e), r0) for kind in kinds}
     faces = [stresses(zeta1, layers[0][2]), stresses(zeta1 + 2 * h, layers[-1][2])]
+    for (F, S, _), el, traction in zip(faces, (layers[0][2], layers[-1][2]), tractions):
+        held = (1 - plane_stress) if el is None else float(getattr(el, "held", False))  # 0: the law gives S_22
+        if not (isinstance(held, (int, float)) and held == 0):
+            S.update(held_thickness_stress(F, S, traction, held))
     for kind in kinds:  # the director-constrained SVK's (stretch 1.0): F as it is
         parts["sigma_" + kind] = [cauchy_stress(thickness_stretched(F, stretch) if isinstance(stretch, ca.SX) else F,
                                                 S[kind]) for F, S, stretch in faces]
     strains = ca.vertcat(*strains)
     return {key: _substitute(value, e, strains) for key, value in parts.items()}
+
+
+def held_thickness_stress(F, S, traction, held=1.0):
+    """``S`` (a dict of nested 3x3 by kind) at a face whose thickness stress is the director constraint's reaction.
+
+    The constraint ``C_22 = 1`` is workless for any ``S_22``: the law's value there (``lambda tr E`` for ``svk``) is
+    not the wall's. The face's normal Cauchy stress ``n.sigma.n`` (``n`` the deformed face's normal, along
+    ``F^-T e2``) is ``S_22 / (J (C^-1)_22)``, so the traction ``t`` on the face gives
+    ``S_22 = t J (C^-1)_22 = t (C_11 C_33 - C_13^2) / J`` for the elastic part and 0 for the viscous one; the
+    other entries, and so the in-plane Cauchy stresses (the director is normal to ``c1`` and ``c3``), are kept.
+    ``held`` in ``[0, 1]`` blends with the law's value (a symbolic flag: ``1 - plane_stress``).
+    """
+    C = matmul(transpose(F), F)
+    reaction = traction * (C[0][0] * C[2][2] - C[0][2] * C[0][2]) / det3(F)
+    out = {}
+    for kind, Sk in S.items():
+        target = reaction if kind == "elastic" else 0.0
+        rows = [list(row) for row in Sk]
+        rows[1][1] = rows[1][1] + held * (target - rows[1][1])
+        out[kind] = tuple(tuple(row) for row in rows)
+    return out
 
 
 def _substitute(value, e, strains):
@@ -216,5 +246,5 @@ def _substitute(value, e, strains):
     return ca.substitute(ca.SX(value), e, strains)
 
 
-__all__ = ["cell_samples", "reference_cells", "resultants_from_integrals", "sample_stresses", "second_piola",
-           "svk_stretch", "thickness_rule"]
+__all__ = ["cell_samples", "held_thickness_stress", "reference_cells", "resultants_from_integrals", "sample_stresses",
+           "second_piola", "svk_stretch", "thickness_rule"]

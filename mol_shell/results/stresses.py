@@ -52,6 +52,12 @@ units of ``h(s)`` and ``zeta_face`` the depths. With
 Cauchy stress takes ``F`` with its director column times the 3-D law's thickness stretch ``sqrt(C_22)``
 (:func:`~mol_shell.model.material.plane_stress_thickness`; ``det F = lambda1 lambda2 lambda3``), as the other laws'
 (:mod:`mol_shell.results.law_stresses`); ``svk``'s is 1.
+The stress normal to the wall is each thickness treatment's: 0 in plane stress (``svk-plane-stress`` and the
+plane-stress laws: the condensation) and for an incompressible law (its pressure is the reaction that makes
+``S_22 = 0``); where the director is held (``svk``, a law or layer with ``thickness = "director"``) ``S_22`` is the
+constraint's reaction, and the face takes the one that makes its normal stress the face's traction
+(:mod:`mol_shell.results.face_tractions`: ``-p`` on the face the pressure acts on, 0 on a free face), not the law's
+``lambda tr E`` (:func:`~mol_shell.results.stress_samples.held_thickness_stress`); the in-plane stresses are the law's.
 With Kelvin-Voigt viscosity the stresses include ``S_visc = eta_lambda tr(E_t) I + 2 eta_mu E_t``
 (the pair condensed as the material's elastic one, :func:`~mol_shell.model.material.condensed`; an incompressible
 law's ``S_visc`` is the derivative of its Rayleigh function ``eta_mu E_t : E_t`` with the thickness rate that
@@ -83,6 +89,7 @@ from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.results.cf import coordinates, variables
 from mol_shell.results.constraint_stresses import CONSTRAINT_COMMENT, constraint_torque
 from mol_shell.results.dataset import holdings
+from mol_shell.results.face_tractions import face_parameters, face_tractions
 from mol_shell.results.law_stresses import law_of_attrs, route_law, route_stress, unloadable_law
 from mol_shell.results.stress_samples import cell_samples, reference_cells, sample_stresses
 from mol_shell.results.tensors import principal_stresses, von_mises
@@ -119,7 +126,7 @@ FACES = ("inner", "outer")
 
 # -- the kernel and its evaluation over a run -------------------------------------------------------
 #: kernel inputs after the sample's strains, rates and reference data
-PARAMETERS = ("zeta1", "h", "lam", "mu", "eta_lambda", "eta_mu", "plane_stress")
+PARAMETERS = ("zeta1", "h", "lam", "mu", "eta_lambda", "eta_mu", "plane_stress", "traction_inner", "traction_outer")
 
 
 def route_elastic(route, zeta1, h=None):
@@ -136,7 +143,7 @@ def route_elastic(route, zeta1, h=None):
 
 @functools.lru_cache(maxsize=8)
 def kernel(n_quad, viscous=False, route=None, graded=False):
-    """``(e[8], e_t[8], ref[5], params[7]) -> (resultants[9], sigma[12])``, with ``viscous`` also
+    """``(e[8], e_t[8], ref[5], params[9]) -> (resultants[9], sigma[12])``, with ``viscous`` also
     ``(resultants_viscous[9], sigma_viscous[12])`` (SX).
 
     ``sigma`` holds the six components ``11, 22, 33, 12, 23, 13`` at ``zeta1`` then at ``zeta1 + 2h``.
@@ -148,7 +155,7 @@ def kernel(n_quad, viscous=False, route=None, graded=False):
     material asks). ``graded``: a layered wall's layers scaled to the sample's ``h`` (:func:`route_elastic`).
     """
     e, et, ref, par = ca.SX.sym("e", 8), ca.SX.sym("et", 8), ca.SX.sym("ref", 5), ca.SX.sym("par", len(PARAMETERS))
-    zeta1, h, lam, mu, eta_l, eta_m, plane = ca.vertsplit(par)
+    zeta1, h, lam, mu, eta_l, eta_m, plane, t_inner, t_outer = ca.vertsplit(par)
     elastic, layers, name = None, None, f"ms_stress_q{n_quad}"
     incompressible = route is not None and route[0] != "layers" and route_law(route).thickness == "incompressible"
     if route is not None:
@@ -157,7 +164,8 @@ def kernel(n_quad, viscous=False, route=None, graded=False):
         digest = hashlib.sha256(repr(route).encode()).hexdigest()[:12]  # stable across processes: the C cache
         name = f"ms_stress_{re.sub(r'[^A-Za-z0-9]', '_', route[0])}_{digest}_q{n_quad}" + ("_graded" if graded else "")
     out = sample_stresses(ca.vertsplit(e), ca.vertsplit(et) if viscous else None, ca.vertsplit(ref), zeta1, h, n_quad,
-                          lam, mu, eta_l, eta_m, plane, elastic=elastic, layers=layers, incompressible=incompressible)
+                          lam, mu, eta_l, eta_m, plane, elastic=elastic, layers=layers, incompressible=incompressible,
+                          tractions=(t_inner, t_outer))
     pairs = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (0, 2))
     outputs, names = [], []
     for kind in ("elastic", "viscous") if viscous else ("elastic",):
@@ -180,7 +188,7 @@ class Evaluator:
     which cost 4x the evaluation).
 
     ``evaluator(e, et, ref, par)`` with ``e, et`` ``(M, 8)``, ``ref`` ``(M, 5)`` (``M <= size``),
-    ``par`` ``(7,)`` returns the kernel's outputs as arrays ``(M, 9), (M, 12)`` (twice with
+    ``par`` ``(9,)`` or ``(M, 9)`` returns the kernel's outputs as arrays ``(M, 9), (M, 12)`` (twice with
     ``viscous``): views into the buffer, overwritten by the next call.
     """
 
@@ -343,7 +351,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
     ref = reference_cells(ds["s"].values, _nodal(ds, "r0"), _nodal(ds, "z0"), _nodal(ds, "theta0"))
     lam, mu, eta_lambda, eta_mu, plane, route = _material(ds.attrs)
     zeta1, h, n_quad = float(ds.attrs["zeta1_used"]), float(ds.attrs["h"]), int(ds.attrs["n_quad"])
-    par = np.array([zeta1, h, lam, mu, eta_lambda, eta_mu, float(plane)])
+    par = np.array([zeta1, h, lam, mu, eta_lambda, eta_mu, float(plane), 0.0, 0.0])
     s = ds["s"].values
     half = graded_half_thickness(ds)  # a graded wall: each cell's own [-h, h] about the mid-surface, as the run's
     if half is not None:
@@ -351,6 +359,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
         par[:, :, 0], par[:, :, 1] = -half[:, None], half[:, None]
         par = par.reshape(-1, len(PARAMETERS))
     viscous = eta_lambda > 0 or eta_mu > 0
+    tractions = face_tractions(ds)
     ref_cells = np.stack([ref[k] for k in ("r0", "theta0", "theta0_s", "beta1_0", "beta2_0")], axis=-1)  # (cells, 5)
     per_time = 2 * (n - 1)
     block_t = max(1, CHUNK // per_time)
@@ -363,7 +372,7 @@ def add_stresses(ds, *, limit=MAX_SAMPLES, compiled=True):
         V = np.stack([ds[f + "_t"].values[t0:t1] for f in FIELDS], axis=1)
         e, et = (np.moveaxis(cell_samples(x, ref["ds"]), 1, -1).reshape(-1, 8) for x in (Q, V))
         refs = np.broadcast_to(ref_cells[None, :, None, :], (t1 - t0, n - 1, 2, 5)).reshape(-1, 5)
-        pars = par if par.ndim == 1 else np.broadcast_to(par, (t1 - t0, *par.shape)).reshape(-1, len(PARAMETERS))
+        pars = face_parameters(par, tractions[t0:t1], n)
         outs = [np.moveaxis(x.reshape(t1 - t0, n - 1, 2, -1).mean(axis=2), -1, 0) for x in run(e, et, refs, pars)]
         for name, value in _block(outs, viscous).items():
             if name not in data:

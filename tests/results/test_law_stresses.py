@@ -115,8 +115,9 @@ def test_incompressible_viscous_stress_is_the_rayleigh_functions_derivative():
     the kinematic ``E_t`` (``E_t,22 = 0``)."""
     eta_mu, rates = 1000.0, (0.3, -0.2, 0.5, 0.4, -0.6, 0.25, 0.1, 0.2)
     scene = Sphere(h=H, E=1e6, zeta1=-H, material="neo-hookean-incompressible", eta_mu=eta_mu, eta_lambda=2000.0)
-    assert PARAMETERS == ("zeta1", "h", "lam", "mu", "eta_lambda", "eta_mu", "plane_stress")
-    par = [-H, H, 0.0, 0.0, scene.eta_lambda, eta_mu, 1.0]
+    assert PARAMETERS == ("zeta1", "h", "lam", "mu", "eta_lambda", "eta_mu", "plane_stress", "traction_inner",
+                          "traction_outer")
+    par = [-H, H, 0.0, 0.0, scene.eta_lambda, eta_mu, 1.0, 0.0, 0.0]
     out = kernel(4, True, law_of_attrs(scene.params()))(e=STRAINS, e_t=rates, ref=REF, par=par)
     sigma = np.array(out["sigma_viscous"]).ravel()
 

@@ -185,7 +185,11 @@ def traction_integrals(strains, ref, scene, lam, mu):
             E = 0.5 * (F.T @ F - np.eye(3))
             lam3d, mu3d = lame(scene.E, scene.nu)
             F = F @ np.diag([1.0, math.sqrt(1 - 2 * lam3d / (lam3d + 2 * mu3d) * (E[0, 0] + E[2, 2])), 1.0])
-        return F @ S @ F.T / np.linalg.det(F)
+            return F @ S @ F.T / np.linalg.det(F)
+        # svk: the held director's reaction (a stress along the director d = F e2) makes the free face's normal
+        # stress 0 (normal n along F^-T e2), not the law's lambda tr E
+        sigma, d, n = F @ S @ F.T / np.linalg.det(F), F[:, 1], np.linalg.inv(F).T[:, 1]
+        return sigma - (n @ sigma @ n) / (n @ d) ** 2 * np.outer(d, d)
 
     zeta1 = centroidal_offset(scene.h)
     x, w = np.polynomial.legendre.leggauss(24)
