@@ -28,52 +28,33 @@ import xarray as xr
 
 from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
 from mol_shell._core.progress import progress_mode, time_meter
+from mol_shell.analysis.workprecision_sweeps import (  # noqa: F401  (RTOLS: importable here)
+    DEFAULT_INTEGRATORS,
+    RTOLS,
+    SWEEPS,
+    check_integrators,
+    check_sweeps,
+    options,
+    skip_reason,
+    swept,
+    unstable_reason,
+)
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.cf import attr_value, header
 from mol_shell.results.dataset import scene_attrs, with_units
 from mol_shell.runs import resources
+from mol_shell.runs.checks import checked_spectrum
 from mol_shell.runs.simulate import as_scene, build, check_loads, parse_times, resolve, starting_state
 from mol_shell.scenes import SCENES, Unshearable
 
 #: the paper's snapshot times (s)
 PAPER_TIMES = (0.0, 0.02, 0.07, 0.106, 0.143)
-RTOLS = (1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 1e-8, 1e-9, 1e-10)
-SWEEPS = {
-    "leapfrog": {"dt": (1e-4, 5e-5, 2e-5, 1e-5, 5e-6, 4e-6, 2e-6, 1e-6)},
-    "cvode-bdf": {"rtol": RTOLS},
-    "cvode-adams": {"rtol": RTOLS},
-    "ida": {"rtol": RTOLS},
-    "sksundae-cvode-adams": {"rtol": RTOLS[:9]},  # 0.5.0's route (scikit-sundae's Python loop), for comparison
-    "scipy-rk45": {"rtol": RTOLS[:8]},
-    "scipy-dop853": {"rtol": RTOLS},
-    "scipy-radau": {"rtol": RTOLS[:7]},
-    "scipy-bdf": {"rtol": RTOLS[:7]},
-    "casadi-cvodes": {"rtol": RTOLS[:9]},
-    "casadi-idas": {"rtol": RTOLS[:7]},
-    "casadi-cvodes-c": {"rtol": RTOLS},
-    "dop853-c": {"rtol": RTOLS},
-    "rk45-c": {"rtol": RTOLS[:8]},
-}
-#: compared by default: every route but scikit-sundae's BDF and IDA, 0.5.0's (their Python loops take minutes on the
-#: tighter tolerances; named, they run on the sweep below)
-DEFAULT_INTEGRATORS = tuple(SWEEPS)
-SWEEPS.update({"sksundae-cvode-bdf": {"rtol": RTOLS[:7]}, "sksundae-ida": {"rtol": RTOLS[:7]}})
 #: timed repeats per sweep point at most (the median is reported; each repeat is a whole run)
 MAX_REPEATS = 100
 COMPARED = ("r", "theta", "chi")
 #: the units of the compared fields: a field at round-off is compared on the largest of its own units (relative_error)
 COMPARED_UNITS = {"r": "m", "theta": "rad", "chi": "rad"}
 _INDEX = {"r": 1, "chi": 2, "theta": 3}
-
-
-def swept(name):
-    """What the sweep of integrator ``name`` varies: ``"dt"`` (leap-frog's step, s) or ``"rtol"``."""
-    return next(iter(SWEEPS.get(name, {"rtol": ()})))
-
-
-def options(name, value):
-    """Integrator options for one sweep point."""
-    return {"dt": value} if swept(name) == "dt" else {"rtol": value, "atol": 1e-3 * value}
 
 
 def settings(ds, name):
@@ -214,45 +195,24 @@ def reference_said(info, error):
             f"not complete ({info['reference_check_message']}), {agreed}; {again}")
 
 
-def check_integrators(integrators, name="integrators"):
-    """A non-empty list of distinct registered integrator names, or a named error."""
-    allowed = "a comma-separated list of {" + ", ".join(INTEGRATORS) + "}"
-    names = list(integrators)
-    if not names:
-        raise ParameterError.invalid(name, ",".join(names), "is empty", allowed)
-    if any(not str(item).strip() for item in names):
-        raise ParameterError.invalid(name, ",".join(map(str, names)), "has an empty entry", allowed)
-    for item in names:
-        if item not in INTEGRATORS:
-            raise ParameterError(name, item, allowed)
-        if names.count(item) > 1:
-            raise ParameterError.invalid(name, ",".join(names), f"names {item} twice", allowed)
-    return names
-
-
-def skip_reason(name, value, times):
-    """Why a sweep point cannot run on ``times`` (``""`` when it can): a leap-frog step that misses a saved time."""
-    method = INTEGRATORS[name](**options(name, value))
-    if hasattr(method, "step_counts"):
-        try:
-            method.step_counts(np.asarray(times))
-        except ParameterError as exc:
-            return f"skipped: {exc}"
-    return ""
-
-
 def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=3, sweeps=None, log=print,
                    progress=None):
     """Measure every sweep point; returns a Dataset with dims ``(integrator, level)``.
 
     ``integrators``: names; ``None``, :data:`DEFAULT_INTEGRATORS` but those that cannot run the scene's loads
     or driven edges (said by ``log`` and in the attribute ``left_out``; named, such an integrator is refused).
+    A lone name (a string) is one integrator.
+    ``sweeps``: ``{integrator: {"rtol": [values]}}`` (``{"leapfrog": {"dt": [values in s]}}``), each in place of that
+    integrator's default sweep (:data:`~mol_shell.analysis.workprecision_sweeps.SWEEPS`; ``atol = 1e-3 rtol``), e.g.
+    ``{"dop853-c": {"rtol": [1e-6, 1e-8]}}``; ``None``: the defaults. Anything else is refused naming ``sweeps``.
     Everything that can be checked is checked before the (expensive) reference runs. A leap-frog
-    step whose grid misses a saved time is not run: its point is NaN with status ``skipped`` and
-    the reason in ``note``. ``progress``: of the reference runs (the long part), as :func:`reference`'s.
+    step whose grid misses a saved time, or past its stability bound ``1/max|eig J(y0)|`` (which
+    :func:`~mol_shell.runs.simulate.simulate` refuses), is not run: its point is NaN with status ``skipped`` and
+    the reason in ``note`` (simulate's words); where every point would be skipped, the comparison is refused.
+    ``progress``: of the reference runs (the long part), as :func:`reference`'s.
     """
     progress_mode(progress)  # refused by name before any work
-    sweeps = {**SWEEPS, **(sweeps or {})}
+    sweeps = check_sweeps(sweeps, SWEEPS)  # (this module's SWEEPS: a test may set it)
     asked = as_scene(scene)
     default, left_out = integrators is None, []
     integrators = check_integrators(DEFAULT_INTEGRATORS if default else integrators)
@@ -283,6 +243,14 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
     scene = resolve(asked)
     system, compiled = build(scene, n)
     y0, _ = starting_state(scene, system, n, asked=asked)  # where a run starts (R = auto under loads: the statics)
+    if any(swept(name) == "dt" for name in integrators):  # leap-frog's steps past the bound simulate refuses
+        omega_max, _ = checked_spectrum(scene, system, y0)
+        plan = {name: [(value, reason or unstable_reason(name, value, omega_max)) for value, reason in points]
+                for name, points in plan.items()}
+        if all(reason for points in plan.values() for _, reason in points):
+            raise ParameterError("sweeps['leapfrog']['dt']", [v for v, _ in plan["leapfrog"]],
+                                 f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound 1/max|eig J(y0)|, "
+                                 "which simulate refuses; every point would be skipped")
     ref, ref_err, ref_info = reference(system, compiled, y0, times, progress=progress)
     log(reference_said(ref_info, ref_err))
     levels = max(len(points) for points in plan.values())
