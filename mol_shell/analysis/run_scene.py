@@ -18,6 +18,8 @@ from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError
 from mol_shell.analysis.path_start import scene_params
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.model.laws import MATERIALS
+from mol_shell.model.layers import parse_layers
 from mol_shell.results.dataset import RUN_FILE, read_run
 from mol_shell.runs.building import parse_times
 from mol_shell.runs.simulate import integrator_options, leapfrog_times
@@ -26,11 +28,19 @@ from mol_shell.scenes.files import scene_toml
 
 #: options written whatever their value: what a reader of the file looks for first
 ALWAYS = ("dt", "rtol", "atol")
+#: the built-in law a run's scene is made with in place of a law of one's own to write it as text (:func:`text_scene`:
+#: no scene check depends on the law beyond the range of ``nu``, which is a law of one's own's too)
+STAND_IN = "svk"
 
 
 def run_scene(ds, name="FILE"):
     """The scene of run ``ds`` as it was asked for (a value left to the code ``None`` again), refused naming ``name``
     where the file names no registered scene."""
+    return get_scene(str(ds.attrs["scene"]), **_run_params(ds, name))
+
+
+def _run_params(ds, name):
+    """The parameters of :func:`run_scene` (the scene's name checked)."""
     scene = str(ds.attrs.get("scene", ""))
     if scene not in SCENES:
         raise ParameterError.invalid(name, str(ds.encoding.get("source", scene)), "names no registered scene in its "
@@ -40,7 +50,49 @@ def run_scene(ds, name="FILE"):
         asked = ds.attrs.get(f"{key}_requested")
         if key in params and asked is not None and asked != "auto":
             params[key] = asked.item() if isinstance(asked, np.generic) else asked
-    return get_scene(scene, **params)
+    return params
+
+
+def text_scene(ds, name="FILE"):
+    """``(scene, values, notes)``: the scene of :func:`run_scene` made without importing its laws of one's own (each
+    made :data:`STAND_IN` there, ``material_parameters`` empty), ``values`` what a scene file writes in their place
+    (each law by its import path: a ``material = "my_laws:rubber"`` key, or the path a run of the Python API recorded
+    in ``material_imports``; else its key, with a line of ``notes`` saying the law has no import path).
+    ``mol-shell scenes RUN.nc --toml`` imported the law's module to write text, and refused a Python API run's law
+    (stored by its name) as outside the built-in laws, "refused by this version"."""
+    params = _run_params(ds, name)
+    imports = dict(part.rpartition("=")[::2] for part in str(ds.attrs.get("material_imports", "")).split("; ")
+                   if "=" in part)
+    notes, values, layers = [], {}, []
+
+    def written(key, where):
+        path = key if ":" in key else imports.get(key)
+        if path is None:
+            notes.extend([f"# {where} {key!r} is a law of one's own the run recorded no import path for (made in a",
+                          "# script's __main__ or a notebook, or run by an earlier version): to run this file, give it",
+                          '# as "module:attr", a module that defines it at its top level.'])
+        return path or key
+
+    material = params.get("material")
+    if isinstance(material, str) and material not in MATERIALS:
+        values["material"], params["material"] = written(material, "material"), STAND_IN
+    if params.get("layers"):
+        for number, (_, law, _) in enumerate(parse_layers(str(params["layers"])), start=1):
+            layers.append(law if law in MATERIALS else written(law, f"layer {number}'s material"))
+        params["layers"] = "; ".join(_with_law(part, STAND_IN if law not in MATERIALS else law)
+                                     for part, law in zip(str(params["layers"]).split(";"), layers))
+    if values or any(law not in MATERIALS for law in layers):
+        values["material_parameters"], params["material_parameters"] = params.get("material_parameters", ""), ""
+    scene = get_scene(str(ds.attrs["scene"]), **params)
+    if layers:
+        values["layers"] = "; ".join(_with_law(part, law) for part, law in zip(scene.layers.split(";"), layers))
+    return scene, values, notes
+
+
+def _with_law(part, law):
+    """One layer of a ``layers`` string with its law (its second word) ``law``."""
+    words = part.split()
+    return " ".join([words[0], law, *words[2:]])
 
 
 def _option(value, default):
@@ -94,10 +146,10 @@ def _stopped(ds):
 def run_toml(ds, name="FILE", source=None):
     """A scene file (:func:`~mol_shell.scenes.files.scene_toml`) that runs run ``ds`` again: its scene and a
     ``[run]`` table as it ran; ``source``, the file's name for the header."""
-    scene = run_scene(ds, name)
+    scene, values, laws = text_scene(ds, name)
     version = ds.attrs.get("mol_shell_version", "?")
     notes = [f"# Written from the run {source or ds.encoding.get('source', '')} (mol_shell {version}): "
-             + "mol-shell run THIS.toml runs it again."]
+             + "mol-shell run THIS.toml runs it again.", *laws]
     run = run_table(ds, scene)
     if _stopped(ds):
         asked = "t_end is the one it asked" if "t_end" in run else "times are those it saved"
@@ -108,7 +160,7 @@ def run_toml(ds, name="FILE", source=None):
     then, now = str(ds.attrs.get("meridian", "")), scene.meridian().describe() if hasattr(scene, "meridian") else ""
     if then and now and then != now:
         notes.append(f"# The meridian differs now (the run's: {then}; now: {now}).")
-    return scene_toml(scene, run=run, notes=notes)
+    return scene_toml(scene, run=run, notes=notes, values=values)
 
 
 def read_run_toml(filename, name="file"):

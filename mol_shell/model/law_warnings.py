@@ -14,25 +14,46 @@ from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.model.material import locking_warning
 
 
+def _reads(name):
+    """``(keys, why)``: which of ``E, nu, c10, c01`` the law ``name`` reads, and the clause that says so."""
+    if name in LAWS and name not in COMPRESSIBLE:
+        reads = ("c10", "c01") if name == "mooney-rivlin" else ("E",)
+        return reads, f"material = {name!r} reads {' and '.join(reads)} only"
+    if name in LAWS or name in SVK_MATERIALS:
+        return ("E", "nu"), f"material = {name!r} reads E and nu, not c10 and c01"
+    return (), f"material = {name!r} is a law of one's own: it reads its parameters (material_parameters)"
+
+
 def unused_law_parameters(scene):
     """One line for each of ``E, nu, c10, c01`` set away from the scene's default that its law does not read (a law
     of one's own reads its own parameters, Mooney-Rivlin ``c10, c01`` alone, the incompressible neo-Hookean ``E``,
-    the others ``E, nu``), and for ``eta_lambda > 0`` on an incompressible law. (Layered walls: not looked at.)"""
+    the others ``E, nu``), and for ``eta_lambda > 0`` on an incompressible law. A layered wall: one line for each of
+    those keys a layer sets itself that its law does not read, naming the layer (its number from the lower face and
+    its thickness; until December 7 a layer's were not looked at: ``0.006 mooney-rivlin E=5e7`` ran unsaid)."""
     name, defaults = scene.material, {f.name: f.default for f in dataclasses.fields(scene)}
-    if getattr(scene, "layers", "") or not isinstance(name, str):
+    if getattr(scene, "layers", ""):
+        return unused_layer_parameters(scene)
+    if not isinstance(name, str):
         return []
-    if name in LAWS and name not in COMPRESSIBLE:
-        reads = ("c10", "c01") if name == "mooney-rivlin" else ("E",)
-        why = f"material = {name!r} reads {' and '.join(reads)} only"
-    elif name in LAWS or name in SVK_MATERIALS:
-        reads, why = ("E", "nu"), f"material = {name!r} reads E and nu, not c10 and c01"
-    else:
-        reads, why = (), f"material = {name!r} is a law of one's own: it reads its parameters (material_parameters)"
+    reads, why = _reads(name)
     lines = [f"{key} = {getattr(scene, key):g} is unused: {why}" for key in ("E", "nu", "c10", "c01")
              if key in defaults and key not in reads and getattr(scene, key) != defaults[key]]
     if getattr(scene, "eta_lambda", 0.0) > 0 and thickness_treatment(name) == "incompressible":
         lines.append(f"eta_lambda = {scene.eta_lambda:g} is unused: material = {name!r} is incompressible (det C = 1), "
                      "its Kelvin-Voigt stress has eta_mu alone")
+    return lines
+
+
+def unused_layer_parameters(scene):
+    """The lines of :func:`unused_law_parameters` for a layered wall: each of ``E, nu, c10, c01`` a layer sets itself
+    (in ``layers``) that its law does not read, as ``layer K (T m): KEY = VALUE is unused: material = ...``. The
+    scene's own keys, which every layer takes where it sets none, are not said (the wall's ``material`` sets the run's
+    scales with them)."""
+    lines = []
+    for k, ((t, sub), (_, material, own)) in enumerate(zip(layer_scenes(scene), parse_layers(scene.layers)), 1):
+        reads, why = _reads(material)
+        lines += [f"layer {k} ({t:g} m): {key} = {getattr(sub, key):g} is unused: {why}"
+                  for key in ("E", "nu", "c10", "c01") if key in own and key not in reads]
     return lines
 
 

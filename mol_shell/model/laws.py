@@ -155,6 +155,7 @@ def resolve_material(value):
         key = law_key(value)
         if REGISTRY.get(key) is None:
             register(key, value)
+        value.import_path()  # looked for here, kept with the law: a study's workers get a copy, bound nowhere
         return key
     if isinstance(value, str) and (value in MATERIALS or value in REGISTRY):
         return value
@@ -169,6 +170,7 @@ def resolve_material(value):
             raise ParameterError("material", value, _allowed(), hint=f"it is a {type(found).__name__}, not a "
                                  "mol_shell.Material")
         register(value, found)
+        found.keep_import_path(f"{module.strip()}:{attr.strip()}")
         return value
     raise ParameterError("material", value, _allowed(),
                          hint="or a mol_shell.Material, or its import path 'package.module:attr'")

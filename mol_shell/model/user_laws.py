@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import sys
 from dataclasses import dataclass, field
 
 import casadi as ca
@@ -232,6 +233,33 @@ class Material:
             text = f"{self.name}|{self.thickness}|{sorted(self.parameters.items())}|{W}"
             object.__setattr__(self, "_fingerprint", hashlib.sha256(text.encode()).hexdigest()[:16])
         return self._fingerprint
+
+    def import_path(self):
+        """``"module:attr"``, the import path of this very object, or ``None``: the path it was imported by (a scene's
+        ``material = "my_laws:rubber"``), else the first module-level name bound to it in an imported module (its
+        energy's module first; not ``__main__``: a script's or a notebook's law has no path another process can
+        import). A run records it (``material_imports``) so that ``mol-shell scenes RUN.nc --toml`` names the law
+        as a scene file must; until December 7 a run of the Python API kept the law's name alone."""
+        if self.__dict__.get("_import_path"):
+            return self._import_path
+        if self.__dict__.get("_unfound_among") == len(sys.modules):  # looked for among these modules (20 ms)
+            return None
+        first = getattr(self.energy, "__module__", None)
+        for name in dict.fromkeys([first, *list(sys.modules)]):
+            module = sys.modules.get(name) if name not in (None, "__main__", "__mp_main__") else None
+            attrs = getattr(module, "__dict__", None)
+            if not isinstance(attrs, dict) or getattr(module, "__name__", None) != name:
+                continue
+            found = next((attr for attr, value in list(attrs.items()) if value is self), None)
+            if found is not None:
+                self.keep_import_path(f"{name}:{found}")
+                return self._import_path
+        object.__setattr__(self, "_unfound_among", len(sys.modules))
+        return None
+
+    def keep_import_path(self, path):
+        """Keep ``path`` (``"module:attr"``) as this law's :meth:`import_path`."""
+        object.__setattr__(self, "_import_path", path)
 
     def law(self):
         """The :class:`~mol_shell.model.laws.Law` that runs it (``C`` handed over as an ``SX`` matrix)."""

@@ -78,15 +78,21 @@ def law_attrs(scene):
     key (``material``, or a layer's), its thickness treatment, the parameters it ran with (the ``Material``'s with
     the scene's ``material_parameters`` applied) and the ``Material``'s fingerprint
     (:meth:`~mol_shell.model.user_laws.Material.fingerprint`, before those changes). The attrs said
-    ``material = 'rubber'`` and ``material_parameters = ''`` for every law of that name."""
+    ``material = 'rubber'`` and ``material_parameters = ''`` for every law of that name. And ``{"material_imports":
+    "KEY=module:attr; ..."}`` for each law stored by its name that has an import path
+    (:meth:`~mol_shell.model.user_laws.Material.import_path`): what a scene file names it by
+    (:func:`mol_shell.analysis.run_scene.run_toml`)."""
     if not hasattr(scene, "material_parameters"):
         return {}
     values = parameter_values(scene.material_parameters or "")
-    said = []
+    said, paths = [], []
     for key in dict.fromkeys([scene.material, *wall_laws(scene)]):
         user = user_material(key)
         if user is not None:
             used = {**user.parameters, **own_parameters(key, values)}
             said.append(f"{key}: {user.thickness}, {parameter_text(used) or 'no parameters'}, "
                         f"fingerprint {user.fingerprint()}")
-    return {"material_laws": "; ".join(said)} if said else {}
+            path = user.import_path() if ":" not in key else None
+            paths += [f"{key}={path}"] if path else []
+    out = {"material_laws": "; ".join(said)} if said else {}
+    return {**out, "material_imports": "; ".join(paths)} if paths else out

@@ -421,13 +421,14 @@ NOTES = {
 }
 
 
-def scene_toml(scene, run=None, notes=()):
+def scene_toml(scene, run=None, notes=(), values=None):
     """A scene (an instance, or a class for its defaults) as a commented scene file that :func:`load_scene` reads back.
 
     Values are written as TOML (``None`` as ``"auto"``), each with its unit and description as a comment; a
     ``[run]`` table holds ``run`` (``{key: value}``: a run file's, :func:`mol_shell.analysis.run_scene.run_table`) or
     the command line's defaults (leap-frog, 40 nodes, ``t_end`` = 0.01 s: a run of a second or two), so the file runs
-    as its header says. ``notes``: comment lines after the header.
+    as its header says. ``notes``: comment lines after the header; ``values``: ``{name: value}`` written in place of
+    the scene's (a run's laws of one's own by their import paths, the scene made without importing them).
     """
     cls = scene if isinstance(scene, type) else type(scene)
     fields = dataclasses.fields(cls)
@@ -435,6 +436,7 @@ def scene_toml(scene, run=None, notes=()):
         value = {f.name: f.default if f.default is not dataclasses.MISSING else "" for f in fields}
     else:
         value = {f.name: getattr(scene, f.name) for f in fields}
+    value.update(values or {})
     doc = summary(cls)  # the package's summary: one clause, no markup
     lines = [f"# {cls.name}: {doc}",
              "# A mol_shell scene file: mol-shell run THIS.toml -o out.nc (--set NAME=VALUE on top). Units: SI.",
