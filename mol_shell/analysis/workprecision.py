@@ -42,6 +42,7 @@ from mol_shell.analysis.workprecision_sweeps import (  # noqa: F401  (RTOLS: imp
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.cf import attr_value, header
 from mol_shell.results.dataset import scene_attrs, with_units
+from mol_shell.results.study_dataset import INT_FILL
 from mol_shell.runs import resources
 from mol_shell.runs.checks import checked_spectrum
 from mol_shell.runs.simulate import as_scene, build, check_loads, parse_times, resolve, starting_state
@@ -310,6 +311,9 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
     coords = {"integrator": ("integrator", list(integrators), {"long_name": "integrator (mol-shell run --integrator)"}),
               "level": ("level", np.arange(levels), {"units": "1", "long_name": "index of the point in the integrator's sweep"})}
     ds = xr.Dataset({k: (dims, v, {"units": units[k], "long_name": long[k]}) for k, v in data.items()}, coords=coords)
+    for k in COUNTS:  # counts, written as 32-bit integers (CF 1.8 has none wider); -1 where a point has none
+        ds[k].encoding = ({"dtype": "int32", "_FillValue": INT_FILL} if np.isnan(data[k]).any() else
+                          {"dtype": "int32", "_FillValue": None})
     ds["status"] = (dims, status.astype(str), {"long_name": "how the run ended: complete, limit, unstable, failed, "
                                                             "interrupted, or skipped (not run; see note); empty: no point"})
     ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
@@ -326,6 +330,12 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
                              "DAE, run by `run --integrator ida`, is not compared")
         log(f"model: {ds.attrs['model']}")
     return ds
+
+
+#: the counts of a comparison: floats here, NaN where a point has none (not run, or a route that does not count it);
+#: in its file 32-bit integers, :data:`~mol_shell.results.study_dataset.INT_FILL` there, declared as the variable's
+#: ``_FillValue`` (xarray reads such a variable as floats, NaN there, and one without as integers), as a study's
+COUNTS = ("n_steps", "n_rhs", "n_rhs_jacobian", "n_jac")
 
 
 def best_at(ds, name, target):

@@ -38,8 +38,11 @@ def said_as_options(**options):
 
 def read_drawable(filename, allowed=RUN_FILE, what="a mol_shell run file"):
     """The run in ``filename``, refused in one line naming the file when it has no saved times or values that are
-    not finite (a hand-edited or damaged file), or is not a run (the refusal says ``what`` and ``allowed``)."""
+    not finite (a hand-edited or damaged file), or is not a run (the refusal says ``what`` and ``allowed``). The
+    Dataset's ``encoding["source"]`` is ``filename`` as given: a view's refusal of what it lacks (a variable the view
+    reads: :func:`mol_shell.views.fields.check_run`) names the file so, as ``FILE`` (:func:`said_as_options`)."""
     ds = read_run(filename, allowed=allowed, what=what)
+    ds.encoding["source"] = str(filename)
     check_run(ds, filename)
     return ds
 

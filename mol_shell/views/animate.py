@@ -27,8 +27,8 @@ from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.paths import writable_path
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell.runs.resources import available_memory, show_bytes
+from mol_shell.views.fields import SHELL, field_names, run_of, surface_points
 from mol_shell.views.fields import field as field_values
-from mol_shell.views.fields import field_names, run_of, surface_points
 from mol_shell.views.figures import incomplete_note
 
 SUFFIXES = ("gif", "mp4")
@@ -200,7 +200,7 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
     if not (is_number(fps) and MIN_FPS <= fps <= MAX_FPS):
         raise ParameterError("fps", fps, f"[{MIN_FPS:g}, {MAX_FPS}] frames per second")
     mode = progress_mode(progress)
-    ds = run_of(ds)
+    ds = run_of(ds, "animate", SHELL)
     field, chosen = default_field(ds) if field is None else (field, "")
     values, units, _ = field_values(ds, field, "cells", option="field")
     path = writable_path(path, "path", suffixes=SUFFIXES)  # before the frames: its missing directories created
@@ -302,16 +302,28 @@ def _incomplete_lines(attrs, width, dpi):
     return note
 
 
+#: the least half-width of the box drawn, and height, as a share of the shell's largest size (:func:`_extents`)
+MIN_BOX = 0.05
+
+
 def _extents(ds, n_phi, points=1_000_000):
     """``(extent, zlo, zhi)``: the half-width of the box drawn (2 % over the largest ``|x|``, ``|y|`` of the surface at
     any saved time) and the surface's lowest and highest ``z``; computed a block of saved times at a time, of about
-    ``points`` surface points."""
+    ``points`` surface points. Neither the half-width nor the height is below :data:`MIN_BOX` of the larger of them
+    (nor 0: a shell on its axis at one height gets a box of its distance from the origin, or of 1 m)."""
     block = max(1, points // (ds.sizes["s"] * n_phi))
     extent, zlo, zhi = 0.0, np.inf, -np.inf
     for start in range(0, ds.sizes["time"], block):
         part = surface_points(ds, n_phi, times=slice(start, start + block))
         extent = max(extent, float(np.abs(part[..., :2]).max()))
         zlo, zhi = min(zlo, float(part[..., 2].min())), max(zhi, float(part[..., 2].max()))
+    # a shell on its axis (r = 0 everywhere: a degenerate file, drawable) or flat in z: a box of a size of its own,
+    # not of none (matplotlib's projection of an empty range was a singular matrix)
+    size = max(extent, zhi - zlo) or max(abs(zlo), 1.0)
+    extent = max(extent, MIN_BOX * size)
+    if zhi - zlo < MIN_BOX * size:
+        middle = (zlo + zhi) / 2
+        zlo, zhi = middle - MIN_BOX * size / 2, middle + MIN_BOX * size / 2
     return extent * 1.02, zlo, zhi
 
 

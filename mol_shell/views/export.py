@@ -5,7 +5,9 @@
 series). The surface is the base surface revolved with ``--n-phi`` azimuthal samples, each material
 point placed by the rotationally symmetric map (:func:`mol_shell.views.fields.surface_points`); with
 ``--faces`` the inner and outer faces (offset along the director) are added to the same mesh. Quads
-join the samples, one per cell of the grid and azimuthal interval, so a quad is a cell of the run.
+join the samples, one per cell of the grid and azimuthal interval, so a quad is a cell of the run; at a pole
+(a closed shell's end on the axis) the circle of samples is one point, joined to the next circle by triangles
+(a second block of cells), so the surface is closed there.
 
 The XDMF series is one mesh, the reference (natural) shell, written once, and per saved time its point
 and cell data, among them the 3-vector ``displacement`` from the reference to the position at that time:
@@ -34,6 +36,8 @@ from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import check_lengths, writable_path
 from mol_shell._core.write_aside import WriteAside
 from mol_shell.views.fields import (
+    REFERENCE,
+    SHELL,
     azimuths,
     face_depths,
     field,
@@ -63,14 +67,19 @@ def quads(n, n_phi, surfaces=1):
 
 
 def mesh_series(ds, n_phi=N_PHI, faces=False):
-    """Quads, the reference points, and the points and data of each saved time (a generator, so one step is in
+    """Cells, the reference points, and the points and data of each saved time (a generator, so one step is in
     memory at a time). ``point_data["displacement"]`` is ``points - reference``.
+
+    The grid of each surface is ``n x n_phi`` points joined by quads (:func:`quads`); an end node whose circle lies on
+    the axis in the reference and at every saved time (a pole: :func:`axis_rings`) is one point, joined to its
+    neighbouring circle by triangles, so the surface is closed there and no cell has an edge of zero length.
 
     Returns
     -------
-    cells : ndarray ``(cells, 4)``
+    cells : list of ``(type, ndarray)``
+        ``("quad", (quads, 4))`` and, where the shell has a pole, ``("triangle", (triangles, 3))``; meshio's blocks.
     reference : ndarray ``(P, 3)``
-    steps : generator of ``(points (P, 3), point_data {name: (P,) or (P, 3)}, cell_data {name: (cells,)})``
+    steps : generator of ``(points (P, 3), point_data {name: (P,) or (P, 3)}, cell_data {name: [per block]})``
     """
     n = ds.sizes["s"]
     depths = (np.zeros(n), *face_depths(ds)) if faces else (np.zeros(n),)  # per node: a graded wall's follow h(s)
@@ -80,19 +89,79 @@ def mesh_series(ds, n_phi=N_PHI, faces=False):
                 if name not in ds or ds[name].dims != ("time", "s")}
     constant = {"phi": np.tile(azimuths(n_phi), n * surfaces),
                 "zeta": np.repeat(np.concatenate(depths), n_phi)}
+    cells, keep, rows = closed_cells(n, n_phi, surfaces, axis_rings(ds, depths))
+    constant = {name: values[keep] for name, values in constant.items()}
 
     def spread(values):  # per node (or cell) -> per point (or quad) of every surface
         return np.tile(np.repeat(values, n_phi), surfaces)
 
-    reference = np.concatenate([reference_points(ds, n_phi, zeta).reshape(-1, 3) for zeta in depths])
+    reference = np.concatenate([reference_points(ds, n_phi, zeta).reshape(-1, 3) for zeta in depths])[keep]
 
     def steps():
         for k in range(ds.sizes["time"]):
-            points = np.concatenate([surface_points(ds, n_phi, zeta, times=[k])[0].reshape(-1, 3) for zeta in depths])
-            point_data = {"displacement": points - reference} | {name: spread(v[k]) for name, v in nodal.items()}
-            yield points, point_data | constant, {name: spread(v[k]) for name, v in cellwise.items()}
+            points = np.concatenate([surface_points(ds, n_phi, zeta, times=[k])[0].reshape(-1, 3)
+                                     for zeta in depths])[keep]
+            point_data = {"displacement": points - reference} | {name: spread(v[k])[keep] for name, v in nodal.items()}
+            cell_data = {name: [spread(v[k])[r] for r in rows] for name, v in cellwise.items()}
+            yield points, point_data | constant, cell_data
 
-    return quads(n, n_phi, surfaces), reference, steps()
+    return cells, reference, steps()
+
+
+#: a circle of points is on the axis (a pole) where its radius is at most this share of the shell's size, in the
+#: reference and at every saved time (a pole's base point is at r = 0 exactly; a face's, off it by zeta cos(pi / 2),
+#: 1e-17 of the thickness)
+ON_AXIS = 1e-12
+
+
+def axis_rings(ds, depths):
+    """``[(surface, node)]``: the end nodes whose circle of points of surface ``surface`` (depth ``depths[surface]``
+    along the director) lies on the axis (within :data:`ON_AXIS` of the shell's size) in the reference and at every
+    saved time: the poles of a closed shell."""
+    r, theta, psi = (np.asarray(ds[name].values, dtype=float) for name in ("r", "theta", "psi"))
+    if all(name in ds for name in REFERENCE):
+        r = np.concatenate([r, np.asarray(ds["r0"].values, dtype=float)[None]])
+        theta = np.concatenate([theta, np.asarray(ds["theta0"].values, dtype=float)[None]])
+        psi = np.concatenate([psi, np.zeros((1, psi.shape[1]))])
+    size = max(float(np.abs(r).max()), float(np.ptp(ds["z"].values)), float(np.abs(depths).max()))
+    rings = []
+    for surface, zeta in enumerate(depths):
+        radius = np.hypot(r + zeta * np.cos(psi) * np.cos(theta), zeta * np.sin(psi))  # (2.8): |r a2 + zeta d| off k
+        rings += [(surface, node) for node in (0, r.shape[1] - 1) if radius[:, node].max() <= ON_AXIS * size]
+    return sorted(set(rings))
+
+
+def closed_cells(n, n_phi, surfaces, rings):
+    """The cells of :func:`quads` with each circle of ``rings`` (``(surface, node)``) made one point (its first).
+
+    Returns
+    -------
+    cells : list of ``(type, ndarray)``
+        The quads that keep four corners, and (where there are rings) the triangles of those with two of them on
+        a ring's point: each keeps its corners' order, so its normal points as the quad's did.
+    keep : ndarray
+        The grid points kept, in order (the others: a ring's but its first).
+    rows : list of ndarray
+        For each block of ``cells``, its rows in :func:`quads` (what a cell's data are taken from).
+    """
+    full = quads(n, n_phi, surfaces)
+    target = np.arange(surfaces * n * n_phi)
+    for surface, node in rings:
+        ring = (surface * n + node) * n_phi + np.arange(n_phi)
+        target[ring] = ring[0]
+    kept = target[full]
+    first, last = kept[:, 0] == kept[:, 1], kept[:, 2] == kept[:, 3]  # a pole at the cell's first (last) node
+    quad_rows = np.flatnonzero(~first & ~last)
+    tri_first, tri_last = np.flatnonzero(first & ~last), np.flatnonzero(last & ~first)
+    keep = np.unique(target)
+    renumber = np.zeros(target.size, dtype=np.int64)
+    renumber[keep] = np.arange(keep.size)
+    cells, rows = [("quad", renumber[kept[quad_rows]])], [quad_rows]
+    if tri_first.size or tri_last.size:
+        cells.append(("triangle", renumber[np.concatenate([kept[tri_first][:, [0, 2, 3]],
+                                                           kept[tri_last][:, [0, 1, 2]]])]))
+        rows.append(np.concatenate([tri_first, tri_last]))
+    return cells, keep, rows
 
 
 #: gzip level of the HDF5 data of an XDMF export (with byte shuffling: the data repeat along each circle of
@@ -143,11 +212,10 @@ def write_xdmf(path, times, cells, reference, steps):
             writer.h5_filename, writer.h5_file = h5_path.name, h5  # as the writer's __enter__ opens it, by name
             # the writer makes its datasets with the file's create_dataset: give the large ones compression
             h5.create_dataset = _compressing(h5.create_dataset)
-            writer.write_points_cells(reference, [("quad", cells)])
+            writer.write_points_cells(reference, cells)
             data.check()
             for t, (_, point_data, cell_data) in zip(times, steps):
-                writer.write_data(repr(float(t)), point_data=point_data,
-                                  cell_data={name: [v] for name, v in cell_data.items()})
+                writer.write_data(repr(float(t)), point_data=point_data, cell_data=cell_data)
                 data.check()  # a full disk ends the export here
         data.check()  # what HDF5 flushed at its close
     writer.__exit__(None, None, None)  # the XDMF file (the HDF5 file is closed already: closing it again is nothing)
@@ -165,8 +233,7 @@ def write_pvd(path, times, cells, reference, steps):
     collection = ET.SubElement(root, "Collection")
     written = []
     for vtu, t, (points, point_data, cell_data) in zip(companion_files(path, len(times)), times, steps):
-        mesh = meshio.Mesh(points, [("quad", cells)], point_data=point_data,
-                           cell_data={name: [v] for name, v in cell_data.items()})
+        mesh = meshio.Mesh(points, cells, point_data=point_data, cell_data=cell_data)
         meshio.write(vtu, mesh, file_format="vtu")
         ET.SubElement(collection, "DataSet", timestep=repr(float(t)), part="0", file=vtu.name)
         written.append(vtu)
@@ -197,7 +264,7 @@ def export(ds, path, n_phi=N_PHI, faces=False):
     if not (isinstance(n_phi, (int, np.integer)) and not isinstance(n_phi, bool) and 3 <= n_phi <= N_PHI_MAX):
         raise ParameterError("n_phi", n_phi, f"integers in [3, {N_PHI_MAX}]")
     source = ds if isinstance(ds, (str, os.PathLike)) else getattr(ds, "encoding", {}).get("source")
-    ds = run_of(ds)
+    ds = run_of(ds, "export" + (" --faces" if faces else ""), SHELL, faces=faces)
     path = writable_path(path, "path", suffixes=FORMATS)  # before the work: its missing directories created
     for companion in companion_files(path, ds.sizes["time"]):
         check_lengths(companion, "path", path, what=f"would write {companion.name!r} beside it")

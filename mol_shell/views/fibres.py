@@ -25,6 +25,7 @@ from __future__ import annotations
 import itertools
 
 import numpy as np
+import xarray as xr
 
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.model.layers import parse_layers
@@ -66,6 +67,16 @@ def fibre_sets(ds):
         if value("fibre_E", 0.0) > 0:
             out.append((f"layer {number}", value("fibre_angle", 0.0), int(value("fibre_families", 1))))
     return out
+
+
+#: what :func:`fibres_figure` reads of a run at its section (and its faces' depths: ``faces``); :func:`fibre_reads`
+SECTION = ("r", "chi", "theta", "psi")
+
+
+def fibre_reads(ds):
+    """The variables :func:`fibres_figure` reads of ``ds`` (a Dataset, or the path of a run file: its section's,
+    :data:`SECTION`; ``z`` too, for the reinforcing fibres of a run that has them)."""
+    return SECTION + (("z",) if isinstance(ds, xr.Dataset) and fibre_sets(ds) else ())
 
 
 def reinforcing_fibres(ds, k, count=12, angle=None, families=None):
@@ -144,7 +155,7 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
 
     if not (isinstance(count, (int, np.integer)) and not isinstance(count, bool) and 1 <= count <= MAX_FIBRES):
         raise ParameterError("count", count, f"integers in [1, {MAX_FIBRES}]")
-    ds = run_of(ds)
+    ds = run_of(ds, "plot --figure fibres", fibre_reads(ds), faces=True)
     times, nodes = ds["time"].values, ds["s"].values
     k = len(times) - 1 if time is None else _nearest(times, float(time), "time", "s")
     radii = ds["r0"].values if "r0" in ds else np.ones(len(nodes))
@@ -168,7 +179,7 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
                                  f"thick as the section's radius, or true to scale: r0 = {r0:.6g} m, wall "
                                  f"{wall:.6g} m thick at s = {nodes[i]:.6g} m)")
     zeta = thickness_scale * depths
-    r, chi, theta, psi = (float(ds[f].values[k, i]) for f in ("r", "chi", "theta", "psi"))
+    r, chi, theta, psi = (float(ds[f].values[k, i]) for f in SECTION)
     phi = 2 * np.pi * np.arange(count) / count
 
     def segments(radius0, along, across, angle):
@@ -221,7 +232,7 @@ def fibres_figure(ds, time=None, s=None, count=24, thickness_scale=None):
 
 def plot_fibres(ds, path, **options):
     """Write :func:`fibres_figure` to ``path`` (a run's Dataset or file; ``path`` checked before anything is drawn)."""
-    ds = run_of(ds)
+    ds = run_of(ds, "plot --figure fibres", fibre_reads(ds), faces=True)
     path = figure_path(path)
     fig = fibres_figure(ds, **options)
     save_figure(fig, path, dpi=120)

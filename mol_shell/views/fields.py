@@ -13,7 +13,7 @@ import numpy as np
 import xarray as xr
 
 from mol_shell._core.constants import FIELDS
-from mol_shell._core.errors import ParameterError, show
+from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.results.dataset import holdings, is_run, read_run
 from mol_shell.results.stresses import FACES, STRESS_NAN
@@ -30,6 +30,14 @@ MAY_BE_NAN = ("reaction_force", "reaction_torque", "ellipticity_margin")
 #: one's own's domain, kept as its one saved time), the stored and total energies
 ENERGY_MAY_BE_NAN = ("stored_energy", "energy")
 
+#: the reference meridian: a run file holds all of it, or none (the views then take its first saved state as the
+#: reference); a file with a part of it is damaged, refused naming what is missing
+REFERENCE = ("z0", "r0", "theta0")
+#: the variables the revolved shell reads (:func:`surface_points`)
+SHELL = ("z", "r", "chi", "theta", "psi")
+#: the attributes :func:`face_depths` reads of a uniform wall (a graded wall's, ``h_profile``, its own profile)
+FACE_ATTRIBUTES = ("zeta1_used", "h")
+
 
 
 #: what the views' functions draw, as their refusal of anything else says
@@ -37,9 +45,10 @@ RUN_ALLOWED = ("a run's Dataset (mol_shell.simulate, read_netcdf; a study's case
                "its netCDF file")
 
 
-def run_of(ds):
+def run_of(ds, view=None, variables=(), faces=False):
     """The run a views function draws: ``ds`` itself (an ``xarray.Dataset``), or the run file at the path ``ds``
-    (read by :func:`mol_shell.results.dataset.read_run`), checked by :func:`check_run`.
+    (read by :func:`mol_shell.results.dataset.read_run`), checked by :func:`check_run` (``view``, ``variables``: what
+    the view reads, there; ``faces``: it reads the faces' depths too, :func:`face_attributes`).
 
     Raises
     ------
@@ -51,21 +60,29 @@ def run_of(ds):
         ds = read_run(ds, name="ds", allowed=RUN_ALLOWED)
     elif not isinstance(ds, xr.Dataset):
         raise ParameterError.not_a("ds", ds, "a run's Dataset or a file path", RUN_ALLOWED)
-    check_run(ds)
+    check_run(ds, view=view, variables=variables, attributes=face_attributes(ds) if faces else ())
     return ds
 
 
-def check_run(ds, source=None):
+def face_attributes(ds):
+    """The attributes :func:`face_depths` reads of ``ds``: :data:`FACE_ATTRIBUTES`, none for a graded wall."""
+    return () if _profile(ds) not in ("", "none") else FACE_ATTRIBUTES
+
+
+def check_run(ds, source=None, view=None, variables=(), attributes=()):
     """Refuse a Dataset the views cannot draw, in one line: one that is not a single run's (a study, a path,
     modes: :func:`mol_shell.results.dataset.is_run`), one without saved times or with fewer than two nodes, or whose
     values are not finite somewhere: Inf anywhere, NaN anywhere but in :data:`MAY_BE_NAN` and in stresses that
     ``attrs["stresses"]`` declares NaN (the views draw those as gaps). ``source``: the file the command line read ``ds``
-    from, then named ``FILE``.
+    from, then named ``FILE``. A damaged or hand-edited file is refused too where it lacks a part of the reference
+    meridian (:data:`REFERENCE`: all or none), or what ``view`` (its name, as the refusal says it) reads: each of
+    ``variables``, and each of ``attributes`` as a finite number (each view's list: :data:`SHELL`, ...).
 
     Raises
     ------
     ParameterError
-        ``FILE = 'run.nc' has no saved times; allowed: ...`` or ``FILE = 'run.nc': r is not finite at t = 0 s,
+        ``FILE = 'run.nc' has no saved times; allowed: ...``, ``FILE = 'run.nc' has no variable psi, which export reads;
+        allowed: ...`` or ``FILE = 'run.nc': r is not finite at t = 0 s,
         s = 0 m (11 of 11 values); allowed: ...``; from Python named ``ds`` (its value the file it was read from,
         if any): ``ds is a parameter study (mol-shell study) over gamma, not one run; allowed: a run's Dataset ...``.
     """
@@ -85,6 +102,7 @@ def check_run(ds, source=None):
         refuse("has no saved times", allowed)
     if nodes < 2:
         refuse(f"has {nodes} node{'' if nodes == 1 else 's'} in s", allowed)
+    _check_holds(ds, refuse, view, variables, attributes)
     nan_stresses = STRESS_NAN in str(ds.attrs.get("stresses", ""))
     stopped = not int(ds.attrs.get("complete", 1))
     others = [v for v in ds.variables if v not in FINITE and ds[v].dtype.kind in "fc" and ds[v].ndim]
@@ -100,6 +118,26 @@ def check_run(ds, source=None):
         refuse_at = (f"{said}: {var} is not finite at {where} ({int(bad.sum())} of {bad.size} values"
                      + (", Inf: NaN may be there, Inf not" if nan_ok else "") + ")")
         raise ParameterError(name, value, allowed, message=f"{refuse_at}; allowed: {allowed}")
+
+
+def _check_holds(ds, refuse, view, variables, attributes):
+    """Refuse (``refuse(problem, allowed)``) a run without a part of its reference meridian, or without what ``view``
+    reads: a variable of ``variables``, an attribute of ``attributes`` (or one that is not a finite number)."""
+    partial = [name for name in REFERENCE if name not in ds.variables]
+    if 0 < len(partial) < len(REFERENCE):
+        refuse(f"has no variable {partial[0]}, a part of the reference meridian ({', '.join(REFERENCE)}: a run file "
+               "holds all of them)", "a run file as mol-shell run writes it, with its reference meridian whole")
+    reads = (f"variables {', '.join(variables)}" if variables else "") + (
+        f"{' and ' if variables else ''}attributes {', '.join(attributes)}" if attributes else "")
+    allowed = f"a run file as mol-shell run writes it ({view} reads its {reads})"
+    for name in variables:
+        if name not in ds.variables:
+            refuse(f"has no variable {name}, which {view} reads", allowed)
+    for name in attributes:
+        if name not in ds.attrs:
+            refuse(f"has no attribute {name}, which {view} reads", allowed)
+        if not (is_number(ds.attrs[name]) and np.isfinite(float(ds.attrs[name]))):
+            refuse(f"has attribute {name} = {show(ds.attrs[name])}, not a finite number, which {view} reads", allowed)
 
 
 def _at(ds, var, dim, k):
@@ -192,7 +230,7 @@ def surface_points(ds, n_phi, zeta=0.0, times=None):
     ``zeta = 0``: ``(r cos(phi + chi), r sin(phi + chi), z)``.
     """
     sel = slice(None) if times is None else times
-    z, r, chi, theta, psi = (np.asarray(ds[f].values[sel], dtype=float)[..., None] for f in ("z", "r", "chi", "theta", "psi"))
+    z, r, chi, theta, psi = (np.asarray(ds[f].values[sel], dtype=float)[..., None] for f in SHELL)
     return _revolve(z, r, chi, theta, psi, n_phi, zeta)
 
 
@@ -225,9 +263,13 @@ def face_depths(ds):
     its mid-surface, ``h(s)`` from the run's profile at the nodes, as the run took it (its ``zeta_face`` holds the
     same at the cell centres)."""
     s = np.asarray(ds["s"].values, dtype=float)
-    profile = str(ds.attrs.get("h_profile", "") or "")
+    profile = _profile(ds)
     if profile not in ("", "none"):
         h = np.asarray(thickness_function(profile, float(s[-1] - s[0]))(s), dtype=float)
         return -h, h
-    zeta1, h = float(ds.attrs["zeta1_used"]), float(ds.attrs["h"])
+    zeta1, h = (float(ds.attrs[name]) for name in FACE_ATTRIBUTES)
     return np.full(s.shape, zeta1), np.full(s.shape, zeta1 + 2 * h)
+
+
+def _profile(ds):
+    return str(ds.attrs.get("h_profile", "") or "")

@@ -19,6 +19,9 @@ from mol_shell.views.fibres import _nearest
 from mol_shell.views.fields import run_of
 from mol_shell.views.figures import figure_path, incomplete_note, save_figure, wrapped_title
 
+#: what the figures over time read of a run (its reference radius ``r0``, and the work and dissipation, where it has
+#: them)
+HISTORY = ("r", "energy")
 #: nodes whose ``r0`` is within this fraction of the largest are on the widest part (a vessel's cylinder is exact to
 #: rounding; a sphere's neighbours of its equator node are 1 - cos(pi / (n - 1)) below it, 1.2e-6 at n = 2000)
 WIDEST = 1e-9
@@ -150,7 +153,7 @@ def history_figure(ds, s=None):
     """The radius against time and the energy-work balance (a matplotlib ``Figure``, not saved)."""
     import matplotlib.pyplot as plt
 
-    ds = run_of(ds)
+    ds = run_of(ds, "plot --figure history", HISTORY)
     node = radius_node(ds, s)
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2))
     draw_radius(ax, ds, node)
@@ -165,7 +168,7 @@ def history_figure(ds, s=None):
 
 def plot_history(ds, path, s=None):
     """Write :func:`history_figure` to ``path`` (a run's Dataset or file; ``path`` checked before anything is drawn)."""
-    ds = run_of(ds)
+    ds = run_of(ds, "plot --figure history", HISTORY)
     path = figure_path(path)
     save_figure(history_figure(ds, s), path, dpi=120)
     return path

@@ -168,10 +168,6 @@ def path_figure(ds, response="load_conjugate"):
     for m, (xm, lm) in enumerate(marks):
         left.plot(xm, lm, MARKERS.get(str(ds.point_kind.values[m]), "s"), color="k", mfc="none", ms=9)
     spans = [max(float(np.ptp(np.r_[values, [p[i] for p in marks]])), 1e-300) for i, values in enumerate((x, lam))]
-    for group in _label_groups(marks, spans):  # points at nearly one place: one label, "0-2" or "0, 2"
-        text = (f"{group[0]}-{group[-1]}" if len(group) > 2 and group == list(range(group[0], group[-1] + 1))
-                else ", ".join(map(str, group)))
-        left.annotate(text, marks[group[0]], textcoords="offset points", xytext=(7, 5), fontsize=8)
     units = ds.parameter.attrs.get("units", "")
     left.set_xlabel(xlabel)
     left.set_ylabel(f"{ds.attrs['parameter']} [{units}]")
@@ -202,7 +198,36 @@ def path_figure(ds, response="load_conjugate"):
     if note:  # a path cut short (max_steps, a limit, Ctrl-C) looked like a whole one
         fig.suptitle(wrapped_title(fig.get_figwidth(), f"[{note}]", fontsize=9), fontsize=9)
     fig.tight_layout()
+    groups = _label_groups(marks, spans)  # points at nearly one place: one label, "0-2" or "0, 2"
+    _label_points(left, [marks[group[0]] for group in groups],
+                  [f"{group[0]}-{group[-1]}" if len(group) > 2 and group == list(range(group[0], group[-1] + 1))
+                   else ", ".join(map(str, group)) for group in groups])
     return fig
+
+
+#: a critical point's label: its font size (points), and its place beside the point (points right of it and above)
+LABEL_FONT, LABEL_OFFSET = 8, (7.0, 5.0)
+
+
+def _label_points(ax, anchors, texts):
+    """Label each of ``anchors`` (data coordinates) with its text of ``texts``, none over another: in the order of
+    their points' heights on the page, each label stands at least a line above the one before it (its point's own
+    place, :data:`LABEL_OFFSET`, where that is free), a thin line joining a label moved off its place to its point.
+    Placed once the axes are laid out (their transform is final): points close together (bifurcations 2 % of the
+    load apart) had their labels on one another."""
+    if not anchors:
+        return
+    points = ax.transData.transform(np.asarray(anchors, dtype=float)) * 72.0 / ax.figure.dpi  # page, in points
+    line = 1.3 * LABEL_FONT
+    floor = -np.inf
+    for k in np.argsort(points[:, 1], kind="stable"):
+        dx, dy = LABEL_OFFSET
+        y = max(points[k, 1] + dy, floor)
+        floor = y + line
+        moved = y - points[k, 1] - dy > 0.5
+        ax.annotate(texts[k], anchors[k], textcoords="offset points", xytext=(dx, y - points[k, 1]), fontsize=LABEL_FONT,
+                    va="bottom", arrowprops={"arrowstyle": "-", "lw": 0.5, "color": "0.4", "shrinkA": 0, "shrinkB": 5}
+                    if moved else None)
 
 
 def plot_path(ds, path, response="load_conjugate"):

@@ -7,9 +7,9 @@ import math
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, show
-from mol_shell.views.fields import run_of
+from mol_shell.views.fields import REFERENCE, run_of
 from mol_shell.views.figures import figure_path, incomplete_note, save_figure, wrapped_title
-from mol_shell.views.history import draw_balance, draw_radius, radius_node
+from mol_shell.views.history import HISTORY, draw_balance, draw_radius, radius_node
 
 # Axis ranges of the paper's figures 4-8; used when the data fit inside them and fill enough of them (PAPER_SHARE).
 PAPER_LIMITS = {"r": (0.985, 1.005), "theta": (-0.02, 0.02), "chi": (-0.2, 0.2)}
@@ -17,6 +17,8 @@ PAPER_LIMITS = {"r": (0.985, 1.005), "theta": (-0.02, 0.02), "chi": (-0.2, 0.2)}
 #: else they are drawn as flat lines (gamma = 0.001 rad/m twists chi over 1 % of the paper's -0.2 to 0.2 rad)
 PAPER_SHARE = 0.2
 LABELS = {"r": "r [m]", "theta": r"$\theta$ [rad]", "chi": r"$\chi$ [rad]"}
+#: what :func:`meridian_figure` reads of a run: the meridian and its reference, the angles, and the figures over time's
+MERIDIAN = ("z", "chi", "psi", *HISTORY, *REFERENCE)
 #: saved times per row of panels
 COLUMNS = 6
 #: saved times drawn at most (evenly picked beyond that, and the figure says so)
@@ -108,8 +110,8 @@ def plot_snapshots(ds, path, fields=("r", "theta", "chi"), max_times=MAX_TIMES, 
     the path of its netCDF file; ``path``: an image (:func:`mol_shell.views.figures.figure_path`), checked before
     anything is drawn.
     """
-    ds = run_of(ds)
     fields = snapshot_fields(fields)
+    ds = run_of(ds, "plot", fields)
     path = figure_path(path)
     fig = snapshot_figure(ds, fields, max_times, columns)
     save_figure(fig, path, dpi=120)
@@ -120,8 +122,8 @@ def snapshot_figure(ds, fields=("r", "theta", "chi"), max_times=MAX_TIMES, colum
     """The figure of :func:`plot_snapshots` (a matplotlib ``Figure``, not saved)."""
     import matplotlib.pyplot as plt
 
-    ds = run_of(ds)
     fields = snapshot_fields(fields)
+    ds = run_of(ds, "plot", fields)
     idx = shown_times(ds.sizes["time"], max_times)
     ncols = min(columns, len(idx))
     blocks = math.ceil(len(idx) / ncols)
@@ -187,7 +189,7 @@ def meridian_figure(ds, max_times=8, s=None):
     """
     import matplotlib.pyplot as plt
 
-    ds = run_of(ds)
+    ds = run_of(ds, "plot", MERIDIAN)
     idx = shown_times(ds.sizes["time"], max_times)
     fig = plt.figure(figsize=(13, 8.6))
     grid = fig.add_gridspec(2, 6, height_ratios=[1.15, 1])
@@ -219,7 +221,7 @@ def meridian_figure(ds, max_times=8, s=None):
 
 def plot_meridian(ds, path, max_times=8, s=None):
     """Write :func:`meridian_figure` to ``path`` (checked first, as by :func:`plot_snapshots`)."""
-    ds = run_of(ds)
+    ds = run_of(ds, "plot", MERIDIAN)
     path = figure_path(path)
     save_figure(meridian_figure(ds, max_times, s), path, dpi=120)
     return path

@@ -8,6 +8,7 @@ import matplotlib
 import numpy as np
 import pytest
 import xarray as xr
+from matplotlib.text import Text
 
 from mol_shell.views.path_plot import _pieces, critical_response, path_figure
 
@@ -73,3 +74,21 @@ def test_the_figure_draws_those_pieces_labels_close_points_once_and_keeps_the_le
     axes = right.get_window_extent(renderer)
     assert legend.y1 <= axes.y0 and len(right.get_legend().get_texts()) == 5  # below the meridian, all modes listed
     assert legend.y0 >= 0  # and inside the figure
+
+
+def test_labels_of_critical_points_close_together_stand_apart():
+    """Three bifurcations within 1.3 % of the load, the middle one 5 % of the response off the other two (which share
+    the label "0, 2"), and a limit point far off: three labels, none on another (the middle one's "1" stood on
+    "0, 2"), each joined to its point when moved off its place beside it."""
+    loads = [0, -400, -800, -1200, -1210, -1220, -1600]
+    ds = path_file(loads, [0, 0, 0, 0, 1, 2, 3], [("bifurcation", 3, -1200.0), ("bifurcation", 4, -1210.0),
+                                                   ("bifurcation", 5, -1220.0), ("limit", 1, -400.0)])
+    ds["load_conjugate"].values[:] = [4.0, 3.6, 3.2, 2.8, 2.88, 2.8, 2.4]  # the response turns back and forth
+    fig = path_figure(ds)
+    left = fig.axes[0]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    texts = {t.get_text(): Text.get_window_extent(t, renderer) for t in left.texts}  # the words, not the lines
+    assert sorted(texts) == ["0, 2", "1", "3"]
+    boxes = list(texts.values())
+    assert not any(a.overlaps(b) for i, a in enumerate(boxes) for b in boxes[i + 1:]), texts
