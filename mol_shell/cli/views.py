@@ -63,8 +63,8 @@ def cmd_export(args):
     with said_as_options():
         files = export(ds, args.output, args.n_phi, args.faces)
     extra = f" (+ {plural(len(files) - 1, 'file')})"
-    print(f"wrote {args.output}{extra}: {plural(ds.sizes['time'], 'step')}, {ds.sizes['s']} x {args.n_phi} points "
-          f"per surface{said_incomplete(ds)}")
+    print(f"wrote {args.output}{extra}: {plural(ds.sizes['time'], 'step')}, {ds.sizes['s']} nodes x {args.n_phi} "
+          f"angles per surface{said_incomplete(ds)}")
     return 0
 
 
