@@ -81,7 +81,7 @@ class ParameterError(ValueError):
         self.range = allowed if hasattr(allowed, "text") else None
         if self.range is not None:
             allowed = allowed.text()
-        self.name, self.value, self.allowed = name, value, allowed
+        self.name, self.value, self.allowed, self.hint = name, value, allowed, hint
         if message is None:
             message = f"{name} = {show(value)} is outside {allowed}"
         super().__init__(message + (f" ({hint})" if hint else ""))

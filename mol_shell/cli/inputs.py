@@ -15,6 +15,7 @@ else:  # pragma: no cover - Python 3.10
 from mol_shell._core.atomic import keep_inputs
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import check_lengths
+from mol_shell._core.user_files import read_user_file
 from mol_shell.scenes.files import FILE_KEYS
 
 
@@ -48,7 +49,7 @@ def scene_file_inputs(path, skip=()):
     loads it."""
     try:
         path = Path(os.fspath(path)).expanduser()
-        data = tomllib.loads(path.read_bytes().decode("utf-8-sig"))
+        data = tomllib.loads(read_user_file(path).decode("utf-8-sig"))
     except (OSError, TypeError, ValueError, RuntimeError, UnicodeDecodeError, tomllib.TOMLDecodeError):
         return {}
     pending = [(name, table) for name, table in data.items() if isinstance(table, dict)]
@@ -82,7 +83,7 @@ RUN_FLAGS = {"n": ("n",), "dt": ("dt",), "rtol": ("rtol",), "atol": ("atol",), "
 def _file_keys(path):
     """``{key: table}`` of the keys scene file ``path`` sets in its tables (``{}`` where it cannot be read)."""
     try:
-        data = tomllib.loads(Path(path).read_bytes().decode("utf-8-sig"))
+        data = tomllib.loads(read_user_file(path).decode("utf-8-sig"))
     except (OSError, ValueError, UnicodeDecodeError):
         return {}
     return {key: name for name, table in data.items() if isinstance(table, dict) for key in table}
@@ -103,7 +104,8 @@ def said_with_the_file(args, exc):
     """``exc`` said with the scene file, table and key where it refuses a value the command's scene file set (a step
     ``[run] dt`` beyond the stability bound, ``[edges] end1 = 'clamped'`` on a closed shell, a ``[loads]`` pressure
     without an equilibrium: found as it runs, they named the key alone), as the file's own refusals are said; else
-    ``exc`` as it is (a value the command line set, a refusal that names the file already)."""
+    ``exc`` as it is (a value the command line set, a refusal that names the file already). A ``[run]`` key the command
+    needs and neither the file nor the command line gives (``t_end``) is said missing from the file's ``[run]``."""
     scene, command = getattr(args, "scene", None), getattr(args, "command", None)
     if not (isinstance(scene, str) and scene.endswith(".toml") and command in FILE_VALUES_READ
             and isinstance(exc.name, str)):
@@ -114,6 +116,9 @@ def said_with_the_file(args, exc):
         return exc
     text, table = str(exc), _file_keys(shown).get(exc.name)
     read = FILE_VALUES_READ[command]
+    if (table is None and exc.value is None and exc.name in RUN_FLAGS and text.startswith(f"{exc.name} is missing")
+            and (read is None or exc.name in read)):
+        table = "run"  # a [run] key the command needs and the file leaves out (t_end): said where it goes
     if (table is None or text.startswith(f"{shown}: ") or exc.name in _replaced(args)
             or (table == "run" and read is not None and exc.name not in read)):
         return exc

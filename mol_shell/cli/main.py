@@ -26,6 +26,7 @@ import numpy as np
 from mol_shell._core.constants import RTOL_RANGE
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import writable_path
+from mol_shell._core.user_files import not_regular
 from mol_shell._core.version import __version__
 from mol_shell.analysis.run_scene import read_run_toml, refuse_scene_file
 from mol_shell.cli.analysis import register_compare, register_modes, register_stability
@@ -172,6 +173,10 @@ def cmd_scenes(args):
             print(f"{name:18s} {summary(cls)}")
         print("mol-shell scenes NAME lists a scene's parameters; set them with --set NAME=VALUE")
         return 0
+    allowed = "a scene in {" + ", ".join(sorted(SCENES)) + "} or a run file RUN.nc (with --toml)"  # as docs/cli.md
+    odd = not_regular(args.name) if args.name not in SCENES else None
+    if odd is not None:  # a directory, a named pipe (never opened: reading one waited for a writer), a device
+        raise ParameterError.invalid("file", args.name, odd, allowed)
     if args.name not in SCENES and (os.path.splitext(args.name)[1].lower().lstrip(".") in NETCDF_SUFFIXES
                                     or os.path.isfile(args.name)):  # a run file: a scene file that runs it again
         refuse_scene_file(args.name)  # a scene file FILE.toml, with --toml or without: said as one
@@ -180,14 +185,8 @@ def cmd_scenes(args):
                                  f"{args.name} --toml: a run file is written back as a scene file")
         print(read_run_toml(args.name), end="")
         return 0
-    if args.name not in SCENES and os.path.isdir(args.name):
-        raise ParameterError("file", args.name, "a scene, a scene file or a run file RUN.nc (with --toml)",
-                             message=f"file = {args.name!r} is a directory; allowed: a scene in {{"
-                             + ", ".join(sorted(SCENES)) + "}, a scene file or a run file (with --toml)")
     if args.name not in SCENES and (os.sep in args.name or os.path.splitext(args.name)[1]):  # a file, not there
-        raise ParameterError("file", args.name, "a scene in {" + ", ".join(sorted(SCENES)) + "}, a scene file or a "
-                             "run file RUN.nc (with --toml)", message=f"file = {args.name!r} does not exist; allowed: "
-                             "a scene in {" + ", ".join(sorted(SCENES)) + "}, a scene file or a run file (with --toml)")
+        raise ParameterError.invalid("file", args.name, "does not exist", allowed)
     if args.name not in SCENES:
         raise ParameterError("scene", args.name, "{" + ", ".join(sorted(SCENES)) + "} (or a run file RUN.nc, "
                              "with --toml)")

@@ -42,6 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, SceneWarning
+from mol_shell._core.user_files import MAX_USER_FILE_TEXT, UserFileError, read_user_file
 from mol_shell.model.pole_tilt import APEX_TILT_DEG, MAX_POLE_TILT_DEG, pole_tilts
 from mol_shell.model.polyline import self_intersects
 
@@ -341,20 +342,17 @@ def read_points(path, name="points", with_lines=False):
     comment lines included) and the line itself, whole. ``with_lines``: also return the line number of
     each row (for :class:`PointsMeridian`'s messages).
     """
-    allowed = "a text file with two columns r z (m), at least 4 rows"
+    allowed = f"a text file with two columns r z (m), at least 4 rows, at most {MAX_USER_FILE_TEXT}"
     try:
         p = Path(str(path)).expanduser()
-        found = p.is_file()
-    except (OSError, RuntimeError) as exc:  # a name too long for the file system; ~nosuchuser/p.txt
+        text = read_user_file(p).decode("utf-8-sig")  # a device or a named pipe: refused before it is read
+    except UserFileError as exc:
+        raise ParameterError.invalid(name, str(path), exc.problem, allowed) from None
+    except (OSError, RuntimeError) as exc:  # missing; a name too long for the file system; ~nosuchuser/p.txt
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else "no user's home directory"
         raise ParameterError.invalid(name, str(path), f"is not a readable file ({reason})", allowed) from None
-    if not found:
-        raise ParameterError.invalid(name, str(path), "is not a readable file", allowed)
-    try:
-        text = p.read_text()
-    except (UnicodeDecodeError, OSError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else "not a text file"
-        raise ParameterError.invalid(name, str(path), f"cannot be read ({reason})", allowed) from None
+    except UnicodeDecodeError:
+        raise ParameterError.invalid(name, str(path), "cannot be read (not a text file)", allowed) from None
     rows, lines = [], []
     for number, line in enumerate(text.splitlines(), start=1):
         items = line.split("#")[0].replace(",", " ").split()

@@ -31,9 +31,11 @@ HISTORIES = ("constant", "step T0", "ramp T1", "sine F", "table t0:h0 t1:h1 ..."
 #: the highest frequency of a ``sine`` history, Hz: a period of a picosecond, far beyond any shell's frequencies (and
 #: 1e6 leap-frog steps of the paper's dt per period); beyond, a run only samples the sine's phase at random
 MAX_FREQUENCY = 1e12
+#: the shortest time of a history, s: a ramp's T1, the spacing of a table's points (1/T of the rate stays finite)
+MIN_HISTORY_TIME = 1e-300
 HISTORY_ALLOWED = ("'constant', 'step T0' (0 before T0 s, then 1; T0 >= 0 s), 'ramp T1' (t/T1 up to 1, T1 >= 1e-300 s), "
                    "'sine F' (sin(2 pi F t), 0 < F <= 1e12 Hz) or 'table t0:h0 t1:h1 ...' (linear between, held "
-                   "beyond; times increasing)")
+                   "beyond; times increasing, at least 1e-300 s apart, slopes finite)")
 
 
 #: the fewest leap-frog steps a history's shortest time must span (a sine's period, a ramp's T, a table's interval):
@@ -125,14 +127,14 @@ def _parse_history(name, spec):
     words = spec.replace(",", " ").split()
     if not words:
         raise ParameterError(name, spec, HISTORY_ALLOWED)
-    kind, rest = words[0].lower(), words[1:]
+    kind, rest, table = words[0].lower(), words[1:], None
     try:
         if kind == "constant" and not rest:
             return ("constant", ())
         if kind in ("step", "ramp", "sine") and len(rest) == 1:
             value = float(rest[0])
             ok = math.isfinite(value) and (value >= 0 if kind == "step" else value > 0)
-            ok = ok and (kind != "sine" or value <= MAX_FREQUENCY) and (kind != "ramp" or value >= 1e-300)
+            ok = ok and (kind != "sine" or value <= MAX_FREQUENCY) and (kind != "ramp" or value >= MIN_HISTORY_TIME)
             if ok:
                 return (kind, (value,))
         if kind == "table" and len(rest) >= 2:
@@ -141,10 +143,30 @@ def _parse_history(name, spec):
                 t = np.array([p[0] for p in pairs])
                 h = np.array([p[1] for p in pairs])
                 if np.all(np.isfinite(t)) and np.all(np.isfinite(h)) and np.all(np.diff(t) > 0):
-                    return ("table", (tuple(t), tuple(h)))
+                    table = ("table", (tuple(t), tuple(h)))
     except ValueError:
         pass
+    if table is not None:  # its times and values numbers, the times increasing: are they far enough apart?
+        _check_table_slopes(name, spec, *map(np.array, table[1]))
+        return table
     raise ParameterError(name, spec, HISTORY_ALLOWED)
+
+
+def _check_table_slopes(name, spec, t, h):
+    """Refuse, naming ``name`` and the spacing allowed, a table whose points are closer than
+    :data:`MIN_HISTORY_TIME` (as a ramp's ``T1``) or whose slope between two points overflows: the history's rate
+    was not finite, and the run blamed the load (``pressure = 100.0 is outside about (-inf, 1e-300] Pa``)."""
+    gaps = np.diff(t)
+    with np.errstate(over="ignore", invalid="ignore"):
+        slopes = np.diff(h) / gaps
+    if np.min(gaps) < MIN_HISTORY_TIME:
+        i = int(np.argmin(gaps))
+        raise ParameterError(name, spec, HISTORY_ALLOWED, hint=f"points {gaps[i]:.3g} s apart, at t = {t[i]:.6g} s: "
+                             f"a table's points are at least {MIN_HISTORY_TIME:g} s apart, as a ramp's T1")
+    if not np.all(np.isfinite(slopes)):
+        i = int(np.flatnonzero(~np.isfinite(slopes))[0])
+        raise ParameterError(name, spec, HISTORY_ALLOWED, hint=f"from t = {t[i]:.6g} s to {t[i + 1]:.6g} s h goes "
+                             f"from {h[i]:.6g} to {h[i + 1]:.6g}: a slope beyond the floats' range")
 
 
 def history(parsed, t):

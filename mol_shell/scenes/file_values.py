@@ -8,10 +8,16 @@ import dataclasses
 import datetime
 import json
 import math
+import re
 import sys
 
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.scenes.ranges import parameter_range
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
 
 #: the largest float: an integer beyond it (TOML's integers are unbounded) is no number a run can take
 FLOAT_MAX = sys.float_info.max
@@ -56,13 +62,87 @@ def _tomlish(value):
     return any(map(_tomlish, items))
 
 
+def toml_shown(value):
+    """``value`` as TOML spells it (:func:`toml_value`) on a message's line: a list or a table cut after six items, a
+    long integer in its middle (as :func:`~mol_shell._core.errors.show` cuts it)."""
+    if isinstance(value, dict):
+        items = [f"{k} = {toml_shown(v)}" for k, v in list(value.items())[:6]]
+        return "{" + ", ".join(items + ["..."] * (len(value) > 6)) + "}"
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join([toml_shown(v) for v in value[:6]] + ["..."] * (len(value) > 6)) + "]"
+    return show(value) if isinstance(value, int) and not isinstance(value, bool) else toml_value(value)  # 1000...000
+
+
 def toml_spelled(exc):
-    """The message of ``exc`` with its value as the file spells it (``E = true``, ``E = 1979-05-27``), not as Python
-    does (``E = True``, ``E = datetime.date(1979, 5, 27)``)."""
+    """The message of ``exc`` with its value as TOML spells it (``E = true``, ``E = 1979-05-27``, ``end1 = ["r",
+    "theta"]``, ``E = {value = 1e6, unit = "Pa"}``), not as Python does (``E = True``, ``E = datetime.date(1979, 5,
+    27)``, ``['r', 'theta']``, ``{'unit': 'Pa', ...}``). A string alone keeps Python's quotes (``end1 = 'clamped'``)."""
     text = str(exc)
-    if not (isinstance(exc.name, str) and _tomlish(exc.value)):
+    if not (isinstance(exc.name, str) and (_tomlish(exc.value) or isinstance(exc.value, (dict, list)))):
         return text
-    return text.replace(f"{exc.name} = {show(exc.value)}", f"{exc.name} = {toml_value(exc.value)}", 1)
+    return text.replace(f"{exc.name} = {show(exc.value)}", f"{exc.name} = {toml_shown(exc.value)}", 1)
+
+
+def _same(read, value):
+    """Whether TOML value ``read`` is ``value`` as a scene file's check holds it (an integer taken as a float)."""
+    if isinstance(read, bool) or isinstance(value, bool):
+        return isinstance(read, bool) and isinstance(value, bool) and read == value
+    if is_number(read) and is_number(value):
+        try:
+            return float(read) == float(value)
+        except OverflowError:  # an integer beyond the floats' range
+            return read == value
+    if isinstance(read, dict) and isinstance(value, dict):
+        return read.keys() == value.keys() and all(_same(read[k], value[k]) for k in read)
+    if isinstance(read, list) and isinstance(value, list):
+        return len(read) == len(value) and all(map(_same, read, value))
+    return type(read) is type(value) and read == value
+
+
+def _written(text, table, key, value):
+    """The text of ``key = ...`` under ``[table]`` in scene file ``text`` (without its comment) where it reads back
+    as ``value`` on one line (``7e-1``); ``None`` where it cannot be found so."""
+    current = None
+    for line in text.splitlines():
+        header = re.match(r"\s*(\[\[?)\s*([A-Za-z0-9_-]+)\s*\]", line)
+        if header:
+            current = header.group(2) if header.group(1) == "[" else None
+            continue
+        found = re.match(rf"\s*{re.escape(key)}\s*=\s*(.*?)\s*$", line) if current == table else None
+        if found is None:
+            continue
+        said = found.group(1)
+        for end in [*(i for i, c in enumerate(said) if c == "#"), len(said)]:  # the comment off: the shortest that reads
+            try:
+                read = tomllib.loads(f"v = {said[:end]}")["v"]
+            except tomllib.TOMLDecodeError:
+                continue
+            return said[:end].rstrip() if _same(read, value) else None
+    return None
+
+
+#: the longest value a refusal writes as the file does (a longer one is shortened as Python shows it)
+SPELLED_MAX = 120
+
+
+def respelled(exc, text, source):
+    """``exc`` (a refusal of scene file ``source``, whose text is ``text``) with its value as the file writes it:
+    ``[material] nu = 7e-1``, not ``nu = 0.7``; ``exc`` itself where the value is a string (said with Python's
+    quotes, as every refusal says one), is not written on one line of its table or is longer than
+    :data:`SPELLED_MAX`."""
+    message, head = str(exc), f"{source}: ["
+    table = message[len(head):].partition("] ")[0] if message.startswith(head) else ""
+    if not (isinstance(exc.name, str) and table and not isinstance(exc.value, str)):
+        return exc
+    start = f"{head}{table}] {exc.name} = "
+    written = _written(text, table, exc.name, exc.value)
+    if written is not None and len(written) > SPELLED_MAX:  # 1 and 400 zeros: said shortened, as it was
+        return exc
+    for shown in (toml_shown(exc.value), show(exc.value)):
+        if written is not None and message.startswith(start + shown):
+            said = start + written + message[len(start + shown):]
+            return type(exc)(exc.name, exc.value, exc.range or exc.allowed, message=said)
+    return exc
 
 
 def _huge(value, path):

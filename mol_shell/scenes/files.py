@@ -38,11 +38,13 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import re
 import sys
 from pathlib import Path
 
 from mol_shell._core.constants import ATOL_MIN, FIELDS, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, flag, is_number, show
+from mol_shell._core.user_files import MAX_USER_FILE_TEXT, UserFileError, read_user_file
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared, real, refusal, typed_value
 from mol_shell.integrators.tolerances import MAX_STEP_NOTE
@@ -51,7 +53,7 @@ from mol_shell.model.layers import LAYER_KEYS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES, summary
 from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS, ShellScene, describe
-from mol_shell.scenes.file_values import FLOAT_MAX, toml_spelled, toml_value, too_large
+from mol_shell.scenes.file_values import FLOAT_MAX, respelled, toml_spelled, toml_value, too_large
 from mol_shell.scenes.file_values import fail as _fail
 from mol_shell.scenes.setting import with_params
 
@@ -128,7 +130,8 @@ def history_text(name, value):
     except ParameterError as exc:  # a value out of its range: the string form's rule for this kind says which
         forms, start = str(exc.allowed), str(exc.allowed).find(f"'{kind}")
         ends = [i for i in (forms.find(", '", start + 1), forms.find(" or '", start + 1)) if i > 0]
-        raise bad(f"as {forms[start:min(ends, default=len(forms))]}" if start >= 0 else str(exc)) from None
+        hint = f"; {exc.hint}" if exc.hint else ""  # what is wrong: a table's points too close, say
+        raise bad(f"as {forms[start:min(ends, default=len(forms))]}{hint}" if start >= 0 else str(exc)) from None
     return text
 
 
@@ -177,6 +180,12 @@ def _convert(cls, field, value, folder):
                                          "home directory", "a file path, relative to the scene file's folder, or "
                                          "~/... in your home directory") from None
         return str(path if path.is_absolute() else folder / path)
+    if field.name == "material_parameters" and isinstance(value, dict):  # numbers, as E = "1e6" is refused
+        for key, number in value.items():
+            if not is_number(number):
+                raise ParameterError(field.name, value, "finite numbers", message=f"{field.name}.{key} = "
+                                     f"{show(number) if isinstance(number, str) else toml_value(number)} is not a "
+                                     "number; allowed: finite numbers")
     if "float" in kind and is_number(value) and not isinstance(value, float):
         return float(value)
     return value
@@ -344,6 +353,13 @@ def scene_from_dict(data, source="<scene file>", folder=".", together=True, over
     except ParameterError as exc:
         if exc.name in overrides or exc.name == "parameter":  # the command line's own: said as it says it
             raise
+        entry = re.match(r"layer (\d+):? (.*)", exc.hint or "") if where.get(exc.name) == "layer" else None
+        if entry:  # a [[layer]] table's value: said by the table, not by the layers text made of them
+            number, why = entry.groups()
+            raise ParameterError(exc.name, exc.value, exc.range or exc.allowed, message=f"{source}: [[layer]] "
+                                 f"{number} (from the lower face): {'it ' if why.startswith('has ') else ''}{why}; "
+                                 f"allowed: thickness (m, a positive finite number), material and "
+                                 f"{', '.join(LAYER_KEYS)}") from None
         raise _fail(source, where.get(exc.name, table_of(cls, exc.name) if exc.name in fields else None), exc) from None
     for param, value in given.items():
         if param not in overrides and not _type_ok(fields[param], getattr(scene, param)):
@@ -392,7 +408,10 @@ def load_scene(path, *, with_run=False, together=True, overrides=None):
         raise ParameterError("scene file", str(path), "a readable TOML file", message=f"{path}: cannot read the scene "
                              f"file ({str(path).split(os.sep)[0]} is no user's home directory)") from None
     try:
-        text = path.read_bytes().decode("utf-8-sig")  # a byte-order mark (Windows editors write one) is not TOML
+        text = read_user_file(path).decode("utf-8-sig")  # a byte-order mark (Windows editors write one) is not TOML
+    except UserFileError as exc:  # a device, a named pipe (not opened), a file larger than a scene file may be
+        raise ParameterError("scene file", str(path), "a readable TOML file", message=f"{path}: the scene file "
+                             f"{exc.problem}; allowed: a TOML file of at most {MAX_USER_FILE_TEXT}") from None
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         raise ParameterError("scene file", str(path), "a readable TOML file",
@@ -401,7 +420,10 @@ def load_scene(path, *, with_run=False, together=True, overrides=None):
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ParameterError("scene file", str(path), "TOML", message=f"{path}: not valid TOML: {exc}") from None
-    scene, run = scene_from_dict(data, str(path), path.parent, together, overrides)
+    try:
+        scene, run = scene_from_dict(data, str(path), path.parent, together, overrides)
+    except ParameterError as exc:  # its value as the file writes it: nu = 7e-1, not 0.7
+        raise respelled(exc, text, str(path)) from None
     return (scene, run) if with_run else scene
 
 

@@ -23,6 +23,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Interval, finite, non_negative, positive
+from mol_shell._core.user_files import read_user_file
 from mol_shell.model.geometry import ArcMeridian, ConeMeridian, PointsMeridian, read_points
 from mol_shell.model.meridian_checks import HALF_TUBE, check_meridian
 from mol_shell.model.thickness_profile import thickness_function
@@ -354,8 +355,8 @@ class MeridianShell(_Dilated):
         p = Path(self.points).expanduser()
         # the file's contents, not its time: two writes within one tick of the file system's clock keep the time
         try:
-            stamp = hashlib.sha256(p.read_bytes()).hexdigest()
-        except OSError:  # missing or unreadable: read_points says so by name
+            stamp = hashlib.sha256(read_user_file(p)).hexdigest()  # a device or a pipe: refused, not read
+        except OSError:  # missing, unreadable, no regular file or too large: read_points says so by name
             stamp = ""
         return _points_meridian(str(p), stamp)
 

@@ -72,8 +72,8 @@ def test_scenes_of_a_file_that_is_not_there_says_so(tmp_path, capsys):
     assert main(["scenes", missing]) == 2
     err = capsys.readouterr().err
     assert err == f"mol-shell: error: file = {missing!r} does not exist; allowed: a scene in {{axisymmetric, cone, " \
-        "meridian, sphere, spinning-ring, torus, twisted-cylinder, unshearable, vessel}, a scene file or a run file " \
-        "(with --toml)\n"
+        "meridian, sphere, spinning-ring, torus, twisted-cylinder, unshearable, vessel} or a run file RUN.nc " \
+        "(with --toml)\n"  # what scenes takes (docs/cli.md): a scene file is refused as one, not a run file
     assert main(["scenes", "spheer"]) == 2 and "scene = 'spheer' is outside" in capsys.readouterr().err
 
 
