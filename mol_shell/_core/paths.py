@@ -14,6 +14,7 @@ from pathlib import Path
 
 from mol_shell._core.atomic import SHORT_PART_BYTES, limits, up_out_of
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.user_files import not_regular
 
 #: what every refusal of :func:`writable_path` allows
 ALLOWED = "a file path in a writable place (missing directories are created)"
@@ -107,6 +108,9 @@ def writable_path(path, name="path", suffixes=None, created=None):
                                      f"({exc.strerror or exc})", allowed) from None
     if not os.path.isdir(folder):
         raise ParameterError.invalid(name, str(path), f"cannot be written: {str(folder)!r} is not a directory", allowed)
+    problem = not_regular(path)  # a named pipe: the probe's open waited for a reader, deaf to Ctrl-C's handler
+    if problem:
+        raise ParameterError.invalid(name, str(path), problem, allowed)
     try:  # a probe: permission bits do not tell (root, read-only mounts, /proc)
         if os.path.exists(path):
             with open(path, "ab"):

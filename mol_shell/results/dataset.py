@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import errno
 import os
 from pathlib import Path
 
@@ -13,6 +14,7 @@ from mol_shell._core import interrupts
 from mol_shell._core.atomic import atomic_path, utf8_alias
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.paths import writable_path
+from mol_shell._core.user_files import UserFileError, not_regular
 from mol_shell.model.edges import IMPOSED
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.wall_parameters import law_attrs
@@ -378,6 +380,9 @@ def read_netcdf(path):
         raise ParameterError.invalid("path", str(path), "does not exist", allowed)
     if path.is_dir():
         raise ParameterError.invalid("path", str(path), "is a directory", allowed)
+    problem = not_regular(path)  # a named pipe nobody writes to: netCDF's open waited on it for ever
+    if problem:
+        raise ParameterError.invalid("path", str(path), problem, allowed)
     try:
         return _load(path)
     except (OSError, ValueError, RuntimeError) as exc:
@@ -387,7 +392,11 @@ def read_netcdf(path):
 def _load(path):
     """The whole file in memory; a Ctrl-C while it is read is raised once the file is closed (as for writing, the
     libraries' locks: :func:`write_netcdf`). A path that is not UTF-8 is read through a link of a name that is
-    (:func:`~mol_shell._core.atomic.utf8_alias`): netCDF's library cannot encode it."""
+    (:func:`~mol_shell._core.atomic.utf8_alias`): netCDF's library cannot encode it. Only a regular file is opened
+    (a named pipe would be waited on, deaf to signals, in netCDF's library)."""
+    problem = not_regular(path)
+    if problem:
+        raise UserFileError(errno.EINVAL, problem)
     with interrupts.held(), utf8_alias(path) as alias, xr.open_dataset(alias, engine="netcdf4",
                                                                         decode_times=False) as ds:
         return ds.load()
@@ -415,6 +424,9 @@ def read_run(path, name="FILE", allowed=RUN_FILE, what="a mol_shell run file"):
         raise ParameterError.invalid(name, str(path), "does not exist", allowed)
     if path.is_dir():
         raise ParameterError.invalid(name, str(path), "is a directory", allowed)
+    problem = not_regular(path)  # a named pipe nobody writes to: netCDF's open waited on it for ever
+    if problem:
+        raise ParameterError.invalid(name, str(path), problem, allowed)
     try:
         ds = _load(path)
     except (OSError, ValueError, RuntimeError) as exc:

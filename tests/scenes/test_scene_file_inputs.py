@@ -177,3 +177,41 @@ def test_material_parameters_are_numbers_as_every_numeric_parameter(tmp_path, ca
     path.write_text('scene = "sphere"\n[material]\nmaterial_parameters = {mu = "2e5"}\n')
     assert _refused(capsys, ["run", path, "--n", "9", "--t-end", "1e-5", "-o", tmp_path / "x.nc"]) == \
         f"{path}: [material] material_parameters.mu = '2e5' is not a number; allowed: finite numbers"
+
+
+# -- run files and outputs that are named pipes --------------------------------------------------------------------
+@pytest.mark.parametrize("command", [["plot", "{fifo}", "-o", "{tmp}/x.png"], ["export", "{fifo}", "-o", "{tmp}/x.pvd"],
+                                     ["animate", "{fifo}", "-o", "{tmp}/x.gif"], ["scenes", "{fifo}", "--toml"]])
+def test_a_named_pipe_as_a_run_file_is_refused_unopened(command, tmp_path, capsys):
+    """``plot f.nc`` of a named pipe waited in netCDF's open for ever, deaf to SIGTERM; now refused as the pipe it is,
+    before it is opened (the helper lets a reader go, so the code before the fix failed on an empty file instead)."""
+    fifo = tmp_path / "f.nc"
+    with _fifo(fifo) as opened:
+        err = _refused(capsys, [a.format(fifo=fifo, tmp=tmp_path) for a in command])
+    assert not opened, "the pipe was opened for reading"
+    assert f"'{fifo}' is a named pipe (FIFO), not a regular file; allowed: " in err
+
+
+def test_a_named_pipe_as_the_output_is_refused_unopened(tmp_path, capsys):
+    """``-o f.nc`` of a named pipe: the writable-place probe opened it for appending and waited for a reader for ever;
+    now refused. A reader is let in after 2 s, so the code before the fix ended too (and wrote into the pipe)."""
+    fifo = tmp_path / "f.nc"
+    os.mkfifo(fifo)
+    opened, done = [], threading.Event()
+
+    def reader():
+        if not done.wait(2.0):
+            fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)
+            opened.append(fd)
+
+    thread = threading.Thread(target=reader, daemon=True)
+    thread.start()
+    try:
+        err = _refused(capsys, ["run", "twisted-cylinder", "--n", "9", "--t-end", "1e-5", "-o", fifo])
+    finally:
+        done.set()
+        thread.join()
+        for fd in opened:
+            os.close(fd)
+    assert not opened and err == (f"-o = '{fifo}' is a named pipe (FIFO), not a regular file; allowed: a file path in "
+                                  "a writable place (missing directories are created)")
