@@ -100,6 +100,13 @@ class PathRecord:
             self._locate(i, j, origin, index, kind, before, after, spectra, count)
         if kind == "limit":
             self._classify_turn(self.points[found:])
+        # in the order the path meets them (the crossings were taken by eigenvalue, ascending: a path whose count of
+        # negative eigenvalues falls meets the last one first): by where each was located, the load from step i's
+        # towards step j's, or where the load turns the arclength from the step's start (as the secant sought them)
+        q0, l0, t = origin
+        toward = np.sign(self.lams[j] - self.lams[i])
+        self.points[found:] = sorted(self.points[found:], key=lambda p: (
+            self.tracer.along(t, q0, l0, p["q"], p["parameter"]) if kind == "limit" else toward * p["parameter"]))
         self.locating = False
         self.show()
 

@@ -94,8 +94,9 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
     Returns
     -------
     xarray.Dataset
-        Dims: the study's, and ``point``. Per case: ``status``, ``message``, ``steps``, ``first_critical``
-        (the first critical point's load, NaN without one), ``case_wall_time_s``; per point: ``point_kind``,
+        Dims: the study's, and ``point``. Per case: ``status``, ``message``, ``steps``, ``reached`` (the load at
+        the path's last state: how far a path that ended short got), ``first_critical`` (the first critical point's
+        load, NaN without one: none up to ``reached``), ``case_wall_time_s``; per point: ``point_kind``,
         ``point_parameter``, ``point_family``, ``point_located``, ``point_ellipticity_margin``. Attrs: the scene's
         parameters as the paths used them, as a path file has them (where the cases differ, a variable per case:
         :func:`mol_shell.results.study_dataset.case_attrs`), and ``path_parameter``, ``path_start``, ``path_stop``
@@ -164,6 +165,7 @@ def _gather(scene, dims, coords, cases, results, parameter):
     status = np.full(shape, "", dtype=object)
     message = np.full(shape, "", dtype=object)
     steps = np.zeros(shape, dtype=np.int32)
+    reached = np.full(shape, np.nan)
     wall = np.full(shape, np.nan)
     for index, _ in cases:
         ds, info = results[index]
@@ -171,6 +173,7 @@ def _gather(scene, dims, coords, cases, results, parameter):
         if ds is None:
             continue
         steps[index] = ds.sizes["step"] - 1  # its states less the start, as mol-shell path counts steps
+        reached[index] = float(ds.parameter.values[-1]) if ds.sizes["step"] else np.nan
         m = ds.sizes.get("point", 0)
         kind[index][:m] = ds.point_kind.values
         family[index][:m] = ds.point_family.values
@@ -188,6 +191,8 @@ def _gather(scene, dims, coords, cases, results, parameter):
         "status": (sdims, status, {"long_name": "how the case's path ended (complete, max_steps, failed, limit, ...)"}),
         "message": (sdims, message, {"long_name": "what the case's path said"}),
         "steps": (sdims, steps, {"units": "1", "long_name": "steps of the case's path (its states less the start)"}),
+        "reached": (sdims, reached, {"units": units, "long_name": f"{parameter} at the last state of the case's path "
+                    "(the range's stop where status is complete; NaN: the case has no path)"}),
         "first_critical": (sdims, value[..., 0] if count else np.full(shape, np.nan), {"units": units, "long_name":
                            f"{parameter} at the first critical point the path met (NaN: none)"}),
         "case_wall_time_s": (sdims, wall, {"units": "s", "long_name": "wall time of the case"}),

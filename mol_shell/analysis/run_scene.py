@@ -16,7 +16,7 @@ import numpy as np
 
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError
-from mol_shell.analysis.path_start import scene_params
+from mol_shell.analysis.path_start import read_path, scene_params
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.laws import MATERIALS
 from mol_shell.model.layers import parse_layers
@@ -164,9 +164,13 @@ def run_toml(ds, name="FILE", source=None):
 
 
 def read_run_toml(filename, name="file"):
-    """:func:`run_toml` of the run file ``filename``, refused naming ``name`` where it is not one (a scene file
-    ``FILE.toml`` said as one: :func:`refuse_scene_file`)."""
+    """:func:`run_toml` of the run file ``filename`` (:func:`path_toml` of a path file), refused naming ``name`` where
+    it is neither (a scene file ``FILE.toml`` said as one: :func:`refuse_scene_file`)."""
     refuse_scene_file(filename, name)
+    try:
+        return path_toml(read_path(filename, name), str(filename))
+    except ParameterError:  # not a path (of a registered scene): read as a run, and refused as one
+        pass
     ds = read_run(filename, name=name)
     try:
         return run_toml(ds, name, str(filename))
@@ -184,3 +188,37 @@ def refuse_scene_file(filename, name="file"):
         raise ParameterError.invalid(name, text, "is a scene file (TOML), not a run file", RUN_FILE,
                                      hint=f"--toml writes a run file back as a scene file; mol-shell run {text} "
                                      "runs a scene file")
+
+
+def path_toml(ds, source=None):
+    """A scene file (:func:`~mol_shell.scenes.files.scene_toml`) of the scene of path ``ds`` (``mol-shell path``'s:
+    its parameters from the attrs, the continued one at the scene's own value where it gave one, else left out) with
+    ``[run] n`` the path's, and comments that give the ``mol-shell path`` command tracing it again (its ``--param``
+    range; where it ended short, how to go on); ``source``, the file's name for the header."""
+    params, parameter = scene_params(ds), str(ds.attrs["parameter"])
+    if "parameter_scene_value" in ds.attrs:
+        params[parameter] = float(ds.attrs["parameter_scene_value"])
+    scene = get_scene(str(ds.attrs["scene"]), **params)
+    units = str(ds.attrs.get("parameter_units", ""))
+    span = f"{parameter}={_exact(ds.attrs['start'])}:{_exact(ds.attrs['stop'])}"
+    steps, last = ds.sizes["step"] - 1, float(ds.parameter.values[-1])
+    branch = int(ds.attrs.get("branch_point", -1))
+    command = f"mol-shell path THIS.toml --param {span}" + (f" --branch {branch}" if branch >= 0 else "")
+    written = (f"# Written from the equilibrium path {source or ds.encoding.get('source', '')} (mol_shell "
+               f"{ds.attrs.get('mol_shell_version', '?')}) in {parameter} from {float(ds.attrs['start']):g} to "
+               f"{float(ds.attrs['stop']):g} {units}, {steps} steps:")
+    again = f"# {command} -o PATH.nc traces it again (--steps, --max-steps as it was traced: the file does not record them)."
+    notes = [written, again]
+    if not int(ds.attrs.get("complete", 1)):
+        notes.append(f"# That path ended at {parameter} = {last:.6g} {units} ({ds.attrs.get('message', '')})"
+                     + (f": --max-steps above {steps} goes on past it, from the start again."
+                        if ds.attrs.get("status") == "max_steps" else "."))
+    if "parameter_scene_value" in ds.attrs:
+        notes.append(f"# {parameter} below is the scene's own; the path's --param values replace it.")
+    return scene_toml(scene, run={"n": int(ds.attrs.get("n", ds.sizes["s"]))}, notes=notes)
+
+
+def _exact(value):
+    """``value`` as a short number that reads back as it (``-1000``, ``-775.0123456789``)."""
+    short = f"{float(value):g}"
+    return short if float(short) == float(value) else repr(float(value))

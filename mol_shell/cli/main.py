@@ -242,9 +242,11 @@ def make_parser():
     add_start_options(run, perturb=True)
     run.set_defaults(func=cmd_run, output_suffixes=NETCDF_SUFFIXES)
     scenes = sub.add_parser("scenes", help="the built-in scenes, or one scene's parameters with units and defaults")
-    scenes.add_argument("name", nargs="?", default=None, help="a scene to describe, or a run file RUN.nc (with --toml)")
+    scenes.add_argument("name", nargs="?", default=None,
+                        help="a scene to describe, or a run or path file RUN.nc (with --toml)")
     scenes.add_argument("--toml", action="store_true", help="print the scene's defaults as a scene file to start from; "
-                        "of a run file RUN.nc, a scene file whose run (mol-shell run FILE.toml) runs it again")
+                        "of a run file RUN.nc, a scene file whose run (mol-shell run FILE.toml) runs it again; of a "
+                        "path file, its scene, with the mol-shell path command that traces it again")
     scenes.set_defaults(func=cmd_scenes)
     plot = sub.add_parser("plot", help="the paper's figures 4-8 (unloaded cylinders), the deformed meridian with the "
                           "radius and the energy-work balance over time (other shells, pressurised ones), figure 1 "

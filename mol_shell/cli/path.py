@@ -61,6 +61,26 @@ def parse_param(text, option="--param"):
     return name, start, stop
 
 
+#: the keywords of :func:`mol_shell.analysis.path.path` (and of ``path_study``), as their refusals name them, and the
+#: options of ``mol-shell path`` (and ``study --path``) that set them
+PATH_OPTIONS = {"steps": "--steps", "max_steps": "--max-steps", "branch": "--branch"}
+
+
+def as_path_option(exc, args, param="--param"):
+    """``exc``, a refusal of :func:`~mol_shell.analysis.path.path` or ``path_study``, said by the command line's option
+    that set the value it names (``max_steps = ...`` as ``--max-steps = ...``; the range by ``param``, ``--param`` or
+    ``--path``); else ``exc`` (``n``, which a scene file's ``[run] n`` may set, is said as every command says it)."""
+    if exc.name in ("parameter", "start", "stop"):  # said by the option --param
+        text = getattr(args, param.lstrip("-"))
+        return ParameterError(param, text, exc.allowed, message=f"{param} = {show(text)}: {exc}")
+    option = PATH_OPTIONS.get(exc.name)
+    if option is None:
+        return exc
+    text = str(exc)
+    said = option + text[len(exc.name):] if text.startswith(exc.name + " ") else f"{option}: {text}"
+    return ParameterError(option, exc.value, exc.range or exc.allowed, message=said)
+
+
 def not_located(step):
     """How a point the secant did not close on (``point_located = 0``) is marked: where its estimate lies."""
     return f"; not located: the search's last estimate, between steps {step} and {step + 1}"
@@ -73,12 +93,7 @@ def cmd_path(args):
     try:
         ds = path(scene, name, start, stop, n=n, steps=args.steps, max_steps=args.max_steps, branch=args.branch)
     except ParameterError as exc:
-        if exc.name == "branch":
-            raise ParameterError("--branch", args.branch, exc.allowed, message="--" + str(exc)) from None
-        if exc.name in ("parameter", "start", "stop"):  # said by the option --param
-            raise ParameterError("--param", args.param, exc.allowed, message=f"--param = {show(args.param)}: {exc}") \
-                from None
-        raise
+        raise as_path_option(exc, args) from None
     if ds.attrs["status"] == "interrupted":  # by a SIGTERM (a scheduler's time limit): the file says so
         ds.attrs["message"] = as_stopped(str(ds.attrs["message"]))
     write_netcdf(ds, args.output)
@@ -111,7 +126,9 @@ def cmd_path(args):
               file=sys.stderr)
     if ds.attrs["status"] in ("max_steps", "returned"):  # what was asked for, but short of STOP: exit 0, said
         print(f"mol-shell: note: the path did not reach {name} = {stop:g}: {ds.attrs['message']}"
-              + (" (raise --max-steps to go on)" if ds.attrs["status"] == "max_steps" else ""), file=sys.stderr)
+              + (f" (raise --max-steps to go on: the path is traced again from {name} = {start:g}, the same steps "
+                 f"first; mol-shell scenes {args.output} --toml writes its scene file)"
+                 if ds.attrs["status"] == "max_steps" else ""), file=sys.stderr)
     return 0
 
 

@@ -31,13 +31,14 @@ from mol_shell.cli.args import (
     scene_and_run,
 )
 from mol_shell.cli.inputs import reason_with_the_file
-from mol_shell.cli.path import parse_param
+from mol_shell.cli.path import as_path_option, parse_param
 from mol_shell.results.study_store import cases_folder, check_cases_folder
 from mol_shell.runs import resources
 from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT, most_workers
 from mol_shell.runs.study import study
 from mol_shell.runs.study_design import text_parameters
 from mol_shell.scenes import with_params
+from mol_shell.views.path_study_plot import first_critical_said
 
 #: the first step of each path of a study of paths is 1/STEPS of its range without --steps
 STEPS = 20
@@ -188,12 +189,18 @@ def _path_study(args, scene, vary, n):
             raise ParameterError(name, getattr(args, option), "options of a study of runs",
                                  message=f"{name} is an option of a study of runs, not of one of paths (--path)")
     name, start, stop = parse_param(args.path, "--path")
-    return _finish(args, scene, "path", vary, lambda: path_study(
-        scene, vary, name, start, stop, n=n, steps=args.steps or STEPS, max_steps=args.max_steps or MAX_STEPS,
-        scheduler=args.scheduler,
-        workers=args.workers,
-        output=args.output), lambda ds: f"; first critical {name}: "
-        + ", ".join("none" if np.isnan(v) else f"{v:.6g}" for v in ds.first_critical.values.ravel()))
+
+    def trace():
+        try:
+            return path_study(scene, vary, name, start, stop, n=n, steps=args.steps or STEPS,
+                              max_steps=args.max_steps or MAX_STEPS, scheduler=args.scheduler, workers=args.workers,
+                              output=args.output)
+        except ParameterError as exc:  # max_steps = ... said as --max-steps = ...
+            raise as_path_option(exc, args, "--path") from None
+
+    # "none up to 1965.48 Pa (max_steps)" where a path ended short of STOP without one: not "none" below STOP
+    return _finish(args, scene, "path", vary, trace,
+                   lambda ds: f"; first critical {name}: " + ", ".join(first_critical_said(ds)))
 
 
 def register_study(subparsers):

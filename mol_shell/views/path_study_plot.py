@@ -12,6 +12,7 @@ import itertools
 
 import numpy as np
 
+from mol_shell._core.errors import is_number
 from mol_shell.views.figures import save_figure, wrapped_title
 from mol_shell.views.path_plot import MARKERS
 
@@ -62,11 +63,14 @@ def path_study_figure(ds):
         end = f" of {parameter} = {stop:g} {units}".rstrip() if isinstance(stop, (int, float, np.number)) else ""
         title += f"\n[ENDED SHORT{end}: " + "; ".join(short) + "]"
     ax.set_title(wrapped_title(fig.get_figwidth(), title, fontsize=10), fontsize="medium")
-    if np.all(np.isnan(ds.first_critical.values)):  # axes of NaN alone are empty: say why
+    if np.all(np.isnan(ds.first_critical.values)):  # axes of NaN alone are empty: say why, and how far each got
         stop = ds.attrs.get("path_stop", "")
-        ax.text(0.5, 0.5, f"no path met a critical point of {parameter}"
-                + (f"\n(each traced up to {parameter} = {stop})" if stop != "" else ""),
-                transform=ax.transAxes, ha="center", va="center")
+        whole = f" up to {stop:g} {ds.attrs.get('units_path_stop', '')}".rstrip() if is_number(stop) else ""
+        each = ("\n" + "\n".join(f"{_case_label(ds, index)}: {said}{whole if said == 'none' else ''}" for index, said
+                                  in zip(np.ndindex(ds.first_critical.shape), first_critical_said(ds))) if short
+                else f"\n(each traced up to {parameter} = {stop})" if stop != "" else "")
+        ax.text(0.5, 0.5, f"no path met a critical point of {parameter}{each}", transform=ax.transAxes, ha="center",
+                va="center", fontsize="small" if short else None)
         if numeric and len(xs):
             ax.set_xlim(float(np.min(xs)) - 0.5 * (np.ptp(xs) or 1.0), float(np.max(xs)) + 0.5 * (np.ptp(xs) or 1.0))
     ax.legend(fontsize="small")
@@ -92,11 +96,42 @@ def _ended_short(ax, ds, x_dim, xs):
                   gid="ended short")
         ax.annotate(word, (at, 1.0), xycoords=("data", "axes fraction"), xytext=(3, -4), textcoords="offset points",
                     rotation=90, va="top", ha="left", fontsize=7, color="0.3")
-        said.append(", ".join(f"{d} = {ds[d].values[k]!s}" if d in ds.coords else f"{d} {k}" for d, k in
-                              where.items()) + f" ({word})")
+        got = reached(ds, index)
+        said.append(_case_label(ds, index) + f" ({word}{' at ' + got if got else ''})")
     if said:
         ax.plot([], [], ":", color="0.4", lw=1.2, label="path ended short (its status)")
     return said
+
+
+def _case_label(ds, index):
+    """``"nu = 0.45, h = 0.003"``: case ``index`` (a tuple on the study's dims)."""
+    return ", ".join(f"{d} = {ds[d].values[k]!s}" if d in ds.coords else f"{d} {k}"
+                     for d, k in zip(ds["first_critical"].dims, index))
+
+
+def reached(ds, index):
+    """``"1965.48 Pa"``: the load the path of case ``index`` (a tuple on the study's dims) of a study of paths ``ds``
+    reached, when it ended short of its range's stop (``status`` not ``complete``); ``""`` for a complete one, or
+    one with no state (a refused case), or a file written before the variable ``reached``."""
+    status = str(ds["status"].values[index]) if "status" in ds else ""
+    value = float(ds["reached"].values[index]) if "reached" in ds else np.nan
+    if status in ("complete", "") or not np.isfinite(value):
+        return ""
+    return f"{value:.6g} {ds['reached'].attrs.get('units', '')}".rstrip()
+
+
+def first_critical_said(ds):
+    """Each case's first critical load (in the order of ``ds.first_critical.values.ravel()``): ``"-69.4898"``,
+    ``"none"`` without one up to the range's stop, ``"none up to 1965.48 Pa (max_steps)"`` for a path that ended
+    short of it without one (``"none (refused)"`` for a case with no path)."""
+    out = []
+    for index in np.ndindex(ds.first_critical.shape):
+        value = float(ds.first_critical.values[index])
+        status = str(ds["status"].values[index]) if "status" in ds else "complete"
+        at = reached(ds, index)
+        out.append(f"{value:.6g}" if np.isfinite(value) else "none" if status in ("complete", "") else
+                   f"none up to {at} ({status})" if at else f"none ({status})")
+    return out
 
 
 def plot_path_study(ds, path):
@@ -104,4 +139,4 @@ def plot_path_study(ds, path):
     save_figure(path_study_figure(ds), path)
 
 
-__all__ = ["is_path_study", "path_study_figure", "plot_path_study"]
+__all__ = ["first_critical_said", "is_path_study", "path_study_figure", "plot_path_study", "reached"]

@@ -299,7 +299,7 @@ def test_too_many_steps_for_memory_are_blamed_on_max_steps(tmp_path, capsys):
     assert main(["path", "sphere", "--param", "pressure=0:100", "--n", "20", "--max-steps", "10000000000",
                  "-o", str(tmp_path / "p.nc")]) == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith("mol-shell: error: max_steps = 10000000000 is outside at most ") and " steps at n = 20" in err
+    assert err.startswith("mol-shell: error: --max-steps = 10000000000 is outside at most ") and " steps at n = 20" in err
     assert "allow fewer steps (--max-steps)" in err and len(err.splitlines()) == 1
 
 

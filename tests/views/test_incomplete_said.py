@@ -134,6 +134,8 @@ def test_a_study_of_paths_marks_the_cases_that_ended_short():
     import matplotlib.pyplot as plt
 
     plt.close(fig)
-    assert "[ENDED SHORT of pressure = -1000 Pa: nu = 0.3 (max_steps); nu = 0.35 (max_steps)]" in title, title
+    got = [f"{v:.6g} Pa" for v in ds.reached.values]  # and where each ended
+    assert (f"[ENDED SHORT of pressure = -1000 Pa: nu = 0.3 (max_steps at {got[0]}); nu = 0.35 (max_steps at "
+            f"{got[1]})]") in title, title
     assert sorted(float(segment[0][0]) for segment in marks) == [0.3, 0.35]  # a dotted line at each case
     assert labels.count("max_steps") == 2
