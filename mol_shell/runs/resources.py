@@ -344,25 +344,17 @@ def check_saved_times(count, n, *, name="--times", value=None, integrator="leapf
         check_memory(estimate(n, count, 0.0, integrator), times_name=name, times_value=value)
 
 
-def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, times_value=None, method=None):
+def check_before_build(n, times, integrator="leapfrog", *, fields=5, dt=None, times_value=None, method=None,
+                       times_given=True):
     """Before any graph is built: refuse what does not fit in memory (``method``, the integrator with its options:
-    a dense linear solver's matrices too), warn about what takes over an hour."""
+    a dense linear solver's matrices too), warn about what takes over an hour. ``times_given``: False where ``times``
+    are the default ones (none given), which a refusal says as such."""
     check_nodes(n)
     est = estimate(n, len(times), times[-1], integrator, fields=fields, dt=dt, method=method)
-    check_memory(est, times_value=times_value, default_times=times_value is None and default_times(times, dt))
+    check_memory(est, times_value=times_value, default_times=times_value is None and not times_given)
     if not warn_if_long(est):
         warn_if_long_build(est)
     return est
-
-
-def default_times(times, dt=None):
-    """Whether ``times`` are the saved times a run takes when none are given: :data:`DEFAULT_INTERVALS` even
-    intervals from 0 to the last (to a step ``dt`` of a fixed-step run, whose times are whole steps)."""
-    times = np.asarray(times, dtype=float)
-    if len(times) != DEFAULT_INTERVALS + 1 or not times[-1] > 0:
-        return False
-    even = np.linspace(0.0, times[-1], DEFAULT_INTERVALS + 1)
-    return bool(np.all(np.abs(times - even) <= 1e-9 * times[-1] + (dt or 0.0)))
 
 
 def warn_if_long_build(est, each=""):

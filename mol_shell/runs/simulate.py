@@ -242,6 +242,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         return kept(ds, watch, stresses is not False, ellipticity=False)
     method = INTEGRATORS[integrator](**options)
     deferred = None  # a t_end that is no multiple of a dt given: said once dt is within its stability bound
+    times_given = times is not None
     if times is None and integrator == "leapfrog":
         try:
             times = leapfrog_times(t_end, method.dt, dt_given=dt_given)
@@ -255,7 +256,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         if deferred is not None:  # no run follows: nothing to announce
             warnings.simplefilter("ignore", resources.LongRunWarning)
         est = resources.check_before_build(n, times, integrator, fields=len(scene.fields),
-                                           dt=getattr(method, "dt", None), method=method)
+                                           dt=getattr(method, "dt", None), method=method, times_given=times_given)
     requested, requested_scene = scene.params(), scene
     scene = resolve(scene)
     system, compiled = build(scene, n)

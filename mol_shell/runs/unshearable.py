@@ -100,8 +100,10 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
     scene = resolve(scene)
     if not isinstance(scene, Unshearable):
         raise ParameterError("scene", getattr(scene, "name", scene), "{unshearable} (a mol_shell.Unshearable)")
+    times_given = times is not None
     times = parse_times(times, t_end)
-    resources.check_before_build(n, times, "ida" if constrained else "leapfrog", dt=options.get("dt"))
+    resources.check_before_build(n, times, "ida" if constrained else "leapfrog", dt=options.get("dt"),
+                                 times_given=times_given)
     if constrained:
         _check_constrained_edges(scene)  # before the graph is built and compiled
     shell, compiled = build(scene, n)

@@ -429,5 +429,8 @@ def test_default_saved_times_that_do_not_fit_are_said_as_the_default(monkeypatch
     code = main(["run", "twisted-cylinder", "--n", "11", "--times", "0:0.01:0.001", "-o", str(tmp_path / "x.nc")])
     err = capsys.readouterr().err
     assert code == 2 and err.startswith("mol-shell: error: --times = '0:0.01:0.001' is outside at most 8 saved "), err
-    with pytest.raises(ParameterError, match=r"^times = '<12 saved times>' is outside at most 8 saved times at n = 11"):
-        mol_shell.simulate("twisted-cylinder", n=11, times=np.linspace(0.0, 0.011, 12), progress=False)
+    # and through the API: 11 even times given are not "the default", though they are the default's times
+    for times in (np.linspace(0.0, 0.01, 11), np.linspace(0.0, 0.011, 12)):
+        with pytest.raises(ParameterError, match=rf"^times = '<{len(times)} saved times>' is outside at most 8 saved "
+                                                 "times at n = 11"):
+            mol_shell.simulate("twisted-cylinder", n=11, times=times, progress=False)
