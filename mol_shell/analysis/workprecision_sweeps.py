@@ -12,7 +12,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from mol_shell._core.errors import ParameterError, show
+from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
 
 RTOLS = (1e-4, 3e-5, 1e-5, 3e-6, 1e-6, 3e-7, 1e-7, 1e-8, 1e-9, 1e-10)
@@ -92,6 +92,10 @@ def check_sweeps(sweeps, defaults=None):
             raise ParameterError.invalid(f"sweeps[{name!r}][{key!r}]", values, "is not a non-empty list of numbers",
                                          SWEEPS_ALLOWED)
         for value in values:
+            if not is_number(value) or isinstance(value, np.floating) and value.dtype != np.float64:
+                raise ParameterError.invalid(f"sweeps[{name!r}][{key!r}]", values, f"holds {show(value)}",
+                                             SWEEPS_ALLOWED, hint="not a number" if not is_number(value) else
+                                             "a single-precision value: give it in double precision")
             try:
                 INTEGRATORS[name](**options(name, value))
             except ParameterError as exc:  # the integrator's own range, said for the sweep

@@ -37,11 +37,16 @@ from mol_shell.model.hyperelastic import (  # noqa: F401  (Law, TREATMENTS: wher
     NEWTON_STEPS,
     TREATMENTS,
     Law,
+    determinant,
+    invariants,
     law_shell_energy,
     law_thickness_energy,
+    with_thickness,
 )
 from mol_shell.model.law_energies import (  # noqa: F401  (the energies, by their names here too)
     HALLEY_STEPS,
+    START_DEGREE,
+    START_RANGE,
     mooney_rivlin,
     neo_hookean,
     neo_hookean_condense,
@@ -50,6 +55,7 @@ from mol_shell.model.law_energies import (  # noqa: F401  (the energies, by thei
     neo_hookean_log,
     neo_hookean_log_held,
     neo_hookean_log_solve,
+    neo_hookean_log_start,
     neo_hookean_log_thickness,
     svk,
 )

@@ -5,6 +5,7 @@ refuses was run and recorded as a measured instability; a lone integrator name w
 (``integrators = 'd' is outside ...``). Each bad form is now one ParameterError naming ``sweeps``; a leap-frog step
 past the bound is skipped with simulate's reason (every point skipped: refused)."""
 
+import numpy as np
 import pytest
 
 from mol_shell._core.errors import ParameterError
@@ -19,7 +20,9 @@ QUIET = {"n": 11, "times": (0.0, 1e-3), "repeats": 1, "log": lambda *a: None}
                                     {"leapfrog": {"rtol": [1e-6]}}, {"euler": {"rtol": [1e-6]}},
                                     {"dop853-c": {"rtol": []}}, {"dop853-c": {"rtol": 1e-6}},
                                     {"dop853-c": {"rtol": "1e-6"}}, {"dop853-c": {"rtol": [1e-6, -1.0]}},
-                                    {"leapfrog": {"dt": [0.0]}}])
+                                    {"leapfrog": {"dt": [0.0]}}, {"dop853-c": {"rtol": ["1e-6"]}},
+                                    {"dop853-c": {"rtol": [None]}}, {"dop853-c": {"rtol": [True]}},
+                                    {"leapfrog": {"dt": [np.float32(1e-7)]}}])
 def test_a_sweep_of_the_wrong_form_is_refused_naming_sweeps_and_the_allowed_form(sweeps):
     with pytest.raises(ParameterError) as err:
         work_precision("twisted-cylinder", ["dop853-c", "leapfrog"], sweeps=sweeps, **QUIET)
