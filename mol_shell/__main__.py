@@ -1,5 +1,5 @@
 import sys
 
-from mol_shell.cli.main import main
+from mol_shell.cli.main import entry
 
-sys.exit(main())
+sys.exit(entry())

@@ -48,7 +48,7 @@ from mol_shell.cli.args import (
     say_stand_ins,
 )
 from mol_shell.cli.inputs import check_outputs
-from mol_shell.cli.outcome import guarded, one_line_warnings, said
+from mol_shell.cli.outcome import guarded, one_line_warnings, said, said_in_teardown
 from mol_shell.cli.path import (
     add_start_options,
     cmd_plot_path,
@@ -299,6 +299,12 @@ def negative_values_attached(argv):
 
 def main(argv=None):
     return guarded(_command, argv)
+
+
+def entry():
+    """The ``mol-shell`` program (and ``python -m mol_shell``): :func:`main`, then a Ctrl-C or SIGTERM until the
+    process exits said as one that stopped the command (:func:`~mol_shell.cli.outcome.said_in_teardown`)."""
+    return said_in_teardown(main())
 
 
 def _command(argv):

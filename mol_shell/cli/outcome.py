@@ -7,7 +7,9 @@ The command line (:mod:`mol_shell.cli.main`) and the studies' scripts (:mod:`mol
 
 from __future__ import annotations
 
+import contextlib
 import os
+import signal
 import sys
 import warnings
 
@@ -215,3 +217,29 @@ def one_line_warnings(prog="mol-shell"):
             print(f"{prog}: warning: {text}", file=sys.stderr)
 
     warnings.showwarning = one_line
+
+
+def said_in_teardown(code, prog="mol-shell"):
+    """After a command that returned ``code`` (its output written and said), until the process exits: a Ctrl-C or
+    SIGTERM in the interpreter's own teardown (about a second after a large run) ended it 130 with nothing said, or 0.
+    Now one line saying what the command kept, and exit 130 (143), at once (what is left of the teardown frees
+    memory only: the files are closed and the streams flushed). A command that an interrupt already ended exits
+    with its code, quietly. Only for a process that is the command (:func:`mol_shell.cli.main.entry`): tests call
+    :func:`mol_shell.cli.main.main` in their own process."""
+
+    def late(signum, frame):
+        stopped = EXIT_TERMINATED if signum == signal.SIGTERM else EXIT_INTERRUPTED
+        if code not in (EXIT_INTERRUPTED, EXIT_TERMINATED):
+            with contextlib.suppress(Exception):
+                sys.stdout.flush()
+            kept = interrupts.kept_files()
+            what = "terminated (SIGTERM)" if stopped == EXIT_TERMINATED else "interrupted"
+            with contextlib.suppress(OSError):
+                os.write(2, f"{prog}: {what}{' ' + kept if kept else ''}\n".encode(errors="backslashreplace"))
+        os._exit(code if code in (EXIT_INTERRUPTED, EXIT_TERMINATED) else stopped)
+
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        with contextlib.suppress(ValueError, OSError):  # not the main thread: nothing to put in place
+            signal.signal(signum, late)
+    return code
+
