@@ -93,9 +93,9 @@ def test_printed_scene_files_load_and_run_as_the_built_in_scene(name, tmp_path, 
     scene, run = load_scene(path, with_run=True)
     assert scene == SCENES[name]() and run == {"integrator": "leapfrog", "n": 40, "t_end": 0.01}
     outs = []
-    for what in (name, str(path)):
-        outs.append(tmp_path / f"{len(outs)}.nc")
-        assert main(["run", what, "--n", "8", "--t-end", "1e-5", "-o", str(outs[-1])]) == 0
+    for what in (name, str(path)):  # on the file's own n = 40, which test_newcomer_more's run of the printed file
+        outs.append(tmp_path / f"{len(outs)}.nc")  # compiles as well: one kernel per scene for both tests
+        assert main(["run", what, "--n", "40", "--t-end", "1e-5", "-o", str(outs[-1])]) == 0
     a, b = (read_netcdf(p) for p in outs)
     assert list(a.data_vars) == list(b.data_vars)
     for var in a.data_vars:
