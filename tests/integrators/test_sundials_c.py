@@ -194,15 +194,17 @@ def test_a_damaged_cached_driver_is_rebuilt(tmp_path, monkeypatch):
 
 @pytest.mark.slow
 def test_ctrl_c_in_the_compiled_loop_keeps_the_data_and_exits_130(tmp_path):
-    """SIGINT while cvode-bdf steps in C (n = 160 to 60 s: minutes of stepping): the saved times reached are
-    written, marked interrupted, and the exit code is 130; the C loop returns within its 0.2 s chunk."""
+    """SIGINT while cvode-bdf steps in C (n = 40 to 60 s: tens of processor seconds of stepping, far past the wait
+    below): the saved times reached are written, marked interrupted, and the exit code is 130; the C loop returns
+    within its 0.2 s chunk. n = 40 is the module's ``paper`` fixture's: its right-hand side is in the cache already
+    (n = 160 compiled kernels of its own, several seconds of gcc each on a cold cache, for nothing this test reads)."""
     out = tmp_path / "x.nc"
     # the right-hand side and the driver compiled here first (on a cold cache gcc alone can take longer than the wait
     # below on a loaded machine), so that the signal finds the run stepping
-    build(resolve(mol_shell.TwistedCylinder()), 160)
+    build(resolve(mol_shell.TwistedCylinder()), 40)
     drv.driver()
     proc = subprocess.Popen([sys.executable, "-m", "mol_shell", "run", "twisted-cylinder", "--integrator", "cvode-bdf",
-                             "--n", "160", "--t-end", "60", "--times", "0:60:0.01", "-o", str(out)],
+                             "--n", "40", "--t-end", "60", "--times", "0:60:0.01", "-o", str(out)],
                             stderr=subprocess.PIPE, text=True, preexec_fn=sigint_default)
     # past start-up and set-up (under 3.8 s of its own processor time, measured, the kernels loaded from the cache)
     # and well into the stepping
