@@ -69,7 +69,12 @@ def test_the_kinks_are_the_histories_corners_after_the_start():
     # CasADi's integrators: one call per interval between kinks
     ("table", "casadi-cvodes"), ("axial", "casadi-cvodes-c"), ("table", "casadi-cvodes-c"), ("ramp", "casadi-cvodes-c")])
 def test_the_balance_holds_to_about_rtol_across_the_kinks(case, integrator):
-    ds = mol_shell.simulate(SCENES[case], integrator, n=21, times=TIMES[case], progress=False, rtol=RTOL)
+    # scikit-sundae's loop stops at the kinks whatever gives it the Jacobian: on the table its compiled one (the
+    # Jacobians test_scikit_sundae_stops_at_the_kinks_as_the_compiled_route_does compiles anyway), on the axial and
+    # the ramped drives CasADi's virtual machine's (measured 1.4 and 9e-5 rtol), where a compiled one would be a gcc
+    # build of its own (-O1, about 5 s) for this case alone
+    options = {"jacobian": "vm"} if integrator.startswith("sksundae-") and case != "table" else {}
+    ds = mol_shell.simulate(SCENES[case], integrator, n=21, times=TIMES[case], progress=False, rtol=RTOL, **options)
     assert ds.attrs["status"] == "complete"
     assert ds.attrs["energy_balance_error"] < 20 * RTOL
     # the counts run on across the restarts (SUNDIALS zeroes its own at each, a new SciPy solver starts from 0): every
