@@ -68,8 +68,8 @@ def test_a_study_of_paths_says_each_warning_once_not_once_per_case():
 def test_a_study_of_runs_says_the_unused_fibre_keys_once():
     """A study's cases run with the material's warnings off (the study says them once): it said only the locking
     one, so an unused fibre key was said by nothing."""
-    scene = Sphere(material="svk-plane-stress", nu=0.3, fibre_angle=0.5)
-    _, said = _said(lambda: mol_shell.study(scene, {"h": [0.01, 0.0125]}, n=11, t_end=1e-4, scheduler="serial"))
+    scene = Sphere(material="svk-plane-stress", nu=0.3, fibre_angle=0.5)  # two cases of one kernel: omega is initial
+    _, said = _said(lambda: mol_shell.study(scene, {"omega": [0.0, 1.0]}, n=11, t_end=1e-4, scheduler="serial"))
     assert _count(said, MaterialWarning, FIBRES) == 1 and len(said) == 1
 
 
