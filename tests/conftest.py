@@ -21,6 +21,16 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(pytest.mark.xdist_group(str(item.path.relative_to(config.rootpath))))
 
 
+@pytest.fixture(autouse=True)
+def quiet_compiles(monkeypatch):
+    """gcc's progress notice (``mol-shell: compiling ... (about N s expected)``, after 5 s of a build) is said only
+    after an hour in tests: on a slow or busy machine it came between a command and its one line of refusal, which
+    tests count (tests of the notice set their own threshold)."""
+    from mol_shell.discretization import compiled
+
+    monkeypatch.setattr(compiled, "COMPILE_PROGRESS_AFTER", 3600.0)
+
+
 @pytest.fixture(scope="session")
 def paper_scene():
     import mol_shell
