@@ -233,7 +233,7 @@ def test_a_float_for_an_integer_option_is_said_to_be_no_integer(tmp_path, capsys
         assert capsys.readouterr().err.strip() == f"mol-shell: error: --option chunk = {said}"
     scene.write_text('scene = "sphere"\n[run]\nintegrator = "dop853-c"\nn = 5\nt_end = 1e-6\nchunk = 1e12\n')
     assert main(["run", str(scene), "-o", str(out)]) == 2
-    assert capsys.readouterr().err.strip().endswith(f"[run] chunk = 1000000000000.0 is not an integer; {allowed} "
+    assert capsys.readouterr().err.strip().endswith(f"[run] chunk = 1e12 is not an integer; {allowed} "
                                                     "(a float: write it as the integer 1000000000000)")
     with pytest.raises(ParameterError, match=r"^max_steps = 1000000000000.0 is not an integer; allowed: integers in"):
         INTEGRATORS["rk45-c"](max_steps=1e12)
