@@ -5,10 +5,10 @@ says what the command kept, in one line, and exits 130 (143) at once."""
 import signal
 import subprocess
 import sys
-import tomllib
 from pathlib import Path
 
 import pytest
+import tomllib
 
 SCRIPT = """
 import os, signal, sys, time
