@@ -10,10 +10,11 @@ import warnings
 import numpy as np
 
 from mol_shell._core import interrupts
-from mol_shell._core.constants import RTOL_RANGE, stated_up  # noqa: F401  (RTOL_RANGE: simulate's range)
+from mol_shell._core.constants import RTOL_RANGE, stated_up
 from mol_shell._core.errors import ParameterError, SceneWarning, is_number, scalar
 from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.kernel_cache import CacheFull
+from mol_shell.discretization.threads import checked_threads
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.leapfrog import grid_steps, off_grid_hint
 from mol_shell.integrators.loop import declared, real
@@ -229,6 +230,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     mode = progress_mode(progress)  # refused here if not a bool or None; the unshearable route takes it as given
     if stresses is not None and not isinstance(stresses, (bool, np.bool_)):
         raise ParameterError.not_a("stresses", stresses, "a bool", "True, False or None (cheap runs only)")
+    if threads is not None:  # before any graph is built and compiled (a bad count was refused after the build)
+        checked_threads("threads", scalar(threads))
     if isinstance(scene, Unshearable):  # its own formulation: the constrained DAE, or the free shell
         if initial is not None:
             raise ParameterError("initial", "given", "None for the unshearable scene (its own formulation)")

@@ -107,3 +107,11 @@ def test_a_study_names_simulates_keywords_it_sets_itself(keyword, value):
                        r"output, progress and the options of leapfrog \(chunk, dt, restart\) \(each case "):
         mol_shell.study(C(), {"gamma": [0.1]}, t_end=1e-4, n=11, scheduler="serial", progress=False,
                         **{keyword: value})
+
+
+@pytest.mark.parametrize("threads", [0, 10**6, True, 2.0])
+def test_a_thread_count_is_refused_before_anything_is_built(threads, no_build):
+    """``simulate(threads=10**6)`` was refused only after the graphs were built and compiled (seconds to minutes at a
+    large n): now with the other inputs, before a build (``no_build`` raises where one would start)."""
+    with pytest.raises(ParameterError, match=r"^threads = \S+ is outside integers 1 \.\. "):
+        mol_shell.simulate(mol_shell.TwistedCylinder(), n=777, t_end=1e-4, threads=threads, progress=False)
