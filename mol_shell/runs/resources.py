@@ -15,6 +15,7 @@ are meant to be right within a factor of about two, which is all a refusal or a 
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 import os
 import re
@@ -75,7 +76,7 @@ def parse_bytes(text):
     """``"8G"`` -> 8 * 1024**3; plain numbers are bytes (a sign is read, so that a negative size is refused by
     :func:`memory_limit` with the range, not as a typo)."""
     found = re.fullmatch(r"\s*([-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:e[+-]?[0-9]+)?)\s*([kmgt]?)i?b?\s*", str(text),
-                         flags=re.I)
+                         flags=re.IGNORECASE)
     if not found:
         raise ParameterError.invalid(MEMORY_ENV, text, "is not a size", "bytes, or a number with k, M, G or T")
     return float(found.group(1)) * 1024 ** "_kmgt".index(found.group(2).lower() or "_")
@@ -178,6 +179,8 @@ class Estimate:
     dense_bytes: float = 0.0
     dense_matrices: int = 0
     linsolver: str | None = None
+    #: ``m -> memory_bytes`` of the same run on ``m`` nodes (the largest ``n`` that fits, said in a refusal)
+    memory_at: object = dataclasses.field(default=None, repr=False, compare=False)
 
     def describe(self):
         steps = f"{'at least ' if self.steps_lower_bound else ''}{self.steps:.3g} steps"
@@ -247,7 +250,29 @@ def estimate(n, n_times, t_end, integrator="leapfrog", *, fields=5, dt=None, ome
                 steps = max(steps, t_end * omega_max / interval)
     build = BUILD_S_PER_NODE * n
     return Estimate(n, n_times, size, out, memory, steps, lower, steps * per_step * rhs + build, build, dense_bytes,
-                    dense, getattr(method, "linsolver", None))
+                    dense, getattr(method, "linsolver", None),
+                    functools.partial(_memory_at, n_times=n_times, integrator=integrator, fields=fields, method=method))
+
+
+def _memory_at(m, *, n_times, integrator, fields, method):
+    """:func:`estimate`'s memory of the run on ``m`` nodes."""
+    return estimate(m, n_times, 0.0, integrator, fields=fields, method=method).memory_bytes
+
+
+def largest_n(est, available):
+    """The largest number of nodes (at least 3, at most ``est.n``) at which ``est``'s run fits in ``available``
+    bytes, by bisection on its own estimate (the spectrum's dense matrices make it grow faster than linearly below
+    2,000 unknowns: a line through the refused ``n`` said n = 8 where 9 ran); 3 where none does."""
+    if est.memory_at is None:
+        per_node = (est.memory_bytes - BUILD_BYTES_FIXED) / est.n
+        return max(int((available - BUILD_BYTES_FIXED) / per_node) if available > BUILD_BYTES_FIXED else 0, 3)
+    lo, hi = 3, int(est.n)  # est.memory_at(hi) > available: the refused n
+    if est.memory_at(lo) > available:
+        return 3
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        lo, hi = (mid, hi) if est.memory_at(mid) <= available else (lo, mid)
+    return lo
 
 
 def check_memory(est, *, times_name="times", times_value=None, n_name="n", what="the run", kept="saved times",
@@ -285,10 +310,8 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n", what=
                    if default_times else None)
         raise ParameterError(times_name, value, allowed, hint=f"{what} {need}; {fewer} or use fewer nodes (--n){more}",
                              message=message)
-    per_node = (est.memory_bytes - BUILD_BYTES_FIXED) / est.n
-    max_n = int((available - BUILD_BYTES_FIXED) / per_node) if available > BUILD_BYTES_FIXED else 0
     raise ParameterError(n_name, est.n,
-                         f"integers 3..{max(max_n, 3):,} on this machine with "
+                         f"integers 3..{largest_n(est, available):,} on this machine with "
                          + (f"{est.n_times:,} {kept}" if est.n_times < 1e15 else f"{est.n_times:.3g} {kept}"),
                          hint=f"{what} {need}; use fewer nodes (--n)" + (" or save fewer times (--times)"
                                                                         if times_name == "times" else "") + more)

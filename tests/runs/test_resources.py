@@ -434,3 +434,15 @@ def test_default_saved_times_that_do_not_fit_are_said_as_the_default(monkeypatch
         with pytest.raises(ParameterError, match=rf"^times = '<{len(times)} saved times>' is outside at most 8 saved "
                                                  "times at n = 11"):
             mol_shell.simulate("twisted-cylinder", n=11, times=times, progress=False)
+
+
+def test_the_largest_n_a_refusal_suggests_runs(monkeypatch, capsys, tmp_path, no_build):
+    """With MOL_SHELL_MEMORY=287M and 11 saved times, ``--n 12`` was refused as ``integers 3..8`` while n = 9 ran: the
+    suggestion was a line through the refused n, and the spectrum's dense matrices grow as n^2. The largest n said now
+    is the largest the run's own estimate fits (its next one does not): a memory just enough for n = 9 says 3..9."""
+    fit = resources.estimate(9, 2, 0.01).memory_bytes
+    monkeypatch.setenv(resources.MEMORY_ENV, str(int(fit)))
+    code = main(["run", "twisted-cylinder", "--n", "40", "--times", "0,0.01", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and "n = 40 is outside integers 3..9 on this machine" in err, err
+    assert resources.estimate(9, 2, 0.01).memory_bytes <= fit < resources.estimate(10, 2, 0.01).memory_bytes
