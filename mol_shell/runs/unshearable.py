@@ -37,6 +37,7 @@ import time
 
 import numpy as np
 
+from mol_shell._core import interrupts
 from mol_shell._core.errors import ParameterError, flag
 from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.unshearable_dae import NODE, UnshearableDAE
@@ -48,6 +49,7 @@ from mol_shell.results.dataset import build_dataset
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene, build, observe, parse_times, resolve
 from mol_shell.runs.checks import check_system, checked_spectrum
+from mol_shell.runs.post_run import kept
 from mol_shell.scenes.unshearable import Unshearable
 
 #: the options of the two runs, with their defaults: the constrained DAE's (IDA) and the free shell's (leap-frog)
@@ -129,18 +131,20 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         attrs = {"integrator": "leapfrog", "dt": dt, "constrained": 0, "leapfrog_dt_bound_s": 1.0 / omega_max}
     attrs["build_and_run_time_s"] = time.perf_counter() - start
     attrs["t_end_requested"] = float(times[-1])  # as simulate's: what a run that stops early was asked to reach
-    velocities, totals = observe(shell, traj.y)
-    if constrained:  # a held chi's support shares the torque with the constraint chi_s = 0, whose multiplier the
-        # shell's own equations do not hold: its reaction is not computed (NaN; a held z's is: no constraint acts on z)
-        for j, (_, field) in enumerate(shell.reaction_names):
-            if field == 2:
-                totals["reactions"][:, j] = np.nan
-                attrs["reaction_torque_note"] = ("not computed for the constrained DAE: the held chi's support "
-                                                 "shares the torque with the constraint chi_s = 0 (lambda_chi)")
+    with interrupts.watched() as watch:  # the states are the run from here: a Ctrl-C is noted, the run kept
+        velocities, totals = observe(shell, traj.y)
+        if constrained:  # a held chi's support shares the torque with the constraint chi_s = 0, whose multiplier the
+            # shell's own equations do not hold: its reaction is not computed (NaN; a held z's is: no constraint acts on z)
+            for j, (_, field) in enumerate(shell.reaction_names):
+                if field == 2:
+                    totals["reactions"][:, j] = np.nan
+                    attrs["reaction_torque_note"] = ("not computed for the constrained DAE: the held chi's support "
+                                                     "shares the torque with the constraint chi_s = 0 (lambda_chi)")
 
-    ds = build_dataset(shell, scene, traj, velocities, totals, attrs, requested)
-    ds.attrs["title"] = f"mol_shell run of scene unshearable ({'constrained DAE' if constrained else 'free shell'})"
-    return _add_defects(ds, shell, multipliers)
+        ds = build_dataset(shell, scene, traj, velocities, totals, attrs, requested)
+        ds.attrs["title"] = f"mol_shell run of scene unshearable ({'constrained DAE' if constrained else 'free shell'})"
+        ds = _add_defects(ds, shell, multipliers)
+    return kept(ds, watch, stresses=False, ellipticity=False)  # (mol_shell.runs.post_run)
 
 
 def _check_constrained_edges(scene):

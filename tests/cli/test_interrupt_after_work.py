@@ -155,3 +155,15 @@ def test_what_an_interrupted_command_kept_is_said_in_one_line():
         for name in ("b.nc", "c.nc"):
             interrupts.wrote(name)
         assert interrupts.kept_files() == "after writing 4 files, the last a.png, b.nc and c.nc"
+
+
+def test_an_interrupt_as_the_unshearable_run_is_assembled_keeps_it(monkeypatch, sigint_python):
+    """The unshearable scene's own steps after its integration (its observables, its Dataset) let a Ctrl-C escape with
+    the whole run: now noted, the run returned whole and said interrupted after its end."""
+    unshearable = importlib.import_module("mol_shell.runs.unshearable")
+    _signal_on_entry(monkeypatch, unshearable, "build_dataset")
+    ds = simulate("unshearable", "leapfrog", n=10, times=[0.0, 0.0005, 0.001], dt=1e-5, progress=False)
+    assert ds.attrs["status"] == "interrupted" and ds.attrs["complete"] == 0
+    assert ds.attrs["message"].startswith("interrupted by the user after the run reached its end, t = 0.001 s")
+    np.testing.assert_array_equal(ds.time.values, [0.0, 0.0005, 0.001])
+    assert np.all(np.isfinite(ds.r.values))  # its stresses follow, as after an interrupt while it stepped
