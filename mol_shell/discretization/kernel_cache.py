@@ -37,6 +37,7 @@ from pathlib import Path
 import casadi as ca
 
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.user_files import not_regular
 
 #: the record appended to every cached library: its key, the image's size and digest (fixed length)
 _RECORD = b"\n\0mol_shell-library key=%s size=%016d sha256=%s\n"
@@ -201,9 +202,9 @@ def damage(path, key):
     try:
         if stat.S_ISDIR(os.lstat(path).st_mode):
             return DIRECTORY
-        mode = os.stat(path).st_mode
-        if not stat.S_ISREG(mode):
-            return "not a regular file (a FIFO, a socket or a device)"
+        other = not_regular(path)  # a FIFO, a socket, a device: said without opening it
+        if other:
+            return other.removeprefix("is ")
         with open(path, "rb") as f:
             size = os.fstat(f.fileno()).st_size
             if size < RECORD_BYTES:

@@ -376,4 +376,4 @@ def test_a_fifo_where_a_library_goes_is_replaced_not_waited_on(tmp_path, monkeyp
         signal.alarm(0)
         signal.signal(signal.SIGALRM, previous)
     assert path == lib and lib.is_file() and v == 1.25
-    assert "is damaged (not a regular file (a FIFO, a socket or a device)); compiling it again" in capsys.readouterr().err
+    assert "is damaged (a named pipe (FIFO), not a regular file); compiling it again" in capsys.readouterr().err
