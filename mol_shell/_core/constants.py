@@ -38,3 +38,6 @@ def stated_up(value, digits=4):
     if float(f"{mantissa}e{exponent}") < value:  # rounded down: one unit of the last digit up
         mantissa = f"{float(mantissa) + 10.0 ** (1 - digits):.{digits - 1}f}"
     return float(f"{mantissa}e{exponent}")
+
+#: intervals between the saved times of a run given ``t_end`` alone (``DEFAULT_INTERVALS + 1`` evenly spaced times)
+DEFAULT_INTERVALS = 10

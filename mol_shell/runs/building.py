@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from mol_shell._core.constants import MIN_STEP, stated_up
+from mol_shell._core.constants import DEFAULT_INTERVALS, MIN_STEP, stated_up
 from mol_shell._core.errors import ParameterError, is_number, kind_of, scalar, show
 from mol_shell.discretization.compiled import CompiledRHS
 from mol_shell.discretization.scales import unit_strain_energy
@@ -100,7 +100,7 @@ def _not_numbers(times):
     return [value for value in values if not is_number(scalar(value))][:1]
 
 
-def parse_times(times=None, t_end=None, intervals=10):
+def parse_times(times=None, t_end=None, intervals=DEFAULT_INTERVALS):
     """Saved times as an array starting at 0; ``t_end`` alone gives ``intervals + 1`` evenly spaced times (to 12
     significant digits, so that ``ds.sel(time=...)`` finds the numbers a user would type).
 

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mol_shell._core.constants import DENSE_MAX_STATES
+from mol_shell._core.constants import DEFAULT_INTERVALS, DENSE_MAX_STATES
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.units import show_seconds
 from mol_shell.results.stresses import MAX_SAMPLES
@@ -33,8 +33,6 @@ from mol_shell.results.stresses import MAX_SAMPLES
 #: environment variable: the memory a run may use, bytes (suffixes k, M, G, T; powers of 1024), instead of the
 #: machine's available memory (for tests, and for a share of a machine)
 MEMORY_ENV = "MOL_SHELL_MEMORY"
-#: intervals between the saved times of a run given no times (:func:`mol_shell.runs.building.parse_times`)
-DEFAULT_INTERVALS = 10
 #: a run projected to take longer than this (s) is announced before it starts
 LONG_RUN_S = 3600.0
 BYTES = 8

@@ -10,7 +10,7 @@ import warnings
 import numpy as np
 
 from mol_shell._core import interrupts
-from mol_shell._core.constants import RTOL_RANGE, stated_up
+from mol_shell._core.constants import DEFAULT_INTERVALS, RTOL_RANGE, stated_up
 from mol_shell._core.errors import ParameterError, SceneWarning, is_number, scalar
 from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.kernel_cache import CacheFull
@@ -132,7 +132,7 @@ def steps_to(t_end, dt):
     return int(steps[0]) if steps[0] >= 1 and not off[0] else 0
 
 
-def leapfrog_times(t_end, dt, count=10, dt_given=False):
+def leapfrog_times(t_end, dt, count=DEFAULT_INTERVALS, dt_given=False):
     """Default saved times of a fixed-step run: ``count`` intervals to ``t_end``, each a whole number of steps.
 
     ``t_end`` must be a multiple of ``dt``. The times are as even as the step grid allows and are
