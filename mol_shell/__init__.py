@@ -12,6 +12,7 @@ try:  # the command line's Ctrl-C while these load (about a second) is its Ctrl-
     from mol_shell._core.version import __version__
     from mol_shell.analysis.modes import modes
     from mol_shell.analysis.path import path
+    from mol_shell.analysis.path_continue import continue_path
     from mol_shell.integrators import INTEGRATORS
     from mol_shell.model.user_laws import Material
     from mol_shell.results.dataset import read_netcdf, write_netcdf
@@ -43,7 +44,7 @@ except KeyboardInterrupt:
 
 __all__ = [
     "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "LongRunWarning", "Material", "MaterialWarning", "MeridianShell", "ModelLimitError", "ParameterError", "SceneWarning", "ShellScene",
-    "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "Unshearable", "Vessel", "__version__", "build", "get_scene",
+    "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "Unshearable", "Vessel", "__version__", "build", "continue_path", "get_scene",
     "load_scene", "modes", "path", "read_netcdf",
     "simulate", "simulate_ring", "simulate_unshearable", "study", "write_netcdf",
 ]

@@ -45,13 +45,14 @@ from mol_shell._core import interrupts
 from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, scalar
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell.analysis.equilibria import EquilibriumEquations
-from mol_shell.analysis.path_branch import BranchFailed, no_branch_reason, switch
+from mol_shell.analysis.path_branch import BranchFailed, closed, no_branch_reason, switch
 from mol_shell.analysis.path_dataset import interrupted_at_end, path_dataset
 from mol_shell.analysis.path_inputs import check_inputs
 from mol_shell.analysis.path_record import PathRecord
 from mol_shell.analysis.path_secant import secant_start
 from mol_shell.analysis.path_stability import LOCATE_NEWTON, LOCATE_TOL
 from mol_shell.runs.building import as_scene
+from mol_shell.runs.simulate import given_state
 
 #: Newton's convergence: ``|F|`` below this fraction of the forces of a unit strain (``max diag K`` times the
 #: meridian's size), then one step more
@@ -303,21 +304,13 @@ class _Path:
             return q, total
 
 
-def _closed(tracer, origin, q, lam, arc, record):
-    """Whether a branch has come back to the critical point it left (``origin``): within the last step's length
-    of it, once it has been farther than three such steps from it. A branch that closes into a loop (the vessel's
-    two heads snapping in turn) would otherwise go round it until ``max_steps``."""
-    away = tracer.distance(origin[0], origin[1], q, lam)
-    record.farthest = max(record.farthest, away)
-    return away < arc and record.farthest > 3.0 * arc
-
-
 def _steps_done(n, total):
     """A path's progress line's count (a path has no total)."""
     return f"{n:.0f} step{'s' * (n != 1)}"
 
 
-def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None, progress=None):
+def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None, initial=None,
+         heading=None, progress=None):
     """Follow the equilibria of ``scene`` at rest as the load ``parameter`` goes from ``start`` to ``stop``.
 
     Parameters
@@ -346,6 +339,16 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         and follow it; at a limit point, where no branch leaves, the path goes on without a switch and its message
         says why. A path that ends
         before it finds that point says so in ``attrs["message"]``.
+    initial : array_like, optional
+        Fields ``z, r, chi, theta, psi`` at the nodes, ``(5, n)``, of an equilibrium at ``start``: where Newton
+        starts in place of the scene's initial state (a step of an earlier path, to go on from it:
+        :func:`~mol_shell.analysis.path_start.path_start` gives its scene, ``n`` and fields;
+        :func:`~mol_shell.analysis.path_continue.continue_path` does it all). The path leaves it towards ``stop``,
+        or along ``heading``.
+    heading : tuple, optional
+        With ``initial``: ``(fields, value)``, the state before it on its path and its load; the path leaves
+        ``initial`` away from it, as that path went on (past a limit point the load may at first move away from
+        ``stop``). A path so continued is not ended for coming back past ``start``.
     progress : bool, optional
         Progress on stderr: the steps taken, the load reached, the critical points found. ``True`` a bar (tqdm),
         ``False`` nothing; default (``None``) a bar when stderr is a terminal, else a line every
@@ -370,12 +373,27 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     origin = None  # on a branch: the critical point it left (state, load, the step after which it did)
     eq = EquilibriumEquations(scene, parameter, n)
     tracer = _Path(eq, start, stop)
-    try:
-        q, iterations = tracer.start_equilibrium(eq.unknowns(eq.y_ref), float(start))
-    except PathFailed as exc:
-        raise ParameterError("start", start, "loads at which the shell has an equilibrium that Newton finds from the "
-                             "scene's initial state or by continuation from 0", hint=str(exc)) from None
+    if initial is not None:  # an equilibrium at start (an earlier path's step): Newton polishes it, nothing more
+        said = "the scene's initial state"
+        y0 = given_state(eq.system, initial, eq.system.unpack(eq.y_ref))
+        try:
+            q, iterations = tracer.equilibrium(eq.unknowns(y0), float(start))
+        except PathFailed as exc:
+            raise ParameterError("initial", None, f"fields of an equilibrium at start = {start:g} {eq.units}",
+                                 message=f"initial (the fields given) is no equilibrium at start = {start:g} "
+                                 f"{eq.units}: {str(exc).replace(said, 'the fields')}") from None
+    else:
+        try:
+            q, iterations = tracer.start_equilibrium(eq.unknowns(eq.y_ref), float(start))
+        except PathFailed as exc:
+            raise ParameterError("start", start, "loads at which the shell has an equilibrium that Newton finds "
+                                 "from the scene's initial state or by continuation from 0", hint=str(exc)) from None
     t = tracer.weigh(q, float(start))
+    if heading is not None:  # along the earlier path's last chord (the tangent towards stop turns back past a fold)
+        behind = eq.unknowns(given_state(eq.system, heading[0], eq.system.unpack(eq.y_ref)))
+        chord = tracer.distance(behind, float(heading[1]), q, float(start))
+        t = tracer.tangent(q, float(start), previous=(((q - behind)[eq.keep] / tracer.q_scale) / chord,
+                                                      (float(start) - float(heading[1])) / tracer.l_scale / chord))
     ds0 = math.sqrt(2.0) / steps if ds is None else min(float(ds), math.sqrt(2.0))  # at most the whole range
     bar = progress_meter(mode, f"path in {parameter} ({eq.units})", count=_steps_done, unit=" steps")  # no total
     record = PathRecord(eq, tracer, bar, PathFailed)
@@ -444,12 +462,12 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
             if beyond:
                 status, message = "complete", f"reached {parameter} = {lam:.6g} {eq.units}"
                 break
-            if origin is not None and _closed(tracer, origin, q, lam, arc, record):
+            if origin is not None and closed(tracer, origin, q, lam, arc, record):
                 status, message = "returned", (
                     f"the branch closed: it came back to critical point {record.branch_point} ({parameter} = "
                     f"{origin[1]:.6g} {eq.units}) {len(record.lams) - origin[2]} steps after it left it, round a loop")
                 break
-            if (lam - tracer.start) * tracer.direction < 0 and len(record.lams) > 2:
+            if (lam - tracer.start) * tracer.direction < 0 and len(record.lams) > 2 and heading is None:
                 status, message = "returned", (f"the path came back past start = {start:g} {eq.units}, away "
                                                f"from stop = {stop:g} {eq.units}")
                 break
@@ -469,6 +487,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         if record.bar is not None:
             record.bar.close()
         ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)
+    if initial is not None:
+        ds.attrs["initial_state"] = "the fields given (initial), at rest"
     if watch.caught:  # as it was assembled: written, said interrupted (exit 130)
         ds = interrupted_at_end(ds)
     if "ellipticity_warning" in ds.attrs:

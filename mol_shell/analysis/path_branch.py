@@ -59,3 +59,12 @@ def switch(tracer, point, t, ds, min_ds, failed):
                 pass
             h /= 2
     raise BranchFailed(f"Newton found no state on the branch leaving {eq.parameter} = {lam_c:.6g} {eq.units}")
+
+
+def closed(tracer, origin, q, lam, arc, record):
+    """Whether a branch has come back to the critical point it left (``origin``): within the last step's length
+    of it, once it has been farther than three such steps from it. A branch that closes into a loop (the vessel's
+    two heads snapping in turn) would otherwise go round it until ``max_steps``."""
+    away = tracer.distance(origin[0], origin[1], q, lam)
+    record.farthest = max(record.farthest, away)
+    return away < arc and record.farthest > 3.0 * arc

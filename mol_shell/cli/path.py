@@ -10,6 +10,7 @@ import numpy as np
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.analysis.equilibria import PATH_PARAMETERS
 from mol_shell.analysis.path import path
+from mol_shell.analysis.path_continue import continue_path
 from mol_shell.analysis.path_inputs import STEPS_MAX
 from mol_shell.analysis.path_start import ALLOWED, FLAGS, is_path, path_start, read_path
 from mol_shell.cli.args import (
@@ -86,18 +87,59 @@ def not_located(step):
     return f"; not located: the search's last estimate, between steps {step} and {step + 1}"
 
 
-def cmd_path(args):
-    name, start, stop = parse_param(args.param)
-    scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] n is the default of --n
-    n = args.n or run.get("n", 40)
+def _continued(args):
+    """``(scene, name, start, stop, ds)`` of ``mol-shell path --from OLD.nc --stop X [--step K]``: the path of the
+    file followed on from its step (:func:`~mol_shell.analysis.path_continue.continue_path`)."""
+    for option, value, why in (("SCENE_OR_FILE", args.scene, "the path's scene is the file's"),
+                               ("--param", args.param, "the load and its start are the path's (STOP: --stop)"),
+                               ("--set", args.set, ("the path's scene is the file's (a changed scene's equilibria "
+                                                    "are not the path's)"))):
+        if value is not None:
+            raise ParameterError(option, value, "nothing with --from", message=f"{option} is not taken with --from "
+                                 f"PATH.nc: {why}")
+    if args.stop is None:
+        raise ParameterError.missing("--stop", "give --stop X with --from PATH.nc (where the continued load goes)")
+    source = read_path(args.from_path)
+    if args.n is not None and args.n != source.sizes["s"]:
+        raise ParameterError("--n", args.n, f"{{{source.sizes['s']}}} with --from (the path's nodes)")
     try:
-        ds = path(scene, name, start, stop, n=n, steps=args.steps, max_steps=args.max_steps, branch=args.branch)
+        ds = continue_path(source, args.stop, step=args.step, steps=args.steps, max_steps=args.max_steps,
+                           branch=args.branch, names=FLAGS)
     except ParameterError as exc:
+        if exc.name in ("stop", "start"):  # start is the step's load: a stop equal to it is --stop's
+            allowed = str(exc.allowed).replace("start", "the step's load")
+            raise ParameterError("--stop", args.stop, allowed, message=f"--stop = {args.stop:.10g} is outside "
+                                 f"{allowed}") from None
         raise as_path_option(exc, args) from None
+    ds.attrs["continued_from"] = ds.attrs["continued_from"].replace("<xarray.Dataset>", str(args.from_path))
+    step = source.sizes["step"] - 1 if args.step is None else args.step
+    return source.attrs["scene"], str(source.attrs["parameter"]), float(source.parameter[step]), args.stop, ds
+
+
+def cmd_path(args):
+    if args.from_path is not None:
+        scene, name, start, stop, ds = _continued(args)
+    else:
+        for option, value in (("--stop", args.stop), ("--step", args.step)):
+            if value is not None:
+                raise ParameterError(option, value, "an option with --from PATH.nc",
+                                     message=f"{option} is an option with --from PATH.nc only")
+        if args.scene is None or args.param is None:
+            missing = "SCENE_OR_FILE" if args.scene is None else "--param"
+            raise ParameterError.missing(missing, "give a scene (or a scene file) and --param NAME=START:STOP, or "
+                                         "--from PATH.nc and --stop X")
+        name, start, stop = parse_param(args.param)
+        scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] n is the default of --n
+        n = args.n or run.get("n", 40)
+        try:
+            ds = path(scene, name, start, stop, n=n, steps=args.steps, max_steps=args.max_steps, branch=args.branch)
+        except ParameterError as exc:
+            raise as_path_option(exc, args) from None
     if ds.attrs["status"] == "interrupted":  # by a SIGTERM (a scheduler's time limit): the file says so
         ds.attrs["message"] = as_stopped(str(ds.attrs["message"]))
     write_netcdf(ds, args.output)
-    say_stand_ins(scene)
+    if args.from_path is None:
+        say_stand_ins(scene)
     if "parameter_replaced" in ds.attrs:  # --param pressure=... on a scene that sets a pressure of its own
         print(f"mol-shell: note: {ds.attrs['parameter_replaced']}", file=sys.stderr)
     for note in str(ds.attrs.get("loads_at_rest", "")).splitlines():  # another load on a history: taken at t = 0
@@ -126,8 +168,7 @@ def cmd_path(args):
               file=sys.stderr)
     if ds.attrs["status"] in ("max_steps", "returned"):  # what was asked for, but short of STOP: exit 0, said
         print(f"mol-shell: note: the path did not reach {name} = {stop:g}: {ds.attrs['message']}"
-              + (f" (raise --max-steps to go on: the path is traced again from {name} = {start:g}, the same steps "
-                 f"first; mol-shell scenes {args.output} --toml writes its scene file)"
+              + (f" (to go on from its last step: mol-shell path --from {args.output} --stop {stop:g})"
                  if ds.attrs["status"] == "max_steps" else ""), file=sys.stderr)
     return 0
 
@@ -135,8 +176,8 @@ def cmd_path(args):
 def register_path(sub):
     p = sub.add_parser("path", help="equilibrium path in one load through limit points, with stability and "
                        "critical points")
-    p.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP)
-    p.add_argument("--param", required=True, metavar="NAME=START:STOP", action=_OneParameter,
+    p.add_argument("scene", metavar=SCENE_METAVAR, help=SCENE_HELP + " (or --from PATH.nc)", nargs="?")
+    p.add_argument("--param", metavar="NAME=START:STOP", action=_OneParameter,
                    help="the continued load or edge displacement and its range, NAME in {"
                    + ", ".join(PATH_PARAMETERS) + "}")
     p.add_argument("--n", type=integer_arg("--n", 3), default=None,
@@ -150,6 +191,13 @@ def register_path(sub):
                    "stderr and in attrs status = max_steps, complete = 0, and exits 0")
     p.add_argument("--branch", type=integer_arg("--branch", 0), default=None, metavar="K",
                    help="switch onto the branch leaving bifurcation point K (numbered from 0 as found) and follow it")
+    p.add_argument("--from", dest="from_path", metavar="PATH.nc", default=None,
+                   help="go on along a path written by mol-shell path, from its last step (or --step K) to --stop X, "
+                   "in place of SCENE_OR_FILE and --param: the path's scene and load")
+    p.add_argument("--step", type=integer_arg("--step", 0), default=None,
+                   help="with --from: the step to go on from (default: the last)")
+    p.add_argument("--stop", type=number_arg("--stop", -np.inf), default=None,
+                   help="with --from: where the continued load goes (in the path's units)")
     p.add_argument("-o", "--output", required=True,
                    help="netCDF file to write, .nc (missing directories are created)")
     p.set_defaults(func=cmd_path, output_suffixes=NETCDF_SUFFIXES)

@@ -61,7 +61,7 @@ def test_an_abbreviated_option_is_refused_naming_the_option_it_begins(tmp_path, 
     assert not parser.allow_abbrev and not any(p.allow_abbrev for p in commands.values())
     # "--" ends the options: nothing after it is an option cut short (it was named as one)
     assert main(["path", "--", "sphere"]) == 2
-    assert one_error(capsys) == "mol-shell: error: the following arguments are required: --param, -o/--output"
+    assert one_error(capsys) == "mol-shell: error: the following arguments are required: -o/--output"
     # before the command: it said "the following arguments are required: command"
     assert main(["--vers"]) == 2
     assert one_error(capsys) == "mol-shell: error: --vers is not an option of mol-shell; allowed: options spelt in " \

@@ -137,7 +137,7 @@ def test_a_path_cut_short_by_max_steps_says_so_and_exits_0(tmp_path, capsys):
                  "--max-steps", "3", "-o", str(out)])
     captured = capsys.readouterr()
     assert code == 0
-    assert "note: the path did not reach pressure" in captured.err and "raise --max-steps" in captured.err
+    assert "note: the path did not reach pressure" in captured.err and "to go on from its last step: mol-shell path --from " in captured.err
     with xr.open_dataset(out) as ds:
         assert ds.attrs["status"] == "max_steps" and ds.attrs["complete"] == 0 and ds.sizes["step"] == 4
 

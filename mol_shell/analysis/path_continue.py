@@ -1,0 +1,63 @@
+"""Going on along an equilibrium path from one of its steps: :func:`continue_path` (``mol-shell path --from``).
+
+A path that ended short of where it is wanted (``max_steps``, a stop too near, a corrector that failed at a hard
+spot) is continued from a step of its file rather than traced again: the step's state is the start (Newton
+polishes it), the chord from the step before it orients the first tangent (so a path past a limit point goes on
+along its branch instead of turning back towards the fold), and the scene is the path's own (its name and
+parameters from the file's attrs, :func:`~mol_shell.analysis.path_start.path_scene`). The continuation is a path of
+its own: its step 0 is the step it left, its critical points those it meets from there.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from mol_shell.analysis.path import path
+from mol_shell.analysis.path_start import KEYWORDS, checked_path, path_scene, path_start, read_path
+from mol_shell.model.kinematics import FIELDS
+
+
+def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, branch=None, progress=None,
+                  names=KEYWORDS):
+    """Follow path ``source`` on from its step ``step`` (default: its last) to ``stop``.
+
+    Parameters
+    ----------
+    source : xarray.Dataset or path
+        A path (:func:`mol_shell.path`'s Dataset or its netCDF file; a continuation's too).
+    stop : float
+        Where the continued load goes (its units the path's, ``attrs["parameter_units"]``).
+    step : int, optional
+        The step to go on from (``0 .. steps - 1``; default the last).
+    steps, max_steps, ds, branch, progress
+        As :func:`mol_shell.path`'s, for the continuation.
+    names : dict
+        How refusals name the path and the step (:data:`~mol_shell.analysis.path_start.KEYWORDS`, or the command
+        line's flags).
+
+    Returns
+    -------
+    xarray.Dataset
+        The continuation, a path from the step's load to ``stop`` (its step 0 is the step it left); attrs
+        ``continued_from`` (the file or Dataset, the step and its load) and ``initial_state``.
+    """
+    shown = str(source) if isinstance(source, (str, os.PathLike)) else "<xarray.Dataset>"
+    source = read_path(source, names["ds"]) if isinstance(source, (str, os.PathLike)) else checked_path(
+        source, names["ds"])
+    count = source.sizes["step"]
+    k = count - 1 if step is None else step
+    _, n, fields, info = path_start(source, step=k, names=names)
+    k = int(k)
+    parameter, units = str(source.attrs["parameter"]), str(source.attrs.get("parameter_units", ""))
+    value = float(source.parameter.values[k])
+    scene = path_scene(source, float(source.attrs.get("parameter_scene_value", 0.0)), names)
+    heading = None
+    if k > 0:  # the chord from the step before orients the first tangent
+        heading = (np.stack([source[f].values[k - 1] for f in FIELDS]), float(source.parameter.values[k - 1]))
+    out = path(scene, parameter, value, stop, n, steps=steps, max_steps=max_steps, ds=ds, branch=branch,
+               initial=fields, heading=heading, progress=progress)
+    out.attrs["continued_from"] = f"{shown}, step {k} of {count} ({parameter} = {value:.10g} {units})"
+    out.attrs["initial_state"] = info
+    return out

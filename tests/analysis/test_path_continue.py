@@ -1,0 +1,107 @@
+"""Going on along a path from one of its steps (``continue_path``, ``mol-shell path --from PATH.nc --stop X``).
+
+Until December 7 a path that stopped short (``max_steps``) could only be traced again from its start. A continued
+path starts from the step's state and leaves it along the chord from the step before: past a fold, where the load
+turns, the tangent towards ``stop`` would lead back to the fold instead.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+from reference_cap import cap_params, p_classical
+
+import mol_shell
+from mol_shell.analysis.path_continue import continue_path
+from mol_shell.cli.main import main
+
+STOP = 2e5  # Pa on the default sphere, which stiffens monotonically: one branch, no critical point
+
+
+@pytest.fixture(scope="module")
+def short():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # the default law's note at nu = 0.49
+        return mol_shell.path("sphere", "pressure", 0.0, STOP, n=13, max_steps=3, progress=False)
+
+
+def test_a_continued_path_ends_at_the_equilibrium_the_whole_path_reaches(short):
+    assert short.attrs["status"] == "max_steps"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        more = continue_path(short, STOP)
+        whole = mol_shell.path("sphere", "pressure", 0.0, STOP, n=13, progress=False)
+    assert more.attrs["status"] == whole.attrs["status"] == "complete"
+    assert float(more.parameter[0]) == float(short.parameter[-1]) and float(more.parameter[-1]) == STOP
+    for field in ("z", "r"):  # one branch: Newton's equilibria at 2e5 Pa, reached along two sequences of steps
+        np.testing.assert_allclose(more[field].values[-1], whole[field].values[-1], rtol=0, atol=1e-12)
+    assert more.attrs["continued_from"].startswith("<xarray.Dataset>, step 3 of 4 (pressure = ")
+    assert more.attrs["initial_state"].startswith("equilibrium path step 3: pressure = ")
+
+
+def test_past_a_fold_the_continuation_goes_on_along_the_branch_not_back_to_the_fold():
+    """The clamped cap under external pressure folds at about -75.6 Pa (n = 21); two steps past the fold the
+    load rises again along the unstable branch (one negative eigenvalue). Towards stop (below) would lead back
+    up to the fold, where the continuation found it again and turned round."""
+    cap = mol_shell.Sphere(**cap_params(5.0))
+    stop = -0.7 * p_classical()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        traced = mol_shell.path(cap, "pressure", 0.0, stop, n=21, max_steps=16, progress=False)
+    fold = int(traced.point_step.values[0])
+    assert str(traced.point_kind.values[0]) == "limit" and traced.sizes["step"] > fold + 2
+    k = fold + 2
+    assert traced.negative_eigenvalues.values[k] == 1 and traced.parameter.values[k] > traced.parameter.values[k - 1]
+    more = continue_path(traced, stop, step=k, max_steps=3)
+    loads = more.parameter.values
+    assert np.all(np.diff(loads) > 0), loads  # on along the branch, the load still rising (away from the fold)
+    assert np.all(more.negative_eigenvalues.values == 1) and more.sizes["point"] == 0
+
+
+def test_the_command_line_goes_on_from_a_path_file(short, tmp_path, capsys):
+    first = tmp_path / "a.nc"
+    assert main(["path", "sphere", "--param", f"pressure=0:{STOP:g}", "--n", "13", "--max-steps", "2",
+                 "-o", str(first)]) == 0
+    err = capsys.readouterr().err
+    assert f"(to go on from its last step: mol-shell path --from {first} --stop {STOP:g})" in err
+    out = tmp_path / "b.nc"
+    assert main(["path", "--from", str(first), "--stop", f"{STOP:g}", "--max-steps", "1", "-o", str(out)]) == 0
+    ds = mol_shell.read_netcdf(out)
+    assert ds.attrs["continued_from"].startswith(f"{first}, step 2 of 3 (pressure = ")
+    assert ds.sizes["step"] == 2 and ds.attrs["scene"] == "sphere"
+
+
+@pytest.mark.parametrize("argv, said", [
+    (["sphere", "--from", "F", "--stop", "1"], "SCENE_OR_FILE is not taken with --from PATH.nc"),
+    (["--from", "F", "--param", "pressure=0:1", "--stop", "1"], "--param is not taken with --from PATH.nc"),
+    (["--from", "F", "--set", "h=0.1", "--stop", "1"], "--set is not taken with --from PATH.nc"),
+    (["--from", "F"], "--stop is missing: give --stop X with --from PATH.nc"),
+    (["--from", "F", "--stop", "1", "--step", "9"], "--step = 9 is outside integers 0..3 (the path's steps)"),
+    (["--from", "F", "--stop", "1", "--n", "30"], "--n = 30 is outside {13} with --from (the path's nodes)"),
+    (["sphere", "--param", "pressure=0:1", "--stop", "3"], "--stop is an option with --from PATH.nc only"),
+    (["--param", "pressure=0:1"], "SCENE_OR_FILE is missing"),
+])
+def test_refusals_name_the_option(short, tmp_path, capsys, argv, said):
+    source = tmp_path / "short.nc"
+    mol_shell.write_netcdf(short, source)
+    argv = [str(source) if a == "F" else a for a in argv]
+    assert main(["path", *argv, "-o", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and said in err[0], err
+    assert not (tmp_path / "x.nc").exists()
+
+
+def test_a_stop_at_the_steps_load_is_refused_as_stop(short, tmp_path, capsys):
+    source = tmp_path / "short.nc"
+    mol_shell.write_netcdf(short, source)
+    value = float(short.parameter.values[-1])
+    assert main(["path", "--from", str(source), "--stop", repr(value), "-o", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("mol-shell: error: --stop = ") and "the step's load" in err
+
+
+def test_initial_fields_of_another_shape_are_refused_by_name():
+    with pytest.raises(mol_shell.ParameterError, match=r"^initial = .* is outside finite arrays of shape \(5, 13\)"):
+        mol_shell.path("sphere", "pressure", 0.0, STOP, n=13, initial=np.zeros((5, 12)), progress=False)
