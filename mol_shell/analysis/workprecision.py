@@ -311,9 +311,10 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
     coords = {"integrator": ("integrator", list(integrators), {"long_name": "integrator (mol-shell run --integrator)"}),
               "level": ("level", np.arange(levels), {"units": "1", "long_name": "index of the point in the integrator's sweep"})}
     ds = xr.Dataset({k: (dims, v, {"units": units[k], "long_name": long[k]}) for k, v in data.items()}, coords=coords)
-    for k in COUNTS:  # counts, written as 32-bit integers (CF 1.8 has none wider); -1 where a point has none
-        ds[k].encoding = ({"dtype": "int32", "_FillValue": INT_FILL} if np.isnan(data[k]).any() else
-                          {"dtype": "int32", "_FillValue": None})
+    for k in COUNTS:  # counts, written as 32-bit integers (CF 1.8 has none wider); -1 where a point has none, declared
+        # whether or not one has none: floats without a _FillValue written as integers made xarray warn (a
+        # SerializationWarning per count on a clean comparison), and the file reads back as the floats returned here
+        ds[k].encoding = {"dtype": "int32", "_FillValue": INT_FILL}
     ds["status"] = (dims, status.astype(str), {"long_name": "how the run ended: complete, limit, unstable, failed, "
                                                             "interrupted, or skipped (not run; see note); empty: no point"})
     ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
@@ -334,7 +335,7 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
 
 #: the counts of a comparison: floats here, NaN where a point has none (not run, or a route that does not count it);
 #: in its file 32-bit integers, :data:`~mol_shell.results.study_dataset.INT_FILL` there, declared as the variable's
-#: ``_FillValue`` (xarray reads such a variable as floats, NaN there, and one without as integers), as a study's
+#: ``_FillValue`` whether or not a point has none (xarray reads them back as floats, NaN there), as a study's counts
 COUNTS = ("n_steps", "n_rhs", "n_rhs_jacobian", "n_jac")
 
 
