@@ -12,11 +12,11 @@ max |u - u_ref| / max |u_ref| at the final time). Public tools only: ``mol_shell
 Usage: python benchmarks/cvode_settings.py [--repeats 3] [--scenes paper viscous ...] [--json out.json]
 """
 
-import argparse
 import json
 import warnings
 
 import numpy as np
+from arguments import Parser, integer  # benchmarks/ is this script's folder
 
 import mol_shell
 from mol_shell.runs.simulate import resolve
@@ -47,8 +47,8 @@ def error(ds, ref):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--repeats", type=int, default=3,
+    parser = Parser(__doc__)  # a value out of its range: one line naming the option, exit code 2
+    parser.add_argument("--repeats", type=integer("--repeats", 1), default=3,
                         help="runs of each setting; the fastest is reported (an integer >= 1, default: 3)")
     parser.add_argument("--scenes", nargs="+", default=list(SCENES), choices=list(SCENES), metavar="SCENE",
                         help=f"scenes to run, any of: {', '.join(SCENES)} (default: all)")

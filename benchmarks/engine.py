@@ -20,7 +20,6 @@ max |u - u_ref| / max |u_ref| at the final time. Usage:
     python benchmarks/engine.py --baseline /path/to/0.5.0 [--targets paper,viscous,overhead] [--rounds 2] [--xlarge]
 """
 
-import argparse
 import json
 import os
 import subprocess
@@ -30,7 +29,8 @@ import time
 from pathlib import Path
 
 import numpy as np
-from baselines import refuse_baseline  # benchmarks/ is this script's folder
+from arguments import MIN_NODES, Parser, integer  # benchmarks/ is this script's folder
+from baselines import refuse_baseline
 
 HERE = Path(__file__).resolve().parents[1]
 TARGETS = ("paper", "viscous", "overhead", "xlarge")
@@ -241,20 +241,20 @@ def target_overhead():
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = Parser(__doc__.splitlines()[0])  # a value out of its range: one line naming the option, exit 2
     parser.add_argument("--baseline", required=True, help="a checkout of release 0.5.0 (a folder holding mol_shell/)")
     parser.add_argument("--targets", default="paper,viscous,overhead",
                         help=f"comma-separated, any of {', '.join(TARGETS)} (default: paper,viscous,overhead)")
-    parser.add_argument("--rounds", type=int, default=2,
+    parser.add_argument("--rounds", type=integer("--rounds", 1), default=2,
                         help="processes per configuration, baseline and this tree alternating; the fastest is "
                              "reported (an integer >= 1, default: 2)")
-    parser.add_argument("--repeats", type=int, default=2,
+    parser.add_argument("--repeats", type=integer("--repeats", 0), default=2,
                         help="timed runs in each process, after one warm-up (an integer >= 0; 0: the warm-up alone is "
                              "timed; default: 2)")
-    parser.add_argument("--n-viscous", type=int, default=640,
+    parser.add_argument("--n-viscous", type=integer("--n-viscous", MIN_NODES), default=640,
                         help="grid of the viscous target's scene (an integer >= 3, default: 640)")
     parser.add_argument("--xlarge", action="store_true", help="also the viscous scene at n = 10,240 (rtol 1e-6)")
-    parser.add_argument("--threads", type=int, default=1,
+    parser.add_argument("--threads", type=integer("--threads", 1), default=1,
                         help="threads of the right-hand side at n = 10,240 (an integer >= 1, default: 1)")
     parser.add_argument("--json", default=None, metavar="PATH",
                         help="also write the numbers to this JSON file (default: none, the tables only)")

@@ -10,10 +10,11 @@ count (CasADi instructions of one cell's forces), which does not depend on the m
 Usage: python benchmarks/materials_cost.py [--n 40 2560] [--json out.json]
 """
 
-import argparse
 import json
 import statistics
 import time
+
+from arguments import MIN_NODES, Parser, integer  # benchmarks/ is this script's folder
 
 import mol_shell
 from mol_shell.runs.building import build
@@ -59,13 +60,13 @@ def prepare(name, params, n):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--n", type=int, nargs="+", default=[40, 2560],
+    parser = Parser(__doc__)  # a value out of its range: one line naming the option, exit code 2
+    parser.add_argument("--n", type=integer("--n", MIN_NODES), nargs="+", default=[40, 2560],
                         help="grids to time, each an integer >= 3 (default: 40 2560)")
     parser.add_argument("--laws", nargs="+", default=list(CASES), choices=list(CASES), metavar="LAW",
                         help="laws to time (quote the names with spaces), any of: " + ", ".join(map(repr, CASES))
                              + " (default: all; the column 'x SVK' needs svk among them)")
-    parser.add_argument("--rounds", type=int, default=15,
+    parser.add_argument("--rounds", type=integer("--rounds", 1), default=15,
                         help="interleaved batches of about 0.1 s per law; the fastest is reported (an integer >= 1, "
                              "default: 15)")
     parser.add_argument("--json", default=None, metavar="PATH",

@@ -17,11 +17,12 @@ Usage: python benchmarks/path_scaling.py [--n 641 2561 10241] [--json out.json]
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import subprocess
 import sys
+
+from arguments import MIN_NODES, Parser, integer  # benchmarks/ is this script's folder
 
 CHILD = r'''
 import json, math, resource, sys, time, tracemalloc
@@ -74,8 +75,8 @@ print(json.dumps({"n": n, "steps": steps, "status": ds.attrs["status"], "points"
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("--n", type=int, nargs="+", default=[641, 2561, 10241],
+    parser = Parser(__doc__)  # a value out of its range: one line naming the option, exit code 2
+    parser.add_argument("--n", type=integer("--n", MIN_NODES), nargs="+", default=[641, 2561, 10241],
                         help="grids, each an integer >= 3 (default: 641 2561 10241); on coarse grids (n = 41, not 61) "
                              "the first critical point lies beyond the path's end, -0.975 p_cl, and the row says so")
     parser.add_argument("--json", default=None, metavar="PATH",
@@ -83,7 +84,10 @@ def main():
     args = parser.parse_args()
     rows = []
     for n in args.n:
-        out = subprocess.run([sys.executable, "-c", CHILD, str(n)], capture_output=True, text=True, check=True)
+        out = subprocess.run([sys.executable, "-c", CHILD, str(n)], capture_output=True, text=True, check=False)
+        if out.returncode:  # the child's last line (its error), not its whole source from CalledProcessError
+            said = (out.stderr.strip().splitlines() or [f"exit code {out.returncode}"])[-1]
+            sys.exit(f"{parser.prog}: n = {n}: the path's process failed: {said}")
         row = json.loads(out.stdout.strip().splitlines()[-1])
         if not row["points"]:
             row["note"] = (f"n = {n}: no critical point by -0.975 p_cl, where the path stops: the grid is too coarse "

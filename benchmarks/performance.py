@@ -20,7 +20,6 @@ threaded runs most. Usage:
     python benchmarks/performance.py --baseline /tmp/base020 [--targets rhs,large,peers,study] [--rounds 3]
 """
 
-import argparse
 import json
 import os
 import subprocess
@@ -30,7 +29,8 @@ import time
 from pathlib import Path
 
 import numpy as np
-from baselines import refuse_baseline  # benchmarks/ is this script's folder
+from arguments import MIN_NODES, Parser, integer, positive  # benchmarks/ is this script's folder
+from baselines import refuse_baseline
 from rhs_side_by_side import TIMED_EVALUATIONS
 
 HERE = Path(__file__).resolve().parents[1]
@@ -281,23 +281,23 @@ def target_study(rounds, t_end=0.02):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = Parser(__doc__.splitlines()[0])  # a value out of its range: one line naming the option, exit 2
     parser.add_argument("--baseline", required=True, help="a checkout of release 0.2.0 (a folder holding mol_shell/)")
     parser.add_argument("--targets", default="rhs,large,peers,study",
                         help=f"comma-separated, any of {', '.join(TARGETS)} (default: rhs,large,peers,study; "
                              "full: the whole large run once, after large)")
-    parser.add_argument("--rounds", type=int, default=3,
+    parser.add_argument("--rounds", type=integer("--rounds", 1), default=3,
                         help="processes per configuration, baseline and this tree alternating; the fastest is "
                              "reported (an integer >= 1, default: 3; the study target runs one fewer)")
-    parser.add_argument("--n-large", type=int, default=10240,
+    parser.add_argument("--n-large", type=integer("--n-large", MIN_NODES), default=10240,
                         help="grid of the large and full targets (an integer >= 3, default: 10240)")
-    parser.add_argument("--steps", type=int, default=40,
+    parser.add_argument("--steps", type=integer("--steps", 1), default=40,
                         help="leap-frog steps timed at the large n (an integer >= 1, default: 40)")
-    parser.add_argument("--threads", type=int, default=os.cpu_count() or 1,
+    parser.add_argument("--threads", type=integer("--threads", 1), default=os.cpu_count() or 1,
                         help="threads of the multi-threaded runs of the large and full targets (an integer >= 1, "
                              f"default: the machine's cores, {os.cpu_count() or 1} here)")
-    parser.add_argument("--study-t-end", type=float, default=0.02,
-                        help="simulated time of each study case, s (default: 0.02)")
+    parser.add_argument("--study-t-end", type=positive("--study-t-end", "s"), default=0.02,
+                        help="simulated time of each study case, s (a number > 0, default: 0.02)")
     parser.add_argument("--json", default=None, metavar="PATH",
                         help="also write the numbers to this JSON file (default: none, the tables only)")
     args = parser.parse_args(argv)

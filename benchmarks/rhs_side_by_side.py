@@ -7,14 +7,14 @@ Also times curved meridians of this tree (sphere, cone, torus) per node against 
 Usage: git worktree add /tmp/base020 <0.2.0 commit>; python benchmarks/rhs_side_by_side.py --baseline /tmp/base020
 """
 
-import argparse
 import json
 import os
 import subprocess
 import sys
 from pathlib import Path
 
-from baselines import refuse_baseline  # benchmarks/ is this script's folder
+from arguments import MIN_NODES, Parser, integer  # benchmarks/ is this script's folder
+from baselines import refuse_baseline
 
 #: the end of a probe: the best of 9 rounds of 20,000 evaluations of ``compiled`` at ``y`` (microseconds in ``best``);
 #: benchmarks/performance.py uses it too
@@ -56,13 +56,13 @@ def measure(tree, name, n):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = Parser(__doc__.splitlines()[0])  # a value out of its range: one line naming the option, exit 2
     parser.add_argument("--baseline", required=True,
                         help="a checkout of the release to compare with, e.g. 0.2.0 (a folder holding mol_shell/)")
-    parser.add_argument("--rounds", type=int, default=3,
+    parser.add_argument("--rounds", type=integer("--rounds", 1), default=3,
                         help="processes per tree and scene, baseline and this tree alternating; the fastest is "
                              "reported (an integer >= 1, default: 3)")
-    parser.add_argument("--n", type=int, default=40, help="grid of every scene (an integer >= 3, default: 40)")
+    parser.add_argument("--n", type=integer("--n", MIN_NODES), default=40, help="grid of every scene (an integer >= 3, default: 40)")
     args = parser.parse_args(argv)
     if refuse_baseline("benchmarks/rhs_side_by_side.py", args.baseline):
         return 2

@@ -6,15 +6,23 @@ IDA it times the callbacks SUNDIALS makes into Python (right-hand side or residu
 events) and attributes the rest of the wall time to SUNDIALS itself plus scikit-sundae's
 wrappers; it also compares stepping with ``onestep`` (exact step counts) against ``normal``
 (one call per saved time), and the Jacobian compiled against CasADi's virtual machine.
+
+The columns "in RHS", "in Jacobian", "in events" are seconds spent inside those callbacks over the run, "SUNDIALS +
+wrappers" the rest of the wall time (the four add up to wall [s]). "One RHS evaluation" is one call of
+``compiled.evaluator()``, the call scikit-sundae's right-hand side callback makes (Python call, copy of y into the
+CasADi buffer, compiled kernel), timed as benchmarks/leapfrog_paper.py times it (the median of 7 batches of
+20,000; one batch alone, as this script took it before, follows the machine's load: 28.72 us against
+leapfrog_paper.py's 9.42 us for the same call in one probe, 12-15 us in both in one process).
 Usage: python benchmarks/sundials_overhead.py [--repeats 3] [--json FILE]
 """
 
-import argparse
 import json
 import statistics
 import time
 
 import numpy as np
+from arguments import Parser, integer  # benchmarks/ is this script's folder
+from leapfrog_paper import rhs_cost
 
 import mol_shell
 from mol_shell.integrators import INTEGRATORS
@@ -22,6 +30,9 @@ from mol_shell.integrators.sundials import _Run, pieces
 from mol_shell.runs.simulate import build, resolve
 
 TIMES = np.array([0.0, 0.02, 0.07, 0.106, 0.143])
+#: the table's columns: "in RHS" ... "SUNDIALS + wrappers" are seconds of the run (they add up to its wall time)
+COLUMNS = ("integrator", "stepping", "wall [s]", "steps", "RHS evals", "Jacobian evals", "us/step", "in RHS [s]",
+           "in Jacobian [s]", "in events [s]", "SUNDIALS + wrappers [s]", "SUNDIALS + wrappers per step / one RHS")
 
 
 def per_call(f, *args, calls=2000):
@@ -74,14 +85,17 @@ def timed_run(method, system, compiled, y0, stepping):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--json", default=None)
+    parser = Parser(__doc__)  # a value out of its range: one line naming the option, exit code 2
+    parser.add_argument("--repeats", type=integer("--repeats", 1), default=3,
+                        help="timed runs of each integrator and stepping; the median is reported (an integer >= 1, "
+                             "default: 3)")
+    parser.add_argument("--json", default=None, metavar="PATH",
+                        help="also write the numbers to this JSON file (default: none, the table only)")
     args = parser.parse_args()
     scene = resolve(mol_shell.TwistedCylinder())
     system, compiled = build(scene, 40)
     y0 = system.initial_state(scene)
-    rhs_s = per_call(compiled.evaluator(), y0, calls=20000)
+    rhs_s = rhs_cost(compiled, y0)  # the callback's call: compiled.evaluator()(y), median of 7 x 20,000
     out = {"compiled_rhs_eval_us": rhs_s * 1e6}
     for kind, name in (("cvode", "cvode-bdf"), ("ida", "ida")):
         for backend in ("compiled", "vm"):
@@ -89,10 +103,10 @@ def main():
             args_ = (0.0, y0) if kind == "cvode" else (0.0, *parts["dae"].consistent_rates(y0), 1e3)
             out[f"{kind}_jacobian_{backend}_us"] = per_call(parts["jac"], *args_, calls=50) * 1e6
     out["events_eval_us"] = per_call(pieces(system, "cvode")["events"], y0, calls=20000) * 1e6
-    print(f"one compiled RHS evaluation: {out['compiled_rhs_eval_us']:.2f} us")
-    print("| integrator | stepping | wall [s] | steps | RHS evals | Jacobian evals | us/step | in RHS | in Jacobian "
-          "| in events | SUNDIALS + wrappers | rest per step / one RHS |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    print(f"one RHS evaluation as the callback calls it (compiled.evaluator()(y): Python call, copy into the CasADi "
+          f"buffer, compiled kernel; median of 7 x 20,000 calls): {out['compiled_rhs_eval_us']:.2f} us")
+    print("| " + " | ".join(COLUMNS) + " |")
+    print("|" + "---|" * len(COLUMNS))
     for name in ("sksundae-cvode-adams", "sksundae-cvode-bdf", "sksundae-ida"):  # scikit-sundae's Python loop
         method = INTEGRATORS[name](rtol=1e-6, atol=1e-9)
         counted = 0
