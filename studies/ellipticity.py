@@ -21,7 +21,7 @@ import numpy as np
 import xarray as xr
 
 import mol_shell
-from mol_shell.cli.scripts import output_folder, run_script, script_parser
+from mol_shell.cli.scripts import output_folder, run_script, script_parser, simulate
 from mol_shell.results.cf import described
 
 GRIDS = (40, 80, 160, 320)
@@ -42,7 +42,7 @@ def run(material, n, t_end):
     """One release: the Dataset (warnings of the run are recorded in its attrs)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return mol_shell.simulate(mol_shell.Sphere(R=1.05, material=material, nu=NU), "cvode-bdf", n=n,
+        return simulate(mol_shell.Sphere(R=1.05, material=material, nu=NU), "cvode-bdf", n=n,
                                   times=np.linspace(0.0, t_end, int(round(t_end / 2.5e-4)) + 1), stresses=False)
 
 

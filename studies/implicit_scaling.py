@@ -39,6 +39,7 @@ from mol_shell.cli.scripts import (
     output_folder,
     run_script,
     script_parser,
+    simulate,
 )
 from mol_shell.results.cf import described
 
@@ -72,12 +73,12 @@ def measure(scene, integrator, n, t_end, repeats=1):
     best of them is its wall time (``wall_time_max_s``: the slowest)."""
     options = {"rtol": 1e-6, "atol": 1e-9} if integrator != "leapfrog" else {}
     if integrator == "leapfrog":  # half the bound, the step count rounded up
-        ds0 = mol_shell.simulate(scene, "cvode-bdf", n=n, times=[0.0, 1e-9], progress=False)
+        ds0 = simulate(scene, "cvode-bdf", n=n, times=[0.0, 1e-9], progress=False)
         dt = 0.5 * ds0.attrs["leapfrog_dt_bound_s"]
         options["dt"] = t_end / np.ceil(t_end / dt)
     walls = []
     while len(walls) < min(repeats, MAX_REPEATS) or (sum(walls) < TIMED_S and len(walls) < MAX_REPEATS):
-        ds = mol_shell.simulate(scene, integrator, n=n, times=[0.0, t_end], progress=False, **options)
+        ds = simulate(scene, integrator, n=n, times=[0.0, t_end], progress=False, **options)
         a = ds.attrs
         if a["status"] != "complete":
             raise RuntimeError(f"{integrator} n={n}: {a['message']}")

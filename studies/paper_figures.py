@@ -29,8 +29,9 @@ import os
 import numpy as np
 
 import mol_shell
+from mol_shell._core.errors import ParameterError
 from mol_shell.cli.args import integer_arg, number_arg
-from mol_shell.cli.scripts import MIN_NODES, output_folder, run_script, script_parser
+from mol_shell.cli.scripts import MIN_NODES, Stopped, output_folder, run_script, script_parser, simulate
 from mol_shell.views.plotting import plot_snapshots
 from mol_shell.results.study_store import summarize
 
@@ -38,12 +39,16 @@ PAPER_TIMES = (0.0, 0.02, 0.07, 0.106, 0.143)
 FIELD_STEP = 1e-3  # s: the fields' saved times (netCDF, figures 4-8, the table)
 PSI_STEP = 2e-5  # s: psi's samples, 60 in the shear mode's period (module docstring)
 QUICK = {"check_n": 0}  # --quick: no finer grid
+#: --dt's range beyond (0, FIELD_STEP]: the fields are saved every FIELD_STEP, at the leap-frog steps nearest, so a
+#: longer step saved fewer times than the figures take (--dt 1: only t = 0, which simulate refused naming ``times``)
+DT_NOTE = " (the fields' saved step; leap-frog's stability bound, which --n sets, is checked as the run starts)"
 
 
 def main(argv=None):
     parser = script_parser(__doc__)
     parser.add_argument("--n", type=integer_arg("--n", MIN_NODES), default=40, help="nodes (default 40)")
-    parser.add_argument("--dt", type=number_arg("--dt", unit="s"), default=1e-6, help="leap-frog step, s (default 1e-6)")
+    parser.add_argument("--dt", type=number_arg("--dt", 0.0, FIELD_STEP, high_closed=True, unit="s", note=DT_NOTE),
+                        default=1e-6, help=f"leap-frog step, s, at most {FIELD_STEP:g} (default 1e-6)")
     parser.add_argument("--check-n", type=integer_arg("--check-n", 0), default=None,
                         help="finer grid for the psi comparison (default 160; 0: skip, as with --quick)")
     parser.add_argument("--quick", action="store_true", help="the paper run only (no finer grid): a few seconds")
@@ -53,14 +58,24 @@ def main(argv=None):
     out = args.out
     output_folder(out)
     scene = mol_shell.TwistedCylinder()
-    run = _simulate_sampled(scene, args.n, args.dt)
-    ds = _fields(run)
+    try:
+        run, stopped = _simulate_sampled(scene, args.n, args.dt), None
+    except Stopped as exc:  # Ctrl-C: the run kept as far as it got, the figures of the times it reached drawn
+        run, stopped = exc.ds, exc
+    ds = _fields(run, args.dt)
     files = [os.path.join(out, "paper_figures.nc")]
     mol_shell.write_netcdf(ds, files[0])
-    for number, t in zip(range(4, 9), PAPER_TIMES):
-        snap = ds.sel(time=[t], method="nearest")
-        files.append(os.path.join(out, f"fig{number}.png"))
-        plot_snapshots(snap, files[-1])
+    figures = dict(zip(range(4, 9), PAPER_TIMES))
+    for number, t in figures.items():
+        if reached(run, t, args.dt):
+            files.append(os.path.join(out, f"fig{number}.png"))
+            plot_snapshots(ds.sel(time=[t], method="nearest"), files[-1])
+    if stopped is not None:  # said in one line, exit 130 (mol_shell.cli.scripts)
+        left = [number for number, t in figures.items() if not reached(run, t, args.dt)]
+        stopped.note = ("not drawn, their times not reached: "
+                        + ", ".join(f"fig{number}.png (t = {figures[number]:g} s)" for number in left)
+                        + f", paper_psi.png (t = {PAPER_TIMES[-1]:g} s)")
+        raise stopped
     files.append(os.path.join(out, "paper_psi.png"))
     _plot_psi(run, files[-1])
     e = run.energy.values
@@ -111,16 +126,31 @@ def psi_peak(psi):
 
 
 def _simulate_sampled(scene, n, dt, t_end=PAPER_TIMES[-1]):
-    """The run saved every :func:`psi_step` of ``dt`` (and at the paper's times), without stresses (:func:`_fields` adds them)."""
+    """The run saved every :func:`psi_step` of ``dt`` (and at the paper's times), without stresses (:func:`_fields` adds
+    them); a run that Ctrl-C stopped raises :class:`~mol_shell.cli.scripts.Stopped` with it. leap-frog's bound refuses
+    ``dt`` naming ``--dt``, the option typed."""
     paper = [round(round(t / dt) * dt, 9) for t in PAPER_TIMES if t <= t_end]  # on leap-frog's steps (figures: nearest)
     times = np.unique(np.r_[psi_times(t_end, psi_step(dt)), paper])
-    return mol_shell.simulate(scene, n=n, times=times, dt=dt, progress=False, stresses=False)
+    try:
+        return simulate(scene, n=n, times=times, dt=dt, progress=False, stresses=False)
+    except ParameterError as exc:
+        if exc.name != "dt":
+            raise
+        raise ParameterError("--dt", exc.value, exc.allowed, exc.hint) from None
 
 
-def _fields(run):
-    """The run at every :data:`FIELD_STEP` and the paper's times, with its stresses: the netCDF's and the figures'."""
-    times = np.unique(np.round(np.r_[np.arange(0.0, float(run.time[-1]) + FIELD_STEP / 2, FIELD_STEP), PAPER_TIMES], 9))
-    return mol_shell.add_stresses(run.sel(time=times, method="nearest"))
+def reached(run, t, dt):
+    """Whether ``run`` reached the paper's time ``t`` (saved at the leap-frog step nearest it, within ``dt / 2``)."""
+    return t <= float(run.time[-1]) + dt / 2
+
+
+def _fields(run, dt):
+    """The run at every :data:`FIELD_STEP` and at the paper's times it reached (an interrupted run: up to its end, each
+    time once), with its stresses: the netCDF's and the figures'."""
+    paper = [t for t in PAPER_TIMES if reached(run, t, dt)]
+    times = np.r_[np.arange(0.0, float(run.time[-1]) + FIELD_STEP / 2, FIELD_STEP), paper]
+    nearest = np.unique(run.indexes["time"].get_indexer(np.round(times, 9), method="nearest"))  # each saved time once
+    return mol_shell.add_stresses(run.isel(time=nearest))
 
 
 def _plot_psi(ds, path):

@@ -21,7 +21,7 @@ import xarray as xr
 
 import mol_shell
 from mol_shell.cli.args import number_arg
-from mol_shell.cli.scripts import output_folder, run_script, script_parser
+from mol_shell.cli.scripts import output_folder, run_script, script_parser, simulate
 from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.results.cf import described
 from mol_shell.runs.simulate import build, resolve
@@ -47,7 +47,7 @@ def measure(nu, material, dt):
     top = spectrum_bounds(system.jac, system.initial_state(scene), False)[0]
     step = min(dt, 0.5 / top)
     step = 1e-3 / np.ceil(1e-3 / step)  # divides the saved times (multiples of 1 ms)
-    ds = mol_shell.simulate(scene, times=TIMES, dt=step, progress=False)
+    ds = simulate(scene, times=TIMES, dt=step, progress=False)
     return {
         "R": scene.R,
         "omega_max": top,

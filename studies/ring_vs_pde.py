@@ -10,6 +10,7 @@ Usage: python studies/ring_vs_pde.py [--n 10] [--t-end 0.1] [--quick] [--out out
 (--quick: t_end = 0.04 s and dt = 8, 4, 2 us, a few seconds.)
 """
 
+import argparse
 import math
 import os
 
@@ -17,7 +18,7 @@ import numpy as np
 
 import mol_shell
 from mol_shell.cli.args import integer_arg, number_arg
-from mol_shell.cli.scripts import MIN_NODES, output_folder, run_script, script_parser
+from mol_shell.cli.scripts import MIN_NODES, output_folder, run_script, script_parser, simulate
 from mol_shell.runs.ring import simulate_ring
 
 FIELDS = ("r", "chi", "psi", "r_t", "chi_t", "psi_t")
@@ -29,7 +30,8 @@ SAMPLE_STEP = 4e-5  # s: the saved times' spacing, at most (module docstring)
 def main(argv=None):
     parser = script_parser(__doc__)
     parser.add_argument("--n", type=integer_arg("--n", MIN_NODES), default=10, help="nodes (default 10)")
-    parser.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help=f"default 0.1 s ({QUICK['t_end']} s with --quick)")
+    parser.add_argument("--t-end", type=t_end_arg, default=None,
+                        help=f"a multiple of {SAMPLE_STEP:g} s, default 0.1 s ({QUICK['t_end']} s with --quick)")
     parser.add_argument("--quick", action="store_true",
                         help="small settings: " + ", ".join(f"{k} = {v}" for k, v in QUICK.items()))
     parser.add_argument("--out", default="out", help="output directory (default: out)")
@@ -42,7 +44,7 @@ def main(argv=None):
     ring = simulate_ring(scene, times)
     errors, uniform = {}, {}
     for dt in steps:
-        pde = mol_shell.simulate(scene, n=args.n, times=times, dt=dt, progress=False)
+        pde = simulate(scene, n=args.n, times=times, dt=dt, progress=False)
         errors[dt] = [float(abs(pde[k] - ring[k]).max()) for k in FIELDS]
         uniform[dt] = max(float(abs(pde[k] - pde[k].mean("s")).max()) / max(1.0, float(abs(pde[k]).max()))
                           for k in FIELDS)
@@ -67,6 +69,19 @@ def main(argv=None):
     _plot(ring, os.path.join(args.out, "ring_vs_pde.png"))
     print(f"wrote {args.out}/ring_vs_pde.nc, {args.out}/ring_vs_pde.png")
     return out
+
+
+def t_end_arg(text):
+    """``--t-end``: a positive multiple of :data:`SAMPLE_STEP`, so that the saved times (:func:`sample_times`, spaced
+    ``SAMPLE_STEP``) are on the grid of every leap-frog step of :data:`STEPS`, which divide it (``--t-end 0.0001``
+    saved every 33 us, which simulate refused naming ``times``; ``--t-end 1e-9`` too)."""
+    value = number_arg("--t-end", unit="s")(text)
+    k = value / SAMPLE_STEP
+    if round(k) < 1 or abs(k - round(k)) > 1e-9 * k:
+        raise argparse.ArgumentTypeError(
+            f"--t-end = {text.strip()} is outside multiples of {SAMPLE_STEP:g} s (the saved times' spacing, which "
+            f"every leap-frog step, {', '.join(f'{dt:g}' for dt in STEPS)} s, divides)")
+    return value
 
 
 def sample_times(t_end, step=SAMPLE_STEP):

@@ -18,9 +18,10 @@ and the stiff viscous eta_mu = 100 Pa s, in about 10 s.)
 import os
 
 import mol_shell
+from mol_shell._core.atomic import write_text
 from mol_shell.analysis.stability import default_cases, markdown_table, report
 from mol_shell.cli.args import integer_arg
-from mol_shell.cli.scripts import output_file, output_folder, run_script, script_parser
+from mol_shell.cli.scripts import finished, output_file, output_folder, run_script, script_parser
 from mol_shell.views.stability_plot import plot_report
 
 QUICK_CASES = ("paper", "viscous eta_mu=100")
@@ -47,11 +48,10 @@ def main(argv=None):
     ds = report(cases(args.max_n, args.quick))
     mol_shell.write_netcdf(ds, output)
     stem = output.rsplit(".", 1)[0]
-    with open(stem + ".md", "w") as fh:
-        fh.write(markdown_table(ds) + "\n")
+    write_text(stem + ".md", markdown_table(ds) + "\n")
     plot_report(ds, stem + ".png")
     print(markdown_table(ds))
-    return ds
+    return finished(ds, "stability report")  # Ctrl-C: the cases before it kept, exit 130
 
 
 if __name__ == "__main__":

@@ -18,11 +18,13 @@ import sys
 import warnings
 from pathlib import Path
 
+from mol_shell._core import interrupts
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import writable_path
-from mol_shell.cli.args import Parser, integer_arg
+from mol_shell.cli.args import Parser, as_stopped, integer_arg, interrupted_code
 from mol_shell.cli.main import negative_values_attached
 from mol_shell.cli.outcome import guarded, one_line_warnings, said
+from mol_shell.runs.simulate import simulate as run_simulate
 
 #: the smallest grid a run takes (``n = 2 is outside integers >= 3``)
 MIN_NODES = 3
@@ -70,6 +72,34 @@ def output_file(path, name="--output", suffixes=("nc",)):
     return str(writable_path(path, name, suffixes=set(suffixes)))
 
 
+class Stopped(KeyboardInterrupt):
+    """A run (or report) of a script that Ctrl-C or SIGTERM stopped, its Dataset ``ds`` kept as it is: the script
+    ends 130 (143) with one line, ``what`` stopped, the run's own message (``interrupted by the user at t = ...``),
+    ``note`` (what the script left out for it) and the files written."""
+
+    def __init__(self, ds, what="run", note=""):
+        super().__init__(ds.attrs.get("message") or "interrupted by the user")
+        self.ds, self.what, self.note = ds, what, note
+
+    def line(self, prog):
+        kept = interrupts.kept_files().replace("after writing", "wrote", 1) or "nothing written"
+        note = f"; {self.note}" if self.note else ""
+        return f"{prog}: {self.what} stopped: {as_stopped(str(self))}{note}; {kept}"
+
+
+def finished(ds, what="run"):
+    """``ds``, a run's or a report's Dataset, if it ran to its end; :class:`Stopped` where an interrupt stopped it
+    (``attrs["status"] == "interrupted"``). Other ends (a model limit) are the script's to read."""
+    if ds.attrs.get("status") == "interrupted":
+        raise Stopped(ds, what)
+    return ds
+
+
+def simulate(*args, **kwargs):
+    """``mol_shell.simulate`` for a script: its run, :func:`finished` (a Ctrl-C stops the script, exit 130)."""
+    return finished(run_simulate(*args, **kwargs))
+
+
 def exit_code(main, argv=None, prog=None):
     """Run a script's ``main(argv)`` and return its exit code, having said in one line why it ended short."""
     prog = prog or script_name()
@@ -82,10 +112,15 @@ def _run(main, argv, prog):
     try:
         with warnings.catch_warnings():
             one_line_warnings(prog)  # a study's cases warn once each, in one line, as the command line does
+            # a run a Ctrl-C stopped: said once, as the script stops (Stopped), not also as the run's warning
+            warnings.filterwarnings("ignore", "run incomplete: interrupted by the user", RuntimeWarning)
             main(argv)
         sys.stdout.flush()
     except SystemExit as exc:  # the parser's refusal (2, said in one line), --help (0)
         return exc.code
+    except Stopped as exc:  # a run kept as data: what stopped it and what was written
+        print(exc.line(prog), file=sys.stderr)
+        return interrupted_code()
     except (Exception, KeyboardInterrupt) as exc:  # noqa: BLE001 - said in one line (a bug too), never a traceback
         return said(exc, prog=prog)
     return 0

@@ -192,7 +192,7 @@ def test_implicit_scaling_times_a_millisecond_run_until_50_ms_and_gives_the_expo
         return xr.Dataset(attrs={"status": "complete", "n_steps": 10, "wall_time_s": float(next(walls)),
                                  "leapfrog_dt_bound_s": 1e-6})
 
-    monkeypatch.setattr(module.mol_shell, "simulate", simulate)
+    monkeypatch.setattr(module, "simulate", simulate)  # mol_shell.cli.scripts.simulate: the run, checked
     row = module.measure(module.CASES["viscous"][0], "cvode-bdf", 40, 0.01, repeats=3)
     assert row["n_repeats"] == 49 and row["wall_time_s"] == 1e-3 and row["wall_time_max_s"] == 2e-3
     value, low, high = module.slope_spread(np.array([40, 80]), np.array([1.0, 2.0]), np.array([1.5, 3.0]))
