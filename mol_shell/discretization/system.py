@@ -82,6 +82,10 @@ class ShellSystem(ModelLimits, CellKernels):
         ``F``, ``E`` and ``W`` at each thickness point) instead of the lean one
         (:func:`~mol_shell.model.material.thickness_energy_moments`: per-sample dot products against per-cell
         thickness moments of the same quadrature, equal to round-off); tests check one against the other.
+    at_rest : bool
+        Driven edges held where they are, at rate 0 (their fields still prescribed, their rates zero): the
+        equations of the static equilibrium at ``t = 0`` (:mod:`mol_shell.runs.statics`), which a spin or a drive
+        is set on afterwards.
 
     Attributes
     ----------
@@ -100,7 +104,7 @@ class ShellSystem(ModelLimits, CellKernels):
     #: largest grid assembled as one flat SX graph; larger grids keep mapped kernels
     FLAT_MAX_NODES = 400
 
-    def __init__(self, scene, n=40, *, reference=False):
+    def __init__(self, scene, n=40, *, reference=False, at_rest=False):
         self.reference_kernel = bool(reference)
         if not isinstance(n, (int, np.integer)) or isinstance(n, bool) or n < 3:
             raise ParameterError("n", n, "integers >= 3")
@@ -154,6 +158,8 @@ class ShellSystem(ModelLimits, CellKernels):
                 raise ParameterError(f"{name}_{what}", self.drives[(e, k)][0], "0 for this edge",
                                      hint=f"{name} is a pole" if self.edges[e] == "pole" else "this scene has no chi")
             self.fixed[node, k] = True  # driven: the rate is prescribed, the momentum is not a state
+        if at_rest:  # held where they are at t = 0: no centrifugal force (nor drag, viscosity) of the driven rate
+            self.drives = {key: (0.0, hist) for key, (_, hist) in self.drives.items()}
         self.n_extra = 2 if getattr(scene, "loaded", False) else 0  # work and dissipated, integrated with the motion
         if self.n_extra:
             check_end_loads(self, scene)

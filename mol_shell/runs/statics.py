@@ -287,6 +287,17 @@ def check_law_domain(scene, system, y):
                           "loads, or a law whose domain holds the equilibrium)", 0.0, where)
 
 
+def resting(scene, n):
+    """The system of ``scene``'s static equilibrium at ``t = 0``: its driven edges held where they are at rate 0
+    (:class:`~mol_shell.discretization.system.ShellSystem`'s ``at_rest``); the run's own (cached) one where no edge
+    is driven. A spin or a drive is set on the equilibrium afterwards: until December 7 2026 the driven rate entered
+    the equilibrium equations, whose driven edge node then carried the centrifugal force of its own lumped mass
+    (``m_i r omega^2``, ``m_i ~ 1/n``) and the start moved with the grid (r - r0 = 0.134, 0.077, 0.036 m at
+    n = 21, 41, 81 for a cone's end2_spin = 50 rad/s without loads)."""
+    drives = scene.drives() if hasattr(scene, "drives") else {}
+    return ShellSystem(scene, n, at_rest=True) if drives else build(scene, n)[0]
+
+
 def static_equilibrium(scene, n, y0, hold=()):
     """The equilibrium state at rest under the scene's loads at ``t = 0``, starting from ``y0``.
 
@@ -295,9 +306,10 @@ def static_equilibrium(scene, n, y0, hold=()):
     continuation in the load (every load times ``lambda`` from 0 to 1, each increment's solution the next one's
     start) with increments of :data:`FIRST_INCREMENT`, halved where Newton fails (down to
     :data:`SMALLEST_INCREMENT`, then the loads are refused), doubled again after an easy one. The intermediate
-    loads need only the graphs (:class:`~mol_shell.discretization.system.ShellSystem`), no compiled kernels.
+    loads need only the graphs (:class:`~mol_shell.discretization.system.ShellSystem`), no compiled kernels. The
+    equations are those at rest (:func:`resting`): a driven edge is held where it is at ``t = 0``, at rate 0.
     """
-    system, _ = build(scene, n)
+    system = resting(scene, n)
     check_balanced(scene, system, y0, hold)
     try:
         y, it, res = newton(system, y0, hold)
@@ -306,7 +318,7 @@ def static_equilibrium(scene, n, y0, hold=()):
         y, done, increment, total, steps = np.array(y0, dtype=float), 0.0, FIRST_INCREMENT, 0, 0
         while done < 1.0:
             factor = min(1.0, done + increment)
-            sub = system if factor == 1.0 else ShellSystem(scaled_loads(scene, factor), n)
+            sub = system if factor == 1.0 else ShellSystem(scaled_loads(scene, factor), n, at_rest=True)
             try:
                 y_next, it, res = newton(sub, y, hold)
             except RuntimeError as exc:
