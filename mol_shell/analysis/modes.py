@@ -249,9 +249,12 @@ def check_equilibrium(system, y0, scene, asked=None, given=False):
             fix = "a twist (gamma) is no equilibrium of a shell closed at a pole: gamma = 0"
         elif getattr(scene, "gamma", 0.0):
             fix = "a twist (gamma) is held only by edges imposing chi: end1=clamped, end2=clamped"
-        elif any(getattr(asked, key, None) is not None for key in ("R", "dilation")):
+        elif any(getattr(asked, key, None) is not None for key in ("R", "dilation")):  # the value at fault named
             key = "R" if getattr(asked, "R", None) is not None else "dilation"
-            fix = f"{key} = auto starts from the static equilibrium under the loads"
+            raise ParameterError(key, getattr(asked, key), "auto, or a value whose initial state is an equilibrium "
+                                 "(the modes are taken about one)", hint=f"{where}; {key} = auto starts from the static "
+                                 "equilibrium under the loads; a run (mol-shell run) follows the motion from this "
+                                 "state")  # was "scene = 'torus' is outside a scene whose ...", a file's key unnamed
         else:
             fix = "the modes are taken about an equilibrium at rest"
         raise ParameterError("scene", scene.name, "a scene whose initial state is an equilibrium",

@@ -27,6 +27,7 @@ from mol_shell.cli.args import (
     NETCDF_SUFFIXES,
     SCENE_HELP,
     SCENE_METAVAR,
+    as_stopped,
     integer_arg,
     interrupted_code,
     number_arg,
@@ -80,6 +81,8 @@ def cmd_compare(args):
     check_companions(args, companion_files(args.output))
     start = time.perf_counter()
     ds = work_precision(scene, names, n=args.n or run.get("n", 40), times=times, repeats=args.repeats, progress=None)
+    if ds.attrs.get("status") == "interrupted":  # by a SIGTERM: said so, as run's (it said "by the user")
+        ds.attrs["message"] = as_stopped(str(ds.attrs["message"]))
     png, md = write_outputs(ds, args.output, args.target)
     say_stand_ins(scene)
     if ds.attrs.get("reference_check_status", "complete") != "complete":  # the reference kept: how well it is known
@@ -117,6 +120,8 @@ def cmd_stability(args):
     check_companions(args, [png, md])
     ds = report(default_cases(scene, quick=args.quick), bisect=not args.no_bisect)
     ds.attrs["quick"] = int(args.quick)  # what was run: the grid cases left out (--quick) or not
+    if ds.attrs.get("status") == "interrupted":  # by a SIGTERM: said so, as run's (it said "by the user")
+        ds.attrs["message"] = as_stopped(str(ds.attrs["message"]))
     say_stand_ins(scene)
     if run:  # the file's [run] n = 12 was dropped without a word: the report's cases set their own
         print(f"mol-shell: note: the stability report runs its own cases (each with its own n, times and "

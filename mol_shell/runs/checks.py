@@ -29,7 +29,7 @@ from mol_shell.model.geometry import self_intersects
 from mol_shell.model.laws import ON_REDEFINED, user_material
 from mol_shell.model.thickness_profile import thickness_function
 from mol_shell.scenes import CylinderScene, check_radius
-from mol_shell.scenes.ranges import parameter_range
+from mol_shell.scenes.ranges import parameter_bounds
 
 #: nodes of the small systems used to find the responsible parameter and its threshold
 PROBE_NODES = 5
@@ -330,11 +330,11 @@ def _diagnose(scene, reason, bad=_bad_numbers, exclude=()):
         name = names[0]
         value = getattr(scene, name)
         edge = threshold(scene, name, bad)
-        allowed = parameter_range(scene, name)
-        if not isinstance(allowed, Interval):
-            allowed = Interval(-math.inf, math.inf)
-        allowed = allowed.with_high(edge) if edge < value else allowed.with_low(edge)
-        return ParameterError(name, value, dataclasses.replace(allowed, shown=f"about {allowed.text()}"),
+        declared = parameter_bounds(scene, name) or Interval(-math.inf, math.inf)  # both ends: h = 1e-300 was
+        allowed = declared.with_high(edge) if edge < value else declared.with_low(edge)  # told [2e-104, inf) m,
+        words = declared.shown.partition(", and ")[2]  # h = 0.6 (0, 0.5) m; a wall's words kept
+        return ParameterError(name, value, dataclasses.replace(allowed, shown=f"about {allowed.text()}"
+                                                               + (f", and {words}" if words else "")),
                               hint=f"with the other parameters as given: beyond it {reason}")
     if exclude:
         return None

@@ -160,16 +160,58 @@ def head(a, crown, knuckle):
     return out
 
 
+def _axis_roots(row):
+    """The arc lengths ``t`` in ``[0, length]`` from the start of a segment (a row of :class:`SegmentedMeridian`)
+    where its ``r0`` is 0: a line's ``r_a + sin(theta_a) t``, an arc's ``r_a + (cos theta_a - cos(theta_a + k t))/k``
+    (``cos(theta_a + k t) = cos theta_a + k r_a``), sorted."""
+    _, length, r, _, theta, k = row
+    tol = 1e-12 * length
+    if k == 0:
+        sine = math.sin(theta)
+        roots = [] if sine == 0 else [-r / sine]
+    else:
+        c = math.cos(theta) + k * r
+        if abs(c) > 1 + 1e-12:
+            return []
+        acos, span = math.acos(max(-1.0, min(1.0, c))), sorted((theta, theta + k * length))
+        phis = (acos, -acos)
+        roots = [(phi + 2 * math.pi * m - theta) / k for phi in phis
+                 for m in range(math.floor((span[0] - phi) / (2 * math.pi)) - 1,
+                                math.ceil((span[1] - phi) / (2 * math.pi)) + 2)]
+    return sorted(min(max(t, 0.0), length) for t in roots if -tol <= t <= length + tol)
+
+
+def _on_the_axis(text, drawn, sampled):
+    """Where the segments as drawn (``drawn``: from the first segment's start) first reach the axis between their
+    ends: ``"segment I ('TEXT') reaches the axis at s = ... m"``, ``s`` from the first segment's start (exact, on the
+    segment's line or circle); ``sampled``, the drawn ``s`` of the first sample found there, where no root is."""
+    parts = [part.strip() for part in text.split(",")]
+    ends = 1e-12 * drawn.length
+    for i, row in enumerate(drawn._rows):
+        for t in _axis_roots(row):
+            where = row[0] + t
+            if ends < where < drawn.length - ends:
+                return (f"segment {i + 1} ({parts[i]!r}) reaches the axis at s = {where:.4g} m along the segments "
+                        "as drawn, from the start of the first")
+    i = next(i for i, row in enumerate(drawn._rows) if sampled <= row[0] + row[1] or i == len(drawn._rows) - 1)
+    return (f"segment {i + 1} ({parts[i]!r}) reaches the axis at about s = {sampled:.4g} m along the segments as drawn, "
+            "from the start of the first")
+
+
 def check_segmented(text, meridian):
     """Refuse, naming ``segments``, a meridian of segments that crosses the axis or itself (sampled densely), or that
-    the model cannot run (:func:`~mol_shell.model.meridian_checks.check_meridian`: an end past the axis, an apex)."""
-    s = np.linspace(0.0, meridian.length, 40 * len(meridian.segments) + 1)
-    r, z = meridian.at(s)[:2]
-    scale = max(float(np.max(np.abs(r))), float(np.max(np.abs(z))), meridian.length)
+    the model cannot run (:func:`~mol_shell.model.meridian_checks.check_meridian`: an end past the axis, an apex).
+    Where it reaches the axis is said on the segments as drawn (``meridian`` may run them backwards: :func:`upward`),
+    naming the segment (it named the first sample of the reversed curve, 1/40 of an arc from its start)."""
+    drawn = SegmentedMeridian(tuple(parse_segments(text)))
     allowed = "segments whose meridian stays off the axis between its ends and does not cross itself"
+    s = np.linspace(0.0, drawn.length, 40 * len(drawn.segments) + 1)
+    r, z = drawn.at(s)[:2]
+    scale = max(float(np.max(np.abs(r))), float(np.max(np.abs(z))), drawn.length)
     if np.any(r[1:-1] <= 1e-12 * scale):
-        where = s[1 + int(np.argmax(r[1:-1] <= 1e-12 * scale))]
-        raise ParameterError("segments", text, allowed, hint=f"it reaches the axis at s = {where:.4g} m")
+        sampled = s[1 + int(np.argmax(r[1:-1] <= 1e-12 * scale))]
+        raise ParameterError("segments", text, allowed, hint=_on_the_axis(text, drawn, sampled))
+    r, z = meridian.at(s)[:2]  # the same curve, as it runs (its length the same)
     if self_intersects(np.column_stack([r, z])):
         raise ParameterError("segments", text, allowed, hint="it crosses itself")
     check_meridian(meridian, "segments", text, "segments whose meridian has r > 0 but at a pole, its ends included, "

@@ -7,6 +7,8 @@ without the file and table a single run's refusal names."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import xarray as xr
 
@@ -93,3 +95,18 @@ def test_a_run_file_whose_scene_this_version_refuses_is_named(tmp_path, capsys):
     assert err.startswith(f"mol-shell: error: file = {str(path)!r}: the run's scene is refused by this version") \
         and "alpha2" in err and len(err.strip().splitlines()) == 1, err
     assert main(["scenes", str(tmp_path)]) == 2 and "is a directory" in capsys.readouterr().err
+
+
+def test_modes_of_a_file_whose_initial_dilation_is_no_equilibrium_name_the_file_and_key(tmp_path, capsys):
+    """examples/torus_gravity.toml starts at dilation = 1.0 (its natural state) under gravity, no equilibrium: modes
+    said ``scene = 'torus' is outside a scene whose initial state is an equilibrium (...)``. The value at fault is
+    the file's ``[initial] dilation`` (with ``--set dilation=1.0`` the key alone: the command line set it); the fix,
+    dilation = auto, and mol-shell run for the motion are said. On n = 11 as test_newcomer's modes of that file."""
+    path = Path(__file__).resolve().parents[2] / "examples" / "torus_gravity.toml"
+    for sets, head in (([], f"mol-shell: error: {path}: [initial] dilation = 1.0 is outside "),
+                       (["--set", "dilation=1.0"], "mol-shell: error: dilation = 1.0 is outside ")):
+        assert main(["modes", str(path), *sets, "--n", "11", "-o", str(tmp_path / "m.nc")]) == 2
+        err = _error(capsys)
+        assert len(err) == 1 and err[0].startswith(head + "auto, or a value whose initial state is an equilibrium"), err
+        assert "(residual force " in err[0] and "dilation = auto starts from the static equilibrium" in err[0]
+        assert "(mol-shell run) follows the motion" in err[0] and "scene = " not in err[0], err

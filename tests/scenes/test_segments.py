@@ -70,7 +70,8 @@ def test_capsule_cylinder_carries_the_membrane_stresses():
                              "by commas (radius, length > 0, m; 0 < |ANGLE_DEG| < 360) (the arc 'arc 1 -720' turns by "
                              "-720 degrees")),
     ("segments=arc 1 -300", ("segments = 'arc 1 -300' is outside segments whose meridian stays off the axis "
-                             "between its ends and does not cross itself (it reaches the axis at s = 3.142 m)")),
+                             "between its ends and does not cross itself (segment 1 ('arc 1 -300') reaches the axis "
+                             "at s = 3.142 m along the segments as drawn, from the start of the first)")),
     # were refused as internal tuples, or with the full circle's reason
     ("segments=line -1", "(the line 'line -1' has a length that is not positive and finite)"),
     ("segments=arc 0 90", "(the arc 'arc 0 90' has a radius that is not positive and finite)"),
