@@ -164,12 +164,13 @@ class Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"{self.said_as}: error: {message}\n")
 
 
-def parse_range_or_list(text, name, words=("T0", "T1", "DT"), item="t", count_check=None):
+def parse_range_or_list(text, name, words=("T0", "T1", "DT"), item="t", count_check=None, single=False):
     """``A:B:STEP`` (``B`` included; ``(B - A)/STEP`` a whole number) or ``v1,v2,...`` into a list of floats.
 
     Generated values are rounded to 12 significant digits, so ``0:0.009:0.003`` gives values that
     ``ds.sel`` finds as typed. Empty entries are refused. ``count_check(count)``, if given, is called
-    with the number of values before a range is expanded (``0:1:1e-12`` would be 1e12 of them).
+    with the number of values before a range is expanded (``0:1:1e-12`` would be 1e12 of them). ``single``: a range
+    with ``B == A`` is its one value (a study's ``--vary``; saved times are at least two).
     """
     a, b, d = words
     form = f"{a}:{b}:{d} ({b} included, {d} > 0, ({b} - {a})/{d} whole) or {item}1,{item}2,..."
@@ -182,7 +183,7 @@ def parse_range_or_list(text, name, words=("T0", "T1", "DT"), item="t", count_ch
             start, stop, step = (float(x) for x in parts)
         except ValueError:
             raise ParameterError(name, text, form) from None
-        if not (np.isfinite([start, stop, step]).all() and step > 0 and stop > start):
+        if not (np.isfinite([start, stop, step]).all() and step > 0 and (stop > start or single and stop == start)):
             raise ParameterError(name, text, form)
         count = (stop - start) / step
         if not np.isfinite(count):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import itertools
+import re
 import sys
 
 import numpy as np
@@ -22,6 +23,7 @@ from mol_shell.cli.args import (
     interrupted_code,
     max_step_arg,
     number_arg,
+    option_value,
     parse_atol,
     parse_range_or_list,
     parse_sets,
@@ -32,6 +34,8 @@ from mol_shell.cli.args import (
 )
 from mol_shell.cli.inputs import reason_with_the_file
 from mol_shell.cli.path import as_path_option, parse_param
+from mol_shell.integrators import INTEGRATORS
+from mol_shell.integrators.loop import declared, refusal
 from mol_shell.results.study_store import cases_folder, check_cases_folder
 from mol_shell.runs import resources
 from mol_shell.runs.scheduling import SCHEDULER_TIMEOUT, most_workers
@@ -68,7 +72,7 @@ def parse_vary(items, n=40, scene=None):
         if ":" in spec and "," not in spec and (name not in text or _numeric_range(spec)):
             # START:STOP:STEP; a list's entries may hold colons (a law's import path, module:attr)
             values = parse_range_or_list(spec, f"--vary {name}", words=("START", "STOP", "STEP"), item="V",
-                                         count_check=lambda count, name=name, spec=spec: resources.check_cases(
+                                         single=True, count_check=lambda count, name=name, spec=spec: resources.check_cases(
                                              count, n, name=f"--vary {name}", value=spec, early=True))
             values = [format(v, ".12g") for v in values] if name in text else values
         else:
@@ -112,10 +116,43 @@ def cmd_study(args):
                                      "parameters not in --vary")
     if args.path is not None:
         return _path_study(args, scene, vary, n)
+    _check_run_options(args, vary)
     times, t_end, integrator, options = run_settings(args, run, scene, n)
+    _check_integer_options(args.vary, integrator)
     return _finish(args, scene, "case", vary, lambda: study(
         scene, vary, integrator, n=n, times=times, t_end=t_end, scheduler=args.scheduler, workers=args.workers,
         output=args.output, progress=None, **options))
+
+
+def _check_run_options(args, vary):
+    """Refuse an option of the run that the command line sets (``--dt``, ``--rtol``, ``--atol``, ``--max-step``,
+    ``--option NAME=VALUE``) and ``--vary`` varies, as ``--set`` is refused (the varied values won, silently); a
+    scene file's ``[run]`` table gives defaults, which ``--vary`` replaces."""
+    for name in ("dt", "rtol", "atol", "max_step"):
+        if name in vary and getattr(args, name) is not None:
+            raise ParameterError.invalid("--" + name.replace("_", "-"), getattr(args, name),
+                                         f"sets {name}, which --vary varies", "options not in --vary")
+    options = parse_sets(args.option, name="--option")
+    both = [name for name in vary if name in options]
+    if both:
+        raise ParameterError.invalid("--option", f"{both[0]}={options[both[0]]}", f"sets {both[0]}, which --vary "
+                                     "varies", "options not in --vary")
+
+
+def _check_integer_options(items, integrator):
+    """Refuse a value of an integer option of ``integrator`` that ``--vary`` gives as a float (``chunk=100,2e3``), as
+    ``--option chunk=2e3`` is refused ("is not an integer ... write it as the integer 2000"): each entry, and each
+    of a range's START, STOP and STEP, read as ``--option`` reads its value."""
+    specs = declared(INTEGRATORS[integrator]) if integrator in INTEGRATORS else {}
+    for item in items or []:
+        name, _, spec = (x.strip() for x in item.partition("="))
+        option = specs.get(name)
+        if option is None or not option.allowed.startswith("integers"):
+            continue
+        for text in (x.strip() for x in re.split("[,:]", spec)):
+            value = option_value(text)
+            if isinstance(value, float):
+                raise refusal(f"--vary {name}", value, option, typed=text)
 
 
 def case_scenes(scene, vary):

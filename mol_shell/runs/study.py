@@ -246,7 +246,10 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         ``{"gamma": [...], "nu": [...]}``: the product of the values, one dimension per name
         (in this order). A list of dicts is an irregular design along a ``case`` dimension
         (parameters missing from a case keep the base scene's value). Names are scene
-        parameters or integrator options (``dt``, ``rtol``, ...).
+        parameters or integrator options (``dt``, ``rtol``, ...). Each name's values are a list, tuple, range or
+        1-D array of numbers (words for a parameter that takes words; ``None`` only where it is one, as an edge's
+        ``"auto"``); a set, a generator, a dict, a complex number or ``None`` is refused by ``vary['NAME']``
+        before any case runs.
     integrator : str
         As for :func:`mol_shell.simulate`; ``"ida"`` for the unshearable scene.
     n : int

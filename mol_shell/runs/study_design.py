@@ -12,6 +12,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.integrators.loop import declared
 from mol_shell.model.laws import Material, resolve_material
 from mol_shell.model.wall_parameters import wall_parameter, wall_parameter_names
 from mol_shell.runs.simulate import DEFAULT_DT, integrator_options
@@ -32,13 +33,11 @@ def design(scene, vary, integrator="leapfrog", options=None):
         if not vary:
             raise ParameterError("vary", vary, "at least one parameter with values")
         names = list(vary)
+        given = {}
         for name in names:  # a name first: its values are typed as the name wants them
             _check_name(name, allowed, scene, integrator)
-            if any(np.ndim(v) for v in np.atleast_1d(np.asarray(vary[name], dtype=object)).tolist()):
-                raise ParameterError.invalid(f"vary[{name!r}]", vary[name], "nests lists (the grid's values must be "
-                                             "scalars)", "a list of numbers or words, one per case")
-        values = [[_typed(scene, k, v, integrator) for v in np.atleast_1d(np.asarray(vary[k], dtype=object)).tolist()]
-                  for k in names]
+            given[name] = _listed(scene, name, vary[name], integrator)
+        values = [[_typed(scene, k, v, integrator) for v in given[k]] for k in names]
         for name, vals in zip(names, values):
             if not vals or len(set(map(repr, vals))) != len(vals):
                 raise ParameterError(f"vary[{name!r}]", vals, "distinct values, at least one")
@@ -51,6 +50,9 @@ def design(scene, vary, integrator="leapfrog", options=None):
     names = sorted({k for c in cases for k in c})
     for name in names:
         _check_name(name, allowed, scene, integrator)
+    for i, case in enumerate(cases):
+        for name, value in case.items():
+            _check_scalar(scene, f"vary[{i}][{name!r}]", value, name, value, integrator)
     coords = {k: [_typed(scene, k, c[k], integrator) if k in c else
                   _typed(scene, k, _default(scene, k, integrator, options or {}), integrator, left_out=True)
                   for c in cases] for k in names}
@@ -97,6 +99,98 @@ def label_coords(ds, coords, dims):
         ds[name].attrs.update(attrs)
     if "case" in dims and "case" in ds.coords:
         ds["case"].attrs.update({"units": "1", "long_name": "index of the case in the list of cases"})
+
+
+#: what a varied parameter takes, said by a refusal of a value that is not one
+VALUES = "a list of numbers or words, one per case"
+#: what a case of a list of cases gives a parameter
+ONE_VALUE = "a number or a word"
+
+
+def _listed(scene, name, given, integrator):
+    """The values of ``vary[name]`` as a list: a list, tuple, range or 1-D array of them, or one number or word (one
+    case); each a number, a word, a flag where the parameter is one, or a :class:`Material` for ``material``.
+    Refused by ``vary['NAME']``, before any case runs: a set or a generator (no order to make a grid's axis of: a set
+    was one case, its value refused as it ran, and the file was not written), a dict, a nested list, a complex
+    number."""
+    label = f"vary[{name!r}]"
+    if isinstance(given, np.ndarray) and given.ndim > 1:
+        raise ParameterError.invalid(label, given.tolist(), "nests lists (the grid's values must be scalars)", VALUES)
+    if isinstance(given, np.ndarray):
+        values = given.ravel().tolist()
+    elif isinstance(given, (list, tuple, range)):
+        values = list(given)
+    elif _scalar(given):  # one value: one case
+        values = [given]
+    else:
+        raise ParameterError.invalid(label, _shown(given), f"is a {type(given).__name__}, not a list of values",
+                                     VALUES)
+    for value in values:
+        _check_scalar(scene, label, given, name, value, integrator)
+    return values
+
+
+def _scalar(value):
+    """Whether ``value`` can be one value of a study's coordinate (as typed: a field's own check says more)."""
+    return value is None or isinstance(value, (str, bool, np.bool_, Material)) or is_number(value)
+
+
+def _check_scalar(scene, label, given, name, value, integrator):
+    """Refuse, by ``label`` (its values ``given``; ``value`` itself for a case of a list of cases), a value of ``name``
+    that is no number, word or flag (a set, a dict, a complex number, a list); a flag (``True``) where ``name`` is not
+    one."""
+    one = value is given  # a case's value in a list of cases
+    said, allowed = ("is", ONE_VALUE) if one else (f"holds {_shown(value)},", VALUES)
+    if not one and (isinstance(value, (list, tuple)) or isinstance(value, np.ndarray) and value.ndim):
+        raise ParameterError.invalid(label, _shown(given), "nests lists (the grid's values must be scalars)", VALUES)
+    if isinstance(value, np.ndarray) and not value.ndim or isinstance(value, np.generic):
+        value = value.item()
+    if value is None and not _takes_none(scene, name):  # it wrote NaN in the coordinate, the case refused
+        raise ParameterError.invalid(label, _shown(given), f"{'is' if one else 'holds'} None, not a value of {name}",
+                                     _allowed(scene, name, integrator), hint=f"leave {name} out of vary for its default")
+    if not _scalar(value):
+        raise ParameterError.invalid(label, _shown(given), f"{said} a {type(value).__name__}, not a real number or a "
+                                     "word", allowed)
+    if isinstance(value, (bool, np.bool_)) and not _is_flag(scene, name, integrator):
+        raise ParameterError.invalid(label, _shown(given), f"{said} a flag, not a number", allowed)
+
+
+def _takes_none(scene, name):
+    """Whether ``None`` is a value of the scene parameter ``name`` (an edge left to the code, the word ``"auto"`` in
+    the coordinate; a numeric one left to the code, refused by :func:`_auto_refused`); never of an option."""
+    fields = {f.name: f for f in dataclasses.fields(scene)}
+    return name in fields and "None" in str(fields[name].type)
+
+
+def _allowed(scene, name, integrator):
+    """The allowed values of ``name`` as its own check says them (``finite values (rad/m)``), or as the option of
+    ``integrator`` declares them; else "a number or a word"."""
+    spec = declared(INTEGRATORS[integrator]).get(name) if integrator in INTEGRATORS else None
+    if spec is not None:
+        return spec.allowed
+    try:
+        if name in scene_fields(scene) or name.startswith("material."):
+            with_params(scene, {name: None})
+    except ParameterError as exc:
+        return exc.allowed
+    except (TypeError, ValueError):
+        pass
+    return ONE_VALUE
+
+
+def _is_flag(scene, name, integrator):
+    """Whether ``name`` (a scene parameter or an option of ``integrator``) is a flag (True or False)."""
+    fields = {f.name: f for f in dataclasses.fields(scene)}
+    return "bool" in (str(fields[name].type) if name in fields else _option_type(integrator, name))
+
+
+def _shown(value):
+    """``value`` for a message: a generator or another object as ``<its kind>`` (its text is an address)."""
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (list, tuple, set, frozenset, dict, range, complex, str)) or _scalar(value):
+        return value
+    return f"<{type(value).__name__}>"
 
 
 def _check_name(name, allowed, scene, integrator=None):
@@ -161,8 +255,8 @@ def _typed(scene, name, value, integrator=None, left_out=False):
         dataclasses.replace(scene, **{name: value})  # raises: "gamma = 'abc' is not a number; allowed: ..."
     if name.endswith("_history") and isinstance(value, str):  # as the case's scene stores it (one normal form)
         value = getattr(dataclasses.replace(scene, **{name: value}), name)
-    if value is None and "str" in annotation:  # an edge left to the code: a word among the edge kinds
-        return "auto"
+    if value is None and "str" in annotation and "None" in annotation:  # an edge left to the code: a word among
+        return "auto"  # the edge kinds
     if value is None and "None" in annotation:
         raise _auto_refused(name, left_out)
     if "int" in annotation and isinstance(value, float) and value.is_integer():

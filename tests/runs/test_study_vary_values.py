@@ -1,0 +1,80 @@
+"""What a study varies over: a list of real numbers (words for a parameter that takes words), checked before any case
+runs, in Python and on the command line."""
+
+import importlib
+
+import pytest
+
+import mol_shell
+from mol_shell._core.errors import ParameterError
+from mol_shell.cli.main import main
+from mol_shell.cli.study import parse_vary
+from mol_shell.runs.study_design import design
+
+study_module = importlib.import_module("mol_shell.runs.study")  # the module, even if mol_shell exports a function study
+
+LIST = "allowed: a list of numbers or words, one per case"
+
+
+@pytest.mark.parametrize("values, words", [
+    # a set was one case, refused as it ran; then xarray failed on the coordinate and the file was not written
+    ({0.1, 0.2}, r"vary\['gamma'\] = \{0\.1, 0\.2\} is a set, not a list of values; " + LIST),
+    ((g for g in [0.1, 0.2]), r"vary\['gamma'\] = '<generator>' is a generator, not a list of values; " + LIST),
+    ({"a": 1}, r"vary\['gamma'\] = \{'a': 1\} is a dict, not a list of values; " + LIST),
+    ([{"a": 1}], r"vary\['gamma'\] = \[\{'a': 1\}\] holds \{'a': 1\}, a dict, not a real number or a word; " + LIST),
+    ([1j], r"vary\['gamma'\] = \[1j\] holds 1j, a complex, not a real number or a word; " + LIST),
+    ([True, 0.1], r"vary\['gamma'\] = \[True, 0\.1\] holds True, a flag, not a number; " + LIST),
+    # None stood in the file's coordinate as NaN, its case refused (NaN itself is refused up front)
+    ([None, 0.1], r"vary\['gamma'\] = \[None, 0\.1\] holds None, not a value of gamma; allowed: finite values"),
+    ([None], r"vary\['gamma'\] = \[None\] holds None, not a value of gamma; allowed: finite values"),
+])
+def test_a_value_that_is_not_a_list_of_real_numbers_is_refused_before_any_case(values, words, tmp_path, monkeypatch):
+    monkeypatch.setattr(study_module, "run_task", None)  # nothing may run
+    out = tmp_path / "t.nc"
+    with pytest.raises(ParameterError, match="^" + words):
+        mol_shell.study(mol_shell.TwistedCylinder(nu=0.3), {"gamma": values}, "leapfrog", t_end=5e-4,
+                        scheduler="serial", output=str(out))
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("case, words", [
+    ({"gamma": {0.1}}, r"vary\[1\]\['gamma'\] = \{0\.1\} is a set, not a real number or a word"),
+    ({"gamma": None}, r"vary\[1\]\['gamma'\] = None is None, not a value of gamma; allowed: finite values"),
+])
+def test_a_list_of_cases_refuses_a_value_that_is_not_one_number(case, words, monkeypatch):
+    monkeypatch.setattr(study_module, "run_task", None)
+    with pytest.raises(ParameterError, match="^" + words):
+        mol_shell.study("twisted-cylinder", [{"gamma": 0.1}, case], t_end=5e-4, scheduler="serial")
+
+
+def test_a_one_value_range_is_its_value():
+    """START = STOP satisfies "STOP included, STEP > 0, (STOP - START)/STEP whole" and was refused by it."""
+    assert parse_vary(["gamma=0.1:0.1:0.1"]) == parse_vary(["gamma=0.1"]) == {"gamma": [0.1]}
+    with pytest.raises(ParameterError, match="outside START:STOP:STEP"):
+        parse_vary(["gamma=0.2:0.1:0.1"])
+
+
+@pytest.mark.parametrize("extra, message", [
+    # ran, with chunk 2000 in the coordinate, where --option chunk=2e3 is refused
+    (["--vary", "chunk=100,2e3"], "--vary chunk = 2e3 is not an integer; allowed: integers in [1, "),
+    (["--vary", "chunk=100:2e3:100"], "--vary chunk = 2e3 is not an integer; allowed: integers in [1, "),
+    # the varied values won, silently (--set nu with --vary nu is refused)
+    (["--dt", "1e-6", "--vary", "dt=1e-6,2e-6"], ("--dt = 1e-06 sets dt, which --vary varies; allowed: options not "
+                                                  "in --vary")),
+    (["--option", "chunk=100", "--vary", "chunk=100,200"], "--option = 'chunk=100' sets chunk, which --vary varies"),
+])
+def test_the_command_line_reads_varied_options_as_it_reads_them_set(extra, message, tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(study_module, "run_task", None)  # nothing may run
+    code = main(["study", "twisted-cylinder", *extra, "--t-end", "0.001", "-o", str(tmp_path / "s.nc")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.startswith("mol-shell: error: " + message), err
+    assert len(err.splitlines()) == 1
+    if "2e3" in message:  # as --option says it
+        assert err.rstrip().endswith("(a float: write it as the integer 2000)")
+
+
+def test_integer_options_typed_as_integers_are_varied():
+    """A range of integers, and a list, give integers (the coordinate of chunk)."""
+    for item in ("chunk=100:300:100", "chunk=100,200,300"):
+        _, coords, _ = design(mol_shell.TwistedCylinder(), parse_vary([item]), "leapfrog")
+        assert coords["chunk"] == [100, 200, 300] and all(type(v) is int for v in coords["chunk"])
