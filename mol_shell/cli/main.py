@@ -48,7 +48,7 @@ from mol_shell.cli.args import (
     say_stand_ins,
 )
 from mol_shell.cli.inputs import check_outputs
-from mol_shell.cli.outcome import guarded, one_line_warnings, said, said_in_teardown
+from mol_shell.cli.outcome import exits_after_its_exit_functions, guarded, one_line_warnings, said, said_in_teardown
 from mol_shell.cli.path import (
     add_start_options,
     cmd_plot_path,
@@ -303,8 +303,10 @@ def main(argv=None):
 
 def entry():
     """The ``mol-shell`` program (and ``python -m mol_shell``): :func:`main`, then a Ctrl-C or SIGTERM until the
-    process exits said as one that stopped the command (:func:`~mol_shell.cli.outcome.said_in_teardown`)."""
-    return said_in_teardown(main())
+    process exits said as one that stopped the command (:func:`~mol_shell.cli.outcome.said_in_teardown`), which
+    exits once Python has called its exit functions, without the teardown in which those signals killed it
+    (:func:`~mol_shell.cli.outcome.exits_after_its_exit_functions`)."""
+    return exits_after_its_exit_functions(said_in_teardown(main()))
 
 
 def _command(argv):

@@ -7,6 +7,7 @@ The command line (:mod:`mol_shell.cli.main`) and the studies' scripts (:mod:`mol
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import os
 import signal
@@ -241,5 +242,29 @@ def said_in_teardown(code, prog="mol-shell"):
     for signum in (signal.SIGINT, signal.SIGTERM):
         with contextlib.suppress(ValueError, OSError):  # not the main thread: nothing to put in place
             signal.signal(signum, late)
+    return code
+
+
+def exits_after_its_exit_functions(code):
+    """End the process that is the command, ``code`` its exit status, as soon as the interpreter has joined its threads
+    and called its exit functions (:mod:`atexit`: multiprocessing's, logging's), where its teardown (0.5 s after a
+    run: modules and arrays freed) would follow. That teardown first puts SIGINT's and SIGTERM's default actions back:
+    a Ctrl-C or SIGTERM in it killed the process (-2, -15) with nothing said, however the command ended, after
+    ``wrote ...`` too. Without it the handlers of :func:`said_in_teardown` are in place until the process exits.
+    What the teardown did besides is done already or not needed: the command's files are written and closed, the
+    standard streams are flushed here, the memory goes with the process. Only for a process that is the command
+    (:func:`mol_shell.cli.main.entry`); returns ``code``, for ``sys.exit``, which then ends as usual up to here."""
+    if code is not None and not isinstance(code, int):  # an argparse message (never, but Python would print it)
+        return code
+
+    def at_once():
+        atexit.unregister(at_once)  # registered last, called first: the others, in their order, then the exit
+        atexit._run_exitfuncs()  # Python's own call of them (private, in CPython since 3.0), as its exit makes it
+        for stream in (sys.stdout, sys.stderr):
+            with contextlib.suppress(Exception):  # a reader gone, a closed stream: nothing more to say anyway
+                stream.flush()
+        os._exit(code or 0)
+
+    atexit.register(at_once)
     return code
 

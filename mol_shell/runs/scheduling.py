@@ -266,8 +266,9 @@ def _execute_local(run_task, tasks, workers):
                 ended = True
             finally:
                 claims.close()  # interrupted, or done: a worker starts nothing more
-                if ended:  # every result in (or the pool broken): the workers exit on their own (0.2 s that the
-                    pool.shutdown(wait=False, cancel_futures=True)  # study need not wait for)
+                if ended:  # every result in (or the pool broken): the workers exit on their own, waited for so
+                    with interrupts.held():  # that the pool's semaphores go with it (a Ctrl-C later left them to
+                        pool.shutdown(wait=True, cancel_futures=True)  # the resource tracker, which warned)
                 else:  # Ctrl-C, an error, or the caller stopped reading: the workers' cases are not waited for
                     _stop(pool)
             if failed and not any(claims.owner(slot) > 0 for slot in range(len(pending))):
