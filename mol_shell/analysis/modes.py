@@ -11,7 +11,8 @@ Rigid motions (``omega = 0``: rotation about the axis where both edges leave ``c
 translation where they leave ``z`` free; :func:`mol_shell.runs.statics.rigid_motions`) are counted in
 ``attrs["zero_modes"]`` (2, 1 or 0, from the edges), not listed. Every other mode keeps its frequency; one whose
 ``omega^2`` is zero to round-off (:data:`ROUNDOFF` times machine epsilon times the mode's own stiffness terms,
-:func:`roundoff_level`: a prestressed state at a critical point) is listed at 0 rad/s. The eigenvalues' scale is ``max K_ii / M_ii``, Rayleigh quotients
+:func:`roundoff_level`: a prestressed state at a critical point) is listed at 0 rad/s, as is a negative one within
+the eigensolver's round-off of the largest, and one within a located critical point's band (:mod:`mode_zero`). The eigenvalues' scale is ``max K_ii / M_ii``, Rayleigh quotients
 of unit vectors: a lower bound of the largest ``omega^2``, within a few percent of it on the scenes' grids.
 
 A mode's shape is scaled so that its entry of largest magnitude (over all fields, metres and radians alike: the
@@ -33,8 +34,11 @@ import numpy as np
 import xarray as xr
 
 from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, scalar
+from mol_shell._core.units import show_seconds
 from mol_shell.analysis.grid_modes import mark_grid_modes
 from mol_shell.analysis.mode_damping import damping_note, drag_damping_ratios
+from mol_shell.analysis.mode_zero import floor_note, solver_floor, zero_mask
+from mol_shell.analysis.path_inputs import history_loads
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, given_note, given_values, scene_attrs, with_units
@@ -46,6 +50,16 @@ from mol_shell.scenes.scene_warnings import say_scene_warnings
 
 #: above this many free coordinates the sparse shift-invert solver is used
 DENSE_MAX = 3000
+#: ... unless more modes than this share of the free coordinates are asked: ARPACK's cost grows like k^2 and passes the
+#: dense solve's near it (sphere, n = 701, 3,497 coordinates, one thread: 0.8, 2.5, 48.7 s for 100, 300, 700 modes,
+#: dense 44.2 s; 3,400 modes ran past 180 s and, in one C call, ignored SIGTERM and SIGINT)
+DENSE_SHARE = 0.2
+#: seconds of modes by the dense route per cubed free coordinate (44.2 s at 3,497 on a busy 2-core machine; LAPACK's
+#: generalised eigh alone 0.32 s at 1,000, 1.9 s at 2,000); a longer one than
+#: :data:`~mol_shell.runs.resources.LONG_ANALYSIS_BUILD_S` is announced: no signal stops LAPACK's call
+DENSE_S_PER_CUBE = 1e-9
+#: dense matrices of the free coordinates' size held at once (K, M, the shapes, LAPACK's copies and work)
+DENSE_COPIES = 6
 #: the initial state counts as an equilibrium when its generalised forces are below this fraction of
 #: the forces of a unit strain of each cell (``max diag K`` times the meridian's scale)
 EQUILIBRIUM_TOL = 1e-8
@@ -261,7 +275,30 @@ def check_equilibrium(system, y0, scene, asked=None, given=False):
                              hint=f"{where}; {fix}")
 
 
-def modes(scene, n=40, count=10, *, initial=None):
+def _route(size, count, listable, n):
+    """``"dense"`` or ``"sparse shift-invert"`` for ``count`` modes of ``size`` free coordinates, ``listable`` of them
+    not rigid motions: ``count`` refused (naming its range) before any solve when beyond them, and the dense route
+    refused when its matrices do not fit in memory, announced (LongRunWarning) when it takes long."""
+    if count > listable:  # known before any solve (a count of 100,000 at n = 601 was refused after 36 s of it)
+        raise ParameterError("count", count, f"integers 1..{listable} for n = {n}")
+    if size <= DENSE_MAX or count > DENSE_SHARE * size:
+        room, source = resources.available_memory()
+        if DENSE_COPIES * size * size * resources.BYTES > room:
+            sparse_most = min(int(DENSE_SHARE * size), listable)
+            raise ParameterError("count", count, f"integers 1..{sparse_most} for n = {n}", hint=(
+                f"more than {DENSE_SHARE:g} of the {size:,} free coordinates are solved for densely, whose matrices "
+                f"({resources.show_bytes(DENSE_COPIES * size * size * resources.BYTES)}) do not fit in "
+                f"{resources.show_bytes(room)} available ({source})"))
+        seconds = DENSE_S_PER_CUBE * float(size) ** 3
+        if seconds > resources.LONG_ANALYSIS_BUILD_S:
+            warnings.warn(f"computing the modes of {size:,} free coordinates densely (LAPACK) takes about "
+                          f"{show_seconds(seconds)}, most of it in one call that no signal interrupts", resources.LongRunWarning,
+                          stacklevel=3)
+        return "dense"
+    return "sparse shift-invert"
+
+
+def modes(scene, n=40, count=10, *, initial=None, zero_band=0.0):
     """Natural frequencies and mode shapes of ``scene`` about its initial state (at rest, in equilibrium).
 
     Parameters
@@ -276,6 +313,9 @@ def modes(scene, n=40, count=10, *, initial=None):
     initial : array_like, optional
         Fields ``z, r, chi, theta, psi`` at the nodes, ``(5, n)``, at rest, in place of the scene's initial state: an
         equilibrium under the scene's loads, e.g. a path's step (prestressed frequencies).
+    zero_band : float
+        ``omega^2`` within this of zero (s-2) counts as zero: a path's located critical point's
+        (:func:`mol_shell.analysis.mode_zero.located_band`).
 
     Returns
     -------
@@ -308,28 +348,29 @@ def modes(scene, n=40, count=10, *, initial=None):
     q_idx, Minv, K = _blocks(system, y0)
     size = len(q_idx)
     rigid = rigid_vectors(system, q_idx)
-    if size <= DENSE_MAX:
+    method = _route(size, count, size - rigid.shape[1], system.n)
+    if method == "dense":
         M = np.linalg.inv(Minv.toarray())
         M = (M + M.T) / 2
         Kd = K.toarray()
         Kd = (Kd + Kd.T) / 2
         scale = eigenvalue_scale(Kd, M)
         w2, phi = scipy.linalg.eigh(Kd, M)
-        method = "dense"
     else:
         M = block_inverse(Minv)
         M = (M + M.T) / 2
         Ks = (K + K.T) / 2
         scale = eigenvalue_scale(Ks, M)
         w2, phi = sparse_modes(Ks, M, rigid, count, scale)  # the rigid motions projected out: none among them
-        method = "sparse shift-invert"
     if not np.all(np.isfinite(w2)):  # rho = 1e-300: inertias in the subnormals, their inverse infinite (NaN modes)
         raise ModelLimitError(
             f"the modes of n = {system.n} nodes are not finite in double precision (omega^2 = {w2[~np.isfinite(w2)][0]}"
             f"): the mass matrix (rho = {scene.rho:g} kg m-3) or the stiffness is beyond what doubles hold", 0.0,
             "the mass and stiffness matrices")
     stiffness = Kd if method == "dense" else Ks
-    small = np.abs(w2) <= roundoff_level(stiffness, M, phi)  # zero to round-off, mode by mode
+    largest = max(float(np.max(np.abs(w2))), scale)  # the sparse solve's are the lowest: the scale bounds the largest
+    floor = solver_floor(largest)  # the eigensolver's round-off: a negative omega^2 within it is zero
+    small = zero_mask(w2, roundoff_level(stiffness, M, phi), floor, zero_band)  # zero to round-off, mode by mode
     zero = np.zeros(len(w2), dtype=bool)
     if method == "dense" and rigid.shape[1]:
         # the rigid motions are the edges' (exact null vectors of K): the eigenpairs most in their span, with any
@@ -342,11 +383,9 @@ def modes(scene, n=40, count=10, *, initial=None):
         zero[cluster[: rigid.shape[1]]] = True
         order = np.argsort(w2)
         w2, phi, zero = w2[order], phi[:, order], zero[order]
-        small = np.abs(w2) <= roundoff_level(stiffness, M, phi)
+        small = zero_mask(w2, roundoff_level(stiffness, M, phi), floor, zero_band)
     n_zero = rigid.shape[1]
-    keep = np.flatnonzero(~zero)[:count]
-    if len(keep) < count:
-        raise ParameterError("count", count, f"integers 1..{len(np.flatnonzero(~zero))} for n = {system.n}")
+    keep = np.flatnonzero(~zero)[:count]  # as many as asked: _route refused more than there are
     start = system.unpack(np.asarray(y0, dtype=float))
     given = given_values(scene, start, system.s, system.reference[1]) if initial is not None else None
     params = scene_attrs(scene, system.edges, system.thickness.zeta1, start[:2], system.reference[:2], asked.params(),
@@ -355,6 +394,13 @@ def modes(scene, n=40, count=10, *, initial=None):
     if given_said:  # a path's state, at rest: the scene's omega or gamma are not the start's
         params["initial_data_note"] = given_said
     say_scene_warnings(scene, params, stacklevel=2)  # as a run's: the law's locking, keys without effect
+    at_rest = history_loads(scene, why="the modes are taken about a state at rest")
+    if at_rest:  # a load on a history acts at t = 0 (a ramp's: not at all), as in a path's states
+        params["loads_at_rest"] = "\n".join(at_rest)
+    roundoff = floor_note(w2[keep], roundoff_level(stiffness, M, phi[:, keep]), floor, largest)
+    if roundoff:
+        params["roundoff_warning"] = roundoff
+        warnings.warn(roundoff, UserWarning, stacklevel=2)
     ratios = drag_damping_ratios(system, scene, q_idx, M, w2[keep], phi[:, keep], start[1]) if scene.drag else None
     damping = damping_note(scene, system, ratios)
     if damping:  # K phi = omega^2 M phi: the drag's and the viscosity's damping are not in it

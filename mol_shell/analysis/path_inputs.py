@@ -85,11 +85,11 @@ def check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch=
                              fewer="allow fewer steps (--max-steps)")
 
 
-def loads_at_rest(scene, parameter):
-    """What each of the scene's other loads is in the path's states, when its history makes that differ from its
-    magnitude: a path's states are at rest, under the loads at ``t = 0`` (``h(0) x`` the magnitude; a ramp, a sine
-    and a later step give 0 there). One sentence per such load (none for ``drag``, which vanishes at rest), and one
-    for a spin ``omega``, left out, and for a twist ``gamma`` or tilt ``psi0``, initial data only."""
+def history_loads(scene, parameter=None, why="a path's states are at rest"):
+    """One sentence per load of the scene other than ``parameter`` whose history makes its value at ``t = 0`` (``h(0)
+    x`` the magnitude; a ramp, a sine and a later step give 0 there) differ from its magnitude, for states at rest
+    (``why``: a path's, or the state natural modes are taken about), which take it at ``t = 0``; none for ``drag``,
+    which vanishes at rest."""
     notes = []
     for load in LOADS:
         value = getattr(scene, load, 0.0)
@@ -99,8 +99,16 @@ def loads_at_rest(scene, parameter):
         factor = history(parse_history(load + "_history", spec), 0.0)
         if factor != 1.0:
             notes.append(f"the scene's {load} = {value:g} {UNITS[load]} ({load}_history {spec!r}) acts at its value at "
-                         f"t = 0 in every state, {factor * value:g} {UNITS[load]} (a path's states are at rest; "
+                         f"t = 0 in every state, {factor * value:g} {UNITS[load]} ({why}; "
                          f"{load}_history = constant holds {value:g})")
+    return notes
+
+
+def loads_at_rest(scene, parameter):
+    """What each of the scene's other loads is in the path's states, when its history makes that differ from its
+    magnitude (:func:`history_loads`), and a sentence for a spin ``omega``, left out, and for a twist ``gamma`` or
+    tilt ``psi0``, initial data only."""
+    notes = history_loads(scene, parameter)
     if getattr(scene, "omega", 0.0):  # initial data of a motion: the states are at rest
         notes.append(f"the scene's omega = {scene.omega:g} rad s-1 is left out: a path's states are at rest")
     for name, unit in (("gamma", "rad m-1"), ("psi0", "rad")):  # initial data too: the path starts from them only

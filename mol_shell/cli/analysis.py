@@ -12,6 +12,7 @@ from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import writable_path
 from mol_shell.analysis.grid_modes import GRID_MODE_SHARE
+from mol_shell.analysis.mode_zero import located_band
 from mol_shell.analysis.modes import modes
 from mol_shell.analysis.stability import FULL_SIZES, QUICK_SIZES, default_cases, report
 from mol_shell.analysis.stability import markdown_table as stability_table
@@ -150,12 +151,15 @@ def cmd_modes(args):
     else:
         check_outputs(args, [png])
     try:
-        ds = modes(scene, n=args.n or run.get("n", 40), count=args.count, initial=initial)
+        band = located_band(source, args.point) if source is not None and args.point is not None else 0.0
+        ds = modes(scene, n=args.n or run.get("n", 40), count=args.count, initial=initial, zero_band=band)
     except ParameterError as exc:
         if hasattr(exc, "residual") and initial is not None:  # a path's state, named by --point, --set or --from
             raise not_an_equilibrium(args, exc, source) from None
         raise
     say_start(args, ds, info, "the modes are about", source)
+    for note in str(ds.attrs.get("loads_at_rest", "")).splitlines():  # a load on a history: taken at t = 0
+        print(f"mol-shell: note: {note}", file=sys.stderr)
     say_stand_ins(scene)
     write_netcdf(ds, args.output)
     plot_modes(ds, png)
