@@ -17,6 +17,7 @@ instability) and shows progress.
 
 from __future__ import annotations
 
+import cmath
 import math
 from dataclasses import dataclass
 
@@ -33,6 +34,8 @@ from mol_shell.integrators.loop import Option, integers, option, real
 #: whole ``k`` (a millionth of a step, and round-off of ``t`` itself): saved times and ``t_end`` alike, taken at their
 #: double-precision values (a float32 ``1e-4``, 9.99999975e-05, is 2.5e-6 steps off: refused, saying so)
 GRID_TOLERANCE = (1e-6, 1e-12)
+#: seconds between two restarts when none is given (:attr:`Leapfrog.restart`)
+DEFAULT_RESTART = 1.0
 
 
 def grid_steps(times, dt):
@@ -54,6 +57,102 @@ def off_grid_hint(t, dt):
                f"the grid allows {GRID_TOLERANCE[0]:g} dt + {GRID_TOLERANCE[1]:g} t"))
 
 
+def parasitic_growth_rate(damping, omega_max, dt):
+    """Growth rate (1/s) of leap-frog's parasitic root for the worst mode the spectrum's bounds allow.
+
+    For ``y' = lambda y`` the scheme's roots solve ``z^2 - 2 lambda dt z - 1 = 0``; the parasitic one
+    has ``|z| > 1`` when ``Re lambda < 0``. With ``lambda = -a + i w`` and ``x = w dt``,
+    ``|z|^2 = 1 + 2 a dt / sqrt(1 - x^2) + O((a dt)^2)``: the mode grows at about
+    ``a / sqrt(1 - x^2)``, faster than its damping rate near the step bound. Evaluated exactly for
+    the eigenvalue with ``a = damping`` (the largest ``-Re lambda``) and ``|lambda| = omega_max``.
+    """
+    if damping <= 0:
+        return 0.0
+    lam_dt = complex(-damping, math.sqrt(max(omega_max**2 - damping**2, 0.0))) * dt
+    root = cmath.sqrt(1.0 + lam_dt * lam_dt)
+    return max(math.log(abs(lam_dt + root)), math.log(abs(lam_dt - root))) / dt
+
+
+def restart_gain(lam_dt, steps):
+    """``|G|``: the factor by which a start (one midpoint step) and ``steps - 1`` leap-frog steps change the mode
+    ``y' = lambda y`` (``lam_dt = lambda dt = h``, an array), the state a restart starts again from.
+
+    The levels are ``y_k = c1 z1^k + c2 z2^k`` with ``z^2 - 2 lambda dt z - 1 = 0`` (``z1`` near ``exp(lambda dt)``,
+    ``z2`` the parasitic root, near ``-exp(-lambda dt)``) and ``c1 + c2 = y_0``, ``c1 z1 + c2 z2 = y_1 = (1 + h +
+    h^2 / 2) y_0``: the start leaves ``c2 = (y_1 / y_0 - z1) / (z2 - z1)``, ``-(lambda dt)^4 / 16``, on the
+    parasitic root, and a restart carries what it has grown to (``c2 z2^steps``) into the next start's state: over
+    ``m`` restarts a mode changes by ``G^m``. For a damped mode ``|z2| > 1``: ``|G| > 1`` once ``|c2 z2^steps|``
+    outgrows the damping, so restarts bound the growth only if they come before that."""
+    h = np.asarray(lam_dt, dtype=complex)
+    root = np.sqrt(1.0 + h * h)
+    z1, z2 = h + root, h - root
+    c2 = (1.0 + h + 0.5 * h * h - z1) / (z2 - z1)
+    with np.errstate(over="ignore", invalid="ignore"):
+        return np.abs((1.0 - c2) * z1**steps + c2 * z2**steps)
+
+
+def damped_modes(damping, omega_max, dt, count=65):
+    """``lambda dt`` of the modes the spectrum's bounds allow with the fastest decay rate ``damping`` (1/s):
+    ``lambda = -damping + i w``, ``|lambda| <= omega_max``."""
+    w = np.linspace(0.0, math.sqrt(max(omega_max**2 - damping**2, 0.0)), count)
+    return (-damping + 1j * w) * dt
+
+
+def carried_log_growth(damping, omega_max, dt, every, total):
+    """``log`` of the growth of the worst damped mode (:func:`damped_modes`) carried through the restarts of a run of
+    ``total`` steps restarted every ``every`` steps (0: never): ``(total // every) log max |G|`` (:func:`restart_gain`)
+    where ``|G| > 1``; 0 without damping or restarts."""
+    if damping <= 0 or not 0 < every < total:
+        return 0.0
+    gain = float(np.max(restart_gain(damped_modes(damping, omega_max, dt), every)))
+    if gain <= 1:
+        return 0.0
+    return (total // every) * math.log(gain) if math.isfinite(gain) else math.inf  # overflowed (inf or nan): grows
+
+
+def longest_restart(damping, omega_max, dt, total, rate, limit):
+    """The most steps between restarts (at least :attr:`Leapfrog.MIN_RESTART_STEPS`, at most ``total``) with which the
+    parasitic root grows by at most ``exp(limit)`` both between two restarts (at ``rate``, 1/s) and carried through
+    them over the run's ``total`` steps (:func:`carried_log_growth`); 0 if none."""
+
+    def ok(every):
+        return (rate * min(every, total) * dt <= limit
+                and carried_log_growth(damping, omega_max, dt, every, total) <= limit)
+
+    lo, hi = Leapfrog.MIN_RESTART_STEPS, max(int(total), Leapfrog.MIN_RESTART_STEPS)
+    if not ok(lo):
+        return 0
+    if ok(hi):
+        return hi
+    while hi - lo > 1:  # ok(lo), not ok(hi)
+        mid = (lo + hi) // 2
+        lo, hi = (mid, hi) if ok(mid) else (lo, mid)
+    return lo
+
+
+def restart_advice(damping, omega_max, dt, t_end, limit):
+    """What a refusal of leap-frog for its parasitic root (``limit``: the log of the growth allowed) offers besides an
+    implicit integrator: restarts every so many seconds (9/10 of :func:`longest_restart`, at least 100 steps), or,
+    where 100 steps are already too many at ``dt``, a smaller ``dt`` (1, 2 or 5 times a power of ten) with restarts
+    every 100 steps or more; "" if neither."""
+    for step in [dt] + [m * 10.0**e for e in range(math.floor(math.log10(dt)), math.floor(math.log10(dt)) - 10, -1)
+                        for m in (5, 2, 1) if m * 10.0**e < dt * (1 - 1e-9)]:
+        total = round(t_end / step)
+        every = longest_restart(damping, omega_max, step, total, parasitic_growth_rate(damping, omega_max, step), limit)
+        if every:
+            low = Leapfrog.MIN_RESTART_STEPS * step
+            longest = max(low, int(0.9 * every) * step)
+            digit = math.floor(math.log10(longest)) - 1
+            restart = float(f"{math.floor(longest / 10.0**digit)}e{digit}")  # 2 digits, rounded down
+            restart = restart if longest >= restart >= low else longest
+            if step == dt:
+                return (f", or restarts of the leap-frog every {restart:g} s or less (option restart; at least 100 dt "
+                        f"= {low:g} s)")
+            return (f", or a smaller step, dt = {step:g} s, with restarts every {restart:g} s or less (options dt and "
+                    f"restart; at least 100 dt = {low:g} s; at dt = {dt:g} s they would have to come within 100 steps)")
+    return ""
+
+
 @dataclass(frozen=True)
 class Leapfrog:
     """Leap-frog with a fixed step ``dt`` (s).
@@ -66,7 +165,8 @@ class Leapfrog:
         Steps run in C between two checks of the energy (and progress updates); the limits are checked every step.
     restart : float
         Seconds between two starts of the scheme from its last level by one midpoint step (1 s by default; 0 or
-        inf: never, the paper's scheme throughout; at most one per 100 steps), so its parasitic solution cannot grow
+        inf: never, the paper's scheme throughout; at least 100 steps: a shorter one is refused, the default taken
+        as 100 steps where dt is above 10 ms), so its parasitic solution cannot grow
         beyond ``restart`` seconds' worth of the motion's Lyapunov rate (module docstring). Runs shorter than
         ``restart`` are unchanged.
     """
@@ -75,7 +175,7 @@ class Leapfrog:
     dt: float = option(1e-6, Option(f"(0, inf) s, normal doubles (a subnormal step, below {TINY!r}, loses its "
                                     "digits)", lambda v: TINY <= real(v) < math.inf, convert=real))
     chunk: int = option(2000, integers(1))
-    restart: float = option(1.0, Option("[0, inf] s; 0 or inf: never", lambda v: real(v) >= 0, convert=real))
+    restart: float = option(DEFAULT_RESTART, Option("[0, inf] s; 0 or inf: never", lambda v: real(v) >= 0, convert=real))
 
     name = "leapfrog"
     order = 2
@@ -84,9 +184,16 @@ class Leapfrog:
 
     def __post_init__(self):
         loop.check_declared(self)
+        given = self.restart != DEFAULT_RESTART  # the default is taken as at least 100 steps (dt above 10 ms)
+        if given and 0 < self.restart / self.dt < self.MIN_RESTART_STEPS * (1 - 1e-9):  # was held to 100, unsaid
+            raise ParameterError("restart", self.restart, f"0 or inf (never), or [{self.MIN_RESTART_STEPS * self.dt:g}, "
+                                 f"inf] s at dt = {self.dt:g} s", hint=f"at least {self.MIN_RESTART_STEPS} steps "
+                                 "between two restarts: each leaves the compiled loop")
 
     def settings(self):
-        return {"dt": self.dt, "restart": self.restart}
+        """``dt`` and the ``restart`` taken: a whole number of steps (``restart`` itself where it is never)."""
+        every = self.restart_steps()
+        return {"dt": self.dt, "restart": float(f"{every * self.dt:.15g}") if every else self.restart}
 
     #: the fewest steps between two restarts: each leaves the compiled loop for two right-hand sides in Python
     #: (a restart every 2 steps made a run 30-45 times slower)

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import cmath
 import dataclasses
 import math
 import warnings
@@ -16,9 +15,15 @@ from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.kernel_cache import CacheFull
 from mol_shell.discretization.threads import checked_threads
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.integrators.leapfrog import grid_steps, off_grid_hint
+from mol_shell.integrators.leapfrog import (
+    carried_log_growth,
+    grid_steps,
+    off_grid_hint,
+    parasitic_growth_rate,
+    restart_advice,
+)
 from mol_shell.integrators.loop import declared, real
-from mol_shell.integrators.tolerances import ATOL_RANGE, atol_ok
+from mol_shell.integrators.tolerances import ATOL_RANGE, MAX_STEP_MARGIN, atol_ok, smallest_max_step
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.loads import check_leapfrog_history
 from mol_shell.results.dataset import build_dataset
@@ -47,24 +52,6 @@ from mol_shell.scenes.scene_warnings import say_scene_warnings
 LEAPFROG_MAX_LOG_GROWTH = float(np.log(1e6))
 #: leap-frog's step when none is given (the paper's), s
 DEFAULT_DT = 1e-6
-
-
-def parasitic_growth_rate(damping, omega_max, dt):
-    """Growth rate (1/s) of leap-frog's parasitic root for the worst mode the spectrum's bounds allow.
-
-    For ``y' = lambda y`` the scheme's roots solve ``z^2 - 2 lambda dt z - 1 = 0``; the parasitic one
-    has ``|z| > 1`` when ``Re lambda < 0``. With ``lambda = -a + i w`` and ``x = w dt``,
-    ``|z|^2 = 1 + 2 a dt / sqrt(1 - x^2) + O((a dt)^2)``: the mode grows at about
-    ``a / sqrt(1 - x^2)``, faster than its damping rate near the step bound. Evaluated exactly for
-    the eigenvalue with ``a = damping`` (the largest ``-Re lambda``) and ``|lambda| = omega_max``.
-    """
-    if damping <= 0:
-        return 0.0
-    lam_dt = complex(-damping, math.sqrt(max(omega_max**2 - damping**2, 0.0))) * dt
-    root = cmath.sqrt(1.0 + lam_dt * lam_dt)
-    return max(math.log(abs(lam_dt + root)), math.log(abs(lam_dt - root))) / dt
-
-
 
 
 def integrator_options(scene, integrator):
@@ -254,7 +241,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
                 raise
             deferred, times = exc, None
     times = parse_times(times, t_end)
-    _check_max_step(method, times[-1])
+    _check_max_step(method, times)
     with warnings.catch_warnings():
         if deferred is not None:  # no run follows: nothing to announce
             warnings.simplefilter("ignore", resources.LongRunWarning)
@@ -282,15 +269,18 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         if deferred is not None:  # dt is within its bound: t_end is what to change
             raise deferred
         growth = parasitic_growth_rate(damping, omega_max, dt)
-        span = min(times[-1], method.restart or math.inf)  # the parasitic root starts again at each restart
-        if growth * span > LEAPFROG_MAX_LOG_GROWTH:
-            allowed = (f"another integrator (cvode-bdf or ida: implicit, for stiff viscous shells), or restarts of the "
-                       f"leap-frog every {LEAPFROG_MAX_LOG_GROWTH / growth:.3g} s or less (option restart)")
+        total, every = round(times[-1] / dt), method.restart_steps()  # the restarts the run takes (100 steps or more)
+        span = min(times[-1], every * dt if every else math.inf)  # the parasitic root starts again at each restart
+        carried = carried_log_growth(damping, omega_max, dt, every, total)  # ... from what it had grown to
+        if max(growth * span, carried) > LEAPFROG_MAX_LOG_GROWTH:
+            allowed = ("another integrator (cvode-bdf or ida: implicit, for stiff viscous shells)"
+                       + restart_advice(damping, omega_max, dt, times[-1], LEAPFROG_MAX_LOG_GROWTH))
             raise ParameterError(
                 "integrator", integrator, allowed,
                 message=f"integrator = {integrator!r} cannot run this case: its parasitic root grows damped modes like "
                 f"exp({growth:.4g}/s * t) at dt = {dt:g} s, and up to t = {span:g} s (the run's end or its next "
-                f"restart) that is exp({growth * span:.3g}) (viscosity makes the system stiff); allowed: {allowed}")
+                f"restart) that is exp({growth * span:.3g})" + (f", carried through the restarts exp({carried:.3g}) "
+                "over the run" if carried else "") + f" (viscosity makes the system stiff); allowed: {allowed}")
     resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
                                omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)
     bar = time_meter(mode, times[-1])
@@ -355,16 +345,21 @@ def _with_stresses(ds, limit):
         return out
 
 
-def _check_max_step(method, t_end):
-    """Refuse a ``max_step`` with which ``max_steps`` steps cannot reach ``t_end`` (``--max-step 1e-12`` to 1 ms ran,
-    then stopped as "the motion is too fast for this horizon")."""
+def _check_max_step(method, times):
+    """Refuse a ``max_step`` with which ``max_steps`` steps cannot reach the last of ``times``
+    (:func:`~mol_shell.integrators.tolerances.smallest_max_step`: ``--max-step 1e-12`` to 1 ms ran, then stopped as "the
+    motion is too fast for this horizon")."""
     max_step, max_steps = getattr(method, "max_step", 0.0) or 0.0, getattr(method, "max_steps", None)
-    if max_step > 0 and max_steps and max_step * max_steps < t_end:
-        low = t_end / max_steps
+    t_end, intervals = float(times[-1]), len(times) - 1
+    low = smallest_max_step(t_end, intervals, max_steps) if max_steps else 0.0
+    if max_step > 0 and max_step < low:
+        hint = (f"max_steps = {max_steps} steps of at most max_step, one more per saved interval ({intervals}) and "
+                f"{MAX_STEP_MARGIN:.0%} of them for the start, must reach t = {t_end:g} s")
+        if not math.isfinite(low):
+            raise ParameterError("max_step", max_step, "0 (unbounded) at this max_steps", hint=hint)
         shown = float(f"{low:.4g}")
         shown = shown if shown >= low else float(f"{low * (1 + 5e-4):.4g}")  # rounded up: the bound shown is taken
-        raise ParameterError("max_step", max_step, f"[{shown:.4g}, inf) s, or 0 (unbounded)",
-                             hint=f"max_steps = {max_steps} steps of at most max_step must reach t = {t_end:g} s")
+        raise ParameterError("max_step", max_step, f"[{shown:.4g}, inf) s, or 0 (unbounded)", hint=hint)
 
 
 def _check_radius_atol(method, system, y0):

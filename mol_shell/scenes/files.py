@@ -277,11 +277,16 @@ def check_run_together(source, integrator, run, given=()):
     ``given``, the command line's), else as the integrator says."""
     extra = declared(INTEGRATORS[integrator]) if integrator in INTEGRATORS else {}
     own = {key: value for key, value in run.items() if key in extra and key not in RUN}
-    if own:
+    # with the run's own keys it declares (leap-frog's restart is at least 100 steps of dt): those refused where
+    # they are checked, and the integrator's options then checked without them
+    together = {key: value for key, value in run.items() if key in extra}
+    for options in (together, own) if own else ():
         try:
-            INTEGRATORS[integrator](**own)
+            INTEGRATORS[integrator](**options)
+            return
         except ParameterError as exc:
-            raise (exc if exc.name in given else _fail(source, "run", exc)) from None
+            if exc.name in own:
+                raise (exc if exc.name in given else _fail(source, "run", exc)) from None
 
 
 def scene_from_dict(data, source="<scene file>", folder=".", together=True, overrides=None):

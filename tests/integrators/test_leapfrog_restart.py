@@ -86,7 +86,16 @@ def test_restarts_make_the_leapfrog_usable_on_a_viscous_shell():
 
 def test_restarts_come_at_most_every_hundred_steps():
     """Each restart leaves the compiled loop for two right-hand sides in Python: one every 2 steps (``restart``
-    below ``dt``) made runs 30-45 times slower. They come at most every 100 steps."""
-    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), "leapfrog", n=8, times=[0.0, 0.01], dt=1e-5, restart=1e-9,
+    below ``dt``) made runs 30-45 times slower. They come at most every 100 steps: a shorter ``restart`` (it was held
+    to 100 steps, unsaid) is refused, naming its range."""
+    import pytest
+
+    from mol_shell import ParameterError
+
+    with pytest.raises(ParameterError, match=r"^restart = 1e-09 is outside 0 or inf \(never\), or \[0\.001, inf\] s at "
+                                             r"dt = 1e-05 s"):
+        mol_shell.simulate(mol_shell.TwistedCylinder(), "leapfrog", n=8, times=[0.0, 0.01], dt=1e-5, restart=1e-9,
+                           progress=False, stresses=False)
+    ds = mol_shell.simulate(mol_shell.TwistedCylinder(), "leapfrog", n=8, times=[0.0, 0.01], dt=1e-5, restart=1e-3,
                             progress=False, stresses=False)
     assert ds.attrs["n_restarts"] == 9  # at steps 100, 200, ..., 900 of 1,000
