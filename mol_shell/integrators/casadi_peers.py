@@ -8,7 +8,8 @@
 One CasADi call covers all saved times; with a drive's kinks, one call per interval between them: a call's last output
 time is one ulp short of the kink, and the next call (a new solve: order 1, a new first step, a fresh Jacobian) starts
 at the kink from the state there. Saved times or kinks less than :data:`SHORTEST_UNSCALED` apart are integrated in a
-scaled time (:func:`time_scale`). The model's limits are checked at the saved times only
+scaled time (:func:`time_scale`): CVODES the whole run, IDAS each run of such intervals in a call of its own
+(:func:`_pieces`). The model's limits are checked at the saved times only
 (:class:`~mol_shell.integrators.Monitor`); none of these has constraints.
 """
 
@@ -60,6 +61,10 @@ class CasadiCVODES(_Peer):
 
     name = "casadi-cvodes"
     plugin = "cvodes"
+    #: whether the run's intervals below :data:`SHORTEST_UNSCALED` are calls of their own, each in its own scaled time
+    #: (:func:`_pieces`; casadi-idas), or the whole run is in the scaled time of its shortest interval (CVODES steps
+    #: through it as in ``t``)
+    scale_per_piece = False
     plugin_options = {}
     #: every saved time comes from one CasADi call (one per interval between a drive's kinks), which stops itself on
     #: Ctrl-C (CasADi runs Python's signal handlers as it steps): the run loop's handler raises KeyboardInterrupt
@@ -122,15 +127,19 @@ class CasadiCVODES(_Peer):
         if self.max_step:
             opts["max_step_size"] = self.max_step
         opts.update(self.plugin_options)
-        T = time_scale(min(steps, default=1.0))
-        scaled = {**opts, **{k: opts[k] / T for k in ("min_step_size", "max_step_size") if k in opts}}
+        if self.scale_per_piece:
+            pieces = [piece for interval in intervals for piece in _pieces(*interval)]
+        else:
+            T = time_scale(min(steps, default=1.0))
+            pieces = [(t0, grid, saved, T) for t0, grid, saved in intervals]
         store = _CASADI_GRAPHS.setdefault(system, {})
         calls, dae = [], None
-        for t0, grid, saved in intervals:
+        for t0, grid, saved, T in pieces:
             key = (self.plugin, T, t0, tuple(grid), tuple(sorted(opts.items())))
             if key not in store:  # the graphs are built once (in integrate, outside the timing)
-                dae = dae or _scaled(self._dae(system), T)
-                store[key] = ca.integrator("F", self.plugin, dae, t0 / T, [t / T for t in grid], scaled)
+                dae = dae or self._dae(system)
+                scaled = {**opts, **{k: opts[k] / T for k in ("min_step_size", "max_step_size") if k in opts}}
+                store[key] = ca.integrator("F", self.plugin, _scaled(dae, T), t0 / T, [t / T for t in grid], scaled)
             calls.append((store[key], saved))
         return calls, opts
 
@@ -144,6 +153,23 @@ def time_scale(shortest):
     :data:`SHORTEST_UNSCALED` up (the calls are as they were), else the power of two at or below ``shortest`` (the
     shortest interval in ``tau = t / T`` is in [1, 2), and ``t / T`` is exact)."""
     return 1.0 if shortest >= SHORTEST_UNSCALED else 2.0 ** math.floor(math.log2(shortest))
+
+
+def _pieces(t0, grid, saved):
+    """One CasADi call ``(t0, grid, saved)`` (:func:`_intervals`) as ``[(t0, grid, saved, T), ...]``: its runs of
+    consecutive output intervals at or above :data:`SHORTEST_UNSCALED` in ``t`` itself (``T = 1``), each run of shorter
+    ones a call of its own in ``tau = t / T`` (:func:`time_scale` of its shortest interval), so that no call spans
+    many times its ``T`` (IDAS took 1,890 steps, 934 Newton failures, to 0.002 s in a ``tau`` of ``T = 2^-34`` s, and
+    failed its initial condition at ``2^-37`` s)."""
+    points = [t0, *grid]
+    short = [b - a < SHORTEST_UNSCALED for a, b in itertools.pairwise(points)]
+    out, start = [], 0
+    for flag, run in itertools.groupby(range(len(grid)), key=lambda i: short[i]):
+        stop = start + len(list(run))
+        shortest = min(points[i + 1] - points[i] for i in range(start, stop)) if flag else 1.0
+        out.append((points[start], grid[start:stop], saved[start:stop], time_scale(shortest)))
+        start = stop
+    return out
 
 
 def _scaled(dae, T):
@@ -236,6 +262,7 @@ class CasadiIDAS(CasadiCVODES):
 
     name = "casadi-idas"
     plugin = "idas"
+    scale_per_piece = True
     #: the accelerations are algebraic: keep them out of the error test (as for any index-1 DAE)
     plugin_options = {"suppress_algebraic": True}
     #: why it cannot run a scene with loads or driven edges (the integrators without it can: ``simulate`` and the

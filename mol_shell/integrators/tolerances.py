@@ -20,6 +20,20 @@ ATOL_ALLOWED = f"{ATOL_RANGE}: one value, {{field: value}} or five values (z, r,
 MAX_STEP_NOTE = " (0: unbounded)"
 
 
+#: the share of ``max_steps`` a ``max_step`` must leave free beyond the steps of at most ``max_step`` (one more per
+#: saved interval than ``interval / max_step``): the first steps, below ``max_step`` as the error control starts
+MAX_STEP_MARGIN = 0.01
+
+
+def smallest_max_step(t_end, intervals, max_steps):
+    """The smallest ``max_step`` (s) with which ``max_steps`` steps reach ``t_end`` through ``intervals`` saved
+    intervals: steps of at most ``max_step`` shortened to land on each saved time take up to ``t_end / max_step +
+    intervals``, and :data:`MAX_STEP_MARGIN` of ``max_steps`` is left for the start (``max_step = t_end / max_steps``
+    took all 1,000,000 steps by 0.00999992 of t = 0.01 s); inf where ``max_steps`` cannot hold even that."""
+    free = max_steps * (1.0 - MAX_STEP_MARGIN) - intervals
+    return t_end / free if free > 0 else np.inf
+
+
 def atol_ok(value):
     """Whether one absolute tolerance is a number in :data:`ATOL_RANGE` (a big integer as its float)."""
     return ATOL_MIN <= real(value) < np.inf

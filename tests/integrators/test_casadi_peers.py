@@ -58,13 +58,30 @@ def test_casadi_routes_move_from_rest_at_a_rate_growing_as_t_over_1e_8_s(name):
 @pytest.mark.parametrize("name", ["casadi-cvodes", "casadi-idas"])
 def test_casadi_routes_refuse_a_max_step_every_other_route_refuses(name):
     # 1e6 steps of 1e-12 s cannot reach 1e-5 s: refused before anything is built, as by cvode-bdf (it ran, then
-    # stopped on CV_TOO_MUCH_WORK)
+    # stopped on CV_TOO_MUCH_WORK); the bound 1e-5 s / (0.99e6 - 1): one more step per saved interval, 1 % for the start
     said = []
     for route in ("cvode-bdf", name):
-        with pytest.raises(ParameterError, match=r"^max_step = 1e-12 is outside \[1\.001e-11, inf\) s, or 0 ") as exc:
+        with pytest.raises(ParameterError, match=r"^max_step = 1e-12 is outside \[1\.011e-11, inf\) s, or 0 ") as exc:
             mol_shell.simulate("twisted-cylinder", route, n=5, times=[0.0, 1e-5], max_step=1e-12, progress=False)
         said.append(str(exc.value))
     assert said[0] == said[1]
+
+
+def test_casadi_idas_takes_saved_times_1e_11_s_apart_in_a_run_of_ms():
+    # integrated in a tau = t / T of the shortest interval (T = 2^-37 s) over the whole 2 ms, IDAS failed its initial
+    # condition (IDA_NO_RECOVERY, only t = 0 kept); at 1e-10 s apart it took 1,890 steps with 934 Newton failures
+    # against 116. The short interval is now a call of its own in its own tau, the rest in t.
+    times = [0.0, 1e-3, 1.00000000001e-3, 2e-3]
+    runs = [mol_shell.simulate(mol_shell.TwistedCylinder(), name, n=11, times=times, progress=False, stresses=False)
+            for name in ("casadi-idas", "casadi-cvodes")]
+    ds, peer = runs
+    assert ds.attrs["complete"] == 1 and ds.attrs["n_steps"] < 300
+    # its rates agree with CVODES's to the tolerances' order; over 1e-11 s they change by 1e-11 times the
+    # acceleration (below 1e-6 of them), the positions by far less than atol = 1e-9
+    scale = np.abs(peer.chi_t.values).max()
+    assert np.abs(ds.chi_t.values - peer.chi_t.values).max() < 1e-3 * scale
+    assert np.abs(ds.chi_t.values[2] - ds.chi_t.values[1]).max() < 1e-6 * scale
+    assert np.abs(ds.chi.values[2] - ds.chi.values[1]).max() < 1e-9
 
 
 def test_casadi_cvodes_takes_the_steps_a_max_step_inside_the_range_needs():

@@ -18,6 +18,7 @@ from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import INT64_MAX, declared
 from mol_shell.integrators.sundials import FIRST_STEP_MIN
 from mol_shell.integrators.sundials_c import FREQUENCY_MAX
+from mol_shell.integrators.tolerances import smallest_max_step
 from mol_shell.results.dataset import read_netcdf
 
 BIG = 99999999999999999999  # 1e20: beyond int64, inside the floats
@@ -193,8 +194,9 @@ def test_max_step_0_is_no_bound_on_every_route_and_every_message_says_so(tmp_pat
     with pytest.raises(ParameterError, match=r"^max_step = -1 is outside \[0, inf\) s \(0: unbounded\)$"):
         INTEGRATORS["ida"](max_step=-1)
     # too small for max_steps to reach t_end: the least value, or 0, which the command line takes
-    with pytest.raises(ParameterError, match=r"^max_step = 1e-12 is outside \[1e-07, inf\) s, or 0 \(unbounded\)"):
-        mol_shell.simulate("sphere", "dop853-c", n=5, t_end=1e-6, max_step=1e-12, max_steps=10, progress=False)
+    # (1e-6 s / (99 - 10): one more step per saved interval, 1 % of max_steps for the start)
+    with pytest.raises(ParameterError, match=r"^max_step = 1e-12 is outside \[1\.124e-08, inf\) s, or 0 \(unbounded\)"):
+        mol_shell.simulate("sphere", "dop853-c", n=5, t_end=1e-6, max_step=1e-12, max_steps=100, progress=False)
 
 
 @pytest.mark.parametrize(("integrator", "option"), [("cvode-bdf", "max_order"), ("sksundae-cvode-adams", "max_order"),
@@ -252,3 +254,20 @@ def test_a_per_field_atol_is_recorded_to_the_last_digit():
     method = mol_shell.INTEGRATORS["dop853-c"](rtol=1e-6, atol=atol)
     recorded = dict(item.split("=") for item in method.tolerances()["atol"].split(","))
     assert {k: float(v) for k, v in recorded.items()} == atol, recorded
+
+
+def test_the_smallest_max_step_a_refusal_names_reaches_t_end():
+    """Refused below ``t_end / max_steps`` alone, a ``max_step`` at that bound took all its steps short of ``t_end``
+    (1e6 steps of 1e-8 s reached 0.00999992 of 0.01 s: steps shortened to land on the saved times are more steps).
+    The bound counts one more step per saved interval and leaves 1 % of ``max_steps`` for the start:
+    ``t_end / (0.99 max_steps - intervals)``; at 1,000 steps, 10 intervals to 1e-5 s, 1e-5 / 980 = 1.0204e-8 s."""
+    assert math.isclose(smallest_max_step(1e-5, 10, 1000), 1e-5 / 980, rel_tol=1e-12)
+    assert smallest_max_step(1e-5, 990, 1000) == math.inf
+    for name in ("rk45-c", "cvode-adams"):
+        with pytest.raises(ParameterError, match=r"^max_step = 1e-08 is outside \[1\.021e-08, inf\) s, or 0 \(unbounded\) "
+                                                 r"\(max_steps = 1000 steps of at most max_step, one more per saved "
+                                                 r"interval \(10\)"):
+            mol_shell.simulate("twisted-cylinder", name, n=11, t_end=1e-5, max_step=1e-8, max_steps=1000)
+        ds = mol_shell.simulate("twisted-cylinder", name, n=11, t_end=1e-5, max_step=1.021e-8, max_steps=1000,
+                                progress=False, stresses=False)
+        assert ds.attrs["complete"] == 1 and ds.attrs["n_steps"] <= 1000
