@@ -52,13 +52,25 @@ def mark_grid_modes(ds, stacklevel=3):
     flagged = np.flatnonzero(share.values >= GRID_MODE_SHARE)
     if flagged.size:
         numbers = ", ".join(str(int(m) + 1) for m in flagged)
-        freq = ds["frequency"].values[flagged]
-        freq = freq[np.isfinite(freq)]  # an unstable mode's is NaN
-        span = f" ({freq.min():.6g} .. {freq.max():.6g} rad/s)" if freq.size else ""
         ds.attrs["grid_mode_warning"] = (
-            f"mode{'s' * (flagged.size != 1)} {numbers}{span} "
+            f"mode{'s' * (flagged.size != 1)} {numbers}{_span(ds['frequency'].values[flagged])} "
             f"{'are grid modes' if flagged.size != 1 else 'is a grid mode'}: {share.values[flagged].min():.2f} or "
             f"more of the amplitude in the node-to-node (-1)^i pattern (grid_mode_share); not physical, the "
             f"discretisation's on a thin wall: refining n moves them up")
         warnings.warn(ds.attrs["grid_mode_warning"], UserWarning, stacklevel=stacklevel)
     return ds
+
+
+def _span(freq):
+    """`` (14.6 .. 15.2 rad/s)``: the frequencies of the flagged modes, for the warning; a zero one (``omega^2`` zero to
+    round-off, listed at 0: :mod:`mol_shell.analysis.mode_zero`) said apart, not as the range's end (``0 .. 0
+    rad/s``), and an unstable one's (NaN) left out."""
+    freq = freq[np.isfinite(freq)]
+    zero, positive = freq[freq == 0], freq[freq > 0]
+    parts = []
+    if positive.size:
+        low, high = positive.min(), positive.max()
+        parts.append(f"{low:.6g} rad/s" if f"{low:.6g}" == f"{high:.6g}" else f"{low:.6g} .. {high:.6g} rad/s")
+    if zero.size:  # at 0 rad/s: all of them, or so many besides the range
+        parts.append(f"{f'{zero.size} ' if positive.size else ''}at 0 rad/s: omega^2 zero to round-off")
+    return f" ({'; '.join(parts)})" if parts else ""

@@ -105,13 +105,17 @@ def cmd_run(args):
 
 def radius_said(ds, given=None):
     """``, R = ... m`` of a run's summary: with what the start is where the code computed it (the static equilibrium
-    under the loads) or a start was ``given`` (a path's state): ``R`` is then the start's radius, its mean where
-    ``r(t = 0)`` is not one number."""
+    under the loads, and where a spin or a drive was then set on it, that too, as ``attrs["initial_state"]`` says it)
+    or a start was ``given`` (a path's state): ``R`` is then the start's radius, its mean where ``r(t = 0)`` is not
+    one number."""
     R = ds.attrs.get("R")
     if not isinstance(R, (int, float, np.number)):
         return ""
-    how = given or ("the static equilibrium under the loads"
-                    if str(ds.attrs.get("initial_state", "")).startswith("static") else "")
+    initial = str(ds.attrs.get("initial_state", ""))
+    how = given or ("the static equilibrium under the loads" if initial.startswith("static") else "")
+    moving = initial.partition("; then set moving")[2]  # a spin or a drive set on it: said as the file's attrs say
+    if how and not given and moving:
+        how += "; then set moving" + moving
     if not how or "R_requested" not in ds.attrs:
         return f", R = {R:.10g} m"
     r0 = ds.r.isel(time=0).values

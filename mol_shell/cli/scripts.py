@@ -23,7 +23,13 @@ from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import writable_path
 from mol_shell.cli.args import Parser, as_stopped, integer_arg, interrupted_code
 from mol_shell.cli.main import negative_values_attached
-from mol_shell.cli.outcome import guarded, one_line_warnings, said
+from mol_shell.cli.outcome import (
+    exits_after_its_exit_functions,
+    guarded,
+    one_line_warnings,
+    said,
+    said_in_teardown,
+)
 from mol_shell.runs.simulate import simulate as run_simulate
 
 #: the smallest grid a run takes (``n = 2 is outside integers >= 3``)
@@ -127,5 +133,9 @@ def _run(main, argv, prog):
 
 
 def run_script(main):
-    """The ``if __name__ == "__main__":`` of a study's script: :func:`exit_code` of ``main`` as the process's."""
-    sys.exit(exit_code(main))
+    """The ``if __name__ == "__main__":`` of a study's script: :func:`exit_code` of ``main`` as the process's, ended
+    as the ``mol-shell`` program ends (:func:`mol_shell.cli.main.entry`): a Ctrl-C or SIGTERM after ``main`` returned
+    is said in one line, exit 130 (143) (:func:`~mol_shell.cli.outcome.said_in_teardown`), and the process exits once
+    Python has called its exit functions, without the teardown in which such a signal killed it (-2, -15, nothing
+    said: :func:`~mol_shell.cli.outcome.exits_after_its_exit_functions`)."""
+    sys.exit(exits_after_its_exit_functions(said_in_teardown(exit_code(main), prog=script_name())))

@@ -118,7 +118,7 @@ def cmd_study(args):
         return _path_study(args, scene, vary, n)
     _check_run_options(args, vary)
     times, t_end, integrator, options = run_settings(args, run, scene, n)
-    _check_integer_options(args.vary, integrator)
+    vary = _integer_options(args.vary, integrator, vary)
     return _finish(args, scene, "case", vary, lambda: study(
         scene, vary, integrator, n=n, times=times, t_end=t_end, scheduler=args.scheduler, workers=args.workers,
         output=args.output, progress=None, **options))
@@ -139,10 +139,12 @@ def _check_run_options(args, vary):
                                      "varies", "options not in --vary")
 
 
-def _check_integer_options(items, integrator):
-    """Refuse a value of an integer option of ``integrator`` that ``--vary`` gives as a float (``chunk=100,2e3``), as
-    ``--option chunk=2e3`` is refused ("is not an integer ... write it as the integer 2000"): each entry, and each
-    of a range's START, STOP and STEP, read as ``--option`` reads its value."""
+def _integer_options(items, integrator, vary):
+    """``vary`` (:func:`parse_vary`'s, numbers as floats) with the values of an integer option of ``integrator`` as
+    integers, as the study takes them (``mol_shell.study`` refuses ``chunk = 2000.0`` as ``simulate`` does). A value
+    that ``--vary`` gives as a float (``chunk=100,2e3``) is refused, as ``--option chunk=2e3`` is ("is not an integer
+    ... write it as the integer 2000"): each entry, and each of a range's START, STOP and STEP, read as ``--option``
+    reads its value."""
     specs = declared(INTEGRATORS[integrator]) if integrator in INTEGRATORS else {}
     for item in items or []:
         name, _, spec = (x.strip() for x in item.partition("="))
@@ -153,6 +155,8 @@ def _check_integer_options(items, integrator):
             value = option_value(text)
             if isinstance(value, float):
                 raise refusal(f"--vary {name}", value, option, typed=text)
+        vary = {**vary, name: [int(v) if isinstance(v, float) else v for v in vary[name]]}  # whole: checked above
+    return vary
 
 
 def case_scenes(scene, vary):
@@ -180,7 +184,8 @@ def _finish(args, scene, what, vary, run, tail=lambda ds: ""):
     except BaseException as exc:  # a KeyboardInterrupt, or an error that wraps one (by_interrupt)
         if not by_interrupt(exc):
             raise
-        print(f"mol-shell: study {'terminated (SIGTERM)' if interrupts.terminated() else 'interrupted'}; finished "
+        # "terminated by SIGTERM", as a run's, a path's and a comparison's line says it (as_stopped)
+        print(f"mol-shell: study {'terminated by SIGTERM' if interrupts.terminated() else 'interrupted'}; finished "
               f"cases are kept in {cases_folder(args.output)}; run the same command again to resume", file=sys.stderr)
         return interrupted_code()
     say_stand_ins(scene, case_scenes(scene, vary))

@@ -12,7 +12,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.integrators import INTEGRATORS
-from mol_shell.integrators.loop import declared
+from mol_shell.integrators.loop import declared, refusal
 from mol_shell.model.laws import Material, resolve_material
 from mol_shell.model.wall_parameters import wall_parameter, wall_parameter_names
 from mol_shell.runs.simulate import DEFAULT_DT, integrator_options
@@ -240,11 +240,16 @@ def _typed(scene, name, value, integrator=None, left_out=False):
             return words.get(value.strip().lower(), value) if "bool" in kind else value
         if isinstance(value, str):
             try:
-                value = float(value)
+                value = int(value) if "int" in kind and "float" not in kind else float(value)
             except ValueError:
-                raise ParameterError.not_a(f"vary[{name!r}]", value, "a number", "numbers") from None
-        if "int" in kind and "float" not in kind and isinstance(value, float) and value.is_integer():
-            return int(value)  # the command line's 20 (or a range's 20.0) for an integer option
+                try:
+                    value = float(value)  # "2e3" for an integer option: refused below as not an integer
+                except ValueError:
+                    raise ParameterError.not_a(f"vary[{name!r}]", value, "a number", "numbers") from None
+        if "int" in kind and "float" not in kind and isinstance(value, float):
+            # refused as simulate(chunk=2000.0) refuses it ("is not an integer ... write it as the integer 2000");
+            # the command line's --vary gives an integer option's values as integers (mol_shell.cli.study)
+            raise refusal(name, value, declared(INTEGRATORS[integrator])[name])
         _refuse_non_finite(scene, name, value, integrator)
         return value
     annotation = str(fields[name].type)

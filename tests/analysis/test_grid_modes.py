@@ -16,7 +16,7 @@ import pytest
 import xarray as xr
 
 import mol_shell
-from mol_shell.analysis.grid_modes import GRID_MODE_SHARE, grid_mode_share
+from mol_shell.analysis.grid_modes import GRID_MODE_SHARE, grid_mode_share, mark_grid_modes
 from mol_shell.analysis.modes import modes
 from mol_shell.cli.main import main
 
@@ -77,3 +77,23 @@ def test_a_normal_spheres_modes_are_not_grid_modes(recwarn):
     assert float(ds.frequency[torsion]) == pytest.approx(2 * math.sqrt(G / scene.rho) / scene.a, rel=0.01)
     assert float(ds.grid_mode_share[torsion]) < 0.05
     assert not [w for w in recwarn if "grid mode" in str(w.message)]
+
+
+@pytest.mark.parametrize(("frequency", "span"), [
+    ([0.0, 0.0], "modes 1, 2 (at 0 rad/s: omega^2 zero to round-off) are grid modes"),
+    ([0.0, 14.65, 15.18], "modes 1, 2, 3 (14.65 .. 15.18 rad/s; 1 at 0 rad/s: omega^2 zero to round-off) are"),
+    ([14.65], "mode 1 (14.65 rad/s) is a grid mode"),
+])
+def test_the_warning_says_grid_modes_at_zero_apart_from_the_range(frequency, span):
+    """Grid modes whose omega^2 is zero to round-off (listed at 0 rad/s: the natural sphere at h = 1e-8 m, n = 21) were
+    said as ``modes 1, 2 (0 .. 0 rad/s)``: the zero ones are said apart, not as ends of a range of frequencies."""
+    i = np.arange(21)
+    count = len(frequency)
+    fields = ["z", "r", "chi", "theta", "psi"]
+    shapes = {name: np.tile((-1.0) ** i if name == "r" else np.zeros(21), (count, 1)) for name in fields}
+    ds = xr.Dataset({name: (("mode", "s"), shapes[name]) for name in fields}
+                    | {"energy_fraction": (("mode", "field"), np.tile(np.eye(5)[1], (count, 1))),
+                       "frequency": (("mode",), frequency)}, coords={"field": fields})
+    with pytest.warns(UserWarning, match="grid mode"):
+        mark_grid_modes(ds)
+    assert ds.attrs["grid_mode_warning"].startswith(span), ds.attrs["grid_mode_warning"]

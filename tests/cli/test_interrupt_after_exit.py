@@ -96,3 +96,16 @@ def test_a_ctrl_c_as_a_study_on_local_processes_said_wrote_leaves_no_semaphores(
         process.returncode == 130 and len(said) == 1 and said[0].startswith("mol-shell: interrupted after writing ")
         and said[0].endswith(f" {out}")), (process.returncode, stderr)  # its cases' files, then its own
     assert out.is_file()
+
+
+@pytest.mark.parametrize(("at", "ended"), [("teardown", (2, [])), ("exit", (130, ["ring_vs_pde.py: interrupted"]))])
+def test_a_study_script_ends_as_the_program_does(tmp_path, at, ended):
+    """``studies/*.py`` end through ``run_script``: a Ctrl-C in the teardown killed the script (-2, nothing said after
+    its refusal); in its exit functions it raised there (Python's "Exception ignored" and a traceback). Now, as
+    ``mol-shell``: no teardown to signal in (its own exit code), or one line and 130."""
+    script = os.path.join(os.path.dirname(__file__), "..", "..", "studies", "ring_vs_pde.py")
+    done = subprocess.run([sys.executable, script, "--quick", "--n", "0"], capture_output=True, text=True,
+                          timeout=60, env=_env(tmp_path, SIGNAL_AT=at, SIGNAL_NUMBER=str(int(signal.SIGINT))),
+                          check=False)
+    refused = "ring_vs_pde.py: error: --n = 0 is outside integers >= 3"
+    assert (done.returncode, done.stderr.splitlines()) == (ended[0], [refused, *ended[1]]), done.stderr

@@ -90,7 +90,7 @@ def test_sigterm_during_a_study_keeps_its_finished_cases_and_exits_143(tmp_path)
         "study", "twisted-cylinder", "--vary", "gamma=0.1,0.2,0.3", "--n", "5", "--t-end", "1e-6", "--workers", "1",
         "-o", str(out)])
     assert code == 143, err
-    assert err == [(f"mol-shell: study terminated (SIGTERM); finished cases are kept in {tmp_path / 'study.cases'}; "
+    assert err == [(f"mol-shell: study terminated by SIGTERM; finished cases are kept in {tmp_path / 'study.cases'}; "
                     "run the same command again to resume")]
     assert len(list((tmp_path / "study.cases").glob("*.nc"))) == 1 and not out.exists()
 

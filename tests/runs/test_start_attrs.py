@@ -123,3 +123,21 @@ def test_the_unshearable_scenes_R_auto_is_marked_as_computed():
     assert ds.attrs["R"] == 1.2 and ds.attrs["R_requested"] == "auto"
     r0, s = ds.r.isel(time=0).values, ds.s.values
     assert np.sum((r0[1:] + r0[:-1]) / 2 * np.diff(s)) / (s[-1] - s[0]) == pytest.approx(1.2, rel=1e-12)
+
+
+def test_a_spin_set_on_a_static_start_is_said_with_its_radius(tmp_path, capsys):
+    """A cylinder under pressure with ``omega`` (the loaded cylinder of tests/cli/test_cli.py, spun): its start is the
+    static equilibrium under the loads, then spun at ``chi_t = omega`` everywhere (the file's initial_state says so);
+    the summary said only "the static equilibrium under the loads", as if it started at rest."""
+    out = tmp_path / "c.nc"
+    assert main(["run", "twisted-cylinder", "--set", "gamma=0", "--set", "end2=free", "--set", "pressure=10",
+                 "--set", "material=svk-plane-stress", "--set", "nu=0.3", "--set", "omega=2", "--n", "11",
+                 "--t-end", "1e-5", "--no-stresses", "-o", str(out)]) == 0
+    said = capsys.readouterr().out
+    ds = read_netcdf(out)
+    np.testing.assert_allclose(ds.chi_t.isel(time=0).values, 2.0, rtol=1e-14)  # spun, as asked
+    moving = "then set moving at the scene's initial rates (omega, driven edges)"
+    assert ds.attrs["initial_state"].startswith("static equilibrium under the loads") and moving in ds.attrs[
+        "initial_state"]
+    R = float(ds.attrs["R"])
+    assert f"R = {R:.10g} m (the start's mean radius: the static equilibrium under the loads; {moving})" in said, said

@@ -146,3 +146,20 @@ def test_paper_figures_says_leapfrogs_bound_of_its_dt_naming_dt(script, tmp_path
     assert script("paper_figures", "--quick", "--n", "9", "--dt", "5e-4", "--out", str(tmp_path)) == 2
     err = capsys.readouterr().err.splitlines()
     assert len(err) == 1 and err[0].startswith("paper_figures.py: error: --dt = 0.0005 is outside (0, "), err
+
+
+def test_ctrl_c_before_the_stability_reports_first_case_finished_is_one_line_and_130(script, monkeypatch, tmp_path,
+                                                                                     capsys):
+    """A report with no case measured has nothing to keep: the interrupt goes on (``report`` raises it again), and
+    the script says so in one line, nothing written, exit 130."""
+    module = load("stability_report")
+    cheap = [stability.Case(label, mol_shell.TwistedCylinder(), n=9, t_end=1e-3) for label in ("first", "second")]
+    monkeypatch.setattr(module, "cases", lambda max_n=None, quick=False: cheap)
+
+    def interrupted(case, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(stability, "run_case", interrupted)
+    assert script("stability_report", "--quick", "--out", str(tmp_path)) == 130
+    assert errors(capsys) == ["stability_report.py: interrupted"]
+    assert not list(tmp_path.iterdir())

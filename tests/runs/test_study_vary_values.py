@@ -8,7 +8,7 @@ import pytest
 import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
-from mol_shell.cli.study import parse_vary
+from mol_shell.cli.study import _integer_options, parse_vary
 from mol_shell.runs.study_design import design
 
 study_module = importlib.import_module("mol_shell.runs.study")  # the module, even if mol_shell exports a function study
@@ -76,5 +76,22 @@ def test_the_command_line_reads_varied_options_as_it_reads_them_set(extra, messa
 def test_integer_options_typed_as_integers_are_varied():
     """A range of integers, and a list, give integers (the coordinate of chunk)."""
     for item in ("chunk=100:300:100", "chunk=100,200,300"):
-        _, coords, _ = design(mol_shell.TwistedCylinder(), parse_vary([item]), "leapfrog")
+        vary = _integer_options([item], "leapfrog", parse_vary([item]))
+        _, coords, _ = design(mol_shell.TwistedCylinder(), vary, "leapfrog")
         assert coords["chunk"] == [100, 200, 300] and all(type(v) is int for v in coords["chunk"])
+
+
+@pytest.mark.parametrize("values", [[2000.0], [100, 2e3], ["2e3"]])
+def test_python_refuses_a_float_for_an_integer_option_as_simulate_does(values, monkeypatch):
+    """``mol_shell.study(..., {"chunk": [2000.0]})`` ran with chunk 2000, where ``simulate(chunk=2000.0)`` and
+    ``--vary chunk=2e3`` are refused; the same one line now, before any case."""
+    monkeypatch.setattr(study_module, "run_task", None)  # nothing may run
+    with pytest.raises(ParameterError) as refused:
+        mol_shell.study("twisted-cylinder", {"chunk": values}, t_end=5e-4, scheduler="serial")
+    with pytest.raises(ParameterError) as by_simulate:
+        mol_shell.simulate("twisted-cylinder", n=9, t_end=5e-4, chunk=2000.0)
+    assert str(refused.value) == str(by_simulate.value) == (
+        "chunk = 2000.0 is not an integer; allowed: integers in [1, 9223372036854775807] (a float: write it as the "
+        "integer 2000)")
+    _, coords, _ = design(mol_shell.TwistedCylinder(), {"chunk": [2000, "3000"]}, "leapfrog")  # integers: taken
+    assert coords["chunk"] == [2000, 3000] and all(type(v) is int for v in coords["chunk"])
