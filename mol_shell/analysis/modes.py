@@ -285,6 +285,8 @@ def _route(size, count, listable, n):
         room, source = resources.available_memory()
         if DENSE_COPIES * size * size * resources.BYTES > room:
             sparse_most = min(int(DENSE_SHARE * size), listable)
+            if count <= sparse_most:  # the sparse route takes it (a small grid goes dense only as the faster)
+                return "sparse shift-invert"
             raise ParameterError("count", count, f"integers 1..{sparse_most} for n = {n}", hint=(
                 f"more than {DENSE_SHARE:g} of the {size:,} free coordinates are solved for densely, whose matrices "
                 f"({resources.show_bytes(DENSE_COPIES * size * size * resources.BYTES)}) do not fit in "
