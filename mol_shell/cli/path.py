@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import shlex
 import sys
 
 import numpy as np
@@ -106,6 +107,11 @@ def _continued(args):
         ds = continue_path(source, args.stop, step=args.step, steps=args.steps, max_steps=args.max_steps,
                            branch=args.branch, names=FLAGS)
     except ParameterError as exc:
+        if exc.name == "initial":  # the file's state at the step, Newton's start: the file is what is wrong
+            step = source.sizes["step"] - 1 if args.step is None else args.step
+            raise ParameterError.invalid("--from", args.from_path, f"holds a state at step {step} that is no "
+                                         f"equilibrium under its scene ({str(exc).partition(': ')[2]})",
+                                         ALLOWED) from None
         if exc.name in ("stop", "start"):  # start is the step's load: a stop equal to it is --stop's
             allowed = str(exc.allowed).replace("start", "the step's load")
             raise ParameterError("--stop", args.stop, allowed, message=f"--stop = {args.stop:.10g} is outside "
@@ -168,7 +174,8 @@ def cmd_path(args):
               file=sys.stderr)
     if ds.attrs["status"] in ("max_steps", "returned"):  # what was asked for, but short of STOP: exit 0, said
         print(f"mol-shell: note: the path did not reach {name} = {stop:g}: {ds.attrs['message']}"
-              + (f" (to go on from its last step: mol-shell path --from {args.output} --stop {stop:g})"
+              + (f" (to go on from its last step: mol-shell path --from {shlex.quote(str(args.output))} --stop "
+                 f"{stop!r})"
                  if ds.attrs["status"] == "max_steps" else ""), file=sys.stderr)
     return 0
 

@@ -65,7 +65,7 @@ def test_the_command_line_goes_on_from_a_path_file(short, tmp_path, capsys):
     assert main(["path", "sphere", "--param", f"pressure=0:{STOP:g}", "--n", "13", "--max-steps", "2",
                  "-o", str(first)]) == 0
     err = capsys.readouterr().err
-    assert f"(to go on from its last step: mol-shell path --from {first} --stop {STOP:g})" in err
+    assert f"(to go on from its last step: mol-shell path --from {first} --stop {STOP!r})" in err
     out = tmp_path / "b.nc"
     assert main(["path", "--from", str(first), "--stop", f"{STOP:g}", "--max-steps", "1", "-o", str(out)]) == 0
     ds = mol_shell.read_netcdf(out)
@@ -105,3 +105,26 @@ def test_a_stop_at_the_steps_load_is_refused_as_stop(short, tmp_path, capsys):
 def test_initial_fields_of_another_shape_are_refused_by_name():
     with pytest.raises(mol_shell.ParameterError, match=r"^initial = .* is outside finite arrays of shape \(5, 13\)"):
         mol_shell.path("sphere", "pressure", 0.0, STOP, n=13, initial=np.zeros((5, 12)), progress=False)
+
+
+def test_a_stop_back_towards_the_start_is_reached_not_run_away_from(short):
+    """Along the chord from the step before, a stop behind the step (0, where the path came from) was never reached:
+    200 steps up to 653 kPa, status max_steps. It now heads for it, and ends at the natural state (no load)."""
+    back = continue_path(short, 0.0, max_steps=40)
+    assert back.attrs["status"] == "complete", back.attrs["message"]
+    assert np.all(np.diff(back.parameter.values) < 0) and float(back.parameter[-1]) == 0.0
+    for field in ("z", "r"):  # unloaded: the reference, the path's own step 0
+        np.testing.assert_allclose(back[field].values[-1], short[field].values[0], rtol=0, atol=1e-12)
+
+
+def test_a_step_that_is_no_equilibrium_is_refused_naming_the_file(short, tmp_path, capsys):
+    damaged = short.copy(deep=True)
+    damaged["r"].values[-1, 3:8] *= 1.5
+    source = tmp_path / "bad.nc"
+    mol_shell.write_netcdf(damaged, source)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        code = main(["path", "--from", str(source), "--stop", f"{STOP!r}", "-o", str(tmp_path / "x.nc")])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1, err
+    assert err[0].startswith(f"mol-shell: error: --from = '{source}' holds a state at step 3 that is no equilibrium")

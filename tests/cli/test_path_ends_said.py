@@ -75,7 +75,7 @@ def test_a_path_file_back_as_a_scene_file_traces_the_same_path_again(tmp_path, c
         assert main(["path", "sphere", "--set", "nu=0.3", "--param", span, "--n", "9", "--max-steps", "2",
                      "-o", str(first)]) == 0
         note = capsys.readouterr().err
-        assert f"mol-shell path --from {first} --stop {STOP:g}" in note, note
+        assert f"mol-shell path --from {first} --stop {float(STOP)!r}" in note, note
         assert main(["scenes", str(first), "--toml"]) == 0
         text = capsys.readouterr().out
         toml.write_text(text)
