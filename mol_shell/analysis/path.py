@@ -42,17 +42,17 @@ import warnings
 import numpy as np
 
 from mol_shell._core import interrupts
-from mol_shell._core.errors import MaterialWarning, ParameterError, by_interrupt, scalar
+from mol_shell._core.errors import MaterialWarning, by_interrupt, scalar
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell.analysis.equilibria import EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, closed, no_branch_reason, switch
 from mol_shell.analysis.path_dataset import interrupted_at_end, path_dataset
+from mol_shell.analysis.path_first import first_state
 from mol_shell.analysis.path_inputs import check_inputs
 from mol_shell.analysis.path_record import PathRecord
 from mol_shell.analysis.path_secant import secant_start
 from mol_shell.analysis.path_stability import LOCATE_NEWTON, LOCATE_TOL
 from mol_shell.runs.building import as_scene
-from mol_shell.runs.simulate import given_state
 
 #: Newton's convergence: ``|F|`` below this fraction of the forces of a unit strain (``max diag K`` times the
 #: meridian's size), then one step more
@@ -132,15 +132,22 @@ class _Path:
         v = v / np.linalg.norm(v)
         return v[:-1], float(v[-1])
 
-    def weigh(self, q, lam):
-        """Weigh the displacements so that the first tangent is half load, half displacement; its tangent.
+    def weigh(self, q, lam, scales=None):
+        """Weigh the displacements so that the first tangent is half load, half displacement (or as ``scales``, an
+        earlier path's :attr:`scales`: its metric, so that a continuation steps as that path did, and a start at a
+        fold, where the first tangent is nearly all displacement, does not weigh them to nothing).
 
         Not below :data:`WEIGHT_FLOOR` of the shell's size: a response smaller than that over the whole range is
         linear to that share, and weighed more its round-off (the solves' ``eps`` times the stiffness's condition,
         1e-12 of the size on a director-constrained sphere) strayed the corrector from the predictor."""
-        tq, tl = self.tangent(q, lam)
-        self.q_scale = self.q_scale * max(np.linalg.norm(tq) / max(abs(tl), 1e-300), WEIGHT_FLOOR)
-        return self.tangent(q, lam)
+        if scales is None:
+            tq, tl = self.tangent(q, lam)
+            factor = max(np.linalg.norm(tq) / max(abs(tl), 1e-300), WEIGHT_FLOOR)
+        else:
+            factor, self.l_scale = float(scales[0]), float(scales[1])
+        self.q_scale = self.q_scale * factor
+        #: the displacements' factor over the shell's lengths and the load's scale (``attrs["arclength_scales"]``)
+        self.scales = (factor, self.l_scale)
 
     def distance(self, q0, l0, q1, l1):
         """The scaled length of the chord between two states."""
@@ -310,7 +317,7 @@ def _steps_done(n, total):
 
 
 def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=None, branch=None, initial=None,
-         heading=None, progress=None):
+         heading=None, scales=None, progress=None):
     """Follow the equilibria of ``scene`` at rest as the load ``parameter`` goes from ``start`` to ``stop``.
 
     Parameters
@@ -347,8 +354,12 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         or along ``heading``.
     heading : tuple, optional
         With ``initial``: ``(fields, value)``, the state before it on its path and its load; the path leaves
-        ``initial`` away from it, as that path went on (past a limit point the load may at first move away from
-        ``stop``). A path so continued is not ended for coming back past ``start``.
+        ``initial`` the way its displacements went from it (past a limit point the load may at first move away
+        from ``stop``). A path so continued is not ended for coming back past ``start``.
+    scales : tuple, optional
+        The arclength's scales of an earlier path (``attrs["arclength_scales"]``: the displacements' factor over the
+        shell's lengths, the load's scale), so that its continuation steps as it did; default: the load's range,
+        and the displacements weighed at the start so that the first tangent is half load, half displacement.
     progress : bool, optional
         Progress on stderr: the steps taken, the load reached, the critical points found. ``True`` a bar (tqdm),
         ``False`` nothing; default (``None``) a bar when stderr is a terminal, else a line every
@@ -373,27 +384,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     origin = None  # on a branch: the critical point it left (state, load, the step after which it did)
     eq = EquilibriumEquations(scene, parameter, n)
     tracer = _Path(eq, start, stop)
-    if initial is not None:  # an equilibrium at start (an earlier path's step): Newton polishes it, nothing more
-        said = "the scene's initial state"
-        y0 = given_state(eq.system, initial, eq.system.unpack(eq.y_ref))
-        try:
-            q, iterations = tracer.equilibrium(eq.unknowns(y0), float(start))
-        except PathFailed as exc:
-            raise ParameterError("initial", None, f"fields of an equilibrium at start = {start:g} {eq.units}",
-                                 message=f"initial (the fields given) is no equilibrium at start = {start:g} "
-                                 f"{eq.units}: {str(exc).replace(said, 'the fields')}") from None
-    else:
-        try:
-            q, iterations = tracer.start_equilibrium(eq.unknowns(eq.y_ref), float(start))
-        except PathFailed as exc:
-            raise ParameterError("start", start, "loads at which the shell has an equilibrium that Newton finds "
-                                 "from the scene's initial state or by continuation from 0", hint=str(exc)) from None
-    t = tracer.weigh(q, float(start))
-    if heading is not None:  # along the earlier path's last chord (the tangent towards stop turns back past a fold)
-        behind = eq.unknowns(given_state(eq.system, heading[0], eq.system.unpack(eq.y_ref)))
-        chord = tracer.distance(behind, float(heading[1]), q, float(start))
-        t = tracer.tangent(q, float(start), previous=(((q - behind)[eq.keep] / tracer.q_scale) / chord,
-                                                      (float(start) - float(heading[1])) / tracer.l_scale / chord))
+    q, iterations, t = first_state(tracer, float(start), initial, heading, scales, PathFailed)
     ds0 = math.sqrt(2.0) / steps if ds is None else min(float(ds), math.sqrt(2.0))  # at most the whole range
     bar = progress_meter(mode, f"path in {parameter} ({eq.units})", count=_steps_done, unit=" steps")  # no total
     record = PathRecord(eq, tracer, bar, PathFailed)
@@ -489,6 +480,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)
     if initial is not None:
         ds.attrs["initial_state"] = "the fields given (initial), at rest"
+    ds.attrs["arclength_scales"] = np.array(tracer.scales)
     if watch.caught:  # as it was assembled: written, said interrupted (exit 130)
         ds = interrupted_at_end(ds)
     if "ellipticity_warning" in ds.attrs:

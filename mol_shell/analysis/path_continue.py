@@ -68,7 +68,7 @@ def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, 
     if k > 0 and onwards(source, value, stop):  # the chord from the step before orients the first tangent
         heading = (np.stack([source[f].values[k - 1] for f in FIELDS]), float(source.parameter.values[k - 1]))
     out = path(scene, parameter, value, stop, n, steps=steps, max_steps=max_steps, ds=ds, branch=branch,
-               initial=fields, heading=heading, progress=progress)
+               initial=fields, heading=heading, scales=source.attrs.get("arclength_scales"), progress=progress)
     out.attrs["continued_from"] = f"{shown}, step {k} of {count} ({parameter} = {value:.10g} {units})"
     out.attrs["initial_state"] = info
     return out

@@ -42,22 +42,25 @@ def test_a_continued_path_ends_at_the_equilibrium_the_whole_path_reaches(short):
 
 
 def test_past_a_fold_the_continuation_goes_on_along_the_branch_not_back_to_the_fold():
-    """The clamped cap under external pressure folds at about -75.6 Pa (n = 21); two steps past the fold the
-    load rises again along the unstable branch (one negative eigenvalue). Towards stop (below) would lead back
-    up to the fold, where the continuation found it again and turned round."""
+    """The clamped cap under external pressure folds at about -75.6 Pa (n = 21); the step just past the fold is on
+    the unstable branch (one negative eigenvalue), where the load rises again. Towards stop (below) would lead back
+    to the fold, and so did the chord from the step before with its load (it crosses the fold: the load still
+    falling along it): the continuation went back over the fold onto the stable branch. It goes the way the
+    displacements went, in the path's own metric (``arclength_scales``)."""
     cap = mol_shell.Sphere(**cap_params(5.0))
     stop = -0.7 * p_classical()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         traced = mol_shell.path(cap, "pressure", 0.0, stop, n=21, max_steps=16, progress=False)
-    fold = int(traced.point_step.values[0])
+    fold = int(traced.point_step.values[0])  # located between this step and the next
     assert str(traced.point_kind.values[0]) == "limit" and traced.sizes["step"] > fold + 2
-    k = fold + 2
-    assert traced.negative_eigenvalues.values[k] == 1 and traced.parameter.values[k] > traced.parameter.values[k - 1]
+    k = fold + 1
+    assert traced.negative_eigenvalues.values[k] == 1 and traced.parameter.values[k] < traced.parameter.values[k - 1]
     more = continue_path(traced, stop, step=k, max_steps=3)
     loads = more.parameter.values
-    assert np.all(np.diff(loads) > 0), loads  # on along the branch, the load still rising (away from the fold)
+    assert np.all(np.diff(loads) > 0), loads  # on along the branch, the load rising (away from the fold)
     assert np.all(more.negative_eigenvalues.values == 1) and more.sizes["point"] == 0
+    np.testing.assert_array_equal(more.attrs["arclength_scales"], traced.attrs["arclength_scales"])
 
 
 def test_the_command_line_goes_on_from_a_path_file(short, tmp_path, capsys):
