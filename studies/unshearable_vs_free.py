@@ -20,9 +20,9 @@ import numpy as np
 
 import mol_shell
 from mol_shell.cli.args import integer_arg, number_arg
-from mol_shell.cli.scripts import MIN_NODES, output_folder, run_script, script_parser
+from mol_shell.cli.scripts import MIN_NODES, output_folder, run_script, script_parser, simulate_unshearable
 from mol_shell.runs.study import study
-from mol_shell.runs.unshearable import defects, simulate_unshearable
+from mol_shell.runs.unshearable import defects
 from mol_shell.scenes import Unshearable
 
 OMEGAS = (0.0, 5.0, 10.0, 20.0)

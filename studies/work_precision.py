@@ -18,7 +18,7 @@ import numpy as np
 import mol_shell
 from mol_shell.analysis import workprecision as wp
 from mol_shell.cli.args import integer_arg, number_arg
-from mol_shell.cli.scripts import output_file, output_folder, run_script, script_parser
+from mol_shell.cli.scripts import finished, output_file, output_folder, run_script, script_parser
 from mol_shell.views.workprecision import write_outputs
 
 QUICK = {"t_end": 0.02, "repeats": 1, "integrators": "leapfrog,cvode-adams",
@@ -46,7 +46,7 @@ def main(argv=None):
     png, md = write_outputs(ds, output)
     print(wp.markdown_table(ds))
     print(f"wrote {output}, {png}, {md} in {time.perf_counter() - start:.0f} s")
-    return ds
+    return finished(ds, "work-precision comparison")  # Ctrl-C: the points before it kept, exit 130
 
 
 if __name__ == "__main__":

@@ -31,6 +31,7 @@ from mol_shell.cli.outcome import (
     said_in_teardown,
 )
 from mol_shell.runs.simulate import simulate as run_simulate
+from mol_shell.runs.unshearable import simulate_unshearable as run_unshearable
 
 #: the smallest grid a run takes (``n = 2 is outside integers >= 3``)
 MIN_NODES = 3
@@ -104,6 +105,12 @@ def finished(ds, what="run"):
 def simulate(*args, **kwargs):
     """``mol_shell.simulate`` for a script: its run, :func:`finished` (a Ctrl-C stops the script, exit 130)."""
     return finished(run_simulate(*args, **kwargs))
+
+
+def simulate_unshearable(*args, **kwargs):
+    """``mol_shell.runs.unshearable.simulate_unshearable`` for a script, as :func:`simulate` (it too returns a run a
+    Ctrl-C stopped as data: ``unshearable_vs_free.py`` compared it and went on)."""
+    return finished(run_unshearable(*args, **kwargs))
 
 
 def exit_code(main, argv=None, prog=None):

@@ -58,6 +58,8 @@ class CasadiCVODES(_Peer):
     #: count a run's total): this, or less: :data:`MAX_NUM_STEPS`, or twice what the longest interval needs at
     #: ``max_step``; a ``max_step`` with which ``max_steps`` steps cannot reach ``t_end`` is refused, as on every route
     max_steps: int = option(1_000_000, integers(1))
+    #: ``max_steps`` counts the steps of one saved interval (``simulate`` bounds ``max_step`` by the longest one)
+    max_steps_per_interval = True
 
     name = "casadi-cvodes"
     plugin = "cvodes"

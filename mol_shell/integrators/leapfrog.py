@@ -34,8 +34,12 @@ from mol_shell.integrators.loop import Option, integers, option, real
 #: whole ``k`` (a millionth of a step, and round-off of ``t`` itself): saved times and ``t_end`` alike, taken at their
 #: double-precision values (a float32 ``1e-4``, 9.99999975e-05, is 2.5e-6 steps off: refused, saying so)
 GRID_TOLERANCE = (1e-6, 1e-12)
-#: seconds between two restarts when none is given (:attr:`Leapfrog.restart`)
+#: seconds between two restarts when none is given (:attr:`Leapfrog.restart` None): at least
+#: :data:`MIN_RESTART_STEPS` steps (raised to them where ``dt`` is above 10 ms)
 DEFAULT_RESTART = 1.0
+#: the fewest steps between two restarts: each leaves the compiled loop for two right-hand sides in Python
+#: (a restart every 2 steps made a run 30-45 times slower)
+MIN_RESTART_STEPS = 100
 
 
 def grid_steps(times, dt):
@@ -163,10 +167,10 @@ class Leapfrog:
         Time step (paper: 1e-6 s).
     chunk : int
         Steps run in C between two checks of the energy (and progress updates); the limits are checked every step.
-    restart : float
-        Seconds between two starts of the scheme from its last level by one midpoint step (1 s by default; 0 or
-        inf: never, the paper's scheme throughout; at least 100 steps: a shorter one is refused, the default taken
-        as 100 steps where dt is above 10 ms), so its parasitic solution cannot grow
+    restart : float or None
+        Seconds between two starts of the scheme from its last level by one midpoint step (None, the default: 1 s,
+        or 100 steps where dt is above 10 ms; 0 or inf: never, the paper's scheme throughout; at least 100 steps: a
+        shorter one given, 1.0 too, is refused), so its parasitic solution cannot grow
         beyond ``restart`` seconds' worth of the motion's Lyapunov rate (module docstring). Runs shorter than
         ``restart`` are unchanged.
     """
@@ -175,16 +179,20 @@ class Leapfrog:
     dt: float = option(1e-6, Option(f"(0, inf) s, normal doubles (a subnormal step, below {TINY!r}, loses its "
                                     "digits)", lambda v: TINY <= real(v) < math.inf, convert=real))
     chunk: int = option(2000, integers(1))
-    restart: float = option(DEFAULT_RESTART, Option("[0, inf] s; 0 or inf: never", lambda v: real(v) >= 0, convert=real))
+    # None: the default (DEFAULT_RESTART, at least MIN_RESTART_STEPS steps), told from a restart given
+    restart: float | None = option(None, Option("[0, inf] s; 0 or inf: never", lambda v: v is None or real(v) >= 0,
+                                                convert=real))
 
     name = "leapfrog"
     order = 2
+    MIN_RESTART_STEPS = MIN_RESTART_STEPS
     #: the energy and finiteness are checked at the end of every chunk (and so at every saved time)
     checks_every_chunk = True
 
     def __post_init__(self):
         loop.check_declared(self)
-        given = self.restart != DEFAULT_RESTART  # the default is taken as at least 100 steps (dt above 10 ms)
+        # the default (None) is taken as at least 100 steps (dt above 10 ms); a restart given, 1.0 too, is checked
+        given = self.restart is not None
         if given and 0 < self.restart / self.dt < self.MIN_RESTART_STEPS * (1 - 1e-9):  # was held to 100, unsaid
             raise ParameterError("restart", self.restart, f"0 or inf (never), or [{self.MIN_RESTART_STEPS * self.dt:g}, "
                                  f"inf] s at dt = {self.dt:g} s", hint=f"at least {self.MIN_RESTART_STEPS} steps "
@@ -193,16 +201,16 @@ class Leapfrog:
     def settings(self):
         """``dt`` and the ``restart`` taken: a whole number of steps (``restart`` itself where it is never)."""
         every = self.restart_steps()
-        return {"dt": self.dt, "restart": float(f"{every * self.dt:.15g}") if every else self.restart}
+        return {"dt": self.dt, "restart": float(f"{every * self.dt:.15g}") if every else self.restart_s()}
 
-    #: the fewest steps between two restarts: each leaves the compiled loop for two right-hand sides in Python
-    #: (a restart every 2 steps made a run 30-45 times slower)
-    MIN_RESTART_STEPS = 100
+    def restart_s(self):
+        """``restart`` as given, :data:`DEFAULT_RESTART` for the default (``None``)."""
+        return DEFAULT_RESTART if self.restart is None else self.restart
 
     def restart_steps(self):
         """Steps between two restarts (at least :data:`MIN_RESTART_STEPS`); 0 for never: ``restart`` 0, or beyond
         the :data:`MAX_STEPS` steps a run can count (``restart = 1e308`` or inf: ``round`` of its steps overflowed)."""
-        steps = self.restart / self.dt
+        steps = self.restart_s() / self.dt
         if not 0 < steps <= self.MAX_STEPS:
             return 0
         return max(self.MIN_RESTART_STEPS, round(steps))

@@ -3,6 +3,7 @@ and ``max_step``, each declared with its range."""
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,13 +26,30 @@ MAX_STEP_NOTE = " (0: unbounded)"
 MAX_STEP_MARGIN = 0.01
 
 
-def smallest_max_step(t_end, intervals, max_steps):
+def smallest_max_step(t_end, intervals, max_steps, longest=None):
     """The smallest ``max_step`` (s) with which ``max_steps`` steps reach ``t_end`` through ``intervals`` saved
     intervals: steps of at most ``max_step`` shortened to land on each saved time take up to ``t_end / max_step +
     intervals``, and :data:`MAX_STEP_MARGIN` of ``max_steps`` is left for the start (``max_step = t_end / max_steps``
-    took all 1,000,000 steps by 0.00999992 of t = 0.01 s); inf where ``max_steps`` cannot hold even that."""
-    free = max_steps * (1.0 - MAX_STEP_MARGIN) - intervals
-    return t_end / free if free > 0 else np.inf
+    took all 1,000,000 steps by 0.00999992 of t = 0.01 s); inf where ``max_steps`` cannot hold even that.
+
+    With ``longest`` (s), the longest saved interval, for a route whose ``max_steps`` counts the steps of one saved
+    interval (casadi-cvodes, casadi-idas: CasADi's ``max_num_steps``): each interval's steps reach its end, ``longest
+    / (0.99 max_steps - 1)`` (a run total refused 150 steps per interval at 200 intervals, which ran in 63)."""
+    free = max_steps * (1.0 - MAX_STEP_MARGIN) - (1 if longest is not None else intervals)
+    span = longest if longest is not None else t_end
+    return span / free if free > 0 else np.inf
+
+
+def least_max_steps(t_end, intervals, max_step, longest=None):
+    """The least ``max_steps`` with which steps of at most ``max_step`` reach the saved times: the least for which
+    :func:`smallest_max_step` (same arguments) is at most ``max_step``."""
+    need, span = (1, longest) if longest is not None else (intervals, t_end)
+    least = max(1, math.ceil((span / max_step + need) / (1.0 - MAX_STEP_MARGIN)))
+    while least > 1 and smallest_max_step(t_end, intervals, least - 1, longest) <= max_step:  # to the last digit
+        least -= 1
+    while smallest_max_step(t_end, intervals, least, longest) > max_step:
+        least += 1
+    return least
 
 
 def atol_ok(value):

@@ -23,7 +23,7 @@ from mol_shell.integrators.leapfrog import (
     restart_advice,
 )
 from mol_shell.integrators.loop import declared, real
-from mol_shell.integrators.tolerances import ATOL_RANGE, MAX_STEP_MARGIN, atol_ok, smallest_max_step
+from mol_shell.integrators.tolerances import ATOL_RANGE, MAX_STEP_MARGIN, atol_ok, least_max_steps, smallest_max_step
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.loads import check_leapfrog_history
 from mol_shell.results.dataset import build_dataset
@@ -348,15 +348,23 @@ def _with_stresses(ds, limit):
 def _check_max_step(method, times):
     """Refuse a ``max_step`` with which ``max_steps`` steps cannot reach the last of ``times``
     (:func:`~mol_shell.integrators.tolerances.smallest_max_step`: ``--max-step 1e-12`` to 1 ms ran, then stopped as "the
-    motion is too fast for this horizon")."""
+    motion is too fast for this horizon"); each saved interval's end for a route whose ``max_steps`` counts per
+    interval (``max_steps_per_interval``: casadi-cvodes, casadi-idas); ``max_steps`` where no ``max_step`` can."""
     max_step, max_steps = getattr(method, "max_step", 0.0) or 0.0, getattr(method, "max_steps", None)
     t_end, intervals = float(times[-1]), len(times) - 1
-    low = smallest_max_step(t_end, intervals, max_steps) if max_steps else 0.0
+    per_interval = getattr(method, "max_steps_per_interval", False)
+    longest = float(np.max(np.diff(times), initial=0.0)) if per_interval else None
+    low = smallest_max_step(t_end, intervals, max_steps, longest) if max_steps else 0.0
     if max_step > 0 and max_step < low:
-        hint = (f"max_steps = {max_steps} steps of at most max_step, one more per saved interval ({intervals}) and "
-                f"{MAX_STEP_MARGIN:.0%} of them for the start, must reach t = {t_end:g} s")
-        if not math.isfinite(low):
-            raise ParameterError("max_step", max_step, "0 (unbounded) at this max_steps", hint=hint)
+        start = f"{MAX_STEP_MARGIN:.0%} of them for the start"
+        hint = (f"{method.name} counts max_steps per saved interval: steps of at most max_step, one more to land on "
+                f"the saved time and {start}, must cross the longest ({longest:g} s)" if per_interval else
+                f"max_steps = {max_steps} steps of at most max_step, one more per saved interval ({intervals}) and "
+                f"{start}, must reach t = {t_end:g} s")
+        if not math.isfinite(low):  # no max_step can: max_steps is what is short (the least at this max_step)
+            least = least_max_steps(t_end, intervals, max_step, longest)
+            why = f"{hint}; no max_step can with max_steps = {max_steps}"
+            raise ParameterError("max_steps", max_steps, f"integers >= {least} at max_step = {max_step:g} s", hint=why)
         shown = float(f"{low:.4g}")
         shown = shown if shown >= low else float(f"{low * (1 + 5e-4):.4g}")  # rounded up: the bound shown is taken
         raise ParameterError("max_step", max_step, f"[{shown:.4g}, inf) s, or 0 (unbounded)", hint=hint)

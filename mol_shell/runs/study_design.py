@@ -12,6 +12,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.integrators import INTEGRATORS
+from mol_shell.integrators.leapfrog import DEFAULT_RESTART
 from mol_shell.integrators.loop import declared, refusal
 from mol_shell.model.laws import Material, resolve_material
 from mol_shell.model.wall_parameters import wall_parameter, wall_parameter_names
@@ -108,8 +109,8 @@ ONE_VALUE = "a number or a word"
 
 
 def _listed(scene, name, given, integrator):
-    """The values of ``vary[name]`` as a list: a list, tuple, range or 1-D array of them, or one number or word (one
-    case); each a number, a word, a flag where the parameter is one, or a :class:`Material` for ``material``.
+    """The values of ``vary[name]`` as a list: a list, tuple, range or 1-D array of them (or anything with an array of
+    them: a DataArray, a Series, an Index), or one number or word (one case); each a number, a word, a flag where the parameter is one, or a :class:`Material` for ``material``.
     Refused by ``vary['NAME']``, before any case runs: a set or a generator (no order to make a grid's axis of: a set
     was one case, its value refused as it ran, and the file was not written), a dict, a nested list, a complex
     number."""
@@ -122,6 +123,9 @@ def _listed(scene, name, given, integrator):
         values = list(given)
     elif _scalar(given):  # one value: one case
         values = [given]
+    elif hasattr(given, "__array__") and not isinstance(given, (set, frozenset, dict)):
+        # a DataArray, a Series, an Index (a study's own coordinate): its values as an array, in its order
+        return _listed(scene, name, np.asarray(given), integrator)
     else:
         raise ParameterError.invalid(label, _shown(given), f"is a {type(given).__name__}, not a list of values",
                                      VALUES)
@@ -214,6 +218,8 @@ def _default(scene, name, integrator, options):
     value = fields[name].default if name in fields else None
     if name == "dt" and value is None:  # the unshearable scene's leap-frog
         value = DEFAULT_DT
+    if name == "restart" and value is None:  # the leap-frog's default, as its run records it (at least 100 steps)
+        value = DEFAULT_RESTART
     if value is None or value is dataclasses.MISSING:
         raise ParameterError("vary", f"<{name} missing from a case>", f"cases that each give {name}",
                              hint=f"{integrator} has no value of {name} to record for a case without it")

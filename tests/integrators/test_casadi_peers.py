@@ -63,7 +63,7 @@ def test_casadi_routes_refuse_a_max_step_every_other_route_refuses(name):
     for route in ("cvode-bdf", name):
         with pytest.raises(ParameterError, match=r"^max_step = 1e-12 is outside \[1\.011e-11, inf\) s, or 0 ") as exc:
             mol_shell.simulate("twisted-cylinder", route, n=5, times=[0.0, 1e-5], max_step=1e-12, progress=False)
-        said.append(str(exc.value))
+        said.append(str(exc.value).partition(" (unbounded) ")[0])  # the same range; the hint says how each counts
     assert said[0] == said[1]
 
 

@@ -50,6 +50,20 @@ def test_a_float_option_takes_a_big_integer_as_its_float_value(name, option):
     assert getattr(method, option) == 1e20 and type(getattr(method, option)) is float
 
 
+def test_an_explicit_restart_of_one_second_is_checked_as_any_other():
+    """At dt = 20 ms, 100 steps are 2 s: restart = 1.5 was refused but an explicit 1.0 was taken as 2 s unsaid (it was
+    the default's value). The default is None: 1 s where that is 100 steps or more (dt = 1e-6: 10^6 steps), else 100
+    steps (2 s), recorded; a restart given, 1.0 too, is refused below 100 steps."""
+    leapfrog = INTEGRATORS["leapfrog"]
+    for given in (1.0, 1.5):
+        with pytest.raises(ParameterError, match=rf"^restart = {given} is outside 0 or inf \(never\), or \[2, inf\] s at "
+                                                 r"dt = 0\.02 s"):
+            leapfrog(dt=0.02, restart=given)
+    assert leapfrog(dt=0.02).restart is None and leapfrog(dt=0.02).restart_steps() == 100
+    assert leapfrog(dt=0.02).settings()["restart"] == leapfrog(dt=0.02, restart=2.0).settings()["restart"] == 2.0
+    assert leapfrog(dt=1e-6).restart_steps() == 10**6 and leapfrog(dt=1e-6).settings()["restart"] == 1.0
+
+
 def test_restart_anywhere_in_its_range_works_and_beyond_any_run_is_never():
     leapfrog = INTEGRATORS["leapfrog"]
     assert leapfrog(restart=1.0, dt=1e-6).restart_steps() == 10**6

@@ -117,12 +117,71 @@ def test_ctrl_c_in_the_paper_run_keeps_it_and_draws_the_figures_of_the_times_it_
     assert errors(capsys) == [line]
 
 
+def test_ctrl_c_in_an_unshearable_run_stops_unshearable_vs_free(script, monkeypatch, tmp_path, capsys):
+    """simulate_unshearable keeps a run a Ctrl-C stopped as data: the script went on with it (compared, wrote, ran the
+    study); now it stops there, nothing written, exit 130 (n = 5, saved every 1 ms to 2 ms, signalled at 1 ms)."""
+    sigint_at(monkeypatch, 1e-3)
+    assert script("unshearable_vs_free", "--n", "5", "--t-end", "0.002", "--dt", "2e-6", "--scheduler", "serial",
+                  "--out", str(tmp_path)) == 130
+    line = "unshearable_vs_free.py: run stopped: interrupted by the user at t = 0.001 s; nothing written"
+    assert errors(capsys) == [line]
+    assert not list(tmp_path.iterdir())
+
+
+#: the mol_shell functions that return a run (report, comparison) a Ctrl-C stopped as data, ``attrs["status"] =
+#: "interrupted"``, for the caller to check (``simulate_ring`` raises today: checked as every run is)
+RUN_FUNCTIONS = {"simulate", "simulate_unshearable", "simulate_ring", "path", "path_study", "modes", "report",
+                 "run_case", "work_precision"}
+
+
+def unchecked_runs(source):
+    """The calls in ``source`` of a :data:`RUN_FUNCTIONS` of mol_shell (by name or through a module) but the wrappers
+    of :mod:`mol_shell.cli.scripts`, whose run no ``finished(...)`` checks: neither ``finished(f(...))`` nor ``x =
+    f(...)`` with a ``finished(x, ...)`` in the script."""
+    tree = ast.parse(source)
+    origin = {}  # a name bound by an import -> the module it came from (a module imported: its own name)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.module:
+            origin.update({alias.asname or alias.name: node.module for alias in node.names})
+        elif isinstance(node, ast.Import):
+            origin.update({alias.asname or alias.name: alias.name for alias in node.names})
+    parents = {child: node for node in ast.walk(tree) for child in ast.iter_child_nodes(node)}
+    checked = {ast.unparse(node.args[0]) for node in ast.walk(tree) if isinstance(node, ast.Call)
+               and ast.unparse(node.func) == "finished" and node.args}
+    found = []
+    for node in ast.walk(tree):
+        if not isinstance(node, ast.Call):
+            continue
+        base, name = node.func, ast.unparse(node.func).rsplit(".", 1)[-1]
+        while isinstance(base, ast.Attribute):
+            base = base.value
+        module = origin.get(getattr(base, "id", None), "")
+        if name not in RUN_FUNCTIONS or not module.startswith("mol_shell") or module == "mol_shell.cli.scripts":
+            continue
+        parent = parents[node]
+        wrapped = ast.unparse(parent.func) == "finished" if isinstance(parent, ast.Call) else (
+            isinstance(parent, ast.Assign) and any(ast.unparse(target) in checked for target in parent.targets))
+        if not wrapped:
+            found.append(ast.unparse(node.func))
+    return found
+
+
+def test_the_check_finds_a_run_left_unchecked():
+    assert unchecked_runs("from mol_shell.runs.unshearable import simulate_unshearable\nds = simulate_unshearable(s)") \
+        == ["simulate_unshearable"]
+    assert unchecked_runs("import mol_shell\nds = mol_shell.simulate(s)") == ["mol_shell.simulate"]
+    assert unchecked_runs("from mol_shell.analysis import workprecision as wp\nds = wp.work_precision(s)\n"
+                          "finished(ds)") == []
+    assert unchecked_runs("from mol_shell.cli.scripts import simulate\nds = simulate(s)") == []
+
+
 @pytest.mark.parametrize("path", sorted(STUDIES.glob("*.py")), ids=lambda p: p.stem)
 def test_every_script_runs_simulate_through_the_scripts_entry(path):
-    """``mol_shell.cli.scripts.simulate`` stops a script whose run was interrupted: none calls ``mol_shell.simulate``
-    (whose interrupted run plane_stress.py, ellipticity.py and implicit_scaling.py took as finished, or as a bug)."""
-    calls = [ast.unparse(node.func) for node in ast.walk(ast.parse(path.read_text())) if isinstance(node, ast.Call)]
-    assert "mol_shell.simulate" not in calls and "mol_shell.runs.simulate.simulate" not in calls
+    """``mol_shell.cli.scripts.simulate`` (and ``finished``) stops a script whose run was interrupted: none calls a run
+    function of mol_shell unchecked (``mol_shell.simulate``'s interrupted run plane_stress.py, ellipticity.py and
+    implicit_scaling.py took as finished, or as a bug; unshearable_vs_free.py its ``simulate_unshearable``'s, and
+    work_precision.py wrote and printed an interrupted comparison, exit 0)."""
+    assert unchecked_runs(path.read_text()) == []
 
 
 @pytest.mark.parametrize(("name", "argv", "said"), [

@@ -3,7 +3,9 @@ runs, in Python and on the command line."""
 
 import importlib
 
+import pandas as pd
 import pytest
+import xarray as xr
 
 import mol_shell
 from mol_shell._core.errors import ParameterError
@@ -45,6 +47,16 @@ def test_a_list_of_cases_refuses_a_value_that_is_not_one_number(case, words, mon
     monkeypatch.setattr(study_module, "run_task", None)
     with pytest.raises(ParameterError, match="^" + words):
         mol_shell.study("twisted-cylinder", [{"gamma": 0.1}, case], t_end=5e-4, scheduler="serial")
+
+
+@pytest.mark.parametrize("kind", ["DataArray", "Series", "Index"])
+def test_an_array_like_of_values_is_its_values_in_order(kind):
+    """A DataArray (a study's own coordinate ds.gamma), a Series, an Index: two values, two cases (they ran so, then
+    were refused as 'is a DataArray, not a list of values')."""
+    values = {"DataArray": xr.DataArray, "Series": pd.Series, "Index": pd.Index}[kind]([0.2, 0.1])
+    dims, coords, cases = design(mol_shell.TwistedCylinder(), {"gamma": values})
+    assert dims == ["gamma"] and coords == {"gamma": [0.2, 0.1]}
+    assert [case for _, case in cases] == [{"gamma": 0.2}, {"gamma": 0.1}]
 
 
 def test_a_one_value_range_is_its_value():
