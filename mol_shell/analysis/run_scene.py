@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import shlex
 
 import numpy as np
 
@@ -208,10 +209,16 @@ def path_toml(ds, source=None):
                f"{ds.attrs.get('mol_shell_version', '?')}) in {parameter} from {float(ds.attrs['start']):g} to "
                f"{float(ds.attrs['stop']):g} {units}, {steps} steps:")
     again = f"# {command} -o PATH.nc traces it again (--steps, --max-steps as it was traced: the file does not record them)."
+    if "continued_from" in ds.attrs:  # its start is a step of another path: from this scene's state a path at that
+        # load may lie on another branch (a continuation past a fold)
+        origin, _, where = str(ds.attrs["continued_from"]).rpartition(", step ")
+        again = (f"# It was continued from {origin}, step {where}: mol-shell path --from {shlex.quote(origin)} --step "
+                 f"{where.split()[0]} --stop {_exact(ds.attrs['stop'])} -o PATH.nc traces it again; {command} "
+                 f"starts from this scene's state at {float(ds.attrs['start']):g} {units}, which may lie on another branch.")
     notes = [written, again]
     if not int(ds.attrs.get("complete", 1)):
         notes.append(f"# That path ended at {parameter} = {last:.6g} {units} ({ds.attrs.get('message', '')})"
-                     + (f": --max-steps above {steps} goes on past it, from the start again."
+                     + (f": mol-shell path --from PATH.nc --stop {_exact(ds.attrs['stop'])} goes on from its last step."
                         if ds.attrs.get("status") == "max_steps" else "."))
     if "parameter_scene_value" in ds.attrs:
         notes.append(f"# {parameter} below is the scene's own; the path's --param values replace it.")

@@ -131,3 +131,18 @@ def test_a_step_that_is_no_equilibrium_is_refused_naming_the_file(short, tmp_pat
     err = capsys.readouterr().err.strip().splitlines()
     assert code == 2 and len(err) == 1, err
     assert err[0].startswith(f"mol-shell: error: --from = '{source}' holds a state at step 3 that is no equilibrium")
+
+
+def test_a_continued_paths_scene_file_names_the_command_that_traces_it_again(short, tmp_path, capsys):
+    """``scenes CONTINUED.nc --toml`` said ``mol-shell path THIS.toml --param START:STOP`` traces it again; from the
+    scene's own state at START that path may lie on another branch (a continuation past a fold)."""
+    first, more = tmp_path / "a.nc", tmp_path / "b.nc"
+    mol_shell.write_netcdf(short, first)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert main(["path", "--from", str(first), "--stop", f"{STOP!r}", "--max-steps", "1", "-o", str(more)]) == 0
+    capsys.readouterr()
+    assert main(["scenes", str(more), "--toml"]) == 0
+    text = capsys.readouterr().out
+    assert (f"# It was continued from {first}, step 3 of 4 (pressure = " in text
+            and f"mol-shell path --from {first} --step 3 --stop {STOP:g} -o PATH.nc traces it again" in text), text

@@ -80,7 +80,7 @@ def test_a_path_file_back_as_a_scene_file_traces_the_same_path_again(tmp_path, c
         text = capsys.readouterr().out
         toml.write_text(text)
         assert f"mol-shell path THIS.toml --param {span}" in text and "n = 9" in text
-        assert "--max-steps above 2" in text, text
+        assert f"mol-shell path --from PATH.nc --stop {STOP:g} goes on from its last step" in text, text
         assert main(["path", str(toml), "--param", span, "--max-steps", "3", "-o", str(again)]) == 0
     a, b = mol_shell.read_netcdf(first), mol_shell.read_netcdf(again)
     assert b.sizes["step"] == 4 and b.attrs["nu"] == 0.3 and b.sizes["s"] == 9
