@@ -112,6 +112,9 @@ def _continued(args):
             raise ParameterError.invalid("--from", args.from_path, f"holds a state at step {step} that is no "
                                          f"equilibrium under its scene ({str(exc).partition(': ')[2]})",
                                          ALLOWED) from None
+        if exc.name == "parameter":  # the file's continued load, which no --param named
+            raise ParameterError.invalid("--from", args.from_path, f"continues {exc.value!r}, which this scene "
+                                         f"cannot ({exc.allowed})", ALLOWED) from None
         if exc.name in ("stop", "start"):  # start is the step's load: a stop equal to it is --stop's
             allowed = str(exc.allowed).replace("start", "the step's load")
             raise ParameterError("--stop", args.stop, allowed, message=f"--stop = {args.stop:.10g} is outside "

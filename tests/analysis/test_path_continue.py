@@ -146,3 +146,14 @@ def test_a_continued_paths_scene_file_names_the_command_that_traces_it_again(sho
     text = capsys.readouterr().out
     assert (f"# It was continued from {first}, step 3 of 4 (pressure = " in text
             and f"mol-shell path --from {first} --step 3 --stop {STOP:g} -o PATH.nc traces it again" in text), text
+
+
+def test_a_file_whose_load_the_scene_cannot_take_is_refused_naming_from(short, tmp_path, capsys):
+    """It was said as ``--param = None``, an option not given."""
+    damaged = short.copy()
+    damaged.attrs["parameter"] = "end1_torque"  # a closed sphere has no edge
+    source = tmp_path / "bad.nc"
+    mol_shell.write_netcdf(damaged, source)
+    assert main(["path", "--from", str(source), "--stop", "1", "-o", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"mol-shell: error: --from = '{source}' continues 'end1_torque'"), err
