@@ -11,23 +11,17 @@ samples in the period of ``1.25 omega``. Saved every 1 ms, psi aliased to 194 Hz
 ``1 / t_end`` and the few per cent above.
 """
 
-import importlib.util
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
+from study_scripts import load_script
 
 import mol_shell
 
-STUDIES = Path(__file__).resolve().parents[2] / "studies"
-
 
 def load_study(name):
-    spec = importlib.util.spec_from_file_location(f"study_{name}_psi", STUDIES / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(name, "study_psi")
 
 
 def shear_frequency(scene):

@@ -20,19 +20,18 @@ are derived here, independently of the package, from closed forms:
 Tolerances are explained where they are used; nothing is copied from a run of the package.
 """
 
-import importlib.util
 import inspect
 import math
 from pathlib import Path
 
 import numpy as np
 import pytest
+import reference_ring as ref
+from study_scripts import STUDIES, load_script
 
 import mol_shell
-import reference_ring as ref
 
 EPS = np.finfo(float).eps
-STUDIES = Path(__file__).resolve().parents[2] / "studies"
 PAPER = mol_shell.TwistedCylinder()
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -51,10 +50,7 @@ def covers(name):
 
 
 def load_study(name):
-    spec = importlib.util.spec_from_file_location(f"study_{name}", STUDIES / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(name, "study")
 
 
 def run_study(name, out, *extra):

@@ -8,7 +8,6 @@ writers get small synthetic inputs.
 """
 
 import ast
-import importlib.util
 import subprocess
 import sys
 from pathlib import Path
@@ -17,6 +16,7 @@ import netCDF4
 import numpy as np
 import pytest
 import xarray as xr
+from study_scripts import STUDIES, load_script
 
 import mol_shell
 from mol_shell._core.errors import ModelLimitError, ParameterError
@@ -24,14 +24,10 @@ from mol_shell.cli.scripts import exit_code
 from mol_shell.results.study_store import summarize
 
 ROOT = Path(__file__).resolve().parents[2]
-STUDIES = ROOT / "studies"
 
 
 def load(name):
-    spec = importlib.util.spec_from_file_location(f"entry_{name}", STUDIES / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(name, "entry")
 
 
 @pytest.mark.parametrize("path", sorted(STUDIES.glob("*.py")), ids=lambda p: p.stem)

@@ -8,13 +8,12 @@ options are refused naming the option typed, not the saved ``times`` the script 
 The SIGINT is real: sent from inside the run as the leap-frog loop checks the state it reached at ``t``."""
 
 import ast
-import importlib.util
 import signal
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
+from study_scripts import STUDIES, load_script
 
 import mol_shell
 from mol_shell.analysis import stability
@@ -22,14 +21,9 @@ from mol_shell.cli.scripts import exit_code
 from mol_shell.integrators.base import Monitor
 from mol_shell.results.dataset import read_netcdf
 
-STUDIES = Path(__file__).resolve().parents[2] / "studies"
-
 
 def load(name):
-    spec = importlib.util.spec_from_file_location(f"stopped_{name}", STUDIES / f"{name}.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return load_script(name, "stopped")
 
 
 @pytest.fixture
