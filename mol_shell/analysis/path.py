@@ -146,7 +146,7 @@ class _Path:
         else:
             factor, self.l_scale = float(scales[0]), float(scales[1])
         self.q_scale = self.q_scale * factor
-        #: the displacements' factor over the shell's lengths and the load's scale (``attrs["arclength_scales"]``)
+        #: the displacements' factor over the shell's lengths and the load's scale (attrs ``arclength_displacement_scale``, ``arclength_load_scale``)
         self.scales = (factor, self.l_scale)
 
     def distance(self, q0, l0, q1, l1):
@@ -357,9 +357,10 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         ``initial`` the way its displacements went from it (past a limit point the load may at first move away
         from ``stop``). A path so continued is not ended for coming back past ``start``.
     scales : tuple, optional
-        The arclength's scales of an earlier path (``attrs["arclength_scales"]``: the displacements' factor over the
-        shell's lengths, the load's scale), so that its continuation steps as it did; default: the load's range,
-        and the displacements weighed at the start so that the first tangent is half load, half displacement.
+        ``(displacements' factor over the shell's lengths, load's scale)``: an earlier path's arclength scales
+        (attrs ``arclength_displacement_scale``, ``arclength_load_scale``), so that its continuation steps as it did;
+        default: the load's range, and the displacements weighed at the start so that the first tangent is half
+        load, half displacement.
     progress : bool, optional
         Progress on stderr: the steps taken, the load reached, the critical points found. ``True`` a bar (tqdm),
         ``False`` nothing; default (``None``) a bar when stderr is a terminal, else a line every
@@ -480,7 +481,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)
     if initial is not None:
         ds.attrs["initial_state"] = "the fields given (initial), at rest"
-    ds.attrs["arclength_scales"] = np.array(tracer.scales)
+    ds.attrs["arclength_displacement_scale"], ds.attrs["arclength_load_scale"] = tracer.scales
     if watch.caught:  # as it was assembled: written, said interrupted (exit 130)
         ds = interrupted_at_end(ds)
     if "ellipticity_warning" in ds.attrs:

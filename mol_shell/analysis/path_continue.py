@@ -30,6 +30,13 @@ def onwards(source, value, stop):
     return (stop - value) * (end - start) > 0
 
 
+def scales_of(source):
+    """The arclength's scales path ``source`` stepped in (its attrs; ``None`` for a file written before they were
+    recorded: the continuation weighs at its own start)."""
+    keys = ("arclength_displacement_scale", "arclength_load_scale")
+    return tuple(float(source.attrs[k]) for k in keys) if all(k in source.attrs for k in keys) else None
+
+
 def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, branch=None, progress=None,
                   names=KEYWORDS):
     """Follow path ``source`` on from its step ``step`` (default: its last) to ``stop``.
@@ -68,7 +75,7 @@ def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, 
     if k > 0 and onwards(source, value, stop):  # the chord from the step before orients the first tangent
         heading = (np.stack([source[f].values[k - 1] for f in FIELDS]), float(source.parameter.values[k - 1]))
     out = path(scene, parameter, value, stop, n, steps=steps, max_steps=max_steps, ds=ds, branch=branch,
-               initial=fields, heading=heading, scales=source.attrs.get("arclength_scales"), progress=progress)
+               initial=fields, heading=heading, scales=scales_of(source), progress=progress)
     out.attrs["continued_from"] = f"{shown}, step {k} of {count} ({parameter} = {value:.10g} {units})"
     out.attrs["initial_state"] = info
     return out
