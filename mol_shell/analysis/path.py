@@ -482,6 +482,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     if initial is not None:
         ds.attrs["initial_state"] = "the fields given (initial), at rest"
     ds.attrs["arclength_displacement_scale"], ds.attrs["arclength_load_scale"] = tracer.scales
+    ds.attrs["units_arclength_displacement_scale"], ds.attrs["units_arclength_load_scale"] = "1", eq.units
     if watch.caught:  # as it was assembled: written, said interrupted (exit 130)
         ds = interrupted_at_end(ds)
     if "ellipticity_warning" in ds.attrs:

@@ -70,6 +70,7 @@ def test_a_path_s_range_is_in_the_units_of_its_parameter(files):
     attrs = files["path"].attrs
     assert attrs["parameter"] == "pressure"
     assert attrs["units_start"] == attrs["units_stop"] == "Pa"
+    assert attrs["units_arclength_load_scale"] == "Pa" and attrs["units_arclength_displacement_scale"] == "1"
 
 
 def test_a_comparison_s_reference_error_is_dimensionless_and_its_times_in_seconds(files):
