@@ -19,8 +19,11 @@ stiffness terms. Two more bounds make an ``omega^2`` zero:
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
+from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.analysis.path_stability import LOCATE_RTOL
 
 #: a negative omega^2 within this many machine epsilons of the largest omega^2 is zero to the eigensolver's round-off
@@ -28,6 +31,20 @@ from mol_shell.analysis.path_stability import LOCATE_RTOL
 SOLVER_ROUNDOFF = 10.0
 #: the band of a located critical point: this many times its bracket times the slope of the path's eigenvalues
 LOCATED_SAFETY = 10.0
+#: the widest ``zero_band`` modes take, as a share of the largest omega^2 (a located point's is about 1e-11 of it)
+BAND_SHARE = 1e-6
+
+
+def checked_band(band, largest=None):
+    """``band`` (s-2) if a finite number in ``[0, BAND_SHARE x largest]`` (``largest`` None: before the solve, in
+    ``[0, inf)``); else refused naming ``zero_band`` (an infinite band listed every mode at 0 rad/s)."""
+    if not is_number(band) or not 0.0 <= float(band) < math.inf:
+        raise ParameterError("zero_band", band, "[0, inf) s-2, finite")
+    high = BAND_SHARE * abs(float(largest)) if largest is not None else math.inf
+    if float(band) > high:
+        raise ParameterError("zero_band", band, f"[0, {high:.4g}] s-2 (at most {BAND_SHARE:g} of the largest "
+                             f"omega^2, {abs(float(largest)):.4g} s-2: a wider band would swallow frequencies)")
+    return float(band)
 
 
 def solver_floor(largest):

@@ -37,7 +37,7 @@ from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterEr
 from mol_shell._core.units import show_seconds
 from mol_shell.analysis.grid_modes import mark_grid_modes
 from mol_shell.analysis.mode_damping import damping_note, drag_damping_ratios
-from mol_shell.analysis.mode_zero import floor_note, solver_floor, zero_mask
+from mol_shell.analysis.mode_zero import checked_band, floor_note, solver_floor, zero_mask
 from mol_shell.analysis.path_inputs import history_loads
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import coordinates, header, variables
@@ -317,7 +317,8 @@ def modes(scene, n=40, count=10, *, initial=None, zero_band=0.0):
         equilibrium under the scene's loads, e.g. a path's step (prestressed frequencies).
     zero_band : float
         ``omega^2`` within this of zero (s-2) counts as zero: a path's located critical point's
-        (:func:`mol_shell.analysis.mode_zero.located_band`).
+        (:func:`mol_shell.analysis.mode_zero.located_band`); at most :data:`~mol_shell.analysis.mode_zero.BAND_SHARE`
+        of the largest ``K_ii / M_ii`` (a band that swallows real frequencies is refused).
 
     Returns
     -------
@@ -337,6 +338,7 @@ def modes(scene, n=40, count=10, *, initial=None, zero_band=0.0):
 
     asked = as_scene(scene)
     n, count = scalar(n), scalar(count)
+    checked_band(scalar(zero_band))  # a number in [0, inf) before the solve; its share of the spectrum after it
     scene = resolve(asked)
     if not isinstance(count, (int, np.integer)) or isinstance(count, bool) or count < 1:
         raise ParameterError("count", count, "integers >= 1")
@@ -372,6 +374,7 @@ def modes(scene, n=40, count=10, *, initial=None, zero_band=0.0):
     stiffness = Kd if method == "dense" else Ks
     largest = max(float(np.max(np.abs(w2))), scale)  # the sparse solve's are the lowest: the scale bounds the largest
     floor = solver_floor(largest)  # the eigensolver's round-off: a negative omega^2 within it is zero
+    zero_band = checked_band(zero_band, largest)
     small = zero_mask(w2, roundoff_level(stiffness, M, phi), floor, zero_band)  # zero to round-off, mode by mode
     zero = np.zeros(len(w2), dtype=bool)
     if method == "dense" and rigid.shape[1]:

@@ -48,7 +48,7 @@ from mol_shell.analysis.equilibria import EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, closed, no_branch_reason, switch
 from mol_shell.analysis.path_dataset import interrupted_at_end, path_dataset
 from mol_shell.analysis.path_first import first_state
-from mol_shell.analysis.path_inputs import check_inputs
+from mol_shell.analysis.path_inputs import check_inputs, check_start
 from mol_shell.analysis.path_record import PathRecord
 from mol_shell.analysis.path_secant import secant_start
 from mol_shell.analysis.path_stability import LOCATE_NEWTON, LOCATE_TOL
@@ -379,6 +379,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     scene = as_scene(scene)
     start, stop, n, steps, max_steps, ds, branch = map(scalar, (start, stop, n, steps, max_steps, ds, branch))
     check_inputs(scene, parameter, start, stop, n, steps, max_steps, ds, branch)
+    check_start(initial, heading, scales)
     mode = progress_mode(progress)  # refused (not a bool) before the set-up's work
     clock = time.perf_counter()
     no_switch = None  # why --branch could not switch at the point it names (a limit point)

@@ -11,12 +11,14 @@ its own: its step 0 is the step it left, its critical points those it meets from
 
 from __future__ import annotations
 
+import math
 import os
 
 import numpy as np
 
+from mol_shell._core.errors import ParameterError, is_number
 from mol_shell.analysis.path import path
-from mol_shell.analysis.path_start import KEYWORDS, checked_path, path_scene, path_start, read_path
+from mol_shell.analysis.path_start import ALLOWED, KEYWORDS, checked_path, path_scene, path_start, read_path
 from mol_shell.model.kinematics import FIELDS
 
 
@@ -30,11 +32,19 @@ def onwards(source, value, stop):
     return (stop - value) * (end - start) > 0
 
 
-def scales_of(source):
+def scales_of(source, name="source", shown="<xarray.Dataset>"):
     """The arclength's scales path ``source`` stepped in (its attrs; ``None`` for a file written before they were
-    recorded: the continuation weighs at its own start)."""
+    recorded: the continuation weighs at its own start); a value that is no finite positive number is refused
+    naming ``name`` (the path, said as ``shown``)."""
     keys = ("arclength_displacement_scale", "arclength_load_scale")
-    return tuple(float(source.attrs[k]) for k in keys) if all(k in source.attrs for k in keys) else None
+    if not all(k in source.attrs for k in keys):
+        return None
+    for key in keys:
+        value = source.attrs[key]
+        if not (is_number(value) and 0 < value < math.inf):
+            raise ParameterError.invalid(name, shown, f"holds {key} = {value!r}, not a finite positive number",
+                                         ALLOWED)
+    return tuple(float(source.attrs[k]) for k in keys)
 
 
 def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, branch=None, progress=None,
@@ -61,7 +71,10 @@ def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, 
         The continuation, a path from the step's load to ``stop`` (its step 0 is the step it left); attrs
         ``continued_from`` (the file or Dataset, the step and its load) and ``initial_state``.
     """
+    names = {**names, "ds": "source"} if names is KEYWORDS else names  # the Dataset's name: ds is the first step's
     shown = str(source) if isinstance(source, (str, os.PathLike)) else "<xarray.Dataset>"
+    if not is_number(stop) or not math.isfinite(stop):
+        raise ParameterError.not_a("stop", stop, "a finite number", "(-inf, inf)")
     source = read_path(source, names["ds"]) if isinstance(source, (str, os.PathLike)) else checked_path(
         source, names["ds"])
     count = source.sizes["step"]
@@ -75,7 +88,7 @@ def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, 
     if k > 0 and onwards(source, value, stop):  # the chord from the step before orients the first tangent
         heading = (np.stack([source[f].values[k - 1] for f in FIELDS]), float(source.parameter.values[k - 1]))
     out = path(scene, parameter, value, stop, n, steps=steps, max_steps=max_steps, ds=ds, branch=branch,
-               initial=fields, heading=heading, scales=scales_of(source), progress=progress)
+               initial=fields, heading=heading, scales=scales_of(source, names["ds"], shown), progress=progress)
     out.attrs["continued_from"] = f"{shown}, step {k} of {count} ({parameter} = {value:.10g} {units})"
     out.attrs["initial_state"] = info
     return out

@@ -36,12 +36,18 @@ def first_state(tracer, start, initial, heading, scales, failed):
             raise ParameterError("start", start, "loads at which the shell has an equilibrium that Newton finds "
                                  "from the scene's initial state or by continuation from 0", hint=str(exc)) from None
     tracer.weigh(q, at, scales)
-    moved = None if heading is None else (q - eq.unknowns(_state(eq, heading[0])))[eq.keep]
+    moved = None if heading is None else (q - eq.unknowns(_state(eq, heading[0], "heading")))[eq.keep]
     if moved is not None and np.any(moved):
         return q, iterations, tracer.tangent(q, at, previous=(moved / tracer.q_scale, 0.0))
     return q, iterations, tracer.tangent(q, at)
 
 
-def _state(eq, fields):
-    """The state vector of ``fields`` (``(5, n)``, refused by the name ``initial`` unless they fit) at rest."""
-    return given_state(eq.system, fields, eq.system.unpack(eq.y_ref))
+def _state(eq, fields, name="initial"):
+    """The state vector of ``fields`` (``(5, n)``, refused by ``name`` unless they fit) at rest."""
+    try:
+        return given_state(eq.system, fields, eq.system.unpack(eq.y_ref))
+    except ParameterError as exc:
+        if name == "initial":
+            raise
+        raise ParameterError(name, exc.value, exc.allowed, message=str(exc).replace("initial", f"{name}[0]", 1)) \
+            from None

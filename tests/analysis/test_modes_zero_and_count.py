@@ -126,3 +126,10 @@ def test_modes_say_a_load_on_a_ramp_is_zero_at_rest(tmp_path, capsys):
         loaded = float(ds.frequency[0])
     unloaded, _ = _modes(Sphere(), n=11, count=1)  # a ramp is 0 at t = 0: the natural sphere's modes
     assert loaded == pytest.approx(float(unloaded.frequency[0]), rel=1e-12)
+
+
+@pytest.mark.parametrize("band", [np.inf, np.nan, -1.0, "1", 1e12])
+def test_a_zero_band_that_is_not_one_is_refused(band):
+    """An infinite band (or 1e12 s-2) listed every mode at 0 rad/s, silently; NaN and -1 were taken."""
+    with pytest.raises(ParameterError, match=r"^zero_band = "):
+        mol_shell.modes(Sphere(), n=11, count=2, zero_band=band)

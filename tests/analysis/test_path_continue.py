@@ -158,3 +158,26 @@ def test_a_file_whose_load_the_scene_cannot_take_is_refused_naming_from(short, t
     assert main(["path", "--from", str(source), "--stop", "1", "-o", str(tmp_path / "x.nc")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and err[0].startswith(f"mol-shell: error: --from = '{source}' continues 'end1_torque'"), err
+
+
+@pytest.mark.parametrize("keywords, name", [
+    ({"scales": (0.0, 2e5)}, "scales"), ({"scales": 1.0}, "scales"), ({"scales": (1.0, np.inf)}, "scales"),
+    ({"heading": "previous"}, "heading"), ({"heading": (None, np.nan)}, "heading"),
+])
+def test_a_start_that_is_not_one_is_refused_by_name(short, keywords, name):
+    """A zero or infinite scale ended in 'Factor is exactly singular' (RuntimeError), a float in a TypeError."""
+    fields = np.stack([short[f].values[-1] for f in ("z", "r", "chi", "theta", "psi")])
+    with pytest.raises(mol_shell.ParameterError) as refused:
+        mol_shell.path("sphere", "pressure", float(short.parameter[-1]), STOP, n=13, initial=fields, progress=False,
+                       **keywords)
+    assert refused.value.name == name
+
+
+def test_continue_path_names_its_source_and_stop(short, tmp_path):
+    with pytest.raises(mol_shell.ParameterError, match=r"^source = 'nofile.nc' does not exist"):
+        continue_path("nofile.nc", STOP)
+    with pytest.raises(mol_shell.ParameterError, match=r"^stop = None is not a finite number"):
+        continue_path(short, None)
+    damaged = short.assign_attrs(arclength_load_scale=0.0)
+    with pytest.raises(mol_shell.ParameterError, match=r"holds arclength_load_scale = 0.0, not a finite positive"):
+        continue_path(damaged, STOP)

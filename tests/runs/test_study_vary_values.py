@@ -107,3 +107,13 @@ def test_python_refuses_a_float_for_an_integer_option_as_simulate_does(values, m
         "integer 2000)")
     _, coords, _ = design(mol_shell.TwistedCylinder(), {"chunk": [2000, "3000"]}, "leapfrog")  # integers: taken
     assert coords["chunk"] == [2000, 3000] and all(type(v) is int for v in coords["chunk"])
+
+
+def test_a_keyword_that_vary_also_varies_is_refused_as_the_command_line_refuses_it():
+    """``study(..., {"dt": [...]}, dt=4e-6)`` ran the varied values and dropped the keyword without a word."""
+    with pytest.raises(mol_shell.ParameterError, match=r"^dt = 4e-06 is set while vary\['dt'\] varies it"):
+        mol_shell.study(mol_shell.TwistedCylinder(), {"dt": [1e-6, 2e-6]}, "leapfrog", n=21, t_end=0.002,
+                        dt=4e-6, scheduler="serial")
+    with pytest.raises(mol_shell.ParameterError, match=r"^rtol = 1e-06 is set while vary\['rtol'\] varies it"):
+        mol_shell.study(mol_shell.TwistedCylinder(), [{"rtol": 1e-8}], "dop853-c", n=21, t_end=0.002,
+                        rtol=1e-6, scheduler="serial")
