@@ -37,8 +37,8 @@ def scales_of(source, name="source", shown="<xarray.Dataset>"):
     recorded: the continuation weighs at its own start); a value that is no finite positive number is refused
     naming ``name`` (the path, said as ``shown``)."""
     keys = ("arclength_displacement_scale", "arclength_load_scale")
-    if not all(k in source.attrs for k in keys):
-        return None
+    if not all(k in source.attrs for k in keys) or source.sizes["step"] < 2:  # a path that took no step (one that
+        return None  # failed at its start, its range too wide) has no metric worth keeping
     for key in keys:
         value = source.attrs[key]
         if not (is_number(value) and 0 < value < math.inf):
@@ -73,6 +73,8 @@ def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, 
     """
     names = {**names, "ds": "source"} if names is KEYWORDS else names  # the Dataset's name: ds is the first step's
     shown = str(source) if isinstance(source, (str, os.PathLike)) else "<xarray.Dataset>"
+    named = os.path.abspath(source) if isinstance(source, (str, os.PathLike)) else getattr(source, "encoding", {}).get(
+        "source", shown)  # continued_from names the file wherever it is read from
     if not is_number(stop) or not math.isfinite(stop):
         raise ParameterError.not_a("stop", stop, "a finite number", "(-inf, inf)")
     source = read_path(source, names["ds"]) if isinstance(source, (str, os.PathLike)) else checked_path(
@@ -89,6 +91,6 @@ def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, 
         heading = (np.stack([source[f].values[k - 1] for f in FIELDS]), float(source.parameter.values[k - 1]))
     out = path(scene, parameter, value, stop, n, steps=steps, max_steps=max_steps, ds=ds, branch=branch,
                initial=fields, heading=heading, scales=scales_of(source, names["ds"], shown), progress=progress)
-    out.attrs["continued_from"] = f"{shown}, step {k} of {count} ({parameter} = {value:.10g} {units})"
+    out.attrs["continued_from"] = f"{named}, step {k} of {count} ({parameter} = {value:.10g} {units})"
     out.attrs["initial_state"] = info
     return out

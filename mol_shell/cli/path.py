@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import os
 import shlex
 import sys
 
@@ -120,7 +121,7 @@ def _continued(args):
             raise ParameterError("--stop", args.stop, allowed, message=f"--stop = {args.stop:.10g} is outside "
                                  f"{allowed}") from None
         raise as_path_option(exc, args) from None
-    ds.attrs["continued_from"] = ds.attrs["continued_from"].replace("<xarray.Dataset>", str(args.from_path))
+    ds.attrs["continued_from"] = ds.attrs["continued_from"].replace("<xarray.Dataset>", os.path.abspath(args.from_path))
     step = source.sizes["step"] - 1 if args.step is None else args.step
     return source.attrs["scene"], str(source.attrs["parameter"]), float(source.parameter[step]), args.stop, ds
 

@@ -181,3 +181,11 @@ def test_continue_path_names_its_source_and_stop(short, tmp_path):
     damaged = short.assign_attrs(arclength_load_scale=0.0)
     with pytest.raises(mol_shell.ParameterError, match=r"holds arclength_load_scale = 0.0, not a finite positive"):
         continue_path(damaged, STOP)
+
+
+def test_a_path_that_took_no_step_lends_no_metric(short):
+    """A path that failed at its start (its range far too wide: 0:1e12 on the sphere) recorded the scales of that
+    range, and a continuation towards a near stop, in them, failed again at its start; it weighs at its own start now."""
+    failed = short.isel(step=[0]).assign_attrs(arclength_load_scale=1e12, stop=1e12, status="failed")
+    more = continue_path(failed, STOP, max_steps=2)
+    assert more.attrs["arclength_load_scale"] == abs(STOP - float(short.parameter[0]))
