@@ -361,10 +361,11 @@ def scene_from_dict(data, source="<scene file>", folder=".", together=True, over
         entry = re.match(r"layer (\d+):? (.*)", exc.hint or "") if where.get(exc.name) == "layer" else None
         if entry:  # a [[layer]] table's value: said by the table, not by the layers text made of them
             number, why = entry.groups()
+            keys = ("" if "allowed:" in why else  # a value's own range said already: not a second "allowed:"
+                    f"; allowed: thickness (m, a positive finite number), material and {', '.join(LAYER_KEYS)}")
             raise ParameterError(exc.name, exc.value, exc.range or exc.allowed, message=f"{source}: [[layer]] "
-                                 f"{number} (from the lower face): {'it ' if why.startswith('has ') else ''}{why}; "
-                                 f"allowed: thickness (m, a positive finite number), material and "
-                                 f"{', '.join(LAYER_KEYS)}") from None
+                                 f"{number} (from the lower face): {'it ' if why.startswith('has ') else ''}{why}"
+                                 f"{keys}") from None
         raise _fail(source, where.get(exc.name, table_of(cls, exc.name) if exc.name in fields else None), exc) from None
     for param, value in given.items():
         if param not in overrides and not _type_ok(fields[param], getattr(scene, param)):

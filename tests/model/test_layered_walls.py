@@ -223,7 +223,10 @@ def test_a_material_with_a_built_in_name_is_refused_when_made():
     ("material = 3", "[[layer]] 2 (from the lower face): material = 3 is not a string; allowed: a law's name"),
     ("material_parameters = {mu = 2e5}", ("[[layer]] 2 (from the lower face): unknown key material_parameters; "
                                           "allowed: thickness, material, E, nu,")),
-    ("colour = 'red'", "[[layer]] 2 (from the lower face): unknown key colour; allowed: thickness, material,")])
+    ("colour = 'red'", "[[layer]] 2 (from the lower face): unknown key colour; allowed: thickness, material,"),
+    # its own range said once ("allowed: {1, 2}; allowed: thickness ..." said two ranges)
+    ("fibre_families = 1.5", "[[layer]] 2 (from the lower face): fibre_families = 1.5 is not an integer; allowed: "
+                             "{1, 2}\x00")])
 def test_a_layer_tables_bad_key_is_named_with_its_table(tmp_path, capsys, line, expected):
     """A [[layer]] table's ``material = 3`` was blamed on ``[material] material``, and ``material_parameters`` (or any
     unknown key) on the layers string ("cannot read ..."): named now with the table, counted from the lower face."""
@@ -234,7 +237,7 @@ def test_a_layer_tables_bad_key_is_named_with_its_table(tmp_path, capsys, line, 
                     f'[[layer]]\nthickness = 0.01\n{line}\n')
     assert main(["run", str(path), "--n", "8", "--t-end", "1e-4", "-o", str(tmp_path / "r.nc")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and err[0].startswith(f"mol-shell: error: {path}: {expected}"), err
+    assert len(err) == 1 and (err[0] + "\x00").startswith(f"mol-shell: error: {path}: {expected}"), err
 
 
 def test_a_wall_of_svk_layers_stops_where_the_single_svk_wall_does():
