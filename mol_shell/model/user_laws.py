@@ -142,8 +142,8 @@ class Material:
             raise ParameterError.not_a("energy", self.name, "a scalar energy", "a function returning one number")
 
     def _check_natural_state(self):
-        """The natural state ``C = I`` is stress-free and stable under the law's thickness treatment: ``W`` finite,
-        its in-plane derivatives zero (to 1e-9 of the stiffness; a law linear in ``C`` fails here), ``mu >= 0``
+        """The natural state ``C = I`` is stress-free and stable under the law's thickness treatment: ``W`` finite
+        and 0 there (an offset, ``mu/2 (I1 - 3)`` without its -3, was a stored energy at rest), its in-plane derivatives zero (to 1e-9 of the stiffness; a law linear in ``C`` fails here), ``mu >= 0``
         and ``lambda* + mu > 0`` (:meth:`small_strain_pair`; ``mu = 0`` is a fluid-like wall). A law failing one
         was refused at its run, blamed on ``h``, or ran (a stressed or unstable natural state). Returns the
         stiffness scale ``|lambda*| + 2 |mu|`` (Pa)."""
@@ -161,12 +161,15 @@ class Material:
         elif np.abs(slope).max() > 1e-9 * scale:
             reason = (f"a stress-free natural state: dW/dC = 0 at C = I (here up to "
                       f"{np.abs(slope).max():.4g} Pa, the stiffness {scale:.4g} Pa)")
+        elif abs(value[0]) > 1e-9 * scale:  # an offset moves no stress, but every stored energy and energy balance
+            reason = (f"an energy that is 0 at C = I (here W(I) = {value[0]:.4g} J m-3 against the stiffness "
+                      f"{scale:.4g} Pa: mu/2 (I1 - 3) written without its -3?)")
         elif not (mu >= 0 and lam + mu > 0):  # mu = 0: a fluid-like wall, whose ellipticity is not checked
             reason = f"a stable natural state: mu >= 0 and lambda* + mu > 0 at C = I (here {mu:.4g} and {lam + mu:.4g} Pa)"
         else:
             return scale
-        raise ParameterError.not_a("energy", self.name, reason, "energies finite, stress-free and stable (mu >= 0, "
-                                   "lambda* + mu > 0) at C = I", hint=f"thickness = {self.thickness}")
+        raise ParameterError.not_a("energy", self.name, reason, "energies finite, zero, stress-free and stable (mu >= "
+                                   "0, lambda* + mu > 0) at C = I", hint=f"thickness = {self.thickness}")
 
     def _check_plane_stress(self, scale):
         """Plane stress: the solve and the fewest of its unrolled steps (2 to 32) that solve ``dW/dC_22 = 0`` to 1e-9

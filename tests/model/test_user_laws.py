@@ -129,6 +129,10 @@ def test_a_ctrl_c_inside_the_energy_function_is_not_its_failure(kind):
     # linear in C: the natural state is stressed (1.5 mu in every direction, the director holding the thickness)
     (lambda C, p: 1.5 * p["mu"] * (ca.trace(C) - 3), {"mu": 1e5}, "director", "is not a stress-free natural state"),
     (lambda C, p: ca.sqrt(-ca.trace(C)), {}, "plane-stress", "is not an energy finite near C = I"),
+    # an offset (mu/2 I1 without its -3): stress-free and stable, but every stored energy was off by it (1.23 J at
+    # rest on the sphere at h = 0.01), and the energy balance's tolerance scaled with it
+    (lambda C, p: 5.0 + neo_hookean(C, p), {"mu": 1e5}, "incompressible",
+     "is not an energy that is 0 at C = I (here W(I) = 5 J m-3"),
 ])
 def test_a_law_whose_natural_state_is_stressed_unstable_or_not_finite_is_refused_where_it_is_made(
         energy, parameters, thickness, words):
