@@ -260,8 +260,10 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     omega_max, damping = checked_spectrum(scene, system, y0)
     if integrator == "leapfrog":
         dt = method.dt
-        if dt * omega_max >= 1.0:
-            raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound 1/max|eig J(y0)|")
+        if dt * omega_max >= 1.0:  # the default dt named as the default (E = 1e300 was said as a dt never given)
+            raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound 1/max|eig J(y0)|"
+                                 + ("" if dt_given else "; the default dt: the scene's stiffness, mass and grid set "
+                                    "the bound; give a smaller dt or an implicit integrator"))
         for key in [k for k in LOADS + DRIVES if k != "drag" and getattr(scene, k, 0)]:  # each history within dt's reach
             note = check_leapfrog_history(f"{key}_history", getattr(scene, f"{key}_history"), dt, rate=key in DRIVES)
             if note:

@@ -238,3 +238,12 @@ def test_workers_with_the_serial_scheduler_says_what_workers_is_for(tmp_path, ca
     assert one_error(capsys) == ("workers = 2 applies to local processes (scheduler None, the default), not to "
                                  "scheduler = 'serial', which runs every case in this process; allowed: 1 or None "
                                  "(left out) with scheduler = 'serial'")
+
+
+def test_a_stiffness_out_of_the_default_steps_reach_says_the_step_was_the_default(tmp_path, capsys):
+    """E = 1e300 was refused as "dt = 1e-06 is outside (0, 2.019e-151) s", a dt the user never gave: the line now
+    says it is the default, set against the scene's stiffness, mass and grid."""
+    assert main(["run", "sphere", "--n", "9", "--t-end", "1e-4", "--set", "E=1e300", "-o", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("mol-shell: error: dt = 1e-06 is outside (0, ") and \
+        "the default dt: the scene's stiffness, mass and grid set the bound" in err[0], err

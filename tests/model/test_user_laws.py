@@ -394,3 +394,4 @@ def test_a_motion_that_leaves_the_laws_domain_stops_naming_the_law_the_time_and_
     assert float(said.group(1)) > 0.001
     for stretch in map(float, said.groups()[1:]):
         assert abs(stretch - math.sqrt(0.95)) < 0.005, err
+
