@@ -159,7 +159,7 @@ def _gather(scene, dims, coords, cases, results, parameter):
     kind = np.full(shape + (count,), "", dtype=object)
     family = np.full(shape + (count,), "", dtype=object)
     value = np.full(shape + (count,), np.nan)
-    located = np.zeros(shape + (count,), dtype=np.int8)
+    located = np.full(shape + (count,), -1, dtype=np.int8)  # -1 past a case's last point (0 is "not located")
     margin = np.full(shape + (count,), np.nan)
     reactions = {}  # point_end*_reaction_*: where some case's edges hold z or chi (NaN in the others)
     status = np.full(shape, "", dtype=object)
@@ -202,7 +202,8 @@ def _gather(scene, dims, coords, cases, results, parameter):
                             "point (NaN past a case's last point)"}),
         "point_family": (sdims + ("point",), family.astype(str), {"long_name": "family of the critical mode"}),
         "point_located": (sdims + ("point",), located, {"units": "1", "long_name":
-                          "1 where the point was located to the path's tolerance"}),
+                          "1 where the point was located to the path's tolerance, 0 where not (-1 past a case's "
+                          "last point)"}),
         "point_ellipticity_margin": (sdims + ("point",), margin, {"units": "1", "long_name":
                                      "ellipticity margin at the critical point (not positive: the point is the grid's)"}),
     }
@@ -224,5 +225,7 @@ def _gather(scene, dims, coords, cases, results, parameter):
     ds = xr.Dataset(data, coords=coord_vars, attrs=attrs)
     for name, fill in fills.items():
         ds[name].encoding["_FillValue"] = fill
+    if (located < 0).any():  # a case with fewer points: declared, read as NaN there (as a study's counts)
+        ds["point_located"].encoding["_FillValue"] = np.int8(-1)
     label_coords(ds, coords, dims)  # the varied parameters' long names, as a study of runs has them
     return ds

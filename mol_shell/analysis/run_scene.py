@@ -32,6 +32,8 @@ ALWAYS = ("dt", "rtol", "atol")
 #: the built-in law a run's scene is made with in place of a law of one's own to write it as text (:func:`text_scene`:
 #: no scene check depends on the law beyond the range of ``nu``, which is a law of one's own's too)
 STAND_IN = "svk"
+#: what ``mol-shell scenes FILE --toml`` reads (:func:`read_run_toml`): a path file is written back as its scene too
+RUN_OR_PATH_FILE = "a netCDF file written by mol-shell run or mol-shell path"
 
 
 def run_scene(ds, name="FILE"):
@@ -164,7 +166,7 @@ def run_toml(ds, name="FILE", source=None):
     return scene_toml(scene, run=run, notes=notes, values=values)
 
 
-def read_run_toml(filename, name="file"):
+def read_run_toml(filename, name="FILE"):
     """:func:`run_toml` of the run file ``filename`` (:func:`path_toml` of a path file), refused naming ``name`` where
     it is neither (a scene file ``FILE.toml`` said as one: :func:`refuse_scene_file`)."""
     refuse_scene_file(filename, name)
@@ -172,7 +174,7 @@ def read_run_toml(filename, name="file"):
         return path_toml(read_path(filename, name), str(filename))
     except ParameterError:  # not a path (of a registered scene): read as a run, and refused as one
         pass
-    ds = read_run(filename, name=name)
+    ds = read_run(filename, name=name, allowed=RUN_OR_PATH_FILE, what="a mol_shell run or path file")
     try:
         return run_toml(ds, name, str(filename))
     except ParameterError as exc:  # a run of an earlier version whose scene this one refuses: said with the file
@@ -180,13 +182,13 @@ def read_run_toml(filename, name="file"):
                              f"refused by this version ({ds.attrs.get('mol_shell_version', '?')} wrote it): {exc}") from None
 
 
-def refuse_scene_file(filename, name="file"):
+def refuse_scene_file(filename, name="FILE"):
     """Refuse, naming ``name``, a scene file ``FILE.toml`` given where a run file is wanted (``mol-shell scenes
     FILE.toml --toml``, which writes a run file back as a scene file): it was said as "not a mol_shell run file (not
     a netCDF file)", naming the usage line's placeholder ``NAME``. Anything else passes (a run file is read as one)."""
     text = str(filename)
     if text.lower().endswith(".toml") and os.path.isfile(os.path.expanduser(text)):
-        raise ParameterError.invalid(name, text, "is a scene file (TOML), not a run file", RUN_FILE,
+        raise ParameterError.invalid(name, text, "is a scene file (TOML), not a run file", RUN_OR_PATH_FILE,
                                      hint=f"--toml writes a run file back as a scene file; mol-shell run {text} "
                                      "runs a scene file")
 

@@ -180,7 +180,7 @@ def cmd_scenes(args):
     allowed = "a scene in {" + ", ".join(sorted(SCENES)) + "} or a run file RUN.nc (with --toml)"  # as docs/cli.md
     odd = not_regular(args.name) if args.name not in SCENES else None
     if odd is not None:  # a directory, a named pipe (never opened: reading one waited for a writer), a device
-        raise ParameterError.invalid("file", args.name, odd, allowed)
+        raise ParameterError.invalid("FILE", args.name, odd, allowed)
     if args.name not in SCENES and (os.path.splitext(args.name)[1].lower().lstrip(".") in NETCDF_SUFFIXES
                                     or os.path.isfile(args.name)):  # a run file: a scene file that runs it again
         refuse_scene_file(args.name)  # a scene file FILE.toml, with --toml or without: said as one
@@ -190,7 +190,7 @@ def cmd_scenes(args):
         print(read_run_toml(args.name), end="")
         return 0
     if args.name not in SCENES and (os.sep in args.name or os.path.splitext(args.name)[1]):  # a file, not there
-        raise ParameterError.invalid("file", args.name, "does not exist", allowed)
+        raise ParameterError.invalid("FILE", args.name, "does not exist", allowed)
     if args.name not in SCENES:
         raise ParameterError("scene", args.name, "{" + ", ".join(sorted(SCENES)) + "} (or a run file RUN.nc, "
                              "with --toml)")

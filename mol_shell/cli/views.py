@@ -105,6 +105,6 @@ def cmd_animate(args):
     with said_as_options():  # an unknown --field is refused before anything is drawn
         count = animate(ds, args.output, args.field, n_phi=args.n_phi, fibres=args.fibres, fps=args.fps,
                         width=args.width)
-    chosen = f", {default_field(ds)[1]}" if args.field is None else ""
+    chosen = f", {default_field(ds)[1]}" if args.field is None else f", coloured by {args.field}"  # as asked
     print(f"wrote {args.output}: {plural(count, 'frame')}{chosen}{said_incomplete(ds)}")
     return 0

@@ -24,6 +24,8 @@ carries a comment saying so (:func:`mark`).
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import os
 from pathlib import Path
 from xml.etree import ElementTree as ET
@@ -193,14 +195,18 @@ def companion_files(path, steps):
     return [path.with_name(f"{path.stem}_{k:04d}.vtu") for k in range(steps)]
 
 
-def write_xdmf(path, times, cells, reference, steps):
+def write_xdmf(path, times, cells, reference, steps, stop=lambda: False):
     """XDMF 3 temporal collection through :class:`meshio.xdmf.TimeSeriesWriter`: the reference mesh once, then
     each step's point and cell data (``displacement`` among them); data in ``<stem>.h5``, compressed.
 
     The HDF5 file is written through a :class:`~mol_shell._core.write_aside.WriteAside` (what meshio would open by its
     name): on a full disk HDF5 never sees a failed write, so its objects close cleanly (they retried the write at
     every release, thousands of tracebacks, then a segmentation fault at exit), and the failure is raised at the next
-    step (the staging, :func:`mol_shell._core.atomic.staged`, says it in one line naming ``-o``)."""
+    step (the staging, :func:`mol_shell._core.atomic.staged`, says it in one line naming ``-o``).
+
+    ``stop()`` is asked before each step: true (a Ctrl-C noted, :func:`export`), the writing stops there, HDF5 closes its
+    file, and ``KeyboardInterrupt`` is raised after (never where h5py calls Python: it printed ``Exception ignored``
+    and the process died of a segmentation fault)."""
     import h5py
     import meshio
 
@@ -215,9 +221,13 @@ def write_xdmf(path, times, cells, reference, steps):
             writer.write_points_cells(reference, cells)
             data.check()
             for t, (_, point_data, cell_data) in zip(times, steps):
+                if stop():
+                    break
                 writer.write_data(repr(float(t)), point_data=point_data, cell_data=cell_data)
                 data.check()  # a full disk ends the export here
         data.check()  # what HDF5 flushed at its close
+    if stop():  # the HDF5 file is closed: the staging discards it
+        raise KeyboardInterrupt
     writer.__exit__(None, None, None)  # the XDMF file (the HDF5 file is closed already: closing it again is nothing)
     return [path, h5_path]
 
@@ -275,13 +285,22 @@ def export(ds, path, n_phi=N_PHI, faces=False):
     keep_inputs({"ds": source}, [path, *companion_files(path, ds.sizes["time"])], "path", path)
     suffix = path.suffix.lower().lstrip(".")
     cells, reference, steps = mesh_series(ds, n_phi, faces)
-    writer = write_xdmf if suffix == "xdmf" else write_pvd
-    with staged(path) as stage:
-        written = writer(stage / path.name, ds["time"].values, cells, reference, steps)
-        if incomplete_note(ds.attrs):  # the series of a run that stopped early says so, as its figures do
-            mark(stage / path.name, f"mol_shell run of scene {ds.attrs.get('scene', '')} "
-                 f"[{incomplete_note(ds.attrs)}]: its last saved time is where it stopped")
-    interrupts.wrote(path)  # an interrupt from here on: said after writing it (and its steps beside it)
+    # XDMF: a Ctrl-C is noted, not raised, while h5py writes (it calls Python, WriteAside, from C and as its objects
+    # are released: an interrupt raised there printed "Exception ignored" and ended in a segmentation fault, the
+    # staged files left); the writing stops at the next step, and the interrupt is raised once they are discarded
+    with interrupts.held() if suffix == "xdmf" else contextlib.nullcontext() as watch:
+        with staged(path) as stage:
+            if suffix == "xdmf":
+                written = write_xdmf(stage / path.name, ds["time"].values, cells, reference, steps,
+                                     stop=lambda: watch.caught)
+            else:
+                written = write_pvd(stage / path.name, ds["time"].values, cells, reference, steps)
+            if incomplete_note(ds.attrs):  # the series of a run that stopped early says so, as its figures do
+                mark(stage / path.name, f"mol_shell run of scene {ds.attrs.get('scene', '')} "
+                     f"[{incomplete_note(ds.attrs)}]: its last saved time is where it stopped")
+        interrupts.wrote(path)  # an interrupt from here on: said after writing it (and its steps beside it)
+        if suffix == "xdmf":
+            gc.collect()  # h5py's objects in reference cycles released here, where an interrupt is held back
     return [path.parent / f.name for f in written]
 
 

@@ -113,10 +113,12 @@ def path_note(attrs, last=None):
     the parameter at its last state."""
     if attrs.get("complete", 1):
         return ""
-    units = attrs.get("parameter_units", "")
-    where = f" at {attrs.get('parameter', 'the parameter')} = {last:.6g}" if last is not None else ""
+    units, name = attrs.get("parameter_units", ""), attrs.get("parameter", "the parameter")
+    message = attrs.get("message", "") or attrs.get("status", "stopped early")
+    # where the message says it already (an interrupt's "... at pressure = -744.21 Pa"), not said twice
+    where = f" at {name} = {last:.6g}" if last is not None and f" {name} = " not in f" {message}" else ""
     span = f" of its range {attrs['start']:g} to {attrs['stop']:g} {units}".rstrip() if "start" in attrs else ""
-    return f"ENDED SHORT: {attrs.get('message', '') or attrs.get('status', 'stopped early')}{where}{span}"
+    return f"ENDED SHORT: {message}{where}{span}"
 
 
 def wrapped_title(width, title, fontsize=10):

@@ -12,8 +12,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from mol_shell.analysis.run_scene import RUN_OR_PATH_FILE
 from mol_shell.cli.main import main
-from mol_shell.results.dataset import RUN_FILE, read_netcdf, write_netcdf
+from mol_shell.results.dataset import read_netcdf, write_netcdf
 
 SCENE = 'scene = "sphere"\n[parameters]\nh = -1\n'
 
@@ -26,7 +27,7 @@ def _error(capsys):
 def test_scenes_toml_of_a_scene_file_says_it_is_a_scene_file(tmp_path, capsys):
     path = tmp_path / "bad.toml"
     path.write_text(SCENE)
-    said = (f"mol-shell: error: file = '{path}' is a scene file (TOML), not a run file; allowed: {RUN_FILE} (--toml "
+    said = (f"mol-shell: error: FILE = '{path}' is a scene file (TOML), not a run file; allowed: {RUN_OR_PATH_FILE} (--toml "
             f"writes a run file back as a scene file; mol-shell run {path} runs a scene file)")
     for args in (["scenes", str(path), "--toml"], ["scenes", str(path)]):  # without --toml: not "give ... --toml"
         assert main(args) == 2
@@ -37,9 +38,10 @@ def test_scenes_toml_refusals_name_the_file_not_the_placeholder(tmp_path, capsys
     missing, other = tmp_path / "none.nc", tmp_path / "other.nc"
     write_netcdf(xr.Dataset({"x": ("k", np.zeros(2))}), other)  # a netCDF file that is no run
     assert main(["scenes", str(missing), "--toml"]) == 2
-    assert _error(capsys) == [f"mol-shell: error: file = '{missing}' does not exist; allowed: {RUN_FILE}"]
+    assert _error(capsys) == [f"mol-shell: error: FILE = '{missing}' does not exist; allowed: {RUN_OR_PATH_FILE}"]
     assert main(["scenes", str(other), "--toml"]) == 2
-    said = f"mol-shell: error: file = '{other}' is not a mol_shell run file; allowed: {RUN_FILE} (it holds dims k)"
+    said = (f"mol-shell: error: FILE = '{other}' is not a mol_shell run or path file; allowed: {RUN_OR_PATH_FILE} "
+            "(it holds dims k)")  # a path file is written back as a scene file too
     assert _error(capsys) == [said]
 
 
@@ -73,7 +75,7 @@ def test_scenes_of_a_file_that_is_not_there_says_so(tmp_path, capsys):
     missing = str(tmp_path / "missing.toml")
     assert main(["scenes", missing]) == 2
     err = capsys.readouterr().err
-    assert err == f"mol-shell: error: file = {missing!r} does not exist; allowed: a scene in {{axisymmetric, cone, " \
+    assert err == f"mol-shell: error: FILE = {missing!r} does not exist; allowed: a scene in {{axisymmetric, cone, " \
         "meridian, sphere, spinning-ring, torus, twisted-cylinder, unshearable, vessel} or a run file RUN.nc " \
         "(with --toml)\n"  # what scenes takes (docs/cli.md): a scene file is refused as one, not a run file
     assert main(["scenes", "spheer"]) == 2 and "scene = 'spheer' is outside" in capsys.readouterr().err
@@ -92,7 +94,7 @@ def test_a_run_file_whose_scene_this_version_refuses_is_named(tmp_path, capsys):
     mol_shell.write_netcdf(ds, path)
     assert main(["scenes", str(path), "--toml"]) == 2
     err = capsys.readouterr().err
-    assert err.startswith(f"mol-shell: error: file = {str(path)!r}: the run's scene is refused by this version") \
+    assert err.startswith(f"mol-shell: error: FILE = {str(path)!r}: the run's scene is refused by this version") \
         and "alpha2" in err and len(err.strip().splitlines()) == 1, err
     assert main(["scenes", str(tmp_path)]) == 2 and "is a directory" in capsys.readouterr().err
 

@@ -87,7 +87,7 @@ def test_a_device_as_points_or_as_the_scene_file_is_refused_before_it_is_read(tm
     zero.symlink_to("/dev/zero")
     assert _refused(capsys, ["run", zero, *options]) == (f"{zero}: the scene file is a character device, not a "
                                                          "regular file; allowed: a TOML file of at most 64 MB")
-    assert _refused(capsys, ["scenes", zero]) == (f"file = '{zero}' is a character device, not a regular file; "
+    assert _refused(capsys, ["scenes", zero]) == (f"FILE = '{zero}' is a character device, not a regular file; "
                                                   f"allowed: a scene in {SCENES} or a run file RUN.nc (with --toml)")
 
 
@@ -163,12 +163,12 @@ def test_scenes_says_what_it_takes_alike_for_a_scene_file_a_missing_file_and_a_p
     ``scenes FILE.toml`` refuses as "a scene file (TOML), not a run file"."""
     allowed = f"allowed: a scene in {SCENES} or a run file RUN.nc (with --toml)"
     missing = tmp_path / "nosuch.toml"
-    assert _refused(capsys, ["scenes", missing]) == f"file = '{missing}' does not exist; {allowed}"
+    assert _refused(capsys, ["scenes", missing]) == f"FILE = '{missing}' does not exist; {allowed}"
     torus = EXAMPLES / "torus_gravity.toml"
-    assert f"file = '{torus}' is a scene file (TOML), not a run file" in _refused(capsys, ["scenes", torus])
+    assert f"FILE = '{torus}' is a scene file (TOML), not a run file" in _refused(capsys, ["scenes", torus])
     with _fifo(tmp_path / "run.nc") as opened:
         err = _refused(capsys, ["scenes", tmp_path / "run.nc", "--toml"])
-    assert not opened and err == f"file = '{tmp_path / 'run.nc'}' is a named pipe (FIFO), not a regular file; {allowed}"
+    assert not opened and err == f"FILE = '{tmp_path / 'run.nc'}' is a named pipe (FIFO), not a regular file; {allowed}"
 
 
 def test_material_parameters_are_numbers_as_every_numeric_parameter(tmp_path, capsys):

@@ -15,6 +15,7 @@ import mol_shell
 from mol_shell.analysis.path_study import path_study
 from mol_shell.cli.main import main
 from mol_shell.views.fibres import fibres_figure
+from mol_shell.views.figures import path_note
 from mol_shell.views.history import history_figure
 from mol_shell.views.path_plot import path_figure
 from mol_shell.views.path_study_plot import path_study_figure
@@ -139,3 +140,15 @@ def test_a_study_of_paths_marks_the_cases_that_ended_short():
             f"{got[1]})]") in title, title
     assert sorted(float(segment[0][0]) for segment in marks) == [0.3, 0.35]  # a dotted line at each case
     assert labels.count("max_steps") == 2
+
+
+def test_an_interrupted_path_s_note_says_where_it_stopped_once():
+    """The interrupt's message says where already: the figure's title said it twice ("... at pressure = -744.21 Pa
+    at pressure = -744.21 of its range ..."). A path that ran out of steps says where from the last state."""
+    attrs = {"complete": 0, "status": "interrupted", "parameter": "pressure", "parameter_units": "Pa", "start": 0.0,
+             "stop": -1000.0, "message": "interrupted by the user at pressure = -744.21 Pa"}
+    assert path_note(attrs, -744.21) == ("ENDED SHORT: interrupted by the user at pressure = -744.21 Pa of its range "
+                                         "0 to -1000 Pa")
+    attrs.update(status="max_steps", message="stopped after max_steps = 2 steps")
+    assert path_note(attrs, -744.21) == ("ENDED SHORT: stopped after max_steps = 2 steps at pressure = -744.21 of its "
+                                         "range 0 to -1000 Pa")

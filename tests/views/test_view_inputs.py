@@ -181,7 +181,7 @@ def test_the_animation_is_coloured_by_default_by_a_field_that_moves(runs, tmp_pa
     assert main(argv) == 0
     assert capsys.readouterr().out == f"wrote {out}: 3 frames, coloured by r_displacement (chi does not vary)\n"
     assert main([*argv[:-2], "--field", "chi", "-o", str(out)]) == 0
-    assert capsys.readouterr().out == f"wrote {out}: 3 frames\n"
+    assert capsys.readouterr().out == f"wrote {out}: 3 frames, coloured by chi\n"  # as asked: said too
     assert main(["animate", "--help"]) == 0
     assert "default: the first of chi, r_displacement, z_displacement, theta, psi that varies" in \
         " ".join(capsys.readouterr().out.split())
