@@ -225,8 +225,8 @@ def test_a_material_with_a_built_in_name_is_refused_when_made():
                                           "allowed: thickness, material, E, nu,")),
     ("colour = 'red'", "[[layer]] 2 (from the lower face): unknown key colour; allowed: thickness, material,"),
     # its own range said once ("allowed: {1, 2}; allowed: thickness ..." said two ranges)
-    ("material = 'svk'\nfibre_families = 1.5", "[[layer]] 2 (from the lower face): fibre_families = 1.5 is not an integer; allowed: "
-                             "{1, 2}\x00")])
+    ("material = 'svk'\nfibre_families = 1.5",
+     "[[layer]] 2 (from the lower face): fibre_families = 1.5 is not an integer; allowed: {1, 2}\x00")])
 def test_a_layer_tables_bad_key_is_named_with_its_table(tmp_path, capsys, line, expected):
     """A [[layer]] table's ``material = 3`` was blamed on ``[material] material``, and ``material_parameters`` (or any
     unknown key) on the layers string ("cannot read ..."): named now with the table, counted from the lower face."""
