@@ -303,8 +303,8 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     if not (isinstance(vary, dict) or (isinstance(vary, (list, tuple)) and all(isinstance(c, dict) for c in vary))):
         raise ParameterError.not_a("vary", vary, "a dict or a list of dicts",
                                    "{name: [values, ...]} (a grid), or [{name: value, ...}, ...] (cases)")
-    varied = set(vary) if isinstance(vary, dict) else {name for case in vary for name in case}
-    for name in sorted(varied & set(options)):  # the varied values won silently (the command line refuses it)
+    varied = set(vary) if isinstance(vary, dict) else set()  # a list's cases leaving one out take the keyword's
+    for name in sorted(varied & set(options)):  # on a grid the varied values won silently (the command line refuses it)
         raise ParameterError.invalid(name, options[name], f"is set while vary[{name!r}] varies it",
                                      "a keyword not in vary (give it in one place)")
     check_workers(workers, scheduler)

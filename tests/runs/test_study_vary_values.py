@@ -115,5 +115,6 @@ def test_a_keyword_that_vary_also_varies_is_refused_as_the_command_line_refuses_
         mol_shell.study(mol_shell.TwistedCylinder(), {"dt": [1e-6, 2e-6]}, "leapfrog", n=21, t_end=0.002,
                         dt=4e-6, scheduler="serial")
     with pytest.raises(mol_shell.ParameterError, match=r"^rtol = 1e-06 is set while vary\['rtol'\] varies it"):
-        mol_shell.study(mol_shell.TwistedCylinder(), [{"rtol": 1e-8}], "dop853-c", n=21, t_end=0.002,
+        mol_shell.study(mol_shell.TwistedCylinder(), {"rtol": [1e-8]}, "dop853-c", n=21, t_end=0.002,
                         rtol=1e-6, scheduler="serial")
+    # a list of cases: the keyword is the value of the cases that leave it out (tests/runs/test_study.py)
