@@ -352,10 +352,10 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         :func:`~mol_shell.analysis.path_start.path_start` gives its scene, ``n`` and fields;
         :func:`~mol_shell.analysis.path_continue.continue_path` does it all). The path leaves it towards ``stop``,
         or along ``heading``.
-    heading : tuple, optional
-        With ``initial``: ``(fields, value)``, the state before it on its path and its load; the path leaves
-        ``initial`` the way its displacements went from it (past a limit point the load may at first move away
-        from ``stop``). A path so continued is not ended for coming back past ``start``.
+    heading : array_like, optional
+        With ``initial``: the fields ``(5, n)`` of the state before it on its path; the path leaves ``initial`` the
+        way its displacements went from that state (past a limit point the load may at first move away from
+        ``stop``). A path so continued is not ended for coming back past ``start``.
     scales : tuple, optional
         ``(displacements' factor over the shell's lengths, load's scale)``: an earlier path's arclength scales
         (attrs ``arclength_displacement_scale``, ``arclength_load_scale``), so that its continuation steps as it did;

@@ -2,8 +2,8 @@
 
 A path that ended short of where it is wanted (``max_steps``, a stop too near, a corrector that failed at a hard
 spot) is continued from a step of its file rather than traced again: the step's state is the start (Newton
-polishes it); towards a ``stop`` on from the step the way the path went, the chord from the step before orients the
-first tangent (so a path past a limit point goes on along its branch instead of turning back towards the fold),
+polishes it); towards a ``stop`` on from the step the way the path went, the displacements since the step before
+orient the first tangent (so a path past a limit point goes on along its branch instead of turning back to the fold),
 towards one back towards its start the tangent heads for ``stop``; and the scene is the path's own (its name and
 parameters from the file's attrs, :func:`~mol_shell.analysis.path_start.path_scene`). The continuation is a path of
 its own: its step 0 is the step it left, its critical points those it meets from there.
@@ -24,8 +24,8 @@ from mol_shell.model.kinematics import FIELDS
 
 def onwards(source, value, stop):
     """Whether ``stop`` lies on from the load ``value`` the way path ``source`` went (from its ``start`` towards its
-    ``stop``): then the continuation goes on as the path went (the chord from the step before, which past a fold
-    leads away from ``stop`` at first, on along the branch); else it heads for ``stop`` (back towards the start:
+    ``stop``): then the continuation goes on as the path went (the way its displacements went from the step before,
+    which past a fold leads away from ``stop`` at first, on along the branch); else it heads for ``stop`` (back towards the start:
     along the chord it ran away until ``max_steps``)."""
     start = float(source.attrs.get("start", source.parameter.values[0]))
     end = float(source.attrs.get("stop", source.parameter.values[-1]))
@@ -87,8 +87,8 @@ def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, 
     value = float(source.parameter.values[k])
     scene = path_scene(source, float(source.attrs.get("parameter_scene_value", 0.0)), names)
     heading = None
-    if k > 0 and onwards(source, value, stop):  # the chord from the step before orients the first tangent
-        heading = (np.stack([source[f].values[k - 1] for f in FIELDS]), float(source.parameter.values[k - 1]))
+    if k > 0 and onwards(source, value, stop):  # the step before orients the first tangent
+        heading = np.stack([source[f].values[k - 1] for f in FIELDS])
     out = path(scene, parameter, value, stop, n, steps=steps, max_steps=max_steps, ds=ds, branch=branch,
                initial=fields, heading=heading, scales=scales_of(source, names["ds"], shown), progress=progress)
     out.attrs["continued_from"] = f"{named}, step {k} of {count} ({parameter} = {value:.10g} {units})"

@@ -36,7 +36,7 @@ def first_state(tracer, start, initial, heading, scales, failed):
             raise ParameterError("start", start, "loads at which the shell has an equilibrium that Newton finds "
                                  "from the scene's initial state or by continuation from 0", hint=str(exc)) from None
     tracer.weigh(q, at, scales)
-    moved = None if heading is None else (q - eq.unknowns(_state(eq, heading[0], "heading")))[eq.keep]
+    moved = None if heading is None else (q - eq.unknowns(_state(eq, heading, "heading")))[eq.keep]
     if moved is not None and np.any(moved):
         return q, iterations, tracer.tangent(q, at, previous=(moved / tracer.q_scale, 0.0))
     return q, iterations, tracer.tangent(q, at)
@@ -49,5 +49,4 @@ def _state(eq, fields, name="initial"):
     except ParameterError as exc:
         if name == "initial":
             raise
-        raise ParameterError(name, exc.value, exc.allowed, message=str(exc).replace("initial", f"{name}[0]", 1)) \
-            from None
+        raise ParameterError(name, exc.value, exc.allowed, message=str(exc).replace("initial", name, 1)) from None

@@ -121,13 +121,8 @@ def loads_at_rest(scene, parameter):
 
 def check_start(initial, heading, scales):
     """Refuse a path's ``heading`` or ``scales`` that is not one (``initial``'s fields are checked as a state is)."""
-    if heading is not None:
-        if initial is None:
-            raise ParameterError("heading", "<given>", "None without initial (it orients the path from initial)")
-        if not (isinstance(heading, (tuple, list)) and len(heading) == 2 and is_number(heading[1])
-                and math.isfinite(heading[1])):
-            raise ParameterError("heading", "<given>", "(fields, value): the state before initial on its path, "
-                                 "(5, n) fields, and its load, a finite number")
+    if heading is not None and initial is None:  # its fields are checked as a state is, named heading
+        raise ParameterError("heading", "<given>", "None without initial (it orients the path from initial)")
     if scales is not None:
         values = list(scales) if isinstance(scales, (tuple, list, np.ndarray)) else None
         if values is None or len(values) != 2 or not all(is_number(v) and 0 < v < math.inf for v in values):
