@@ -122,8 +122,7 @@ def _continued(args):
                                  f"{allowed}") from None
         raise as_path_option(exc, args) from None
     ds.attrs["continued_from"] = ds.attrs["continued_from"].replace("<xarray.Dataset>", os.path.abspath(args.from_path))
-    step = source.sizes["step"] - 1 if args.step is None else args.step
-    return source.attrs["scene"], str(source.attrs["parameter"]), float(source.parameter[step]), args.stop, ds
+    return source.attrs["scene"], str(source.attrs["parameter"]), float(ds.parameter.values[0]), args.stop, ds
 
 
 def cmd_path(args):
