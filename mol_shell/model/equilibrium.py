@@ -67,10 +67,11 @@ def equilibrium_radius(scene, tol=1e-14, max_iter=200):
         value, slope = (float(x) for x in balance(R))
         return (value, slope) if math.isfinite(value) and math.isfinite(slope) else (math.nan, math.nan)
 
-    # the inner face on the axis; without a pressure the search goes on to the axis, and a root inside the wall's
+    # the inner face on the axis: the search stays inside the model first (a thick wall's held pressure past it is
+    # no physics: h = 0.49 of a neo-Hookean wall holds +1.4e8 Pa at r = 0.5, so halving from a stepped over the root
+    # at 0.9981 onto one at 0.123); without a pressure it then goes on to the axis, and a root inside the wall's
     # reach (a twist of 1e3 rad/m: R = 5.4e-6 m) is refused, naming what made it, by the caller's check of R
-    lowest = max(-zeta1, 0.0) if p else 0.0
-    lo, hi = _bracket(lambda R: held_at(R)[0], p, a, lowest, scene)
+    lo, hi = _bracket(lambda R: held_at(R)[0], p, a, max(-zeta1, 0.0), scene)
     R = a if lo <= a <= hi else 0.5 * (lo + hi)  # from a, an end of the bracket: Newton as before where it goes in
     last = math.inf
     for _ in range(max_iter):
@@ -97,7 +98,8 @@ def equilibrium_radius(scene, tol=1e-14, max_iter=200):
 
 def _bracket(held_at, p, a, lowest, scene):
     """``(lo, hi)`` with the wall holding less than ``p`` at ``lo`` and more at ``hi``, ``a`` one end: searched
-    outwards (doubling ``r``) where ``a`` holds less, inwards (halving ``r - lowest``) where it holds more. Neither
+    outwards (doubling ``r``) where ``a`` holds less, inwards (halving ``r - lowest``, ``lowest`` where the inner face
+    reaches the axis; then, without a pressure, halving ``r`` towards the axis) where it holds more. Neither
     found: refused, naming the pressure and the most (least) the wall holds where that is why, else (the numbers
     out of double precision first) as a twist without an equilibrium, which the caller diagnoses."""
     value = held_at(a)
@@ -108,17 +110,18 @@ def _bracket(held_at, p, a, lowest, scene):
     outward = value < p
     seen = [(value, a)]
     R = a
-    for _ in range(MAX_DOUBLINGS):
-        nearer = 2.0 * R if outward else lowest + 0.5 * (R - lowest)
-        if nearer == R or nearer <= lowest:
-            break
-        value = held_at(nearer)
-        if math.isnan(value):
-            break
-        if (value > p) == outward or value == p:
-            return (R, nearer) if outward else (nearer, R)
-        seen.append((value, nearer))
-        R = nearer
+    for stage in (lowest, 0.0) if not (outward or p) else (lowest,):  # inwards: the model's radii, then to the axis
+        for _ in range(MAX_DOUBLINGS):
+            nearer = 2.0 * R if outward else stage + 0.5 * (R - stage)
+            if nearer == R or nearer <= stage:
+                break
+            value = held_at(nearer)
+            if math.isnan(value):
+                break
+            if (value > p) == outward or value == p:
+                return (R, nearer) if outward else (nearer, R)
+            seen.append((value, nearer))
+            R = nearer
     levels_off = outward and len(seen) > 2 and seen[-1][0] - seen[-2][0] <= 1e-9 * abs(seen[-1][0])
     if not p or (outward and not levels_off):  # a push without end out of double precision (the energy overflows)
         raise ParameterError("gamma", scene.gamma, "twists for which a twisted cylinder has a radial equilibrium")
