@@ -11,7 +11,8 @@ same name at once. The temporary directory is ``.mol_shell.*.part`` instead wher
 for the file system (a name of 235 to 255 bytes), and a file name that is not UTF-8 (bytes a locale's file names may
 hold, which netCDF's library cannot encode) is written under a stand-in name there and renamed onto its own
 (:func:`atomic_path`), in a directory that is not UTF-8 through a symbolic link of a UTF-8 name (:func:`utf8_alias`).
-A write that fails for want of space raises :class:`NoSpaceError`, saying so, and leaves nothing behind.
+A write that fails for want of space raises :class:`NoSpaceError`, saying so, and leaves nothing behind; so does one
+that the process's limit on a file's size (``ulimit -f``, ``RLIMIT_FSIZE``: ``EFBIG``) cut short.
 """
 
 from __future__ import annotations
@@ -23,6 +24,11 @@ import secrets
 import shutil
 import tempfile
 from pathlib import Path
+
+try:
+    import resource
+except ImportError:  # pragma: no cover - Windows: no limit on a file's size
+    resource = None
 
 from mol_shell._core import interrupts
 from mol_shell._core.errors import ParameterError, show
@@ -90,12 +96,45 @@ def stand_in(path):
 
 
 class NoSpaceError(OSError):
-    """A file could not be written for want of space (``ENOSPC``, a quota's ``EDQUOT``, or a library's own error,
-    netCDF's ``NetCDF: HDF error``, on a file system left full): ``errno``, ``filename`` (the file that was to be
-    written) and a ``strerror`` that says so, how much space is left and that nothing was written."""
+    """A file could not be written for want of space (``ENOSPC``, a quota's ``EDQUOT``, a file larger than the
+    process may write, ``EFBIG``, or a library's own error, netCDF's ``NetCDF: HDF error``, on a file system left
+    full or a file at the size limit): ``errno``, ``filename`` (the file that was to be written) and a ``strerror``
+    that says so, how much space is left and that nothing was written."""
 
-    def __init__(self, path, reason):
-        super().__init__(errno.ENOSPC, f"{reason}; nothing was written", os.fspath(path))
+    def __init__(self, path, reason, code=errno.ENOSPC):
+        super().__init__(code, f"{reason}; nothing was written", os.fspath(path))
+
+
+def size_limit():
+    """The most bytes this process may write into one file (``ulimit -f``, the soft ``RLIMIT_FSIZE``), or ``None``
+    where there is no limit (or no way to ask: Windows)."""
+    if resource is None:
+        return None
+    try:
+        soft, _ = resource.getrlimit(resource.RLIMIT_FSIZE)
+    except (OSError, ValueError):
+        return None
+    return None if soft == resource.RLIM_INFINITY or soft < 0 else soft
+
+
+def too_large(exc, stage=None):
+    """Why ``exc``, raised writing the files in directory ``stage``, is the process's limit on a file's size
+    (``File too large (the file size limit, ulimit -f, is 204800 bytes)``), or ``None`` where it is not: an
+    ``EFBIG``, or an ``OSError`` or ``RuntimeError`` (netCDF's ``NetCDF: HDF error``, which keeps no errno) with a file
+    in ``stage`` that less than :data:`LOW_SPACE` bytes separate from the limit (a write cut short by the limit fills
+    the file up to it)."""
+    limit = size_limit()
+    said = os.strerror(errno.EFBIG) + (f" (the file size limit, ulimit -f, is {limit} bytes)" if limit else "")
+    if getattr(exc, "errno", None) == errno.EFBIG:
+        return said
+    if limit is None or stage is None or not isinstance(exc, (OSError, RuntimeError)):
+        return None
+    try:
+        largest = max((entry.stat(follow_symlinks=False).st_size for entry in os.scandir(stage)
+                       if entry.is_file(follow_symlinks=False)), default=0)
+    except OSError:
+        return None
+    return said if largest > limit - LOW_SPACE else None
 
 
 def no_space(exc, folder):
@@ -153,14 +192,18 @@ def staged(path, only=None):
                 os.replace(part, path.parent / part.name)
         fsync_path(path.parent, directory=True)
     except (OSError, RuntimeError) as exc:
-        _if_full(exc, path)  # before the temporary directory goes: it holds what filled the file system
+        _if_full(exc, path, stage)  # before the temporary directory goes: it holds what filled the file system
         raise
     finally:
         shutil.rmtree(stage, ignore_errors=True)
 
 
-def _if_full(exc, path):
-    """Raise :class:`NoSpaceError` (from ``exc``) where writing ``path`` failed for want of space."""
+def _if_full(exc, path, stage=None):
+    """Raise :class:`NoSpaceError` (from ``exc``) where writing ``path`` (in directory ``stage``) failed for want of
+    space, or at the process's limit on a file's size (:func:`too_large`)."""
+    large = too_large(exc, stage)
+    if large is not None:
+        raise NoSpaceError(path, large, errno.EFBIG) from exc
     full = no_space(exc, path.parent)
     if full is not None:
         raise NoSpaceError(path, full) from exc

@@ -1,8 +1,8 @@
 """Output paths, checked before anything is computed: a place that can be written, names the file system takes.
 
 Every command's ``-o`` (and the Python functions' ``path`` or ``output``) goes through :func:`writable_path` before
-the work starts, so a run is never lost to a file that could not be written at its end: its missing directories are
-created, and a directory where the file would stand, a suffix the writer does not write, a place without write
+the work starts, so a run is never lost to a file that could not be written at its end: a symbolic link is written
+through (its target replaced, :func:`link_target`), its missing directories are created, and a directory where the file would stand, a suffix the writer does not write, a place without write
 permission, or a name longer than its file system takes (:func:`check_lengths`) is refused in one line naming the
 parameter.
 """
@@ -48,6 +48,28 @@ def check_lengths(path, name="path", value=None, what=""):
                                      hint="give a shorter path")
 
 
+#: the most symbolic links :func:`link_target` follows (Linux's ``MAXSYMLINKS``)
+MAX_LINKS = 40
+
+
+def link_target(path, name="path"):
+    """``path``, or where it is a symbolic link, the file it points to (its links followed, each relative to its own
+    folder), which a write replaces, as a shell's ``>`` writes through a link: the atomic rename onto the link's name
+    replaced the link by a regular file and left its target with the old data, and a dangling link was refused as
+    ``cannot be written (File exists)``. A chain of more than :data:`MAX_LINKS` links (a loop) is refused naming
+    ``name``."""
+    given = path = Path(path)
+    for _ in range(MAX_LINKS):
+        try:
+            if not os.path.islink(path):
+                return path
+            path = path.parent / os.readlink(path)
+        except OSError:  # a folder on the way that cannot be read: the probe of writable_path says why
+            return path
+    raise ParameterError.invalid(name, str(given), f"is a chain of more than {MAX_LINKS} symbolic links (a loop)",
+                                 ALLOWED)
+
+
 def writable_path(path, name="path", suffixes=None, created=None):
     """Check, before anything is computed, that ``path`` can be written; create its missing directories.
 
@@ -81,13 +103,17 @@ def writable_path(path, name="path", suffixes=None, created=None):
         raise ParameterError.not_a(name, path, "a file path", allowed)
     path = Path(os.fspath(path)).expanduser()
     check_lengths(path, name)  # before any look at the path: the system refuses a name too long there too
+    given, path = path, link_target(path, name)  # a symbolic link: its target written (a dangling link's created)
+    link = f"is a symbolic link to {str(path)!r}, which " if path != given else ""
+    if link:
+        check_lengths(path, name, given, link.removesuffix(", which "))
     if os.path.isdir(path):
-        raise ParameterError.invalid(name, str(path), "is a directory", allowed)
+        raise ParameterError.invalid(name, str(given), f"{link}is a directory", allowed)
     if suffixes is not None:
         suffix = path.suffix.lower().lstrip(".")
         if suffix not in suffixes:
-            raise ParameterError.invalid(name, str(path), f"ends in .{suffix}, a kind of file this command does not write"
-                                         if suffix else "has no suffix",
+            raise ParameterError.invalid(name, str(given), f"{link}ends in .{suffix}, a kind of file this command does "
+                                         "not write" if suffix else f"{link}has no suffix",
                                          "a file ending in one of ." + ", .".join(sorted(suffixes)))
     folder = path.parent
     above = up_out_of(path)  # sub/../x.nc without sub: the system's refusal (open), not "cannot create 'sub/..'"

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import errno
 import os
+import re
 import stat
 
 #: the largest file a command reads as a user's text (a scene file, a table of points): 64 MB holds some two million
@@ -46,6 +47,44 @@ def not_regular(path):
     except (OSError, ValueError):
         return None
     return None if stat.S_ISREG(mode) else f"is {_kind(mode)}, not a regular file"
+
+
+#: a byte of a file name that is not UTF-8, as :func:`name_text` writes it (``\\xfc``)
+_ESCAPED_BYTE = re.compile(r"\\x([89a-f][0-9a-f])")
+
+
+def name_text(text):
+    """``text`` as UTF-8 can hold it (a netCDF attribute, a scene file): a file name's bytes that are not UTF-8 (held
+    as surrogates, ``'lat\\udcfc.txt'``: netCDF4 refused them with a ``UnicodeEncodeError`` after the run) as
+    ``\\xfc``, the escape Python writes for them (``os.fsencode``, then ``backslashreplace``); ``text`` itself where
+    it is UTF-8. :func:`name_from_text` reads such a name back."""
+    try:
+        text.encode("utf-8")
+    except UnicodeEncodeError:
+        return os.fsencode(text).decode("utf-8", "backslashreplace")
+    return text
+
+
+def name_from_text(text):
+    """The file name ``text`` holds (:func:`name_text`): ``text`` where a file of that name exists, else its escaped
+    bytes (``\\xfc``) back as the name's own where a file of that name exists; ``text`` otherwise."""
+    if not isinstance(text, str) or not _ESCAPED_BYTE.search(text) or os.path.lexists(text):
+        return text
+    name = _ESCAPED_BYTE.sub(lambda m: chr(0xDC00 + int(m[1], 16)), text)
+    return name if os.path.lexists(name) else text
+
+
+def absent(path):
+    """Why no file can be read at ``path``: ``"does not exist"`` (nor its folder), ``"cannot be read (File name too
+    long)"`` where the system refuses to look (a name longer than its file system takes: ``Path.exists`` raised that,
+    an internal error), or ``None`` where something is there."""
+    try:
+        os.stat(path)
+    except (FileNotFoundError, NotADirectoryError):
+        return "does not exist"
+    except (OSError, ValueError) as exc:
+        return f"cannot be read ({getattr(exc, 'strerror', None) or exc})"
+    return None
 
 
 def read_user_file(path, limit=MAX_USER_FILE_BYTES):

@@ -21,11 +21,13 @@ from pathlib import Path
 import numpy as np
 
 from mol_shell._core.errors import ParameterError, is_number, kind_of
+from mol_shell._core.user_files import absent, name_from_text
 from mol_shell.model.edges import EDGE_PARAMETERS
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.laws import renamed_law, renamed_layers
 from mol_shell.results.dataset import read_netcdf
 from mol_shell.scenes import SCENES, get_scene
+from mol_shell.scenes.files import FILE_KEYS
 
 ALLOWED = "a netCDF file written by mol-shell path"
 #: how :func:`path_start` names its parameters in its refusals: as Python's keywords, or as the command line's flags
@@ -43,9 +45,11 @@ def is_path(ds):
 def read_path(filename, name="--from"):
     """Read a path file; anything else is refused naming ``name``."""
     path = Path(os.fspath(filename)) if filename is not None and str(filename) else None
-    if path is None or not path.is_file():
-        raise ParameterError.invalid(name, str(filename), "is not a file" if path is None or path.exists() else
-                                     "does not exist", ALLOWED)
+    problem = "is not a file" if path is None else absent(path)  # a name too long: Path.is_file raised it
+    if problem is None and not path.is_file():
+        problem = "is not a file"
+    if problem:
+        raise ParameterError.invalid(name, str(filename), problem, ALLOWED)
     try:
         ds = read_netcdf(path)
     except (OSError, ValueError, RuntimeError):
@@ -72,7 +76,7 @@ def scene_params(ds):
     """``{name: value}``: the parameters of the scene of a path or run file ``ds`` (a registered scene's, its
     ``attrs["scene"]``) as they were asked for, from its attrs: those left to the code (``NAME_requested = "auto"``)
     ``None`` again, those run with the opposite sign (a vessel drawn down) as given, a law renamed since by its name
-    now."""
+    now, a file's name (a meridian's ``points``) stored escaped (its bytes that are not UTF-8) as its own again."""
     fields = {f.name for f in dataclasses.fields(SCENES[str(ds.attrs["scene"])])}
     params = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in ds.attrs.items() if k in fields}
     for k in fields & params.keys():  # left to the code when the path was traced (stored as the values used): again
@@ -82,6 +86,8 @@ def scene_params(ds):
         if f"{k}_requested" in ds.attrs:  # (a vessel's segments drawn down): as given, which the scene turns again
             given = ds.attrs[f"{k}_requested"]
             params[k] = given.item() if isinstance(given, np.generic) else given
+    for k in fields & params.keys() & set(FILE_KEYS):  # a file name that is not UTF-8: stored escaped (\xfc)
+        params[k] = name_from_text(params[k])
     version = ds.attrs.get("mol_shell_version", "")
     if "material" in params:  # a law renamed since the file was written: by its name now
         params["material"] = renamed_law(params["material"], version)

@@ -17,6 +17,7 @@ import numpy as np
 
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.user_files import name_text
 from mol_shell.analysis.path_start import read_path, scene_params
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.laws import MATERIALS
@@ -161,9 +162,13 @@ def run_toml(ds, name="FILE", source=None):
     if start.startswith("equilibrium path"):
         notes.append(f"# That run started from {start}: this file starts from the scene's own initial data.")
     then, now = str(ds.attrs.get("meridian", "")), scene.meridian().describe() if hasattr(scene, "meridian") else ""
-    if then and now and then != now:
+    if then and now and then != name_text(now):  # a file name not UTF-8: the attrs hold it escaped
         notes.append(f"# The meridian differs now (the run's: {then}; now: {now}).")
     return scene_toml(scene, run=run, notes=notes, values=values)
+
+
+#: the attributes of a run file without which :func:`run_toml` cannot write it back (its scene, its integrator)
+RUN_ATTRS = ("scene", "integrator")
 
 
 def read_run_toml(filename, name="FILE"):
@@ -175,11 +180,22 @@ def read_run_toml(filename, name="FILE"):
     except ParameterError:  # not a path (of a registered scene): read as a run, and refused as one
         pass
     ds = read_run(filename, name=name, allowed=RUN_OR_PATH_FILE, what="a mol_shell run or path file")
+    missing = [key for key in RUN_ATTRS if key not in ds.attrs]
     try:
+        if missing:
+            raise KeyError(missing[0])
         return run_toml(ds, name, str(filename))
+    except KeyError as exc:  # attrs dropped (a file saved again without them): KeyError 'integrator', a bug
+        missing = [key for key in RUN_ATTRS if key not in ds.attrs] or [str(exc.args[0] if exc.args else exc)]
+        them = "them" if len(missing) > 1 else "it"
+        raise ParameterError.invalid(name, str(filename), f"has no attribute {' or '.join(map(repr, missing))}: a run "
+                                     f"file without {them} cannot be written back as a scene file (saved again without "
+                                     "its attributes?)", RUN_OR_PATH_FILE) from None
     except ParameterError as exc:  # a run of an earlier version whose scene this one refuses: said with the file
+        version = ds.attrs.get("mol_shell_version")
+        who = f"{version} wrote it" if version is not None else "the file has no attribute 'mol_shell_version'"
         raise ParameterError(exc.name, exc.value, exc.allowed, message=f"{name} = {str(filename)!r}: the run's scene is "
-                             f"refused by this version ({ds.attrs.get('mol_shell_version', '?')} wrote it): {exc}") from None
+                             f"refused by this version ({who}): {exc}") from None
 
 
 def refuse_scene_file(filename, name="FILE"):

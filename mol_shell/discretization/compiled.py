@@ -197,14 +197,8 @@ def compile_cached(source, prefix, flags=CFLAGS, what=None, link=()):
                 with atomic_path(lib) as out:
                     run_compiler(["gcc", *flags, str(src), "-o", str(out), *link, "-lm"], what, len(source), flags)
                     kernel_cache.seal(out, key)
-        except subprocess.CalledProcessError as exc:
-            raise kernel_cache.compiler_failed(exc.returncode, exc.stderr, what, folder) from None
-        except FileNotFoundError as exc:
-            if exc.filename != "gcc":
-                raise
-            raise CompilerMissing(what) from None
-        except OSError as exc:
-            said = kernel_cache.said_by_cache(exc, folder, f"building {lib.name}")
+        except (subprocess.CalledProcessError, OSError) as exc:
+            said = kernel_cache.build_failed(exc, folder, what, lib.name)
             if said is None:
                 raise
             raise said from None

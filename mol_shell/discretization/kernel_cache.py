@@ -36,6 +36,7 @@ from pathlib import Path
 
 import casadi as ca
 
+from mol_shell._core.atomic import too_large
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.user_files import not_regular
 
@@ -137,8 +138,11 @@ def cache_dir():
 
 
 def said_by_cache(exc, folder, doing):
-    """A full disk, or a file the cache may not write, met while ``doing`` in ``folder``: the one-line
-    :func:`refusal`; ``None`` for another error (raised as it is)."""
+    """A full disk, a file larger than the process may write (``ulimit -f``), or a file the cache may not write, met
+    while ``doing`` in ``folder``: the one-line :func:`refusal`; ``None`` for another error (raised as it is)."""
+    if isinstance(exc, OSError) and exc.errno == errno.EFBIG:
+        return refusal(folder, f"cannot be written ({doing}: {too_large(exc)})",
+                       "a writable directory, and a file size limit (ulimit -f) that holds a library", CacheFull)
     if isinstance(exc, OSError) and exc.errno in _FULL:
         return refusal(folder, f"has no space left on device ({doing})", "a writable directory with free space",
                        CacheFull)
@@ -148,17 +152,37 @@ def said_by_cache(exc, folder, doing):
     return None
 
 
+def build_failed(exc, folder, what, name):
+    """The one-line error of a build of library ``name`` (of ``what``) in ``folder`` that ``exc`` stopped (gcc
+    failed, a file could not be written), or ``None`` for another error (raised as it is). A cache folder removed
+    during the build is said so, naming ``MOL_SHELL_CACHE`` (it surfaced as gcc's ``cannot open output file``, or a
+    ``FileNotFoundError`` sealing the library: an internal error)."""
+    if not os.path.isdir(folder):
+        return refusal(folder, f"vanished while {name} was built in it (removed during the build): nothing was cached",
+                       "a writable directory that stays while a run builds its kernels")
+    if isinstance(exc, subprocess.CalledProcessError):
+        return compiler_failed(exc.returncode, exc.stderr, what, folder)
+    if isinstance(exc, FileNotFoundError) and exc.filename == "gcc":
+        return CompilerMissing(what)
+    return said_by_cache(exc, folder, f"building {name}")
+
+
 def _tail(stderr):
-    """gcc's last lines (of ``stderr``, bytes) on one line, and whether they say that its disk is full."""
+    """gcc's last lines (of ``stderr``, bytes) on one line, and whether they say that its disk is full (or a file
+    grew past the process's size limit, ``ulimit -f``)."""
     lines = [line.strip() for line in (stderr or b"").decode(errors="replace").splitlines() if line.strip()]
     tail = " / ".join(line[:200] for line in lines[-3:]) or "no message"
-    return tail, any("No space left on device" in line or "Disk quota exceeded" in line for line in lines)
+    return tail, any(words in line for line in lines
+                     for words in ("No space left on device", "Disk quota exceeded", "File too large"))
 
 
 def compiler_failed(returncode, stderr, what, folder):
     """gcc exited with ``returncode``: a :class:`CompilerError` with the last lines of its ``stderr`` (bytes), or the
     cache's :func:`refusal` (:class:`CacheFull`) when it ran out of space."""
     tail, full = _tail(stderr)
+    if full and "File too large" in tail:
+        return refusal(folder, f"cannot be written (gcc building {what}: {too_large(OSError(errno.EFBIG, ''))}: {tail})",
+                       "a writable directory, and a file size limit (ulimit -f) that holds a library", CacheFull)
     if full:
         return refusal(folder, f"has no space left on device (gcc building {what}: {tail})",
                        "a writable directory with free space (gcc writes its temporary files to TMPDIR, too)", CacheFull)

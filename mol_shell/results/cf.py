@@ -10,6 +10,7 @@ import pandas as pd
 import xarray as xr
 from xarray.indexes import PandasIndex
 
+from mol_shell._core.user_files import name_text
 from mol_shell._core.version import __version__
 
 REFERENCE = "S. S. Antman and D. Bourne, Rotational symmetry vs. axisymmetry in shell theory, CASA-report 10-46 (2010)"
@@ -31,7 +32,10 @@ def header(title, comment=COMMENT, **attrs):
 
 
 def attr_value(value):
-    """netCDF attributes take numbers and strings only."""
+    """netCDF attributes take numbers and strings only; a string as UTF-8 text
+    (:func:`~mol_shell._core.user_files.name_text`: a file name's bytes that are not UTF-8 escaped)."""
+    if isinstance(value, str):
+        return name_text(value)
     if value is None:
         return "none"
     if isinstance(value, bool):

@@ -14,7 +14,7 @@ from mol_shell._core import interrupts
 from mol_shell._core.atomic import atomic_path, utf8_alias
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.paths import writable_path
-from mol_shell._core.user_files import UserFileError, not_regular
+from mol_shell._core.user_files import UserFileError, absent, name_text, not_regular
 from mol_shell.model.edges import IMPOSED
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.wall_parameters import law_attrs
@@ -363,7 +363,8 @@ def _netcdf_attrs(ds):
 
 
 def _plain(value):
-    return isinstance(value, (str, float)) or isinstance(value, int) and not isinstance(value, bool)
+    return isinstance(value, str) and name_text(value) is value or isinstance(value, float) or \
+        isinstance(value, int) and not isinstance(value, bool)
 
 
 def read_netcdf(path):
@@ -376,8 +377,11 @@ def read_netcdf(path):
         path = Path(os.fspath(path)).expanduser()
     except TypeError:
         raise ParameterError.not_a("path", path, "a file path", allowed) from None
-    if not str(path).strip() or not path.exists():
+    if not str(path).strip():
         raise ParameterError.invalid("path", str(path), "does not exist", allowed)
+    problem = absent(path)  # a name too long for the file system: Path.exists raised it
+    if problem:
+        raise ParameterError.invalid("path", str(path), problem, allowed)
     if path.is_dir():
         raise ParameterError.invalid("path", str(path), "is a directory", allowed)
     problem = not_regular(path)  # a named pipe nobody writes to: netCDF's open waited on it for ever
@@ -420,8 +424,9 @@ def read_run(path, name="FILE", allowed=RUN_FILE, what="a mol_shell run file"):
     path = Path(os.fspath(path)) if path is not None and str(path) else None
     if path is None:
         raise ParameterError.invalid(name, "", "is empty", allowed)
-    if not path.exists():
-        raise ParameterError.invalid(name, str(path), "does not exist", allowed)
+    problem = absent(path)  # a name too long for the file system: Path.exists raised it
+    if problem:
+        raise ParameterError.invalid(name, str(path), problem, allowed)
     if path.is_dir():
         raise ParameterError.invalid(name, str(path), "is a directory", allowed)
     problem = not_regular(path)  # a named pipe nobody writes to: netCDF's open waited on it for ever

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import hashlib
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -28,7 +29,22 @@ def check_cases_folder(output, name="output"):
     ``.nc`` becomes ``.cases``) is refused naming ``name = output``, before any case runs."""
     folder = cases_folder(output)
     check_lengths(folder / f"{'0' * KEY_LENGTH}.nc", name, output, what=f"keeps its finished cases in {folder.name!r}")
+    if folder.is_dir():
+        writable_cases(folder, output, name)
     return folder
+
+
+def writable_cases(folder, output, name="output"):
+    """Refuse, naming ``name = output`` (the study's ``-o``), a cases folder that cannot be written (a probe file:
+    permission bits do not tell), before any case runs: it was refused at the first case's write, naming an internal
+    ``path = '.../X.cases/8c4c....nc'``."""
+    try:
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise ParameterError.invalid(name, str(output), f"keeps its finished cases in {folder}/, which cannot be "
+                                     f"written ({exc.strerror or exc})", "an output beside which <stem>.cases/ is a "
+                                     "writable directory") from None
 
 
 class Store:
@@ -50,6 +66,7 @@ class Store:
             raise ParameterError.invalid("output", str(output), f"keeps its finished cases in {self.folder}/, where a "
                                          "file stands", "an output beside which <stem>.cases/ can be a directory "
                                          "(move that file away)") from None
+        writable_cases(self.folder, output)
         self.rejected = []  # (path, reason) of case files found unusable by load
 
     def path(self, task):

@@ -44,7 +44,7 @@ from pathlib import Path
 
 from mol_shell._core.constants import ATOL_MIN, FIELDS, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, flag, is_number, show
-from mol_shell._core.user_files import MAX_USER_FILE_TEXT, UserFileError, read_user_file
+from mol_shell._core.user_files import MAX_USER_FILE_TEXT, UserFileError, name_from_text, name_text, read_user_file
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared, real, refusal, typed_value
 from mol_shell.integrators.tolerances import MAX_STEP_NOTE
@@ -179,7 +179,7 @@ def _convert(cls, field, value, folder):
             raise ParameterError.invalid(field.name, value, f"starts with {value.split('/')[0]}, which is no user's "
                                          "home directory", "a file path, relative to the scene file's folder, or "
                                          "~/... in your home directory") from None
-        return str(path if path.is_absolute() else folder / path)
+        return name_from_text(str(path if path.is_absolute() else folder / path))  # a name not UTF-8: escaped
     if field.name == "material_parameters" and isinstance(value, dict):  # numbers, as E = "1e6" is refused
         for key, number in value.items():
             if not is_number(number):
@@ -449,6 +449,14 @@ NOTES = {
 }
 
 
+def comment_text(text):
+    """``text`` as one line of a TOML comment in UTF-8: a character that is not printable escaped as Python writes it
+    (a newline ``\\n``: a run file's name ``r\\nnu = 0.3`` set a key), a byte of a file name that is not UTF-8 (held
+    as a surrogate, ``'\\udce9'``, which no UTF-8 file can hold) as ``\\xe9``."""
+    return "".join(c if c.isprintable() else f"\\x{ord(c) - 0xDC00:02x}" if 0xDC80 <= ord(c) <= 0xDCFF
+                   else repr(c)[1:-1] for c in str(text))
+
+
 def scene_toml(scene, run=None, notes=(), values=None):
     """A scene (an instance, or a class for its defaults) as a commented scene file that :func:`load_scene` reads back.
 
@@ -469,7 +477,7 @@ def scene_toml(scene, run=None, notes=(), values=None):
     lines = [f"# {cls.name}: {doc}",
              "# A mol_shell scene file: mol-shell run THIS.toml -o out.nc (--set NAME=VALUE on top). Units: SI.",
              '# "auto" is computed (an edge: from the geometry; R, dilation: the equilibrium under the loads',
-             "# at t = 0).", *notes,
+             "# at t = 0).", *map(comment_text, notes),
              f'scene = "{cls.name}"']
     points = ["# points: a file of two columns r z (m), relative to this file"] if "points" in value else []
     comments = dict(NOTES, geometry=points)
@@ -478,7 +486,8 @@ def scene_toml(scene, run=None, notes=(), values=None):
         if names:
             lines += ["", f"[{table}]", *comments.get(table, [])]
         for name in names:
-            entry = f"{name} = {toml_value(value[name])}"
+            text = name_text(value[name]) if name in FILE_KEYS and isinstance(value[name], str) else value[name]
+            entry = f"{name} = {toml_value(text)}"  # a file name not UTF-8: escaped (\xfc), as TOML holds UTF-8
             note = _comment(name, cls) if not name.endswith("_history") else ""
             lines.append(f"{entry:34s} # {note}" if note else entry)
     if run is not None:
