@@ -32,6 +32,8 @@ import mol_shell
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.args import integer_arg, number_arg
 from mol_shell.cli.scripts import MIN_NODES, Stopped, output_folder, run_script, script_parser, simulate
+from mol_shell.runs import resources
+from mol_shell.views.figures import save_figure
 from mol_shell.views.plotting import plot_snapshots
 from mol_shell.results.study_store import summarize
 
@@ -42,6 +44,7 @@ QUICK = {"check_n": 0}  # --quick: no finer grid
 #: --dt's range beyond (0, FIELD_STEP]: the fields are saved every FIELD_STEP, at the leap-frog steps nearest, so a
 #: longer step saved fewer times than the figures take (--dt 1: only t = 0, which simulate refused naming ``times``)
 DT_NOTE = " (the fields' saved step; leap-frog's stability bound, which --n sets, is checked as the run starts)"
+NO_CHECK = "no finer grid"  # what --check-n 0 means
 
 
 def main(argv=None):
@@ -49,15 +52,18 @@ def main(argv=None):
     parser.add_argument("--n", type=integer_arg("--n", MIN_NODES), default=40, help="nodes (default 40)")
     parser.add_argument("--dt", type=number_arg("--dt", 0.0, FIELD_STEP, high_closed=True, unit="s", note=DT_NOTE),
                         default=1e-6, help=f"leap-frog step, s, at most {FIELD_STEP:g} (default 1e-6)")
-    parser.add_argument("--check-n", type=integer_arg("--check-n", 0), default=None,
-                        help="finer grid for the psi comparison (default 160; 0: skip, as with --quick)")
+    parser.add_argument("--check-n", type=integer_arg("--check-n", MIN_NODES, zero=NO_CHECK), default=None,
+                        help=f"finer grid for the psi comparison, nodes (default 160; 0: {NO_CHECK}, as --quick)")
     parser.add_argument("--quick", action="store_true", help="the paper run only (no finer grid): a few seconds")
     parser.add_argument("--out", default="out", help="output directory (default: out)")
     args = parser.parse_args(argv)
     check_n = args.check_n if args.check_n is not None else (QUICK["check_n"] if args.quick else 160)
     out = args.out
-    output_folder(out)
     scene = mol_shell.TwistedCylinder()
+    check_fits("--n", args.n, args.dt, len(scene.fields))  # both grids before any work, by the script's options
+    if check_n:
+        check_fits("--check-n", check_n, args.dt, len(scene.fields), zero=NO_CHECK)
+    output_folder(out)
     try:
         run, stopped = _simulate_sampled(scene, args.n, args.dt), None
     except Stopped as exc:  # Ctrl-C: the run kept as far as it got, the figures of the times it reached drawn
@@ -70,14 +76,13 @@ def main(argv=None):
         if reached(run, t, args.dt):
             files.append(os.path.join(out, f"fig{number}.png"))
             plot_snapshots(ds.sel(time=[t], method="nearest"), files[-1])
+    whole = reached(run, PAPER_TIMES[-1], args.dt)  # a Ctrl-C after the run's end (in its ellipticity check) kept it all
+    if whole:
+        files.append(os.path.join(out, "paper_psi.png"))
+        _plot_psi(run, files[-1])
     if stopped is not None:  # said in one line, exit 130 (mol_shell.cli.scripts)
-        left = [number for number, t in figures.items() if not reached(run, t, args.dt)]
-        stopped.note = ("not drawn, their times not reached: "
-                        + ", ".join(f"fig{number}.png (t = {figures[number]:g} s)" for number in left)
-                        + f", paper_psi.png (t = {PAPER_TIMES[-1]:g} s)")
+        stopped.note = _stopped_note(run, args.dt, figures, check_n)
         raise stopped
-    files.append(os.path.join(out, "paper_psi.png"))
-    _plot_psi(run, files[-1])
     e = run.energy.values
     drift = float(np.abs(e - e[0]).max() / e[0])
     mid = ds.sizes["s"] // 2
@@ -108,6 +113,19 @@ def main(argv=None):
     return {"ds": ds, "energy_drift": drift, "summaries": summaries, "files": files}
 
 
+def _stopped_note(run, dt, figures, check_n):
+    """What a Ctrl-C left out: the figures of the paper's times the run did not reach (and paper_psi.png, whose
+    right panel is t = 0.143 s), or, a run stopped after its end (in its ellipticity check), that every figure was
+    drawn from its whole data and what was not done after them."""
+    left = [number for number, t in figures.items() if not reached(run, t, dt)]
+    if left:
+        return ("not drawn, their times not reached: "
+                + ", ".join(f"fig{number}.png (t = {figures[number]:g} s)" for number in left)
+                + f", paper_psi.png (t = {PAPER_TIMES[-1]:g} s)")
+    finer = f" and the finer grid (--check-n {check_n}) not run" if check_n else ""
+    return f"every figure drawn from the whole run; its numbers not printed{finer}"
+
+
 def psi_step(dt):
     """psi's sampling step for leap-frog's ``dt``: the multiple of ``dt`` nearest :data:`PSI_STEP` (``dt`` itself when it
     is longer), so that every sample is a time leap-frog lands on (``--dt 5e-5`` was refused, naming ``times``)."""
@@ -125,12 +143,34 @@ def psi_peak(psi):
     return float(np.fft.rfftfreq(values.size, float(psi.time[1] - psi.time[0]))[np.argmax(np.abs(np.fft.rfft(values)))])
 
 
-def _simulate_sampled(scene, n, dt, t_end=PAPER_TIMES[-1]):
-    """The run saved every :func:`psi_step` of ``dt`` (and at the paper's times), without stresses (:func:`_fields` adds
-    them); a run that Ctrl-C stopped raises :class:`~mol_shell.cli.scripts.Stopped` with it. leap-frog's bound refuses
-    ``dt`` naming ``--dt``, the option typed."""
+def sampled_times(dt, t_end=PAPER_TIMES[-1]):
+    """The run's saved times: every :func:`psi_step` of ``dt``, and the paper's times on leap-frog's steps."""
     paper = [round(round(t / dt) * dt, 9) for t in PAPER_TIMES if t <= t_end]  # on leap-frog's steps (figures: nearest)
-    times = np.unique(np.r_[psi_times(t_end, psi_step(dt)), paper])
+    return np.unique(np.r_[psi_times(t_end, psi_step(dt)), paper])
+
+
+def check_fits(name, n, dt, fields, zero=""):
+    """Refuse, naming the script's option ``name`` (``--n``, ``--check-n``: a grid of ``n`` nodes), a run that would
+    not fit in memory with the saved times the script takes (:func:`sampled_times`, which no option sets): before
+    any work (``--check-n 4000`` was refused after the whole paper run, naming ``times`` and ``--times``, which the
+    script has not). ``zero``: what 0 means, which the range says too."""
+    times = sampled_times(dt)
+    est = resources.estimate(n, len(times), times[-1], fields=fields, dt=dt)
+    try:
+        resources.check_memory(est, times_name=None, n_name=name, what=f"the run on {n:,} nodes",
+                               kept=f"saved times (psi every {psi_step(dt) * 1e6:g} us)",
+                               fewer_nodes=f"use fewer nodes ({name})")
+    except ParameterError as exc:
+        if not zero:
+            raise
+        raise ParameterError(name, n, f"0 ({zero}) or {exc.allowed}", hint=exc.hint) from None
+
+
+def _simulate_sampled(scene, n, dt, t_end=PAPER_TIMES[-1]):
+    """The run saved at :func:`sampled_times`, without stresses (:func:`_fields` adds them); a run that Ctrl-C stopped
+    raises :class:`~mol_shell.cli.scripts.Stopped` with it. leap-frog's bound refuses ``dt`` naming ``--dt``, the
+    option typed."""
+    times = sampled_times(dt, t_end)
     try:
         return simulate(scene, n=n, times=times, dt=dt, progress=False, stresses=False)
     except ParameterError as exc:
@@ -171,8 +211,7 @@ def _plot_psi(ds, path):
     axes[1].set_xlabel("s [m]")
     axes[1].set_ylabel(r"$\psi$ at t = 0.143 s [rad]")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path, dpi=110)  # written whole or not at all, and said after a Ctrl-C (interrupts.wrote)
 
 
 if __name__ == "__main__":

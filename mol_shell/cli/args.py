@@ -267,15 +267,19 @@ def max_step_arg():
     return number_arg("--max-step", 0.0, low_closed=True, unit="s", note=MAX_STEP_NOTE)
 
 
-def integer_arg(name, low=1, high=None):
-    """An argparse ``type``: an integer ``>= low`` (and ``<= high`` when given)."""
+def integer_arg(name, low=1, high=None, *, zero=""):
+    """An argparse ``type``: an integer ``>= low`` (and ``<= high`` when given); with ``zero`` (what 0 means: "no
+    finer grid"), 0 too (``--check-n``: 0 or a grid of 3 nodes or more)."""
     allowed = f"integers >= {low}" if high is None else f"integers in [{low}, {high}]"
+    allowed = f"0 ({zero}) or {allowed}" if zero else allowed
 
     def convert(text):
         try:
             value = int(text)
         except ValueError:
             raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is not an integer; allowed: {allowed}") from None
+        if zero and value == 0:
+            return value
         if value < low or (high is not None and value > high):
             raise argparse.ArgumentTypeError(f"{name} = {value} is outside {allowed}")
         return value

@@ -274,7 +274,7 @@ def largest_n(est, available):
 
 
 def check_memory(est, *, times_name="times", times_value=None, n_name="n", what="the run", kept="saved times",
-                 fewer="save fewer times (--times)", offset=0, default_times=False):
+                 fewer="save fewer times (--times)", offset=0, default_times=False, fewer_nodes="use fewer nodes (--n)"):
     """Refuse a run whose memory estimate exceeds what is available; the message names the estimate and the fix.
 
     The saved times (``times_name``; None: never) are named when fewer of them would fit (at least two), else the
@@ -282,6 +282,7 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n", what=
     fewer of them, ``offset`` how many states the named parameter does not count (a path's start: ``max_steps + 1``
     states). ``default_times``: the saved times are the default (:data:`DEFAULT_INTERVALS` intervals, no ``times``
     given), said as such. Where ``$MOL_SHELL_MEMORY`` set the memory available, the advice names it too.
+    ``fewer_nodes``: the advice for fewer nodes (a script's own option: ``--check-n``).
     """
     available, source = available_memory()
     if est.memory_bytes <= available:
@@ -306,12 +307,12 @@ def check_memory(est, *, times_name="times", times_value=None, n_name="n", what=
             fewer = f"save fewer times (--times; the default is {DEFAULT_INTERVALS} intervals to t_end)"
         message = (f"{times_name} = the default {est.n_times} saved times (none given) is outside {allowed}"
                    if default_times else None)
-        raise ParameterError(times_name, value, allowed, hint=f"{what} {need}; {fewer} or use fewer nodes (--n){more}",
+        raise ParameterError(times_name, value, allowed, hint=f"{what} {need}; {fewer} or {fewer_nodes}{more}",
                              message=message)
     raise ParameterError(n_name, est.n,
                          f"integers 3..{largest_n(est, available):,} on this machine with "
                          + (f"{est.n_times:,} {kept}" if est.n_times < 1e15 else f"{est.n_times:.3g} {kept}"),
-                         hint=f"{what} {need}; use fewer nodes (--n)" + (" or save fewer times (--times)"
+                         hint=f"{what} {need}; {fewer_nodes}" + (" or save fewer times (--times)"
                                                                         if times_name == "times" else "") + more)
 
 

@@ -10,11 +10,12 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, finite, positive
+from mol_shell.model.edges import resolve_edges
 from mol_shell.model.geometry import CylinderMeridian
 from mol_shell.model.laws import layer_scenes
 from mol_shell.model.layers import MAKING_LAYERS
 from mol_shell.model.thickness_profile import table_points, thickness_function
-from mol_shell.scenes.base import ShellScene, _check, mean_over, zeta1_used
+from mol_shell.scenes.base import DISPLACEMENTS, DRIVES, LOADS, ShellScene, _check, mean_over, zeta1_used
 
 
 def check_radius(R, h, zeta1=None, hint="", a=1.0):
@@ -43,6 +44,18 @@ def _helical_couplings(scene, thickness=1.0):
     return stiffness * c ** 3 * s, stiffness * c * s ** 3, abs(stiffness)
 
 
+def unbalanced_helix(scene):
+    """``"layers"`` or ``"fibre_families"``, the parameter that gives ``scene`` helical fibres whose stretch-twist
+    couplings do not balance (a layered wall judged whole), or None where they balance or there are none."""
+    if MAKING_LAYERS.get():  # a layer of a layered wall: the wall is judged whole, on the layered scene
+        return None
+    if scene.layers.strip():
+        parts = [_helical_couplings(sub, t) for t, sub in layer_scenes(scene)]
+        a16, a26, total = (sum(x) for x in zip(*parts))
+        return None if max(abs(a16), abs(a26)) <= 1e-9 * max(total, 1e-300) else "layers"
+    return None if _helical_couplings(scene)[:2] == (0.0, 0.0) else "fibre_families"
+
+
 def check_no_helix(scene):
     """Refuse, naming ``fibre_families`` (or ``layers``), helical fibres that do not balance on a scene without the
     twist ``chi`` (the axisymmetric scene): ``C_13 = r^2 chi_s ...`` carries the twist and a family's ``2 cos sin C_13``
@@ -50,21 +63,16 @@ def check_no_helix(scene):
     edge is given (a tube under an axial force stretches as lamination theory's tube with its twist held, not as a
     free one). Two families ``+-fibre_angle`` cancel the coupling, and so do layers of one family each whose
     couplings add up to zero (an angle-ply wall ``+a; -a``): a layered wall is judged whole."""
-    if MAKING_LAYERS.get():  # a layer of a layered wall: the wall is judged whole, on the layered scene
+    unbalanced = unbalanced_helix(scene)
+    if unbalanced is None:
         return
-    if scene.layers.strip():
-        parts = [_helical_couplings(sub, t) for t, sub in layer_scenes(scene)]
-        a16, a26, total = (sum(x) for x in zip(*parts))
-        if max(abs(a16), abs(a26)) <= 1e-9 * max(total, 1e-300):
-            return
+    if unbalanced == "layers":
         raise ParameterError("layers", scene.layers, "layers whose helical fibres balance (sum of t fibre_E cos^3 "
                              "sin and of t fibre_E cos sin^3 over the layers of one family each zero: +-angle in "
                              "layers of one thickness and fibre_E), or two families in a layer",
                              hint=f"scene {scene.name} holds the twist chi at 0, and unbalanced helical fibres couple "
                              "stretch to twist: the held twist would be a torque no edge is given; for a twisting "
                              "tube use scene cone with r1 = r2, or twisted-cylinder")
-    if _helical_couplings(scene)[:2] == (0.0, 0.0):
-        return
     raise ParameterError("fibre_families", 1, f"2 (families at +-fibre_angle, which balance) at fibre_angle = "
                          f"{scene.fibre_angle:g} rad, or 1 at fibre_angle 0 or +-pi/2",
                          hint=f"scene {scene.name} holds the twist chi at 0, and one helical family couples stretch to "
@@ -185,6 +193,12 @@ class TwistedCylinder(CylinderScene):
     end_omega: float = 0.0
 
     name = "twisted-cylinder"
+    #: the two defaults that are not the paper's own (its values are lost in the text: docs/model.md)
+    descriptions = MappingProxyType({**CylinderScene.descriptions,
+                                     "rho": "density (the paper's value is lost: 1000 assumed; the motion's times "
+                                            "scale as sqrt(rho))",
+                                     "gamma": "initial twist chi_s (the paper's value is lost: 0.1 inferred from its "
+                                              "figures' chi axis)"})
     initial = ("R", "gamma", "omega", "psi0")
 
     def _validate(self):
@@ -214,6 +228,12 @@ class TwistedCylinder(CylinderScene):
         return Q, V
 
 
+#: the loads, drives and edge displacements that make a cylinder's motion depend on ``s`` (pressure and drag do not)
+NOT_UNIFORM = tuple(name for name in LOADS + DRIVES + DISPLACEMENTS if name not in ("pressure", "drag")) + ("end_omega",)
+#: where :class:`SpinningRing`'s refusals point
+RING_ELSEWHERE = "scene twisted-cylinder with gamma = 0 runs it"
+
+
 @dataclass(frozen=True)
 class SpinningRing(TwistedCylinder):
     """Section 5: spatially uniform breathing, spinning and shearing (``gamma = 0``).
@@ -232,7 +252,9 @@ class SpinningRing(TwistedCylinder):
     psi0 : float
         Initial shear angle ``psi``, rad, in (-pi/2, pi/2) (default 0.05).
     gamma : float
-        Initial twist ``chi_s``, rad/m (default 0; another value makes the motion non-uniform).
+        Initial twist ``chi_s``, rad/m: 0 only (section 5: twisted motions are not uniform in ``s``; scene
+        ``twisted-cylinder`` runs them). Edges other than the magnet, a graded wall (``h_profile``) and loads other
+        than pressure and drag (at the edges, along the axis) are refused too: they make the motion depend on ``s``.
     L, a, end_omega : float
         Length and natural radius (m; defaults 4 and 1), the ends' spin rate (rad/s; default 0): as
         :class:`TwistedCylinder`.
@@ -244,6 +266,36 @@ class SpinningRing(TwistedCylinder):
     psi0: float = 0.05
 
     name = "spinning-ring"
+    descriptions = MappingProxyType({**CylinderScene.descriptions,
+                                     "gamma": "initial twist chi_s: 0 only (twisted motions are not uniform in s)"})
+
+    def _validate(self):
+        """What makes the motion depend on ``s`` refused by name, pointing to ``twisted-cylinder``, which runs it:
+        a twist (section 5: no twisted motion is uniform in ``s``), an edge other than the magnet (it bends the
+        shell near it), a graded wall, and the loads, drives and edge displacements that act at the edges or along
+        the axis. Pressure and drag act alike at every ``s`` and are kept."""
+        super()._validate()
+        if self.gamma != 0:
+            raise ParameterError("gamma", self.gamma, "{0} for scene spinning-ring", hint="section 5: twisted motions "
+                                 "are not uniform in s; scene twisted-cylinder runs them")
+        for name, edge in zip(("end1", "end2"), resolve_edges(self.end1, self.end2, self.meridian().poles)):
+            if edge != "magnet":
+                raise ParameterError(name, getattr(self, name), "{magnet, auto} for scene spinning-ring",
+                                     hint=f"other edges bend the shell near them: not uniform in s; {RING_ELSEWHERE}")
+        if self.h_profile:
+            raise ParameterError("h_profile", self.h_profile, "'' (a uniform wall) for scene spinning-ring",
+                                 hint=f"a graded wall makes the motion depend on s; {RING_ELSEWHERE}")
+        helix = unbalanced_helix(self)
+        if helix is not None:
+            allowed = ("layers whose helical fibres balance (+-angle), or two families in a layer" if helix == "layers"
+                       else "2 (families at +-fibre_angle, which balance), or 1 at fibre_angle 0 or +-pi/2")
+            raise ParameterError(helix, getattr(self, helix), f"{allowed} for scene spinning-ring",
+                                 hint="one helical family couples stretch to twist, and the ends are free to twist: "
+                                 f"not uniform in s; {RING_ELSEWHERE}")
+        for name in NOT_UNIFORM:
+            if getattr(self, name):
+                raise ParameterError(name, getattr(self, name), "0 for scene spinning-ring",
+                                     hint=f"it acts at the edges or along the axis: not uniform in s; {RING_ELSEWHERE}")
 
 
 @dataclass(frozen=True)
