@@ -12,8 +12,8 @@ factorised by sparse LU (``scipy.sparse.linalg.splu``; the node-major ordering k
 border adds one row and one column), which stays regular through limit points where ``F_q`` is singular. The
 scales ``c`` make the arclength dimensionless: lengths over the meridian's size, angles as they are, and
 ``lambda`` over ``|stop - start|``, with the displacement part weighted so that the first tangent is half load
-and half displacement. The step grows after quick Newton convergence (<= 3 iterations) and shrinks after slow
-convergence; a failed or limit-crossing step is halved down to ``ds / 2^10``, where the path ends (status
+and half displacement. The step grows after quick Newton convergence (<= 3 iterations), to at most ``MAX_GROWTH``
+times the first (stability is sampled at the steps only), and shrinks after slow convergence; a failed or limit-crossing step is halved down to ``ds / 2^10``, where the path ends (status
 ``failed`` or ``limit``, the steps so far kept). The last step lands on ``lambda = stop`` exactly. A first step that
 fails so is taken again as a secant (:mod:`mol_shell.analysis.path_secant`: the start's tangent is not the path's
 where the stiffness jumps there, as at the natural state of tension-only fibres).
@@ -49,6 +49,7 @@ from mol_shell.analysis.path_branch import BranchFailed, closed, no_branch_reaso
 from mol_shell.analysis.path_dataset import interrupted_at_end, path_dataset
 from mol_shell.analysis.path_first import first_state
 from mol_shell.analysis.path_inputs import check_inputs, check_start
+from mol_shell.analysis.path_modes import near_critical
 from mol_shell.analysis.path_record import PathRecord
 from mol_shell.analysis.path_secant import secant_start
 from mol_shell.analysis.path_stability import LOCATE_NEWTON, LOCATE_TOL
@@ -479,7 +480,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
             message += f"; no switch: {no_switch}"
         if record.bar is not None:
             record.bar.close()
-        ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop)
+        ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop,
+                          near_critical(record))
     if initial is not None:
         ds.attrs["initial_state"] = "the fields given (initial), at rest"
     ds.attrs["arclength_displacement_scale"], ds.attrs["arclength_load_scale"] = tracer.scales
@@ -488,4 +490,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         ds = interrupted_at_end(ds)
     if "ellipticity_warning" in ds.attrs:
         warnings.warn(ds.attrs["ellipticity_warning"], MaterialWarning, stacklevel=2)
+    for said in ("grid_mode_warning", "near_critical_warning"):  # as modes says its grid modes
+        if said in ds.attrs:
+            warnings.warn(ds.attrs[said], UserWarning, stacklevel=2)
     return ds

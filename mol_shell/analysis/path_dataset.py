@@ -7,6 +7,7 @@ import xarray as xr
 
 from mol_shell.analysis.equilibria import CONJUGATE_UNITS, REACTIONS
 from mol_shell.analysis.path_inputs import loads_at_rest
+from mol_shell.analysis.path_modes import NEAR_SHARE, grid_shares, grid_warning, mode_shape, near_message
 from mol_shell.analysis.path_stability import LOCATE_RTOL
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.cf import coordinates, header, variables
@@ -24,19 +25,13 @@ SYMMETRY_NOTE = ("critical points are those of rotationally symmetric modes only
 INITIAL_DATA = ("R", "dilation")
 
 
-def _shape(eq, vector):
-    """A vector on the unknowns as fields ``(5, n)`` (held and imposed entries 0, a pole's chi tied)."""
-    out = np.zeros((5, eq.n))
-    node, local = np.divmod(eq.q_idx, eq.ny)
-    out[np.array(eq.system.active)[local], node] = vector
-    return eq.system.tie(out)
-
-
-def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
+def path_dataset(eq, scene, record, status, message, wall_time, start, stop, near=()):
     """Assemble the Dataset of a traced path (``record``: the steps and critical points of
     ``mol_shell.analysis.path_record.PathRecord``); the scene's warnings (``material_warning``, ``scene_warning``:
     :mod:`mol_shell.scenes.scene_warnings`) are said, to the caller of :func:`~mol_shell.analysis.path.path`, and
-    recorded in its attrs."""
+    recorded in its attrs. ``near``: the near-critical points (:func:`~mol_shell.analysis.path_modes.near_critical`);
+    the grid's critical modes and the near-critical points are said in ``attrs["grid_mode_warning"]`` and
+    ``attrs["near_critical_warning"]``."""
     system = eq.system
     steps = len(record.lams)
     fields = np.stack([eq.fields(q, lam) for q, lam in zip(record.qs, record.lams)])
@@ -92,7 +87,7 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     states = (np.stack([eq.fields(p["q"], p["parameter"]) for p in points]) if count
               else np.zeros((0, 5, eq.n)))
     for m, point in enumerate(points):
-        shapes[m] = _shape(eq, point["mode"])
+        shapes[m] = mode_shape(eq, point["mode"])
         shapes[m] /= max(np.abs(shapes[m]).max(), 1e-300)
     data["point_kind"] = (("point",), np.array([p["kind"] for p in points], dtype=str),
                           {"long_name": "kind of critical point: limit (the load turns back) or bifurcation"})
@@ -108,6 +103,9 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
                              "locate_tolerance), 0 where the search stopped early (the last estimate kept)"})
     data["point_eigenvalue"] = (("point",), np.array([p["eigenvalue"] for p in points], dtype=float),
                                 {"units": "s-2", "long_name": "the crossing eigenvalue where the point was located"})
+    point_shares = grid_shares(eq, [(p["q"], p["mode"]) for p in points])
+    data["point_grid_mode_share"] = (("point",), point_shares, {"units": "1", "long_name": GRID_SHARE_NAME})
+    _near_variables(data, eq, near)
     for k, name in enumerate(FIELDS):
         u, long_name = FIELD_META[name]
         data[f"point_mode_{name}"] = (("point", "s"), shapes[:, k], {"units": u, "long_name":
@@ -127,6 +125,8 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     data["theta0"] = (("s",), theta0, {"units": "rad", "long_name": "angle of the reference generator tangent"})
     coords = {"step": ("step", np.arange(steps, dtype=np.int32), {"units": "1", "long_name": "step along the path"}),
               "point": ("point", np.arange(count, dtype=np.int32), {"units": "1", "long_name": "critical point"}),
+              "near": ("near", np.arange(len(near), dtype=np.int32), {"units": "1", "long_name":
+                       "near-critical point: a local minimum of the lowest eigenvalue without a crossing"}),
               "eigenvalue": ("eigenvalue", np.arange(record.eigen[0].size, dtype=np.int32),
                              {"units": "1", "long_name": "index of the eigenvalue nearest zero, ascending"}),
               "s": ("s", system.s, {"units": "m", "long_name": "arc length of the reference generator"})}
@@ -143,6 +143,13 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
              "branch_point": int(record.branch_point) if record.branch else -1,
              "wall_time_s": float(wall_time), "edge_s0": system.edges[0], "edge_sL": system.edges[1],
              "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
+    said = grid_warning(eq, [p["kind"] for p in points] + ["near-critical"] * len(near),
+                        [p["parameter"] for p in points] + [p["parameter"] for p in near],
+                        list(point_shares) + list(data["near_grid_mode_share"][1]))
+    if said:
+        attrs["grid_mode_warning"] = said
+    if near:
+        attrs["near_critical_warning"] = near_message(eq, near)
     attrs["ellipticity_checked_every"] = every
     note = unchecked_note(system)
     if note:
@@ -180,6 +187,39 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop):
     # replaced, not unused)
     say_scene_warnings(scene, attrs, parameter=eq.parameter, stacklevel=3)
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs=with_units(attrs))  # zeta1_used's too
+
+
+#: the long name of ``point_grid_mode_share`` and ``near_grid_mode_share``
+GRID_SHARE_NAME = ("share of the critical mode's amplitude (fields weighted by their kinetic energy) in the "
+                   "node-to-node (-1)^i pattern, as modes' grid_mode_share; a wave's (1 - cos k ds) / 2; from 0.5 (a "
+                   "half-wavelength under two cells): a grid mode, the load the grid's")
+
+
+def _near_variables(data, eq, near):
+    """The near-critical points' variables (dim ``near``) into ``data``."""
+    shares = grid_shares(eq, [(p["q"], p["mode"]) for p in near])
+    shapes = np.zeros((len(near), 5, eq.n))
+    for m, point in enumerate(near):
+        shapes[m] = mode_shape(eq, point["mode"])
+        shapes[m] /= max(np.abs(shapes[m]).max(), 1e-300)
+    units = eq.units
+    data["near_parameter"] = (("near",), np.array([p["parameter"] for p in near], dtype=float), {"units": units,
+                              "long_name": f"{eq.parameter} at the near-critical point (the step where the lowest "
+                              "eigenvalue has its local minimum): an estimate of the perfect shell's critical load"})
+    data["near_step"] = (("near",), np.array([p["step"] for p in near], dtype=np.int32), {"units": "1", "long_name":
+                         "the step of the near-critical point"})
+    data["near_eigenvalue"] = (("near",), np.array([p["eigenvalue"] for p in near], dtype=float), {"units": "s-2",
+                               "long_name": "the lowest non-negative eigenvalue there (its local minimum)"})
+    data["near_eigenvalue_share"] = (("near",), np.array([p["share"] for p in near], dtype=float), {"units": "1",
+                                     "long_name": f"that eigenvalue over its value at the path's start (below "
+                                     f"{NEAR_SHARE:g})"})
+    data["near_family"] = (("near",), np.array([p["family"] for p in near], dtype=str), {"long_name":
+                           "family of the near-critical mode: torsional or axisymmetric"})
+    data["near_grid_mode_share"] = (("near",), shares, {"units": "1", "long_name": GRID_SHARE_NAME})
+    for k, name in enumerate(FIELDS):
+        u, long_name = FIELD_META[name]
+        data[f"near_mode_{name}"] = (("near", "s"), shapes[:, k], {"units": u, "long_name":
+                                     f"near-critical mode: {long_name} (each scaled to a largest entry of 1)"})
 
 
 def interrupted_at_end(ds):

@@ -1,0 +1,73 @@
+"""A path's critical modes: the grid's flagged (``point_grid_mode_share`` and a warning), and a near-miss of an
+imperfect bifurcation recorded as a near-critical point (dim ``near``).
+
+Derivation. A thin cylinder (radius ``a``, wall ``t = 2h``) under axial compression from a membrane state buckles
+axisymmetrically at the ring stress ``sigma_cl = E t / (a sqrt(3 (1 - nu^2)))``, the uniform axial strain
+``eps_cl = sigma_cl / E``, into ``cos(m pi s / L)`` waves of the classical half-wavelength
+``l_cl = pi sqrt(a t) / (12 (1 - nu^2))^(1/4)`` (Timoshenko & Gere sec. 11.4; tests/analysis/test_path_cylinder.py
+derives it). A mode's grid-mode share (:func:`mol_shell.analysis.grid_modes.grid_mode_share`) is
+``(1 - cos k ds) / 2`` for a wave of ``k``: 0.5 at a half-wavelength of two cells, ``(1 - cos(pi / 5)) / 2 = 0.0955``
+at five.
+
+* ``L = 4``, ``t = 0.01``: ``l_cl = 0.1728`` m, under one cell of 0.2 m at n = 21: no critical mode the grid finds
+  can be the shell's, and its share must be at least 0.5 (the grid's half-wavelength under two cells).
+* ``L = 0.35``: ``L / l_cl = 2.03``, the critical mode is ``m = 2`` (``N_m`` within 3e-4 of the classical), half a
+  wavelength ``L / 2`` = five cells at n = 11. With edges ``z, theta`` at both ends and the end displaced
+  (``end2_dz``) the perfect cylinder bifurcates at ``dz = -eps_cl L``. A wall 0.1 % thicker at mid-length (a bump
+  that projects on ``cos(2 pi s / L)``) makes the bifurcation imperfect: under displacement control the lowest
+  eigenvalue dips near ``eps_cl L`` and rises again, with no crossing, and the path must say so.
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import pytest
+
+from mol_shell import TwistedCylinder, path
+from mol_shell.cli.main import main
+from mol_shell.results.dataset import read_netcdf
+
+E, NU, A, H = 1.0e6, 0.3, 1.0, 0.005
+T = 2 * H
+EPS_CL = T / (A * math.sqrt(3 * (1 - NU**2)))
+L_CL = math.pi * math.sqrt(A * T) / (12 * (1 - NU**2)) ** 0.25
+
+
+def test_a_critical_mode_the_grid_cannot_hold_is_flagged(tmp_path, capsys):
+    cells = 20
+    assert L_CL < 4.0 / cells  # the classical half-wavelength is under one cell
+    out = tmp_path / "p.nc"
+    sets = [x for kv in ("gamma=0", "L=4", f"h={H}", f"nu={NU}", "material=svk-plane-stress", "end1=z,theta",
+                         "end2=theta") for x in ("--set", kv)]
+    assert main(["path", "twisted-cylinder", "--param", "end2_force=0:-400", "--n", str(cells + 1), *sets,
+                 "-o", str(out)]) == 0
+    err = [line for line in capsys.readouterr().err.splitlines() if "of the grid" in line]
+    assert len(err) == 1 and err[0].startswith("mol-shell: warning: critical mode") and "refine n" in err[0]
+    ds = read_netcdf(out)
+    # the first bifurcation, near the classical load 2 pi a t sigma_cl
+    assert ds.point_parameter.values[0] == pytest.approx(-2 * math.pi * A * T * E * EPS_CL, rel=0.03)
+    assert ds.point_grid_mode_share.values[0] >= 0.5
+    assert "grid_mode_warning" in ds.attrs
+
+
+def test_an_imperfect_bifurcation_is_a_near_critical_point():
+    L = 0.35
+    m = round(L / L_CL)
+    assert m == 2
+    bump = f"table 0:{H} {L / 4}:{H} {L / 2}:{H * 1.001} {3 * L / 4}:{H} {L}:{H}"
+    scene = TwistedCylinder(gamma=0.0, L=L, a=A, h=H, E=E, nu=NU, material="svk-plane-stress", end1="z,theta",
+                            end2="z,theta", h_profile=bump)
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        ds = path(scene, "end2_dz", 0.0, -1.01 * EPS_CL * L, n=11, progress=False)
+    assert ds.attrs["status"] == "complete" and ds.sizes["point"] == 0  # no crossing
+    assert ds.sizes["near"] == 1
+    assert ds.near_parameter.values[0] == pytest.approx(-EPS_CL * L, rel=0.01)
+    assert 0 < ds.near_eigenvalue_share.values[0] < 0.01
+    # five cells a half-wavelength: a resolved mode
+    assert ds.near_grid_mode_share.values[0] == pytest.approx((1 - math.cos(math.pi / 5)) / 2, abs=0.01)
+    assert "grid_mode_warning" not in ds.attrs
+    near = [str(w.message) for w in said if "near-critical" in str(w.message)]
+    assert len(near) == 1 and "imperfect bifurcation" in near[0] and ds.attrs["near_critical_warning"] == near[0]
