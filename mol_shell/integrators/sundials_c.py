@@ -365,7 +365,8 @@ class _CompiledRun:
         if code == drv.R_FLOOR:
             raise self._constraint_limit(t)
         if code == drv.MAX_STEPS:
-            raise failed(f"{method.name} took max_steps = {method.max_steps} steps by t = {t:.9g} s", t)
+            raise failed(f"{method.name} took max_steps = {method.max_steps} steps by t = {t:.9g} s"
+                         + self._stiff_steps(), t)
         if code == drv.CALLS:
             raise failed(f"{method.name} evaluated the right-hand side {sundials._Run.MAX_CALLS_PER_STEP} times without "
                          f"completing a step after t = {self.t:.9g} s (its step size underflowed): the motion is too "
@@ -380,6 +381,16 @@ class _CompiledRun:
         self.budget.project(solve.stats()["n_steps"], t)  # the steps still needed, from the mean of the last ones
         self.t = t
 
+    def _stiff_steps(self):
+        """Why the steps were short, when a fixed-point iteration failed to converge in 10 % of them or more (the
+        wall is stiff: :mod:`mol_shell.runs.step_limits`), else ''."""
+        s = self.solve.stats()
+        if not (self.method.fixed_point() and not self.ida and s["n_convergence_fails"] >= 0.1 * max(s["n_steps"], 1)):
+            return ""
+        return (f": its fixed-point iteration failed to converge {s['n_convergence_fails']:,} times in {s['n_steps']:,} "
+                "steps, which the stiffness of the wall (its viscous damping) holds short, not the tolerance; use "
+                'iteration="newton" (--option iteration=newton), cvode-bdf or ida (implicit, for stiff walls)')
+
     def to_hamiltonian(self, state, t):
         if not self.ida:
             return np.array(state, dtype=float)
@@ -392,6 +403,7 @@ class _CompiledRun:
         s = self.solve.stats()
         return {"n_steps": s["n_steps"], "n_rhs": s["n_rhs"], "n_jac": s["n_jac"],
                 "n_failed_steps": s["n_error_test_fails"] + s["n_convergence_fails"],
+                "n_convergence_fails": s["n_convergence_fails"],
                 "n_setups": s["n_setups"], "n_newton": s["n_newton"], "n_root_evals": s["n_root_evals"],
                 "n_rhs_jacobian": s["n_rhs_jacobian"],
                 "linsolver": self.linsolver, "jacobian_kind": self.jacobian, "route": "compiled C",

@@ -28,7 +28,7 @@ from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.loads import check_leapfrog_history
 from mol_shell.results.dataset import build_dataset
 from mol_shell.results.stresses import MAX_SAMPLES, add_stresses
-from mol_shell.runs import resources
+from mol_shell.runs import resources, step_limits
 from mol_shell.runs.building import (  # noqa: F401
     PARALLEL_MIN_NODES,
     _built,
@@ -283,6 +283,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
                 f"exp({growth:.4g}/s * t) at dt = {dt:g} s, and up to t = {span:g} s (the run's end or its next "
                 f"restart) that is exp({growth * span:.3g})" + (f", carried through the restarts exp({carried:.3g}) "
                 "over the run" if carried else "") + f" (viscosity makes the system stiff); allowed: {allowed}")
+    step_limits.before_run(method, times[-1], damping)  # a fixed-point cvode-adams that stiffness will hold short
     resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
                                omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)
     bar = time_meter(mode, times[-1])
@@ -318,7 +319,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         if stability_note:
             attrs["stability_warning"] = stability_note
         ds = build_dataset(system, scene, traj, velocities, totals, attrs, requested, given=initial is not None)
-        ds = _scene_warnings(scene, ds)
+        ds = step_limits.after_run(method, _scene_warnings(scene, ds), omega_max, damping)  # steps held, not by rtol
         if not watch.caught:
             with cut_short(watch):
                 ds = check_ellipticity(system, ds)
