@@ -8,7 +8,9 @@ edge, a graded wall, an end torque or a spun end did the same: each acts at one 
 import pytest
 
 import mol_shell
+from mol_shell._core.errors import ParameterError
 from mol_shell.cli.main import main
+from mol_shell.runs.ring import simulate_ring
 
 
 def test_the_command_line_refuses_a_twisted_spinning_ring_in_one_line_naming_gamma(tmp_path, capsys):
@@ -45,3 +47,14 @@ def test_what_acts_alike_at_every_s_is_kept(changes):
     fibres couple no stretch to twist: the motion stays uniform (the ring ODE's tests compare it with the PDE)."""
     scene = mol_shell.SpinningRing(**changes)
     assert all(getattr(scene, key) == value for key, value in changes.items())
+
+
+def test_the_ring_ode_refuses_one_helical_family_as_the_scene_does():
+    """One helical family couples stretch to twist (the fibre's ``2 cos sin C_13``): the free ends twist and ``r``
+    varies along ``s``, so the ring ODE, which takes a TwistedCylinder too, refuses it by name; two balanced families
+    stay uniform and are taken."""
+    with pytest.raises(ParameterError) as refused:
+        simulate_ring(mol_shell.TwistedCylinder(gamma=0.0, fibre_E=1e7, fibre_angle=0.5, fibre_families=1), t_end=1e-3)
+    assert refused.value.name == "fibre_families"
+    ds = simulate_ring(mol_shell.TwistedCylinder(gamma=0.0, fibre_E=1e7, fibre_angle=0.5, fibre_families=2), t_end=1e-3)
+    assert ds.attrs["integrator"].startswith("ring-ode")
