@@ -8,7 +8,7 @@ only from those before it): ``_core``, ``model``, ``discretization``, ``integrat
 from mol_shell._core.interrupts import exit_if_command as _exit_if_command
 
 try:  # the command line's Ctrl-C while these load (about a second) is its Ctrl-C: one line, exit 130
-    from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning
+    from mol_shell._core.errors import MaterialWarning, ModelLimitError, MolShellWarning, ParameterError, SceneWarning
     from mol_shell._core.version import __version__
     from mol_shell.analysis.modes import modes
     from mol_shell.analysis.path import path
@@ -43,7 +43,7 @@ except KeyboardInterrupt:
     raise
 
 __all__ = [
-    "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "LongRunWarning", "Material", "MaterialWarning", "MeridianShell", "ModelLimitError", "ParameterError", "SceneWarning", "ShellScene",
+    "INTEGRATORS", "SCENES", "Axisymmetric", "add_stresses", "Cone", "LongRunWarning", "Material", "MaterialWarning", "MeridianShell", "ModelLimitError", "MolShellWarning", "ParameterError", "SceneWarning", "ShellScene",
     "SpinningRing", "Sphere", "Torus", "TwistedCylinder", "Unshearable", "Vessel", "__version__", "build", "continue_path", "get_scene",
     "load_scene", "modes", "path", "read_netcdf",
     "simulate", "simulate_ring", "simulate_unshearable", "study", "write_netcdf",

@@ -142,7 +142,19 @@ def _names_interrupt(exc):
     return False
 
 
-class MaterialWarning(UserWarning):
+class MolShellWarning(UserWarning):
+    """A warning of mol_shell about a run, its scene or its result (a start that is unstable, grid modes, a stored case
+    run again, stresses not computed, ...): a run goes on. Python's warnings, filtered as usual; the command line says
+    each in one line, ``mol-shell: warning: ...``, whatever ``python -W`` asks (``-W error`` would end the command
+    and lose its result). The categories below derive from it."""
+
+
+class RunWarning(MolShellWarning, RuntimeWarning):
+    """A :class:`MolShellWarning` about the course of a run or a study (its worker processes that stopped before their
+    first case); a ``RuntimeWarning`` too, as it was before."""
+
+
+class MaterialWarning(MolShellWarning):
     """A material law used outside the range where it describes the wall it is meant for (a run goes on).
 
     The message is one line naming the parameters and the law to choose instead; the command line prints
@@ -150,7 +162,7 @@ class MaterialWarning(UserWarning):
     """
 
 
-class SceneWarning(UserWarning):
+class SceneWarning(MolShellWarning):
     """A scene parameter that has no effect as the scene is set (a load's history without the load): one line
     naming it and what would use it; the command line prints it as ``mol-shell: warning: ...``, and a run records it
     in its Dataset's attrs (``scene_warning``)."""

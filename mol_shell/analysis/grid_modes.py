@@ -14,6 +14,7 @@ import warnings
 
 import numpy as np
 
+from mol_shell._core.errors import MolShellWarning
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.results.study_store import grid_mode
 
@@ -44,7 +45,7 @@ def grid_mode_share(ds):
 
 def mark_grid_modes(ds, stacklevel=3):
     """``ds`` (the Dataset of :func:`mol_shell.analysis.modes.modes`) with ``grid_mode_share(mode)``, and where any
-    mode reaches :data:`GRID_MODE_SHARE`, ``attrs["grid_mode_warning"]``, said as a :class:`UserWarning`."""
+    mode reaches :data:`GRID_MODE_SHARE`, ``attrs["grid_mode_warning"]``, said as a :class:`~mol_shell.MolShellWarning`."""
     share = grid_mode_share(ds)
     ds["grid_mode_share"] = share.assign_attrs(units="1", long_name=(
         "share of the mode's amplitude (fields weighted by their kinetic energy) in the node-to-node (-1)^i pattern "
@@ -57,7 +58,7 @@ def mark_grid_modes(ds, stacklevel=3):
             f"{'are grid modes' if flagged.size != 1 else 'is a grid mode'}: {share.values[flagged].min():.2f} or "
             f"more of the amplitude in the node-to-node (-1)^i pattern (grid_mode_share); not physical, the "
             f"discretisation's on a thin wall: refining n moves them up")
-        warnings.warn(ds.attrs["grid_mode_warning"], UserWarning, stacklevel=stacklevel)
+        warnings.warn(ds.attrs["grid_mode_warning"], MolShellWarning, stacklevel=stacklevel)
     return ds
 
 

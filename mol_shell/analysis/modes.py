@@ -33,7 +33,14 @@ import warnings
 import numpy as np
 import xarray as xr
 
-from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, scalar
+from mol_shell._core.errors import (
+    MaterialWarning,
+    ModelLimitError,
+    MolShellWarning,
+    ParameterError,
+    SceneWarning,
+    scalar,
+)
 from mol_shell._core.units import show_seconds
 from mol_shell.analysis.grid_modes import mark_grid_modes
 from mol_shell.analysis.mode_damping import damping_note, drag_damping_ratios
@@ -405,7 +412,7 @@ def modes(scene, n=40, count=10, *, initial=None, zero_band=0.0):
     roundoff = floor_note(w2[keep], roundoff_level(stiffness, M, phi[:, keep]), floor, largest)
     if roundoff:
         params["roundoff_warning"] = roundoff
-        warnings.warn(roundoff, UserWarning, stacklevel=2)
+        warnings.warn(roundoff, MolShellWarning, stacklevel=2)
     ratios = drag_damping_ratios(system, scene, q_idx, M, w2[keep], phi[:, keep], start[1]) if scene.drag else None
     damping = damping_note(scene, system, ratios)
     if damping:  # K phi = omega^2 M phi: the drag's and the viscosity's damping are not in it
@@ -429,7 +436,7 @@ def modes(scene, n=40, count=10, *, initial=None, zero_band=0.0):
         params["stability_warning"] = (
             f"the state the modes are taken about is unstable: {count} with omega^2 < 0 (lowest {w2[keep][0]:.6g} "
             f"s-2, growing as exp({np.sqrt(-w2[keep][0]):.6g} t / s)); their frequency is NaN")
-        warnings.warn(params["stability_warning"], UserWarning, stacklevel=2)
+        warnings.warn(params["stability_warning"], MolShellWarning, stacklevel=2)
     return mark_grid_modes(_dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params, small[keep],
                                     ratios))
 

@@ -155,8 +155,12 @@ class Parser(argparse.ArgumentParser):
 
     def error(self, message):
         if message.startswith("the following arguments are required"):  # --vers was an option cut short
-            cut = next(filter(None, map(self._cut_short, getattr(self, "_tokens", ()))), None)
-            message = cut or message
+            tokens = getattr(self, "_tokens", ())
+            cut = next(filter(None, map(self._cut_short, tokens)), None)
+            # an option the command has not got is named first (run --bogus: argparse said -o was required)
+            unknown = next(filter(None, (self._not_ours(token) for token in tokens
+                                         if str(token).partition("=")[0] not in self._option_string_actions)), None)
+            message = cut or unknown or message
         # "argument --dt: --dt = 0 is outside ..." names the option twice: keep our own message
         found = re.match(r"argument (\S+?): (.*)", message, flags=re.S)
         if found and any(found.group(2).startswith(opt + " ") for opt in found.group(1).split("/")):

@@ -48,7 +48,16 @@ from mol_shell.cli.args import (
     say_stand_ins,
 )
 from mol_shell.cli.inputs import check_outputs
-from mol_shell.cli.outcome import exits_after_its_exit_functions, guarded, one_line_warnings, said, said_in_teardown
+from mol_shell.cli.outcome import (
+    OutputError,
+    exits_after_its_exit_functions,
+    guarded,
+    missing_stdout,
+    one_line_warnings,
+    said,
+    said_in_teardown,
+    traceback_asked,
+)
 from mol_shell.cli.path import (
     add_start_options,
     cmd_plot_path,
@@ -175,7 +184,7 @@ def cmd_scenes(args):
                                          + ", ".join(sorted(SCENES)) + "} or a run file RUN.nc")
         for name, cls in SCENES.items():
             print(f"{name:18s} {summary(cls)}")
-        print("mol-shell scenes NAME lists a scene's parameters; set them with --set NAME=VALUE")
+        print("mol-shell scenes NAME lists a scene's parameters; set them with --set NAME=VALUE", file=sys.stderr)  # a hint: stdout lists scenes only
         return 0
     allowed = "a scene in {" + ", ".join(sorted(SCENES)) + "} or a run file RUN.nc (with --toml)"  # as docs/cli.md
     odd = not_regular(args.name) if args.name not in SCENES else None
@@ -328,6 +337,10 @@ def _command(argv):
             # the command line reports a stopped run in its own one line (and in the file's attrs)
             warnings.simplefilter("ignore", RuntimeWarning)
             one_line_warnings()
+            traceback_asked()  # its value refused in one line as the command starts, not where a bug would read it
+            if getattr(args, "output", None) is None and missing_stdout():  # scenes: its product is what it prints
+                raise OutputError("standard output", f"it is closed, and mol-shell {args.command} prints what it "
+                                  "lists there")
             if getattr(args, "output", None) is not None:  # every subcommand: before anything is computed
                 suffixes = getattr(args, "output_suffixes", None)
                 writable_path(args.output, "-o", suffixes=suffixes() if callable(suffixes) else suffixes, created=created)

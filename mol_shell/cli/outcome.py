@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import errno
 import os
 import signal
 import sys
@@ -16,7 +17,7 @@ import warnings
 
 from mol_shell._core import interrupts
 from mol_shell._core.atomic import NoSpaceError
-from mol_shell._core.errors import MaterialWarning, ModelLimitError, ParameterError, SceneWarning, by_interrupt, show
+from mol_shell._core.errors import ModelLimitError, MolShellWarning, ParameterError, by_interrupt, show
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
     EXIT_INTERNAL,
@@ -27,7 +28,6 @@ from mol_shell.cli.args import (
     interrupted_code,
 )
 from mol_shell.cli.inputs import said_with_the_file
-from mol_shell.runs.resources import LongRunWarning
 
 
 def remove_empty(folders):
@@ -76,6 +76,43 @@ class _Guarded:
         return getattr(self._stream, name)
 
 
+class Missing:
+    """A standard stream the process does not have (``>&-``, ``2>&-``: Python's ``sys.stdout`` or ``sys.stderr`` is
+    ``None``): what is written to it goes nowhere, as the user asked (a run still writes its file and exits 0); a
+    command whose product is its standard output (``mol-shell scenes``) refuses to run (:func:`missing_stdout`)."""
+
+    missing = True
+
+    def write(self, text):
+        return len(text)
+
+    def flush(self):
+        return None
+
+    def isatty(self):
+        return False
+
+
+def _absent(stream):
+    """``True`` for a standard stream that is not there: ``None`` (Python found its descriptor closed), or one whose
+    descriptor cannot be written at all (``EBADF``: closed since, or taken by a file opened for reading, as a launcher
+    script such as pyenv's shim leaves a closed ``2>&-``). A stream without a descriptor (captured) is there."""
+    if stream is None:
+        return True
+    try:
+        os.write(stream.fileno(), b"")
+    except OSError as exc:
+        return exc.errno == errno.EBADF
+    except (ValueError, AttributeError):  # io.UnsupportedOperation (a ValueError): a stream in memory
+        return False
+    return False
+
+
+def missing_stdout():
+    """``True`` while a command runs without a standard output (``>&-``: :class:`Missing`)."""
+    return getattr(sys.stdout, "missing", False) is True
+
+
 def guarded(command, *args, prog="mol-shell"):
     """``command(*args)`` with the command line's watch on Ctrl-C and SIGTERM, and its standard streams guarded: an
     output that cannot be written is one line, exit code 2 (:func:`_unwritable`). The studies' scripts run so too
@@ -85,20 +122,21 @@ def guarded(command, *args, prog="mol-shell"):
     what it kept (:func:`_interrupted_late`): also one that lands as the command returns, after its own handling (it
     escaped, or was noted as the watch was put back and the command exited 0 with its file written)."""
     streams = sys.stdout, sys.stderr
-    sys.stdout, sys.stderr = (None if stream is None else _Guarded(stream, name)
-                              for stream, name in zip(streams, ("standard output", "standard error")))
+    present = tuple(Missing() if _absent(stream) else stream for stream in streams)  # a closed one: nowhere
+    sys.stdout, sys.stderr = (_Guarded(stream, name) for stream, name in zip(present, ("standard output",
+                                                                                         "standard error")))
     watch = None
     try:
         # Ctrl-C raises as usual, and is noted where a C call loses it; a SIGTERM (a scheduler's time limit) too
         with interrupts.watched(raising=True, terminating=True) as watch:
             code = command(*args)
     except OutputError as exc:
-        return _unwritable(exc, prog, streams)
+        return _unwritable(exc, prog, present)
     except KeyboardInterrupt as exc:  # landed after the command's own handling, as it returned
-        code = _interrupted_late(exc, prog, streams)
+        code = _interrupted_late(exc, prog, present)
     else:
         if watch.caught and code not in (EXIT_INTERRUPTED, EXIT_TERMINATED):  # noted, not raised: as it returned
-            code = _interrupted_late(KeyboardInterrupt(), prog, streams)
+            code = _interrupted_late(KeyboardInterrupt(), prog, present)
     finally:
         sys.stdout, sys.stderr = streams
     return code
@@ -135,12 +173,30 @@ def said(exc, args=None, created=(), prog="mol-shell"):
     if by_interrupt(exc):  # a Ctrl-C that arrived inside a C extension's call
         print(f"{prog}: {_interrupted()}{_kept(KeyboardInterrupt())}", file=sys.stderr)
         return interrupted_code()
-    if os.environ.get("MOL_SHELL_TRACEBACK"):
+    if traceback_asked(refuse=False):
         raise exc
     text = " ".join(str(exc).split())[:300]
     print(f"{prog}: internal error: {type(exc).__name__}: {text} (a bug of mol_shell: please report it with "
           "the command; MOL_SHELL_TRACEBACK=1 shows where it happened)", file=sys.stderr)
     return EXIT_INTERNAL
+
+
+#: the environment variable that asks for a bug's traceback, and the values it takes
+TRACEBACK_VARIABLE = "MOL_SHELL_TRACEBACK"
+_OFF, _ON = ("", "0", "false", "no", "off"), ("1", "true", "yes", "on")
+
+
+def traceback_asked(refuse=True):
+    """Whether ``MOL_SHELL_TRACEBACK`` asks for a bug's traceback: ``1``, ``true``, ``yes``, ``on`` (any case) do;
+    unset, empty, ``0``, ``false``, ``no``, ``off`` do not (``0`` asked for one: any value that was not empty did).
+    Another value is refused (:class:`ParameterError`, as a command starts), or with ``refuse=False`` read as off."""
+    text = os.environ.get(TRACEBACK_VARIABLE, "").strip().lower()
+    if text in _OFF or text in _ON:
+        return text in _ON
+    if refuse:
+        raise ParameterError.invalid(TRACEBACK_VARIABLE, os.environ[TRACEBACK_VARIABLE], "is not a switch",
+                                     "1, true, yes or on (a bug's traceback); 0, false, no, off or empty (one line)")
+    return False
 
 
 def _interrupted():
@@ -204,16 +260,16 @@ _SAID = set()
 
 
 def one_line_warnings(prog="mol-shell"):
-    """Within a ``warnings.catch_warnings()`` block: warnings about a run's projected time, the material and the scene
-    said in one line each, as errors are, ``prog: warning: ...`` on stderr, each once per command (or script)."""
-    warnings.simplefilter("always", LongRunWarning)
-    warnings.simplefilter("always", MaterialWarning)
-    warnings.simplefilter("always", SceneWarning)
+    """Within a ``warnings.catch_warnings()`` block: the package's warnings (:class:`~mol_shell.MolShellWarning`: a
+    run's projected time, the material, the scene, an unstable start, grid modes, ...) said in one line each, as errors
+    are, ``prog: warning: ...`` on stderr, each once per command (or script), whatever ``python -W`` asks (``-W
+    error`` made them errors that ended the command and lost its result). A missing stderr (``2>&-``): nothing said."""
+    warnings.simplefilter("always", MolShellWarning)
     _SAID.clear()  # once per command (tests call main many times in one process)
 
     def one_line(message, category, filename, lineno, file=None, line=None):
         text = " ".join(str(message).split())  # one line, whatever the warning's author wrapped
-        if text not in _SAID:
+        if text not in _SAID and sys.stderr is not None:
             _SAID.add(text)
             print(f"{prog}: warning: {text}", file=sys.stderr)
 

@@ -29,6 +29,7 @@ from mol_shell.cli.outcome import (
     one_line_warnings,
     said,
     said_in_teardown,
+    traceback_asked,
 )
 from mol_shell.runs.simulate import simulate as run_simulate
 from mol_shell.runs.unshearable import simulate_unshearable as run_unshearable
@@ -127,6 +128,7 @@ def _run(main, argv, prog):
             one_line_warnings(prog)  # a study's cases warn once each, in one line, as the command line does
             # a run a Ctrl-C stopped: said once, as the script stops (Stopped), not also as the run's warning
             warnings.filterwarnings("ignore", "run incomplete: interrupted by the user", RuntimeWarning)
+            traceback_asked()  # a value it does not take: refused in one line
             main(argv)
         sys.stdout.flush()
     except SystemExit as exc:  # the parser's refusal (2, said in one line), --help (0)

@@ -6,7 +6,8 @@ else has to be on the loader's path). It is compiled once per SUNDIALS build and
 ``$MOL_SHELL_CACHE`` with the other kernels (:func:`~mol_shell.discretization.compiled.load_cached`: a lock file
 for concurrent builders, an atomic rename, a damaged file rebuilt); the libraries' file names carry a hash of
 their build, and are part of the cache key. ``$MOL_SHELL_SUNDIALS_LIBS`` points at another folder of the same
-libraries. A driver in the cache is loaded without gcc, and gcc builds one that is not
+libraries; a value set there that is not such a folder is refused in one line naming it (:class:`ParameterError`), not
+passed over for the wheel's. A driver in the cache is loaded without gcc, and gcc builds one that is not
 (:func:`~mol_shell.discretization.kernel_cache.unavailable`). Where the driver cannot be had or loaded, :func:`driver`
 raises :class:`DriverUnavailable` with one sentence saying why, and the integrators fall back to scikit-sundae's
 Python loop.
@@ -22,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mol_shell._core.errors import ParameterError
 from mol_shell.discretization import kernel_cache
 from mol_shell.discretization.compiled import CompilerError, load_cached
 from mol_shell.discretization.sundials_source import STALL_STEPS, SUNDIALS_DRIVER  # noqa: F401 (STALL_STEPS: for drv.)
@@ -39,14 +41,27 @@ REACHED, ROOT, R_FLOOR, MAX_STEPS, CHUNK, CALLS, STALLED = 0, 1, 2, 3, 4, 5, 6
 CONSTRAINT_FAIL = {"cvode": -15, "ida": -11}
 
 
+#: the environment variable that names another folder of the SUNDIALS libraries
+LIBS_VARIABLE = "MOL_SHELL_SUNDIALS_LIBS"
+
+
 class DriverUnavailable(RuntimeError):
     """The compiled driver cannot be built or loaded here; the message is one sentence saying why."""
 
 
 def library_folder():
-    """The folder of the wheel's SUNDIALS libraries (``$MOL_SHELL_SUNDIALS_LIBS`` overrides it)."""
-    text = os.environ.get("MOL_SHELL_SUNDIALS_LIBS", "").strip()
+    """The folder of the wheel's SUNDIALS libraries (``$MOL_SHELL_SUNDIALS_LIBS`` overrides it: a folder that does not
+    hold them is refused, :class:`ParameterError`, as the user's setting that cannot work)."""
+    text = os.environ.get(LIBS_VARIABLE, "").strip()
     if text:
+        allowed = (f"a folder holding SUNDIALS 7's shared libraries (libsundials_{LIBRARIES[0]}, _cvode, _ida, ...), "
+                   "as the scikit-sundae wheel's scikit_sundae.libs; unset it for the wheel's own")
+        if not Path(text).is_dir():
+            raise ParameterError.invalid(LIBS_VARIABLE, text, "is not a folder", allowed)
+        try:
+            library_paths(text)
+        except DriverUnavailable as exc:
+            raise ParameterError.invalid(LIBS_VARIABLE, text, f"holds no {str(exc).split()[0]}", allowed) from None
         return Path(text)
     spec = importlib.util.find_spec("sksundae")
     if spec is None or not spec.submodule_search_locations:

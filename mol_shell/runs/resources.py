@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mol_shell._core.constants import DEFAULT_INTERVALS, DENSE_MAX_STATES
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, RunWarning
 from mol_shell._core.units import show_seconds
 from mol_shell.results.stresses import MAX_SAMPLES
 
@@ -66,7 +66,7 @@ SOLVER_VECTORS = {"leapfrog": 8}
 SOLVER_VECTORS_DEFAULT = 30
 
 
-class LongRunWarning(RuntimeWarning):
+class LongRunWarning(RunWarning):
     """A run is projected to take longer than :data:`LONG_RUN_S`; the message holds the estimate."""
 
 

@@ -25,7 +25,7 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from mol_shell._core import interrupts
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, RunWarning
 
 #: seconds to wait for a dask scheduler to answer before the study is refused
 SCHEDULER_TIMEOUT = 10.0
@@ -273,7 +273,7 @@ def _execute_local(run_task, tasks, workers):
                     _stop(pool)
             if failed and not any(claims.owner(slot) > 0 for slot in range(len(pending))):
                 alone = True  # the workers died before any case: a new pool would too
-                warnings.warn(_NO_START.format(left=len((set(failed) | set(queue)) - mine)), RuntimeWarning,
+                warnings.warn(_NO_START.format(left=len((set(failed) | set(queue)) - mine)), RunWarning,
                               stacklevel=5)  # the caller of study (through execute and run_cases)
             again, lost = [], []
             for slot in sorted((set(failed) | set(queue)) - mine):

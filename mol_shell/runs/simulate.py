@@ -10,7 +10,7 @@ import numpy as np
 
 from mol_shell._core import interrupts
 from mol_shell._core.constants import DEFAULT_INTERVALS, RTOL_RANGE, stated_up
-from mol_shell._core.errors import ParameterError, SceneWarning, is_number, scalar
+from mol_shell._core.errors import MolShellWarning, ParameterError, SceneWarning, is_number, scalar
 from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.kernel_cache import CacheFull
 from mol_shell.discretization.threads import checked_threads
@@ -344,7 +344,7 @@ def _with_stresses(ds, limit):
         out = ds.copy()
         out.attrs["stresses"] = f"{where}; mol_shell.add_stresses(ds) adds them once there is space"
         warnings.warn(f"stresses not computed: {where.removeprefix('skipped: ')}; the run is kept without them "
-                      "(mol_shell.add_stresses adds them once there is space)", UserWarning, stacklevel=3)
+                      "(mol_shell.add_stresses adds them once there is space)", MolShellWarning, stacklevel=3)
         return out
 
 
@@ -410,7 +410,7 @@ def _start_stability(scene, system, y0, how):
     note = (f"the start computed as a static equilibrium (R or dilation auto) is unstable: its tangent stiffness "
             f"has {count} negative eigenvalue{'s' * (count != 1)} (a load past a critical one); the run leaves it as "
             "round-off grows (mol-shell path finds the critical loads, modes the growth rates)")
-    warnings.warn(note, UserWarning, stacklevel=3)
+    warnings.warn(note, MolShellWarning, stacklevel=3)
     return note
 
 

@@ -25,7 +25,7 @@ import warnings
 import numpy as np
 
 from mol_shell._core.atomic import keep_inputs
-from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt, scalar
+from mol_shell._core.errors import ModelLimitError, MolShellWarning, ParameterError, by_interrupt, scalar
 from mol_shell._core.paths import writable_path
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell._core.version import __version__
@@ -400,7 +400,7 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
         (where, why), more = store.rejected[0], len(store.rejected) - 1
         warnings.warn(f"{len(store.rejected)} stored case file{'s' * bool(more)} could not be reused and "
                       f"{'run' if more else 'runs'} again ({why}: {where}{f' and {more} more' if more else ''})",
-                      UserWarning, stacklevel=3)
+                      MolShellWarning, stacklevel=3)
     bar = progress_meter(progress_mode(progress), desc, count="{n} of {total} cases", postfix="last case {}",
                          total=total, initial=total - len(pending), unit="case")
     by_index = {task.index: task for task in pending}

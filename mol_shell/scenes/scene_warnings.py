@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import warnings
 
-from mol_shell._core.errors import MaterialWarning, SceneWarning
+from mol_shell._core.errors import MaterialWarning, MolShellWarning, SceneWarning
 from mol_shell.model.law_warnings import locking_warnings, unused_fibres_warnings, unused_law_parameters
 from mol_shell.scenes.setting import unused_histories
 
@@ -53,7 +53,7 @@ def say_once(scenes, *, parameter=None, stacklevel=2):
 
 #: what a run says and records about its own course (not its scene's): a study's case records it without saying it
 #: (:func:`hush_in_case`); the study says it, each case's once, naming the case (:func:`say_case_warnings`)
-CASE_WARNINGS = {"ellipticity_warning": MaterialWarning, "stability_warning": UserWarning}
+CASE_WARNINGS = {"ellipticity_warning": MaterialWarning, "stability_warning": MolShellWarning}
 
 
 def say_case_warnings(cases, *, stacklevel=2):
@@ -76,7 +76,7 @@ def hush_in_case():
     warnings.simplefilter("ignore", MaterialWarning)
     warnings.filterwarnings("ignore", message=r".* is unused: ", category=SceneWarning)
     warnings.filterwarnings("ignore", message=r"the (start computed as a static equilibrium|stability of the start) ",
-                            category=UserWarning)  # its stability_warning: said by the study (CASE_WARNINGS)
+                            category=MolShellWarning)  # its stability_warning: said by the study (CASE_WARNINGS)
 
 
 __all__ = ["CASE_WARNINGS", "KINDS", "hush_in_case", "say_case_warnings", "say_once", "say_scene_warnings",

@@ -148,7 +148,7 @@ def test_the_file_records_the_setup_every_used(tmp_path):
 
 def test_a_driver_that_cannot_be_had_falls_back_with_one_line(paper, monkeypatch, tmp_path, capsys):
     system, compiled, y0 = paper
-    monkeypatch.setenv("MOL_SHELL_SUNDIALS_LIBS", str(tmp_path))  # no libraries there
+    monkeypatch.setattr(drv, "library_folder", lambda: tmp_path)  # no libraries there (the variable's: refused)
     monkeypatch.setattr(sundials_c, "_REPORTED", set())
     with pytest.raises(drv.DriverUnavailable, match="libsundials_core not found"):
         drv.driver()
