@@ -42,7 +42,7 @@ import warnings
 import numpy as np
 
 from mol_shell._core import interrupts
-from mol_shell._core.errors import MaterialWarning, by_interrupt, scalar
+from mol_shell._core.errors import MaterialWarning, MolShellWarning, by_interrupt, scalar
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell.analysis.equilibria import EquilibriumEquations
 from mol_shell.analysis.path_branch import BranchFailed, closed, no_branch_reason, switch
@@ -492,5 +492,5 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         warnings.warn(ds.attrs["ellipticity_warning"], MaterialWarning, stacklevel=2)
     for said in ("grid_mode_warning", "near_critical_warning"):  # as modes says its grid modes
         if said in ds.attrs:
-            warnings.warn(ds.attrs[said], UserWarning, stacklevel=2)
+            warnings.warn(ds.attrs[said], MolShellWarning, stacklevel=2)
     return ds

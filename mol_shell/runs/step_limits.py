@@ -27,6 +27,7 @@ import warnings
 
 import numpy as np
 
+from mol_shell._core.errors import MolShellWarning
 from mol_shell.integrators import sundials, sundials_c
 from mol_shell.runs.resources import LongRunWarning
 
@@ -114,8 +115,8 @@ def after_run(method, ds, omega_max, damping):
     notes = [note for note in (None if said else convergence_note(method, ds.attrs),
                                bdf_note(method, ds.attrs, t_end, omega_max, damping, shell_rate(ds)) if t_end > 0
                                else None) if note]
-    for note in notes:  # a UserWarning, as the start's stability note: the command line says it
-        warnings.warn(note, UserWarning, stacklevel=3)
+    for note in notes:  # a package warning, as the start's stability note: the command line says it
+        warnings.warn(note, MolShellWarning, stacklevel=3)
     if notes:
         ds.attrs["step_warning"] = " ".join(notes)
     return ds
