@@ -236,6 +236,21 @@ def sparse_modes(K, M, rigid, count, scale):
     return w2[order], phi[:, order]
 
 
+def off_equilibrium(system, y0, forces=None):
+    """``"residual force F on FIELD at s = S m (R of a unit strain's)"``: the largest generalised force of state ``y0``
+    where above :data:`EQUILIBRIUM_TOL` of a unit strain's, else ``""`` (``forces``: its ``|momentum rates|``)."""
+    if forces is None:
+        f = np.array(system.rhs_newton(0, y0)).ravel()[: system.ny * system.n].reshape(system.n, system.ny)
+        forces = np.abs(f[:, system.nf:])
+    _, _, K = _blocks(system, y0)
+    scale = float(np.abs(K.diagonal()).max()) * max(1.0, float(np.abs(system.reference[:2]).max()))
+    if not forces.max() > EQUILIBRIUM_TOL * scale:
+        return ""
+    i, k = np.unravel_index(int(np.argmax(forces)), forces.shape)
+    return (f"residual force {forces.max():.3g} on {FIELDS[system.active[k]]} at s = {system.s[i]:.4g} m "
+            f"({forces.max() / scale:.2g} of a unit strain's)")
+
+
 def check_equilibrium(system, y0, scene, asked=None, given=False):
     """Refuse (ParameterError) a state that is moving or out of equilibrium, saying how far and where, and what
     of the scene (``asked``: as given, ``R`` or ``dilation`` perhaps auto) to change; ``given``: the state is the
@@ -250,13 +265,8 @@ def check_equilibrium(system, y0, scene, asked=None, given=False):
             raise ParameterError("omega", scene.omega, "0 for modes (a state at rest)", hint=where)
         raise ParameterError("scene", scene.name, "a scene whose initial state is at rest (no spin, no driven "
                              "edge moving at t = 0)", hint=where)
-    _, _, K = _blocks(system, y0)
-    scale = float(np.abs(K.diagonal()).max()) * max(1.0, float(np.abs(system.reference[:2]).max()))
-    if forces.max() > EQUILIBRIUM_TOL * scale:
-        i, k = np.unravel_index(int(np.argmax(forces)), forces.shape)
-        field = FIELDS[system.active[k]]
-        where = (f"residual force {forces.max():.3g} on {field} at s = {system.s[i]:.4g} m "
-                 f"({forces.max() / scale:.2g} of a unit strain's)")
+    where = off_equilibrium(system, y0, forces)
+    if where:
         if given:  # a path's step is one; a critical point the path did not locate may not be
             error = ParameterError("initial", None, "equilibria at rest under the scene's loads",
                                    hint=f"{where}; a path's step or located critical point is one: "

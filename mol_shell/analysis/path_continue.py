@@ -89,8 +89,17 @@ def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, 
     heading = None
     if k > 0 and onwards(source, value, stop):  # the step before orients the first tangent
         heading = np.stack([source[f].values[k - 1] for f in FIELDS])
-    out = path(scene, parameter, value, stop, n, steps=steps, max_steps=max_steps, ds=ds, branch=branch,
-               initial=fields, heading=heading, scales=scales_of(source, names["ds"], shown), progress=progress)
+    try:
+        out = path(scene, parameter, value, stop, n, steps=steps, max_steps=max_steps, ds=ds, branch=branch,
+                   initial=fields, heading=heading, scales=scales_of(source, names["ds"], shown), progress=progress)
+    except ParameterError as exc:
+        if not getattr(exc, "residual", None):
+            raise
+        # the step's state, out of equilibrium under the file's scene (its attributes edited): refused by the file
+        error = ParameterError.invalid(names["ds"], shown, f"holds a state at step {k} that is no equilibrium under "
+                                       f"its scene ({exc.residual})", ALLOWED)
+        error.residual = exc.residual
+        raise error from None
     out.attrs["continued_from"] = f"{named}, step {k} of {count} ({parameter} = {value:.10g} {units})"
     out.attrs["initial_state"] = info
     return out

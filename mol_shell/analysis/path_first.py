@@ -14,6 +14,8 @@ from __future__ import annotations
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
+from mol_shell.analysis.modes import EQUILIBRIUM_TOL
+from mol_shell.model.kinematics import FIELDS
 from mol_shell.runs.simulate import given_state
 
 
@@ -23,8 +25,10 @@ def first_state(tracer, start, initial, heading, scales, failed):
     eq, at = tracer.eq, float(start)
     if initial is not None:  # an equilibrium at start (an earlier path's step): Newton polishes it, nothing more
         said = "the scene's initial state"
+        q = eq.unknowns(_state(eq, initial))
+        _check_equilibrium(tracer, q, at)
         try:
-            q, iterations = tracer.equilibrium(eq.unknowns(_state(eq, initial)), at)
+            q, iterations = tracer.equilibrium(q, at)
         except failed as exc:
             raise ParameterError("initial", None, f"fields of an equilibrium at start = {at:g} {eq.units}",
                                  message=f"initial (the fields given) is no equilibrium at start = {at:g} "
@@ -40,6 +44,30 @@ def first_state(tracer, start, initial, heading, scales, failed):
     if moved is not None and np.any(moved):
         return q, iterations, tracer.tangent(q, at, previous=(moved / tracer.q_scale, 0.0))
     return q, iterations, tracer.tangent(q, at)
+
+
+def _check_equilibrium(tracer, q, at):
+    """Refuse (``initial``, with its ``residual`` said) a state ``q`` that is no equilibrium at load ``at``, by the
+    test modes makes of its start (:func:`~mol_shell.analysis.modes.check_equilibrium`: forces above
+    :data:`~mol_shell.analysis.modes.EQUILIBRIUM_TOL` of a unit strain's): Newton polished a state of another scene
+    (a path file whose scene attributes were edited) into another equilibrium, 21 % away. A state that round-off
+    moved (a path's step, converged to 1e-10 of that) passes, and Newton polishes it."""
+    eq = tracer.eq
+    F, Fq, _ = eq.reduced(q, at)
+    scale = float(np.abs(Fq.diagonal()).max()) * tracer.length
+    forces = np.abs(F)
+    if np.all(np.isfinite(forces)) and forces.max(initial=0.0) <= EQUILIBRIUM_TOL * scale:
+        return
+    m = int(np.argmax(np.where(np.isfinite(forces), forces, np.inf)))
+    index = int(eq.q_idx[eq.keep[m]])
+    node, field = index // eq.system.ny, FIELDS[eq.system.active[index % eq.system.ny]]
+    where = (f"residual force {forces[m]:.3g} on {field} at s = {eq.system.s[node]:.4g} m "
+             f"({forces[m] / scale:.2g} of a unit strain's)")
+    error = ParameterError("initial", None, f"fields of an equilibrium at start = {at:g} {eq.units}",
+                           message=f"initial (the fields given) is no equilibrium at start = {at:g} {eq.units}: "
+                           f"{where}")
+    error.residual = where  # for a caller that names where the fields came from (path --from)
+    raise error
 
 
 def _state(eq, fields, name="initial"):

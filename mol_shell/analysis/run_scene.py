@@ -11,22 +11,26 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import re
 import shlex
+import warnings
 
 import numpy as np
 
 from mol_shell._core.constants import FIELDS
-from mol_shell._core.errors import ParameterError
+from mol_shell._core.errors import ParameterError, SceneWarning
 from mol_shell._core.user_files import name_text
+from mol_shell._core.version import __version__
 from mol_shell.analysis.path_start import read_path, scene_params
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.laws import MATERIALS
 from mol_shell.model.layers import parse_layers
 from mol_shell.results.dataset import RUN_FILE, read_run
+from mol_shell.runs import asked_times
 from mol_shell.runs.building import parse_times
 from mol_shell.runs.simulate import integrator_options, leapfrog_times
 from mol_shell.scenes import SCENES, get_scene
-from mol_shell.scenes.files import scene_toml
+from mol_shell.scenes.files import _run_options, scene_toml
 
 #: options written whatever their value: what a reader of the file looks for first
 ALWAYS = ("dt", "rtol", "atol")
@@ -112,8 +116,9 @@ def _option(value, default):
     return value
 
 
-def run_table(ds, scene):
-    """``{key: value}`` of the ``[run]`` table that runs ``ds`` again (see the module's docstring)."""
+def run_table(ds, scene, name="FILE", source=None):
+    """``{key: value}`` of the ``[run]`` table that runs ``ds`` again (see the module's docstring; a value the file
+    holds that is not a run's refused naming ``name``)."""
     integrator = str(ds.attrs["integrator"])
     table = {"integrator": integrator, "n": int(ds.attrs.get("n", ds.sizes["s"]))}
     defaults = {f.name: f.default for f in dataclasses.fields(INTEGRATORS[integrator])} \
@@ -127,7 +132,11 @@ def run_table(ds, scene):
         if key in ALWAYS or key not in defaults or value != defaults[key]:
             options[key] = value
     times = [float(t) for t in ds.time.values]
-    # a run that stopped early saved a prefix of the times asked: t_end asked where they are its default times
+    asked = _asked_times(ds, name, source) if _stopped(ds) else None
+    if asked is not None:  # a run that stopped early: the times it asked for, those it saved their prefix
+        times = [float(t) for t in asked]
+    # a run of an earlier version that stopped early saved a prefix of the times asked: t_end asked where they are
+    # its default times
     t_end = float(ds.attrs.get("t_end_requested", times[-1])) if _stopped(ds) else times[-1]
     try:
         default = (leapfrog_times(t_end, options.get("dt", defaults.get("dt"))) if integrator == "leapfrog"
@@ -142,6 +151,47 @@ def run_table(ds, scene):
     return {**table, **options}
 
 
+def _from_command(ds):
+    """The ``mol-shell run --from`` command that starts where run ``ds`` started (its ``started_from``: a path file,
+    a step or a critical point), for the header of its scene file; ``""`` for a file without it (an earlier
+    version's)."""
+    origin, _, where = str(ds.attrs.get("started_from", "")).rpartition(", step ")
+    flag = "--step"
+    if not origin:
+        origin, _, where = str(ds.attrs.get("started_from", "")).rpartition(", critical point ")
+        flag = "--point"
+    if not origin:
+        return ""
+    perturb = re.search(r", perturbed by (\S+) x its critical mode$", where)
+    return (f"# mol-shell run --from {shlex.quote(origin)} {flag} {where.split()[0]}"
+            + (f" --perturb {perturb[1]}" if perturb else "") + " (the [run] table below as options: --integrator, "
+            "--n, --t-end or --times, ...) starts from it.")
+
+
+def _asked_times(ds, name, source=None):
+    """The saved times run ``ds`` asked for (attr ``times_requested``, kept where it saved fewer), ``None`` where the
+    file has none (a run of an earlier version); a value that is not of its form, or not a run's times that go on
+    from those saved, is refused naming ``name`` and the attribute."""
+    if asked_times.ATTR not in ds.attrs:
+        return None
+    text, saved = str(ds.attrs[asked_times.ATTR]), ds.time.values
+    try:
+        times = asked_times.times_of(text)
+    except ValueError:
+        times = None
+    if times is None or len(times) < max(2, len(saved)) or not np.all(np.isfinite(times)) or times[0] != 0 \
+            or np.any(np.diff(times) <= 0) or not np.array_equal(times[:len(saved)], saved):
+        raise ParameterError.invalid(name, str(source or ds.encoding.get("source", "<xarray.Dataset>")), f"holds "
+                                     f"{asked_times.ATTR} = {_shown(text)}, not increasing times from 0 that begin "
+                                     "with the times it saved", RUN_FILE)
+    return times
+
+
+def _shown(text, most=60):
+    """``text`` quoted, cut to ``most`` characters."""
+    return repr(text if len(text) <= most else text[:most] + "...")
+
+
 def _stopped(ds):
     """Whether run ``ds`` stopped before its end (a limit, a failure, Ctrl-C)."""
     return not int(ds.attrs.get("complete", 1))
@@ -151,20 +201,64 @@ def run_toml(ds, name="FILE", source=None):
     """A scene file (:func:`~mol_shell.scenes.files.scene_toml`) that runs run ``ds`` again: its scene and a
     ``[run]`` table as it ran; ``source``, the file's name for the header."""
     scene, values, laws = text_scene(ds, name)
-    version = ds.attrs.get("mol_shell_version", "?")
-    notes = [f"# Written from the run {source or ds.encoding.get('source', '')} (mol_shell {version}): "
-             + "mol-shell run THIS.toml runs it again.", *laws]
-    run = run_table(ds, scene)
+    version = str(ds.attrs.get("mol_shell_version", "?"))
+    shown = source or ds.encoding.get("source", "")
+    run = checked_run(ds, run_table(ds, scene, name, shown), scene, name, shown)
+    notes = [f"# Written from the run {shown} (mol_shell {version}): mol-shell run THIS.toml runs it again.", *laws]
+    if version != __version__:
+        said = other_version_note(version)
+        warnings.warn(f"{name} = {shown!r}: {said}", SceneWarning, stacklevel=2)
+        notes.append(f"# {said[0].upper()}{said[1:]}.")
     if _stopped(ds):
-        asked = "t_end is the one it asked" if "t_end" in run else "times are those it saved"
+        asked = "t_end is the one it asked" if "t_end" in run else "times are those it asked for" \
+            if asked_times.ATTR in ds.attrs else "times are those it saved (its file does not record those it asked for)"
         notes.append(f"# That run stopped ({ds.attrs.get('message', '')}): {asked}.")
     start = str(ds.attrs.get("initial_state", ""))
     if start.startswith("equilibrium path"):
-        notes.append(f"# That run started from {start}: this file starts from the scene's own initial data.")
+        notes.append(f"# That run started from {start}: this file starts from the scene's own initial data, not "
+                     "the path's state.")
+        notes += [command for command in [_from_command(ds)] if command]
     then, now = str(ds.attrs.get("meridian", "")), scene.meridian().describe() if hasattr(scene, "meridian") else ""
+    _check_points(ds, then, now, name, source)
     if then and now and then != name_text(now):  # a file name not UTF-8: the attrs hold it escaped
         notes.append(f"# The meridian differs now (the run's: {then}; now: {now}).")
     return scene_toml(scene, run=run, notes=notes, values=values)
+
+
+def other_version_note(version):
+    """What a scene file written from a run of mol_shell ``version`` (not this one) says of running it again."""
+    return (f"the run was computed by mol_shell {version}, this is {__version__}: its scene file runs it again with "
+            "this version's code, whose states may differ from the run's (by up to the solver's tolerance on an "
+            "adaptive integrator, more where a model or a default changed since), not to the bit")
+
+
+def checked_run(ds, run, scene, name, source):
+    """``run`` (:func:`run_table`) checked as ``mol-shell run`` checks a scene file's ``[run]`` table (its ``n``
+    against the nodes of the file's ``s`` too): a hand-edited attribute of run ``ds`` is refused naming ``name`` (the
+    file ``source``) and the attribute, not written into a scene file that the run refuses later."""
+    nodes = int(ds.sizes["s"])
+    if run["n"] != nodes:
+        raise ParameterError.invalid(name, source, f"holds attribute n = {run['n']}, but its coordinate s has "
+                                     f"{nodes} nodes", f"a run file as mol-shell run wrote it (n = {nodes})")
+    try:
+        _run_options(f"{name} = {source!r}, attribute", run, cls=type(scene))
+    except ParameterError as exc:
+        raise ParameterError(name, source, exc.allowed, message=str(exc).replace(", attribute: ", ", attribute ", 1)
+                             .replace("[run] ", "", 1)) from None
+    return run
+
+
+def _check_points(ds, then, now, name, source):
+    """Refuse, naming ``name`` (the run file ``source``) and its points file, a run on a points meridian whose file
+    was edited since (its digest, in the run's ``meridian``, differs now): the scene file would run another shell,
+    as ``mol-shell run --from`` of a path on it refuses to."""
+    digests = [re.search(r", sha256 ([0-9a-f]+)\)$", text) for text in (then, now)]
+    if "points" in ds.attrs and all(digests) and digests[0][1] != digests[1][1]:
+        raise ParameterError.invalid(name, str(source or ds.encoding.get("source", "<xarray.Dataset>")),
+                                     f"was run on the points file {str(ds.attrs['points'])!r}, edited since the run "
+                                     f"(digest {digests[0][1]} then, {digests[1][1]} now)",
+                                     "a run file whose points file is as it ran (the scene file would run another "
+                                     "shell)", hint=f"the run's meridian: {then}; now: {name_text(now)}")
 
 
 #: the attributes of a run file without which :func:`run_toml` cannot write it back (its scene, its integrator)
@@ -192,6 +286,8 @@ def read_run_toml(filename, name="FILE"):
                                      f"file without {them} cannot be written back as a scene file (saved again without "
                                      "its attributes?)", RUN_OR_PATH_FILE) from None
     except ParameterError as exc:  # a run of an earlier version whose scene this one refuses: said with the file
+        if exc.name == name:  # the file refused as it is (an attribute, its points file edited since): as said
+            raise
         version = ds.attrs.get("mol_shell_version")
         who = f"{version} wrote it" if version is not None else "the file has no attribute 'mol_shell_version'"
         raise ParameterError(exc.name, exc.value, exc.allowed, message=f"{name} = {str(filename)!r}: the run's scene is "

@@ -65,6 +65,7 @@ from mol_shell.cli.path import (
     looks_like_path,
     looks_like_path_study,
     register_path,
+    say_off_equilibrium,
     say_start,
     start_of,
 )
@@ -88,6 +89,7 @@ from mol_shell.views.plotting import plot_meridian, plot_snapshots, shows_histor
 def cmd_run(args):
     scene, run, initial, info, source = start_of(args)  # a scene file's [run] table gives defaults, the options win
     times, t_end, integrator, options = run_settings(args, run, scene, args.n or run.get("n", 40))
+    say_off_equilibrium(args, scene, args.n or run.get("n", 40), initial)
     ds = simulate(scene, integrator, n=args.n or run.get("n", 40), t_end=t_end, times=times, progress=None,
                   stresses=args.stresses, initial=initial, **options)
     say_start(args, ds, info, "the run starts from", source)

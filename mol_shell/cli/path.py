@@ -11,6 +11,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError, show
 from mol_shell.analysis.equilibria import PATH_PARAMETERS
+from mol_shell.analysis.modes import off_equilibrium
 from mol_shell.analysis.path import path
 from mol_shell.analysis.path_continue import continue_path
 from mol_shell.analysis.path_inputs import STEPS_MAX
@@ -32,6 +33,8 @@ from mol_shell.cli.args import (
 )
 from mol_shell.cli.views import said_as_options
 from mol_shell.results.dataset import read_netcdf, write_netcdf
+from mol_shell.runs.building import build, resolve
+from mol_shell.runs.simulate import starting_state
 from mol_shell.scenes import DISPLACEMENTS, with_params
 from mol_shell.views.figures import path_note
 from mol_shell.views.path_plot import check_response, plot_path, response_values
@@ -108,11 +111,11 @@ def _continued(args):
         ds = continue_path(source, args.stop, step=args.step, steps=args.steps, max_steps=args.max_steps,
                            branch=args.branch, names=FLAGS)
     except ParameterError as exc:
-        if exc.name == "initial":  # the file's state at the step, Newton's start: the file is what is wrong
-            step = source.sizes["step"] - 1 if args.step is None else args.step
+        if exc.name == "initial" or getattr(exc, "residual", None):  # the file's state at the step, Newton's start
+            step = source.sizes["step"] - 1 if args.step is None else args.step  # (out of equilibrium under its
+            said = getattr(exc, "residual", None) or str(exc).partition(': ')[2]  # scene): the file is what is wrong
             raise ParameterError.invalid("--from", args.from_path, f"holds a state at step {step} that is no "
-                                         f"equilibrium under its scene ({str(exc).partition(': ')[2]})",
-                                         ALLOWED) from None
+                                         f"equilibrium under its scene ({said})", ALLOWED) from None
         if exc.name == "parameter":  # the file's continued load, which no --param named
             raise ParameterError.invalid("--from", args.from_path, f"continues {exc.value!r}, which this scene "
                                          f"cannot ({exc.allowed})", ALLOWED) from None
@@ -284,9 +287,46 @@ def say_start(args, ds, info, subject, source=None):
     if info:
         ds.attrs["initial_state"] = info + ("; not located (point_located = 0): the search's last estimate"
                                             if note else "")
+    if source is not None and args.from_path is not None:  # the path file, as a continued path's continued_from
+        ds.attrs["started_from"] = started_from(args, source)
     for said in (note, ds.attrs.get("initial_data_note")):
         if said:
             print(f"mol-shell: note: {said}", file=sys.stderr)
+
+
+def say_off_equilibrium(args, scene, n, initial):
+    """A note on stderr where a run ``--from`` a path's step or critical point (``initial``, its fields) starts out
+    of equilibrium under its scene (``scene``: the path's, ``--set`` on top), with the residual modes would refuse it
+    by: a file edited since, or loads moved by ``--set`` (a dynamic run from there is legitimate: it starts moving).
+    Not for a state perturbed on purpose (``--perturb``)."""
+    if initial is None or getattr(args, "perturb", None):
+        return
+    try:
+        scene = resolve(scene)  # as the run takes it (R = auto computed)
+        system, _ = build(scene, n)
+        where = off_equilibrium(system, starting_state(scene, system, n, initial=initial)[0])
+    except ParameterError:  # refused by the run, which says it as it does
+        return
+    if where:
+        print(f"mol-shell: note: the state at {_where(args)} of {args.from_path} is out of equilibrium under the run's "
+              f"scene ({where}): the run starts moving from it", file=sys.stderr)
+
+
+def _where(args):
+    return f"step {args.step}" if args.step is not None else f"critical point {args.point}"
+
+
+def started_from(args, source):
+    """``started_from`` of a run or modes analysis ``--from`` the path ``source`` (the file ``args.from_path``): its
+    absolute name, the step (or critical point) and its load, ``"/abs/p.nc, step 6 of 21 (pressure = 1251.4 Pa)"``."""
+    if args.step is not None:
+        where, count, value = f"step {args.step}", source.sizes["step"], float(source.parameter.values[args.step])
+    else:
+        where, count = f"critical point {args.point}", source.sizes.get("point", 0)
+        value = float(source.point_parameter.values[args.point])
+    perturbed = f", perturbed by {float(args.perturb):g} x its critical mode" if getattr(args, "perturb", None) else ""
+    return (f"{os.path.abspath(args.from_path)}, {where} of {count} ({source.attrs['parameter']} = {value:.10g} "
+            f"{source.attrs.get('parameter_units', '')}){perturbed}")
 
 
 def not_an_equilibrium(args, exc, source=None):

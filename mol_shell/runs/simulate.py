@@ -28,7 +28,7 @@ from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.loads import check_leapfrog_history
 from mol_shell.results.dataset import build_dataset
 from mol_shell.results.stresses import MAX_SAMPLES, add_stresses
-from mol_shell.runs import resources, step_limits
+from mol_shell.runs import asked_times, resources, step_limits
 from mol_shell.runs.building import (  # noqa: F401
     PARALLEL_MIN_NODES,
     _built,
@@ -313,9 +313,12 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
             "units_max_damping_rate": "s-1",
             "leapfrog_dt_bound_s": 1.0 / omega_max,
             "initial_state": start_info,
+            "threads": compiled.threads,  # wall_time_s depends on them
             "t_end_requested": float(times[-1]),  # the end asked for: a run that stops early holds only what it
             # reached
         })
+        if len(traj.t) < len(times):  # stopped short: the times it asked for, as a scene file asks for them again
+            attrs[asked_times.ATTR] = asked_times.times_text(times)
         if stability_note:
             attrs["stability_warning"] = stability_note
         ds = build_dataset(system, scene, traj, velocities, totals, attrs, requested, given=initial is not None)

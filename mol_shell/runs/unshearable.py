@@ -46,7 +46,7 @@ from mol_shell.integrators.constrained import ConstrainedIDA, ida_solver
 from mol_shell.integrators.loop import run
 from mol_shell.model.edges import EDGE_FIELDS, IMPOSED, resolve_edges
 from mol_shell.results.dataset import build_dataset
-from mol_shell.runs import resources
+from mol_shell.runs import asked_times, resources
 from mol_shell.runs.building import as_scene, build, observe, parse_times, resolve
 from mol_shell.runs.checks import check_system, checked_spectrum
 from mol_shell.runs.post_run import kept
@@ -131,6 +131,8 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         attrs = {"integrator": "leapfrog", "dt": dt, "constrained": 0, "leapfrog_dt_bound_s": 1.0 / omega_max}
     attrs["build_and_run_time_s"] = time.perf_counter() - start
     attrs["t_end_requested"] = float(times[-1])  # as simulate's: what a run that stops early was asked to reach
+    if len(traj.t) < len(times):  # as simulate's: the times it asked for
+        attrs[asked_times.ATTR] = asked_times.times_text(times)
     with interrupts.watched() as watch:  # the states are the run from here: a Ctrl-C is noted, the run kept
         velocities, totals = observe(shell, traj.y)
         if constrained:  # a held chi's support shares the torque with the constraint chi_s = 0, whose multiplier the
