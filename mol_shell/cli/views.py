@@ -2,14 +2,26 @@
 
 from __future__ import annotations
 
+import sys
 from contextlib import contextmanager
 
 from mol_shell._core.errors import ParameterError
 from mol_shell.cli.args import integer_arg, number_arg, plural
 from mol_shell.cli.inputs import check_companions
 from mol_shell.results.dataset import RUN_FILE, read_run
-from mol_shell.views.animate import DEFAULTS, MAX_FPS, MIN_FPS, MOVING, RANGES, SUFFIXES, animate, default_field
-from mol_shell.views.export import FORMATS, N_PHI, N_PHI_MAX, companion_files, export
+from mol_shell.views.animate import (
+    DEFAULTS,
+    MAX_FPS,
+    MAX_GIF_FPS,
+    MIN_FPS,
+    MOVING,
+    RANGES,
+    SUFFIXES,
+    animate,
+    default_field,
+    gif_rate_note,
+)
+from mol_shell.views.export import FORMATS, N_PHI, N_PHI_MAX, companion_files, export, h5_renamed
 from mol_shell.views.fields import check_run
 from mol_shell.views.figures import incomplete_note
 
@@ -65,6 +77,8 @@ def cmd_export(args):
     extra = f" (+ {plural(len(files) - 1, 'file')})"
     print(f"wrote {args.output}{extra}: {plural(ds.sizes['time'], 'step')}, {ds.sizes['s']} nodes x {args.n_phi} "
           f"angles per surface{said_incomplete(ds)}")
+    if h5_renamed(args.output):
+        print(f"mol-shell: note: {h5_renamed(args.output)}", file=sys.stderr)
     return 0
 
 
@@ -92,7 +106,8 @@ def register_animate(subparsers):
     parser.add_argument("--fibres", type=integer_arg("--fibres", *RANGES["fibres"]), default=DEFAULTS["fibres"],
                         help=f"material fibres drawn, {_range('fibres')} (default {DEFAULTS['fibres']})")
     parser.add_argument("--fps", type=number_arg("--fps", MIN_FPS, MAX_FPS, low_closed=True, high_closed=True),
-                        default=DEFAULTS["fps"], help=f"frames per second, [{MIN_FPS:g}, {MAX_FPS}] (default 4)")
+                        default=DEFAULTS["fps"], help=f"frames per second, [{MIN_FPS:g}, {MAX_FPS}]; a .gif's at most {MAX_GIF_FPS}, "
+                        "its frame delay in whole hundredths of a second, the nearest (default 4)")
     parser.add_argument("--width", type=integer_arg("--width", *RANGES["width"]), default=DEFAULTS["width"],
                         help=f"width in pixels, {_range('width')} (default {DEFAULTS['width']}; height 0.9 of it; an .mp4's "
                         "sides rounded to even numbers)")
@@ -107,4 +122,6 @@ def cmd_animate(args):
                         width=args.width)
     chosen = f", {default_field(ds)[1]}" if args.field is None else f", coloured by {args.field}"  # as asked
     print(f"wrote {args.output}: {plural(count, 'frame')}{chosen}{said_incomplete(ds)}")
+    if gif_rate_note(args.fps, args.output):
+        print(f"mol-shell: note: {gif_rate_note(args.fps, args.output)}", file=sys.stderr)
     return 0

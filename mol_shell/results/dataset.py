@@ -52,7 +52,7 @@ def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=Non
     ``NAME_requested`` (and its ``units_NAME_requested``) beside it where they differ. A vessel whose segments run
     backwards runs a twist and one fibre family with the opposite sign and a graded wall's ``h_profile`` as
     ``h(L - s)`` (its ``ran_values``): each stored as run, the value given in ``NAME_requested``, and their names in
-    ``reversed_parameters``.
+    ``reversed_parameters``. ``zeta1`` (the lower face as used) is stored as ``zeta1_used`` too, in m.
     """
     used = scene.params()
     asked = dict(used if requested is None else requested)
@@ -81,6 +81,7 @@ def scene_attrs(scene, edges, zeta1, initial=None, reference=None, requested=Non
     reversed_ = [name for name in ran if meta.get(name) == ran[name]]  # (not a start's gamma given as fields)
     if reversed_:  # NAME as run, NAME_requested as given
         meta["reversed_parameters"] = ", ".join(reversed_)
+    meta["zeta1_used"], meta["units_zeta1_used"] = float(zeta1), "m"  # every file of a scene has it, as docs/netcdf.md says
     meta.update(law_attrs(scene))  # which law of one's own ran, and its parameters
     return meta
 

@@ -75,11 +75,35 @@ ENCODER_LIMITS = ("-threads", "2", "-rc-lookahead", "10")
 MEMORY_FIXED, MEMORY_PER_PIXEL, ENCODER_PER_PIXEL = 250e6, 16.0, 100.0
 
 
-#: the largest frame rate (frames per second; the command line's ``--fps`` takes the same)
+#: the largest frame rate (frames per second; the command line's ``--fps`` takes the same): an MP4's, which keeps any
 MAX_FPS = 100
+#: a GIF's: it stores a frame's delay in whole hundredths of a second (cs), and players show one of 1 cs (or none)
+#: as 10 cs; 2 cs, 50 frames a second, is the shortest delay they honour
+MAX_GIF_FPS = 50
+#: a GIF's rate is said (:func:`gif_rate_note`) where its whole hundredths make it differ from the one asked by more
+#: than this share
+GIF_RATE_SAID = 0.01
 #: the smallest: a frame of 500 s (a GIF stores a frame's duration in hundredths of a second, at most 655.35 s;
 #: 0.001 overflowed it)
 MIN_FPS = 0.002
+
+
+def gif_delay(fps):
+    """A GIF frame's delay for ``fps`` frames a second, in whole hundredths of a second: ``100 / fps`` to the nearest
+    (at least 1)."""
+    return max(1, int(100 / fps + 0.5))
+
+
+def gif_rate_note(fps, path):
+    """A note on the rate a ``.gif`` ``path`` plays at when its whole hundredths (:func:`gif_delay`) make it differ
+    from ``fps`` by more than :data:`GIF_RATE_SAID` (30 fps: 3 cs, 33.3 fps); ``""`` otherwise (or for an .mp4)."""
+    if not str(path).lower().endswith(".gif"):
+        return ""
+    delay = gif_delay(fps)
+    if abs(100 / delay - fps) <= GIF_RATE_SAID * fps:
+        return ""
+    return (f"the GIF plays at {100 / delay:.3g} frames per second, not --fps {fps:g}: a GIF's frame delay is in "
+            f"whole hundredths of a second ({delay} here)")
 
 
 def check_integers(**values):
@@ -169,7 +193,8 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
     fibres : int
         Material fibres drawn (evenly spaced reference azimuths), in [1, 360].
     fps : float
-        Frames per second, in (0, :data:`MAX_FPS`].
+        Frames per second, in [:data:`MIN_FPS`, :data:`MAX_FPS`]; a ``.gif``'s at most :data:`MAX_GIF_FPS`, its
+        frame delay ``100 / fps`` hundredths of a second to the nearest whole one (:func:`gif_rate_note`).
     width : int
         Width in pixels (height 0.9 of it), in [100, 4096]; an MP4's width and height are rounded to even numbers.
     elev, azim : float
@@ -205,6 +230,10 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
     values, units, _ = field_values(ds, field, "cells", option="field")
     path = writable_path(path, "path", suffixes=SUFFIXES)  # before the frames: its missing directories created
     suffix = path.suffix.lower().lstrip(".")
+    if suffix == "gif" and fps > MAX_GIF_FPS:  # an .mp4 honours the rate asked: up to MAX_FPS
+        allowed = f"[{MIN_FPS:g}, {MAX_GIF_FPS}] frames per second for a .gif"
+        raise ParameterError("fps", fps, allowed, message=f"fps = {fps:g} is outside {allowed}",
+                             hint=f"a GIF's delays are whole hundredths of a second; an .mp4 takes up to {MAX_FPS}")
     check_memory(width, suffix)  # before anything is drawn: the frames and the encoder, whatever their count
     cmap_name, norm = _scale(values)
     cmap = colormaps[cmap_name]
@@ -421,7 +450,7 @@ def _write_gif(path, render, count, fps, meter=None, palette_frames=6, palette_w
         strip.paste(frame, (0, i * frame.height))
     palette = strip.quantize(colors=256, method=Image.Quantize.MEDIANCUT)
     del samples, strip
-    duration = round(1000 / fps)
+    duration = 10 * gif_delay(fps)  # ms, a whole number of hundredths: Pillow stores duration // 10
     previous = None
     with open(path, "wb") as out:
         for k in range(count):

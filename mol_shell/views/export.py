@@ -186,13 +186,29 @@ def _compressing(create_dataset):
     return create
 
 
+#: what an XDMF file's HDF5 data cannot have in their file's name, and what stands for it there: XDMF names a data
+#: set ``FILE:/PATH``, split at ':' (``run_18:00.h5:/data2`` could not be read back, by meshio nor ParaView)
+H5_UNSAFE, H5_SAFE = ":", "_"
+
+
 def companion_files(path, steps):
-    """The files written beside ``path`` for ``steps`` saved times: ``<stem>.h5`` for ``.xdmf``, ``<stem>_NNNN.vtu``
-    for ``.pvd`` (the writers below name theirs so; the command line checks them before the work)."""
+    """The files written beside ``path`` for ``steps`` saved times: ``<stem>.h5`` for ``.xdmf`` (each ':' of the stem
+    replaced by '_', :data:`H5_UNSAFE`; :func:`h5_renamed`), ``<stem>_NNNN.vtu`` for ``.pvd`` (the writers below name
+    theirs so; the command line checks them before the work)."""
     path = Path(path)
     if path.suffix.lower() == ".xdmf":
-        return [path.with_suffix(".h5")]
+        return [path.with_name(path.stem.replace(H5_UNSAFE, H5_SAFE) + ".h5")]
     return [path.with_name(f"{path.stem}_{k:04d}.vtu") for k in range(steps)]
+
+
+def h5_renamed(path):
+    """A note for an ``.xdmf`` ``path`` whose HDF5 data are not in ``<stem>.h5`` (its stem has a ':',
+    :data:`H5_UNSAFE`): the name they are in, and why; ``""`` otherwise."""
+    path = Path(path)
+    if path.suffix.lower() != ".xdmf" or H5_UNSAFE not in path.stem:
+        return ""
+    return (f"the HDF5 data of {path.name} are in {companion_files(path, 0)[0].name} "
+            f"(XDMF separates a data file's name from its data set by ':', so its name has none)")
 
 
 def write_xdmf(path, times, cells, reference, steps, stop=lambda: False):
@@ -259,7 +275,8 @@ def export(ds, path, n_phi=N_PHI, faces=False):
     ds : xarray.Dataset or str or os.PathLike
         A run (with or without stresses), or the path of its netCDF file.
     path : str or os.PathLike
-        ``.xdmf`` (plus ``<stem>.h5``) or ``.pvd`` (plus ``<stem>_NNNN.vtu``); missing directories are created.
+        ``.xdmf`` (plus ``<stem>.h5``, a ':' of the stem as '_': :func:`h5_renamed`) or ``.pvd`` (plus
+        ``<stem>_NNNN.vtu``); missing directories are created.
         None of these files may be the run's own file (``ds`` a path, or a Dataset read from one).
     n_phi : int
         Azimuthal samples, in [3, :data:`N_PHI_MAX`].

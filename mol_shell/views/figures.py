@@ -58,11 +58,56 @@ def save_figure(fig, path, dpi=120):
         raise
     suffix = path.suffix.lstrip(".").lower() or "png"
     try:
+        if suffix in POSTSCRIPT:
+            opaque(fig)
         with atomic_path(path) as tmp:
             fig.savefig(tmp, dpi=dpi, format=suffix)
         interrupts.wrote(path)  # an interrupt from here on: said after writing it
     finally:
         plt.close(fig)
+
+
+#: formats without transparency: matplotlib draws a partly transparent artist opaque there, and said so on stderr in a
+#: bare line of its own (its logger's); :func:`opaque` draws them as they look on white first
+POSTSCRIPT = ("ps", "eps")
+
+
+def _on_white(rgba):
+    """Opaque colours (``(..., 4)`` RGBA) that look as ``rgba`` do over white; fully transparent ones kept."""
+    rgba = np.array(rgba, dtype=float).reshape(-1, 4)
+    alpha = rgba[:, 3:]
+    seen = (alpha > 0).ravel()
+    rgba[seen, :3] = alpha[seen] * rgba[seen, :3] + (1 - alpha[seen])
+    rgba[seen, 3] = 1.0
+    return rgba
+
+
+def opaque(fig):
+    """Give each partly transparent line, patch and collection of ``fig`` the opaque colours it shows over white (a
+    grid of alpha 0.3, a legend's frame, a faded line), for a format that has no transparency (:data:`POSTSCRIPT`):
+    drawn so, nothing is rendered darker than it looks, nor said."""
+    import matplotlib.colors as mcolors
+    from matplotlib.collections import Collection
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    for artist in fig.findobj(lambda a: isinstance(a, (Line2D, Patch, Collection))):
+        if isinstance(artist, Line2D):
+            alpha = artist.get_alpha()
+            colours = {name: getattr(artist, f"get_{name}")() for name in ("color", "markerfacecolor", "markeredgecolor")}
+            artist.set_alpha(None)
+            for name, colour in colours.items():
+                if not (isinstance(colour, str) and colour.lower() in ("none", "auto")):
+                    getattr(artist, f"set_{name}")(tuple(_on_white(mcolors.to_rgba(colour, alpha))[0]))
+        elif isinstance(artist, Collection) and artist.get_array() is not None:
+            continue  # colours from a colour map: they are drawn as the map gives them
+        else:
+            face, edge = artist.get_facecolor(), artist.get_edgecolor()  # RGBA, the artist's alpha applied
+            artist.set_alpha(None)
+            face, edge = _on_white(face), _on_white(edge)
+            single = isinstance(artist, Patch)
+            artist.set_facecolor(face[0] if single else face)
+            artist.set_edgecolor(edge[0] if single else edge)
 
 
 def equal_aspect(fig, margin=0.04, rounds=4):
