@@ -135,6 +135,12 @@ def run_table(ds, scene, name="FILE", source=None):
     asked = _asked_times(ds, name, source) if _stopped(ds) else None
     if asked is not None:  # a run that stopped early: the times it asked for, those it saved their prefix
         times = [float(t) for t in asked]
+    elif not (times[0] == 0.0 and (len(times) >= 2 or _stopped(ds)) and np.all(np.diff(times) > 0)):
+        # a selection of a run's times (ds.isel(time=...)), or times reordered by hand: no run saves those
+        raise ParameterError.invalid(name, str(source or ds.encoding.get("source", "<xarray.Dataset>")),
+                                     f"holds the saved times {_shown(', '.join(f'{t:g}' for t in times))[1:-1]} s, not "
+                                     "increasing times from 0 as a run saves them (a part of a run?), which no scene "
+                                     "file runs again", RUN_FILE)
     # a run of an earlier version that stopped early saved a prefix of the times asked: t_end asked where they are
     # its default times
     t_end = float(ds.attrs.get("t_end_requested", times[-1])) if _stopped(ds) else times[-1]
