@@ -27,7 +27,7 @@ from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.paths import writable_path
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell.runs.resources import available_memory, show_bytes
-from mol_shell.views.fields import SHELL, field_names, run_of, surface_points
+from mol_shell.views.fields import SHELL, drawn_rows, field_names, row_means, run_of, surface_points
 from mol_shell.views.fields import field as field_values
 from mol_shell.views.figures import incomplete_note
 
@@ -241,7 +241,7 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
     def surface(k):
         """The surface at saved time ``k``, ``(s, n_phi + 1, 3)``: closed in phi (one frame's: the whole run's took
         memory with its saved times, 130 MB for 686 of 81 nodes)."""
-        points = surface_points(ds, n_phi, times=[k])[0]
+        points = surface_points(ds, n_phi, times=[k])[0][rows]
         return np.concatenate([points, points[:, :1]], axis=1)
 
     r0 = np.asarray(ds["r0"].values) if "r0" in ds else np.ones(ds.sizes["s"])
@@ -254,6 +254,7 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
 
     dpi = 100
     pixels = frame_pixels(width, even=suffix == "mp4")
+    rows = drawn_rows(ds.sizes["s"], max(pixels))  # no more bands along s than the frame has pixels
     # a hair over the pixels: matplotlib truncates inches x dpi, and 29 / 100 * 100 is 28.999999999999996
     fig = plt.figure(figsize=tuple((n + 1e-3) / dpi for n in pixels), dpi=dpi)
     note = _incomplete_lines(ds.attrs, pixels[0], dpi)
@@ -274,13 +275,13 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
 
     def draw(k):
         ax.clear()
-        colours = np.zeros((ds.sizes["s"], n_phi + 1, 4))
-        colours[:-1, :] = cmap(norm(values[k]))[:, None, :]
+        colours = np.zeros((len(rows), n_phi + 1, 4))
+        colours[:-1, :] = cmap(norm(row_means(values[k], rows)))[:, None, :]
         shell = surface(k)
         ax.add_collection(_surface(shell, colours))
-        lines = surface_points(ds, fibres, times=[k])[0] * [1.004, 1.004, 1.0]  # just outside the surface
+        lines = surface_points(ds, fibres, times=[k])[0][rows] * [1.004, 1.004, 1.0]  # just outside the surface
         for j in range(fibres):
-            ref = front(reference[:, j])
+            ref = front(reference[rows, j])
             ax.plot(ref[:, 0], ref[:, 1], ref[:, 2], color="0.3", lw=0.8, ls=(0, (3, 2)), zorder=2)
             fib = front(lines[:, j])
             ax.plot(fib[:, 0], fib[:, 1], fib[:, 2], color="k", lw=1.3, zorder=3)
