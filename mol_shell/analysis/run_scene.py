@@ -25,7 +25,7 @@ from mol_shell.analysis.path_start import read_path, scene_params
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.laws import MATERIALS
 from mol_shell.model.layers import parse_layers
-from mol_shell.results.dataset import RUN_FILE, read_run
+from mol_shell.results.dataset import RUN_FILE, holdings, read_run
 from mol_shell.runs import asked_times
 from mol_shell.runs.building import parse_times
 from mol_shell.runs.simulate import integrator_options, leapfrog_times
@@ -279,7 +279,11 @@ def read_run_toml(filename, name="FILE"):
         return path_toml(read_path(filename, name), str(filename))
     except ParameterError:  # not a path (of a registered scene): read as a run, and refused as one
         pass
-    ds = read_run(filename, name=name, allowed=RUN_OR_PATH_FILE, what="a mol_shell run or path file")
+    what = "a mol_shell run or path file"
+    ds = read_run(filename, name=name, allowed=RUN_OR_PATH_FILE, what=what)
+    if str(ds.attrs.get("integrator", "")).startswith("ring-ode/"):  # simulate_ring(..., n=21): on (time, s), no run
+        raise ParameterError.invalid(name, str(filename), f"is not {what}", RUN_OR_PATH_FILE,
+                                     hint=f"it holds {holdings(ds)}")
     missing = [key for key in RUN_ATTRS if key not in ds.attrs]
     try:
         if missing:

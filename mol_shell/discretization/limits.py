@@ -14,6 +14,14 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 
+#: what each of the model's limits is, as a run that reaches it says (:meth:`ModelLimits.limit_names`; the ring ODE's,
+#: :mod:`mol_shell.runs.ring`)
+DELTA_REACHED = "delta = r beta1 cos(psi) reached 0"
+R_REACHED = "r reached 0"
+PSI_REACHED = "|psi| reached pi/2"
+TURNING_REACHED = ("an in-plane stretch reached 1/sqrt(3) in compression, where the St Venant-Kirchhoff stress turns "
+                   "back (a limit of the law)")
+
 
 def symbol_inputs(Q):
     """``(g, m)`` of every cell of the fields ``Q`` ``(5, n)`` (NumPy or CasADi): the differences of the five fields
@@ -86,13 +94,12 @@ class ModelLimits:
     def limit_names(self):
         """``(what, where)`` for each entry of :attr:`limits`."""
         cells = (self.s[:-1] + self.s[1:]) / 2
-        names = [("delta = r beta1 cos(psi) reached 0", f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, self.samples_per_cell)]
-        names += [("r reached 0", f"s = {self.s[i]:.6g} m") for i in self.radial_nodes]
+        names = [(DELTA_REACHED, f"s = {s:.6g} m (cell centre)") for s in np.repeat(cells, self.samples_per_cell)]
+        names += [(R_REACHED, f"s = {self.s[i]:.6g} m") for i in self.radial_nodes]
         if 4 in self.active:
-            names += [("|psi| reached pi/2", f"s = {s:.6g} m") for s in self.s]
+            names += [(PSI_REACHED, f"s = {s:.6g} m") for s in self.s]
         if self.turning_limit:
-            names += [("an in-plane stretch reached 1/sqrt(3) in compression, where the St Venant-Kirchhoff stress "
-                       "turns back (a limit of the law)", f"s = {s:.6g} m (cell centre)")
+            names += [(TURNING_REACHED, f"s = {s:.6g} m (cell centre)")
                       for s in np.repeat(cells, self.samples_per_cell)]
         if self.ellipticity_limit:
             what = ("the shell's equations stopped being elliptic in s (d2W/d(q_s)2 is no longer positive definite: "
@@ -229,4 +236,4 @@ class ModelLimits:
         return np.array([i for i in range(self.n) if i not in poles], dtype=int)
 
 
-__all__ = ["ModelLimits"]
+__all__ = ["DELTA_REACHED", "PSI_REACHED", "R_REACHED", "TURNING_REACHED", "ModelLimits"]

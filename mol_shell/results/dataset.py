@@ -466,5 +466,6 @@ def holdings(ds):
             "a work-precision comparison (mol-shell compare)" if "work-precision" in title else
             "a stability report (mol-shell stability)" if "leapfrog_dt_bound" in ds else
             "natural modes (mol-shell modes)" if "natural modes" in title else
-            "the reduced ring ODE's run (simulate_ring), without s" if "reduced ODE" in title else
+            "the reduced ring ODE's run (simulate_ring)" + (", without s" if "s" not in ds.coords else "")
+            if "reduced ODE" in title else
             f"dims {', '.join(map(str, ds.dims)) or 'none'}")

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass
 
 import casadi as ca
@@ -34,12 +35,29 @@ import xarray as xr
 from mol_shell._core.constants import ATOL_MIN, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, is_number
 from mol_shell._core.ranges import Choice
+from mol_shell.discretization.limits import DELTA_REACHED, PSI_REACHED, R_REACHED, TURNING_REACHED
 from mol_shell.model.edges import resolve_edges
+from mol_shell.model.fibres import scene_fibres
 from mol_shell.model.hyperelastic import law_shell_dissipation
 from mol_shell.model.kinematics import delta, kinetic_energy_density
-from mol_shell.model.laws import scene_shell_energy, thickness_treatment, viscosities
+from mol_shell.model.laws import (
+    SVK_LAW,
+    law_parameters,
+    layer_laws,
+    scene_shell_energy,
+    thickness_treatment,
+    viscosities,
+)
 from mol_shell.model.linalg import spd_solve
-from mol_shell.model.material import Thickness, centroidal_offset, inertias, shell_dissipation
+from mol_shell.model.material import (
+    Thickness,
+    centroidal_offset,
+    inertias,
+    quadrature_factors,
+    shell_dissipation,
+    svk_turning_limit,
+    thickness_moments,
+)
 from mol_shell.results.cf import coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, RATE_UNITS, TIME_COMMENT, scene_attrs, with_units
 from mol_shell.runs.simulate import as_scene, parse_times, resolve
@@ -67,6 +85,12 @@ class RingSystem:
         ``(q, q_t) -> p``.
     area : float
         Reference area ``2 pi r0 L`` (m^2) that turns densities into whole-shell totals.
+    limits : casadi.Function
+        ``(t, y) -> g``: the model's limits on the ring's uniform state, which must stay positive (the PDE's
+        :attr:`~mol_shell.discretization.limits.ModelLimits.limits` at every node): ``(pi/2)^2 - psi^2``, ``r``,
+        ``delta``, and SVK's turning point where the PDE watches it (:func:`turning_moments`).
+    limit_names : tuple of str
+        What reaching each entry of ``limits`` is, as the PDE's runs say it.
     """
 
     rhs: ca.Function
@@ -78,6 +102,8 @@ class RingSystem:
     rho_i: float
     rho_j: float
     viscous: bool
+    limits: ca.Function
+    limit_names: tuple
 
 
 def ring_system(scene):
@@ -127,7 +153,32 @@ def ring_system(scene):
         "ring_observables", [y], outs, ["y"], ["v", "kinetic", "stored", "p_chi", "delta", "dissipation"]
     )
     momenta = ca.Function("ring_momenta", [q, v], [ca.gradient(kinetic, v)])
-    return RingSystem(rhs, jac, observables, momenta, 2 * math.pi * r0 * scene.L, rho_a, rho_i, rho_j, viscous)
+    # the model's limits, in the order the leap-frog checks them (psi, r, delta, the law's): the first of those
+    # reached at once is said (|psi| -> pi/2 takes delta -> 0 with it)
+    g = [(math.pi / 2) ** 2 - psi**2, r, delta(1.0, 0.0, r, 0.0, psi)]
+    names = [PSI_REACHED, R_REACHED, DELTA_REACHED]
+    moments = turning_moments(scene, thickness, r0)
+    if moments is not None:
+        g.append(svk_turning_limit(strains, moments))
+        names.append(TURNING_REACHED)
+    limits = ca.Function("ring_limits", [t, y], [ca.substitute(ca.vertcat(*g), ca.vertcat(q, p), y)], ["t", "y"], ["g"])
+    return RingSystem(rhs, jac, observables, momenta, 2 * math.pi * r0 * scene.L, rho_a, rho_i, rho_j, viscous,
+                      limits, tuple(names))
+
+
+def turning_moments(scene, thickness, r0):
+    """The thickness moments (:func:`~mol_shell.model.material.thickness_moments`) SVK's compressive turning point
+    (:func:`~mol_shell.model.material.svk_turning_limit`) is taken with on the ring, or ``None`` where the PDE's runs
+    do not watch it: as :attr:`~mol_shell.discretization.cells.CellKernels.turning_limit`, the SVK laws without fibres,
+    a layered wall with such a layer (its layers' thickness rule), unless ``law_limit`` is off."""
+    if getattr(scene, "layers", ""):
+        thickness, laws = layer_laws(scene)
+        svk = any(law is SVK_LAW and fibres is None for law, _, fibres in laws)
+    else:
+        svk = law_parameters(scene)[0] is None and scene_fibres(scene) is None
+    if not (svk and getattr(scene, "law_limit", True)):
+        return None
+    return thickness_moments(quadrature_factors(thickness, r0))
 
 
 def ring_initial_state(system, scene):
@@ -188,6 +239,12 @@ def simulate_ring(scene, times=None, rtol=1e-12, atol=1e-12, *, t_end=None, n=No
         ``kinetic_energy``, ``stored_energy``, ``energy``, ``angular_momentum`` (whole shell:
         densities times ``2 pi r0 L``), ``delta_min``; scene parameters, solver and
         statistics in attrs (``integrator = "ring-ode/<method>"``).
+
+        A motion that reaches a limit of the model (the PDE's: ``|psi| -> pi/2``, ``r -> 0``, ``delta -> 0``, SVK's
+        compressive turning point where the PDE watches it; :attr:`RingSystem.limits`) stops there as the PDE's runs
+        do: found by ``solve_ivp``'s terminal events, ``status = "limit"``, ``complete = 0``, the limit and its time in
+        ``message`` and ``failure_time``, the saved times reached kept, and a ``RuntimeWarning``; a start past one
+        stops at its first time.
     """
     scene = as_scene(scene) if isinstance(scene, str) else scene  # a name, as simulate takes it
     _check_arguments(scene, rtol, atol, n, method)
@@ -209,15 +266,33 @@ def simulate_ring(scene, times=None, rtol=1e-12, atol=1e-12, *, t_end=None, n=No
     start = time.perf_counter()
     from scipy.integrate import solve_ivp
 
-    sol = solve_ivp(fun, (times[0], times[-1]), y0, method=method, t_eval=times, rtol=rtol, atol=atol * scale, **extra)
+    integrator = f"ring-ode/{method}"
+    limits = _numpy_rhs(system.limits)
+    outside = np.flatnonzero(~(limits(times[0], y0) > 0))
+    if outside.size:  # a start past a limit (SVK's turning point at R < a/sqrt(3)): stopped at t = 0, as the PDE
+        t, y, nfev, njev = times[:1], y0[None], 0, 0
+        stop = (int(outside[0]), float(times[0]))
+    else:
+        events = [_event(limits, k) for k in range(len(system.limit_names))]
+        sol = solve_ivp(fun, (times[0], times[-1]), y0, method=method, t_eval=times, rtol=rtol, atol=atol * scale,
+                        events=events, **extra)
+        t, y, nfev, njev = sol.t, sol.y.T, int(sol.nfev), int(getattr(sol, "njev", 0))
+        stop = _first_limit(sol.t_events, times) if sol.status == 1 else None
     wall = time.perf_counter() - start
-    status = "complete" if sol.success else "error"
+    if stop is not None:
+        k, t_stop = stop
+        message = (f"{system.limit_names[k]} at t = {t_stop:.9g} s, at every s (the ring's state is uniform): a limit "
+                   f"of the model (root found by {integrator})")
+        status, complete = "limit", 0
+        warnings.warn(f"run incomplete: {message}; keeping {len(t)} saved times", RuntimeWarning, stacklevel=2)
+    else:
+        t_stop, message = float("nan"), sol.message
+        status, complete = ("complete", 1) if sol.success else ("error", 0)
     attrs = {
-        "integrator": f"ring-ode/{method}", "rtol": rtol, "atol": atol, "n_rhs": int(sol.nfev),
-        "n_jac": int(getattr(sol, "njev", 0)), "wall_time_s": wall, "status": status,
-        "complete": int(sol.success), "message": sol.message,
+        "integrator": integrator, "rtol": rtol, "atol": atol, "n_rhs": nfev, "n_jac": njev, "wall_time_s": wall,
+        "status": status, "complete": complete, "message": message, "failure_time": t_stop,
     }
-    return _ring_dataset(system, scene, sol.t, sol.y.T, attrs, n, requested)
+    return _ring_dataset(system, scene, t, y, attrs, n, requested)
 
 
 #: ``scipy.integrate.solve_ivp``'s methods
@@ -242,10 +317,30 @@ def _check_arguments(scene, rtol, atol, n, method):
         raise ParameterError("method", method, Choice(METHODS), hint="scipy.integrate.solve_ivp's methods, or None")
 
 
+def _event(limits, k):
+    """``solve_ivp``'s terminal event of entry ``k`` of the ring's limits (``limits``: :func:`_numpy_rhs` of them)."""
+
+    def event(t, y):
+        return limits(t, y)[k]
+
+    event.terminal, event.direction = True, -1
+    return event
+
+
+def _first_limit(t_events, times):
+    """``(entry, time)`` of the first limit reached (``solve_ivp``'s ``t_events``); of those reached at once (to
+    round-off of the time span), the first in :attr:`RingSystem.limit_names`'s order."""
+    reached = [(float(te[0]), k) for k, te in enumerate(t_events) if len(te)]
+    first = min(t for t, _ in reached)
+    tie = 1e-9 * (times[-1] - times[0])
+    return next((k, t) for t, k in sorted(reached, key=lambda item: item[1]) if t <= first + tie)
+
+
 def _numpy_rhs(f):
-    """``(t, y) -> y_t`` as NumPy through a CasADi buffer (the ODE is called ~1e5 times)."""
+    """``(t, y) -> f(t, y)`` as NumPy through a CasADi buffer (the ODE is called ~1e5 times): the right-hand side,
+    or the limits."""
     buf, trigger = f.buffer()
-    t_in, y_in, out = np.zeros(1), np.zeros(6), np.zeros(6)
+    t_in, y_in, out = np.zeros(1), np.zeros(6), np.zeros(f.size1_out(0))
     buf.set_arg(0, memoryview(t_in))
     buf.set_arg(1, memoryview(y_in))
     buf.set_res(0, memoryview(out))
@@ -295,7 +390,7 @@ def _ring_dataset(system, scene, t, y, attrs, n, requested=None):
     meta = {
         **header(f"mol_shell reduced ODE (section 5) of scene {scene.name}", comment="time: " + TIME_COMMENT),
         "scene": scene.name,
-        "rho_A": system.rho_a, "rho_I": float(system.rho_i), "rho_J": system.rho_j, "failure_time": float("nan"),
+        "rho_A": system.rho_a, "rho_I": float(system.rho_i), "rho_J": system.rho_j,
     }
     edges = resolve_edges(scene.end1, scene.end2, scene.meridian().poles)
     meta.update(scene_attrs(scene, edges, scene.zeta1_used(), requested=requested))

@@ -10,7 +10,7 @@ import numpy as np
 
 from mol_shell._core.errors import ParameterError
 from mol_shell._core.ranges import Interval, finite, positive
-from mol_shell.model.edges import resolve_edges
+from mol_shell.model.edges import EDGE_FIELDS, EDGE_PARAMETERS, EDGES, resolve_edges
 from mol_shell.model.geometry import CylinderMeridian
 from mol_shell.model.laws import layer_scenes
 from mol_shell.model.layers import MAKING_LAYERS
@@ -323,10 +323,26 @@ class Axisymmetric(CylinderScene):
 
     name = "axisymmetric"
     fields = (0, 1, 3)
+    defaults_mean = MappingProxyType({"R": "the radius of radial equilibrium of the cylinder under the pressure at "
+                                           "t = 0 (a without it); under loads, the static equilibrium found from it"})
 
     def _validate(self):
         super()._validate()
         check_no_helix(self)
+        self._check_edge_fields()
+
+    def _check_edge_fields(self):
+        """Refuse an edge given as a set of fields that names ``chi`` or ``psi`` (``end1=chi``): the scene has neither,
+        so it imposed nothing, silently, where ``end1_dchi`` is refused (the kinds hold them at 0 as they are)."""
+        for name in EDGE_PARAMETERS:
+            edge = getattr(self, name)  # canonical (ShellScene._validate): a kind, a set of fields, or None (auto)
+            if edge is None or edge in (*EDGES, "pole"):
+                continue
+            absent = [f for f in edge.split(",") if EDGE_FIELDS.index(f) not in self.fields]
+            if absent:
+                raise ParameterError.invalid(name, edge, f"cannot be imposed: the scene has no {absent[0]} field",
+                                             f"an edge kind ({', '.join(EDGES)}, auto) or a set of the fields z, r, "
+                                             "theta for scene axisymmetric (chi = psi = 0 identically)")
 
     def initial_fields(self, s, reference):
         Q, V = super().initial_fields(s, reference)
