@@ -44,6 +44,13 @@ from mol_shell._core.errors import (
 from mol_shell._core.units import show_seconds
 from mol_shell.analysis.grid_modes import mark_grid_modes
 from mol_shell.analysis.mode_damping import damping_note, drag_damping_ratios
+from mol_shell.analysis.mode_matrices import (
+    block_inverse,
+    constrained_pairs,
+    constrained_size,
+    constraint_basis,
+    labelled,
+)
 from mol_shell.analysis.mode_zero import checked_band, floor_note, solver_floor, zero_mask
 from mol_shell.analysis.path_inputs import history_loads
 from mol_shell.model.kinematics import FIELDS
@@ -124,38 +131,6 @@ def _blocks(system, y0):
     Minv = Js[q_idx][:, p_idx]
     K = -Js[p_idx][:, q_idx]
     return q_idx, Minv.tocsc(), K.tocsc()
-
-
-#: the largest block :func:`block_inverse` inverts densely
-BLOCK_MAX = 64
-
-
-def block_inverse(A):
-    """The inverse of the sparse matrix ``A`` (CSC) block by block: its blocks are the connected components of its
-    pattern (a node's own coordinates for the inverse mass matrix, which couples no two nodes), each inverted
-    densely. ``scipy.sparse.linalg.inv`` solved for every column of the identity: 15 s at n = 3,000 and quadratic
-    in n beyond (minutes at n = 30,000, silent); this is linear."""
-    import scipy.sparse  # optional heavy dependency: 0.17 s of every process's start at module level
-    import scipy.sparse.csgraph
-    import scipy.sparse.linalg
-
-    _, label = scipy.sparse.csgraph.connected_components(A, directed=False)
-    sizes = np.bincount(label)
-    if sizes.max() > BLOCK_MAX:  # coupled beyond a node's few coordinates (no scene's mass matrix is): column by column
-        return scipy.sparse.csc_matrix(scipy.sparse.linalg.inv(A.tocsc()))
-    order = np.argsort(label, kind="stable")
-    starts = np.concatenate([[0], np.cumsum(sizes)])
-    csr, rows, cols, values = A.tocsr(), [], [], []
-    for m in np.unique(sizes):  # the blocks of one size at once (a node's free coordinates: a few sizes)
-        first = starts[:-1][sizes == m]
-        idx = order[first[:, None] + np.arange(m)]  # (blocks, m)
-        r, c = np.broadcast_arrays(idx[:, :, None], idx[:, None, :])
-        block = np.asarray(csr[r.ravel(), c.ravel()]).reshape(len(idx), m, m)
-        rows.append(r.ravel())
-        cols.append(c.ravel())
-        values.append(np.linalg.inv(block).ravel())
-    return scipy.sparse.csc_matrix((np.concatenate(values), (np.concatenate(rows), np.concatenate(cols))),
-                                   shape=A.shape)
 
 
 def rigid_vectors(system, q_idx):
@@ -367,7 +342,8 @@ def modes(scene, n=40, count=10, *, initial=None, zero_band=0.0):
     y0, _ = starting_state(scene, system, n, initial, asked=asked)
     check_equilibrium(system, y0, scene, asked, given=initial is not None)
     q_idx, Minv, K = _blocks(system, y0)
-    size = len(q_idx)
+    basis = constraint_basis(scene, system, q_idx)  # the unshearable scene's chi_s = 0, psi = 0 (mode_matrices)
+    size = constrained_size(len(q_idx), basis)
     rigid = rigid_vectors(system, q_idx)
     method = _route(size, count, size - rigid.shape[1], system.n)
     if method == "dense":
@@ -376,13 +352,14 @@ def modes(scene, n=40, count=10, *, initial=None, zero_band=0.0):
         Kd = K.toarray()
         Kd = (Kd + Kd.T) / 2
         scale = eigenvalue_scale(Kd, M)
-        w2, phi = scipy.linalg.eigh(Kd, M)
+        w2, phi = constrained_pairs(scipy.linalg.eigh, Kd, M, basis)
     else:
         M = block_inverse(Minv)
         M = (M + M.T) / 2
         Ks = (K + K.T) / 2
         scale = eigenvalue_scale(Ks, M)
-        w2, phi = sparse_modes(Ks, M, rigid, count, scale)  # the rigid motions projected out: none among them
+        w2, phi = constrained_pairs(lambda K_, M_, R_: sparse_modes(K_, M_, R_, count, scale), Ks, M, basis,
+                                    rigid)  # the rigid motions projected out: none among them
     if not np.all(np.isfinite(w2)):  # rho = 1e-300: inertias in the subnormals, their inverse infinite (NaN modes)
         raise ModelLimitError(
             f"the modes of n = {system.n} nodes are not finite in double precision (omega^2 = {w2[~np.isfinite(w2)][0]}"
@@ -447,8 +424,8 @@ def modes(scene, n=40, count=10, *, initial=None, zero_band=0.0):
             f"the state the modes are taken about is unstable: {count} with omega^2 < 0 (lowest {w2[keep][0]:.6g} "
             f"s-2, growing as exp({np.sqrt(-w2[keep][0]):.6g} t / s)); their frequency is NaN")
         warnings.warn(params["stability_warning"], MolShellWarning, stacklevel=2)
-    return mark_grid_modes(_dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params, small[keep],
-                                    ratios))
+    return labelled(mark_grid_modes(_dataset(system, scene, q_idx, M, w2[keep], phi[:, keep], n_zero, method, params,
+                                             small[keep], ratios)), basis)
 
 
 def _dataset(system, scene, q_idx, M, w2, phi, n_zero, method, params, zero, ratios=None):

@@ -1,16 +1,36 @@
 """IDA on the unshearable shell's constrained DAE (:class:`~mol_shell.discretization.unshearable_dae.UnshearableDAE`)
-as an integrator of the one run loop: the scene's own formulation, not a registered integrator name."""
+as an integrator of the one run loop: the scene's own formulation, not a registered integrator name.
+
+The model's limits (``delta > 0``, ``r > 0``, SVK's turning point: :attr:`~mol_shell.discretization.limits.ModelLimits.
+limits` of the shell) are IDA's root functions, as on the shell's own ``ida`` and ``cvode-*``: a run stops where one is
+crossed, found to IDA's tolerance, whatever the saved times (checked only at saved times, a run went through one between
+two of them and finished).
+"""
 
 from __future__ import annotations
 
+import casadi as ca
 import numpy as np
 
 from mol_shell._core.errors import ModelLimitError
 from mol_shell.discretization.compiled import buffered
+from mol_shell.discretization.unshearable_dae import NODE
 from mol_shell.integrators.base import StepBudget
 
 #: IDA steps after which a constrained run is given up (as max_steps of the shell's SUNDIALS integrators)
 STEP_LIMIT = 1_000_000
+#: the status of an IDA step that stopped at a root of its events (SUNDIALS' IDA_ROOT_RETURN)
+ROOT_RETURN = 2
+
+
+def dae_limits(dae):
+    """``x -> g``: the shell's limits (:attr:`~mol_shell.discretization.limits.ModelLimits.limits`, positive inside)
+    at the DAE's unknowns ``x``: they depend on the fields alone, the first five of each node's unknowns."""
+    shell = dae.shell
+    x = ca.MX.sym("x", dae.size)
+    X = ca.reshape(x, NODE, dae.n)
+    y = ca.vertcat(ca.vec(X[: shell.ny, :]), ca.MX.zeros(shell.size - shell.ny * dae.n, 1))
+    return ca.Function("dae_limits", [x], [shell.limits(y)], ["x"], ["g"])
 
 
 def ida_solver(dae, rtol, atol, max_step=0.0):
@@ -33,10 +53,18 @@ def ida_solver(dae, rtol, atol, max_step=0.0):
         JJ.fill(0.0)
         JJ[rows, cols] = jac_buf(y, yp, cj)  # the nonzeros, in CCS order
 
+    limits = buffered(dae_limits(dae))
+    count = len(dae.shell.limit_names())
+
+    def eventsfn(t, y, yp, g):  # the model's limits: a root ends the run there (ConstrainedIDA)
+        g[:] = limits(y)
+
+    eventsfn.terminal = [True] * count
+    eventsfn.direction = [-1] * count
     lb, ub = dae.bandwidth
     return IDA(
         resfn, jacfn=jacfn, rtol=rtol, atol=atol, linsolver="band", lband=lb, uband=ub,
-        algebraic_idx=dae.algebraic, max_num_steps=100000, max_step=max_step,
+        algebraic_idx=dae.algebraic, max_num_steps=100000, max_step=max_step, eventsfn=eventsfn, num_events=count,
     )
 
 
@@ -68,6 +96,8 @@ class _ConstrainedStepper:
     def advance(self, target):
         result = self.solver.step(target, method="onestep", tstop=target)
         t = float(np.ravel(result.t)[0])
+        if result.status == ROOT_RETURN:
+            raise self._limit(result)
         if not result.success:
             error = ModelLimitError(f"IDA failed at t = {t:.9g} s: {result.message}", t, "whole shell")
             error.status = "failed"
@@ -75,6 +105,14 @@ class _ConstrainedStepper:
         self.steps += 1
         self.budget.step(t)  # stops a run that cannot reach its end
         self.t, self.y = t, np.array(result.y).ravel()
+
+    def _limit(self, result):
+        """The :class:`ModelLimitError` of a root of the limits (:func:`dae_limits`): what, where and when."""
+        t = float(np.ravel(result.t_events)[-1]) if result.t_events is not None else float(np.ravel(result.t)[0])
+        which = np.flatnonzero(np.atleast_2d(result.i_events)[-1])
+        limit, where = self.dae.shell.limit_names()[int(which[0])]
+        return ModelLimitError(f"{limit} at t = {t:.9g} s, {where}: a limit of the model (root found by IDA on the "
+                               "constrained DAE)", t, where)
 
     def state(self, target):
         """The shell's state (for the loop's checks and the Dataset); the DAE's unknowns are kept in ``saved``."""
@@ -89,4 +127,4 @@ class _ConstrainedStepper:
                 "jacobian_bw_lower": dae.bandwidth[0], "jacobian_bw_upper": dae.bandwidth[1], "dae_size": dae.size}
 
 
-__all__ = ["ConstrainedIDA", "STEP_LIMIT", "ida_solver"]
+__all__ = ["STEP_LIMIT", "ConstrainedIDA", "dae_limits", "ida_solver"]

@@ -41,15 +41,14 @@ from mol_shell.runs.building import (  # noqa: F401
 )
 from mol_shell.runs.checks import check_start_inside_limits, checked_spectrum, initial_state
 from mol_shell.runs.ellipticity import check_ellipticity
+from mol_shell.runs.leapfrog_guard import LEAPFROG_MAX_LOG_GROWTH
 from mol_shell.runs.post_run import cut_short, kept
 from mol_shell.runs.statics import static_equilibrium, unstable_directions
-from mol_shell.runs.unshearable import simulate_unshearable
+from mol_shell.runs.unshearable import DAE_OPTIONS, FREE_OPTIONS, simulate_unshearable
 from mol_shell.scenes import UNSHEARABLE_INTEGRATORS, CylinderScene, Unshearable
 from mol_shell.scenes.base import DRIVES, LOADS
 from mol_shell.scenes.scene_warnings import say_scene_warnings
 
-#: leap-frog is refused when damped modes could grow by more than exp(this) (1e6) over the run
-LEAPFROG_MAX_LOG_GROWTH = float(np.log(1e6))
 #: leap-frog's step when none is given (the paper's), s
 DEFAULT_DT = 1e-6
 
@@ -60,7 +59,7 @@ def integrator_options(scene, integrator):
         if integrator not in UNSHEARABLE_INTEGRATORS:
             raise ParameterError("integrator", integrator, "{" + ", ".join(UNSHEARABLE_INTEGRATORS) + "}",
                                  hint="ida solves the unshearable DAE, leapfrog the free shell from the same state")
-        return {"dt"} if integrator == "leapfrog" else {"rtol", "atol", "max_step"}
+        return set(FREE_OPTIONS if integrator == "leapfrog" else DAE_OPTIONS)
     if integrator not in INTEGRATORS:
         raise ParameterError("integrator", integrator, "{" + ", ".join(INTEGRATORS) + "}")
     return {f.name for f in dataclasses.fields(INTEGRATORS[integrator])}

@@ -32,6 +32,7 @@ Coriolis torques and couples and vanish without spin.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import math
 import time
 
@@ -49,16 +50,22 @@ from mol_shell.results.dataset import build_dataset
 from mol_shell.runs import asked_times, resources
 from mol_shell.runs.building import as_scene, build, observe, parse_times, resolve
 from mol_shell.runs.checks import check_system, checked_spectrum
-from mol_shell.runs.post_run import kept
+from mol_shell.runs.ellipticity import check_ellipticity
+from mol_shell.runs.leapfrog_guard import check_parasitic
+from mol_shell.runs.post_run import cut_short, kept
 from mol_shell.scenes.unshearable import Unshearable
 
-#: the options of the two runs, with their defaults: the constrained DAE's (IDA) and the free shell's (leap-frog)
+#: the options of the two runs, with their defaults: the constrained DAE's (IDA) and the free shell's (leap-frog's
+#: own, as on any other scene: ``dt``, ``chunk``, ``restart``)
 DAE_OPTIONS = {"rtol": 1e-8, "atol": 1e-10, "max_step": 0.0}
-FREE_OPTIONS = {"dt": 1e-6}
+FREE_OPTIONS = {f.name: f.default for f in dataclasses.fields(Leapfrog)}
+#: what runs a free shell that leap-frog cannot (the parasitic root of a viscous one): no implicit integrator does
+FREE_ALTERNATIVE = ("no other integrator for the free shell (ida on this scene solves the constrained DAE, another "
+                    "model)")
 
 
 def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=True, rtol=None, atol=None,
-                         dt=None, max_step=None, progress=None):
+                         dt=None, max_step=None, progress=None, restart=None, chunk=None):
     """Run an :class:`Unshearable` scene, constrained (DAE, IDA) or free (the PDE, leap-frog).
 
     Parameters
@@ -75,8 +82,10 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
     rtol, atol : float
         IDA tolerances (``atol`` for lengths and angles; scaled for rates and multipliers); default 1e-8, 1e-10.
         Constrained runs only.
-    dt : float
-        Leap-frog step of the free run, s; default 1e-6. Free runs only (the constrained run ignored it).
+    dt, restart, chunk : float, float, int
+        Leap-frog's options (:class:`~mol_shell.integrators.Leapfrog`; step default 1e-6 s). Free runs only (the
+        constrained run ignored ``dt``). A viscous shell whose damped modes leap-frog's parasitic root would blow up
+        is refused before the run (:func:`~mol_shell.runs.leapfrog_guard.check_parasitic`), as on any scene.
     max_step : float
         Largest IDA step (0: unbounded, the default). Constrained runs only.
     progress : bool, optional
@@ -87,10 +96,13 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
     xarray.Dataset
         The variables of :func:`mol_shell.simulate`, plus ``chi_s_max`` and ``psi_max`` (the
         constraint defects, per time) and, constrained, ``lambda_chi`` on cells ``(time,
-        s_cell)`` and ``lambda_psi`` on nodes ``(time, s)``.
+        s_cell)`` and ``lambda_psi`` on nodes ``(time, s)``; free, ``ellipticity_margin``
+        (:func:`~mol_shell.runs.ellipticity.check_ellipticity`, with its warning; the DAE's principal symbol is
+        another one, not checked).
     """
     constrained = flag("constrained", constrained)
-    given = {k: v for k, v in (("rtol", rtol), ("atol", atol), ("max_step", max_step), ("dt", dt)) if v is not None}
+    given = {k: v for k, v in (("rtol", rtol), ("atol", atol), ("max_step", max_step), ("dt", dt), ("restart", restart),
+                               ("chunk", chunk)) if v is not None}
     taken = DAE_OPTIONS if constrained else FREE_OPTIONS
     run_name = "the constrained DAE (ida)" if constrained else "the free shell (leapfrog)"
     for name in given:  # an option of the other run was ignored (dt of the constrained one), as simulate refuses it
@@ -104,6 +116,7 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         raise ParameterError("scene", getattr(scene, "name", scene), "{unshearable} (a mol_shell.Unshearable)")
     times_given = times is not None
     times = parse_times(times, t_end)
+    method = None if constrained else Leapfrog(**options)  # its options refused by name before the build
     resources.check_before_build(n, times, "ida" if constrained else "leapfrog", dt=options.get("dt"),
                                  times_given=times_given)
     if constrained:
@@ -119,16 +132,17 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
                                                          options["max_step"], bar)
         attrs = {"integrator": "ida", "rtol": options["rtol"], "atol": options["atol"], "constrained": 1, **stats}
     else:
-        dt = options["dt"]
+        dt = method.dt
         y0 = shell.pack(Q0, shell.momenta(Q0, V0))
-        omega_max, _ = checked_spectrum(scene, shell, y0)
+        omega_max, damping = checked_spectrum(scene, shell, y0)
         if dt * omega_max >= 1.0:
             raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound")
-        method = Leapfrog(dt=dt)
+        check_parasitic("leapfrog", method, damping, omega_max, float(times[-1]), FREE_ALTERNATIVE)
         with _meter(mode, times[-1]) as bar:
             traj = method.integrate(shell, compiled, y0, method.step_counts(times) * dt, progress=bar)
         multipliers = None
-        attrs = {"integrator": "leapfrog", "dt": dt, "constrained": 0, "leapfrog_dt_bound_s": 1.0 / omega_max}
+        attrs = {"integrator": "leapfrog", **method.settings(), "chunk": method.chunk, "constrained": 0,
+                 "leapfrog_dt_bound_s": 1.0 / omega_max, "max_damping_rate": damping, "units_max_damping_rate": "s-1"}
     attrs["build_and_run_time_s"] = time.perf_counter() - start
     attrs["t_end_requested"] = float(times[-1])  # as simulate's: what a run that stops early was asked to reach
     if len(traj.t) < len(times):  # as simulate's: the times it asked for
@@ -146,7 +160,10 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         ds = build_dataset(shell, scene, traj, velocities, totals, attrs, requested)
         ds.attrs["title"] = f"mol_shell run of scene unshearable ({'constrained DAE' if constrained else 'free shell'})"
         ds = _add_defects(ds, shell, multipliers)
-    return kept(ds, watch, stresses=False, ellipticity=False)  # (mol_shell.runs.post_run)
+        if not constrained and not watch.caught:  # the free shell's equations, checked as any shell's
+            with cut_short(watch):
+                ds = check_ellipticity(shell, ds)
+    return kept(ds, watch, stresses=False, ellipticity=not constrained)  # (mol_shell.runs.post_run)
 
 
 def _check_constrained_edges(scene):

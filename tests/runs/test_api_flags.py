@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[2]
     (lambda: mol_shell.simulate_unshearable("unshearable", n=8, t_end=1e-4, dt=1e-5),
      "dt is not an option of the constrained DAE (ida) (its options: atol, max_step, rtol)"),
     (lambda: mol_shell.simulate_unshearable("unshearable", n=8, t_end=1e-4, constrained=False, rtol=1e-6),
-     "rtol is not an option of the free shell (leapfrog) (its options: dt)"),
+     "rtol is not an option of the free shell (leapfrog) (its options: chunk, dt, restart)"),
     (lambda: mol_shell.load_scene(ROOT / "examples" / "pressurised_sphere.toml", with_run="no"),
      "with_run = 'no' is not a bool; allowed: True or False"),
     (lambda: mol_shell.load_scene(ROOT / "examples" / "pressurised_sphere.toml", together=1),
