@@ -32,13 +32,10 @@ These are the routes of release 0.5.0 under the names ``sksundae-cvode-bdf``, ``
 
 from __future__ import annotations
 
-import os
 import time
 import warnings
 import weakref
 from dataclasses import dataclass
-
-os.environ.setdefault("OMP_NUM_THREADS", "1")  # SuperLU_MT spins otherwise (70x slower on 2 cores)
 
 import casadi as ca  # noqa: E402
 import numpy as np  # noqa: E402
@@ -49,6 +46,7 @@ from mol_shell.discretization.compiled import CompiledFunctions, CompilerError, 
 from mol_shell.discretization.dae import ShellDAE
 from mol_shell.discretization.loading import drive_kinks
 from mol_shell.discretization.sundials_kinks import one_time
+from mol_shell.discretization.threads import OMP_NUM_THREADS_GIVEN  # noqa: F401  (sets OMP_NUM_THREADS = 1 unless set)
 from mol_shell.integrators import loop  # noqa: E402
 from mol_shell.integrators.base import StepBudget  # noqa: E402
 from mol_shell.integrators.buildable import JACOBIAN_DEFAULT, Undecided, resolve_jacobian

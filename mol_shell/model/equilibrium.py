@@ -24,6 +24,9 @@ ONE_THREAD_MAX_ROWS = 1000
 #: the largest matrix whose eigenvalues :func:`spectrum_bounds` computes densely (a dissipative system's: up to
 #: DENSE_MAX_STATES): 0.17 s at 800 rows on one core, 1.0 s at 1,600, where ARPACK took 0.04 s
 DENSE_EIG_MAX_ROWS = 800
+#: ARPACK's residual tolerance and Krylov space for the largest eigenvalue of a state at rest's ``C D``
+#: (:func:`sparse_rest_spectrum`): omega_max to ~4e-6 relative
+REST_TOL, REST_NCV = 1e-4, 20
 #: Newton's iteration for the radius has converged to round-off when its step, below this fraction of R, no longer
 #: shrinks
 STALLED = 1e-10
@@ -152,7 +155,8 @@ def spectrum_bounds(jac, y, dissipative=True, positions=None):
     leap-frog's parasitic root turns into growth ``exp(max(-Re lambda) t)``.
     Dense for matrices of up to :data:`DENSE_EIG_MAX_ROWS` rows (a dissipative system's up to DENSE_MAX_STATES:
     ARPACK's largest-magnitude eigenvalues missed its fastest damping by 3x at n = 160, and ARPACK's smallest
-    real parts did not converge reliably); above, ARPACK's largest-magnitude eigenvalues (relative accuracy ~1e-3,
+    real parts did not converge reliably); above, for a state at rest, :func:`sparse_rest_spectrum` (ARPACK on the
+    half-size ``C D``, omega_max to ~5e-6), else ARPACK's largest-magnitude eigenvalues (relative accuracy ~1e-3,
     enough for a step bound that the energy monitor backs up; a fixed start vector, so the same every time), whose
     real parts estimate the fastest damping (the most damped modes are the shortest); an elastic system
     (``dissipative=False``) has none. ``positions`` (a mask of the position entries of ``y``, the
@@ -174,6 +178,8 @@ def spectrum_bounds(jac, y, dissipative=True, positions=None):
         import scipy.sparse.linalg  # large grids only: 0.27 s of a process's start otherwise
 
         mat = scipy.sparse.csc_matrix((values, rows, starts), shape=J.shape)
+        ev = sparse_rest_spectrum(mat, positions) if positions is not None else None
+    if ev is None:
         try:
             # the top of a wave spectrum is clustered: a wide Krylov space and a loose tolerance find
             # max |lambda| to ~1e-3 in 0.1-1 s at n = 2560 (k = 6, tol = 1e-6 took 2.6-11 s)
@@ -186,6 +192,46 @@ def spectrum_bounds(jac, y, dissipative=True, positions=None):
                 raise
     damping = float(max(0.0, (-ev.real).max())) if dissipative else 0.0
     return float(np.abs(ev).max()), damping
+
+
+def sparse_rest_spectrum(mat, positions):
+    """``+-sqrt(mu)`` for the largest ``|mu|`` among the eigenvalues of ``C D`` (:func:`rest_spectrum`'s blocks of
+    the sparse ``mat``), ARPACK on a matrix of half the size with a real spectrum; ``None`` when ``mat`` is not of that
+    form (its position-position or rate-rate block does not vanish).
+
+    Accuracy: the bound's uses are ``dt < 1/omega_max``, refused with the bound shown to 4 significant figures (a
+    half unit in the last place is at least 5e-5 of it) and recorded as ``omega_max_rad_s``, and the step counts of
+    the estimates; leap-frog itself is stable up to ``2/omega_max``. A relative error of 1e-5 therefore keeps the
+    bound shown as the exact one but at rounding ties, with the factor-2 margin untouched. ARPACK's ``tol`` bounds
+    the residual, not the eigenvalue: the largest Ritz value of ``C D`` (similar to a symmetric matrix at rest, its
+    eigenvalues ``-omega**2`` real) lies below the true one by about the residual squared over the spread of the
+    spectrum, so ``tol = 1e-4`` gave ``omega_max`` 1.3e-6 .. 5.2e-6 low at n = 1,000 .. 3,000 on the twisted cylinder
+    (against shift-invert to 1e-14; tol = 1e-3: 6e-5 low) in 0.04-0.23 s; ``J``'s own four largest-magnitude
+    eigenvalues at tol = 1e-4 took up to 22 s at n = 2,000 (12,700 ARPACK iterations), 3e-4 high at n = 1,000 (5.7 %
+    on the cylinder's defaults, in 36 s): the top of ``J``'s spectrum is clustered conjugate pairs on the imaginary
+    axis (the top three within 5e-6), ``C D``'s top real eigenvalues at twice the relative gap.
+    """
+    import scipy.sparse.linalg  # large grids only (as spectrum_bounds)
+
+    q = np.asarray(positions, dtype=bool)
+    if mat.shape != (q.size, q.size) or q.sum() * 2 != q.size or q.sum() < 3:
+        return None
+    if mat[q][:, q].count_nonzero() or mat[~q][:, ~q].count_nonzero():
+        return None
+    with np.errstate(all="ignore"):
+        product = (mat[q][:, ~q] @ mat[~q][:, q]).tocsc()
+    if not np.isfinite(product.data).all():  # the squares overflow where J's entries do not: J's own spectrum
+        return None
+    try:
+        mu = scipy.sparse.linalg.eigs(product, k=1, ncv=min(REST_NCV, product.shape[0] - 1), which="LM",
+                                      return_eigenvectors=False, tol=REST_TOL, maxiter=20000,
+                                      v0=np.random.default_rng(0).standard_normal(product.shape[0]))
+    except scipy.sparse.linalg.ArpackNoConvergence as exc:  # keep what converged
+        mu = exc.eigenvalues
+        if len(mu) == 0:
+            return None
+    root = np.sqrt(np.asarray(mu, dtype=complex))
+    return np.concatenate([root, -root])
 
 
 def rest_spectrum(J, positions):

@@ -49,10 +49,19 @@ ASSEMBLY_COPIES = 11.0
 #: n = 1,000 .. 16,000, the twisted cylinder) and a fixed part (the imported libraries, ~150 MB, and margin)
 BUILD_BYTES_PER_NODE = 40e3
 BUILD_BYTES_FIXED = 300e6
-#: graph building and spectrum per node (s; measured 1.9, 1.7, 0.96 ms per node at n = 1,000, 4,000, 16,000)
-BUILD_S_PER_NODE = 1.0e-3
-#: a build projected to take longer than this (s) is announced before it starts (n = 100,000 took 107 s in silence)
-LONG_BUILD_S = 30.0
+#: graphs, the spectrum's Jacobian and the spectrum per node (s): 26.8 s at n = 20,000, load 3 on 2 cores (the
+#: Jacobian's graph 13.8 s, its evaluation 2.6 s, ARPACK 2.9 s); 1.9, 1.7, 0.96 ms per node at 1,000, 4,000, 16,000
+BUILD_S_PER_NODE = 1.3e-3
+#: the DAE's own exact Jacobian graph (casadi.jacobian), per node (s), for the SUNDIALS routes that build it:
+#: 18.8 s at n = 20,000 (ida, load 3-4 on 2 cores; its C compiles are announced on their own)
+JACOBIAN_S_PER_NODE = 0.9e-3
+JACOBIAN_ROUTES = frozenset(f"{p}{r}" for p in ("", "sksundae-") for r in ("cvode-bdf", "cvode-adams", "ida"))
+#: assembling a run's Dataset (observables, checks) and writing it, per saved time and node (s): 1,001 saved times
+#: x 3,000 nodes took 25.5 s (the observables 23.3 s, the file 1.6 s; load 3 on 2 cores)
+OUTPUT_S_PER_VALUE = 8.5e-6
+#: a build (or the output's assembly) projected to take longer than this (s) is announced before the run (n = 100,000
+#: took 107 s in silence; at 30 s, ida at n = 20,000 69 s, 1,001 saved times x 3,000 nodes 40 s without a word)
+LONG_BUILD_S = 10.0
 #: the same for an analysis (modes, a path, a comparison), which builds and evaluates the exact Jacobian before it
 #: says anything: measured 1.0 ms per node for modes at n = 30,000 (31 s in silence)
 LONG_ANALYSIS_BUILD_S = 20.0
@@ -175,6 +184,7 @@ class Estimate:
     seconds: float
     build_seconds: float
     dense_bytes: float = 0.0
+    output_seconds: float = 0.0  # assembling the Dataset and writing it after the last step (s)
     dense_matrices: int = 0
     linsolver: str | None = None
     #: ``m -> memory_bytes`` of the same run on ``m`` nodes (the largest ``n`` that fits, said in a refusal)
@@ -246,9 +256,10 @@ def estimate(n, n_times, t_end, integrator="leapfrog", *, fields=5, dt=None, ome
             per_step, interval = EXPLICIT_RK[integrator]
             if omega_max is not None and math.isfinite(omega_max):
                 steps = max(steps, t_end * omega_max / interval)
-    build = BUILD_S_PER_NODE * n
-    return Estimate(n, n_times, size, out, memory, steps, lower, steps * per_step * rhs + build, build, dense_bytes,
-                    dense, getattr(method, "linsolver", None),
+    build = (BUILD_S_PER_NODE + (JACOBIAN_S_PER_NODE if integrator in JACOBIAN_ROUTES else 0.0)) * n
+    output = OUTPUT_S_PER_VALUE * n_times * n
+    return Estimate(n, n_times, size, out, memory, steps, lower, steps * per_step * rhs + build + output, build,
+                    dense_bytes, output, dense, getattr(method, "linsolver", None),
                     functools.partial(_memory_at, n_times=n_times, integrator=integrator, fields=fields, method=method))
 
 
@@ -383,9 +394,14 @@ def warn_if_long_build(est, each=""):
     """:class:`LongRunWarning` (one line) when building the graphs and the spectrum is projected to take over
     :data:`LONG_BUILD_S` (a run's, or ``each="each case's "`` for a study's): said before the build, which is silent."""
     if est.build_seconds > LONG_BUILD_S:
-        warnings.warn(f"building the graphs and the spectrum at n = {est.n:,} takes about "
+        jacobian = ", the Jacobian" if est.build_seconds > 1.5 * BUILD_S_PER_NODE * est.n else ""
+        warnings.warn(f"building the graphs{jacobian} and the spectrum at n = {est.n:,} takes about "
                       f"{show_seconds(est.build_seconds)} before {each or 'the '}first step (the step's stability "
                       "bound is known only then)", LongRunWarning, stacklevel=4)
+    if not each and est.output_seconds > LONG_BUILD_S:
+        warnings.warn(f"assembling and writing {est.n_times:,} saved times x {est.n:,} nodes takes about "
+                      f"{show_seconds(est.output_seconds)} after the last step (fewer saved times make it shorter)",
+                      LongRunWarning, stacklevel=4)
 
 
 def check_analysis(n, states, what, kept, *, integrator="cvode-bdf", fields=5, name=None, value=None, fewer=None,
@@ -402,9 +418,10 @@ def check_analysis(n, states, what, kept, *, integrator="cvode-bdf", fields=5, n
     est = estimate(n, max(int(states), 2), 0.0, integrator, fields=fields, method=method)
     check_memory(est, times_name=name, times_value=value, what=what, kept=kept, fewer=fewer or "",
                  offset=int(states) - value if name is not None else 0)
-    if announce and est.build_seconds > LONG_ANALYSIS_BUILD_S:  # modes at n = 30,000: 31 s in silence
+    build = BUILD_S_PER_NODE * int(n)  # the graphs and the Jacobian, as a run's spectrum (no DAE of its own)
+    if announce and build > LONG_ANALYSIS_BUILD_S:  # modes at n = 30,000: 31 s in silence
         warnings.warn(f"building the graphs and the Jacobian at n = {int(n):,} takes about "
-                      f"{show_seconds(est.build_seconds)} before {what}", LongRunWarning, stacklevel=3)
+                      f"{show_seconds(build)} before {what}", LongRunWarning, stacklevel=3)
 
 
 def measure_rhs_seconds(compiled, y0, repeats=20):

@@ -221,10 +221,12 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     if isinstance(scene, Unshearable):  # its own formulation: the constrained DAE, or the free shell
         if initial is not None:
             raise ParameterError("initial", "given", "None for the unshearable scene (its own formulation)")
+        noted = {}  # the scene's warnings, said before the work (a user can stop and switch laws), recorded after
+        say_scene_warnings(scene, noted, stacklevel=2)
         ds = simulate_unshearable(scene, n=n, times=times, t_end=t_end, constrained=integrator == "ida",
                                   progress=progress, **options)
         with interrupts.watched() as watch:  # a Ctrl-C from here on keeps the run (mol_shell.runs.post_run)
-            ds = _scene_warnings(scene, ds)  # its stresses as any run's (the constraint's torque in axial_torque)
+            ds.attrs.update(noted)  # its stresses as any run's (the constraint's torque in axial_torque)
             if stresses is not False:
                 with cut_short(watch):
                     ds = _with_stresses(ds, limit=None if stresses else MAX_SAMPLES)
@@ -248,6 +250,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
                                            dt=getattr(method, "dt", None), method=method, times_given=times_given)
     requested, requested_scene = scene.params(), scene
     scene = resolve(scene)
+    noted = {}  # the scene's warnings (the material's locking, unused keys), said before the build, recorded after
+    say_scene_warnings(scene, noted, stacklevel=2)
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
     compiled.set_threads(threads)
@@ -321,7 +325,8 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         if stability_note:
             attrs["stability_warning"] = stability_note
         ds = build_dataset(system, scene, traj, velocities, totals, attrs, requested, given=initial is not None)
-        ds = step_limits.after_run(method, _scene_warnings(scene, ds), omega_max, damping)  # steps held, not by rtol
+        ds.attrs.update(noted)
+        ds = step_limits.after_run(method, ds, omega_max, damping)  # steps held, not by rtol
         if not watch.caught:
             with cut_short(watch):
                 ds = check_ellipticity(system, ds)
@@ -387,14 +392,6 @@ def _check_radius_atol(method, system, y0):
         raise ParameterError("atol", method.atol, f"absolute tolerances of r below {r_min:.4g} m",
                              hint=f"the smallest radius off the axis at t = 0; {method.name} watches the limit r -> 0 "
                              "at r = atol_r")
-
-
-def _scene_warnings(scene, ds):
-    """``ds`` with the scene's warnings (:func:`~mol_shell.scenes.scene_warnings.scene_warnings`: the material's
-    locking, unused fibre keys, a load's history without the load, unused law parameters) said and recorded (once the
-    run is done: a run refused on the way says only why)."""
-    say_scene_warnings(scene, ds.attrs, stacklevel=3)
-    return ds
 
 
 def _start_stability(scene, system, y0, how):
