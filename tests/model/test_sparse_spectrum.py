@@ -1,9 +1,9 @@
 """The leap-frog's spectrum bound on large grids: the largest eigenvalue of ``C D`` (half the size, a real spectrum)
 instead of ARPACK on ``J``'s clustered conjugate pairs (12,700 iterations, 16.8 s, at n = 2,000).
 
-The bound's use needs ``omega_max`` to ~1e-5 relative (``dt < 1/omega_max`` is shown to 4 significant figures, a
-half unit in the last place being at least 5e-5; leap-frog is stable to ``2/omega_max``): the reference is the dense
-eigenvalue of the same Jacobian."""
+The bound is leap-frog's own stability limit ``dt < 1/omega_max`` (no margin), so the estimate may not fall below the
+true value, and should not exceed it by more than ARPACK's tolerance allows (``1e-4`` on ``omega**2``): the
+reference is the dense eigenvalue of the same Jacobian."""
 
 import numpy as np
 import pytest
@@ -15,7 +15,11 @@ from mol_shell.model import equilibrium
 from mol_shell.runs.checks import positions, resolve
 from mol_shell.scenes import TwistedCylinder
 
-NEEDED = 1e-5  # relative accuracy of omega_max the bound's uses need (module docstring)
+ABOVE = 5e-5 + 1e-12  # the most omega_max may lie above the true value (half ARPACK's tolerance on omega**2)
+
+
+def _bounds(estimate, dense):
+    return dense * (1 - 1e-12) <= estimate <= dense * (1 + ABOVE)
 
 
 @pytest.fixture(scope="module")
@@ -35,7 +39,7 @@ def test_sparse_rest_bound_is_the_dense_largest_eigenvalue(at_rest):
     dense = np.abs(np.linalg.eigvals(mat.toarray())).max()
     ev = equilibrium.sparse_rest_spectrum(mat, positions(system))
     assert ev is not None
-    assert np.abs(ev).max() == pytest.approx(dense, rel=NEEDED)
+    assert _bounds(np.abs(ev).max(), dense)
     assert np.abs(ev.real).max() <= 1e-9 * dense  # +-i omega: an elastic shell at rest has no damping
     moving = mat.tolil()
     q = positions(system)
@@ -58,6 +62,6 @@ def test_large_grid_route_of_spectrum_bounds_uses_the_product(at_rest, monkeypat
 
     monkeypatch.setattr(scipy.sparse.linalg, "eigs", spy)
     omega_max, damping = equilibrium.spectrum_bounds(system.spectrum_jac, y0, False, positions(system))
-    assert omega_max == pytest.approx(dense, rel=NEEDED)
+    assert _bounds(omega_max, dense)
     assert damping == 0.0
     assert shapes == [(mat.shape[0] // 2, 1)]
