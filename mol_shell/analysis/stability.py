@@ -26,7 +26,8 @@ from mol_shell.model.material import MATERIALS as SVK_MATERIALS
 from mol_shell.results.cf import header
 from mol_shell.results.dataset import scene_attrs, with_units
 from mol_shell.runs.checks import profile_scaled
-from mol_shell.runs.simulate import LEAPFROG_MAX_LOG_GROWTH, build, resolve, simulate, starting_state
+from mol_shell.runs.leapfrog_guard import LEAPFROG_MAX_LOG_GROWTH
+from mol_shell.runs.simulate import build, resolve, simulate, starting_state
 from mol_shell.scenes import Cone, Sphere, Torus, TwistedCylinder
 
 

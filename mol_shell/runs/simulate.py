@@ -16,11 +16,8 @@ from mol_shell.discretization.kernel_cache import CacheFull
 from mol_shell.discretization.threads import checked_threads
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.leapfrog import (
-    carried_log_growth,
     grid_steps,
     off_grid_hint,
-    parasitic_growth_rate,
-    restart_advice,
 )
 from mol_shell.integrators.loop import declared, real
 from mol_shell.integrators.tolerances import ATOL_RANGE, MAX_STEP_MARGIN, atol_ok, least_max_steps, smallest_max_step
@@ -41,7 +38,7 @@ from mol_shell.runs.building import (  # noqa: F401
 )
 from mol_shell.runs.checks import check_start_inside_limits, checked_spectrum, initial_state
 from mol_shell.runs.ellipticity import check_ellipticity
-from mol_shell.runs.leapfrog_guard import LEAPFROG_MAX_LOG_GROWTH
+from mol_shell.runs.leapfrog_guard import check_parasitic
 from mol_shell.runs.post_run import cut_short, kept
 from mol_shell.runs.statics import static_equilibrium, unstable_directions
 from mol_shell.runs.unshearable import DAE_OPTIONS, FREE_OPTIONS, simulate_unshearable
@@ -273,19 +270,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
                 warnings.warn(note, SceneWarning, stacklevel=2)
         if deferred is not None:  # dt is within its bound: t_end is what to change
             raise deferred
-        growth = parasitic_growth_rate(damping, omega_max, dt)
-        total, every = round(times[-1] / dt), method.restart_steps()  # the restarts the run takes (100 steps or more)
-        span = min(times[-1], every * dt if every else math.inf)  # the parasitic root starts again at each restart
-        carried = carried_log_growth(damping, omega_max, dt, every, total)  # ... from what it had grown to
-        if max(growth * span, carried) > LEAPFROG_MAX_LOG_GROWTH:
-            allowed = ("another integrator (cvode-bdf or ida: implicit, for stiff viscous shells)"
-                       + restart_advice(damping, omega_max, dt, times[-1], LEAPFROG_MAX_LOG_GROWTH))
-            raise ParameterError(
-                "integrator", integrator, allowed,
-                message=f"integrator = {integrator!r} cannot run this case: its parasitic root grows damped modes like "
-                f"exp({growth:.4g}/s * t) at dt = {dt:g} s, and up to t = {span:g} s (the run's end or its next "
-                f"restart) that is exp({growth * span:.3g})" + (f", carried through the restarts exp({carried:.3g}) "
-                "over the run" if carried else "") + f" (viscosity makes the system stiff); allowed: {allowed}")
+        check_parasitic(integrator, method, damping, omega_max, times[-1])
     step_limits.before_run(method, times[-1], damping)  # a fixed-point cvode-adams that stiffness will hold short
     resources.check_before_run(n, times, integrator, fields=len(scene.fields), dt=getattr(method, "dt", None),
                                omega_max=omega_max, compiled=compiled, y0=y0, warned=est.seconds > resources.LONG_RUN_S)

@@ -14,9 +14,11 @@ import pytest
 
 import mol_shell
 from mol_shell._core.errors import ParameterError
-from mol_shell.model.equilibrium import spectrum_bounds
 from mol_shell.integrators import Leapfrog
-from mol_shell.runs.simulate import LEAPFROG_MAX_LOG_GROWTH, build, parasitic_growth_rate, resolve
+from mol_shell.integrators.leapfrog import parasitic_growth_rate
+from mol_shell.model.equilibrium import spectrum_bounds
+from mol_shell.runs.leapfrog_guard import LEAPFROG_MAX_LOG_GROWTH
+from mol_shell.runs.simulate import build, resolve
 
 STIFF = mol_shell.TwistedCylinder(eta_mu=1e4, eta_lambda=2e4)
 MILD = mol_shell.TwistedCylinder(eta_mu=1e3, eta_lambda=2e3)
