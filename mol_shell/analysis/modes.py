@@ -346,6 +346,7 @@ def modes(scene, n=40, count=10, *, initial=None, zero_band=0.0):
     size = constrained_size(len(q_idx), basis)
     rigid = rigid_vectors(system, q_idx)
     method = _route(size, count, size - rigid.shape[1], system.n)
+    noted = say_scene_warnings(scene, {}, stacklevel=2)  # once refusals are past: before the solve, recorded after
     if method == "dense":
         M = np.linalg.inv(Minv.toarray())
         M = (M + M.T) / 2
@@ -392,7 +393,7 @@ def modes(scene, n=40, count=10, *, initial=None, zero_band=0.0):
     given_said = given_note(params)
     if given_said:  # a path's state, at rest: the scene's omega or gamma are not the start's
         params["initial_data_note"] = given_said
-    say_scene_warnings(scene, params, stacklevel=2)  # as a run's: the law's locking, keys without effect
+    params.update(noted)  # as a run's: the law's locking, keys without effect (said before the build)
     at_rest = history_loads(scene, why="the modes are taken about a state at rest")
     if at_rest:  # a load on a history acts at t = 0 (a ramp's: not at all), as in a path's states
         params["loads_at_rest"] = "\n".join(at_rest)

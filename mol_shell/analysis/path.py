@@ -54,6 +54,7 @@ from mol_shell.analysis.path_record import PathRecord
 from mol_shell.analysis.path_secant import secant_start
 from mol_shell.analysis.path_stability import LOCATE_NEWTON, LOCATE_TOL
 from mol_shell.runs.building import as_scene
+from mol_shell.scenes.scene_warnings import say_scene_warnings
 
 #: Newton's convergence: ``|F|`` below this fraction of the forces of a unit strain (``max diag K`` times the
 #: meridian's size), then one step more
@@ -386,6 +387,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     no_switch = None  # why --branch could not switch at the point it names (a limit point)
     origin = None  # on a branch: the critical point it left (state, load, the step after which it did)
     eq = EquilibriumEquations(scene, parameter, n)
+    noted = say_scene_warnings(scene, {}, parameter=parameter, stacklevel=2)  # once refusals are past: before the trace
     tracer = _Path(eq, start, stop)
     q, iterations, t = first_state(tracer, float(start), initial, heading, scales, PathFailed)
     ds0 = math.sqrt(2.0) / steps if ds is None else min(float(ds), math.sqrt(2.0))  # at most the whole range
@@ -481,7 +483,7 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         if record.bar is not None:
             record.bar.close()
         ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop,
-                          near_critical(record))
+                          near_critical(record), noted)
     if initial is not None:
         ds.attrs["initial_state"] = "the fields given (initial), at rest"
     ds.attrs["arclength_displacement_scale"], ds.attrs["arclength_load_scale"] = tracer.scales

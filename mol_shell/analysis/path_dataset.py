@@ -14,7 +14,6 @@ from mol_shell.results.cf import coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, scene_attrs, with_units
 from mol_shell.runs.ellipticity import CONSEQUENCE, LONG_NAME, sampled_margins, state_minimum, unchecked_note
 from mol_shell.scenes import DESCRIPTIONS
-from mol_shell.scenes.scene_warnings import say_scene_warnings
 
 #: what every path file says about its critical loads
 SYMMETRY_NOTE = ("critical points are those of rotationally symmetric modes only (the model has no circumferential "
@@ -25,11 +24,11 @@ SYMMETRY_NOTE = ("critical points are those of rotationally symmetric modes only
 INITIAL_DATA = ("R", "dilation")
 
 
-def path_dataset(eq, scene, record, status, message, wall_time, start, stop, near=()):
+def path_dataset(eq, scene, record, status, message, wall_time, start, stop, near=(), noted=None):
     """Assemble the Dataset of a traced path (``record``: the steps and critical points of
-    ``mol_shell.analysis.path_record.PathRecord``); the scene's warnings (``material_warning``, ``scene_warning``:
-    :mod:`mol_shell.scenes.scene_warnings`) are said, to the caller of :func:`~mol_shell.analysis.path.path`, and
-    recorded in its attrs. ``near``: the near-critical points (:func:`~mol_shell.analysis.path_modes.near_critical`);
+    ``mol_shell.analysis.path_record.PathRecord``); ``noted``: the scene's warnings (``material_warning``,
+    ``scene_warning``: :mod:`mol_shell.scenes.scene_warnings`), said by :func:`~mol_shell.analysis.path.path` before
+    its work, recorded in the attrs. ``near``: the near-critical points (:func:`~mol_shell.analysis.path_modes.near_critical`);
     the grid's critical modes and the near-critical points are said in ``attrs["grid_mode_warning"]`` and
     ``attrs["near_critical_warning"]``."""
     system = eq.system
@@ -183,9 +182,9 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop, nea
     notes = loads_at_rest(scene, eq.parameter)
     if notes:  # another load on a history: the states take it at t = 0
         attrs["loads_at_rest"] = "\n".join(notes)
-    # the scene's warnings, as a run's (said and recorded once the path is traced; the continued load's history is
-    # replaced, not unused)
-    say_scene_warnings(scene, attrs, parameter=eq.parameter, stacklevel=3)
+    # the scene's warnings, as a run's (said by path before the work, ``noted``; the continued load's history is
+    # replaced, not unused), recorded here
+    attrs.update(noted or {})
     return xr.Dataset(variables(data), coords=coordinates(coords), attrs=with_units(attrs))  # zeta1_used's too
 
 

@@ -247,8 +247,11 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
                                            dt=getattr(method, "dt", None), method=method, times_given=times_given)
     requested, requested_scene = scene.params(), scene
     scene = resolve(scene)
-    noted = {}  # the scene's warnings (the material's locking, unused keys), said before the build, recorded after
-    say_scene_warnings(scene, noted, stacklevel=2)
+    # the scene's warnings (the material's locking, unused keys), recorded after the run: said before a long build or
+    # run (a law to switch), else after the run (a refusal of a quick run stays one line, whenever it comes)
+    noted, early = {}, max(est.build_seconds, est.seconds) > resources.LONG_BUILD_S
+    if early:
+        say_scene_warnings(scene, noted, stacklevel=2)
     system, compiled = build(scene, n)
     _, _, build_time = _built(_graph_key(scene), int(n))
     compiled.set_threads(threads)
@@ -310,7 +313,7 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         if stability_note:
             attrs["stability_warning"] = stability_note
         ds = build_dataset(system, scene, traj, velocities, totals, attrs, requested, given=initial is not None)
-        ds.attrs.update(noted)
+        ds.attrs.update(noted if early else say_scene_warnings(scene, noted, stacklevel=2))
         ds = step_limits.after_run(method, ds, omega_max, damping)  # steps held, not by rtol
         if not watch.caught:
             with cut_short(watch):

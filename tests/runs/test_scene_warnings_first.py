@@ -12,6 +12,9 @@ simulate_module = importlib.import_module("mol_shell.runs.simulate")
 
 
 def test_the_locking_warning_precedes_the_build_and_is_said_once(monkeypatch):
+    """Before a long build or run (LONG_BUILD_S set to 0 here: every one counts as long); a quick run says it after
+    the run as before, so that a refusal stays one line whenever it comes (tests/cli/test_cli.py)."""
+    monkeypatch.setattr(simulate_module.resources, "LONG_BUILD_S", 0.0)
     scene = TwistedCylinder(material="svk", nu=0.49)  # locks: 13x stiffer in a hoop stretch than plane stress
     events = []
     original = simulate_module.build
@@ -29,3 +32,30 @@ def test_the_locking_warning_precedes_the_build_and_is_said_once(monkeypatch):
     assert len(locking) == 1, [str(w.message) for w in caught]
     assert events == [("build", events[0][1])] and locking[0] < events[0][1]
     assert "stiffer in a hoop stretch" in ds.attrs["material_warning"]
+
+
+def test_modes_and_paths_say_it_before_their_work_too(monkeypatch):
+    """``modes`` said the scene's warnings after its eigen-solve and ``path`` after the whole trace: now once their
+    refusals are past (a refusal stays one line), before the eigen-solve and before the first equilibrium, once,
+    recorded as before."""
+    modes_module = importlib.import_module("mol_shell.analysis.modes")
+    path_module = importlib.import_module("mol_shell.analysis.path")
+    scene = TwistedCylinder(material="svk", nu=0.49, gamma=0.0)
+    for module, name, call in ((modes_module, "eigenvalue_scale", lambda: mol_shell.modes(scene, n=9, count=2)),
+                               (path_module, "first_state",
+                                lambda: mol_shell.path(scene, "pressure", 0.0, 100.0, n=9, steps=2, progress=False))):
+        events = []
+        original = getattr(module, name)
+
+        def spy(*args, _original=original, **kwargs):
+            events.append(len(caught))
+            return _original(*args, **kwargs)
+
+        monkeypatch.setattr(module, name, spy)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            ds = call()
+        locking = [i for i, w in enumerate(caught) if issubclass(w.category, MaterialWarning)
+                   and "stiffer in a hoop stretch" in str(w.message)]
+        assert len(locking) == 1 and locking[0] < events[0], (name, [str(w.message) for w in caught])
+        assert "stiffer in a hoop stretch" in ds.attrs["material_warning"]
