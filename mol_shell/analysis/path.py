@@ -376,7 +376,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
         shell's);
         along ``point``: the critical points. ``attrs["status"]`` is ``complete`` (``stop`` reached),
         ``max_steps``, ``returned`` (back past ``start``, or a branch back at the point it left: a loop),
-        ``failed``, ``limit`` or ``interrupted`` (Ctrl-C: the steps so far; ``attrs["message"]`` says where).
+        ``failed``, ``limit`` or ``interrupted`` (Ctrl-C: the steps so far; ``attrs["message"]`` says where; a
+        Ctrl-C before the first step, in the set-up, raises ``KeyboardInterrupt``).
     """
     scene = as_scene(scene)
     start, stop, n, steps, max_steps, ds, branch = map(scalar, (start, stop, n, steps, max_steps, ds, branch))

@@ -47,8 +47,11 @@ def scales_of(source, name="source", shown="<xarray.Dataset>"):
     return tuple(float(source.attrs[k]) for k in keys)
 
 
-def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, branch=None, progress=None,
-                  names=KEYWORDS):
+#: how :func:`continue_path`'s refusals name the path and the step: its own parameters (``source``, ``step``)
+NAMES = {**KEYWORDS, "ds": "source"}
+
+
+def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, branch=None, progress=None):
     """Follow path ``source`` on from its step ``step`` (default: its last) to ``stop``.
 
     Parameters
@@ -60,18 +63,28 @@ def continue_path(source, stop, *, step=None, steps=20, max_steps=200, ds=None, 
     step : int, optional
         The step to go on from (``0 .. steps - 1``; default the last).
     steps, max_steps, ds, branch, progress
-        As :func:`mol_shell.path`'s, for the continuation.
-    names : dict
-        How refusals name the path and the step (:data:`~mol_shell.analysis.path_start.KEYWORDS`, or the command
-        line's flags).
+        As :func:`mol_shell.path`'s, for the continuation (``ds`` the first arclength step, as there).
 
     Returns
     -------
     xarray.Dataset
         The continuation, a path from the step's load to ``stop`` (its step 0 is the step it left); attrs
         ``continued_from`` (the file or Dataset, the step and its load) and ``initial_state``.
+
+    Raises
+    ------
+    ParameterError
+        Named by the parameter at fault: ``source`` (no path, or a file that holds no usable one), ``step``,
+        ``stop``, or :func:`mol_shell.path`'s keywords.
     """
-    names = {**names, "ds": "source"} if names is KEYWORDS else names  # the Dataset's name: ds is the first step's
+    return continue_named(source, stop, NAMES, step=step, steps=steps, max_steps=max_steps, ds=ds, branch=branch,
+                          progress=progress)
+
+
+def continue_named(source, stop, names, *, step=None, steps=20, max_steps=200, ds=None, branch=None, progress=None):
+    """:func:`continue_path` with its refusals naming the path and the step as ``names`` says (``names["ds"]`` the
+    path, ``names["step"]`` the step: :data:`NAMES`, or :data:`~mol_shell.analysis.path_start.FLAGS` for the command
+    line's ``--from`` and ``--step``)."""
     shown = str(source) if isinstance(source, (str, os.PathLike)) else "<xarray.Dataset>"
     named = os.path.abspath(source) if isinstance(source, (str, os.PathLike)) else getattr(source, "encoding", {}).get(
         "source", shown)  # continued_from names the file wherever it is read from

@@ -13,7 +13,7 @@ from mol_shell._core.errors import ParameterError, show
 from mol_shell.analysis.equilibria import PATH_PARAMETERS
 from mol_shell.analysis.modes import off_equilibrium
 from mol_shell.analysis.path import path
-from mol_shell.analysis.path_continue import continue_path
+from mol_shell.analysis.path_continue import continue_named
 from mol_shell.analysis.path_inputs import STEPS_MAX
 from mol_shell.analysis.path_start import ALLOWED, FLAGS, is_path, path_start, read_path
 from mol_shell.cli.args import (
@@ -108,8 +108,8 @@ def _continued(args):
     if args.n is not None and args.n != source.sizes["s"]:
         raise ParameterError("--n", args.n, f"{{{source.sizes['s']}}} with --from (the path's nodes)")
     try:
-        ds = continue_path(source, args.stop, step=args.step, steps=args.steps, max_steps=args.max_steps,
-                           branch=args.branch, names=FLAGS)
+        ds = continue_named(source, args.stop, FLAGS, step=args.step, steps=args.steps, max_steps=args.max_steps,
+                            branch=args.branch)
     except ParameterError as exc:
         if exc.name == "initial" or getattr(exc, "residual", None):  # the file's state at the step, Newton's start
             step = source.sizes["step"] - 1 if args.step is None else args.step  # (out of equilibrium under its

@@ -9,6 +9,11 @@ from mol_shell.integrators.sundials_c import CVODEBDF, IDA, CVODEAdams
 # cvode-bdf, cvode-adams, ida: the loop in compiled C; sksundae-*: scikit-sundae's Python loop (release 0.5.0's)
 INTEGRATORS = {cls.name: cls for cls in (Leapfrog, CVODEBDF, CVODEAdams, IDA, sundials.CVODEBDF,
                                          sundials.CVODEAdams, sundials.IDA)}
+"""The integrators :func:`mol_shell.simulate` and :func:`mol_shell.study` take by name: name -> its class, a
+dataclass whose fields are its options (the keywords ``simulate`` passes on: ``rtol``, ``dt``, ...).
+``list(mol_shell.INTEGRATORS)`` gives the names (the ``scipy-*`` and ``casadi-*`` peers where SciPy and CasADi's
+plugins load), ``dataclasses.fields(mol_shell.INTEGRATORS["cvode-bdf"])`` one's options. The unshearable scene takes
+``ida`` (its constrained DAE) or ``leapfrog``."""
 INTEGRATORS.update(EXPLICIT)
 
 try:  # the comparison's peers (scipy, CasADi's SUNDIALS plugins)

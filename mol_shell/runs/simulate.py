@@ -151,7 +151,9 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     n : int
         Nodes in ``s`` (paper: 40).
     t_end : float, optional
-        Final time (s); with ``times`` omitted, 11 evenly spaced saved times.
+        Final time (s); with ``times`` omitted, 11 evenly spaced saved times, for leap-frog snapped to its step
+        ``dt`` (as even as that grid allows: ``t_end = 13 dt`` saves steps 0, 1, 3, 4, 5, 6, 8, 9, 10, 12, 13; fewer
+        times where ``t_end`` is fewer than 10 steps).
     times : array_like, optional
         Saved times (s), starting at 0: numbers (a bool or a string is refused, as in ``t_end``). For leap-frog,
         each of them and ``t_end`` a whole number of steps ``dt``, to ``1e-6 dt + 1e-12 t``
@@ -192,6 +194,16 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
         equilibrium under loads included; ``NAME_requested = "auto"`` beside one left to the code) and the
         run's statistics in attrs. If the run hit a model limit or was interrupted, the
         Dataset holds what was computed and ``attrs["complete"] == 0``.
+
+    Raises
+    ------
+    ParameterError
+        Input out of range, named (before the build where it can be).
+    KeyboardInterrupt
+        A Ctrl-C before the run steps (its graphs, their compilation, the start's static equilibrium, the checks):
+        there is nothing to keep. Once it steps, a Ctrl-C does not raise: the run stops at the end of its current
+        chunk and its Dataset is returned with the saved times reached, ``attrs["status"] == "interrupted"`` (and a
+        ``RuntimeWarning``). A loop of runs stops on either: ``if ds.attrs["status"] == "interrupted": break``.
 
     Warns
     -----

@@ -28,6 +28,10 @@ from mol_shell.scenes.unshearable import UNSHEARABLE_INTEGRATORS, Unshearable
 
 SCENES = {cls.name: cls for cls in (TwistedCylinder, SpinningRing, Axisymmetric, Sphere, Cone, Torus, MeridianShell,
                                   Unshearable, Vessel)}
+"""The registered scenes: name -> scene class (a frozen dataclass of the scene's parameters).
+``list(mol_shell.SCENES)`` gives the names (``mol-shell scenes`` lists them, ``mol-shell scenes NAME`` one's
+parameters with units and defaults); ``mol_shell.SCENES["sphere"](E=2e6)`` or ``mol_shell.get_scene("sphere",
+E=2e6)`` makes one, and :func:`mol_shell.simulate` takes a name for the scene with its defaults."""
 
 
 def get_scene(name, **params):

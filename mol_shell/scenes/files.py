@@ -56,6 +56,7 @@ from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UN
 from mol_shell.scenes.file_values import FLOAT_MAX, respelled, toml_spelled, toml_value, too_large
 from mol_shell.scenes.file_values import fail as _fail
 from mol_shell.scenes.setting import with_params
+from mol_shell.scenes.unshearable import UNSHEARABLE_DAE_OPTIONS, UNSHEARABLE_INTEGRATORS, Unshearable
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -267,8 +268,23 @@ def _run_options(source, run, together=True, cls=None):
             value = positive(key, value)
         out[key] = value
     if together:
+        check_taken(source, integrator, out, cls)
         check_run_together(source, integrator, out)
     return out
+
+
+def check_taken(source, integrator, run, cls=None):
+    """Refuse, naming the file ``source`` and ``[run]``, an option of ``run`` that ``integrator`` does not take for
+    scenes of class ``cls`` (``rtol`` on leap-frog, ``dt`` on an adaptive one) as ``simulate`` and ``mol-shell run``
+    do (:func:`mol_shell.runs.simulate.integrator_options`; the unshearable scene: ``ida``, its DAE, or leapfrog)."""
+    dae = cls is not None and issubclass(cls, Unshearable)
+    if dae and integrator not in UNSHEARABLE_INTEGRATORS:
+        raise _fail(source, "run", ParameterError("integrator", integrator, "{" + ", ".join(UNSHEARABLE_INTEGRATORS)
+                    + "}", hint="ida solves the unshearable DAE, leapfrog the free shell from the same state"))
+    taken = set(UNSHEARABLE_DAE_OPTIONS) if dae and integrator == "ida" else {
+        f.name for f in dataclasses.fields(INTEGRATORS[integrator])}
+    for key in [k for k in run if k not in RUN[:4] and k not in taken]:  # RUN[:4]: integrator, n, t_end, times
+        raise _fail(source, "run", ParameterError.not_an_option(key, integrator, taken))
 
 
 def check_run_together(source, integrator, run, given=()):
@@ -387,8 +403,9 @@ def load_scene(path, *, with_run=False, together=True, overrides=None):
         ``simulate(scene, **run)`` runs it as
         ``mol-shell run FILE.toml`` does.
     together : bool
-        Check the ``[run]`` options across each other as the integrator does (False: the caller does, after
-        options of its own replace some: the command line's ``--integrator`` and ``--option``).
+        Check the ``[run]`` options against the integrator as ``simulate`` does (an option it does not take:
+        ``rtol`` on leap-frog, ``dt`` on an adaptive one) and across each other as the integrator does (False: the
+        caller does, after options of its own replace some: the command line's ``--integrator`` and ``--option``).
     overrides : dict, optional
         Parameters over the file's (the command line's ``--set``), applied before the scene is made.
 

@@ -19,6 +19,9 @@ from mol_shell.scenes.cylinder import CylinderScene
 
 #: integrators of the unshearable scene: the constrained DAE (ida) or the free shell (leapfrog)
 UNSHEARABLE_INTEGRATORS = ("ida", "leapfrog")
+#: the options of its constrained DAE (``"ida"`` on this scene; the free shell's are leap-frog's): the names of
+#: :data:`mol_shell.runs.unshearable.DAE_OPTIONS`
+UNSHEARABLE_DAE_OPTIONS = ("rtol", "atol", "max_step")
 
 
 @dataclass(frozen=True)

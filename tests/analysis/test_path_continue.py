@@ -189,3 +189,24 @@ def test_a_path_that_took_no_step_lends_no_metric(short):
     failed = short.isel(step=[0]).assign_attrs(arclength_load_scale=1e12, stop=1e12, status="failed")
     more = continue_path(failed, STOP, max_steps=2)
     assert more.attrs["arclength_load_scale"] == abs(STOP - float(short.parameter[0]))
+
+
+def test_continue_path_takes_no_names_and_its_refusals_name_its_parameters(short):
+    """``names`` (how refusals name the path and the step) was the command line's plumbing in the public signature:
+    ``names={'step': '--step'}`` raised ``KeyError: 'ds'``. The public function names its own parameters; the
+    command line's flags are its internal function's (``continue_named``)."""
+    with pytest.raises(TypeError, match="names"):
+        continue_path(short, STOP, names={"step": "--step"})
+    for step in (10**6, -1, 1.5):  # the path has steps 0 .. 3
+        with pytest.raises(mol_shell.ParameterError, match=rf"^step = {step} is outside integers 0\.\.3") as refused:
+            continue_path(short, STOP, step=step)
+        assert refused.value.name == "step"
+    with pytest.raises(mol_shell.ParameterError, match=r"^stop = inf is not a finite number") as refused:
+        continue_path(short, float("inf"))
+    assert refused.value.name == "stop"
+    damaged = short.copy(deep=True)
+    damaged["r"].values[-1, 2] = np.nan
+    with pytest.raises(mol_shell.ParameterError, match=r"^source = .* holds values of r at step 3 that are not") as \
+            refused:
+        continue_path(damaged, STOP)
+    assert refused.value.name == "source"
