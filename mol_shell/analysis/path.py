@@ -388,9 +388,9 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
     no_switch = None  # why --branch could not switch at the point it names (a limit point)
     origin = None  # on a branch: the critical point it left (state, load, the step after which it did)
     eq = EquilibriumEquations(scene, parameter, n)
-    noted = say_scene_warnings(scene, {}, parameter=parameter, stacklevel=2)  # once refusals are past: before the trace
     tracer = _Path(eq, start, stop)
     q, iterations, t = first_state(tracer, float(start), initial, heading, scales, PathFailed)
+    noted = say_scene_warnings(scene, {}, parameter=parameter, stacklevel=2)  # once refusals are past: before the trace
     ds0 = math.sqrt(2.0) / steps if ds is None else min(float(ds), math.sqrt(2.0))  # at most the whole range
     bar = progress_meter(mode, f"path in {parameter} ({eq.units})", count=_steps_done, unit=" steps")  # no total
     record = PathRecord(eq, tracer, bar, PathFailed)

@@ -36,19 +36,19 @@ def test_the_locking_warning_precedes_the_build_and_is_said_once(monkeypatch):
 
 def test_modes_and_paths_say_it_before_their_work_too(monkeypatch):
     """``modes`` said the scene's warnings after its eigen-solve and ``path`` after the whole trace: now once their
-    refusals are past (a refusal stays one line), before the eigen-solve and before the first equilibrium, once,
-    recorded as before."""
+    refusals are past (a refusal stays one line), before the eigen-solve and before the trace's steps, once, recorded
+    as before."""
     modes_module = importlib.import_module("mol_shell.analysis.modes")
     path_module = importlib.import_module("mol_shell.analysis.path")
     scene = TwistedCylinder(material="svk", nu=0.49, gamma=0.0)
     for module, name, call in ((modes_module, "eigenvalue_scale", lambda: mol_shell.modes(scene, n=9, count=2)),
-                               (path_module, "first_state",
+                               (path_module, "PathRecord",
                                 lambda: mol_shell.path(scene, "pressure", 0.0, 100.0, n=9, steps=2, progress=False))):
         events = []
         original = getattr(module, name)
 
-        def spy(*args, _original=original, **kwargs):
-            events.append(len(caught))
+        def spy(*args, _original=original, _events=events, **kwargs):
+            _events.append(len(caught))
             return _original(*args, **kwargs)
 
         monkeypatch.setattr(module, name, spy)
