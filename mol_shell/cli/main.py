@@ -320,8 +320,25 @@ def entry():
     """The ``mol-shell`` program (and ``python -m mol_shell``): :func:`main`, then a Ctrl-C or SIGTERM until the
     process exits said as one that stopped the command (:func:`~mol_shell.cli.outcome.said_in_teardown`), which
     exits once Python has called its exit functions, without the teardown in which those signals killed it
-    (:func:`~mol_shell.cli.outcome.exits_after_its_exit_functions`)."""
+    (:func:`~mol_shell.cli.outcome.exits_after_its_exit_functions`). Standard descriptors the caller closed are held
+    first (:func:`hold_closed_descriptors`)."""
+    hold_closed_descriptors()
     return exits_after_its_exit_functions(said_in_teardown(main()))
+
+
+def hold_closed_descriptors():
+    """Open ``/dev/null`` on each of the descriptors 0, 1, 2 that the caller closed (``2>&-``), so that no file this
+    command opens takes its number: C libraries (netCDF, HDF5, SUNDIALS) write their messages to descriptor 2, which
+    would then be the middle of a netCDF file being written. ``sys.stderr`` stays ``None`` (Python's own sign that the
+    stream is closed, which the command's output follows)."""
+    for fd in (0, 1, 2):
+        try:
+            os.fstat(fd)
+        except OSError:
+            null = os.open(os.devnull, os.O_RDWR)  # the lowest free number: the closed one, or one below it
+            if null != fd:
+                os.dup2(null, fd)
+                os.close(null)
 
 
 def _command(argv):
