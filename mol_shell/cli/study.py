@@ -44,6 +44,8 @@ from mol_shell.runs.study_design import text_parameters
 from mol_shell.scenes import with_params
 from mol_shell.views.path_study_plot import first_critical_said
 
+#: the keys of a scene file's [run] that are the run's own, not options of its integrator
+RUN_OWN = ("integrator", "n", "t_end", "times")
 #: the first step of each path of a study of paths is 1/STEPS of its range without --steps
 STEPS = 20
 #: the steps of each path of a study of paths without --max-steps
@@ -117,6 +119,9 @@ def cmd_study(args):
     if args.path is not None:
         return _path_study(args, scene, vary, n)
     _check_run_options(args, vary)
+    # a scene file's [run] option that --vary varies is replaced by the varied values (the command line's own are
+    # refused above): not checked, not passed beside them (it was refused as given twice)
+    run = {key: value for key, value in run.items() if key not in vary or key in RUN_OWN}
     times, t_end, integrator, options = run_settings(args, run, scene, n)
     vary = _integer_options(args.vary, integrator, vary)
     return _finish(args, scene, "case", vary, lambda: study(

@@ -53,7 +53,8 @@ from mol_shell.model.layers import LAYER_KEYS
 from mol_shell.model.loads import HISTORY_ALLOWED, parse_history
 from mol_shell.scenes import SCENES, summary
 from mol_shell.scenes.base import DESCRIPTIONS, DISPLACEMENTS, DRIVES, LOADS, UNITS, ShellScene, describe
-from mol_shell.scenes.file_values import FLOAT_MAX, respelled, toml_spelled, toml_value, too_large
+from mol_shell.scenes.file_layers import layer_sum_refusal, layer_tables
+from mol_shell.scenes.file_values import FLOAT_MAX, respelled, toml_value, too_large
 from mol_shell.scenes.file_values import fail as _fail
 from mol_shell.scenes.setting import with_params
 from mol_shell.scenes.unshearable import UNSHEARABLE_DAE_OPTIONS, UNSHEARABLE_INTEGRATORS, Unshearable
@@ -96,8 +97,10 @@ def table_of(cls, name):
 
 def history_text(name, value):
     """A history as the scenes take it: the string form as it is, an inline table converted to it."""
+    if not isinstance(value, (dict, str)):  # a number, a list: the file's forms said, its inline tables with them
+        raise ParameterError.not_a(name, value, "a string or an inline table", HISTORY_TABLES)
     if not isinstance(value, dict):
-        return value  # the scene's check names anything that is not a valid string
+        return value  # the scene's check names a string that is not a valid history
     kind = value.get("kind")
 
     def bad(why):
@@ -141,27 +144,6 @@ def _flag_of_file(source, table, name, value):
     if not isinstance(value, bool):
         raise _fail(source, table, ParameterError.not_a(name, value, "a TOML boolean", "{true, false}"))
     return value
-
-
-def _layer_tables(source, layers):
-    """``[[layer]]`` tables as given, their keys known, ``material`` a string and their true/false keys TOML booleans,
-    each refused naming the table (``[[layer]] N``, from the lower face); the values: the scene's check."""
-    for number, layer in enumerate(layers if isinstance(layers, list) else (), start=1):
-        where = f"{source}: [[layer]] {number} (from the lower face): "
-        for key, value in (layer.items() if isinstance(layer, dict) else ()):
-            if key not in ("thickness", "material", *LAYER_KEYS):
-                own = (" (a law of one's own takes the parameters of its Material in a layer, not the file's)"
-                       if key == "material_parameters" else "")
-                raise ParameterError(key, value, "", message=f"{where}unknown key {key}; allowed: thickness, "
-                                     f"material, {', '.join(LAYER_KEYS)}{own}")
-            try:
-                if key == "material" and not isinstance(value, str):
-                    raise ParameterError.not_a("material", value, "a string", "a law's name or import path")
-                if key in FLAGS and not isinstance(value, bool):
-                    raise ParameterError.not_a(key, value, "a TOML boolean", "{true, false}")
-            except ParameterError as exc:
-                raise ParameterError(exc.name, exc.value, exc.range or exc.allowed, message=where + toml_spelled(exc)) from None
-    return layers
 
 
 def _convert(cls, field, value, folder):
@@ -327,7 +309,7 @@ def scene_from_dict(data, source="<scene file>", folder=".", together=True, over
         if isinstance(data.get("material"), dict) and "layers" in data["material"]:
             raise _fail(source, "material", "layers is given twice, as [material] layers and as [[layer]] tables; "
                         "allowed: one of them", "layers", data["material"]["layers"])
-        given["layers"], where["layers"] = _layer_tables(source, data.pop("layer")), "layer"
+        given["layers"], where["layers"] = layer_tables(source, data.pop("layer"), FLAGS), "layer"
     for key, table in data.items():
         if key == "scene":
             continue
@@ -372,6 +354,10 @@ def scene_from_dict(data, source="<scene file>", folder=".", together=True, over
     try:
         scene = with_params(cls(), {**given, **overrides}) if overrides else cls(**given)
     except ParameterError as exc:
+        said = layer_sum_refusal(exc, source, given.get("layers") if where.get("layers") == "layer" else None,
+                                 overrides.get("h", given.get("h", cls.h)), overrides, where.get("h"))
+        if said is not None:  # layers not adding up to 2h: said by the [[layer]] tables, or by the --set h that did
+            raise said from None
         if exc.name in overrides or exc.name == "parameter":  # the command line's own: said as it says it
             raise
         entry = re.match(r"layer (\d+):? (.*)", exc.hint or "") if where.get(exc.name) == "layer" else None

@@ -11,11 +11,27 @@ record their own.
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 from mol_shell._core.errors import MaterialWarning, MolShellWarning, SceneWarning
 from mol_shell.model.law_warnings import locking_warnings, unused_fibres_warnings, unused_law_parameters
 from mol_shell.scenes.setting import unused_histories
+
+#: the parameters of a scene's own meridian that its ``segments`` (a vessel's) replace
+SEGMENT_REPLACED = ("a", "Lc", "crown", "knuckle")
+
+
+def unused_by_segments(scene):
+    """One line for each parameter of :data:`SEGMENT_REPLACED` set (not its default) beside ``segments``, which draw
+    the meridian in its place: ``a = 2 is unused: segments draw the meridian`` (it was dropped silently, the run's
+    attrs still saying ``a = 2``)."""
+    if not (dataclasses.is_dataclass(scene) and str(getattr(scene, "segments", "") or "").strip()):
+        return []
+    defaults = {f.name: f.default for f in dataclasses.fields(scene)}
+    return [f"{key} = {getattr(scene, key):g} is unused: segments draw the meridian" for key in SEGMENT_REPLACED
+            if key in defaults and getattr(scene, key) is not None and getattr(scene, key) != defaults[key]]
+
 
 #: the attribute that records each kind, and the category it is said as
 KINDS = {"material_warning": MaterialWarning, "scene_warning": SceneWarning}
@@ -27,7 +43,7 @@ def scene_warnings(scene, parameter=None):
     histories = [line for line in unused_histories(scene) if parameter is None
                  or not line.startswith(f"{parameter}_history ")]
     return {"material_warning": [*locking_warnings(scene), *unused_fibres_warnings(scene)],
-            "scene_warning": [*histories, *unused_law_parameters(scene)]}
+            "scene_warning": [*histories, *unused_law_parameters(scene), *unused_by_segments(scene)]}
 
 
 def say_scene_warnings(scene, attrs=None, *, parameter=None, stacklevel=2):
@@ -80,4 +96,4 @@ def hush_in_case():
 
 
 __all__ = ["CASE_WARNINGS", "KINDS", "hush_in_case", "say_case_warnings", "say_once", "say_scene_warnings",
-           "scene_warnings"]
+           "scene_warnings", "unused_by_segments"]
