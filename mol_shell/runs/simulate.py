@@ -230,12 +230,12 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     if isinstance(scene, Unshearable):  # its own formulation: the constrained DAE, or the free shell
         if initial is not None:
             raise ParameterError("initial", "given", "None for the unshearable scene (its own formulation)")
-        noted = {}  # the scene's warnings, said before the work (a user can stop and switch laws), recorded after
-        say_scene_warnings(scene, noted, stacklevel=2)
         ds = simulate_unshearable(scene, n=n, times=times, t_end=t_end, constrained=integrator == "ida",
                                   progress=progress, **options)
         with interrupts.watched() as watch:  # a Ctrl-C from here on keeps the run (mol_shell.runs.post_run)
-            ds.attrs.update(noted)  # its stresses as any run's (the constraint's torque in axial_torque)
+            # the scene's warnings after the run, as a quick run's (its refusals stay one line); its stresses as any
+            # run's (the constraint's torque in axial_torque)
+            ds.attrs.update(say_scene_warnings(scene, {}, stacklevel=2))
             if stresses is not False:
                 with cut_short(watch):
                     ds = _with_stresses(ds, limit=None if stresses else MAX_SAMPLES)

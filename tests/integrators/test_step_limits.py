@@ -74,8 +74,9 @@ def test_fixed_point_adams_says_up_front_and_at_max_steps_that_stiffness_holds_i
 
 
 def test_bdf_steps_held_by_an_undamped_director_mode_suggest_max_order_2():
-    """h = 1e-6: the director's rotation (omega_max = 3.3e7 rad/s, undamped) holds BDF3-5's steps inside BDF3's
-    unstable interval of the imaginary axis (its largest root exceeds 1 there; BDF2's does not: A-stable); the run
+    """h = 1e-6: the director's rotation (omega_max = 3.3e7 rad/s, undamped) holds BDF3-5's steps below 0.71 /
+    omega_max (no order above 2 is stable on the imaginary axis between 0.71 and 1.94, BDF3 and BDF4 not below them:
+    order 5 it is, under its bound; BDF2 is A-stable); the run
     names max_order = 2, which takes fewer steps and gets no note."""
     ds, said = _run(THIN, "cvode-bdf", t_end=2e-4)
     held = 2e-4 / ds.attrs["n_steps"] * ds.attrs["omega_max_rad_s"]

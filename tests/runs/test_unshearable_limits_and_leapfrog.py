@@ -76,3 +76,14 @@ def test_the_free_shell_is_checked_for_ellipticity_and_the_dae_is_not():
     assert float(ds.ellipticity_margin[0]) < 0 and ds.attrs["ellipticity_lost_time"] == 0.0
     dae = _quiet(compressed, "ida", n=11, times=[0.0, 1e-4])
     assert "ellipticity_margin" not in dae and "ellipticity_warning" not in dae.attrs
+
+
+def test_a_quick_refusal_of_the_unshearable_scene_is_one_line(capsys):
+    """The scene's warnings (the default law's locking at nu = 0.49) come after the run, so a refusal made before it
+    (a leap-frog dt past the stability bound) stays the one line on stderr."""
+    from mol_shell.cli.main import main
+
+    assert main(["run", "unshearable", "--n", "11", "--integrator", "leapfrog", "--dt", "1", "--times", "0,1",
+                 "-o", "unused.nc"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith("mol-shell: error: dt = 1"), err
