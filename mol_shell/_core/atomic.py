@@ -121,8 +121,8 @@ def too_large(exc, stage=None):
     """Why ``exc``, raised writing the files in directory ``stage``, is the process's limit on a file's size
     (``File too large (the file size limit, ulimit -f, is 204800 bytes)``), or ``None`` where it is not: an
     ``EFBIG``, or an ``OSError`` or ``RuntimeError`` (netCDF's ``NetCDF: HDF error``, which keeps no errno) with a file
-    in ``stage`` that less than :data:`LOW_SPACE` bytes separate from the limit (a write cut short by the limit fills
-    the file up to it)."""
+    in ``stage`` that fills the limit to within :data:`LOW_SPACE` bytes or an eighth of it, the lesser (a write cut
+    short by the limit fills the file up to it; a 64 KB file under a limit of 900 KB is a full disk's, not this)."""
     limit = size_limit()
     said = os.strerror(errno.EFBIG) + (f" (the file size limit, ulimit -f, is {limit} bytes)" if limit else "")
     if getattr(exc, "errno", None) == errno.EFBIG:
@@ -134,7 +134,7 @@ def too_large(exc, stage=None):
                        if entry.is_file(follow_symlinks=False)), default=0)
     except OSError:
         return None
-    return said if largest > limit - LOW_SPACE else None
+    return said if largest > limit - min(LOW_SPACE, limit // 8) else None
 
 
 def no_space(exc, folder):
@@ -200,10 +200,12 @@ def staged(path, only=None):
 
 def _if_full(exc, path, stage=None):
     """Raise :class:`NoSpaceError` (from ``exc``) where writing ``path`` (in directory ``stage``) failed for want of
-    space, or at the process's limit on a file's size (:func:`too_large`)."""
-    large = too_large(exc, stage)
-    if large is not None:
-        raise NoSpaceError(path, large, errno.EFBIG) from exc
+    space (an ``ENOSPC`` or ``EDQUOT`` said first: it has the errno), or at the process's limit on a file's size
+    (:func:`too_large`)."""
+    if getattr(exc, "errno", None) not in (errno.ENOSPC, getattr(errno, "EDQUOT", None)):
+        large = too_large(exc, stage)
+        if large is not None:
+            raise NoSpaceError(path, large, errno.EFBIG) from exc
     full = no_space(exc, path.parent)
     if full is not None:
         raise NoSpaceError(path, full) from exc

@@ -249,8 +249,10 @@ def checked_run(ds, run, scene, name, source):
     try:
         _run_options(f"{name} = {source!r}, attribute", run, cls=type(scene))
     except ParameterError as exc:
-        raise ParameterError(name, source, exc.allowed, message=str(exc).replace(", attribute: ", ", attribute ", 1)
-                             .replace("[run] ", "", 1)) from None
+        said = str(exc).replace(", attribute: ", ", attribute ", 1).replace("[run] ", "", 1)
+        if exc.name.endswith("times"):  # the saved times are the file's coordinate, not an attribute
+            said = f"{name} = {source!r} holds the saved times {exc.value}, not {exc.allowed}"
+        raise ParameterError(name, source, exc.allowed, message=said) from None
     return run
 
 
@@ -299,6 +301,9 @@ def read_run_toml(filename, name="FILE"):
         if exc.name == name:  # the file refused as it is (an attribute, its points file edited since): as said
             raise
         version = ds.attrs.get("mol_shell_version")
+        if version is not None and str(version) == __version__:  # this version wrote it: the scene is refused as run
+            raise ParameterError(exc.name, exc.value, exc.allowed, message=f"{name} = {str(filename)!r}: the run's "
+                                 f"scene cannot run again: {exc}") from None
         who = f"{version} wrote it" if version is not None else "the file has no attribute 'mol_shell_version'"
         raise ParameterError(exc.name, exc.value, exc.allowed, message=f"{name} = {str(filename)!r}: the run's scene is "
                              f"refused by this version ({who}): {exc}") from None

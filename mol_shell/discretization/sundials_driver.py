@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from mol_shell._core.errors import ParameterError
+from mol_shell._core.user_files import absent
 from mol_shell.discretization import kernel_cache
 from mol_shell.discretization.compiled import CompilerError, load_cached
 from mol_shell.discretization.sundials_source import STALL_STEPS, SUNDIALS_DRIVER  # noqa: F401 (STALL_STEPS: for drv.)
@@ -56,8 +57,9 @@ def library_folder():
     if text:
         allowed = (f"a folder holding SUNDIALS 7's shared libraries (libsundials_{LIBRARIES[0]}, _cvode, _ida, ...), "
                    "as the scikit-sundae wheel's scikit_sundae.libs; unset it for the wheel's own")
-        if not Path(text).is_dir():
-            raise ParameterError.invalid(LIBS_VARIABLE, text, "is not a folder", allowed)
+        problem = absent(text)  # a name too long for the file system: Path.is_dir raised it
+        if problem or not Path(text).is_dir():
+            raise ParameterError.invalid(LIBS_VARIABLE, text, problem or "is not a folder", allowed)
         try:
             library_paths(text)
         except DriverUnavailable as exc:

@@ -104,3 +104,14 @@ def test_traceback_switch_refuses_another_value(monkeypatch, capsys):
     assert main(["scenes"]) == 2
     assert capsys.readouterr().err.startswith("mol-shell: error: MOL_SHELL_TRACEBACK = 'maybe' is not a switch; "
                                               "allowed: 1, true, yes or on")
+
+
+def test_a_sundials_folder_name_too_long_is_refused_by_its_variable(monkeypatch):
+    """A name longer than the file system takes made Path.is_dir raise (an internal error): refused by name."""
+    from mol_shell._core.errors import ParameterError
+    from mol_shell.discretization.sundials_driver import LIBS_VARIABLE, library_folder
+
+    monkeypatch.setenv(LIBS_VARIABLE, "/" + "z" * 300)
+    with pytest.raises(ParameterError) as refused:
+        library_folder()
+    assert refused.value.name == LIBS_VARIABLE and "too long" in str(refused.value)
