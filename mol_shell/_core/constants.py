@@ -39,5 +39,12 @@ def stated_up(value, digits=4):
         mantissa = f"{float(mantissa) + 10.0 ** (1 - digits):.{digits - 1}f}"
     return float(f"{mantissa}e{exponent}")
 
+
+def stated_down(value, digits=4):
+    """``value`` rounded down to ``digits`` significant digits: an upper bound a message states with that many digits
+    and that is then the bound applied (one rounded up stated as refused values the check took: ``dt < 1/omega_max``
+    said ``(0, 0.0001889)`` and ran ``dt = 0.0001889``)."""
+    return -stated_up(-value, digits)
+
 #: intervals between the saved times of a run given ``t_end`` alone (``DEFAULT_INTERVALS + 1`` evenly spaced times)
 DEFAULT_INTERVALS = 10

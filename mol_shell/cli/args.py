@@ -265,6 +265,30 @@ def number_arg(name, low=0.0, high=np.inf, *, low_closed=False, high_closed=Fals
     return convert
 
 
+class Typed(float):
+    """A number the command line gave, with its text as typed (``text``) for a refusal found later (``--rtol 1`` was
+    said ``--rtol = 1.0``); the options take it as a plain float (:func:`integrator_option_args`)."""
+
+    def __new__(cls, text):
+        value = super().__new__(cls, text)
+        value.text = str(text).strip()
+        return value
+
+
+def unchecked_number_arg(name, allowed):
+    """An argparse ``type``: a number, its range checked once the integrator is known to take the option (``--rtol 5``
+    on leap-frog was told rtol's range, then ``--rtol 1e-6`` that leap-frog has no rtol): ``allowed``, said for
+    what is not a number."""
+
+    def convert(text):
+        try:
+            return Typed(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{name} = {_number_text(text)} is not a number; allowed: {allowed}") from None
+
+    return convert
+
+
 def max_step_arg():
     """The argparse ``type`` of ``--max-step``: ``[0, inf) s``, 0 for no bound, as the integrators take it (its
     declared range, :class:`~mol_shell.integrators.tolerances.Tolerances`)."""
@@ -334,10 +358,12 @@ def option_value(text):
         return text
 
 
-def option_args(args, integrator):
+def option_args(args, integrator, scene=None):
     """``--option NAME=VALUE`` as ``{name: value}``: an option of ``integrator`` beyond the flags, checked against
     its declared range as a scene file's ``[run]`` table is; refused by name otherwise. ``none`` or ``auto`` (any
-    case) is ``None`` for an option that takes it (:func:`~mol_shell.integrators.loop.typed_value`)."""
+    case) is ``None`` for an option that takes it (:func:`~mol_shell.integrators.loop.typed_value`). With ``scene``,
+    an option ``integrator`` does not take there is refused as such before its value is (ida on the unshearable
+    scene: ``jac_reuse=5000`` was told its range, then ``jac_reuse=5`` that it is not an option)."""
     given = parse_sets(getattr(args, "option", None), name="--option")
     out = {}
     for name, text in given.items():
@@ -346,6 +372,9 @@ def option_args(args, integrator):
                                          f"{FLAGS[name]} in its place")
         value = option_value(text)
         spec = declared(INTEGRATORS[integrator]).get(name) if integrator in INTEGRATORS else None
+        if scene is not None and integrator in INTEGRATORS and name not in integrator_options(scene, integrator):
+            raise _as_option(ParameterError.not_an_option(name, integrator, integrator_options(scene, integrator)),
+                             {name})
         if spec is not None:
             value = typed_value(spec, value)  # none (any case) where the option takes None
             if not spec.check(value):
@@ -356,7 +385,8 @@ def option_args(args, integrator):
 
 def integrator_option_args(args):
     """``--dt/--rtol/--atol/--max-step`` given on the command line, as options."""
-    return {k: getattr(args, k) for k in ("dt", "rtol", "atol", "max_step") if getattr(args, k, None) is not None}
+    return {k: float(v) if isinstance(v, Typed) else v
+            for k, v in ((k, getattr(args, k, None)) for k in ("dt", "rtol", "atol", "max_step")) if v is not None}
 
 
 def run_settings(args, run, scene, n):
@@ -384,7 +414,7 @@ def run_settings(args, run, scene, n):
                     break
                 print(f"mol-shell: note: the scene file's [run] {exc.name} = {from_file.pop(exc.name)!r} is not "
                       f"taken by {integrator} (--integrator) as it is set ({exc}): left out", file=sys.stderr)
-    named = option_args(args, integrator)
+    named = option_args(args, integrator, scene)
     given = named | integrator_option_args(args)
     options = from_file | given
     try:
@@ -392,7 +422,7 @@ def run_settings(args, run, scene, n):
     except ParameterError as exc:
         if exc.name in from_file and exc.name not in given:  # the file's option: said with the file and table
             raise ParameterError(exc.name, exc.value, exc.allowed, message=f"{args.scene}: [run] {exc}") from None
-        raise _as_option(exc, named) from None
+        raise _as_option(exc, named, args) from None
     try:  # across each other, ours applied: a file's option blamed is said with the file (check_run_together)
         check_run_together(args.scene, integrator, options, given)
     except ParameterError as exc:
@@ -400,8 +430,14 @@ def run_settings(args, run, scene, n):
     return times, t_end, integrator, options
 
 
-def _as_option(exc, named):
-    """``exc`` about an option the command line set by ``--option NAME=VALUE`` (in ``named``), said so."""
+def _as_option(exc, named, args=None):
+    """``exc`` about an option the command line set by ``--option NAME=VALUE`` (in ``named``), said so; about one a
+    flag set with its range checked late (:class:`Typed`: ``--rtol``), said with the flag and the value as typed."""
+    typed = getattr(args, exc.name, None) if isinstance(exc.name, str) and exc.name in FLAGS else None
+    said = f"{exc.name} = {show(exc.value)}"
+    if isinstance(typed, Typed) and str(exc).startswith(said):
+        return ParameterError(FLAGS[exc.name], exc.value, exc.allowed,
+                              message=f"{FLAGS[exc.name]} = {typed.text}{str(exc)[len(said):]}")
     if exc.name not in named:
         return exc
     return ParameterError(f"--option {exc.name}", exc.value, exc.allowed, message=f"--option {exc}")

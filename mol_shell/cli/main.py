@@ -46,6 +46,7 @@ from mol_shell.cli.args import (
     plural,
     run_settings,
     say_stand_ins,
+    unchecked_number_arg,
 )
 from mol_shell.cli.inputs import check_outputs
 from mol_shell.cli.outcome import (
@@ -236,7 +237,9 @@ def make_parser():
                      "refuse it")
     run.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
     run.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
-    run.add_argument("--rtol", type=number_arg("--rtol", *RTOL_RANGE, low_closed=True), default=None,
+    # its range checked once the integrator is known to take it (run_settings: check_options)
+    run.add_argument("--rtol", type=unchecked_number_arg("--rtol", f"[{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g})"),
+                     default=None,
                      help=f"relative tolerance in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}), default {Tolerances.rtol:g} "
                      f"(adaptive integrators; the scipy peers from {SCIPY_RTOL_MIN:.4g}, SciPy's floor)")
     run.add_argument("--atol", type=parse_atol, default=None,

@@ -156,7 +156,7 @@ def said(exc, args=None, created=(), prog="mol-shell"):
         return _reader_gone()
     if isinstance(exc, ParameterError):
         remove_empty(created)
-        print(f"{prog}: error: {said_with_the_file(args, exc)}", file=sys.stderr)
+        print(f"{prog}: error: {said_as_typed(args, said_with_the_file(args, exc))}", file=sys.stderr)
         return EXIT_USAGE
     if isinstance(exc, KeyboardInterrupt):  # what was kept ("after writing run.nc": a write is never cut short)
         print(f"{prog}: {_interrupted()}{_kept(exc)}", file=sys.stderr)
@@ -179,6 +179,25 @@ def said(exc, args=None, created=(), prog="mol-shell"):
     print(f"{prog}: internal error: {type(exc).__name__}: {text} (a bug of mol_shell: please report it with "
           "the command; MOL_SHELL_TRACEBACK=1 shows where it happened)", file=sys.stderr)
     return EXIT_INTERNAL
+
+
+#: the parameters a command's option of the same name sets whose refusals, found past the option's own check, named
+#: the parameter (``t_end = 1e-300``, ``n = 99999999999``, ``max_step = 1e-300``, ``count = 41``)
+TYPED_NAMES = frozenset({"t_end", "n", "max_step", "count"})
+
+
+def said_as_typed(args, exc):
+    """``exc`` naming the option the command line set its value with where it names the Python parameter (``t_end =
+    1e-300 is outside ...``, after ``--t-end = 0 is outside ...``; ``n``, ``max_step``, ``count``): the options given
+    are in ``args._given`` (:class:`~mol_shell.cli.args.Once`), each by its ``dest``."""
+    given = getattr(args, "_given", None) or {}
+    text = str(exc)
+    if not (exc.name in TYPED_NAMES and exc.name in given and text.startswith(f"{exc.name} = ")):
+        return exc
+    option = given[exc.name][0]
+    if not (isinstance(option, str) and option.startswith("-")):
+        return exc
+    return ParameterError(option, exc.value, exc.range or exc.allowed, message=option + text[len(exc.name):])
 
 
 #: the environment variable that asks for a bug's traceback, and the values it takes

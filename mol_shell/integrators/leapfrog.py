@@ -181,7 +181,7 @@ class Leapfrog:
     chunk: int = option(2000, integers(1))
     # None: the default (DEFAULT_RESTART, at least MIN_RESTART_STEPS steps), told from a restart given
     restart: float | None = option(None, Option("[0, inf] s; 0 or inf: never", lambda v: v is None or real(v) >= 0,
-                                                convert=real))
+                                                convert=real, words=False))  # "none" is not never: refused
 
     name = "leapfrog"
     order = 2

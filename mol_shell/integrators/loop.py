@@ -48,13 +48,16 @@ class Option:
 
     ``check(value) -> bool`` decides; ``allowed`` is the range as the error message states it; ``convert``, if given,
     makes an accepted value the type the option is stored as (a float option given ``10**20`` holds ``1e20``: the
-    run's netCDF attributes cannot hold a Python integer beyond 64 bits).
+    run's netCDF attributes cannot hold a Python integer beyond 64 bits). ``words``: :data:`NONE_WORDS` are ``None``
+    for an option that takes it (:func:`typed_value`); False where ``None`` is only the default left out (leap-frog's
+    ``restart``: ``restart=none`` read as the default restarted every 1 s, the opposite of what it says).
     """
 
     allowed: str
     check: Callable[[object], bool]
     doc: str = ""
     convert: Callable[[object], object] | None = None
+    words: bool = True
 
 
 #: the largest integer option: they are stored as 64-bit integers (the run's netCDF attributes, the drivers' step
@@ -132,7 +135,7 @@ def typed_value(spec, value):
     """An option's value as a command line or a scene file gives it: :data:`NONE_WORDS` as ``None`` where the option
     declared by ``spec`` takes ``None`` (``max_order``, ``max_newton``) and not the word itself; else ``value``."""
     if (isinstance(value, str) and value.strip().lower() in NONE_WORDS and not spec.check(value)
-            and spec.check(None)):
+            and spec.check(None) and spec.words):
         return None
     return value
 
@@ -152,8 +155,9 @@ def refusal(name, value, spec, typed=None):
         return ParameterError(name, value, spec.allowed, hint,
                               message=f"{name} = {shown} is not an integer; allowed: {spec.allowed}")
     if not _number(value) and "inf" in spec.allowed:
-        return ParameterError(name, value, spec.allowed, message=f"{name} = {shown} is not a number; allowed: "
-                              f"{spec.allowed}")
+        word = isinstance(value, str) and value.strip().lower() in NONE_WORDS  # restart=none: not its default
+        return ParameterError(name, value, spec.allowed, "leave it out for the default" if word else "",
+                              message=f"{name} = {shown} is not a number; allowed: {spec.allowed}")
     return ParameterError(name, value, spec.allowed, message=f"{name} = {shown} is outside {spec.allowed}")
 
 

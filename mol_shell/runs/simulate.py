@@ -9,7 +9,7 @@ import warnings
 import numpy as np
 
 from mol_shell._core import interrupts
-from mol_shell._core.constants import DEFAULT_INTERVALS, RTOL_RANGE, stated_up
+from mol_shell._core.constants import DEFAULT_INTERVALS, RTOL_RANGE, stated_down, stated_up
 from mol_shell._core.errors import MolShellWarning, ParameterError, SceneWarning, is_number, scalar
 from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.kernel_cache import CacheFull
@@ -124,11 +124,12 @@ def leapfrog_times(t_end, dt, count=DEFAULT_INTERVALS, dt_given=False):
     """
     parse_times(None, t_end)  # validates t_end
     most = INTEGRATORS["leapfrog"].MAX_STEPS
-    if not t_end / dt <= most:  # beyond it steps cannot be counted in double precision
+    low, high = stated_up(t_end / most), stated_down(most * dt)  # the bounds as stated to 4 digits, and applied
+    if not t_end / dt <= most or (dt < low if dt_given else t_end > high):  # beyond: steps cannot be counted
         if dt_given:
-            raise ParameterError("dt", dt, f"[{stated_up(t_end / most):.4g}, inf) s at t_end = {t_end:g} s",
+            raise ParameterError("dt", dt, f"[{low:.4g}, inf) s at t_end = {t_end:g} s",
                                  hint=f"leap-frog counts at most 2^53 = {most:.3g} steps")
-        raise ParameterError("t_end", t_end, f"(0, {most * dt:.4g}] s at dt = {dt:g} s")
+        raise ParameterError("t_end", t_end, f"(0, {high:.4g}] s at dt = {dt:g} s")
     steps = steps_to(t_end, dt)
     if not steps:
         raise ParameterError("t_end", t_end, f"positive multiples of dt = {dt:g} s (leap-frog has a fixed step)",
@@ -275,8 +276,9 @@ def simulate(scene, integrator="leapfrog", *, n=40, t_end=None, times=None, dt=N
     omega_max, damping = checked_spectrum(scene, system, y0)
     if integrator == "leapfrog":
         dt = method.dt
-        if dt * omega_max >= 1.0:  # the default dt named as the default (E = 1e300 was said as a dt never given)
-            raise ParameterError("dt", dt, f"(0, {1.0 / omega_max:.4g}) s", hint="leap-frog stability bound 1/max|eig J(y0)|"
+        bound = stated_down(1.0 / omega_max)  # as stated: (0, 0.0001889) ran 0.0001889, refused 0.00018895
+        if dt * omega_max >= 1.0 or dt >= bound:  # the default dt named as the default (not as a dt given)
+            raise ParameterError("dt", dt, f"(0, {bound:.4g}) s", hint="leap-frog stability bound 1/max|eig J(y0)|"
                                  + ("" if dt_given else "; the default dt: the scene's stiffness, mass and grid set "
                                     "the bound; give a smaller dt or an implicit integrator"))
         for key in [k for k in LOADS + DRIVES if k != "drag" and getattr(scene, k, 0)]:  # each history within dt's reach
@@ -365,7 +367,7 @@ def _check_max_step(method, times):
     per_interval = getattr(method, "max_steps_per_interval", False)
     longest = float(np.max(np.diff(times), initial=0.0)) if per_interval else None
     low = smallest_max_step(t_end, intervals, max_steps, longest) if max_steps else 0.0
-    if max_step > 0 and max_step < low:
+    if max_step > 0 and max_step < (stated_up(low) if math.isfinite(low) else low):  # the bound stated is applied
         start = f"{MAX_STEP_MARGIN:.0%} of them for the start"
         hint = (f"{method.name} counts max_steps per saved interval: steps of at most max_step, one more to land on "
                 f"the saved time and {start}, must cross the longest ({longest:g} s)" if per_interval else
@@ -375,9 +377,7 @@ def _check_max_step(method, times):
             least = least_max_steps(t_end, intervals, max_step, longest)
             why = f"{hint}; no max_step can with max_steps = {max_steps}"
             raise ParameterError("max_steps", max_steps, f"integers >= {least} at max_step = {max_step:g} s", hint=why)
-        shown = float(f"{low:.4g}")
-        shown = shown if shown >= low else float(f"{low * (1 + 5e-4):.4g}")  # rounded up: the bound shown is taken
-        raise ParameterError("max_step", max_step, f"[{shown:.4g}, inf) s, or 0 (unbounded)", hint=hint)
+        raise ParameterError("max_step", max_step, f"[{stated_up(low):.4g}, inf) s, or 0 (unbounded)", hint=hint)
 
 
 def _check_radius_atol(method, system, y0):

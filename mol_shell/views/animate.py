@@ -23,7 +23,7 @@ import numpy as np
 
 from mol_shell._core import interrupts
 from mol_shell._core.atomic import atomic_path
-from mol_shell._core.errors import ParameterError, is_number
+from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell._core.paths import writable_path
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell.runs.resources import available_memory, show_bytes
@@ -232,7 +232,8 @@ def animate(ds, path, field=DEFAULTS["field"], *, n_phi=DEFAULTS["n_phi"], fibre
     suffix = path.suffix.lower().lstrip(".")
     if suffix == "gif" and fps > MAX_GIF_FPS:  # an .mp4 honours the rate asked: up to MAX_FPS
         allowed = f"[{MIN_FPS:g}, {MAX_GIF_FPS}] frames per second for a .gif"
-        raise ParameterError("fps", fps, allowed, message=f"fps = {fps:g} is outside {allowed}",
+        shown = f"{fps:g}" if float(f"{fps:g}") == fps else show(fps)  # 50.00000000000001 was said as 50
+        raise ParameterError("fps", fps, allowed, message=f"fps = {shown} is outside {allowed}",
                              hint=f"a GIF's delays are whole hundredths of a second; an .mp4 takes up to {MAX_FPS}")
     check_memory(width, suffix)  # before anything is drawn: the frames and the encoder, whatever their count
     cmap_name, norm = _scale(values)

@@ -14,7 +14,7 @@ def test_compare_refuses_a_t_end_its_saved_times_cannot_tell_apart(t_end, tmp_pa
     out = tmp_path / "c.nc"
     assert main(["compare", "sphere", "--n", "8", "--t-end", t_end, "-o", str(out)]) == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith(f"mol-shell: error: t_end = {t_end} is outside [6e-154, inf) s (its 4 saved intervals"), err
+    assert err.startswith(f"mol-shell: error: --t-end = {t_end} is outside [6e-154, inf) s (its 4 saved intervals"), err
     assert len(err.splitlines()) == 1 and not out.exists()
 
 

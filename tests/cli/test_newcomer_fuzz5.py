@@ -186,7 +186,7 @@ def test_an_empty_value_is_refused_as_a_blank_one(argv, said, path_file, tmp_pat
     ("2.5", "1e-4", r"^dt = 2.5 is outside \(0, 0.000\d+\) s \(leap-frog stability bound"),
     ("2.5", "2.5", r"^dt = 2.5 is outside \(0, 0.000\d+\) s \(leap-frog stability bound"),
     ("1e-300", "1e-4", r"^dt = 1e-300 is outside \[1.111e-20, inf\) s at t_end = 0.0001 s"),  # 1e-4 / 2^53
-    ("3e-5", "1e-4", r"^t_end = 0.0001 is outside positive multiples of dt = 3e-05 s"),  # dt fine: t_end it is
+    ("3e-5", "1e-4", r"^--t-end = 0.0001 is outside positive multiples of dt = 3e-05 s"),  # dt fine: t_end it is
 ])
 def test_a_bad_dt_is_named_before_t_end(dt, t_end, said, tmp_path, capsys):
     """``--dt 2.5 --t-end 1e-4`` was told to make t_end a multiple of 2.5 s, which then ran into dt's stability

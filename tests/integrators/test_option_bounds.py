@@ -171,7 +171,7 @@ def test_scipy_rk45_at_scipys_floor_runs_at_the_rtol_it_records_without_scipys_w
     out = tmp_path / "x.nc"
     assert main(["run", "sphere", "--n", "5", "--t-end", "1e-6", "--integrator", "scipy-rk45", "--rtol", "1e-14",
                  "-o", str(out)]) == 2
-    assert capsys.readouterr().err.strip() == ("mol-shell: error: rtol = 1e-14 is outside [2.221e-14, 1) (SciPy's "
+    assert capsys.readouterr().err.strip() == ("mol-shell: error: --rtol = 1e-14 is outside [2.221e-14, 1) (SciPy's "
                                                "floor: 100 x machine epsilon)")
     assert not out.exists()
     scene = tmp_path / "s.toml"

@@ -66,7 +66,7 @@ def test_millions_of_nodes_are_refused_before_any_graph(capsys, tmp_path, no_bui
     code = main(["run", "twisted-cylinder", "--n", "5000000", "--t-end", "1e-3", "-o", str(tmp_path / "x.nc")])
     err = capsys.readouterr().err
     assert time.perf_counter() - start < 5
-    assert code == 2 and err.startswith("mol-shell: error: n = 5000000 is outside integers 3..") and "GB" in err, err
+    assert code == 2 and err.startswith("mol-shell: error: --n = 5000000 is outside integers 3..") and "GB" in err, err
     assert len(err.splitlines()) == 1
 
 
@@ -172,7 +172,7 @@ def test_modes_paths_and_comparisons_too_large_for_memory_are_refused_before_any
     code = main([*command, "--n", "1000000000", "-o", str(tmp_path / "x.nc")])
     err = capsys.readouterr().err
     assert time.perf_counter() - start < 5
-    assert code == 2 and err.startswith("mol-shell: error: n = 1000000000 is outside integers 3..") and what in err, err
+    assert code == 2 and err.startswith("mol-shell: error: --n = 1000000000 is outside integers 3..") and what in err, err
     assert len(err.splitlines()) == 1 and "use fewer nodes (--n)" in err
     monkeypatch.setattr(sys.modules["mol_shell.analysis.equilibria"], "ShellSystem", sys.modules[
         "mol_shell.runs.building"].ShellSystem)  # the path's equations build their own system
@@ -185,7 +185,7 @@ def test_a_study_of_paths_too_large_for_memory_is_refused_once_before_its_cases(
     code = main(["study", "sphere", "--vary", "nu=0.3,0.4", "--path", "pressure=0:100", "--n", "1000000000",
                  "--scheduler", "serial", "-o", str(tmp_path / "s.nc")])
     err = capsys.readouterr().err
-    assert code == 2 and err.startswith("mol-shell: error: n = 1000000000 is outside integers 3..") and len(
+    assert code == 2 and err.startswith("mol-shell: error: --n = 1000000000 is outside integers 3..") and len(
         err.splitlines()) == 1 and "tracing each path of up to 200 steps needs about" in err, err
     assert not (tmp_path / "s.nc").exists()
 
@@ -388,7 +388,7 @@ def test_a_huge_mode_count_is_blamed_on_count_not_on_n(capsys, tmp_path):
     memory check counts at most one mode per coordinate, and the count's own range names it."""
     code = main(["modes", "sphere", "--n", "9", "--count", "1000000000", "-o", str(tmp_path / "m.nc")])
     err = capsys.readouterr().err.splitlines()
-    assert code == 2 and len(err) == 1 and err[0].startswith("mol-shell: error: count = 1000000000 is outside "
+    assert code == 2 and len(err) == 1 and err[0].startswith("mol-shell: error: --count = 1000000000 is outside "
                                                              "integers 1.."), err
 
 

@@ -256,7 +256,7 @@ def test_a_grid_too_fine_for_one_case_is_blamed_on_n(values, tmp_path, capsys, m
     code = main(["study", "sphere", "--vary", values, "--n", "100000000", "--t-end", "0.001", "-o",
                  str(tmp_path / "s.nc")])
     err = capsys.readouterr().err
-    assert code == 2 and err.startswith("mol-shell: error: n = 100000000 is outside integers 3.."), err
+    assert code == 2 and err.startswith("mol-shell: error: --n = 100000000 is outside integers 3.."), err
     assert len(err.splitlines()) == 1
 
 
