@@ -58,8 +58,9 @@ def library_folder():
         allowed = (f"a folder holding SUNDIALS 7's shared libraries (libsundials_{LIBRARIES[0]}, _cvode, _ida, ...), "
                    "as the scikit-sundae wheel's scikit_sundae.libs; unset it for the wheel's own")
         problem = absent(text)  # a name too long for the file system: Path.is_dir raised it
-        if problem or not Path(text).is_dir():
-            raise ParameterError.invalid(LIBS_VARIABLE, text, problem or "is not a folder", allowed)
+        if problem not in (None, "does not exist") or not Path(text).is_dir():
+            raise ParameterError.invalid(LIBS_VARIABLE, text, "is not a folder" if problem in (None, "does not exist")
+                                         else problem, allowed)
         try:
             library_paths(text)
         except DriverUnavailable as exc:

@@ -90,6 +90,7 @@ def test_a_run_file_whose_scene_this_version_refuses_is_named(tmp_path, capsys):
     import mol_shell
     ds = mol_shell.simulate(mol_shell.Torus(), n=5, times=[0.0, 1e-6], progress=False, stresses=False)
     ds.attrs["alpha2"] = ds.attrs["alpha1"] + 2 * math.pi  # as a run of the earlier version stored it
+    ds.attrs["mol_shell_version"] = "0.5.0"  # ... which wrote it (this version's own runs are said otherwise)
     path = tmp_path / "old.nc"
     mol_shell.write_netcdf(ds, path)
     assert main(["scenes", str(path), "--toml"]) == 2
