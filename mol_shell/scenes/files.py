@@ -391,9 +391,8 @@ def load_scene(path, *, with_run=False, together=True, overrides=None):
     together : bool
         Check the ``[run]`` options against the integrator as ``simulate`` does (an option it does not take:
         ``rtol`` on leap-frog, ``dt`` on an adaptive one) and across each other as the integrator does (False: the
-        caller does, after options of its own replace some: the command line's ``--integrator`` and ``--option``).
-        The ``[run]`` table is checked whenever the file is read, ``with_run`` or not: a file ``mol-shell run`` would
-        refuse is refused here too (since December 7, ``rtol`` on leap-frog and ``dt`` on an adaptive integrator).
+        caller does, after options of its own replace some: the command line's ``--integrator`` and ``--option``),
+        ``with_run`` or not: a ``[run]`` table ``mol-shell run`` refuses is refused here too.
     overrides : dict, optional
         Parameters over the file's (the command line's ``--set``), applied before the scene is made.
 
