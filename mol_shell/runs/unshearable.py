@@ -39,7 +39,6 @@ import time
 import numpy as np
 
 from mol_shell._core import interrupts
-from mol_shell._core.constants import stated_down
 from mol_shell._core.errors import ParameterError, flag
 from mol_shell._core.progress import progress_mode, time_meter
 from mol_shell.discretization.unshearable_dae import NODE, UnshearableDAE
@@ -52,7 +51,7 @@ from mol_shell.runs import asked_times, resources
 from mol_shell.runs.building import as_scene, build, observe, parse_times, resolve
 from mol_shell.runs.checks import check_system, checked_spectrum
 from mol_shell.runs.ellipticity import check_ellipticity
-from mol_shell.runs.leapfrog_guard import check_parasitic
+from mol_shell.runs.leapfrog_guard import check_parasitic, check_step
 from mol_shell.runs.post_run import cut_short, kept
 from mol_shell.scenes.unshearable import Unshearable
 
@@ -136,9 +135,7 @@ def simulate_unshearable(scene, *, n=40, times=None, t_end=None, constrained=Tru
         dt = method.dt
         y0 = shell.pack(Q0, shell.momenta(Q0, V0))
         omega_max, damping = checked_spectrum(scene, shell, y0)
-        bound = stated_down(1.0 / omega_max)  # the bound as stated is the one applied (as simulate's)
-        if dt * omega_max >= 1.0 or dt >= bound:
-            raise ParameterError("dt", dt, f"(0, {bound:.4g}) s", hint="leap-frog stability bound")
+        check_step(dt, omega_max)
         check_parasitic("leapfrog", method, damping, omega_max, float(times[-1]), FREE_ALTERNATIVE)
         with _meter(mode, times[-1]) as bar:
             traj = method.integrate(shell, compiled, y0, method.step_counts(times) * dt, progress=bar)
