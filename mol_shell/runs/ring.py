@@ -62,7 +62,7 @@ from mol_shell.results.cf import coordinates, header, variables
 from mol_shell.results.dataset import FIELD_META, RATE_UNITS, TIME_COMMENT, scene_attrs, with_units
 from mol_shell.runs.simulate import as_scene, parse_times, resolve
 from mol_shell.scenes.base import refuse_loads
-from mol_shell.scenes.cylinder import TwistedCylinder, unbalanced_helix
+from mol_shell.scenes.cylinder import TwistedCylinder, check_uniform
 
 #: the ODE's unknowns, indices into :data:`mol_shell.model.FIELDS`
 RING_FIELDS = (1, 2, 4)
@@ -188,26 +188,6 @@ def ring_initial_state(system, scene):
     return np.concatenate([q0, np.array(system.momenta(q0, v0)).ravel()])
 
 
-def _check_uniform(scene):
-    """Refuse, by name, what makes the motion depend on ``s``, where the ring ODE does not hold: an edge other than
-    the magnet (clamped, pinned or free ends bend the shell near them: ``r`` 0.008-0.026 m off the PDE's within
-    10 ms at the defaults), a thickness that varies along the meridian, and helical fibres whose stretch-twist
-    couplings do not balance (one family at 0.5 rad: ``r`` varies by 5.9e-4 m along ``s``)."""
-    edges = resolve_edges(scene.end1, scene.end2, scene.meridian().poles)
-    for name, edge in zip(("end1", "end2"), edges):
-        if edge != "magnet":
-            raise ParameterError(name, getattr(scene, name), "{magnet, auto} for the ring ODE",
-                                 hint="other edges make the motion depend on s; mol_shell.simulate runs them")
-    if getattr(scene, "h_profile", ""):
-        raise ParameterError("h_profile", scene.h_profile, "'' (a uniform wall) for the ring ODE",
-                             hint="a graded wall makes the motion depend on s; mol_shell.simulate runs it")
-    helix = unbalanced_helix(scene)
-    if helix is not None:  # one helical family couples stretch to twist: the free ends twist, r varies along s
-        raise ParameterError(helix, getattr(scene, helix), "helical fibres that balance (families at +-fibre_angle, "
-                             "or one at fibre_angle 0 or +-pi/2) for the ring ODE",
-                             hint="unbalanced helical fibres make the motion depend on s; mol_shell.simulate runs it")
-
-
 def simulate_ring(scene, times=None, rtol=1e-12, atol=1e-12, *, t_end=None, n=None, method=None):
     """Solve the reduced ODE of section 5 for the uniform data of ``scene``.
 
@@ -253,7 +233,7 @@ def simulate_ring(scene, times=None, rtol=1e-12, atol=1e-12, *, t_end=None, n=No
     refuse_loads(scene, "the ring ODE of section 5")
     requested = scene.params()
     scene = resolve(scene)
-    _check_uniform(scene)
+    check_uniform(scene, "the ring ODE", "mol_shell.simulate runs it")
     times = parse_times(times, t_end)
     system = ring_system(scene)
     y0 = ring_initial_state(system, scene)
