@@ -4,6 +4,10 @@ import pytest
 from build_guard import no_build  # noqa: F401 - a fixture for every test file
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
+#: gcc at -Os for the right-hand sides and stencils: half of -O3's time, where the suite's some 450 builds from a cold
+#: cache took a third of it; the same bits (tests/discretization/test_opt_level.py), each evaluation 1.1-1.2x slower.
+#: A value set outside (MOL_SHELL_OPT_LEVEL=3 python -m pytest ...) is kept.
+os.environ.setdefault("MOL_SHELL_OPT_LEVEL", "s")
 
 #: files whose tests are independent examples with nothing shared but a kernel cache on disk: under pytest-xdist
 #: they spread over the workers one by one, and fill the gaps between the other files

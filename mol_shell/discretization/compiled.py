@@ -114,9 +114,10 @@ def estimated_compile_seconds(source_bytes, flags=CFLAGS):
     ``None`` beyond the measured sizes, where the power law says nothing (far too long for large grids).
     """
     size = source_bytes / 1e5
-    if source_bytes > (4.6e6 if "-O1" in flags else 6.1e5):
+    jacobian = "-O1" in flags and "-march=native" not in flags  # a right-hand side at $MOL_SHELL_OPT_LEVEL=1 is not
+    if source_bytes > (4.6e6 if jacobian else 6.1e5):
         return None  # beyond the measured sizes (a Jacobian at n = 10,240 is 300 MB of mostly data: 1.1 min)
-    return 0.0105 * size**2.49 if "-O1" in flags else 0.58 * size**1.12
+    return 0.0105 * size**2.49 if jacobian else 0.58 * size**1.12
 
 
 def _announce(line):
@@ -279,7 +280,7 @@ class CompiledRHS:
             sz_res=rhs.sz_res(), limits_call=limits_call,
         ) + RK_DRIVER.replace("{name}", rhs.name())
         start = time.perf_counter()
-        flags = CFLAGS + (("-fopenmp",) if self.parallel else ())
+        flags = kernel_cache.optimised(CFLAGS) + (("-fopenmp",) if self.parallel else ())
         #: why the RHS runs in CasADi's virtual machine (no gcc on PATH and nothing cached), else None
         self.vm_reason = None
         try:  # one handle for CasADi's external and ctypes (the same path): ms_threads is shared

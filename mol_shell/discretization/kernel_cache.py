@@ -79,6 +79,31 @@ class CompilerMissing(CompilerError):
             "virtual machine (jacobian=vm where they take a jacobian option)")
 
 
+#: the environment variable that sets gcc's optimisation of the right-hand sides and stencils (1, 2, 3 or s)
+OPT_VARIABLE = "MOL_SHELL_OPT_LEVEL"
+
+
+def optimised(flags):
+    """``flags`` with their ``-O3`` at ``$MOL_SHELL_OPT_LEVEL`` (1, 2, 3 or s for ``-Os``; unset: 3; else a
+    ParameterError).
+
+    Without ``-ffast-math`` (and with ``-ffp-contract=off``) gcc's levels compute the same floating-point operations in
+    the same order, so a kernel gives the same bits at each (tests/discretization/test_opt_level.py); another level only
+    compiles faster and runs slower. The paper scene's right-hand side at n = 40 (gcc's seconds, then a leap-frog
+    step's): ``-O3`` 2.7 s and 8.6 us, ``-O2`` 1.9 s and 1.05x, ``-Os`` 1.55 s and 1.1-1.2x, ``-O1`` 1.45 s and
+    1.3-1.5x. The test suite builds at ``-Os`` (tests/conftest.py), where gcc took a third of its time; so may a
+    session whose kernels are built often and run briefly.
+    """
+    text = os.environ.get(OPT_VARIABLE, "").strip()
+    if not text or "-O3" not in flags:
+        return tuple(flags)
+    if text not in ("1", "2", "3", "s"):
+        raise ParameterError.invalid(OPT_VARIABLE, text, "is not 1, 2, 3 or s",
+                                     "1, 2, 3 or s (gcc's -O1, -O2, -O3 or -Os for the right-hand sides and stencils; "
+                                     "unset for 3)")
+    return tuple(f"-O{text}" if flag == "-O3" else flag for flag in flags)
+
+
 @functools.cache
 def machine_key(flags):
     """What a library built with gcc ``flags`` that hold ``-march=native`` depends on: the processor's model and

@@ -26,6 +26,7 @@ import math
 import casadi as ca
 import numpy as np
 
+from mol_shell.discretization import kernel_cache
 from mol_shell.discretization.cells import sample_trigs
 from mol_shell.discretization.compiled import CFLAGS, CompilerMissing, load_cached
 from mol_shell.discretization.threads import checked_threads, default_threads
@@ -289,7 +290,7 @@ class StencilLeapfrog:
         self._geo = padded(system.shared_cell_data, geo_uniform)
         self._inertia = padded(system.inertia, inertia_uniform)
         self._mask = np.ascontiguousarray((~system.fixed[[0, -1]]).astype(float).ravel())
-        self.path, self._lib = load_cached(source, "stencil", FLAGS, lambda p: ctypes.CDLL(str(p)),
+        self.path, self._lib = load_cached(source, "stencil", kernel_cache.optimised(FLAGS), lambda p: ctypes.CDLL(str(p)),
                                            what="the leap-frog stencil")
         fn = self._lib.ms_stencil_leapfrog
         fn.restype = ctypes.c_longlong

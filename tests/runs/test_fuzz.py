@@ -107,7 +107,7 @@ def _unoptimised(run_compiler):
     ``-O3`` (the right-hand side) and ``-O1`` (exact Jacobians), which is most of the file's time from a cold cache.
     The cache of fuzzed kernels is apart from the real ones, so no real run ever loads one of them."""
     def build(command, what, source_bytes, flags):
-        return run_compiler(["-O0" if arg in ("-O1", "-O2", "-O3") else arg for arg in command], what, source_bytes,
+        return run_compiler(["-O0" if arg in ("-O1", "-O2", "-O3", "-Os") else arg for arg in command], what, source_bytes,
                             flags)
     return build
 
