@@ -257,7 +257,7 @@ def simulate_ring(scene, times=None, rtol=1e-12, atol=1e-12, *, t_end=None, n=No
         sol = solve_ivp(fun, (times[0], times[-1]), y0, method=method, t_eval=times, rtol=rtol, atol=atol * scale,
                         events=events, **extra)
         t, y, nfev, njev = sol.t, sol.y.T, int(sol.nfev), int(getattr(sol, "njev", 0))
-        stop = _first_limit(sol.t_events, times) if sol.status == 1 else None
+        stop = _first_limit(sol, limits, times) if sol.status == 1 else None
     wall = time.perf_counter() - start
     if stop is not None:
         k, t_stop = stop
@@ -307,13 +307,20 @@ def _event(limits, k):
     return event
 
 
-def _first_limit(t_events, times):
-    """``(entry, time)`` of the first limit reached (``solve_ivp``'s ``t_events``); of those reached at once (to
-    round-off of the time span), the first in :attr:`RingSystem.limit_names`'s order."""
-    reached = [(float(te[0]), k) for k, te in enumerate(t_events) if len(te)]
-    first = min(t for t, _ in reached)
+def _first_limit(sol, limits, times):
+    """``(entry, time)`` of the first limit reached (``solve_ivp``'s ``sol`` with its terminal events); of those
+    reached at once, the first in :attr:`RingSystem.limit_names`'s order. At once: a root within round-off of the
+    time span of the first, or a limit within 1e-12 of 0 (of its scale, at least 1) in the state at the first root.
+    ``solve_ivp`` keeps only the roots up to the first terminal one in a step, and |psi| -> pi/2 takes
+    delta = r cos(psi) to 0 at the same instant: which of the two roots came first was the last bits' choice (a
+    machine with other vector units said delta)."""
+    reached = [(float(te[0]), k) for k, te in enumerate(sol.t_events) if len(te)]
+    first, k_first = min(reached)
     tie = 1e-9 * (times[-1] - times[0])
-    return next((k, t) for t, k in sorted(reached, key=lambda item: item[1]) if t <= first + tie)
+    at_once = {k for t, k in reached if t <= first + tie}
+    scale = np.maximum(1.0, np.abs(limits(sol.t[0], sol.y[:, 0])))
+    at_once.update(np.flatnonzero(limits(first, sol.y_events[k_first][0]) <= 1e-12 * scale).tolist())
+    return min(at_once), first
 
 
 def _numpy_rhs(f):

@@ -50,10 +50,14 @@ def test_every_integrator_stops_at_the_first_crossing(runs):
     assert 0 <= lf.attrs["failure_time"] - t_root < 2 * DT
     assert _where(lf) == _where(root) == _where(runs["ida"])
     # dop853-c checks the limits in C after every accepted step and locates the crossing inside the step that
-    # crossed on its dense output: CVODE's root to their tolerances (2e-11 s), not the step's end (a step is 4e-5 s)
+    # crossed on its dense output: CVODE's root to the three solvers' agreement at rtol 1e-9, not the step's end (a
+    # step is 4e-5 s). That agreement is machine-dependent: CVODE's and IDA's roots 1.7e-9 s apart on an AMD EPYC (the
+    # 1e-8 relative, 4.9e-11 s, once asked of dop853-c failed there by 9.2e-10 s), so 1e-5 relative: 4.9e-8 s, 800x
+    # below a step
     rk = runs["dop853-c"]
     assert rk.attrs["status"] == "limit", rk.attrs["message"]
-    assert abs(rk.attrs["failure_time"] - t_root) < 1e-8 * t_root, (rk.attrs["failure_time"], t_root)
+    spread = abs(runs["ida"].attrs["failure_time"] - t_root)
+    assert abs(rk.attrs["failure_time"] - t_root) < max(1e-5 * t_root, 2 * spread), (rk.attrs["failure_time"], t_root)
     assert _where(rk) == _where(root)
 
 

@@ -59,3 +59,26 @@ def test_a_law_without_the_turning_point_is_not_stopped_by_it():
     """law_limit = false (and the laws other than SVK) leave the turning point unwatched, as the PDE's runs do."""
     ds = _ring(R=0.5, omega=0.0, law_limit=False, stops=False)
     assert ds.attrs["status"] == "complete" and ds.time.size == TIMES.size
+
+
+def test_psi_is_said_when_solve_ivp_kept_only_delta_s_root_an_ulp_before_it():
+    """|psi| -> pi/2 takes delta = r cos(psi) to 0 at the same instant; solve_ivp keeps only the roots up to the first
+    terminal one of a step, so on a machine whose last bits put delta's root first, psi's was never seen and the
+    run said delta (this suite on an AMD EPYC): the state at the root decides, as the leap-frog's order does."""
+    from types import SimpleNamespace
+
+    from mol_shell.runs.ring import _first_limit
+
+    psi0, t_root = 1.5707, 0.0028452228
+    psi_root = math.pi / 2 - 2e-16  # where a root of cos(psi) lands, an ulp or so short of pi/2
+
+    def limits(t, y):  # the ring's order: psi, r, delta (y = [r, psi])
+        return np.array([(math.pi / 2) ** 2 - y[1] ** 2, y[0], y[0] * math.cos(y[1])])
+
+    sol = SimpleNamespace(t=np.array([0.0, t_root]), y=np.array([[1.0, 1.0], [psi0, psi_root]]),
+                          t_events=[np.array([]), np.array([]), np.array([t_root])],
+                          y_events=[np.empty((0, 2)), np.empty((0, 2)), np.array([[1.0, psi_root]])])
+    assert _first_limit(sol, limits, TIMES) == (0, t_root)
+    # a limit still clear of 0 at the root is not said: delta alone when psi is 1e-6 rad short of pi/2
+    sol.y_events[2] = np.array([[1.0, math.pi / 2 - 1e-6]])
+    assert _first_limit(sol, limits, TIMES) == (2, t_root)
