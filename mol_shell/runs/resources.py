@@ -18,7 +18,6 @@ import dataclasses
 import functools
 import math
 import os
-import re
 import time
 import warnings
 from dataclasses import dataclass
@@ -29,10 +28,14 @@ from mol_shell._core.constants import DEFAULT_INTERVALS, DENSE_MAX_STATES
 from mol_shell._core.errors import ParameterError, RunWarning
 from mol_shell._core.units import show_seconds
 from mol_shell.results.stresses import MAX_SAMPLES
+from mol_shell.runs.machine_memory import (  # parse_bytes, show_bytes and MEMORY_ENV also re-exported
+    MEMORY_ENV,
+    cgroup_room,
+    meminfo_available,
+    parse_bytes,
+    show_bytes,
+)
 
-#: environment variable: the memory a run may use, bytes (suffixes k, M, G, T; powers of 1024), instead of the
-#: machine's available memory (for tests, and for a share of a machine)
-MEMORY_ENV = "MOL_SHELL_MEMORY"
 #: a run projected to take longer than this (s) is announced before it starts
 LONG_RUN_S = 3600.0
 BYTES = 8
@@ -79,16 +82,6 @@ class LongRunWarning(RunWarning):
     """A run is projected to take longer than :data:`LONG_RUN_S`; the message holds the estimate."""
 
 
-def parse_bytes(text):
-    """``"8G"`` -> 8 * 1024**3; plain numbers are bytes (a sign is read, so that a negative size is refused by
-    :func:`memory_limit` with the range, not as a typo)."""
-    found = re.fullmatch(r"\s*([-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:e[+-]?[0-9]+)?)\s*([kmgt]?)i?b?\s*", str(text),
-                         flags=re.IGNORECASE)
-    if not found:
-        raise ParameterError.invalid(MEMORY_ENV, text, "is not a size", "bytes, or a number with k, M, G or T")
-    return float(found.group(1)) * 1024 ** "_kmgt".index(found.group(2).lower() or "_")
-
-
 def smallest_run_bytes():
     """What the smallest run needs (leap-frog, n = 3, two saved times): the fixed part of a build, mostly."""
     return estimate(3, 2, 0.0).memory_bytes
@@ -107,50 +100,17 @@ def memory_limit(text):
     return value
 
 
-def _meminfo():
-    try:
-        with open("/proc/meminfo") as f:
-            info = dict(line.split(":", 1) for line in f if ":" in line)
-        return float(info["MemAvailable"].split()[0]) * 1024
-    except (OSError, KeyError, ValueError):
-        return None
-
-
-def _cgroup_room():
-    """Memory left under this process's cgroup (v2 or v1) limit, if there is one."""
-    for limit_file, usage_file in (("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
-                                   ("/sys/fs/cgroup/memory/memory.limit_in_bytes",
-                                    "/sys/fs/cgroup/memory/memory.usage_in_bytes")):
-        try:
-            with open(limit_file) as f:
-                limit = f.read().strip()
-            with open(usage_file) as f:
-                usage = float(f.read().strip())
-        except (OSError, ValueError):
-            continue
-        if limit.isdigit() and float(limit) < 2**60:
-            return float(limit) - usage
-    return None
-
-
 def available_memory():
     """``(bytes, where from)``: :data:`MEMORY_ENV` if set, else the machine's available memory (and a cgroup limit)."""
     if os.environ.get(MEMORY_ENV):
         return memory_limit(os.environ[MEMORY_ENV]), f"${MEMORY_ENV}"
-    found = [(v, src) for v, src in ((_meminfo(), "MemAvailable"), (_cgroup_room(), "cgroup limit")) if v is not None]
+    found = [(v, src) for v, src in ((meminfo_available(), "MemAvailable"), (cgroup_room(), "cgroup limit")) if v is not None]
     if not found:
         try:
             found = [(os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"), "sysconf")]
         except (ValueError, OSError, AttributeError):
             return math.inf, "unknown"
     return min(found)
-
-
-def show_bytes(value):
-    for unit, size in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
-        if value >= size:
-            return f"{value / size:.3g} {unit}"
-    return f"{value:.0f} B"
 
 
 @dataclass
