@@ -137,8 +137,8 @@ def path_dataset(eq, scene, record, status, message, wall_time, start, stop, nea
              "rigid_motions": "; ".join(eq.gauge) if eq.gauge else "none (the edges hold the shell)",
              "method": "Keller pseudo-arclength, exact sparse Jacobian, bordered sparse LU; eigenvalues by "
                        "shift-invert about zero",
-             "locate_tolerance": "bifurcations: a bracket of LOCATE_RTOL |stop - start| in the parameter; limit "
-                                 "points: of LOCATE_RTOL in the scaled arclength".replace("LOCATE_RTOL", f"{LOCATE_RTOL:g}"),
+             "locate_tolerance": "bifurcations and near-critical points: a bracket of LOCATE_RTOL |stop - start| in "
+                                 "the parameter; limit points: of LOCATE_RTOL in the scaled arclength".replace("LOCATE_RTOL", f"{LOCATE_RTOL:g}"),
              "branch_point": int(record.branch_point) if record.branch else -1,
              "wall_time_s": float(wall_time), "edge_s0": system.edges[0], "edge_sL": system.edges[1],
              "meridian": system.meridian.describe(), "zeta1_used": system.thickness.zeta1}
@@ -203,10 +203,16 @@ def _near_variables(data, eq, near):
         shapes[m] /= max(np.abs(shapes[m]).max(), 1e-300)
     units = eq.units
     data["near_parameter"] = (("near",), np.array([p["parameter"] for p in near], dtype=float), {"units": units,
-                              "long_name": f"{eq.parameter} at the near-critical point (the step where the lowest "
-                              "eigenvalue has its local minimum): an estimate of the perfect shell's critical load"})
+                              "long_name": f"{eq.parameter} at the near-critical point (where the lowest eigenvalue "
+                              "has its local minimum, searched between the steps around it; the step's where "
+                              "near_located is 0): an estimate of the perfect shell's critical load"})
     data["near_step"] = (("near",), np.array([p["step"] for p in near], dtype=np.int32), {"units": "1", "long_name":
-                         "the step of the near-critical point"})
+                         "the step where the lowest eigenvalue is least of the steps (the minimum lies between the "
+                         "steps before and after it)"})
+    data["near_located"] = (("near",), np.array([p.get("located", False) for p in near], dtype=np.int8),
+                            {"units": "1", "long_name": "1 where the minimum was located between the steps to the "
+                             "stated tolerance (attr locate_tolerance, in the parameter), 0 where the search failed "
+                             "and the step's load and state are kept"})
     data["near_eigenvalue"] = (("near",), np.array([p["eigenvalue"] for p in near], dtype=float), {"units": "s-2",
                                "long_name": "the lowest non-negative eigenvalue there (its local minimum)"})
     data["near_eigenvalue_share"] = (("near",), np.array([p["share"] for p in near], dtype=float), {"units": "1",

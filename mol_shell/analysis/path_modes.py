@@ -26,7 +26,7 @@ import numpy as np
 import xarray as xr
 
 from mol_shell.analysis.grid_modes import GRID_MODE_SHARE, grid_mode_share
-from mol_shell.analysis.path_stability import EIGENVALUES, family, stability
+from mol_shell.analysis.path_stability import EIGENVALUES, LOCATE_ITER, LOCATE_RTOL, family, stability
 from mol_shell.model.kinematics import FIELDS
 
 #: a local minimum of the lowest non-negative eigenvalue ``omega^2`` below this share of its value at the path's
@@ -76,7 +76,8 @@ def half_wavelength_cells(share):
 def near_critical(record):
     """The near-critical points of the steps ``record`` (a :class:`~mol_shell.analysis.path_record.PathRecord`)
     holds: dicts ``step``, ``parameter``, ``eigenvalue``, ``share`` (of the start's), ``family``, ``chi_share``,
-    ``mode``, ``q``; one eigen-solve for each (its mode)."""
+    ``mode``, ``q``, ``located``: each the minimum of the eigenvalue between the steps around it
+    (:func:`least_eigenvalue`), the step's where that search fails (``located`` false)."""
     eigen = np.asarray(record.eigen)
     near = []
     for k in range(1, len(record.lams) - 1):
@@ -89,21 +90,88 @@ def near_critical(record):
         if not (np.isfinite([before, here, after, start]).all() and start > 0 and 0 < here < before
                 and here <= after and here < NEAR_SHARE * start):
             continue
-        q, lam = record.qs[k], record.lams[k]
-        w2, vectors, _, _ = stability(record.eq, q, lam)
+        lam, q, w2, vectors, located = least_eigenvalue(record, k, m)
         mode = vectors[:, m]
         name, chi = family(record.eq, q, mode)
-        near.append({"step": k, "parameter": lam, "eigenvalue": float(w2[m]), "share": float(here / start),
-                     "family": name, "chi_share": chi, "mode": mode, "q": q})
+        near.append({"step": k, "parameter": lam, "eigenvalue": float(w2[m]), "share": float(w2[m] / start),
+                     "family": name, "chi_share": chi, "mode": mode, "q": q, "located": located})
     return near
+
+
+def least_eigenvalue(record, k, m):
+    """``(load, q, w2, vectors, located)``: where eigenvalue ``m`` (ascending) is least between steps ``k - 1`` and
+    ``k + 1`` of ``record``, step ``k``'s the least of the three; the spectrum there (:func:`stability`).
+
+    The load is searched, not the step taken: successive parabolas through the three best states (golden sections
+    where a parabola's vertex leaves the bracket or the bracket stops shrinking), to :data:`LOCATE_RTOL` of
+    ``|stop - start|``, in at most :data:`LOCATE_ITER` trials; each trial's state by Newton at its fixed load from
+    the chord of its neighbours, as a bifurcation's trials
+    (:meth:`~mol_shell.analysis.path_record.PathRecord.state_at`). A minimum is a smooth extremum of the load (no
+    crossing, no fold), so the eigenvalue is smooth in it there, and a parabola's vertex converges superlinearly.
+    Step ``k``'s own state and load, with ``located`` false, where the load does not go one way over the three steps,
+    a trial fails, its count of negative eigenvalues or sign of ``det K`` differs from the steps' (a crossing
+    between them: no near-critical point), or the bracket does not close."""
+    eq, lams = record.eq, record.lams
+    step = stability(eq, record.qs[k], lams[k])
+    here = (lams[k], record.qs[k], step[0], step[1])
+    way = math.copysign(1.0, lams[k + 1] - lams[k - 1])
+    a, x, b = (way * lams[j] for j in (k - 1, k, k + 1))
+    if not (a < x < b and record.tls[k - 1] * record.tls[k] > 0 and record.tls[k] * record.tls[k + 1] > 0):
+        return (*here, False)
+    states = {a: record.qs[k - 1], x: record.qs[k], b: record.qs[k + 1]}
+    fa, fx, fb = (float(record.eigen[j][m]) for j in (k - 1, k, k + 1))
+    best, tol = here, LOCATE_RTOL * record.tracer.l_scale
+    moves = [math.inf, math.inf]  # the distances of the trials from the best state before them
+    for _ in range(LOCATE_ITER):
+        if b - a <= 1.01 * tol:
+            return (*best, True)
+        u = _vertex(a, x, b, fa, fx, fb)
+        if not a < u < b or abs(u - x) >= moves[-2] / 2:  # as Brent: a vertex that does not close in, a golden section
+            u = x + GOLDEN * (b - x) if b - x > x - a else x - GOLDEN * (x - a)
+        if abs(u - x) < tol / 2:  # half the tolerance off the best at least: the bracket closes on it
+            u = x + math.copysign(tol / 2, (b - x) - (x - a))
+        moves.append(abs(u - x))
+        other = a if u < x else b
+        try:
+            q = record.state_at(way * u, (states[x], way * x), (states[other], way * other))
+        except record.failed:
+            return (*here, False)
+        w2, vectors, negative, sign = stability(eq, q, way * u)
+        if negative != m or sign != record.det_sign[k]:
+            return (*here, False)
+        states[u], fu = q, float(w2[m])
+        if fu < fx:
+            if u < x:
+                b, fb = x, fx
+            else:
+                a, fa = x, fx
+            x, fx, best = u, fu, (way * u, q, w2, vectors)
+        elif u < x:
+            a, fa = u, fu
+        else:
+            b, fb = u, fu
+    return (*here, False)
+
+
+#: the golden section's share of the larger side of a bracket
+GOLDEN = (3.0 - math.sqrt(5.0)) / 2.0
+
+
+def _vertex(a, x, b, fa, fx, fb):
+    """The abscissa of the vertex of the parabola through ``(a, fa), (x, fx), (b, fb)`` (NaN where they are on a
+    line)."""
+    p = (x - a) ** 2 * (fx - fb) - (x - b) ** 2 * (fx - fa)
+    d = (x - a) * (fx - fb) - (x - b) * (fx - fa)
+    return x - 0.5 * p / d if d != 0 else math.nan
 
 
 def near_message(eq, near):
     """The one line that says a path passed near-critical points (``""`` without)."""
     if not near:
         return ""
-    said = "; ".join(f"{eq.parameter} = {p['parameter']:.6g} {eq.units} (step {p['step']}, {p['family']}; lowest "
-                     f"eigenvalue {p['eigenvalue']:.3g} s-2, {p['share']:.2%} of the start's)" for p in near)
+    said = "; ".join(f"{eq.parameter} = {p['parameter']:.6g} {eq.units} (near step {p['step']}"
+                     f"{'' if p.get('located') else ', not located: the step' + chr(39) + 's load'}, {p['family']}; "
+                     f"lowest eigenvalue {p['eigenvalue']:.3g} s-2, {p['share']:.2%} of the start's)" for p in near)
     return (f"the path passed {'a near-critical point' if len(near) == 1 else f'{len(near)} near-critical points'} "
             f"at {said}: a local minimum of the lowest eigenvalue without a crossing, an imperfect bifurcation (the "
             f"grid's departure from the perfect shell, or the scene's own imperfection); its load is an estimate of "
@@ -123,5 +191,5 @@ def grid_warning(eq, kinds, loads, shares):
             f"two cells a half-wavelength: the load is the grid's, not the shell's; refine n")
 
 
-__all__ = ["NEAR_SHARE", "grid_shares", "grid_warning", "half_wavelength_cells", "mode_shape", "near_critical",
-           "near_message"]
+__all__ = ["GOLDEN", "NEAR_SHARE", "grid_shares", "grid_warning", "half_wavelength_cells", "least_eigenvalue", "mode_shape",
+           "near_critical", "near_message"]

@@ -140,19 +140,7 @@ class PathRecord:
             ends = {"a": (qi, li), "b": (qj, lj), "along": None}
 
             def trial(x):
-                (qa, la), (qb, lb) = ends["a"], ends["b"]
-                chord = qa + (x - la) / (lb - la) * (qb - qa)
-                for start in ("chord", "slope"):  # from the end on the side of step i, along its slope
-                    q = chord if start == "chord" else qa + (x - la) * tr.slope(qa, la)
-                    for along in ([ends["along"]] if ends["along"] is not None else []) + [None]:
-                        try:
-                            found = tr.at_load(q, x, along)
-                        except self.failed:  # the critical mode left out, Newton stalls: a state off the symmetry
-                            continue
-                        if start == "slope" or tr.distance(chord, x, found, x) <= (
-                                0.25 * tr.distance(qa, la, qb, lb) + 1e-9):
-                            return found, x
-                raise self.failed("newton", f"no trial state at {self.eq.parameter} = {x:.6g} {self.eq.units}")
+                return self.state_at(x, ends["a"], ends["b"], ends["along"]), x
         fa, fb = spectra[i][index], spectra[j][index]
         q, lam = qj, lj
         side, located = 0, False
@@ -196,6 +184,28 @@ class PathRecord:
                             "chi_share": share, "eigenvalue": w2[k], "mode": mode, "q": q, "located": located,
                             "reactions": self.eq.reactions(q, lam),
                             "negative_before": before, "negative_after": after})
+
+    def state_at(self, x, end_a, end_b, along=None):
+        """The equilibrium at load ``x`` between two states ``end_a = (q, load)`` and ``end_b`` on the path: Newton at
+        fixed load from their chord (one step at least: the chord's residual can be below the tolerance far from the
+        path), refused when it lands off that chord by more than a quarter of its length (near a critical point
+        another branch lies close by, and Newton may slide onto it); a refused trial starts again from ``end_a``
+        along its slope ``dq/dlambda``. ``along``: a critical mode's deflation
+        (:func:`~mol_shell.analysis.path_stability.deflation`), tried first. Raises the path's exception where
+        none converges."""
+        tr = self.tracer
+        (qa, la), (qb, lb) = end_a, end_b
+        chord = qa + (x - la) / (lb - la) * (qb - qa)
+        for start in ("chord", "slope"):  # from the end on the side of step i, along its slope
+            q = chord if start == "chord" else qa + (x - la) * tr.slope(qa, la)
+            for deflate in ([along] if along is not None else []) + [None]:
+                try:
+                    found = tr.at_load(q, x, deflate)
+                except self.failed:  # the critical mode left out, Newton stalls: a state off the symmetry
+                    continue
+                if start == "slope" or tr.distance(chord, x, found, x) <= 0.25 * tr.distance(qa, la, qb, lb) + 1e-9:
+                    return found
+        raise self.failed("newton", f"no trial state at {self.eq.parameter} = {x:.6g} {self.eq.units}")
 
     def _load_work(self, point):
         """``(|phi . F_lambda| / (|phi| |F_lambda|), F_lambda)`` of a critical point: how much its mode works

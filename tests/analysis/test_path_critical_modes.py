@@ -26,6 +26,9 @@ import warnings
 import pytest
 
 from mol_shell import TwistedCylinder, path
+from mol_shell.analysis.equilibria import EquilibriumEquations
+from mol_shell.analysis.path import _Path
+from mol_shell.analysis.path_stability import stability
 from mol_shell.cli.main import main
 from mol_shell.results.dataset import read_netcdf
 
@@ -52,16 +55,26 @@ def test_a_critical_mode_the_grid_cannot_hold_is_flagged(tmp_path, capsys):
     assert "grid_mode_warning" in ds.attrs
 
 
-def test_an_imperfect_bifurcation_is_a_near_critical_point():
+def _imperfect_cylinder():
     L = 0.35
-    m = round(L / L_CL)
-    assert m == 2
     bump = f"table 0:{H} {L / 4}:{H} {L / 2}:{H * 1.001} {3 * L / 4}:{H} {L}:{H}"
-    scene = TwistedCylinder(gamma=0.0, L=L, a=A, h=H, E=E, nu=NU, material="svk-plane-stress", end1="z,theta",
-                            end2="z,theta", h_profile=bump)
+    return L, TwistedCylinder(gamma=0.0, L=L, a=A, h=H, E=E, nu=NU, material="svk-plane-stress", end1="z,theta",
+                              end2="z,theta", h_profile=bump)
+
+
+@pytest.fixture(scope="module")
+def imperfect():
+    L, scene = _imperfect_cylinder()
     with warnings.catch_warnings(record=True) as said:
         warnings.simplefilter("always")
         ds = path(scene, "end2_dz", 0.0, -1.01 * EPS_CL * L, n=11, progress=False)
+    return L, scene, ds, said
+
+
+def test_an_imperfect_bifurcation_is_a_near_critical_point(imperfect):
+    L, _, ds, said = imperfect
+    m = round(L / L_CL)
+    assert m == 2
     assert ds.attrs["status"] == "complete" and ds.sizes["point"] == 0  # no crossing
     assert ds.sizes["near"] == 1
     assert ds.near_parameter.values[0] == pytest.approx(-EPS_CL * L, rel=0.01)
@@ -71,3 +84,40 @@ def test_an_imperfect_bifurcation_is_a_near_critical_point():
     assert "grid_mode_warning" not in ds.attrs
     near = [str(w.message) for w in said if "near-critical" in str(w.message)]
     assert len(near) == 1 and "imperfect bifurcation" in near[0] and ds.attrs["near_critical_warning"] == near[0]
+
+
+def test_a_near_critical_point_is_the_minimum_between_the_steps(imperfect):
+    """The near-critical load is where the lowest eigenvalue on the path is least, not the step nearest it.
+
+    The minimum is found here on its own: golden-section search in ``end2_dz`` over ``[0.99, 1.0] eps_cl L`` (the
+    perfect cylinder's bifurcation, about 0.996 of it at n = 11, lies inside), each state by Newton at that fixed
+    displacement from the scene's reference, its lowest eigenvalue by the path's stability solve. The path's steps
+    around the minimum are 1e-4 of it apart: its load must agree with the search's to far better than that."""
+    L, scene, ds, _ = imperfect
+    eq = EquilibriumEquations(scene, "end2_dz", 11)
+    tracer = _Path(eq, 0.0, -1.01 * EPS_CL * L)
+    q = tracer.start_equilibrium(eq.unknowns(eq.y_ref), -0.99 * EPS_CL * L)[0]
+
+    def lowest(dz):
+        return stability(eq, tracer.equilibrium(q.copy(), dz)[0], dz)[0][0]
+
+    gold = (math.sqrt(5) - 1) / 2
+    a, b = -0.99 * EPS_CL * L, -1.0 * EPS_CL * L
+    x1, x2 = b - gold * (b - a), a + gold * (b - a)
+    f1, f2 = lowest(x1), lowest(x2)
+    while abs(b - a) > 1e-7 * EPS_CL * L:
+        if f1 < f2:
+            b, x2, f2 = x2, x1, f1
+            x1 = b - gold * (b - a)
+            f1 = lowest(x1)
+        else:
+            a, x1, f1 = x1, x2, f2
+            x2 = a + gold * (b - a)
+            f2 = lowest(x2)
+    least = (a + b) / 2
+    step = int(ds.near_step.values[0])
+    assert abs(float(ds.parameter[step]) - least) > 1e-5 * EPS_CL * L  # the step itself is not the minimum
+    assert ds.near_located.values[0] == 1
+    assert ds.near_parameter.values[0] == pytest.approx(least, rel=2e-6)
+    assert ds.near_eigenvalue.values[0] == pytest.approx(min(f1, f2), rel=1e-6)
+    assert ds.near_eigenvalue.values[0] < ds.smallest_eigenvalues.values[step, 0]
