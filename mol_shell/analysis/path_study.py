@@ -5,7 +5,8 @@
 on the back ends of run studies (:func:`mol_shell.runs.scheduling.execute`: this process, local processes, or a dask
 cluster), keeps each finished path in ``<output stem>.cases/`` (:class:`mol_shell.results.study_store.Store`: a rerun
 reuses it), and gathers the critical points: dims ``(*study dims, point)``, the points of each case in the order its
-path met them, padded (``point_kind = ""``, ``point_parameter = NaN``) to the longest. ``first_critical`` is the
+path met them, padded (``point_kind = ""``, ``point_parameter = NaN``) to the longest, with their modes' grid-mode
+shares; and the near-critical points (imperfect bifurcations) the same way along ``near``. ``first_critical`` is the
 first point's load (the buckling load when the path starts unloaded). ``mol-shell study SCENE --vary ... --path
 NAME=START:STOP`` is the command.
 """
@@ -97,7 +98,10 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
         Dims: the study's, and ``point``. Per case: ``status``, ``message``, ``steps``, ``reached`` (the load at
         the path's last state: how far a path that ended short got), ``first_critical`` (the first critical point's
         load, NaN without one: none up to ``reached``), ``case_wall_time_s``; per point: ``point_kind``,
-        ``point_parameter``, ``point_family``, ``point_located``, ``point_ellipticity_margin``. Attrs: the scene's
+        ``point_parameter``, ``point_family``, ``point_located``, ``point_ellipticity_margin``,
+        ``point_grid_mode_share``; per near-critical point (dim ``near``, :data:`MODES`): ``near_parameter``,
+        ``near_step``, ``near_located``, ``near_eigenvalue``, ``near_eigenvalue_share``, ``near_family``,
+        ``near_grid_mode_share``, each padded past a case's last. Attrs: the scene's
         parameters as the paths used them, as a path file has them (where the cases differ, a variable per case:
         :func:`mol_shell.results.study_dataset.case_attrs`), and ``path_parameter``, ``path_start``, ``path_stop``
         (with ``units_path_start``, ``units_path_stop``).
@@ -187,6 +191,7 @@ def _gather(scene, dims, coords, cases, results, parameter):
             reactions[name][0][index][:m] = ds[name].values
     units = UNITS.get(parameter, "1")
     sdims = tuple(dims)
+    modes = _gather_modes(sdims, shape, cases, results, units, count)
     data = {
         "status": (sdims, status, {"long_name": "how the case's path ended (complete, max_steps, failed, limit, ...)"}),
         "message": (sdims, message, {"long_name": "what the case's path said"}),
@@ -207,6 +212,7 @@ def _gather(scene, dims, coords, cases, results, parameter):
         "point_ellipticity_margin": (sdims + ("point",), margin, {"units": "1", "long_name":
                                      "ellipticity margin at the critical point (not positive: the point is the grid's)"}),
     }
+    data.update(modes)
     for name, (values, attrs) in sorted(reactions.items()):
         data[name] = (sdims + ("point",), values, {**attrs, "long_name": attrs["long_name"] + " (NaN past a case's "
                       "last point, and where a case's edge leaves the field free)"})
@@ -216,6 +222,9 @@ def _gather(scene, dims, coords, cases, results, parameter):
             coord_vars[name] = ("case", np.asarray(vals))
     coord_vars["point"] = ("point", np.arange(count, dtype=np.int32),
                            {"units": "1", "long_name": "critical point, as met"})
+    coord_vars["near"] = ("near", np.arange(modes["near_parameter"][1].shape[-1], dtype=np.int32),
+                          {"units": "1", "long_name": "near-critical point (a local minimum of the lowest eigenvalue "
+                           "without a crossing), as met"})
     records = {index: results[index][0].attrs for index, _ in cases if results[index][0] is not None}
     carried, shared, fills = case_attrs(dims, shape, records, skip=(*coords, *PATH_OWN),
                                         long_names={"wall_time_s": "wall time of tracing the path"})
@@ -225,7 +234,53 @@ def _gather(scene, dims, coords, cases, results, parameter):
     ds = xr.Dataset(data, coords=coord_vars, attrs=attrs)
     for name, fill in fills.items():
         ds[name].encoding["_FillValue"] = fill
-    if (located < 0).any():  # a case with fewer points: declared, read as NaN there (as a study's counts)
-        ds["point_located"].encoding["_FillValue"] = np.int8(-1)
+    for name in ("point_located", "near_located", "near_step"):
+        if (ds[name].values < 0).any():  # a case with fewer points: declared, read as NaN there (as a study's counts)
+            ds[name].encoding["_FillValue"] = ds[name].dtype.type(-1)
     label_coords(ds, coords, dims)  # the varied parameters' long names, as a study of runs has them
     return ds
+
+
+#: what a study gathers of each path's critical modes, as the path file has them: ``(name, dim, fill, dtype, units
+#: and long name where no case's file has the variable)``; padded with ``fill`` past a case's last point
+MODES = (
+    ("point_grid_mode_share", "point", np.nan, float, "1",
+     ("share of the critical mode's amplitude in the node-to-node (-1)^i pattern (from 0.5: a grid mode, the load "
+      "the grid's)")),
+    ("near_parameter", "near", np.nan, float, None,
+     "the continued load at the near-critical point: an estimate of the perfect shell's critical load"),
+    ("near_step", "near", -1, np.int32, "1", "the step of the near-critical point"),
+    ("near_located", "near", -1, np.int8, "1",
+     "1 where the eigenvalue's minimum was located between the steps, 0 where the step's load is kept"),
+    ("near_eigenvalue", "near", np.nan, float, "s-2", "the lowest non-negative eigenvalue at its local minimum"),
+    ("near_eigenvalue_share", "near", np.nan, float, "1", "that eigenvalue over its value at the path's start"),
+    ("near_family", "near", "", object, None, "family of the near-critical mode: torsional or axisymmetric"),
+    ("near_grid_mode_share", "near", np.nan, float, "1",
+     ("share of the near-critical mode's amplitude in the node-to-node (-1)^i pattern (from 0.5: a grid mode, the "
+      "load the grid's)")),
+)
+#: what a padded entry reads as, said in each gathered variable's long name
+_PADDING = {"point": "past a case's last critical point", "near": "past a case's last near-critical point"}
+
+
+def _gather_modes(sdims, shape, cases, results, units, points):
+    """The variables of :data:`MODES` on ``(*study dims, point)`` and ``(*study dims, near)``: each case's values as
+    its path file has them, padded past its last point, with the path files' units and long names (a file without
+    the variable, of an earlier version, reads as padding)."""
+    sizes = {"point": points, "near": max([ds.sizes.get("near", 0) for ds, _ in results.values() if ds is not None]
+                                          + [0])}
+    out = {}
+    for name, dim, fill, dtype, unit, long_name in MODES:
+        values = np.full(shape + (sizes[dim],), fill, dtype=dtype)
+        attrs = {"units": units if name == "near_parameter" else unit, "long_name": long_name}
+        for index, _ in cases:
+            ds = results[index][0]
+            if ds is not None and name in ds:
+                values[index][:ds.sizes[dim]] = ds[name].values
+                attrs = {k: v for k, v in ds[name].attrs.items() if k in ("units", "long_name")}
+        if attrs.get("units") is None:
+            attrs.pop("units", None)
+        said = "NaN" if dtype is float else "''" if dtype is object else "-1"
+        attrs["long_name"] = f"{attrs['long_name']} ({said} {_PADDING[dim]})"
+        out[name] = ((*sdims, dim), values.astype(str) if dtype is object else values, attrs)
+    return out

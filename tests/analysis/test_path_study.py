@@ -35,6 +35,9 @@ def test_each_case_has_the_critical_points_of_its_own_path(studied):
         m = own.sizes["point"]
         assert np.array_equal(ds.point_parameter.values[k, :m], own.point_parameter.values)
         assert list(ds.point_kind.values[k, :m]) == list(own.point_kind.values)
+        assert np.array_equal(ds.point_grid_mode_share.values[k, :m], own.point_grid_mode_share.values)
+        assert ds.sizes["near"] == own.sizes["near"] == 0 or np.array_equal(
+            ds.near_parameter.values[k, :own.sizes["near"]], own.near_parameter.values)
         assert ds.first_critical.values[k] == own.point_parameter.values[0]
         assert ds.steps.values[k] == own.sizes["step"] - 1  # steps as mol-shell path counts them (it held states)
         assert np.all(np.isnan(ds.point_parameter.values[k, m:]))
