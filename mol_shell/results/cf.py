@@ -31,11 +31,32 @@ def header(title, comment=COMMENT, **attrs):
             "references": REFERENCE, "comment": comment, **attrs}
 
 
-def attr_value(value):
-    """netCDF attributes take numbers and strings only; a string as UTF-8 text
-    (:func:`~mol_shell._core.user_files.name_text`: a file name's bytes that are not UTF-8 escaped)."""
+def utf8_words(value):
+    """``value`` as netCDF can hold its words: a string as UTF-8 text (:func:`~mol_shell._core.user_files.name_text`:
+    a file name's bytes that are not UTF-8 escaped, ``\\xfc``), and so each string of a list or tuple (a list
+    attribute: as a list) or of an array of words (a variable's data: an array of its shape); ``value`` itself where
+    it holds no string that is not UTF-8 (numbers, other objects: as they are). A list or an array of words holding
+    such a name was written raw: netCDF4 refused it (``UnicodeEncodeError ... surrogates not allowed``) once the work
+    was done (a study's ``--vary points=`` over such a file)."""
     if isinstance(value, str):
         return name_text(value)
+    if isinstance(value, (list, tuple)):
+        items = [utf8_words(v) if isinstance(v, (str, list, tuple)) else v for v in value]
+        return items if any(a is not b for a, b in zip(items, value)) else value
+    if isinstance(value, np.ndarray) and value.dtype.kind in "OU":
+        flat = value.ravel().tolist()
+        items = [name_text(v) if isinstance(v, str) else v for v in flat]
+        if all(a is b for a, b in zip(items, flat)):
+            return value
+        return np.array(items, dtype=object).reshape(value.shape)
+    return value
+
+
+def attr_value(value):
+    """netCDF attributes take numbers and strings only; a string as UTF-8 text, and each of a list of them
+    (:func:`utf8_words`: a file name's bytes that are not UTF-8 escaped)."""
+    if isinstance(value, (str, list, tuple, np.ndarray)):
+        return utf8_words(value)
     if value is None:
         return "none"
     if isinstance(value, bool):

@@ -18,7 +18,7 @@ from mol_shell._core.user_files import UserFileError, absent, name_text, not_reg
 from mol_shell.model.edges import IMPOSED
 from mol_shell.model.kinematics import FIELDS
 from mol_shell.model.wall_parameters import law_attrs
-from mol_shell.results.cf import attr_value, coordinates, header, variables, wide_integer
+from mol_shell.results.cf import attr_value, coordinates, header, utf8_words, variables, wide_integer
 from mol_shell.scenes import UNITS
 from mol_shell.scenes.base import mean_over
 
@@ -337,7 +337,9 @@ def write_netcdf(ds, path):
 def _netcdf_attrs(ds):
     """``ds`` (a shallow copy where needed) with attributes netCDF can hold: a bool as 0 or 1 and ``None`` as
     ``"none"`` (as this package writes its own); anything but numbers, strings and flat lists of them is refused
-    naming the attribute (netCDF4 raised a TypeError naming its internal type, ``b1``, after the file was begun)."""
+    naming the attribute (netCDF4 raised a TypeError naming its internal type, ``b1``, after the file was begun).
+    Words that are not UTF-8 (a file's name), in an attribute, a list attribute or a variable of words (a study's
+    ``points`` over its cases), are escaped (:func:`~mol_shell.results.cf.utf8_words`)."""
     def fixed(attrs, where):
         out = {}
         for key, value in attrs.items():
@@ -353,10 +355,16 @@ def _netcdf_attrs(ds):
             out[key] = value
         return out
 
-    if all(_plain(v) for v in ds.attrs.values()) and all(_plain(v) for var in ds.variables.values()
-                                                          for v in var.attrs.values()):
+    words = {}
+    for name, var in ds.variables.items():
+        values = var.values if var.dtype.kind in "OU" else None
+        if values is not None and utf8_words(values) is not values:
+            words[name] = (var.dims, utf8_words(values), var.attrs)
+    if not words and all(_plain(v) for v in ds.attrs.values()) and all(_plain(v) for var in ds.variables.values()
+                                                                       for v in var.attrs.values()):
         return ds
-    out = ds.copy(deep=False)
+    out = ds.copy(deep=False).assign_coords({k: v for k, v in words.items() if k in ds.coords})
+    out = out.assign({k: v for k, v in words.items() if k not in ds.coords})
     out.attrs = fixed(ds.attrs, "ds.attrs")
     for name, var in out.variables.items():
         var.attrs = fixed(var.attrs, f"ds[{name!r}].attrs")

@@ -12,6 +12,7 @@ import xarray as xr
 
 from mol_shell._core.errors import ModelLimitError, ParameterError
 from mol_shell._core.paths import check_lengths
+from mol_shell.results.cf import utf8_words
 from mol_shell.results.dataset import read_netcdf, write_netcdf
 
 #: hexadecimal digits of a stored case's key, its file's name (:attr:`mol_shell.runs.study.Task.key`)
@@ -114,8 +115,8 @@ def checksum(ds):
         if values.dtype.kind in "fiub":
             values = values.astype(np.float64)
             digest.update(np.where(np.isnan(values), np.nan, values).tobytes())
-        else:
-            digest.update(repr(values.tolist()).encode())
+        else:  # words as written (escaped where not UTF-8): the checksum read back is the one written
+            digest.update(repr(utf8_words(values).tolist()).encode())
     for key in sorted(k for k in ds.attrs if k != "case_checksum"):
         digest.update(f"{key}={_as_stored(ds.attrs[key])!r};".encode())
     return digest.hexdigest()
@@ -123,7 +124,9 @@ def checksum(ds):
 
 def _as_stored(value):
     """An attribute as netCDF gives it back: numpy numbers as Python's, sequences as lists (one element: that
-    element)."""
+    element), words that are not UTF-8 escaped (:func:`~mol_shell.results.cf.utf8_words`: a case's label naming such
+    a file was never reused, its checksum taken of the raw name and checked against the escaped one)."""
+    value = utf8_words(value)
     if isinstance(value, (list, tuple, np.ndarray)):
         items = np.asarray(value).ravel().tolist()
         return items[0] if len(items) == 1 else items
