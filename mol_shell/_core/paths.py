@@ -70,6 +70,25 @@ def link_target(path, name="path"):
                                  ALLOWED)
 
 
+def beside(path, tail, stem=None, named_inside=False):
+    """The file ``<stem><tail>`` written beside the output ``path`` (``~`` expanded): a figure's ``.png`` or a table's
+    ``.md`` beside a comparison, a study's ``.cases`` folder, an export's ``.h5`` or ``_NNNN.vtu``; ``stem``: the
+    name's stem where it is not the output's own.
+
+    Where ``path`` is a symbolic link (the output itself is written through it: :func:`link_target`), the files
+    beside it go beside the link, in its folder and named by its stem: the user named the link and looks for them
+    there, and the command line checks them there before the work. Those the output names inside itself by a relative
+    name (``named_inside``: an ``.xdmf``'s ``.h5``, a ``.pvd``'s steps) go beside the file written, the link's
+    target, named by its stem: readers look for them beside the file they read with the link resolved (meshio's
+    reader, the XDMF library's ``realpath``), and it reads so by any name. (``export`` checked its ``.h5`` beside the
+    link and wrote it beside the target, its note naming the one it did not write; a study script put its ``.md``
+    and ``.png`` beside the target, the command line beside the link.)"""
+    path = Path(os.fspath(path)).expanduser()
+    if named_inside:
+        path = link_target(path)
+    return path.with_name(f"{path.stem if stem is None else stem}{tail}")
+
+
 def writable_path(path, name="path", suffixes=None, created=None):
     """Check, before anything is computed, that ``path`` can be written; create its missing directories.
 

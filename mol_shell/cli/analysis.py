@@ -10,7 +10,7 @@ import numpy as np
 from mol_shell._core.atomic import write_text
 from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import ParameterError
-from mol_shell._core.paths import writable_path
+from mol_shell._core.paths import beside, writable_path
 from mol_shell.analysis.grid_modes import GRID_MODE_SHARE
 from mol_shell.analysis.mode_zero import located_band
 from mol_shell.analysis.modes import modes
@@ -144,7 +144,7 @@ def cmd_stability(args):
 def cmd_modes(args):
     scene, run, initial, info, source = start_of(args)
     given = args.png is not None  # --png '' is refused as empty (it was the default figure)
-    png = writable_path(args.png if given else str(args.output).rsplit(".", 1)[0] + ".png", "--png",
+    png = writable_path(args.png if given else beside(args.output, ".png"), "--png",
                         suffixes=image_formats())
     if given:  # the figure is not the --from file either
         check_outputs(args, name="--png", value=png)

@@ -76,8 +76,11 @@ def output_folder(path, name="--out"):
 
 
 def output_file(path, name="--output", suffixes=("nc",)):
-    """``path``, a file the script writes, checked as ``-o`` is (:func:`~mol_shell._core.paths.writable_path`)."""
-    return str(writable_path(path, name, suffixes=set(suffixes)))
+    """``path``, a file the script writes, checked as ``-o`` is (:func:`~mol_shell._core.paths.writable_path`), as
+    given (``~`` expanded): a symbolic link stays one, written through, and the files the script writes beside it
+    (its ``.md``, ``.png``) go beside the link (:func:`~mol_shell._core.paths.beside`), as the command line's do."""
+    writable_path(path, name, suffixes=set(suffixes))
+    return str(Path(os.fspath(path)).expanduser())
 
 
 class Stopped(KeyboardInterrupt):

@@ -5,13 +5,12 @@ from __future__ import annotations
 
 import hashlib
 import tempfile
-from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
 from mol_shell._core.errors import ModelLimitError, ParameterError
-from mol_shell._core.paths import check_lengths
+from mol_shell._core.paths import beside, check_lengths
 from mol_shell.results.cf import utf8_words
 from mol_shell.results.dataset import read_netcdf, write_netcdf
 
@@ -20,9 +19,9 @@ KEY_LENGTH = 20
 
 
 def cases_folder(output):
-    """``<output stem>.cases``: where a study (or a study of paths) writing ``output`` keeps its finished cases."""
-    path = Path(output)
-    return path.with_name(path.stem + ".cases")
+    """``<output stem>.cases``: where a study (or a study of paths) writing ``output`` keeps its finished cases,
+    beside ``output`` as given (a symbolic link's own folder: :func:`~mol_shell._core.paths.beside`)."""
+    return beside(output, ".cases")
 
 
 def check_cases_folder(output, name="output"):

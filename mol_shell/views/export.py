@@ -35,7 +35,7 @@ import numpy as np
 from mol_shell._core import interrupts
 from mol_shell._core.atomic import keep_inputs, staged
 from mol_shell._core.errors import ParameterError
-from mol_shell._core.paths import check_lengths, writable_path
+from mol_shell._core.paths import beside, check_lengths, link_target, writable_path
 from mol_shell._core.write_aside import WriteAside
 from mol_shell.views.fields import (
     REFERENCE,
@@ -194,17 +194,18 @@ H5_UNSAFE, H5_SAFE = ":", "_"
 def companion_files(path, steps):
     """The files written beside ``path`` for ``steps`` saved times: ``<stem>.h5`` for ``.xdmf`` (each ':' of the stem
     replaced by '_', :data:`H5_UNSAFE`; :func:`h5_renamed`), ``<stem>_NNNN.vtu`` for ``.pvd`` (the writers below name
-    theirs so; the command line checks them before the work)."""
-    path = Path(path)
+    theirs so; the command line checks them before the work). ``path`` a symbolic link: beside its target, named by
+    the target's stem, as the file written names them (:func:`~mol_shell._core.paths.beside`, ``named_inside``)."""
+    path = link_target(Path(os.fspath(path)).expanduser())
     if path.suffix.lower() == ".xdmf":
-        return [path.with_name(path.stem.replace(H5_UNSAFE, H5_SAFE) + ".h5")]
-    return [path.with_name(f"{path.stem}_{k:04d}.vtu") for k in range(steps)]
+        return [beside(path, ".h5", path.stem.replace(H5_UNSAFE, H5_SAFE), named_inside=True)]
+    return [beside(path, f"_{k:04d}.vtu", named_inside=True) for k in range(steps)]
 
 
 def h5_renamed(path):
     """A note for an ``.xdmf`` ``path`` whose HDF5 data are not in ``<stem>.h5`` (its stem has a ':',
     :data:`H5_UNSAFE`): the name they are in, and why; ``""`` otherwise."""
-    path = Path(path)
+    path = link_target(Path(os.fspath(path)).expanduser())  # a link: its target's name, as the file is written
     if path.suffix.lower() != ".xdmf" or H5_UNSAFE not in path.stem:
         return ""
     return (f"the HDF5 data of {path.name} are in {companion_files(path, 0)[0].name} "

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from mol_shell._core.atomic import write_text
+from mol_shell._core.paths import beside
 from mol_shell.analysis.workprecision import full_table, markdown_table
 from mol_shell.results.dataset import write_netcdf
 from mol_shell.views.figures import save_figure
@@ -137,9 +138,9 @@ def plot(ds, path, target=1e-6):
 
 
 def companion_files(path):
-    """``(png, md)``: the figure and the tables written beside ``path`` (its stem)."""
-    stem = str(path).rsplit(".", 1)[0]
-    return stem + ".png", stem + ".md"
+    """``(png, md)``: the figure and the tables written beside ``path`` (its stem; a symbolic link's own folder:
+    :func:`~mol_shell._core.paths.beside`)."""
+    return str(beside(path, ".png")), str(beside(path, ".md"))
 
 
 def write_outputs(ds, path, target=1e-6):
