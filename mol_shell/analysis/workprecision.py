@@ -28,6 +28,8 @@ import xarray as xr
 
 from mol_shell._core.errors import ModelLimitError, ParameterError, by_interrupt
 from mol_shell._core.progress import progress_mode, time_meter
+from mol_shell.analysis.workprecision_notes import ATTR as NOTES_ATTR
+from mol_shell.analysis.workprecision_notes import SweepNotes
 from mol_shell.analysis.workprecision_sweeps import (  # noqa: F401  (RTOLS: importable here)
     DEFAULT_INTEGRATORS,
     RTOLS,
@@ -43,7 +45,7 @@ from mol_shell.integrators import INTEGRATORS
 from mol_shell.results.cf import attr_value, header
 from mol_shell.results.dataset import scene_attrs, with_units
 from mol_shell.results.study_dataset import INT_FILL
-from mol_shell.runs import resources
+from mol_shell.runs import resources, step_limits
 from mol_shell.runs.checks import checked_spectrum
 from mol_shell.runs.simulate import as_scene, build, check_loads, parse_times, resolve, starting_state
 from mol_shell.scenes import SCENES, Unshearable
@@ -244,8 +246,10 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
     scene = resolve(asked)
     system, compiled = build(scene, n)
     y0, _ = starting_state(scene, system, n, asked=asked)  # where a run starts (R = auto under loads: the statics)
+    noted = any(step_limits.may_note(INTEGRATORS[name](**options(name, points[0][0]))) for name, points in plan.items())
+    omega_max, damping = checked_spectrum(scene, system, y0) if noted or "dt" in map(swept, integrators) else (None,) * 2
+    notes = SweepNotes(system, omega_max if noted else None, damping if noted else None)  # steps held, not by rtol
     if any(swept(name) == "dt" for name in integrators):  # leap-frog's steps past the bound simulate refuses
-        omega_max, _ = checked_spectrum(scene, system, y0)
         plan = {name: [(value, reason or unstable_reason(name, value, omega_max)) for value, reason in points]
                 for name, points in plan.items()}
         if all(reason for points in plan.values() for _, reason in points):
@@ -265,6 +269,7 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
     interrupted = None
     try:  # Ctrl-C: the points measured so far are the comparison, the rest not run (said)
         for i, name in enumerate(integrators):
+            notes.start(name, INTEGRATORS[name](**options(name, plan[name][0][0])), times[-1])
             for j, (value, reason) in enumerate(plan[name]):
                 if reason:
                     status[i, j], note[i, j] = "skipped", reason
@@ -286,8 +291,10 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
                 status[i, j] = traj.status
                 if traj.status != "complete":
                     note[i, j] = traj.message
+                notes.point(name, swept(name), value, INTEGRATORS[name](**options(name, value)), traj)
                 log(f"{name:14s} {value:8.1e}  error {data['error'][i, j]:9.3g}  wall {data['wall_time_s'][i, j]:8.4f} "
                     f"s  steps {traj.stats.get('n_steps', -1):>7}  {traj.status}")
+            notes.said(name)
     except BaseException as exc:  # a Ctrl-C, or an error of a C call that wraps one (by_interrupt)
         if not by_interrupt(exc):
             raise
@@ -318,11 +325,14 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
     ds["status"] = (dims, status.astype(str), {"long_name": "how the run ended: complete, limit, unstable, failed, "
                                                             "interrupted, or skipped (not run; see note); empty: no point"})
     ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
+    for name in integrators:  # a comparison cut short: what its runs so far said
+        notes.said(name)
     ds.attrs.update({**header(f"work-precision of mol_shell integrators, scene {scene.name}"), "scene": scene.name,
                      "n": n, "times": ",".join(f"{t:g}" for t in times), "units_times": "s", "repeats": repeats,
                      "reference_error": ref_err, "units_reference_error": "1", **ref_info,
                      "status": "interrupted" if interrupted else "complete", "message": interrupted or "",
-                     "left_out": "; ".join(f"{name}: {INTEGRATORS[name].refuses_loads}" for name in left_out)})
+                     "left_out": "; ".join(f"{name}: {INTEGRATORS[name].refuses_loads}" for name in left_out),
+                     **notes.attrs(integrators)})
     start = system.unpack(y0)[:2]  # the scene's parameters as the runs used them, as a run file has them
     ds.attrs.update(with_units(scene_attrs(scene, system.edges, system.thickness.zeta1, start, system.reference[:2],
                                            requested=asked.params())))
@@ -393,6 +403,8 @@ def markdown_table(ds, target=1e-6, baseline=("leapfrog", 1e-6)):
         lines += ["", f"Speed-up n/a: the baseline {why}, so no speed-up is measured against it."]
     if ds.attrs.get("left_out"):
         lines += ["", f"Left out of the default set (they cannot run the scene): {ds.attrs['left_out']}."]
+    if ds.attrs.get(NOTES_ATTR):  # what held an integrator's steps, if not its tolerance (as a run says it)
+        lines += ["", "Steps held, not by the tolerance:", *(f"* {line}" for line in str(ds.attrs[NOTES_ATTR]).splitlines())]
     if ds.attrs.get("status") == "interrupted":
         lines += ["", f"Not complete: {ds.attrs['message']}."]
     return "\n".join(lines)

@@ -27,8 +27,10 @@ import warnings
 
 import numpy as np
 
+from mol_shell._core.constants import FIELDS
 from mol_shell._core.errors import MolShellWarning
 from mol_shell.integrators import sundials, sundials_c
+from mol_shell.runs.building import observe
 from mol_shell.runs.resources import LongRunWarning
 
 #: share of steps whose fixed-point iteration failed to converge above which the steps are stiffness-limited
@@ -51,19 +53,37 @@ def fixed_point_adams(method):
     return isinstance(method, sundials_c.CVODEAdams) and method.fixed_point()
 
 
-def before_run(method, t_end, damping):
-    """A warning (returned too) when a fixed-point ``cvode-adams`` would need more than ``max_steps`` steps of
+def max_steps_note(method, t_end, damping):
+    """One sentence when a fixed-point ``cvode-adams`` would need more than ``max_steps`` steps of
     :data:`ADAMS_STEP_DAMPING` ``/ damping`` to reach ``t_end``; else None."""
     if not fixed_point_adams(method) or damping <= 0:
         return None
     steps = float(t_end) * damping / ADAMS_STEP_DAMPING
     if steps <= method.max_steps:
         return None
-    note = (f"{method.name}'s fixed-point iteration converges only for steps below about 1/damping = "
+    return (f"{method.name}'s fixed-point iteration converges only for steps below about 1/damping = "
             f"{1.0 / damping:.3g} s (the scene's viscous damping rate {damping:.3g} 1/s): about {steps:.3g} steps to "
             f"t = {float(t_end):g} s, more than max_steps = {method.max_steps}; use {STIFF_ROUTES}")
-    warnings.warn(note, LongRunWarning, stacklevel=3)  # said by the command line, as a run's projected time is
+
+
+def before_run(method, t_end, damping):
+    """:func:`max_steps_note`, warned (and returned); else None."""
+    note = max_steps_note(method, t_end, damping)
+    if note:
+        warnings.warn(note, LongRunWarning, stacklevel=3)  # said by the command line, as a run's projected time is
     return note
+
+
+def high_order_bdf(method):
+    """Whether ``method`` is ``cvode-bdf`` or ``ida`` (either route) with orders above 2 allowed."""
+    return (isinstance(method, (sundials.CVODEBDF, sundials.IDA)) and getattr(method, "method", "BDF") == "BDF"
+            and (method.max_order or 5) > 2)
+
+
+def may_note(method):
+    """Whether a run of ``method`` can get a note here (:func:`fixed_point_adams`, :func:`high_order_bdf`): the scene's
+    spectrum is needed for those alone."""
+    return fixed_point_adams(method) or high_order_bdf(method)
 
 
 def convergence_note(method, stats):
@@ -80,27 +100,40 @@ def convergence_note(method, stats):
 def shell_rate(ds):
     """The rate of the shell's own motion in ``ds`` (1/s): the largest ``max|x_t| / max|x - x(0)|`` of its fields
     other than the director's angle ``psi`` (0 for a shell at rest)."""
-    rates = [0.0]
-    for name in [v for v in ds.data_vars if v != "psi" and f"{v}_t" in ds.data_vars]:
-        x, rate = np.asarray(ds[name].values, dtype=float), np.abs(np.asarray(ds[f"{name}_t"].values, dtype=float))
+    names = [v for v in ds.data_vars if v != "psi" and f"{v}_t" in ds.data_vars]
+    return motion_rate([ds[name].values for name in names], [ds[f"{name}_t"].values for name in names])
+
+
+def states_rate(system, states, times):
+    """:func:`shell_rate` of saved ``states`` at ``times`` (a trajectory's, before it is a Dataset)."""
+    velocities, _ = observe(system, states, times)
+    fields = system.unpack(np.asarray(states))
+    kept = [k for k, name in enumerate(FIELDS) if name != "psi"]
+    return motion_rate([fields[:, k] for k in kept], [velocities[:, k] for k in kept])
+
+
+def motion_rate(values, rates):
+    """The largest ``max|x_t| / max|x - x(0)|`` over the pairs of arrays ``(x, x_t)`` (time first); 0 for none."""
+    out = [0.0]
+    for x, rate in zip(values, rates):
+        x, rate = np.asarray(x, dtype=float), np.abs(np.asarray(rate, dtype=float))
         moved = np.abs(x - x[:1]).max() if x.size else 0.0
         if moved > 0 and np.isfinite(moved) and np.isfinite(rate).all():
-            rates.append(float(rate.max() / moved))
-    return max(rates)
+            out.append(float(rate.max() / moved))
+    return max(out)
 
 
 def bdf_note(method, stats, t_end, omega_max, damping, slow_rate):
     """One sentence when a BDF run's steps were held by orders 3-5's stability on an undamped oscillation far faster
-    than the shell's motion (``slow_rate`` below :data:`SCALE_GAP` ``omega_max``), else None."""
+    than the shell's motion (``slow_rate`` below :data:`SCALE_GAP` ``omega_max``), else None. ``slow_rate``: a number,
+    or a function giving it, called only where the rest holds (:func:`states_rate` costs the rates of the states)."""
     steps = stats.get("n_steps", 0)
-    if slow_rate >= SCALE_GAP * omega_max:
-        return None
-    if not isinstance(method, (sundials.CVODEBDF, sundials.IDA)) or getattr(method, "method", "BDF") != "BDF":
-        return None
-    if (method.max_order or 5) <= 2 or steps < MIN_STEPS or omega_max <= 0 or damping >= 0.1 * omega_max:
+    if not high_order_bdf(method) or steps < MIN_STEPS or omega_max <= 0 or damping >= 0.1 * omega_max:
         return None
     held = float(t_end) / steps * omega_max
     if not BDF_HELD[0] <= held <= BDF_HELD[1]:
+        return None
+    if (slow_rate() if callable(slow_rate) else slow_rate) >= SCALE_GAP * omega_max:  # measured last: it may cost
         return None
     return (f"{method.name} took {steps:,} steps of mean {float(t_end) / steps:.3g} s = {held:.2g} / omega_max "
             f"(omega_max = {omega_max:.3g} rad/s, undamped): held by the stability of BDF orders 3-5 on an undamped "
@@ -108,13 +141,21 @@ def bdf_note(method, stats, t_end, omega_max, damping, slow_rate):
             "(--option max_order=2: A-stable BDF2) may take far fewer steps")
 
 
+def run_notes(method, stats, message, t_end, omega_max, damping, slow_rate):
+    """The notes (sentences) on what held the steps of a run of ``method`` to ``t_end`` (``stats``, ``message``: the
+    run's counters and message), ``[]`` where nothing but the tolerance did: :func:`convergence_note` (unless the
+    stop at ``max_steps`` said it) and :func:`bdf_note` (``slow_rate`` as there). What :func:`after_run` says of a
+    run, and ``mol-shell compare`` of each integrator's runs."""
+    said = "failed to converge" in str(message)  # by the stop at max_steps
+    return [note for note in (None if said else convergence_note(method, stats),
+                              bdf_note(method, stats, t_end, omega_max, damping, slow_rate) if t_end > 0 else None)
+            if note]
+
+
 def after_run(method, ds, omega_max, damping):
     """``ds`` (a run's Dataset) with the notes on what held its steps in ``attrs["step_warning"]``, each warned."""
     t_end = float(ds["time"].values[-1]) if ds.sizes.get("time", 0) else 0.0
-    said = "failed to converge" in str(ds.attrs.get("message", ""))  # by the stop at max_steps
-    notes = [note for note in (None if said else convergence_note(method, ds.attrs),
-                               bdf_note(method, ds.attrs, t_end, omega_max, damping, shell_rate(ds)) if t_end > 0
-                               else None) if note]
+    notes = run_notes(method, ds.attrs, ds.attrs.get("message", ""), t_end, omega_max, damping, lambda: shell_rate(ds))
     for note in notes:  # a package warning, as the start's stability note: the command line says it
         warnings.warn(note, MolShellWarning, stacklevel=3)
     if notes:
