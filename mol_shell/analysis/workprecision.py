@@ -327,6 +327,12 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
     ds["note"] = (dims, note.astype(str), {"long_name": "why a point was skipped or did not complete"})
     for name in integrators:  # a comparison cut short: what its runs so far said
         notes.said(name)
+    routes = [notes.route(name) for name in integrators]
+    ds["route"] = ("integrator", [r for r, _ in routes], {"long_name": "the route the integrator's name ran, as a run "
+                   "file's route: compiled C (the SUNDIALS driver) or scikit-sundae (its Python loop); empty: a name "
+                   "with one route, or no point run"})
+    ds["route_reason"] = ("integrator", [why for _, why in routes], {"long_name": "why the integrator's name ran "
+                          "scikit-sundae's Python loop in place of the compiled SUNDIALS driver; empty: it did not"})
     ds.attrs.update({**header(f"work-precision of mol_shell integrators, scene {scene.name}"), "scene": scene.name,
                      "n": n, "times": ",".join(f"{t:g}" for t in times), "units_times": "s", "repeats": repeats,
                      "reference_error": ref_err, "units_reference_error": "1", **ref_info,

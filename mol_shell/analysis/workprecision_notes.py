@@ -1,5 +1,5 @@
 """What a work-precision comparison (:mod:`mol_shell.analysis.workprecision`) says of each integrator beyond its
-errors and times: what held its steps where it was not the tolerance.
+errors and times: what held its steps where it was not the tolerance, and the route its name ran.
 
 * Steps: the notes a run of :func:`~mol_shell.simulate` gets from :mod:`mol_shell.runs.step_limits` (a fixed-point
   ``cvode-adams`` on a stiff viscous wall, BDF orders 3-5 held by an undamped director mode), gathered over an
@@ -7,6 +7,9 @@ errors and times: what held its steps where it was not the tolerance.
   how many of its points do), as a warning and in the file's ``step_warnings``; the note before a run that
   ``max_steps`` cannot reach ``t_end``, once per integrator before its sweep. A comparison said none of them: an
   integrator slow or inaccurate there came with no reason.
+* Route: ``route`` of each integrator as its runs report it (``compiled C``, or ``scikit-sundae`` with the reason
+  the compiled SUNDIALS driver is unavailable, ``route_reason``), as a run file records it; ``""`` for an integrator
+  that has a single route.
 """
 
 from __future__ import annotations
@@ -22,13 +25,13 @@ ATTR = "step_warnings"
 
 
 class SweepNotes:
-    """The notes of a comparison's integrators, gathered point by point (:meth:`point`) and said once per
+    """The notes and routes of a comparison's integrators, gathered point by point (:meth:`point`) and said once per
     integrator (:meth:`said`); ``omega_max`` and ``damping``: the scene's spectrum at the start (``None`` where no
     integrator compared can get a note, :func:`~mol_shell.runs.step_limits.may_note`)."""
 
     def __init__(self, system, omega_max=None, damping=None):
         self.system, self.omega_max, self.damping = system, omega_max, damping
-        self.first, self.count, self.runs = {}, {}, {}
+        self.first, self.count, self.runs, self.routes, self.reasons = {}, {}, {}, {}, {}
         self.before, self.told = {}, set()
 
     def start(self, name, method, t_end):
@@ -41,10 +44,14 @@ class SweepNotes:
             warnings.warn(f"compare: {note}", LongRunWarning, stacklevel=3)
 
     def point(self, name, key, value, method, traj):
-        """One measured point of ``name`` (``key = value``, the run ``traj`` of ``method``): its notes
+        """One measured point of ``name`` (``key = value``, the run ``traj`` of ``method``): its route, and its notes
         (:func:`~mol_shell.runs.step_limits.run_notes`; the rate of the shell's motion from its states, only where
         it decides a note)."""
         self.runs[name] = self.runs.get(name, 0) + 1
+        route, reason = str(traj.stats.get("route", "")), str(traj.stats.get("route_reason", ""))
+        for held, said in ((self.routes, route), (self.reasons, reason)):
+            if said and said not in held.setdefault(name, []):
+                held[name].append(said)
         if self.omega_max is None or not len(traj.t):
             return
         t_end = float(traj.t[-1])
@@ -77,3 +84,7 @@ class SweepNotes:
         """The file's attributes: :data:`ATTR`, one line per integrator with notes (``""``: none)."""
         lines = [note for name in integrators for note in (self.before.get(name), self.line(name)) if note]
         return {ATTR: "\n".join(lines)}
+
+    def route(self, name):
+        """``(route, reason)`` of ``name``'s runs (each ``"; "``-joined where its points differ), ``""`` where none."""
+        return "; ".join(self.routes.get(name, [])), "; ".join(self.reasons.get(name, []))

@@ -286,6 +286,9 @@ class IDA(_Sundials):
 class _Run:
     """One solve: the callbacks SUNDIALS calls, trial-time bookkeeping, and its steps (a stepper of the run loop)."""
 
+    #: why a compiled route's name runs this loop (its stats' ``route_reason``); "" where the name asked for it
+    route_reason = ""
+
     def __init__(self, method, system, compiled, parts, y0):
         self.method, self.system, self.parts = method, system, parts
         self.ida = method.kind == "ida"
@@ -452,6 +455,7 @@ class _Run:
             "n_failed_steps": int(self.failures),
             "linsolver": method.choose_linsolver(self.system.size), "route": "scikit-sundae",
             "jacobian_build_s": float(self.parts.get("build_time_s", 0.0)),
+            **({"route_reason": self.route_reason} if self.route_reason else {}),
         }
 
     def _event_error(self, res):

@@ -149,7 +149,9 @@ class _Compiled:
                 raise drv.DriverUnavailable(residual.vm_reason)
         except drv.DriverUnavailable as exc:
             report_fallback(self.name, str(exc))
-            return self.python_route().start(system, compiled, y0, times, monitor)
+            run = self.python_route().start(system, compiled, y0, times, monitor)
+            run.route_reason = f"the compiled SUNDIALS driver is unavailable ({exc})"  # recorded, as said
+            return run
         return _CompiledRun(self, system, compiled, self.parts(system), y0, times)
 
     def python_route(self):

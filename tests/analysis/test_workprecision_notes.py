@@ -1,6 +1,6 @@
 """A comparison says what held an integrator's steps where it was not the tolerance, as a run does
-(:mod:`mol_shell.runs.step_limits`), once per integrator. ``compare`` said none of it: a fixed-point ``cvode-adams``
-22 rtol off on a stiff wall came without a word."""
+(:mod:`mol_shell.runs.step_limits`), once per integrator; and it records the route each integrator's name ran, as a run
+file does. ``compare`` said none of it: a fixed-point ``cvode-adams`` 22 rtol off on a stiff wall came without a word."""
 
 import warnings
 
@@ -10,6 +10,8 @@ import pytest
 import mol_shell
 from mol_shell.analysis import workprecision as wp
 from mol_shell.analysis.workprecision import work_precision
+from mol_shell.discretization import sundials_driver
+from mol_shell.integrators import sundials_c
 
 STIFF = mol_shell.TwistedCylinder(eta_mu=1e4, eta_lambda=2e4)
 THIN = mol_shell.TwistedCylinder(h=1e-6)
@@ -17,7 +19,7 @@ THIN = mol_shell.TwistedCylinder(h=1e-6)
 
 @pytest.fixture(autouse=True)
 def stand_in_reference(monkeypatch):
-    """The comparisons' reference runs (rtol 1e-12) left out: the notes come from the compared runs alone
+    """The comparisons' reference runs (rtol 1e-12) left out: the notes and routes come from the compared runs alone
     (the thin wall's reference does not complete within max_steps), and the errors are not the point here."""
 
     def reference(system, compiled, y0, times, progress=None):
@@ -44,6 +46,7 @@ def test_a_fixed_point_adams_held_by_a_stiff_wall_is_said_once_for_its_sweep():
     assert notes[0].startswith("compare, at rtol = 0.0001 and 1 more of its 2 points: cvode-adams's fixed-point")
     assert 'iteration="newton"' in notes[0] and "cvode-bdf or ida" in notes[0]
     assert ds.attrs["step_warnings"] == notes[0]
+    assert ds.route.values.tolist() == ["compiled C"] and ds.route_reason.values.tolist() == [""]
 
 
 def test_bdf_held_by_an_undamped_director_mode_is_said_naming_max_order_2():
@@ -55,3 +58,19 @@ def test_bdf_held_by_an_undamped_director_mode_is_said_naming_max_order_2():
         "--option max_order=2" in notes[0]), said
     assert ds.attrs["step_warnings"] == notes[0]
 
+
+def test_a_name_that_ran_scikit_sundaes_loop_is_recorded_with_why(monkeypatch):
+    """The compiled SUNDIALS driver unavailable: cvode-bdf runs scikit-sundae's loop, said on stderr; its compare file
+    said nothing of it (and a run file said route = scikit-sundae without why). Both now record the reason."""
+
+    def unavailable():
+        raise sundials_driver.DriverUnavailable("no driver here")
+
+    monkeypatch.setattr(sundials_driver, "driver", unavailable)
+    monkeypatch.setattr(sundials_c, "_REPORTED", set())
+    ds, _ = _compare(mol_shell.TwistedCylinder(), {"cvode-bdf": {"rtol": [1e-4]}}, [0.0, 1e-4])
+    assert ds.route.values.tolist() == ["scikit-sundae"]
+    assert ds.route_reason.values.tolist() == ["the compiled SUNDIALS driver is unavailable (no driver here)"]
+    run = mol_shell.simulate(mol_shell.TwistedCylinder(), "cvode-bdf", n=11, times=[0.0, 1e-4], progress=False,
+                             stresses=False)
+    assert run.attrs["route"] == "scikit-sundae" and run.attrs["route_reason"] == ds.route_reason.values[0]
