@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import re
 import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -14,7 +15,7 @@ else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 from mol_shell._core import interrupts
-from mol_shell._core.constants import ATOL_MIN, FIELDS
+from mol_shell._core.constants import ATOL_MIN, FIELDS, RTOL_RANGE
 from mol_shell._core.errors import ParameterError, is_number, show
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.loop import declared, refusal, typed_value
@@ -23,7 +24,8 @@ from mol_shell.results.dataset import NETCDF_SUFFIXES  # noqa: F401 (the outputs
 from mol_shell.runs.resources import check_saved_times
 from mol_shell.runs.simulate import check_options, integrator_options
 from mol_shell.scenes import SCENES, get_scene
-from mol_shell.scenes.files import check_run_together, load_scene
+from mol_shell.scenes.files import RUN as RUN_KEYS
+from mol_shell.scenes.files import _run_options, check_run_together, load_scene
 
 #: exit codes: an internal error (a bug), bad input, a run stopped at a model limit, Ctrl-C, and the reader of
 #: the output gone (``mol-shell scenes | head -1``: 128 + SIGPIPE, as a command the pipe stopped)
@@ -71,6 +73,9 @@ def scene_and_run(text, sets=None):
         # --set over the file's values, before the scene is made; run_settings checks [run] with our options
         return load_scene(text, with_run=True, together=False, overrides=parse_sets(sets))
     return get_scene(text, **parse_sets(sets)), {}
+
+#: the range of ``--rtol`` as its refusal says it (the scipy peers check a narrower one, :func:`check_options`)
+RTOL_ALLOWED = f"[{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g})"
 
 #: integrator options the command line has flags for; the others go by --option NAME=VALUE
 FLAGS = {"dt": "--dt", "rtol": "--rtol", "atol": "--atol", "max_step": "--max-step", "n": "--n",
@@ -289,6 +294,43 @@ def unchecked_number_arg(name, allowed):
     return convert
 
 
+class Refused:
+    """The value of an option that its own check refused (``--atol -1``), kept until the command knows that it takes
+    the option: "not an option of leapfrog" (of a study of paths, of a start without ``--from``, of the figure) is
+    said before a value's range, whatever the value (``--atol -1`` on leap-frog was told atol's range, then ``--atol
+    1e-6`` that leap-frog has no atol). :func:`refuse_late` says the refusal."""
+
+    def __init__(self, option, text, message):
+        self.option, self.text, self.message = option, str(text), message
+
+    def __repr__(self):
+        return _number_text(self.text)
+
+    def refusal(self):
+        return ParameterError(self.option, self.text, "", message=self.message)
+
+
+def checked_late(option, convert):
+    """An argparse ``type``: ``convert``'s value, or where it refuses the text a :class:`Refused` that
+    :func:`refuse_late` says once the command has refused the options it does not take."""
+
+    def late(text):
+        try:
+            return convert(text)
+        except argparse.ArgumentTypeError as exc:
+            return Refused(option, text, str(exc))
+
+    return late
+
+
+def refuse_late(args, names=None):
+    """Refuse the first option of ``args`` (of ``names`` only, given) whose value its own check refused
+    (:func:`checked_late`): called by a command once it has refused the options it does not take."""
+    for name, value in vars(args).items():
+        if isinstance(value, Refused) and (names is None or name in names):
+            raise value.refusal()
+
+
 def max_step_arg():
     """The argparse ``type`` of ``--max-step``: ``[0, inf) s``, 0 for no bound, as the integrators take it (its
     declared range, :class:`~mol_shell.integrators.tolerances.Tolerances`)."""
@@ -405,6 +447,12 @@ def run_settings(args, run, scene, n):
         for key in sorted(set(from_file) - set(allowed)):
             print(f"mol-shell: note: the scene file's [run] {key} = {from_file.pop(key)!r} is not an option of "
                   f"{integrator} (--integrator): left out", file=sys.stderr)
+        # the file's tolerances its own integrator does not take, read unchecked (load_scene), checked for this one
+        replaced = set(integrator_option_args(args)) | set(parse_sets(getattr(args, "option", None), "--option"))
+        if integrator in INTEGRATORS and str(args.scene).endswith(".toml"):
+            _run_options(str(Path(args.scene).expanduser()), {"integrator": integrator} | {
+                key: value for key, value in from_file.items() if key in RUN_KEYS[4:] and key not in replaced},
+                together=False, cls=type(scene))
         while integrator in INTEGRATORS and from_file:  # options it has but refuses as set (jac_every without Newton)
             try:
                 INTEGRATORS[integrator](**{k: v for k, v in from_file.items() if k in allowed})
@@ -417,12 +465,17 @@ def run_settings(args, run, scene, n):
     named = option_args(args, integrator, scene)
     given = named | integrator_option_args(args)
     options = from_file | given
+    late = [name for name, value in given.items() if isinstance(value, Refused)]  # said once the integrator takes it
     try:
-        check_options(scene, integrator, options)
+        check_options(scene, integrator, {k: v for k, v in options.items() if k not in late})
+        for name in late:
+            if name not in integrator_options(scene, integrator):
+                raise ParameterError.not_an_option(name, integrator, integrator_options(scene, integrator))
     except ParameterError as exc:
         if exc.name in from_file and exc.name not in given:  # the file's option: said with the file and table
             raise ParameterError(exc.name, exc.value, exc.allowed, message=f"{args.scene}: [run] {exc}") from None
         raise _as_option(exc, named, args) from None
+    refuse_late(args)
     try:  # across each other, ours applied: a file's option blamed is said with the file (check_run_together)
         check_run_together(args.scene, integrator, options, given)
     except ParameterError as exc:

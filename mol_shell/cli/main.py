@@ -33,10 +33,12 @@ from mol_shell.cli.analysis import register_compare, register_modes, register_st
 from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
     NETCDF_SUFFIXES,
+    RTOL_ALLOWED,
     SCENE_HELP,
     SCENE_METAVAR,
     Parser,
     as_stopped,
+    checked_late,
     choice_arg,
     integer_arg,
     interrupted_code,
@@ -44,6 +46,7 @@ from mol_shell.cli.args import (
     number_arg,
     parse_atol,
     plural,
+    refuse_late,
     run_settings,
     say_stand_ins,
     unchecked_number_arg,
@@ -165,6 +168,7 @@ def cmd_plot(args):
             raise ParameterError(option, value, f"options of {where}",
                                  message=f"{option} is {only} (options of --figure fibres: --time, --at-s, --fibres, "
                                  "--thickness-scale; of --figure history: --at-s)")
+    refuse_late(args, FIGURE_OPTIONS)  # their values, once the figure is known to take them
     with said_as_options():
         if args.figure == "fibres":
             options = {"time": args.time, "s": args.at_s, "thickness_scale": args.thickness_scale}
@@ -232,22 +236,22 @@ def make_parser():
                      help="nodes in s (default: a scene file's [run] n, else 40)")
     run.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None,
                      help="final time, s (default: a scene file's [run] t_end or times)")
-    run.add_argument("--dt", type=number_arg("--dt", unit="s"), default=None,
+    run.add_argument("--dt", type=checked_late("--dt", number_arg("--dt", unit="s")), default=None,
                      help="leap-frog step, s (default: a scene file's [run] dt, else 1e-6); adaptive integrators "
                      "refuse it")
     run.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
     run.add_argument("--set", action="append", metavar="NAME=VALUE", help="scene parameter, repeatable")
-    # its range checked once the integrator is known to take it (run_settings: check_options)
-    run.add_argument("--rtol", type=unchecked_number_arg("--rtol", f"[{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g})"),
+    # the integrator's options: their values checked once the integrator is known to take them (run_settings)
+    run.add_argument("--rtol", type=checked_late("--rtol", unchecked_number_arg("--rtol", RTOL_ALLOWED)),
                      default=None,
                      help=f"relative tolerance in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}), default {Tolerances.rtol:g} "
                      f"(adaptive integrators; the scipy peers from {SCIPY_RTOL_MIN:.4g}, SciPy's floor)")
-    run.add_argument("--atol", type=parse_atol, default=None,
+    run.add_argument("--atol", type=checked_late("--atol", parse_atol), default=None,
                      help=f"absolute tolerance in {ATOL_RANGE}, default {Tolerances.atol:g} (adaptive integrators): "
                      "absolute, in the state's units (m for z and r, rad for chi, theta and psi; their rates, m/s and "
                      "rad/s, for the momenta, which are scaled by their mass); one value, or per field as "
                      "r=1e-9,theta=1e-10")
-    run.add_argument("--max-step", type=max_step_arg(), default=None,
+    run.add_argument("--max-step", type=checked_late("--max-step", max_step_arg()), default=None,
                      help="largest step, s (adaptive; 0: unbounded, the default)")
     run.add_argument("--option", action="append", metavar="NAME=VALUE",
                      help="another option of the integrator, repeatable: restart=0 (leapfrog), jac_every=200, "
@@ -275,17 +279,17 @@ def make_parser():
                       "else the deformed meridian, chi and psi against s, the radius at the equator against time and "
                       "the energy-work balance; fibres: a section with its material fibres in the reference state "
                       "and at --time (figure 1); history: the radius against time and the energy-work balance")
-    plot.add_argument("--time", type=number_arg("--time", 0.0, low_closed=True, unit="s"), default=None,
+    plot.add_argument("--time", type=checked_late("--time", number_arg("--time", 0.0, low_closed=True, unit="s")), default=None,
                       help="fibres: the saved time nearest to this (default the last)")
-    plot.add_argument("--at-s", type=number_arg("--at-s", -np.inf, unit="m"), default=None,
+    plot.add_argument("--at-s", type=checked_late("--at-s", number_arg("--at-s", -np.inf, unit="m")), default=None,
                       help="fibres: the section at the node nearest to this s (default the first node, or on a shell with a "
                       "pole there the widest section); history and "
                       "the meridian figure: the radius drawn over time at the node nearest to this s (default the "
                       "equator: the node of largest reference radius, the middle one where several have it, as on "
                       "a vessel's cylinder)")
-    plot.add_argument("--fibres", type=integer_arg("--fibres", 1, MAX_FIBRES), default=None,
+    plot.add_argument("--fibres", type=checked_late("--fibres", integer_arg("--fibres", 1, MAX_FIBRES)), default=None,
                       help=f"fibres: how many, 1 to {MAX_FIBRES} (default 24)")
-    plot.add_argument("--thickness-scale", type=number_arg("--thickness-scale"), default=None,
+    plot.add_argument("--thickness-scale", type=checked_late("--thickness-scale", number_arg("--thickness-scale")), default=None,
                       help="fibres: magnification of the drawn thickness, up to the section's radius over the wall's "
                       "thickness (the drawn wall at most as thick as the radius; default: 0.2 of the radius)")
     plot.add_argument("--response", default=None, help="a path file (mol-shell path): the response the load is drawn "

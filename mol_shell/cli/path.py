@@ -23,11 +23,13 @@ from mol_shell.cli.args import (
     SCENE_METAVAR,
     Once,
     as_stopped,
+    checked_late,
     integer_arg,
     interrupted_code,
     number_arg,
     parse_sets,
     plural,
+    refuse_late,
     say_stand_ins,
     scene_and_run,
 )
@@ -102,6 +104,7 @@ def _continued(args):
         if value is not None:
             raise ParameterError(option, value, "nothing with --from", message=f"{option} is not taken with --from "
                                  f"PATH.nc: {why}")
+    refuse_late(args, ("step", "stop"))  # their values, once the options are known to be taken
     if args.stop is None:
         raise ParameterError.missing("--stop", "give --stop X with --from PATH.nc (where the continued load goes)")
     source = read_path(args.from_path)
@@ -136,6 +139,7 @@ def cmd_path(args):
             if value is not None:
                 raise ParameterError(option, value, "an option with --from PATH.nc",
                                      message=f"{option} is an option with --from PATH.nc only")
+        refuse_late(args, ("step", "stop"))
         if args.scene is None or args.param is None:
             missing = "SCENE_OR_FILE" if args.scene is None else "--param"
             raise ParameterError.missing(missing, "give a scene (or a scene file) and --param NAME=START:STOP, or "
@@ -207,9 +211,9 @@ def register_path(sub):
     p.add_argument("--from", dest="from_path", metavar="PATH.nc", default=None,
                    help="go on along a path written by mol-shell path, from its last step (or --step K) to --stop X, "
                    "in place of SCENE_OR_FILE and --param: the path's scene and load")
-    p.add_argument("--step", type=integer_arg("--step", 0), default=None,
+    p.add_argument("--step", type=checked_late("--step", integer_arg("--step", 0)), default=None,
                    help="with --from: the step to go on from (default: the last)")
-    p.add_argument("--stop", type=number_arg("--stop", -np.inf), default=None,
+    p.add_argument("--stop", type=checked_late("--stop", number_arg("--stop", -np.inf)), default=None,
                    help="with --from: where the continued load goes (in the path's units)")
     p.add_argument("-o", "--output", required=True,
                    help="netCDF file to write, .nc (missing directories are created)")
@@ -217,16 +221,21 @@ def register_path(sub):
 
 
 # -- starting a run or modes from a path ------------------------------------------------------------------------
+#: the options of a start from a path (their values checked once the command knows it starts from one)
+START_OPTIONS = ("step", "point", "perturb")
+
+
 def add_start_options(p, perturb=False):
     """``--from PATH.nc`` with ``--step K`` or ``--point K`` (and ``--perturb A`` for a run) on command ``p``."""
     p.add_argument("--from", dest="from_path", metavar="PATH.nc", default=None,
                    help="start from an equilibrium path written by mol-shell path (in place of SCENE_OR_FILE: the "
                    "path's scene, its load at the state's value, --set on top)")
-    p.add_argument("--step", type=integer_arg("--step", 0), default=None, help="with --from: the path's step K")
-    p.add_argument("--point", type=integer_arg("--point", 0), default=None,
+    p.add_argument("--step", type=checked_late("--step", integer_arg("--step", 0)), default=None,
+                   help="with --from: the path's step K")
+    p.add_argument("--point", type=checked_late("--point", integer_arg("--point", 0)), default=None,
                    help="with --from: the path's critical point K")
     if perturb:
-        p.add_argument("--perturb", type=number_arg("--perturb", -math.inf), default=None,
+        p.add_argument("--perturb", type=checked_late("--perturb", number_arg("--perturb", -math.inf)), default=None,
                        help="with --from and --point: add this amplitude times the critical mode (its largest "
                        "entry 1, m or rad)")
 
@@ -241,6 +250,7 @@ def start_of(args):
             if value is not None:
                 raise ParameterError(option, value, "an option with --from PATH.nc",
                                      message=f"{option} is an option with --from PATH.nc only")
+        refuse_late(args, START_OPTIONS)
         if args.scene is None:
             raise ParameterError.missing("SCENE_OR_FILE", "give a scene, a scene file or --from PATH.nc")
         scene, run = scene_and_run(args.scene, args.set)
@@ -248,6 +258,7 @@ def start_of(args):
     if args.scene is not None:
         raise ParameterError("--from", args.from_path, "a path file in place of SCENE_OR_FILE",
                              message=f"give SCENE_OR_FILE ({args.scene}) or --from PATH.nc, not both")
+    refuse_late(args, START_OPTIONS)
     ds = read_path(args.from_path)
     scene, n, fields, info = path_start(ds, step=args.step, point=args.point, perturb=perturb or 0.0, names=FLAGS)
     if args.n is not None and args.n != n:

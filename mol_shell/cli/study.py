@@ -17,8 +17,10 @@ from mol_shell.cli.args import (
     EXIT_INCOMPLETE,
     EXIT_USAGE,
     NETCDF_SUFFIXES,
+    RTOL_ALLOWED,
     SCENE_HELP,
     SCENE_METAVAR,
+    checked_late,
     integer_arg,
     interrupted_code,
     max_step_arg,
@@ -28,9 +30,11 @@ from mol_shell.cli.args import (
     parse_range_or_list,
     parse_sets,
     plural,
+    refuse_late,
     run_settings,
     say_stand_ins,
     scene_and_run,
+    unchecked_number_arg,
 )
 from mol_shell.cli.inputs import reason_with_the_file
 from mol_shell.cli.path import as_path_option, parse_param
@@ -108,6 +112,7 @@ def cmd_study(args):
             name = "--" + option.replace("_", "-")
             raise ParameterError(name, getattr(args, option), "an option of a study of paths (--path)",
                                  message=f"{name} is an option of a study of paths (--path), not of one of runs")
+    refuse_late(args, ("steps", "max_steps"))  # the run's options: once its integrator is known (run_settings)
     sets = parse_sets(args.set)
     scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] table gives defaults, the options win
     n = args.n or run.get("n", 40)
@@ -235,6 +240,7 @@ def _path_study(args, scene, vary, n):
             name = "--" + option.replace("_", "-")
             raise ParameterError(name, getattr(args, option), "options of a study of runs",
                                  message=f"{name} is an option of a study of runs, not of one of paths (--path)")
+    refuse_late(args)
     name, start, stop = parse_param(args.path, "--path")
 
     def trace():
@@ -262,13 +268,13 @@ def register_study(subparsers):
                    help="nodes in s (default: a scene file's [run] n, else 40)")
     p.add_argument("--t-end", type=number_arg("--t-end", unit="s"), default=None, help="final time, s")
     p.add_argument("--times", default=None, help="saved times: T0:T1:DT (T1 included) or t1,t2,...")
-    p.add_argument("--dt", type=number_arg("--dt", unit="s"), default=None,
+    p.add_argument("--dt", type=checked_late("--dt", number_arg("--dt", unit="s")), default=None,
                    help="leap-frog step, s (default: a scene file's [run] dt, else 1e-6); adaptive integrators "
                    "refuse it")
-    p.add_argument("--rtol", type=number_arg("--rtol", *RTOL_RANGE, low_closed=True), default=None,
+    p.add_argument("--rtol", type=checked_late("--rtol", unchecked_number_arg("--rtol", RTOL_ALLOWED)), default=None,
                    help=f"relative tolerance in [{RTOL_RANGE[0]:g}, {RTOL_RANGE[1]:g}) (adaptive integrators)")
-    p.add_argument("--atol", type=parse_atol, default=None, help="one value, or per field as r=1e-9,theta=1e-10")
-    p.add_argument("--max-step", type=max_step_arg(), default=None,
+    p.add_argument("--atol", type=checked_late("--atol", parse_atol), default=None, help="one value, or per field as r=1e-9,theta=1e-10")
+    p.add_argument("--max-step", type=checked_late("--max-step", max_step_arg()), default=None,
                    help="largest step, s (adaptive; 0: unbounded, the default)")
     p.add_argument("--option", action="append", metavar="NAME=VALUE",
                      help="another option of the integrator, repeatable: restart=0 (leapfrog), jac_every=200, "
@@ -282,9 +288,9 @@ def register_study(subparsers):
     p.add_argument("--path", default=None, metavar="NAME=START:STOP",
                    help="a study of equilibrium paths (mol-shell path) in place of runs: one path per case, their "
                    "critical points gathered (the run options --integrator, --t-end, ... are refused)")
-    p.add_argument("--steps", type=integer_arg("--steps", 1, STEPS_MAX), default=None,
+    p.add_argument("--steps", type=checked_late("--steps", integer_arg("--steps", 1, STEPS_MAX)), default=None,
                    help=f"with --path: the first step of each path covers 1/STEPS of the range (default {STEPS})")
-    p.add_argument("--max-steps", type=integer_arg("--max-steps", 1), default=None,
+    p.add_argument("--max-steps", type=checked_late("--max-steps", integer_arg("--max-steps", 1)), default=None,
                    help=f"with --path only: each path ends after this many steps (default {MAX_STEPS})")
     p.add_argument("-o", "--output", required=True,
                    help="netCDF file, .nc; finished cases kept next to it in <stem>.cases/ (missing directories are "

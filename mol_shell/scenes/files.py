@@ -203,7 +203,16 @@ def _run_options(source, run, together=True, cls=None):
 
     integrator = run.get("integrator", "leapfrog")
     extra = declared(INTEGRATORS[integrator]) if integrator in INTEGRATORS else {}
+    taken = _taken(integrator, cls)
+    if together and taken is None and integrator in INTEGRATORS:  # the unshearable scene: ida, its DAE, or leapfrog
+        raise _fail(source, "run", ParameterError("integrator", integrator, "{" + ", ".join(UNSHEARABLE_INTEGRATORS)
+                    + "}", hint="ida solves the unshearable DAE, leapfrog the free shell from the same state"))
     for key, value in run.items():
+        if taken is not None and key not in taken and key not in RUN[:4] and (key in RUN or key in extra):
+            if together:  # not an option of the integrator, said before its value is checked (--atol -1 on leapfrog)
+                raise _fail(source, "run", ParameterError.not_an_option(key, integrator, taken))
+            out[key] = value  # the caller checks it for the integrator it runs (--integrator), or leaves it out
+            continue
         if key not in RUN and key in extra:  # an option of the integrator beyond the tolerances: its declared range
             value = typed_value(extra[key], value)  # "none" (any case) where the option takes None
             if not extra[key].check(value):
@@ -249,24 +258,20 @@ def _run_options(source, run, together=True, cls=None):
         else:  # t_end, dt
             value = positive(key, value)
         out[key] = value
-    if together:
-        check_taken(source, integrator, out, cls)
+    if together:  # an option the integrator does not take: refused above, before its value
         check_run_together(source, integrator, out)
     return out
 
 
-def check_taken(source, integrator, run, cls=None):
-    """Refuse, naming the file ``source`` and ``[run]``, an option of ``run`` that ``integrator`` does not take for
-    scenes of class ``cls`` (``rtol`` on leap-frog, ``dt`` on an adaptive one) as ``simulate`` and ``mol-shell run``
-    do (:func:`mol_shell.runs.simulate.integrator_options`; the unshearable scene: ``ida``, its DAE, or leapfrog)."""
+def _taken(integrator, cls=None):
+    """The options ``integrator`` takes for scenes of class ``cls`` as ``simulate`` and ``mol-shell run`` do
+    (:func:`mol_shell.runs.simulate.integrator_options`; the unshearable scene: ``ida``, its DAE, or leapfrog); ``None``
+    for an integrator that runs none of them."""
     dae = cls is not None and issubclass(cls, Unshearable)
-    if dae and integrator not in UNSHEARABLE_INTEGRATORS:
-        raise _fail(source, "run", ParameterError("integrator", integrator, "{" + ", ".join(UNSHEARABLE_INTEGRATORS)
-                    + "}", hint="ida solves the unshearable DAE, leapfrog the free shell from the same state"))
-    taken = set(UNSHEARABLE_DAE_OPTIONS) if dae and integrator == "ida" else {
+    if integrator not in INTEGRATORS or dae and integrator not in UNSHEARABLE_INTEGRATORS:
+        return None
+    return set(UNSHEARABLE_DAE_OPTIONS) if dae and integrator == "ida" else {
         f.name for f in dataclasses.fields(INTEGRATORS[integrator])}
-    for key in [k for k in run if k not in RUN[:4] and k not in taken]:  # RUN[:4]: integrator, n, t_end, times
-        raise _fail(source, "run", ParameterError.not_an_option(key, integrator, taken))
 
 
 def check_run_together(source, integrator, run, given=()):

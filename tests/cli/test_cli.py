@@ -131,7 +131,8 @@ WORDING = [
     (["--dt", "0", "--t-end", "0.01"], "--dt = 0 is outside (0, inf) s"),
     (["--t-end", "abc"], "--t-end = 'abc' is not a number; allowed: (0, inf) s"),
     (["--dt", "inf", "--t-end", "0.01"], "--dt = inf is not a finite number; allowed: (0, inf) s"),
-    (["--t-end", "0.01", "--perturb", "nan"], "--perturb = nan is not a finite number; allowed: finite numbers"),
+    # an option of a start from a path: said to be one before its value (tests/cli/test_not_an_option_first.py)
+    (["--t-end", "0.01", "--perturb", "nan"], "--perturb is an option with --from PATH.nc only"),
     (["--t-end", "0.01", "--rtol", "1e-6"], "rtol is not an option of leapfrog (its options: chunk, dt, restart)"),
     (["--t-end", "0.01", "--atol", "1e-9"], "atol is not an option of leapfrog (its options: chunk, dt, restart)"),
     (["--t-end", "0.01", "--max-step", "1e-3"], "max_step is not an option of leapfrog (its options: chunk, dt, restart)"),
