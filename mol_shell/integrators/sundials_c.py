@@ -70,6 +70,14 @@ class _Compiled:
     #: wall time of one C call at most, s: the latency of progress lines and of Ctrl-C
     CHUNK_SECONDS = 0.2
 
+    def __new__(cls, *args, **kwargs):
+        # the options given, told apart from defaults: a Newton option given at its default (jac_every = 0, SUNDIALS'
+        # 51 steps under Newton's) to a fixed-point iteration was taken silently, one given at another value refused
+        self = super().__new__(cls)
+        names = [f.name for f in dataclasses.fields(cls) if f.init]
+        object.__setattr__(self, "_given", frozenset(names[:len(args)]) | frozenset(kwargs))
+        return self
+
     def fixed_point(self):
         return getattr(self, "iteration", "newton") == "fixed-point"
 
@@ -88,9 +96,11 @@ class _Compiled:
             default = next(f.default for f in dataclasses.fields(self) if f.name == "iteration")
             fixed = self.fixed_point()
             what, other = ("Newton's iteration", "newton") if fixed else ("the fixed-point iteration", "fixed-point")
+            given = getattr(self, "_given", frozenset())
             for name, unused in self.NEWTON_ONLY if fixed else self.FIXED_POINT_ONLY:
                 value = getattr(self, name, unused)
-                if value != unused:
+                # Newton's options given at all (their defaults are Newton's settings too); anderson's 0 is "none"
+                if value != unused or (fixed and name in given):
                     raise ParameterError(name, value, f"its default ({unused}) with iteration = {iteration!r}",
                                          message=f"{name} = {value!r} is an option of {what}, which {self.name} runs "
                                          f"only with iteration = {other!r} (its iteration here is {iteration!r}, "
