@@ -30,7 +30,8 @@ from mol_shell.runs import asked_times
 from mol_shell.runs.building import parse_times
 from mol_shell.runs.simulate import integrator_options, leapfrog_times
 from mol_shell.scenes import SCENES, get_scene
-from mol_shell.scenes.files import _run_options, scene_toml
+from mol_shell.scenes.file_writer import scene_toml
+from mol_shell.scenes.files import _run_options
 
 #: options written whatever their value: what a reader of the file looks for first
 ALWAYS = ("dt", "rtol", "atol")
@@ -204,7 +205,7 @@ def _stopped(ds):
 
 
 def run_toml(ds, name="FILE", source=None):
-    """A scene file (:func:`~mol_shell.scenes.files.scene_toml`) that runs run ``ds`` again: its scene and a
+    """A scene file (:func:`~mol_shell.scenes.file_writer.scene_toml`) that runs run ``ds`` again: its scene and a
     ``[run]`` table as it ran; ``source``, the file's name for the header."""
     scene, values, laws = text_scene(ds, name)
     version = str(ds.attrs.get("mol_shell_version", "?"))
@@ -321,7 +322,7 @@ def refuse_scene_file(filename, name="FILE"):
 
 
 def path_toml(ds, source=None):
-    """A scene file (:func:`~mol_shell.scenes.files.scene_toml`) of the scene of path ``ds`` (``mol-shell path``'s:
+    """A scene file (:func:`~mol_shell.scenes.file_writer.scene_toml`) of the scene of path ``ds`` (``mol-shell path``'s:
     its parameters from the attrs, the continued one at the scene's own value where it gave one, else left out) with
     ``[run] n`` the path's, and comments that give the ``mol-shell path`` command tracing it again (its ``--param``
     range; where it ended short, how to go on); ``source``, the file's name for the header."""

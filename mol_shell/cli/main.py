@@ -82,7 +82,7 @@ from mol_shell.results.dataset import write_netcdf
 from mol_shell.results.stresses import nan_stresses
 from mol_shell.runs.simulate import NO_SPACE_FOR_STRESSES, simulate
 from mol_shell.scenes import SCENES, summary
-from mol_shell.scenes.files import scene_toml
+from mol_shell.scenes.file_writer import scene_toml
 from mol_shell.scenes.listing import parameter_listing
 from mol_shell.views.fibres import MAX_FIBRES, plot_fibres
 from mol_shell.views.figures import image_formats

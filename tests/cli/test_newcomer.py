@@ -17,7 +17,7 @@ from mol_shell.cli.main import main, make_parser
 from mol_shell.model.geometry import PointsMeridian
 from mol_shell.results.dataset import read_netcdf
 from mol_shell.scenes import UNITS
-from mol_shell.scenes.files import scene_toml
+from mol_shell.scenes.file_writer import scene_toml
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 SPHERE_FILE = 'scene = "sphere"\n[geometry]\na = 2.0\n[material]\nnu = 0.3\n[run]\nn = 7\nt_end = 2e-6\n'

@@ -23,7 +23,8 @@ from mol_shell.cli.main import main
 from mol_shell.discretization import compiled, kernel_cache
 from mol_shell.results import study_store
 from mol_shell.results.dataset import write_netcdf
-from mol_shell.scenes.files import load_scene, scene_toml
+from mol_shell.scenes.file_writer import scene_toml
+from mol_shell.scenes.files import load_scene
 from mol_shell.scenes.shells import MeridianShell
 
 ROOT = Path(__file__).resolve().parents[2]
