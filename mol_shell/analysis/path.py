@@ -483,8 +483,8 @@ def path(scene, parameter, start, stop, n=40, *, steps=20, max_steps=200, ds=Non
             message += f"; no switch: {no_switch}"
         if record.bar is not None:
             record.bar.close()
-        ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop,
-                          near_critical(record), noted)
+        near = near_critical(record)  # its search between the steps is part of the path's time
+        ds = path_dataset(eq, scene, record, status, message, time.perf_counter() - clock, start, stop, near, noted)
     if initial is not None:
         ds.attrs["initial_state"] = "the fields given (initial), at rest"
     ds.attrs["arclength_displacement_scale"], ds.attrs["arclength_load_scale"] = tracer.scales

@@ -122,9 +122,9 @@ def least_eigenvalue(record, k, m):
     fa, fx, fb = (float(record.eigen[j][m]) for j in (k - 1, k, k + 1))
     best, tol = here, LOCATE_RTOL * record.tracer.l_scale
     moves = [math.inf, math.inf]  # the distances of the trials from the best state before them
+    if b - a <= 1.01 * tol:
+        return (*best, True)
     for _ in range(LOCATE_ITER):
-        if b - a <= 1.01 * tol:
-            return (*best, True)
         u = _vertex(a, x, b, fa, fx, fb)
         if not a < u < b or abs(u - x) >= moves[-2] / 2:  # as Brent: a vertex that does not close in, a golden section
             u = x + GOLDEN * (b - x) if b - x > x - a else x - GOLDEN * (x - a)
@@ -150,6 +150,8 @@ def least_eigenvalue(record, k, m):
             a, fa = u, fu
         else:
             b, fb = u, fu
+        if b - a <= 1.01 * tol:  # closed by this trial (the last one's too)
+            return (*best, True)
     return (*here, False)
 
 

@@ -26,7 +26,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell._core.paths import writable_path
 from mol_shell._core.version import __version__
 from mol_shell.analysis.path import path
-from mol_shell.analysis.path_dataset import SYMMETRY_NOTE
+from mol_shell.analysis.path_dataset import GRID_SHARE_NAME, SYMMETRY_NOTE
 from mol_shell.analysis.path_inputs import check_shared
 from mol_shell.results.cf import attr_value, header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, write_netcdf
@@ -244,20 +244,18 @@ def _gather(scene, dims, coords, cases, results, parameter):
 #: what a study gathers of each path's critical modes, as the path file has them: ``(name, dim, fill, dtype, units
 #: and long name where no case's file has the variable)``; padded with ``fill`` past a case's last point
 MODES = (
-    ("point_grid_mode_share", "point", np.nan, float, "1",
-     ("share of the critical mode's amplitude in the node-to-node (-1)^i pattern (from 0.5: a grid mode, the load "
-      "the grid's)")),
+    ("point_grid_mode_share", "point", np.nan, float, "1", GRID_SHARE_NAME),
     ("near_parameter", "near", np.nan, float, None,
-     "the continued load at the near-critical point: an estimate of the perfect shell's critical load"),
-    ("near_step", "near", -1, np.int32, "1", "the step of the near-critical point"),
+     "the load at the near-critical point (where the lowest eigenvalue has its local minimum, searched between the "
+     "steps around it; the step's where near_located is 0): an estimate of the perfect shell's critical load"),
+    ("near_step", "near", -1, np.int32, "1",
+     "the step where the lowest eigenvalue is least of the steps (the minimum lies between the steps around it)"),
     ("near_located", "near", -1, np.int8, "1",
      "1 where the eigenvalue's minimum was located between the steps, 0 where the step's load is kept"),
     ("near_eigenvalue", "near", np.nan, float, "s-2", "the lowest non-negative eigenvalue at its local minimum"),
     ("near_eigenvalue_share", "near", np.nan, float, "1", "that eigenvalue over its value at the path's start"),
     ("near_family", "near", "", object, None, "family of the near-critical mode: torsional or axisymmetric"),
-    ("near_grid_mode_share", "near", np.nan, float, "1",
-     ("share of the near-critical mode's amplitude in the node-to-node (-1)^i pattern (from 0.5: a grid mode, the "
-      "load the grid's)")),
+    ("near_grid_mode_share", "near", np.nan, float, "1", GRID_SHARE_NAME),
 )
 #: what a padded entry reads as, said in each gathered variable's long name
 _PADDING = {"point": "past a case's last critical point", "near": "past a case's last near-critical point"}

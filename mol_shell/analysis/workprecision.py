@@ -329,8 +329,8 @@ def work_precision(scene, integrators=None, *, n=40, times=PAPER_TIMES, repeats=
         notes.said(name)
     routes = [notes.route(name) for name in integrators]
     ds["route"] = ("integrator", [r for r, _ in routes], {"long_name": "the route the integrator's name ran, as a run "
-                   "file's route: compiled C (the SUNDIALS driver) or scikit-sundae (its Python loop); empty: a name "
-                   "with one route, or no point run"})
+                   "file's route: compiled C (the SUNDIALS driver) or scikit-sundae (its Python loop, the sksundae-* names' "
+                   "own); empty: a name without SUNDIALS, or no point run"})
     ds["route_reason"] = ("integrator", [why for _, why in routes], {"long_name": "why the integrator's name ran "
                           "scikit-sundae's Python loop in place of the compiled SUNDIALS driver; empty: it did not"})
     ds.attrs.update({**header(f"work-precision of mol_shell integrators, scene {scene.name}"), "scene": scene.name,

@@ -82,7 +82,8 @@ class SweepNotes:
 
     def attrs(self, integrators):
         """The file's attributes: :data:`ATTR`, one line per integrator with notes (``""``: none)."""
-        lines = [note for name in integrators for note in (self.before.get(name), self.line(name)) if note]
+        lines = [note for name in integrators for note in (self.before.get(name) and f"compare: {self.before[name]}",
+                                                           self.line(name)) if note]
         return {ATTR: "\n".join(lines)}
 
     def route(self, name):

@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 import warnings
 
+import numpy as np
 import pytest
 
 from mol_shell import TwistedCylinder, path
@@ -121,3 +122,38 @@ def test_a_near_critical_point_is_the_minimum_between_the_steps(imperfect):
     assert ds.near_parameter.values[0] == pytest.approx(least, rel=2e-6)
     assert ds.near_eigenvalue.values[0] == pytest.approx(min(f1, f2), rel=1e-6)
     assert ds.near_eigenvalue.values[0] < ds.smallest_eigenvalues.values[step, 0]
+
+
+def test_the_search_between_steps_keeps_a_minimum_its_last_allowed_trial_closes_on(monkeypatch):
+    """A V-shaped eigenvalue (no parabola helps: golden sections only) on steps 0.3, 0.5, 0.7 closes its bracket to
+    LOCATE_RTOL on the 18th trial: with 18 trials allowed that minimum is located, not thrown away for the step's."""
+    from types import SimpleNamespace
+
+    from mol_shell.analysis import path_modes
+
+    def eigen(load):
+        return 1.0 + abs(load - 0.5123)
+
+    trials = []
+
+    def stability(eq, q, load):
+        trials.append(load)
+        return np.array([eigen(load), 1e9]), np.eye(2), 0, 1
+
+    class Failed(Exception):
+        pass
+
+    loads = [0.3, 0.5, 0.7]
+    record = SimpleNamespace(eq=None, lams=loads, qs=[np.array([x]) for x in loads], tls=[1.0] * 3,
+                             eigen=[np.array([eigen(x)]) for x in loads], det_sign=[1] * 3,
+                             tracer=SimpleNamespace(l_scale=1.0), failed=Failed,
+                             state_at=lambda x, *_: np.array([x]))
+    monkeypatch.setattr(path_modes, "stability", stability)
+    found = {}
+    for allowed in (17, 18):
+        monkeypatch.setattr(path_modes, "LOCATE_ITER", allowed)
+        trials.clear()
+        load, _, _, _, located = path_modes.least_eigenvalue(record, 1, 0)
+        found[allowed] = (load, located, len(trials) - 1)  # the first call: the step's own spectrum
+    assert found[17][:2] == (0.5, False) and found[17][2] == 17
+    assert found[18][1] and abs(found[18][0] - 0.5123) < 2 * path_modes.LOCATE_RTOL and found[18][2] == 18
