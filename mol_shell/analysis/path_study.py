@@ -28,6 +28,7 @@ from mol_shell._core.version import __version__
 from mol_shell.analysis.path import path
 from mol_shell.analysis.path_dataset import GRID_SHARE_NAME, SYMMETRY_NOTE
 from mol_shell.analysis.path_inputs import check_shared
+from mol_shell.discretization import kernel_cache
 from mol_shell.results.cf import attr_value, header
 from mol_shell.results.dataset import NETCDF_SUFFIXES, write_netcdf
 from mol_shell.results.study_dataset import case_attrs
@@ -111,6 +112,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
     scene = as_scene(scene)
     check_shared(parameter, start, stop)  # what every case shares: refused once, not as each case's status
     check_workers(workers, scheduler)
+    kernel_cache.check_opt_level()
     if output is not None:
         writable_path(output, "output", suffixes=NETCDF_SUFFIXES)
         keep_inputs(input_files(scene, vary), [output], "output", output)  # as the command line's -o

@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import re
 import sys
-from pathlib import Path
 
 import numpy as np
 
@@ -24,8 +23,7 @@ from mol_shell.results.dataset import NETCDF_SUFFIXES  # noqa: F401 (the outputs
 from mol_shell.runs.resources import check_saved_times
 from mol_shell.runs.simulate import check_options, integrator_options
 from mol_shell.scenes import SCENES, get_scene
-from mol_shell.scenes.files import RUN as RUN_KEYS
-from mol_shell.scenes.files import _run_options, check_run_together, load_scene
+from mol_shell.scenes.files import check_run_together, load_scene
 
 #: exit codes: an internal error (a bug), bad input, a run stopped at a model limit, Ctrl-C, and the reader of
 #: the output gone (``mol-shell scenes | head -1``: 128 + SIGPIPE, as a command the pipe stopped)
@@ -447,12 +445,6 @@ def run_settings(args, run, scene, n):
         for key in sorted(set(from_file) - set(allowed)):
             print(f"mol-shell: note: the scene file's [run] {key} = {from_file.pop(key)!r} is not an option of "
                   f"{integrator} (--integrator): left out", file=sys.stderr)
-        # the file's tolerances its own integrator does not take, read unchecked (load_scene), checked for this one
-        replaced = set(integrator_option_args(args)) | set(parse_sets(getattr(args, "option", None), "--option"))
-        if integrator in INTEGRATORS and str(args.scene).endswith(".toml"):
-            _run_options(str(Path(args.scene).expanduser()), {"integrator": integrator} | {
-                key: value for key, value in from_file.items() if key in RUN_KEYS[4:] and key not in replaced},
-                together=False, cls=type(scene))
         while integrator in INTEGRATORS and from_file:  # options it has but refuses as set (jac_every without Newton)
             try:
                 INTEGRATORS[integrator](**{k: v for k, v in from_file.items() if k in allowed})

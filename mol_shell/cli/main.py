@@ -75,6 +75,7 @@ from mol_shell.cli.path import (
 )
 from mol_shell.cli.study import register_study
 from mol_shell.cli.views import read_drawable, register_animate, register_export, said_as_options, said_incomplete
+from mol_shell.discretization import kernel_cache
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.integrators.peers import SCIPY_RTOL_MIN
 from mol_shell.integrators.tolerances import ATOL_RANGE, Tolerances
@@ -364,6 +365,7 @@ def _command(argv):
             warnings.simplefilter("ignore", RuntimeWarning)
             one_line_warnings()
             traceback_asked()  # its value refused in one line as the command starts, not where a bug would read it
+            kernel_cache.check_opt_level()  # as the command starts, not where a right-hand side is first built
             if getattr(args, "output", None) is None and missing_stdout():  # scenes: its product is what it prints
                 raise OutputError("standard output", f"it is closed, and mol-shell {args.command} prints what it "
                                   "lists there")

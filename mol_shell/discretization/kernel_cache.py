@@ -104,6 +104,12 @@ def optimised(flags):
     return tuple(f"-O{text}" if flag == "-O3" else flag for flag in flags)
 
 
+def check_opt_level():
+    """Refuse a ``$MOL_SHELL_OPT_LEVEL`` that :func:`optimised` would refuse, before any work: a command as it starts,
+    a study before its cases (each case refused it, after the study had written its file)."""
+    optimised(("-O3",))
+
+
 @functools.cache
 def machine_key(flags):
     """What a library built with gcc ``flags`` that hold ``-march=native`` depends on: the processor's model and

@@ -29,6 +29,7 @@ from mol_shell._core.errors import ModelLimitError, MolShellWarning, ParameterEr
 from mol_shell._core.paths import writable_path
 from mol_shell._core.progress import progress_meter, progress_mode
 from mol_shell._core.version import __version__
+from mol_shell.discretization import kernel_cache
 from mol_shell.discretization.compiled import cache_dir
 from mol_shell.integrators import INTEGRATORS
 from mol_shell.model.laws import REGISTRY, register, user_material
@@ -298,6 +299,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     start = time.perf_counter()
     scene = resolve_scene(scene)
     check_study_options(scene, integrator, options)  # also refuses an unknown integrator
+    kernel_cache.check_opt_level()
     n = scalar(n)
     resources.check_nodes(n)  # once, before any case (int(n) made 20.9 a study at n = 20, n = 2 a refusal per case)
     if not (isinstance(vary, dict) or (isinstance(vary, (list, tuple)) and all(isinstance(c, dict) for c in vary))):

@@ -38,7 +38,8 @@ def comment_text(text):
 
 
 def scene_toml(scene, run=None, notes=(), values=None):
-    """A scene (an instance, or a class for its defaults) as a commented scene file that :func:`load_scene` reads back.
+    """A scene (an instance, or a class for its defaults) as a commented scene file that
+    :func:`~mol_shell.scenes.files.load_scene` reads back.
 
     Values are written as TOML (``None`` as ``"auto"``), each with its unit and description as a comment; a
     ``[run]`` table holds ``run`` (``{key: value}``: a run file's, :func:`mol_shell.analysis.run_scene.run_table`) or

@@ -208,11 +208,11 @@ def _run_options(source, run, together=True, cls=None):
         raise _fail(source, "run", ParameterError("integrator", integrator, "{" + ", ".join(UNSHEARABLE_INTEGRATORS)
                     + "}", hint="ida solves the unshearable DAE, leapfrog the free shell from the same state"))
     for key, value in run.items():
-        if taken is not None and key not in taken and key not in RUN[:4] and (key in RUN or key in extra):
-            if together:  # not an option of the integrator, said before its value is checked (--atol -1 on leapfrog)
-                raise _fail(source, "run", ParameterError.not_an_option(key, integrator, taken))
-            out[key] = value  # the caller checks it for the integrator it runs (--integrator), or leaves it out
-            continue
+        if together and taken is not None and key not in taken and key not in RUN[:4] and (key in RUN or key in extra):
+            # not an option of the integrator, said before its value is checked (atol = -1 on leapfrog); apart
+            # (the command line, whose --integrator may replace the file's), every value is checked in the file's
+            # order and the caller leaves out or refuses what its integrator does not take
+            raise _fail(source, "run", ParameterError.not_an_option(key, integrator, taken))
         if key not in RUN and key in extra:  # an option of the integrator beyond the tolerances: its declared range
             value = typed_value(extra[key], value)  # "none" (any case) where the option takes None
             if not extra[key].check(value):

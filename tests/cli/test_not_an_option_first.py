@@ -87,11 +87,26 @@ def test_a_scene_files_run_option_not_taken_is_said_before_its_range(line, tmp_p
     path = _scene_file(tmp_path, "twisted-cylinder", "leapfrog", line)
     name = line.partition(" ")[0]
     said = f"{path}: [run] {name} {LEAPFROG}"
-    assert _refusal(["run", str(path)], tmp_path, capsys) == said
-    assert _refusal(["study", str(path), "--vary", "nu=0.3,0.4"], tmp_path, capsys) == said
     with pytest.raises(ParameterError) as info:
         load_scene(path, with_run=True)
     assert str(info.value) == said
+    if line == "atol = 1e-6":  # the command line checks each value in the file's order first (its --integrator may
+        # replace the file's, which takes it), then refuses what the integrator that runs does not take
+        assert _refusal(["run", str(path)], tmp_path, capsys) == said
+        assert _refusal(["study", str(path), "--vary", "nu=0.3,0.4"], tmp_path, capsys) == said
+    else:
+        assert " is outside " in _refusal(["run", str(path)], tmp_path, capsys)
+
+
+def test_the_command_line_checks_a_scene_files_run_values_in_the_files_order_in_one_line(tmp_path, capsys):
+    """Values first, in the file's order, one line (a note of a left-out key came before a later value's refusal,
+    and a later key's range before an earlier key's); commands that run no integrator check them too."""
+    path = _scene_file(tmp_path, "twisted-cylinder", "leapfrog", "dt = 1e-6\nrtol = -1.0")
+    said = f"{path}: [run] rtol = -1.0 is outside [1e-14, 1)"
+    assert _refusal(["run", str(path), "--integrator", "cvode-bdf"], tmp_path, capsys) == said
+    path = _scene_file(tmp_path, "twisted-cylinder", "leapfrog", "rtol = -1.0\ndt = -1.0")
+    assert _refusal(["run", str(path)], tmp_path, capsys) == said
+    assert _refusal(["modes", str(path), "--n", "9"], tmp_path, capsys) == said
 
 
 def test_the_unshearable_ida_file_option_not_taken_is_said_before_its_range(tmp_path):

@@ -115,3 +115,16 @@ def test_a_whole_run_at_either_level_is_the_same_file_of_numbers(monkeypatch, tm
         a, b = runs["s", integrator], runs["3", integrator]
         for name in ("r", "z", "chi", "theta", "psi", "energy", "principal_stress_max"):
             np.testing.assert_array_equal(a[name].values, b[name].values)
+
+
+def test_a_study_refuses_it_before_any_case_and_writes_nothing(monkeypatch, tmp_path):
+    """Each case refused it, after the study had written its file and its .cases folder (exit 2 with two lines)."""
+    monkeypatch.setenv(kernel_cache.OPT_VARIABLE, "9")
+    with pytest.raises(ParameterError, match="MOL_SHELL_OPT_LEVEL"):
+        mol_shell.study("sphere", {"nu": [0.2, 0.3]}, n=8, t_end=1e-5, output=tmp_path / "s.nc", progress=False)
+    assert list(tmp_path.iterdir()) == []
+    env = {"MOL_SHELL_OPT_LEVEL": "9", "MOL_SHELL_CACHE": str(tmp_path / "cache"), "PATH": "/usr/bin:/bin"}
+    out = subprocess.run([sys.executable, "-m", "mol_shell", "study", "sphere", "--vary", "nu=0.2,0.3", "--n", "8",
+                          "--t-end", "1e-5", "-o", "s.nc"], capture_output=True, text=True, env=env, cwd=tmp_path)
+    assert out.returncode == 2 and out.stderr.count("\n") == 1 and "MOL_SHELL_OPT_LEVEL = '9'" in out.stderr
+    assert not (tmp_path / "s.nc").exists() and not (tmp_path / "s.cases").exists()

@@ -67,8 +67,9 @@ INTEGRATORS = {"unshearable": ("leapfrog", "ida")}
 
 PAIRS = [(name, f.name) for name, cls in sorted(mol_shell.SCENES.items()) for f in dataclasses.fields(cls)]
 COUNTS = {"examples": 0, "cli": {}, "api": {}, "slowest": []}
-#: examples drawn so far for each (scene, parameter): which route the next one takes under the ci profile
-TURNS = {}
+#: examples drawn so far for each (scene, parameter): which route the next one takes under the ci profile; and the
+#: turn each example (scene, parameter, value, integrator) took first, which its replays keep
+TURNS, ROUTES = {}, {}
 
 
 @functools.cache
@@ -305,7 +306,10 @@ def test_any_value_of_any_parameter(scene, name, data):
     integrator = data.draw(st.sampled_from(choices), label="integrator")
     COUNTS["examples"] += 1
     start = time.perf_counter()
-    turn = TURNS[scene, name] = TURNS.get((scene, name), -1) + 1
+    key = (scene, name, repr(value), integrator)  # a replayed example (shrinking, the final replay) keeps its route
+    if key not in ROUTES:
+        ROUTES[key] = TURNS[scene, name] = TURNS.get((scene, name), -1) + 1
+    turn = ROUTES[key]
     # the ci profile's two values of a parameter: the first through the command line, the second through Python
     # (each through both took the suite's largest file to 286 s of a 23-minute run); the long profile: both, each
     code = check_cli(scene, name, value, integrator, rng) if PROFILE != "ci" or turn % 2 == 0 else None
