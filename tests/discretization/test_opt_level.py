@@ -13,6 +13,7 @@ import sys
 
 import numpy as np
 import pytest
+from test_performance_paths import disturbed
 
 import mol_shell
 from mol_shell._core.errors import ParameterError
@@ -22,8 +23,6 @@ from mol_shell.discretization.stencil import StencilLeapfrog
 from mol_shell.discretization.system import ShellSystem
 from mol_shell.runs.simulate import resolve
 from mol_shell.scenes import Sphere, TwistedCylinder
-
-from test_performance_paths import disturbed
 
 
 def test_unset_is_o3_and_each_level_replaces_only_o3(monkeypatch):
@@ -47,7 +46,7 @@ def test_another_value_is_refused_naming_the_variable(monkeypatch, value):
 def test_the_command_line_refuses_it_in_one_line_with_exit_2(tmp_path):
     env = {"MOL_SHELL_OPT_LEVEL": "9", "MOL_SHELL_CACHE": str(tmp_path / "cache"), "PATH": "/usr/bin:/bin"}
     out = subprocess.run([sys.executable, "-m", "mol_shell", "run", "twisted-cylinder", "--n", "8", "--t-end", "1e-4",
-                          "-o", str(tmp_path / "x.nc")], capture_output=True, text=True, env=env, cwd=tmp_path)
+                          "-o", str(tmp_path / "x.nc")], capture_output=True, text=True, env=env, cwd=tmp_path, check=False)
     assert out.returncode == 2, out.stderr
     lines = [line for line in out.stderr.splitlines() if line.strip()]
     assert len(lines) == 1 and "MOL_SHELL_OPT_LEVEL = '9'" in lines[0], out.stderr
@@ -125,6 +124,6 @@ def test_a_study_refuses_it_before_any_case_and_writes_nothing(monkeypatch, tmp_
     assert list(tmp_path.iterdir()) == []
     env = {"MOL_SHELL_OPT_LEVEL": "9", "MOL_SHELL_CACHE": str(tmp_path / "cache"), "PATH": "/usr/bin:/bin"}
     out = subprocess.run([sys.executable, "-m", "mol_shell", "study", "sphere", "--vary", "nu=0.2,0.3", "--n", "8",
-                          "--t-end", "1e-5", "-o", "s.nc"], capture_output=True, text=True, env=env, cwd=tmp_path)
+                          "--t-end", "1e-5", "-o", "s.nc"], capture_output=True, text=True, env=env, cwd=tmp_path, check=False)
     assert out.returncode == 2 and out.stderr.count("\n") == 1 and "MOL_SHELL_OPT_LEVEL = '9'" in out.stderr
     assert not (tmp_path / "s.nc").exists() and not (tmp_path / "s.cases").exists()
