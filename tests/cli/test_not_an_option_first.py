@@ -6,6 +6,7 @@ range, not that a study of paths takes no rtol."""
 from __future__ import annotations
 
 import pytest
+from test_option_ranges_said import _refusal  # one command line, one line of refusal, no file
 
 import mol_shell
 from mol_shell._core.errors import ParameterError
@@ -18,14 +19,6 @@ RUN = ["run", "twisted-cylinder", "--n", "9", "--t-end", "1e-4"]
 STUDY = ["study", "twisted-cylinder", "--n", "9", "--t-end", "1e-4", "--vary", "nu=0.3,0.4"]
 PATHS = ["study", "twisted-cylinder", "--n", "9", "--vary", "nu=0.3,0.4", "--path", "end1_dz=0:1e-3"]
 PATH = ["path", "twisted-cylinder", "--n", "9", "--param", "end1_dz=0:1e-3"]
-
-
-def _refusal(argv, tmp_path, capsys):
-    code = main([*argv, "-o", str(tmp_path / "x.nc")])
-    err = capsys.readouterr().err.strip()
-    assert code == 2 and len(err.splitlines()) == 1, err
-    assert not (tmp_path / "x.nc").exists()
-    return err.removeprefix("mol-shell: error: ")
 
 
 @pytest.mark.parametrize("command", [RUN, STUDY])
