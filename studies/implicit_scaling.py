@@ -31,6 +31,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 import mol_shell  # noqa: E402
+from mol_shell._core.paths import beside
 from mol_shell.cli.args import integer_arg
 from mol_shell.cli.scripts import (
     MIN_NODES,
@@ -144,11 +145,10 @@ def main(argv=None):
                       f"{time.perf_counter() - start:.1f} s with set-up)", flush=True)
     ds = summary(data, methods, sizes)
     mol_shell.write_netcdf(ds, args.output)
-    stem = args.output.rsplit(".", 1)[0]
     table = markdown(ds)
-    with open(stem + ".md", "w") as fh:
+    with open(beside(args.output, ".md"), "w") as fh:  # beside the name typed (a link's too)
         fh.write(table + "\n")
-    plot(ds, stem + ".png")
+    plot(ds, beside(args.output, ".png"))
     print(table)
     return ds
 

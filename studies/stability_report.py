@@ -19,6 +19,7 @@ import os
 
 import mol_shell
 from mol_shell._core.atomic import write_text
+from mol_shell._core.paths import beside
 from mol_shell.analysis.stability import default_cases, markdown_table, report
 from mol_shell.cli.args import integer_arg
 from mol_shell.cli.scripts import finished, output_file, output_folder, run_script, script_parser
@@ -47,9 +48,8 @@ def main(argv=None):
     output = output_file(args.output) if args.output else os.path.join(output_folder(args.out), "stability.nc")
     ds = report(cases(args.max_n, args.quick))
     mol_shell.write_netcdf(ds, output)
-    stem = output.rsplit(".", 1)[0]
-    write_text(stem + ".md", markdown_table(ds) + "\n")
-    plot_report(ds, stem + ".png")
+    write_text(beside(output, ".md"), markdown_table(ds) + "\n")  # beside the name typed (a link's too)
+    plot_report(ds, beside(output, ".png"))
     print(markdown_table(ds))
     return finished(ds, "stability report")  # Ctrl-C: the cases before it kept, exit 130
 
