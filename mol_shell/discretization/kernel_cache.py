@@ -87,9 +87,11 @@ def optimised(flags):
     """``flags`` with their ``-O3`` at ``$MOL_SHELL_OPT_LEVEL`` (1, 2, 3 or s for ``-Os``; unset: 3; else a
     ParameterError).
 
-    Without ``-ffast-math`` (and with ``-ffp-contract=off``) gcc's levels compute the same floating-point operations in
-    the same order, so a kernel gives the same bits at each (tests/discretization/test_opt_level.py); another level only
-    compiles faster and runs slower. The paper scene's right-hand side at n = 40 (gcc's seconds, then a leap-frog
+    Without ``-ffast-math`` (and with ``-ffp-contract=off``) gcc's levels may not reassociate or fuse floating-point
+    operations, so a kernel is expected to give the same bits at each, and is tested to on x86-64
+    (tests/discretization/test_opt_level.py); one caveat: a libm call whose argument a level finds constant may be
+    folded to the correctly rounded value, which glibc's need not be (CasADi folds its constants before gcc sees
+    them). Another level compiles faster and runs slower. The paper scene's right-hand side at n = 40 (gcc's seconds, then a leap-frog
     step's): ``-O3`` 2.7 s and 8.6 us, ``-O2`` 1.9 s and 1.05x, ``-Os`` 1.55 s and 1.1-1.2x, ``-O1`` 1.45 s and
     1.3-1.5x. The test suite builds at ``-Os`` (tests/conftest.py), where gcc took a third of its time; so may a
     session whose kernels are built often and run briefly.
