@@ -112,7 +112,6 @@ def cmd_study(args):
             name = "--" + option.replace("_", "-")
             raise ParameterError(name, getattr(args, option), "an option of a study of paths (--path)",
                                  message=f"{name} is an option of a study of paths (--path), not of one of runs")
-    refuse_late(args, ("steps", "max_steps"))  # the run's options: once its integrator is known (run_settings)
     sets = parse_sets(args.set)
     scene, run = scene_and_run(args.scene, args.set)  # a scene file's [run] table gives defaults, the options win
     n = args.n or run.get("n", 40)

@@ -56,6 +56,8 @@ def test_where_the_option_is_taken_its_range_is_said(argv, said, tmp_path, capsy
      "--rtol is an option of a study of runs, not of one of paths (--path)"),
     ([*PATHS, "--atol", "-1"],
      "--atol is an option of a study of runs, not of one of paths (--path)"),
+    ([*PATHS, "--steps", "-3", "--rtol", "1e-6"],  # a value's range after an option the path study does not take
+     "--rtol is an option of a study of runs, not of one of paths (--path)"),
     ([*STUDY, "--max-steps", "0"], "--max-steps is an option of a study of paths (--path), not of one of runs"),
     ([*STUDY, "--steps", "-3"], "--steps is an option of a study of paths (--path), not of one of runs"),
     ([*RUN, "--step", "-1"], "--step is an option with --from PATH.nc only"),
