@@ -171,8 +171,9 @@ def near_message(eq, near):
     """The one line that says a path passed near-critical points (``""`` without)."""
     if not near:
         return ""
+    unlocated = ", not located: the step's load"
     said = "; ".join(f"{eq.parameter} = {p['parameter']:.6g} {eq.units} (near step {p['step']}"
-                     f"{'' if p.get('located') else ', not located: the step' + chr(39) + 's load'}, {p['family']}; "
+                     f"{'' if p.get('located') else unlocated}, {p['family']}; "
                      f"lowest eigenvalue {p['eigenvalue']:.3g} s-2, {p['share']:.2%} of the start's)" for p in near)
     return (f"the path passed {'a near-critical point' if len(near) == 1 else f'{len(near)} near-critical points'} "
             f"at {said}: a local minimum of the lowest eigenvalue without a crossing, an imperfect bifurcation (the "
