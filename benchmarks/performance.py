@@ -9,8 +9,8 @@
   3. peers   work-precision on the paper scene (n = 40, the paper's saved times): the fastest mol_shell
              configuration against the fastest scipy peer at errors 1e-6 and 1e-8, in one process
   4. study   100 cases of the paper scene (gamma varied) at n = 40 to t = 0.02 s: serial against 2 local
-             workers (spawned, the default, and forked), and the gcc builds each run made (cache
-             ``builds.log``)
+             workers (the default start, forked where that is safe, and spawned), the ratio of each round
+             besides the fastest runs', and the gcc builds each run made (cache ``builds.log``)
 
 Every measurement runs in its own process with ``PYTHONPATH`` set to its tree, baseline and this tree
 alternating ``--rounds`` times; the minimum per configuration is reported (other load only adds time).
@@ -102,7 +102,7 @@ busy = {}
 for worker, case in zip(ds.worker.values, np.ravel(ds.case_wall_time_s.values)):
     busy[str(worker)] = busy.get(str(worker), 0.0) + float(case)
 print(json.dumps({"wall_s": wall, "epoch": [epoch, epoch + wall], "complete": int((ds.status == "complete").sum()), "busy_s": busy,
-                  "case_s": float(np.nanmean(ds.case_wall_time_s.values))}))
+                  "case_s": float(np.nanmean(ds.case_wall_time_s.values)), "start": ds.attrs.get("worker_start", "")}))
 """
 
 #: the machine's own ceiling for two processes: half of the cases in each of two independent serial studies
@@ -129,7 +129,8 @@ def pair(tree, code, env, *args):
 
 
 def probe(tree, code, *args, env=None):
-    env = dict(os.environ, PYTHONPATH=str(tree), **(env or {}))
+    """``code`` run in a fresh interpreter on ``tree`` with ``args``; ``env`` adds variables (``None``: removed)."""
+    env = {k: v for k, v in {**os.environ, "PYTHONPATH": str(tree), **(env or {})}.items() if v is not None}
     out = subprocess.run([sys.executable, "-c", code, *map(str, args)], env=env, capture_output=True, text=True,
                          cwd=str(tree))
     if out.returncode:
@@ -242,13 +243,15 @@ def target_study(rounds, t_end=0.02):
     with tempfile.TemporaryDirectory() as cache:
         env = {"MOL_SHELL_CACHE": cache}
         log = Path(cache, "builds.log")
-        runs = {"serial": [], "2 local workers": [], "2 local workers, forked": [], "two independent halves": []}
-        builds = []
+        runs = {"serial": [], "2 local workers": [], "2 local workers, spawned": [], "two independent halves": []}
+        probe(HERE, STUDY_PROBE, "serial", 1, 1e-4, env=env)  # builds the kernels: no timed run compiles
+        builds = [len(log.read_text().splitlines()) if log.exists() else 0]
         for _ in range(rounds):
-            runs["2 local workers"].append(probe(HERE, STUDY_PROBE, "local", 2, t_end, env=env))
+            runs["2 local workers"].append(probe(HERE, STUDY_PROBE, "local", 2, t_end,
+                                                 env=dict(env, MOL_SHELL_START_METHOD=None)))
             builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
-            runs["2 local workers, forked"].append(probe(HERE, STUDY_PROBE, "local", 2, t_end,
-                                                         env=dict(env, MOL_SHELL_START_METHOD="fork")))
+            runs["2 local workers, spawned"].append(probe(HERE, STUDY_PROBE, "local", 2, t_end,
+                                                          env=dict(env, MOL_SHELL_START_METHOD="spawn")))
             runs["serial"].append(probe(HERE, STUDY_PROBE, "serial", 1, t_end, env=env))
             builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
             runs["two independent halves"].append(pair(HERE, HALF_PROBE, env, "serial", 1, t_end))
@@ -266,8 +269,15 @@ def target_study(rounds, t_end=0.02):
     for k, v in runs.items():
         complete = v[0]["complete"] if "complete" in v[0] else sum(h["complete"] for h in v[0]["halves"])
         print(f"| {k} | {best[k]:.2f} | {100 / best[k]:.2f} | {complete} | {best['serial'] / best[k]:.2f} |")
-    print(f"\ngcc builds in the cache's builds.log after each run (first run first): {builds} "
+    print(f"\ngcc builds in the cache's builds.log after an untimed first study to 0.1 ms and after each run: {builds} "
           "(a build is never repeated: every later run and every other case found the objects on disk)")
+    starts = sorted({r["start"] for r in runs["2 local workers"]})
+    print(f"\nThe default start of the workers here: {', '.join(starts)}.")
+    per_round = {k: [a["wall_s"] / b["wall_s"] for a, b in zip(runs["serial"], runs[k])]
+                 for k in ("2 local workers", "2 local workers, spawned")}
+    print("Throughput ratio of each round (serial over parallel, run one after the other): " + "; ".join(
+        f"{k} {', '.join(f'{r:.2f}' for r in v)} (lowest {min(v):.2f}, median {np.median(v):.2f})"
+        for k, v in per_round.items()))
     print("\nWhere the time goes (fastest run of each):\n")
     print(f"* the machine's ceiling, two independent serial halves started together: {ceiling:.2f}x "
           f"(each case {half_slowdown:.2f}x as long as alone; their studies' wall, from the first start to the last "
@@ -277,6 +287,7 @@ def target_study(rounds, t_end=0.02):
           f"{100 * utilisation:.1f} % of the wall time (the rest: the worker's start, the last case's tail, results)")
     print(f"* the study's share of the ceiling: {best['serial'] / best['2 local workers'] / ceiling:.3f}")
     return {"wall_s": best, "ratio": best["serial"] / best["2 local workers"], "builds": builds, "ceiling": ceiling,
+            "start": starts, "per_round": per_round,
             "utilisation": utilisation, "case_slowdown": slowdown, "half_case_slowdown": half_slowdown}
 
 

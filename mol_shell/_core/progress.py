@@ -42,7 +42,9 @@ def progress_meter(mode, desc, *, count, postfix="{}", total=None, initial=0, **
     if mode == "bar":
         from tqdm import tqdm  # loaded only where a bar is shown
 
-        return tqdm(desc=desc, total=total, initial=initial, **bar)
+        # without tqdm's monitor thread (it tunes bars that are not updated for 10 s): a study's workers are forked
+        # only from a process without other threads (mol_shell.runs.worker_start)
+        return type("Bar", (tqdm,), {"monitor_interval": 0})(desc=desc, total=total, initial=initial, **bar)
     if mode == "lines":
         return ProgressLines(desc, count, postfix=postfix, total=total, initial=initial)
     return None

@@ -35,7 +35,7 @@ from mol_shell.results.study_dataset import case_attrs
 from mol_shell.results.study_store import KEY_LENGTH
 from mol_shell.runs import resources
 from mol_shell.runs.building import as_scene
-from mol_shell.runs.scheduling import check_workers, connect, refuse_in_starting_worker, scheduler_name
+from mol_shell.runs.scheduling import check_workers, connect, refuse_in_starting_worker, scheduler_attrs
 from mol_shell.runs.study import carried_materials, case_inputs, case_result, cases_attrs, input_files, run_cases
 from mol_shell.runs.study_design import design, label_coords
 from mol_shell.scenes import UNITS, with_params
@@ -142,8 +142,10 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
                               carried_materials(case_scene)))
     client = connect(scheduler) if tasks else None
     say_once([task.scene for task in tasks], parameter=parameter)  # as a study of runs: once, not per case
+    started = []
     pending, reused = run_cases(run_path_task, tasks, results, output=output, final=FINAL, scheduler=scheduler,
-                                workers=workers, client=client, progress=progress, total=len(cases), desc="paths")
+                                workers=workers, client=client, progress=progress, total=len(cases), desc="paths",
+                                started=started)
     say_case_warnings(cases_attrs(tasks, results))  # each path's loss of ellipticity, naming its case
     out = _gather(scene, dims, coords, cases, results, parameter)
     failed = sum(1 for _, info in results.values() if info["status"] not in ("complete", "max_steps", "returned"))
@@ -152,7 +154,7 @@ def path_study(scene, vary, parameter, start, stop, *, n=40, steps=20, max_steps
         "study_vary": ", ".join(coords), "path_parameter": parameter, "path_start": float(start),
         "units_path_start": units, "path_stop": float(stop), "units_path_stop": units, "n": int(n),
         "n_cases": len(cases), "n_executed": len(pending), "n_reused": reused, "n_failed": failed,
-        "scheduler": scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - clock,
+        **scheduler_attrs(scheduler, started), "study_wall_time_s": time.perf_counter() - clock,
     }.items()})
     if output is not None:
         write_netcdf(out, output)

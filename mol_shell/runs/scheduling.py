@@ -26,6 +26,7 @@ from threadpoolctl import threadpool_limits
 
 from mol_shell._core import interrupts
 from mol_shell._core.errors import ParameterError, RunWarning
+from mol_shell.runs.worker_start import openblas_threads, start_method
 
 #: seconds to wait for a dask scheduler to answer before the study is refused
 SCHEDULER_TIMEOUT = 10.0
@@ -127,9 +128,10 @@ async def _identity(address):
     return await asyncio.wait_for(ask(), SCHEDULER_TIMEOUT + 0.5)
 
 
-def execute(run_task, tasks, scheduler, workers, client=None):
+def execute(run_task, tasks, scheduler, workers, client=None, started=None):
     """Yield ``run_task(task)``, i.e. ``(index, ds, info)``, as cases finish, on the chosen back end (``client``: a
-    connected cluster). ``run_task`` must be importable by name (it is sent to other processes)."""
+    connected cluster). ``run_task`` must be importable by name (it is sent to other processes). ``started``, a list,
+    gets the start method of each pool of local workers made (:func:`start_method`)."""
     if not tasks:
         return
     if scheduler == "serial":
@@ -137,7 +139,7 @@ def execute(run_task, tasks, scheduler, workers, client=None):
             yield run_task(task)
         return
     if scheduler is None:
-        yield from _execute_local(run_task, tasks, workers)
+        yield from _execute_local(run_task, tasks, workers, started)
         return
     from distributed import as_completed
 
@@ -183,43 +185,18 @@ def _one_thread_per_process():
 LOST_RETRIES = 2
 
 
-#: the environment variable that says how local worker processes start (a start method of ``multiprocessing``)
-START_VARIABLE = "MOL_SHELL_START_METHOD"
-
-
-def start_method():
-    """How a study's local worker processes start: ``spawn``, or the start method :data:`START_VARIABLE` names.
-
-    ``fork`` (Linux) starts each worker as a copy of this process, its imports done: its first case starts 0.47 s
-    sooner than a spawned worker's. Over 18 interleaved pairs of the benchmark's 100-case study (about 5.2 s on two
-    cores) that gained 0.09 s on average, with the pairs scattered by +-0.2 s: not enough to make ``fork``, which is
-    not safe in every process (threads that hold locks as it forks), the default. OpenMP's thread pool is one of
-    those, so ``fork`` is refused where the kernels run on more than one thread (``MOL_SHELL_THREADS``). Raises
-    :class:`ParameterError` for a method this platform lacks."""
-    methods = multiprocessing.get_all_start_methods()
-    threaded = os.environ.get("MOL_SHELL_THREADS", "1").strip() != "1"
-    allowed = [m for m in methods if not (m == "fork" and threaded)]
-    asked = os.environ.get(START_VARIABLE, "") or "spawn"
-    if asked not in allowed:
-        raise ParameterError(START_VARIABLE, asked, "{" + ", ".join(allowed) + "}", hint=(
-            "the environment variable that says how a study's local worker processes start" + (
-                "; fork only with MOL_SHELL_THREADS = 1: OpenMP's threads are not safe across a fork"
-                if threaded and asked == "fork" else "")))
-    return asked
-
-
 #: cases handed to each worker ahead of time: the one it runs and two waiting, so it never waits for
 #: this process (busy with a case of its own) to hand it the next
 AHEAD = 3
 
 
-def _execute_local(run_task, tasks, workers):
+def _execute_local(run_task, tasks, workers, started=None):
     """Cases on ``workers`` local processes: this one and ``workers - 1`` started ones (:func:`start_method`).
 
     The workers are handed cases from the front of the queue, :data:`AHEAD` each; this process, which has
     the package imported and its kernels loaded, runs them from the back, so it computes from the first moment
-    while a worker spends about half a second starting (a forked one starts at once). Who runs a case is settled in
-    a table shared with the workers (:class:`_Claims`): a worker claims a case as it starts it and skips one this
+    while a spawned worker spends 0.5-1.2 s starting (a forked one, the default where it is safe, starts at once).
+    Who runs a case is settled in a table shared with the workers (:class:`_Claims`): a worker claims a case as it starts it and skips one this
     process has claimed, so at the end this process also takes the handed-over cases no worker has started, and
     the two finish within about a case of each other. A worker that dies breaks its pool: the case it was
     running (the table says which) runs again in a new pool, up to :data:`LOST_RETRIES` times, and the cases it
@@ -229,6 +206,7 @@ def _execute_local(run_task, tasks, workers):
     refuse_in_starting_worker()
     attempts = {task.index: 0 for task in tasks}
     pending, alone = list(tasks), False
+    blas_threads = openblas_threads()  # as loaded: the limits below make the pools' sizes read 1
     with _one_thread_per_process():
         while pending:
             spawned = 0 if alone else max(1, min(workers or os.cpu_count() or 1, len(pending))) - 1
@@ -236,7 +214,10 @@ def _execute_local(run_task, tasks, workers):
                 for task in pending:
                     yield _retried(run_task(task), attempts[task.index])
                 return
-            context = multiprocessing.get_context(start_method())
+            method = start_method(blas_threads)  # again for each pool: a broken pool's thread may still run
+            if started is not None:
+                started.append(method)
+            context = multiprocessing.get_context(method)
             claims = _Claims(context, len(pending))
             pool = ProcessPoolExecutor(max_workers=spawned, mp_context=context, initializer=_worker_start,
                                        initargs=(claims,))
@@ -492,3 +473,13 @@ def scheduler_name(scheduler):
     if scheduler is None:
         return "local processes"
     return scheduler if isinstance(scheduler, str) else type(scheduler).__name__
+
+
+def scheduler_attrs(scheduler, started):
+    """A study's ``scheduler`` attribute, and for local processes ``worker_start``: how their pools' workers started
+    (``started``, from :func:`execute`: ``"fork"``, ``"spawn"``, both when a pool broke and the next one could not
+    fork, ``"none"`` when this process ran every case)."""
+    attrs = {"scheduler": scheduler_name(scheduler)}
+    if scheduler is None:
+        attrs["worker_start"] = ", ".join(dict.fromkeys(started)) or "none"
+    return attrs

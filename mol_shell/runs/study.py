@@ -39,7 +39,7 @@ from mol_shell.results.dataset import NETCDF_SUFFIXES, write_netcdf
 from mol_shell.results.study_dataset import assemble
 from mol_shell.results.study_store import KEY_LENGTH, Store
 from mol_shell.runs import resources
-from mol_shell.runs.scheduling import check_workers, connect, execute, refuse_in_starting_worker, scheduler_name
+from mol_shell.runs.scheduling import check_workers, connect, execute, refuse_in_starting_worker, scheduler_attrs
 from mol_shell.runs.simulate import (
     DEFAULT_DT,
     as_scene,
@@ -278,9 +278,11 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
 
     Notes
     -----
-    Local processes are spawned (or started as the environment variable ``MOL_SHELL_START_METHOD`` says:
-    ``spawn``, ``fork`` or ``forkserver``); a spawned worker imports the calling script again, so a script that
-    calls ``study`` must guard its entry point with ``if __name__ == "__main__":``. Every process, this one
+    Local processes are forked where that is safe (Linux, and no thread in this process but OpenBLAS's, which
+    stops its threads across a fork: :func:`mol_shell.runs.worker_start.fork_is_safe`), else spawned, or started
+    as the environment variable ``MOL_SHELL_START_METHOD`` says (``spawn``, ``fork`` or ``forkserver``); the attr
+    ``worker_start`` says which. A spawned worker imports the calling script again, so a script that calls
+    ``study`` must guard its entry point with ``if __name__ == "__main__":``. Every process, this one
     included, runs its share of the cases on one thread (compiled kernels and BLAS). A dask
     cluster's workers need ``mol_shell`` importable and gcc (each compiles its right-hand side
     once into its own cache). Stored cases are keyed by their settings and the package version
@@ -293,7 +295,8 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         Every variable of a single run with the study's dims in front; per case
         ``status``, ``message``, ``worker`` and statistics (``n_steps``, ``wall_time_s``,
         ``case_wall_time_s``, ``R``, ...); attrs ``n_cases``, ``n_executed`` (handed to a run by
-        this call, those the run refused included), ``n_reused`` (loaded from ``output``), ``n_failed``.
+        this call, those the run refused included), ``n_reused`` (loaded from ``output``), ``n_failed``, and on local
+        processes ``worker_start`` (``"fork"``, ``"spawn"``, ``"none"``: see Notes).
     """
     refuse_in_starting_worker()
     start = time.perf_counter()
@@ -344,8 +347,9 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     client = connect(scheduler) if tasks else None  # an unreachable cluster is refused before anything runs
     say_once([task.scene for task in tasks])  # once per distinct warning, not per case (each case's Dataset records
     # its own)
+    started = []
     pending, reused = run_cases(run_task, tasks, results, output=output, final=FINAL, scheduler=scheduler,
-                                workers=workers, client=client, progress=progress, total=len(cases))
+                                workers=workers, client=client, progress=progress, total=len(cases), started=started)
     say_case_warnings(cases_attrs(tasks, results))  # what each case recorded of its own course, naming it
     out = assemble(dims, coords, cases, results, times)
     label_coords(out, coords, dims)
@@ -353,7 +357,7 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
     out.attrs.update({
         **header(f"mol_shell parameter study of scene {scene.name}"), "study_vary": ", ".join(coords),
         "study_integrator": integrator, "n_cases": len(cases), "n_executed": len(pending), "n_reused": reused,
-        "n_failed": failed, "scheduler": scheduler_name(scheduler), "study_wall_time_s": time.perf_counter() - start,
+        "n_failed": failed, **scheduler_attrs(scheduler, started), "study_wall_time_s": time.perf_counter() - start,
     })
     if output is not None:
         write_netcdf(out, output)
@@ -380,7 +384,8 @@ def cases_attrs(tasks, results):
             if results.get(task.index, (None,))[0] is not None]
 
 
-def run_cases(run, tasks, results, *, output, final, scheduler, workers, client, progress, total, desc="study"):
+def run_cases(run, tasks, results, *, output, final, scheduler, workers, client, progress, total, desc="study",
+              started=None):
     """Run a study's ``tasks`` with ``run`` (importable by name) into ``results`` (``index -> (ds, info)``);
     ``(pending, reused)``: the tasks that ran and how many finished cases were read back instead.
 
@@ -388,7 +393,7 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
     that ends in a status of ``final`` is stored as it finishes, so an interrupted study resumes. Progress as
     :func:`mol_shell._core.progress.progress_mode` says (``None``: a bar on a terminal, else a line a minute). A
     case interrupted by Ctrl-C stops the study (``KeyboardInterrupt``, after the workers are shut down); ``client``
-    is closed unless it is ``scheduler`` itself (the user's)."""
+    is closed unless it is ``scheduler`` itself (the user's). ``started`` gets how local workers started (:func:`execute`)."""
     store = Store(output) if output is not None else None
     pending, reused = [], 0
     for task in tasks:
@@ -406,7 +411,7 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
     bar = progress_meter(progress_mode(progress), desc, count="{n} of {total} cases", postfix="last case {}",
                          total=total, initial=total - len(pending), unit="case")
     by_index = {task.index: task for task in pending}
-    finished = execute(run, pending, scheduler, workers, client)
+    finished = execute(run, pending, scheduler, workers, client, started)
     try:
         for index, ds, info in finished:
             results[index] = (ds, info)

@@ -14,7 +14,7 @@ from mol_shell._core.errors import ParameterError
 from mol_shell.analysis.path_study import path_study
 from mol_shell.cli.study import parse_vary
 from mol_shell.results.study_dataset import study_case
-from mol_shell.runs import scheduling
+from mol_shell.runs import scheduling, worker_start
 from mol_shell.runs.study import study
 
 study_module = importlib.import_module("mol_shell.runs.study")  # the module, even if mol_shell exports a function study
@@ -305,21 +305,27 @@ def test_unreachable_scheduler_is_refused_quickly(monkeypatch):
     assert time.perf_counter() - start < 30
 
 
-def test_local_workers_are_spawned_unless_the_environment_asks_for_another_start_method(monkeypatch):
-    """``MOL_SHELL_START_METHOD`` chooses how local workers start; ``fork`` is refused with kernels on more than one
-    thread (OpenMP's pool is not safe across a fork), a method the platform lacks in one line, both up front."""
-    monkeypatch.delenv(scheduling.START_VARIABLE, raising=False)
+def test_local_workers_fork_where_it_is_safe_unless_the_environment_asks_for_a_start_method(monkeypatch):
+    """Unset, ``MOL_SHELL_START_METHOD`` leaves the choice to :func:`fork_is_safe` (fork, else spawn); set, it chooses
+    how local workers start; ``fork`` is refused with kernels on more than one thread (OpenMP's pool is not safe
+    across a fork), a method the platform lacks in one line, both up front."""
+    monkeypatch.delenv(worker_start.START_VARIABLE, raising=False)
     monkeypatch.delenv("MOL_SHELL_THREADS", raising=False)
-    assert scheduling.start_method() == "spawn"
-    monkeypatch.setenv(scheduling.START_VARIABLE, "forkserver")
+    for safe, method in ((True, "fork"), (False, "spawn")):
+        monkeypatch.setattr(worker_start, "fork_is_safe", lambda blas_threads=None, safe=safe: safe)
+        assert scheduling.start_method() == worker_start.start_method(0) == method
+    monkeypatch.setenv(worker_start.START_VARIABLE, "forkserver")
     assert scheduling.start_method() == "forkserver"
-    monkeypatch.setenv(scheduling.START_VARIABLE, "fork")
+    monkeypatch.setenv(worker_start.START_VARIABLE, "spawn")
+    monkeypatch.setattr(worker_start, "fork_is_safe", lambda blas_threads=None: True)
+    assert scheduling.start_method() == "spawn"
+    monkeypatch.setenv(worker_start.START_VARIABLE, "fork")
     assert scheduling.start_method() == "fork"
     monkeypatch.setenv("MOL_SHELL_THREADS", "2")
     with pytest.raises(ParameterError, match=r"^MOL_SHELL_START_METHOD = 'fork' is outside \{spawn, forkserver\} .*"
                                              r"fork only with MOL_SHELL_THREADS = 1"):
         study(BASE, {"gamma": [0.1, 0.2]}, **SMALL, workers=2)
-    monkeypatch.setenv(scheduling.START_VARIABLE, "threads")
+    monkeypatch.setenv(worker_start.START_VARIABLE, "threads")
     with pytest.raises(ParameterError, match=r"^MOL_SHELL_START_METHOD = 'threads' is outside \{.*spawn.*\} \(the "
                                              r"environment variable"):
         study(BASE, {"gamma": [0.1, 0.2]}, **SMALL, workers=2)
