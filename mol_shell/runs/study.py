@@ -278,9 +278,10 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
 
     Notes
     -----
-    Local processes are forked where that is safe (Linux, and no thread in this process but OpenBLAS's, which
-    stops its threads across a fork: :func:`mol_shell.runs.worker_start.fork_is_safe`), else spawned, or started
-    as the environment variable ``MOL_SHELL_START_METHOD`` says (``spawn``, ``fork`` or ``forkserver``); the attr
+    Local processes are forked where that is safe (Linux, kernels on one thread, and no other threads in this
+    process than OpenBLAS's pools hold, which OpenBLAS stops across a fork:
+    :func:`mol_shell.runs.worker_start.fork_is_safe`), else spawned; the environment variable
+    ``MOL_SHELL_START_METHOD``, when set, chooses instead (``spawn``, ``fork`` or ``forkserver``). The attr
     ``worker_start`` says which. A spawned worker imports the calling script again, so a script that calls
     ``study`` must guard its entry point with ``if __name__ == "__main__":``. Every process, this one
     included, runs its share of the cases on one thread (compiled kernels and BLAS). A dask
@@ -296,7 +297,8 @@ def study(scene, vary, integrator="leapfrog", *, n=40, times=None, t_end=None, s
         ``status``, ``message``, ``worker`` and statistics (``n_steps``, ``wall_time_s``,
         ``case_wall_time_s``, ``R``, ...); attrs ``n_cases``, ``n_executed`` (handed to a run by
         this call, those the run refused included), ``n_reused`` (loaded from ``output``), ``n_failed``, and on local
-        processes ``worker_start`` (``"fork"``, ``"spawn"``, ``"none"``: see Notes).
+        processes ``worker_start`` (``"fork"``, ``"spawn"``, ``"forkserver"``, ``"fork, spawn"`` when a broken pool's
+        successor could not fork, ``"none"`` when this process ran every case: see Notes).
     """
     refuse_in_starting_worker()
     start = time.perf_counter()

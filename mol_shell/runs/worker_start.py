@@ -1,8 +1,8 @@
 """How a study's local worker processes start: forked where no other thread can hold a lock, else spawned.
 
-A forked worker is a copy of this process with its imports done and its graphs and kernels loaded, so it runs its
-first case at once; a spawned one first starts an interpreter and imports the package (0.5 s on a fast machine,
-1.2 s on a slow one), while this process already computes. POSIX forks only the calling thread: a lock another
+A forked worker is a copy of this process with its imports done (and whatever graphs and kernels it had loaded),
+so it starts its first case at once; a spawned one first starts an interpreter and imports the package (0.5 s on a
+fast machine, 1.5 s on a slow one), while this process already computes. POSIX forks only the calling thread: a lock another
 thread held at that moment (malloc's, a library's) stays locked in the copy, which may then hang. So
 :func:`start_method` forks only where every thread but this one is known to be safe across a fork, and spawns
 elsewhere; :data:`START_VARIABLE` chooses a start method outright.
@@ -38,8 +38,9 @@ def openblas_threads():
 def fork_is_safe(blas_threads=None):
     """Whether a forked worker is safe here: Linux, the kernels on one thread (``MOL_SHELL_THREADS`` unset or 1:
     OpenMP's pool does not survive a fork), no Python thread but this one (a notebook's, dask's, a progress
-    monitor's, the user's), and no other thread in the process but OpenBLAS's (``blas_threads``, else
-    :func:`openblas_threads`). Anything unknown (no ``/proc``) says no."""
+    monitor's, the user's), and no more other threads in the process than OpenBLAS's pools hold (``blas_threads``,
+    else :func:`openblas_threads`; a count: a native thread of another library in place of an OpenBLAS thread that
+    was never started would pass). Anything unknown (no ``/proc``) says no."""
     if not sys.platform.startswith("linux") or "fork" not in multiprocessing.get_all_start_methods():
         return False
     if os.environ.get("MOL_SHELL_THREADS", "1").strip() != "1" or threading.active_count() != 1:
@@ -55,9 +56,9 @@ def start_method(blas_threads=None):
     """How a study's local worker processes start: the start method :data:`START_VARIABLE` names, else ``fork``
     where :func:`fork_is_safe` (``blas_threads`` passed on), else ``spawn``.
 
-    Measured on the benchmark's 100-case study (December 8, a slow 2-core AMD EPYC, 12-15 s a study): a spawned
-    worker's interpreter and imports cost it about 1.2 s of its share; over 10 rounds forked workers gave 1.75-1.95x
-    the serial throughput (median 1.85), the spawned study of each round 0.03-0.20x less (docs/performance.md). ``fork`` asked where the kernels run on more than
+    Measured on the benchmark's 100-case study (December 8, a slow 2-core AMD EPYC, the fastest parallel studies
+    12.7-14.6 s, an interpreter importing the package 1.5 s): over 10 rounds forked workers gave 1.75-1.95x the
+    serial throughput (median 1.85), the spawned study of each round 0.02-0.20x less (docs/performance.md). ``fork`` asked where the kernels run on more than
     one thread (``MOL_SHELL_THREADS``) is refused: OpenMP's thread pool is not safe across a fork. Raises
     :class:`ParameterError` for a method this platform lacks."""
     methods = multiprocessing.get_all_start_methods()
