@@ -246,12 +246,12 @@ def target_study(rounds, t_end=0.02):
         runs = {"serial": [], "2 local workers": [], "2 local workers, spawned": [], "two independent halves": []}
         probe(HERE, STUDY_PROBE, "serial", 1, 1e-4, env=env)  # builds the kernels: no timed run compiles
         builds = [len(log.read_text().splitlines()) if log.exists() else 0]
-        for _ in range(rounds):
-            runs["2 local workers"].append(probe(HERE, STUDY_PROBE, "local", 2, t_end,
-                                                 env=dict(env, MOL_SHELL_START_METHOD=None)))
-            builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
-            runs["2 local workers, spawned"].append(probe(HERE, STUDY_PROBE, "local", 2, t_end,
-                                                          env=dict(env, MOL_SHELL_START_METHOD="spawn")))
+        for k in range(rounds):
+            starts = {"2 local workers": None, "2 local workers, spawned": "spawn"}
+            for name in sorted(starts, reverse=bool(k % 2)):  # the two starts take turns to go first
+                runs[name].append(probe(HERE, STUDY_PROBE, "local", 2, t_end,
+                                        env=dict(env, MOL_SHELL_START_METHOD=starts[name])))
+                builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
             runs["serial"].append(probe(HERE, STUDY_PROBE, "serial", 1, t_end, env=env))
             builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
             runs["two independent halves"].append(pair(HERE, HALF_PROBE, env, "serial", 1, t_end))

@@ -235,7 +235,10 @@ def _execute_local(run_task, tasks, workers, started=None):
                         with _starting_workers():  # the pool starts its processes in its submits
                             while queue and not failed and len(running) < AHEAD * spawned:
                                 slot = queue.popleft()
-                                running[pool.submit(_claimed, run_task, pending[slot], slot)] = slot
+                                try:
+                                    running[pool.submit(_claimed, run_task, pending[slot], slot)] = slot
+                                except BrokenProcessPool:  # a worker died since the futures were read: the slot
+                                    failed.append(slot)  # was not handed over and runs again without an attempt
                     slot = _next_here(queue, running, claims) if not failed else None
                     if slot is not None:
                         mine.add(slot)

@@ -36,8 +36,8 @@ def openblas_threads():
 
 
 def fork_is_safe(blas_threads=None):
-    """Whether a forked worker is safe here: Linux, the kernels on one thread (``MOL_SHELL_THREADS`` unset or 1:
-    OpenMP's pool does not survive a fork), no Python thread but this one (a notebook's, dask's, a progress
+    """Whether a forked worker is safe here: Linux, the kernels on one thread (``MOL_SHELL_THREADS`` 1, which a study
+    sets where it is unset; OpenMP's pool does not survive a fork), no Python thread but this one (a notebook's, dask's, a progress
     monitor's, the user's), and no more other threads in the process than OpenBLAS's pools hold (``blas_threads``,
     else :func:`openblas_threads`; a count: a native thread of another library in place of an OpenBLAS thread that
     was never started would pass). Anything unknown (no ``/proc``) says no."""

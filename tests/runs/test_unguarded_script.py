@@ -3,7 +3,7 @@
 Python's spawned workers re-run such a script as they start; each then tried to start a study of its own, died
 with multiprocessing's long RuntimeError, and the study went on spawning new workers (eleven tracebacks in one
 run), finishing serially without a word. Now the worker stops with one line saying what to change, and the study
-runs the remaining cases in the calling process, said once. A forked worker (``MOL_SHELL_START_METHOD=fork``,
+runs the remaining cases in the calling process, said once. A forked worker (the default on Linux where it is safe, or ``MOL_SHELL_START_METHOD=fork``,
 Linux) does not run the script again: there such a script simply works.
 """
 
@@ -16,7 +16,8 @@ from pathlib import Path
 
 import pytest
 
-#: the environment of a script whose study spawns its workers (the default)
+#: the environment of a script whose study spawns its workers (the default where forking is not safe: not Linux,
+#: other threads)
 SPAWNED = dict(os.environ, PYTHONPATH=str(Path(__file__).parents[2]), MOL_SHELL_START_METHOD="spawn")
 
 SCRIPT = textwrap.dedent("""
