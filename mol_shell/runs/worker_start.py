@@ -57,8 +57,8 @@ def start_method(blas_threads=None):
     where :func:`fork_is_safe` (``blas_threads`` passed on), else ``spawn``.
 
     Measured on the benchmark's 100-case study (December 8, a slow 2-core AMD EPYC, the fastest parallel studies
-    12.7-14.6 s, an interpreter importing the package 1.5 s): over 10 rounds forked workers gave 1.75-1.95x the
-    serial throughput (median 1.85), the spawned study of each round 0.02-0.20x less (docs/performance.md). ``fork`` asked where the kernels run on more than
+    10.2-14.6 s, an interpreter importing the package 1.5 s): over 14 rounds forked workers gave 1.75-2.17x the
+    serial throughput (median 1.85) and beat the spawned study of the same round in 13 (docs/performance.md). ``fork`` asked where the kernels run on more than
     one thread (``MOL_SHELL_THREADS``) is refused: OpenMP's thread pool is not safe across a fork. Raises
     :class:`ParameterError` for a method this platform lacks."""
     methods = multiprocessing.get_all_start_methods()
