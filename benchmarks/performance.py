@@ -247,10 +247,10 @@ def target_study(rounds, t_end=0.02):
         probe(HERE, STUDY_PROBE, "serial", 1, 1e-4, env=env)  # builds the kernels: no timed run compiles
         builds = [len(log.read_text().splitlines()) if log.exists() else 0]
         for k in range(rounds):
-            starts = {"2 local workers": None, "2 local workers, spawned": "spawn"}
-            for name in sorted(starts, reverse=bool(k % 2)):  # the two starts take turns to go first
+            asked = {"2 local workers": None, "2 local workers, spawned": "spawn"}  # None: the default start
+            for name in sorted(asked, reverse=bool(k % 2)):  # the two starts take turns to go first
                 runs[name].append(probe(HERE, STUDY_PROBE, "local", 2, t_end,
-                                        env=dict(env, MOL_SHELL_START_METHOD=starts[name])))
+                                        env=dict(env, MOL_SHELL_START_METHOD=asked[name])))
                 builds.append(len(log.read_text().splitlines()) if log.exists() else 0)
             runs["serial"].append(probe(HERE, STUDY_PROBE, "serial", 1, t_end, env=env))
             builds.append(len(log.read_text().splitlines()) if log.exists() else 0)

@@ -196,8 +196,9 @@ def _execute_local(run_task, tasks, workers, started=None):
     The workers are handed cases from the front of the queue, :data:`AHEAD` each; this process, which has
     the package imported and its kernels loaded, runs them from the back, so it computes from the first moment
     while a spawned worker spends 0.5-1.5 s starting (a forked one, the default where it is safe, starts at once).
-    Who runs a case is settled in a table shared with the workers (:class:`_Claims`): a worker claims a case as it starts it and skips one this
-    process has claimed, so at the end this process also takes the handed-over cases no worker has started, and
+    Who runs a case is settled in a table shared with the workers (:class:`_Claims`): a worker claims a case as it
+    starts it and skips one this process has claimed, so at the end this process also takes the handed-over cases no
+    worker has started, and
     the two finish within about a case of each other. A worker that dies breaks its pool: the case it was
     running (the table says which) runs again in a new pool, up to :data:`LOST_RETRIES` times, and the cases it
     had not started run there as they were. Ctrl-C reaches this process only (:func:`_starting_workers`): its case

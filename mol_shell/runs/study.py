@@ -395,7 +395,8 @@ def run_cases(run, tasks, results, *, output, final, scheduler, workers, client,
     that ends in a status of ``final`` is stored as it finishes, so an interrupted study resumes. Progress as
     :func:`mol_shell._core.progress.progress_mode` says (``None``: a bar on a terminal, else a line a minute). A
     case interrupted by Ctrl-C stops the study (``KeyboardInterrupt``, after the workers are shut down); ``client``
-    is closed unless it is ``scheduler`` itself (the user's). ``started`` gets how local workers started (:func:`execute`)."""
+    is closed unless it is ``scheduler`` itself (the user's). ``started`` gets how local workers started
+    (:func:`execute`)."""
     store = Store(output) if output is not None else None
     pending, reused = [], 0
     for task in tasks:

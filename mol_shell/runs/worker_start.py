@@ -2,8 +2,8 @@
 
 A forked worker is a copy of this process with its imports done (and whatever graphs and kernels it had loaded),
 so it starts its first case at once; a spawned one first starts an interpreter and imports the package (0.5 s on a
-fast machine, 1.5 s on a slow one), while this process already computes. POSIX forks only the calling thread: a lock another
-thread held at that moment (malloc's, a library's) stays locked in the copy, which may then hang. So
+fast machine, 1.5 s on a slow one), while this process already computes. POSIX forks only the calling thread: a lock
+another thread held at that moment (malloc's, a library's) stays locked in the copy, which may then hang. So
 :func:`start_method` forks only where every thread but this one is known to be safe across a fork, and spawns
 elsewhere; :data:`START_VARIABLE` chooses a start method outright.
 """
@@ -37,9 +37,10 @@ def openblas_threads():
 
 def fork_is_safe(blas_threads=None):
     """Whether a forked worker is safe here: Linux, the kernels on one thread (``MOL_SHELL_THREADS`` 1, which a study
-    sets where it is unset; OpenMP's pool does not survive a fork), no Python thread but this one (a notebook's, dask's, a progress
-    monitor's, the user's), and no more other threads in the process than OpenBLAS's pools hold (``blas_threads``,
-    else :func:`openblas_threads`; a count: a native thread of another library in place of an OpenBLAS thread that
+    sets where it is unset; OpenMP's pool does not survive a fork), no Python thread but this one (a notebook's,
+    dask's, a progress monitor's, the user's), and no more other threads in the process than OpenBLAS's pools hold
+    (``blas_threads``, else :func:`openblas_threads`; a count: a native thread of another library in place of an
+    OpenBLAS thread that
     was never started would pass). Anything unknown (no ``/proc``) says no."""
     if not sys.platform.startswith("linux") or "fork" not in multiprocessing.get_all_start_methods():
         return False
@@ -58,8 +59,9 @@ def start_method(blas_threads=None):
 
     Measured on the benchmark's 100-case study (December 8, a slow 2-core AMD EPYC, the fastest parallel studies
     10.2-14.6 s, an interpreter importing the package 1.5 s): over 14 rounds forked workers gave 1.75-2.17x the
-    serial throughput (median 1.85) and beat the spawned study of the same round in 13 (docs/performance.md). ``fork`` asked where the kernels run on more than
-    one thread (``MOL_SHELL_THREADS``) is refused: OpenMP's thread pool is not safe across a fork. Raises
+    serial throughput (median 1.85) and beat the spawned study of the same round in 13 (docs/performance.md).
+    ``fork`` asked where the kernels run on more than one thread (``MOL_SHELL_THREADS``) is refused: OpenMP's thread
+    pool is not safe across a fork. Raises
     :class:`ParameterError` for a method this platform lacks."""
     methods = multiprocessing.get_all_start_methods()
     threaded = os.environ.get("MOL_SHELL_THREADS", "1").strip() != "1"
