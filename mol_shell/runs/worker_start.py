@@ -40,8 +40,7 @@ def fork_is_safe(blas_threads=None):
     sets where it is unset; OpenMP's pool does not survive a fork), no Python thread but this one (a notebook's,
     dask's, a progress monitor's, the user's), and no more other threads in the process than OpenBLAS's pools hold
     (``blas_threads``, else :func:`openblas_threads`; a count: a native thread of another library in place of an
-    OpenBLAS thread that
-    was never started would pass). Anything unknown (no ``/proc``) says no."""
+    OpenBLAS thread that was never started would pass). Anything unknown (no ``/proc``) says no."""
     if not sys.platform.startswith("linux") or "fork" not in multiprocessing.get_all_start_methods():
         return False
     if os.environ.get("MOL_SHELL_THREADS", "1").strip() != "1" or threading.active_count() != 1:
