@@ -27,6 +27,12 @@ START_VARIABLE = "MOL_SHELL_START_METHOD"
 TASKS = "/proc/self/task"
 
 
+def kernels_threaded():
+    """Whether ``MOL_SHELL_THREADS`` asks for the kernels on more than one thread (anything but 1; unset reads 1, as a
+    study sets it): OpenMP's thread pool does not survive a fork."""
+    return os.environ.get("MOL_SHELL_THREADS", "1").strip() != "1"
+
+
 def openblas_threads():
     """The threads of the OpenBLAS pools loaded here besides the calling one (a pool of k threads holds k - 1):
     OpenBLAS stops them before a fork (its ``pthread_atfork`` handler) and starts them again when next used, so they
@@ -43,7 +49,7 @@ def fork_is_safe(blas_threads=None):
     OpenBLAS thread that was never started would pass). Anything unknown (no ``/proc``) says no."""
     if not sys.platform.startswith("linux") or "fork" not in multiprocessing.get_all_start_methods():
         return False
-    if os.environ.get("MOL_SHELL_THREADS", "1").strip() != "1" or threading.active_count() != 1:
+    if kernels_threaded() or threading.active_count() != 1:
         return False
     try:
         others = len(os.listdir(TASKS)) - 1
@@ -63,7 +69,7 @@ def start_method(blas_threads=None):
     pool is not safe across a fork. Raises
     :class:`ParameterError` for a method this platform lacks."""
     methods = multiprocessing.get_all_start_methods()
-    threaded = os.environ.get("MOL_SHELL_THREADS", "1").strip() != "1"
+    threaded = kernels_threaded()
     allowed = [m for m in methods if not (m == "fork" and threaded)]
     asked = os.environ.get(START_VARIABLE, "").strip()
     if not asked:
